@@ -1,0 +1,43 @@
+// Quantity strings of schema gearnvh/1: "2 mm", "20 deg", "1500 rpm", "206 GPa", or a plain number
+// (already SI). Each schema key expects one physical dimension; a unit of another dimension, or an
+// unknown unit, is an error that lists the accepted units.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace gearnvh::config {
+
+enum class Dimension {
+  kDimensionless,
+  kLength,               // m
+  kAngle,                // rad
+  kAngularSpeed,         // rad/s
+  kTorque,               // N m
+  kPressure,             // Pa
+  kDensity,              // kg/m^3
+  kMass,                 // kg
+  kInertia,              // kg m^2
+  kStiffness,            // N/m
+  kRotationalStiffness,  // N m/rad
+  kDamping,              // N s/m
+  kAngularAcceleration,  // rad/s^2
+};
+
+const char* DimensionName(Dimension d);
+// The units accepted for a dimension, comma separated (for error messages and docs).
+std::string AcceptedUnits(Dimension d);
+
+struct ParsedQuantity {
+  double si_value = 0.0;
+  std::string error;  // empty on success; otherwise the rule broken
+};
+
+// Parses "<number> [unit]" into SI. A bare number is taken as SI.
+ParsedQuantity ParseQuantity(std::string_view text, Dimension d);
+
+// Strict full-string number parse (no trailing junk, finite).
+std::optional<double> ParseNumber(std::string_view text);
+
+}  // namespace gearnvh::config

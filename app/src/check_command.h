@@ -1,0 +1,24 @@
+// `gearnvh check FILE... [--json]`: load, validate and print the derived basics of each gearbox.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "gearnvh/model/gearbox_spec.h"
+
+namespace gearnvh::app {
+
+struct CheckOptions {
+  std::vector<std::string> files;
+  bool json = false;
+};
+
+// The JSON document `check --json` prints for one gearbox (keys documented in docs/cli.md).
+nlohmann::json CheckReport(const GearboxSpec& spec);
+
+// Runs the command; returns the process exit code (0 ok, 1 if any file was invalid).
+int RunCheck(const CheckOptions& options);
+
+}  // namespace gearnvh::app

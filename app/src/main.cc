@@ -1,0 +1,37 @@
+// gearnvh: the command line. Exit codes: 0 ok, 1 invalid input, 2 usage error, 3 internal error.
+#include <CLI/CLI.hpp>
+
+#include <exception>
+#include <iostream>
+
+#include "check_command.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "gearnvh: gearbox NVH from a YAML gearbox definition (schema gearnvh/1).\n"
+      "Mesh stiffness, flexible shafts, modal tiers, exact gear-rattle dynamics, NVH reports."};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "gearnvh 0.1.0");
+
+  gearnvh::app::CheckOptions check;
+  CLI::App* check_cmd = app.add_subcommand(
+      "check", "Load and validate gearbox files; print derived geometry (radii, centre distance, "
+               "contact ratio, mesh frequency).");
+  check_cmd->add_option("FILE", check.files, "Gearbox YAML files")->required()->check(CLI::ExistingFile);
+  check_cmd->add_flag("--json", check.json,
+                      "Print one JSON document (a list of documents for several files)");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  }
+  try {
+    if (check_cmd->parsed()) return gearnvh::app::RunCheck(check);
+  } catch (const std::exception& e) {
+    std::cerr << "internal error: " << e.what() << "\n";
+    return 3;
+  }
+  return 0;
+}

@@ -1,0 +1,12 @@
+# Project-wide compile settings applied through one interface target.
+add_library(gearnvh_options INTERFACE)
+add_library(gearnvh::options ALIAS gearnvh_options)
+target_compile_options(gearnvh_options INTERFACE -Wall -Wextra -Wpedantic)
+if(GEARNVH_NATIVE AND NOT GEARNVH_FUZZ)
+  target_compile_options(gearnvh_options INTERFACE -march=native)
+endif()
+if(GEARNVH_SANITIZE)
+  target_compile_options(gearnvh_options INTERFACE
+    -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
+  target_link_options(gearnvh_options INTERFACE -fsanitize=address,undefined)
+endif()

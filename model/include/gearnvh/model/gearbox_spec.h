@@ -1,0 +1,165 @@
+// GearboxSpec: the validated, SI-unit description of one gearbox (schema gearnvh/1).
+//
+// Produced by the application's YAML loader (app/config), consumed by every stage below it.
+// All quantities are SI: m, rad, kg, s, N, Pa. Angles are radians; speeds are rad/s.
+// The loader guarantees the invariants stated next to each field; code that builds a spec by
+// hand (tests, sweeps) should call ValidateGearboxSpec() before using it.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace gearnvh {
+
+struct Material {
+  double youngs_modulus = 0.0;  // Pa, > 0
+  double poisson_ratio = 0.0;   // -, in (-1, 0.5)
+  double density = 0.0;         // kg/m^3, > 0
+};
+
+struct TipRelief {
+  double amount = 0.0;  // m, >= 0: profile removed at the tip
+  double length = 0.0;  // m, >= 0: roll length along the line of action over which it grows
+};
+
+struct GearSpec {
+  int teeth = 0;                      // >= 6
+  double module = 0.0;                // m, > 0
+  double pressure_angle = 0.0;        // rad, in (0, pi/4); default 20 deg
+  double face_width = 0.0;            // m, > 0
+  double bore_diameter = 0.0;         // m, >= 0 and < root diameter
+  std::string material;               // a key of GearboxSpec::materials
+  double addendum_coefficient = 1.0;  // h_a*, > 0
+  double dedendum_coefficient = 1.25; // h_f* = h_a* + c*, > addendum coefficient
+  double profile_shift = 0.0;         // x, dimensionless
+  std::optional<double> inertia;      // kg m^2 polar inertia override (default: solid disk)
+  std::optional<double> mass;         // kg override (default: solid disk)
+  std::optional<TipRelief> tip_relief;
+};
+
+struct RectangularStiffness {
+  double single = 0.0;         // N/m, > 0: one pair in contact
+  double double_pair = 0.0;    // N/m, > 0: two pairs in contact
+  double contact_ratio = 0.0;  // in (1, 2)
+};
+struct TableStiffness {
+  std::vector<double> phase;      // fraction of the mesh cycle, strictly increasing in [0, 1)
+  std::vector<double> stiffness;  // N/m, > 0, same length as phase
+};
+struct FourierStiffness {
+  double mean = 0.0;            // N/m, > 0
+  std::vector<double> cos_coefficients;  // N/m, harmonics 1..n of the mesh frequency
+  std::vector<double> sin_coefficients;  // N/m
+};
+struct PotentialEnergyStiffness {};
+
+using StiffnessModel =
+    std::variant<PotentialEnergyStiffness, RectangularStiffness, TableStiffness, FourierStiffness>;
+
+struct StaticTransmissionError {
+  std::vector<double> amplitudes;  // m, harmonics 1..n of the mesh frequency
+  std::vector<double> phases;      // rad, same length
+};
+
+struct MeshSpec {
+  double backlash = 0.0;               // m, > 0: total clearance along the line of action (= 2b)
+  double damping_ratio = 0.05;         // in [0, 1)
+  double friction_coefficient = 0.0;   // in [0, 0.5]
+  std::optional<double> center_distance;  // m; default: standard centre distance
+  StiffnessModel stiffness = PotentialEnergyStiffness{};
+  StaticTransmissionError static_transmission_error;
+};
+
+struct ShaftSegment {
+  double length = 0.0;          // m, > 0
+  double outer_diameter = 0.0;  // m, > 0
+  double inner_diameter = 0.0;  // m, in [0, outer)
+};
+
+struct BearingSpec {
+  double at = 0.0;                // m, position from the shaft's left end, within the shaft
+  double radial_stiffness = 0.0;  // N/m, >= 0
+  double axial_stiffness = 0.0;   // N/m, >= 0
+  double tilt_stiffness = 0.0;    // N m/rad, >= 0
+  double damping = 0.0;           // N s/m, >= 0 (radial and axial)
+};
+
+struct LumpedInertia {
+  double at = 0.0;         // m, within the shaft
+  double polar = 0.0;      // kg m^2, >= 0
+  double diametral = 0.0;  // kg m^2, >= 0
+};
+
+struct ShaftSpec {
+  std::string material;
+  std::vector<ShaftSegment> segments;  // from the left end, in order; at least one
+  double gear_at = 0.0;                // m, within the shaft
+  std::vector<BearingSpec> bearings;   // at least one
+  std::vector<LumpedInertia> inertias;
+  std::optional<double> element_length;  // m, > 0; default chosen from geometry
+
+  double Length() const {
+    double total = 0.0;
+    for (const auto& s : segments) total += s.length;
+    return total;
+  }
+};
+
+struct ExcitationOrder {
+  double order = 0.0;      // > 0, multiple of the pinion shaft speed
+  double amplitude = 0.0;  // rad/s^2, >= 0: angular acceleration amplitude on the pinion
+  double phase = 0.0;      // rad
+};
+
+struct OperatingSpec {
+  double speed = 0.0;   // rad/s, > 0: mean pinion speed
+  double torque = 0.0;  // N m, >= 0: mean torque resisting the wheel
+  std::vector<ExcitationOrder> excitation;
+};
+
+// Modal tier names as in DESIGN.md §3.
+enum class Tier { kTier1, kTier2, kTier3, kTier4, kTier5, kN20Simple, kN20Mta };
+
+struct SweepRange {
+  double from = 0.0;  // SI value of the parameter
+  double to = 0.0;
+  int points = 0;     // >= 2
+};
+
+struct AtlasAxis {
+  std::string parameter;  // dotted schema path, e.g. "operating.speed"
+  SweepRange range;
+};
+
+struct AnalysisSpec {
+  Tier tier = Tier::kTier1;
+  int segments_per_cycle = 32;  // >= 4
+  int cycles = 2000;            // >= 1
+  int transient_cycles = 500;   // >= 0
+  SweepRange speed_sweep{500.0 * 2.0 * 3.141592653589793 / 60.0,
+                         6000.0 * 2.0 * 3.141592653589793 / 60.0, 56};
+  std::optional<AtlasAxis> atlas_x;
+  std::optional<AtlasAxis> atlas_y;
+};
+
+struct GearboxSpec {
+  std::string name;
+  std::map<std::string, Material> materials;
+  GearSpec pinion;
+  GearSpec wheel;
+  MeshSpec mesh;
+  std::optional<ShaftSpec> input_shaft;   // carries the pinion
+  std::optional<ShaftSpec> output_shaft;  // carries the wheel
+  OperatingSpec operating;
+  AnalysisSpec analysis;
+
+  const Material& MaterialOf(const GearSpec& gear) const { return materials.at(gear.material); }
+};
+
+// Human-readable tier name ("tier 1" … "tier 5", "N20 simple", "N20 MTA").
+const char* TierName(Tier tier);
+
+}  // namespace gearnvh

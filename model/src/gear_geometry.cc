@@ -1,0 +1,109 @@
+#include "gearnvh/model/gear_geometry.h"
+
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+#include "gearnvh/model/input_error.h"
+
+namespace gearnvh {
+namespace {
+std::string Num(double v) {
+  std::ostringstream os;
+  os.precision(6);
+  os << v;
+  return os.str();
+}
+}  // namespace
+
+double Involute(double alpha) { return std::tan(alpha) - alpha; }
+
+double InverseInvolute(double inv) {
+  // Newton on f(a) = tan a - a - inv, f' = tan^2 a; start from Cheng's approximation.
+  double a = std::cbrt(3.0 * inv) * (1.0 - 0.4 * std::cbrt(inv * inv));
+  if (!(a > 0.0)) a = 1e-3;
+  for (int i = 0; i < 50; ++i) {
+    const double t = std::tan(a);
+    const double step = (t - a - inv) / (t * t);
+    a -= step;
+    if (std::abs(step) < 1e-15 * a) break;
+  }
+  return a;
+}
+
+GearRadii ComputeGearRadii(const GearSpec& g) {
+  GearRadii r;
+  r.pitch = 0.5 * g.module * g.teeth;
+  r.base = r.pitch * std::cos(g.pressure_angle);
+  r.tip = r.pitch + (g.addendum_coefficient + g.profile_shift) * g.module;
+  r.root = r.pitch - (g.dedendum_coefficient - g.profile_shift) * g.module;
+  return r;
+}
+
+PairGeometry ComputePairGeometry(const GearboxSpec& spec) {
+  const GearSpec& p = spec.pinion;
+  const GearSpec& w = spec.wheel;
+  if (std::abs(p.module - w.module) > 1e-12 * p.module) {
+    throw InputError("gears.wheel.module", 0, Num(w.module),
+                     "must equal the pinion module (" + Num(p.module) + " m) for a spur pair");
+  }
+  if (std::abs(p.pressure_angle - w.pressure_angle) > 1e-12) {
+    throw InputError("gears.wheel.pressure_angle", 0, Num(w.pressure_angle) + " rad",
+                     "must equal the pinion pressure angle for a spur pair");
+  }
+  PairGeometry g;
+  g.pinion = ComputeGearRadii(p);
+  g.wheel = ComputeGearRadii(w);
+  g.gear_ratio = static_cast<double>(w.teeth) / p.teeth;
+  const double alpha0 = p.pressure_angle;
+  const double a0 = g.pinion.pitch + g.wheel.pitch;
+  if (spec.mesh.center_distance) {
+    g.center_distance = *spec.mesh.center_distance;
+  } else {
+    const double x_sum = p.profile_shift + w.profile_shift;
+    const double inv_w = Involute(alpha0) + 2.0 * x_sum * std::tan(alpha0) / (p.teeth + w.teeth);
+    g.center_distance = a0 * std::cos(alpha0) / std::cos(InverseInvolute(inv_w));
+  }
+  const double cos_w = (g.pinion.base + g.wheel.base) / g.center_distance;
+  if (!(cos_w < 1.0)) {
+    throw InputError("mesh.center_distance", 0, Num(g.center_distance) + " m",
+                     "must exceed the sum of base radii (" +
+                         Num(g.pinion.base + g.wheel.base) + " m)");
+  }
+  g.working_pressure_angle = std::acos(cos_w);
+  g.base_pitch = std::numbers::pi * p.module * std::cos(alpha0);
+  g.line_of_action_length = g.center_distance * std::sin(g.working_pressure_angle);
+  const double ap = std::sqrt(g.pinion.tip * g.pinion.tip - g.pinion.base * g.pinion.base);
+  const double aw = std::sqrt(g.wheel.tip * g.wheel.tip - g.wheel.base * g.wheel.base);
+  g.contact_ratio = (ap + aw - g.line_of_action_length) / g.base_pitch;
+  g.contact_start = g.line_of_action_length - aw;
+  g.contact_end = ap;
+  g.pitch_point = g.pinion.base * std::tan(g.working_pressure_angle);
+  if (g.contact_start < 0.0 || g.contact_end > g.line_of_action_length) {
+    throw InputError("gears", 0, "",
+                     "a tip circle reaches beyond the mating base circle (involute interference); "
+                     "reduce addendum_coefficient or profile_shift");
+  }
+  if (g.contact_ratio < 1.0) {
+    throw InputError("gears", 0, Num(g.contact_ratio),
+                     "contact ratio must be >= 1 for continuous contact");
+  }
+  g.mesh_frequency_hz = p.teeth * spec.operating.speed / (2.0 * std::numbers::pi);
+  g.mesh_period_s = 1.0 / g.mesh_frequency_hz;
+  return g;
+}
+
+const char* TierName(Tier tier) {
+  switch (tier) {
+    case Tier::kTier1: return "tier 1";
+    case Tier::kTier2: return "tier 2";
+    case Tier::kTier3: return "tier 3";
+    case Tier::kTier4: return "tier 4";
+    case Tier::kTier5: return "N40 full";
+    case Tier::kN20Simple: return "N20 simple";
+    case Tier::kN20Mta: return "N20 MTA";
+  }
+  return "unknown";
+}
+
+}  // namespace gearnvh

@@ -1,0 +1,249 @@
+#include "gearnvh/model/gearbox_spec_validation.h"
+
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+#include "gearnvh/model/gear_geometry.h"
+#include "gearnvh/model/input_error.h"
+
+namespace gearnvh {
+namespace {
+
+// "base[i]"; appends rather than chaining operator+ (GCC 12 PR 105651 false -Wrestrict).
+std::string Indexed(const std::string& base, size_t i) {
+  std::string s = base;
+  s += '[';
+  s += std::to_string(i);
+  s += ']';
+  return s;
+}
+
+std::string Num(double v) {
+  std::ostringstream os;
+  os.precision(6);
+  os << v;
+  return os.str();
+}
+
+// Small rule helpers: each throws InputError(path, value, rule) when the rule is broken.
+void Positive(const std::string& path, double v) {
+  if (!(v > 0.0) || !std::isfinite(v)) throw InputError(path, 0, Num(v), "must be > 0");
+}
+void NonNegative(const std::string& path, double v) {
+  if (!(v >= 0.0) || !std::isfinite(v)) throw InputError(path, 0, Num(v), "must be >= 0");
+}
+void InRange(const std::string& path, double v, double lo, double hi, bool lo_open, bool hi_open) {
+  const bool ok_lo = lo_open ? v > lo : v >= lo;
+  const bool ok_hi = hi_open ? v < hi : v <= hi;
+  if (!(ok_lo && ok_hi) || !std::isfinite(v)) {
+    throw InputError(path, 0, Num(v),
+                     std::string("must be in ") + (lo_open ? "(" : "[") + Num(lo) + ", " + Num(hi) +
+                         (hi_open ? ")" : "]"));
+  }
+}
+
+void ValidateGear(const GearboxSpec& spec, const GearSpec& g, const std::string& p) {
+  if (g.teeth < 6) throw InputError(p + ".teeth", 0, std::to_string(g.teeth), "must be >= 6");
+  if (g.teeth > 10000) throw InputError(p + ".teeth", 0, std::to_string(g.teeth), "must be <= 10000");
+  Positive(p + ".module", g.module);
+  InRange(p + ".pressure_angle", g.pressure_angle, 0.0, std::numbers::pi / 4.0, true, true);
+  Positive(p + ".face_width", g.face_width);
+  NonNegative(p + ".bore_diameter", g.bore_diameter);
+  if (spec.materials.find(g.material) == spec.materials.end()) {
+    throw InputError(p + ".material", 0, g.material, "must name a key of materials");
+  }
+  Positive(p + ".addendum_coefficient", g.addendum_coefficient);
+  if (!(g.dedendum_coefficient >= g.addendum_coefficient) || !std::isfinite(g.dedendum_coefficient)) {
+    throw InputError(p + ".dedendum_coefficient", 0, Num(g.dedendum_coefficient),
+                     "must be >= addendum_coefficient (" + Num(g.addendum_coefficient) +
+                         "): the root clearance c* cannot be negative");
+  }
+  InRange(p + ".profile_shift", g.profile_shift, -1.0, 1.5, false, false);
+  if (g.inertia) Positive(p + ".inertia", *g.inertia);
+  if (g.mass) Positive(p + ".mass", *g.mass);
+  if (g.tip_relief) {
+    NonNegative(p + ".tip_relief.amount", g.tip_relief->amount);
+    NonNegative(p + ".tip_relief.length", g.tip_relief->length);
+  }
+  const GearRadii r = ComputeGearRadii(g);
+  if (!(r.root > 0.0)) {
+    throw InputError(p + ".dedendum_coefficient", 0, Num(g.dedendum_coefficient),
+                     "gives a root radius <= 0");
+  }
+  if (!(g.bore_diameter < 2.0 * r.root)) {
+    throw InputError(p + ".bore_diameter", 0, Num(g.bore_diameter),
+                     "must be smaller than the root diameter (" + Num(2.0 * r.root) + " m)");
+  }
+}
+
+void ValidateShaft(const GearboxSpec& spec, const ShaftSpec& s, const std::string& p) {
+  if (spec.materials.find(s.material) == spec.materials.end()) {
+    throw InputError(p + ".material", 0, s.material, "must name a key of materials");
+  }
+  if (s.segments.empty()) throw InputError(p + ".segments", 0, "[]", "needs at least one segment");
+  for (size_t i = 0; i < s.segments.size(); ++i) {
+    const std::string q = Indexed(p + ".segments", i);
+    Positive(q + ".length", s.segments[i].length);
+    Positive(q + ".outer_diameter", s.segments[i].outer_diameter);
+    NonNegative(q + ".inner_diameter", s.segments[i].inner_diameter);
+    if (!(s.segments[i].inner_diameter < s.segments[i].outer_diameter)) {
+      throw InputError(q + ".inner_diameter", 0, Num(s.segments[i].inner_diameter),
+                       "must be smaller than outer_diameter");
+    }
+  }
+  const double len = s.Length();
+  auto within = [&](const std::string& path, double x) {
+    if (!(x >= 0.0 && x <= len * (1.0 + 1e-12))) {
+      throw InputError(path, 0, Num(x), "must lie on the shaft, in [0, " + Num(len) + "] m");
+    }
+  };
+  within(p + ".gear_at", s.gear_at);
+  if (s.bearings.empty()) throw InputError(p + ".bearings", 0, "[]", "needs at least one bearing");
+  bool axial = false;
+  int radial = 0;
+  for (size_t i = 0; i < s.bearings.size(); ++i) {
+    const std::string q = Indexed(p + ".bearings", i);
+    const BearingSpec& b = s.bearings[i];
+    within(q + ".at", b.at);
+    NonNegative(q + ".radial_stiffness", b.radial_stiffness);
+    NonNegative(q + ".axial_stiffness", b.axial_stiffness);
+    NonNegative(q + ".tilt_stiffness", b.tilt_stiffness);
+    NonNegative(q + ".damping", b.damping);
+    axial = axial || b.axial_stiffness > 0.0;
+    radial += b.radial_stiffness > 0.0 ? 1 : 0;
+    if (b.radial_stiffness > 0.0 && b.tilt_stiffness > 0.0) radial += 1;
+  }
+  if (!axial) {
+    throw InputError(p + ".bearings", 0, "",
+                     "at least one bearing needs axial_stiffness > 0 (else the shaft floats axially)");
+  }
+  if (radial < 2) {
+    throw InputError(p + ".bearings", 0, "",
+                     "needs two bearings with radial_stiffness > 0, or one that also has "
+                     "tilt_stiffness > 0 (else the shaft tips over)");
+  }
+  for (size_t i = 0; i < s.inertias.size(); ++i) {
+    const std::string q = Indexed(p + ".inertias", i);
+    within(q + ".at", s.inertias[i].at);
+    NonNegative(q + ".polar", s.inertias[i].polar);
+    NonNegative(q + ".diametral", s.inertias[i].diametral);
+  }
+  if (s.element_length) {
+    Positive(p + ".element_length", *s.element_length);
+    if (len / *s.element_length > 200000.0) {
+      throw InputError(p + ".element_length", 0, Num(*s.element_length),
+                       "gives more than 200000 elements on this shaft");
+    }
+  }
+}
+
+void ValidateRange(const SweepRange& r, const std::string& p) {
+  if (r.points < 2) throw InputError(p + ".points", 0, std::to_string(r.points), "must be >= 2");
+  if (r.points > 100000) {
+    throw InputError(p + ".points", 0, std::to_string(r.points), "must be <= 100000");
+  }
+  if (!std::isfinite(r.from) || !std::isfinite(r.to) || !(r.to > r.from)) {
+    throw InputError(p + ".to", 0, Num(r.to), "must be greater than from (" + Num(r.from) + ")");
+  }
+}
+
+}  // namespace
+
+void ValidateGearboxSpec(const GearboxSpec& spec) {
+  if (spec.name.empty()) throw InputError("name", 0, "\"\"", "must not be empty");
+  if (spec.materials.empty()) throw InputError("materials", 0, "{}", "needs at least one material");
+  for (const auto& [key, m] : spec.materials) {
+    const std::string p = "materials." + key;
+    Positive(p + ".youngs_modulus", m.youngs_modulus);
+    InRange(p + ".poisson_ratio", m.poisson_ratio, -1.0, 0.5, true, true);
+    Positive(p + ".density", m.density);
+  }
+  ValidateGear(spec, spec.pinion, "gears.pinion");
+  ValidateGear(spec, spec.wheel, "gears.wheel");
+
+  const MeshSpec& mesh = spec.mesh;
+  Positive("mesh.backlash", mesh.backlash);
+  InRange("mesh.damping_ratio", mesh.damping_ratio, 0.0, 1.0, false, true);
+  InRange("mesh.friction_coefficient", mesh.friction_coefficient, 0.0, 1.0, false, false);
+  if (mesh.center_distance) Positive("mesh.center_distance", *mesh.center_distance);
+  if (const auto* r = std::get_if<RectangularStiffness>(&mesh.stiffness)) {
+    Positive("mesh.stiffness.rectangular.single", r->single);
+    Positive("mesh.stiffness.rectangular.double", r->double_pair);
+    InRange("mesh.stiffness.rectangular.contact_ratio", r->contact_ratio, 1.0, 2.0, false, false);
+  } else if (const auto* t = std::get_if<TableStiffness>(&mesh.stiffness)) {
+    if (t->phase.size() < 2) {
+      throw InputError("mesh.stiffness.table.phase", 0, std::to_string(t->phase.size()) + " entries",
+                       "needs at least 2 entries");
+    }
+    if (t->phase.size() != t->stiffness.size()) {
+      throw InputError("mesh.stiffness.table.stiffness", 0,
+                       std::to_string(t->stiffness.size()) + " entries",
+                       "must have as many entries as phase (" + std::to_string(t->phase.size()) + ")");
+    }
+    for (size_t i = 0; i < t->phase.size(); ++i) {
+      const std::string phase_path = Indexed("mesh.stiffness.table.phase", i);
+      InRange(phase_path, t->phase[i], 0.0, 1.0, false, true);
+      if (i > 0 && !(t->phase[i] > t->phase[i - 1])) {
+        throw InputError(phase_path, 0, Num(t->phase[i]),
+                         "must be strictly increasing");
+      }
+      Positive(Indexed("mesh.stiffness.table.stiffness", i), t->stiffness[i]);
+    }
+  } else if (const auto* f = std::get_if<FourierStiffness>(&mesh.stiffness)) {
+    Positive("mesh.stiffness.fourier.mean", f->mean);
+    double amplitude_sum = 0.0;
+    for (double c : f->cos_coefficients) amplitude_sum += std::abs(c);
+    for (double s : f->sin_coefficients) amplitude_sum += std::abs(s);
+    if (!(amplitude_sum < f->mean)) {
+      throw InputError("mesh.stiffness.fourier", 0, Num(amplitude_sum),
+                       "sum of |harmonic amplitudes| must be < mean (" + Num(f->mean) +
+                           " N/m) so the stiffness stays positive");
+    }
+  }
+  const auto& ste = mesh.static_transmission_error;
+  if (ste.amplitudes.size() != ste.phases.size()) {
+    throw InputError("mesh.static_transmission_error.phases", 0,
+                     std::to_string(ste.phases.size()) + " entries",
+                     "must have as many entries as amplitudes (" +
+                         std::to_string(ste.amplitudes.size()) + ")");
+  }
+  for (size_t i = 0; i < ste.amplitudes.size(); ++i) {
+    NonNegative(Indexed("mesh.static_transmission_error.amplitudes", i), ste.amplitudes[i]);
+  }
+
+  if (spec.input_shaft) ValidateShaft(spec, *spec.input_shaft, "shafts.input");
+  if (spec.output_shaft) ValidateShaft(spec, *spec.output_shaft, "shafts.output");
+
+  Positive("operating.speed", spec.operating.speed);
+  NonNegative("operating.torque", spec.operating.torque);
+  for (size_t i = 0; i < spec.operating.excitation.size(); ++i) {
+    const std::string q = Indexed("operating.excitation", i);
+    Positive(q + ".order", spec.operating.excitation[i].order);
+    NonNegative(q + ".amplitude", spec.operating.excitation[i].amplitude);
+  }
+
+  const AnalysisSpec& a = spec.analysis;
+  if (a.segments_per_cycle < 4 || a.segments_per_cycle > 4096) {
+    throw InputError("analysis.segments_per_cycle", 0, std::to_string(a.segments_per_cycle),
+                     "must be in [4, 4096]");
+  }
+  if (a.cycles < 1 || a.cycles > 100000000) {
+    throw InputError("analysis.cycles", 0, std::to_string(a.cycles), "must be in [1, 1e8]");
+  }
+  if (a.transient_cycles < 0 || a.transient_cycles > 100000000) {
+    throw InputError("analysis.transient_cycles", 0, std::to_string(a.transient_cycles),
+                     "must be in [0, 1e8]");
+  }
+  ValidateRange(a.speed_sweep, "analysis.speed_sweep");
+  if (a.speed_sweep.from <= 0.0) {
+    throw InputError("analysis.speed_sweep.from", 0, Num(a.speed_sweep.from), "must be > 0");
+  }
+  if (a.atlas_x) ValidateRange(a.atlas_x->range, "analysis.atlas.x");
+  if (a.atlas_y) ValidateRange(a.atlas_y->range, "analysis.atlas.y");
+
+  // The pair must mesh: contact ratio, interference, centre distance.
+  (void)ComputePairGeometry(spec);
+}
+
+}  // namespace gearnvh

@@ -1,0 +1,190 @@
+// End-to-end tests of `gearnvh check`: exit codes, messages naming the YAML path, JSON keys.
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "support/run_command.h"
+
+namespace gearnvh {
+namespace {
+
+using testing::RunCommand;
+using testing::TempDir;
+
+const std::string kExe = GEARNVH_EXE;
+const std::string kExamples = GEARNVH_EXAMPLES_DIR;
+
+const std::string kValid = R"(schema: gearnvh/1
+name: test pair
+materials:
+  steel: {youngs_modulus: 206 GPa, poisson_ratio: 0.3, density: 7850 kg/m^3}
+gears:
+  pinion:
+    teeth: 27
+    module: 2 mm
+    face_width: 15 mm
+    bore_diameter: 25 mm
+    material: steel
+  wheel:
+    teeth: 43
+    module: 2 mm
+    face_width: 15 mm
+    bore_diameter: 30 mm
+    material: steel
+mesh:
+  backlash: 100 um
+operating:
+  speed: 800 rpm
+  torque: 0.5 N*m
+)";
+
+const std::string kShafts = R"(shafts:
+  input:
+    material: steel
+    segments: [{length: 100 mm, outer_diameter: 30 mm}]
+    gear_at: 50 mm
+    bearings:
+      - {at: 0 mm, radial_stiffness: 2e8 N/m, axial_stiffness: 1e8 N/m}
+      - {at: 100 mm, radial_stiffness: 2e8 N/m}
+)";
+
+std::string ReplaceFirst(std::string text, const std::string& from, const std::string& to) {
+  const auto pos = text.find(from);
+  REQUIRE(pos != std::string::npos);
+  text.replace(pos, from.size(), to);
+  return text;
+}
+
+struct MalformedCase {
+  std::string what;
+  std::string yaml;
+  std::string expected_path;  // must appear in the message
+  std::string expected_rule;  // must appear too ("" = not checked)
+};
+
+std::vector<MalformedCase> MalformedCases() {
+  const std::string v = kValid;
+  return {
+      {"bad unit", ReplaceFirst(v, "module: 2 mm", "module: 2 mmm"), "gears.pinion.module", "unknown unit 'mmm'"},
+      {"unit of the wrong dimension", ReplaceFirst(v, "100 um", "100 rpm"), "mesh.backlash", "unknown unit"},
+      {"misspelled key", ReplaceFirst(v, "backlash:", "backlsh:"), "mesh.backlsh", "did you mean 'backlash'"},
+      {"unknown top-level key", v + "extra: 1\n", "extra", "unknown key"},
+      {"negative backlash", ReplaceFirst(v, "100 um", "-100 um"), "mesh.backlash", "must be > 0"},
+      {"zero backlash", ReplaceFirst(v, "100 um", "0 um"), "mesh.backlash", "must be > 0"},
+      {"teeth < 6", ReplaceFirst(v, "teeth: 27", "teeth: 4"), "gears.pinion.teeth", ">= 6"},
+      {"teeth not an integer", ReplaceFirst(v, "teeth: 27", "teeth: 27.5"), "gears.pinion.teeth", "integer"},
+      {"missing gear material", ReplaceFirst(v, "    bore_diameter: 30 mm\n    material: steel\n", "    bore_diameter: 30 mm\n"),
+       "gears.wheel.material", "required key is missing"},
+      {"unknown material name", ReplaceFirst(v, "material: steel", "material: stel"), "gears.pinion.material", "did you mean 'steel'"},
+      {"missing materials section", ReplaceFirst(v, "materials:\n  steel: {youngs_modulus: 206 GPa, poisson_ratio: 0.3, density: 7850 kg/m^3}\n", ""),
+       "materials", "required key is missing"},
+      {"wrong type: text for a speed", ReplaceFirst(v, "800 rpm", "fast"), "operating.speed", "rotational speed"},
+      {"wrong type: mapping for a length", ReplaceFirst(v, "module: 2 mm", "module: {a: 1}"), "gears.pinion.module", "length"},
+      {"duplicate key", ReplaceFirst(v, "teeth: 27\n", "teeth: 27\n    teeth: 28\n"), "gears.pinion.teeth", "duplicate key"},
+      {"missing name", ReplaceFirst(v, "name: test pair\n", ""), "name", "required key is missing"},
+      {"damping ratio above 1", ReplaceFirst(v, "backlash: 100 um", "backlash: 100 um\n  damping_ratio: 1.5"), "mesh.damping_ratio", "must be in"},
+      {"Poisson ratio out of range", ReplaceFirst(v, "poisson_ratio: 0.3", "poisson_ratio: 0.7"), "materials.steel.poisson_ratio", "must be in"},
+      {"pressure angle too large", ReplaceFirst(v, "module: 2 mm", "module: 2 mm\n    pressure_angle: 60 deg"), "gears.pinion.pressure_angle", "must be in"},
+      {"bore larger than root", ReplaceFirst(v, "bore_diameter: 25 mm", "bore_diameter: 200 mm"), "gears.pinion.bore_diameter", "root diameter"},
+      {"unsupported schema version", ReplaceFirst(v, "gearnvh/1", "gearnvh/2"), "schema", "must be gearnvh/1"},
+      {"unknown stiffness model", ReplaceFirst(v, "backlash: 100 um", "backlash: 100 um\n  stiffness: {model: rectangle}"), "mesh.stiffness.model", "did you mean 'rectangular'"},
+      {"table length mismatch",
+       ReplaceFirst(v, "backlash: 100 um", "backlash: 100 um\n  stiffness: {model: table, table: {phase: [0, 0.5], stiffness: [2e8 N/m]}}"),
+       "mesh.stiffness.table.stiffness", "as many entries"},
+      {"tier out of range", v + "analysis: {tier: 7}\n", "analysis.tier", "1..5"},
+      {"too few segments", v + "analysis: {segments_per_cycle: 2}\n", "analysis.segments_per_cycle", "[4, 4096]"},
+      {"zero speed", ReplaceFirst(v, "800 rpm", "0 rpm"), "operating.speed", "must be > 0"},
+      {"negative torque", ReplaceFirst(v, "0.5 N*m", "-0.5 N*m"), "operating.torque", "must be >= 0"},
+      {"bearing off the shaft", v + ReplaceFirst(kShafts, "at: 100 mm", "at: 300 mm"), "shafts.input.bearings[1].at", "must lie on the shaft"},
+      {"excitation not a list", ReplaceFirst(v, "torque: 0.5 N*m", "torque: 0.5 N*m\n  excitation: {order: 2}"), "operating.excitation", "must be a list"},
+      {"a third gear", ReplaceFirst(v, "gears:\n", "gears:\n  idler: {teeth: 20}\n"), "gears.idler", "unknown key"},
+      {"top level is a list", "- a\n- b\n", "(document)", "must be a mapping"},
+      {"centre distance too small", ReplaceFirst(v, "backlash: 100 um", "backlash: 100 um\n  center_distance: 60 mm"), "mesh.center_distance", "base radii"},
+      {"empty file", "", "(document)", "empty"},
+      {"not YAML", "{{{: [\n  - ]: }\n", "(document)", "not valid YAML"},
+      {"binary garbage", std::string("\x00\xff\xfe garbage \x01\x02", 15), "(document)", ""},
+      {"shaft floats axially", v + ReplaceFirst(kShafts, "axial_stiffness: 1e8 N/m", "axial_stiffness: 0 N/m"), "shafts.input.bearings", "axial_stiffness > 0"},
+      {"atlas parameter unknown", v + "analysis:\n  atlas:\n    x: {parameter: operating.sped, from: 1, to: 2, points: 3}\n    y: {parameter: mesh.backlash, from: 1 um, to: 2 um, points: 3}\n",
+       "analysis.atlas.x.parameter", "did you mean 'operating.speed'"},
+  };
+}
+
+TEST_CASE("malformed gearbox files: exit code 1 and a message naming the path", "[cli][malformed]") {
+  const auto cases = MalformedCases();
+  REQUIRE(cases.size() >= 25);
+  TempDir dir;
+  for (size_t i = 0; i < cases.size(); ++i) {
+    const MalformedCase& c = cases[i];
+    SECTION(c.what) {
+      const auto file = dir.Write("case" + std::to_string(i) + ".yaml", c.yaml);
+      const auto r = RunCommand(kExe + " check " + file.string());
+      INFO("case: " << c.what << "\nstderr: " << r.err);
+      CHECK(r.exit_code == 1);
+      CHECK(r.out.empty());
+      CHECK(r.err.find(c.expected_path) != std::string::npos);
+      CHECK(r.err.find(file.filename().string()) != std::string::npos);
+      if (!c.expected_rule.empty()) CHECK(r.err.find(c.expected_rule) != std::string::npos);
+    }
+  }
+}
+
+TEST_CASE("error messages give the line of the offending value", "[cli][malformed]") {
+  TempDir dir;
+  const auto file = dir.Write("neg.yaml", ReplaceFirst(kValid, "100 um", "-100 um"));
+  const auto r = RunCommand(kExe + " check " + file.string());
+  CHECK(r.exit_code == 1);
+  CHECK(r.err.find("neg.yaml:19: mesh.backlash: must be > 0, got '-100 um'") != std::string::npos);
+}
+
+TEST_CASE("usage errors exit 2, help exits 0", "[cli]") {
+  CHECK(RunCommand(kExe).exit_code == 2);
+  CHECK(RunCommand(kExe + " frobnicate").exit_code == 2);
+  CHECK(RunCommand(kExe + " check").exit_code == 2);
+  CHECK(RunCommand(kExe + " check /nonexistent/file.yaml").exit_code == 2);
+  CHECK(RunCommand(kExe + " check --bogus " + kExamples + "/idle_rattle.yaml").exit_code == 2);
+  const auto help = RunCommand(kExe + " --help");
+  CHECK(help.exit_code == 0);
+  CHECK(help.out.find("check") != std::string::npos);
+  const auto check_help = RunCommand(kExe + " check --help");
+  CHECK(check_help.exit_code == 0);
+  CHECK(check_help.out.find("--json") != std::string::npos);
+}
+
+TEST_CASE("check succeeds on every bundled example", "[cli]") {
+  const auto r = RunCommand(kExe + " check " + kExamples + "/*.yaml");
+  INFO(r.err);
+  CHECK(r.exit_code == 0);
+  CHECK(r.out.find("contact ratio") != std::string::npos);
+}
+
+TEST_CASE("check --json has the documented keys in SI units", "[cli][json]") {
+  const auto r = RunCommand(kExe + " check --json " + kExamples + "/idle_rattle.yaml");
+  REQUIRE(r.exit_code == 0);
+  const auto doc = nlohmann::json::parse(r.out);
+  CHECK(doc["name"] == "Passenger-car 5th gear, idle rattle");
+  const auto& g = doc["geometry"];
+  CHECK(g["center_distance"].get<double>() == Approx(0.070).epsilon(1e-12));
+  CHECK(g["mesh_frequency_hz"].get<double>() == Approx(27 * 800 / 60.0).epsilon(1e-12));
+  CHECK(g["pinion"]["tip_radius"].get<double>() == Approx(0.029).epsilon(1e-12));
+  CHECK(g["wheel"]["root_radius"].get<double>() == Approx(0.043 - 0.0025).epsilon(1e-12));
+  CHECK(g["contact_ratio"].get<double>() > 1.5);
+  CHECK(g["pinion"].contains("base_radius"));
+}
+
+TEST_CASE("a batch with one bad file checks the others and exits 1", "[cli][json]") {
+  TempDir dir;
+  const auto bad = dir.Write("bad.yaml", ReplaceFirst(kValid, "teeth: 27", "teeth: 3"));
+  const auto r = RunCommand(kExe + " check --json " + kExamples + "/idle_rattle.yaml " +
+                            bad.string() + " " + kExamples + "/industrial_whine.yaml");
+  CHECK(r.exit_code == 1);
+  const auto doc = nlohmann::json::parse(r.out);
+  REQUIRE(doc.is_array());
+  REQUIRE(doc.size() == 3);
+  CHECK(doc[0].contains("geometry"));
+  CHECK(doc[1]["error"].get<std::string>().find("gears.pinion.teeth") != std::string::npos);
+  CHECK(doc[2].contains("geometry"));
+}
+
+}  // namespace
+}  // namespace gearnvh

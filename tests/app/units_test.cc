@@ -1,0 +1,45 @@
+#include "config/units.h"
+
+#include <catch2/catch.hpp>
+#include <numbers>
+
+namespace gearnvh::config {
+namespace {
+
+TEST_CASE("quantities convert to SI", "[units]") {
+  // Unit factors are exact decimal or pi-based products: tolerance 2 ulps relative.
+  const double tol = 2 * std::numeric_limits<double>::epsilon();
+  CHECK(ParseQuantity("2 mm", Dimension::kLength).si_value == Approx(2e-3).epsilon(tol));
+  CHECK(ParseQuantity("100 um", Dimension::kLength).si_value == Approx(1e-4).epsilon(tol));
+  CHECK(ParseQuantity("2mm", Dimension::kLength).si_value == Approx(2e-3).epsilon(tol));
+  CHECK(ParseQuantity("1e-3", Dimension::kLength).si_value == Approx(1e-3).epsilon(tol));
+  CHECK(ParseQuantity("1e-3 m", Dimension::kLength).si_value == Approx(1e-3).epsilon(tol));
+  CHECK(ParseQuantity("20 deg", Dimension::kAngle).si_value ==
+        Approx(20 * std::numbers::pi / 180).epsilon(tol));
+  CHECK(ParseQuantity("1500 rpm", Dimension::kAngularSpeed).si_value ==
+        Approx(50 * std::numbers::pi).epsilon(tol));
+  CHECK(ParseQuantity("206 GPa", Dimension::kPressure).si_value == Approx(206e9).epsilon(tol));
+  CHECK(ParseQuantity("3e-4 kg*m^2", Dimension::kInertia).si_value == Approx(3e-4).epsilon(tol));
+  CHECK(ParseQuantity("2e8 N/m", Dimension::kStiffness).si_value == Approx(2e8).epsilon(tol));
+  CHECK(ParseQuantity("1e4 N*m/rad", Dimension::kRotationalStiffness).si_value == Approx(1e4));
+  CHECK(ParseQuantity("800 rad/s^2", Dimension::kAngularAcceleration).si_value == Approx(800));
+  CHECK(ParseQuantity("-0.5 N*m", Dimension::kTorque).si_value == Approx(-0.5));
+  CHECK(ParseQuantity("1000 N*s/m", Dimension::kDamping).si_value == Approx(1000));
+  CHECK(ParseQuantity("7850 kg/m^3", Dimension::kDensity).si_value == Approx(7850));
+}
+
+TEST_CASE("bad quantities are rejected with the rule", "[units]") {
+  auto err = [](const char* text, Dimension d) { return ParseQuantity(text, d).error; };
+  CHECK(err("2 mmm", Dimension::kLength).find("unknown unit 'mmm'") != std::string::npos);
+  CHECK(err("2 mmm", Dimension::kLength).find("accepted: m, mm") != std::string::npos);
+  CHECK(err("100 rpm", Dimension::kLength).find("unknown unit") != std::string::npos);
+  CHECK_FALSE(err("abc", Dimension::kLength).empty());
+  CHECK_FALSE(err("", Dimension::kLength).empty());
+  CHECK_FALSE(err("1e999 m", Dimension::kLength).empty());
+  CHECK_FALSE(err("nan", Dimension::kDimensionless).empty());
+  CHECK_FALSE(err("0.3 mm", Dimension::kDimensionless).empty());
+  CHECK(err("0.3", Dimension::kDimensionless).empty());
+}
+
+}  // namespace
+}  // namespace gearnvh::config
