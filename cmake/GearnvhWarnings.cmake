@@ -10,3 +10,9 @@ if(GEARNVH_SANITIZE)
     -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
   target_link_options(gearnvh_options INTERFACE -fsanitize=address,undefined)
 endif()
+if(GEARNVH_FUZZ)
+  # Instrument every library for coverage; the fuzzer executable adds the libFuzzer main.
+  target_compile_options(gearnvh_options INTERFACE
+    -fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer -g)
+  target_link_options(gearnvh_options INTERFACE -fsanitize=address,undefined)
+endif()

@@ -1,0 +1,11 @@
+#!/usr/bin/env bash
+# Sets gearnvh up on a Debian machine: installs packages (idempotent), configures and builds.
+#   bash scripts/setup.sh            Release build in build/
+# Environment: GEARNVH_BUILD_DIR (default build), GEARNVH_CMAKE_ARGS (extra cmake arguments).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/install-deps.sh
+BUILD_DIR=${GEARNVH_BUILD_DIR:-build}
+# shellcheck disable=SC2086
+cmake -S . -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=Release ${GEARNVH_CMAKE_ARGS:-}
+cmake --build "$BUILD_DIR" -j "$(nproc)"

@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# Runs the whole gearnvh test suite (Catch2 through ctest).
+#   bash scripts/test.sh             Release build in build/
+#   bash scripts/test.sh --sanitize  AddressSanitizer + UndefinedBehaviorSanitizer build in build-asan/
+set -euo pipefail
+cd "$(dirname "$0")/.."
+if [ "${1:-}" = "--sanitize" ]; then
+  export GEARNVH_BUILD_DIR=build-asan
+  export GEARNVH_CMAKE_ARGS="-DGEARNVH_SANITIZE=ON -DGEARNVH_NATIVE=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo"
+  export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}
+  export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+fi
+bash scripts/setup.sh
+ctest --test-dir "${GEARNVH_BUILD_DIR:-build}" --output-on-failure -j "$(nproc)"
