@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "config/gearbox_loader.h"
+#include "gearnvh/model/component_model.h"
 #include "gearnvh/model/gear_geometry.h"
 #include "gearnvh/model/input_error.h"
 
@@ -19,7 +20,11 @@ nlohmann::json RadiiJson(const GearRadii& r) {
           {"root_radius", r.root}};
 }
 
-void PrintText(const std::string& file, const GearboxSpec& spec, const PairGeometry& g) {
+constexpr int kReportedModes = 10;
+
+void PrintText(const std::string& file, const GearboxSpec& spec, const ComponentModel& model,
+               const ModalSummary& modes) {
+  const PairGeometry& g = model.geometry;
   constexpr double kMm = 1e3;
   fmt::print("{}  ({})\n", spec.name, file);
   fmt::print("  {:<28}{:>14}{:>14}\n", "geometry [mm]", "pinion", "wheel");
@@ -34,12 +39,33 @@ void PrintText(const std::string& file, const GearboxSpec& spec, const PairGeome
   fmt::print("  {:<28}{:>14.6f}\n", "contact ratio", g.contact_ratio);
   fmt::print("  {:<28}{:>14.3f} Hz\n", "mesh frequency", g.mesh_frequency_hz);
   fmt::print("  {:<28}{:>14.3f} us\n", "mesh period", g.mesh_period_s * 1e6);
+  const MeshStiffnessSummary& k = model.mesh_summary;
+  fmt::print("  mesh stiffness at {:.4g} N along the line of action{}\n", model.cycle.load,
+             model.cycle.overridden ? " (user override)" : " (potential energy method)");
+  fmt::print("  {:<28}{:>14.4g} N/m\n", "mean", k.mean);
+  fmt::print("  {:<28}{:>14.4g} N/m\n", "min", k.min);
+  fmt::print("  {:<28}{:>14.4g} N/m\n", "max", k.max);
+  fmt::print("  {:<28}{:>14.4g} N/m\n", "single-pair mean", k.single_pair_mean);
+  fmt::print("  {:<28}{:>14.4g} N/m\n", "double-pair mean", k.double_pair_mean);
+  fmt::print("  {:<28}{:>14.4f} um\n", "LSTE peak-to-peak", k.lste_peak_to_peak * 1e6);
+  fmt::print("  {:<28}{:>14.4f}\n", "max load share", k.load_sharing_max);
+  fmt::print("  finite elements: {} nodes, {} DOF{}, {} rigid-body mode(s)\n", model.nodes.size(),
+             model.dofs, model.flexible ? " (flexible shafts)" : " (rigid shafts on bearings)",
+             modes.rigid_body_modes);
+  fmt::print("  {:<28}", "natural frequencies [Hz]");
+  for (size_t i = 0; i < modes.frequencies_hz.size(); ++i) {
+    if (i > 0 && i % 5 == 0) fmt::print("\n  {:<28}", "");
+    fmt::print("{:>10.1f}", modes.frequencies_hz[i]);
+  }
+  fmt::print("\n");
+  for (const std::string& w : model.warnings) fmt::print("  warning: {}\n", w);
 }
 
 }  // namespace
 
-nlohmann::json CheckReport(const GearboxSpec& spec) {
-  const PairGeometry g = ComputePairGeometry(spec);
+nlohmann::json CheckReport(const GearboxSpec& spec, const ComponentModel& model,
+                           const ModalSummary& modes) {
+  const PairGeometry& g = model.geometry;
   nlohmann::json doc;
   doc["name"] = spec.name;
   doc["geometry"] = {{"contact_ratio", g.contact_ratio},
@@ -51,6 +77,26 @@ nlohmann::json CheckReport(const GearboxSpec& spec) {
                      {"gear_ratio", g.gear_ratio},
                      {"pinion", RadiiJson(g.pinion)},
                      {"wheel", RadiiJson(g.wheel)}};
+  const MeshStiffnessSummary& k = model.mesh_summary;
+  doc["mesh"] = {{"contact_ratio", k.contact_ratio},
+                 {"load", model.cycle.load},
+                 {"stiffness_model", model.cycle.overridden ? "override" : "potential_energy"},
+                 {"stiffness",
+                  {{"mean", k.mean},
+                   {"min", k.min},
+                   {"max", k.max},
+                   {"single_pair_mean", k.single_pair_mean},
+                   {"double_pair_mean", k.double_pair_mean}}},
+                 {"lste_peak_to_peak", k.lste_peak_to_peak},
+                 {"load_sharing_max", k.load_sharing_max},
+                 {"segments", model.segmentation.segments.size()},
+                 {"mesh_damping", model.mesh_damping},
+                 {"warnings", model.warnings}};
+  doc["fe"] = {{"nodes", model.nodes.size()},
+               {"dofs", model.dofs},
+               {"flexible_shafts", model.flexible},
+               {"rigid_body_modes", modes.rigid_body_modes},
+               {"natural_frequencies_hz", modes.frequencies_hz}};
   return doc;
 }
 
@@ -60,17 +106,21 @@ int RunCheck(const CheckOptions& options) {
   for (const std::string& file : options.files) {
     try {
       const GearboxSpec spec = config::LoadGearboxFile(file);
-      nlohmann::json doc = CheckReport(spec);
+      const ComponentModel model = BuildComponentModel(spec);
+      const ModalSummary modes = FullModelFrequencies(model, kReportedModes);
+      nlohmann::json doc = CheckReport(spec, model, modes);
       if (options.json) {
         doc["file"] = file;
         documents.push_back(std::move(doc));
       } else {
-        PrintText(file, spec, ComputePairGeometry(spec));
+        PrintText(file, spec, model, modes);
       }
     } catch (const InputError& e) {
-      std::cerr << "error: " << e.what() << "\n";
+      // Errors raised below the loader (e.g. segments_per_cycle too small) carry no file name.
+      const std::string message = e.source().empty() ? e.WithSource(file).what() : e.what();
+      std::cerr << "error: " << message << "\n";
       exit_code = 1;
-      if (options.json) documents.push_back({{"file", file}, {"error", e.what()}});
+      if (options.json) documents.push_back({{"file", file}, {"error", message}});
     }
   }
   if (options.json) {

@@ -6,7 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "gearnvh/model/gearbox_spec.h"
+#include "gearnvh/model/component_model.h"
 
 namespace gearnvh::app {
 
@@ -16,7 +16,8 @@ struct CheckOptions {
 };
 
 // The JSON document `check --json` prints for one gearbox (keys documented in docs/cli.md).
-nlohmann::json CheckReport(const GearboxSpec& spec);
+nlohmann::json CheckReport(const GearboxSpec& spec, const ComponentModel& model,
+                           const ModalSummary& modes);
 
 // Runs the command; returns the process exit code (0 ok, 1 if any file was invalid).
 int RunCheck(const CheckOptions& options);

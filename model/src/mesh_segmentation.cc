@@ -1,0 +1,116 @@
+#include "gearnvh/model/mesh_segmentation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "gearnvh/model/input_error.h"
+#include "gearnvh/model/quadrature.h"
+
+namespace gearnvh {
+namespace {
+
+// Bisects the loaded-pair count change between a (count ca) and b.
+double LocateTransition(const MeshEvaluator& ev, Flank flank, double a, double b) {
+  const int ca = ev.Evaluate(a, flank).loaded_pairs;
+  for (int it = 0; it < 60 && b - a > 1e-13; ++it) {
+    const double m = 0.5 * (a + b);
+    if (ev.Evaluate(m, flank).loaded_pairs == ca) a = m;
+    else b = m;
+  }
+  return 0.5 * (a + b);
+}
+
+double UserSte(const StaticTransmissionError& ste, double tau) {
+  double e = 0.0;
+  for (size_t n = 0; n < ste.amplitudes.size(); ++n) {
+    e += ste.amplitudes[n] * std::cos(2.0 * std::numbers::pi * (n + 1) * tau + ste.phases[n]);
+  }
+  return e;
+}
+
+}  // namespace
+
+MeshSegmentation SegmentMeshCycle(const GearboxSpec& spec, const MeshEvaluator& ev,
+                                  int segments_per_cycle, int scan_samples) {
+  MeshSegmentation out;
+  std::vector<double> breaks{0.0};
+  for (Flank flank : {Flank::kDrive, Flank::kBack}) {
+    breaks.push_back(ev.PitchCrossing(flank));
+    int previous = ev.Evaluate(0.0, flank).loaded_pairs;
+    for (int i = 1; i <= scan_samples; ++i) {
+      const double tau = static_cast<double>(i) / scan_samples;
+      const int count = ev.Evaluate(tau, flank).loaded_pairs;
+      if (count != previous) {
+        breaks.push_back(LocateTransition(ev, flank, static_cast<double>(i - 1) / scan_samples, tau));
+      }
+      previous = count;
+    }
+  }
+  for (double& b : breaks) b -= std::floor(b);
+  std::sort(breaks.begin(), breaks.end());
+  std::vector<double> unique;
+  for (double b : breaks) {
+    if (unique.empty() || b - unique.back() > 1e-9) unique.push_back(b);
+  }
+  if (unique.size() > 1 && 1.0 - unique.back() < 1e-9) unique.pop_back();
+  out.mandatory_breaks = unique;
+  const int intervals = static_cast<int>(unique.size());
+  if (segments_per_cycle < intervals) {
+    throw InputError("analysis.segments_per_cycle", 0, std::to_string(segments_per_cycle),
+                     "must be >= " + std::to_string(intervals) +
+                         " (the contact-count transitions and pitch-point crossings of this pair)");
+  }
+  // Largest-remainder allocation of segments to intervals, at least one each.
+  std::vector<double> length(intervals);
+  for (int i = 0; i < intervals; ++i) {
+    length[i] = (i + 1 < intervals ? unique[i + 1] : 1.0) - unique[i];
+  }
+  std::vector<int> count(intervals, 1);
+  int remaining = segments_per_cycle - intervals;
+  std::vector<double> want(intervals);
+  for (int i = 0; i < intervals; ++i) want[i] = length[i] * segments_per_cycle;
+  while (remaining > 0) {
+    int best = 0;
+    double best_deficit = -1e300;
+    for (int i = 0; i < intervals; ++i) {
+      const double deficit = want[i] - count[i];
+      if (deficit > best_deficit) best_deficit = deficit, best = i;
+    }
+    ++count[best];
+    --remaining;
+  }
+  const GaussLegendreRule rule = MakeGaussLegendre(8);
+  const double load = ev.load();
+  for (int i = 0; i < intervals; ++i) {
+    for (int c = 0; c < count[i]; ++c) {
+      MeshSegment seg;
+      seg.tau_begin = unique[i] + length[i] * c / count[i];
+      seg.tau_end = unique[i] + length[i] * (c + 1) / count[i];
+      const double h = seg.tau_end - seg.tau_begin;
+      double lste = 0.0, user = 0.0;
+      for (size_t q = 0; q < rule.nodes.size(); ++q) {
+        const double tau = seg.tau_begin + 0.5 * h * (1.0 + rule.nodes[q]);
+        const double w = 0.5 * rule.weights[q];  // weights of the mean over the segment
+        const FlankSample d = ev.Evaluate(tau, Flank::kDrive);
+        const FlankSample b = ev.Evaluate(tau, Flank::kBack);
+        seg.drive.stiffness += w * d.stiffness;
+        seg.drive.friction_sigma += w * d.friction_sigma;
+        seg.drive.friction_arm_pinion += w * d.friction_arm_pinion;
+        seg.drive.friction_arm_wheel += w * d.friction_arm_wheel;
+        seg.back.stiffness += w * b.stiffness;
+        seg.back.friction_sigma += w * b.friction_sigma;
+        seg.back.friction_arm_pinion += w * b.friction_arm_pinion;
+        seg.back.friction_arm_wheel += w * b.friction_arm_wheel;
+        lste += w * d.lste;
+        user += w * UserSte(spec.mesh.static_transmission_error, tau);
+      }
+      seg.lste = lste;
+      seg.unloaded_error = lste - load / seg.drive.stiffness + user;
+      out.segments.push_back(seg);
+    }
+  }
+  return out;
+}
+
+}  // namespace gearnvh
