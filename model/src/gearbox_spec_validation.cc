@@ -65,6 +65,10 @@ void ValidateGear(const GearboxSpec& spec, const GearSpec& g, const std::string&
   if (g.tip_relief) {
     NonNegative(p + ".tip_relief.amount", g.tip_relief->amount);
     NonNegative(p + ".tip_relief.length", g.tip_relief->length);
+    if (g.tip_relief->amount > 0.0 && !(g.tip_relief->length > 0.0)) {
+      throw InputError(p + ".tip_relief.length", 0, Num(g.tip_relief->length),
+                       "must be > 0 when the relief amount is > 0");
+    }
   }
   const GearRadii r = ComputeGearRadii(g);
   if (!(r.root > 0.0)) {

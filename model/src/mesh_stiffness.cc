@@ -106,7 +106,9 @@ void ShareLoad(FlankSample& out, double load) {
     sum_ke += p.stiffness * p.separation;
     active = m + 1;
     delta = (load + sum_ke) / sum_k;
-    if (m + 1 == n || delta <= out.pairs[order[m + 1]].separation) break;
+    // Stop once delta is below the next separation; a pair with e == delta adds nothing under
+    // load and must join at zero load (ties share by stiffness).
+    if (m + 1 == n || delta < out.pairs[order[m + 1]].separation) break;
   }
   out.lste = delta;
   out.stiffness = 0.0;

@@ -105,6 +105,8 @@ std::vector<MalformedCase> MalformedCases() {
       {"not YAML", "{{{: [\n  - ]: }\n", "(document)", "not valid YAML"},
       {"binary garbage", std::string("\x00\xff\xfe garbage \x01\x02", 15), "(document)", ""},
       {"shaft floats axially", v + ReplaceFirst(kShafts, "axial_stiffness: 1e8 N/m", "axial_stiffness: 0 N/m"), "shafts.input.bearings", "axial_stiffness > 0"},
+      {"tip relief without length", ReplaceFirst(v, "    bore_diameter: 25 mm\n", "    bore_diameter: 25 mm\n    tip_relief: {amount: 10 um, length: 0 mm}\n"),
+       "gears.pinion.tip_relief.length", "must be > 0"},
       {"atlas parameter unknown", v + "analysis:\n  atlas:\n    x: {parameter: operating.sped, from: 1, to: 2, points: 3}\n    y: {parameter: mesh.backlash, from: 1 um, to: 2 um, points: 3}\n",
        "analysis.atlas.x.parameter", "did you mean 'operating.speed'"},
   };
@@ -170,6 +172,34 @@ TEST_CASE("check --json has the documented keys in SI units", "[cli][json]") {
   CHECK(g["wheel"]["root_radius"].get<double>() == Approx(0.043 - 0.0025).epsilon(1e-12));
   CHECK(g["contact_ratio"].get<double>() > 1.5);
   CHECK(g["pinion"].contains("base_radius"));
+  // Component model keys (issue 3), in SI units.
+  const auto& mesh = doc["mesh"];
+  CHECK(mesh["contact_ratio"].get<double>() == g["contact_ratio"].get<double>());
+  for (const char* key : {"mean", "min", "max", "single_pair_mean", "double_pair_mean"}) {
+    INFO(key);
+    CHECK(mesh["stiffness"][key].get<double>() > 1e7);   // N/m: steel spur pairs are 1e8..1e9
+    CHECK(mesh["stiffness"][key].get<double>() < 1e10);
+  }
+  CHECK(mesh["stiffness"]["min"].get<double>() <= mesh["stiffness"]["mean"].get<double>());
+  CHECK(mesh["stiffness"]["mean"].get<double>() <= mesh["stiffness"]["max"].get<double>());
+  CHECK(mesh["lste_peak_to_peak"].get<double>() > 0.0);
+  CHECK(mesh["load_sharing_max"].get<double>() <= 1.0 + 1e-12);
+  const auto& fe = doc["fe"];
+  CHECK(fe["dofs"].get<int>() == 6 * fe["nodes"].get<int>());
+  REQUIRE(fe["natural_frequencies_hz"].size() == 10);
+  for (size_t i = 1; i < 10; ++i) {
+    CHECK(fe["natural_frequencies_hz"][i].get<double>() >= fe["natural_frequencies_hz"][i - 1].get<double>());
+  }
+}
+
+TEST_CASE("check on the flexible example reports the shaft FE model", "[cli][json]") {
+  const auto r = RunCommand(kExe + " check --json " + kExamples + "/flexible_shafts.yaml");
+  REQUIRE(r.exit_code == 0);
+  const auto doc = nlohmann::json::parse(r.out);
+  CHECK(doc["fe"]["flexible_shafts"].get<bool>());
+  CHECK(doc["fe"]["nodes"].get<int>() > 40);
+  CHECK(doc["fe"]["rigid_body_modes"].get<int>() == 1);
+  CHECK(doc["fe"]["natural_frequencies_hz"][0].get<double>() > 10.0);
 }
 
 TEST_CASE("a batch with one bad file checks the others and exits 1", "[cli][json]") {
