@@ -8,6 +8,7 @@
 #include "config/gearbox_loader.h"
 #include "gearnvh/model/component_model.h"
 #include "gearnvh/model/gear_geometry.h"
+#include "gearnvh/reduction/reduced_model.h"
 #include "gearnvh/model/input_error.h"
 
 namespace gearnvh::app {
@@ -22,8 +23,19 @@ nlohmann::json RadiiJson(const GearRadii& r) {
 
 constexpr int kReportedModes = 10;
 
+const std::vector<Tier> kAllTiers{Tier::kTier1, Tier::kTier2,     Tier::kTier3, Tier::kTier4,
+                                  Tier::kTier5, Tier::kN20Simple, Tier::kN20Mta};
+
+std::vector<ReducedModel> ReduceAvailableTiers(const ComponentModel& model) {
+  std::vector<ReducedModel> out;
+  for (Tier t : kAllTiers) {
+    if (TierAvailable(model, t)) out.push_back(ReduceModel(model, t));
+  }
+  return out;
+}
+
 void PrintText(const std::string& file, const GearboxSpec& spec, const ComponentModel& model,
-               const ModalSummary& modes) {
+               const ModalSummary& modes, const std::vector<ReducedModel>& tiers) {
   const PairGeometry& g = model.geometry;
   constexpr double kMm = 1e3;
   fmt::print("{}  ({})\n", spec.name, file);
@@ -58,13 +70,23 @@ void PrintText(const std::string& file, const GearboxSpec& spec, const Component
     fmt::print("{:>10.1f}", modes.frequencies_hz[i]);
   }
   fmt::print("\n");
+  fmt::print("  {:<12}{:>5}{:>7}{:>14}{:>12}   lowest natural frequencies [Hz]\n", "modal tier",
+             "DOF", "state", "g_mesh [m/N]", "vs full");
+  for (const ReducedModel& r : tiers) {
+    fmt::print("  {:<12}{:>5}{:>7}{:>14.4e}{:>11.2e}  ", r.name, r.dof, r.state_dim(),
+               r.static_mesh_compliance, r.compliance_error_vs_full);
+    for (size_t i = 0; i < std::min<size_t>(4, r.natural_frequencies_hz.size()); ++i) {
+      fmt::print("{:>9.1f}", r.natural_frequencies_hz[i]);
+    }
+    fmt::print("\n");
+  }
   for (const std::string& w : model.warnings) fmt::print("  warning: {}\n", w);
 }
 
 }  // namespace
 
 nlohmann::json CheckReport(const GearboxSpec& spec, const ComponentModel& model,
-                           const ModalSummary& modes) {
+                           const ModalSummary& modes, const std::vector<ReducedModel>& tiers) {
   const PairGeometry& g = model.geometry;
   nlohmann::json doc;
   doc["name"] = spec.name;
@@ -97,6 +119,22 @@ nlohmann::json CheckReport(const GearboxSpec& spec, const ComponentModel& model,
                {"flexible_shafts", model.flexible},
                {"rigid_body_modes", modes.rigid_body_modes},
                {"natural_frequencies_hz", modes.frequencies_hz}};
+  doc["tiers"] = nlohmann::json::array();
+  std::vector<std::string> unavailable;
+  for (Tier t : kAllTiers) {
+    if (!TierAvailable(model, t)) unavailable.emplace_back(TierName(t));
+  }
+  for (const ReducedModel& r : tiers) {
+    doc["tiers"].push_back({{"name", r.name},
+                            {"dof", r.dof},
+                            {"state_dim", r.state_dim()},
+                            {"natural_frequencies_hz", r.natural_frequencies_hz},
+                            {"static_mesh_compliance", r.static_mesh_compliance},
+                            {"compliance_error_vs_full", r.compliance_error_vs_full},
+                            {"residual_compliance", r.residual_compliance}});
+  }
+  doc["tiers_unavailable"] = unavailable;
+  doc["full_static_mesh_compliance"] = tiers.empty() ? 0.0 : tiers.front().full_static_mesh_compliance;
   return doc;
 }
 
@@ -108,12 +146,13 @@ int RunCheck(const CheckOptions& options) {
       const GearboxSpec spec = config::LoadGearboxFile(file);
       const ComponentModel model = BuildComponentModel(spec);
       const ModalSummary modes = FullModelFrequencies(model, kReportedModes);
-      nlohmann::json doc = CheckReport(spec, model, modes);
+      const std::vector<ReducedModel> tiers = ReduceAvailableTiers(model);
+      nlohmann::json doc = CheckReport(spec, model, modes, tiers);
       if (options.json) {
         doc["file"] = file;
         documents.push_back(std::move(doc));
       } else {
-        PrintText(file, spec, model, modes);
+        PrintText(file, spec, model, modes, tiers);
       }
     } catch (const InputError& e) {
       // Errors raised below the loader (e.g. segments_per_cycle too small) carry no file name.

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "gearnvh/model/component_model.h"
+#include "gearnvh/reduction/reduced_model.h"
 
 namespace gearnvh::app {
 
@@ -17,7 +18,7 @@ struct CheckOptions {
 
 // The JSON document `check --json` prints for one gearbox (keys documented in docs/cli.md).
 nlohmann::json CheckReport(const GearboxSpec& spec, const ComponentModel& model,
-                           const ModalSummary& modes);
+                           const ModalSummary& modes, const std::vector<ReducedModel>& tiers);
 
 // Runs the command; returns the process exit code (0 ok, 1 if any file was invalid).
 int RunCheck(const CheckOptions& options);

@@ -200,6 +200,30 @@ TEST_CASE("check on the flexible example reports the shaft FE model", "[cli][jso
   CHECK(doc["fe"]["nodes"].get<int>() > 40);
   CHECK(doc["fe"]["rigid_body_modes"].get<int>() == 1);
   CHECK(doc["fe"]["natural_frequencies_hz"][0].get<double>() > 10.0);
+  // Tiers (issue 4): all seven on a flexible model, CB exact, simple truncation's error shown.
+  const auto& tiers = doc["tiers"];
+  REQUIRE(tiers.size() == 7);
+  CHECK(doc["tiers_unavailable"].empty());
+  for (const auto& t : tiers) {
+    INFO(t["name"]);
+    CHECK(t["state_dim"].get<int>() == 2 * t["dof"].get<int>() + 1);
+    CHECK(t["natural_frequencies_hz"].size() > 0);
+    const std::string name = t["name"];
+    if (name == "N20 simple") CHECK(std::abs(t["compliance_error_vs_full"].get<double>()) > 1e-6);
+    if (name == "tier 3" || name == "tier 4" || name == "N40 full" || name == "N20 MTA") {
+      CHECK(std::abs(t["compliance_error_vs_full"].get<double>()) < 1e-10);
+    }
+  }
+}
+
+TEST_CASE("check on a rigid-shaft example lists tiers 1-3 and says why not the others", "[cli][json]") {
+  const auto r = RunCommand(kExe + " check --json " + kExamples + "/idle_rattle.yaml");
+  REQUIRE(r.exit_code == 0);
+  const auto doc = nlohmann::json::parse(r.out);
+  CHECK(doc["tiers"].size() == 3);
+  CHECK(doc["tiers_unavailable"].size() == 4);
+  CHECK(doc["tiers"][0]["dof"] == 2);
+  CHECK(doc["tiers"][0]["name"] == "tier 1");
 }
 
 TEST_CASE("a batch with one bad file checks the others and exits 1", "[cli][json]") {

@@ -1,0 +1,84 @@
+// ReducedModel: a component model reduced to one of the modal tiers of DESIGN.md §3, ready for the
+// exact solver — dense M, C, K, G, gap and friction vectors and forcing in reduced coordinates, and
+// the recovery matrix back to the physical DOF (q_full = T x).
+//
+// Tiers (boundary = gear-node DOF kept physically, so delta = v^T x stays exact):
+//   tier 1   2 DOF  pinion and wheel torsion (Guyan: the shafts rotate rigidly)
+//   tier 2   6 DOF  per gear torsion + u_x + u_y (Guyan onto the bearing/shaft stiffness)
+//   tier 3  12 DOF  per gear all 6 DOF (Guyan)
+//   tier 4  20 DOF  tier 3 + 8 Craig–Bampton fixed-interface modes
+//   tier 5  40 DOF  tier 3 + 28 fixed-interface modes ("N40 full")
+//   N20 simple  20  lowest 20 free-free modes of tier 5 (2 rigid rotations + 18 elastic)
+//   N20 MTA     20  N20 simple + residual mesh flexibility g_res in series with the mesh spring:
+//                   k_eff(t) = k(t) / (1 + k(t) g_res)   (Rixen 2001; Dickens et al. 1997)
+//                   (vector form, an option: the residual static shape as a 21st Ritz vector)
+//
+// Static mesh compliance (the check quantity): the compliance along the drive line of action at the
+// mesh with both gear bodies' rotations held, g = v^T q where K q = v subject to th_z(pinion) =
+// th_z(wheel) = 0. Holding the gear rotations removes the structure's free torsional rotations with
+// boundary loads only, so Guyan and Craig–Bampton reproduce it exactly (constraint modes are exact
+// static shapes for boundary loads); modal truncation does not, and MTA adds the difference
+// g_res = g_full - g_truncated back in series with the mesh spring.
+#pragma once
+
+#include <Eigen/Dense>
+#include <string>
+#include <vector>
+
+#include "gearnvh/model/component_model.h"
+
+namespace gearnvh {
+
+struct ReductionOptions {
+  // Modal damping ratio of the Craig–Bampton fixed-interface modes (shaft structural damping), [0, 1).
+  double structural_damping_ratio = 0.01;
+  // MTA as one more Ritz vector (the residual static shape) instead of a series spring.
+  bool mta_vector_form = false;
+  // Interior problems smaller than this use a dense eigensolver (Spectra needs ncv < n); >= 8.
+  int dense_eigen_threshold = 64;
+  void Validate() const;
+};
+
+struct ReducedModel {
+  Tier tier = Tier::kTier1;
+  std::string name;
+  int dof = 0;
+  int boundary_dof = 0;  // physical gear-node DOF kept
+  int modal_dof = 0;     // Craig–Bampton or truncated modal coordinates
+  Eigen::MatrixXd M, C, K, G;  // G per unit pinion speed (force Omega1 G x')
+  Eigen::VectorXd v_drive, v_back;
+  Eigen::VectorXd friction_translation_drive, friction_translation_back;
+  Eigen::VectorXd pinion_torsion, wheel_torsion;  // T^T e_thz of each gear
+  Eigen::VectorXd static_force;                   // T^T f
+  Eigen::MatrixXd recovery;                       // T, full DOF x dof
+  double residual_compliance = 0.0;               // g_res (MTA series form), m/N
+  double static_mesh_compliance = 0.0;            // g of this model incl. g_res, m/N
+  double full_static_mesh_compliance = 0.0;       // g of the full FE model, m/N
+  double compliance_error_vs_full = 0.0;          // (g - g_full) / g_full
+  std::vector<double> natural_frequencies_hz;     // lowest 10 at mean (effective) mesh stiffness
+  int rigid_body_modes = 0;
+  double wall_seconds = 0.0;
+
+  int state_dim() const { return 2 * dof + 1; }
+  double EffectiveMeshStiffness(double k) const { return k / (1.0 + k * residual_compliance); }
+  Eigen::VectorXd FrictionVector(Flank flank, double sigma, double arm_pinion, double arm_wheel) const {
+    return sigma * (flank == Flank::kDrive ? friction_translation_drive : friction_translation_back) +
+           arm_pinion * pinion_torsion + arm_wheel * wheel_torsion;
+  }
+};
+
+// True when the component model can be reduced to `tier` (tiers 4, 5 and N20 need shaft interiors).
+bool TierAvailable(const ComponentModel& model, Tier tier);
+
+// Reduces the model. Throws InputError (analysis.tier) when the tier is not available.
+ReducedModel ReduceModel(const ComponentModel& model, Tier tier, const ReductionOptions& options = {});
+
+// Static mesh compliance of the full FE model (sparse, gear rotations held), m/N.
+double FullStaticMeshCompliance(const ComponentModel& model);
+
+// Lowest natural frequencies of a reduced model linearised at mean drive contact, and the number of
+// rigid-body modes (eigenvalues below 1e-9 of the largest).
+std::vector<double> ReducedNaturalFrequencies(const ReducedModel& r, double mean_mesh_stiffness,
+                                              int count, int* rigid_body_modes = nullptr);
+
+}  // namespace gearnvh

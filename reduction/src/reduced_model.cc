@@ -1,0 +1,226 @@
+#include "gearnvh/reduction/reduced_model.h"
+
+#include <Eigen/SparseCholesky>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+
+#include "gearnvh/model/input_error.h"
+#include "gearnvh/reduction/craig_bampton.h"
+
+namespace gearnvh {
+
+void ReductionOptions::Validate() const {
+  if (!(structural_damping_ratio >= 0.0 && structural_damping_ratio < 1.0)) {
+    throw InputError("ReductionOptions.structural_damping_ratio", 0,
+                     std::to_string(structural_damping_ratio), "must be in [0, 1)");
+  }
+  if (dense_eigen_threshold < 8) {
+    throw InputError("ReductionOptions.dense_eigen_threshold", 0,
+                     std::to_string(dense_eigen_threshold), "must be >= 8");
+  }
+}
+
+namespace {
+
+constexpr int kTier4Modes = 8;
+constexpr int kTier5Modes = 28;
+constexpr int kTruncatedModes = 20;
+constexpr int kReportedFrequencies = 10;
+
+std::vector<int> Boundary(const ComponentModel& m, Tier tier) {
+  std::vector<NodeDof> dofs;
+  if (tier == Tier::kTier1) dofs = {kThz};
+  else if (tier == Tier::kTier2) dofs = {kUx, kUy, kThz};
+  else dofs = {kUx, kUy, kUz, kThx, kThy, kThz};
+  std::vector<int> b;
+  for (int node : {m.pinion_node, m.wheel_node}) {
+    for (NodeDof d : dofs) b.push_back(ComponentModel::Dof(node, d));
+  }
+  return b;
+}
+
+int ModesOf(Tier tier) {
+  switch (tier) {
+    case Tier::kTier4: return kTier4Modes;
+    case Tier::kTier5:
+    case Tier::kN20Simple:
+    case Tier::kN20Mta: return kTier5Modes;
+    default: return 0;
+  }
+}
+
+// Projects the full model onto the basis T (full DOF x n).
+ReducedModel Project(const ComponentModel& m, const Eigen::MatrixXd& T) {
+  ReducedModel r;
+  r.dof = static_cast<int>(T.cols());
+  r.recovery = T;
+  r.M = T.transpose() * (m.M * T);
+  r.K = T.transpose() * (m.K * T);
+  r.C = T.transpose() * (m.C * T);
+  r.G = T.transpose() * (m.G * T);
+  // Symmetrise away the rounding of the triple products (exact symmetry is a solver precondition).
+  r.M = 0.5 * (r.M + r.M.transpose()).eval();
+  r.K = 0.5 * (r.K + r.K.transpose()).eval();
+  r.C = 0.5 * (r.C + r.C.transpose()).eval();
+  r.G = 0.5 * (r.G - r.G.transpose()).eval();
+  r.v_drive = T.transpose() * m.v_drive;
+  r.v_back = T.transpose() * m.v_back;
+  r.friction_translation_drive = T.transpose() * m.translation_friction_drive;
+  r.friction_translation_back = T.transpose() * m.translation_friction_back;
+  r.pinion_torsion = T.row(m.PinionDof(kThz)).transpose();
+  r.wheel_torsion = T.row(m.WheelDof(kThz)).transpose();
+  r.static_force = T.transpose() * m.static_force;
+  return r;
+}
+
+// Applies a change of coordinates x = P y to a reduced model (modal truncation, MTA vector form).
+ReducedModel Transform(const ReducedModel& a, const Eigen::MatrixXd& P) {
+  ReducedModel r;
+  r.dof = static_cast<int>(P.cols());
+  r.recovery = a.recovery * P;
+  r.M = P.transpose() * a.M * P;
+  r.K = P.transpose() * a.K * P;
+  r.C = P.transpose() * a.C * P;
+  r.G = P.transpose() * a.G * P;
+  r.M = 0.5 * (r.M + r.M.transpose()).eval();
+  r.K = 0.5 * (r.K + r.K.transpose()).eval();
+  r.C = 0.5 * (r.C + r.C.transpose()).eval();
+  r.G = 0.5 * (r.G - r.G.transpose()).eval();
+  for (auto [dst, src] : {std::pair{&r.v_drive, &a.v_drive}, {&r.v_back, &a.v_back},
+                          {&r.friction_translation_drive, &a.friction_translation_drive},
+                          {&r.friction_translation_back, &a.friction_translation_back},
+                          {&r.pinion_torsion, &a.pinion_torsion},
+                          {&r.wheel_torsion, &a.wheel_torsion},
+                          {&r.static_force, &a.static_force}}) {
+    *dst = P.transpose() * *src;
+  }
+  return r;
+}
+
+// Held-rotation static response of a dense reduced model: K x = v subject to C x = 0 (C = gear
+// rotation rows of the recovery matrix), by the saddle-point system.
+Eigen::VectorXd HeldStaticResponse(const ReducedModel& r) {
+  const int n = r.dof;
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(n + 2, n + 2);
+  A.topLeftCorner(n, n) = r.K;
+  A.block(n, 0, 1, n) = r.pinion_torsion.transpose();
+  A.block(n + 1, 0, 1, n) = r.wheel_torsion.transpose();
+  A.block(0, n, n, 1) = r.pinion_torsion;
+  A.block(0, n + 1, n, 1) = r.wheel_torsion;
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n + 2);
+  rhs.head(n) = r.v_drive;
+  const Eigen::VectorXd sol = A.fullPivLu().solve(rhs);
+  return sol.head(n);
+}
+
+void Finish(const ComponentModel& m, ReducedModel& r, double full_compliance) {
+  r.static_mesh_compliance = r.v_drive.dot(HeldStaticResponse(r)) + r.residual_compliance;
+  r.full_static_mesh_compliance = full_compliance;
+  r.compliance_error_vs_full =
+      full_compliance > 0.0 ? (r.static_mesh_compliance - full_compliance) / full_compliance : 0.0;
+  r.natural_frequencies_hz = ReducedNaturalFrequencies(r, m.mesh_summary.mean, kReportedFrequencies,
+                                                       &r.rigid_body_modes);
+}
+
+}  // namespace
+
+bool TierAvailable(const ComponentModel& model, Tier tier) {
+  return ModesOf(tier) == 0 || model.dofs - 12 >= kTier5Modes;
+}
+
+double FullStaticMeshCompliance(const ComponentModel& m) {
+  // Remove the two held gear-rotation DOF; the rest is positive definite (bearings ground it).
+  const int n = m.dofs;
+  const int held_a = m.PinionDof(kThz), held_b = m.WheelDof(kThz);
+  std::vector<int> map(n, -1);
+  int k = 0;
+  for (int i = 0; i < n; ++i) {
+    if (i != held_a && i != held_b) map[i] = k++;
+  }
+  std::vector<Eigen::Triplet<double>> t;
+  for (int c = 0; c < m.K.outerSize(); ++c) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(m.K, c); it; ++it) {
+      if (map[it.row()] >= 0 && map[it.col()] >= 0) t.emplace_back(map[it.row()], map[it.col()], it.value());
+    }
+  }
+  Eigen::SparseMatrix<double> Kc(k, k);
+  Kc.setFromTriplets(t.begin(), t.end());
+  Eigen::VectorXd v(k);
+  for (int i = 0; i < n; ++i) {
+    if (map[i] >= 0) v[map[i]] = m.v_drive[i];
+  }
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(Kc);
+  return v.dot(ldlt.solve(v));
+}
+
+std::vector<double> ReducedNaturalFrequencies(const ReducedModel& r, double mean_mesh_stiffness,
+                                              int count, int* rigid_body_modes) {
+  const Eigen::MatrixXd K =
+      r.K + r.EffectiveMeshStiffness(mean_mesh_stiffness) * r.v_drive * r.v_drive.transpose();
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(K, r.M);
+  const Eigen::VectorXd& w2 = solver.eigenvalues();
+  const double zero = 1e-9 * std::max(1.0, std::abs(w2[w2.size() - 1]));
+  std::vector<double> f;
+  int rigid = 0;
+  for (int i = 0; i < w2.size(); ++i) {
+    if (std::abs(w2[i]) <= zero) ++rigid;
+    else if (static_cast<int>(f.size()) < count) f.push_back(std::sqrt(std::max(w2[i], 0.0)) / (2 * std::numbers::pi));
+  }
+  if (rigid_body_modes) *rigid_body_modes = rigid;
+  return f;
+}
+
+ReducedModel ReduceModel(const ComponentModel& m, Tier tier, const ReductionOptions& options) {
+  options.Validate();
+  const auto start = std::chrono::steady_clock::now();
+  if (!TierAvailable(m, tier)) {
+    throw InputError("analysis.tier", 0, TierName(tier),
+                     "needs flexible shafts (`shafts:` with at least " +
+                         std::to_string(kTier5Modes) + " interior DOF); this model has " +
+                         std::to_string(m.dofs) + " DOF");
+  }
+  const double full_compliance = FullStaticMeshCompliance(m);
+  const std::vector<int> boundary = Boundary(m, tier);
+  const int modes = ModesOf(tier);
+  const CraigBamptonBasis cb = CraigBampton(m.K, m.M, boundary, modes, options);
+  if (cb.status != CraigBamptonStatus::kSuccess) {
+    throw InputError("shafts", 0, "", "cannot be reduced: " + cb.message);
+  }
+  ReducedModel r = Project(m, cb.T);
+  r.boundary_dof = static_cast<int>(boundary.size());
+  r.modal_dof = static_cast<int>(cb.fixed_interface_omega2.size());
+  // Structural damping of the fixed-interface modes (mass-normalised: 2 zeta omega on the diagonal).
+  for (int j = 0; j < r.modal_dof; ++j) {
+    r.C(r.boundary_dof + j, r.boundary_dof + j) +=
+        2.0 * options.structural_damping_ratio * std::sqrt(cb.fixed_interface_omega2[j]);
+  }
+  if (tier == Tier::kN20Simple || tier == Tier::kN20Mta) {
+    // Free-free modes of the 40-DOF model, lowest 20 kept (M-normalised).
+    Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(r.K, r.M);
+    Eigen::MatrixXd basis = eig.eigenvectors().leftCols(kTruncatedModes);
+    if (tier == Tier::kN20Mta && options.mta_vector_form) {
+      // Residual vector: the held static shape minus its part in the kept modes, M-normalised.
+      const Eigen::VectorXd shape = HeldStaticResponse(r);
+      Eigen::VectorXd res = shape - basis * (basis.transpose() * r.M * shape);
+      res /= std::sqrt(res.dot(r.M * res));
+      basis.conservativeResize(Eigen::NoChange, kTruncatedModes + 1);
+      basis.col(kTruncatedModes) = res;
+    }
+    ReducedModel t = Transform(r, basis);
+    t.boundary_dof = 0;
+    t.modal_dof = t.dof;
+    r = std::move(t);
+    if (tier == Tier::kN20Mta && !options.mta_vector_form) {
+      r.residual_compliance = full_compliance - r.v_drive.dot(HeldStaticResponse(r));
+    }
+  }
+  r.tier = tier;
+  r.name = TierName(tier);
+  if (tier == Tier::kN20Mta && options.mta_vector_form) r.name += " (vector)";
+  Finish(m, r, full_compliance);
+  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return r;
+}
+
+}  // namespace gearnvh

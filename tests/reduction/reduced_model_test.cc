@@ -1,0 +1,176 @@
+#include "gearnvh/reduction/reduced_model.h"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <numbers>
+
+#include "gearnvh/model/input_error.h"
+#include "gearnvh/reduction/craig_bampton.h"
+#include "model/test_specs.h"
+
+namespace gearnvh {
+namespace {
+
+using testing::StandardPair;
+
+// Two flexible shafts with driveline inertias, ~50 nodes: the shape of examples/flexible_shafts.
+GearboxSpec Flexible(double element_length = 0.01) {
+  GearboxSpec spec = StandardPair(31, 47, 3e-3, 30e-3);
+  spec.operating.torque = 200.0;
+  for (int s = 0; s < 2; ++s) {
+    ShaftSpec shaft;
+    shaft.material = "steel";
+    shaft.segments = {{0.06, 0.03, 0.0}, {0.08, 0.035, 0.0}, {0.1, 0.03, 0.0}};
+    shaft.gear_at = s == 0 ? 0.1 : 0.13;
+    shaft.bearings = {{0.01, 3e8, 1e8, 0.0, 500.0}, {0.23, 3e8, 0.0, 0.0, 500.0}};
+    shaft.inertias = {{s == 0 ? 0.0 : 0.24, 0.02, 0.01}};
+    shaft.element_length = element_length;
+    (s == 0 ? spec.input_shaft : spec.output_shaft) = shaft;
+  }
+  return spec;
+}
+
+const std::vector<Tier> kAllTiers{Tier::kTier1, Tier::kTier2,     Tier::kTier3, Tier::kTier4,
+                                  Tier::kTier5, Tier::kN20Simple, Tier::kN20Mta};
+
+// Independent full-model compliance: dense saddle point [[K, C^T], [C, 0]] with C the two held
+// gear rotations (the library removes the DOF and uses a sparse LDL^T instead).
+double DenseHeldCompliance(const ComponentModel& m) {
+  const int n = m.dofs;
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(n + 2, n + 2);
+  A.topLeftCorner(n, n) = Eigen::MatrixXd(m.K);
+  A(n, m.PinionDof(kThz)) = A(m.PinionDof(kThz), n) = 1.0;
+  A(n + 1, m.WheelDof(kThz)) = A(m.WheelDof(kThz), n + 1) = 1.0;
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n + 2);
+  rhs.head(n) = m.v_drive;
+  return m.v_drive.dot(A.fullPivLu().solve(rhs).head(n));
+}
+
+TEST_CASE("every tier: reduced M positive definite, K symmetric PSD with the free rotations",
+          "[reduction]") {
+  const ComponentModel m = BuildComponentModel(Flexible());
+  for (Tier tier : kAllTiers) {
+    const ReducedModel r = ReduceModel(m, tier);
+    INFO(r.name);
+    // Symmetry of the projected matrices before any symmetrisation: T^T M T recomputed densely.
+    const Eigen::MatrixXd Mt = r.recovery.transpose() * Eigen::MatrixXd(m.M) * r.recovery;
+    CHECK((Mt - r.M).norm() <= 1e-12 * r.M.norm());
+    CHECK((Mt - Mt.transpose()).norm() <= 1e-12 * Mt.norm());
+    Eigen::LLT<Eigen::MatrixXd> llt(r.M);
+    CHECK(llt.info() == Eigen::Success);
+    Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(r.K, r.M);
+    const Eigen::VectorXd w2 = eig.eigenvalues();
+    int zero = 0;
+    for (int i = 0; i < w2.size(); ++i) {
+      CHECK(w2[i] >= -1e-9 * std::abs(w2.maxCoeff()) - 1e-6);
+      zero += std::abs(w2[i]) <= 1e-9 * std::abs(w2.maxCoeff()) + 1e-6 ? 1 : 0;
+    }
+    // Structure alone: each shaft turns freely (tier 1 is nothing but these two rotations).
+    CHECK(zero == 2);
+    CHECK(r.dof == (tier == Tier::kTier1 ? 2 : tier == Tier::kTier2 ? 6 : tier == Tier::kTier3 ? 12
+                   : tier == Tier::kTier4 || tier == Tier::kN20Simple || tier == Tier::kN20Mta ? 20 : 40));
+    CHECK(r.state_dim() == 2 * r.dof + 1);
+    CHECK(r.rigid_body_modes == 1);  // with the mesh spring, only the pair's rotation is free
+  }
+}
+
+TEST_CASE("Craig–Bampton and MTA reproduce the full static mesh compliance", "[reduction][mta]") {
+  const ComponentModel m = BuildComponentModel(Flexible());
+  const double g_full = DenseHeldCompliance(m);
+  // Two independent solves of the same problem: agreement to rounding of ~300-DOF systems.
+  CHECK(FullStaticMeshCompliance(m) == Approx(g_full).epsilon(1e-11));
+  for (Tier tier : {Tier::kTier2, Tier::kTier3, Tier::kTier4, Tier::kTier5, Tier::kN20Mta}) {
+    const ReducedModel r = ReduceModel(m, tier);
+    INFO(r.name << ": error " << r.compliance_error_vs_full);
+    CHECK(r.static_mesh_compliance == Approx(g_full).epsilon(1e-10));  // the bound
+  }
+  ReductionOptions vector_form;
+  vector_form.mta_vector_form = true;
+  const ReducedModel vec = ReduceModel(m, Tier::kN20Mta, vector_form);
+  CHECK(vec.dof == 21);
+  CHECK(vec.residual_compliance == 0.0);
+  CHECK(vec.static_mesh_compliance == Approx(g_full).epsilon(1e-10));
+
+  // Simple truncation loses static flexibility (Rayleigh–Ritz: a subspace is stiffer), and says so.
+  const ReducedModel simple = ReduceModel(m, Tier::kN20Simple);
+  CHECK(simple.compliance_error_vs_full < -1e-6);
+  CHECK(simple.static_mesh_compliance < g_full);
+  const ReducedModel mta = ReduceModel(m, Tier::kN20Mta);
+  CHECK(mta.residual_compliance == Approx(g_full - simple.static_mesh_compliance).epsilon(1e-9));
+  CHECK(mta.EffectiveMeshStiffness(3e8) < 3e8);
+  // Tier 1 has rigid shafts on no lateral springs: no structural compliance at the mesh at all.
+  CHECK(ReduceModel(m, Tier::kTier1).static_mesh_compliance == 0.0);
+}
+
+TEST_CASE("tier 1 is the classic two-inertia torsional model", "[reduction]") {
+  const ComponentModel m = BuildComponentModel(Flexible());
+  const ReducedModel r = ReduceModel(m, Tier::kTier1);
+  // Guyan on the two gear rotations: the shafts turn rigidly, so M = diag(J_pinion side, J_wheel side).
+  CHECK(r.M(0, 0) == Approx(m.pinion_side_inertia).epsilon(1e-12));
+  CHECK(r.M(1, 1) == Approx(m.wheel_side_inertia).epsilon(1e-12));
+  CHECK(std::abs(r.M(0, 1)) <= 1e-12 * r.M(0, 0));
+  CHECK(r.K.norm() <= 1e-9 * 1e8);
+  CHECK(r.v_drive[0] == m.geometry.pinion.base);
+  CHECK(r.v_drive[1] == m.geometry.wheel.base);
+}
+
+TEST_CASE("natural frequencies converge from above as Craig–Bampton modes are added",
+          "[reduction][convergence]") {
+  const ComponentModel m = BuildComponentModel(Flexible());
+  const ModalSummary full = FullModelFrequencies(m, 6);
+  std::vector<int> boundary;
+  for (int node : {m.pinion_node, m.wheel_node})
+    for (int d = 0; d < 6; ++d) boundary.push_back(6 * node + d);
+  const Eigen::MatrixXd mesh = m.mesh_summary.mean * m.v_drive * m.v_drive.transpose();
+  std::vector<double> previous(6, 1e300);
+  for (int modes : {0, 2, 4, 8, 16, 28, 60}) {
+    const CraigBamptonBasis cb = CraigBampton(m.K, m.M, boundary, modes);
+    REQUIRE(cb.status == CraigBamptonStatus::kSuccess);
+    const Eigen::MatrixXd T = cb.T;
+    const Eigen::MatrixXd K = T.transpose() * (Eigen::MatrixXd(m.K) + mesh) * T;
+    const Eigen::MatrixXd M = T.transpose() * Eigen::MatrixXd(m.M) * T;
+    Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(K, M);
+    // Skip the rigid rotation (the smallest eigenvalue, zero to rounding).
+    for (int i = 0; i < 6; ++i) {
+      const double f = std::sqrt(std::max(eig.eigenvalues()[i + 1], 0.0)) / (2 * std::numbers::pi);
+      INFO(modes << " modes, frequency " << i << ": " << f << " Hz, full " << full.frequencies_hz[i]);
+      // Rayleigh–Ritz on nested subspaces: never below the full model, never rising as modes are
+      // added (relative slack 1e-9 for rounding in the 300-DOF eigensolve).
+      CHECK(f >= full.frequencies_hz[i] * (1 - 1e-9));
+      CHECK(f <= previous[i] * (1 + 1e-9));
+      previous[i] = f;
+    }
+  }
+  for (int i = 0; i < 6; ++i) CHECK(previous[i] == Approx(full.frequencies_hz[i]).epsilon(1e-4));
+}
+
+TEST_CASE("Spectra's sparse shift-invert modes equal a dense solver's", "[reduction][spectra]") {
+  const ComponentModel m = BuildComponentModel(Flexible(0.005));  // ~100 nodes: sparse path
+  std::vector<int> boundary;
+  for (int node : {m.pinion_node, m.wheel_node})
+    for (int d = 0; d < 6; ++d) boundary.push_back(6 * node + d);
+  ReductionOptions dense;
+  dense.dense_eigen_threshold = 1 << 30;
+  const CraigBamptonBasis sparse_cb = CraigBampton(m.K, m.M, boundary, 12);
+  const CraigBamptonBasis dense_cb = CraigBampton(m.K, m.M, boundary, 12, dense);
+  REQUIRE(sparse_cb.sparse_eigensolver);
+  REQUIRE_FALSE(dense_cb.sparse_eigensolver);
+  // Lanczos converged to 1e-12 against a dense QR solve: relative agreement 1e-8 (cond of the
+  // pencil ~1e8 for these shafts).
+  for (int j = 0; j < 12; ++j) {
+    CHECK(sparse_cb.fixed_interface_omega2[j] == Approx(dense_cb.fixed_interface_omega2[j]).epsilon(1e-8));
+  }
+}
+
+TEST_CASE("rigid-shaft models have tiers 1-3 only", "[reduction]") {
+  const ComponentModel m = BuildComponentModel(StandardPair(27, 43));
+  CHECK(TierAvailable(m, Tier::kTier3));
+  CHECK_FALSE(TierAvailable(m, Tier::kTier4));
+  CHECK_THROWS_WITH(ReduceModel(m, Tier::kTier5), Catch::Contains("analysis.tier"));
+  const ReducedModel t3 = ReduceModel(m, Tier::kTier3);
+  CHECK(t3.dof == 12);
+  CHECK(t3.compliance_error_vs_full == Approx(0.0).margin(1e-12));
+}
+
+}  // namespace
+}  // namespace gearnvh
