@@ -31,11 +31,16 @@ std::string Join(const std::string& path, const std::string& key) {
 
 std::string Describe(const YAML::Node& n) {
   switch (n.Type()) {
-    case YAML::NodeType::Map: return "a mapping";
-    case YAML::NodeType::Sequence: return "a list";
-    case YAML::NodeType::Null: return "nothing (null)";
-    case YAML::NodeType::Scalar: return "'" + n.Scalar() + "'";
-    default: return "an undefined node";
+    case YAML::NodeType::Map:
+      return "a mapping";
+    case YAML::NodeType::Sequence:
+      return "a list";
+    case YAML::NodeType::Null:
+      return "nothing (null)";
+    case YAML::NodeType::Scalar:
+      return "'" + n.Scalar() + "'";
+    default:
+      return "an undefined node";
   }
 }
 
@@ -60,7 +65,8 @@ class Reader {
     Remember(path, n, "");
     std::vector<std::string> seen;
     for (const auto& kv : n) {
-      if (!kv.first.IsScalar()) Fail(path, kv.first, Describe(kv.first), "keys must be plain names");
+      if (!kv.first.IsScalar())
+        Fail(path, kv.first, Describe(kv.first), "keys must be plain names");
       const std::string key = kv.first.Scalar();
       if (std::find(seen.begin(), seen.end(), key) != seen.end()) {
         Fail(Join(path, key), kv.first, key, "duplicate key");
@@ -69,8 +75,10 @@ class Reader {
       if (!allowed.empty() && std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
         std::string rule = "unknown key";
         const std::string close = ClosestMatch(key, allowed);
-        if (!close.empty()) rule += " (did you mean '" + close + "'?)";
-        else rule += "; allowed here: " + JoinList(allowed);
+        if (!close.empty())
+          rule += " (did you mean '" + close + "'?)";
+        else
+          rule += "; allowed here: " + JoinList(allowed);
         Fail(Join(path, key), kv.first, key, rule);
       }
     }
@@ -103,8 +111,9 @@ class Reader {
 
   double QuantityNode(const YAML::Node& n, const std::string& path, Dimension d) {
     if (!n.IsScalar()) {
-      Fail(path, n, Describe(n), std::string("must be a ") + DimensionName(d) +
-                                     (d == Dimension::kDimensionless ? "" : " such as a number with a unit"));
+      Fail(path, n, Describe(n),
+           std::string("must be a ") + DimensionName(d) +
+               (d == Dimension::kDimensionless ? "" : " such as a number with a unit"));
     }
     const ParsedQuantity q = ParseQuantity(n.Scalar(), d);
     if (!q.error.empty()) Fail(path, n, "'" + n.Scalar() + "'", q.error);
@@ -187,10 +196,18 @@ class Reader {
   std::map<std::string, Location> locations_;
 };
 
-const std::vector<std::string> kGearKeys{
-    "teeth",   "module",       "pressure_angle", "face_width",           "bore_diameter",
-    "material", "addendum_coefficient", "dedendum_coefficient", "profile_shift", "inertia",
-    "mass",    "tip_relief"};
+const std::vector<std::string> kGearKeys{"teeth",
+                                         "module",
+                                         "pressure_angle",
+                                         "face_width",
+                                         "bore_diameter",
+                                         "material",
+                                         "addendum_coefficient",
+                                         "dedendum_coefficient",
+                                         "profile_shift",
+                                         "inertia",
+                                         "mass",
+                                         "tip_relief"};
 
 GearSpec ReadGear(Reader& r, const YAML::Node& n, const std::string& path,
                   const std::map<std::string, Material>& materials) {
@@ -205,6 +222,7 @@ GearSpec ReadGear(Reader& r, const YAML::Node& n, const std::string& path,
   g.material = r.String(n, path, "material");
   if (materials.find(g.material) == materials.end()) {
     std::vector<std::string> keys;
+    keys.reserve(materials.size());
     for (const auto& kv : materials) keys.push_back(kv.first);
     std::string rule = "must name a key of materials";
     const std::string close = ClosestMatch(g.material, keys);
@@ -239,8 +257,9 @@ StiffnessModel ReadStiffness(Reader& r, const YAML::Node& n, const std::string& 
   }
   for (const char* other : {"rectangular", "table", "fourier"}) {
     if (model != other && n[other].IsDefined()) {
-      r.Fail(Join(path, other), n[other], "",
-             "parameters given for model '" + std::string(other) + "' but model is '" + model + "'");
+      r.Fail(
+          Join(path, other), n[other], "",
+          "parameters given for model '" + std::string(other) + "' but model is '" + model + "'");
     }
   }
   if (model == "potential_energy") return PotentialEnergyStiffness{};
@@ -283,11 +302,12 @@ ShaftSpec ReadShaft(Reader& r, const YAML::Node& n, const std::string& path,
   r.ForEachItem(n, path, "bearings", true, [&](const YAML::Node& item, const std::string& p) {
     r.ExpectMap(item, p,
                 {"at", "radial_stiffness", "axial_stiffness", "tilt_stiffness", "damping"});
-    s.bearings.push_back({r.Quantity(item, p, "at", Dimension::kLength),
-                          r.Quantity(item, p, "radial_stiffness", Dimension::kStiffness, 0.0),
-                          r.Quantity(item, p, "axial_stiffness", Dimension::kStiffness, 0.0),
-                          r.Quantity(item, p, "tilt_stiffness", Dimension::kRotationalStiffness, 0.0),
-                          r.Quantity(item, p, "damping", Dimension::kDamping, 0.0)});
+    s.bearings.push_back(
+        {r.Quantity(item, p, "at", Dimension::kLength),
+         r.Quantity(item, p, "radial_stiffness", Dimension::kStiffness, 0.0),
+         r.Quantity(item, p, "axial_stiffness", Dimension::kStiffness, 0.0),
+         r.Quantity(item, p, "tilt_stiffness", Dimension::kRotationalStiffness, 0.0),
+         r.Quantity(item, p, "damping", Dimension::kDamping, 0.0)});
   });
   r.ForEachItem(n, path, "inertias", false, [&](const YAML::Node& item, const std::string& p) {
     r.ExpectMap(item, p, {"at", "polar", "diametral"});
@@ -325,6 +345,7 @@ AtlasAxis ReadAtlasAxis(Reader& r, const YAML::Node& n, const std::string& path)
   const auto it = params.find(axis.parameter);
   if (it == params.end()) {
     std::vector<std::string> names;
+    names.reserve(params.size());
     for (const auto& kv : params) names.push_back(kv.first);
     std::string rule = "is not a parameter an atlas can vary";
     const std::string close = ClosestMatch(axis.parameter, names);
@@ -339,14 +360,18 @@ Tier ReadTier(Reader& r, const YAML::Node& map, const std::string& path) {
   const YAML::Node n = r.Child(map, path, "tier", false);
   if (!n.IsDefined()) return Tier::kTier1;
   const std::string p = Join(path, "tier");
-  if (!n.IsScalar()) r.Fail(p, n, Describe(n), "must be 1..5 or \"N40 full\", \"N20 simple\", \"N20 MTA\"");
-  const std::string s = n.Scalar();
+  if (!n.IsScalar())
+    r.Fail(p, n, Describe(n), "must be 1..5 or \"N40 full\", \"N20 simple\", \"N20 MTA\"");
+  const std::string& s = n.Scalar();
   r.Remember(p, n, s);
-  static const std::map<std::string, Tier> names{
-      {"1", Tier::kTier1},           {"2", Tier::kTier2},
-      {"3", Tier::kTier3},           {"4", Tier::kTier4},
-      {"5", Tier::kTier5},           {"N40 full", Tier::kTier5},
-      {"N20 simple", Tier::kN20Simple}, {"N20 MTA", Tier::kN20Mta}};
+  static const std::map<std::string, Tier> names{{"1", Tier::kTier1},
+                                                 {"2", Tier::kTier2},
+                                                 {"3", Tier::kTier3},
+                                                 {"4", Tier::kTier4},
+                                                 {"5", Tier::kTier5},
+                                                 {"N40 full", Tier::kTier5},
+                                                 {"N20 simple", Tier::kN20Simple},
+                                                 {"N20 MTA", Tier::kN20Mta}};
   if (auto it = names.find(s); it != names.end()) return it->second;
   r.Fail(p, n, "'" + s + "'", "must be 1..5 or \"N40 full\", \"N20 simple\", \"N20 MTA\"");
 }
@@ -360,7 +385,8 @@ GearboxSpec ReadDocument(Reader& r, const YAML::Node& root) {
   GearboxSpec spec;
   const std::string schema = r.String(root, "", "schema", std::string("gearnvh/1"));
   if (schema != "gearnvh/1") {
-    r.Fail("schema", root["schema"], "'" + schema + "'", "must be gearnvh/1 (the version this program reads)");
+    r.Fail("schema", root["schema"], "'" + schema + "'",
+           "must be gearnvh/1 (the version this program reads)");
   }
   spec.name = r.String(root, "", "name");
 
@@ -379,7 +405,8 @@ GearboxSpec ReadDocument(Reader& r, const YAML::Node& root) {
 
   const YAML::Node gears = r.Child(root, "", "gears", true);
   r.ExpectMap(gears, "gears", {"pinion", "wheel"});
-  spec.pinion = ReadGear(r, r.Child(gears, "gears", "pinion", true), "gears.pinion", spec.materials);
+  spec.pinion =
+      ReadGear(r, r.Child(gears, "gears", "pinion", true), "gears.pinion", spec.materials);
   spec.wheel = ReadGear(r, r.Child(gears, "gears", "wheel", true), "gears.wheel", spec.materials);
 
   const YAML::Node mesh = r.Child(root, "", "mesh", true);
@@ -387,19 +414,23 @@ GearboxSpec ReadDocument(Reader& r, const YAML::Node& root) {
               {"backlash", "damping_ratio", "friction_coefficient", "center_distance", "stiffness",
                "static_transmission_error"});
   spec.mesh.backlash = r.Quantity(mesh, "mesh", "backlash", Dimension::kLength);
-  spec.mesh.damping_ratio = r.Quantity(mesh, "mesh", "damping_ratio", Dimension::kDimensionless, 0.05);
+  spec.mesh.damping_ratio =
+      r.Quantity(mesh, "mesh", "damping_ratio", Dimension::kDimensionless, 0.05);
   spec.mesh.friction_coefficient =
       r.Quantity(mesh, "mesh", "friction_coefficient", Dimension::kDimensionless, 0.0);
-  spec.mesh.center_distance = r.OptionalQuantity(mesh, "mesh", "center_distance", Dimension::kLength);
+  spec.mesh.center_distance =
+      r.OptionalQuantity(mesh, "mesh", "center_distance", Dimension::kLength);
   if (const YAML::Node s = r.Child(mesh, "mesh", "stiffness", false); s.IsDefined()) {
     spec.mesh.stiffness = ReadStiffness(r, s, "mesh.stiffness");
   }
-  if (const YAML::Node s = r.Child(mesh, "mesh", "static_transmission_error", false); s.IsDefined()) {
+  if (const YAML::Node s = r.Child(mesh, "mesh", "static_transmission_error", false);
+      s.IsDefined()) {
     const std::string p = "mesh.static_transmission_error";
     r.ExpectMap(s, p, {"amplitudes", "phases"});
     spec.mesh.static_transmission_error.amplitudes =
         r.QuantityList(s, p, "amplitudes", Dimension::kLength, true);
-    spec.mesh.static_transmission_error.phases = r.QuantityList(s, p, "phases", Dimension::kAngle, true);
+    spec.mesh.static_transmission_error.phases =
+        r.QuantityList(s, p, "phases", Dimension::kAngle, true);
   }
 
   if (const YAML::Node shafts = r.Child(root, "", "shafts", false); shafts.IsDefined()) {
@@ -416,17 +447,19 @@ GearboxSpec ReadDocument(Reader& r, const YAML::Node& root) {
   r.ExpectMap(op, "operating", {"speed", "torque", "excitation"});
   spec.operating.speed = r.Quantity(op, "operating", "speed", Dimension::kAngularSpeed);
   spec.operating.torque = r.Quantity(op, "operating", "torque", Dimension::kTorque);
-  r.ForEachItem(op, "operating", "excitation", false, [&](const YAML::Node& item, const std::string& p) {
-    r.ExpectMap(item, p, {"order", "amplitude", "phase"});
-    spec.operating.excitation.push_back(
-        {r.Quantity(item, p, "order", Dimension::kDimensionless),
-         r.Quantity(item, p, "amplitude", Dimension::kAngularAcceleration),
-         r.Quantity(item, p, "phase", Dimension::kAngle, 0.0)});
-  });
+  r.ForEachItem(op, "operating", "excitation", false,
+                [&](const YAML::Node& item, const std::string& p) {
+                  r.ExpectMap(item, p, {"order", "amplitude", "phase"});
+                  spec.operating.excitation.push_back(
+                      {r.Quantity(item, p, "order", Dimension::kDimensionless),
+                       r.Quantity(item, p, "amplitude", Dimension::kAngularAcceleration),
+                       r.Quantity(item, p, "phase", Dimension::kAngle, 0.0)});
+                });
 
   if (const YAML::Node a = r.Child(root, "", "analysis", false); a.IsDefined()) {
-    r.ExpectMap(a, "analysis",
-                {"tier", "segments_per_cycle", "cycles", "transient_cycles", "speed_sweep", "atlas"});
+    r.ExpectMap(
+        a, "analysis",
+        {"tier", "segments_per_cycle", "cycles", "transient_cycles", "speed_sweep", "atlas"});
     AnalysisSpec& an = spec.analysis;
     an.tier = ReadTier(r, a, "analysis");
     an.segments_per_cycle = r.Integer(a, "analysis", "segments_per_cycle", 32);
@@ -506,7 +539,8 @@ GearboxSpec LoadGearboxFromString(const std::string& text, const std::string& so
 
 GearboxSpec LoadGearboxFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("", 0, "", std::string("cannot open file: ") + std::strerror(errno), path);
+  if (!in)
+    throw InputError("", 0, "", std::string("cannot open file: ") + std::strerror(errno), path);
   std::string text;
   char buffer[65536];
   while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {

@@ -16,42 +16,54 @@ struct UnitEntry {
 const std::vector<UnitEntry>& Table(Dimension d) {
   constexpr double kPi = std::numbers::pi;
   static const std::vector<UnitEntry> none{};
-  static const std::vector<UnitEntry> length{
-      {"m", 1.0}, {"mm", 1e-3}, {"cm", 1e-2}, {"um", 1e-6}, {"µm", 1e-6}, {"in", 0.0254}};
+  static const std::vector<UnitEntry> length{{"m", 1.0},   {"mm", 1e-3}, {"cm", 1e-2},
+                                             {"um", 1e-6}, {"µm", 1e-6}, {"in", 0.0254}};
   static const std::vector<UnitEntry> angle{{"rad", 1.0}, {"deg", kPi / 180.0}, {"°", kPi / 180.0}};
-  static const std::vector<UnitEntry> speed{
-      {"rad/s", 1.0}, {"rpm", 2.0 * kPi / 60.0}, {"rev/min", 2.0 * kPi / 60.0}, {"rev/s", 2.0 * kPi}};
+  static const std::vector<UnitEntry> speed{{"rad/s", 1.0},
+                                            {"rpm", 2.0 * kPi / 60.0},
+                                            {"rev/min", 2.0 * kPi / 60.0},
+                                            {"rev/s", 2.0 * kPi}};
   static const std::vector<UnitEntry> torque{
       {"N*m", 1.0}, {"Nm", 1.0}, {"N.m", 1.0}, {"N*mm", 1e-3}, {"kN*m", 1e3}};
-  static const std::vector<UnitEntry> pressure{{"Pa", 1.0},    {"kPa", 1e3},    {"MPa", 1e6},
-                                               {"GPa", 1e9},   {"N/m^2", 1.0},  {"N/mm^2", 1e6}};
-  static const std::vector<UnitEntry> density{
-      {"kg/m^3", 1.0}, {"g/cm^3", 1e3}, {"kg/dm^3", 1e3}};
+  static const std::vector<UnitEntry> pressure{{"Pa", 1.0},  {"kPa", 1e3},   {"MPa", 1e6},
+                                               {"GPa", 1e9}, {"N/m^2", 1.0}, {"N/mm^2", 1e6}};
+  static const std::vector<UnitEntry> density{{"kg/m^3", 1.0}, {"g/cm^3", 1e3}, {"kg/dm^3", 1e3}};
   static const std::vector<UnitEntry> mass{{"kg", 1.0}, {"g", 1e-3}};
   static const std::vector<UnitEntry> inertia{
       {"kg*m^2", 1.0}, {"kg*mm^2", 1e-6}, {"kg*cm^2", 1e-4}, {"g*mm^2", 1e-9}, {"g*cm^2", 1e-7}};
-  static const std::vector<UnitEntry> stiffness{{"N/m", 1.0},   {"N/mm", 1e3},  {"N/um", 1e6},
-                                                {"kN/mm", 1e6}, {"MN/m", 1e6},  {"GN/m", 1e9}};
-  static const std::vector<UnitEntry> rot_stiffness{{"N*m/rad", 1.0},
-                                                    {"kN*m/rad", 1e3},
-                                                    {"N*mm/rad", 1e-3},
-                                                    {"N*m/deg", 180.0 / kPi}};
+  static const std::vector<UnitEntry> stiffness{{"N/m", 1.0},   {"N/mm", 1e3}, {"N/um", 1e6},
+                                                {"kN/mm", 1e6}, {"MN/m", 1e6}, {"GN/m", 1e9}};
+  static const std::vector<UnitEntry> rot_stiffness{
+      {"N*m/rad", 1.0}, {"kN*m/rad", 1e3}, {"N*mm/rad", 1e-3}, {"N*m/deg", 180.0 / kPi}};
   static const std::vector<UnitEntry> damping{{"N*s/m", 1.0}, {"kN*s/m", 1e3}, {"N*s/mm", 1e3}};
   static const std::vector<UnitEntry> accel{{"rad/s^2", 1.0}, {"krad/s^2", 1e3}};
   switch (d) {
-    case Dimension::kDimensionless: return none;
-    case Dimension::kLength: return length;
-    case Dimension::kAngle: return angle;
-    case Dimension::kAngularSpeed: return speed;
-    case Dimension::kTorque: return torque;
-    case Dimension::kPressure: return pressure;
-    case Dimension::kDensity: return density;
-    case Dimension::kMass: return mass;
-    case Dimension::kInertia: return inertia;
-    case Dimension::kStiffness: return stiffness;
-    case Dimension::kRotationalStiffness: return rot_stiffness;
-    case Dimension::kDamping: return damping;
-    case Dimension::kAngularAcceleration: return accel;
+    case Dimension::kDimensionless:
+      return none;
+    case Dimension::kLength:
+      return length;
+    case Dimension::kAngle:
+      return angle;
+    case Dimension::kAngularSpeed:
+      return speed;
+    case Dimension::kTorque:
+      return torque;
+    case Dimension::kPressure:
+      return pressure;
+    case Dimension::kDensity:
+      return density;
+    case Dimension::kMass:
+      return mass;
+    case Dimension::kInertia:
+      return inertia;
+    case Dimension::kStiffness:
+      return stiffness;
+    case Dimension::kRotationalStiffness:
+      return rot_stiffness;
+    case Dimension::kDamping:
+      return damping;
+    case Dimension::kAngularAcceleration:
+      return accel;
   }
   return none;
 }
@@ -66,19 +78,32 @@ std::string_view Trim(std::string_view s) {
 
 const char* DimensionName(Dimension d) {
   switch (d) {
-    case Dimension::kDimensionless: return "dimensionless number";
-    case Dimension::kLength: return "length";
-    case Dimension::kAngle: return "angle";
-    case Dimension::kAngularSpeed: return "rotational speed";
-    case Dimension::kTorque: return "torque";
-    case Dimension::kPressure: return "pressure";
-    case Dimension::kDensity: return "density";
-    case Dimension::kMass: return "mass";
-    case Dimension::kInertia: return "moment of inertia";
-    case Dimension::kStiffness: return "stiffness";
-    case Dimension::kRotationalStiffness: return "rotational stiffness";
-    case Dimension::kDamping: return "damping";
-    case Dimension::kAngularAcceleration: return "angular acceleration";
+    case Dimension::kDimensionless:
+      return "dimensionless number";
+    case Dimension::kLength:
+      return "length";
+    case Dimension::kAngle:
+      return "angle";
+    case Dimension::kAngularSpeed:
+      return "rotational speed";
+    case Dimension::kTorque:
+      return "torque";
+    case Dimension::kPressure:
+      return "pressure";
+    case Dimension::kDensity:
+      return "density";
+    case Dimension::kMass:
+      return "mass";
+    case Dimension::kInertia:
+      return "moment of inertia";
+    case Dimension::kStiffness:
+      return "stiffness";
+    case Dimension::kRotationalStiffness:
+      return "rotational stiffness";
+    case Dimension::kDamping:
+      return "damping";
+    case Dimension::kAngularAcceleration:
+      return "angular acceleration";
   }
   return "quantity";
 }
@@ -119,9 +144,9 @@ ParsedQuantity ParseQuantity(std::string_view text, Dimension d) {
     while (i < text.size()) {
       const char c = text[i];
       const bool numeric = (c >= '0' && c <= '9') || c == '.' || c == '-' || c == '+';
-      const bool exponent = (c == 'e' || c == 'E') && i + 1 < text.size() &&
-                            ((text[i + 1] >= '0' && text[i + 1] <= '9') || text[i + 1] == '-' ||
-                             text[i + 1] == '+');
+      const bool exponent =
+          (c == 'e' || c == 'E') && i + 1 < text.size() &&
+          ((text[i + 1] >= '0' && text[i + 1] <= '9') || text[i + 1] == '-' || text[i + 1] == '+');
       if (!numeric && !exponent) break;
       i += exponent ? 2 : 1;
     }

@@ -8,8 +8,8 @@
 #include "config/gearbox_loader.h"
 #include "gearnvh/model/component_model.h"
 #include "gearnvh/model/gear_geometry.h"
-#include "gearnvh/reduction/reduced_model.h"
 #include "gearnvh/model/input_error.h"
+#include "gearnvh/reduction/reduced_model.h"
 
 namespace gearnvh::app {
 namespace {
@@ -41,10 +41,13 @@ void PrintText(const std::string& file, const GearboxSpec& spec, const Component
   fmt::print("{}  ({})\n", spec.name, file);
   fmt::print("  {:<28}{:>14}{:>14}\n", "geometry [mm]", "pinion", "wheel");
   fmt::print("  {:<28}{:>14d}{:>14d}\n", "teeth", spec.pinion.teeth, spec.wheel.teeth);
-  fmt::print("  {:<28}{:>14.4f}{:>14.4f}\n", "pitch radius", g.pinion.pitch * kMm, g.wheel.pitch * kMm);
-  fmt::print("  {:<28}{:>14.4f}{:>14.4f}\n", "base radius", g.pinion.base * kMm, g.wheel.base * kMm);
+  fmt::print("  {:<28}{:>14.4f}{:>14.4f}\n", "pitch radius", g.pinion.pitch * kMm,
+             g.wheel.pitch * kMm);
+  fmt::print("  {:<28}{:>14.4f}{:>14.4f}\n", "base radius", g.pinion.base * kMm,
+             g.wheel.base * kMm);
   fmt::print("  {:<28}{:>14.4f}{:>14.4f}\n", "tip radius", g.pinion.tip * kMm, g.wheel.tip * kMm);
-  fmt::print("  {:<28}{:>14.4f}{:>14.4f}\n", "root radius", g.pinion.root * kMm, g.wheel.root * kMm);
+  fmt::print("  {:<28}{:>14.4f}{:>14.4f}\n", "root radius", g.pinion.root * kMm,
+             g.wheel.root * kMm);
   fmt::print("  {:<28}{:>14.4f} mm\n", "centre distance", g.center_distance * kMm);
   fmt::print("  {:<28}{:>14.4f} deg\n", "working pressure angle",
              g.working_pressure_angle * 180.0 / 3.141592653589793);
@@ -134,7 +137,8 @@ nlohmann::json CheckReport(const GearboxSpec& spec, const ComponentModel& model,
                             {"residual_compliance", r.residual_compliance}});
   }
   doc["tiers_unavailable"] = unavailable;
-  doc["full_static_mesh_compliance"] = tiers.empty() ? 0.0 : tiers.front().full_static_mesh_compliance;
+  doc["full_static_mesh_compliance"] =
+      tiers.empty() ? 0.0 : tiers.front().full_static_mesh_compliance;
   return doc;
 }
 

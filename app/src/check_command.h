@@ -1,10 +1,9 @@
 // `gearnvh check FILE... [--json]`: load, validate and print the derived basics of each gearbox.
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "gearnvh/model/component_model.h"
 #include "gearnvh/reduction/reduced_model.h"

@@ -1,6 +1,5 @@
 // gearnvh: the command line. Exit codes: 0 ok, 1 invalid input, 2 usage error, 3 internal error.
 #include <CLI/CLI.hpp>
-
 #include <exception>
 #include <iostream>
 
@@ -15,9 +14,12 @@ int main(int argc, char** argv) {
 
   gearnvh::app::CheckOptions check;
   CLI::App* check_cmd = app.add_subcommand(
-      "check", "Load and validate gearbox files; print derived geometry (radii, centre distance, "
-               "contact ratio, mesh frequency).");
-  check_cmd->add_option("FILE", check.files, "Gearbox YAML files")->required()->check(CLI::ExistingFile);
+      "check",
+      "Load and validate gearbox files; print derived geometry (radii, centre distance, "
+      "contact ratio, mesh frequency).");
+  check_cmd->add_option("FILE", check.files, "Gearbox YAML files")
+      ->required()
+      ->check(CLI::ExistingFile);
   check_cmd->add_flag("--json", check.json,
                       "Print one JSON document (a list of documents for several files)");
 

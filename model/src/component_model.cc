@@ -12,13 +12,16 @@ namespace gearnvh {
 void ComponentModelOptions::Validate() const {
   mesh.Validate();
   auto positive = [](const char* name, double v) {
-    if (!(v > 0.0)) throw InputError(std::string("ComponentModelOptions.") + name, 0, std::to_string(v), "must be > 0");
+    if (!(v > 0.0))
+      throw InputError(std::string("ComponentModelOptions.") + name, 0, std::to_string(v),
+                       "must be > 0");
   };
   positive("rigid_radial_stiffness", rigid_radial_stiffness);
   positive("rigid_axial_stiffness", rigid_axial_stiffness);
   positive("rigid_tilt_stiffness", rigid_tilt_stiffness);
   if (!(rigid_damping >= 0.0)) {
-    throw InputError("ComponentModelOptions.rigid_damping", 0, std::to_string(rigid_damping), "must be >= 0");
+    throw InputError("ComponentModelOptions.rigid_damping", 0, std::to_string(rigid_damping),
+                     "must be >= 0");
   }
   if (default_elements_per_shaft < 2) {
     throw InputError("ComponentModelOptions.default_elements_per_shaft", 0,
@@ -195,11 +198,13 @@ ComponentModel BuildComponentModel(const GearboxSpec& spec, const ComponentModel
   const double rb1 = g.pinion.base, rb2 = g.wheel.base;
   const double j1 = m.pinion_body.polar, j2 = m.wheel_body.polar;
   m.effective_mass = j1 * j2 / (j1 * rb2 * rb2 + j2 * rb1 * rb1);
-  m.mesh_damping = 2.0 * spec.mesh.damping_ratio * std::sqrt(m.mesh_summary.mean * m.effective_mass);
+  m.mesh_damping =
+      2.0 * spec.mesh.damping_ratio * std::sqrt(m.mesh_summary.mean * m.effective_mass);
 
   Assembler as;
   m.pinion_node = AddShaft(spec, spec.input_shaft, 0, m.pinion_body, 1.0, options, m.nodes, as);
-  m.wheel_node = AddShaft(spec, spec.output_shaft, 1, m.wheel_body, -rb1 / rb2, options, m.nodes, as);
+  m.wheel_node =
+      AddShaft(spec, spec.output_shaft, 1, m.wheel_body, -rb1 / rb2, options, m.nodes, as);
   m.dofs = 6 * static_cast<int>(m.nodes.size());
   m.M = ToSparse(m.dofs, as.m);
   m.C = ToSparse(m.dofs, as.c);

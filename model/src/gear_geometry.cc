@@ -66,9 +66,9 @@ PairGeometry ComputePairGeometry(const GearboxSpec& spec) {
   }
   const double cos_w = (g.pinion.base + g.wheel.base) / g.center_distance;
   if (!(cos_w < 1.0)) {
-    throw InputError("mesh.center_distance", 0, Num(g.center_distance) + " m",
-                     "must exceed the sum of base radii (" +
-                         Num(g.pinion.base + g.wheel.base) + " m)");
+    throw InputError(
+        "mesh.center_distance", 0, Num(g.center_distance) + " m",
+        "must exceed the sum of base radii (" + Num(g.pinion.base + g.wheel.base) + " m)");
   }
   g.working_pressure_angle = std::acos(cos_w);
   g.base_pitch = std::numbers::pi * p.module * std::cos(alpha0);
@@ -95,13 +95,20 @@ PairGeometry ComputePairGeometry(const GearboxSpec& spec) {
 
 const char* TierName(Tier tier) {
   switch (tier) {
-    case Tier::kTier1: return "tier 1";
-    case Tier::kTier2: return "tier 2";
-    case Tier::kTier3: return "tier 3";
-    case Tier::kTier4: return "tier 4";
-    case Tier::kTier5: return "N40 full";
-    case Tier::kN20Simple: return "N20 simple";
-    case Tier::kN20Mta: return "N20 MTA";
+    case Tier::kTier1:
+      return "tier 1";
+    case Tier::kTier2:
+      return "tier 2";
+    case Tier::kTier3:
+      return "tier 3";
+    case Tier::kTier4:
+      return "tier 4";
+    case Tier::kTier5:
+      return "N40 full";
+    case Tier::kN20Simple:
+      return "N20 simple";
+    case Tier::kN20Mta:
+      return "N20 MTA";
   }
   return "unknown";
 }

@@ -45,7 +45,8 @@ void InRange(const std::string& path, double v, double lo, double hi, bool lo_op
 
 void ValidateGear(const GearboxSpec& spec, const GearSpec& g, const std::string& p) {
   if (g.teeth < 6) throw InputError(p + ".teeth", 0, std::to_string(g.teeth), "must be >= 6");
-  if (g.teeth > 10000) throw InputError(p + ".teeth", 0, std::to_string(g.teeth), "must be <= 10000");
+  if (g.teeth > 10000)
+    throw InputError(p + ".teeth", 0, std::to_string(g.teeth), "must be <= 10000");
   Positive(p + ".module", g.module);
   InRange(p + ".pressure_angle", g.pressure_angle, 0.0, std::numbers::pi / 4.0, true, true);
   Positive(p + ".face_width", g.face_width);
@@ -54,7 +55,8 @@ void ValidateGear(const GearboxSpec& spec, const GearSpec& g, const std::string&
     throw InputError(p + ".material", 0, g.material, "must name a key of materials");
   }
   Positive(p + ".addendum_coefficient", g.addendum_coefficient);
-  if (!(g.dedendum_coefficient >= g.addendum_coefficient) || !std::isfinite(g.dedendum_coefficient)) {
+  if (!(g.dedendum_coefficient >= g.addendum_coefficient) ||
+      !std::isfinite(g.dedendum_coefficient)) {
     throw InputError(p + ".dedendum_coefficient", 0, Num(g.dedendum_coefficient),
                      "must be >= addendum_coefficient (" + Num(g.addendum_coefficient) +
                          "): the root clearance c* cannot be negative");
@@ -119,8 +121,9 @@ void ValidateShaft(const GearboxSpec& spec, const ShaftSpec& s, const std::strin
     if (b.radial_stiffness > 0.0 && b.tilt_stiffness > 0.0) radial += 1;
   }
   if (!axial) {
-    throw InputError(p + ".bearings", 0, "",
-                     "at least one bearing needs axial_stiffness > 0 (else the shaft floats axially)");
+    throw InputError(
+        p + ".bearings", 0, "",
+        "at least one bearing needs axial_stiffness > 0 (else the shaft floats axially)");
   }
   if (radial < 2) {
     throw InputError(p + ".bearings", 0, "",
@@ -177,20 +180,19 @@ void ValidateGearboxSpec(const GearboxSpec& spec) {
     InRange("mesh.stiffness.rectangular.contact_ratio", r->contact_ratio, 1.0, 2.0, false, false);
   } else if (const auto* t = std::get_if<TableStiffness>(&mesh.stiffness)) {
     if (t->phase.size() < 2) {
-      throw InputError("mesh.stiffness.table.phase", 0, std::to_string(t->phase.size()) + " entries",
-                       "needs at least 2 entries");
+      throw InputError("mesh.stiffness.table.phase", 0,
+                       std::to_string(t->phase.size()) + " entries", "needs at least 2 entries");
     }
     if (t->phase.size() != t->stiffness.size()) {
-      throw InputError("mesh.stiffness.table.stiffness", 0,
-                       std::to_string(t->stiffness.size()) + " entries",
-                       "must have as many entries as phase (" + std::to_string(t->phase.size()) + ")");
+      throw InputError(
+          "mesh.stiffness.table.stiffness", 0, std::to_string(t->stiffness.size()) + " entries",
+          "must have as many entries as phase (" + std::to_string(t->phase.size()) + ")");
     }
     for (size_t i = 0; i < t->phase.size(); ++i) {
       const std::string phase_path = Indexed("mesh.stiffness.table.phase", i);
       InRange(phase_path, t->phase[i], 0.0, 1.0, false, true);
       if (i > 0 && !(t->phase[i] > t->phase[i - 1])) {
-        throw InputError(phase_path, 0, Num(t->phase[i]),
-                         "must be strictly increasing");
+        throw InputError(phase_path, 0, Num(t->phase[i]), "must be strictly increasing");
       }
       Positive(Indexed("mesh.stiffness.table.stiffness", i), t->stiffness[i]);
     }
@@ -207,10 +209,9 @@ void ValidateGearboxSpec(const GearboxSpec& spec) {
   }
   const auto& ste = mesh.static_transmission_error;
   if (ste.amplitudes.size() != ste.phases.size()) {
-    throw InputError("mesh.static_transmission_error.phases", 0,
-                     std::to_string(ste.phases.size()) + " entries",
-                     "must have as many entries as amplitudes (" +
-                         std::to_string(ste.amplitudes.size()) + ")");
+    throw InputError(
+        "mesh.static_transmission_error.phases", 0, std::to_string(ste.phases.size()) + " entries",
+        "must have as many entries as amplitudes (" + std::to_string(ste.amplitudes.size()) + ")");
   }
   for (size_t i = 0; i < ste.amplitudes.size(); ++i) {
     NonNegative(Indexed("mesh.static_transmission_error.amplitudes", i), ste.amplitudes[i]);

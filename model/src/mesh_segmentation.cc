@@ -15,8 +15,10 @@ double LocateTransition(const MeshEvaluator& ev, Flank flank, double a, double b
   const int ca = ev.Evaluate(a, flank).loaded_pairs;
   for (int it = 0; it < 60 && b - a > 1e-13; ++it) {
     const double m = 0.5 * (a + b);
-    if (ev.Evaluate(m, flank).loaded_pairs == ca) a = m;
-    else b = m;
+    if (ev.Evaluate(m, flank).loaded_pairs == ca)
+      a = m;
+    else
+      b = m;
   }
   return 0.5 * (a + b);
 }
@@ -24,7 +26,8 @@ double LocateTransition(const MeshEvaluator& ev, Flank flank, double a, double b
 double UserSte(const StaticTransmissionError& ste, double tau) {
   double e = 0.0;
   for (size_t n = 0; n < ste.amplitudes.size(); ++n) {
-    e += ste.amplitudes[n] * std::cos(2.0 * std::numbers::pi * (n + 1) * tau + ste.phases[n]);
+    e += ste.amplitudes[n] *
+         std::cos(2.0 * std::numbers::pi * static_cast<double>(n + 1) * tau + ste.phases[n]);
   }
   return e;
 }
@@ -42,7 +45,8 @@ MeshSegmentation SegmentMeshCycle(const GearboxSpec& spec, const MeshEvaluator& 
       const double tau = static_cast<double>(i) / scan_samples;
       const int count = ev.Evaluate(tau, flank).loaded_pairs;
       if (count != previous) {
-        breaks.push_back(LocateTransition(ev, flank, static_cast<double>(i - 1) / scan_samples, tau));
+        breaks.push_back(
+            LocateTransition(ev, flank, static_cast<double>(i - 1) / scan_samples, tau));
       }
       previous = count;
     }

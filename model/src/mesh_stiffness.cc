@@ -28,10 +28,9 @@ struct PairStiffness::Impl {
   Impl(const GearboxSpec& spec, const PairGeometry& g)
       : pinion(spec.pinion, spec.MaterialOf(spec.pinion)),
         wheel(spec.wheel, spec.MaterialOf(spec.wheel)),
-        hertz_compliance(1.0 / HertzContactStiffness(spec.MaterialOf(spec.pinion),
-                                                     spec.MaterialOf(spec.wheel),
-                                                     std::min(spec.pinion.face_width,
-                                                              spec.wheel.face_width))),
+        hertz_compliance(
+            1.0 / HertzContactStiffness(spec.MaterialOf(spec.pinion), spec.MaterialOf(spec.wheel),
+                                        std::min(spec.pinion.face_width, spec.wheel.face_width))),
         line_length(g.line_of_action_length),
         start(g.contact_start),
         end(g.contact_end) {}
@@ -76,8 +75,10 @@ double OverrideStiffness(const StiffnessModel& model, double tau) {
   if (const auto* f = std::get_if<FourierStiffness>(&model)) {
     double k = f->mean;
     const double w = 2.0 * std::numbers::pi * tau;
-    for (size_t n = 0; n < f->cos_coefficients.size(); ++n) k += f->cos_coefficients[n] * std::cos((n + 1) * w);
-    for (size_t n = 0; n < f->sin_coefficients.size(); ++n) k += f->sin_coefficients[n] * std::sin((n + 1) * w);
+    for (size_t n = 0; n < f->cos_coefficients.size(); ++n)
+      k += f->cos_coefficients[n] * std::cos(static_cast<double>(n + 1) * w);
+    for (size_t n = 0; n < f->sin_coefficients.size(); ++n)
+      k += f->sin_coefficients[n] * std::sin(static_cast<double>(n + 1) * w);
     return k;
   }
   return 0.0;
@@ -264,9 +265,10 @@ MeshStiffnessSummary SummarizeMeshCycle(const MeshCycle& cycle, const PairGeomet
     lste_max = std::max(lste_max, d.lste);
     if (d.loaded_pairs == 1) single_sum += d.stiffness, ++single_n;
     if (d.loaded_pairs == 2) double_sum += d.stiffness, ++double_n;
-    for (int m = 0; m < d.pair_count; ++m) s.load_sharing_max = std::max(s.load_sharing_max, d.pairs[m].load_share);
+    for (int m = 0; m < d.pair_count; ++m)
+      s.load_sharing_max = std::max(s.load_sharing_max, d.pairs[m].load_share);
   }
-  s.mean = sum / n;
+  s.mean = sum / static_cast<double>(n);
   s.single_pair_mean = single_n ? single_sum / single_n : 0.0;
   s.double_pair_mean = double_n ? double_sum / double_n : 0.0;
   s.lste_peak_to_peak = lste_max - lste_min;

@@ -12,7 +12,8 @@ BeamSection BeamSection::Tube(double outer_diameter, double inner_diameter, doub
   s.second_moment = pi * (ro * ro * ro * ro - ri * ri * ri * ri) / 4.0;
   s.polar_moment = 2.0 * s.second_moment;
   const double m = ri / ro, m2 = (1.0 + m * m) * (1.0 + m * m);
-  s.shear_coefficient = 6.0 * (1.0 + nu) * m2 / ((7.0 + 6.0 * nu) * m2 + (20.0 + 12.0 * nu) * m * m);
+  s.shear_coefficient =
+      6.0 * (1.0 + nu) * m2 / ((7.0 + 6.0 * nu) * m2 + (20.0 + 12.0 * nu) * m * m);
   return s;
 }
 

@@ -94,8 +94,10 @@ ToothCompliance ToothStiffnessModel::AtForceAngle(double alpha1) const {
           const double inertia = 2.0 * h * h * h * L_ / 3.0;
           return moment * moment / (E_ * inertia) * dx;
         }
-        case 1: return 1.2 * c * c / (G_ * area) * dx;
-        default: return s * s / (E_ * area) * dx;
+        case 1:
+          return 1.2 * c * c / (G_ * area) * dx;
+        default:
+          return s * s / (E_ * area) * dx;
       }
     };
     out.bending = Integrate(rule_, alpha_start_, alpha1, [&](double a) { return integrand(a, 0); });
@@ -118,7 +120,8 @@ ToothCompliance ToothStiffnessModel::AtForceAngle(double alpha1) const {
   // Gear body.
   const double u = (x_p - r_f_) / (2.0 * r_f_ * theta_f_);
   out.fillet = c * c / (E_ * L_) *
-               (fillet_L_ * u * u + fillet_M_ * u + fillet_P_ * (1.0 + fillet_Q_ * std::tan(alpha1) * std::tan(alpha1)));
+               (fillet_L_ * u * u + fillet_M_ * u +
+                fillet_P_ * (1.0 + fillet_Q_ * std::tan(alpha1) * std::tan(alpha1)));
   return out;
 }
 

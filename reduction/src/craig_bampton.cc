@@ -13,8 +13,8 @@ namespace {
 using SpMat = Eigen::SparseMatrix<double>;
 
 // Extracts A(rows, cols) for index maps (-1 = not in the set).
-SpMat Block(const SpMat& A, const std::vector<int>& row_map, int rows, const std::vector<int>& col_map,
-            int cols) {
+SpMat Block(const SpMat& A, const std::vector<int>& row_map, int rows,
+            const std::vector<int>& col_map, int cols) {
   std::vector<Eigen::Triplet<double>> t;
   for (int k = 0; k < A.outerSize(); ++k) {
     for (SpMat::InnerIterator it(A, k); it; ++it) {
@@ -54,7 +54,8 @@ CraigBamptonBasis CraigBampton(const SpMat& K, const SpMat& M, const std::vector
   Eigen::SimplicialLDLT<SpMat> ldlt(Kii);
   if (ldlt.info() != Eigen::Success || (ldlt.vectorD().array() <= 0.0).any()) {
     out.status = CraigBamptonStatus::kInteriorSingular;
-    out.message = "the interior stiffness K_ii is not positive definite (a free interior direction)";
+    out.message =
+        "the interior stiffness K_ii is not positive definite (a free interior direction)";
     return out;
   }
   const Eigen::MatrixXd psi = -ldlt.solve(Eigen::MatrixXd(Kib));
@@ -69,7 +70,8 @@ CraigBamptonBasis CraigBampton(const SpMat& K, const SpMat& M, const std::vector
     using BOp = Spectra::SparseSymMatProd<double>;
     Op op(Kii, Mii);
     BOp bop(Mii);
-    Spectra::SymGEigsShiftSolver<Op, BOp, Spectra::GEigsMode::ShiftInvert> solver(op, bop, modes, ncv, 0.0);
+    Spectra::SymGEigsShiftSolver<Op, BOp, Spectra::GEigsMode::ShiftInvert> solver(op, bop, modes,
+                                                                                  ncv, 0.0);
     solver.init();
     solver.compute(Spectra::SortRule::LargestMagn, 1000, 1e-12);
     if (solver.info() != Spectra::CompInfo::Successful) {

@@ -30,9 +30,12 @@ constexpr int kReportedFrequencies = 10;
 
 std::vector<int> Boundary(const ComponentModel& m, Tier tier) {
   std::vector<NodeDof> dofs;
-  if (tier == Tier::kTier1) dofs = {kThz};
-  else if (tier == Tier::kTier2) dofs = {kUx, kUy, kThz};
-  else dofs = {kUx, kUy, kUz, kThx, kThy, kThz};
+  if (tier == Tier::kTier1)
+    dofs = {kThz};
+  else if (tier == Tier::kTier2)
+    dofs = {kUx, kUy, kThz};
+  else
+    dofs = {kUx, kUy, kUz, kThx, kThy, kThz};
   std::vector<int> b;
   for (int node : {m.pinion_node, m.wheel_node}) {
     for (NodeDof d : dofs) b.push_back(ComponentModel::Dof(node, d));
@@ -42,11 +45,14 @@ std::vector<int> Boundary(const ComponentModel& m, Tier tier) {
 
 int ModesOf(Tier tier) {
   switch (tier) {
-    case Tier::kTier4: return kTier4Modes;
+    case Tier::kTier4:
+      return kTier4Modes;
     case Tier::kTier5:
     case Tier::kN20Simple:
-    case Tier::kN20Mta: return kTier5Modes;
-    default: return 0;
+    case Tier::kN20Mta:
+      return kTier5Modes;
+    default:
+      return 0;
   }
 }
 
@@ -87,7 +93,8 @@ ReducedModel Transform(const ReducedModel& a, const Eigen::MatrixXd& P) {
   r.K = 0.5 * (r.K + r.K.transpose()).eval();
   r.C = 0.5 * (r.C + r.C.transpose()).eval();
   r.G = 0.5 * (r.G - r.G.transpose()).eval();
-  for (auto [dst, src] : {std::pair{&r.v_drive, &a.v_drive}, {&r.v_back, &a.v_back},
+  for (auto [dst, src] : {std::pair{&r.v_drive, &a.v_drive},
+                          {&r.v_back, &a.v_back},
                           {&r.friction_translation_drive, &a.friction_translation_drive},
                           {&r.friction_translation_back, &a.friction_translation_back},
                           {&r.pinion_torsion, &a.pinion_torsion},
@@ -119,8 +126,8 @@ void Finish(const ComponentModel& m, ReducedModel& r, double full_compliance) {
   r.full_static_mesh_compliance = full_compliance;
   r.compliance_error_vs_full =
       full_compliance > 0.0 ? (r.static_mesh_compliance - full_compliance) / full_compliance : 0.0;
-  r.natural_frequencies_hz = ReducedNaturalFrequencies(r, m.mesh_summary.mean, kReportedFrequencies,
-                                                       &r.rigid_body_modes);
+  r.natural_frequencies_hz =
+      ReducedNaturalFrequencies(r, m.mesh_summary.mean, kReportedFrequencies, &r.rigid_body_modes);
 }
 
 }  // namespace
@@ -141,7 +148,8 @@ double FullStaticMeshCompliance(const ComponentModel& m) {
   std::vector<Eigen::Triplet<double>> t;
   for (int c = 0; c < m.K.outerSize(); ++c) {
     for (Eigen::SparseMatrix<double>::InnerIterator it(m.K, c); it; ++it) {
-      if (map[it.row()] >= 0 && map[it.col()] >= 0) t.emplace_back(map[it.row()], map[it.col()], it.value());
+      if (map[it.row()] >= 0 && map[it.col()] >= 0)
+        t.emplace_back(map[it.row()], map[it.col()], it.value());
     }
   }
   Eigen::SparseMatrix<double> Kc(k, k);
@@ -164,8 +172,10 @@ std::vector<double> ReducedNaturalFrequencies(const ReducedModel& r, double mean
   std::vector<double> f;
   int rigid = 0;
   for (int i = 0; i < w2.size(); ++i) {
-    if (std::abs(w2[i]) <= zero) ++rigid;
-    else if (static_cast<int>(f.size()) < count) f.push_back(std::sqrt(std::max(w2[i], 0.0)) / (2 * std::numbers::pi));
+    if (std::abs(w2[i]) <= zero)
+      ++rigid;
+    else if (static_cast<int>(f.size()) < count)
+      f.push_back(std::sqrt(std::max(w2[i], 0.0)) / (2 * std::numbers::pi));
   }
   if (rigid_body_modes) *rigid_body_modes = rigid;
   return f;
@@ -190,7 +200,8 @@ ReducedModel ReduceModel(const ComponentModel& m, Tier tier, const ReductionOpti
   ReducedModel r = Project(m, cb.T);
   r.boundary_dof = static_cast<int>(boundary.size());
   r.modal_dof = static_cast<int>(cb.fixed_interface_omega2.size());
-  // Structural damping of the fixed-interface modes (mass-normalised: 2 zeta omega on the diagonal).
+  // Structural damping of the fixed-interface modes (mass-normalised: 2 zeta omega on the
+  // diagonal).
   for (int j = 0; j < r.modal_dof; ++j) {
     r.C(r.boundary_dof + j, r.boundary_dof + j) +=
         2.0 * options.structural_damping_ratio * std::sqrt(cb.fixed_interface_omega2[j]);

@@ -66,53 +66,93 @@ struct MalformedCase {
 std::vector<MalformedCase> MalformedCases() {
   const std::string v = kValid;
   return {
-      {"bad unit", ReplaceFirst(v, "module: 2 mm", "module: 2 mmm"), "gears.pinion.module", "unknown unit 'mmm'"},
-      {"unit of the wrong dimension", ReplaceFirst(v, "100 um", "100 rpm"), "mesh.backlash", "unknown unit"},
-      {"misspelled key", ReplaceFirst(v, "backlash:", "backlsh:"), "mesh.backlsh", "did you mean 'backlash'"},
+      {"bad unit", ReplaceFirst(v, "module: 2 mm", "module: 2 mmm"), "gears.pinion.module",
+       "unknown unit 'mmm'"},
+      {"unit of the wrong dimension", ReplaceFirst(v, "100 um", "100 rpm"), "mesh.backlash",
+       "unknown unit"},
+      {"misspelled key", ReplaceFirst(v, "backlash:", "backlsh:"), "mesh.backlsh",
+       "did you mean 'backlash'"},
       {"unknown top-level key", v + "extra: 1\n", "extra", "unknown key"},
       {"negative backlash", ReplaceFirst(v, "100 um", "-100 um"), "mesh.backlash", "must be > 0"},
       {"zero backlash", ReplaceFirst(v, "100 um", "0 um"), "mesh.backlash", "must be > 0"},
       {"teeth < 6", ReplaceFirst(v, "teeth: 27", "teeth: 4"), "gears.pinion.teeth", ">= 6"},
-      {"teeth not an integer", ReplaceFirst(v, "teeth: 27", "teeth: 27.5"), "gears.pinion.teeth", "integer"},
-      {"missing gear material", ReplaceFirst(v, "    bore_diameter: 30 mm\n    material: steel\n", "    bore_diameter: 30 mm\n"),
+      {"teeth not an integer", ReplaceFirst(v, "teeth: 27", "teeth: 27.5"), "gears.pinion.teeth",
+       "integer"},
+      {"missing gear material",
+       ReplaceFirst(v, "    bore_diameter: 30 mm\n    material: steel\n",
+                    "    bore_diameter: 30 mm\n"),
        "gears.wheel.material", "required key is missing"},
-      {"unknown material name", ReplaceFirst(v, "material: steel", "material: stel"), "gears.pinion.material", "did you mean 'steel'"},
-      {"missing materials section", ReplaceFirst(v, "materials:\n  steel: {youngs_modulus: 206 GPa, poisson_ratio: 0.3, density: 7850 kg/m^3}\n", ""),
+      {"unknown material name", ReplaceFirst(v, "material: steel", "material: stel"),
+       "gears.pinion.material", "did you mean 'steel'"},
+      {"missing materials section",
+       ReplaceFirst(v,
+                    "materials:\n  steel: {youngs_modulus: 206 GPa, poisson_ratio: 0.3, density: "
+                    "7850 kg/m^3}\n",
+                    ""),
        "materials", "required key is missing"},
-      {"wrong type: text for a speed", ReplaceFirst(v, "800 rpm", "fast"), "operating.speed", "rotational speed"},
-      {"wrong type: mapping for a length", ReplaceFirst(v, "module: 2 mm", "module: {a: 1}"), "gears.pinion.module", "length"},
-      {"duplicate key", ReplaceFirst(v, "teeth: 27\n", "teeth: 27\n    teeth: 28\n"), "gears.pinion.teeth", "duplicate key"},
+      {"wrong type: text for a speed", ReplaceFirst(v, "800 rpm", "fast"), "operating.speed",
+       "rotational speed"},
+      {"wrong type: mapping for a length", ReplaceFirst(v, "module: 2 mm", "module: {a: 1}"),
+       "gears.pinion.module", "length"},
+      {"duplicate key", ReplaceFirst(v, "teeth: 27\n", "teeth: 27\n    teeth: 28\n"),
+       "gears.pinion.teeth", "duplicate key"},
       {"missing name", ReplaceFirst(v, "name: test pair\n", ""), "name", "required key is missing"},
-      {"damping ratio above 1", ReplaceFirst(v, "backlash: 100 um", "backlash: 100 um\n  damping_ratio: 1.5"), "mesh.damping_ratio", "must be in"},
-      {"Poisson ratio out of range", ReplaceFirst(v, "poisson_ratio: 0.3", "poisson_ratio: 0.7"), "materials.steel.poisson_ratio", "must be in"},
-      {"pressure angle too large", ReplaceFirst(v, "module: 2 mm", "module: 2 mm\n    pressure_angle: 60 deg"), "gears.pinion.pressure_angle", "must be in"},
-      {"bore larger than root", ReplaceFirst(v, "bore_diameter: 25 mm", "bore_diameter: 200 mm"), "gears.pinion.bore_diameter", "root diameter"},
-      {"unsupported schema version", ReplaceFirst(v, "gearnvh/1", "gearnvh/2"), "schema", "must be gearnvh/1"},
-      {"unknown stiffness model", ReplaceFirst(v, "backlash: 100 um", "backlash: 100 um\n  stiffness: {model: rectangle}"), "mesh.stiffness.model", "did you mean 'rectangular'"},
+      {"damping ratio above 1",
+       ReplaceFirst(v, "backlash: 100 um", "backlash: 100 um\n  damping_ratio: 1.5"),
+       "mesh.damping_ratio", "must be in"},
+      {"Poisson ratio out of range", ReplaceFirst(v, "poisson_ratio: 0.3", "poisson_ratio: 0.7"),
+       "materials.steel.poisson_ratio", "must be in"},
+      {"pressure angle too large",
+       ReplaceFirst(v, "module: 2 mm", "module: 2 mm\n    pressure_angle: 60 deg"),
+       "gears.pinion.pressure_angle", "must be in"},
+      {"bore larger than root", ReplaceFirst(v, "bore_diameter: 25 mm", "bore_diameter: 200 mm"),
+       "gears.pinion.bore_diameter", "root diameter"},
+      {"unsupported schema version", ReplaceFirst(v, "gearnvh/1", "gearnvh/2"), "schema",
+       "must be gearnvh/1"},
+      {"unknown stiffness model",
+       ReplaceFirst(v, "backlash: 100 um", "backlash: 100 um\n  stiffness: {model: rectangle}"),
+       "mesh.stiffness.model", "did you mean 'rectangular'"},
       {"table length mismatch",
-       ReplaceFirst(v, "backlash: 100 um", "backlash: 100 um\n  stiffness: {model: table, table: {phase: [0, 0.5], stiffness: [2e8 N/m]}}"),
+       ReplaceFirst(v, "backlash: 100 um",
+                    "backlash: 100 um\n  stiffness: {model: table, table: {phase: [0, 0.5], "
+                    "stiffness: [2e8 N/m]}}"),
        "mesh.stiffness.table.stiffness", "as many entries"},
       {"tier out of range", v + "analysis: {tier: 7}\n", "analysis.tier", "1..5"},
-      {"too few segments", v + "analysis: {segments_per_cycle: 2}\n", "analysis.segments_per_cycle", "[4, 4096]"},
+      {"too few segments", v + "analysis: {segments_per_cycle: 2}\n", "analysis.segments_per_cycle",
+       "[4, 4096]"},
       {"zero speed", ReplaceFirst(v, "800 rpm", "0 rpm"), "operating.speed", "must be > 0"},
-      {"negative torque", ReplaceFirst(v, "0.5 N*m", "-0.5 N*m"), "operating.torque", "must be >= 0"},
-      {"bearing off the shaft", v + ReplaceFirst(kShafts, "at: 100 mm", "at: 300 mm"), "shafts.input.bearings[1].at", "must lie on the shaft"},
-      {"excitation not a list", ReplaceFirst(v, "torque: 0.5 N*m", "torque: 0.5 N*m\n  excitation: {order: 2}"), "operating.excitation", "must be a list"},
-      {"a third gear", ReplaceFirst(v, "gears:\n", "gears:\n  idler: {teeth: 20}\n"), "gears.idler", "unknown key"},
+      {"negative torque", ReplaceFirst(v, "0.5 N*m", "-0.5 N*m"), "operating.torque",
+       "must be >= 0"},
+      {"bearing off the shaft", v + ReplaceFirst(kShafts, "at: 100 mm", "at: 300 mm"),
+       "shafts.input.bearings[1].at", "must lie on the shaft"},
+      {"excitation not a list",
+       ReplaceFirst(v, "torque: 0.5 N*m", "torque: 0.5 N*m\n  excitation: {order: 2}"),
+       "operating.excitation", "must be a list"},
+      {"a third gear", ReplaceFirst(v, "gears:\n", "gears:\n  idler: {teeth: 20}\n"), "gears.idler",
+       "unknown key"},
       {"top level is a list", "- a\n- b\n", "(document)", "must be a mapping"},
-      {"centre distance too small", ReplaceFirst(v, "backlash: 100 um", "backlash: 100 um\n  center_distance: 60 mm"), "mesh.center_distance", "base radii"},
+      {"centre distance too small",
+       ReplaceFirst(v, "backlash: 100 um", "backlash: 100 um\n  center_distance: 60 mm"),
+       "mesh.center_distance", "base radii"},
       {"empty file", "", "(document)", "empty"},
       {"not YAML", "{{{: [\n  - ]: }\n", "(document)", "not valid YAML"},
       {"binary garbage", std::string("\x00\xff\xfe garbage \x01\x02", 15), "(document)", ""},
-      {"shaft floats axially", v + ReplaceFirst(kShafts, "axial_stiffness: 1e8 N/m", "axial_stiffness: 0 N/m"), "shafts.input.bearings", "axial_stiffness > 0"},
-      {"tip relief without length", ReplaceFirst(v, "    bore_diameter: 25 mm\n", "    bore_diameter: 25 mm\n    tip_relief: {amount: 10 um, length: 0 mm}\n"),
+      {"shaft floats axially",
+       v + ReplaceFirst(kShafts, "axial_stiffness: 1e8 N/m", "axial_stiffness: 0 N/m"),
+       "shafts.input.bearings", "axial_stiffness > 0"},
+      {"tip relief without length",
+       ReplaceFirst(v, "    bore_diameter: 25 mm\n",
+                    "    bore_diameter: 25 mm\n    tip_relief: {amount: 10 um, length: 0 mm}\n"),
        "gears.pinion.tip_relief.length", "must be > 0"},
-      {"atlas parameter unknown", v + "analysis:\n  atlas:\n    x: {parameter: operating.sped, from: 1, to: 2, points: 3}\n    y: {parameter: mesh.backlash, from: 1 um, to: 2 um, points: 3}\n",
+      {"atlas parameter unknown",
+       v + "analysis:\n  atlas:\n    x: {parameter: operating.sped, from: 1, to: 2, points: 3}\n   "
+           " y: {parameter: mesh.backlash, from: 1 um, to: 2 um, points: 3}\n",
        "analysis.atlas.x.parameter", "did you mean 'operating.speed'"},
   };
 }
 
-TEST_CASE("malformed gearbox files: exit code 1 and a message naming the path", "[cli][malformed]") {
+TEST_CASE("malformed gearbox files: exit code 1 and a message naming the path",
+          "[cli][malformed]") {
   const auto cases = MalformedCases();
   REQUIRE(cases.size() >= 25);
   TempDir dir;
@@ -177,7 +217,7 @@ TEST_CASE("check --json has the documented keys in SI units", "[cli][json]") {
   CHECK(mesh["contact_ratio"].get<double>() == g["contact_ratio"].get<double>());
   for (const char* key : {"mean", "min", "max", "single_pair_mean", "double_pair_mean"}) {
     INFO(key);
-    CHECK(mesh["stiffness"][key].get<double>() > 1e7);   // N/m: steel spur pairs are 1e8..1e9
+    CHECK(mesh["stiffness"][key].get<double>() > 1e7);  // N/m: steel spur pairs are 1e8..1e9
     CHECK(mesh["stiffness"][key].get<double>() < 1e10);
   }
   CHECK(mesh["stiffness"]["min"].get<double>() <= mesh["stiffness"]["mean"].get<double>());
@@ -188,7 +228,8 @@ TEST_CASE("check --json has the documented keys in SI units", "[cli][json]") {
   CHECK(fe["dofs"].get<int>() == 6 * fe["nodes"].get<int>());
   REQUIRE(fe["natural_frequencies_hz"].size() == 10);
   for (size_t i = 1; i < 10; ++i) {
-    CHECK(fe["natural_frequencies_hz"][i].get<double>() >= fe["natural_frequencies_hz"][i - 1].get<double>());
+    CHECK(fe["natural_frequencies_hz"][i].get<double>() >=
+          fe["natural_frequencies_hz"][i - 1].get<double>());
   }
 }
 
@@ -216,7 +257,8 @@ TEST_CASE("check on the flexible example reports the shaft FE model", "[cli][jso
   }
 }
 
-TEST_CASE("check on a rigid-shaft example lists tiers 1-3 and says why not the others", "[cli][json]") {
+TEST_CASE("check on a rigid-shaft example lists tiers 1-3 and says why not the others",
+          "[cli][json]") {
   const auto r = RunCommand(kExe + " check --json " + kExamples + "/idle_rattle.yaml");
   REQUIRE(r.exit_code == 0);
   const auto doc = nlohmann::json::parse(r.out);

@@ -30,8 +30,8 @@ TEST_CASE("the rattle example reads into SI with defaults", "[loader]") {
   CHECK(s.operating.speed == Approx(800 * 2 * std::numbers::pi / 60).epsilon(tol));
   CHECK(s.operating.excitation.size() == 1);
   CHECK(s.operating.excitation[0].order == 2);
-  CHECK(s.pinion.addendum_coefficient == 1.0);     // default
-  CHECK(s.pinion.dedendum_coefficient == 1.25);    // default
+  CHECK(s.pinion.addendum_coefficient == 1.0);   // default
+  CHECK(s.pinion.dedendum_coefficient == 1.25);  // default
   CHECK(s.materials.at("steel").youngs_modulus == Approx(206e9).epsilon(tol));
   CHECK(s.analysis.atlas_x->parameter == "operating.speed");
   CHECK(std::holds_alternative<PotentialEnergyStiffness>(s.mesh.stiffness));

@@ -59,7 +59,8 @@ TEST_CASE("rigid-shaft model: structure, one rigid-body rotation, mesh vectors",
   const double j1 = m.pinion_body.polar, j2 = m.wheel_body.polar;
   const double rb1 = m.geometry.pinion.base, rb2 = m.geometry.wheel.base;
   CHECK(m.effective_mass == Approx(j1 * j2 / (j1 * rb2 * rb2 + j2 * rb1 * rb1)).epsilon(1e-15));
-  CHECK(m.mesh_damping == Approx(2 * 0.05 * std::sqrt(m.mesh_summary.mean * m.effective_mass)).epsilon(1e-15));
+  CHECK(m.mesh_damping ==
+        Approx(2 * 0.05 * std::sqrt(m.mesh_summary.mean * m.effective_mass)).epsilon(1e-15));
 }
 
 TEST_CASE("the static load carries no net torque on the rigid-body rotation", "[component]") {
@@ -69,15 +70,18 @@ TEST_CASE("the static load carries no net torque on the rigid-body rotation", "[
     const ComponentModel m = BuildComponentModel(spec);
     Eigen::VectorXd rigid = Eigen::VectorXd::Zero(m.dofs);
     for (size_t k = 0; k < m.nodes.size(); ++k) {
-      rigid[6 * k + kThz] = m.nodes[k].shaft == 0 ? 1.0 / m.geometry.pinion.base : -1.0 / m.geometry.wheel.base;
+      rigid[6 * k + kThz] =
+          m.nodes[k].shaft == 0 ? 1.0 / m.geometry.pinion.base : -1.0 / m.geometry.wheel.base;
     }
     CHECK(std::abs(m.static_force.dot(rigid)) <= 1e-12 * m.static_force.norm() * rigid.norm());
     CHECK(std::abs(m.v_drive.dot(rigid)) <= 1e-12 * rigid.norm());  // and it opens no gap
-    CHECK((Eigen::MatrixXd(m.K) * rigid).norm() <= 1e-9 * Eigen::MatrixXd(m.K).norm() * rigid.norm());
+    CHECK((Eigen::MatrixXd(m.K) * rigid).norm() <=
+          1e-9 * Eigen::MatrixXd(m.K).norm() * rigid.norm());
   }
 }
 
-TEST_CASE("flexible shafts: structure, element count, frequencies converge from above", "[component]") {
+TEST_CASE("flexible shafts: structure, element count, frequencies converge from above",
+          "[component]") {
   const ComponentModel coarse = BuildComponentModel(FlexiblePair(0.04));
   const ComponentModel fine = BuildComponentModel(FlexiblePair(0.01));
   const ComponentModel finer = BuildComponentModel(FlexiblePair(0.005));

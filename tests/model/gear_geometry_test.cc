@@ -30,7 +30,8 @@ TEST_CASE("contact ratio of standard 20 degree pairs matches the closed form", "
   // rounding (~1e-15 relative); 1e-9 is the acceptance figure of the issue.
   for (auto [z1, z2] : {std::pair{27, 43}, {20, 20}, {17, 60}, {31, 47}}) {
     const PairGeometry g = ComputePairGeometry(StandardPair(z1, z2));
-    CHECK(g.contact_ratio == Approx(StandardContactRatio(z1, z2, 20.0 * kPi / 180.0)).epsilon(1e-9));
+    CHECK(g.contact_ratio ==
+          Approx(StandardContactRatio(z1, z2, 20.0 * kPi / 180.0)).epsilon(1e-9));
   }
   // Published value: a 20:20 standard 20-degree pair has eps = 1.557 (e.g. Shigley, ex. 13-x;
   // Maitra, Handbook of Gear Design) to the 3 decimals quoted.
@@ -62,7 +63,8 @@ TEST_CASE("profile-shifted pair uses the zero-backlash working centre distance",
   const double a0 = 20 * kPi / 180;
   CHECK(Involute(g.working_pressure_angle) ==
         Approx(Involute(a0) + 2 * 0.5 * std::tan(a0) / 44).epsilon(1e-12));
-  CHECK(g.center_distance == Approx(0.5 * 3e-3 * 44 * std::cos(a0) / std::cos(g.working_pressure_angle)).epsilon(1e-12));
+  CHECK(g.center_distance ==
+        Approx(0.5 * 3e-3 * 44 * std::cos(a0) / std::cos(g.working_pressure_angle)).epsilon(1e-12));
   CHECK(g.center_distance > 0.5 * 3e-3 * 44);
 }
 

@@ -30,11 +30,13 @@ TEST_CASE("potential-energy stiffness lies within the spread of methods around I
           "[mesh][iso]") {
   // Published comparisons (e.g. Chen & Shao 2011; Ma et al. 2015 review; Marques et al. 2016) put
   // analytical potential-energy results within about +-35 % of ISO 6336 c' and c_gamma: ISO is an
-  // empirical fit including real-gear effects (C_M = 0.8), the PE method an idealised beam. The bound
-  // below is that spread; the measured differences are documented in docs/mesh-stiffness.md.
-  for (auto [z1, z2, m, b] : {std::tuple{27, 43, 2e-3, 15e-3}, {25, 75, 4e-3, 40e-3}, {20, 20, 3e-3, 20e-3}}) {
+  // empirical fit including real-gear effects (C_M = 0.8), the PE method an idealised beam. The
+  // bound below is that spread; the measured differences are documented in docs/mesh-stiffness.md.
+  for (auto [z1, z2, m, b] :
+       {std::tuple{27, 43, 2e-3, 15e-3}, {25, 75, 4e-3, 40e-3}, {20, 20, 3e-3, 20e-3}}) {
     GearboxSpec spec = StandardPair(z1, z2, m, b);
-    spec.operating.torque = 100.0 * b * 1e3 * 0.5 * m * z2;  // ~100 N/mm line load: a light design load
+    spec.operating.torque =
+        100.0 * b * 1e3 * 0.5 * m * z2;  // ~100 N/mm line load: a light design load
     const PairGeometry g = ComputePairGeometry(spec);
     const MeshStiffnessSummary s = SummarizeMeshCycle(ComputeMeshCycle(spec, g), g);
     const IsoStiffness iso = Iso6336(z1, z2, b, g.contact_ratio);
@@ -55,7 +57,8 @@ TEST_CASE("Hertz stiffness reduces to pi E L / (4 (1 - nu^2)) for equal material
         Approx(std::numbers::pi * 206e9 * 0.015 / (4 * 0.91)).epsilon(1e-14));
 }
 
-TEST_CASE("tooth compliance: bending dominates, grows towards the tip, all parts positive", "[mesh]") {
+TEST_CASE("tooth compliance: bending dominates, grows towards the tip, all parts positive",
+          "[mesh]") {
   const GearboxSpec spec = StandardPair(27, 43);
   const ToothStiffnessModel tooth(spec.pinion, spec.materials.at("steel"));
   const PairGeometry g = ComputePairGeometry(spec);
@@ -122,9 +125,11 @@ TEST_CASE("without separations the load shares in proportion to stiffness", "[me
   const FlankSample d = ev.Evaluate(0.1, Flank::kDrive);  // double contact at tau = 0.1
   REQUIRE(d.loaded_pairs == 2);
   double sum_k = 0.0;
-  for (int m = 0; m < d.pair_count; ++m) sum_k += d.pairs[m].load_share > 0 ? d.pairs[m].stiffness : 0.0;
+  for (int m = 0; m < d.pair_count; ++m)
+    sum_k += d.pairs[m].load_share > 0 ? d.pairs[m].stiffness : 0.0;
   for (int m = 0; m < d.pair_count; ++m) {
-    if (d.pairs[m].load_share > 0) CHECK(d.pairs[m].load_share == Approx(d.pairs[m].stiffness / sum_k).epsilon(1e-14));
+    if (d.pairs[m].load_share > 0)
+      CHECK(d.pairs[m].load_share == Approx(d.pairs[m].stiffness / sum_k).epsilon(1e-14));
   }
 }
 
@@ -163,7 +168,7 @@ TEST_CASE("stiffness overrides reproduce their input exactly", "[mesh][override]
   for (size_t i = 0; i < table.phase.size(); ++i) {
     CHECK(tab.Evaluate(table.phase[i], Flank::kDrive).stiffness == table.stiffness[i]);
   }
-  CHECK(tab.Evaluate(0.15, Flank::kDrive).stiffness == Approx(2.5e8).epsilon(1e-15));  // linear
+  CHECK(tab.Evaluate(0.15, Flank::kDrive).stiffness == Approx(2.5e8).epsilon(1e-15));   // linear
   CHECK(tab.Evaluate(0.85, Flank::kDrive).stiffness == Approx(2.75e8).epsilon(1e-15));  // wraps
 
   const FourierStiffness fourier{2.7e8, {3e7, 1e7}, {-2e7}};
@@ -176,7 +181,8 @@ TEST_CASE("stiffness overrides reproduce their input exactly", "[mesh][override]
   }
 }
 
-TEST_CASE("friction arms: rho1 + rho2 = |T1T2| and reversal at the pitch point", "[mesh][friction]") {
+TEST_CASE("friction arms: rho1 + rho2 = |T1T2| and reversal at the pitch point",
+          "[mesh][friction]") {
   GearboxSpec spec = StandardPair(27, 43);
   spec.operating.torque = 50.0;
   const PairGeometry g = ComputePairGeometry(spec);
@@ -196,7 +202,8 @@ TEST_CASE("friction arms: rho1 + rho2 = |T1T2| and reversal at the pitch point",
   CHECK(after.friction_sigma == Approx(1.0));
 }
 
-TEST_CASE("segmentation: S segments, boundaries on transitions, means consistent", "[mesh][segments]") {
+TEST_CASE("segmentation: S segments, boundaries on transitions, means consistent",
+          "[mesh][segments]") {
   GearboxSpec spec = StandardPair(27, 43);
   spec.operating.torque = 20.0;
   spec.analysis.segments_per_cycle = 32;

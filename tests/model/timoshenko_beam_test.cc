@@ -96,7 +96,7 @@ TEST_CASE("Timoshenko shear and rotary inertia lower a stubby beam's frequency a
     const double exact = std::sqrt(w2) / (2 * kPi);
     const double euler = k * k * std::sqrt(E * I / (rho * A)) / (2 * kPi);
     INFO("mode " << m << " Timoshenko " << exact << " Hz, Euler-Bernoulli " << euler << " Hz");
-    CHECK(exact < 0.9 * euler);                      // the effect is large at L/d = 3
+    CHECK(exact < 0.9 * euler);                        // the effect is large at L/d = 3
     CHECK(fe[m - 1] == Approx(exact).epsilon(0.005));  // and the element reproduces it
   }
 }
@@ -119,8 +119,9 @@ TEST_CASE("torsional and axial frequencies match the closed forms", "[fe][beam]"
   }
 }
 
-TEST_CASE("element matrices: M symmetric positive definite, K symmetric PSD with 6 rigid modes, G skew",
-          "[fe][beam]") {
+TEST_CASE(
+    "element matrices: M symmetric positive definite, K symmetric PSD with 6 rigid modes, G skew",
+    "[fe][beam]") {
   const Assembled a = UniformBeam(0.3, 0.04, 10);
   const double tol = 1e-12;
   CHECK((a.M - a.M.transpose()).norm() <= tol * a.M.norm());
@@ -141,7 +142,8 @@ TEST_CASE("element matrices: M symmetric positive definite, K symmetric PSD with
 
 TEST_CASE("Cowper shear coefficient of a solid round section", "[fe][beam]") {
   // kappa = 6 (1 + nu) / (7 + 6 nu): 0.8864 for nu = 0.3 (Cowper 1966, Table 1).
-  CHECK(BeamSection::Tube(0.02, 0.0, 0.3).shear_coefficient == Approx(6 * 1.3 / 8.8).epsilon(1e-14));
+  CHECK(BeamSection::Tube(0.02, 0.0, 0.3).shear_coefficient ==
+        Approx(6 * 1.3 / 8.8).epsilon(1e-14));
 }
 
 }  // namespace

@@ -67,8 +67,12 @@ TEST_CASE("every tier: reduced M positive definite, K symmetric PSD with the fre
     }
     // Structure alone: each shaft turns freely (tier 1 is nothing but these two rotations).
     CHECK(zero == 2);
-    CHECK(r.dof == (tier == Tier::kTier1 ? 2 : tier == Tier::kTier2 ? 6 : tier == Tier::kTier3 ? 12
-                   : tier == Tier::kTier4 || tier == Tier::kN20Simple || tier == Tier::kN20Mta ? 20 : 40));
+    CHECK(r.dof == (tier == Tier::kTier1   ? 2
+                    : tier == Tier::kTier2 ? 6
+                    : tier == Tier::kTier3 ? 12
+                    : tier == Tier::kTier4 || tier == Tier::kN20Simple || tier == Tier::kN20Mta
+                        ? 20
+                        : 40));
     CHECK(r.state_dim() == 2 * r.dof + 1);
     CHECK(r.rigid_body_modes == 1);  // with the mesh spring, only the pair's rotation is free
   }
@@ -105,7 +109,8 @@ TEST_CASE("Craig–Bampton and MTA reproduce the full static mesh compliance", "
 TEST_CASE("tier 1 is the classic two-inertia torsional model", "[reduction]") {
   const ComponentModel m = BuildComponentModel(Flexible());
   const ReducedModel r = ReduceModel(m, Tier::kTier1);
-  // Guyan on the two gear rotations: the shafts turn rigidly, so M = diag(J_pinion side, J_wheel side).
+  // Guyan on the two gear rotations: the shafts turn rigidly, so M = diag(J_pinion side, J_wheel
+  // side).
   CHECK(r.M(0, 0) == Approx(m.pinion_side_inertia).epsilon(1e-12));
   CHECK(r.M(1, 1) == Approx(m.wheel_side_inertia).epsilon(1e-12));
   CHECK(std::abs(r.M(0, 1)) <= 1e-12 * r.M(0, 0));
@@ -133,7 +138,8 @@ TEST_CASE("natural frequencies converge from above as Craig–Bampton modes are 
     // Skip the rigid rotation (the smallest eigenvalue, zero to rounding).
     for (int i = 0; i < 6; ++i) {
       const double f = std::sqrt(std::max(eig.eigenvalues()[i + 1], 0.0)) / (2 * std::numbers::pi);
-      INFO(modes << " modes, frequency " << i << ": " << f << " Hz, full " << full.frequencies_hz[i]);
+      INFO(modes << " modes, frequency " << i << ": " << f << " Hz, full "
+                 << full.frequencies_hz[i]);
       // Rayleigh–Ritz on nested subspaces: never below the full model, never rising as modes are
       // added (relative slack 1e-9 for rounding in the 300-DOF eigensolve).
       CHECK(f >= full.frequencies_hz[i] * (1 - 1e-9));
@@ -158,7 +164,8 @@ TEST_CASE("Spectra's sparse shift-invert modes equal a dense solver's", "[reduct
   // Lanczos converged to 1e-12 against a dense QR solve: relative agreement 1e-8 (cond of the
   // pencil ~1e8 for these shafts).
   for (int j = 0; j < 12; ++j) {
-    CHECK(sparse_cb.fixed_interface_omega2[j] == Approx(dense_cb.fixed_interface_omega2[j]).epsilon(1e-8));
+    CHECK(sparse_cb.fixed_interface_omega2[j] ==
+          Approx(dense_cb.fixed_interface_omega2[j]).epsilon(1e-8));
   }
 }
 

@@ -13,8 +13,8 @@
 // (torsional parts equal: delta = r_b1 th1 - r_b2 th2 in running angles, the classic TE).
 // Mesh force on q in contact: drive  -k (delta - b - e)(v_drive + mu w_drive),
 //                             back   -k (delta_b + b - e)(v_back - mu w_back),
-// friction vector w = sigma [t at pinion u; -t at wheel u] + a1 e_pinion_thz + a2 e_wheel_thz with the
-// flank's own t and the segment's (sigma, a1, a2) from MeshSegment. Hence the mesh stiffness in
+// friction vector w = sigma [t at pinion u; -t at wheel u] + a1 e_pinion_thz + a2 e_wheel_thz with
+// the flank's own t and the segment's (sigma, a1, a2) from MeshSegment. Hence the mesh stiffness in
 // contact is the rank-1 k (v ± mu w) v^T (non-symmetric with friction).
 // Gyroscopic force: Omega1 G q̇ (G already carries the wheel shaft's spin ratio and sign).
 // Static load: operating torque T on the wheel (+z, resisting), T r_b1/r_b2 on the pinion (+z).
@@ -63,9 +63,9 @@ struct ComponentModel {
   MeshCycle cycle;
   MeshStiffnessSummary mesh_summary;
   MeshSegmentation segmentation;
-  double half_backlash = 0.0;       // b, m
-  double mesh_damping = 0.0;        // c = 2 zeta sqrt(k_mean m_e), N s/m
-  double effective_mass = 0.0;      // m_e = J1 J2 / (J1 r_b2^2 + J2 r_b1^2), kg
+  double half_backlash = 0.0;   // b, m
+  double mesh_damping = 0.0;    // c = 2 zeta sqrt(k_mean m_e), N s/m
+  double effective_mass = 0.0;  // m_e = J1 J2 / (J1 r_b2^2 + J2 r_b1^2), kg
   double friction_coefficient = 0.0;
 
   // Structure.
@@ -78,19 +78,21 @@ struct ComponentModel {
   GearBody pinion_body, wheel_body;
   double pinion_side_inertia = 0.0;  // polar inertia rotating with the pinion, kg m^2
   double wheel_side_inertia = 0.0;
-  Eigen::VectorXd static_force;      // N, N m
-  double pinion_speed = 0.0;         // Omega1, rad/s
-  bool flexible = false;             // built from `shafts:`
+  Eigen::VectorXd static_force;  // N, N m
+  double pinion_speed = 0.0;     // Omega1, rad/s
+  bool flexible = false;         // built from `shafts:`
   std::vector<std::string> warnings;
 
   static int Dof(int node, NodeDof d) { return 6 * node + static_cast<int>(d); }
   int PinionDof(NodeDof d) const { return Dof(pinion_node, d); }
   int WheelDof(NodeDof d) const { return Dof(wheel_node, d); }
   // w for one flank and segment values (see the header comment).
-  Eigen::VectorXd FrictionVector(Flank flank, double sigma, double arm_pinion, double arm_wheel) const;
+  Eigen::VectorXd FrictionVector(Flank flank, double sigma, double arm_pinion,
+                                 double arm_wheel) const;
 };
 
-ComponentModel BuildComponentModel(const GearboxSpec& spec, const ComponentModelOptions& options = {});
+ComponentModel BuildComponentModel(const GearboxSpec& spec,
+                                   const ComponentModelOptions& options = {});
 
 struct ModalSummary {
   std::vector<double> frequencies_hz;  // ascending, rigid-body modes excluded

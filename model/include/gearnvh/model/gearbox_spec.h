@@ -26,17 +26,17 @@ struct TipRelief {
 };
 
 struct GearSpec {
-  int teeth = 0;                      // >= 6
-  double module = 0.0;                // m, > 0
-  double pressure_angle = 0.0;        // rad, in (0, pi/4); default 20 deg
-  double face_width = 0.0;            // m, > 0
-  double bore_diameter = 0.0;         // m, >= 0 and < root diameter
-  std::string material;               // a key of GearboxSpec::materials
-  double addendum_coefficient = 1.0;  // h_a*, > 0
-  double dedendum_coefficient = 1.25; // h_f* = h_a* + c*, > addendum coefficient
-  double profile_shift = 0.0;         // x, dimensionless
-  std::optional<double> inertia;      // kg m^2 polar inertia override (default: solid disk)
-  std::optional<double> mass;         // kg override (default: solid disk)
+  int teeth = 0;                       // >= 6
+  double module = 0.0;                 // m, > 0
+  double pressure_angle = 0.0;         // rad, in (0, pi/4); default 20 deg
+  double face_width = 0.0;             // m, > 0
+  double bore_diameter = 0.0;          // m, >= 0 and < root diameter
+  std::string material;                // a key of GearboxSpec::materials
+  double addendum_coefficient = 1.0;   // h_a*, > 0
+  double dedendum_coefficient = 1.25;  // h_f* = h_a* + c*, > addendum coefficient
+  double profile_shift = 0.0;          // x, dimensionless
+  std::optional<double> inertia;       // kg m^2 polar inertia override (default: solid disk)
+  std::optional<double> mass;          // kg override (default: solid disk)
   std::optional<TipRelief> tip_relief;
 };
 
@@ -50,7 +50,7 @@ struct TableStiffness {
   std::vector<double> stiffness;  // N/m, > 0, same length as phase
 };
 struct FourierStiffness {
-  double mean = 0.0;            // N/m, > 0
+  double mean = 0.0;                     // N/m, > 0
   std::vector<double> cos_coefficients;  // N/m, harmonics 1..n of the mesh frequency
   std::vector<double> sin_coefficients;  // N/m
 };
@@ -65,9 +65,9 @@ struct StaticTransmissionError {
 };
 
 struct MeshSpec {
-  double backlash = 0.0;               // m, > 0: total clearance along the line of action (= 2b)
-  double damping_ratio = 0.05;         // in [0, 1)
-  double friction_coefficient = 0.0;   // in [0, 0.5]
+  double backlash = 0.0;                  // m, > 0: total clearance along the line of action (= 2b)
+  double damping_ratio = 0.05;            // in [0, 1)
+  double friction_coefficient = 0.0;      // in [0, 0.5]
   std::optional<double> center_distance;  // m; default: standard centre distance
   StiffnessModel stiffness = PotentialEnergyStiffness{};
   StaticTransmissionError static_transmission_error;
@@ -126,7 +126,7 @@ enum class Tier { kTier1, kTier2, kTier3, kTier4, kTier5, kN20Simple, kN20Mta };
 struct SweepRange {
   double from = 0.0;  // SI value of the parameter
   double to = 0.0;
-  int points = 0;     // >= 2
+  int points = 0;  // >= 2
 };
 
 struct AtlasAxis {

@@ -1,11 +1,11 @@
 // Cutting the mesh cycle into S segments for the piecewise-LTI solver (DESIGN.md §4.1).
 //
 // Mandatory boundaries (in cycle fraction tau): 0, every change of the loaded-pair count on either
-// flank (located by bisection to 1e-12 of the cycle), and every pitch-point crossing on either flank
-// (friction reverses there). The remaining S - (#mandatory) cuts are spread over the intervals in
-// proportion to their length (largest remainder; every interval gets at least one segment, and
-// segments inside an interval are equal). Within segment j every quantity is replaced by its mean
-// over the segment (8-point Gauss–Legendre on the smooth integrand between boundaries):
+// flank (located by bisection to 1e-12 of the cycle), and every pitch-point crossing on either
+// flank (friction reverses there). The remaining S - (#mandatory) cuts are spread over the
+// intervals in proportion to their length (largest remainder; every interval gets at least one
+// segment, and segments inside an interval are equal). Within segment j every quantity is replaced
+// by its mean over the segment (8-point Gauss–Legendre on the smooth integrand between boundaries):
 //   k_j (per flank), LSTE_j, friction sigma/arms (per flank), and the unloaded error
 //   e_j = mean(LSTE) - F / k_j + mean(user STE),
 // chosen so that the static solution of k_j (delta - e_j) = F reproduces the mean loaded STE.
@@ -28,8 +28,8 @@ struct FlankSegment {
 struct MeshSegment {
   double tau_begin = 0.0, tau_end = 0.0;
   FlankSegment drive, back;
-  double lste = 0.0;             // mean loaded static TE (drive flank), m
-  double unloaded_error = 0.0;   // e_j, m
+  double lste = 0.0;            // mean loaded static TE (drive flank), m
+  double unloaded_error = 0.0;  // e_j, m
 };
 
 struct MeshSegmentation {
@@ -37,7 +37,8 @@ struct MeshSegmentation {
   std::vector<double> mandatory_breaks;  // the mandatory boundaries found
 };
 
-// Throws InputError (analysis.segments_per_cycle) when S is below the number of mandatory boundaries.
+// Throws InputError (analysis.segments_per_cycle) when S is below the number of mandatory
+// boundaries.
 MeshSegmentation SegmentMeshCycle(const GearboxSpec& spec, const MeshEvaluator& evaluator,
                                   int segments_per_cycle, int scan_samples = 2048);
 

@@ -2,13 +2,13 @@
 //
 // Cycle fraction tau in [0, 1) = pinion angle / (2 pi / z1). Tooth pair j sits at roll position
 //   s_j(tau) = s_start + (tau + j) p_b        (s measured along the line of action from T1)
-// on the drive flank, and at C - s_j(tau) on the back flank (C = 2 (s_pitch + r_b1 theta_w): the two
-// flanks of a tooth are mirror images, theta_w = pinion half-tooth angle at the working pitch circle).
-// Every pair near the path has a pair stiffness k_j (series Hertz + both teeth, potential energy
-// method) and an unloaded separation e_j >= 0 (linear tip relief inside the path; for a pair still
-// outside the path, the tip relief continued plus the curvature gap (Δs)^2 / (2 rho) of the tip corner
-// against the mating flank of radius of curvature rho). With transmitted load F = T / r_b2 all pairs
-// share one approach delta:
+// on the drive flank, and at C - s_j(tau) on the back flank (C = 2 (s_pitch + r_b1 theta_w): the
+// two flanks of a tooth are mirror images, theta_w = pinion half-tooth angle at the working pitch
+// circle). Every pair near the path has a pair stiffness k_j (series Hertz + both teeth, potential
+// energy method) and an unloaded separation e_j >= 0 (linear tip relief inside the path; for a pair
+// still outside the path, the tip relief continued plus the curvature gap (Δs)^2 / (2 rho) of the
+// tip corner against the mating flank of radius of curvature rho). With transmitted load F = T /
+// r_b2 all pairs share one approach delta:
 //   sum_j k_j max(delta - e_j, 0) = F,
 // solved exactly (sorted breakpoints). Outputs per tau: k(tau) = sum over loaded pairs of k_j,
 // load-sharing ratios LSR_j = k_j (delta - e_j)_+ / F, loaded static transmission error
@@ -49,7 +49,7 @@ struct FlankSample {
   double stiffness = 0.0;  // sum of loaded pair stiffnesses, N/m
   double lste = 0.0;       // mesh approach delta at the operating load, m
   int loaded_pairs = 0;
-  double friction_sigma = 0.0;  // sum LSR sgn
+  double friction_sigma = 0.0;       // sum LSR sgn
   double friction_arm_pinion = 0.0;  // a1, m
   double friction_arm_wheel = 0.0;   // a2, m
   static constexpr int kMaxPairs = 4;
@@ -58,12 +58,12 @@ struct FlankSample {
 };
 
 struct MeshCycle {
-  std::vector<double> tau;          // sample cycle fractions (midpoints of equal cells)
-  std::vector<FlankSample> drive;   // drive flank samples
-  std::vector<FlankSample> back;    // back flank samples
-  double load = 0.0;                // F, N
-  double back_phase = 0.0;          // C - 2 s_start, m (the back flank's mirrored offset)
-  bool overridden = false;          // stiffness from user data
+  std::vector<double> tau;         // sample cycle fractions (midpoints of equal cells)
+  std::vector<FlankSample> drive;  // drive flank samples
+  std::vector<FlankSample> back;   // back flank samples
+  double load = 0.0;               // F, N
+  double back_phase = 0.0;         // C - 2 s_start, m (the back flank's mirrored offset)
+  bool overridden = false;         // stiffness from user data
   std::vector<std::string> warnings;
 };
 
@@ -76,7 +76,8 @@ struct MeshStiffnessSummary {
   double load_sharing_max = 0.0;            // max LSR_j over the cycle
 };
 
-// Pair stiffness (series Hertz + pinion tooth + wheel tooth) at roll position s (clamped to the path).
+// Pair stiffness (series Hertz + pinion tooth + wheel tooth) at roll position s (clamped to the
+// path).
 class PairStiffness {
  public:
   PairStiffness(const GearboxSpec& spec, const PairGeometry& geometry);
@@ -91,8 +92,8 @@ class PairStiffness {
 
 enum class Flank { kDrive, kBack };
 
-// Evaluates one flank's load sharing at any cycle fraction (the fine samples, segment quadrature and
-// transition bisection all go through here).
+// Evaluates one flank's load sharing at any cycle fraction (the fine samples, segment quadrature
+// and transition bisection all go through here).
 class MeshEvaluator {
  public:
   MeshEvaluator(const GearboxSpec& spec, const PairGeometry& geometry,

@@ -19,7 +19,8 @@ template <typename F>
 double Integrate(const GaussLegendreRule& rule, double a, double b, F&& f) {
   const double half = 0.5 * (b - a), mid = 0.5 * (a + b);
   double sum = 0.0;
-  for (std::size_t i = 0; i < rule.nodes.size(); ++i) sum += rule.weights[i] * f(mid + half * rule.nodes[i]);
+  for (std::size_t i = 0; i < rule.nodes.size(); ++i)
+    sum += rule.weights[i] * f(mid + half * rule.nodes[i]);
   return sum * half;
 }
 

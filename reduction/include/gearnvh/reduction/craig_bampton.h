@@ -1,9 +1,10 @@
 // Craig–Bampton basis (Craig & Bampton 1968) for a sparse structure with a chosen boundary.
 //
-//   q = T [x_b; eta],   T = [[I, 0], [Psi, Phi]] (rows: boundary, interior; stored in full DOF order)
-//   Psi = -K_ii^{-1} K_ib           constraint modes (sparse LDL^T of K_ii)
-//   K_ii phi = w^2 M_ii phi         lowest fixed-interface modes, M_ii-normalised
-//     (Spectra SymGEigsShiftSolver in shift-invert mode at sigma = 0 on the sparse pencil; interiors
+//   q = T [x_b; eta],   T = [[I, 0], [Psi, Phi]] (rows: boundary, interior; stored in full DOF
+//   order) Psi = -K_ii^{-1} K_ib           constraint modes (sparse LDL^T of K_ii) K_ii phi = w^2
+//   M_ii phi         lowest fixed-interface modes, M_ii-normalised
+//     (Spectra SymGEigsShiftSolver in shift-invert mode at sigma = 0 on the sparse pencil;
+//     interiors
 //      with fewer than ReductionOptions::dense_eigen_threshold DOF use a dense solver, because the
 //      Lanczos subspace must be smaller than the problem).
 // Preconditions: K, M symmetric, K_ii positive definite (the boundary must remove every free
@@ -23,7 +24,7 @@ enum class CraigBamptonStatus { kSuccess, kInteriorSingular, kEigenNotConverged 
 
 struct CraigBamptonBasis {
   CraigBamptonStatus status = CraigBamptonStatus::kSuccess;
-  Eigen::MatrixXd T;                    // full DOF x (boundary + modes)
+  Eigen::MatrixXd T;                       // full DOF x (boundary + modes)
   Eigen::VectorXd fixed_interface_omega2;  // ascending, rad^2/s^2
   bool sparse_eigensolver = false;
   std::string message;

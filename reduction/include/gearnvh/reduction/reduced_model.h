@@ -30,7 +30,8 @@
 namespace gearnvh {
 
 struct ReductionOptions {
-  // Modal damping ratio of the Craig–Bampton fixed-interface modes (shaft structural damping), [0, 1).
+  // Modal damping ratio of the Craig–Bampton fixed-interface modes (shaft structural damping), [0,
+  // 1).
   double structural_damping_ratio = 0.01;
   // MTA as one more Ritz vector (the residual static shape) instead of a series spring.
   bool mta_vector_form = false;
@@ -43,8 +44,8 @@ struct ReducedModel {
   Tier tier = Tier::kTier1;
   std::string name;
   int dof = 0;
-  int boundary_dof = 0;  // physical gear-node DOF kept
-  int modal_dof = 0;     // Craig–Bampton or truncated modal coordinates
+  int boundary_dof = 0;        // physical gear-node DOF kept
+  int modal_dof = 0;           // Craig–Bampton or truncated modal coordinates
   Eigen::MatrixXd M, C, K, G;  // G per unit pinion speed (force Omega1 G x')
   Eigen::VectorXd v_drive, v_back;
   Eigen::VectorXd friction_translation_drive, friction_translation_back;
@@ -61,8 +62,10 @@ struct ReducedModel {
 
   int state_dim() const { return 2 * dof + 1; }
   double EffectiveMeshStiffness(double k) const { return k / (1.0 + k * residual_compliance); }
-  Eigen::VectorXd FrictionVector(Flank flank, double sigma, double arm_pinion, double arm_wheel) const {
-    return sigma * (flank == Flank::kDrive ? friction_translation_drive : friction_translation_back) +
+  Eigen::VectorXd FrictionVector(Flank flank, double sigma, double arm_pinion,
+                                 double arm_wheel) const {
+    return sigma *
+               (flank == Flank::kDrive ? friction_translation_drive : friction_translation_back) +
            arm_pinion * pinion_torsion + arm_wheel * wheel_torsion;
   }
 };
@@ -71,7 +74,8 @@ struct ReducedModel {
 bool TierAvailable(const ComponentModel& model, Tier tier);
 
 // Reduces the model. Throws InputError (analysis.tier) when the tier is not available.
-ReducedModel ReduceModel(const ComponentModel& model, Tier tier, const ReductionOptions& options = {});
+ReducedModel ReduceModel(const ComponentModel& model, Tier tier,
+                         const ReductionOptions& options = {});
 
 // Static mesh compliance of the full FE model (sparse, gear rotations held), m/N.
 double FullStaticMeshCompliance(const ComponentModel& model);
