@@ -1,0 +1,70 @@
+// Piecewise-LTI model of the gear pair and its exact propagators (DESIGN.md §4.1–4.2).
+//
+// Augmented state z = [x; x'; 1; s] (dimension m = 2n + 2): x reduced coordinates, s the
+// engine-order excitation held at its mean over the current segment. Per segment j and contact
+// state sigma in {drive (+), free (0), back (-)}:
+//   z' = A_{j,sigma} z,  A = [[0, I, 0, 0], [-M^-1 K_s, -M^-1 C_s, M^-1 f_s, M^-1 d], [0...],
+//   [0...]] drive: K_s = K + k (v + mu w) v^T,  C_s = C + Omega1 G + c (v + mu w) v^T,  f_s = f + k
+//   (e + b)(v + mu w) free:  K_s = K,                      C_s = C + Omega1 G, f_s = f back:  K_s =
+//   K + k (v' - mu w') v'^T, C_s = C + Omega1 G + c (v' - mu w') v'^T, f_s = f + k (e - b)(v' - mu
+//   w')
+// with k the segment's mean mesh stiffness (MTA: k / (1 + k g_res)), c the mesh damping, e the
+// segment's unloaded error, b = backlash / 2, w/w' the segment's friction vectors, f the static
+// load and d = J1 e_pinion the excitation direction (torque J1 s on the pinion). Gaps (affine in
+// z): g+ = v^T x - e - b (drive contact while g+ > 0),
+//                     g- = v'^T x - e + b (back contact while g- < 0).
+// Tables: for every (j, sigma) the full-segment propagator expm(A h_j), the sub-step propagator
+// expm(A h_j / N_j) with N_j a power of two such that rho(A) h_j / N_j <= 1/2 (rho the spectral
+// radius of the dynamic block), and A itself (for the
+// Taylor polynomial used inside a sub-step when an event is located).
+#pragma once
+
+#include <Eigen/Dense>
+#include <array>
+#include <vector>
+
+#include "gearnvh/model/gearbox_spec.h"
+#include "gearnvh/reduction/reduced_model.h"
+
+namespace gearnvh {
+
+enum class ContactState : int { kBack = 0, kFree = 1, kDrive = 2 };
+const char* ContactStateName(ContactState s);
+
+struct SegmentSystem {
+  Eigen::MatrixXd A;                                 // generator, m x m
+  Eigen::MatrixXd full;                              // expm(A h)
+  Eigen::MatrixXd substep;                           // expm(A h / substeps)
+  Eigen::RowVectorXd gap_drive, gap_back;            // g+ = gap_drive z, g- = gap_back z
+  Eigen::RowVectorXd gap_drive_rate, gap_back_rate;  // rows of c A: d/dt of the gaps
+  double mesh_stiffness = 0.0;  // k (effective) of this state and segment, 0 when free
+};
+
+struct SegmentTables {
+  int n = 0;                       // reduced DOF
+  int m = 0;                       // augmented dimension 2n + 2
+  double mesh_period = 0.0;        // s
+  double pinion_speed = 0.0;       // rad/s
+  std::vector<double> boundaries;  // segment start times within a cycle, s (size S + 1)
+  std::vector<int> substeps;       // N_j
+  std::vector<std::array<SegmentSystem, 3>> systems;  // [segment][state]
+  std::vector<ExcitationOrder> excitation;            // orders, amplitudes (rad/s^2), phases
+  double half_backlash = 0.0;
+  double excitation_inertia = 0.0;                     // J1
+  double mesh_damping = 0.0;                           // c, N s/m
+  Eigen::RowVectorXd te_row;                           // dynamic TE delta = v^T x as a row on z
+  Eigen::RowVectorXd te_rate_row;                      // v^T x'
+  Eigen::RowVectorXd pinion_rate_row, wheel_rate_row;  // running angular velocities (perturbation)
+
+  int segments() const { return static_cast<int>(systems.size()); }
+  double SegmentLength(int j) const { return boundaries[j + 1] - boundaries[j]; }
+  // Mean of sum_k a_k sin(k Omega1 t + phi_k) over [t0, t0 + h], rad/s^2 (closed form).
+  double MeanExcitation(double t0, double h) const;
+  size_t TableBytes() const;
+};
+
+// Builds the tables for one operating point. `spec` gives speed, excitation, damping and friction.
+SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel& reduced,
+                                 const GearboxSpec& spec);
+
+}  // namespace gearnvh

@@ -1,0 +1,290 @@
+#include "gearnvh/solver/exact_solver.h"
+
+#include <chrono>
+#include <cmath>
+
+#include "gearnvh/model/input_error.h"
+
+namespace gearnvh {
+
+void SolverOptions::Validate() const {
+  if (cycles < 1) throw InputError("analysis.cycles", 0, std::to_string(cycles), "must be >= 1");
+  if (transient_cycles < 0) {
+    throw InputError("analysis.transient_cycles", 0, std::to_string(transient_cycles),
+                     "must be >= 0");
+  }
+  if (max_events_per_cycle < 1) {
+    throw InputError("SolverOptions.max_events_per_cycle", 0, std::to_string(max_events_per_cycle),
+                     "must be >= 1");
+  }
+  if (!(grazing_rate_tolerance >= 0.0)) {
+    throw InputError("SolverOptions.grazing_rate_tolerance", 0,
+                     std::to_string(grazing_rate_tolerance), "must be >= 0");
+  }
+}
+
+const char* SolverStatusName(SolverStatus s) {
+  return s == SolverStatus::kSuccess ? "success" : "too_many_events";
+}
+
+namespace {
+
+// A wall that can be reached in a state: the event happens when sign * (row . z) rises above 0.
+struct Wall {
+  const Eigen::RowVectorXd* row;
+  double sign;
+  ContactState target;
+};
+
+int Walls(const SegmentSystem& sys, ContactState state, Wall out[2]) {
+  switch (state) {
+    case ContactState::kFree:
+      out[0] = {&sys.gap_drive, 1.0, ContactState::kDrive};
+      out[1] = {&sys.gap_back, -1.0, ContactState::kBack};
+      return 2;
+    case ContactState::kDrive:
+      out[0] = {&sys.gap_drive, -1.0, ContactState::kFree};
+      return 1;
+    case ContactState::kBack:
+      out[0] = {&sys.gap_back, 1.0, ContactState::kFree};
+      return 1;
+  }
+  return 0;
+}
+
+const Eigen::RowVectorXd& RateRow(const SegmentSystem& sys, const Eigen::RowVectorXd* row) {
+  return row == &sys.gap_drive ? sys.gap_drive_rate : sys.gap_back_rate;
+}
+
+// p(tau) = sum_k c_k tau^k and its derivative (Horner).
+inline double Poly(const double* c, int degree, double tau) {
+  double v = c[degree];
+  for (int k = degree - 1; k >= 0; --k) v = v * tau + c[k];
+  return v;
+}
+inline double PolyDerivative(const double* c, int degree, double tau) {
+  double v = degree * c[degree];
+  for (int k = degree - 1; k >= 1; --k) v = v * tau + k * c[k];
+  return v;
+}
+
+// First tau in (0, length] where p rises above 0, or -1. p(0) <= 0 is assumed (we start inside).
+double FirstRoot(const double* c, int degree, double length, int samples) {
+  double a = 0.0;
+  for (int i = 1; i <= samples; ++i) {
+    const double b = length * i / samples;
+    if (Poly(c, degree, b) > 0.0) {
+      // Safeguarded Newton on [a, b] (p(a) <= 0 < p(b)).
+      double lo = a, hi = b, x = 0.5 * (a + b);
+      for (int it = 0; it < 100; ++it) {
+        const double f = Poly(c, degree, x);
+        if (f > 0.0)
+          hi = x;
+        else
+          lo = x;
+        const double df = PolyDerivative(c, degree, x);
+        double next = df != 0.0 ? x - f / df : 0.5 * (lo + hi);
+        if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+        if (std::abs(next - x) <= 1e-16 * length || hi - lo <= 1e-16 * length) {
+          x = next;
+          break;
+        }
+        x = next;
+      }
+      return x;
+    }
+    a = b;
+  }
+  return -1.0;
+}
+
+}  // namespace
+
+ExactStepper::ExactStepper(const SegmentTables& tables, const SolverOptions& options,
+                           const Eigen::VectorXd& z0, ContactState state0, size_t reserve_samples,
+                           size_t reserve_events)
+    : t_(tables),
+      options_(options),
+      z_(z0),
+      z1_(z0.size()),
+      taylor_(z0.size(), kTaylorTerms + 1),
+      contact_(state0) {
+  trajectory_.samples.reserve(reserve_samples);
+  trajectory_.events.reserve(reserve_events);
+  summary_.table_bytes = tables.TableBytes();
+}
+
+bool ExactStepper::PossibleEvent(const SegmentSystem& sys) const {
+  Wall walls[2];
+  const int count = Walls(sys, contact_, walls);
+  for (int i = 0; i < count; ++i) {
+    const Wall& w = walls[i];
+    if (w.sign * w.row->dot(z1_) > 0.0) return true;  // crossed by the end of the sub-step
+    // Turned towards the wall and back inside the sub-step: an interior extremum to examine.
+    const Eigen::RowVectorXd& rate = RateRow(sys, w.row);
+    if (w.sign * rate.dot(z_) > 0.0 && w.sign * rate.dot(z1_) < 0.0) return true;
+  }
+  return false;
+}
+
+void ExactStepper::AdvanceExact(int segment, double start, double length, bool record) {
+  double done = 0.0;
+  double coeff[kTaylorTerms + 1];
+  while (length - done > 1e-15 * length) {
+    const SegmentSystem& sys = t_.systems[segment][static_cast<int>(contact_)];
+    taylor_.col(0) = z_;
+    for (int k = 1; k <= kTaylorTerms; ++k) {
+      taylor_.col(k).noalias() = sys.A * taylor_.col(k - 1);
+      taylor_.col(k) /= static_cast<double>(k);
+    }
+    summary_.matvecs += kTaylorTerms;
+    const double remaining = length - done;
+    Wall walls[2];
+    const int count = Walls(sys, contact_, walls);
+    double best = -1.0;
+    int best_wall = -1;
+    for (int i = 0; i < count; ++i) {
+      for (int k = 0; k <= kTaylorTerms; ++k)
+        coeff[k] = walls[i].sign * walls[i].row->dot(taylor_.col(k));
+      coeff[0] = std::min(coeff[0], 0.0);  // we are inside (rounding may put us a hair outside)
+      const double root = FirstRoot(coeff, kTaylorTerms, remaining, kRootSamples);
+      if (root >= 0.0 && (best < 0.0 || root < best)) best = root, best_wall = i;
+    }
+    const double step = best >= 0.0 ? best : remaining;
+    // z <- sum_k w_k step^k (Horner over the columns).
+    z_ = taylor_.col(kTaylorTerms);
+    for (int k = kTaylorTerms - 1; k >= 0; --k) {
+      z_ *= step;
+      z_ += taylor_.col(k);
+    }
+    done += step;
+    if (best < 0.0) break;
+    const Wall& w = walls[best_wall];
+    const double rate = RateRow(sys, w.row).dot(z_);
+    if (std::abs(rate) <= options_.grazing_rate_tolerance) {
+      // |g'| ~ 0 at the wall. Curving back inside (h'' < 0): a touch, the state is kept and the
+      // search resumes just past it. Otherwise it is a tangential crossing and the state flips.
+      for (int k = 0; k <= kTaylorTerms; ++k) coeff[k] = w.sign * w.row->dot(taylor_.col(k));
+      double curvature = 0.0, power = 1.0;
+      for (int k = 2; k <= kTaylorTerms; ++k, power *= step)
+        curvature += k * (k - 1) * coeff[k] * power;
+      if (curvature < 0.0) {
+        ++summary_.grazing;
+        done = std::min(length, done + 1e-12 * length);
+        if (++events_this_cycle_ > options_.max_events_per_cycle) return;
+        continue;
+      }
+    }
+    const ContactState from = contact_;
+    contact_ = w.target;
+    ++events_this_cycle_;
+    if (record) {
+      ++summary_.events;
+      if (contact_ == ContactState::kDrive)
+        ++summary_.drive_impacts;
+      else if (contact_ == ContactState::kBack)
+        ++summary_.back_impacts;
+      else
+        ++summary_.separations;
+      if (trajectory_.events.size() < trajectory_.events.capacity()) {
+        trajectory_.events.push_back({start + done, from, contact_, rate});
+      }
+    }
+    if (events_this_cycle_ > options_.max_events_per_cycle) return;
+  }
+}
+
+void ExactStepper::Record(int segment) {
+  if (trajectory_.samples.size() >= trajectory_.samples.capacity()) return;
+  const SegmentSystem& sys = t_.systems[segment][static_cast<int>(contact_)];
+  TrajectorySample s;
+  s.time = time_;
+  s.te = t_.te_row.dot(z_);
+  if (contact_ == ContactState::kDrive) {
+    s.mesh_force =
+        sys.mesh_stiffness * sys.gap_drive.dot(z_) + t_.mesh_damping * sys.gap_drive_rate.dot(z_);
+  } else if (contact_ == ContactState::kBack) {
+    s.mesh_force =
+        -(sys.mesh_stiffness * sys.gap_back.dot(z_) + t_.mesh_damping * sys.gap_back_rate.dot(z_));
+  }
+  s.pinion_speed = t_.pinion_rate_row.dot(z_);
+  s.wheel_speed = t_.wheel_rate_row.dot(z_);
+  s.state = contact_;
+  trajectory_.samples.push_back(s);
+}
+
+bool ExactStepper::Run(long cycles, bool record) {
+  const int excitation_slot = t_.m - 1;
+  for (long c = 0; c < cycles; ++c, ++cycle_) {
+    events_this_cycle_ = 0;
+    const double cycle_start = static_cast<double>(cycle_) * t_.mesh_period;
+    for (int j = 0; j < t_.segments(); ++j) {
+      const double h = t_.SegmentLength(j);
+      const double seg_start = cycle_start + t_.boundaries[j];
+      z_[excitation_slot] = t_.excitation.empty() ? 0.0 : t_.MeanExcitation(seg_start, h);
+      const int n = t_.substeps[j];
+      const double d = h / n;
+      for (int i = 0; i < n; ++i) {
+        const SegmentSystem& sys = t_.systems[j][static_cast<int>(contact_)];
+        z1_.noalias() = sys.substep * z_;
+        ++summary_.matvecs;
+        if (!PossibleEvent(sys)) {
+          z_.swap(z1_);
+        } else {
+          AdvanceExact(j, seg_start + i * d, d, record);
+          if (events_this_cycle_ > options_.max_events_per_cycle) {
+            summary_.status = SolverStatus::kTooManyEvents;
+            summary_.message = "more than " + std::to_string(options_.max_events_per_cycle) +
+                               " contact events in mesh cycle " + std::to_string(cycle_);
+            return false;
+          }
+        }
+      }
+      time_ = seg_start + h;
+      if (record && options_.record_trajectory) Record(j);
+    }
+    ++summary_.mesh_cycles;
+  }
+  return true;
+}
+
+std::pair<Eigen::VectorXd, ContactState> StaticInitialState(const SegmentTables& t) {
+  const int n = t.n, m = t.m;
+  const SegmentSystem& drive = t.systems[0][static_cast<int>(ContactState::kDrive)];
+  const Eigen::MatrixXd B = -drive.A.block(0 + n, 0, n, n);   // M^-1 K
+  const Eigen::VectorXd rhs = drive.A.block(n, 2 * n, n, 1);  // M^-1 f
+  Eigen::VectorXd z = Eigen::VectorXd::Zero(m);
+  z[2 * n] = 1.0;
+  z.head(n) = B.completeOrthogonalDecomposition().solve(rhs);
+  if (drive.gap_drive.dot(z) > 0.0) return {z, ContactState::kDrive};
+  z.head(n).setZero();
+  return {z, ContactState::kFree};
+}
+
+SolverResult SimulateExact(const SegmentTables& tables, const Eigen::VectorXd& z0,
+                           ContactState state0, const SolverOptions& options) {
+  options.Validate();
+  const auto start = std::chrono::steady_clock::now();
+  const size_t samples =
+      options.record_trajectory ? static_cast<size_t>(options.cycles) * tables.segments() : 0;
+  const size_t events = static_cast<size_t>(std::min<long>(options.cycles * 16, 50'000'000));
+  ExactStepper stepper(tables, options, z0, state0, samples, events);
+  bool ok = stepper.Run(options.transient_cycles, false);
+  if (ok) ok = stepper.Run(options.cycles, true);
+  SolverResult result;
+  result.summary = stepper.summary();
+  SolverSummary& s = result.summary;
+  s.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  s.simulated_s = stepper.time();
+  s.real_time_ratio = s.wall_s > 0.0 ? s.simulated_s / s.wall_s : 0.0;
+  const double recorded = static_cast<double>(options.cycles);
+  s.events_per_cycle = static_cast<double>(s.events) / recorded;
+  s.matvec_per_cycle =
+      static_cast<double>(s.matvecs) / static_cast<double>(std::max<long>(s.mesh_cycles, 1));
+  result.trajectory = std::move(stepper.trajectory());
+  result.final_state = stepper.state();
+  result.final_contact = stepper.contact();
+  return result;
+}
+
+}  // namespace gearnvh

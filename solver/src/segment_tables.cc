@@ -1,0 +1,128 @@
+#include "gearnvh/solver/segment_tables.h"
+
+#include <cmath>
+#include <numbers>
+#include <unsupported/Eigen/MatrixFunctions>
+
+namespace gearnvh {
+
+const char* ContactStateName(ContactState s) {
+  switch (s) {
+    case ContactState::kBack:
+      return "back";
+    case ContactState::kFree:
+      return "free";
+    case ContactState::kDrive:
+      return "drive";
+  }
+  return "?";
+}
+
+double SegmentTables::MeanExcitation(double t0, double h) const {
+  double sum = 0.0;
+  for (const ExcitationOrder& e : excitation) {
+    const double w = e.order * pinion_speed;
+    sum += e.amplitude * (std::cos(w * t0 + e.phase) - std::cos(w * (t0 + h) + e.phase)) / (w * h);
+  }
+  return sum;
+}
+
+size_t SegmentTables::TableBytes() const {
+  size_t per_system = 3 * static_cast<size_t>(m) * m + 4 * static_cast<size_t>(m);
+  return systems.size() * 3 * per_system * sizeof(double);
+}
+
+SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel& r,
+                                 const GearboxSpec& spec) {
+  SegmentTables t;
+  t.n = r.dof;
+  t.m = 2 * t.n + 2;
+  t.pinion_speed = spec.operating.speed;
+  t.mesh_period = 2.0 * std::numbers::pi / (spec.pinion.teeth * spec.operating.speed);
+  t.excitation = spec.operating.excitation;
+  t.half_backlash = model.half_backlash;
+  t.excitation_inertia = model.pinion_side_inertia;
+  const int n = t.n, m = t.m;
+  t.mesh_damping = model.mesh_damping;
+  t.te_row = Eigen::RowVectorXd::Zero(m);
+  t.te_row.head(n) = r.v_drive.transpose();
+  t.te_rate_row = Eigen::RowVectorXd::Zero(m);
+  t.te_rate_row.segment(n, n) = r.v_drive.transpose();
+  t.pinion_rate_row = Eigen::RowVectorXd::Zero(m);
+  t.pinion_rate_row.segment(n, n) = r.pinion_torsion.transpose();
+  t.wheel_rate_row = Eigen::RowVectorXd::Zero(m);
+  t.wheel_rate_row.segment(n, n) = -r.wheel_torsion.transpose();  // the wheel runs about -z
+  const double b = model.half_backlash, mu = model.friction_coefficient, c = model.mesh_damping;
+  const Eigen::LLT<Eigen::MatrixXd> mass(r.M);
+  const Eigen::MatrixXd C0 = r.C + spec.operating.speed * r.G;
+  const Eigen::VectorXd d = t.excitation_inertia * r.pinion_torsion;
+
+  const auto& segs = model.segmentation.segments;
+  t.boundaries.reserve(segs.size() + 1);
+  for (const auto& s : segs) t.boundaries.push_back(s.tau_begin * t.mesh_period);
+  t.boundaries.push_back(t.mesh_period);
+  t.systems.resize(segs.size());
+  t.substeps.resize(segs.size());
+  for (size_t j = 0; j < segs.size(); ++j) {
+    const MeshSegment& s = segs[j];
+    const double h = t.SegmentLength(static_cast<int>(j));
+    const double e = s.unloaded_error;
+    for (ContactState state : {ContactState::kBack, ContactState::kFree, ContactState::kDrive}) {
+      Eigen::MatrixXd K = r.K, C = C0;
+      Eigen::VectorXd f = r.static_force;
+      if (state == ContactState::kDrive) {
+        const double k = r.EffectiveMeshStiffness(s.drive.stiffness);
+        const Eigen::VectorXd u =
+            r.v_drive + mu * r.FrictionVector(Flank::kDrive, s.drive.friction_sigma,
+                                              s.drive.friction_arm_pinion,
+                                              s.drive.friction_arm_wheel);
+        t.systems[j][static_cast<int>(state)].mesh_stiffness = k;
+        K += k * u * r.v_drive.transpose();
+        C += c * u * r.v_drive.transpose();
+        f += k * (e + b) * u;
+      } else if (state == ContactState::kBack) {
+        const double k = r.EffectiveMeshStiffness(s.back.stiffness);
+        const Eigen::VectorXd u =
+            r.v_back - mu * r.FrictionVector(Flank::kBack, s.back.friction_sigma,
+                                             s.back.friction_arm_pinion, s.back.friction_arm_wheel);
+        t.systems[j][static_cast<int>(state)].mesh_stiffness = k;
+        K += k * u * r.v_back.transpose();
+        C += c * u * r.v_back.transpose();
+        f += k * (e - b) * u;
+      }
+      SegmentSystem& sys = t.systems[j][static_cast<int>(state)];
+      sys.A = Eigen::MatrixXd::Zero(m, m);
+      sys.A.block(0, n, n, n).setIdentity();
+      sys.A.block(n, 0, n, n) = -mass.solve(K);
+      sys.A.block(n, n, n, n) = -mass.solve(C);
+      sys.A.block(n, 2 * n, n, 1) = mass.solve(f);
+      sys.A.block(n, 2 * n + 1, n, 1) = mass.solve(d);
+      sys.gap_drive = Eigen::RowVectorXd::Zero(m);
+      sys.gap_drive.head(n) = r.v_drive.transpose();
+      sys.gap_drive[2 * n] = -(e + b);
+      sys.gap_back = Eigen::RowVectorXd::Zero(m);
+      sys.gap_back.head(n) = r.v_back.transpose();
+      sys.gap_back[2 * n] = -e + b;
+      sys.gap_drive_rate = sys.gap_drive * sys.A;
+      sys.gap_back_rate = sys.gap_back * sys.A;
+    }
+    // One sub-step count per segment (the stiffest state decides), a power of two.
+    // The Taylor series of exp(A tau) z converges like (rho tau)^k / k! with rho the spectral
+    // radius of the dynamic block (the constant columns only enter the first power).
+    double rho = 0.0;
+    for (const auto& sys : t.systems[j]) {
+      const Eigen::MatrixXd dyn = sys.A.topLeftCorner(2 * n, 2 * n);
+      rho = std::max(rho, dyn.eigenvalues().cwiseAbs().maxCoeff());
+    }
+    int substeps = 1;
+    while (rho * h / substeps > 0.5) substeps *= 2;
+    t.substeps[j] = substeps;
+    for (auto& sys : t.systems[j]) {
+      sys.full = (sys.A * h).exp();
+      sys.substep = (sys.A * (h / substeps)).exp();
+    }
+  }
+  return t;
+}
+
+}  // namespace gearnvh
