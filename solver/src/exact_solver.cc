@@ -108,17 +108,20 @@ ExactStepper::ExactStepper(const SegmentTables& tables, const SolverOptions& opt
       z_(z0),
       z1_(z0.size()),
       taylor_(z0.size(), kTaylorTerms + 1),
-      contact_(state0) {
+      contact_(state0),
+      gap_tolerance_(1e-12 * tables.half_backlash) {
   trajectory_.samples.reserve(reserve_samples);
   trajectory_.events.reserve(reserve_events);
   summary_.table_bytes = tables.TableBytes();
 }
 
-bool ExactStepper::PossibleEvent(const SegmentSystem& sys) const {
+bool ExactStepper::PossibleEvent(const SegmentSystem& sys, bool segment_start) const {
   Wall walls[2];
   const int count = Walls(sys, contact_, walls);
   for (int i = 0; i < count; ++i) {
     const Wall& w = walls[i];
+    // The gap rows change at a segment boundary (e_j): the start itself may be outside.
+    if (segment_start && w.sign * w.row->dot(z_) > gap_tolerance_) return true;
     if (w.sign * w.row->dot(z1_) > 0.0) return true;  // crossed by the end of the sub-step
     // Turned towards the wall and back inside the sub-step: an interior extremum to examine.
     const Eigen::RowVectorXd& rate = RateRow(sys, w.row);
@@ -146,8 +149,14 @@ void ExactStepper::AdvanceExact(int segment, double start, double length, bool r
     for (int i = 0; i < count; ++i) {
       for (int k = 0; k <= kTaylorTerms; ++k)
         coeff[k] = walls[i].sign * walls[i].row->dot(taylor_.col(k));
-      coeff[0] = std::min(coeff[0], 0.0);  // we are inside (rounding may put us a hair outside)
-      const double root = FirstRoot(coeff, kTaylorTerms, remaining, kRootSamples);
+      // Already outside (the unloaded error jumped at a segment boundary): the contact state is
+      // the gap's sign, so the event is now. Within rounding of the wall (just after a located
+      // event) we count as inside.
+      double root = 0.0;
+      if (!(coeff[0] > gap_tolerance_)) {
+        coeff[0] = std::min(coeff[0], 0.0);
+        root = FirstRoot(coeff, kTaylorTerms, remaining, kRootSamples);
+      }
       if (root >= 0.0 && (best < 0.0 || root < best)) best = root, best_wall = i;
     }
     const double step = best >= 0.0 ? best : remaining;
@@ -161,7 +170,7 @@ void ExactStepper::AdvanceExact(int segment, double start, double length, bool r
     if (best < 0.0) break;
     const Wall& w = walls[best_wall];
     const double rate = RateRow(sys, w.row).dot(z_);
-    if (std::abs(rate) <= options_.grazing_rate_tolerance) {
+    if (best > 0.0 && std::abs(rate) <= options_.grazing_rate_tolerance) {
       // |g'| ~ 0 at the wall. Curving back inside (h'' < 0): a touch, the state is kept and the
       // search resumes just past it. Otherwise it is a tangential crossing and the state flips.
       for (int k = 0; k <= kTaylorTerms; ++k) coeff[k] = w.sign * w.row->dot(taylor_.col(k));
@@ -228,7 +237,7 @@ bool ExactStepper::Run(long cycles, bool record) {
         const SegmentSystem& sys = t_.systems[j][static_cast<int>(contact_)];
         z1_.noalias() = sys.substep * z_;
         ++summary_.matvecs;
-        if (!PossibleEvent(sys)) {
+        if (!PossibleEvent(sys, i == 0)) {
           z_.swap(z1_);
         } else {
           AdvanceExact(j, seg_start + i * d, d, record);

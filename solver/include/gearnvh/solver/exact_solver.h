@@ -12,6 +12,8 @@
 //       Newton), z <- z(tau*), sigma <- new state, log the event, and continue the sub-step in the
 //       new state.
 // Given the piecewise-constant segment model, event times and states are exact to rounding.
+// A state found outside its wall at the start of a (sub-)step by more than 1e-12 b (the unloaded
+// error e_j jumps at segment boundaries) switches at once: the contact state is the gap's sign.
 // Wall triggers: free -> drive when g+ rises through 0, free -> back when g- falls through 0,
 // drive -> free when g+ falls through 0, back -> free when g- rises through 0. A root with
 // |g'| below grazing_rate_tolerance is a grazing contact: counted, and the state is kept.
@@ -100,7 +102,7 @@ class ExactStepper {
  private:
   static constexpr int kTaylorTerms = 18;
   static constexpr int kRootSamples = 16;
-  bool PossibleEvent(const SegmentSystem& sys) const;
+  bool PossibleEvent(const SegmentSystem& sys, bool segment_start) const;
   void AdvanceExact(int segment, double start, double length, bool record);
   void Record(int segment);
 
@@ -109,6 +111,7 @@ class ExactStepper {
   Eigen::VectorXd z_, z1_;
   Eigen::MatrixXd taylor_;  // m x (kTaylorTerms + 1): A^k z / k!
   ContactState contact_;
+  double gap_tolerance_;  // m: a start this far outside a wall is an immediate event
   double time_ = 0.0;
   long cycle_ = 0;
   long events_this_cycle_ = 0;

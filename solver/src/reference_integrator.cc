@@ -1,0 +1,208 @@
+#include "gearnvh/solver/reference_integrator.h"
+
+#include <cvode/cvode.h>
+#include <nvector/nvector_serial.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
+#include <chrono>
+#include <memory>
+
+#include "gearnvh/model/input_error.h"
+
+namespace gearnvh {
+
+void ReferenceOptions::Validate() const {
+  if (cycles < 1)
+    throw InputError("ReferenceOptions.cycles", 0, std::to_string(cycles), "must be >= 1");
+  if (!(rtol > 0.0 && rtol <= 1e-3)) {
+    throw InputError("ReferenceOptions.rtol", 0, std::to_string(rtol), "must be in (0, 1e-3]");
+  }
+  if (!(atol_position > 0.0) || !(atol_velocity > 0.0)) {
+    throw InputError("ReferenceOptions.atol_position", 0, "", "absolute tolerances must be > 0");
+  }
+  if (max_events < 1)
+    throw InputError("ReferenceOptions.max_events", 0, std::to_string(max_events), "must be >= 1");
+}
+
+namespace {
+
+struct Problem {
+  const SegmentSystem* sys = nullptr;
+  ContactState state = ContactState::kFree;
+};
+
+int Rhs(sunrealtype, N_Vector y, N_Vector ydot, void* data) {
+  const Problem& p = *static_cast<Problem*>(data);
+  const long m = NV_LENGTH_S(y);
+  Eigen::Map<const Eigen::VectorXd> z(NV_DATA_S(y), m);
+  Eigen::Map<Eigen::VectorXd> dz(NV_DATA_S(ydot), m);
+  dz.noalias() = p.sys->A * z;
+  return 0;
+}
+
+int Jac(sunrealtype, N_Vector, N_Vector, SUNMatrix J, void* data, N_Vector, N_Vector, N_Vector) {
+  const Problem& p = *static_cast<Problem*>(data);
+  const long m = SM_ROWS_D(J);
+  for (long c = 0; c < m; ++c) {
+    for (long r = 0; r < m; ++r) SM_ELEMENT_D(J, r, c) = p.sys->A(r, c);
+  }
+  return 0;
+}
+
+// Walls of the current state as root functions (the same sign convention as the exact solver).
+int Roots(sunrealtype, N_Vector y, sunrealtype* g, void* data) {
+  const Problem& p = *static_cast<Problem*>(data);
+  Eigen::Map<const Eigen::VectorXd> z(NV_DATA_S(y), NV_LENGTH_S(y));
+  const double gd = p.sys->gap_drive.dot(z), gb = p.sys->gap_back.dot(z);
+  switch (p.state) {
+    case ContactState::kFree:
+      g[0] = gd;
+      g[1] = gb;
+      break;
+    case ContactState::kDrive:
+      g[0] = gd;
+      g[1] = 1.0;
+      break;
+    case ContactState::kBack:
+      g[0] = 1.0;
+      g[1] = gb;
+      break;
+  }
+  return 0;
+}
+
+struct CvodeDeleter {
+  void operator()(void* mem) const { CVodeFree(&mem); }
+};
+
+}  // namespace
+
+ReferenceResult SimulateReference(const SegmentTables& t, const Eigen::VectorXd& z0,
+                                  ContactState state0, const ReferenceOptions& options) {
+  options.Validate();
+  const auto start = std::chrono::steady_clock::now();
+  ReferenceResult result;
+  SUNContext ctx = nullptr;
+  SUNContext_Create(nullptr, &ctx);
+  const long m = t.m;
+  N_Vector y = N_VNew_Serial(m, ctx);
+  N_Vector abstol = N_VNew_Serial(m, ctx);
+  for (long i = 0; i < m; ++i) {
+    NV_Ith_S(y, i) = z0[i];
+    NV_Ith_S(abstol, i) =
+        i < t.n ? options.atol_position : (i < 2 * t.n ? options.atol_velocity : 1.0);
+  }
+  SUNMatrix J = SUNDenseMatrix(m, m, ctx);
+  SUNLinearSolver ls = SUNLinSol_Dense(y, J, ctx);
+  std::unique_ptr<void, CvodeDeleter> mem(CVodeCreate(CV_BDF, ctx));
+  Problem problem;
+  problem.state = state0;
+  problem.sys = &t.systems[0][static_cast<int>(state0)];
+  CVodeInit(mem.get(), Rhs, 0.0, y);
+  CVodeSVtolerances(mem.get(), options.rtol, abstol);
+  CVodeSetUserData(mem.get(), &problem);
+  CVodeSetLinearSolver(mem.get(), ls, J);
+  CVodeSetJacFn(mem.get(), Jac);
+  CVodeSetMaxNumSteps(mem.get(), 1000000);
+  CVodeRootInit(mem.get(), 2, Roots);
+  int roots_found[2];
+
+  double time = 0.0;
+  long events = 0;
+  for (long c = 0; c < options.cycles && result.status == ReferenceStatus::kSuccess; ++c) {
+    for (int j = 0; j < t.segments(); ++j) {
+      const double seg_start = c * t.mesh_period + t.boundaries[j];
+      const double seg_end = seg_start + t.SegmentLength(j);
+      NV_Ith_S(y, m - 1) =
+          t.excitation.empty() ? 0.0 : t.MeanExcitation(seg_start, seg_end - seg_start);
+      problem.sys = &t.systems[j][static_cast<int>(problem.state)];
+      {
+        // The unloaded error e_j (part of the gap rows) can jump at a segment boundary and leave
+        // the state outside its wall: switch at once, as the exact solver does (CVODE only sees
+        // sign changes after its initial point).
+        Eigen::Map<const Eigen::VectorXd> z(NV_DATA_S(y), m);
+        const double gd = problem.sys->gap_drive.dot(z), gb = problem.sys->gap_back.dot(z);
+        ContactState to = problem.state;
+        if (problem.state == ContactState::kFree && gd > 0.0)
+          to = ContactState::kDrive;
+        else if (problem.state == ContactState::kFree && gb < 0.0)
+          to = ContactState::kBack;
+        else if (problem.state == ContactState::kDrive && gd < 0.0)
+          to = ContactState::kFree;
+        else if (problem.state == ContactState::kBack && gb > 0.0)
+          to = ContactState::kFree;
+        if (to != problem.state) {
+          const double rate = (to == ContactState::kDrive || problem.state == ContactState::kDrive)
+                                  ? problem.sys->gap_drive_rate.dot(z)
+                                  : problem.sys->gap_back_rate.dot(z);
+          result.trajectory.events.push_back({time, problem.state, to, rate});
+          problem.state = to;
+          problem.sys = &t.systems[j][static_cast<int>(to)];
+        }
+      }
+      CVodeReInit(mem.get(), time, y);
+      CVodeSetStopTime(mem.get(), seg_end);
+      while (time < seg_end) {
+        const int flag = CVode(mem.get(), seg_end, y, &time, CV_NORMAL);
+        if (flag < 0) {
+          result.status = ReferenceStatus::kSolverFailure;
+          result.message = std::string("CVODE failed: ") + CVodeGetReturnFlagName(flag);
+          break;
+        }
+        if (flag == CV_ROOT_RETURN) {
+          CVodeGetRootInfo(mem.get(), roots_found);
+          const ContactState from = problem.state;
+          ContactState to = from;
+          // Only crossings in the triggering direction switch the state.
+          if (from == ContactState::kFree && roots_found[0] == 1)
+            to = ContactState::kDrive;
+          else if (from == ContactState::kFree && roots_found[1] == -1)
+            to = ContactState::kBack;
+          else if (from == ContactState::kDrive && roots_found[0] == -1)
+            to = ContactState::kFree;
+          else if (from == ContactState::kBack && roots_found[1] == 1)
+            to = ContactState::kFree;
+          if (to != from) {
+            Eigen::Map<const Eigen::VectorXd> z(NV_DATA_S(y), m);
+            const SegmentSystem& sys = *problem.sys;
+            const double rate = (to == ContactState::kDrive || from == ContactState::kDrive)
+                                    ? sys.gap_drive_rate.dot(z)
+                                    : sys.gap_back_rate.dot(z);
+            result.trajectory.events.push_back({time, from, to, rate});
+            problem.state = to;
+            problem.sys = &t.systems[j][static_cast<int>(to)];
+            CVodeReInit(mem.get(), time, y);
+            if (++events > options.max_events) {
+              result.status = ReferenceStatus::kTooManyEvents;
+              result.message = "too many contact events";
+              break;
+            }
+          }
+        }
+      }
+      if (result.status != ReferenceStatus::kSuccess) break;
+      Eigen::Map<const Eigen::VectorXd> z(NV_DATA_S(y), m);
+      TrajectorySample s;
+      s.time = time;
+      s.te = t.te_row.dot(z);
+      s.pinion_speed = t.pinion_rate_row.dot(z);
+      s.wheel_speed = t.wheel_rate_row.dot(z);
+      s.state = problem.state;
+      result.trajectory.samples.push_back(s);
+    }
+  }
+  long steps = 0;
+  CVodeGetNumSteps(mem.get(), &steps);
+  result.steps = steps;
+  mem.reset();
+  SUNLinSolFree(ls);
+  SUNMatDestroy(J);
+  N_VDestroy(abstol);
+  N_VDestroy(y);
+  SUNContext_Free(&ctx);
+  result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace gearnvh
