@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "check_command.h"
+#include "simulate_command.h"
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -23,6 +24,28 @@ int main(int argc, char** argv) {
   check_cmd->add_flag("--json", check.json,
                       "Print one JSON document (a list of documents for several files)");
 
+  gearnvh::app::SimulateOptions simulate;
+  CLI::App* simulate_cmd = app.add_subcommand(
+      "simulate",
+      "Run one operating point through the exact piecewise-LTI solver; print the solver summary, "
+      "TE and mesh-force statistics.");
+  simulate_cmd->add_option("FILE", simulate.file, "Gearbox YAML file")
+      ->required()
+      ->check(CLI::ExistingFile);
+  simulate_cmd->add_option("--tier", simulate.tier,
+                           "Modal tier: 1..5, \"N40 full\", \"N20 simple\", \"N20 MTA\" "
+                           "(default: analysis.tier)");
+  simulate_cmd
+      ->add_option("--cycles", simulate.cycles, "Recorded mesh cycles (default: analysis.cycles)")
+      ->check(CLI::Range(1L, 100000000L));
+  simulate_cmd
+      ->add_option("--transient", simulate.transient,
+                   "Unrecorded mesh cycles first (default: analysis.transient_cycles)")
+      ->check(CLI::Range(0L, 100000000L));
+  simulate_cmd->add_option("--out", simulate.out,
+                           "Write trajectory.csv, events.csv and results.json into this directory");
+  simulate_cmd->add_flag("--json", simulate.json, "Print the results as one JSON document");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -31,6 +54,7 @@ int main(int argc, char** argv) {
   }
   try {
     if (check_cmd->parsed()) return gearnvh::app::RunCheck(check);
+    if (simulate_cmd->parsed()) return gearnvh::app::RunSimulate(simulate);
   } catch (const std::exception& e) {
     std::cerr << "internal error: " << e.what() << "\n";
     return 3;

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "gearnvh/model/input_error.h"
 
@@ -115,13 +116,21 @@ ExactStepper::ExactStepper(const SegmentTables& tables, const SolverOptions& opt
   summary_.table_bytes = tables.TableBytes();
 }
 
+double ExactStepper::WallTolerance(const Eigen::RowVectorXd& row) const {
+  // The gap is a sum of terms that can be much larger than the gap itself (the pair's free rotation
+  // drifts), so its rounding floor is ~eps * sum |c_i z_i|; inside that band a state is not moved.
+  double magnitude = 0.0;
+  for (Eigen::Index i = 0; i < row.size(); ++i) magnitude += std::abs(row[i] * z_[i]);
+  return gap_tolerance_ + 64.0 * std::numeric_limits<double>::epsilon() * magnitude;
+}
+
 bool ExactStepper::PossibleEvent(const SegmentSystem& sys, bool segment_start) const {
   Wall walls[2];
   const int count = Walls(sys, contact_, walls);
   for (int i = 0; i < count; ++i) {
     const Wall& w = walls[i];
     // The gap rows change at a segment boundary (e_j): the start itself may be outside.
-    if (segment_start && w.sign * w.row->dot(z_) > gap_tolerance_) return true;
+    if (segment_start && w.sign * w.row->dot(z_) > WallTolerance(*w.row)) return true;
     if (w.sign * w.row->dot(z1_) > 0.0) return true;  // crossed by the end of the sub-step
     // Turned towards the wall and back inside the sub-step: an interior extremum to examine.
     const Eigen::RowVectorXd& rate = RateRow(sys, w.row);
@@ -153,7 +162,7 @@ void ExactStepper::AdvanceExact(int segment, double start, double length, bool r
       // the gap's sign, so the event is now. Within rounding of the wall (just after a located
       // event) we count as inside.
       double root = 0.0;
-      if (!(coeff[0] > gap_tolerance_)) {
+      if (!(coeff[0] > WallTolerance(*walls[i].row))) {
         coeff[0] = std::min(coeff[0], 0.0);
         root = FirstRoot(coeff, kTaylorTerms, remaining, kRootSamples);
       }
@@ -253,6 +262,9 @@ bool ExactStepper::Run(long cycles, bool record) {
       if (record && options_.record_trajectory) Record(j);
     }
     ++summary_.mesh_cycles;
+    // Remove the drift of the pair's free rotation (exactly invariant; see SegmentTables).
+    const double drift = t_.recenter_row.dot(z_.head(t_.n));
+    z_.head(t_.n) -= drift * t_.rigid_rotation;
   }
   return true;
 }

@@ -57,6 +57,17 @@ SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel
   const Eigen::MatrixXd C0 = r.C + spec.operating.speed * r.G;
   const Eigen::VectorXd d = t.excitation_inertia * r.pinion_torsion;
 
+  {
+    // Free rotations of the structure: the generalized eigenvectors of (K, M) with zero eigenvalue;
+    // the pair's rotation is their combination that opens no gap.
+    Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(r.K, r.M);
+    const Eigen::MatrixXd free = eig.eigenvectors().leftCols(2);
+    const Eigen::RowVector2d g = r.v_drive.transpose() * free;
+    Eigen::VectorXd rot = free * Eigen::Vector2d(g[1], -g[0]);
+    const double norm = std::sqrt(rot.dot(r.M * rot));
+    t.rigid_rotation = rot / norm;
+    t.recenter_row = (r.M * t.rigid_rotation).transpose();
+  }
   const auto& segs = model.segmentation.segments;
   t.boundaries.reserve(segs.size() + 1);
   for (const auto& s : segs) t.boundaries.push_back(s.tau_begin * t.mesh_period);

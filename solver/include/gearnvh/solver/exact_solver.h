@@ -12,8 +12,10 @@
 //       Newton), z <- z(tau*), sigma <- new state, log the event, and continue the sub-step in the
 //       new state.
 // Given the piecewise-constant segment model, event times and states are exact to rounding.
-// A state found outside its wall at the start of a (sub-)step by more than 1e-12 b (the unloaded
-// error e_j jumps at segment boundaries) switches at once: the contact state is the gap's sign.
+// A state found outside its wall at the start of a (sub-)step by more than the wall tolerance
+// 1e-12 b + 64 eps sum_i |c_i z_i| (the rounding floor of the gap, whose terms grow as the pair's
+// free rotation drifts) switches at once: the contact state is the gap's sign (the unloaded error
+// e_j jumps at segment boundaries).
 // Wall triggers: free -> drive when g+ rises through 0, free -> back when g- falls through 0,
 // drive -> free when g+ falls through 0, back -> free when g- rises through 0. A root with
 // |g'| below grazing_rate_tolerance is a grazing contact: counted, and the state is kept.
@@ -103,6 +105,7 @@ class ExactStepper {
   static constexpr int kTaylorTerms = 18;
   static constexpr int kRootSamples = 16;
   bool PossibleEvent(const SegmentSystem& sys, bool segment_start) const;
+  double WallTolerance(const Eigen::RowVectorXd& row) const;
   void AdvanceExact(int segment, double start, double length, bool record);
   void Record(int segment);
 

@@ -55,6 +55,11 @@ struct SegmentTables {
   Eigen::RowVectorXd te_row;                           // dynamic TE delta = v^T x as a row on z
   Eigen::RowVectorXd te_rate_row;                      // v^T x'
   Eigen::RowVectorXd pinion_rate_row, wheel_rate_row;  // running angular velocities (perturbation)
+  // The pair's free rotation r (K r = 0, v^T r = v'^T r = 0) and the M-weighted row that measures
+  // it: shifting x by a multiple of r changes no force and no gap, so the solver removes the drift
+  // x <- x - r (recenter_row x) once per cycle to keep the gap's rounding floor small.
+  Eigen::VectorXd rigid_rotation;
+  Eigen::RowVectorXd recenter_row;
 
   int segments() const { return static_cast<int>(systems.size()); }
   double SegmentLength(int j) const { return boundaries[j + 1] - boundaries[j]; }

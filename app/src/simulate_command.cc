@@ -1,0 +1,166 @@
+#include "simulate_command.h"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include "atomic_file.h"
+#include "config/gearbox_loader.h"
+#include "gearnvh/model/input_error.h"
+#include "gearnvh/nvh/transmission_error.h"
+#include "gearnvh/reduction/reduced_model.h"
+
+namespace gearnvh::app {
+namespace {
+
+Tier ParseTier(const std::string& text) {
+  if (text == "1") return Tier::kTier1;
+  if (text == "2") return Tier::kTier2;
+  if (text == "3") return Tier::kTier3;
+  if (text == "4") return Tier::kTier4;
+  if (text == "5" || text == "N40 full") return Tier::kTier5;
+  if (text == "N20 simple") return Tier::kN20Simple;
+  if (text == "N20 MTA") return Tier::kN20Mta;
+  throw InputError("--tier", 0, text, "must be 1..5, \"N40 full\", \"N20 simple\" or \"N20 MTA\"");
+}
+
+nlohmann::json SummaryJson(const SolverSummary& s) {
+  return {{"status", SolverStatusName(s.status)},
+          {"message", s.message},
+          {"mesh_cycles", s.mesh_cycles},
+          {"events", s.events},
+          {"drive_impacts", s.drive_impacts},
+          {"back_impacts", s.back_impacts},
+          {"separations", s.separations},
+          {"grazing", s.grazing},
+          {"events_per_cycle", s.events_per_cycle},
+          {"matvecs", s.matvecs},
+          {"matvec_per_cycle", s.matvec_per_cycle},
+          {"simulated_s", s.simulated_s},
+          {"wall_s", s.wall_s},
+          {"real_time_ratio", s.real_time_ratio},
+          {"table_bytes", s.table_bytes}};
+}
+
+std::string TrajectoryCsv(const Trajectory& t) {
+  std::ostringstream os;
+  os.precision(17);
+  os << "time_s,te_m,mesh_force_n,pinion_speed_rad_s,wheel_speed_rad_s,contact\n";
+  for (const TrajectorySample& s : t.samples) {
+    os << s.time << ',' << s.te << ',' << s.mesh_force << ',' << s.pinion_speed << ','
+       << s.wheel_speed << ',' << ContactStateName(s.state) << '\n';
+  }
+  return os.str();
+}
+
+std::string EventsCsv(const Trajectory& t) {
+  std::ostringstream os;
+  os.precision(17);
+  os << "time_s,from,to,gap_rate_m_s\n";
+  for (const EventRecord& e : t.events) {
+    os << e.time << ',' << ContactStateName(e.from) << ',' << ContactStateName(e.to) << ','
+       << e.gap_rate << '\n';
+  }
+  return os.str();
+}
+
+}  // namespace
+
+int RunSimulate(const SimulateOptions& options) {
+  try {
+    const GearboxSpec spec = config::LoadGearboxFile(options.file);
+    const Tier tier = options.tier ? ParseTier(*options.tier) : spec.analysis.tier;
+    SolverOptions solver;
+    solver.cycles = options.cycles.value_or(spec.analysis.cycles);
+    solver.transient_cycles = options.transient.value_or(spec.analysis.transient_cycles);
+    solver.Validate();
+    const ComponentModel model = BuildComponentModel(spec);
+    const ReducedModel reduced = ReduceModel(model, tier);
+    const SegmentTables tables = BuildSegmentTables(model, reduced, spec);
+    const auto [z0, state0] = StaticInitialState(tables);
+
+    // Run in chunks so a terminal can show progress; quiet when stderr is not a terminal.
+    const bool progress = ::isatty(STDERR_FILENO) != 0;
+    const long total = solver.transient_cycles + solver.cycles;
+    const size_t samples = static_cast<size_t>(solver.cycles) * tables.segments();
+    ExactStepper stepper(tables, solver, z0, state0, samples,
+                         static_cast<size_t>(std::min<long>(solver.cycles * 16, 50'000'000)));
+    const auto start = std::chrono::steady_clock::now();
+    const long chunk = std::max<long>(1, total / 100);
+    bool ok = true;
+    for (long done = 0; done < total && ok;) {
+      const long n = std::min(chunk, total - done);
+      const bool record = done >= solver.transient_cycles;
+      const long split = record ? n : std::min(n, solver.transient_cycles - done);
+      ok = stepper.Run(split, record);
+      done += split;
+      if (progress)
+        fmt::print(stderr, "\rsimulate: {:3d}% ({}/{} mesh cycles)", 100 * done / total, done,
+                   total);
+    }
+    if (progress) fmt::print(stderr, "\n");
+    SolverSummary summary = stepper.summary();
+    summary.wall_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    summary.simulated_s = stepper.time();
+    summary.real_time_ratio = summary.wall_s > 0 ? summary.simulated_s / summary.wall_s : 0.0;
+    summary.events_per_cycle =
+        static_cast<double>(summary.events) / static_cast<double>(solver.cycles);
+    summary.matvec_per_cycle = static_cast<double>(summary.matvecs) /
+                               static_cast<double>(std::max<long>(summary.mesh_cycles, 1));
+    const Trajectory& trajectory = stepper.trajectory();
+    const TransmissionErrorStats te = ComputeTransmissionErrorStats(
+        trajectory, spec.operating.torque / model.geometry.wheel.base);
+
+    nlohmann::json doc;
+    doc["name"] = spec.name;
+    doc["file"] = options.file;
+    doc["tier"] = reduced.name;
+    doc["state_dim"] = tables.m;
+    doc["summary"] = SummaryJson(summary);
+    doc["te_rms"] = te.rms;
+    doc["te"] = {{"mean", te.mean}, {"rms", te.rms}, {"peak_to_peak", te.peak_to_peak}};
+    doc["mesh_force"] = {{"mean", te.mesh_force_mean},
+                         {"max", te.mesh_force_max},
+                         {"dynamic_factor", te.dynamic_factor}};
+    if (options.out) {
+      std::filesystem::create_directories(*options.out);
+      const std::filesystem::path dir(*options.out);
+      WriteFileAtomically((dir / "trajectory.csv").string(), TrajectoryCsv(trajectory));
+      WriteFileAtomically((dir / "events.csv").string(), EventsCsv(trajectory));
+      WriteFileAtomically((dir / "results.json").string(), doc.dump(2) + "\n");
+    }
+    if (options.json) {
+      std::cout << doc.dump(2) << "\n";
+    } else {
+      const SolverSummary& s = summary;
+      fmt::print("{}  ({}), {}: state dimension {}\n", spec.name, options.file, reduced.name,
+                 tables.m);
+      fmt::print("  status              {}\n", SolverStatusName(s.status));
+      fmt::print("  mesh cycles         {} ({} recorded)\n", s.mesh_cycles, solver.cycles);
+      fmt::print(
+          "  contact events      {} ({:.3f} per cycle): {} drive impacts, {} back impacts, {} "
+          "separations, {} grazing\n",
+          s.events, s.events_per_cycle, s.drive_impacts, s.back_impacts, s.separations, s.grazing);
+      fmt::print("  matvec per cycle    {:.1f}\n", s.matvec_per_cycle);
+      fmt::print("  wall time           {:.4f} s for {:.4f} s simulated: {:.2f}x real time\n",
+                 s.wall_s, s.simulated_s, s.real_time_ratio);
+      fmt::print("  tables              {:.1f} KiB\n", s.table_bytes / 1024.0);
+      fmt::print("  TE                  mean {:.4f} um, RMS {:.4f} um, p-p {:.4f} um\n",
+                 te.mean * 1e6, te.rms * 1e6, te.peak_to_peak * 1e6);
+      fmt::print("  mesh force          mean {:.2f} N, max {:.2f} N, dynamic factor {:.3f}\n",
+                 te.mesh_force_mean, te.mesh_force_max, te.dynamic_factor);
+      if (!s.message.empty()) fmt::print("  note: {}\n", s.message);
+    }
+    return summary.status == SolverStatus::kSuccess ? 0 : 1;
+  } catch (const InputError& e) {
+    const std::string message = e.source().empty() ? e.WithSource(options.file).what() : e.what();
+    std::cerr << "error: " << message << "\n";
+    return 1;
+  }
+}
+
+}  // namespace gearnvh::app

@@ -1,0 +1,26 @@
+// `gearnvh simulate FILE [--tier T] [--cycles N] [--out DIR] [--json]`: one operating point through
+// the exact solver; prints the summary (text or JSON); --out writes trajectory.csv, events.csv and
+// results.json atomically.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "gearnvh/solver/exact_solver.h"
+
+namespace gearnvh::app {
+
+struct SimulateOptions {
+  std::string file;
+  std::optional<std::string>
+      tier;                    // overrides analysis.tier: 1..5, "N40 full", "N20 simple", "N20 MTA"
+  std::optional<long> cycles;  // overrides analysis.cycles
+  std::optional<long> transient;   // overrides analysis.transient_cycles
+  std::optional<std::string> out;  // output directory
+  bool json = false;
+};
+
+int RunSimulate(const SimulateOptions& options);
+
+}  // namespace gearnvh::app
