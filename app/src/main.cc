@@ -45,6 +45,11 @@ int main(int argc, char** argv) {
   simulate_cmd->add_option("--out", simulate.out,
                            "Write trajectory.csv, events.csv and results.json into this directory");
   simulate_cmd->add_flag("--json", simulate.json, "Print the results as one JSON document");
+  simulate_cmd
+      ->add_option("--method", simulate.method,
+                   "stepped: event-locating sub-steps everywhere; fused (default): also jump the "
+                   "transient and fuse segments when permanent contact is certified")
+      ->check(CLI::IsMember({"stepped", "fused"}));
 
   try {
     app.parse(argc, argv);

@@ -28,21 +28,15 @@ Tier ParseTier(const std::string& text) {
 }
 
 nlohmann::json SummaryJson(const SolverSummary& s) {
-  return {{"status", SolverStatusName(s.status)},
-          {"message", s.message},
-          {"mesh_cycles", s.mesh_cycles},
-          {"events", s.events},
-          {"drive_impacts", s.drive_impacts},
-          {"back_impacts", s.back_impacts},
-          {"separations", s.separations},
-          {"grazing", s.grazing},
-          {"events_per_cycle", s.events_per_cycle},
-          {"matvecs", s.matvecs},
-          {"matvec_per_cycle", s.matvec_per_cycle},
-          {"simulated_s", s.simulated_s},
-          {"wall_s", s.wall_s},
-          {"real_time_ratio", s.real_time_ratio},
-          {"table_bytes", s.table_bytes}};
+  return {{"status", SolverStatusName(s.status)},   {"message", s.message},
+          {"mesh_cycles", s.mesh_cycles},           {"events", s.events},
+          {"drive_impacts", s.drive_impacts},       {"back_impacts", s.back_impacts},
+          {"separations", s.separations},           {"grazing", s.grazing},
+          {"events_per_cycle", s.events_per_cycle}, {"matvecs", s.matvecs},
+          {"matvec_per_cycle", s.matvec_per_cycle}, {"fused_cycles", s.fused_cycles},
+          {"jumped_cycles", s.jumped_cycles},       {"contact_certified", s.contact_certified},
+          {"simulated_s", s.simulated_s},           {"wall_s", s.wall_s},
+          {"real_time_ratio", s.real_time_ratio},   {"table_bytes", s.table_bytes}};
 }
 
 std::string TrajectoryCsv(const Trajectory& t) {
@@ -76,42 +70,26 @@ int RunSimulate(const SimulateOptions& options) {
     SolverOptions solver;
     solver.cycles = options.cycles.value_or(spec.analysis.cycles);
     solver.transient_cycles = options.transient.value_or(spec.analysis.transient_cycles);
+    solver.method = options.method == "stepped" ? SolverMethod::kStepped : SolverMethod::kFused;
     solver.Validate();
     const ComponentModel model = BuildComponentModel(spec);
     const ReducedModel reduced = ReduceModel(model, tier);
     const SegmentTables tables = BuildSegmentTables(model, reduced, spec);
     const auto [z0, state0] = StaticInitialState(tables);
 
-    // Run in chunks so a terminal can show progress; quiet when stderr is not a terminal.
-    const bool progress = ::isatty(STDERR_FILENO) != 0;
-    const long total = solver.transient_cycles + solver.cycles;
-    const size_t samples = static_cast<size_t>(solver.cycles) * tables.segments();
-    ExactStepper stepper(tables, solver, z0, state0, samples,
-                         static_cast<size_t>(std::min<long>(solver.cycles * 16, 50'000'000)));
-    const auto start = std::chrono::steady_clock::now();
-    const long chunk = std::max<long>(1, total / 100);
-    bool ok = true;
-    for (long done = 0; done < total && ok;) {
-      const long n = std::min(chunk, total - done);
-      const bool record = done >= solver.transient_cycles;
-      const long split = record ? n : std::min(n, solver.transient_cycles - done);
-      ok = stepper.Run(split, record);
-      done += split;
-      if (progress)
+    // Progress on a terminal only; quiet when stderr is piped.
+    const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
+    ProgressCallback progress;
+    if (on_terminal) {
+      progress = [](long done, long total) {
         fmt::print(stderr, "\rsimulate: {:3d}% ({}/{} mesh cycles)", 100 * done / total, done,
                    total);
+      };
     }
-    if (progress) fmt::print(stderr, "\n");
-    SolverSummary summary = stepper.summary();
-    summary.wall_s =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    summary.simulated_s = stepper.time();
-    summary.real_time_ratio = summary.wall_s > 0 ? summary.simulated_s / summary.wall_s : 0.0;
-    summary.events_per_cycle =
-        static_cast<double>(summary.events) / static_cast<double>(solver.cycles);
-    summary.matvec_per_cycle = static_cast<double>(summary.matvecs) /
-                               static_cast<double>(std::max<long>(summary.mesh_cycles, 1));
-    const Trajectory& trajectory = stepper.trajectory();
+    const SolverResult result = SimulateExact(tables, z0, state0, solver, progress);
+    if (on_terminal) fmt::print(stderr, "\n");
+    const SolverSummary& summary = result.summary;
+    const Trajectory& trajectory = result.trajectory;
     const TransmissionErrorStats te = ComputeTransmissionErrorStats(
         trajectory, spec.operating.torque / model.geometry.wheel.base);
 
@@ -119,6 +97,7 @@ int RunSimulate(const SimulateOptions& options) {
     doc["name"] = spec.name;
     doc["file"] = options.file;
     doc["tier"] = reduced.name;
+    doc["method"] = SolverMethodName(solver.method);
     doc["state_dim"] = tables.m;
     doc["summary"] = SummaryJson(summary);
     doc["te_rms"] = te.rms;
@@ -145,7 +124,9 @@ int RunSimulate(const SimulateOptions& options) {
           "  contact events      {} ({:.3f} per cycle): {} drive impacts, {} back impacts, {} "
           "separations, {} grazing\n",
           s.events, s.events_per_cycle, s.drive_impacts, s.back_impacts, s.separations, s.grazing);
-      fmt::print("  matvec per cycle    {:.1f}\n", s.matvec_per_cycle);
+      fmt::print("  matvec per cycle    {:.1f} ({}: {} cycles fused, {} jumped{})\n",
+                 s.matvec_per_cycle, SolverMethodName(solver.method), s.fused_cycles,
+                 s.jumped_cycles, s.contact_certified ? ", permanent contact certified" : "");
       fmt::print("  wall time           {:.4f} s for {:.4f} s simulated: {:.2f}x real time\n",
                  s.wall_s, s.simulated_s, s.real_time_ratio);
       fmt::print("  tables              {:.1f} KiB\n", s.table_bytes / 1024.0);

@@ -18,6 +18,7 @@ struct SimulateOptions {
   std::optional<long> cycles;  // overrides analysis.cycles
   std::optional<long> transient;   // overrides analysis.transient_cycles
   std::optional<std::string> out;  // output directory
+  std::string method = "fused";    // "stepped" | "fused"
   bool json = false;
 };
 

@@ -3,8 +3,10 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "gearnvh/model/input_error.h"
+#include "gearnvh/solver/cycle_map.h"
 
 namespace gearnvh {
 
@@ -22,6 +24,10 @@ void SolverOptions::Validate() const {
     throw InputError("SolverOptions.grazing_rate_tolerance", 0,
                      std::to_string(grazing_rate_tolerance), "must be >= 0");
   }
+}
+
+const char* SolverMethodName(SolverMethod m) {
+  return m == SolverMethod::kFused ? "fused" : "stepped";
 }
 
 const char* SolverStatusName(SolverStatus s) {
@@ -240,6 +246,15 @@ bool ExactStepper::Run(long cycles, bool record) {
       const double h = t_.SegmentLength(j);
       const double seg_start = cycle_start + t_.boundaries[j];
       z_[excitation_slot] = t_.excitation.empty() ? 0.0 : t_.MeanExcitation(seg_start, h);
+      if (fused_) {
+        // Certified contact: the whole segment in one matvec (no wall can be reached).
+        z1_.noalias() = t_.systems[j][static_cast<int>(contact_)].full * z_;
+        z_.swap(z1_);
+        ++summary_.matvecs;
+        time_ = seg_start + h;
+        if (record && options_.record_trajectory) Record(j);
+        continue;
+      }
       const int n = t_.substeps[j];
       const double d = h / n;
       for (int i = 0; i < n; ++i) {
@@ -262,11 +277,20 @@ bool ExactStepper::Run(long cycles, bool record) {
       if (record && options_.record_trajectory) Record(j);
     }
     ++summary_.mesh_cycles;
+    if (fused_) ++summary_.fused_cycles;
     // Remove the drift of the pair's free rotation (exactly invariant; see SegmentTables).
     const double drift = t_.recenter_row.dot(z_.head(t_.n));
     z_.head(t_.n) -= drift * t_.rigid_rotation;
   }
   return true;
+}
+
+void ExactStepper::JumpTo(const Eigen::VectorXd& z, long cycles) {
+  z_ = z;
+  cycle_ += cycles;
+  time_ = static_cast<double>(cycle_) * t_.mesh_period;
+  summary_.mesh_cycles += cycles;
+  summary_.jumped_cycles += cycles;
 }
 
 std::pair<Eigen::VectorXd, ContactState> StaticInitialState(const SegmentTables& t) {
@@ -283,15 +307,44 @@ std::pair<Eigen::VectorXd, ContactState> StaticInitialState(const SegmentTables&
 }
 
 SolverResult SimulateExact(const SegmentTables& tables, const Eigen::VectorXd& z0,
-                           ContactState state0, const SolverOptions& options) {
+                           ContactState state0, const SolverOptions& options,
+                           const ProgressCallback& progress) {
   options.Validate();
   const auto start = std::chrono::steady_clock::now();
   const size_t samples =
       options.record_trajectory ? static_cast<size_t>(options.cycles) * tables.segments() : 0;
   const size_t events = static_cast<size_t>(std::min<long>(options.cycles * 16, 50'000'000));
   ExactStepper stepper(tables, options, z0, state0, samples, events);
-  bool ok = stepper.Run(options.transient_cycles, false);
-  if (ok) ok = stepper.Run(options.cycles, true);
+  bool ok = true;
+  // Fusion needs contact without excitation; the certificate is retried after every chunk of
+  // stepped cycles (the transient decays), and once it holds the rest of the transient is jumped.
+  std::optional<ConstantContactCycle> cycle;
+  const bool may_fuse = options.method == SolverMethod::kFused && tables.excitation.empty();
+  auto try_fuse = [&]() {
+    const ContactState state = stepper.contact();
+    if (!may_fuse || stepper.summary().contact_certified || state == ContactState::kFree) return;
+    if (!cycle || cycle->state() != state) cycle.emplace(tables, state);
+    if (!cycle->Certify(stepper.state()).certified) return;
+    stepper.summary().contact_certified = true;
+    stepper.SetFusedContact(true);
+    const long remaining_transient = options.transient_cycles - stepper.summary().mesh_cycles;
+    if (remaining_transient > 0) {
+      stepper.JumpTo(cycle->Jump(stepper.state(), remaining_transient), remaining_transient);
+    }
+  };
+  try_fuse();
+  // Run in ~100 chunks so a caller can show progress.
+  const long total = options.transient_cycles + options.cycles;
+  const long chunk = std::max<long>(1, total / 100);
+  for (long done = stepper.summary().mesh_cycles; done < total && ok;) {
+    const bool record = done >= options.transient_cycles;
+    const long n =
+        record ? std::min(chunk, total - done) : std::min(chunk, options.transient_cycles - done);
+    ok = stepper.Run(n, record);
+    if (ok) try_fuse();
+    done = stepper.summary().mesh_cycles;
+    if (progress) progress(done, total);
+  }
   SolverResult result;
   result.summary = stepper.summary();
   SolverSummary& s = result.summary;

@@ -68,6 +68,24 @@ SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel
     t.rigid_rotation = rot / norm;
     t.recenter_row = (r.M * t.rigid_rotation).transpose();
   }
+  // Tooth friction exerts a mean torque on the pair's free rotation (r^T w != 0): the pinion's
+  // drive torque must also supply the mean friction loss at the operating load, or the whole
+  // drivetrain would slowly decelerate. Generalized rigid force in drive contact: r^T f - mu N r^T
+  // w_j with N ~ F = T / r_b2, so the pinion gets Delta T1 = mu F <r^T w>_t / (r^T e_pinion) extra.
+  Eigen::VectorXd static_force = r.static_force;
+  {
+    double mean_rw = 0.0;
+    for (const auto& seg : model.segmentation.segments) {
+      const Eigen::VectorXd w =
+          r.FrictionVector(Flank::kDrive, seg.drive.friction_sigma, seg.drive.friction_arm_pinion,
+                           seg.drive.friction_arm_wheel);
+      mean_rw += (seg.tau_end - seg.tau_begin) * t.rigid_rotation.dot(w);
+    }
+    const double load = spec.operating.torque / model.geometry.wheel.base;
+    const double lever = t.rigid_rotation.dot(r.pinion_torsion);
+    t.friction_loss_torque = lever != 0.0 ? mu * load * mean_rw / lever : 0.0;
+    static_force += t.friction_loss_torque * r.pinion_torsion;
+  }
   const auto& segs = model.segmentation.segments;
   t.boundaries.reserve(segs.size() + 1);
   for (const auto& s : segs) t.boundaries.push_back(s.tau_begin * t.mesh_period);
@@ -80,7 +98,7 @@ SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel
     const double e = s.unloaded_error;
     for (ContactState state : {ContactState::kBack, ContactState::kFree, ContactState::kDrive}) {
       Eigen::MatrixXd K = r.K, C = C0;
-      Eigen::VectorXd f = r.static_force;
+      Eigen::VectorXd f = static_force;
       if (state == ContactState::kDrive) {
         const double k = r.EffectiveMeshStiffness(s.drive.stiffness);
         const Eigen::VectorXd u =

@@ -23,6 +23,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -30,7 +31,16 @@
 
 namespace gearnvh {
 
+// kStepped: the event-locating sub-step loop everywhere. kFused: additionally, when the run starts
+// in contact with no engine excitation and ConstantContactCycle certifies that contact is kept
+// forever, the transient cycles are jumped in O(1) and recorded cycles advance one matvec per
+// segment (the same propagator products, so the result is unchanged to rounding). Otherwise kFused
+// = kStepped.
+enum class SolverMethod { kStepped, kFused };
+const char* SolverMethodName(SolverMethod m);
+
 struct SolverOptions {
+  SolverMethod method = SolverMethod::kFused;
   long cycles = 100;                     // mesh cycles recorded after the transient; >= 1
   long transient_cycles = 0;             // mesh cycles run first and not recorded; >= 0
   bool record_trajectory = true;         // samples at every segment boundary of recorded cycles
@@ -49,6 +59,9 @@ struct SolverSummary {
   long drive_impacts = 0, back_impacts = 0, separations = 0, grazing = 0;
   long events = 0;
   long matvecs = 0;
+  long fused_cycles = 0;   // cycles advanced one matvec per segment (certified contact)
+  long jumped_cycles = 0;  // cycles skipped by a certified O(1) jump
+  bool contact_certified = false;
   double events_per_cycle = 0.0, matvec_per_cycle = 0.0;
   double simulated_s = 0.0, wall_s = 0.0, real_time_ratio = 0.0;
   size_t table_bytes = 0;
@@ -94,6 +107,10 @@ class ExactStepper {
   // Advances `cycles` whole mesh cycles; records samples/events when `record`. Returns false when
   // a cycle exceeded options.max_events_per_cycle.
   bool Run(long cycles, bool record);
+  // Certified permanent contact: cycles advance one matvec per segment from now on.
+  void SetFusedContact(bool fused) { fused_ = fused; }
+  // Replaces the state (after a certified jump) and advances the clock by whole cycles.
+  void JumpTo(const Eigen::VectorXd& z, long cycles);
 
   const Eigen::VectorXd& state() const { return z_; }
   ContactState contact() const { return contact_; }
@@ -118,11 +135,16 @@ class ExactStepper {
   double time_ = 0.0;
   long cycle_ = 0;
   long events_this_cycle_ = 0;
+  bool fused_ = false;
   SolverSummary summary_;
   Trajectory trajectory_;
 };
 
+// Progress callback: (mesh cycles done, total) — called about 100 times per run; may be empty.
+using ProgressCallback = std::function<void(long, long)>;
+
 SolverResult SimulateExact(const SegmentTables& tables, const Eigen::VectorXd& z0,
-                           ContactState state0, const SolverOptions& options);
+                           ContactState state0, const SolverOptions& options,
+                           const ProgressCallback& progress = {});
 
 }  // namespace gearnvh

@@ -59,6 +59,8 @@ struct SegmentTables {
   // it: shifting x by a multiple of r changes no force and no gap, so the solver removes the drift
   // x <- x - r (recenter_row x) once per cycle to keep the gap's rounding floor small.
   Eigen::VectorXd rigid_rotation;
+  // Extra pinion drive torque supplying the mean tooth-friction loss at the operating load, N m.
+  double friction_loss_torque = 0.0;
   Eigen::RowVectorXd recenter_row;
 
   int segments() const { return static_cast<int>(systems.size()); }

@@ -1,0 +1,157 @@
+#include "gearnvh/solver/cycle_map.h"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <limits>
+
+#include "gearnvh/solver/exact_solver.h"
+#include "model/test_specs.h"
+
+namespace gearnvh {
+namespace {
+
+using testing::StandardPair;
+
+// The loaded industrial pair of examples/industrial_whine.yaml (permanent contact, no excitation).
+GearboxSpec WhineSpec() {
+  GearboxSpec s = StandardPair(25, 75, 4e-3, 40e-3);
+  s.pinion.bore_diameter = 45e-3;
+  s.wheel.bore_diameter = 80e-3;
+  s.pinion.tip_relief = s.wheel.tip_relief = TipRelief{20e-6, 8e-3};
+  s.mesh.backlash = 150e-6;
+  s.mesh.damping_ratio = 0.07;
+  s.mesh.friction_coefficient = 0.04;
+  s.operating.speed = 1500 * 2 * 3.141592653589793 / 60;
+  s.operating.torque = 1500;
+  return s;
+}
+
+struct Setup {
+  GearboxSpec spec;
+  ComponentModel model;
+  ReducedModel reduced;
+  SegmentTables tables;
+  explicit Setup(GearboxSpec s, Tier tier)
+      : spec(std::move(s)),
+        model(BuildComponentModel(spec)),
+        reduced(ReduceModel(model, tier)),
+        tables(BuildSegmentTables(model, reduced, spec)) {}
+};
+
+// The part of the state every gap and force depends on: x, x' without the free rotation.
+Eigen::VectorXd Elastic(const SegmentTables& t, const Eigen::VectorXd& z) {
+  Eigen::VectorXd e = z.head(2 * t.n);
+  e.head(t.n) -= t.rigid_rotation * t.recenter_row.dot(z.head(t.n));
+  e.tail(t.n) -= t.rigid_rotation * t.recenter_row.dot(z.segment(t.n, t.n));
+  return e;
+}
+
+TEST_CASE("the fused cycle equals stepping the cycle; the orbit is periodic", "[solver][fused]") {
+  for (Tier tier : {Tier::kTier1, Tier::kTier3}) {
+    const Setup s(WhineSpec(), tier);
+    const auto [z0, state0] = StaticInitialState(s.tables);
+    REQUIRE(state0 == ContactState::kDrive);
+    const ConstantContactCycle cycle(s.tables, ContactState::kDrive);
+    REQUIRE(cycle.has_orbit());
+    SolverOptions opt;
+    opt.method = SolverMethod::kStepped;
+    ExactStepper stepper(s.tables, opt, z0, state0, 0, 0);
+    REQUIRE(stepper.Run(1, false));
+    const Eigen::VectorXd fused = cycle.map() * z0;
+    // Same propagators multiplied in another order: rounding of ~250 products, 1e-12 relative.
+    const Eigen::VectorXd a = Elastic(s.tables, stepper.state()), b = Elastic(s.tables, fused);
+    CHECK((a - b).norm() <= 1e-12 * a.norm());
+    // One stepped cycle from the orbit returns to it.
+    ExactStepper on_orbit(s.tables, opt, cycle.orbit(), ContactState::kDrive, 0, 0);
+    REQUIRE(on_orbit.Run(1, false));
+    const Eigen::VectorXd y = Elastic(s.tables, cycle.orbit());
+    INFO(TierName(tier) << ": |orbit| " << y.norm() << ", |stepped - orbit| "
+                        << (Elastic(s.tables, on_orbit.state()) - y).norm());
+    // ~250 sub-step products in mixed units (m next to m/s, omega ~ 5e4): rounding is relative to
+    // the largest velocity inside the cycle, not to the orbit's small start-of-cycle state
+    // (measured ~2e-11): bound 1e-10.
+    CHECK((Elastic(s.tables, on_orbit.state()) - y).norm() <= 1e-10 * y.norm());
+    CHECK(on_orbit.summary().events == 0);
+  }
+}
+
+TEST_CASE("a certified jump of 10^6 cycles equals applying the cycle map 10^6 times",
+          "[solver][fused][jump]") {
+  const Setup s(WhineSpec(), Tier::kTier1);
+  auto [z0, state0] = StaticInitialState(s.tables);
+  z0[s.tables.n] += 1e-3;  // a transient to decay
+  const ConstantContactCycle cycle(s.tables, ContactState::kDrive);
+  REQUIRE(cycle.Certify(z0).certified);
+  Eigen::VectorXd z = z0;
+  for (long k = 0; k < 1000000; ++k) {
+    z = cycle.map() * z;
+    // The free rotation drifts; remove it as the solver does (changes no gap).
+    z.head(s.tables.n) -= s.tables.rigid_rotation * s.tables.recenter_row.dot(z.head(s.tables.n));
+  }
+  const Eigen::VectorXd jumped = cycle.Jump(z0, 1000000);
+  const Eigen::VectorXd a = Elastic(s.tables, z), b = Elastic(s.tables, jumped);
+  // Repeated products gain ~eps |z| of rounding per cycle (|z| grows with the free rotation's
+  // speed, which residual dynamic friction changes): bound k * 4 eps |z| for k = 10^6.
+  CHECK((a - b).norm() <=
+        1e6 * 4 * std::numeric_limits<double>::epsilon() * z.head(2 * s.tables.n).norm());
+  // The free rotation's speed, summed in closed form by the jump, equals the product's.
+  const double va = s.tables.recenter_row.dot(z.segment(s.tables.n, s.tables.n));
+  const double vb = s.tables.recenter_row.dot(jumped.segment(s.tables.n, s.tables.n));
+  CHECK(vb == Approx(va).epsilon(1e-8));  // k eps |z| / |v| ~ 4e-9 of product rounding
+  // And a shorter jump equals real sub-stepping (1000 cycles).
+  SolverOptions opt;
+  opt.method = SolverMethod::kStepped;
+  ExactStepper stepper(s.tables, opt, z0, state0, 0, 0);
+  REQUIRE(stepper.Run(1000, false));
+  const Eigen::VectorXd c = Elastic(s.tables, stepper.state()),
+                        d = Elastic(s.tables, cycle.Jump(z0, 1000));
+  CHECK((c - d).norm() <= 1000 * 4 * std::numeric_limits<double>::epsilon() *
+                              stepper.state().head(2 * s.tables.n).norm());
+}
+
+TEST_CASE("the contact certificate refuses a transient that can open the mesh", "[solver][fused]") {
+  const Setup s(WhineSpec(), Tier::kTier1);
+  auto [z0, state0] = StaticInitialState(s.tables);
+  const ConstantContactCycle cycle(s.tables, ContactState::kDrive);
+  const ContactCertificate calm = cycle.Certify(z0);
+  CHECK(calm.certified);
+  CHECK(calm.deviation_bound < calm.orbit_margin);
+  // A large relative-speed kick: the gear flanks do separate when stepped.
+  Eigen::VectorXd kicked = z0;
+  kicked[s.tables.n] -= 100.0;  // pinion slowed by 100 rad/s: ~4.7 m/s along the line
+  const ContactCertificate wild = cycle.Certify(kicked);
+  CHECK_FALSE(wild.certified);
+  CHECK_FALSE(wild.reason.empty());
+  SolverOptions opt;
+  opt.method = SolverMethod::kStepped;
+  opt.cycles = 5;
+  const SolverResult r = SimulateExact(s.tables, kicked, ContactState::kDrive, opt);
+  CHECK(r.summary.separations > 0);  // the refusal was warranted
+}
+
+TEST_CASE("fused and stepped runs give the same trajectory", "[solver][fused]") {
+  const Setup s(WhineSpec(), Tier::kTier1);
+  const auto [z0, state0] = StaticInitialState(s.tables);
+  SolverOptions stepped, fused;
+  stepped.method = SolverMethod::kStepped;
+  fused.method = SolverMethod::kFused;
+  stepped.cycles = fused.cycles = 100;
+  stepped.transient_cycles = fused.transient_cycles = 300;
+  const SolverResult a = SimulateExact(s.tables, z0, state0, stepped);
+  const SolverResult b = SimulateExact(s.tables, z0, state0, fused);
+  CHECK(b.summary.contact_certified);
+  CHECK(b.summary.jumped_cycles == 300);
+  CHECK(b.summary.fused_cycles == 100);
+  CHECK(b.summary.matvec_per_cycle < 0.2 * a.summary.matvec_per_cycle);
+  REQUIRE(a.trajectory.samples.size() == b.trajectory.samples.size());
+  double diff = 0.0, scale = 0.0;
+  for (size_t i = 0; i < a.trajectory.samples.size(); ++i) {
+    CHECK(a.trajectory.samples[i].time == Approx(b.trajectory.samples[i].time).epsilon(1e-14));
+    diff = std::max(diff, std::abs(a.trajectory.samples[i].te - b.trajectory.samples[i].te));
+    scale = std::max(scale, std::abs(a.trajectory.samples[i].te));
+  }
+  CHECK(diff <= 1e-12 * scale);
+}
+
+}  // namespace
+}  // namespace gearnvh
