@@ -5,6 +5,7 @@
 
 #include "check_command.h"
 #include "simulate_command.h"
+#include "validate_command.h"
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -51,6 +52,18 @@ int main(int argc, char** argv) {
                    "transient and fuse segments when permanent contact is certified")
       ->check(CLI::IsMember({"stepped", "fused"}));
 
+  gearnvh::app::ValidateOptions validate;
+  CLI::App* validate_cmd = app.add_subcommand(
+      "validate",
+      "Run the validation ladder on a gearbox: fused vs stepped propagation, exact vs CVODE "
+      "reference, closed forms, segment convergence, MTA compliance, ISO 6336 stiffness. "
+      "Exit 1 if any check fails.");
+  validate_cmd->add_option("FILE", validate.file, "Gearbox YAML file")
+      ->required()
+      ->check(CLI::ExistingFile);
+  validate_cmd->add_flag("--json", validate.json,
+                         "Print {checks: [{name, value, threshold, pass}]}");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -60,6 +73,7 @@ int main(int argc, char** argv) {
   try {
     if (check_cmd->parsed()) return gearnvh::app::RunCheck(check);
     if (simulate_cmd->parsed()) return gearnvh::app::RunSimulate(simulate);
+    if (validate_cmd->parsed()) return gearnvh::app::RunValidate(validate);
   } catch (const std::exception& e) {
     std::cerr << "internal error: " << e.what() << "\n";
     return 3;

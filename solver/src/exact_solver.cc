@@ -75,32 +75,51 @@ inline double PolyDerivative(const double* c, int degree, double tau) {
   return v;
 }
 
+// Safeguarded Newton for a sign change of f on [lo, hi] with f(lo) <= 0 < f(hi).
+template <typename F, typename DF>
+double Bracketed(F&& f, DF&& df, double lo, double hi, double scale) {
+  double x = 0.5 * (lo + hi);
+  for (int it = 0; it < 200; ++it) {
+    const double fx = f(x);
+    if (fx > 0.0)
+      hi = x;
+    else
+      lo = x;
+    const double d = df(x);
+    double next = d != 0.0 ? x - fx / d : 0.5 * (lo + hi);
+    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+    if (std::abs(next - x) <= 1e-16 * scale || hi - lo <= 1e-16 * scale) return next;
+    x = next;
+  }
+  return x;
+}
+
 // First tau in (0, length] where p rises above 0, or -1. p(0) <= 0 is assumed (we start inside).
+// The interval is sampled; where no sample is outside, every local maximum between samples
+// (p' changing from + to -) is located by Newton on p' and tested, so a brief excursion across
+// the wall between samples is not missed.
 double FirstRoot(const double* c, int degree, double length, int samples) {
-  double a = 0.0;
+  auto p = [&](double t) { return Poly(c, degree, t); };
+  auto dp = [&](double t) { return PolyDerivative(c, degree, t); };
+  auto ddp = [&](double t) {
+    double v = degree * (degree - 1) * c[degree];
+    for (int k = degree - 1; k >= 2; --k) v = v * t + k * (k - 1) * c[k];
+    return v;
+  };
+  double a = 0.0, slope_a = dp(0.0);
   for (int i = 1; i <= samples; ++i) {
     const double b = length * i / samples;
-    if (Poly(c, degree, b) > 0.0) {
-      // Safeguarded Newton on [a, b] (p(a) <= 0 < p(b)).
-      double lo = a, hi = b, x = 0.5 * (a + b);
-      for (int it = 0; it < 100; ++it) {
-        const double f = Poly(c, degree, x);
-        if (f > 0.0)
-          hi = x;
-        else
-          lo = x;
-        const double df = PolyDerivative(c, degree, x);
-        double next = df != 0.0 ? x - f / df : 0.5 * (lo + hi);
-        if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-        if (std::abs(next - x) <= 1e-16 * length || hi - lo <= 1e-16 * length) {
-          x = next;
-          break;
-        }
-        x = next;
-      }
-      return x;
+    if (p(b) > 0.0) return Bracketed(p, dp, a, b, length);
+    const double slope_b = dp(b);
+    if (slope_a > 0.0 && slope_b < 0.0) {
+      // A maximum inside (a, b): find it (root of -p'), and if it is outside the wall, the first
+      // crossing lies between a and the maximum.
+      const double peak = Bracketed([&](double t) { return -dp(t); },
+                                    [&](double t) { return -ddp(t); }, a, b, length);
+      if (p(peak) > 0.0) return Bracketed(p, dp, a, peak, length);
     }
     a = b;
+    slope_a = slope_b;
   }
   return -1.0;
 }
@@ -296,11 +315,18 @@ void ExactStepper::JumpTo(const Eigen::VectorXd& z, long cycles) {
 std::pair<Eigen::VectorXd, ContactState> StaticInitialState(const SegmentTables& t) {
   const int n = t.n, m = t.m;
   const SegmentSystem& drive = t.systems[0][static_cast<int>(ContactState::kDrive)];
-  const Eigen::MatrixXd B = -drive.A.block(0 + n, 0, n, n);   // M^-1 K
-  const Eigen::VectorXd rhs = drive.A.block(n, 2 * n, n, 1);  // M^-1 f
+  // K x = f has the pair's free rotation as a null direction (and, with friction, a small
+  // inconsistency along it): solve in the least-squares sense together with r~^T x = 0, which
+  // makes the stacked system full rank and the solution centred (no large rigid angles).
+  Eigen::MatrixXd B(n + 1, n);
+  B.topRows(n) = -drive.A.block(n, 0, n, n);  // M^-1 K
+  const double scale = B.topRows(n).norm() / std::max(t.recenter_row.norm(), 1e-300);
+  B.row(n) = scale * t.recenter_row;
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n + 1);
+  rhs.head(n) = drive.A.block(n, 2 * n, n, 1);  // M^-1 f
   Eigen::VectorXd z = Eigen::VectorXd::Zero(m);
   z[2 * n] = 1.0;
-  z.head(n) = B.completeOrthogonalDecomposition().solve(rhs);
+  z.head(n) = B.colPivHouseholderQr().solve(rhs);
   if (drive.gap_drive.dot(z) > 0.0) return {z, ContactState::kDrive};
   z.head(n).setZero();
   return {z, ContactState::kFree};

@@ -1,0 +1,24 @@
+// The validation ladder of DESIGN.md §8, run on one gearbox: each row a check with its measured
+// value, its threshold and whether it passed. Rows that need a part the model lacks (MTA without
+// shafts) are reported as skipped, not passed silently.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "gearnvh/model/gearbox_spec.h"
+
+namespace gearnvh::app {
+
+struct ValidationRow {
+  std::string name;
+  double value = 0.0;
+  double threshold = 0.0;
+  bool pass = false;
+  bool skipped = false;
+  std::string detail;  // units, what was compared, or why skipped
+};
+
+std::vector<ValidationRow> RunValidationLadder(const GearboxSpec& spec);
+
+}  // namespace gearnvh::app
