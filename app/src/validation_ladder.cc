@@ -177,10 +177,8 @@ std::vector<ValidationRow> RunValidationLadder(const GearboxSpec& spec) {
       rows.push_back(Skipped("permanent contact vs linear steady state",
                              "the drive-contact orbit leaves contact at this load"));
     } else {
-      const int e = 2 * tables.n;
-      Eigen::VectorXd a = stepper.state().head(e), b = cycle.orbit().head(e);
-      a.head(tables.n) -= tables.rigid_rotation * tables.recenter_row.dot(a.head(tables.n));
-      a.tail(tables.n) -= tables.rigid_rotation * tables.recenter_row.dot(a.tail(tables.n));
+      const Eigen::VectorXd a = ElasticPart(quiet, stepper.state());
+      const Eigen::VectorXd b = ElasticPart(quiet, cycle.orbit());
       rows.push_back(Row("permanent contact vs linear steady state", (a - b).norm() / b.norm(),
                          1e-10, "3 stepped cycles from the periodic orbit of the cycle map"));
     }

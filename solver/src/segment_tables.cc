@@ -27,6 +27,13 @@ double SegmentTables::MeanExcitation(double t0, double h) const {
   return sum;
 }
 
+Eigen::VectorXd ElasticPart(const SegmentTables& t, const Eigen::VectorXd& z) {
+  Eigen::VectorXd e = z.head(2 * t.n);
+  e.head(t.n) -= t.rigid_rotation * t.recenter_row.dot(z.head(t.n));
+  e.tail(t.n) -= t.rigid_rotation * t.recenter_row.dot(z.segment(t.n, t.n));
+  return e;
+}
+
 size_t SegmentTables::TableBytes() const {
   size_t per_system = 3 * static_cast<size_t>(m) * m + 4 * static_cast<size_t>(m);
   return systems.size() * 3 * per_system * sizeof(double);

@@ -6,11 +6,13 @@
 
 #include "gearnvh/solver/exact_solver.h"
 #include "model/test_specs.h"
+#include "solver/solver_fixture.h"
 
 namespace gearnvh {
 namespace {
 
 using testing::StandardPair;
+using Setup = testing::SolverSetup;
 
 // The loaded industrial pair of examples/industrial_whine.yaml (permanent contact, no excitation).
 GearboxSpec WhineSpec() {
@@ -26,26 +28,6 @@ GearboxSpec WhineSpec() {
   return s;
 }
 
-struct Setup {
-  GearboxSpec spec;
-  ComponentModel model;
-  ReducedModel reduced;
-  SegmentTables tables;
-  explicit Setup(GearboxSpec s, Tier tier)
-      : spec(std::move(s)),
-        model(BuildComponentModel(spec)),
-        reduced(ReduceModel(model, tier)),
-        tables(BuildSegmentTables(model, reduced, spec)) {}
-};
-
-// The part of the state every gap and force depends on: x, x' without the free rotation.
-Eigen::VectorXd Elastic(const SegmentTables& t, const Eigen::VectorXd& z) {
-  Eigen::VectorXd e = z.head(2 * t.n);
-  e.head(t.n) -= t.rigid_rotation * t.recenter_row.dot(z.head(t.n));
-  e.tail(t.n) -= t.rigid_rotation * t.recenter_row.dot(z.segment(t.n, t.n));
-  return e;
-}
-
 TEST_CASE("the fused cycle equals stepping the cycle; the orbit is periodic", "[solver][fused]") {
   for (Tier tier : {Tier::kTier1, Tier::kTier3}) {
     const Setup s(WhineSpec(), tier);
@@ -59,18 +41,19 @@ TEST_CASE("the fused cycle equals stepping the cycle; the orbit is periodic", "[
     REQUIRE(stepper.Run(1, false));
     const Eigen::VectorXd fused = cycle.map() * z0;
     // Same propagators multiplied in another order: rounding of ~250 products, 1e-12 relative.
-    const Eigen::VectorXd a = Elastic(s.tables, stepper.state()), b = Elastic(s.tables, fused);
+    const Eigen::VectorXd a = ElasticPart(s.tables, stepper.state()),
+                          b = ElasticPart(s.tables, fused);
     CHECK((a - b).norm() <= 1e-12 * a.norm());
     // One stepped cycle from the orbit returns to it.
     ExactStepper on_orbit(s.tables, opt, cycle.orbit(), ContactState::kDrive, 0, 0);
     REQUIRE(on_orbit.Run(1, false));
-    const Eigen::VectorXd y = Elastic(s.tables, cycle.orbit());
+    const Eigen::VectorXd y = ElasticPart(s.tables, cycle.orbit());
     INFO(TierName(tier) << ": |orbit| " << y.norm() << ", |stepped - orbit| "
-                        << (Elastic(s.tables, on_orbit.state()) - y).norm());
+                        << (ElasticPart(s.tables, on_orbit.state()) - y).norm());
     // ~250 sub-step products in mixed units (m next to m/s, omega ~ 5e4): rounding is relative to
     // the largest velocity inside the cycle, not to the orbit's small start-of-cycle state
     // (measured ~2e-11): bound 1e-10.
-    CHECK((Elastic(s.tables, on_orbit.state()) - y).norm() <= 1e-10 * y.norm());
+    CHECK((ElasticPart(s.tables, on_orbit.state()) - y).norm() <= 1e-10 * y.norm());
     CHECK(on_orbit.summary().events == 0);
   }
 }
@@ -89,7 +72,7 @@ TEST_CASE("a certified jump of 10^6 cycles equals applying the cycle map 10^6 ti
     z.head(s.tables.n) -= s.tables.rigid_rotation * s.tables.recenter_row.dot(z.head(s.tables.n));
   }
   const Eigen::VectorXd jumped = cycle.Jump(z0, 1000000);
-  const Eigen::VectorXd a = Elastic(s.tables, z), b = Elastic(s.tables, jumped);
+  const Eigen::VectorXd a = ElasticPart(s.tables, z), b = ElasticPart(s.tables, jumped);
   // Repeated products gain ~eps |z| of rounding per cycle (|z| grows with the free rotation's
   // speed, which residual dynamic friction changes): bound k * 4 eps |z| for k = 10^6.
   CHECK((a - b).norm() <=
@@ -103,8 +86,8 @@ TEST_CASE("a certified jump of 10^6 cycles equals applying the cycle map 10^6 ti
   opt.method = SolverMethod::kStepped;
   ExactStepper stepper(s.tables, opt, z0, state0, 0, 0);
   REQUIRE(stepper.Run(1000, false));
-  const Eigen::VectorXd c = Elastic(s.tables, stepper.state()),
-                        d = Elastic(s.tables, cycle.Jump(z0, 1000));
+  const Eigen::VectorXd c = ElasticPart(s.tables, stepper.state()),
+                        d = ElasticPart(s.tables, cycle.Jump(z0, 1000));
   CHECK((c - d).norm() <= 1000 * 4 * std::numeric_limits<double>::epsilon() *
                               stepper.state().head(2 * s.tables.n).norm());
 }

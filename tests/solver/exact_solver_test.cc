@@ -6,12 +6,14 @@
 
 #include "gearnvh/solver/reference_integrator.h"
 #include "model/test_specs.h"
+#include "solver/solver_fixture.h"
 #include "support/allocation_counter.h"
 
 namespace gearnvh {
 namespace {
 
 using testing::StandardPair;
+using Setup = testing::SolverSetup;
 
 // The idle-rattle gearbox of examples/idle_rattle.yaml, built in code (tier 1).
 GearboxSpec RattleSpec(double amplitude = 1500.0) {
@@ -24,18 +26,6 @@ GearboxSpec RattleSpec(double amplitude = 1500.0) {
   s.operating.excitation = {{2.0, amplitude, 0.0}};
   return s;
 }
-
-struct Setup {
-  GearboxSpec spec;
-  ComponentModel model;
-  ReducedModel reduced;
-  SegmentTables tables;
-  explicit Setup(GearboxSpec s, Tier tier = Tier::kTier1)
-      : spec(std::move(s)),
-        model(BuildComponentModel(spec)),
-        reduced(ReduceModel(model, tier)),
-        tables(BuildSegmentTables(model, reduced, spec)) {}
-};
 
 double MaxTeDifference(const Trajectory& a, const Trajectory& b, double* scale) {
   double diff = 0.0, max_te = 0.0;
@@ -50,7 +40,7 @@ double MaxTeDifference(const Trajectory& a, const Trajectory& b, double* scale) 
 
 TEST_CASE("exact solver agrees with a tight CVODE reference on a strong-rattle run",
           "[solver][reference]") {
-  const Setup s(RattleSpec());
+  const Setup s(RattleSpec(), Tier::kTier1);
   const auto [z0, state0] = StaticInitialState(s.tables);
   SolverOptions opt;
   opt.cycles = 50;
@@ -96,7 +86,7 @@ TEST_CASE("exact solver agrees with a tight CVODE reference on a strong-rattle r
 TEST_CASE(
     "exact solver agrees with CVODE to 1e-8 on TE over 20 excited cycles in permanent contact",
     "[solver][reference]") {
-  const Setup s(RattleSpec(400.0));  // excitation below the separation threshold
+  const Setup s(RattleSpec(400.0), Tier::kTier1);  // excitation below the separation threshold
   const auto [z0, state0] = StaticInitialState(s.tables);
   REQUIRE(state0 == ContactState::kDrive);
   SolverOptions opt;
@@ -119,7 +109,7 @@ TEST_CASE("results do not depend on the sub-step length (exact propagation)", "[
   // exponential) changes only rounding. Over 20 rattle cycles the differences stay at the level of
   // rounding amplified by the dynamics (measured 3e-10 on TE, 1.4e-8 of a segment on event times):
   // bounds 1e-9 relative on TE, 1e-7 of a segment.
-  const Setup s(RattleSpec());
+  const Setup s(RattleSpec(), Tier::kTier1);
   SegmentTables fine = s.tables;
   for (int j = 0; j < fine.segments(); ++j) {
     fine.substeps[j] *= 4;
@@ -159,7 +149,7 @@ TEST_CASE("free flight under constant drag is the closed-form parabola", "[solve
   GearboxSpec spec = StandardPair(27, 43);
   spec.operating.torque = 0.3;
   spec.mesh.stiffness = FourierStiffness{2.5e8, {}, {}};
-  Setup s(spec);
+  Setup s(spec, Tier::kTier1);
   const double rb1 = s.model.geometry.pinion.base, rb2 = s.model.geometry.wheel.base;
   const double j1 = s.reduced.M(0, 0), j2 = s.reduced.M(1, 1);
   const double T = spec.operating.torque, b = s.tables.half_backlash;
@@ -189,7 +179,7 @@ TEST_CASE("permanent contact with constant stiffness settles on the static close
   GearboxSpec spec = StandardPair(27, 43);
   spec.operating.torque = 20.0;
   spec.mesh.stiffness = FourierStiffness{2.5e8, {}, {}};
-  Setup s(spec);
+  Setup s(spec, Tier::kTier1);
   auto [z0, state0] = StaticInitialState(s.tables);
   REQUIRE(state0 == ContactState::kDrive);
   z0[s.tables.n] += 0.01;  // kick the pinion speed
@@ -204,7 +194,7 @@ TEST_CASE("permanent contact with constant stiffness settles on the static close
 }
 
 TEST_CASE("the stepping loop does not allocate", "[solver][allocation]") {
-  const Setup s(RattleSpec());
+  const Setup s(RattleSpec(), Tier::kTier1);
   const auto [z0, state0] = StaticInitialState(s.tables);
   SolverOptions opt;
   ExactStepper stepper(s.tables, opt, z0, state0, /*reserve_samples=*/100 * 32,

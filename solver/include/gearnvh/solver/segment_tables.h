@@ -70,6 +70,10 @@ struct SegmentTables {
   size_t TableBytes() const;
 };
 
+// [x; x'] without the pair's free rotation (position and velocity): the part of the state that
+// every gap and force depends on. Used to compare states that may differ only by that rotation.
+Eigen::VectorXd ElasticPart(const SegmentTables& tables, const Eigen::VectorXd& z);
+
 // Builds the tables for one operating point. `spec` gives speed, excitation, damping and friction.
 SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel& reduced,
                                  const GearboxSpec& spec);
