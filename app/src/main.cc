@@ -51,6 +51,12 @@ int main(int argc, char** argv) {
                    "stepped: event-locating sub-steps everywhere; fused (default): also jump the "
                    "transient and fuse segments when permanent contact is certified")
       ->check(CLI::IsMember({"stepped", "fused"}));
+  simulate_cmd
+      ->add_option("--events", simulate.events,
+                   "Event location: taylor (default; Taylor polynomial of the state, exact to "
+                   "rounding) or v1 (bisection on dyadic dense propagators, times to 2^-30 of a "
+                   "sub-step; a baseline)")
+      ->check(CLI::IsMember({"taylor", "v1"}));
 
   gearnvh::app::ValidateOptions validate;
   CLI::App* validate_cmd = app.add_subcommand(

@@ -71,6 +71,7 @@ int RunSimulate(const SimulateOptions& options) {
     solver.cycles = options.cycles.value_or(spec.analysis.cycles);
     solver.transient_cycles = options.transient.value_or(spec.analysis.transient_cycles);
     solver.method = options.method == "stepped" ? SolverMethod::kStepped : SolverMethod::kFused;
+    solver.events = options.events == "v1" ? EventMethod::kDyadic : EventMethod::kTaylor;
     solver.Validate();
     const ComponentModel model = BuildComponentModel(spec);
     const ReducedModel reduced = ReduceModel(model, tier);
@@ -98,6 +99,7 @@ int RunSimulate(const SimulateOptions& options) {
     doc["file"] = options.file;
     doc["tier"] = reduced.name;
     doc["method"] = SolverMethodName(solver.method);
+    doc["events_method"] = EventMethodName(solver.events);
     doc["state_dim"] = tables.m;
     doc["summary"] = SummaryJson(summary);
     doc["te_rms"] = te.rms;

@@ -19,6 +19,7 @@ struct SimulateOptions {
   std::optional<long> transient;   // overrides analysis.transient_cycles
   std::optional<std::string> out;  // output directory
   std::string method = "fused";    // "stepped" | "fused"
+  std::string events = "taylor";   // "taylor" | "v1"
   bool json = false;
 };
 

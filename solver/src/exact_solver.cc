@@ -26,6 +26,8 @@ void SolverOptions::Validate() const {
   }
 }
 
+const char* EventMethodName(EventMethod m) { return m == EventMethod::kDyadic ? "v1" : "taylor"; }
+
 const char* SolverMethodName(SolverMethod m) {
   return m == SolverMethod::kFused ? "fused" : "stepped";
 }
@@ -136,6 +138,32 @@ ExactStepper::ExactStepper(const SegmentTables& tables, const SolverOptions& opt
       taylor_(z0.size(), kTaylorTerms + 1),
       contact_(state0),
       gap_tolerance_(1e-12 * tables.half_backlash) {
+  za_.resize(z0.size());
+  zb_.resize(z0.size());
+  if (options.events == EventMethod::kDyadic) {
+    const double bytes = static_cast<double>(tables.segments()) * 3 * kDyadicLevels *
+                         static_cast<double>(tables.m) * tables.m * sizeof(double);
+    if (bytes > 256.0 * 1024 * 1024) {
+      throw InputError("--events", 0, "v1",
+                       "needs " + std::to_string(static_cast<long>(bytes / 1048576)) +
+                           " MiB of dyadic tables for this tier (limit 256 MiB); use taylor");
+    }
+    dyadic_.resize(tables.segments());
+    for (int j = 0; j < tables.segments(); ++j) {
+      for (int st = 0; st < 3; ++st) {
+        // Every level straight from the balanced Pade (squaring up from the finest level would
+        // amplify rounding by 2^30).
+        const SegmentSystem& sys = tables.systems[j][st];
+        const double d = tables.SegmentLength(j) / tables.substeps[j];
+        const double w_ref = ReferenceFrequency(sys.A, tables.n);
+        std::vector<Eigen::MatrixXd>& levels = dyadic_[j][st];
+        levels.resize(kDyadicLevels);
+        for (int l = 0; l < kDyadicLevels; ++l) {
+          levels[l] = BalancedExpm(sys.A, d / static_cast<double>(1LL << (l + 1)), tables.n, w_ref);
+        }
+      }
+    }
+  }
   trajectory_.samples.reserve(reserve_samples);
   trajectory_.events.reserve(reserve_events);
   summary_.table_bytes = tables.TableBytes();
@@ -237,6 +265,108 @@ void ExactStepper::AdvanceExact(int segment, double start, double length, bool r
   }
 }
 
+int ExactStepper::Outside(const SegmentSystem& sys, const Eigen::VectorXd& z,
+                          double tolerance) const {
+  Wall walls[2];
+  const int count = Walls(sys, contact_, walls);
+  for (int i = 0; i < count; ++i) {
+    if (walls[i].sign * walls[i].row->dot(z) > tolerance) return i;
+  }
+  return -1;
+}
+
+void ExactStepper::SwitchState(const SegmentSystem& sys, int wall, double time, bool record) {
+  Wall walls[2];
+  Walls(sys, contact_, walls);
+  const Wall& w = walls[wall];
+  const double rate = RateRow(sys, w.row).dot(z_);
+  const ContactState from = contact_;
+  contact_ = w.target;
+  ++events_this_cycle_;
+  if (!record) return;
+  ++summary_.events;
+  if (contact_ == ContactState::kDrive)
+    ++summary_.drive_impacts;
+  else if (contact_ == ContactState::kBack)
+    ++summary_.back_impacts;
+  else
+    ++summary_.separations;
+  if (trajectory_.events.size() < trajectory_.events.capacity()) {
+    trajectory_.events.push_back({time, from, contact_, rate});
+  }
+}
+
+// V1: the sub-step [0, D] is walked on the dyadic grid of depth L = 30. From the current position
+// (a multiple of D 2^-L), the largest aligned dyadic step that stays inside the sub-step is tried;
+// if its end is outside a wall, the step is halved (bisection) until the crossing is bracketed to
+// one grid cell; the event is placed at the cell's end (quantised to D 2^-L) and walking continues
+// in the new state. Double crossings within a tried step whose end is inside are found by recursing
+// into both halves when the gap turned towards the wall (rates at both ends), like the sub-step
+// screen.
+void ExactStepper::AdvanceDyadic(int segment, double start, bool record) {
+  const long long cells = 1LL << kDyadicLevels;
+  const double cell = t_.SegmentLength(segment) / t_.substeps[segment] / static_cast<double>(cells);
+  long long pos = 0;
+  // At a segment start the state may already be outside (e_j jump): switch at once.
+  for (int guard = 0; guard < 2; ++guard) {
+    const SegmentSystem& sys = t_.systems[segment][static_cast<int>(contact_)];
+    Wall walls[2];
+    const int count = Walls(sys, contact_, walls);
+    int outside = -1;
+    for (int i = 0; i < count && outside < 0; ++i) {
+      if (walls[i].sign * walls[i].row->dot(z_) > WallTolerance(*walls[i].row)) outside = i;
+    }
+    if (outside < 0) break;
+    SwitchState(sys, outside, start, record);
+  }
+  while (pos < cells) {
+    const SegmentSystem& sys = t_.systems[segment][static_cast<int>(contact_)];
+    const auto& levels = dyadic_[segment][static_cast<int>(contact_)];
+    // Largest aligned step from pos: level l covers 2^(L-1-l) cells... level index for size 2^k
+    // cells is L - k - 1... we use sizes 2^k with k = trailing zeros of pos (or L-1 at pos = 0).
+    int k = pos == 0 ? kDyadicLevels - 1 : __builtin_ctzll(static_cast<unsigned long long>(pos));
+    while (pos + (1LL << k) > cells) --k;
+    bool crossed = false;
+    while (true) {
+      const Eigen::MatrixXd& step = levels[kDyadicLevels - 1 - k];
+      zb_.noalias() = step * z_;
+      ++summary_.matvecs;
+      Wall walls[2];
+      const int count = Walls(sys, contact_, walls);
+      bool suspect = false;
+      for (int i = 0; i < count; ++i) {
+        const Wall& w = walls[i];
+        if (w.sign * w.row->dot(zb_) > 0.0) suspect = true;
+        const Eigen::RowVectorXd& rate = RateRow(sys, w.row);
+        if (k > 0 && w.sign * rate.dot(z_) > 0.0 && w.sign * rate.dot(zb_) < 0.0 &&
+            w.sign * w.row->dot(zb_) > -1e-3 * t_.half_backlash) {
+          suspect = true;  // turned back near the wall: look inside
+        }
+      }
+      if (!suspect) break;
+      if (k == 0) {
+        crossed = true;
+        break;
+      }
+      --k;  // bisect: try the first half
+    }
+    z_.swap(zb_);
+    pos += 1LL << k;
+    if (crossed) {
+      const SegmentSystem& now = t_.systems[segment][static_cast<int>(contact_)];
+      Wall walls[2];
+      const int count = Walls(now, contact_, walls);
+      for (int i = 0; i < count; ++i) {
+        if (walls[i].sign * walls[i].row->dot(z_) > 0.0) {
+          SwitchState(now, i, start + static_cast<double>(pos) * cell, record);
+          break;
+        }
+      }
+      if (events_this_cycle_ > options_.max_events_per_cycle) return;
+    }
+  }
+}
+
 void ExactStepper::Record(int segment) {
   if (trajectory_.samples.size() >= trajectory_.samples.capacity()) return;
   const SegmentSystem& sys = t_.systems[segment][static_cast<int>(contact_)];
@@ -283,7 +413,11 @@ bool ExactStepper::Run(long cycles, bool record) {
         if (!PossibleEvent(sys, i == 0)) {
           z_.swap(z1_);
         } else {
-          AdvanceExact(j, seg_start + i * d, d, record);
+          if (options_.events == EventMethod::kDyadic) {
+            AdvanceDyadic(j, seg_start + i * d, record);
+          } else {
+            AdvanceExact(j, seg_start + i * d, d, record);
+          }
           if (events_this_cycle_ > options_.max_events_per_cycle) {
             summary_.status = SolverStatus::kTooManyEvents;
             summary_.message = "more than " + std::to_string(options_.max_events_per_cycle) +

@@ -27,6 +27,18 @@ double SegmentTables::MeanExcitation(double t0, double h) const {
   return sum;
 }
 
+double ReferenceFrequency(const Eigen::MatrixXd& A, int n) {
+  const Eigen::MatrixXd stiffness = -A.block(n, 0, n, n);
+  return std::max(1.0, std::sqrt(stiffness.eigenvalues().cwiseAbs().maxCoeff()));
+}
+
+Eigen::MatrixXd BalancedExpm(const Eigen::MatrixXd& A, double t, int n, double w_ref) {
+  Eigen::VectorXd scale = Eigen::VectorXd::Ones(A.rows());
+  scale.segment(n, n).setConstant(1.0 / w_ref);
+  const Eigen::MatrixXd balanced = scale.asDiagonal() * A * scale.cwiseInverse().asDiagonal();
+  return scale.cwiseInverse().asDiagonal() * (balanced * t).exp() * scale.asDiagonal();
+}
+
 Eigen::VectorXd ElasticPart(const SegmentTables& t, const Eigen::VectorXd& z) {
   Eigen::VectorXd e = z.head(2 * t.n);
   e.head(t.n) -= t.rigid_rotation * t.recenter_row.dot(z.head(t.n));
@@ -157,18 +169,10 @@ SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel
     // are all O(w_ref) instead of O(w_ref^2) next to O(1); unbalanced, Eigen's expm loses up to
     // 1e-7 relative accuracy here, balanced it is at rounding (see the solver tests).
     double w_ref = 1.0;
-    for (const auto& sys : t.systems[j]) {
-      const Eigen::MatrixXd stiffness = -sys.A.block(n, 0, n, n);
-      w_ref = std::max(w_ref, std::sqrt(stiffness.eigenvalues().cwiseAbs().maxCoeff()));
-    }
-    Eigen::VectorXd scale = Eigen::VectorXd::Ones(m);
-    scale.segment(n, n).setConstant(1.0 / w_ref);
+    for (const auto& sys : t.systems[j]) w_ref = std::max(w_ref, ReferenceFrequency(sys.A, n));
     for (auto& sys : t.systems[j]) {
-      const Eigen::MatrixXd balanced =
-          scale.asDiagonal() * sys.A * scale.cwiseInverse().asDiagonal();
-      sys.full = scale.cwiseInverse().asDiagonal() * (balanced * h).exp() * scale.asDiagonal();
-      sys.substep = scale.cwiseInverse().asDiagonal() * (balanced * (h / substeps)).exp() *
-                    scale.asDiagonal();
+      sys.full = BalancedExpm(sys.A, h, n, w_ref);
+      sys.substep = BalancedExpm(sys.A, h / substeps, n, w_ref);
     }
   }
   return t;

@@ -23,6 +23,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <array>
 #include <functional>
 #include <string>
 #include <vector>
@@ -39,8 +40,16 @@ namespace gearnvh {
 enum class SolverMethod { kStepped, kFused };
 const char* SolverMethodName(SolverMethod m);
 
+// How a flagged sub-step is examined. kTaylor: the Taylor polynomial of the state, first root by
+// sampling + safeguarded Newton (exact to rounding). kDyadic (the V1 baseline): bisection on dense
+// dyadic propagators expm(A D / 2^l), l = 1..30 — event times quantised to D 2^-30, independent of
+// the polynomial path; tables grow by 30 matrices per segment and state (refused above 256 MiB).
+enum class EventMethod { kTaylor, kDyadic };
+const char* EventMethodName(EventMethod m);
+
 struct SolverOptions {
   SolverMethod method = SolverMethod::kFused;
+  EventMethod events = EventMethod::kTaylor;
   long cycles = 100;                     // mesh cycles recorded after the transient; >= 1
   long transient_cycles = 0;             // mesh cycles run first and not recorded; >= 0
   bool record_trajectory = true;         // samples at every segment boundary of recorded cycles
@@ -124,12 +133,20 @@ class ExactStepper {
   bool PossibleEvent(const SegmentSystem& sys, bool segment_start) const;
   double WallTolerance(const Eigen::RowVectorXd& row) const;
   void AdvanceExact(int segment, double start, double length, bool record);
+  void AdvanceDyadic(int segment, double start, bool record);
+  // Returns the wall index (0/1) whose trigger sign * row . z is positive, or -1.
+  int Outside(const SegmentSystem& sys, const Eigen::VectorXd& z, double tolerance) const;
+  void SwitchState(const SegmentSystem& sys, int wall, double time, bool record);
   void Record(int segment);
 
   const SegmentTables& t_;
   SolverOptions options_;
   Eigen::VectorXd z_, z1_;
   Eigen::MatrixXd taylor_;  // m x (kTaylorTerms + 1): A^k z / k!
+  static constexpr int kDyadicLevels = 30;
+  // kDyadic: dyadic_[segment][state][l] = expm(A D 2^-(l+1)), l = 0..kDyadicLevels-1.
+  std::vector<std::array<std::vector<Eigen::MatrixXd>, 3>> dyadic_;
+  Eigen::VectorXd za_, zb_;
   ContactState contact_;
   double gap_tolerance_;  // m: a start this far outside a wall is an immediate event
   double time_ = 0.0;

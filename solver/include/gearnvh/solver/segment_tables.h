@@ -70,6 +70,13 @@ struct SegmentTables {
   size_t TableBytes() const;
 };
 
+// expm(A t) for an augmented generator with n reduced DOF, by Pade on the balanced generator
+// (velocities scaled by 1/w_ref, w_ref = sqrt of the largest |eigenvalue| of the stiffness block,
+// at least 1): unbalanced, the generator's O(w^2) and O(1) blocks cost Eigen's expm up to 1e-7.
+Eigen::MatrixXd BalancedExpm(const Eigen::MatrixXd& A, double t, int n, double w_ref);
+// The w_ref above for one generator.
+double ReferenceFrequency(const Eigen::MatrixXd& A, int n);
+
 // [x; x'] without the pair's free rotation (position and velocity): the part of the state that
 // every gap and force depends on. Used to compare states that may differ only by that rotation.
 Eigen::VectorXd ElasticPart(const SegmentTables& tables, const Eigen::VectorXd& z);
