@@ -246,30 +246,17 @@ void ExactStepper::AdvanceExact(int segment, double start, double length, bool r
         continue;
       }
     }
-    const ContactState from = contact_;
-    contact_ = w.target;
-    ++events_this_cycle_;
-    if (record) {
-      ++summary_.events;
-      if (contact_ == ContactState::kDrive)
-        ++summary_.drive_impacts;
-      else if (contact_ == ContactState::kBack)
-        ++summary_.back_impacts;
-      else
-        ++summary_.separations;
-      if (trajectory_.events.size() < trajectory_.events.capacity()) {
-        trajectory_.events.push_back({start + done, from, contact_, rate});
-      }
-    }
+    SwitchState(sys, best_wall, start + done, record);
     if (events_this_cycle_ > options_.max_events_per_cycle) return;
   }
 }
 
 int ExactStepper::Outside(const SegmentSystem& sys, const Eigen::VectorXd& z,
-                          double tolerance) const {
+                          bool with_tolerance) const {
   Wall walls[2];
   const int count = Walls(sys, contact_, walls);
   for (int i = 0; i < count; ++i) {
+    const double tolerance = with_tolerance ? WallTolerance(*walls[i].row) : 0.0;
     if (walls[i].sign * walls[i].row->dot(z) > tolerance) return i;
   }
   return -1;
@@ -310,12 +297,7 @@ void ExactStepper::AdvanceDyadic(int segment, double start, bool record) {
   // At a segment start the state may already be outside (e_j jump): switch at once.
   for (int guard = 0; guard < 2; ++guard) {
     const SegmentSystem& sys = t_.systems[segment][static_cast<int>(contact_)];
-    Wall walls[2];
-    const int count = Walls(sys, contact_, walls);
-    int outside = -1;
-    for (int i = 0; i < count && outside < 0; ++i) {
-      if (walls[i].sign * walls[i].row->dot(z_) > WallTolerance(*walls[i].row)) outside = i;
-    }
+    const int outside = Outside(sys, z_, true);
     if (outside < 0) break;
     SwitchState(sys, outside, start, record);
   }
@@ -354,14 +336,8 @@ void ExactStepper::AdvanceDyadic(int segment, double start, bool record) {
     pos += 1LL << k;
     if (crossed) {
       const SegmentSystem& now = t_.systems[segment][static_cast<int>(contact_)];
-      Wall walls[2];
-      const int count = Walls(now, contact_, walls);
-      for (int i = 0; i < count; ++i) {
-        if (walls[i].sign * walls[i].row->dot(z_) > 0.0) {
-          SwitchState(now, i, start + static_cast<double>(pos) * cell, record);
-          break;
-        }
-      }
+      const int outside = Outside(now, z_, false);
+      if (outside >= 0) SwitchState(now, outside, start + static_cast<double>(pos) * cell, record);
       if (events_this_cycle_ > options_.max_events_per_cycle) return;
     }
   }

@@ -134,8 +134,8 @@ class ExactStepper {
   double WallTolerance(const Eigen::RowVectorXd& row) const;
   void AdvanceExact(int segment, double start, double length, bool record);
   void AdvanceDyadic(int segment, double start, bool record);
-  // Returns the wall index (0/1) whose trigger sign * row . z is positive, or -1.
-  int Outside(const SegmentSystem& sys, const Eigen::VectorXd& z, double tolerance) const;
+  // The first wall (0/1) that z is outside of (beyond the wall tolerance when asked), or -1.
+  int Outside(const SegmentSystem& sys, const Eigen::VectorXd& z, bool with_tolerance) const;
   void SwitchState(const SegmentSystem& sys, int wall, double time, bool record);
   void Record(int segment);
 
