@@ -14,7 +14,7 @@ using testing::TempDir;
 const std::string kExe = GEARNVH_EXE;
 const std::string kExamples = GEARNVH_EXAMPLES_DIR;
 
-TEST_CASE("simulate --json: summary keys; the rattle example rattles, the loaded one does not",
+TEST_CASE("simulate --json: summary keys, the rattle example rattles, the loaded one does not",
           "[cli][simulate]") {
   const auto rattle = RunCommand(kExe + " simulate --json --cycles 300 --transient 100 " +
                                  kExamples + "/idle_rattle.yaml");
@@ -86,7 +86,8 @@ TEST_CASE("simulate: bad options and unavailable tiers are clear errors", "[cli]
 namespace gearnvh {
 namespace {
 
-TEST_CASE("validate passes on every bundled example; --json lists the checks", "[cli][validate]") {
+TEST_CASE("validate passes on every bundled example and --json lists the checks",
+          "[cli][validate]") {
   for (const char* example :
        {"idle_rattle.yaml", "industrial_whine.yaml", "flexible_shafts.yaml"}) {
     const auto r = testing::RunCommand(std::string(GEARNVH_EXE) + " validate --json " +
