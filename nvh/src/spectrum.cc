@@ -1,0 +1,109 @@
+#include "gearnvh/nvh/spectrum.h"
+
+#include <fftw3.h>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <numbers>
+#include <stdexcept>
+
+namespace gearnvh {
+
+struct SpectrumAnalyzer::Plan {
+  double* in = nullptr;
+  fftw_complex* out = nullptr;
+  fftw_plan plan = nullptr;
+};
+
+SpectrumAnalyzer::SpectrumAnalyzer(int length) : n_(length), plan_(std::make_unique<Plan>()) {
+  if (length < 8) throw std::invalid_argument("SpectrumAnalyzer: length must be >= 8");
+  plan_->in = fftw_alloc_real(static_cast<size_t>(n_));
+  plan_->out = fftw_alloc_complex(static_cast<size_t>(n_ / 2 + 1));
+  plan_->plan = fftw_plan_dft_r2c_1d(n_, plan_->in, plan_->out, FFTW_ESTIMATE);
+  window_.resize(static_cast<size_t>(n_));
+  for (int i = 0; i < n_; ++i) {
+    window_[static_cast<size_t>(i)] = 0.5 * (1.0 - std::cos(2.0 * std::numbers::pi * i / n_));
+    window_sum_ += window_[static_cast<size_t>(i)];
+  }
+}
+
+SpectrumAnalyzer::~SpectrumAnalyzer() {
+  fftw_destroy_plan(plan_->plan);
+  fftw_free(plan_->in);
+  fftw_free(plan_->out);
+}
+
+AmplitudeSpectrum SpectrumAnalyzer::Analyze(const std::vector<double>& samples, double rate) {
+  if (static_cast<int>(samples.size()) != n_) {
+    throw std::invalid_argument("SpectrumAnalyzer: expected " + std::to_string(n_) + " samples");
+  }
+  double mean = 0.0;
+  for (double v : samples) mean += v;
+  mean /= n_;
+  for (int i = 0; i < n_; ++i) {
+    plan_->in[i] = (samples[static_cast<size_t>(i)] - mean) * window_[static_cast<size_t>(i)];
+  }
+  fftw_execute(plan_->plan);
+  AmplitudeSpectrum s;
+  s.bin_hz = rate / n_;
+  s.amplitude.resize(static_cast<size_t>(n_ / 2 + 1));
+  for (int k = 0; k <= n_ / 2; ++k) {
+    const double mag = std::hypot(plan_->out[k][0], plan_->out[k][1]);
+    s.amplitude[static_cast<size_t>(k)] = (k == 0 ? 1.0 : 2.0) * mag / window_sum_;
+  }
+  return s;
+}
+
+SpectralLine FindLine(const AmplitudeSpectrum& s, double frequency_hz, int search_bins) {
+  const int n = static_cast<int>(s.amplitude.size());
+  const int center = static_cast<int>(std::lround(frequency_hz / s.bin_hz));
+  int best = std::clamp(center, 1, n - 2);
+  for (int k = std::max(1, center - search_bins); k <= std::min(n - 2, center + search_bins); ++k) {
+    if (s.amplitude[static_cast<size_t>(k)] > s.amplitude[static_cast<size_t>(best)]) best = k;
+  }
+  // Hann interpolation: a tone at bin k + d (|d| <= 1/2) gives the neighbour ratio
+  // r = A(k+1)/A(k) = (1 + d)/(2 - d), so d = (2r - 1)/(r + 1) (mirrored when the left neighbour is
+  // larger); the amplitude follows from the Hann kernel |W(d)| = sinc(d) / (1 - d^2), W(0) = 1.
+  const double a = s.amplitude[static_cast<size_t>(best - 1)];
+  const double b = s.amplitude[static_cast<size_t>(best)];
+  const double c = s.amplitude[static_cast<size_t>(best + 1)];
+  double d = 0.0;
+  if (b > 0.0) {
+    const double r = std::max(a, c) / b;
+    d = (2.0 * r - 1.0) / (r + 1.0);
+    if (a > c) d = -d;
+  }
+  const double pd = std::numbers::pi * d;
+  const double kernel = std::abs(d) < 1e-12 ? 1.0 : std::sin(pd) / (pd * (1.0 - d * d));
+  SpectralLine line;
+  line.frequency_hz = (best + d) * s.bin_hz;
+  line.amplitude = b / kernel;
+  return line;
+}
+
+std::vector<SidebandRow> SidebandTable(const AmplitudeSpectrum& s, double mesh_hz, double pinion_hz,
+                                       double wheel_hz, int harmonics, int orders) {
+  std::vector<SidebandRow> rows;
+  const double nyquist = s.bin_hz * static_cast<double>(s.amplitude.size() - 1);
+  auto add = [&](const std::string& label, double f) {
+    if (f <= s.bin_hz || f >= nyquist - s.bin_hz) return;
+    // Whole shaft revolutions put every line on a bin: read that bin (interpolating would mix in
+    // a neighbouring sideband one bin away).
+    const double amp = s.amplitude[static_cast<size_t>(std::lround(f / s.bin_hz))];
+    rows.push_back({label, f, amp, amp > 0.0 ? 20.0 * std::log10(amp) : -400.0});
+  };
+  for (int k = 1; k <= harmonics; ++k) {
+    const std::string fm = std::to_string(k) + " fm";
+    add(fm, k * mesh_hz);
+    for (int j = 1; j <= orders; ++j) {
+      for (auto [name, f] : {std::pair{"f1", pinion_hz}, {"f2", wheel_hz}}) {
+        add(fm + " - " + std::to_string(j) + " " + name, k * mesh_hz - j * f);
+        add(fm + " + " + std::to_string(j) + " " + name, k * mesh_hz + j * f);
+      }
+    }
+  }
+  return rows;
+}
+
+}  // namespace gearnvh
