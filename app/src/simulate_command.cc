@@ -10,6 +10,7 @@
 #include "atomic_file.h"
 #include "config/gearbox_loader.h"
 #include "gearnvh/model/input_error.h"
+#include "gearnvh/nvh/rattle.h"
 #include "gearnvh/nvh/transmission_error.h"
 #include "gearnvh/reduction/reduced_model.h"
 
@@ -91,6 +92,20 @@ int RunSimulate(const SimulateOptions& options) {
     if (on_terminal) fmt::print(stderr, "\n");
     const SolverSummary& summary = result.summary;
     const Trajectory& trajectory = result.trajectory;
+    // The same gearbox with the backlash removed (0.5 nm of play instead), for the acceleration
+    // ratio.
+    GearboxSpec tight = spec;
+    tight.mesh.backlash = 1e-9;
+    const ComponentModel tight_model = BuildComponentModel(tight);
+    const SegmentTables tight_tables =
+        BuildSegmentTables(tight_model, ReduceModel(tight_model, tier), tight);
+    const auto [tz0, ts0] = StaticInitialState(tight_tables);
+    const SolverResult reference = SimulateExact(tight_tables, tz0, ts0, solver);
+    const double cycles_per_excitation =
+        spec.operating.excitation.empty() ? 0.0
+                                          : spec.pinion.teeth / spec.operating.excitation[0].order;
+    const RattleIndices rattle =
+        ComputeRattleIndices(result, model.effective_mass, cycles_per_excitation, &reference);
     const TransmissionErrorStats te = ComputeTransmissionErrorStats(
         trajectory, spec.operating.torque / model.geometry.wheel.base);
 
@@ -104,6 +119,17 @@ int RunSimulate(const SimulateOptions& options) {
     doc["summary"] = SummaryJson(summary);
     doc["te_rms"] = te.rms;
     doc["te"] = {{"mean", te.mean}, {"rms", te.rms}, {"peak_to_peak", te.peak_to_peak}};
+    doc["rattle"] = {{"regime", rattle.regime},
+                     {"drive_impacts_per_cycle", rattle.drive_impacts_per_cycle},
+                     {"back_impacts_per_cycle", rattle.back_impacts_per_cycle},
+                     {"drive_impacts_per_excitation_cycle", rattle.drive_impacts_per_excitation},
+                     {"back_impacts_per_excitation_cycle", rattle.back_impacts_per_excitation},
+                     {"impact_velocity_rms", rattle.impact_velocity_rms},
+                     {"impact_energy_per_cycle", rattle.impact_energy_per_cycle},
+                     {"separation_fraction", rattle.separation_fraction},
+                     {"wheel_acceleration_rms", rattle.wheel_acceleration_rms},
+                     {"no_backlash_acceleration_rms", rattle.no_backlash_acceleration_rms},
+                     {"acceleration_ratio", rattle.acceleration_ratio}};
     doc["mesh_force"] = {{"mean", te.mesh_force_mean},
                          {"max", te.mesh_force_max},
                          {"dynamic_factor", te.dynamic_factor}};
@@ -136,6 +162,14 @@ int RunSimulate(const SimulateOptions& options) {
                  te.mean * 1e6, te.rms * 1e6, te.peak_to_peak * 1e6);
       fmt::print("  mesh force          mean {:.2f} N, max {:.2f} N, dynamic factor {:.3f}\n",
                  te.mesh_force_mean, te.mesh_force_max, te.dynamic_factor);
+      fmt::print(
+          "  rattle              {}: {:.3f} drive / {:.3f} back impacts per mesh cycle, "
+          "impact velocity RMS {:.4f} m/s, separated {:.1f} % of the time\n",
+          rattle.regime, rattle.drive_impacts_per_cycle, rattle.back_impacts_per_cycle,
+          rattle.impact_velocity_rms, 100.0 * rattle.separation_fraction);
+      fmt::print(
+          "  wheel acceleration  RMS {:.1f} rad/s^2, {:.2f}x the same gearbox without backlash\n",
+          rattle.wheel_acceleration_rms, rattle.acceleration_ratio);
       if (!s.message.empty()) fmt::print("  note: {}\n", s.message);
     }
     return summary.status == SolverStatus::kSuccess ? 0 : 1;

@@ -271,6 +271,8 @@ void ExactStepper::SwitchState(const SegmentSystem& sys, int wall, double time, 
   contact_ = w.target;
   ++events_this_cycle_;
   if (!record) return;
+  if (from == ContactState::kFree && free_since_ >= 0.0) summary_.separated_s += time - free_since_;
+  free_since_ = contact_ == ContactState::kFree ? time : -1.0;
   ++summary_.events;
   if (contact_ == ContactState::kDrive)
     ++summary_.drive_impacts;
@@ -358,12 +360,15 @@ void ExactStepper::Record(int segment) {
   }
   s.pinion_speed = t_.pinion_rate_row.dot(z_);
   s.wheel_speed = t_.wheel_rate_row.dot(z_);
+  s.wheel_acceleration = sys.wheel_acceleration_row.dot(z_);
   s.state = contact_;
   trajectory_.samples.push_back(s);
 }
 
 bool ExactStepper::Run(long cycles, bool record) {
   const int excitation_slot = t_.m - 1;
+  const double run_start = static_cast<double>(cycle_) * t_.mesh_period;
+  if (record && contact_ == ContactState::kFree && free_since_ < 0.0) free_since_ = run_start;
   for (long c = 0; c < cycles; ++c, ++cycle_) {
     events_this_cycle_ = 0;
     const double cycle_start = static_cast<double>(cycle_) * t_.mesh_period;
@@ -407,6 +412,10 @@ bool ExactStepper::Run(long cycles, bool record) {
     }
     ++summary_.mesh_cycles;
     if (fused_) ++summary_.fused_cycles;
+    if (record) {
+      summary_.recorded_s += t_.mesh_period;
+      ++summary_.recorded_cycles;
+    }
     // Remove the drift of the pair's free rotation (exactly invariant; see SegmentTables).
     const double drift = t_.recenter_row.dot(z_.head(t_.n));
     z_.head(t_.n) -= drift * t_.rigid_rotation;
@@ -484,6 +493,7 @@ SolverResult SimulateExact(const SegmentTables& tables, const Eigen::VectorXd& z
   SolverResult result;
   result.summary = stepper.summary();
   SolverSummary& s = result.summary;
+  s.separated_s = stepper.SeparatedTime();
   s.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   s.simulated_s = stepper.time();
   s.real_time_ratio = s.wall_s > 0.0 ? s.simulated_s / s.wall_s : 0.0;

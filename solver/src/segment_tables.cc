@@ -153,6 +153,7 @@ SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel
       sys.gap_back[2 * n] = -e + b;
       sys.gap_drive_rate = sys.gap_drive * sys.A;
       sys.gap_back_rate = sys.gap_back * sys.A;
+      sys.wheel_acceleration_row = t.wheel_rate_row * sys.A;
     }
     // One sub-step count per segment (the stiffest state decides), a power of two.
     // The Taylor series of exp(A tau) z converges like (rho tau)^k / k! with rho the spectral

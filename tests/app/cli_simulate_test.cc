@@ -32,12 +32,20 @@ TEST_CASE("simulate --json: summary keys, the rattle example rattles, the loaded
   CHECK(r["summary"]["back_impacts"].get<long>() > 0);     // ... on both flanks
   CHECK(r["te_rms"].get<double>() > 1e-6);
   CHECK(r["summary"]["real_time_ratio"].get<double>() > 0.0);
+  // Rattle indices: double-sided, and louder than the same gearbox without backlash.
+  CHECK(r["rattle"]["regime"] == "double-sided");
+  CHECK(r["rattle"]["separation_fraction"].get<double>() > 0.1);
+  CHECK(r["rattle"]["no_backlash_acceleration_rms"].get<double>() > 0.0);
+  CHECK(r["rattle"]["acceleration_ratio"].get<double>() > 1.5);
 
   const auto whine = RunCommand(kExe + " simulate --json --cycles 200 --transient 100 " +
                                 kExamples + "/industrial_whine.yaml");
   REQUIRE(whine.exit_code == 0);
   const auto w = nlohmann::json::parse(whine.out);
   CHECK(w["summary"]["events"] == 0);  // permanent contact under 1.5 kN m
+  CHECK(w["rattle"]["regime"] == "no impact");
+  // In permanent contact the backlash only shifts the static TE: the same accelerations.
+  CHECK(w["rattle"]["acceleration_ratio"].get<double>() == Approx(1.0).epsilon(1e-6));
   CHECK(w["mesh_force"]["dynamic_factor"].get<double>() > 1.0);
   CHECK(w["te"]["rms"].get<double>() < w["te"]["mean"].get<double>());
 }

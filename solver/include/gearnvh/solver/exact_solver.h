@@ -73,6 +73,9 @@ struct SolverSummary {
   bool contact_certified = false;
   double events_per_cycle = 0.0, matvec_per_cycle = 0.0;
   double simulated_s = 0.0, wall_s = 0.0, real_time_ratio = 0.0;
+  long recorded_cycles = 0;
+  double recorded_s = 0.0;   // simulated time of the recorded cycles
+  double separated_s = 0.0;  // recorded time spent in the free state (exact, from event times)
   size_t table_bytes = 0;
 };
 
@@ -88,6 +91,7 @@ struct TrajectorySample {
   double mesh_force = 0.0;    // N (positive on the drive flank)
   double pinion_speed = 0.0;  // running angular velocity perturbation, rad/s
   double wheel_speed = 0.0;
+  double wheel_acceleration = 0.0;  // running angular acceleration of the wheel, rad/s^2
   ContactState state = ContactState::kFree;
 };
 
@@ -125,6 +129,10 @@ class ExactStepper {
   ContactState contact() const { return contact_; }
   double time() const { return time_; }
   SolverSummary& summary() { return summary_; }
+  // Recorded time in free flight so far, including a flight still open at the current time.
+  double SeparatedTime() const {
+    return summary_.separated_s + (free_since_ >= 0.0 ? time_ - free_since_ : 0.0);
+  }
   Trajectory& trajectory() { return trajectory_; }
 
  private:
@@ -152,6 +160,7 @@ class ExactStepper {
   double time_ = 0.0;
   long cycle_ = 0;
   long events_this_cycle_ = 0;
+  double free_since_ = -1.0;  // start of the current recorded free flight, or -1
   bool fused_ = false;
   SolverSummary summary_;
   Trajectory trajectory_;

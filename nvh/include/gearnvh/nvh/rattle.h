@@ -1,0 +1,46 @@
+// Rattle indices of a recorded run (DESIGN.md §6). Over N recorded mesh cycles of period T_m:
+//   impacts per mesh cycle          n_d = drive impacts / N,  n_b = back impacts / N
+//   impacts per excitation cycle    n * T_e / T_m, T_e = 2 pi / (order_1 Omega1) (first engine
+//   order;
+//                                   z1 / order mesh cycles); 0 without excitation
+//   impact velocity RMS             sqrt(mean over impacts of g'^2), g' the gap rate at impact, m/s
+//   impact energy per cycle         sum over impacts of (1/2) m_e g'^2 / N, J (m_e = J1 J2 /
+//                                   (J1 r_b2^2 + J2 r_b1^2), the mesh's effective mass)
+//   separation fraction             time in free flight / recorded time (exact, from event times)
+//   wheel acceleration RMS          sqrt((1/T) ∫ (a - mean a)^2 dt) of the loose gear's (wheel's)
+//                                   angular acceleration, trapezoidal over the segment-boundary
+//                                   samples
+//   acceleration ratio              that RMS divided by the same quantity for the same gearbox with
+//                                   the backlash removed (a second run; 0 when not supplied)
+//   regime                          "no impact" | "single-sided" (drive impacts only) |
+//                                   "double-sided" (both flanks); "chaotic" needs the Lyapunov
+//                                   exponent (issue 7) and is not assigned here.
+#pragma once
+
+#include <string>
+
+#include "gearnvh/solver/exact_solver.h"
+
+namespace gearnvh {
+
+struct RattleIndices {
+  double drive_impacts_per_cycle = 0.0, back_impacts_per_cycle = 0.0;
+  double drive_impacts_per_excitation = 0.0, back_impacts_per_excitation = 0.0;
+  double impact_velocity_rms = 0.0;      // m/s
+  double impact_energy_per_cycle = 0.0;  // J
+  double separation_fraction = 0.0;
+  double wheel_acceleration_rms = 0.0;  // rad/s^2
+  double no_backlash_acceleration_rms = 0.0;
+  double acceleration_ratio = 0.0;
+  std::string regime;
+};
+
+// `mesh_cycles_per_excitation` = z1 / order (0 without excitation); `no_backlash` may be null.
+RattleIndices ComputeRattleIndices(const SolverResult& run, double effective_mass,
+                                   double mesh_cycles_per_excitation,
+                                   const SolverResult* no_backlash);
+
+// RMS about the mean of the wheel's angular acceleration over the samples (trapezoidal in time).
+double WheelAccelerationRms(const Trajectory& trajectory);
+
+}  // namespace gearnvh

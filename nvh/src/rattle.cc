@@ -1,0 +1,58 @@
+#include "gearnvh/nvh/rattle.h"
+
+#include <cmath>
+
+namespace gearnvh {
+
+double WheelAccelerationRms(const Trajectory& t) {
+  const auto& p = t.samples;
+  if (p.size() < 2) return 0.0;
+  const double span = p.back().time - p.front().time;
+  double mean = 0.0;
+  for (size_t i = 1; i < p.size(); ++i) {
+    mean +=
+        0.5 * (p[i].time - p[i - 1].time) * (p[i].wheel_acceleration + p[i - 1].wheel_acceleration);
+  }
+  mean /= span;
+  double square = 0.0;
+  for (size_t i = 1; i < p.size(); ++i) {
+    const double a = p[i].wheel_acceleration - mean, b = p[i - 1].wheel_acceleration - mean;
+    square += 0.5 * (p[i].time - p[i - 1].time) * (a * a + b * b);
+  }
+  return std::sqrt(square / span);
+}
+
+RattleIndices ComputeRattleIndices(const SolverResult& run, double effective_mass,
+                                   double mesh_cycles_per_excitation,
+                                   const SolverResult* no_backlash) {
+  RattleIndices r;
+  const SolverSummary& s = run.summary;
+  const double recorded_cycles = static_cast<double>(std::max<long>(1, s.recorded_cycles));
+  r.drive_impacts_per_cycle = static_cast<double>(s.drive_impacts) / recorded_cycles;
+  r.back_impacts_per_cycle = static_cast<double>(s.back_impacts) / recorded_cycles;
+  r.drive_impacts_per_excitation = r.drive_impacts_per_cycle * mesh_cycles_per_excitation;
+  r.back_impacts_per_excitation = r.back_impacts_per_cycle * mesh_cycles_per_excitation;
+  double square = 0.0;
+  int impacts = 0;
+  for (const EventRecord& e : run.trajectory.events) {
+    if (e.from != ContactState::kFree) continue;  // impacts: free -> contact
+    square += e.gap_rate * e.gap_rate;
+    ++impacts;
+  }
+  r.impact_velocity_rms = impacts > 0 ? std::sqrt(square / impacts) : 0.0;
+  r.impact_energy_per_cycle = 0.5 * effective_mass * square / recorded_cycles;
+  r.separation_fraction = s.recorded_s > 0.0 ? s.separated_s / s.recorded_s : 0.0;
+  r.wheel_acceleration_rms = WheelAccelerationRms(run.trajectory);
+  if (no_backlash) {
+    r.no_backlash_acceleration_rms = WheelAccelerationRms(no_backlash->trajectory);
+    r.acceleration_ratio = r.no_backlash_acceleration_rms > 0.0
+                               ? r.wheel_acceleration_rms / r.no_backlash_acceleration_rms
+                               : 0.0;
+  }
+  r.regime = s.drive_impacts + s.back_impacts == 0 ? "no impact"
+             : s.back_impacts == 0                 ? "single-sided"
+                                                   : "double-sided";
+  return r;
+}
+
+}  // namespace gearnvh
