@@ -29,15 +29,25 @@ Tier ParseTier(const std::string& text) {
 }
 
 nlohmann::json SummaryJson(const SolverSummary& s) {
-  return {{"status", SolverStatusName(s.status)},   {"message", s.message},
-          {"mesh_cycles", s.mesh_cycles},           {"events", s.events},
-          {"drive_impacts", s.drive_impacts},       {"back_impacts", s.back_impacts},
-          {"separations", s.separations},           {"grazing", s.grazing},
-          {"events_per_cycle", s.events_per_cycle}, {"matvecs", s.matvecs},
-          {"matvec_per_cycle", s.matvec_per_cycle}, {"fused_cycles", s.fused_cycles},
-          {"jumped_cycles", s.jumped_cycles},       {"contact_certified", s.contact_certified},
-          {"simulated_s", s.simulated_s},           {"wall_s", s.wall_s},
-          {"real_time_ratio", s.real_time_ratio},   {"table_bytes", s.table_bytes}};
+  return {{"status", SolverStatusName(s.status)},
+          {"message", s.message},
+          {"mesh_cycles", s.mesh_cycles},
+          {"events", s.events},
+          {"drive_impacts", s.drive_impacts},
+          {"back_impacts", s.back_impacts},
+          {"separations", s.separations},
+          {"grazing", s.grazing},
+          {"events_per_cycle", s.events_per_cycle},
+          {"matvecs", s.matvecs},
+          {"matvec_per_cycle", s.matvec_per_cycle},
+          {"fused_cycles", s.fused_cycles},
+          {"jumped_cycles", s.jumped_cycles},
+          {"contact_certified", s.contact_certified},
+          {"simulated_s", s.simulated_s},
+          {"wall_s", s.wall_s},
+          {"real_time_ratio", s.real_time_ratio},
+          {"table_bytes", s.table_bytes},
+          {"trajectory_truncated", s.trajectory_truncated}};
 }
 
 std::string TrajectoryCsv(const Trajectory& t) {
@@ -171,11 +181,19 @@ int RunSimulate(const SimulateOptions& options) {
           "  wheel acceleration  RMS {:.1f} rad/s^2, {:.2f}x the same gearbox without backlash\n",
           rattle.wheel_acceleration_rms, rattle.acceleration_ratio);
       if (!s.message.empty()) fmt::print("  note: {}\n", s.message);
+      if (s.trajectory_truncated) {
+        fmt::print("  note: trajectory storage bound reached; statistics cover the stored part\n");
+      }
     }
     return summary.status == SolverStatus::kSuccess ? 0 : 1;
   } catch (const InputError& e) {
     const std::string message = e.source().empty() ? e.WithSource(options.file).what() : e.what();
     std::cerr << "error: " << message << "\n";
+    return 1;
+  } catch (const std::runtime_error& e) {
+    // Output that cannot be written (--out: permissions, disk full, a file in the way): a clear
+    // error and exit 1; the atomic writer leaves no partial file behind.
+    std::cerr << "error: " << e.what() << "\n";
     return 1;
   }
 }

@@ -20,6 +20,9 @@ void SolverOptions::Validate() const {
     throw InputError("SolverOptions.max_events_per_cycle", 0, std::to_string(max_events_per_cycle),
                      "must be >= 1");
   }
+  if (max_trajectory_samples < 0 || max_logged_events < 0) {
+    throw InputError("SolverOptions.max_trajectory_samples", 0, "", "memory bounds must be >= 0");
+  }
   if (!(grazing_rate_tolerance >= 0.0)) {
     throw InputError("SolverOptions.grazing_rate_tolerance", 0,
                      std::to_string(grazing_rate_tolerance), "must be >= 0");
@@ -456,9 +459,11 @@ SolverResult SimulateExact(const SegmentTables& tables, const Eigen::VectorXd& z
                            const ProgressCallback& progress) {
   options.Validate();
   const auto start = std::chrono::steady_clock::now();
+  const long wanted_samples = options.record_trajectory ? options.cycles * tables.segments() : 0;
   const size_t samples =
-      options.record_trajectory ? static_cast<size_t>(options.cycles) * tables.segments() : 0;
-  const size_t events = static_cast<size_t>(std::min<long>(options.cycles * 16, 50'000'000));
+      static_cast<size_t>(std::min(wanted_samples, options.max_trajectory_samples));
+  const size_t events =
+      static_cast<size_t>(std::min(options.cycles * 16, options.max_logged_events));
   ExactStepper stepper(tables, options, z0, state0, samples, events);
   bool ok = true;
   // Fusion needs contact without excitation; the certificate is retried after every chunk of
@@ -494,6 +499,8 @@ SolverResult SimulateExact(const SegmentTables& tables, const Eigen::VectorXd& z
   result.summary = stepper.summary();
   SolverSummary& s = result.summary;
   s.separated_s = stepper.SeparatedTime();
+  s.trajectory_truncated = wanted_samples > options.max_trajectory_samples ||
+                           s.events > static_cast<long>(stepper.trajectory().events.capacity());
   s.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   s.simulated_s = stepper.time();
   s.real_time_ratio = s.wall_s > 0.0 ? s.simulated_s / s.wall_s : 0.0;

@@ -118,3 +118,21 @@ TEST_CASE("validate passes on every bundled example and --json lists the checks"
 
 }  // namespace
 }  // namespace gearnvh
+
+namespace gearnvh {
+namespace {
+
+TEST_CASE("simulate --out into an unwritable place is a clear error with exit 1",
+          "[cli][simulate]") {
+  testing::TempDir dir;
+  const auto blocker = dir.Write("not_a_dir", "x");  // a file where the output directory should go
+  const auto r = testing::RunCommand(
+      std::string(GEARNVH_EXE) + " simulate --cycles 5 --transient 0 --out " +
+      (blocker / "run").string() + " " + GEARNVH_EXAMPLES_DIR + "/idle_rattle.yaml");
+  CHECK(r.exit_code == 1);
+  CHECK(r.err.find("error:") != std::string::npos);
+  CHECK(r.err.find("internal error") == std::string::npos);
+}
+
+}  // namespace
+}  // namespace gearnvh

@@ -239,3 +239,27 @@ TEST_CASE("V1 (dyadic bisection) and the Taylor event path agree on a strong-rat
 
 }  // namespace
 }  // namespace gearnvh
+
+namespace gearnvh {
+namespace {
+
+TEST_CASE("trajectory storage is bounded and the truncation is reported", "[solver][memory]") {
+  const testing::SolverSetup s(RattleSpec(), Tier::kTier1);
+  const auto [z0, state0] = StaticInitialState(s.tables);
+  SolverOptions opt;
+  opt.method = SolverMethod::kStepped;
+  opt.cycles = 20;
+  opt.max_trajectory_samples = 100;  // fewer than 20 cycles x 32 segments
+  opt.max_logged_events = 5;
+  const SolverResult r = SimulateExact(s.tables, z0, state0, opt);
+  CHECK(r.trajectory.samples.size() == 100);
+  CHECK(r.trajectory.events.size() <= 5);
+  CHECK(r.summary.events > 5);  // counts stay exact beyond the stored log
+  CHECK(r.summary.trajectory_truncated);
+  opt.max_trajectory_samples = 4'000'000;
+  opt.max_logged_events = 1'000'000;
+  CHECK_FALSE(SimulateExact(s.tables, z0, state0, opt).summary.trajectory_truncated);
+}
+
+}  // namespace
+}  // namespace gearnvh

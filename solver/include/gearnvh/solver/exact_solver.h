@@ -55,6 +55,11 @@ struct SolverOptions {
   bool record_trajectory = true;         // samples at every segment boundary of recorded cycles
   long max_events_per_cycle = 1000;      // beyond this the run stops with kTooManyEvents; >= 1
   double grazing_rate_tolerance = 1e-9;  // |g'| (m/s) below which a root is a grazing touch; >= 0
+  // Memory bounds of the recorded trajectory (reserved up front, so the loop never allocates):
+  // samples beyond max_trajectory_samples (~48 B each) and events beyond max_logged_events (~32 B
+  // each) are not stored; counts stay exact and the summary says the trajectory was truncated.
+  long max_trajectory_samples = 4'000'000;  // >= 0
+  long max_logged_events = 1'000'000;       // >= 0
   void Validate() const;
 };
 
@@ -77,6 +82,7 @@ struct SolverSummary {
   double recorded_s = 0.0;   // simulated time of the recorded cycles
   double separated_s = 0.0;  // recorded time spent in the free state (exact, from event times)
   size_t table_bytes = 0;
+  bool trajectory_truncated = false;  // a memory bound of SolverOptions was reached
 };
 
 struct EventRecord {
