@@ -3,7 +3,7 @@
 set -euo pipefail
 PKGS=(
   build-essential cmake ninja-build pkg-config git
-  libeigen3-dev libspectra-dev libfftw3-dev libyaml-cpp-dev
+  libeigen3-dev liblapack-dev libspectra-dev libfftw3-dev libyaml-cpp-dev
   libvtk9-dev libopenmpi-dev openmpi-bin
   catch2 libcli11-dev libfmt-dev nlohmann-json3-dev libsundials-dev libbenchmark-dev
   xvfb xauth libgl1-mesa-dri

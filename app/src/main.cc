@@ -48,15 +48,11 @@ int main(int argc, char** argv) {
   simulate_cmd->add_flag("--json", simulate.json, "Print the results as one JSON document");
   simulate_cmd
       ->add_option("--method", simulate.method,
-                   "stepped: event-locating sub-steps everywhere; fused (default): also jump the "
-                   "transient and fuse segments when permanent contact is certified")
-      ->check(CLI::IsMember({"stepped", "fused"}));
-  simulate_cmd
-      ->add_option("--events", simulate.events,
-                   "Event location: taylor (default; Taylor polynomial of the state, exact to "
-                   "rounding) or v1 (bisection on dyadic dense propagators, times to 2^-30 of a "
-                   "sub-step; a baseline)")
-      ->check(CLI::IsMember({"taylor", "v1"}));
+                   "Event location and fusion: v1 (dyadic bisection on dense propagators, a "
+                   "baseline), v2 (sub-step certificate + Taylor-polynomial search), v3 "
+                   "(closed-form spectral location per segment), fused (default: v3 plus "
+                   "segment-run fusion, certified constant-contact cycles and O(1) jumps)")
+      ->check(CLI::IsMember({"v1", "v2", "v3", "fused"}));
 
   gearnvh::app::ValidateOptions validate;
   CLI::App* validate_cmd = app.add_subcommand(

@@ -47,6 +47,8 @@ nlohmann::json SummaryJson(const SolverSummary& s) {
           {"wall_s", s.wall_s},
           {"real_time_ratio", s.real_time_ratio},
           {"table_bytes", s.table_bytes},
+          {"spectral_fallback_systems", s.spectral_fallback_systems},
+          {"spectral_max_condition", s.spectral_max_condition},
           {"trajectory_truncated", s.trajectory_truncated}};
 }
 
@@ -81,8 +83,7 @@ int RunSimulate(const SimulateOptions& options) {
     SolverOptions solver;
     solver.cycles = options.cycles.value_or(spec.analysis.cycles);
     solver.transient_cycles = options.transient.value_or(spec.analysis.transient_cycles);
-    solver.method = options.method == "stepped" ? SolverMethod::kStepped : SolverMethod::kFused;
-    solver.events = options.events == "v1" ? EventMethod::kDyadic : EventMethod::kTaylor;
+    ApplyMethodName(options.method, solver);
     solver.Validate();
     const ComponentModel model = BuildComponentModel(spec);
     const ReducedModel reduced = ReduceModel(model, tier);
@@ -168,6 +169,10 @@ int RunSimulate(const SimulateOptions& options) {
       fmt::print("  wall time           {:.4f} s for {:.4f} s simulated: {:.2f}x real time\n",
                  s.wall_s, s.simulated_s, s.real_time_ratio);
       fmt::print("  tables              {:.1f} KiB\n", s.table_bytes / 1024.0);
+      if (solver.events == EventMethod::kSpectral) {
+        fmt::print("  v3 decompositions   max cond(S) {:.3g}, {} (segment, state) fell back to v2\n",
+                   s.spectral_max_condition, s.spectral_fallback_systems);
+      }
       fmt::print("  TE                  mean {:.4f} um, RMS {:.4f} um, p-p {:.4f} um\n",
                  te.mean * 1e6, te.rms * 1e6, te.peak_to_peak * 1e6);
       fmt::print("  mesh force          mean {:.2f} N, max {:.2f} N, dynamic factor {:.3f}\n",

@@ -18,8 +18,7 @@ struct SimulateOptions {
   std::optional<long> cycles;  // overrides analysis.cycles
   std::optional<long> transient;   // overrides analysis.transient_cycles
   std::optional<std::string> out;  // output directory
-  std::string method = "fused";    // "stepped" | "fused"
-  std::string events = "taylor";   // "taylor" | "v1"
+  std::string method = "fused";    // "v1" | "v2" | "v3" | "fused"
   bool json = false;
 };
 

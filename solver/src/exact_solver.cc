@@ -23,13 +23,43 @@ void SolverOptions::Validate() const {
   if (max_trajectory_samples < 0 || max_logged_events < 0) {
     throw InputError("SolverOptions.max_trajectory_samples", 0, "", "memory bounds must be >= 0");
   }
+  if (!(spectral_max_condition >= 1.0)) {
+    throw InputError("SolverOptions.spectral_max_condition", 0,
+                     std::to_string(spectral_max_condition), "must be >= 1");
+  }
   if (!(grazing_rate_tolerance >= 0.0)) {
     throw InputError("SolverOptions.grazing_rate_tolerance", 0,
                      std::to_string(grazing_rate_tolerance), "must be >= 0");
   }
 }
 
-const char* EventMethodName(EventMethod m) { return m == EventMethod::kDyadic ? "v1" : "taylor"; }
+const char* EventMethodName(EventMethod m) {
+  switch (m) {
+    case EventMethod::kDyadic:
+      return "v1";
+    case EventMethod::kTaylor:
+      return "v2";
+    case EventMethod::kSpectral:
+      return "v3";
+  }
+  return "unknown";
+}
+
+void ApplyMethodName(const std::string& name, SolverOptions& options, const std::string& field) {
+  options.method = SolverMethod::kStepped;
+  if (name == "v1") {
+    options.events = EventMethod::kDyadic;
+  } else if (name == "v2") {
+    options.events = EventMethod::kTaylor;
+  } else if (name == "v3") {
+    options.events = EventMethod::kSpectral;
+  } else if (name == "fused") {
+    options.events = EventMethod::kSpectral;
+    options.method = SolverMethod::kFused;
+  } else {
+    throw InputError(field, 0, name, "must be one of v1, v2, v3, fused");
+  }
+}
 
 const char* SolverMethodName(SolverMethod m) {
   return m == SolverMethod::kFused ? "fused" : "stepped";
@@ -155,7 +185,7 @@ ExactStepper::ExactStepper(const SegmentTables& tables, const SolverOptions& opt
     for (int j = 0; j < tables.segments(); ++j) {
       for (int st = 0; st < 3; ++st) {
         // Every level straight from the balanced Pade (squaring up from the finest level would
-        // amplify rounding by 2^30).
+        // amplify rounding by 2^34).
         const SegmentSystem& sys = tables.systems[j][st];
         const double d = tables.SegmentLength(j) / tables.substeps[j];
         const double w_ref = ReferenceFrequency(sys.A, tables.n);
@@ -167,9 +197,38 @@ ExactStepper::ExactStepper(const SegmentTables& tables, const SolverOptions& opt
       }
     }
   }
+  if (options.events == EventMethod::kSpectral) {
+    spectral_.resize(tables.segments());
+    size_t bytes = 0;
+    for (int j = 0; j < tables.segments(); ++j) {
+      double w_ref = 1.0;
+      for (const auto& sys : tables.systems[j])
+        w_ref = std::max(w_ref, ReferenceFrequency(sys.A, tables.n));
+      for (int st = 0; st < 3; ++st) {
+        const SegmentSystem& sys = tables.systems[j][st];
+        SpectralSystem& sp = spectral_[j][st];
+        sp.decomposition = DecomposeGenerator(sys.A, tables.n, w_ref, tables.SegmentLength(j),
+                                              options.spectral_max_condition);
+        sp.ok = sp.decomposition.info == SpectralDecomposition::Info::kSuccess;
+        if (!sp.ok) {
+          ++summary_.spectral_fallback_systems;
+          continue;
+        }
+        summary_.spectral_max_condition =
+            std::max(summary_.spectral_max_condition, sp.decomposition.condition);
+        sp.drive = ClosedFormGap(sp.decomposition, sys.gap_drive);
+        sp.back = ClosedFormGap(sp.decomposition, sys.gap_back);
+        bytes += 2 * sizeof(double) * static_cast<size_t>(tables.m) * tables.m;
+      }
+    }
+    summary_.table_bytes += bytes;
+    w_.resize(tables.m);
+    wt_.resize(tables.m);
+    scratch_.resize(tables.m);
+  }
   trajectory_.samples.reserve(reserve_samples);
   trajectory_.events.reserve(reserve_events);
-  summary_.table_bytes = tables.TableBytes();
+  summary_.table_bytes += tables.TableBytes();
 }
 
 double ExactStepper::WallTolerance(const Eigen::RowVectorXd& row) const {
@@ -288,7 +347,7 @@ void ExactStepper::SwitchState(const SegmentSystem& sys, int wall, double time, 
   }
 }
 
-// V1: the sub-step [0, D] is walked on the dyadic grid of depth L = 30. From the current position
+// V1: the sub-step [0, D] is walked on the dyadic grid of depth L = 34. From the current position
 // (a multiple of D 2^-L), the largest aligned dyadic step that stays inside the sub-step is tried;
 // if its end is outside a wall, the step is halved (bisection) until the crossing is bracketed to
 // one grid cell; the event is placed at the cell's end (quantised to D 2^-L) and walking continues
@@ -388,6 +447,13 @@ bool ExactStepper::Run(long cycles, bool record) {
         if (record && options_.record_trajectory) Record(j);
         continue;
       }
+      if (options_.events == EventMethod::kSpectral) {
+        AdvanceSpectral(j, seg_start, record);
+        if (events_this_cycle_ > options_.max_events_per_cycle) return TooManyEvents();
+        time_ = seg_start + h;
+        if (record && options_.record_trajectory) Record(j);
+        continue;
+      }
       const int n = t_.substeps[j];
       const double d = h / n;
       for (int i = 0; i < n; ++i) {
@@ -402,12 +468,7 @@ bool ExactStepper::Run(long cycles, bool record) {
           } else {
             AdvanceExact(j, seg_start + i * d, d, record);
           }
-          if (events_this_cycle_ > options_.max_events_per_cycle) {
-            summary_.status = SolverStatus::kTooManyEvents;
-            summary_.message = "more than " + std::to_string(options_.max_events_per_cycle) +
-                               " contact events in mesh cycle " + std::to_string(cycle_);
-            return false;
-          }
+          if (events_this_cycle_ > options_.max_events_per_cycle) return TooManyEvents();
         }
       }
       time_ = seg_start + h;
@@ -424,6 +485,91 @@ bool ExactStepper::Run(long cycles, bool record) {
     z_.head(t_.n) -= drift * t_.rigid_rotation;
   }
   return true;
+}
+
+bool ExactStepper::TooManyEvents() {
+  summary_.status = SolverStatus::kTooManyEvents;
+  summary_.message = "more than " + std::to_string(options_.max_events_per_cycle) +
+                     " contact events in mesh cycle " + std::to_string(cycle_);
+  return false;
+}
+
+void ExactStepper::AdvanceTaylorFrom(int segment, double start, double done, bool record) {
+  const double h = t_.SegmentLength(segment);
+  const double d = h / t_.substeps[segment];
+  while (h - done > 1e-15 * h) {
+    const double length = std::min(d, h - done);
+    AdvanceExact(segment, start + done, length, record);
+    done += length;
+    if (events_this_cycle_ > options_.max_events_per_cycle) return;
+  }
+}
+
+// V3 over one whole segment: see the header and spectral_gap.h.
+void ExactStepper::AdvanceSpectral(int segment, double start, bool record) {
+  const double h = t_.SegmentLength(segment);
+  // The unloaded error jumps at a segment boundary: a start outside a wall switches at once.
+  for (int guard = 0; guard < 2; ++guard) {
+    const SegmentSystem& sys = t_.systems[segment][static_cast<int>(contact_)];
+    const int outside = Outside(sys, z_, true);
+    if (outside < 0) break;
+    SwitchState(sys, outside, start, record);
+  }
+  double done = 0.0;
+  bool moved = false;  // z_ was advanced inside this segment (the full propagator no longer fits)
+  while (true) {
+    const SegmentSystem& sys = t_.systems[segment][static_cast<int>(contact_)];
+    SpectralSystem& sp = spectral_[segment][static_cast<int>(contact_)];
+    if (!sp.ok) {
+      AdvanceTaylorFrom(segment, start, done, record);
+      return;
+    }
+    const double remaining = h - done;
+    w_.noalias() = sp.decomposition.S_inv * z_;
+    ++summary_.matvecs;
+    Wall walls[2];
+    const int count = Walls(sys, contact_, walls);
+    double best = -1.0;
+    int best_wall = -1;
+    for (int i = 0; i < count; ++i) {
+      ClosedFormGap& gap = walls[i].row == &sys.gap_drive ? sp.drive : sp.back;
+      gap.Load(w_);
+      const double root = gap.FirstRise(walls[i].sign, remaining);
+      if (root >= 0.0 && (best < 0.0 || root < best)) best = root, best_wall = i;
+    }
+    if (best < 0.0) {
+      if (!moved) {
+        z1_.noalias() = sys.full * z_;  // the dense propagator: exact to rounding, cond-free
+      } else {
+        PropagateDecoupled(sp.decomposition, w_, remaining, wt_, scratch_);
+        z1_.noalias() = sp.decomposition.S * wt_;
+      }
+      z_.swap(z1_);
+      ++summary_.matvecs;
+      return;
+    }
+    const Wall& w = walls[best_wall];
+    ClosedFormGap& gap = w.row == &sys.gap_drive ? sp.drive : sp.back;
+    double step = best;
+    const double rate = gap.Rate(best);
+    const bool touch = best > 0.0 && std::abs(rate) <= options_.grazing_rate_tolerance &&
+                       w.sign * gap.Curvature(best) < 0.0;
+    // A grazing touch keeps the state; the search resumes just past it.
+    if (touch) step = std::min(remaining, best + 1e-12 * h);
+    PropagateDecoupled(sp.decomposition, w_, step, wt_, scratch_);
+    z_.noalias() = sp.decomposition.S * wt_;
+    ++summary_.matvecs;
+    moved = true;
+    done += step;
+    if (touch) {
+      ++summary_.grazing;
+      if (++events_this_cycle_ > options_.max_events_per_cycle) return;
+    } else {
+      SwitchState(sys, best_wall, start + done, record);
+      if (events_this_cycle_ > options_.max_events_per_cycle) return;
+    }
+    if (h - done <= 1e-15 * h) return;
+  }
 }
 
 void ExactStepper::JumpTo(const Eigen::VectorXd& z, long cycles) {

@@ -38,11 +38,14 @@ double MaxTeDifference(const Trajectory& a, const Trajectory& b, double* scale) 
   return diff;
 }
 
-TEST_CASE("exact solver agrees with a tight CVODE reference on a strong-rattle run",
+// Conformance: every event path (V1, V2, V3) against the same tight reference.
+TEST_CASE("every event method agrees with a tight CVODE reference on a strong-rattle run",
           "[solver][reference]") {
   const Setup s(RattleSpec(), Tier::kTier1);
   const auto [z0, state0] = StaticInitialState(s.tables);
   SolverOptions opt;
+  ApplyMethodName(GENERATE("v1", "v2", "v3", "fused"), opt);
+  INFO("events " << EventMethodName(opt.events) << ", " << SolverMethodName(opt.method));
   opt.cycles = 50;
   const SolverResult exact = SimulateExact(s.tables, z0, state0, opt);
   ReferenceOptions ref_opt;
@@ -212,29 +215,39 @@ TEST_CASE("the stepping loop does not allocate", "[solver][allocation]") {
 namespace gearnvh {
 namespace {
 
-TEST_CASE("V1 (dyadic bisection) and the Taylor event path agree on a strong-rattle run",
-          "[solver][v1]") {
-  // Two independent event locators on the same exact propagation: dense dyadic propagators with
-  // times quantised to D 2^-30, and the Taylor polynomial with Newton. The bound, 1e-9 of a
-  // segment, holds for the first 10 cycles (measured 4e-10); afterwards the rattle's sensitivity
-  // amplifies the quantisation (~10x per 10 cycles here), so only the event sequence is compared.
+TEST_CASE("V1, V2 and V3 agree on every event time of a strong-rattle run", "[solver][events]") {
+  // Three independent event locators on the same exact propagation: dense dyadic propagators
+  // (times quantised to D 2^-34), the Taylor polynomial with Newton on sub-steps, and the
+  // closed-form spectral gap per segment. The bound, 1e-9 of a segment, holds for the first
+  // 10 cycles (measured <= 4e-10, V1's quantisation); afterwards the rattle's sensitivity amplifies
+  // rounding-level differences (~10x per 10 cycles here), so over 50 cycles the event sequence
+  // (which flank, in order) is compared, with times within 1e-6 of a segment up to cycle 30.
   const testing::SolverSetup s(RattleSpec(), Tier::kTier1);
   const auto [z0, state0] = StaticInitialState(s.tables);
-  SolverOptions taylor, dyadic;
-  taylor.method = dyadic.method = SolverMethod::kStepped;
-  taylor.cycles = dyadic.cycles = 50;
-  dyadic.events = EventMethod::kDyadic;
-  const SolverResult a = SimulateExact(s.tables, z0, state0, taylor);
-  const SolverResult b = SimulateExact(s.tables, z0, state0, dyadic);
+  const auto pair = GENERATE(std::make_pair("v1", "v2"), std::make_pair("v2", "v3"),
+                             std::make_pair("v1", "v3"));
+  INFO(pair.first << " vs " << pair.second);
+  SolverOptions first, second;
+  ApplyMethodName(pair.first, first);
+  ApplyMethodName(pair.second, second);
+  first.cycles = second.cycles = 50;
+  const SolverResult a = SimulateExact(s.tables, z0, state0, first);
+  const SolverResult b = SimulateExact(s.tables, z0, state0, second);
   REQUIRE(a.trajectory.events.size() == b.trajectory.events.size());
   REQUIRE(a.trajectory.events.size() > 100);
   const double segment = s.tables.SegmentLength(0);
+  double worst_first_ten = 0.0;
   for (size_t i = 0; i < a.trajectory.events.size(); ++i) {
     const EventRecord& x = a.trajectory.events[i];
     const EventRecord& y = b.trajectory.events[i];
+    INFO("event " << i << " at " << x.time);
     CHECK(x.to == y.to);
-    if (x.time < 10 * s.tables.mesh_period) CHECK(std::abs(x.time - y.time) <= 1e-9 * segment);
+    CHECK(x.from == y.from);
+    const double cycles = x.time / s.tables.mesh_period;
+    if (cycles < 10) worst_first_ten = std::max(worst_first_ten, std::abs(x.time - y.time));
+    if (cycles < 30) CHECK(std::abs(x.time - y.time) <= 1e-6 * segment);
   }
+  CHECK(worst_first_ten <= 1e-9 * segment);
 }
 
 }  // namespace

@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "gearnvh/solver/segment_tables.h"
+#include "gearnvh/solver/spectral_gap.h"
 
 namespace gearnvh {
 
@@ -40,16 +41,28 @@ namespace gearnvh {
 enum class SolverMethod { kStepped, kFused };
 const char* SolverMethodName(SolverMethod m);
 
-// How a flagged sub-step is examined. kTaylor: the Taylor polynomial of the state, first root by
-// sampling + safeguarded Newton (exact to rounding). kDyadic (the V1 baseline): bisection on dense
-// dyadic propagators expm(A D / 2^l), l = 1..30 — event times quantised to D 2^-30, independent of
-// the polynomial path; tables grow by 30 matrices per segment and state (refused above 256 MiB).
-enum class EventMethod { kTaylor, kDyadic };
+// How events are located (all three give the same event times; the ladder and the tests compare
+// them).
+// kSpectral (V3, default): per whole segment, closed-form gap in the decoupled coordinates of the
+//   generator (spectral_gap.h): derivative-bound prescreen, certified monotone sub-intervals,
+//   safeguarded Newton; two matvecs per segment; exact event times. A (segment, state) whose
+//   decomposition is ill-conditioned (cond(S) > spectral_max_condition, close eigenvalues of
+//   different blocks) falls back to the kTaylor path for that segment; the summary counts them.
+// kTaylor (V2): sub-steps of length D (rho(A) D <= 1/2); the endpoint signs and rates of each
+//   sub-step certify that no wall was reached; a flagged sub-step is searched on the Taylor
+//   polynomial of the state (sampling, interior extrema, safeguarded Newton), exact to rounding.
+// kDyadic (V1 baseline): bisection on dense dyadic propagators expm(A D / 2^l), l = 1..34; event
+//   times quantised to D 2^-34; tables grow by 34 matrices per segment and state (refused above
+//   256 MiB).
+enum class EventMethod { kSpectral, kTaylor, kDyadic };
 const char* EventMethodName(EventMethod m);
 
 struct SolverOptions {
   SolverMethod method = SolverMethod::kFused;
-  EventMethod events = EventMethod::kTaylor;
+  EventMethod events = EventMethod::kSpectral;
+  // kSpectral: decompositions with |S|_1 |S^-1|_1 above this fall back to kTaylor (state error
+  // ~ cond(S) eps).
+  double spectral_max_condition = 1e6;  // >= 1
   long cycles = 100;                     // mesh cycles recorded after the transient; >= 1
   long transient_cycles = 0;             // mesh cycles run first and not recorded; >= 0
   bool record_trajectory = true;         // samples at every segment boundary of recorded cycles
@@ -62,6 +75,11 @@ struct SolverOptions {
   long max_logged_events = 1'000'000;       // >= 0
   void Validate() const;
 };
+
+// The method names of the CLI: v1, v2, v3 (stepped with that event path) and fused (v3 + fusion).
+// Throws InputError naming `field` for anything else.
+void ApplyMethodName(const std::string& name, SolverOptions& options,
+                     const std::string& field = "--method");
 
 enum class SolverStatus { kSuccess, kTooManyEvents };
 const char* SolverStatusName(SolverStatus s);
@@ -82,6 +100,8 @@ struct SolverSummary {
   double recorded_s = 0.0;   // simulated time of the recorded cycles
   double separated_s = 0.0;  // recorded time spent in the free state (exact, from event times)
   size_t table_bytes = 0;
+  int spectral_fallback_systems = 0;  // (segment, state) pairs located by kTaylor instead of V3
+  double spectral_max_condition = 0.0;  // largest cond(S) among the decompositions used
   bool trajectory_truncated = false;  // a memory bound of SolverOptions was reached
 };
 
@@ -148,19 +168,31 @@ class ExactStepper {
   double WallTolerance(const Eigen::RowVectorXd& row) const;
   void AdvanceExact(int segment, double start, double length, bool record);
   void AdvanceDyadic(int segment, double start, bool record);
+  void AdvanceSpectral(int segment, double start, bool record);
+  // The rest of a segment from `done` by the kTaylor search in chunks of one sub-step.
+  void AdvanceTaylorFrom(int segment, double start, double done, bool record);
   // The first wall (0/1) that z is outside of (beyond the wall tolerance when asked), or -1.
   int Outside(const SegmentSystem& sys, const Eigen::VectorXd& z, bool with_tolerance) const;
   void SwitchState(const SegmentSystem& sys, int wall, double time, bool record);
+  bool TooManyEvents();  // sets the status and message; returns false
   void Record(int segment);
 
   const SegmentTables& t_;
   SolverOptions options_;
   Eigen::VectorXd z_, z1_;
   Eigen::MatrixXd taylor_;  // m x (kTaylorTerms + 1): A^k z / k!
-  static constexpr int kDyadicLevels = 30;
+  static constexpr int kDyadicLevels = 34;
   // kDyadic: dyadic_[segment][state][l] = expm(A D 2^-(l+1)), l = 0..kDyadicLevels-1.
   std::vector<std::array<std::vector<Eigen::MatrixXd>, 3>> dyadic_;
   Eigen::VectorXd za_, zb_;
+  // kSpectral: per segment and state, the decomposition and the closed forms of both gap rows.
+  struct SpectralSystem {
+    SpectralDecomposition decomposition;
+    ClosedFormGap drive, back;
+    bool ok = false;
+  };
+  std::vector<std::array<SpectralSystem, 3>> spectral_;
+  Eigen::VectorXd w_, wt_, scratch_;
   ContactState contact_;
   double gap_tolerance_;  // m: a start this far outside a wall is an immediate event
   double time_ = 0.0;

@@ -1,0 +1,95 @@
+// Closed-form gaps over a segment: the V3 event path (DESIGN.md §4.4).
+//
+// A generator A (balanced: velocities scaled by 1/w_ref) is brought to an ordered real Schur form
+// A = Q T Q^T (LAPACK dgees, the near-zero eigenvalues first) and T is block-diagonalised with
+// Sylvester equations (LAPACK dtrsyl, Bartels–Stewart), one diagonal block at a time:
+//   T = [[T11, T12], [0, T22]],  T11 X - X T22 = -T12,  [[I, -X], [0, I]] T [[I, X], [0, I]]
+//     = diag(T11, T22).
+// The result is A = S diag(B0, B1, ..., Bp) S^-1 with B0 the cluster of eigenvalues |lambda| <=
+// zero_tolerance * rho (rigid-body rotations, the constant and excitation slots: nilpotent up to
+// rounding, so e^{B0 t} is a short power series) and B1..Bp single real eigenvalues (1x1) or
+// complex pairs sigma +- i omega (2x2, e^{Bt} = e^{sigma t}[cos(omega t) I + sin(omega t)/omega
+// (B - sigma I)]). cond(S) = |S|_1 |S^-1|_1 is recorded; above the caller's limit (nearly equal
+// eigenvalues of different blocks) the decomposition reports kIllConditioned and the solver
+// falls back to the dense path for that segment and state.
+//
+// For a gap row c and decoupled coordinates w = S^-1 z, the gap over the segment is
+//   g(t) = c S e^{Dt} w = p(t) + sum_k e^{sigma_k t}(alpha_k cos omega_k t + beta_k sin omega_k t)
+//                              + sum_r gamma_r e^{lambda_r t},
+// scalar work only. FirstRise() finds the first t in (0, H] where sign * g(t) rises above 0:
+// interval bisection with two certificates, (1) |g'| <= R on [a, b] and g(a) + R (b - a) <= 0:
+// no root; (2) |g'(a)| > C (b - a) with |g''| <= C on [a, b]: g is monotone there, so a root
+// exists iff g(b) > 0 and is polished by safeguarded Newton. Roots are exact to rounding; no
+// time grid is involved.
+#pragma once
+
+#include <Eigen/Dense>
+#include <vector>
+
+namespace gearnvh {
+
+struct SpectralDecomposition {
+  enum class Info { kSuccess, kSchurFailed, kIllConditioned, kSeriesDiverged };
+  Info info = Info::kSchurFailed;
+  Eigen::MatrixXd S, S_inv;  // in the caller's (unbalanced) coordinates
+  int zero_size = 0;         // size of the leading block B0
+  Eigen::MatrixXd B0;
+  struct Block {
+    int start = 0, size = 1;  // rows/columns in the block diagonal
+    double sigma = 0.0;       // real part (the eigenvalue itself for size 1)
+    double omega = 0.0;       // imaginary part (> 0) for size 2
+    Eigen::Matrix2d B = Eigen::Matrix2d::Zero();
+  };
+  std::vector<Block> blocks;
+  double condition = 0.0;  // |S|_1 |S^-1|_1 of the balanced transformation
+  int series_terms = 0;    // powers of B0 kept for e^{B0 t}, t <= horizon
+};
+const char* SpectralInfoName(SpectralDecomposition::Info info);
+
+// Decomposes the augmented generator A (n reduced DOF, velocities balanced by w_ref as in
+// BalancedExpm) for times up to `horizon`.
+SpectralDecomposition DecomposeGenerator(const Eigen::MatrixXd& A, int n, double w_ref,
+                                         double horizon, double max_condition);
+
+// e^{Dt} w for the block-diagonal D of `d`. No allocation: `out` has the size of w and `scratch`
+// at least zero_size entries.
+void PropagateDecoupled(const SpectralDecomposition& d, const Eigen::VectorXd& w, double t,
+                        Eigen::VectorXd& out, Eigen::VectorXd& scratch);
+
+// The closed form of one gap row on one decomposition. Construction precomputes rows; Load()
+// takes the decoupled state of a segment start; the rest is scalar work without allocation.
+class ClosedFormGap {
+ public:
+  ClosedFormGap() = default;
+  ClosedFormGap(const SpectralDecomposition& d, const Eigen::RowVectorXd& row);
+
+  void Load(const Eigen::VectorXd& w);
+  double Value(double t) const { return Evaluate(t, 0); }
+  double Rate(double t) const { return Evaluate(t, 1); }
+  double Curvature(double t) const { return Evaluate(t, 2); }
+  // An upper bound of |d^order g / dt^order| on [a, b], 0 <= a <= b.
+  double DerivativeBound(double a, double b, int order) const;
+  // First t in (0, horizon] where sign * g(t) - offset > 0, or -1; offset = max(0, sign g(0)) so
+  // a start on the wall (within rounding, right after an event) counts as inside.
+  double FirstRise(double sign, double horizon) const;
+
+ private:
+  double Evaluate(double t, int order) const;
+  double Search(double a, double fa, double b, int depth) const;
+
+  // p_k = poly_rows_.row(k) . w0, with w0 the B0 part of w.
+  Eigen::MatrixXd poly_rows_;
+  struct Term {
+    int start = 0, size = 1;
+    double sigma = 0.0, omega = 0.0;
+    Eigen::RowVector2d r1 = Eigen::RowVector2d::Zero(), r2 = Eigen::RowVector2d::Zero();
+    double alpha = 0.0, beta = 0.0;  // loaded coefficients
+  };
+  std::vector<Term> terms_;
+  Eigen::VectorXd poly_;  // loaded polynomial coefficients
+  int zero_size_ = 0;
+  // Search state (set by FirstRise).
+  mutable double sign_ = 1.0, offset_ = 0.0, horizon_ = 0.0;
+};
+
+}  // namespace gearnvh

@@ -1,0 +1,204 @@
+#include "gearnvh/solver/spectral_gap.h"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <numbers>
+
+#include "gearnvh/solver/exact_solver.h"
+#include "model/test_specs.h"
+#include "solver/solver_fixture.h"
+
+namespace gearnvh {
+namespace {
+
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+
+// z = [x; v; 1]: x'' = -w^2 (x - rest) + accel. n = 1, m = 3.
+Eigen::MatrixXd Oscillator(double w, double rest, double accel) {
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(3, 3);
+  A(0, 1) = 1.0;
+  A(1, 0) = -w * w;
+  A(1, 2) = w * w * rest + accel;
+  return A;
+}
+
+TEST_CASE("free flight: the closed-form gap is the parabola and its first root the quadratic's",
+          "[solver][spectral]") {
+  // x'' = a: all eigenvalues 0, the whole generator is the nilpotent block; g = x - L.
+  const double a = -3.0, x0 = 0.0, v0 = 2.0, L = 0.5;
+  Eigen::MatrixXd A = Oscillator(0.0, 0.0, a);
+  const SpectralDecomposition d = DecomposeGenerator(A, 1, 1.0, 1.0, 1e6);
+  REQUIRE(d.info == SpectralDecomposition::Info::kSuccess);
+  CHECK(d.zero_size == 3);
+  ClosedFormGap gap(d, Eigen::RowVector3d(1.0, 0.0, -L));
+  const Eigen::Vector3d z(x0, v0, 1.0);
+  gap.Load(d.S_inv * z);
+  for (double t : {0.0, 0.25, 0.5, 1.0}) {
+    // Exact polynomial identity: a few eps of the terms' size.
+    CHECK(std::abs(gap.Value(t) - (x0 + v0 * t + 0.5 * a * t * t - L)) <= 16 * kEps);
+    CHECK(std::abs(gap.Rate(t) - (v0 + a * t)) <= 16 * kEps);
+  }
+  // x rises to 2/3 at t = 2/3 and crosses 0.5 first at t = (2 - sqrt(4 - 3)) / 3 = 1/3.
+  const double root = gap.FirstRise(1.0, 1.0);
+  CHECK(std::abs(root - 1.0 / 3.0) <= 16 * kEps);
+}
+
+TEST_CASE("oscillator: a brief excursion across the wall is found, a near miss is not",
+          "[solver][spectral]") {
+  // x = A0 cos(w t): peak A0 at t = 2 pi / w. Wall at L < A0: first root acos(L / A0) ... of the
+  // second lobe, since x starts at the peak and falls first. Start at x = -A0 (trough) instead.
+  const double w = 1000.0, amp = 1e-5;
+  const SpectralDecomposition d = DecomposeGenerator(Oscillator(w, 0.0, 0.0), 1, w, 0.01, 1e6);
+  REQUIRE(d.info == SpectralDecomposition::Info::kSuccess);
+  REQUIRE(d.blocks.size() == 1);
+  CHECK(std::abs(d.blocks[0].omega - w) <= 1e-12 * w);
+  const Eigen::Vector3d z(-amp, 0.0, 1.0);
+  const double horizon = 2.0 * std::numbers::pi / w;  // one period: peak at pi / w
+  // Just below the peak: the excursion lasts 2 acos(L/A)/w ~ 2e-6 of a period, between any
+  // reasonable sampling grid points; the root is exact: x = -A cos(w t) = L.
+  const double L = amp * (1.0 - 1e-10);
+  ClosedFormGap gap(d, Eigen::RowVector3d(1.0, 0.0, -L));
+  gap.Load(d.S_inv * z);
+  const double root = gap.FirstRise(1.0, horizon);
+  const double expected = std::acos(-L / amp) / w;
+  REQUIRE(root > 0.0);
+  // Near the peak dt = dx / x' with x' ~ w A sqrt(2e-10): the root is determined to
+  // eps |x| / |x'| ~ 1.6e-11 s; allow 100x.
+  CHECK(std::abs(root - expected) <= 100 * kEps * amp / (w * amp * std::sqrt(2e-10)));
+  // Just above the peak: no root anywhere in the period.
+  ClosedFormGap above(d, Eigen::RowVector3d(1.0, 0.0, -amp * (1.0 + 1e-9)));
+  above.Load(d.S_inv * z);
+  CHECK(above.FirstRise(1.0, horizon) < 0.0);
+}
+
+TEST_CASE("closed-form gaps and rates equal dense propagation for every segment and state",
+          "[solver][spectral]") {
+  GearboxSpec spec = testing::StandardPair(27, 43, 2e-3, 15e-3);
+  spec.mesh.friction_coefficient = 0.05;
+  spec.operating.torque = 0.2;
+  spec.operating.excitation = {{2.0, 1500.0, 0.0}};
+  const Tier tier = GENERATE(Tier::kTier1, Tier::kTier3);
+  const testing::SolverSetup s(spec, tier);
+  const SegmentTables& t = s.tables;
+  auto [z, state0] = StaticInitialState(t);
+  z[t.m - 1] = 50.0;                         // an excitation value
+  z.segment(t.n, t.n).setConstant(0.01);     // and a velocity perturbation
+  for (int j = 0; j < t.segments(); j += 5) {
+    double w_ref = 1.0;
+    for (const auto& sys : t.systems[j]) w_ref = std::max(w_ref, ReferenceFrequency(sys.A, t.n));
+    const double h = t.SegmentLength(j);
+    for (int st = 0; st < 3; ++st) {
+      const SegmentSystem& sys = t.systems[j][st];
+      const SpectralDecomposition d = DecomposeGenerator(sys.A, t.n, w_ref, h, 1e6);
+      INFO("segment " << j << " state " << st << " info " << SpectralInfoName(d.info));
+      // Tier 3 in free flight has identical lateral modes of the two gears' y and z directions
+      // (isotropic bearings): equal eigenvalues of different blocks, which the decoupling refuses
+      // (the solver falls back to V2 there). Every other system must decompose.
+      if (tier == Tier::kTier3 && st == static_cast<int>(ContactState::kFree)) {
+        CHECK(d.info == SpectralDecomposition::Info::kIllConditioned);
+        continue;
+      }
+      REQUIRE(d.info == SpectralDecomposition::Info::kSuccess);
+      ClosedFormGap gap(d, sys.gap_drive);
+      const Eigen::VectorXd w = d.S_inv * z;
+      gap.Load(w);
+      Eigen::VectorXd out(t.m), scratch(t.m);
+      for (double f : {0.0, 0.37, 1.0}) {
+        const Eigen::VectorXd dense = BalancedExpm(sys.A, f * h, t.n, w_ref) * z;
+        PropagateDecoupled(d, w, f * h, out, scratch);
+        const Eigen::VectorXd decoupled = d.S * out;
+        // Both are exact to rounding of the gap's terms (the unloaded error and the half
+        // backlash, ~1e-4 m, times cond(S) ~ 10 and a few eps): 1e-12 of the half backlash.
+        CHECK(std::abs(gap.Value(f * h) - sys.gap_drive.dot(dense)) <= 1e-12 * t.half_backlash);
+        CHECK(std::abs(sys.gap_drive.dot(decoupled) - sys.gap_drive.dot(dense)) <=
+              1e-12 * t.half_backlash);
+        // The rate: rounding relative to the largest velocity term w_ref * b.
+        CHECK(std::abs(gap.Rate(f * h) - sys.gap_drive_rate.dot(dense)) <=
+              1e-12 * w_ref * t.half_backlash);
+      }
+    }
+  }
+}
+
+TEST_CASE("nearly equal eigenvalues of different blocks are reported ill-conditioned",
+          "[solver][spectral]") {
+  // Two oscillators at 1000 and 1000 (1 + 1e-9) rad/s with a strong non-normal coupling: the
+  // decoupling X ~ coupling / (lambda1 - lambda2) makes cond(S) ~ 1e9.
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(6, 6);  // n = 2: [x1 x2 v1 v2 1 s]
+  A(0, 2) = A(1, 3) = 1.0;
+  A(2, 0) = -1e6;
+  A(3, 1) = -1e6 * (1.0 + 2e-9);
+  A(2, 1) = 1e5;  // coupling x2 -> x1 only (triangular: eigenvalues unchanged)
+  const SpectralDecomposition d = DecomposeGenerator(A, 2, 1000.0, 1e-3, 1e6);
+  CHECK(d.info == SpectralDecomposition::Info::kIllConditioned);
+}
+
+TEST_CASE("V3 with every decomposition refused falls back to V2 and gives its events",
+          "[solver][spectral]") {
+  GearboxSpec spec = testing::StandardPair(27, 43, 2e-3, 15e-3);
+  spec.pinion.bore_diameter = 25e-3;
+  spec.wheel.bore_diameter = 30e-3;
+  spec.pinion.inertia = 5e-3;
+  spec.mesh.friction_coefficient = 0.05;
+  spec.operating.torque = 0.2;
+  spec.operating.excitation = {{2.0, 1500.0, 0.0}};
+  const testing::SolverSetup s(spec, Tier::kTier1);
+  const auto [z0, state0] = StaticInitialState(s.tables);
+  SolverOptions v2, refused;
+  ApplyMethodName("v2", v2);
+  ApplyMethodName("v3", refused);
+  v2.cycles = refused.cycles = 15;
+  refused.spectral_max_condition = 1.0;  // no real decomposition has cond(S) <= 1
+  const SolverResult a = SimulateExact(s.tables, z0, state0, v2);
+  const SolverResult b = SimulateExact(s.tables, z0, state0, refused);
+  // Free flight in tier 1 is all-nilpotent with S = Q orthogonal: cond 1 may pass; the contact
+  // states cannot.
+  CHECK(b.summary.spectral_fallback_systems >= 2 * s.tables.segments());
+  REQUIRE(a.trajectory.events.size() == b.trajectory.events.size());
+  REQUIRE(!a.trajectory.events.empty());
+  for (size_t i = 0; i < a.trajectory.events.size(); ++i) {
+    CHECK(a.trajectory.events[i].to == b.trajectory.events[i].to);
+    // Both locate on the same Taylor polynomials in contact; free flight differs (closed form vs
+    // Taylor) by rounding: 1e-9 of a segment.
+    CHECK(std::abs(a.trajectory.events[i].time - b.trajectory.events[i].time) <=
+          1e-9 * s.tables.SegmentLength(0));
+  }
+}
+
+}  // namespace
+}  // namespace gearnvh
+
+namespace gearnvh {
+namespace {
+
+TEST_CASE("V3 with partial fallback (tier 3) gives V2's events", "[solver][spectral]") {
+  // Tier 3's free flight falls back to V2 (equal lateral eigenvalues); contact is closed form.
+  GearboxSpec spec = testing::StandardPair(27, 43, 2e-3, 15e-3);
+  spec.pinion.bore_diameter = 25e-3;
+  spec.wheel.bore_diameter = 30e-3;
+  spec.pinion.inertia = 5e-3;
+  spec.mesh.friction_coefficient = 0.05;
+  spec.operating.torque = 0.2;
+  spec.operating.excitation = {{2.0, 1500.0, 0.0}};
+  const testing::SolverSetup s(spec, Tier::kTier3);
+  const auto [z0, state0] = StaticInitialState(s.tables);
+  SolverOptions v2, v3;
+  ApplyMethodName("v2", v2);
+  ApplyMethodName("v3", v3);
+  v2.cycles = v3.cycles = 12;
+  const SolverResult a = SimulateExact(s.tables, z0, state0, v2);
+  const SolverResult b = SimulateExact(s.tables, z0, state0, v3);
+  // Only free states fall back (at most one per segment); contact always decomposes.
+  CHECK(b.summary.spectral_fallback_systems > 0);
+  CHECK(b.summary.spectral_fallback_systems <= s.tables.segments());
+  REQUIRE(a.trajectory.events.size() == b.trajectory.events.size());
+  REQUIRE(a.trajectory.events.size() >= 2);
+  for (size_t i = 0; i < a.trajectory.events.size(); ++i) {
+    CHECK(a.trajectory.events[i].to == b.trajectory.events[i].to);
+    CHECK(std::abs(a.trajectory.events[i].time - b.trajectory.events[i].time) <=
+          1e-9 * s.tables.SegmentLength(0));
+  }
+}
+
+}  // namespace
+}  // namespace gearnvh
