@@ -5,6 +5,7 @@
 
 #include "check_command.h"
 #include "simulate_command.h"
+#include "sweep_command.h"
 #include "validate_command.h"
 
 int main(int argc, char** argv) {
@@ -66,6 +67,26 @@ int main(int argc, char** argv) {
   validate_cmd->add_flag("--json", validate.json,
                          "Print {checks: [{name, value, threshold, pass}]}");
 
+  gearnvh::app::SweepOptions sweep;
+  CLI::App* sweep_cmd = app.add_subcommand(
+      "sweep",
+      "Speed sweep over analysis.speed_sweep: Campbell data of the linearised tier (modes tracked "
+      "by MAC, order lines, critical speeds) and a waterfall of steady-state TE spectra (one exact "
+      "run per speed, speeds in parallel).");
+  sweep_cmd->add_option("FILE", sweep.file, "Gearbox YAML file")->required()->check(CLI::ExistingFile);
+  sweep_cmd->add_option("--tier", sweep.tier, "Modal tier (default: analysis.tier)");
+  sweep_cmd->add_option("--cycles", sweep.cycles, "Recorded mesh cycles per speed (default 512)")
+      ->check(CLI::Range(2L, 100000000L));
+  sweep_cmd->add_option("--transient", sweep.transient, "Unrecorded cycles per speed (default 200)")
+      ->check(CLI::Range(0L, 100000000L));
+  sweep_cmd->add_option("--jobs", sweep.jobs, "Threads (default: all cores)")
+      ->check(CLI::Range(1, 1024));
+  sweep_cmd->add_option("--method", sweep.method, "v1, v2, v3 or fused (default)")
+      ->check(CLI::IsMember({"v1", "v2", "v3", "fused"}));
+  sweep_cmd->add_option("--out", sweep.out,
+                        "Write campbell.csv, critical_speeds.csv, waterfall.csv and sweep.json");
+  sweep_cmd->add_flag("--json", sweep.json, "Print the results as one JSON document");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -76,6 +97,7 @@ int main(int argc, char** argv) {
     if (check_cmd->parsed()) return gearnvh::app::RunCheck(check);
     if (simulate_cmd->parsed()) return gearnvh::app::RunSimulate(simulate);
     if (validate_cmd->parsed()) return gearnvh::app::RunValidate(validate);
+    if (sweep_cmd->parsed()) return gearnvh::app::RunSweep(sweep);
   } catch (const std::exception& e) {
     std::cerr << "internal error: " << e.what() << "\n";
     return 3;

@@ -4,6 +4,8 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <numbers>
+#include <numeric>
 #include <iostream>
 #include <sstream>
 
@@ -11,11 +13,11 @@
 #include "config/gearbox_loader.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/rattle.h"
+#include "gearnvh/nvh/spectrum.h"
 #include "gearnvh/nvh/transmission_error.h"
 #include "gearnvh/reduction/reduced_model.h"
 
 namespace gearnvh::app {
-namespace {
 
 Tier ParseTier(const std::string& text) {
   if (text == "1") return Tier::kTier1;
@@ -27,6 +29,9 @@ Tier ParseTier(const std::string& text) {
   if (text == "N20 MTA") return Tier::kN20Mta;
   throw InputError("--tier", 0, text, "must be 1..5, \"N40 full\", \"N20 simple\" or \"N20 MTA\"");
 }
+
+namespace {
+
 
 nlohmann::json SummaryJson(const SolverSummary& s) {
   return {{"status", SolverStatusName(s.status)},
@@ -144,6 +149,35 @@ int RunSimulate(const SimulateOptions& options) {
     doc["mesh_force"] = {{"mean", te.mesh_force_mean},
                          {"max", te.mesh_force_max},
                          {"dynamic_factor", te.dynamic_factor}};
+    // Mesh harmonics and shaft-order sidebands of the TE over whole revolutions of both shafts.
+    const long revolution = std::lcm(static_cast<long>(spec.pinion.teeth),
+                                     static_cast<long>(spec.wheel.teeth));
+    // The first recorded sample is one segment into the record: at most recorded - 1 whole cycles.
+    const long window =
+        summary.trajectory_truncated ? 0 : ((summary.recorded_cycles - 1) / revolution) * revolution;
+    nlohmann::json sidebands = nlohmann::json::array();
+    std::vector<SidebandRow> sideband_rows;
+    if (window > 0 && summary.status == SolverStatus::kSuccess) {
+      const int per_cycle = spec.analysis.segments_per_cycle;
+      SpectrumAnalyzer analyzer(static_cast<int>(window * per_cycle));
+      const AmplitudeSpectrum spectrum =
+          TeSpectrum(trajectory, tables.mesh_period, per_cycle, window, analyzer);
+      const double pinion_hz = spec.operating.speed / (2.0 * std::numbers::pi);
+      sideband_rows = SidebandTable(spectrum, 1.0 / tables.mesh_period, pinion_hz,
+                                    pinion_hz * spec.pinion.teeth / spec.wheel.teeth, 3, 3);
+      for (const SidebandRow& r : sideband_rows) {
+        sidebands.push_back({{"label", r.label},
+                             {"frequency_hz", r.frequency_hz},
+                             {"amplitude_m", r.amplitude},
+                             {"db_re_1m", r.db}});
+      }
+    }
+    doc["sidebands"] = sidebands;
+    doc["sideband_window_cycles"] = window;
+    if (window == 0) {
+      doc["sidebands_note"] = "needs at least lcm(z1, z2) = " + std::to_string(revolution) +
+                              " recorded mesh cycles (whole revolutions of both shafts)";
+    }
     if (options.out) {
       std::filesystem::create_directories(*options.out);
       const std::filesystem::path dir(*options.out);
@@ -185,6 +219,15 @@ int RunSimulate(const SimulateOptions& options) {
       fmt::print(
           "  wheel acceleration  RMS {:.1f} rad/s^2, {:.2f}x the same gearbox without backlash\n",
           rattle.wheel_acceleration_rms, rattle.acceleration_ratio);
+      if (!sideband_rows.empty()) {
+        fmt::print("  TE mesh harmonics   ");
+        for (const SidebandRow& r : sideband_rows) {
+          if (r.label.find('f', r.label.find("fm") + 2) == std::string::npos) {
+            fmt::print("{}: {:.4f} um  ", r.label, r.amplitude * 1e6);
+          }
+        }
+        fmt::print("(sidebands in --json, over {} cycles)\n", window);
+      }
       if (!s.message.empty()) fmt::print("  note: {}\n", s.message);
       if (s.trajectory_truncated) {
         fmt::print("  note: trajectory storage bound reached; statistics cover the stored part\n");

@@ -24,4 +24,7 @@ struct SimulateOptions {
 
 int RunSimulate(const SimulateOptions& options);
 
+// --tier: 1..5, "N40 full", "N20 simple", "N20 MTA"; InputError otherwise.
+Tier ParseTier(const std::string& text);
+
 }  // namespace gearnvh::app

@@ -4,11 +4,20 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 #include <complex>
 #include <numbers>
 #include <stdexcept>
 
 namespace gearnvh {
+
+namespace {
+std::mutex& PlannerMutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+}  // namespace
+
 
 struct SpectrumAnalyzer::Plan {
   double* in = nullptr;
@@ -20,7 +29,11 @@ SpectrumAnalyzer::SpectrumAnalyzer(int length) : n_(length), plan_(std::make_uni
   if (length < 8) throw std::invalid_argument("SpectrumAnalyzer: length must be >= 8");
   plan_->in = fftw_alloc_real(static_cast<size_t>(n_));
   plan_->out = fftw_alloc_complex(static_cast<size_t>(n_ / 2 + 1));
-  plan_->plan = fftw_plan_dft_r2c_1d(n_, plan_->in, plan_->out, FFTW_ESTIMATE);
+  {
+    // FFTW's planner is not thread-safe (only fftw_execute is): sweeps build analyzers in threads.
+    const std::lock_guard<std::mutex> lock(PlannerMutex());
+    plan_->plan = fftw_plan_dft_r2c_1d(n_, plan_->in, plan_->out, FFTW_ESTIMATE);
+  }
   window_.resize(static_cast<size_t>(n_));
   for (int i = 0; i < n_; ++i) {
     window_[static_cast<size_t>(i)] = 0.5 * (1.0 - std::cos(2.0 * std::numbers::pi * i / n_));
@@ -29,7 +42,10 @@ SpectrumAnalyzer::SpectrumAnalyzer(int length) : n_(length), plan_(std::make_uni
 }
 
 SpectrumAnalyzer::~SpectrumAnalyzer() {
-  fftw_destroy_plan(plan_->plan);
+  {
+    const std::lock_guard<std::mutex> lock(PlannerMutex());
+    fftw_destroy_plan(plan_->plan);
+  }
   fftw_free(plan_->in);
   fftw_free(plan_->out);
 }

@@ -413,6 +413,7 @@ void ExactStepper::Record(int segment) {
   TrajectorySample s;
   s.time = time_;
   s.te = t_.te_row.dot(z_);
+  s.te_rate = t_.te_rate_row.dot(z_);
   if (contact_ == ContactState::kDrive) {
     s.mesh_force =
         sys.mesh_stiffness * sys.gap_drive.dot(z_) + t_.mesh_damping * sys.gap_drive_rate.dot(z_);

@@ -8,6 +8,7 @@
 // segment).
 #pragma once
 
+#include "gearnvh/nvh/spectrum.h"
 #include "gearnvh/solver/exact_solver.h"
 
 namespace gearnvh {
@@ -24,5 +25,18 @@ struct TransmissionErrorStats {
 // `static_mesh_force` = T / r_b2 for the dynamic factor.
 TransmissionErrorStats ComputeTransmissionErrorStats(const Trajectory& trajectory,
                                                      double static_mesh_force);
+
+// `count` uniform samples of the TE from `start` at `rate_hz`, by cubic Hermite interpolation
+// between the trajectory's samples (values and rates at segment boundaries, so the error is
+// O(h^4) in the sample spacing: 3e-4 relative at the third mesh harmonic with 32 segments, where
+// linear interpolation would lose 3 %). Times outside the samples' span throw std::out_of_range.
+std::vector<double> ResampleTe(const Trajectory& trajectory, double start, double rate_hz,
+                               long count);
+
+// Amplitude spectrum of the TE over the last `cycles` whole mesh cycles of the trajectory (which
+// must end on a cycle boundary), resampled uniformly at samples_per_cycle per cycle (ResampleTe).
+// `analyzer` must have length cycles * samples_per_cycle (reuse one per length in a sweep).
+AmplitudeSpectrum TeSpectrum(const Trajectory& trajectory, double mesh_period,
+                             int samples_per_cycle, long cycles, SpectrumAnalyzer& analyzer);
 
 }  // namespace gearnvh

@@ -114,6 +114,7 @@ struct EventRecord {
 struct TrajectorySample {
   double time = 0.0;          // s
   double te = 0.0;            // dynamic transmission error v^T x, m
+  double te_rate = 0.0;       // its time derivative, m/s (for Hermite resampling)
   double mesh_force = 0.0;    // N (positive on the drive flank)
   double pinion_speed = 0.0;  // running angular velocity perturbation, rad/s
   double wheel_speed = 0.0;

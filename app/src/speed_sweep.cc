@@ -1,0 +1,135 @@
+#include "speed_sweep.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <mutex>
+#include <numbers>
+#include <thread>
+
+#include "gearnvh/model/input_error.h"
+#include "gearnvh/nvh/rattle.h"
+#include "gearnvh/nvh/spectrum.h"
+#include "gearnvh/nvh/transmission_error.h"
+#include "gearnvh/solver/exact_solver.h"
+#include "gearnvh/solver/segment_tables.h"
+
+namespace gearnvh::app {
+
+namespace {
+
+constexpr double kRpm = 60.0 / (2.0 * std::numbers::pi);
+
+SpeedPoint RunPoint(const GearboxSpec& base, const ComponentModel& model,
+                    const ReducedModel& reduced, const SpeedSweepOptions& options, double speed,
+                    int order_bins) {
+  SpeedPoint p;
+  p.speed_rad_s = speed;
+  p.speed_rpm = speed * kRpm;
+  GearboxSpec spec = base;
+  spec.operating.speed = speed;
+  const SegmentTables tables = BuildSegmentTables(model, reduced, spec);
+  const auto [z0, state0] = StaticInitialState(tables);
+  SolverOptions solver;
+  ApplyMethodName(options.method, solver);
+  solver.cycles = options.cycles;
+  solver.transient_cycles = options.transient_cycles;
+  const SolverResult run = SimulateExact(tables, z0, state0, solver);
+  p.matvec_per_cycle = run.summary.matvec_per_cycle;
+  p.real_time_ratio = run.summary.real_time_ratio;
+  if (run.summary.status != SolverStatus::kSuccess) {
+    p.message = run.summary.message;
+    return p;
+  }
+  const TransmissionErrorStats te = ComputeTransmissionErrorStats(
+      run.trajectory, spec.operating.torque / model.geometry.wheel.base);
+  p.te_rms = te.rms;
+  p.te_peak_to_peak = te.peak_to_peak;
+  const double per_excitation =
+      spec.operating.excitation.empty() ? 0.0
+                                        : spec.pinion.teeth / spec.operating.excitation[0].order;
+  const RattleIndices rattle =
+      ComputeRattleIndices(run, model.effective_mass, per_excitation, nullptr);
+  p.events_per_cycle = run.summary.events_per_cycle;
+  p.drive_impacts_per_cycle = rattle.drive_impacts_per_cycle;
+  p.back_impacts_per_cycle = rattle.back_impacts_per_cycle;
+  p.regime = rattle.regime;
+  const int per_cycle = spec.analysis.segments_per_cycle;
+  SpectrumAnalyzer analyzer(static_cast<int>(options.waterfall_cycles * per_cycle));
+  const AmplitudeSpectrum s =
+      TeSpectrum(run.trajectory, tables.mesh_period, per_cycle, options.waterfall_cycles, analyzer);
+  p.amplitude_m.assign(s.amplitude.begin(), s.amplitude.begin() + order_bins);
+  p.ok = true;
+  return p;
+}
+
+}  // namespace
+
+SpeedSweepResult RunSpeedSweep(const GearboxSpec& spec, const ComponentModel& model,
+                               const ReducedModel& reduced, const SpeedSweepOptions& options,
+                               const SweepProgress& progress) {
+  if (options.cycles < 2) {
+    throw InputError("--cycles", 0, std::to_string(options.cycles), "must be >= 2");
+  }
+  // The first recorded sample is one segment into the record: whole cycles end before it.
+  if (options.waterfall_cycles < 1 || options.waterfall_cycles > options.cycles - 1) {
+    throw InputError("SpeedSweepOptions.waterfall_cycles", 0,
+                     std::to_string(options.waterfall_cycles), "must be in [1, cycles - 1]");
+  }
+  const SweepRange& range = spec.analysis.speed_sweep;
+  std::vector<double> speeds(static_cast<size_t>(range.points));
+  for (int i = 0; i < range.points; ++i) {
+    speeds[static_cast<size_t>(i)] =
+        range.from + (range.to - range.from) * i / std::max(1, range.points - 1);
+  }
+  SpeedSweepResult result;
+  const int z1 = spec.pinion.teeth;
+  result.order_step = static_cast<double>(z1) / static_cast<double>(options.waterfall_cycles);
+  const double max_order = options.max_order > 0.0 ? options.max_order : 3.5 * z1;
+  const long half = options.waterfall_cycles * spec.analysis.segments_per_cycle / 2;
+  result.order_bins =
+      static_cast<int>(std::min<long>(half, static_cast<long>(max_order / result.order_step))) + 1;
+
+  // Campbell: the tier linearised in drive contact at the mean (effective) mesh stiffness.
+  LinearRotorModel linear;
+  linear.M = reduced.M;
+  linear.K = reduced.K + reduced.EffectiveMeshStiffness(model.mesh_summary.mean) *
+                             reduced.v_drive * reduced.v_drive.transpose();
+  linear.G = reduced.G;
+  CampbellOptions campbell;
+  campbell.modes = options.campbell_modes;
+  result.campbell =
+      ComputeCampbell(linear, speeds, GearOrderLines(z1, spec.wheel.teeth), campbell);
+
+  // Waterfall: one exact run per speed, in parallel.
+  result.points.resize(speeds.size());
+  std::atomic<size_t> next{0};
+  std::mutex progress_mutex;
+  int done = 0;
+  auto worker = [&]() {
+    for (size_t i = next++; i < speeds.size(); i = next++) {
+      SpeedPoint& p = result.points[i];
+      try {
+        p = RunPoint(spec, model, reduced, options, speeds[i], result.order_bins);
+      } catch (const std::exception& e) {
+        p.speed_rad_s = speeds[i];
+        p.speed_rpm = speeds[i] * kRpm;
+        p.ok = false;
+        p.message = e.what();
+      }
+      const std::lock_guard<std::mutex> lock(progress_mutex);
+      ++done;
+      if (progress) progress(done, static_cast<int>(speeds.size()));
+    }
+  };
+  const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int threads = std::min<int>(options.threads > 0 ? options.threads : hardware,
+                                    static_cast<int>(speeds.size()));
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (std::thread& t : pool) t.join();
+  return result;
+}
+
+}  // namespace gearnvh::app

@@ -1,0 +1,50 @@
+// The speed sweep behind `gearnvh sweep` (and the reports): Campbell data of the linearised tier
+// and a waterfall of steady-state TE spectra, one exact run per speed, speeds in parallel.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "gearnvh/model/gearbox_spec.h"
+#include "gearnvh/nvh/campbell.h"
+#include "gearnvh/reduction/reduced_model.h"
+
+namespace gearnvh::app {
+
+struct SpeedSweepOptions {
+  long cycles = 512;            // recorded mesh cycles per speed; >= 2
+  long transient_cycles = 200;  // unrecorded cycles first; >= 0
+  long waterfall_cycles = 256;  // the last cycles of each run in the spectrum (<= cycles - 1)
+  double max_order = 0.0;       // waterfall up to this pinion order (0: 3.5 mesh orders)
+  int threads = 0;              // 0: all hardware threads
+  int campbell_modes = 8;
+  std::string method = "fused";  // v1 | v2 | v3 | fused
+};
+
+struct SpeedPoint {
+  double speed_rad_s = 0.0, speed_rpm = 0.0;
+  bool ok = false;
+  std::string message;  // why the run failed (ok = false) or a solver note
+  double te_rms = 0.0, te_peak_to_peak = 0.0;
+  double events_per_cycle = 0.0, drive_impacts_per_cycle = 0.0, back_impacts_per_cycle = 0.0;
+  std::string regime;
+  double matvec_per_cycle = 0.0, real_time_ratio = 0.0;
+  std::vector<double> amplitude_m;  // waterfall row on the common order axis
+};
+
+struct SpeedSweepResult {
+  std::vector<SpeedPoint> points;
+  double order_step = 0.0;  // pinion orders per waterfall bin (z1 / waterfall_cycles)
+  int order_bins = 0;
+  CampbellData campbell;
+};
+
+// (speeds done, total): called from worker threads, one call at a time (under a lock).
+using SweepProgress = std::function<void(int, int)>;
+
+SpeedSweepResult RunSpeedSweep(const GearboxSpec& spec, const ComponentModel& model,
+                               const ReducedModel& reduced, const SpeedSweepOptions& options,
+                               const SweepProgress& progress = {});
+
+}  // namespace gearnvh::app

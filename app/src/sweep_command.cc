@@ -1,0 +1,189 @@
+#include "sweep_command.h"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "atomic_file.h"
+#include "config/gearbox_loader.h"
+#include "gearnvh/model/input_error.h"
+#include "simulate_command.h"
+#include "speed_sweep.h"
+
+namespace gearnvh::app {
+
+namespace {
+
+nlohmann::json NumberOrNull(double v) { return std::isnan(v) ? nlohmann::json() : nlohmann::json(v); }
+
+nlohmann::json SweepJson(const SpeedSweepResult& r, double mesh_order) {
+  nlohmann::json speeds = nlohmann::json::array();
+  for (const SpeedPoint& p : r.points) speeds.push_back(p.speed_rpm);
+  nlohmann::json modes = nlohmann::json::array();
+  for (size_t k = 0; k < r.campbell.frequency_hz.size(); ++k) {
+    nlohmann::json f = nlohmann::json::array(), mac = nlohmann::json::array();
+    for (size_t s = 0; s < r.campbell.frequency_hz[k].size(); ++s) {
+      f.push_back(NumberOrNull(r.campbell.frequency_hz[k][s]));
+      mac.push_back(NumberOrNull(r.campbell.mac[k][s]));
+    }
+    modes.push_back({{"mode", k}, {"frequency_hz", f}, {"mac", mac}});
+  }
+  nlohmann::json orders = nlohmann::json::array();
+  for (const OrderLine& o : r.campbell.orders) orders.push_back({{"label", o.label}, {"order", o.order}});
+  nlohmann::json critical = nlohmann::json::array();
+  for (const CriticalSpeed& c : r.campbell.critical_speeds) {
+    critical.push_back({{"order", c.order},
+                        {"mode", c.mode},
+                        {"speed_rpm", c.speed_rpm},
+                        {"frequency_hz", c.frequency_hz}});
+  }
+  nlohmann::json points = nlohmann::json::array(), amplitude = nlohmann::json::array();
+  for (const SpeedPoint& p : r.points) {
+    points.push_back({{"speed_rpm", p.speed_rpm},
+                      {"ok", p.ok},
+                      {"message", p.message},
+                      {"te_rms", p.te_rms},
+                      {"te_peak_to_peak", p.te_peak_to_peak},
+                      {"events_per_cycle", p.events_per_cycle},
+                      {"drive_impacts_per_cycle", p.drive_impacts_per_cycle},
+                      {"back_impacts_per_cycle", p.back_impacts_per_cycle},
+                      {"regime", p.regime},
+                      {"matvec_per_cycle", p.matvec_per_cycle},
+                      {"real_time_ratio", p.real_time_ratio}});
+    amplitude.push_back(p.amplitude_m);
+  }
+  return {{"speeds_rpm", speeds},
+          {"campbell",
+           {{"modes", modes}, {"orders", orders}, {"critical_speeds", critical}}},
+          {"waterfall",
+           {{"order_step", r.order_step},
+            {"order_bins", r.order_bins},
+            {"mesh_order", mesh_order},
+            {"points", points},
+            {"amplitude_m", amplitude}}}};
+}
+
+std::string CampbellCsv(const SpeedSweepResult& r) {
+  std::ostringstream os;
+  os.precision(12);
+  os << "speed_rpm,mode,frequency_hz,mac\n";
+  for (size_t k = 0; k < r.campbell.frequency_hz.size(); ++k) {
+    for (size_t s = 0; s < r.points.size(); ++s) {
+      os << r.points[s].speed_rpm << ',' << k << ',' << r.campbell.frequency_hz[k][s] << ','
+         << r.campbell.mac[k][s] << '\n';
+    }
+  }
+  return os.str();
+}
+
+std::string CriticalCsv(const SpeedSweepResult& r) {
+  std::ostringstream os;
+  os.precision(12);
+  os << "order,mode,speed_rpm,frequency_hz\n";
+  for (const CriticalSpeed& c : r.campbell.critical_speeds) {
+    os << c.order << ',' << c.mode << ',' << c.speed_rpm << ',' << c.frequency_hz << '\n';
+  }
+  return os.str();
+}
+
+std::string WaterfallCsv(const SpeedSweepResult& r) {
+  std::ostringstream os;
+  os.precision(12);
+  os << "speed_rpm,order,frequency_hz,amplitude_m\n";
+  for (const SpeedPoint& p : r.points) {
+    for (size_t k = 0; k < p.amplitude_m.size(); ++k) {
+      const double order = static_cast<double>(k) * r.order_step;
+      os << p.speed_rpm << ',' << order << ',' << order * p.speed_rpm / 60.0 << ','
+         << p.amplitude_m[k] << '\n';
+    }
+  }
+  return os.str();
+}
+
+}  // namespace
+
+int RunSweep(const SweepOptions& options) {
+  try {
+    const GearboxSpec spec = config::LoadGearboxFile(options.file);
+    const Tier tier = options.tier ? ParseTier(*options.tier) : spec.analysis.tier;
+    SpeedSweepOptions sweep;
+    sweep.cycles = options.cycles.value_or(sweep.cycles);
+    sweep.transient_cycles = options.transient.value_or(sweep.transient_cycles);
+    sweep.waterfall_cycles = std::min(sweep.waterfall_cycles, sweep.cycles - 1);
+    sweep.threads = options.jobs;
+    sweep.method = options.method;
+    const ComponentModel model = BuildComponentModel(spec);
+    const ReducedModel reduced = ReduceModel(model, tier);
+    const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
+    SweepProgress progress;
+    if (on_terminal) {
+      progress = [](int done, int total) {
+        fmt::print(stderr, "\rsweep: {:3d}% ({}/{} speeds)", 100 * done / total, done, total);
+      };
+    }
+    const SpeedSweepResult result = RunSpeedSweep(spec, model, reduced, sweep, progress);
+    if (on_terminal) fmt::print(stderr, "\n");
+
+    nlohmann::json doc = SweepJson(result, spec.pinion.teeth);
+    doc["name"] = spec.name;
+    doc["file"] = options.file;
+    doc["tier"] = reduced.name;
+    doc["cycles_per_speed"] = sweep.cycles;
+    doc["transient_cycles"] = sweep.transient_cycles;
+    int failed = 0;
+    for (const SpeedPoint& p : result.points) failed += p.ok ? 0 : 1;
+    doc["failed_speeds"] = failed;
+    if (options.out) {
+      std::filesystem::create_directories(*options.out);
+      const std::filesystem::path dir(*options.out);
+      WriteFileAtomically((dir / "campbell.csv").string(), CampbellCsv(result));
+      WriteFileAtomically((dir / "critical_speeds.csv").string(), CriticalCsv(result));
+      WriteFileAtomically((dir / "waterfall.csv").string(), WaterfallCsv(result));
+      WriteFileAtomically((dir / "sweep.json").string(), doc.dump(1) + "\n");
+    }
+    if (options.json) {
+      std::cout << doc.dump(1) << "\n";
+    } else {
+      fmt::print("{}  ({}), {}: speed sweep, {} speeds, {} cycles each\n", spec.name, options.file,
+                 reduced.name, result.points.size(), sweep.cycles);
+      fmt::print("  {:>8}  {:>10}  {:>12}  {:>14}  {}\n", "rpm", "TE RMS um", "events/cycle",
+                 "1x mesh TE um", "regime");
+      const size_t mesh_bin = static_cast<size_t>(std::lround(spec.pinion.teeth / result.order_step));
+      for (const SpeedPoint& p : result.points) {
+        if (!p.ok) {
+          fmt::print("  {:8.0f}  failed: {}\n", p.speed_rpm, p.message);
+          continue;
+        }
+        const double mesh = mesh_bin < p.amplitude_m.size() ? p.amplitude_m[mesh_bin] : 0.0;
+        fmt::print("  {:8.0f}  {:10.4f}  {:12.3f}  {:14.4f}  {}\n", p.speed_rpm, p.te_rms * 1e6,
+                   p.events_per_cycle, mesh * 1e6, p.regime);
+      }
+      fmt::print("  critical speeds (order line x tracked mode):\n");
+      for (const CriticalSpeed& c : result.campbell.critical_speeds) {
+        fmt::print("    {:8.0f} rpm  {:>9}  mode {}  {:.1f} Hz\n", c.speed_rpm, c.order, c.mode,
+                   c.frequency_hz);
+      }
+      if (result.campbell.critical_speeds.empty()) fmt::print("    none in the sweep range\n");
+    }
+    if (failed > 0) {
+      std::cerr << "error: " << failed << " of " << result.points.size()
+                << " speeds failed (listed in the output)\n";
+      return 1;
+    }
+    return 0;
+  } catch (const InputError& e) {
+    const std::string message = e.source().empty() ? e.WithSource(options.file).what() : e.what();
+    std::cerr << "error: " << message << "\n";
+    return 1;
+  } catch (const std::runtime_error& e) {
+    std::cerr << "error: " << e.what() << "\n";  // outputs that cannot be written
+    return 1;
+  }
+}
+
+}  // namespace gearnvh::app
