@@ -15,17 +15,7 @@ namespace {
 using testing::StandardPair;
 using Setup = testing::SolverSetup;
 
-// The idle-rattle gearbox of examples/idle_rattle.yaml, built in code (tier 1).
-GearboxSpec RattleSpec(double amplitude = 1500.0) {
-  GearboxSpec s = StandardPair(27, 43, 2e-3, 15e-3);
-  s.pinion.bore_diameter = 25e-3;
-  s.wheel.bore_diameter = 30e-3;
-  s.pinion.inertia = 5e-3;
-  s.mesh.friction_coefficient = 0.05;
-  s.operating.torque = 0.2;
-  s.operating.excitation = {{2.0, amplitude, 0.0}};
-  return s;
-}
+GearboxSpec RattleSpec(double amplitude = 1500.0) { return testing::IdleRattleSpec(amplitude); }
 
 double MaxTeDifference(const Trajectory& a, const Trajectory& b, double* scale) {
   double diff = 0.0, max_te = 0.0;

@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "gearnvh/solver/segment_tables.h"
+#include "model/test_specs.h"
 
 namespace gearnvh::testing {
 
@@ -18,5 +19,17 @@ struct SolverSetup {
         reduced(ReduceModel(model, tier)),
         tables(BuildSegmentTables(model, reduced, spec)) {}
 };
+
+// The idle-rattle gearbox of examples/idle_rattle.yaml, built in code.
+inline GearboxSpec IdleRattleSpec(double amplitude = 1500.0) {
+  GearboxSpec s = StandardPair(27, 43, 2e-3, 15e-3);
+  s.pinion.bore_diameter = 25e-3;
+  s.wheel.bore_diameter = 30e-3;
+  s.pinion.inertia = 5e-3;
+  s.mesh.friction_coefficient = 0.05;
+  s.operating.torque = 0.2;
+  s.operating.excitation = {{2.0, amplitude, 0.0}};
+  return s;
+}
 
 }  // namespace gearnvh::testing

@@ -135,13 +135,7 @@ TEST_CASE("nearly equal eigenvalues of different blocks are reported ill-conditi
 
 TEST_CASE("V3 with every decomposition refused falls back to V2 and gives its events",
           "[solver][spectral]") {
-  GearboxSpec spec = testing::StandardPair(27, 43, 2e-3, 15e-3);
-  spec.pinion.bore_diameter = 25e-3;
-  spec.wheel.bore_diameter = 30e-3;
-  spec.pinion.inertia = 5e-3;
-  spec.mesh.friction_coefficient = 0.05;
-  spec.operating.torque = 0.2;
-  spec.operating.excitation = {{2.0, 1500.0, 0.0}};
+  const GearboxSpec spec = testing::IdleRattleSpec();
   const testing::SolverSetup s(spec, Tier::kTier1);
   const auto [z0, state0] = StaticInitialState(s.tables);
   SolverOptions v2, refused;
@@ -173,13 +167,7 @@ namespace {
 
 TEST_CASE("V3 with partial fallback (tier 3) gives V2's events", "[solver][spectral]") {
   // Tier 3's free flight falls back to V2 (equal lateral eigenvalues); contact is closed form.
-  GearboxSpec spec = testing::StandardPair(27, 43, 2e-3, 15e-3);
-  spec.pinion.bore_diameter = 25e-3;
-  spec.wheel.bore_diameter = 30e-3;
-  spec.pinion.inertia = 5e-3;
-  spec.mesh.friction_coefficient = 0.05;
-  spec.operating.torque = 0.2;
-  spec.operating.excitation = {{2.0, 1500.0, 0.0}};
+  const GearboxSpec spec = testing::IdleRattleSpec();
   const testing::SolverSetup s(spec, Tier::kTier3);
   const auto [z0, state0] = StaticInitialState(s.tables);
   SolverOptions v2, v3;
