@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <iostream>
 
+#include "command_errors.h"
+#include "command_errors.h"
 #include "config/gearbox_loader.h"
 #include "gearnvh/model/component_model.h"
 #include "gearnvh/model/gear_geometry.h"
@@ -160,7 +162,7 @@ int RunCheck(const CheckOptions& options) {
       }
     } catch (const InputError& e) {
       // Errors raised below the loader (e.g. segments_per_cycle too small) carry no file name.
-      const std::string message = e.source().empty() ? e.WithSource(file).what() : e.what();
+      const std::string message = InputErrorMessage(e, file);
       std::cerr << "error: " << message << "\n";
       exit_code = 1;
       if (options.json) documents.push_back({{"file", file}, {"error", message}});

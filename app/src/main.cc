@@ -73,7 +73,9 @@ int main(int argc, char** argv) {
       "Speed sweep over analysis.speed_sweep: Campbell data of the linearised tier (modes tracked "
       "by MAC, order lines, critical speeds) and a waterfall of steady-state TE spectra (one exact "
       "run per speed, speeds in parallel).");
-  sweep_cmd->add_option("FILE", sweep.file, "Gearbox YAML file")->required()->check(CLI::ExistingFile);
+  sweep_cmd->add_option("FILE", sweep.file, "Gearbox YAML file")
+      ->required()
+      ->check(CLI::ExistingFile);
   sweep_cmd->add_option("--tier", sweep.tier, "Modal tier (default: analysis.tier)");
   sweep_cmd->add_option("--cycles", sweep.cycles, "Recorded mesh cycles per speed (default 512)")
       ->check(CLI::Range(2L, 100000000L));

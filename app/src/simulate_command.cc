@@ -4,12 +4,13 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <iostream>
 #include <numbers>
 #include <numeric>
-#include <iostream>
 #include <sstream>
 
 #include "atomic_file.h"
+#include "command_errors.h"
 #include "config/gearbox_loader.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/rattle.h"
@@ -31,7 +32,6 @@ Tier ParseTier(const std::string& text) {
 }
 
 namespace {
-
 
 nlohmann::json SummaryJson(const SolverSummary& s) {
   return {{"status", SolverStatusName(s.status)},
@@ -82,7 +82,7 @@ std::string EventsCsv(const Trajectory& t) {
 }  // namespace
 
 int RunSimulate(const SimulateOptions& options) {
-  try {
+  return RunReportingErrors(options.file, [&]() -> int {
     const GearboxSpec spec = config::LoadGearboxFile(options.file);
     const Tier tier = options.tier ? ParseTier(*options.tier) : spec.analysis.tier;
     SolverOptions solver;
@@ -150,11 +150,12 @@ int RunSimulate(const SimulateOptions& options) {
                          {"max", te.mesh_force_max},
                          {"dynamic_factor", te.dynamic_factor}};
     // Mesh harmonics and shaft-order sidebands of the TE over whole revolutions of both shafts.
-    const long revolution = std::lcm(static_cast<long>(spec.pinion.teeth),
-                                     static_cast<long>(spec.wheel.teeth));
+    const long revolution =
+        std::lcm(static_cast<long>(spec.pinion.teeth), static_cast<long>(spec.wheel.teeth));
     // The first recorded sample is one segment into the record: at most recorded - 1 whole cycles.
-    const long window =
-        summary.trajectory_truncated ? 0 : ((summary.recorded_cycles - 1) / revolution) * revolution;
+    const long window = summary.trajectory_truncated
+                            ? 0
+                            : ((summary.recorded_cycles - 1) / revolution) * revolution;
     nlohmann::json sidebands = nlohmann::json::array();
     std::vector<SidebandRow> sideband_rows;
     if (window > 0 && summary.status == SolverStatus::kSuccess) {
@@ -204,8 +205,9 @@ int RunSimulate(const SimulateOptions& options) {
                  s.wall_s, s.simulated_s, s.real_time_ratio);
       fmt::print("  tables              {:.1f} KiB\n", s.table_bytes / 1024.0);
       if (solver.events == EventMethod::kSpectral) {
-        fmt::print("  v3 decompositions   max cond(S) {:.3g}, {} (segment, state) fell back to v2\n",
-                   s.spectral_max_condition, s.spectral_fallback_systems);
+        fmt::print(
+            "  v3 decompositions   max cond(S) {:.3g}, {} (segment, state) fell back to v2\n",
+            s.spectral_max_condition, s.spectral_fallback_systems);
       }
       fmt::print("  TE                  mean {:.4f} um, RMS {:.4f} um, p-p {:.4f} um\n",
                  te.mean * 1e6, te.rms * 1e6, te.peak_to_peak * 1e6);
@@ -234,16 +236,7 @@ int RunSimulate(const SimulateOptions& options) {
       }
     }
     return summary.status == SolverStatus::kSuccess ? 0 : 1;
-  } catch (const InputError& e) {
-    const std::string message = e.source().empty() ? e.WithSource(options.file).what() : e.what();
-    std::cerr << "error: " << message << "\n";
-    return 1;
-  } catch (const std::runtime_error& e) {
-    // Output that cannot be written (--out: permissions, disk full, a file in the way): a clear
-    // error and exit 1; the atomic writer leaves no partial file behind.
-    std::cerr << "error: " << e.what() << "\n";
-    return 1;
-  }
+  });
 }
 
 }  // namespace gearnvh::app

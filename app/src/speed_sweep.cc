@@ -45,9 +45,9 @@ SpeedPoint RunPoint(const GearboxSpec& base, const ComponentModel& model,
       run.trajectory, spec.operating.torque / model.geometry.wheel.base);
   p.te_rms = te.rms;
   p.te_peak_to_peak = te.peak_to_peak;
-  const double per_excitation =
-      spec.operating.excitation.empty() ? 0.0
-                                        : spec.pinion.teeth / spec.operating.excitation[0].order;
+  const double per_excitation = spec.operating.excitation.empty()
+                                    ? 0.0
+                                    : spec.pinion.teeth / spec.operating.excitation[0].order;
   const RattleIndices rattle =
       ComputeRattleIndices(run, model.effective_mass, per_excitation, nullptr);
   p.events_per_cycle = run.summary.events_per_cycle;
@@ -93,13 +93,12 @@ SpeedSweepResult RunSpeedSweep(const GearboxSpec& spec, const ComponentModel& mo
   // Campbell: the tier linearised in drive contact at the mean (effective) mesh stiffness.
   LinearRotorModel linear;
   linear.M = reduced.M;
-  linear.K = reduced.K + reduced.EffectiveMeshStiffness(model.mesh_summary.mean) *
-                             reduced.v_drive * reduced.v_drive.transpose();
+  linear.K = reduced.K + reduced.EffectiveMeshStiffness(model.mesh_summary.mean) * reduced.v_drive *
+                             reduced.v_drive.transpose();
   linear.G = reduced.G;
   CampbellOptions campbell;
   campbell.modes = options.campbell_modes;
-  result.campbell =
-      ComputeCampbell(linear, speeds, GearOrderLines(z1, spec.wheel.teeth), campbell);
+  result.campbell = ComputeCampbell(linear, speeds, GearOrderLines(z1, spec.wheel.teeth), campbell);
 
   // Waterfall: one exact run per speed, in parallel.
   result.points.resize(speeds.size());

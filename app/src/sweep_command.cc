@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "atomic_file.h"
+#include "command_errors.h"
 #include "config/gearbox_loader.h"
 #include "gearnvh/model/input_error.h"
 #include "simulate_command.h"
@@ -19,7 +20,9 @@ namespace gearnvh::app {
 
 namespace {
 
-nlohmann::json NumberOrNull(double v) { return std::isnan(v) ? nlohmann::json() : nlohmann::json(v); }
+nlohmann::json NumberOrNull(double v) {
+  return std::isnan(v) ? nlohmann::json() : nlohmann::json(v);
+}
 
 nlohmann::json SweepJson(const SpeedSweepResult& r, double mesh_order) {
   nlohmann::json speeds = nlohmann::json::array();
@@ -34,7 +37,8 @@ nlohmann::json SweepJson(const SpeedSweepResult& r, double mesh_order) {
     modes.push_back({{"mode", k}, {"frequency_hz", f}, {"mac", mac}});
   }
   nlohmann::json orders = nlohmann::json::array();
-  for (const OrderLine& o : r.campbell.orders) orders.push_back({{"label", o.label}, {"order", o.order}});
+  for (const OrderLine& o : r.campbell.orders)
+    orders.push_back({{"label", o.label}, {"order", o.order}});
   nlohmann::json critical = nlohmann::json::array();
   for (const CriticalSpeed& c : r.campbell.critical_speeds) {
     critical.push_back({{"order", c.order},
@@ -58,8 +62,7 @@ nlohmann::json SweepJson(const SpeedSweepResult& r, double mesh_order) {
     amplitude.push_back(p.amplitude_m);
   }
   return {{"speeds_rpm", speeds},
-          {"campbell",
-           {{"modes", modes}, {"orders", orders}, {"critical_speeds", critical}}},
+          {"campbell", {{"modes", modes}, {"orders", orders}, {"critical_speeds", critical}}},
           {"waterfall",
            {{"order_step", r.order_step},
             {"order_bins", r.order_bins},
@@ -108,7 +111,7 @@ std::string WaterfallCsv(const SpeedSweepResult& r) {
 }  // namespace
 
 int RunSweep(const SweepOptions& options) {
-  try {
+  return RunReportingErrors(options.file, [&]() -> int {
     const GearboxSpec spec = config::LoadGearboxFile(options.file);
     const Tier tier = options.tier ? ParseTier(*options.tier) : spec.analysis.tier;
     SpeedSweepOptions sweep;
@@ -153,7 +156,8 @@ int RunSweep(const SweepOptions& options) {
                  reduced.name, result.points.size(), sweep.cycles);
       fmt::print("  {:>8}  {:>10}  {:>12}  {:>14}  {}\n", "rpm", "TE RMS um", "events/cycle",
                  "1x mesh TE um", "regime");
-      const size_t mesh_bin = static_cast<size_t>(std::lround(spec.pinion.teeth / result.order_step));
+      const size_t mesh_bin =
+          static_cast<size_t>(std::lround(spec.pinion.teeth / result.order_step));
       for (const SpeedPoint& p : result.points) {
         if (!p.ok) {
           fmt::print("  {:8.0f}  failed: {}\n", p.speed_rpm, p.message);
@@ -176,14 +180,7 @@ int RunSweep(const SweepOptions& options) {
       return 1;
     }
     return 0;
-  } catch (const InputError& e) {
-    const std::string message = e.source().empty() ? e.WithSource(options.file).what() : e.what();
-    std::cerr << "error: " << message << "\n";
-    return 1;
-  } catch (const std::runtime_error& e) {
-    std::cerr << "error: " << e.what() << "\n";  // outputs that cannot be written
-    return 1;
-  }
+  });
 }
 
 }  // namespace gearnvh::app

@@ -5,6 +5,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "command_errors.h"
 #include "config/gearbox_loader.h"
 #include "gearnvh/model/input_error.h"
 #include "validation_ladder.h"
@@ -45,8 +46,7 @@ int RunValidate(const ValidateOptions& options) {
     }
     return all ? 0 : 1;
   } catch (const InputError& e) {
-    const std::string message = e.source().empty() ? e.WithSource(options.file).what() : e.what();
-    std::cerr << "error: " << message << "\n";
+    std::cerr << "error: " << InputErrorMessage(e, options.file) << "\n";
     return 1;
   }
 }

@@ -11,7 +11,8 @@
 namespace gearnvh {
 
 void CampbellOptions::Validate() const {
-  if (modes < 1) throw InputError("CampbellOptions.modes", 0, std::to_string(modes), "must be >= 1");
+  if (modes < 1)
+    throw InputError("CampbellOptions.modes", 0, std::to_string(modes), "must be >= 1");
   if (!(min_frequency_hz >= 0.0)) {
     throw InputError("CampbellOptions.min_frequency_hz", 0, std::to_string(min_frequency_hz),
                      "must be >= 0");
@@ -38,14 +39,17 @@ struct Mode {
   Eigen::VectorXcd shape;  // displacement part, normalised
 };
 
-std::vector<Mode> Modes(const LinearRotorModel& model, double speed, double min_hz) {
-  const Eigen::Index n = model.M.rows();
-  const Eigen::MatrixXd Minv_K = model.M.ldlt().solve(model.K);
-  const Eigen::MatrixXd Minv_G = model.M.ldlt().solve(model.G);
+// M^-1 K and M^-1 G, factorised once for the whole sweep.
+struct FirstOrderBlocks {
+  Eigen::MatrixXd stiffness, gyroscopic;
+};
+
+std::vector<Mode> Modes(const FirstOrderBlocks& blocks, double speed, double min_hz) {
+  const Eigen::Index n = blocks.stiffness.rows();
   Eigen::MatrixXd A = Eigen::MatrixXd::Zero(2 * n, 2 * n);
   A.topRightCorner(n, n).setIdentity();
-  A.bottomLeftCorner(n, n) = -Minv_K;
-  A.bottomRightCorner(n, n) = -speed * Minv_G;
+  A.bottomLeftCorner(n, n) = -blocks.stiffness;
+  A.bottomRightCorner(n, n) = -speed * blocks.gyroscopic;
   Eigen::EigenSolver<Eigen::MatrixXd> eig(A, true);
   std::vector<Mode> modes;
   for (Eigen::Index i = 0; i < 2 * n; ++i) {
@@ -69,17 +73,18 @@ double Mac(const Eigen::VectorXcd& a, const Eigen::VectorXcd& b) {
 }  // namespace
 
 CampbellData ComputeCampbell(const LinearRotorModel& model, const std::vector<double>& speeds,
-                             const std::vector<OrderLine>& orders,
-                             const CampbellOptions& options) {
+                             const std::vector<OrderLine>& orders, const CampbellOptions& options) {
   options.Validate();
   CampbellData data;
   data.speeds_rad_s = speeds;
   data.orders = orders;
   if (speeds.empty()) return data;
   const double nan = std::numeric_limits<double>::quiet_NaN();
+  const Eigen::LDLT<Eigen::MatrixXd> mass(model.M);
+  const FirstOrderBlocks blocks{mass.solve(model.K), mass.solve(model.G)};
   std::vector<Eigen::VectorXcd> tracked;
   for (size_t s = 0; s < speeds.size(); ++s) {
-    const std::vector<Mode> modes = Modes(model, speeds[s], options.min_frequency_hz);
+    const std::vector<Mode> modes = Modes(blocks, speeds[s], options.min_frequency_hz);
     if (s == 0) {
       const int count = std::min<int>(options.modes, static_cast<int>(modes.size()));
       data.frequency_hz.assign(count, std::vector<double>(speeds.size(), nan));
@@ -133,10 +138,9 @@ CampbellData ComputeCampbell(const LinearRotorModel& model, const std::vector<do
       }
     }
   }
-  std::sort(data.critical_speeds.begin(), data.critical_speeds.end(),
-            [](const CriticalSpeed& a, const CriticalSpeed& b) {
-              return a.speed_rad_s < b.speed_rad_s;
-            });
+  std::sort(
+      data.critical_speeds.begin(), data.critical_speeds.end(),
+      [](const CriticalSpeed& a, const CriticalSpeed& b) { return a.speed_rad_s < b.speed_rad_s; });
   return data;
 }
 

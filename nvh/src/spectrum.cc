@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <mutex>
 #include <complex>
+#include <mutex>
 #include <numbers>
 #include <stdexcept>
 
@@ -17,7 +17,6 @@ std::mutex& PlannerMutex() {
   return mutex;
 }
 }  // namespace
-
 
 struct SpectrumAnalyzer::Plan {
   double* in = nullptr;

@@ -5,6 +5,7 @@
 #include <limits>
 #include <optional>
 
+#include "bracketed_newton.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/solver/cycle_map.h"
 
@@ -110,23 +111,10 @@ inline double PolyDerivative(const double* c, int degree, double tau) {
   return v;
 }
 
-// Safeguarded Newton for a sign change of f on [lo, hi] with f(lo) <= 0 < f(hi).
+// Safeguarded Newton on [lo, hi] from the midpoint, to rounding of `scale`.
 template <typename F, typename DF>
 double Bracketed(F&& f, DF&& df, double lo, double hi, double scale) {
-  double x = 0.5 * (lo + hi);
-  for (int it = 0; it < 200; ++it) {
-    const double fx = f(x);
-    if (fx > 0.0)
-      hi = x;
-    else
-      lo = x;
-    const double d = df(x);
-    double next = d != 0.0 ? x - fx / d : 0.5 * (lo + hi);
-    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-    if (std::abs(next - x) <= 1e-16 * scale || hi - lo <= 1e-16 * scale) return next;
-    x = next;
-  }
-  return x;
+  return BracketedNewton(f, df, lo, hi, 0.5 * (lo + hi), 1e-16 * scale);
 }
 
 // First tau in (0, length] where p rises above 0, or -1. p(0) <= 0 is assumed (we start inside).
@@ -324,6 +312,17 @@ int ExactStepper::Outside(const SegmentSystem& sys, const Eigen::VectorXd& z,
   return -1;
 }
 
+void ExactStepper::SwitchIfOutsideAtStart(int segment, double start, bool record) {
+  // At most two switches: free -> contact, and a contact state can never be outside its own wall
+  // right after entering it.
+  for (int guard = 0; guard < 2; ++guard) {
+    const SegmentSystem& sys = t_.systems[segment][static_cast<int>(contact_)];
+    const int outside = Outside(sys, z_, true);
+    if (outside < 0) return;
+    SwitchState(sys, outside, start, record);
+  }
+}
+
 void ExactStepper::SwitchState(const SegmentSystem& sys, int wall, double time, bool record) {
   Wall walls[2];
   Walls(sys, contact_, walls);
@@ -358,13 +357,7 @@ void ExactStepper::AdvanceDyadic(int segment, double start, bool record) {
   const long long cells = 1LL << kDyadicLevels;
   const double cell = t_.SegmentLength(segment) / t_.substeps[segment] / static_cast<double>(cells);
   long long pos = 0;
-  // At a segment start the state may already be outside (e_j jump): switch at once.
-  for (int guard = 0; guard < 2; ++guard) {
-    const SegmentSystem& sys = t_.systems[segment][static_cast<int>(contact_)];
-    const int outside = Outside(sys, z_, true);
-    if (outside < 0) break;
-    SwitchState(sys, outside, start, record);
-  }
+  SwitchIfOutsideAtStart(segment, start, record);
   while (pos < cells) {
     const SegmentSystem& sys = t_.systems[segment][static_cast<int>(contact_)];
     const auto& levels = dyadic_[segment][static_cast<int>(contact_)];
@@ -509,13 +502,7 @@ void ExactStepper::AdvanceTaylorFrom(int segment, double start, double done, boo
 // V3 over one whole segment: see the header and spectral_gap.h.
 void ExactStepper::AdvanceSpectral(int segment, double start, bool record) {
   const double h = t_.SegmentLength(segment);
-  // The unloaded error jumps at a segment boundary: a start outside a wall switches at once.
-  for (int guard = 0; guard < 2; ++guard) {
-    const SegmentSystem& sys = t_.systems[segment][static_cast<int>(contact_)];
-    const int outside = Outside(sys, z_, true);
-    if (outside < 0) break;
-    SwitchState(sys, outside, start, record);
-  }
+  SwitchIfOutsideAtStart(segment, start, record);
   double done = 0.0;
   bool moved = false;  // z_ was advanced inside this segment (the full propagator no longer fits)
   while (true) {

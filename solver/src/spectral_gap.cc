@@ -4,12 +4,13 @@
 #include <cmath>
 #include <limits>
 
+#include "bracketed_newton.h"
+
 extern "C" {
 // LAPACK (Fortran ABI; trailing hidden string lengths).
 void dgees_(const char* jobvs, const char* sort, int (*select)(const double*, const double*),
             const int* n, double* a, const int* lda, int* sdim, double* wr, double* wi, double* vs,
-            const int* ldvs, double* work, const int* lwork, int* bwork, int* info, size_t,
-            size_t);
+            const int* ldvs, double* work, const int* lwork, int* bwork, int* info, size_t, size_t);
 void dtrsyl_(const char* trana, const char* tranb, const int* isgn, const int* m, const int* n,
              const double* a, const int* lda, const double* b, const int* ldb, double* c,
              const int* ldc, double* scale, int* info, size_t, size_t);
@@ -110,7 +111,8 @@ SpectralDecomposition DecomposeGenerator(const Eigen::MatrixXd& A, int n, double
     S.rightCols(rest).noalias() += S.middleCols(start, size) * X;
     S_inv.middleRows(start, size).noalias() -= X * S_inv.bottomRows(rest);
   }
-  d.condition = S.cwiseAbs().colwise().sum().maxCoeff() * S_inv.cwiseAbs().colwise().sum().maxCoeff();
+  d.condition =
+      S.cwiseAbs().colwise().sum().maxCoeff() * S_inv.cwiseAbs().colwise().sum().maxCoeff();
   if (!(d.condition <= max_condition)) {
     d.info = SpectralDecomposition::Info::kIllConditioned;
     return d;
@@ -128,8 +130,8 @@ SpectralDecomposition DecomposeGenerator(const Eigen::MatrixXd& A, int n, double
     } else {
       b.B = T.block<2, 2>(start, start);
       b.sigma = 0.5 * b.B.trace();
-      const double disc = -0.25 * (b.B(0, 0) - b.B(1, 1)) * (b.B(0, 0) - b.B(1, 1)) -
-                          b.B(0, 1) * b.B(1, 0);
+      const double disc =
+          -0.25 * (b.B(0, 0) - b.B(1, 1)) * (b.B(0, 0) - b.B(1, 1)) - b.B(0, 1) * b.B(1, 0);
       b.omega = std::sqrt(std::max(disc, 0.0));
       if (!(b.omega > 0.0)) {
         d.info = SpectralDecomposition::Info::kIllConditioned;
@@ -298,26 +300,9 @@ double ClosedFormGap::Search(double a, double fa, double b, int depth) const {
   const double slope = df(a);
   if (std::abs(slope) > DerivativeBound(a, b, 2) * length) {
     if (!(fb > 0.0)) return -1.0;
-    // Safeguarded Newton on the bracket f(lo) <= 0 < f(hi).
-    double lo = a, hi = b, x = a - fa / slope;
-    if (!(x > lo && x < hi)) x = 0.5 * (lo + hi);
-    for (int it = 0; it < 100; ++it) {
-      const double fx = f(x);
-      if (fx > 0.0)
-        hi = x;
-      else
-        lo = x;
-      const double d = df(x);
-      double next = d != 0.0 ? x - fx / d : 0.5 * (lo + hi);
-      if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-      // Converged (Newton step or bracket at rounding of the horizon): the root to ~eps H.
-      if (hi - lo <= 4.0 * std::numeric_limits<double>::epsilon() * horizon_) return hi;
-      if (std::abs(next - x) <= 4.0 * std::numeric_limits<double>::epsilon() * horizon_) {
-        return next;
-      }
-      x = next;
-    }
-    return hi;
+    // Monotone with f(a) <= 0 < f(b): the root to ~eps H, Newton started from a's tangent.
+    return BracketedNewton(f, df, a, b, a - fa / slope,
+                           4.0 * std::numeric_limits<double>::epsilon() * horizon_, 100);
   }
   // Neither certificate at rounding resolution: a grazing contact (f and f' both ~ 0).
   if (depth >= 60 || length <= 8.0 * std::numeric_limits<double>::epsilon() * horizon_) {

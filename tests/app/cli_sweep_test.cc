@@ -77,9 +77,20 @@ TEST_CASE("sweep writes Campbell and waterfall data atomically and reports per s
   }
 }
 
-TEST_CASE("sweep: a bad file is a clear error", "[cli][sweep]") {
+TEST_CASE("sweep: too few cycles is a usage error, a bad file a clear input error",
+          "[cli][sweep]") {
   const auto run = RunCommand(kExe + " sweep --cycles 1 " + kExamples + "/idle_rattle.yaml");
   CHECK(run.exit_code == 2);  // --cycles must be >= 2 (usage)
+  const TempDir dir;
+  const auto bad_file = dir.path() / "bad.yaml";
+  std::ofstream(bad_file) << "name: no materials\n";
+  const TempDir out;
+  const auto bad = RunCommand(kExe + " sweep --out " + (out.path() / "sweep").string() + " " +
+                              bad_file.string());
+  CHECK(bad.exit_code == 1);
+  CHECK(bad.err.find("materials") != std::string::npos);
+  CHECK(bad.err.find("bad.yaml") != std::string::npos);
+  CHECK(!std::filesystem::exists(out.path() / "sweep"));  // nothing written
 }
 
 }  // namespace

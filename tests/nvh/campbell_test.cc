@@ -26,8 +26,7 @@ struct Jeffcott {
     return (Ip * w + std::sqrt(Ip * Ip * w * w + 4 * It * kt)) / (2 * It) / (2 * std::numbers::pi);
   }
   double Backward(double w) const {
-    return (-Ip * w + std::sqrt(Ip * Ip * w * w + 4 * It * kt)) / (2 * It) /
-           (2 * std::numbers::pi);
+    return (-Ip * w + std::sqrt(Ip * Ip * w * w + 4 * It * kt)) / (2 * It) / (2 * std::numbers::pi);
   }
   double Translation() const { return std::sqrt(k / m) / (2 * std::numbers::pi); }
 };
@@ -62,7 +61,8 @@ TEST_CASE("Jeffcott rotor: forward/backward whirl split matches the closed form"
   REQUIRE(forward >= 0);
   REQUIRE(backward >= 0);
   for (size_t s = 0; s < speeds.size(); ++s) {
-    CHECK(std::abs(d.frequency_hz[forward][s] - j.Forward(speeds[s])) <= 1e-9 * j.Forward(speeds[s]));
+    CHECK(std::abs(d.frequency_hz[forward][s] - j.Forward(speeds[s])) <=
+          1e-9 * j.Forward(speeds[s]));
     CHECK(std::abs(d.frequency_hz[backward][s] - j.Backward(speeds[s])) <=
           1e-9 * j.Backward(speeds[s]));
   }

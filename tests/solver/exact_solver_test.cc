@@ -199,12 +199,6 @@ TEST_CASE("the stepping loop does not allocate", "[solver][allocation]") {
   CHECK(stepper.summary().events > 50);  // the run did rattle (event path exercised)
 }
 
-}  // namespace
-}  // namespace gearnvh
-
-namespace gearnvh {
-namespace {
-
 TEST_CASE("V1, V2 and V3 agree on every event time of a strong-rattle run", "[solver][events]") {
   // Three independent event locators on the same exact propagation: dense dyadic propagators
   // (times quantised to D 2^-34), the Taylor polynomial with Newton on sub-steps, and the
@@ -214,8 +208,8 @@ TEST_CASE("V1, V2 and V3 agree on every event time of a strong-rattle run", "[so
   // (which flank, in order) is compared, with times within 1e-6 of a segment up to cycle 30.
   const testing::SolverSetup s(RattleSpec(), Tier::kTier1);
   const auto [z0, state0] = StaticInitialState(s.tables);
-  const auto pair = GENERATE(std::make_pair("v1", "v2"), std::make_pair("v2", "v3"),
-                             std::make_pair("v1", "v3"));
+  const auto pair =
+      GENERATE(std::make_pair("v1", "v2"), std::make_pair("v2", "v3"), std::make_pair("v1", "v3"));
   INFO(pair.first << " vs " << pair.second);
   SolverOptions first, second;
   ApplyMethodName(pair.first, first);
@@ -239,12 +233,6 @@ TEST_CASE("V1, V2 and V3 agree on every event time of a strong-rattle run", "[so
   }
   CHECK(worst_first_ten <= 1e-9 * segment);
 }
-
-}  // namespace
-}  // namespace gearnvh
-
-namespace gearnvh {
-namespace {
 
 TEST_CASE("trajectory storage is bounded and the truncation is reported", "[solver][memory]") {
   const testing::SolverSetup s(RattleSpec(), Tier::kTier1);

@@ -1,8 +1,11 @@
 // A gearbox taken through model -> reduction -> solver tables (test helper).
 #pragma once
 
+#include <catch2/catch.hpp>
+#include <cmath>
 #include <utility>
 
+#include "gearnvh/solver/exact_solver.h"
 #include "gearnvh/solver/segment_tables.h"
 #include "model/test_specs.h"
 
@@ -30,6 +33,17 @@ inline GearboxSpec IdleRattleSpec(double amplitude = 1500.0) {
   s.operating.torque = 0.2;
   s.operating.excitation = {{2.0, amplitude, 0.0}};
   return s;
+}
+
+// Two runs log the same events (from, to, in order) with every time within `tolerance` s.
+inline void CheckSameEvents(const Trajectory& a, const Trajectory& b, double tolerance) {
+  REQUIRE(a.events.size() == b.events.size());
+  for (size_t i = 0; i < a.events.size(); ++i) {
+    INFO("event " << i << " at " << a.events[i].time << " s");
+    CHECK(a.events[i].from == b.events[i].from);
+    CHECK(a.events[i].to == b.events[i].to);
+    CHECK(std::abs(a.events[i].time - b.events[i].time) <= tolerance);
+  }
 }
 
 }  // namespace gearnvh::testing

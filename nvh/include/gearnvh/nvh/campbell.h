@@ -23,7 +23,7 @@ struct LinearRotorModel {
 };
 
 struct OrderLine {
-  std::string label;  // e.g. "1x mesh", "2x pinion", "1x wheel"
+  std::string label;   // e.g. "1x mesh", "2x pinion", "1x wheel"
   double order = 0.0;  // multiples of the pinion speed
 };
 

@@ -62,7 +62,7 @@ struct SolverOptions {
   EventMethod events = EventMethod::kSpectral;
   // kSpectral: decompositions with |S|_1 |S^-1|_1 above this fall back to kTaylor (state error
   // ~ cond(S) eps).
-  double spectral_max_condition = 1e6;  // >= 1
+  double spectral_max_condition = 1e6;   // >= 1
   long cycles = 100;                     // mesh cycles recorded after the transient; >= 1
   long transient_cycles = 0;             // mesh cycles run first and not recorded; >= 0
   bool record_trajectory = true;         // samples at every segment boundary of recorded cycles
@@ -100,9 +100,9 @@ struct SolverSummary {
   double recorded_s = 0.0;   // simulated time of the recorded cycles
   double separated_s = 0.0;  // recorded time spent in the free state (exact, from event times)
   size_t table_bytes = 0;
-  int spectral_fallback_systems = 0;  // (segment, state) pairs located by kTaylor instead of V3
+  int spectral_fallback_systems = 0;    // (segment, state) pairs located by kTaylor instead of V3
   double spectral_max_condition = 0.0;  // largest cond(S) among the decompositions used
-  bool trajectory_truncated = false;  // a memory bound of SolverOptions was reached
+  bool trajectory_truncated = false;    // a memory bound of SolverOptions was reached
 };
 
 struct EventRecord {
@@ -176,6 +176,9 @@ class ExactStepper {
   int Outside(const SegmentSystem& sys, const Eigen::VectorXd& z, bool with_tolerance) const;
   void SwitchState(const SegmentSystem& sys, int wall, double time, bool record);
   bool TooManyEvents();  // sets the status and message; returns false
+  // The unloaded error e_j jumps at a segment boundary: a start outside a wall (beyond the wall
+  // tolerance) switches at once.
+  void SwitchIfOutsideAtStart(int segment, double start, bool record);
   void Record(int segment);
 
   const SegmentTables& t_;
