@@ -13,9 +13,7 @@ ConstantContactCycle::ConstantContactCycle(const SegmentTables& t, ContactState 
   P_ = Eigen::MatrixXd::Identity(m, m);
   for (int j = 0; j < t.segments(); ++j) P_ = (t.systems[j][s].full * P_).eval();
   // Quotient projector removing the free-rotation subspace (position and velocity parts).
-  L_ = Eigen::MatrixXd::Identity(m, m);
-  L_.block(0, 0, n, n) -= t.rigid_rotation * t.recenter_row;
-  L_.block(n, n, n, n) -= t.rigid_rotation * t.recenter_row;
+  L_ = FreeRotationProjector(t);
   Pq_ = L_ * P_ * L_;
   // Fixed point: the elastic block only (the constant and excitation slots stay 1 and 0).
   const int e = 2 * n;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <stdexcept>
 
 #include "bracketed_newton.h"
 #include "gearnvh/model/input_error.h"
@@ -258,6 +259,7 @@ void ExactStepper::AdvanceExact(int segment, double start, double length, bool r
     const int count = Walls(sys, contact_, walls);
     double best = -1.0;
     int best_wall = -1;
+    bool outside_at_start[2] = {false, false};
     for (int i = 0; i < count; ++i) {
       for (int k = 0; k <= kTaylorTerms; ++k)
         coeff[k] = walls[i].sign * walls[i].row->dot(taylor_.col(k));
@@ -265,13 +267,15 @@ void ExactStepper::AdvanceExact(int segment, double start, double length, bool r
       // the gap's sign, so the event is now. Within rounding of the wall (just after a located
       // event) we count as inside.
       double root = 0.0;
-      if (!(coeff[0] > WallTolerance(*walls[i].row))) {
+      outside_at_start[i] = coeff[0] > WallTolerance(*walls[i].row);
+      if (!outside_at_start[i]) {
         coeff[0] = std::min(coeff[0], 0.0);
         root = FirstRoot(coeff, kTaylorTerms, remaining, kRootSamples);
       }
       if (root >= 0.0 && (best < 0.0 || root < best)) best = root, best_wall = i;
     }
     const double step = best >= 0.0 ? best : remaining;
+    if (tangent_ != nullptr && step > 0.0) PropagateTangentTaylor(sys.A, step);
     // z <- sum_k w_k step^k (Horner over the columns).
     z_ = taylor_.col(kTaylorTerms);
     for (int k = kTaylorTerms - 1; k >= 0; --k) {
@@ -296,7 +300,7 @@ void ExactStepper::AdvanceExact(int segment, double start, double length, bool r
         continue;
       }
     }
-    SwitchState(sys, best_wall, start + done, record);
+    SwitchState(sys, best_wall, start + done, record, !outside_at_start[best_wall]);
     if (events_this_cycle_ > options_.max_events_per_cycle) return;
   }
 }
@@ -319,11 +323,12 @@ void ExactStepper::SwitchIfOutsideAtStart(int segment, double start, bool record
     const SegmentSystem& sys = t_.systems[segment][static_cast<int>(contact_)];
     const int outside = Outside(sys, z_, true);
     if (outside < 0) return;
-    SwitchState(sys, outside, start, record);
+    SwitchState(sys, outside, start, record, /*state_triggered=*/false);
   }
 }
 
-void ExactStepper::SwitchState(const SegmentSystem& sys, int wall, double time, bool record) {
+void ExactStepper::SwitchState(const SegmentSystem& sys, int wall, double time, bool record,
+                               bool state_triggered) {
   Wall walls[2];
   Walls(sys, contact_, walls);
   const Wall& w = walls[wall];
@@ -331,6 +336,21 @@ void ExactStepper::SwitchState(const SegmentSystem& sys, int wall, double time, 
   const ContactState from = contact_;
   contact_ = w.target;
   ++events_this_cycle_;
+  if (state_triggered) {
+    summary_.min_event_rate = std::min(summary_.min_event_rate, std::abs(rate));
+    if (tangent_ != nullptr) {
+      // Saltation: V <- V + (f+ - f-) (n^T V) / (n^T f-); n^T f- is the gap rate.
+      const SegmentSystem& to = t_.systems[segment_][static_cast<int>(contact_)];
+      f_minus_.noalias() = sys.A * z_;
+      f_plus_.noalias() = to.A * z_;
+      f_plus_ -= f_minus_;
+      const double denominator = w.row->dot(f_minus_);
+      for (Eigen::Index c = 0; c < tangent_->cols(); ++c) {
+        const double along = w.row->dot(tangent_->col(c)) / denominator;
+        tangent_->col(c) += along * f_plus_;
+      }
+    }
+  }
   if (!record) return;
   if (from == ContactState::kFree && free_since_ >= 0.0) summary_.separated_s += time - free_since_;
   free_since_ = contact_ == ContactState::kFree ? time : -1.0;
@@ -390,11 +410,15 @@ void ExactStepper::AdvanceDyadic(int segment, double start, bool record) {
       --k;  // bisect: try the first half
     }
     z_.swap(zb_);
+    if (tangent_ != nullptr) PropagateTangent(levels[kDyadicLevels - 1 - k]);
     pos += 1LL << k;
     if (crossed) {
       const SegmentSystem& now = t_.systems[segment][static_cast<int>(contact_)];
       const int outside = Outside(now, z_, false);
-      if (outside >= 0) SwitchState(now, outside, start + static_cast<double>(pos) * cell, record);
+      if (outside >= 0) {
+        SwitchState(now, outside, start + static_cast<double>(pos) * cell, record,
+                    /*state_triggered=*/true);
+      }
       if (events_this_cycle_ > options_.max_events_per_cycle) return;
     }
   }
@@ -429,13 +453,16 @@ bool ExactStepper::Run(long cycles, bool record) {
     events_this_cycle_ = 0;
     const double cycle_start = static_cast<double>(cycle_) * t_.mesh_period;
     for (int j = 0; j < t_.segments(); ++j) {
+      segment_ = j;
       const double h = t_.SegmentLength(j);
       const double seg_start = cycle_start + t_.boundaries[j];
       z_[excitation_slot] = t_.excitation.empty() ? 0.0 : t_.MeanExcitation(seg_start, h);
       if (fused_) {
         // Certified contact: the whole segment in one matvec (no wall can be reached).
-        z1_.noalias() = t_.systems[j][static_cast<int>(contact_)].full * z_;
+        const Eigen::MatrixXd& full = t_.systems[j][static_cast<int>(contact_)].full;
+        z1_.noalias() = full * z_;
         z_.swap(z1_);
+        if (tangent_ != nullptr) PropagateTangent(full);
         ++summary_.matvecs;
         time_ = seg_start + h;
         if (record && options_.record_trajectory) Record(j);
@@ -456,6 +483,7 @@ bool ExactStepper::Run(long cycles, bool record) {
         ++summary_.matvecs;
         if (!PossibleEvent(sys, i == 0)) {
           z_.swap(z1_);
+          if (tangent_ != nullptr) PropagateTangent(sys.substep);
         } else {
           if (options_.events == EventMethod::kDyadic) {
             AdvanceDyadic(j, seg_start + i * d, record);
@@ -477,8 +505,70 @@ bool ExactStepper::Run(long cycles, bool record) {
     // Remove the drift of the pair's free rotation (exactly invariant; see SegmentTables).
     const double drift = t_.recenter_row.dot(z_.head(t_.n));
     z_.head(t_.n) -= drift * t_.rigid_rotation;
+    if (tangent_ != nullptr) RemoveFreeRotation(t_, *tangent_);
   }
   return true;
+}
+
+void ExactStepper::AttachTangent(Eigen::MatrixXd* tangent) {
+  tangent_ = tangent;
+  if (tangent == nullptr) return;
+  if (tangent->rows() != t_.m) {
+    throw std::invalid_argument("ExactStepper::AttachTangent: the tangent needs m rows");
+  }
+  tangent_next_.resize(t_.m, tangent->cols());
+  tangent_w_.resize(t_.m, tangent->cols());
+  f_minus_.resize(t_.m);
+  f_plus_.resize(t_.m);
+  tangent_col_.resize(t_.m);
+  if (wt_.size() != t_.m) {
+    w_.resize(t_.m);
+    wt_.resize(t_.m);
+    scratch_.resize(t_.m);
+  }
+}
+
+void ExactStepper::Restart(const Eigen::VectorXd& z, ContactState state) {
+  z_ = z;
+  contact_ = state;
+  cycle_ = 0;
+  time_ = 0.0;
+  events_this_cycle_ = 0;
+  free_since_ = -1.0;
+  fused_ = false;
+  SolverSummary fresh;
+  fresh.table_bytes = summary_.table_bytes;
+  fresh.spectral_fallback_systems = summary_.spectral_fallback_systems;
+  fresh.spectral_max_condition = summary_.spectral_max_condition;
+  summary_ = fresh;
+  trajectory_.samples.clear();
+  trajectory_.events.clear();
+}
+
+void ExactStepper::PropagateTangent(const Eigen::MatrixXd& propagator) {
+  tangent_next_.noalias() = propagator * *tangent_;
+  tangent_->swap(tangent_next_);
+}
+
+void ExactStepper::PropagateTangentTaylor(const Eigen::MatrixXd& A, double step) {
+  // expm(A step) V = V + A step (V + A step / 2 (V + ...)) (Horner); rho(A) step <= 1/2 here, so
+  // kTaylorTerms terms reach rounding as for the state.
+  tangent_w_ = *tangent_;
+  for (int k = kTaylorTerms; k >= 1; --k) {
+    tangent_next_.noalias() = A * tangent_w_;
+    tangent_w_ = *tangent_ + (step / static_cast<double>(k)) * tangent_next_;
+  }
+  tangent_->swap(tangent_w_);
+}
+
+void ExactStepper::PropagateTangentDecoupled(const SpectralDecomposition& d, double step) {
+  tangent_w_.noalias() = d.S_inv * *tangent_;
+  for (Eigen::Index c = 0; c < tangent_->cols(); ++c) {
+    tangent_col_ = tangent_w_.col(c);
+    PropagateDecoupled(d, tangent_col_, step, wt_, scratch_);
+    tangent_w_.col(c) = wt_;
+  }
+  tangent_->noalias() = d.S * tangent_w_;
 }
 
 bool ExactStepper::TooManyEvents() {
@@ -528,9 +618,11 @@ void ExactStepper::AdvanceSpectral(int segment, double start, bool record) {
     if (best < 0.0) {
       if (!moved) {
         z1_.noalias() = sys.full * z_;  // the dense propagator: exact to rounding, cond-free
+        if (tangent_ != nullptr) PropagateTangent(sys.full);
       } else {
         PropagateDecoupled(sp.decomposition, w_, remaining, wt_, scratch_);
         z1_.noalias() = sp.decomposition.S * wt_;
+        if (tangent_ != nullptr) PropagateTangentDecoupled(sp.decomposition, remaining);
       }
       z_.swap(z1_);
       ++summary_.matvecs;
@@ -546,6 +638,7 @@ void ExactStepper::AdvanceSpectral(int segment, double start, bool record) {
     if (touch) step = std::min(remaining, best + 1e-12 * h);
     PropagateDecoupled(sp.decomposition, w_, step, wt_, scratch_);
     z_.noalias() = sp.decomposition.S * wt_;
+    if (tangent_ != nullptr) PropagateTangentDecoupled(sp.decomposition, step);
     ++summary_.matvecs;
     moved = true;
     done += step;
@@ -553,7 +646,7 @@ void ExactStepper::AdvanceSpectral(int segment, double start, bool record) {
       ++summary_.grazing;
       if (++events_this_cycle_ > options_.max_events_per_cycle) return;
     } else {
-      SwitchState(sys, best_wall, start + done, record);
+      SwitchState(sys, best_wall, start + done, record, /*state_triggered=*/true);
       if (events_this_cycle_ > options_.max_events_per_cycle) return;
     }
     if (h - done <= 1e-15 * h) return;

@@ -46,6 +46,22 @@ Eigen::VectorXd ElasticPart(const SegmentTables& t, const Eigen::VectorXd& z) {
   return e;
 }
 
+Eigen::MatrixXd FreeRotationProjector(const SegmentTables& t) {
+  Eigen::MatrixXd L = Eigen::MatrixXd::Identity(t.m, t.m);
+  RemoveFreeRotation(t, L);
+  return L;
+}
+
+void RemoveFreeRotation(const SegmentTables& t, Eigen::Ref<Eigen::MatrixXd> V) {
+  const int n = t.n;
+  for (Eigen::Index c = 0; c < V.cols(); ++c) {
+    const double position = t.recenter_row.dot(V.col(c).head(n));
+    const double velocity = t.recenter_row.dot(V.col(c).segment(n, n));
+    V.col(c).head(n) -= position * t.rigid_rotation;
+    V.col(c).segment(n, n) -= velocity * t.rigid_rotation;
+  }
+}
+
 size_t SegmentTables::TableBytes() const {
   size_t per_system = 3 * static_cast<size_t>(m) * m + 4 * static_cast<size_t>(m);
   return systems.size() * 3 * per_system * sizeof(double);

@@ -25,6 +25,7 @@
 #include <Eigen/Dense>
 #include <array>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -103,6 +104,9 @@ struct SolverSummary {
   int spectral_fallback_systems = 0;    // (segment, state) pairs located by kTaylor instead of V3
   double spectral_max_condition = 0.0;  // largest cond(S) among the decompositions used
   bool trajectory_truncated = false;    // a memory bound of SolverOptions was reached
+  // Smallest |g'| (m/s) at a state-triggered contact change so far (infinity when none): how
+  // close the run came to a grazing contact, where saltation matrices blow up.
+  double min_event_rate = std::numeric_limits<double>::infinity();
 };
 
 struct EventRecord {
@@ -151,6 +155,20 @@ class ExactStepper {
   void SetFusedContact(bool fused) { fused_ = fused; }
   // Replaces the state (after a certified jump) and advances the clock by whole cycles.
   void JumpTo(const Eigen::VectorXd& z, long cycles);
+  // Tangent propagation (DESIGN.md §5). The columns of *tangent (m x p, zero in the constant and
+  // excitation slots) are advanced with the state by the same propagators, so they carry the
+  // derivative of the state with respect to the initial state. Events:
+  //   state-triggered crossing (a located root)   V <- S V,  S = I + (f+ - f-) n^T / (n^T f-),
+  //     n the crossing gap row, f-/f+ = A_from z / A_to z at the event (n^T f- = g' != 0);
+  //   time-triggered switch (a segment starts outside a wall because e_j jumped)   S = I;
+  //   grazing touch (state kept)                  nothing.
+  // At every cycle end the columns are projected onto the quotient by the pair's free rotation
+  // (FreeRotationProjector): its position and velocity are neutral (multiplier 1) and change no
+  // gap or force. Attach allocates; Run() then still does not. nullptr detaches.
+  void AttachTangent(Eigen::MatrixXd* tangent);
+  // Starts again from z at time 0 in `state`: clock, counts and trajectory are cleared; the
+  // tables and the decompositions are kept (shooting evaluates the same map many times).
+  void Restart(const Eigen::VectorXd& z, ContactState state);
 
   const Eigen::VectorXd& state() const { return z_; }
   ContactState contact() const { return contact_; }
@@ -174,7 +192,11 @@ class ExactStepper {
   void AdvanceTaylorFrom(int segment, double start, double done, bool record);
   // The first wall (0/1) that z is outside of (beyond the wall tolerance when asked), or -1.
   int Outside(const SegmentSystem& sys, const Eigen::VectorXd& z, bool with_tolerance) const;
-  void SwitchState(const SegmentSystem& sys, int wall, double time, bool record);
+  void SwitchState(const SegmentSystem& sys, int wall, double time, bool record,
+                   bool state_triggered);
+  void PropagateTangent(const Eigen::MatrixXd& propagator);  // V <- Phi V
+  void PropagateTangentTaylor(const Eigen::MatrixXd& A, double step);  // V <- expm(A step) V
+  void PropagateTangentDecoupled(const SpectralDecomposition& d, double step);
   bool TooManyEvents();  // sets the status and message; returns false
   // The unloaded error e_j jumps at a segment boundary: a start outside a wall (beyond the wall
   // tolerance) switches at once.
@@ -204,6 +226,10 @@ class ExactStepper {
   long events_this_cycle_ = 0;
   double free_since_ = -1.0;  // start of the current recorded free flight, or -1
   bool fused_ = false;
+  int segment_ = 0;  // the segment being advanced
+  Eigen::MatrixXd* tangent_ = nullptr;
+  Eigen::MatrixXd tangent_next_, tangent_w_;
+  Eigen::VectorXd f_minus_, f_plus_, tangent_col_;
   SolverSummary summary_;
   Trajectory trajectory_;
 };

@@ -78,6 +78,12 @@ Eigen::MatrixXd BalancedExpm(const Eigen::MatrixXd& A, double t, int n, double w
 // The w_ref above for one generator.
 double ReferenceFrequency(const Eigen::MatrixXd& A, int n);
 
+// The quotient projector L = I - [r;0][r~;0]^T - [0;r][0;r~]^T (m x m) that removes the pair's
+// free rotation r (position and velocity) from an augmented state; r~ = recenter_row.
+Eigen::MatrixXd FreeRotationProjector(const SegmentTables& tables);
+// Applies L to the columns of V (m x p) in place, without allocation.
+void RemoveFreeRotation(const SegmentTables& tables, Eigen::Ref<Eigen::MatrixXd> V);
+
 // [x; x'] without the pair's free rotation (position and velocity): the part of the state that
 // every gap and force depends on. Used to compare states that may differ only by that rotation.
 Eigen::VectorXd ElasticPart(const SegmentTables& tables, const Eigen::VectorXd& z);
