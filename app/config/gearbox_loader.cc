@@ -537,6 +537,41 @@ GearboxSpec LoadGearboxFromString(const std::string& text, const std::string& so
   }
 }
 
+AtlasAxis ParseAxisOption(const std::string& text, const std::string& field) {
+  const std::string form = "must be PARAMETER=FROM:TO:POINTS, e.g. operating.speed=600rpm:3000rpm:24";
+  const size_t eq = text.find('=');
+  if (eq == std::string::npos) throw InputError(field, 0, "'" + text + "'", form);
+  AtlasAxis axis;
+  axis.parameter = text.substr(0, eq);
+  const auto& params = AtlasParameters();
+  const auto it = params.find(axis.parameter);
+  if (it == params.end()) {
+    std::vector<std::string> names;
+    for (const auto& kv : params) names.push_back(kv.first);
+    std::string rule = "is not a parameter that can be varied";
+    const std::string close = ClosestMatch(axis.parameter, names);
+    if (!close.empty()) rule += " (did you mean '" + close + "'?)";
+    throw InputError(field, 0, "'" + axis.parameter + "'", rule);
+  }
+  const std::string rest = text.substr(eq + 1);
+  const size_t c1 = rest.find(':');
+  const size_t c2 = c1 == std::string::npos ? c1 : rest.find(':', c1 + 1);
+  if (c2 == std::string::npos) throw InputError(field, 0, "'" + text + "'", form);
+  const ParsedQuantity from = ParseQuantity(rest.substr(0, c1), it->second);
+  const ParsedQuantity to = ParseQuantity(rest.substr(c1 + 1, c2 - c1 - 1), it->second);
+  const auto points = ParseNumber(rest.substr(c2 + 1));
+  if (!from.error.empty()) throw InputError(field, 0, "'" + rest.substr(0, c1) + "'", from.error);
+  if (!to.error.empty()) {
+    throw InputError(field, 0, "'" + rest.substr(c1 + 1, c2 - c1 - 1) + "'", to.error);
+  }
+  if (!points || *points < 1 || *points != std::floor(*points) || *points > 100000) {
+    throw InputError(field, 0, "'" + rest.substr(c2 + 1) + "'",
+                     "POINTS must be a whole number in 1..100000");
+  }
+  axis.range = {from.si_value, to.si_value, static_cast<int>(*points)};
+  return axis;
+}
+
 GearboxSpec LoadGearboxFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in)

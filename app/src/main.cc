@@ -3,7 +3,9 @@
 #include <exception>
 #include <iostream>
 
+#include "atlas_command.h"
 #include "check_command.h"
+#include "orbits_command.h"
 #include "simulate_command.h"
 #include "sweep_command.h"
 #include "validate_command.h"
@@ -89,6 +91,53 @@ int main(int argc, char** argv) {
                         "Write campbell.csv, critical_speeds.csv, waterfall.csv and sweep.json");
   sweep_cmd->add_flag("--json", sweep.json, "Print the results as one JSON document");
 
+  gearnvh::app::AtlasCommandOptions atlas;
+  CLI::App* atlas_cmd = app.add_subcommand(
+      "atlas",
+      "Chaos atlas over two schema parameters (default: analysis.atlas): per cell the largest "
+      "Lyapunov exponent, impacts per cycle, rattle index and regime; cells in parallel.");
+  atlas_cmd->add_option("FILE", atlas.file, "Gearbox YAML file")
+      ->required()
+      ->check(CLI::ExistingFile);
+  atlas_cmd->add_option("--x", atlas.x,
+                        "x axis PARAMETER=FROM:TO:POINTS, e.g. operating.speed=600rpm:3000rpm:24");
+  atlas_cmd->add_option("--y", atlas.y, "y axis, e.g. operating.torque=0.05Nm:5Nm:24");
+  atlas_cmd->add_option("--tier", atlas.tier, "Modal tier (default: analysis.tier)");
+  atlas_cmd->add_option("--cycles", atlas.cycles, "Averaged mesh cycles per cell (default 1080)")
+      ->check(CLI::Range(8L, 100000000L));
+  atlas_cmd->add_option("--transient", atlas.transient, "Settling cycles per cell (default 300)")
+      ->check(CLI::Range(0L, 100000000L));
+  atlas_cmd->add_option("--jobs", atlas.jobs, "Threads (default: all cores)")
+      ->check(CLI::Range(1, 1024));
+  atlas_cmd->add_option("--method", atlas.method, "Event location v1, v2 or v3 (default)")
+      ->check(CLI::IsMember({"v1", "v2", "v3", "fused"}));
+  atlas_cmd->add_option("--out", atlas.out, "Write atlas.csv and atlas.json");
+  atlas_cmd->add_flag("--json", atlas.json, "Print the atlas as one JSON document");
+
+  gearnvh::app::OrbitsCommandOptions orbits;
+  CLI::App* orbits_cmd = app.add_subcommand(
+      "orbits",
+      "Periodic orbits by Newton shooting on the exact cycle map: Floquet multipliers, stability "
+      "and the nearest stability boundary (fold, flip, Neimark-Sacker, grazing), at the file's "
+      "operating point or continued along one parameter.");
+  orbits_cmd->add_option("FILE", orbits.file, "Gearbox YAML file")
+      ->required()
+      ->check(CLI::ExistingFile);
+  orbits_cmd->add_option("--period", orbits.period,
+                         "Period in base periods (mesh and excitation both repeat), default 1")
+      ->check(CLI::Range(1, 64));
+  orbits_cmd->add_option("--sweep", orbits.sweep,
+                         "Continue along PARAMETER=FROM:TO:POINTS, e.g. "
+                         "operating.torque=0.1Nm:1Nm:10");
+  orbits_cmd->add_option("--tier", orbits.tier, "Modal tier (default: analysis.tier)");
+  orbits_cmd->add_option("--transient", orbits.transient,
+                         "Settling cycles before the first guess (default: analysis.transient_cycles)")
+      ->check(CLI::Range(0L, 100000000L));
+  orbits_cmd->add_option("--method", orbits.method, "Event location v1, v2 or v3 (default)")
+      ->check(CLI::IsMember({"v1", "v2", "v3", "fused"}));
+  orbits_cmd->add_option("--out", orbits.out, "Write orbits.csv and orbits.json");
+  orbits_cmd->add_flag("--json", orbits.json, "Print the orbits as one JSON document");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -100,6 +149,8 @@ int main(int argc, char** argv) {
     if (simulate_cmd->parsed()) return gearnvh::app::RunSimulate(simulate);
     if (validate_cmd->parsed()) return gearnvh::app::RunValidate(validate);
     if (sweep_cmd->parsed()) return gearnvh::app::RunSweep(sweep);
+    if (atlas_cmd->parsed()) return gearnvh::app::RunAtlas(atlas);
+    if (orbits_cmd->parsed()) return gearnvh::app::RunOrbits(orbits);
   } catch (const std::exception& e) {
     std::cerr << "internal error: " << e.what() << "\n";
     return 3;

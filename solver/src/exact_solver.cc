@@ -505,7 +505,10 @@ bool ExactStepper::Run(long cycles, bool record) {
     // Remove the drift of the pair's free rotation (exactly invariant; see SegmentTables).
     const double drift = t_.recenter_row.dot(z_.head(t_.n));
     z_.head(t_.n) -= drift * t_.rigid_rotation;
-    if (tangent_ != nullptr) RemoveFreeRotation(t_, *tangent_);
+    if (tangent_ != nullptr) {
+      RemoveFreeRotation(t_, *tangent_);
+      tangent_->bottomRows(2).setZero();
+    }
   }
   return true;
 }
@@ -569,6 +572,9 @@ void ExactStepper::PropagateTangentDecoupled(const SpectralDecomposition& d, dou
     tangent_w_.col(c) = wt_;
   }
   tangent_->noalias() = d.S * tangent_w_;
+  // The decomposition leaks rounding into the constant and excitation slots; a tangent entry there
+  // would act as a neutral (multiplier-1) forcing perturbation and pin the exponent at 0.
+  tangent_->bottomRows(2).setZero();
 }
 
 bool ExactStepper::TooManyEvents() {

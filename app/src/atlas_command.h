@@ -1,0 +1,26 @@
+// `gearnvh atlas FILE [--x P=FROM:TO:N] [--y P=FROM:TO:N] [--tier T] [--cycles N] [--transient N]
+// [--jobs N] [--method M] [--out DIR] [--json]`: the chaos atlas of nvh/atlas.h over two schema
+// parameters (defaults from analysis.atlas) — a regime map on the terminal, atlas.csv and
+// atlas.json.
+#pragma once
+
+#include <optional>
+#include <string>
+
+namespace gearnvh::app {
+
+struct AtlasCommandOptions {
+  std::string file;
+  std::optional<std::string> x, y;  // PARAMETER=FROM:TO:POINTS
+  std::optional<std::string> tier;
+  std::optional<long> cycles;     // averaged mesh cycles per cell
+  std::optional<long> transient;  // settling cycles per cell
+  int jobs = 0;                   // threads; 0 = all cores
+  std::string method = "v3";
+  std::optional<std::string> out;
+  bool json = false;
+};
+
+int RunAtlas(const AtlasCommandOptions& options);
+
+}  // namespace gearnvh::app

@@ -1,0 +1,150 @@
+#include "orbits_command.h"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "atomic_file.h"
+#include "command_errors.h"
+#include "config/gearbox_loader.h"
+#include "gearnvh/model/input_error.h"
+#include "gearnvh/nvh/orbit_scan.h"
+#include "simulate_command.h"
+
+namespace gearnvh::app {
+
+namespace {
+
+nlohmann::json FiniteOrNull(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
+
+nlohmann::json PointJson(const OrbitScanPoint& p) {
+  const PeriodicOrbit& o = p.orbit;
+  nlohmann::json mu = nlohmann::json::array();
+  for (const auto& m : o.multipliers) {
+    mu.push_back({{"re", m.real()}, {"im", m.imag()}, {"abs", std::abs(m)}});
+  }
+  const bool found = !p.start.empty();
+  return {{"value", p.value},
+          {"ok", p.ok},
+          {"found", found},
+          {"start", p.start},
+          {"message", p.message},
+          {"info", PeriodicOrbitInfoName(o.info)},
+          {"iterations", o.iterations},
+          {"residual", o.residual},
+          {"stable", found && o.stable},
+          {"spectral_radius", o.spectral_radius},
+          {"multipliers", mu},
+          {"nearest_boundary", StabilityBoundaryName(o.nearest_boundary)},
+          {"boundary_distance", FiniteOrNull(o.boundary_distance)},
+          {"grazing_margin", FiniteOrNull(o.grazing_margin)},
+          {"drive_impacts_per_period", o.drive_impacts},
+          {"back_impacts_per_period", o.back_impacts},
+          {"separation_fraction", o.separation_fraction}};
+}
+
+std::string OrbitsCsv(const std::vector<OrbitScanPoint>& points, const std::string& parameter) {
+  std::ostringstream os;
+  os.precision(12);
+  os << parameter << ",found,stable,spectral_radius,nearest_boundary,boundary_distance,"
+     << "grazing_margin,drive_impacts_per_period,back_impacts_per_period,separation_fraction\n";
+  for (const OrbitScanPoint& p : points) {
+    const PeriodicOrbit& o = p.orbit;
+    const bool found = !p.start.empty();
+    os << p.value << ',' << (found ? 1 : 0) << ',' << (found && o.stable ? 1 : 0) << ','
+       << o.spectral_radius << ',' << StabilityBoundaryName(o.nearest_boundary) << ','
+       << o.boundary_distance << ',' << o.grazing_margin << ',' << o.drive_impacts << ','
+       << o.back_impacts << ',' << o.separation_fraction << '\n';
+  }
+  return os.str();
+}
+
+}  // namespace
+
+int RunOrbits(const OrbitsCommandOptions& options) {
+  return RunReportingErrors(options.file, [&]() -> int {
+    const GearboxSpec spec = config::LoadGearboxFile(options.file);
+    OrbitScanOptions scan;
+    scan.tier = options.tier ? ParseTier(*options.tier) : spec.analysis.tier;
+    scan.period = options.period;
+    scan.transient_cycles = options.transient.value_or(spec.analysis.transient_cycles);
+    scan.method = options.method == "fused" ? "v3" : options.method;
+    std::optional<AtlasAxis> sweep;
+    if (options.sweep) sweep = config::ParseAxisOption(*options.sweep, "--sweep");
+    scan.Validate();
+    const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
+    OrbitScanProgress progress;
+    if (on_terminal && sweep) {
+      progress = [](int done, int total) {
+        fmt::print(stderr, "\rorbits: {:3d}% ({}/{} points)", 100 * done / total, done, total);
+      };
+    }
+    const std::vector<OrbitScanPoint> points = ScanPeriodicOrbits(spec, sweep, scan, progress);
+    if (on_terminal && sweep) fmt::print(stderr, "\n");
+    const std::string parameter = sweep ? sweep->parameter : "operating point";
+    nlohmann::json list = nlohmann::json::array();
+    int stable = 0, failed = 0;
+    for (const OrbitScanPoint& p : points) {
+      list.push_back(PointJson(p));
+      stable += (!p.start.empty() && p.orbit.stable) ? 1 : 0;
+      failed += p.ok ? 0 : 1;
+    }
+    nlohmann::json doc = {{"name", spec.name},
+                          {"file", options.file},
+                          {"period", options.period},
+                          {"period_mesh_cycles", points.front().orbit.period_cycles},
+                          {"period_s", points.front().orbit.period_s},
+                          {"parameter", parameter},
+                          {"points", list},
+                          {"stable_points", stable},
+                          {"failed_points", failed}};
+    if (options.out) {
+      std::filesystem::create_directories(*options.out);
+      const std::filesystem::path dir(*options.out);
+      WriteFileAtomically((dir / "orbits.csv").string(), OrbitsCsv(points, parameter));
+      WriteFileAtomically((dir / "orbits.json").string(), doc.dump(1) + "\n");
+    }
+    if (options.json) {
+      std::cout << doc.dump(1) << "\n";
+    } else {
+      fmt::print("{}  ({}): period-{} orbits ({} mesh cycles, {:.4g} s per period)\n", spec.name,
+                 options.file, options.period, points.front().orbit.period_cycles,
+                 points.front().orbit.period_s);
+      for (const OrbitScanPoint& p : points) {
+        const std::string where = sweep ? fmt::format("{} = {:g}: ", parameter, p.value) : "";
+        if (!p.ok) {
+          fmt::print("  {}failed: {}\n", where, p.message);
+          continue;
+        }
+        if (p.start.empty()) {
+          fmt::print("  {}{}\n", where, p.message);
+          continue;
+        }
+        const PeriodicOrbit& o = p.orbit;
+        fmt::print("  {}{} (max |mu| = {:.6g}), nearest boundary {} at {:.3g}; impacts per period "
+                   "{} drive / {} back; from {}\n",
+                   where, o.stable ? "stable" : "UNSTABLE", o.spectral_radius,
+                   StabilityBoundaryName(o.nearest_boundary), o.boundary_distance,
+                   o.drive_impacts, o.back_impacts, p.start);
+      }
+      if (stable == 0) {
+        fmt::print("  No stable period-{} orbit exists at {} (none found by shooting from the "
+                   "settled motion and continuation).\n",
+                   options.period, sweep ? "any point of the sweep" : "this operating point");
+      }
+    }
+    if (failed > 0) {
+      std::cerr << "error: " << failed << " of " << points.size()
+                << " points could not be computed (listed in the output)\n";
+      return 1;
+    }
+    return 0;
+  });
+}
+
+}  // namespace gearnvh::app

@@ -1,0 +1,25 @@
+// `gearnvh orbits FILE [--period M] [--sweep P=FROM:TO:N] [--tier T] [--transient N] [--method M]
+// [--out DIR] [--json]`: period-M orbits by Newton shooting with Floquet multipliers, stability
+// and the nearest stability boundary, at the file's operating point or along one parameter
+// (nvh/orbit_scan.h). Says plainly when no stable orbit was found.
+#pragma once
+
+#include <optional>
+#include <string>
+
+namespace gearnvh::app {
+
+struct OrbitsCommandOptions {
+  std::string file;
+  int period = 1;
+  std::optional<std::string> sweep;  // PARAMETER=FROM:TO:POINTS
+  std::optional<std::string> tier;
+  std::optional<long> transient;
+  std::string method = "v3";
+  std::optional<std::string> out;
+  bool json = false;
+};
+
+int RunOrbits(const OrbitsCommandOptions& options);
+
+}  // namespace gearnvh::app

@@ -1,0 +1,70 @@
+// Chaos atlas: a 2-D grid over two schema parameters (DESIGN.md §5). Each cell is one gearbox
+// variant taken through model -> reduction -> tables -> settled exact run with a tangent vector:
+//   largest Lyapunov exponent (1/s and per forcing cycle, with its standard error),
+//   impacts per mesh cycle on each flank, rattle index, separation fraction, regime.
+// Rattle index: the impact energy per forcing (rattle) cycle, sum of (1/2) m_e g'^2 over impacts
+// per forcing period, J — the energy the flanks take per firing pulse. (The acceleration ratio
+// needs a second, backlash-free run per cell and is left to `simulate`.)
+// Regime: "no impact" | "single-sided" | "double-sided" from the impacts (rattle.h), replaced by
+// "chaotic" when lambda T_f > chaos_threshold and lambda exceeds three standard errors.
+// Cells are independent and deterministic: they run in parallel (OpenMP, dynamic schedule) and
+// give bitwise the same numbers for any thread count.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "gearnvh/model/gearbox_spec.h"
+
+namespace gearnvh {
+
+struct AtlasOptions {
+  Tier tier = Tier::kTier1;
+  long transient_cycles = 300;      // mesh cycles settled before measuring; >= 0
+  long cycles = 1080;               // mesh cycles averaged per cell; >= 8
+  int threads = 0;                  // 0: all hardware threads
+  double chaos_threshold = 0.01;    // lambda T_f above which a cell is chaotic; > 0
+  std::string method = "v3";        // event method: v1 | v2 | v3 (fused falls back to v3)
+  void Validate() const;            // throws InputError naming the field
+};
+
+struct AtlasCell {
+  int ix = 0, iy = 0;
+  double x = 0.0, y = 0.0;  // parameter values, SI
+  bool ok = false;
+  std::string message;      // why the cell failed
+  double lyapunov_per_s = 0.0, lyapunov_per_forcing_cycle = 0.0, lyapunov_standard_error = 0.0;
+  double drive_impacts_per_cycle = 0.0, back_impacts_per_cycle = 0.0;  // per mesh cycle
+  double rattle_index = 0.0;        // J per forcing cycle
+  double impact_velocity_rms = 0.0;  // m/s
+  double separation_fraction = 0.0;
+  std::string regime;
+  double wall_s = 0.0;
+};
+
+struct AtlasResult {
+  AtlasAxis x, y;
+  std::vector<AtlasCell> cells;  // row-major: index iy * x.points + ix
+  int threads = 1;
+  double wall_s = 0.0;
+  int Failed() const;
+};
+
+// The value of point i of an axis (linear from `from` to `to`).
+double AxisValue(const AtlasAxis& axis, int i);
+
+// One cell; never throws (a failure is reported in the cell).
+AtlasCell ComputeAtlasCell(const GearboxSpec& base, const AtlasAxis& x, const AtlasAxis& y,
+                           int ix, int iy, const AtlasOptions& options);
+
+// (cells done, total): called under a lock, from worker threads.
+using AtlasProgress = std::function<void(int, int)>;
+
+// Every cell of the grid whose `skip` entry is false (skip may be empty: all cells). Skipped cells
+// are returned with ok = false and message "skipped" (the caller fills them, e.g. on resume).
+AtlasResult RunChaosAtlas(const GearboxSpec& base, const AtlasAxis& x, const AtlasAxis& y,
+                          const AtlasOptions& options, const AtlasProgress& progress = {},
+                          const std::vector<bool>& skip = {});
+
+}  // namespace gearnvh
