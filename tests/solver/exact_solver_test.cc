@@ -199,6 +199,26 @@ TEST_CASE("the stepping loop does not allocate", "[solver][allocation]") {
   CHECK(stepper.summary().events > 50);  // the run did rattle (event path exercised)
 }
 
+TEST_CASE("the stepping loop with a tangent attached does not allocate, for every locator",
+          "[solver][allocation]") {
+  const Setup s(RattleSpec(), Tier::kTier1);
+  const auto [z0, state0] = StaticInitialState(s.tables);
+  const char* method = GENERATE("v1", "v2", "v3");
+  INFO(method);
+  SolverOptions opt;
+  ApplyMethodName(method, opt);
+  ExactStepper stepper(s.tables, opt, z0, state0, 100 * 32, 1000);
+  Eigen::MatrixXd tangent = Eigen::MatrixXd::Zero(s.tables.m, 2 * s.tables.n);
+  tangent.topRows(2 * s.tables.n).setIdentity();
+  stepper.AttachTangent(&tangent);
+  stepper.Run(5, true);
+  testing::AllocationCounter counter;
+  REQUIRE(stepper.Run(30, true));
+  CHECK(counter.count() == 0);
+  CHECK(stepper.summary().events > 30);
+  CHECK(tangent.allFinite());
+}
+
 TEST_CASE("V1, V2 and V3 agree on every event time of a strong-rattle run", "[solver][events]") {
   // Three independent event locators on the same exact propagation: dense dyadic propagators
   // (times quantised to D 2^-34), the Taylor polynomial with Newton on sub-steps, and the
