@@ -1,0 +1,143 @@
+#include "gearnvh/render/display.h"
+
+#include <X11/Xlib.h>
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <mutex>
+#include <sstream>
+#include <vector>
+
+extern char** environ;
+
+namespace gearnvh::render {
+
+namespace {
+
+pid_t g_xvfb = -1;
+
+void StopXvfb() {
+  if (g_xvfb > 0) {
+    ::kill(g_xvfb, SIGTERM);
+    int status = 0;
+    ::waitpid(g_xvfb, &status, 0);
+    g_xvfb = -1;
+  }
+}
+
+bool CanOpen(const char* name) {
+  Display* d = XOpenDisplay(name);
+  if (d == nullptr) return false;
+  XCloseDisplay(d);
+  return true;
+}
+
+std::string FindOnPath(const std::string& program) {
+  const char* path = std::getenv("PATH");
+  std::stringstream dirs(path != nullptr ? path : "/usr/bin:/bin");
+  std::string dir;
+  while (std::getline(dirs, dir, ':')) {
+    const std::filesystem::path candidate = std::filesystem::path(dir) / program;
+    if (::access(candidate.c_str(), X_OK) == 0) return candidate.string();
+  }
+  return {};
+}
+
+DisplayStatus StartXvfb() {
+  DisplayStatus s;
+  const std::string xvfb = FindOnPath("Xvfb");
+  if (xvfb.empty()) {
+    s.info = DisplayStatus::Info::kXvfbMissing;
+    s.message =
+        "images need an X display: DISPLAY is not set and Xvfb is not installed (Debian: "
+        "apt-get install xvfb xauth libgl1-mesa-dri), or set DISPLAY to a running X server";
+    return s;
+  }
+  int fds[2];
+  if (::pipe(fds) != 0) {
+    s.info = DisplayStatus::Info::kXvfbFailed;
+    s.message = "could not start Xvfb: pipe() failed";
+    return s;
+  }
+  const std::string fd = std::to_string(fds[1]);
+  std::vector<std::string> args{xvfb,     "-displayfd", fd,           "-screen", "0",
+                                "1920x1200x24", "-nolisten", "tcp", "-noreset"};
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addclose(&actions, fds[0]);
+  // Xvfb's own chatter (font warnings) is not for the user of gearnvh.
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
+  pid_t pid = -1;
+  const int rc = posix_spawn(&pid, xvfb.c_str(), &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  ::close(fds[1]);
+  if (rc != 0) {
+    ::close(fds[0]);
+    s.info = DisplayStatus::Info::kXvfbFailed;
+    s.message = "could not start " + xvfb;
+    return s;
+  }
+  g_xvfb = pid;
+  std::atexit(StopXvfb);
+  // Xvfb writes the display number and a newline once it accepts connections.
+  std::string number;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (std::chrono::steady_clock::now() < deadline) {
+    pollfd p{fds[0], POLLIN, 0};
+    if (::poll(&p, 1, 100) <= 0) continue;
+    char c = 0;
+    if (::read(fds[0], &c, 1) != 1) break;  // closed: Xvfb died
+    if (c == '\n') break;
+    number += c;
+  }
+  ::close(fds[0]);
+  if (number.empty()) {
+    StopXvfb();
+    s.info = DisplayStatus::Info::kXvfbFailed;
+    s.message = "Xvfb (" + xvfb + ") did not start within 10 s";
+    return s;
+  }
+  s.display = ":" + number;
+  ::setenv("DISPLAY", s.display.c_str(), 1);
+  s.own_xvfb = true;
+  if (!CanOpen(s.display.c_str())) {
+    StopXvfb();
+    s.info = DisplayStatus::Info::kXvfbFailed;
+    s.message = "Xvfb started on " + s.display + " but the display cannot be opened";
+  }
+  return s;
+}
+
+}  // namespace
+
+const DisplayStatus& EnsureDisplay() {
+  static DisplayStatus status;
+  static std::once_flag once;
+  std::call_once(once, [] {
+    const char* display = std::getenv("DISPLAY");
+    if (display != nullptr && *display != '\0') {
+      status.display = display;
+      if (!CanOpen(display)) {
+        status.info = DisplayStatus::Info::kDisplayUnusable;
+        status.message = std::string("cannot open the X display DISPLAY=") + display +
+                         " for rendering images; unset DISPLAY to let gearnvh start its own Xvfb";
+      }
+      return;
+    }
+    status = StartXvfb();
+  });
+  return status;
+}
+
+}  // namespace gearnvh::render

@@ -1,0 +1,342 @@
+#include "gearnvh/render/plots.h"
+
+#include <vtkAxis.h>
+#include <vtkChartHistogram2D.h>
+#include <vtkChartLegend.h>
+#include <vtkChartXY.h>
+#include <vtkColorLegend.h>
+#include <vtkColorTransferFunction.h>
+#include <vtkContext2D.h>
+#include <vtkContextItem.h>
+#include <vtkContextScene.h>
+#include <vtkContextView.h>
+#include <vtkDoubleArray.h>
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkObjectFactory.h>
+#include <vtkPNGReader.h>
+#include <vtkPNGWriter.h>
+#include <vtkPen.h>
+#include <vtkPlot.h>
+#include <vtkPlotPoints.h>
+#include <vtkPointData.h>
+#include <vtkRenderWindow.h>
+#include <vtkRenderer.h>
+#include <vtkSmartPointer.h>
+#include <vtkTable.h>
+#include <vtkTextProperty.h>
+#include <vtkUnsignedCharArray.h>
+#include <vtkWindowToImageFilter.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <mutex>
+#include <random>
+#include <stdexcept>
+
+#include "gearnvh/render/display.h"
+
+namespace gearnvh::render {
+
+namespace {
+
+std::mutex g_render_mutex;
+
+// Text at data coordinates of a chart, drawn after the chart has laid out its axes.
+class ChartLabels : public vtkContextItem {
+ public:
+  static ChartLabels* New();
+  vtkTypeMacro(ChartLabels, vtkContextItem)
+  vtkChartXY* chart = nullptr;
+  std::vector<TextLabel> labels;
+  int font_size = 14;
+
+  bool Paint(vtkContext2D* painter) override {
+    if (chart == nullptr) return true;
+    vtkAxis* xa = chart->GetAxis(vtkAxis::BOTTOM);
+    vtkAxis* ya = chart->GetAxis(vtkAxis::LEFT);
+    const float* x1 = xa->GetPoint1();
+    const float* x2 = xa->GetPoint2();
+    const float* y1 = ya->GetPoint1();
+    const float* y2 = ya->GetPoint2();
+    auto map = [](vtkAxis* axis, double v, float p1, float p2) {
+      double lo = axis->GetMinimum(), hi = axis->GetMaximum();
+      if (axis->GetLogScaleActive()) v = std::log10(std::max(v, 1e-300));
+      return p1 + static_cast<float>((v - lo) / (hi - lo)) * (p2 - p1);
+    };
+    painter->GetTextProp()->SetFontSize(font_size);
+    painter->GetTextProp()->SetColor(0.1, 0.1, 0.1);
+    painter->GetTextProp()->SetJustificationToLeft();
+    painter->GetTextProp()->SetVerticalJustificationToBottom();
+    for (const TextLabel& l : labels) {
+      const float px = map(xa, l.x, x1[0], x2[0]);
+      const float py = map(ya, l.y, y1[1], y2[1]);
+      if (px < x1[0] || px > x2[0] || py < y1[1] || py > y2[1]) continue;
+      painter->DrawString(px + 4.0f, py + 4.0f, l.text.c_str());
+    }
+    return true;
+  }
+};
+vtkStandardNewMacro(ChartLabels);
+
+void StyleAxis(vtkAxis* axis, const std::string& title) {
+  axis->SetTitle(title);
+  axis->GetTitleProperties()->SetFontSize(16);
+  axis->GetTitleProperties()->SetBold(false);
+  axis->GetLabelProperties()->SetFontSize(13);
+  axis->SetGridVisible(true);
+}
+
+// Renders the view into png_path atomically.
+RenderStatus WriteView(vtkContextView* view, const ImageOptions& options,
+                       const std::string& png_path) {
+  vtkRenderWindow* window = view->GetRenderWindow();
+  window->SetOffScreenRendering(1);
+  window->SetSize(options.width, options.height);
+  window->SetDPI(static_cast<int>(options.dpi));
+  view->GetRenderer()->SetBackground(1.0, 1.0, 1.0);
+  window->Render();
+  vtkNew<vtkWindowToImageFilter> grab;
+  grab->SetInput(window);
+  grab->SetInputBufferTypeToRGB();
+  grab->ReadFrontBufferOff();
+  grab->Update();
+  const std::filesystem::path target(png_path);
+  std::random_device rd;
+  std::string tmp_name = ".";
+  tmp_name += target.filename().string();
+  tmp_name += ".tmp";
+  tmp_name += std::to_string(rd());
+  const std::filesystem::path tmp = target.parent_path() / tmp_name;
+  vtkNew<vtkPNGWriter> writer;
+  writer->SetFileName(tmp.c_str());
+  writer->SetInputConnection(grab->GetOutputPort());
+  writer->Write();
+  std::error_code ec;
+  if (writer->GetErrorCode() != 0 || !std::filesystem::exists(tmp, ec) ||
+      std::filesystem::file_size(tmp, ec) == 0) {
+    std::filesystem::remove(tmp, ec);
+    return {false, "could not write " + png_path};
+  }
+  std::filesystem::rename(tmp, target, ec);
+  if (ec) {
+    std::filesystem::remove(tmp, ec);
+    return {false, "could not write " + png_path + ": " + ec.message()};
+  }
+  return {};
+}
+
+RenderStatus CheckDisplay() {
+  const DisplayStatus& d = EnsureDisplay();
+  if (!d.ok()) return {false, d.message};
+  return {};
+}
+
+}  // namespace
+
+Rgb PaletteColor(int index) {
+  static const Rgb palette[] = {{0.00, 0.45, 0.70}, {0.90, 0.62, 0.00}, {0.00, 0.62, 0.45},
+                                {0.80, 0.40, 0.00}, {0.34, 0.71, 0.91}, {0.80, 0.47, 0.65},
+                                {0.35, 0.35, 0.35}, {0.94, 0.89, 0.26}};
+  const int n = static_cast<int>(sizeof(palette) / sizeof(palette[0]));
+  return palette[((index % n) + n) % n];
+}
+
+void ImageOptions::Validate() const {
+  if (width < 200) throw std::invalid_argument("image width must be >= 200 px");
+  if (height < 150) throw std::invalid_argument("image height must be >= 150 px");
+  if (!(dpi >= 36)) throw std::invalid_argument("image dpi must be >= 36");
+}
+
+RenderStatus RenderLinePlot(const LinePlot& plot, const ImageOptions& options,
+                            const std::string& png_path) {
+  options.Validate();
+  if (RenderStatus s = CheckDisplay(); !s.ok) return s;
+  const std::lock_guard<std::mutex> lock(g_render_mutex);
+  vtkNew<vtkContextView> view;
+  vtkNew<vtkChartXY> chart;
+  view->GetScene()->AddItem(chart);
+  chart->SetTitle(plot.title);
+  chart->GetTitleProperties()->SetFontSize(20);
+  StyleAxis(chart->GetAxis(vtkAxis::BOTTOM), plot.x_label);
+  StyleAxis(chart->GetAxis(vtkAxis::LEFT), plot.y_label);
+  if (plot.log_y) chart->GetAxis(vtkAxis::LEFT)->SetLogScale(true);
+  if (plot.fixed_x) {
+    chart->GetAxis(vtkAxis::BOTTOM)->SetRange(plot.x_min, plot.x_max);
+    chart->GetAxis(vtkAxis::BOTTOM)->SetBehavior(vtkAxis::FIXED);
+  }
+  if (plot.fixed_y) {
+    chart->GetAxis(vtkAxis::LEFT)->SetRange(plot.y_min, plot.y_max);
+    chart->GetAxis(vtkAxis::LEFT)->SetBehavior(vtkAxis::FIXED);
+  }
+  bool any_label = false;
+  for (size_t i = 0; i < plot.series.size(); ++i) {
+    const Series& s = plot.series[i];
+    if (s.x.size() != s.y.size()) {
+      throw std::invalid_argument("series '" + s.label + "': x and y differ in length");
+    }
+    if (s.x.empty()) continue;
+    vtkNew<vtkTable> table;
+    vtkNew<vtkDoubleArray> xs, ys;
+    xs->SetName("x");
+    ys->SetName(s.label.empty() ? ("series " + std::to_string(i)).c_str() : s.label.c_str());
+    for (size_t k = 0; k < s.x.size(); ++k) {
+      // Log axes cannot show non-positive values; NaN breaks are drawn as gaps by VTK.
+      const double y = plot.log_y && !(s.y[k] > 0.0) ? std::numeric_limits<double>::quiet_NaN()
+                                                     : s.y[k];
+      xs->InsertNextValue(s.x[k]);
+      ys->InsertNextValue(y);
+    }
+    table->AddColumn(xs);
+    table->AddColumn(ys);
+    vtkPlot* p = chart->AddPlot(s.style == Series::Style::kPoints ? vtkChart::POINTS : vtkChart::LINE);
+    p->SetInputData(table, 0, 1);
+    const Rgb c = PaletteColor(s.color >= 0 ? s.color : static_cast<int>(i));
+    p->SetColor(static_cast<unsigned char>(255 * c[0]), static_cast<unsigned char>(255 * c[1]),
+                static_cast<unsigned char>(255 * c[2]), 255);
+    p->SetWidth(static_cast<float>(s.width));
+    if (s.style == Series::Style::kDashed) p->GetPen()->SetLineType(vtkPen::DASH_LINE);
+    if (s.style == Series::Style::kPoints) {
+      auto* points = vtkPlotPoints::SafeDownCast(p);
+      if (points != nullptr) {
+        points->SetMarkerStyle(vtkPlotPoints::CIRCLE);
+        points->SetMarkerSize(static_cast<float>(s.width));
+      }
+    }
+    p->SetLabel(s.label);
+    if (s.label.empty()) {
+      p->SetLegendVisibility(false);
+    } else {
+      any_label = true;
+    }
+  }
+  chart->SetShowLegend(plot.legend && any_label);
+  chart->GetLegend()->SetLabelSize(13);
+  chart->GetLegend()->SetHorizontalAlignment(vtkChartLegend::RIGHT);
+  chart->GetLegend()->SetVerticalAlignment(vtkChartLegend::TOP);
+  if (!plot.labels.empty()) {
+    vtkNew<ChartLabels> labels;
+    labels->chart = chart;
+    labels->labels = plot.labels;
+    view->GetScene()->AddItem(labels);
+    return WriteView(view, options, png_path);
+  }
+  return WriteView(view, options, png_path);
+}
+
+RenderStatus RenderHeatMap(const HeatMap& map, const ImageOptions& options,
+                           const std::string& png_path) {
+  options.Validate();
+  if (map.nx < 1 || map.ny < 1 || static_cast<int>(map.values.size()) != map.nx * map.ny) {
+    throw std::invalid_argument("heat map '" + map.title + "': values must be nx * ny");
+  }
+  if (RenderStatus s = CheckDisplay(); !s.ok) return s;
+  const std::lock_guard<std::mutex> lock(g_render_mutex);
+  vtkNew<vtkImageData> image;
+  image->SetDimensions(map.nx, map.ny, 1);
+  const double dx = (map.x_max - map.x_min) / map.nx, dy = (map.y_max - map.y_min) / map.ny;
+  image->SetOrigin(map.x_min, map.y_min, 0.0);
+  image->SetSpacing(dx, dy, 1.0);
+  image->AllocateScalars(VTK_DOUBLE, 1);
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (int iy = 0; iy < map.ny; ++iy) {
+    for (int ix = 0; ix < map.nx; ++ix) {
+      const double v = map.values[static_cast<size_t>(iy * map.nx + ix)];
+      *static_cast<double*>(image->GetScalarPointer(ix, iy, 0)) = v;
+      if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+    }
+  }
+  if (!std::isfinite(lo)) lo = 0.0, hi = 1.0;
+  if (hi <= lo) hi = lo + 1.0;
+  vtkNew<vtkColorTransferFunction> colors;
+  colors->SetNanColor(0.75, 0.75, 0.75);
+  if (map.diverging) {
+    const double m = std::max(std::abs(lo), std::abs(hi));
+    colors->AddRGBPoint(-m, 0.02, 0.19, 0.38);
+    colors->AddRGBPoint(-0.5 * m, 0.26, 0.58, 0.76);
+    colors->AddRGBPoint(0.0, 0.97, 0.97, 0.97);
+    colors->AddRGBPoint(0.5 * m, 0.84, 0.38, 0.30);
+    colors->AddRGBPoint(m, 0.40, 0.0, 0.05);
+  } else {  // viridis, five stops
+    const double stops[5][3] = {{0.267, 0.005, 0.329}, {0.231, 0.322, 0.545},
+                                {0.129, 0.569, 0.549}, {0.369, 0.788, 0.384},
+                                {0.993, 0.906, 0.144}};
+    for (int k = 0; k < 5; ++k) {
+      colors->AddRGBPoint(lo + (hi - lo) * k / 4.0, stops[k][0], stops[k][1], stops[k][2]);
+    }
+  }
+  vtkNew<vtkContextView> view;
+  vtkNew<vtkChartHistogram2D> chart;
+  view->GetScene()->AddItem(chart);
+  chart->SetInputData(image);
+  chart->SetTransferFunction(colors);
+  chart->SetTitle(map.title);
+  chart->GetTitleProperties()->SetFontSize(20);
+  StyleAxis(chart->GetAxis(vtkAxis::BOTTOM), map.x_label);
+  StyleAxis(chart->GetAxis(vtkAxis::LEFT), map.y_label);
+  chart->GetAxis(vtkAxis::BOTTOM)->SetGridVisible(false);
+  chart->GetAxis(vtkAxis::LEFT)->SetGridVisible(false);
+  chart->GetAxis(vtkAxis::BOTTOM)->SetRange(map.x_min, map.x_max);
+  chart->GetAxis(vtkAxis::BOTTOM)->SetBehavior(vtkAxis::FIXED);
+  chart->GetAxis(vtkAxis::LEFT)->SetRange(map.y_min, map.y_max);
+  chart->GetAxis(vtkAxis::LEFT)->SetBehavior(vtkAxis::FIXED);
+  if (auto* legend = vtkColorLegend::SafeDownCast(chart->GetLegend()); legend != nullptr) {
+    legend->SetTitle(map.value_label);
+    legend->SetLabelSize(13);
+  }
+  return WriteView(view, options, png_path);
+}
+
+std::array<std::uint8_t, 3> RgbImage::Pixel(int x, int y) const {
+  const size_t i = 3 * (static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x));
+  return {rgb[i], rgb[i + 1], rgb[i + 2]};
+}
+
+long RgbImage::CountDifferent(double x0, double y0, double x1, double y1,
+                              const std::array<std::uint8_t, 3>& background,
+                              int tolerance) const {
+  long count = 0;
+  const int xa = static_cast<int>(x0 * width), xb = static_cast<int>(x1 * width);
+  const int ya = static_cast<int>(y0 * height), yb = static_cast<int>(y1 * height);
+  for (int y = std::max(0, ya); y < std::min(height, yb); ++y) {
+    for (int x = std::max(0, xa); x < std::min(width, xb); ++x) {
+      const auto p = Pixel(x, y);
+      for (int c = 0; c < 3; ++c) {
+        if (std::abs(static_cast<int>(p[c]) - static_cast<int>(background[c])) > tolerance) {
+          ++count;
+          break;
+        }
+      }
+    }
+  }
+  return count;
+}
+
+RgbImage ReadPng(const std::string& path) {
+  vtkNew<vtkPNGReader> reader;
+  if (reader->CanReadFile(path.c_str()) == 0) throw std::runtime_error("not a PNG: " + path);
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  vtkImageData* data = reader->GetOutput();
+  int dims[3];
+  data->GetDimensions(dims);
+  RgbImage out;
+  out.width = dims[0];
+  out.height = dims[1];
+  const int components = data->GetNumberOfScalarComponents();
+  out.rgb.resize(3 * static_cast<size_t>(out.width) * static_cast<size_t>(out.height));
+  for (int y = 0; y < out.height; ++y) {
+    for (int x = 0; x < out.width; ++x) {
+      // VTK's rows run bottom-up; RgbImage rows run top-down.
+      const auto* p = static_cast<const unsigned char*>(data->GetScalarPointer(x, out.height - 1 - y, 0));
+      for (int c = 0; c < 3; ++c) {
+        out.rgb[3 * (static_cast<size_t>(y) * out.width + x) + c] = p[std::min(c, components - 1)];
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace gearnvh::render
