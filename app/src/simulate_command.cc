@@ -11,6 +11,7 @@
 
 #include "atomic_file.h"
 #include "command_errors.h"
+#include "operating_point.h"
 #include "config/gearbox_loader.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/rattle.h"
@@ -32,30 +33,6 @@ Tier ParseTier(const std::string& text) {
 }
 
 namespace {
-
-nlohmann::json SummaryJson(const SolverSummary& s) {
-  return {{"status", SolverStatusName(s.status)},
-          {"message", s.message},
-          {"mesh_cycles", s.mesh_cycles},
-          {"events", s.events},
-          {"drive_impacts", s.drive_impacts},
-          {"back_impacts", s.back_impacts},
-          {"separations", s.separations},
-          {"grazing", s.grazing},
-          {"events_per_cycle", s.events_per_cycle},
-          {"matvecs", s.matvecs},
-          {"matvec_per_cycle", s.matvec_per_cycle},
-          {"fused_cycles", s.fused_cycles},
-          {"jumped_cycles", s.jumped_cycles},
-          {"contact_certified", s.contact_certified},
-          {"simulated_s", s.simulated_s},
-          {"wall_s", s.wall_s},
-          {"real_time_ratio", s.real_time_ratio},
-          {"table_bytes", s.table_bytes},
-          {"spectral_fallback_systems", s.spectral_fallback_systems},
-          {"spectral_max_condition", s.spectral_max_condition},
-          {"trajectory_truncated", s.trajectory_truncated}};
-}
 
 std::string TrajectoryCsv(const Trajectory& t) {
   std::ostringstream os;
@@ -91,10 +68,6 @@ int RunSimulate(const SimulateOptions& options) {
     ApplyMethodName(options.method, solver);
     solver.Validate();
     const ComponentModel model = BuildComponentModel(spec);
-    const ReducedModel reduced = ReduceModel(model, tier);
-    const SegmentTables tables = BuildSegmentTables(model, reduced, spec);
-    const auto [z0, state0] = StaticInitialState(tables);
-
     // Progress on a terminal only; quiet when stderr is piped.
     const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
     ProgressCallback progress;
@@ -104,81 +77,17 @@ int RunSimulate(const SimulateOptions& options) {
                    total);
       };
     }
-    const SolverResult result = SimulateExact(tables, z0, state0, solver, progress);
+    const OperatingPointAnalysis op = AnalyseOperatingPoint(spec, model, tier, solver, progress);
     if (on_terminal) fmt::print(stderr, "\n");
-    const SolverSummary& summary = result.summary;
-    const Trajectory& trajectory = result.trajectory;
-    // The same gearbox with the backlash removed (0.5 nm of play instead), for the acceleration
-    // ratio.
-    GearboxSpec tight = spec;
-    tight.mesh.backlash = 1e-9;
-    const ComponentModel tight_model = BuildComponentModel(tight);
-    const SegmentTables tight_tables =
-        BuildSegmentTables(tight_model, ReduceModel(tight_model, tier), tight);
-    const auto [tz0, ts0] = StaticInitialState(tight_tables);
-    const SolverResult reference = SimulateExact(tight_tables, tz0, ts0, solver);
-    const double cycles_per_excitation =
-        spec.operating.excitation.empty() ? 0.0
-                                          : spec.pinion.teeth / spec.operating.excitation[0].order;
-    const RattleIndices rattle =
-        ComputeRattleIndices(result, model.effective_mass, cycles_per_excitation, &reference);
-    const TransmissionErrorStats te = ComputeTransmissionErrorStats(
-        trajectory, spec.operating.torque / model.geometry.wheel.base);
-
-    nlohmann::json doc;
+    const SolverSummary& summary = op.result.summary;
+    const Trajectory& trajectory = op.result.trajectory;
+    const RattleIndices& rattle = op.rattle;
+    const TransmissionErrorStats& te = op.te;
+    const std::vector<SidebandRow>& sideband_rows = op.sidebands;
+    const long window = op.sideband_window;
+    nlohmann::json doc = op.doc;
     doc["name"] = spec.name;
     doc["file"] = options.file;
-    doc["tier"] = reduced.name;
-    doc["method"] = SolverMethodName(solver.method);
-    doc["events_method"] = EventMethodName(solver.events);
-    doc["state_dim"] = tables.m;
-    doc["summary"] = SummaryJson(summary);
-    doc["te_rms"] = te.rms;
-    doc["te"] = {{"mean", te.mean}, {"rms", te.rms}, {"peak_to_peak", te.peak_to_peak}};
-    doc["rattle"] = {{"regime", rattle.regime},
-                     {"drive_impacts_per_cycle", rattle.drive_impacts_per_cycle},
-                     {"back_impacts_per_cycle", rattle.back_impacts_per_cycle},
-                     {"drive_impacts_per_excitation_cycle", rattle.drive_impacts_per_excitation},
-                     {"back_impacts_per_excitation_cycle", rattle.back_impacts_per_excitation},
-                     {"impact_velocity_rms", rattle.impact_velocity_rms},
-                     {"impact_energy_per_cycle", rattle.impact_energy_per_cycle},
-                     {"separation_fraction", rattle.separation_fraction},
-                     {"wheel_acceleration_rms", rattle.wheel_acceleration_rms},
-                     {"no_backlash_acceleration_rms", rattle.no_backlash_acceleration_rms},
-                     {"acceleration_ratio", rattle.acceleration_ratio}};
-    doc["mesh_force"] = {{"mean", te.mesh_force_mean},
-                         {"max", te.mesh_force_max},
-                         {"dynamic_factor", te.dynamic_factor}};
-    // Mesh harmonics and shaft-order sidebands of the TE over whole revolutions of both shafts.
-    const long revolution =
-        std::lcm(static_cast<long>(spec.pinion.teeth), static_cast<long>(spec.wheel.teeth));
-    // The first recorded sample is one segment into the record: at most recorded - 1 whole cycles.
-    const long window = summary.trajectory_truncated
-                            ? 0
-                            : ((summary.recorded_cycles - 1) / revolution) * revolution;
-    nlohmann::json sidebands = nlohmann::json::array();
-    std::vector<SidebandRow> sideband_rows;
-    if (window > 0 && summary.status == SolverStatus::kSuccess) {
-      const int per_cycle = spec.analysis.segments_per_cycle;
-      SpectrumAnalyzer analyzer(static_cast<int>(window * per_cycle));
-      const AmplitudeSpectrum spectrum =
-          TeSpectrum(trajectory, tables.mesh_period, per_cycle, window, analyzer);
-      const double pinion_hz = spec.operating.speed / (2.0 * std::numbers::pi);
-      sideband_rows = SidebandTable(spectrum, 1.0 / tables.mesh_period, pinion_hz,
-                                    pinion_hz * spec.pinion.teeth / spec.wheel.teeth, 3, 3);
-      for (const SidebandRow& r : sideband_rows) {
-        sidebands.push_back({{"label", r.label},
-                             {"frequency_hz", r.frequency_hz},
-                             {"amplitude_m", r.amplitude},
-                             {"db_re_1m", r.db}});
-      }
-    }
-    doc["sidebands"] = sidebands;
-    doc["sideband_window_cycles"] = window;
-    if (window == 0) {
-      doc["sidebands_note"] = "needs at least lcm(z1, z2) = " + std::to_string(revolution) +
-                              " recorded mesh cycles (whole revolutions of both shafts)";
-    }
     if (options.out) {
       std::filesystem::create_directories(*options.out);
       const std::filesystem::path dir(*options.out);
@@ -190,8 +99,8 @@ int RunSimulate(const SimulateOptions& options) {
       std::cout << doc.dump(2) << "\n";
     } else {
       const SolverSummary& s = summary;
-      fmt::print("{}  ({}), {}: state dimension {}\n", spec.name, options.file, reduced.name,
-                 tables.m);
+      fmt::print("{}  ({}), {}: state dimension {}\n", spec.name, options.file, op.tier_name,
+                 op.tables.m);
       fmt::print("  status              {}\n", SolverStatusName(s.status));
       fmt::print("  mesh cycles         {} ({} recorded)\n", s.mesh_cycles, solver.cycles);
       fmt::print(

@@ -1,0 +1,38 @@
+// One operating point through the exact solver and the NVH signatures: what `gearnvh simulate`
+// prints and what a report shows. The same gearbox with the backlash removed (0.5 nm of play) is
+// run as well, for the rattle acceleration ratio.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <vector>
+
+#include "gearnvh/model/component_model.h"
+#include "gearnvh/nvh/rattle.h"
+#include "gearnvh/nvh/spectrum.h"
+#include "gearnvh/nvh/transmission_error.h"
+#include "gearnvh/reduction/reduced_model.h"
+#include "gearnvh/solver/exact_solver.h"
+#include "gearnvh/solver/segment_tables.h"
+
+namespace gearnvh::app {
+
+struct OperatingPointAnalysis {
+  std::string tier_name;
+  SegmentTables tables;
+  SolverOptions solver;
+  SolverResult result;
+  RattleIndices rattle;
+  TransmissionErrorStats te;
+  long sideband_window = 0;     // mesh cycles in the spectrum (whole revolutions of both shafts)
+  AmplitudeSpectrum spectrum;   // TE spectrum over that window (empty when too few cycles)
+  std::vector<SidebandRow> sidebands;
+  nlohmann::json doc;  // the `simulate --json` document without name and file
+};
+
+OperatingPointAnalysis AnalyseOperatingPoint(const GearboxSpec& spec, const ComponentModel& model,
+                                             Tier tier, const SolverOptions& solver,
+                                             const ProgressCallback& progress = {});
+
+nlohmann::json SummaryJson(const SolverSummary& s);
+
+}  // namespace gearnvh::app
