@@ -50,6 +50,8 @@ nlohmann::json CellJson(const AtlasCell& c) {
           {"wall_s", c.wall_s}};
 }
 
+}  // namespace
+
 std::string AtlasCsv(const AtlasResult& r) {
   std::ostringstream os;
   os.precision(12);
@@ -71,6 +73,8 @@ std::string AtlasCsv(const AtlasResult& r) {
   return os.str();
 }
 
+namespace {
+
 char RegimeLetter(const AtlasCell& c) {
   if (!c.ok) return 'X';
   if (c.regime == "chaotic") return 'C';
@@ -78,6 +82,8 @@ char RegimeLetter(const AtlasCell& c) {
   if (c.regime == "single-sided") return 'S';
   return '.';
 }
+
+}  // namespace
 
 nlohmann::json AtlasJson(const AtlasResult& r, const AtlasOptions& o) {
   nlohmann::json cells = nlohmann::json::array();
@@ -98,8 +104,6 @@ nlohmann::json AtlasJson(const AtlasResult& r, const AtlasOptions& o) {
           {"threads", r.threads},
           {"wall_s", r.wall_s}};
 }
-
-}  // namespace
 
 int RunAtlas(const AtlasCommandOptions& options) {
   return RunReportingErrors(options.file, [&]() -> int {

@@ -4,8 +4,11 @@
 // atlas.json.
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+
+#include "gearnvh/nvh/atlas.h"
 
 namespace gearnvh::app {
 
@@ -22,5 +25,9 @@ struct AtlasCommandOptions {
 };
 
 int RunAtlas(const AtlasCommandOptions& options);
+
+// The atlas documents (also used by reports).
+nlohmann::json AtlasJson(const AtlasResult& r, const AtlasOptions& o);
+std::string AtlasCsv(const AtlasResult& r);
 
 }  // namespace gearnvh::app

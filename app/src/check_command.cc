@@ -14,6 +14,16 @@
 #include "gearnvh/reduction/reduced_model.h"
 
 namespace gearnvh::app {
+std::vector<ReducedModel> ReduceAvailableTiers(const ComponentModel& model) {
+  const std::vector<Tier> all{Tier::kTier1, Tier::kTier2,     Tier::kTier3, Tier::kTier4,
+                              Tier::kTier5, Tier::kN20Simple, Tier::kN20Mta};
+  std::vector<ReducedModel> out;
+  for (Tier t : all) {
+    if (TierAvailable(model, t)) out.push_back(ReduceModel(model, t));
+  }
+  return out;
+}
+
 namespace {
 
 nlohmann::json RadiiJson(const GearRadii& r) {
@@ -23,18 +33,8 @@ nlohmann::json RadiiJson(const GearRadii& r) {
           {"root_radius", r.root}};
 }
 
-constexpr int kReportedModes = 10;
-
 const std::vector<Tier> kAllTiers{Tier::kTier1, Tier::kTier2,     Tier::kTier3, Tier::kTier4,
                                   Tier::kTier5, Tier::kN20Simple, Tier::kN20Mta};
-
-std::vector<ReducedModel> ReduceAvailableTiers(const ComponentModel& model) {
-  std::vector<ReducedModel> out;
-  for (Tier t : kAllTiers) {
-    if (TierAvailable(model, t)) out.push_back(ReduceModel(model, t));
-  }
-  return out;
-}
 
 void PrintText(const std::string& file, const GearboxSpec& spec, const ComponentModel& model,
                const ModalSummary& modes, const std::vector<ReducedModel>& tiers) {

@@ -19,6 +19,12 @@ struct CheckOptions {
 nlohmann::json CheckReport(const GearboxSpec& spec, const ComponentModel& model,
                            const ModalSummary& modes, const std::vector<ReducedModel>& tiers);
 
+// Modes reported per model and tier.
+constexpr int kReportedModes = 10;
+
+// Every tier the model supports, reduced (tiers 4, 5 and N20 need shafts).
+std::vector<ReducedModel> ReduceAvailableTiers(const ComponentModel& model);
+
 // Runs the command; returns the process exit code (0 ok, 1 if any file was invalid).
 int RunCheck(const CheckOptions& options);
 

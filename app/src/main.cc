@@ -6,6 +6,9 @@
 #include "atlas_command.h"
 #include "check_command.h"
 #include "orbits_command.h"
+#ifdef GEARNVH_HAVE_RENDER
+#include "report_command.h"
+#endif
 #include "simulate_command.h"
 #include "sweep_command.h"
 #include "validate_command.h"
@@ -138,6 +141,29 @@ int main(int argc, char** argv) {
   orbits_cmd->add_option("--out", orbits.out, "Write orbits.csv and orbits.json");
   orbits_cmd->add_flag("--json", orbits.json, "Print the orbits as one JSON document");
 
+#ifdef GEARNVH_HAVE_RENDER
+  gearnvh::app::ReportCommandOptions report;
+  CLI::App* report_cmd = app.add_subcommand(
+      "report",
+      "Batch NVH report: per gearbox a folder with index.html (tables and images), results.json, "
+      "CSV and PNGs (Campbell, waterfall, spectrum with sidebands, TE trace, mesh stiffness, load "
+      "sharing, LSTE, phase portrait, atlas heat maps); DIR/index.html compares the batch.");
+  report_cmd->add_option("FILE", report.files, "Gearbox YAML files")->required();
+  report_cmd->add_option("--out", report.out, "Report folder (replaced as a whole when it is an "
+                                              "earlier gearnvh report)")
+      ->required();
+  report_cmd->add_option("--jobs", report.jobs, "Gearboxes in parallel (default: all cores)")
+      ->check(CLI::Range(1, 1024));
+  report_cmd->add_option("--width", report.width, "Image width in pixels (default 1200)")
+      ->check(CLI::Range(200, 8000));
+  report_cmd->add_option("--height", report.height, "Image height in pixels (default 800)")
+      ->check(CLI::Range(150, 8000));
+  report_cmd->add_option("--dpi", report.dpi, "Image DPI, scales the fonts (default 100)")
+      ->check(CLI::Range(36.0, 600.0));
+  bool no_atlas = false;
+  report_cmd->add_flag("--no-atlas", no_atlas, "Skip the coarse chaos atlas");
+#endif
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -151,6 +177,12 @@ int main(int argc, char** argv) {
     if (sweep_cmd->parsed()) return gearnvh::app::RunSweep(sweep);
     if (atlas_cmd->parsed()) return gearnvh::app::RunAtlas(atlas);
     if (orbits_cmd->parsed()) return gearnvh::app::RunOrbits(orbits);
+#ifdef GEARNVH_HAVE_RENDER
+    if (report_cmd->parsed()) {
+      report.atlas = !no_atlas;
+      return gearnvh::app::RunReport(report);
+    }
+#endif
   } catch (const std::exception& e) {
     std::cerr << "internal error: " << e.what() << "\n";
     return 3;

@@ -24,6 +24,8 @@ nlohmann::json NumberOrNull(double v) {
   return std::isnan(v) ? nlohmann::json() : nlohmann::json(v);
 }
 
+}  // namespace
+
 nlohmann::json SweepJson(const SpeedSweepResult& r, double mesh_order) {
   nlohmann::json speeds = nlohmann::json::array();
   for (const SpeedPoint& p : r.points) speeds.push_back(p.speed_rpm);
@@ -107,8 +109,6 @@ std::string WaterfallCsv(const SpeedSweepResult& r) {
   }
   return os.str();
 }
-
-}  // namespace
 
 int RunSweep(const SweepOptions& options) {
   return RunReportingErrors(options.file, [&]() -> int {

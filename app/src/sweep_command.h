@@ -3,8 +3,11 @@
 // critical speeds) and a waterfall of steady-state TE spectra — as text, JSON and CSV files.
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+
+#include "speed_sweep.h"
 
 namespace gearnvh::app {
 
@@ -20,5 +23,12 @@ struct SweepOptions {
 };
 
 int RunSweep(const SweepOptions& options);
+
+// The sweep's documents (also used by reports): JSON, and CSV of the Campbell data, critical
+// speeds and waterfall. `mesh_order` = z1.
+nlohmann::json SweepJson(const SpeedSweepResult& r, double mesh_order);
+std::string CampbellCsv(const SpeedSweepResult& r);
+std::string CriticalCsv(const SpeedSweepResult& r);
+std::string WaterfallCsv(const SpeedSweepResult& r);
 
 }  // namespace gearnvh::app

@@ -1,0 +1,576 @@
+#include "report_command.h"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include "atlas_command.h"
+#include "atomic_file.h"
+#include "check_command.h"
+#include "command_errors.h"
+#include "config/gearbox_loader.h"
+#include "gearnvh/model/input_error.h"
+#include "gearnvh/nvh/periodic_orbit.h"
+#include "gearnvh/render/display.h"
+#include "operating_point.h"
+#include "report_figures.h"
+#include "sweep_command.h"
+
+namespace gearnvh::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kMarker = ".gearnvh-report";
+constexpr double kRpm = 60.0 / (2.0 * std::numbers::pi);
+
+std::string Html(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+std::string Slug(const std::string& file) {
+  std::string stem = fs::path(file).stem().string(), out;
+  for (char c : stem) {
+    out += std::isalnum(static_cast<unsigned char>(c)) ? static_cast<char>(std::tolower(c)) : '-';
+  }
+  return out.empty() ? "gearbox" : out;
+}
+
+// Marks images that did not load (and counts them in data attributes a headless browser can read).
+constexpr const char* kImageCheckScript = R"(<script>
+window.addEventListener('load', function () {
+  var images = Array.prototype.slice.call(document.images);
+  var broken = images.filter(function (i) { return !(i.complete && i.naturalWidth > 0); });
+  document.body.setAttribute('data-images-total', images.length);
+  document.body.setAttribute('data-images-broken', broken.length);
+  if (broken.length) {
+    var p = document.createElement('p');
+    p.className = 'warn';
+    p.textContent = broken.length + ' image(s) did not load: ' +
+        broken.map(function (i) { return i.getAttribute('src'); }).join(', ');
+    document.body.insertBefore(p, document.body.firstChild);
+  }
+});
+</script>)";
+
+constexpr const char* kStyle = R"(<style>
+body { font-family: sans-serif; margin: 2em auto; max-width: 1250px; color: #222; }
+table { border-collapse: collapse; margin: 0.5em 0 1.5em; }
+th, td { border: 1px solid #ccc; padding: 0.25em 0.6em; text-align: right; }
+th:first-child, td:first-child { text-align: left; }
+th { background: #f0f0f0; }
+figure { margin: 1em 0 2em; }
+figure img { max-width: 100%; border: 1px solid #ddd; }
+figcaption { color: #555; font-size: 0.9em; }
+.warn { color: #a00; font-weight: bold; }
+.ok { color: #070; }
+</style>)";
+
+std::string Row(const std::string& name, const std::string& value) {
+  return fmt::format("<tr><td>{}</td><td>{}</td></tr>\n", Html(name), Html(value));
+}
+
+struct Figure {
+  std::string file, caption;
+};
+
+struct GearboxEntry {
+  std::string file, folder, name;
+  bool ok = false;
+  std::string error;
+  nlohmann::json summary;
+  double wall_s = 0.0;
+};
+
+std::string TraceCsv(const Trajectory& t, size_t last) {
+  std::ostringstream os;
+  os.precision(12);
+  os << "time_s,te_m,te_rate_m_s,mesh_force_n,wheel_acceleration_rad_s2,contact\n";
+  const size_t first = t.samples.size() > last ? t.samples.size() - last : 0;
+  for (size_t i = first; i < t.samples.size(); ++i) {
+    const TrajectorySample& s = t.samples[i];
+    os << s.time << ',' << s.te << ',' << s.te_rate << ',' << s.mesh_force << ','
+       << s.wheel_acceleration << ',' << ContactStateName(s.state) << '\n';
+  }
+  return os.str();
+}
+
+std::string SpectrumCsv(const AmplitudeSpectrum& s) {
+  std::ostringstream os;
+  os.precision(12);
+  os << "frequency_hz,amplitude_m\n";
+  for (size_t k = 0; k < s.amplitude.size(); ++k) {
+    os << static_cast<double>(k) * s.bin_hz << ',' << s.amplitude[k] << '\n';
+  }
+  return os.str();
+}
+
+std::string SidebandsCsv(const std::vector<SidebandRow>& rows) {
+  std::ostringstream os;
+  os.precision(12);
+  os << "label,frequency_hz,amplitude_m,db_re_1m\n";
+  for (const SidebandRow& r : rows) {
+    os << r.label << ',' << r.frequency_hz << ',' << r.amplitude << ',' << r.db << '\n';
+  }
+  return os.str();
+}
+
+std::string MeshCycleCsv(const ComponentModel& model) {
+  std::ostringstream os;
+  os.precision(12);
+  os << "cycle_fraction,stiffness_drive_n_m,stiffness_back_n_m,lste_m,loaded_pairs\n";
+  for (size_t k = 0; k < model.cycle.tau.size(); ++k) {
+    os << model.cycle.tau[k] << ',' << model.cycle.drive[k].stiffness << ','
+       << model.cycle.back[k].stiffness << ',' << model.cycle.drive[k].lste << ','
+       << model.cycle.drive[k].loaded_pairs << '\n';
+  }
+  return os.str();
+}
+
+std::string Number(double v, int digits = 4) {
+  return std::isfinite(v) ? fmt::format("{:.{}g}", v, digits) : "-";
+}
+
+// Everything for one gearbox, written into `folder`.
+GearboxEntry BuildGearboxReport(const std::string& file, const fs::path& folder,
+                                const ReportCommandOptions& o, int threads) {
+  const auto start = std::chrono::steady_clock::now();
+  GearboxEntry entry;
+  entry.file = file;
+  entry.folder = folder.filename().string();
+  try {
+    const GearboxSpec spec = config::LoadGearboxFile(file);
+    entry.name = spec.name;
+    fs::create_directories(folder);
+    const ComponentModel model = BuildComponentModel(spec);
+    const ModalSummary modes = FullModelFrequencies(model, kReportedModes);
+    const std::vector<ReducedModel> tiers = ReduceAvailableTiers(model);
+    const nlohmann::json check = CheckReport(spec, model, modes, tiers);
+    const Tier tier = spec.analysis.tier;
+    SolverOptions solver;
+    solver.cycles = spec.analysis.cycles;
+    solver.transient_cycles = spec.analysis.transient_cycles;
+    const OperatingPointAnalysis op = AnalyseOperatingPoint(spec, model, tier, solver);
+    if (op.result.summary.status != SolverStatus::kSuccess) {
+      throw std::runtime_error("operating point: " + op.result.summary.message);
+    }
+    const ReducedModel reduced = ReduceModel(model, tier);
+    SpeedSweepOptions sweep_options;
+    sweep_options.cycles = 256;
+    sweep_options.transient_cycles = 100;
+    sweep_options.waterfall_cycles = 255;
+    sweep_options.threads = threads;
+    const SpeedSweepResult sweep = RunSpeedSweep(spec, model, reduced, sweep_options);
+    std::optional<AtlasResult> atlas;
+    AtlasOptions atlas_options;
+    if (o.atlas && spec.analysis.atlas_x && spec.analysis.atlas_y) {
+      AtlasAxis x = *spec.analysis.atlas_x, y = *spec.analysis.atlas_y;
+      x.range.points = std::min(x.range.points, 12);
+      y.range.points = std::min(y.range.points, 12);
+      atlas_options.tier = tier;
+      atlas_options.transient_cycles = 270;
+      atlas_options.cycles = 540;
+      atlas_options.threads = threads;
+      atlas = RunChaosAtlas(spec, x, y, atlas_options);
+    }
+    long base_period = 1;
+    try {
+      base_period = BasePeriodCycles(op.tables);
+    } catch (const InputError&) {
+      base_period = 1;  // incommensurate orders: section every mesh cycle
+    }
+
+    // Images.
+    render::ImageOptions image;
+    image.width = o.width;
+    image.height = o.height;
+    image.dpi = o.dpi;
+    render::ImageOptions small = image;
+    small.width = std::max(200, o.width * 2 / 3);
+    small.height = std::max(150, o.height * 2 / 3);
+    std::vector<Figure> figures;
+    auto draw = [&](const std::string& name, const std::string& caption,
+                    const render::RenderStatus& status) {
+      if (!status.ok) throw std::runtime_error("image " + name + ": " + status.message);
+      figures.push_back({name, caption});
+    };
+    const long trace_cycles = std::clamp<long>(2 * base_period, 4, 64);
+    draw("te_trace.png", "Dynamic transmission error at the operating point (exact solution).",
+         render::RenderLinePlot(TeTraceFigure(op, trace_cycles), image,
+                                (folder / "te_trace.png").string()));
+    if (!op.spectrum.amplitude.empty()) {
+      draw("spectrum.png",
+           fmt::format("TE spectrum over {} mesh cycles (whole revolutions of both shafts) with "
+                       "mesh harmonics and shaft-order sidebands.",
+                       op.sideband_window),
+           render::RenderLinePlot(SpectrumFigure(op), image, (folder / "spectrum.png").string()));
+    }
+    draw("phase.png",
+         fmt::format("TE against its rate; points: Poincare section every base period ({} mesh "
+                     "cycles).",
+                     base_period),
+         render::RenderLinePlot(PhaseFigure(op, 256, base_period), image,
+                                (folder / "phase.png").string()));
+    draw("campbell.png",
+         "Natural frequencies of the linearised tier (drive contact, mean mesh stiffness, "
+         "gyroscopic terms) against speed; dashed: order lines; points: critical speeds.",
+         render::RenderLinePlot(CampbellFigure(sweep), image, (folder / "campbell.png").string()));
+    draw("waterfall.png", "Steady-state TE spectra across the speed sweep (pinion orders).",
+         render::RenderHeatMap(WaterfallFigure(sweep), image, (folder / "waterfall.png").string()));
+    draw("mesh_stiffness.png", "Mesh stiffness over one mesh cycle (potential energy method).",
+         render::RenderLinePlot(MeshStiffnessFigure(model), small,
+                                (folder / "mesh_stiffness.png").string()));
+    draw("load_sharing.png", "Load sharing ratio of each tooth pair over one mesh cycle.",
+         render::RenderLinePlot(LoadSharingFigure(model), small,
+                                (folder / "load_sharing.png").string()));
+    draw("lste.png", "Loaded static transmission error over one mesh cycle.",
+         render::RenderLinePlot(LsteFigure(model), small, (folder / "lste.png").string()));
+    if (atlas) {
+      draw("atlas_lyapunov.png",
+           "Largest Lyapunov exponent per forcing cycle (red: chaotic, blue: regular; strongly "
+           "attracting cells are saturated at minus the largest positive value).",
+           render::RenderHeatMap(AtlasFigure(*atlas, true), image,
+                                 (folder / "atlas_lyapunov.png").string()));
+      draw("atlas_rattle.png", "Rattle index: impact energy per forcing cycle (log10 J).",
+           render::RenderHeatMap(AtlasFigure(*atlas, false), image,
+                                 (folder / "atlas_rattle.png").string()));
+    }
+
+    // Data files.
+    const size_t per_cycle = op.tables.boundaries.size() - 1;
+    WriteFileAtomically((folder / "te_trace.csv").string(),
+                        TraceCsv(op.result.trajectory, 256 * per_cycle));
+    WriteFileAtomically((folder / "spectrum.csv").string(), SpectrumCsv(op.spectrum));
+    WriteFileAtomically((folder / "sidebands.csv").string(), SidebandsCsv(op.sidebands));
+    WriteFileAtomically((folder / "mesh_cycle.csv").string(), MeshCycleCsv(model));
+    WriteFileAtomically((folder / "campbell.csv").string(), CampbellCsv(sweep));
+    WriteFileAtomically((folder / "critical_speeds.csv").string(), CriticalCsv(sweep));
+    WriteFileAtomically((folder / "waterfall.csv").string(), WaterfallCsv(sweep));
+    if (atlas) WriteFileAtomically((folder / "atlas.csv").string(), AtlasCsv(*atlas));
+
+    nlohmann::json results = {{"name", spec.name},
+                              {"file", file},
+                              {"check", check},
+                              {"operating_point", op.doc},
+                              {"base_period_mesh_cycles", base_period},
+                              {"sweep", SweepJson(sweep, spec.pinion.teeth)}};
+    if (atlas) results["atlas"] = AtlasJson(*atlas, atlas_options);
+    nlohmann::json images = nlohmann::json::array();
+    for (const Figure& f : figures) images.push_back({{"file", f.file}, {"caption", f.caption}});
+    results["images"] = images;
+    WriteFileAtomically((folder / "results.json").string(), results.dump(1) + "\n");
+
+    // Summary for the batch and the page.
+    const RattleIndices& r = op.rattle;
+    const SolverSummary& s = op.result.summary;
+    double first_critical = std::numeric_limits<double>::quiet_NaN();
+    for (const CriticalSpeed& c : sweep.campbell.critical_speeds) {
+      if (!std::isfinite(first_critical) || c.speed_rpm < first_critical)
+        first_critical = c.speed_rpm;
+    }
+    int chaotic = 0;
+    if (atlas) {
+      for (const AtlasCell& c : atlas->cells) chaotic += c.regime == "chaotic" ? 1 : 0;
+    }
+    entry.summary = {{"tier", op.tier_name},
+                     {"speed_rpm", spec.operating.speed * kRpm},
+                     {"torque_nm", spec.operating.torque},
+                     {"te_rms_um", op.te.rms * 1e6},
+                     {"te_peak_to_peak_um", op.te.peak_to_peak * 1e6},
+                     {"regime", r.regime},
+                     {"impacts_per_cycle", r.drive_impacts_per_cycle + r.back_impacts_per_cycle},
+                     {"acceleration_ratio", r.acceleration_ratio},
+                     {"first_critical_speed_rpm", std::isfinite(first_critical)
+                                                      ? nlohmann::json(first_critical)
+                                                      : nlohmann::json()},
+                     {"chaotic_atlas_cells", atlas ? nlohmann::json(chaotic) : nlohmann::json()},
+                     {"real_time_ratio", s.real_time_ratio}};
+
+    // index.html
+    std::ostringstream h;
+    h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>"
+      << Html(spec.name) << " - gearnvh report</title>\n"
+      << kStyle << "\n</head><body>\n";
+    h << "<h1>" << Html(spec.name) << "</h1>\n<p>" << Html(file) << " &middot; tier "
+      << Html(op.tier_name) << " &middot; <a href=\"results.json\">results.json</a> &middot; <a "
+      << "href=\"../index.html\">batch</a></p>\n";
+    const PairGeometry& g = model.geometry;
+    h << "<h2>Gear pair and operating point</h2>\n<table>\n"
+      << Row("teeth (pinion / wheel)",
+             fmt::format("{} / {}", spec.pinion.teeth, spec.wheel.teeth))
+      << Row("module (mm)", Number(spec.pinion.module * 1e3))
+      << Row("contact ratio", Number(model.mesh_summary.contact_ratio))
+      << Row("base radii (mm)", fmt::format("{} / {}", Number(g.pinion.base * 1e3),
+                                            Number(g.wheel.base * 1e3)))
+      << Row("mesh stiffness mean / min / max (N/um)",
+             fmt::format("{} / {} / {}", Number(model.mesh_summary.mean * 1e-6),
+                         Number(model.mesh_summary.min * 1e-6),
+                         Number(model.mesh_summary.max * 1e-6)))
+      << Row("LSTE peak-to-peak (um)", Number(model.mesh_summary.lste_peak_to_peak * 1e6))
+      << Row("backlash (um)", Number(spec.mesh.backlash * 1e6))
+      << Row("pinion speed (rpm)", Number(spec.operating.speed * kRpm))
+      << Row("mesh frequency (Hz)", Number(1.0 / op.tables.mesh_period))
+      << Row("torque on the wheel (N m)", Number(spec.operating.torque)) << "</table>\n";
+    h << "<h2>Dynamics at the operating point</h2>\n<table>\n"
+      << Row("dynamic TE RMS / peak-to-peak (um)",
+             fmt::format("{} / {}", Number(op.te.rms * 1e6), Number(op.te.peak_to_peak * 1e6)))
+      << Row("dynamic factor", Number(op.te.dynamic_factor))
+      << Row("rattle regime", r.regime)
+      << Row("impacts per mesh cycle (drive / back)",
+             fmt::format("{} / {}", Number(r.drive_impacts_per_cycle),
+                         Number(r.back_impacts_per_cycle)))
+      << Row("impact velocity RMS (mm/s)", Number(r.impact_velocity_rms * 1e3))
+      << Row("impact energy per mesh cycle (J)", Number(r.impact_energy_per_cycle))
+      << Row("time separated (%)", Number(100.0 * r.separation_fraction))
+      << Row("wheel acceleration RMS (rad/s^2)", Number(r.wheel_acceleration_rms))
+      << Row("acceleration ratio vs no backlash", Number(r.acceleration_ratio))
+      << Row("solver real-time ratio", Number(s.real_time_ratio))
+      << Row("mesh cycles simulated", std::to_string(s.mesh_cycles)) << "</table>\n";
+    h << "<h2>Natural frequencies per modal tier (Hz)</h2>\n<table>\n<tr><th>tier</th><th>DOF"
+         "</th><th>state</th><th>compliance error</th>";
+    for (int k = 1; k <= 6; ++k) h << "<th>f" << k << "</th>";
+    h << "</tr>\n<tr><td>full FE</td><td>" << model.dofs << "</td><td>-</td><td>-</td>";
+    for (int k = 0; k < 6; ++k) {
+      h << "<td>"
+        << (k < static_cast<int>(modes.frequencies_hz.size()) ? Number(modes.frequencies_hz[k], 5)
+                                                              : "-")
+        << "</td>";
+    }
+    h << "</tr>\n";
+    for (const ReducedModel& t : tiers) {
+      h << "<tr><td>" << Html(t.name) << "</td><td>" << t.dof << "</td><td>" << 2 * t.dof + 2
+        << "</td><td>" << Number(100.0 * t.compliance_error_vs_full, 3) << " %</td>";
+      for (int k = 0; k < 6; ++k) {
+        h << "<td>"
+          << (k < static_cast<int>(t.natural_frequencies_hz.size())
+                  ? Number(t.natural_frequencies_hz[k], 5)
+                  : "-")
+          << "</td>";
+      }
+      h << "</tr>\n";
+    }
+    h << "</table>\n";
+    h << "<h2>Critical speeds</h2>\n<table>\n<tr><th>order line</th><th>mode</th><th>speed "
+         "(rpm)</th><th>frequency (Hz)</th></tr>\n";
+    for (const CriticalSpeed& c : sweep.campbell.critical_speeds) {
+      h << "<tr><td>" << Html(c.order) << "</td><td>" << c.mode << "</td><td>"
+        << Number(c.speed_rpm, 5) << "</td><td>" << Number(c.frequency_hz, 5) << "</td></tr>\n";
+    }
+    if (sweep.campbell.critical_speeds.empty()) {
+      h << "<tr><td colspan=\"4\">none in the sweep range</td></tr>\n";
+    }
+    h << "</table>\n<h2>Mesh harmonics and sidebands of the TE</h2>\n<table>\n<tr><th>line</th>"
+         "<th>frequency (Hz)</th><th>amplitude (um)</th><th>dB re 1 m</th></tr>\n";
+    for (const SidebandRow& row : op.sidebands) {
+      h << "<tr><td>" << Html(row.label) << "</td><td>" << Number(row.frequency_hz, 6)
+        << "</td><td>" << Number(row.amplitude * 1e6) << "</td><td>" << Number(row.db, 4)
+        << "</td></tr>\n";
+    }
+    if (op.sidebands.empty()) h << "<tr><td colspan=\"4\">too few recorded cycles</td></tr>\n";
+    h << "</table>\n";
+    if (atlas) {
+      std::map<std::string, int> regimes;
+      for (const AtlasCell& c : atlas->cells) ++regimes[c.ok ? c.regime : "failed"];
+      h << "<h2>Chaos atlas</h2>\n<p>" << atlas->x.range.points << " x " << atlas->y.range.points
+        << " cells (" << Html(atlas->x.parameter) << " x " << Html(atlas->y.parameter) << "), "
+        << atlas_options.cycles << " mesh cycles each: ";
+      for (const auto& [name, count] : regimes) h << Html(name) << " " << count << "; ";
+      h << "<a href=\"atlas.csv\">atlas.csv</a></p>\n";
+    }
+    h << "<h2>Figures</h2>\n";
+    for (const Figure& f : figures) {
+      h << "<figure><img src=\"" << f.file << "\" alt=\"" << Html(f.caption) << "\"><figcaption>"
+        << Html(f.caption) << "</figcaption></figure>\n";
+    }
+    h << "<h2>Data</h2>\n<p>";
+    for (const char* csv : {"te_trace.csv", "spectrum.csv", "sidebands.csv", "mesh_cycle.csv",
+                            "campbell.csv", "critical_speeds.csv", "waterfall.csv"}) {
+      h << "<a href=\"" << csv << "\">" << csv << "</a> ";
+    }
+    h << "</p>\n" << kImageCheckScript << "\n</body></html>\n";
+    WriteFileAtomically((folder / "index.html").string(), h.str());
+    entry.ok = true;
+  } catch (const InputError& e) {
+    entry.error = InputErrorMessage(e, file);
+  } catch (const std::exception& e) {
+    entry.error = e.what();
+  }
+  entry.wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return entry;
+}
+
+std::string BatchIndex(const std::vector<GearboxEntry>& entries) {
+  std::ostringstream h;
+  int failed = 0;
+  for (const GearboxEntry& e : entries) failed += e.ok ? 0 : 1;
+  h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>gearnvh "
+       "report</title>\n"
+    << kStyle << "\n</head><body>\n<h1>gearnvh report</h1>\n<p>" << entries.size()
+    << " gearboxes, " << (failed == 0 ? "<span class=\"ok\">all complete</span>"
+                                      : fmt::format("<span class=\"warn\">{} failed</span>", failed))
+    << "</p>\n<table>\n<tr><th>gearbox</th><th>tier</th><th>speed (rpm)</th><th>torque (N m)"
+       "</th><th>TE RMS (um)</th><th>rattle regime</th><th>impacts / mesh cycle</th><th>accel. "
+       "ratio</th><th>first critical speed (rpm)</th><th>chaotic atlas cells</th><th>real-time "
+       "ratio</th></tr>\n";
+  auto num = [](const nlohmann::json& v) {
+    return v.is_number() ? Number(v.get<double>()) : std::string("-");
+  };
+  for (const GearboxEntry& e : entries) {
+    if (!e.ok) {
+      h << "<tr><td>" << Html(e.file) << "</td><td colspan=\"10\" class=\"warn\">failed: "
+        << Html(e.error) << "</td></tr>\n";
+      continue;
+    }
+    const nlohmann::json& s = e.summary;
+    h << "<tr><td><a href=\"" << e.folder << "/index.html\">" << Html(e.name) << "</a></td><td>"
+      << Html(s["tier"].get<std::string>()) << "</td><td>" << num(s["speed_rpm"]) << "</td><td>"
+      << num(s["torque_nm"]) << "</td><td>" << num(s["te_rms_um"]) << "</td><td>"
+      << Html(s["regime"].get<std::string>()) << "</td><td>" << num(s["impacts_per_cycle"])
+      << "</td><td>" << num(s["acceleration_ratio"]) << "</td><td>"
+      << num(s["first_critical_speed_rpm"]) << "</td><td>" << num(s["chaotic_atlas_cells"])
+      << "</td><td>" << num(s["real_time_ratio"]) << "</td></tr>\n";
+  }
+  h << "</table>\n" << kImageCheckScript << "\n</body></html>\n";
+  return h.str();
+}
+
+}  // namespace
+
+int RunReport(const ReportCommandOptions& o) {
+  try {
+    if (o.files.empty()) throw InputError("FILE", 0, "(none)", "give at least one gearbox file");
+    const render::ImageOptions image{o.width, o.height, o.dpi};
+    try {
+      image.Validate();
+    } catch (const std::invalid_argument& e) {
+      throw InputError("--width/--height/--dpi", 0, "", e.what());
+    }
+    const fs::path out = fs::absolute(o.out).lexically_normal();
+    if (fs::exists(out)) {
+      if (!fs::is_directory(out)) {
+        throw InputError("--out", 0, o.out, "exists and is not a directory");
+      }
+      if (!fs::is_empty(out) && !fs::exists(out / kMarker)) {
+        throw InputError("--out", 0, o.out,
+                         "exists and is not a gearnvh report; refusing to mix results into it "
+                         "(choose a new folder or an earlier report's folder)");
+      }
+    }
+    // Images need a display: fail before any work when there is none.
+    const render::DisplayStatus& display = render::EnsureDisplay();
+    if (!display.ok()) {
+      std::cerr << "error: " << display.message << "\n";
+      return 1;
+    }
+    const fs::path staging =
+        out.parent_path() / ("." + out.filename().string() + ".partial-" +
+                             std::to_string(static_cast<long>(::getpid())));
+    fs::remove_all(staging);
+    fs::create_directories(staging);
+    std::vector<std::string> folders;
+    std::set<std::string> used;
+    for (const std::string& f : o.files) {
+      std::string name = Slug(f);
+      for (int k = 2; used.count(name) != 0; ++k) name = Slug(f) + "-" + std::to_string(k);
+      used.insert(name);
+      folders.push_back(name);
+    }
+    const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    const int jobs = std::min<int>(o.jobs > 0 ? o.jobs : hardware, static_cast<int>(o.files.size()));
+    const int inner = std::max(1, hardware / std::max(1, jobs));
+    std::vector<GearboxEntry> entries(o.files.size());
+    std::atomic<size_t> next{0};
+    std::mutex progress_mutex;
+    size_t done = 0;
+    const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
+    auto worker = [&]() {
+      for (size_t i = next++; i < o.files.size(); i = next++) {
+        entries[i] = BuildGearboxReport(o.files[i], staging / folders[i], o, inner);
+        const std::lock_guard<std::mutex> lock(progress_mutex);
+        ++done;
+        if (on_terminal) {
+          fmt::print(stderr, "\rreport: {}/{} gearboxes", done, o.files.size());
+        }
+      }
+    };
+    std::vector<std::thread> pool;
+    for (int t = 1; t < jobs; ++t) pool.emplace_back(worker);
+    worker();
+    for (std::thread& t : pool) t.join();
+    if (on_terminal) fmt::print(stderr, "\n");
+
+    nlohmann::json batch = nlohmann::json::array();
+    int failed = 0;
+    for (const GearboxEntry& e : entries) {
+      failed += e.ok ? 0 : 1;
+      batch.push_back({{"file", e.file},
+                       {"folder", e.ok ? e.folder : ""},
+                       {"name", e.name},
+                       {"ok", e.ok},
+                       {"error", e.error},
+                       {"summary", e.summary},
+                       {"wall_s", e.wall_s}});
+      if (!e.ok) fs::remove_all(staging / e.folder);
+    }
+    WriteFileAtomically((staging / "index.html").string(), BatchIndex(entries));
+    WriteFileAtomically((staging / "report.json").string(),
+                        nlohmann::json{{"gearboxes", batch}, {"failed", failed}}.dump(1) + "\n");
+    WriteFileAtomically((staging / kMarker).string(), "gearnvh report\n");
+    // Swap the finished report into place.
+    if (fs::exists(out)) {
+      const fs::path old = out.parent_path() / ("." + out.filename().string() + ".old-" +
+                                                std::to_string(static_cast<long>(::getpid())));
+      fs::rename(out, old);
+      fs::rename(staging, out);
+      fs::remove_all(old);
+    } else {
+      fs::rename(staging, out);
+    }
+    for (const GearboxEntry& e : entries) {
+      if (e.ok) {
+        fmt::print("{}: {} -> {}/index.html ({:.1f} s)\n", e.file, e.name, (out / e.folder).string(),
+                   e.wall_s);
+      } else {
+        std::cerr << "error: " << e.error << "\n";
+      }
+    }
+    fmt::print("report: {}\n", (out / "index.html").string());
+    if (failed > 0) {
+      std::cerr << "error: " << failed << " of " << entries.size()
+                << " gearboxes failed (listed in the batch index)\n";
+      return 1;
+    }
+    return 0;
+  } catch (const InputError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 1;
+  } catch (const fs::filesystem_error& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+}  // namespace gearnvh::app
