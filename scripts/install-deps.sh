@@ -6,7 +6,7 @@ PKGS=(
   libeigen3-dev liblapack-dev libspectra-dev libfftw3-dev libyaml-cpp-dev
   libvtk9-dev libopenmpi-dev openmpi-bin
   catch2 libcli11-dev libfmt-dev nlohmann-json3-dev libsundials-dev libbenchmark-dev
-  xvfb xauth libgl1-mesa-dri
+  xvfb xauth libgl1-mesa-dri chromium
 )
 missing=()
 for p in "${PKGS[@]}"; do

@@ -1,0 +1,142 @@
+// End-to-end tests of `gearnvh report`: the README's main job, batches with a bad file, the
+// output folder rules, the no-display error, and the report opened in headless Chromium.
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <regex>
+
+#include "gearnvh/render/plots.h"
+#include "support/run_command.h"
+
+namespace gearnvh {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::ReadWholeFile;
+using testing::RunCommand;
+using testing::TempDir;
+
+const std::string kExe = GEARNVH_EXE;
+const std::string kExamples = GEARNVH_EXAMPLES_DIR;
+const std::array<std::uint8_t, 3> kWhite{255, 255, 255};
+
+// Every <img src> of a page, in order.
+std::vector<std::string> ImageSources(const std::string& html) {
+  std::vector<std::string> out;
+  const std::regex img("<img src=\"([^\"]+)\"");
+  for (auto it = std::sregex_iterator(html.begin(), html.end(), img); it != std::sregex_iterator();
+       ++it) {
+    out.push_back((*it)[1]);
+  }
+  return out;
+}
+
+// The report of the README's main command (the rattle example) plus a malformed file: the good
+// gearbox completes, the bad one is listed with its error, the exit code is 1.
+TEST_CASE("report: a batch with a malformed file completes the good gearbox and lists the bad one",
+          "[cli][report]") {
+  const TempDir dir;
+  const fs::path bad = dir.path() / "broken.yaml";
+  std::ofstream(bad) << "schema: gearnvh/1\nname: broken\ngears: {pinion: {teeth: -3}}\n";
+  const fs::path out = dir.path() / "report";
+  const auto run = RunCommand(kExe + " report " + kExamples + "/idle_rattle.yaml " + bad.string() +
+                              " --out " + out.string() + " --width 800 --height 560");
+  INFO(run.out << run.err);
+  CHECK(run.exit_code == 1);
+  CHECK(run.err.find("broken.yaml") != std::string::npos);
+  const std::string batch = ReadWholeFile(out / "index.html");
+  CHECK(batch.find("broken.yaml") != std::string::npos);
+  CHECK(batch.find("failed:") != std::string::npos);
+  CHECK(batch.find("idle-rattle/index.html") != std::string::npos);
+  const auto summary = nlohmann::json::parse(ReadWholeFile(out / "report.json"));
+  CHECK(summary["failed"] == 1);
+  CHECK(!fs::exists(out / "broken"));  // no half-built folder for the bad gearbox
+
+  // The good gearbox: every figure the page shows exists, is a PNG of the requested size, and has
+  // ink inside its plot area (not a blank canvas).
+  const fs::path g = out / "idle-rattle";
+  const std::string page = ReadWholeFile(g / "index.html");
+  const auto images = ImageSources(page);
+  CHECK(images.size() == 10);  // TE, spectrum, phase, Campbell, waterfall, 3 mesh, 2 atlas
+  for (const std::string& src : images) {
+    INFO(src);
+    const render::RgbImage img = render::ReadPng((g / src).string());
+    CHECK(img.width >= 533);
+    CHECK(img.height >= 373);
+    CHECK(img.CountDifferent(0.3, 0.0, 0.7, 0.08, kWhite) > 50);    // title
+    CHECK(img.CountDifferent(0.15, 0.15, 0.85, 0.85, kWhite) > 800);  // data
+  }
+  const auto results = nlohmann::json::parse(ReadWholeFile(g / "results.json"));
+  CHECK(results["operating_point"]["rattle"]["regime"].is_string());
+  CHECK(results["sweep"]["campbell"]["modes"].size() >= 1);
+  CHECK(results["atlas"]["cells"].size() == 144);
+  CHECK(results["check"]["tiers"].size() >= 1);
+  for (const char* csv : {"te_trace.csv", "spectrum.csv", "sidebands.csv", "mesh_cycle.csv",
+                          "campbell.csv", "waterfall.csv", "atlas.csv"}) {
+    INFO(csv);
+    CHECK(fs::file_size(g / csv) > 30);
+  }
+  // No staging or temporary files left anywhere.
+  for (const auto& e : fs::recursive_directory_iterator(dir.path())) {
+    CHECK(e.path().filename().string().find(".tmp") == std::string::npos);
+    CHECK(e.path().filename().string().find(".partial-") == std::string::npos);
+  }
+
+  // Headless Chromium (Debian's chromium; as root it needs --no-sandbox) loads every image. The
+  // page's own script counts images that did not load into data attributes of <body>, which
+  // --dump-dom prints after the load event.
+  {
+    for (const fs::path& html : {g / "index.html", out / "index.html"}) {
+      const auto dom = RunCommand(
+          "chromium --headless --no-sandbox --disable-gpu --virtual-time-budget=10000 "
+          "--dump-dom file://" + html.string() + " 2>/dev/null");
+      INFO(html << "\n" << dom.out.substr(0, 400));
+      REQUIRE(dom.exit_code == 0);
+      const size_t expected = html == g / "index.html" ? images.size() : 0;
+      CHECK(dom.out.find("data-images-total=\"" + std::to_string(expected) + "\"") !=
+            std::string::npos);
+      CHECK(dom.out.find("data-images-broken=\"0\"") != std::string::npos);
+    }
+  }
+}
+
+TEST_CASE("report: an output folder is replaced only when it is an earlier report",
+          "[cli][report]") {
+  const TempDir dir;
+  const fs::path foreign = dir.path() / "mine";
+  fs::create_directories(foreign);
+  std::ofstream(foreign / "notes.txt") << "my notes\n";
+  const std::string file = kExamples + "/industrial_whine.yaml";
+  const auto refused = RunCommand(kExe + " report " + file + " --no-atlas --out " + foreign.string());
+  CHECK(refused.exit_code == 1);
+  CHECK(refused.err.find("not a gearnvh report") != std::string::npos);
+  CHECK(ReadWholeFile(foreign / "notes.txt") == "my notes\n");
+
+  const fs::path out = dir.path() / "report";
+  REQUIRE(RunCommand(kExe + " report " + file + " --no-atlas --width 600 --height 400 --out " +
+                     out.string()).exit_code == 0);
+  std::ofstream(out / "industrial-whine" / "stale.png") << "old";
+  const auto again = RunCommand(kExe + " report " + file + " --no-atlas --width 600 --height 400 "
+                                "--out " + out.string());
+  INFO(again.err);
+  REQUIRE(again.exit_code == 0);
+  CHECK(!fs::exists(out / "industrial-whine" / "stale.png"));  // the old report is gone as a whole
+  CHECK(fs::exists(out / "industrial-whine" / "campbell.png"));
+}
+
+TEST_CASE("report: without a display and without Xvfb the error says what to install",
+          "[cli][report]") {
+  const TempDir dir;
+  // PATH without Xvfb and no DISPLAY: a clear error and exit 1, never a crash, nothing written.
+  const auto run = RunCommand("env -u DISPLAY PATH=" + dir.path().string() + " " + kExe +
+                              " report " + kExamples + "/industrial_whine.yaml --out " +
+                              (dir.path() / "r").string());
+  CHECK(run.exit_code == 1);
+  CHECK(run.err.find("Xvfb") != std::string::npos);
+  CHECK(run.err.find("apt-get install xvfb") != std::string::npos);
+  CHECK(!fs::exists(dir.path() / "r"));
+}
+
+}  // namespace
+}  // namespace gearnvh
