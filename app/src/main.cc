@@ -6,6 +6,7 @@
 #include "atlas_command.h"
 #include "check_command.h"
 #include "orbits_command.h"
+#include "tiers_command.h"
 #ifdef GEARNVH_HAVE_RENDER
 #include "report_command.h"
 #endif
@@ -141,6 +142,24 @@ int main(int argc, char** argv) {
   orbits_cmd->add_option("--out", orbits.out, "Write orbits.csv and orbits.json");
   orbits_cmd->add_flag("--json", orbits.json, "Print the orbits as one JSON document");
 
+  gearnvh::app::TiersCommandOptions tiers;
+  CLI::App* tiers_cmd = app.add_subcommand(
+      "tiers",
+      "Compare the modal truncation levels side by side: DOF, state dimension, natural frequency "
+      "and static compliance errors against the full FE model, TE RMS and rattle index against "
+      "the finest tier, and cost (matvec and us per cycle, real-time ratio).");
+  tiers_cmd->add_option("FILE", tiers.file, "Gearbox YAML file")
+      ->required()
+      ->check(CLI::ExistingFile);
+  tiers_cmd->add_option("--cycles", tiers.cycles,
+                        "Recorded mesh cycles per tier (default min(analysis.cycles, 400))")
+      ->check(CLI::Range(1L, 100000000L));
+  tiers_cmd->add_option("--transient", tiers.transient,
+                        "Unrecorded cycles per tier (default min(analysis.transient_cycles, 200))")
+      ->check(CLI::Range(0L, 100000000L));
+  tiers_cmd->add_option("--out", tiers.out, "Write tiers.json, tiers.csv and tiers.png");
+  tiers_cmd->add_flag("--json", tiers.json, "Print the comparison as one JSON document");
+
 #ifdef GEARNVH_HAVE_RENDER
   gearnvh::app::ReportCommandOptions report;
   CLI::App* report_cmd = app.add_subcommand(
@@ -177,6 +196,7 @@ int main(int argc, char** argv) {
     if (sweep_cmd->parsed()) return gearnvh::app::RunSweep(sweep);
     if (atlas_cmd->parsed()) return gearnvh::app::RunAtlas(atlas);
     if (orbits_cmd->parsed()) return gearnvh::app::RunOrbits(orbits);
+    if (tiers_cmd->parsed()) return gearnvh::app::RunTiers(tiers);
 #ifdef GEARNVH_HAVE_RENDER
     if (report_cmd->parsed()) {
       report.atlas = !no_atlas;

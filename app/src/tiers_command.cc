@@ -1,0 +1,212 @@
+#include "tiers_command.h"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "atomic_file.h"
+#include "check_command.h"
+#include "command_errors.h"
+#include "config/gearbox_loader.h"
+#include "gearnvh/nvh/lyapunov.h"
+#include "operating_point.h"
+#ifdef GEARNVH_HAVE_RENDER
+#include "gearnvh/render/plots.h"
+#endif
+
+namespace gearnvh::app {
+
+namespace {
+
+struct TierRow {
+  std::string name;
+  std::string method;  // solver method of the run
+  int dof = 0, state_dim = 0;
+  std::vector<double> frequencies_hz;     // lowest (up to 6)
+  std::vector<double> frequency_errors;   // relative, against the closest full-FE frequency
+  double max_frequency_error = 0.0;
+  double compliance_error = 0.0;
+  double te_rms = 0.0, rattle_index = 0.0;
+  double te_rms_difference = 0.0, rattle_index_difference = 0.0;  // relative to the finest tier
+  std::string regime;
+  double matvec_per_cycle = 0.0, us_per_cycle = 0.0, real_time_ratio = 0.0;
+  size_t table_bytes = 0;
+};
+
+double ClosestRelativeError(double f, const std::vector<double>& reference) {
+  double best = std::numeric_limits<double>::infinity();
+  for (double r : reference) best = std::min(best, std::abs(f - r) / r);
+  return best;
+}
+
+TierRow RunTier(const GearboxSpec& spec, const ComponentModel& model, const ReducedModel& reduced,
+                const ModalSummary& full, const SolverOptions& solver, const std::string& label) {
+  TierRow row;
+  row.name = label;
+  row.method = SolverMethodName(solver.method);
+  row.dof = reduced.dof;
+  row.compliance_error = reduced.compliance_error_vs_full;
+  for (size_t k = 0; k < reduced.natural_frequencies_hz.size() && k < 6; ++k) {
+    const double f = reduced.natural_frequencies_hz[k];
+    row.frequencies_hz.push_back(f);
+    row.frequency_errors.push_back(ClosestRelativeError(f, full.frequencies_hz));
+    row.max_frequency_error = std::max(row.max_frequency_error, row.frequency_errors.back());
+  }
+  const OperatingPointAnalysis op = AnalyseOperatingPoint(spec, model, reduced.tier, solver);
+  const SolverSummary& s = op.result.summary;
+  if (s.status != SolverStatus::kSuccess) throw std::runtime_error(label + ": " + s.message);
+  row.state_dim = op.tables.m;
+  row.te_rms = op.te.rms;
+  // Rattle index as in the atlas: impact energy per forcing cycle.
+  row.rattle_index =
+      op.rattle.impact_energy_per_cycle * ForcingPeriod(op.tables) / op.tables.mesh_period;
+  row.regime = op.rattle.regime;
+  row.matvec_per_cycle = s.matvec_per_cycle;
+  row.us_per_cycle = 1e6 * s.wall_s / static_cast<double>(std::max<long>(1, s.mesh_cycles));
+  row.real_time_ratio = s.real_time_ratio;
+  row.table_bytes = s.table_bytes;
+  return row;
+}
+
+double RelativeDifference(double a, double b) {
+  const double scale = std::max(std::abs(b), 1e-300);
+  return std::abs(a - b) / scale;
+}
+
+}  // namespace
+
+int RunTiers(const TiersCommandOptions& options) {
+  return RunReportingErrors(options.file, [&]() -> int {
+    const GearboxSpec spec = config::LoadGearboxFile(options.file);
+    SolverOptions solver;
+    ApplyMethodName("v3", solver);
+    solver.cycles = options.cycles.value_or(std::min(spec.analysis.cycles, 400));
+    solver.transient_cycles =
+        options.transient.value_or(std::min(spec.analysis.transient_cycles, 200));
+    solver.Validate();
+    const ComponentModel model = BuildComponentModel(spec);
+    // Enough full-FE modes that every tier frequency has its counterpart.
+    const ModalSummary full = FullModelFrequencies(model, 60);
+    const std::vector<ReducedModel> tiers = ReduceAvailableTiers(model);
+    const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
+    std::vector<TierRow> rows;
+    const size_t total = tiers.size() + 1;
+    for (const ReducedModel& r : tiers) {
+      if (on_terminal) fmt::print(stderr, "\rtiers: {}/{} ({})        ", rows.size() + 1, total, r.name);
+      rows.push_back(RunTier(spec, model, r, full, solver, r.name));
+      if (r.tier == Tier::kN20Mta) {
+        SolverOptions fused = solver;
+        ApplyMethodName("fused", fused);
+        rows.push_back(RunTier(spec, model, r, full, fused, r.name + " + fusion"));
+      }
+    }
+    if (on_terminal) fmt::print(stderr, "\n");
+    // The finest tier: the one with most DOF (N40 full on flexible gearboxes, tier 3 otherwise).
+    size_t finest = 0;
+    for (size_t i = 0; i < rows.size(); ++i) {
+      if (rows[i].dof > rows[finest].dof) finest = i;
+    }
+    for (TierRow& r : rows) {
+      r.te_rms_difference = RelativeDifference(r.te_rms, rows[finest].te_rms);
+      r.rattle_index_difference =
+          rows[finest].rattle_index > 0.0 ? RelativeDifference(r.rattle_index, rows[finest].rattle_index)
+                                          : std::abs(r.rattle_index);
+    }
+
+    nlohmann::json list = nlohmann::json::array();
+    for (const TierRow& r : rows) {
+      list.push_back({{"name", r.name},
+                      {"method", r.method},
+                      {"dof", r.dof},
+                      {"state_dim", r.state_dim},
+                      {"frequencies_hz", r.frequencies_hz},
+                      {"frequency_errors", r.frequency_errors},
+                      {"max_frequency_error", r.max_frequency_error},
+                      {"static_compliance_error", r.compliance_error},
+                      {"te_rms_m", r.te_rms},
+                      {"te_rms_difference_to_finest", r.te_rms_difference},
+                      {"rattle_index_j", r.rattle_index},
+                      {"rattle_index_difference_to_finest", r.rattle_index_difference},
+                      {"regime", r.regime},
+                      {"matvec_per_cycle", r.matvec_per_cycle},
+                      {"us_per_cycle", r.us_per_cycle},
+                      {"real_time_ratio", r.real_time_ratio},
+                      {"table_bytes", r.table_bytes}});
+    }
+    nlohmann::json doc = {{"name", spec.name},
+                          {"file", options.file},
+                          {"full_fe_dof", model.dofs},
+                          {"full_fe_frequencies_hz", full.frequencies_hz},
+                          {"finest_tier", rows[finest].name},
+                          {"cycles", solver.cycles},
+                          {"transient_cycles", solver.transient_cycles},
+                          {"tiers", list}};
+    if (options.out) {
+      std::filesystem::create_directories(*options.out);
+      const std::filesystem::path dir(*options.out);
+      std::ostringstream csv;
+      csv.precision(10);
+      csv << "tier,method,dof,state_dim,max_frequency_error,static_compliance_error,te_rms_m,"
+             "te_rms_difference,rattle_index_j,rattle_index_difference,matvec_per_cycle,"
+             "us_per_cycle,real_time_ratio,table_bytes\n";
+      for (const TierRow& r : rows) {
+        csv << r.name << ',' << r.method << ',' << r.dof << ',' << r.state_dim << ','
+            << r.max_frequency_error << ',' << r.compliance_error << ',' << r.te_rms << ','
+            << r.te_rms_difference << ',' << r.rattle_index << ',' << r.rattle_index_difference
+            << ',' << r.matvec_per_cycle << ',' << r.us_per_cycle << ',' << r.real_time_ratio
+            << ',' << r.table_bytes << '\n';
+      }
+      WriteFileAtomically((dir / "tiers.csv").string(), csv.str());
+      WriteFileAtomically((dir / "tiers.json").string(), doc.dump(1) + "\n");
+#ifdef GEARNVH_HAVE_RENDER
+      render::LinePlot plot;
+      plot.title = "Modal tiers: accuracy against cost";
+      plot.x_label = "cost (us per mesh cycle)";
+      plot.y_label = "largest error of the lowest natural frequencies (%)";
+      plot.log_y = true;
+      plot.legend = false;
+      render::Series points{"", {}, {}, render::Series::Style::kPoints};
+      points.width = 10.0;
+      for (const TierRow& r : rows) {
+        const double error = std::max(100.0 * r.max_frequency_error, 1e-12);
+        points.x.push_back(r.us_per_cycle);
+        points.y.push_back(error);
+        plot.labels.push_back({r.us_per_cycle, error, r.name});
+      }
+      plot.series = {points};
+      const render::RenderStatus status =
+          render::RenderLinePlot(plot, {}, (dir / "tiers.png").string());
+      if (!status.ok) throw std::runtime_error("tiers.png: " + status.message);
+#endif
+    }
+    if (options.json) {
+      std::cout << doc.dump(1) << "\n";
+    } else {
+      fmt::print("{}  ({}): modal tiers against the full FE model ({} DOF), {} cycles each\n",
+                 spec.name, options.file, model.dofs, solver.cycles);
+      fmt::print("  {:<20} {:>4} {:>5} {:>9} {:>10} {:>10} {:>9} {:>10} {:>9} {:>9} {:>9} {:>9}\n",
+                 "tier", "DOF", "state", "max df/f", "dg/g", "TE RMS um", "vs finest",
+                 "rattle J", "vs finest", "matvec/c", "us/cycle", "x real");
+      for (const TierRow& r : rows) {
+        fmt::print(
+            "  {:<20} {:>4} {:>5} {:>9.2e} {:>10.2e} {:>10.4f} {:>9.2e} {:>10.3e} {:>9.2e} "
+            "{:>9.1f} {:>9.2f} {:>9.2f}\n",
+            r.name, r.dof, r.state_dim, r.max_frequency_error, r.compliance_error, r.te_rms * 1e6,
+            r.te_rms_difference, r.rattle_index, r.rattle_index_difference, r.matvec_per_cycle,
+            r.us_per_cycle, r.real_time_ratio);
+      }
+      fmt::print("  finest tier: {}; frequencies of each tier compared with the closest full-FE "
+                 "frequency\n",
+                 rows[finest].name);
+    }
+    return 0;
+  });
+}
+
+}  // namespace gearnvh::app

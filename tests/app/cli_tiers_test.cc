@@ -1,0 +1,57 @@
+// End-to-end test of `gearnvh tiers`: the modal truncation levels side by side.
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "support/run_command.h"
+
+namespace gearnvh {
+namespace {
+
+using testing::RunCommand;
+using testing::TempDir;
+
+const std::string kExe = GEARNVH_EXE;
+const std::string kExamples = GEARNVH_EXAMPLES_DIR;
+
+TEST_CASE("tiers compares every modal tier of a flexible gearbox with the full FE model",
+          "[cli][tiers]") {
+  const TempDir dir;
+  const auto run = RunCommand(kExe + " tiers --json --cycles 60 --transient 20 --out " +
+                              dir.path().string() + " " + kExamples + "/flexible_shafts.yaml");
+  INFO(run.err);
+  REQUIRE(run.exit_code == 0);
+  const auto r = nlohmann::json::parse(run.out);
+  std::map<std::string, nlohmann::json> by;
+  for (const auto& t : r["tiers"]) by[t["name"].get<std::string>()] = t;
+  for (const char* name : {"tier 1", "tier 2", "tier 3", "tier 4", "N40 full", "N20 simple",
+                           "N20 MTA", "N20 MTA + fusion"}) {
+    INFO(name);
+    REQUIRE(by.count(name) == 1);
+    const auto& t = by[name];
+    CHECK(t["state_dim"] == 2 * t["dof"].get<int>() + 2);
+    CHECK(t["us_per_cycle"].get<double>() > 0.0);
+    CHECK(t["real_time_ratio"].get<double>() > 0.0);
+  }
+  CHECK(r["finest_tier"] == "N40 full");
+  CHECK(by["N40 full"]["te_rms_difference_to_finest"].get<double>() == 0.0);
+  // Craig-Bampton with 40 modes reproduces the lowest full-FE frequencies far better than the
+  // rigid tiers; MTA keeps the static mesh compliance of the full model (DESIGN: 1e-10).
+  CHECK(by["N40 full"]["max_frequency_error"].get<double>() < 1e-3);
+  CHECK(by["tier 2"]["max_frequency_error"].get<double>() >
+        10.0 * by["N40 full"]["max_frequency_error"].get<double>());
+  CHECK(std::abs(by["N20 MTA"]["static_compliance_error"].get<double>()) <= 1e-10);
+  CHECK(std::abs(by["N20 simple"]["static_compliance_error"].get<double>()) > 1e-6);
+  // Fusion is the same model and the same exact result with fewer matvecs.
+  CHECK(by["N20 MTA + fusion"]["te_rms_m"].get<double>() ==
+        Approx(by["N20 MTA"]["te_rms_m"].get<double>()).epsilon(1e-9));
+  CHECK(by["N20 MTA + fusion"]["matvec_per_cycle"].get<double>() <
+        by["N20 MTA"]["matvec_per_cycle"].get<double>());
+  for (const char* file : {"tiers.json", "tiers.csv", "tiers.png"}) {
+    INFO(file);
+    CHECK(std::filesystem::file_size(dir.path() / file) > 100);
+  }
+}
+
+}  // namespace
+}  // namespace gearnvh
