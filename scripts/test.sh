@@ -9,6 +9,8 @@ if [ "${1:-}" = "--sanitize" ]; then
   export GEARNVH_CMAKE_ARGS="-DGEARNVH_SANITIZE=ON -DGEARNVH_NATIVE=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo"
   export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}
   export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+  # Graphics libraries (Mesa, X11, VTK singletons) keep allocations until exit by design.
+  export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/tests/lsan.supp:print_suppressions=0}
 fi
 bash scripts/setup.sh
 ctest --test-dir "${GEARNVH_BUILD_DIR:-build}" --output-on-failure -j "$(nproc)"

@@ -30,7 +30,7 @@ nlohmann::json WithoutTimes(nlohmann::json doc) {
   return doc;
 }
 
-TEST_CASE("atlas: 1 and 2 threads give bitwise the same cells; regular and chaotic cells",
+TEST_CASE("atlas: 1 and 2 threads give bitwise the same cells, with regular and chaotic cells",
           "[cli][atlas]") {
   const TempDir dir;
   const auto one = RunCommand(kExe + kSmallAtlas + "--jobs 1 " + kExamples + "/idle_rattle.yaml");
