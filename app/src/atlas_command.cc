@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -15,6 +16,7 @@
 #include "config/gearbox_loader.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/atlas.h"
+#include "mpi_context.h"
 #include "simulate_command.h"
 
 namespace gearnvh::app {
@@ -105,8 +107,91 @@ nlohmann::json AtlasJson(const AtlasResult& r, const AtlasOptions& o) {
           {"wall_s", r.wall_s}};
 }
 
+namespace {
+
+AtlasCell CellFromJson(const nlohmann::json& j) {
+  AtlasCell c;
+  c.ix = j.at("ix").get<int>();
+  c.iy = j.at("iy").get<int>();
+  c.x = j.at("x").get<double>();
+  c.y = j.at("y").get<double>();
+  c.ok = j.at("ok").get<bool>();
+  c.message = j.at("message").get<std::string>();
+  c.lyapunov_per_s = j.at("lyapunov_per_s").get<double>();
+  c.lyapunov_per_forcing_cycle = j.at("lyapunov_per_forcing_cycle").get<double>();
+  c.lyapunov_standard_error = j.at("lyapunov_standard_error").get<double>();
+  c.drive_impacts_per_cycle = j.at("drive_impacts_per_cycle").get<double>();
+  c.back_impacts_per_cycle = j.at("back_impacts_per_cycle").get<double>();
+  c.rattle_index = j.at("rattle_index_j").get<double>();
+  c.impact_velocity_rms = j.at("impact_velocity_rms").get<double>();
+  c.separation_fraction = j.at("separation_fraction").get<double>();
+  c.regime = j.at("regime").get<std::string>();
+  c.wall_s = j.at("wall_s").get<double>();
+  return c;
+}
+
+// The checkpoint of an atlas run: DIR/.atlas-checkpoint/settings.json (what was asked; a resume
+// with other settings is refused) and one cells-rank-R.jsonl per rank, one computed cell per line
+// (flushed as it completes, so a killed run loses only the cells in flight).
+struct Checkpoint {
+  std::filesystem::path dir;
+  std::string settings;
+};
+
+std::string SettingsKey(const std::string& file_text, const AtlasAxis& x, const AtlasAxis& y,
+                        const AtlasOptions& o) {
+  const nlohmann::json j = {{"file_hash", std::to_string(std::hash<std::string>{}(file_text))},
+                            {"x", AxisJson(x)},
+                            {"y", AxisJson(y)},
+                            {"cycles", o.cycles},
+                            {"transient", o.transient_cycles},
+                            {"method", o.method},
+                            {"tier", static_cast<int>(o.tier)},
+                            {"chaos_threshold", o.chaos_threshold}};
+  return j.dump();
+}
+
+// Rank 0: prepares the checkpoint and returns the cells already computed (resume).
+std::vector<AtlasCell> PrepareCheckpoint(const Checkpoint& cp, bool resume, int total) {
+  namespace fs = std::filesystem;
+  std::vector<AtlasCell> done;
+  const fs::path settings = cp.dir / "settings.json";
+  if (resume && fs::exists(settings)) {
+    std::ifstream in(settings);
+    std::stringstream buffer;
+    buffer << in.rdbuf();
+    if (buffer.str() != cp.settings + "\n") {
+      throw InputError("--resume", 0, cp.dir.string(),
+                       "the checkpoint was made with other settings (file, axes, cycles, method "
+                       "or tier); run without --resume to start over");
+    }
+    for (const auto& entry : fs::directory_iterator(cp.dir)) {
+      if (entry.path().extension() != ".jsonl") continue;
+      std::ifstream cells(entry.path());
+      std::string line;
+      while (std::getline(cells, line)) {
+        try {
+          const AtlasCell c = CellFromJson(nlohmann::json::parse(line));
+          if (c.ok && c.ix + 0 >= 0 && c.iy >= 0) done.push_back(c);
+        } catch (const std::exception&) {
+          // A line cut short by the kill: that cell is computed again.
+        }
+      }
+    }
+    (void)total;
+    return done;
+  }
+  fs::remove_all(cp.dir);
+  fs::create_directories(cp.dir);
+  WriteFileAtomically(settings.string(), cp.settings + "\n");
+  return done;
+}
+
+}  // namespace
+
 int RunAtlas(const AtlasCommandOptions& options) {
-  return RunReportingErrors(options.file, [&]() -> int {
+  const int rank = MpiContext::Rank(), ranks = MpiContext::Size();
+  int code = RunReportingErrors(options.file, [&]() -> int {
     const GearboxSpec spec = config::LoadGearboxFile(options.file);
     AtlasOptions atlas;
     atlas.tier = options.tier ? ParseTier(*options.tier) : spec.analysis.tier;
@@ -125,39 +210,135 @@ int RunAtlas(const AtlasCommandOptions& options) {
     if (x->parameter == y->parameter) {
       throw InputError("--y", 0, y->parameter, "must differ from the x parameter");
     }
+    if (options.resume && !options.out) {
+      throw InputError("--resume", 0, "", "needs --out DIR (the checkpoint lives there)");
+    }
     atlas.Validate();
-    const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
+    const int nx = x->range.points, ny = y->range.points, total = nx * ny;
+
+    // Checkpoint (only with --out): rank 0 prepares it and tells every rank what is done.
+    std::optional<Checkpoint> checkpoint;
+    std::vector<AtlasCell> restored;
+    if (options.out) {
+      std::ifstream in(options.file);
+      std::stringstream text;
+      text << in.rdbuf();
+      checkpoint = Checkpoint{std::filesystem::path(*options.out) / ".atlas-checkpoint",
+                              SettingsKey(text.str(), *x, *y, atlas)};
+      if (rank == 0) restored = PrepareCheckpoint(*checkpoint, options.resume, total);
+    }
+    std::string restored_text;
+    if (rank == 0) {
+      nlohmann::json indices = nlohmann::json::array();
+      for (const AtlasCell& c : restored) indices.push_back(c.iy * nx + c.ix);
+      restored_text = indices.dump();
+    }
+    restored_text = MpiContext::BroadcastString(restored_text);
+    std::vector<bool> skip(static_cast<size_t>(total), false);
+    for (int k = 0; k < total; ++k) skip[static_cast<size_t>(k)] = k % ranks != rank;
+    for (const auto& k : nlohmann::json::parse(restored_text)) skip[k.get<size_t>()] = true;
+
+    const bool on_terminal = rank == 0 && ::isatty(STDERR_FILENO) != 0;
     AtlasProgress progress;
     if (on_terminal) {
-      progress = [](int done, int total) {
-        fmt::print(stderr, "\ratlas: {:3d}% ({}/{} cells)", 100 * done / total, done, total);
+      progress = [ranks](int done, int todo) {
+        fmt::print(stderr, "\ratlas: {:3d}% ({}/{} cells{})", 100 * done / std::max(todo, 1), done,
+                   todo, ranks > 1 ? fmt::format(" on rank 0 of {}", ranks) : "");
       };
     }
-    const AtlasResult result = RunChaosAtlas(spec, *x, *y, atlas, progress);
+    std::ofstream log;
+    if (checkpoint) {
+      log.open(checkpoint->dir / ("cells-rank-" + std::to_string(rank) + ".jsonl"),
+               std::ios::app);
+    }
+    AtlasCellCallback on_cell = [&](const AtlasCell& c) {
+      if (log.is_open() && c.ok) log << CellJson(c).dump() << std::endl;  // flushed per cell
+    };
+    // This rank's cells; a rank that fails outside a cell reports its cells as lost.
+    nlohmann::json mine = nlohmann::json::array();
+    double wall_s = 0.0;
+    int threads = 1;
+    try {
+      const AtlasResult part = RunChaosAtlas(spec, *x, *y, atlas, progress, skip, on_cell);
+      wall_s = part.wall_s;
+      threads = part.threads;
+      for (int k = 0; k < total; ++k) {
+        if (!skip[static_cast<size_t>(k)]) mine.push_back(CellJson(part.cells[static_cast<size_t>(k)]));
+      }
+    } catch (const std::exception& e) {
+      for (int k = 0; k < total; ++k) {
+        if (skip[static_cast<size_t>(k)]) continue;
+        AtlasCell lost;
+        lost.ix = k % nx;
+        lost.iy = k / nx;
+        lost.x = AxisValue(*x, lost.ix);
+        lost.y = AxisValue(*y, lost.iy);
+        lost.message = "lost: rank " + std::to_string(rank) + " failed: " + e.what();
+        mine.push_back(CellJson(lost));
+      }
+    }
     if (on_terminal) fmt::print(stderr, "\n");
+    const std::vector<std::string> parts = MpiContext::GatherToRoot(mine.dump());
+    if (rank != 0) return 0;
+
+    AtlasResult result;
+    result.x = *x;
+    result.y = *y;
+    result.threads = threads;
+    result.wall_s = wall_s;
+    result.cells.resize(static_cast<size_t>(total));
+    std::vector<bool> filled(static_cast<size_t>(total), false);
+    auto place = [&](const AtlasCell& c) {
+      const size_t k = static_cast<size_t>(c.iy * nx + c.ix);
+      result.cells[k] = c;
+      filled[k] = true;
+    };
+    for (const AtlasCell& c : restored) place(c);
+    for (const std::string& part : parts) {
+      for (const auto& j : nlohmann::json::parse(part)) place(CellFromJson(j));
+    }
+    for (int k = 0; k < total; ++k) {
+      if (!filled[static_cast<size_t>(k)]) {
+        AtlasCell& c = result.cells[static_cast<size_t>(k)];
+        c.ix = k % nx;
+        c.iy = k / nx;
+        c.x = AxisValue(*x, c.ix);
+        c.y = AxisValue(*y, c.iy);
+        c.message = "lost: no rank returned this cell";
+      }
+    }
     nlohmann::json doc = AtlasJson(result, atlas);
     doc["name"] = spec.name;
     doc["file"] = options.file;
+    doc["ranks"] = ranks;
+    doc["restored_cells"] = restored.size();
     if (options.out) {
       std::filesystem::create_directories(*options.out);
       const std::filesystem::path dir(*options.out);
       WriteFileAtomically((dir / "atlas.csv").string(), AtlasCsv(result));
       WriteFileAtomically((dir / "atlas.json").string(), doc.dump(1) + "\n");
+      // Complete: the checkpoint has served its purpose (failed cells stay failed in the output;
+      // a new run retries them).
+      if (result.Failed() == 0) {
+        log.close();
+        std::filesystem::remove_all(checkpoint->dir);
+      }
     }
     if (options.json) {
       std::cout << doc.dump(1) << "\n";
     } else {
-      fmt::print("{}  ({}): chaos atlas, {} x {} cells, {} cycles each, {} threads, {:.1f} s\n",
-                 spec.name, options.file, x->range.points, y->range.points, atlas.cycles,
-                 result.threads, result.wall_s);
+      fmt::print("{}  ({}): chaos atlas, {} x {} cells, {} cycles each, {} threads{}, {:.1f} s{}\n",
+                 spec.name, options.file, nx, ny, atlas.cycles, result.threads,
+                 ranks > 1 ? fmt::format(" x {} ranks", ranks) : "", result.wall_s,
+                 restored.empty() ? "" : fmt::format(" ({} cells restored)", restored.size()));
       fmt::print("  rows: {} from {:g} to {:g} (SI); columns: {} from {:g} to {:g} (SI)\n",
                  y->parameter, y->range.to, y->range.from, x->parameter, x->range.from,
                  x->range.to);
       fmt::print("  . no impact  S single-sided  D double-sided  C chaotic  X failed\n");
-      for (int iy = y->range.points - 1; iy >= 0; --iy) {
+      for (int iy = ny - 1; iy >= 0; --iy) {
         std::string row;
-        for (int ix = 0; ix < x->range.points; ++ix) {
-          row += RegimeLetter(result.cells[static_cast<size_t>(iy * x->range.points + ix)]);
+        for (int ix = 0; ix < nx; ++ix) {
+          row += RegimeLetter(result.cells[static_cast<size_t>(iy * nx + ix)]);
         }
         fmt::print("  {}\n", row);
       }
@@ -172,6 +353,8 @@ int RunAtlas(const AtlasCommandOptions& options) {
     }
     return 0;
   });
+  // Every rank exits with rank 0's verdict (an input error is seen by every rank alike).
+  return MpiContext::BroadcastInt(code);
 }
 
 }  // namespace gearnvh::app

@@ -22,8 +22,11 @@ struct AtlasCommandOptions {
   std::string method = "v3";
   std::optional<std::string> out;
   bool json = false;
+  bool resume = false;  // skip the cells already in DIR's checkpoint (needs --out)
 };
 
+// Under mpirun the cells are split across ranks (round robin), each rank runs its cells on
+// threads, and rank 0 gathers them and alone writes the outputs and shows progress.
 int RunAtlas(const AtlasCommandOptions& options);
 
 // The atlas documents (also used by reports).

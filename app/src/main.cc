@@ -1,10 +1,12 @@
 // gearnvh: the command line. Exit codes: 0 ok, 1 invalid input, 2 usage error, 3 internal error.
 #include <CLI/CLI.hpp>
 #include <exception>
+#include <cstdio>
 #include <iostream>
 
 #include "atlas_command.h"
 #include "check_command.h"
+#include "mpi_context.h"
 #include "orbits_command.h"
 #include "tiers_command.h"
 #ifdef GEARNVH_HAVE_RENDER
@@ -14,7 +16,9 @@
 #include "sweep_command.h"
 #include "validate_command.h"
 
-int main(int argc, char** argv) {
+namespace {
+
+int Main(int argc, char** argv) {
   CLI::App app{
       "gearnvh: gearbox NVH from a YAML gearbox definition (schema gearnvh/1).\n"
       "Mesh stiffness, flexible shafts, modal tiers, exact gear-rattle dynamics, NVH reports."};
@@ -117,6 +121,9 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"v1", "v2", "v3", "fused"}));
   atlas_cmd->add_option("--out", atlas.out, "Write atlas.csv and atlas.json");
   atlas_cmd->add_flag("--json", atlas.json, "Print the atlas as one JSON document");
+  atlas_cmd->add_flag("--resume", atlas.resume,
+                      "Skip cells already computed by an earlier run of the same command (the "
+                      "checkpoint in --out DIR)");
 
   gearnvh::app::OrbitsCommandOptions orbits;
   CLI::App* orbits_cmd = app.add_subcommand(
@@ -189,6 +196,9 @@ int main(int argc, char** argv) {
     const int code = app.exit(e);
     return code == 0 ? 0 : 2;
   }
+  // Under mpirun only the commands that split their work across ranks run on every rank; for the
+  // others rank 0 does everything and the other ranks leave at once.
+  if (gearnvh::app::MpiContext::Rank() != 0 && !atlas_cmd->parsed()) return 0;
   try {
     if (check_cmd->parsed()) return gearnvh::app::RunCheck(check);
     if (simulate_cmd->parsed()) return gearnvh::app::RunSimulate(simulate);
@@ -208,4 +218,20 @@ int main(int argc, char** argv) {
     return 3;
   }
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  gearnvh::app::MpiContext::Initialize(&argc, &argv);
+  if (gearnvh::app::MpiContext::Rank() != 0) {
+    // Rank 0 alone talks to the user; the others report through it.
+    if (std::freopen("/dev/null", "w", stdout) == nullptr ||
+        std::freopen("/dev/null", "w", stderr) == nullptr) {
+      return 3;
+    }
+  }
+  const int code = Main(argc, argv);
+  gearnvh::app::MpiContext::Finalize();
+  return code;
 }

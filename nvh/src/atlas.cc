@@ -2,6 +2,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <thread>
@@ -99,7 +100,7 @@ AtlasCell ComputeAtlasCell(const GearboxSpec& base, const AtlasAxis& x, const At
 
 AtlasResult RunChaosAtlas(const GearboxSpec& base, const AtlasAxis& x, const AtlasAxis& y,
                           const AtlasOptions& options, const AtlasProgress& progress,
-                          const std::vector<bool>& skip) {
+                          const std::vector<bool>& skip, const AtlasCellCallback& on_cell) {
   options.Validate();
   const auto start = std::chrono::steady_clock::now();
   AtlasResult result;
@@ -114,6 +115,8 @@ AtlasResult RunChaosAtlas(const GearboxSpec& base, const AtlasAxis& x, const Atl
   const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   result.threads = std::max(1, std::min(options.threads > 0 ? options.threads : hardware, total));
   int done = 0;
+  int to_do = total;
+  if (!skip.empty()) to_do = static_cast<int>(std::count(skip.begin(), skip.end(), false));
 #pragma omp parallel for schedule(dynamic, 1) num_threads(result.threads)
   for (int k = 0; k < total; ++k) {
     const int ix = k % nx, iy = k / nx;
@@ -124,13 +127,14 @@ AtlasResult RunChaosAtlas(const GearboxSpec& base, const AtlasAxis& x, const Atl
       cell.x = AxisValue(x, ix);
       cell.y = AxisValue(y, iy);
       cell.message = "skipped";
-    } else {
-      cell = ComputeAtlasCell(base, x, y, ix, iy, options);
+      continue;
     }
+    cell = ComputeAtlasCell(base, x, y, ix, iy, options);
 #pragma omp critical(gearnvh_atlas_progress)
     {
       ++done;
-      if (progress) progress(done, total);
+      if (on_cell) on_cell(cell);
+      if (progress) progress(done, to_do);
     }
   }
   result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -60,11 +60,14 @@ AtlasCell ComputeAtlasCell(const GearboxSpec& base, const AtlasAxis& x, const At
 
 // (cells done, total): called under a lock, from worker threads.
 using AtlasProgress = std::function<void(int, int)>;
+// Called under the same lock with every cell as soon as it is computed (checkpoints).
+using AtlasCellCallback = std::function<void(const AtlasCell&)>;
 
 // Every cell of the grid whose `skip` entry is false (skip may be empty: all cells). Skipped cells
 // are returned with ok = false and message "skipped" (the caller fills them, e.g. on resume).
 AtlasResult RunChaosAtlas(const GearboxSpec& base, const AtlasAxis& x, const AtlasAxis& y,
                           const AtlasOptions& options, const AtlasProgress& progress = {},
-                          const std::vector<bool>& skip = {});
+                          const std::vector<bool>& skip = {},
+                          const AtlasCellCallback& on_cell = {});
 
 }  // namespace gearnvh

@@ -1,0 +1,114 @@
+// Scale-out of `gearnvh atlas`: mpirun -np 2 equals the single-process atlas, and a run killed
+// midway completes with --resume to the same atlas.
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+
+#include <catch2/catch.hpp>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
+
+#include "support/run_command.h"
+
+extern char** environ;
+
+namespace gearnvh {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::ReadWholeFile;
+using testing::RunCommand;
+using testing::TempDir;
+
+const std::string kExe = GEARNVH_EXE;
+const std::string kExamples = GEARNVH_EXAMPLES_DIR;
+const std::string kAtlas = " atlas " + kExamples +
+                           "/idle_rattle.yaml --x operating.speed=700rpm:1100rpm:3"
+                           " --y operating.torque=0.05Nm:0.5Nm:4 --cycles 1080 --transient 270 ";
+
+// The atlas document without what legitimately differs between runs (timings, threads, ranks).
+std::string Comparable(const fs::path& json) {
+  nlohmann::json d = nlohmann::json::parse(ReadWholeFile(json));
+  for (const char* k : {"wall_s", "threads", "ranks", "restored_cells"}) d.erase(k);
+  for (auto& c : d["cells"]) c.erase("wall_s");
+  return d.dump();
+}
+
+TEST_CASE("mpi: mpirun -np 2 gives the single-process atlas", "[cli][mpi]") {
+  const TempDir dir;
+  const auto single = RunCommand(kExe + kAtlas + "--jobs 2 --out " + (dir.path() / "one").string());
+  INFO(single.err);
+  REQUIRE(single.exit_code == 0);
+  // Loopback only; as root OpenMPI needs --allow-run-as-root; 2 ranks on 2 cores, 1 thread each.
+  const auto mpi = RunCommand(
+      "mpirun --allow-run-as-root --oversubscribe --mca btl self,tcp --mca btl_tcp_if_include lo "
+      "--mca oob_tcp_if_include lo -np 2 " +
+      kExe + kAtlas + "--jobs 1 --out " + (dir.path() / "two").string());
+  INFO(mpi.out << mpi.err);
+  REQUIRE(mpi.exit_code == 0);
+  const auto doc = nlohmann::json::parse(ReadWholeFile(dir.path() / "two" / "atlas.json"));
+  CHECK(doc["ranks"] == 2);
+  CHECK(Comparable(dir.path() / "one" / "atlas.json") ==
+        Comparable(dir.path() / "two" / "atlas.json"));
+  CHECK(ReadWholeFile(dir.path() / "one" / "atlas.csv") ==
+        ReadWholeFile(dir.path() / "two" / "atlas.csv"));
+  CHECK(!fs::exists(dir.path() / "two" / ".atlas-checkpoint"));  // removed once complete
+}
+
+TEST_CASE("mpi: an atlas killed midway completes with --resume to the same cells",
+          "[cli][resume]") {
+  const TempDir dir;
+  const fs::path out = dir.path() / "killed";
+  const fs::path log = out / ".atlas-checkpoint" / "cells-rank-0.jsonl";
+  // Start the run, wait until a few cells are in the checkpoint, and SIGKILL it.
+  std::vector<std::string> words;
+  std::istringstream command(kExe + kAtlas + "--jobs 1 --out " + out.string());
+  for (std::string w; command >> w;) words.push_back(w);
+  std::vector<char*> argv;
+  for (std::string& w : words) argv.push_back(w.data());
+  argv.push_back(nullptr);
+  pid_t pid = -1;
+  REQUIRE(posix_spawn(&pid, kExe.c_str(), nullptr, nullptr, argv.data(), environ) == 0);
+  auto lines = [&]() {
+    std::ifstream in(log);
+    return std::count(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>(), '\n');
+  };
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (lines() < 3 && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  REQUIRE(::kill(pid, SIGKILL) == 0);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  CHECK(WIFSIGNALED(status));
+  const long done_before = lines();
+  INFO("cells in the checkpoint when killed: " << done_before);
+  REQUIRE(done_before >= 3);
+  REQUIRE(done_before < 12);  // killed midway
+  CHECK(!fs::exists(out / "atlas.json"));
+
+  const auto resumed = RunCommand(kExe + kAtlas + "--jobs 1 --resume --json --out " + out.string());
+  INFO(resumed.err);
+  REQUIRE(resumed.exit_code == 0);
+  const auto doc = nlohmann::json::parse(resumed.out);
+  CHECK(doc["restored_cells"].get<long>() >= done_before - 1);  // a line cut by the kill is redone
+  const auto fresh = RunCommand(kExe + kAtlas + "--jobs 2 --out " + (dir.path() / "fresh").string());
+  REQUIRE(fresh.exit_code == 0);
+  CHECK(Comparable(out / "atlas.json") == Comparable(dir.path() / "fresh" / "atlas.json"));
+
+  // A resume with other settings is refused rather than mixed.
+  const fs::path other = dir.path() / "other";
+  REQUIRE(std::system(("mkdir -p " + (other / ".atlas-checkpoint").string() +
+                       " && echo '{}' > " + (other / ".atlas-checkpoint" / "settings.json").string())
+                          .c_str()) == 0);
+  const auto refused = RunCommand(kExe + kAtlas + "--resume --out " + other.string());
+  CHECK(refused.exit_code == 1);
+  CHECK(refused.err.find("other settings") != std::string::npos);
+}
+
+}  // namespace
+}  // namespace gearnvh
