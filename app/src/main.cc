@@ -198,7 +198,9 @@ int Main(int argc, char** argv) {
   }
   // Under mpirun only the commands that split their work across ranks run on every rank; for the
   // others rank 0 does everything and the other ranks leave at once.
-  if (gearnvh::app::MpiContext::Rank() != 0 && !atlas_cmd->parsed()) return 0;
+  if (gearnvh::app::MpiContext::Rank() != 0 && !atlas_cmd->parsed() && !sweep_cmd->parsed()) {
+    return 0;
+  }
   try {
     if (check_cmd->parsed()) return gearnvh::app::RunCheck(check);
     if (simulate_cmd->parsed()) return gearnvh::app::RunSimulate(simulate);

@@ -67,7 +67,7 @@ SpeedPoint RunPoint(const GearboxSpec& base, const ComponentModel& model,
 
 SpeedSweepResult RunSpeedSweep(const GearboxSpec& spec, const ComponentModel& model,
                                const ReducedModel& reduced, const SpeedSweepOptions& options,
-                               const SweepProgress& progress) {
+                               const SweepProgress& progress, const std::vector<bool>& skip) {
   if (options.cycles < 2) {
     throw InputError("--cycles", 0, std::to_string(options.cycles), "must be >= 2");
   }
@@ -108,6 +108,12 @@ SpeedSweepResult RunSpeedSweep(const GearboxSpec& spec, const ComponentModel& mo
   auto worker = [&]() {
     for (size_t i = next++; i < speeds.size(); i = next++) {
       SpeedPoint& p = result.points[i];
+      if (!skip.empty() && skip[i]) {
+        p.speed_rad_s = speeds[i];
+        p.speed_rpm = speeds[i] * kRpm;
+        p.message = "skipped";
+        continue;
+      }
       try {
         p = RunPoint(spec, model, reduced, options, speeds[i], result.order_bins);
       } catch (const std::exception& e) {

@@ -43,8 +43,11 @@ struct SpeedSweepResult {
 // (speeds done, total): called from worker threads, one call at a time (under a lock).
 using SweepProgress = std::function<void(int, int)>;
 
+// Speeds whose `skip` entry is true are not run (ok = false, message "skipped"; MPI ranks fill
+// them in); skip may be empty.
 SpeedSweepResult RunSpeedSweep(const GearboxSpec& spec, const ComponentModel& model,
                                const ReducedModel& reduced, const SpeedSweepOptions& options,
-                               const SweepProgress& progress = {});
+                               const SweepProgress& progress = {},
+                               const std::vector<bool>& skip = {});
 
 }  // namespace gearnvh::app

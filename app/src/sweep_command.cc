@@ -13,6 +13,7 @@
 #include "command_errors.h"
 #include "config/gearbox_loader.h"
 #include "gearnvh/model/input_error.h"
+#include "mpi_context.h"
 #include "simulate_command.h"
 #include "speed_sweep.h"
 
@@ -22,6 +23,41 @@ namespace {
 
 nlohmann::json NumberOrNull(double v) {
   return std::isnan(v) ? nlohmann::json() : nlohmann::json(v);
+}
+
+nlohmann::json PointJson(size_t index, const SpeedPoint& p) {
+  return {{"index", index},
+          {"speed_rad_s", p.speed_rad_s},
+          {"speed_rpm", p.speed_rpm},
+          {"ok", p.ok},
+          {"message", p.message},
+          {"te_rms", p.te_rms},
+          {"te_peak_to_peak", p.te_peak_to_peak},
+          {"events_per_cycle", p.events_per_cycle},
+          {"drive", p.drive_impacts_per_cycle},
+          {"back", p.back_impacts_per_cycle},
+          {"regime", p.regime},
+          {"matvec_per_cycle", p.matvec_per_cycle},
+          {"real_time_ratio", p.real_time_ratio},
+          {"amplitude_m", p.amplitude_m}};
+}
+
+SpeedPoint PointFromJson(const nlohmann::json& j) {
+  SpeedPoint p;
+  p.speed_rad_s = j.at("speed_rad_s").get<double>();
+  p.speed_rpm = j.at("speed_rpm").get<double>();
+  p.ok = j.at("ok").get<bool>();
+  p.message = j.at("message").get<std::string>();
+  p.te_rms = j.at("te_rms").get<double>();
+  p.te_peak_to_peak = j.at("te_peak_to_peak").get<double>();
+  p.events_per_cycle = j.at("events_per_cycle").get<double>();
+  p.drive_impacts_per_cycle = j.at("drive").get<double>();
+  p.back_impacts_per_cycle = j.at("back").get<double>();
+  p.regime = j.at("regime").get<std::string>();
+  p.matvec_per_cycle = j.at("matvec_per_cycle").get<double>();
+  p.real_time_ratio = j.at("real_time_ratio").get<double>();
+  p.amplitude_m = j.at("amplitude_m").get<std::vector<double>>();
+  return p;
 }
 
 }  // namespace
@@ -111,7 +147,7 @@ std::string WaterfallCsv(const SpeedSweepResult& r) {
 }
 
 int RunSweep(const SweepOptions& options) {
-  return RunReportingErrors(options.file, [&]() -> int {
+  const int code = RunReportingErrors(options.file, [&]() -> int {
     const GearboxSpec spec = config::LoadGearboxFile(options.file);
     const Tier tier = options.tier ? ParseTier(*options.tier) : spec.analysis.tier;
     SpeedSweepOptions sweep;
@@ -129,8 +165,32 @@ int RunSweep(const SweepOptions& options) {
         fmt::print(stderr, "\rsweep: {:3d}% ({}/{} speeds)", 100 * done / total, done, total);
       };
     }
-    const SpeedSweepResult result = RunSpeedSweep(spec, model, reduced, sweep, progress);
+    // Under mpirun the speeds are split across ranks (round robin) and rank 0 gathers them.
+    const int rank = MpiContext::Rank(), ranks = MpiContext::Size();
+    std::vector<bool> skip(static_cast<size_t>(spec.analysis.speed_sweep.points), false);
+    for (size_t i = 0; i < skip.size(); ++i) skip[i] = static_cast<int>(i % ranks) != rank;
+    SpeedSweepResult result =
+        RunSpeedSweep(spec, model, reduced, sweep, rank == 0 ? progress : SweepProgress{}, skip);
     if (on_terminal) fmt::print(stderr, "\n");
+    if (ranks > 1) {
+      nlohmann::json mine = nlohmann::json::array();
+      for (size_t i = 0; i < result.points.size(); ++i) {
+        if (!skip[i]) mine.push_back(PointJson(i, result.points[i]));
+      }
+      const std::vector<std::string> parts = MpiContext::GatherToRoot(mine.dump());
+      if (rank != 0) return 0;
+      std::vector<bool> filled(result.points.size(), false);
+      for (const std::string& part : parts) {
+        for (const auto& j : nlohmann::json::parse(part)) {
+          const size_t i = j.at("index").get<size_t>();
+          result.points[i] = PointFromJson(j);
+          filled[i] = true;
+        }
+      }
+      for (size_t i = 0; i < filled.size(); ++i) {
+        if (!filled[i]) result.points[i].message = "lost: no rank returned this speed";
+      }
+    }
 
     nlohmann::json doc = SweepJson(result, spec.pinion.teeth);
     doc["name"] = spec.name;
@@ -181,6 +241,7 @@ int RunSweep(const SweepOptions& options) {
     }
     return 0;
   });
+  return MpiContext::BroadcastInt(code);
 }
 
 }  // namespace gearnvh::app

@@ -59,6 +59,29 @@ TEST_CASE("mpi: mpirun -np 2 gives the single-process atlas", "[cli][mpi]") {
   CHECK(!fs::exists(dir.path() / "two" / ".atlas-checkpoint"));  // removed once complete
 }
 
+TEST_CASE("mpi: mpirun -np 2 gives the single-process speed sweep", "[cli][mpi]") {
+  const TempDir dir;
+  const std::string sweep = " sweep " + kExamples + "/industrial_whine.yaml --cycles 32 "
+                            "--transient 10 --jobs 1 --out ";
+  REQUIRE(RunCommand(kExe + sweep + (dir.path() / "one").string()).exit_code == 0);
+  const auto mpi = RunCommand(
+      "mpirun --allow-run-as-root --oversubscribe --mca btl self,tcp --mca btl_tcp_if_include lo "
+      "--mca oob_tcp_if_include lo -np 2 " + kExe + sweep + (dir.path() / "two").string());
+  INFO(mpi.out << mpi.err);
+  REQUIRE(mpi.exit_code == 0);
+  for (const char* file : {"campbell.csv", "critical_speeds.csv", "waterfall.csv"}) {
+    INFO(file);
+    CHECK(ReadWholeFile(dir.path() / "one" / file) == ReadWholeFile(dir.path() / "two" / file));
+  }
+  auto comparable = [](const fs::path& p) {
+    nlohmann::json d = nlohmann::json::parse(ReadWholeFile(p));
+    for (auto& point : d["waterfall"]["points"]) point.erase("real_time_ratio");
+    return d.dump();
+  };
+  CHECK(comparable(dir.path() / "one" / "sweep.json") ==
+        comparable(dir.path() / "two" / "sweep.json"));
+}
+
 TEST_CASE("mpi: an atlas killed midway completes with --resume to the same cells",
           "[cli][resume]") {
   const TempDir dir;
