@@ -1,6 +1,6 @@
 // One operating point through the exact solver and the NVH signatures: what `gearnvh simulate`
-// prints and what a report shows. The same gearbox with the backlash removed (0.5 nm of play) is
-// run as well, for the rattle acceleration ratio.
+// prints and what a report shows. The same gearbox without backlash (the mesh spring in permanent
+// contact, acting in tension as well) is run too, for the rattle acceleration ratio.
 #pragma once
 
 #include <nlohmann/json.hpp>

@@ -457,7 +457,7 @@ bool ExactStepper::Run(long cycles, bool record) {
       const double h = t_.SegmentLength(j);
       const double seg_start = cycle_start + t_.boundaries[j];
       z_[excitation_slot] = t_.excitation.empty() ? 0.0 : t_.MeanExcitation(seg_start, h);
-      if (fused_) {
+      if (fused_ || options_.ignore_walls) {
         // Certified contact: the whole segment in one matvec (no wall can be reached).
         const Eigen::MatrixXd& full = t_.systems[j][static_cast<int>(contact_)].full;
         z1_.noalias() = full * z_;
@@ -668,6 +668,14 @@ void ExactStepper::JumpTo(const Eigen::VectorXd& z, long cycles) {
 }
 
 std::pair<Eigen::VectorXd, ContactState> StaticInitialState(const SegmentTables& t) {
+  Eigen::VectorXd z = DriveEquilibrium(t);
+  const SegmentSystem& drive = t.systems[0][static_cast<int>(ContactState::kDrive)];
+  if (drive.gap_drive.dot(z) > 0.0) return {z, ContactState::kDrive};
+  z.head(t.n).setZero();
+  return {z, ContactState::kFree};
+}
+
+Eigen::VectorXd DriveEquilibrium(const SegmentTables& t) {
   const int n = t.n, m = t.m;
   const SegmentSystem& drive = t.systems[0][static_cast<int>(ContactState::kDrive)];
   // K x = f has the pair's free rotation as a null direction (and, with friction, a small
@@ -682,9 +690,7 @@ std::pair<Eigen::VectorXd, ContactState> StaticInitialState(const SegmentTables&
   Eigen::VectorXd z = Eigen::VectorXd::Zero(m);
   z[2 * n] = 1.0;
   z.head(n) = B.colPivHouseholderQr().solve(rhs);
-  if (drive.gap_drive.dot(z) > 0.0) return {z, ContactState::kDrive};
-  z.head(n).setZero();
-  return {z, ContactState::kFree};
+  return z;
 }
 
 SolverResult SimulateExact(const SegmentTables& tables, const Eigen::VectorXd& z0,

@@ -27,6 +27,14 @@ void ReferenceOptions::Validate() const {
 
 namespace {
 
+// Internal steps since the last (re)initialisation.
+long StepsSoFar(void* cvode) {
+  long steps = 0;
+  CVodeGetNumSteps(cvode, &steps);
+  return steps;
+}
+
+
 struct Problem {
   const SegmentSystem* sys = nullptr;
   ContactState state = ContactState::kFree;
@@ -141,6 +149,7 @@ ReferenceResult SimulateReference(const SegmentTables& t, const Eigen::VectorXd&
           problem.sys = &t.systems[j][static_cast<int>(to)];
         }
       }
+      result.steps += StepsSoFar(mem.get());  // CVodeReInit resets CVODE's counter
       CVodeReInit(mem.get(), time, y);
       CVodeSetStopTime(mem.get(), seg_end);
       while (time < seg_end) {
@@ -172,6 +181,7 @@ ReferenceResult SimulateReference(const SegmentTables& t, const Eigen::VectorXd&
             result.trajectory.events.push_back({time, from, to, rate});
             problem.state = to;
             problem.sys = &t.systems[j][static_cast<int>(to)];
+            result.steps += StepsSoFar(mem.get());
             CVodeReInit(mem.get(), time, y);
             if (++events > options.max_events) {
               result.status = ReferenceStatus::kTooManyEvents;
@@ -192,9 +202,7 @@ ReferenceResult SimulateReference(const SegmentTables& t, const Eigen::VectorXd&
       result.trajectory.samples.push_back(s);
     }
   }
-  long steps = 0;
-  CVodeGetNumSteps(mem.get(), &steps);
-  result.steps = steps;
+  result.steps += StepsSoFar(mem.get());
   mem.reset();
   SUNLinSolFree(ls);
   SUNMatDestroy(J);

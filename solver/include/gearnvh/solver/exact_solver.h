@@ -74,6 +74,9 @@ struct SolverOptions {
   // each) are not stored; counts stay exact and the summary says the trajectory was truncated.
   long max_trajectory_samples = 4'000'000;  // >= 0
   long max_logged_events = 1'000'000;       // >= 0
+  // The linear backlash-free reference: the state never changes (the contact spring of the
+  // starting state also acts in tension), one propagator matvec per segment, no events.
+  bool ignore_walls = false;
   void Validate() const;
 };
 
@@ -141,6 +144,9 @@ struct SolverResult {
 // Static equilibrium in drive contact when the load closes the gap (least-squares on the pair's
 // free rotation), otherwise rest in the middle of the backlash. Returns z (size m) and the state.
 std::pair<Eigen::VectorXd, ContactState> StaticInitialState(const SegmentTables& tables);
+// The drive-contact equilibrium of segment 0 whatever the sign of the gap (the start of the
+// linear reference with ignore_walls).
+Eigen::VectorXd DriveEquilibrium(const SegmentTables& tables);
 
 // The stepping loop itself. Construction allocates every buffer; Run() does not allocate (the
 // trajectory's capacity is reserved up front; events beyond it are counted, not logged).
