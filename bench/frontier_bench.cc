@@ -185,9 +185,10 @@ int main(int argc, char** argv) {
     }
   }
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
-  fmt::print("gearnvh frontier benchmark — {} — {} cores — {} recorded + {} transient cycles, best "
-             "of {}\n",
-             Machine(), cores, s.cycles, s.transient, s.repeats);
+  fmt::print(
+      "gearnvh frontier benchmark — {} — {} cores — {} recorded + {} transient cycles, best "
+      "of {}\n",
+      Machine(), cores, s.cycles, s.transient, s.repeats);
   nlohmann::json rows = nlohmann::json::array();
   auto add = [&](const std::string& section, const std::string& name, const Built& b,
                  const RunFigures& f) {
@@ -197,8 +198,10 @@ int main(int argc, char** argv) {
 
   // 1. Step cost per tier, rattle and loaded (V3 stepping: every segment stepped).
   Header("1. Step cost per tier at 3.9 kHz (v3, stepped)");
-  const std::pair<const char*, Tier> tiers[] = {{"tier 1", Tier::kTier1}, {"tier 2", Tier::kTier2},
-                                                {"tier 3", Tier::kTier3}, {"tier 4", Tier::kTier4},
+  const std::pair<const char*, Tier> tiers[] = {{"tier 1", Tier::kTier1},
+                                                {"tier 2", Tier::kTier2},
+                                                {"tier 3", Tier::kTier3},
+                                                {"tier 4", Tier::kTier4},
                                                 {"tier 5 (N40 full)", Tier::kTier5}};
   for (const auto& [label, tier] : tiers) {
     const Built b(FlexibleRattle(), tier);
@@ -212,21 +215,22 @@ int main(int argc, char** argv) {
   // 2. Constant contact: one fused cycle and a certified jump of 10^6 cycles.
   fmt::print("\n2. Constant contact (loaded example at 3.9 kHz)\n");
   nlohmann::json contact = nlohmann::json::array();
-  for (const auto& [label, tier] : {std::pair<const char*, Tier>{"tier 1", Tier::kTier1},
-                                    {"N20 MTA", Tier::kN20Mta}}) {
+  for (const auto& [label, tier] :
+       {std::pair<const char*, Tier>{"tier 1", Tier::kTier1}, {"N20 MTA", Tier::kN20Mta}}) {
     const Built b(Loaded(), tier);
     const ConstantContactCycle cycle(b.tables, ContactState::kDrive);
     auto [z, st] = StaticInitialState(b.tables);
     Eigen::VectorXd w(z.size());
     const long n = s.quick ? 20000 : 200000;
     const double per_cycle = Seconds(
-        [&] {
-          for (long k = 0; k < n; ++k) {
-            w.noalias() = cycle.map() * z;
-            z.swap(w);
-          }
-        },
-        s.repeats) / static_cast<double>(n);
+                                 [&] {
+                                   for (long k = 0; k < n; ++k) {
+                                     w.noalias() = cycle.map() * z;
+                                     z.swap(w);
+                                   }
+                                 },
+                                 s.repeats) /
+                             static_cast<double>(n);
     Eigen::VectorXd jumped;
     const double jump = Seconds([&] { jumped = cycle.Jump(z, 1000000); }, std::max(3, s.repeats));
     const bool certified = cycle.Certify(z).certified;
@@ -235,16 +239,17 @@ int main(int argc, char** argv) {
                        {"ns_per_fused_cycle", 1e9 * per_cycle},
                        {"ns_per_jump_1e6_cycles", 1e9 * jump},
                        {"certified", certified}});
-    fmt::print("  {:<12} m = {:>3}: fused cycle {:8.1f} ns, certified jump of 10^6 cycles {:9.1f} "
-               "ns{}\n",
-               label, b.tables.m, 1e9 * per_cycle, 1e9 * jump,
-               certified ? "" : " (certificate refused)");
+    fmt::print(
+        "  {:<12} m = {:>3}: fused cycle {:8.1f} ns, certified jump of 10^6 cycles {:9.1f} "
+        "ns{}\n",
+        label, b.tables.m, 1e9 * per_cycle, 1e9 * jump, certified ? "" : " (certificate refused)");
   }
 
   // 3. Event paths: strong rattle and sparse contact, V1 / V2 / V3 / fused (tier 1).
   Header("3. Event location, tier 1 at 3.9 kHz");
-  for (const auto& [label, spec] : {std::pair<const char*, GearboxSpec>{"strong rattle", StrongRattle()},
-                                    {"sparse contact", SparseContact()}}) {
+  for (const auto& [label, spec] :
+       {std::pair<const char*, GearboxSpec>{"strong rattle", StrongRattle()},
+        {"sparse contact", SparseContact()}}) {
     const Built b(spec, Tier::kTier1);
     for (const char* method : {"v1", "v2", "v3", "fused"}) {
       add("events", std::string(label) + ", " + method, b, TimeRun(b, method, s));
@@ -304,17 +309,18 @@ int main(int argc, char** argv) {
                     {"peer_steps", steps},
                     {"peer_te_rms_error", peer_error},
                     {"speedup", peer_s / exact_s}});
-    fmt::print("  {:<8} m = {:>3}: exact {:8.2f} ms, CVODE {:9.1f} ms (rtol {:.0e}, {} steps, TE "
-               "RMS error {:.1e}) -> exact is {:.0f}x faster\n",
-               label, b.tables.m, 1e3 * exact_s, 1e3 * peer_s, matched_rtol, steps, peer_error,
-               peer_s / exact_s);
+    fmt::print(
+        "  {:<8} m = {:>3}: exact {:8.2f} ms, CVODE {:9.1f} ms (rtol {:.0e}, {} steps, TE "
+        "RMS error {:.1e}) -> exact is {:.0f}x faster\n",
+        label, b.tables.m, 1e3 * exact_s, 1e3 * peer_s, matched_rtol, steps, peer_error,
+        peer_s / exact_s);
   }
 
   // 6. Atlas throughput: cells/s on 1 and all cores.
   fmt::print("\n6. Chaos atlas throughput (idle example, 540 + 270 cycles per cell)\n");
   const GearboxSpec idle = Example("idle_rattle.yaml");
-  AtlasAxis x{"operating.speed", {600.0 * std::numbers::pi / 30.0, 3000.0 * std::numbers::pi / 30.0,
-                                  s.quick ? 2 : 4}};
+  AtlasAxis x{"operating.speed",
+              {600.0 * std::numbers::pi / 30.0, 3000.0 * std::numbers::pi / 30.0, s.quick ? 2 : 4}};
   AtlasAxis y{"operating.torque", {0.05, 0.5, s.quick ? 2 : 4}};
   AtlasOptions ao;
   ao.cycles = 540;
@@ -329,9 +335,10 @@ int main(int argc, char** argv) {
                                 {"cells_per_s_all_cores", cells / all},
                                 {"cores", cores},
                                 {"parallel_efficiency", one / all / cores}};
-  fmt::print("  {} cells: {:.2f} cells/s on 1 core, {:.2f} cells/s on {} cores, parallel "
-             "efficiency {:.0f} %\n",
-             cells, cells / one, cells / all, cores, 100.0 * one / all / cores);
+  fmt::print(
+      "  {} cells: {:.2f} cells/s on 1 core, {:.2f} cells/s on {} cores, parallel "
+      "efficiency {:.0f} %\n",
+      cells, cells / one, cells / all, cores, 100.0 * one / all / cores);
 
   // 7. Reduction of a finely meshed shaft model.
   fmt::print("\n7. Reduction: flexible example with 1 mm shaft elements\n");

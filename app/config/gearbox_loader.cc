@@ -538,7 +538,8 @@ GearboxSpec LoadGearboxFromString(const std::string& text, const std::string& so
 }
 
 AtlasAxis ParseAxisOption(const std::string& text, const std::string& field) {
-  const std::string form = "must be PARAMETER=FROM:TO:POINTS, e.g. operating.speed=600rpm:3000rpm:24";
+  const std::string form =
+      "must be PARAMETER=FROM:TO:POINTS, e.g. operating.speed=600rpm:3000rpm:24";
   const size_t eq = text.find('=');
   if (eq == std::string::npos) throw InputError(field, 0, "'" + text + "'", form);
   AtlasAxis axis;

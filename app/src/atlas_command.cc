@@ -248,8 +248,7 @@ int RunAtlas(const AtlasCommandOptions& options) {
     }
     std::ofstream log;
     if (checkpoint) {
-      log.open(checkpoint->dir / ("cells-rank-" + std::to_string(rank) + ".jsonl"),
-               std::ios::app);
+      log.open(checkpoint->dir / ("cells-rank-" + std::to_string(rank) + ".jsonl"), std::ios::app);
     }
     AtlasCellCallback on_cell = [&](const AtlasCell& c) {
       if (log.is_open() && c.ok) log << CellJson(c).dump() << std::endl;  // flushed per cell
@@ -263,7 +262,8 @@ int RunAtlas(const AtlasCommandOptions& options) {
       wall_s = part.wall_s;
       threads = part.threads;
       for (int k = 0; k < total; ++k) {
-        if (!skip[static_cast<size_t>(k)]) mine.push_back(CellJson(part.cells[static_cast<size_t>(k)]));
+        if (!skip[static_cast<size_t>(k)])
+          mine.push_back(CellJson(part.cells[static_cast<size_t>(k)]));
       }
     } catch (const std::exception& e) {
       for (int k = 0; k < total; ++k) {

@@ -6,7 +6,6 @@
 #include <iostream>
 
 #include "command_errors.h"
-#include "command_errors.h"
 #include "config/gearbox_loader.h"
 #include "gearnvh/model/component_model.h"
 #include "gearnvh/model/gear_geometry.h"

@@ -1,7 +1,7 @@
 // gearnvh: the command line. Exit codes: 0 ok, 1 invalid input, 2 usage error, 3 internal error.
 #include <CLI/CLI.hpp>
-#include <exception>
 #include <cstdio>
+#include <exception>
 #include <iostream>
 
 #include "atlas_command.h"
@@ -134,15 +134,17 @@ int Main(int argc, char** argv) {
   orbits_cmd->add_option("FILE", orbits.file, "Gearbox YAML file")
       ->required()
       ->check(CLI::ExistingFile);
-  orbits_cmd->add_option("--period", orbits.period,
-                         "Period in base periods (mesh and excitation both repeat), default 1")
+  orbits_cmd
+      ->add_option("--period", orbits.period,
+                   "Period in base periods (mesh and excitation both repeat), default 1")
       ->check(CLI::Range(1, 64));
   orbits_cmd->add_option("--sweep", orbits.sweep,
                          "Continue along PARAMETER=FROM:TO:POINTS, e.g. "
                          "operating.torque=0.1Nm:1Nm:10");
   orbits_cmd->add_option("--tier", orbits.tier, "Modal tier (default: analysis.tier)");
-  orbits_cmd->add_option("--transient", orbits.transient,
-                         "Settling cycles before the first guess (default: analysis.transient_cycles)")
+  orbits_cmd
+      ->add_option("--transient", orbits.transient,
+                   "Settling cycles before the first guess (default: analysis.transient_cycles)")
       ->check(CLI::Range(0L, 100000000L));
   orbits_cmd->add_option("--method", orbits.method, "Event location v1, v2 or v3 (default)")
       ->check(CLI::IsMember({"v1", "v2", "v3", "fused"}));
@@ -158,11 +160,13 @@ int Main(int argc, char** argv) {
   tiers_cmd->add_option("FILE", tiers.file, "Gearbox YAML file")
       ->required()
       ->check(CLI::ExistingFile);
-  tiers_cmd->add_option("--cycles", tiers.cycles,
-                        "Recorded mesh cycles per tier (default min(analysis.cycles, 400))")
+  tiers_cmd
+      ->add_option("--cycles", tiers.cycles,
+                   "Recorded mesh cycles per tier (default min(analysis.cycles, 400))")
       ->check(CLI::Range(1L, 100000000L));
-  tiers_cmd->add_option("--transient", tiers.transient,
-                        "Unrecorded cycles per tier (default min(analysis.transient_cycles, 200))")
+  tiers_cmd
+      ->add_option("--transient", tiers.transient,
+                   "Unrecorded cycles per tier (default min(analysis.transient_cycles, 200))")
       ->check(CLI::Range(0L, 100000000L));
   tiers_cmd->add_option("--out", tiers.out, "Write tiers.json, tiers.csv and tiers.png");
   tiers_cmd->add_flag("--json", tiers.json, "Print the comparison as one JSON document");
@@ -175,8 +179,10 @@ int Main(int argc, char** argv) {
       "CSV and PNGs (Campbell, waterfall, spectrum with sidebands, TE trace, mesh stiffness, load "
       "sharing, LSTE, phase portrait, atlas heat maps); DIR/index.html compares the batch.");
   report_cmd->add_option("FILE", report.files, "Gearbox YAML files")->required();
-  report_cmd->add_option("--out", report.out, "Report folder (replaced as a whole when it is an "
-                                              "earlier gearnvh report)")
+  report_cmd
+      ->add_option("--out", report.out,
+                   "Report folder (replaced as a whole when it is an "
+                   "earlier gearnvh report)")
       ->required();
   report_cmd->add_option("--jobs", report.jobs, "Gearboxes in parallel (default: all cores)")
       ->check(CLI::Range(1, 1024));

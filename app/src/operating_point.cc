@@ -51,14 +51,13 @@ OperatingPointAnalysis AnalyseOperatingPoint(const GearboxSpec& spec, const Comp
   linear.ignore_walls = true;
   const SolverResult reference =
       SimulateExact(tables, DriveEquilibrium(tables), ContactState::kDrive, linear);
-  const double cycles_per_excitation =
-      spec.operating.excitation.empty() ? 0.0
-                                        : spec.pinion.teeth / spec.operating.excitation[0].order;
-  op.rattle =
-      ComputeRattleIndices(result, model.effective_mass, cycles_per_excitation, &reference);
+  const double cycles_per_excitation = spec.operating.excitation.empty()
+                                           ? 0.0
+                                           : spec.pinion.teeth / spec.operating.excitation[0].order;
+  op.rattle = ComputeRattleIndices(result, model.effective_mass, cycles_per_excitation, &reference);
   const RattleIndices& rattle = op.rattle;
-  op.te = ComputeTransmissionErrorStats(
-      trajectory, spec.operating.torque / model.geometry.wheel.base);
+  op.te =
+      ComputeTransmissionErrorStats(trajectory, spec.operating.torque / model.geometry.wheel.base);
 
   const TransmissionErrorStats& te = op.te;
   nlohmann::json& doc = op.doc;
@@ -87,9 +86,8 @@ OperatingPointAnalysis AnalyseOperatingPoint(const GearboxSpec& spec, const Comp
   const long revolution =
       std::lcm(static_cast<long>(spec.pinion.teeth), static_cast<long>(spec.wheel.teeth));
   // The first recorded sample is one segment into the record: at most recorded - 1 whole cycles.
-  op.sideband_window = summary.trajectory_truncated
-                          ? 0
-                          : ((summary.recorded_cycles - 1) / revolution) * revolution;
+  op.sideband_window =
+      summary.trajectory_truncated ? 0 : ((summary.recorded_cycles - 1) / revolution) * revolution;
   nlohmann::json sidebands = nlohmann::json::array();
   const long window = op.sideband_window;
   if (window > 0 && summary.status == SolverStatus::kSuccess) {
@@ -99,7 +97,7 @@ OperatingPointAnalysis AnalyseOperatingPoint(const GearboxSpec& spec, const Comp
     const AmplitudeSpectrum& spectrum = op.spectrum;
     const double pinion_hz = spec.operating.speed / (2.0 * std::numbers::pi);
     op.sidebands = SidebandTable(spectrum, 1.0 / tables.mesh_period, pinion_hz,
-                                  pinion_hz * spec.pinion.teeth / spec.wheel.teeth, 3, 3);
+                                 pinion_hz * spec.pinion.teeth / spec.wheel.teeth, 3, 3);
     for (const SidebandRow& r : op.sidebands) {
       sidebands.push_back({{"label", r.label},
                            {"frequency_hz", r.frequency_hz},

@@ -23,8 +23,8 @@ struct OperatingPointAnalysis {
   SolverResult result;
   RattleIndices rattle;
   TransmissionErrorStats te;
-  long sideband_window = 0;     // mesh cycles in the spectrum (whole revolutions of both shafts)
-  AmplitudeSpectrum spectrum;   // TE spectrum over that window (empty when too few cycles)
+  long sideband_window = 0;    // mesh cycles in the spectrum (whole revolutions of both shafts)
+  AmplitudeSpectrum spectrum;  // TE spectrum over that window (empty when too few cycles)
   std::vector<SidebandRow> sidebands;
   nlohmann::json doc;  // the `simulate --json` document without name and file
 };

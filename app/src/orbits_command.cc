@@ -20,7 +20,9 @@ namespace gearnvh::app {
 
 namespace {
 
-nlohmann::json FiniteOrNull(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
+nlohmann::json FiniteOrNull(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
+}
 
 nlohmann::json PointJson(const OrbitScanPoint& p) {
   const PeriodicOrbit& o = p.orbit;
@@ -126,16 +128,18 @@ int RunOrbits(const OrbitsCommandOptions& options) {
           continue;
         }
         const PeriodicOrbit& o = p.orbit;
-        fmt::print("  {}{} (max |mu| = {:.6g}), nearest boundary {} at {:.3g}; impacts per period "
-                   "{} drive / {} back; from {}\n",
-                   where, o.stable ? "stable" : "UNSTABLE", o.spectral_radius,
-                   StabilityBoundaryName(o.nearest_boundary), o.boundary_distance,
-                   o.drive_impacts, o.back_impacts, p.start);
+        fmt::print(
+            "  {}{} (max |mu| = {:.6g}), nearest boundary {} at {:.3g}; impacts per period "
+            "{} drive / {} back; from {}\n",
+            where, o.stable ? "stable" : "UNSTABLE", o.spectral_radius,
+            StabilityBoundaryName(o.nearest_boundary), o.boundary_distance, o.drive_impacts,
+            o.back_impacts, p.start);
       }
       if (stable == 0) {
-        fmt::print("  No stable period-{} orbit exists at {} (none found by shooting from the "
-                   "settled motion and continuation).\n",
-                   options.period, sweep ? "any point of the sweep" : "this operating point");
+        fmt::print(
+            "  No stable period-{} orbit exists at {} (none found by shooting from the "
+            "settled motion and continuation).\n",
+            options.period, sweep ? "any point of the sweep" : "this operating point");
       }
     }
     if (failed > 0) {

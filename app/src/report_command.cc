@@ -40,11 +40,20 @@ std::string Html(const std::string& s) {
   std::string out;
   for (char c : s) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -294,19 +303,19 @@ GearboxEntry BuildGearboxReport(const std::string& file, const fs::path& folder,
     if (atlas) {
       for (const AtlasCell& c : atlas->cells) chaotic += c.regime == "chaotic" ? 1 : 0;
     }
-    entry.summary = {{"tier", op.tier_name},
-                     {"speed_rpm", spec.operating.speed * kRpm},
-                     {"torque_nm", spec.operating.torque},
-                     {"te_rms_um", op.te.rms * 1e6},
-                     {"te_peak_to_peak_um", op.te.peak_to_peak * 1e6},
-                     {"regime", r.regime},
-                     {"impacts_per_cycle", r.drive_impacts_per_cycle + r.back_impacts_per_cycle},
-                     {"acceleration_ratio", r.acceleration_ratio},
-                     {"first_critical_speed_rpm", std::isfinite(first_critical)
-                                                      ? nlohmann::json(first_critical)
-                                                      : nlohmann::json()},
-                     {"chaotic_atlas_cells", atlas ? nlohmann::json(chaotic) : nlohmann::json()},
-                     {"real_time_ratio", s.real_time_ratio}};
+    entry.summary = {
+        {"tier", op.tier_name},
+        {"speed_rpm", spec.operating.speed * kRpm},
+        {"torque_nm", spec.operating.torque},
+        {"te_rms_um", op.te.rms * 1e6},
+        {"te_peak_to_peak_um", op.te.peak_to_peak * 1e6},
+        {"regime", r.regime},
+        {"impacts_per_cycle", r.drive_impacts_per_cycle + r.back_impacts_per_cycle},
+        {"acceleration_ratio", r.acceleration_ratio},
+        {"first_critical_speed_rpm",
+         std::isfinite(first_critical) ? nlohmann::json(first_critical) : nlohmann::json()},
+        {"chaotic_atlas_cells", atlas ? nlohmann::json(chaotic) : nlohmann::json()},
+        {"real_time_ratio", s.real_time_ratio}};
 
     // index.html
     std::ostringstream h;
@@ -318,12 +327,11 @@ GearboxEntry BuildGearboxReport(const std::string& file, const fs::path& folder,
       << "href=\"../index.html\">batch</a></p>\n";
     const PairGeometry& g = model.geometry;
     h << "<h2>Gear pair and operating point</h2>\n<table>\n"
-      << Row("teeth (pinion / wheel)",
-             fmt::format("{} / {}", spec.pinion.teeth, spec.wheel.teeth))
+      << Row("teeth (pinion / wheel)", fmt::format("{} / {}", spec.pinion.teeth, spec.wheel.teeth))
       << Row("module (mm)", Number(spec.pinion.module * 1e3))
       << Row("contact ratio", Number(model.mesh_summary.contact_ratio))
-      << Row("base radii (mm)", fmt::format("{} / {}", Number(g.pinion.base * 1e3),
-                                            Number(g.wheel.base * 1e3)))
+      << Row("base radii (mm)",
+             fmt::format("{} / {}", Number(g.pinion.base * 1e3), Number(g.wheel.base * 1e3)))
       << Row("mesh stiffness mean / min / max (N/um)",
              fmt::format("{} / {} / {}", Number(model.mesh_summary.mean * 1e-6),
                          Number(model.mesh_summary.min * 1e-6),
@@ -336,8 +344,7 @@ GearboxEntry BuildGearboxReport(const std::string& file, const fs::path& folder,
     h << "<h2>Dynamics at the operating point</h2>\n<table>\n"
       << Row("dynamic TE RMS / peak-to-peak (um)",
              fmt::format("{} / {}", Number(op.te.rms * 1e6), Number(op.te.peak_to_peak * 1e6)))
-      << Row("dynamic factor", Number(op.te.dynamic_factor))
-      << Row("rattle regime", r.regime)
+      << Row("dynamic factor", Number(op.te.dynamic_factor)) << Row("rattle regime", r.regime)
       << Row("impacts per mesh cycle (drive / back)",
              fmt::format("{} / {}", Number(r.drive_impacts_per_cycle),
                          Number(r.back_impacts_per_cycle)))
@@ -417,8 +424,7 @@ GearboxEntry BuildGearboxReport(const std::string& file, const fs::path& folder,
   } catch (const std::exception& e) {
     entry.error = e.what();
   }
-  entry.wall_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  entry.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return entry;
 }
 
@@ -428,9 +434,9 @@ std::string BatchIndex(const std::vector<GearboxEntry>& entries) {
   for (const GearboxEntry& e : entries) failed += e.ok ? 0 : 1;
   h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>gearnvh "
        "report</title>\n"
-    << kStyle << "\n</head><body>\n<h1>gearnvh report</h1>\n<p>" << entries.size()
-    << " gearboxes, " << (failed == 0 ? "<span class=\"ok\">all complete</span>"
-                                      : fmt::format("<span class=\"warn\">{} failed</span>", failed))
+    << kStyle << "\n</head><body>\n<h1>gearnvh report</h1>\n<p>" << entries.size() << " gearboxes, "
+    << (failed == 0 ? "<span class=\"ok\">all complete</span>"
+                    : fmt::format("<span class=\"warn\">{} failed</span>", failed))
     << "</p>\n<table>\n<tr><th>gearbox</th><th>tier</th><th>speed (rpm)</th><th>torque (N m)"
        "</th><th>TE RMS (um)</th><th>rattle regime</th><th>impacts / mesh cycle</th><th>accel. "
        "ratio</th><th>first critical speed (rpm)</th><th>chaotic atlas cells</th><th>real-time "
@@ -440,8 +446,8 @@ std::string BatchIndex(const std::vector<GearboxEntry>& entries) {
   };
   for (const GearboxEntry& e : entries) {
     if (!e.ok) {
-      h << "<tr><td>" << Html(e.file) << "</td><td colspan=\"10\" class=\"warn\">failed: "
-        << Html(e.error) << "</td></tr>\n";
+      h << "<tr><td>" << Html(e.file)
+        << "</td><td colspan=\"10\" class=\"warn\">failed: " << Html(e.error) << "</td></tr>\n";
       continue;
     }
     const nlohmann::json& s = e.summary;
@@ -485,9 +491,8 @@ int RunReport(const ReportCommandOptions& o) {
       std::cerr << "error: " << display.message << "\n";
       return 1;
     }
-    const fs::path staging =
-        out.parent_path() / ("." + out.filename().string() + ".partial-" +
-                             std::to_string(static_cast<long>(::getpid())));
+    const fs::path staging = out.parent_path() / ("." + out.filename().string() + ".partial-" +
+                                                  std::to_string(static_cast<long>(::getpid())));
     fs::remove_all(staging);
     fs::create_directories(staging);
     std::vector<std::string> folders;
@@ -499,7 +504,8 @@ int RunReport(const ReportCommandOptions& o) {
       folders.push_back(name);
     }
     const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-    const int jobs = std::min<int>(o.jobs > 0 ? o.jobs : hardware, static_cast<int>(o.files.size()));
+    const int jobs =
+        std::min<int>(o.jobs > 0 ? o.jobs : hardware, static_cast<int>(o.files.size()));
     const int inner = std::max(1, hardware / std::max(1, jobs));
     std::vector<GearboxEntry> entries(o.files.size());
     std::atomic<size_t> next{0};
@@ -551,8 +557,8 @@ int RunReport(const ReportCommandOptions& o) {
     }
     for (const GearboxEntry& e : entries) {
       if (e.ok) {
-        fmt::print("{}: {} -> {}/index.html ({:.1f} s)\n", e.file, e.name, (out / e.folder).string(),
-                   e.wall_s);
+        fmt::print("{}: {} -> {}/index.html ({:.1f} s)\n", e.file, e.name,
+                   (out / e.folder).string(), e.wall_s);
       } else {
         std::cerr << "error: " << e.error << "\n";
       }

@@ -169,7 +169,9 @@ render::LinePlot TeTraceFigure(const OperatingPointAnalysis& op, long cycles) {
   if (count > 0) {
     const double span = p.series.front().x.back();
     for (double level : {b, -b}) {
-      render::Series wall{level > 0 ? "+/- half backlash" : "", {0.0, span}, {level, level},
+      render::Series wall{level > 0 ? "+/- half backlash" : "",
+                          {0.0, span},
+                          {level, level},
                           render::Series::Style::kDashed};
       wall.color = 6;
       wall.width = 1.0;
@@ -196,7 +198,9 @@ render::LinePlot PhaseFigure(const OperatingPointAnalysis& op, long cycles,
   }
   p.series.push_back(std::move(orbit));
   render::Series section{fmt::format("Poincare section (every {} mesh cycles)", base_period_cycles),
-                         {}, {}, render::Series::Style::kPoints};
+                         {},
+                         {},
+                         render::Series::Style::kPoints};
   section.color = 3;
   section.width = 6.0;
   const double T = op.tables.mesh_period;
@@ -256,8 +260,7 @@ render::LinePlot LoadSharingFigure(const ComponentModel& model) {
 }
 
 render::LinePlot LsteFigure(const ComponentModel& model) {
-  render::LinePlot p =
-      CycleFigure("Loaded static transmission error (LSTE)", "mesh approach (um)");
+  render::LinePlot p = CycleFigure("Loaded static transmission error (LSTE)", "mesh approach (um)");
   render::Series s{"LSTE at the operating load", model.cycle.tau, {}};
   for (const FlankSample& f : model.cycle.drive) s.y.push_back(f.lste * 1e6);
   p.series = {s};

@@ -11,13 +11,13 @@
 
 #include "atomic_file.h"
 #include "command_errors.h"
-#include "operating_point.h"
 #include "config/gearbox_loader.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/rattle.h"
 #include "gearnvh/nvh/spectrum.h"
 #include "gearnvh/nvh/transmission_error.h"
 #include "gearnvh/reduction/reduced_model.h"
+#include "operating_point.h"
 
 namespace gearnvh::app {
 

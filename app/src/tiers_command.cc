@@ -28,8 +28,8 @@ struct TierRow {
   std::string name;
   std::string method;  // solver method of the run
   int dof = 0, state_dim = 0;
-  std::vector<double> frequencies_hz;     // lowest (up to 6)
-  std::vector<double> frequency_errors;   // relative, against the closest full-FE frequency
+  std::vector<double> frequencies_hz;    // lowest (up to 6)
+  std::vector<double> frequency_errors;  // relative, against the closest full-FE frequency
   double max_frequency_error = 0.0;
   double compliance_error = 0.0;
   double te_rms = 0.0, rattle_index = 0.0;
@@ -98,7 +98,8 @@ int RunTiers(const TiersCommandOptions& options) {
     std::vector<TierRow> rows;
     const size_t total = tiers.size() + 1;
     for (const ReducedModel& r : tiers) {
-      if (on_terminal) fmt::print(stderr, "\rtiers: {}/{} ({})        ", rows.size() + 1, total, r.name);
+      if (on_terminal)
+        fmt::print(stderr, "\rtiers: {}/{} ({})        ", rows.size() + 1, total, r.name);
       rows.push_back(RunTier(spec, model, r, full, solver, r.name));
       if (r.tier == Tier::kN20Mta) {
         SolverOptions fused = solver;
@@ -115,8 +116,9 @@ int RunTiers(const TiersCommandOptions& options) {
     for (TierRow& r : rows) {
       r.te_rms_difference = RelativeDifference(r.te_rms, rows[finest].te_rms);
       r.rattle_index_difference =
-          rows[finest].rattle_index > 0.0 ? RelativeDifference(r.rattle_index, rows[finest].rattle_index)
-                                          : std::abs(r.rattle_index);
+          rows[finest].rattle_index > 0.0
+              ? RelativeDifference(r.rattle_index, rows[finest].rattle_index)
+              : std::abs(r.rattle_index);
     }
 
     nlohmann::json list = nlohmann::json::array();
@@ -159,8 +161,8 @@ int RunTiers(const TiersCommandOptions& options) {
         csv << r.name << ',' << r.method << ',' << r.dof << ',' << r.state_dim << ','
             << r.max_frequency_error << ',' << r.compliance_error << ',' << r.te_rms << ','
             << r.te_rms_difference << ',' << r.rattle_index << ',' << r.rattle_index_difference
-            << ',' << r.matvec_per_cycle << ',' << r.us_per_cycle << ',' << r.real_time_ratio
-            << ',' << r.table_bytes << '\n';
+            << ',' << r.matvec_per_cycle << ',' << r.us_per_cycle << ',' << r.real_time_ratio << ','
+            << r.table_bytes << '\n';
       }
       WriteFileAtomically((dir / "tiers.csv").string(), csv.str());
       WriteFileAtomically((dir / "tiers.json").string(), doc.dump(1) + "\n");
@@ -191,8 +193,8 @@ int RunTiers(const TiersCommandOptions& options) {
       fmt::print("{}  ({}): modal tiers against the full FE model ({} DOF), {} cycles each\n",
                  spec.name, options.file, model.dofs, solver.cycles);
       fmt::print("  {:<20} {:>4} {:>5} {:>9} {:>10} {:>10} {:>9} {:>10} {:>9} {:>9} {:>9} {:>9}\n",
-                 "tier", "DOF", "state", "max df/f", "dg/g", "TE RMS um", "vs finest",
-                 "rattle J", "vs finest", "matvec/c", "us/cycle", "x real");
+                 "tier", "DOF", "state", "max df/f", "dg/g", "TE RMS um", "vs finest", "rattle J",
+                 "vs finest", "matvec/c", "us/cycle", "x real");
       for (const TierRow& r : rows) {
         fmt::print(
             "  {:<20} {:>4} {:>5} {:>9.2e} {:>10.2e} {:>10.4f} {:>9.2e} {:>10.3e} {:>9.2e} "
@@ -201,9 +203,10 @@ int RunTiers(const TiersCommandOptions& options) {
             r.te_rms_difference, r.rattle_index, r.rattle_index_difference, r.matvec_per_cycle,
             r.us_per_cycle, r.real_time_ratio);
       }
-      fmt::print("  finest tier: {}; frequencies of each tier compared with the closest full-FE "
-                 "frequency\n",
-                 rows[finest].name);
+      fmt::print(
+          "  finest tier: {}; frequencies of each tier compared with the closest full-FE "
+          "frequency\n",
+          rows[finest].name);
     }
     return 0;
   });

@@ -67,8 +67,8 @@ DisplayStatus StartXvfb() {
     return s;
   }
   const std::string fd = std::to_string(fds[1]);
-  std::vector<std::string> args{xvfb,     "-displayfd", fd,           "-screen", "0",
-                                "1920x1200x24", "-nolisten", "tcp", "-noreset"};
+  std::vector<std::string> args{xvfb,           "-displayfd", fd,    "-screen", "0",
+                                "1920x1200x24", "-nolisten",  "tcp", "-noreset"};
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);

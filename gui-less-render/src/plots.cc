@@ -48,8 +48,7 @@ std::mutex g_render_mutex;
 class ChartLabels : public vtkContextItem {
  public:
   static ChartLabels* New();
-  vtkTypeMacro(ChartLabels, vtkContextItem)
-  vtkChartXY* chart = nullptr;
+  vtkTypeMacro(ChartLabels, vtkContextItem) vtkChartXY* chart = nullptr;
   std::vector<TextLabel> labels;
   int font_size = 14;
 
@@ -184,14 +183,15 @@ RenderStatus RenderLinePlot(const LinePlot& plot, const ImageOptions& options,
     ys->SetName(s.label.empty() ? ("series " + std::to_string(i)).c_str() : s.label.c_str());
     for (size_t k = 0; k < s.x.size(); ++k) {
       // Log axes cannot show non-positive values; NaN breaks are drawn as gaps by VTK.
-      const double y = plot.log_y && !(s.y[k] > 0.0) ? std::numeric_limits<double>::quiet_NaN()
-                                                     : s.y[k];
+      const double y =
+          plot.log_y && !(s.y[k] > 0.0) ? std::numeric_limits<double>::quiet_NaN() : s.y[k];
       xs->InsertNextValue(s.x[k]);
       ys->InsertNextValue(y);
     }
     table->AddColumn(xs);
     table->AddColumn(ys);
-    vtkPlot* p = chart->AddPlot(s.style == Series::Style::kPoints ? vtkChart::POINTS : vtkChart::LINE);
+    vtkPlot* p =
+        chart->AddPlot(s.style == Series::Style::kPoints ? vtkChart::POINTS : vtkChart::LINE);
     p->SetInputData(table, 0, 1);
     const Rgb c = PaletteColor(s.color >= 0 ? s.color : static_cast<int>(i));
     p->SetColor(static_cast<unsigned char>(255 * c[0]), static_cast<unsigned char>(255 * c[1]),
@@ -260,8 +260,10 @@ RenderStatus RenderHeatMap(const HeatMap& map, const ImageOptions& options,
     colors->AddRGBPoint(0.5 * m, 0.84, 0.38, 0.30);
     colors->AddRGBPoint(m, 0.40, 0.0, 0.05);
   } else {  // viridis, five stops
-    const double stops[5][3] = {{0.267, 0.005, 0.329}, {0.231, 0.322, 0.545},
-                                {0.129, 0.569, 0.549}, {0.369, 0.788, 0.384},
+    const double stops[5][3] = {{0.267, 0.005, 0.329},
+                                {0.231, 0.322, 0.545},
+                                {0.129, 0.569, 0.549},
+                                {0.369, 0.788, 0.384},
                                 {0.993, 0.906, 0.144}};
     for (int k = 0; k < 5; ++k) {
       colors->AddRGBPoint(lo + (hi - lo) * k / 4.0, stops[k][0], stops[k][1], stops[k][2]);
@@ -290,13 +292,13 @@ RenderStatus RenderHeatMap(const HeatMap& map, const ImageOptions& options,
 }
 
 std::array<std::uint8_t, 3> RgbImage::Pixel(int x, int y) const {
-  const size_t i = 3 * (static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x));
+  const size_t i =
+      3 * (static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x));
   return {rgb[i], rgb[i + 1], rgb[i + 2]};
 }
 
 long RgbImage::CountDifferent(double x0, double y0, double x1, double y1,
-                              const std::array<std::uint8_t, 3>& background,
-                              int tolerance) const {
+                              const std::array<std::uint8_t, 3>& background, int tolerance) const {
   long count = 0;
   const int xa = static_cast<int>(x0 * width), xb = static_cast<int>(x1 * width);
   const int ya = static_cast<int>(y0 * height), yb = static_cast<int>(y1 * height);
@@ -330,7 +332,8 @@ RgbImage ReadPng(const std::string& path) {
   for (int y = 0; y < out.height; ++y) {
     for (int x = 0; x < out.width; ++x) {
       // VTK's rows run bottom-up; RgbImage rows run top-down.
-      const auto* p = static_cast<const unsigned char*>(data->GetScalarPointer(x, out.height - 1 - y, 0));
+      const auto* p =
+          static_cast<const unsigned char*>(data->GetScalarPointer(x, out.height - 1 - y, 0));
       for (int c = 0; c < 3; ++c) {
         out.rgb[3 * (static_cast<size_t>(y) * out.width + x) + c] = p[std::min(c, components - 1)];
       }

@@ -6,9 +6,8 @@ namespace gearnvh {
 
 const std::vector<std::string>& VariableParameters() {
   static const std::vector<std::string> names{
-      "operating.speed",           "operating.torque",
-      "mesh.backlash",             "mesh.damping_ratio",
-      "mesh.friction_coefficient", "operating.excitation[0].amplitude"};
+      "operating.speed",    "operating.torque",          "mesh.backlash",
+      "mesh.damping_ratio", "mesh.friction_coefficient", "operating.excitation[0].amplitude"};
   return names;
 }
 

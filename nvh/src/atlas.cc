@@ -43,8 +43,8 @@ double AxisValue(const AtlasAxis& axis, int i) {
   return r.points <= 1 ? r.from : r.from + (r.to - r.from) * i / (r.points - 1);
 }
 
-AtlasCell ComputeAtlasCell(const GearboxSpec& base, const AtlasAxis& x, const AtlasAxis& y,
-                           int ix, int iy, const AtlasOptions& options) {
+AtlasCell ComputeAtlasCell(const GearboxSpec& base, const AtlasAxis& x, const AtlasAxis& y, int ix,
+                           int iy, const AtlasOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   AtlasCell cell;
   cell.ix = ix;

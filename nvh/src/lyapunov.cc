@@ -66,9 +66,9 @@ LyapunovEstimate EstimateLyapunov(const SegmentTables& tables, const Eigen::Vect
   const long wanted_samples = options.record ? options.cycles * tables.segments() : 0;
   const size_t samples =
       static_cast<size_t>(std::min(wanted_samples, solver.max_trajectory_samples));
-  const size_t events = options.record
-                            ? static_cast<size_t>(std::min(options.cycles * 16, solver.max_logged_events))
-                            : 0;
+  const size_t events =
+      options.record ? static_cast<size_t>(std::min(options.cycles * 16, solver.max_logged_events))
+                     : 0;
   ExactStepper stepper(tables, solver, z0, state0, samples, events);
   auto fail = [&]() {
     out.info = LyapunovEstimate::Info::kSolverFailed;
@@ -103,8 +103,7 @@ LyapunovEstimate EstimateLyapunov(const SegmentTables& tables, const Eigen::Vect
     total_log += growth;
     block_log += growth;
     averaged_cycles += options.renormalise_cycles;
-    if ((i + 1) % per_block == 0 &&
-        static_cast<int>(out.block_exponents.size()) < options.blocks) {
+    if ((i + 1) % per_block == 0 && static_cast<int>(out.block_exponents.size()) < options.blocks) {
       out.block_exponents.push_back(block_log / (static_cast<double>(per_block) * interval_s));
       block_log = 0.0;
     }

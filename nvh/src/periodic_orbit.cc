@@ -39,14 +39,15 @@ ContactState ContactStateOf(const SegmentTables& t, const Eigen::VectorXd& z) {
 ExactCycleMap::ExactCycleMap(const SegmentTables& tables, long cycles, const SolverOptions& solver)
     : t_(tables),
       cycles_(cycles),
-      stepper_(tables,
-               [&] {
-                 SolverOptions o = solver;
-                 o.method = SolverMethod::kStepped;
-                 o.record_trajectory = false;
-                 return o;
-               }(),
-               Eigen::VectorXd::Zero(tables.m), ContactState::kFree, 0, 0) {}
+      stepper_(
+          tables,
+          [&] {
+            SolverOptions o = solver;
+            o.method = SolverMethod::kStepped;
+            o.record_trajectory = false;
+            return o;
+          }(),
+          Eigen::VectorXd::Zero(tables.m), ContactState::kFree, 0, 0) {}
 
 CycleMapEvaluation ExactCycleMap::Evaluate(const Eigen::VectorXd& z0,
                                            const Eigen::MatrixXd& tangent) {
@@ -80,8 +81,7 @@ void PeriodicOrbitOptions::Validate() const {
                      "must be >= 1");
   }
   if (!(tolerance > 0.0)) {
-    throw InputError("PeriodicOrbitOptions.tolerance", 0, std::to_string(tolerance),
-                     "must be > 0");
+    throw InputError("PeriodicOrbitOptions.tolerance", 0, std::to_string(tolerance), "must be > 0");
   }
   solver.Validate();
 }
@@ -226,8 +226,7 @@ PeriodicOrbit FindPeriodicOrbit(const SegmentTables& t, const Eigen::VectorXd& g
     if (std::abs(mu.imag()) > 1e-9 * std::max(1.0, std::abs(mu))) {
       out.nearest_boundary = StabilityBoundary::kNeimarkSacker;
     } else {
-      out.nearest_boundary =
-          mu.real() > 0.0 ? StabilityBoundary::kFold : StabilityBoundary::kFlip;
+      out.nearest_boundary = mu.real() > 0.0 ? StabilityBoundary::kFold : StabilityBoundary::kFlip;
     }
   }
   out.grazing_margin = shot.map.min_event_rate / (t.half_backlash * omega_f);
@@ -241,7 +240,8 @@ PeriodicOrbit FindPeriodicOrbit(const SegmentTables& t, const Eigen::VectorXd& g
                   " Newton iterations; " + (out.stable ? "stable" : "unstable") +
                   ", nearest boundary " + StabilityBoundaryName(out.nearest_boundary);
   } else if (out.info == PeriodicOrbit::Info::kSingularJacobian) {
-    out.message = "no " + period + " found: the shooting Jacobian J - I is singular (a multiplier "
+    out.message = "no " + period +
+                  " found: the shooting Jacobian J - I is singular (a multiplier "
                   "at +1: a fold or the neutral direction)";
   } else {
     out.message = "no " + period + " found from this guess: Newton stopped after " +

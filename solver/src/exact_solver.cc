@@ -215,6 +215,18 @@ ExactStepper::ExactStepper(const SegmentTables& tables, const SolverOptions& opt
     wt_.resize(tables.m);
     scratch_.resize(tables.m);
   }
+  if (options.method == SolverMethod::kFused && tables.segments() >= 2) {
+    int levels = 0;
+    while ((2 << levels) <= tables.segments() && levels < 5) ++levels;
+    for (int st = 0; st < 3; ++st) {
+      runs_[static_cast<size_t>(st)] =
+          SegmentRunTable(tables, static_cast<ContactState>(st), levels);
+      summary_.table_bytes += runs_[static_cast<size_t>(st)].bytes();
+    }
+    runs_built_ = true;
+    for (const ExcitationOrder& o : tables.excitation) excitation_bound_ += std::abs(o.amplitude);
+    run_scratch_.resize(tables.m);
+  }
   trajectory_.samples.reserve(reserve_samples);
   trajectory_.events.reserve(reserve_events);
   summary_.table_bytes += tables.TableBytes();
@@ -456,6 +468,31 @@ bool ExactStepper::Run(long cycles, bool record) {
       segment_ = j;
       const double h = t_.SegmentLength(j);
       const double seg_start = cycle_start + t_.boundaries[j];
+      if (runs_built_ && !fused_ && tangent_ == nullptr && !options_.ignore_walls &&
+          !(record && options_.record_trajectory)) {
+        // A certified run of segments in one matvec (segment_runs.h), end state checked.
+        const SegmentRun* run =
+            runs_[static_cast<size_t>(contact_)].Certify(j, z_, excitation_bound_, run_scratch_);
+        if (run != nullptr) {
+          z1_ = z_;
+          z1_[excitation_slot] = 0.0;
+          zb_.noalias() = run->product * z1_;
+          for (int i = 0; i < run->length && !t_.excitation.empty(); ++i) {
+            const double s =
+                t_.MeanExcitation(cycle_start + t_.boundaries[j + i], t_.SegmentLength(j + i));
+            zb_ += s * run->excitation.col(i);
+          }
+          const SegmentSystem& last = t_.systems[j + run->length - 1][static_cast<int>(contact_)];
+          if (Outside(last, zb_, false) < 0) {
+            z_.swap(zb_);
+            ++summary_.matvecs;
+            summary_.run_fused_segments += run->length;
+            j += run->length - 1;
+            time_ = cycle_start + t_.boundaries[j + 1];
+            continue;
+          }
+        }
+      }
       z_[excitation_slot] = t_.excitation.empty() ? 0.0 : t_.MeanExcitation(seg_start, h);
       if (fused_ || options_.ignore_walls) {
         // Certified contact: the whole segment in one matvec (no wall can be reached).

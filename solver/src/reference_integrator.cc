@@ -34,7 +34,6 @@ long StepsSoFar(void* cvode) {
   return steps;
 }
 
-
 struct Problem {
   const SegmentSystem* sys = nullptr;
   ContactState state = ContactState::kFree;

@@ -91,13 +91,16 @@ TEST_CASE("atlas: bad axes are input errors naming the option", "[cli][atlas]") 
   }
 }
 
-TEST_CASE("orbits: continuation along the drag torque finds stable rattle orbits and says when "
-          "none exists",
-          "[cli][orbits]") {
+TEST_CASE(
+    "orbits: continuation along the drag torque finds stable rattle orbits and says when "
+    "none exists",
+    "[cli][orbits]") {
   const TempDir dir;
   const auto run =
-      RunCommand(kExe + " orbits --json --transient 270 --sweep operating.torque=0.05Nm:0.5Nm:4 "
-                        "--out " + dir.path().string() + " " + kExamples + "/idle_rattle.yaml");
+      RunCommand(kExe +
+                 " orbits --json --transient 270 --sweep operating.torque=0.05Nm:0.5Nm:4 "
+                 "--out " +
+                 dir.path().string() + " " + kExamples + "/idle_rattle.yaml");
   INFO(run.err);
   REQUIRE(run.exit_code == 0);
   const auto r = nlohmann::json::parse(run.out);

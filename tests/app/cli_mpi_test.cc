@@ -61,12 +61,14 @@ TEST_CASE("mpi: mpirun -np 2 gives the single-process atlas", "[cli][mpi]") {
 
 TEST_CASE("mpi: mpirun -np 2 gives the single-process speed sweep", "[cli][mpi]") {
   const TempDir dir;
-  const std::string sweep = " sweep " + kExamples + "/industrial_whine.yaml --cycles 32 "
+  const std::string sweep = " sweep " + kExamples +
+                            "/industrial_whine.yaml --cycles 32 "
                             "--transient 10 --jobs 1 --out ";
   REQUIRE(RunCommand(kExe + sweep + (dir.path() / "one").string()).exit_code == 0);
   const auto mpi = RunCommand(
       "mpirun --allow-run-as-root --oversubscribe --mca btl self,tcp --mca btl_tcp_if_include lo "
-      "--mca oob_tcp_if_include lo -np 2 " + kExe + sweep + (dir.path() / "two").string());
+      "--mca oob_tcp_if_include lo -np 2 " +
+      kExe + sweep + (dir.path() / "two").string());
   INFO(mpi.out << mpi.err);
   REQUIRE(mpi.exit_code == 0);
   for (const char* file : {"campbell.csv", "critical_speeds.csv", "waterfall.csv"}) {
@@ -119,14 +121,15 @@ TEST_CASE("mpi: an atlas killed midway completes with --resume to the same cells
   REQUIRE(resumed.exit_code == 0);
   const auto doc = nlohmann::json::parse(resumed.out);
   CHECK(doc["restored_cells"].get<long>() >= done_before - 1);  // a line cut by the kill is redone
-  const auto fresh = RunCommand(kExe + kAtlas + "--jobs 2 --out " + (dir.path() / "fresh").string());
+  const auto fresh =
+      RunCommand(kExe + kAtlas + "--jobs 2 --out " + (dir.path() / "fresh").string());
   REQUIRE(fresh.exit_code == 0);
   CHECK(Comparable(out / "atlas.json") == Comparable(dir.path() / "fresh" / "atlas.json"));
 
   // A resume with other settings is refused rather than mixed.
   const fs::path other = dir.path() / "other";
-  REQUIRE(std::system(("mkdir -p " + (other / ".atlas-checkpoint").string() +
-                       " && echo '{}' > " + (other / ".atlas-checkpoint" / "settings.json").string())
+  REQUIRE(std::system(("mkdir -p " + (other / ".atlas-checkpoint").string() + " && echo '{}' > " +
+                       (other / ".atlas-checkpoint" / "settings.json").string())
                           .c_str()) == 0);
   const auto refused = RunCommand(kExe + kAtlas + "--resume --out " + other.string());
   CHECK(refused.exit_code == 1);

@@ -64,7 +64,7 @@ TEST_CASE("report: a batch with a malformed file completes the good gearbox and 
     const render::RgbImage img = render::ReadPng((g / src).string());
     CHECK(img.width >= 533);
     CHECK(img.height >= 373);
-    CHECK(img.CountDifferent(0.3, 0.0, 0.7, 0.08, kWhite) > 50);    // title
+    CHECK(img.CountDifferent(0.3, 0.0, 0.7, 0.08, kWhite) > 50);      // title
     CHECK(img.CountDifferent(0.15, 0.15, 0.85, 0.85, kWhite) > 800);  // data
   }
   const auto results = nlohmann::json::parse(ReadWholeFile(g / "results.json"));
@@ -90,7 +90,8 @@ TEST_CASE("report: a batch with a malformed file completes the good gearbox and 
     for (const fs::path& html : {g / "index.html", out / "index.html"}) {
       const auto dom = RunCommand(
           "chromium --headless --no-sandbox --disable-gpu --virtual-time-budget=10000 "
-          "--dump-dom file://" + html.string() + " 2>/dev/null");
+          "--dump-dom file://" +
+          html.string() + " 2>/dev/null");
       INFO(html << "\n" << dom.out.substr(0, 400));
       REQUIRE(dom.exit_code == 0);
       const size_t expected = html == g / "index.html" ? images.size() : 0;
@@ -108,17 +109,21 @@ TEST_CASE("report: an output folder is replaced only when it is an earlier repor
   fs::create_directories(foreign);
   std::ofstream(foreign / "notes.txt") << "my notes\n";
   const std::string file = kExamples + "/industrial_whine.yaml";
-  const auto refused = RunCommand(kExe + " report " + file + " --no-atlas --out " + foreign.string());
+  const auto refused =
+      RunCommand(kExe + " report " + file + " --no-atlas --out " + foreign.string());
   CHECK(refused.exit_code == 1);
   CHECK(refused.err.find("not a gearnvh report") != std::string::npos);
   CHECK(ReadWholeFile(foreign / "notes.txt") == "my notes\n");
 
   const fs::path out = dir.path() / "report";
   REQUIRE(RunCommand(kExe + " report " + file + " --no-atlas --width 600 --height 400 --out " +
-                     out.string()).exit_code == 0);
+                     out.string())
+              .exit_code == 0);
   std::ofstream(out / "industrial-whine" / "stale.png") << "old";
-  const auto again = RunCommand(kExe + " report " + file + " --no-atlas --width 600 --height 400 "
-                                "--out " + out.string());
+  const auto again = RunCommand(kExe + " report " + file +
+                                " --no-atlas --width 600 --height 400 "
+                                "--out " +
+                                out.string());
   INFO(again.err);
   REQUIRE(again.exit_code == 0);
   CHECK(!fs::exists(out / "industrial-whine" / "stale.png"));  // the old report is gone as a whole
@@ -129,9 +134,9 @@ TEST_CASE("report: without a display and without Xvfb the error says what to ins
           "[cli][report]") {
   const TempDir dir;
   // PATH without Xvfb and no DISPLAY: a clear error and exit 1, never a crash, nothing written.
-  const auto run = RunCommand("env -u DISPLAY PATH=" + dir.path().string() + " " + kExe +
-                              " report " + kExamples + "/industrial_whine.yaml --out " +
-                              (dir.path() / "r").string());
+  const auto run =
+      RunCommand("env -u DISPLAY PATH=" + dir.path().string() + " " + kExe + " report " +
+                 kExamples + "/industrial_whine.yaml --out " + (dir.path() / "r").string());
   CHECK(run.exit_code == 1);
   CHECK(run.err.find("Xvfb") != std::string::npos);
   CHECK(run.err.find("apt-get install xvfb") != std::string::npos);

@@ -36,9 +36,9 @@ std::vector<std::complex<double>> SortedEigenvalues(const Eigen::MatrixXd& J) {
 // back wall, bounces, and coasts for delta after leaving it; the second half mirrors the first.
 struct DesignedOrbit {
   ImpactOscillator oscillator;
-  Eigen::VectorXd z0;    // orbit state at t = 0
-  double restitution;    // e
-  double contact_time;   // per contact
+  Eigen::VectorXd z0;   // orbit state at t = 0
+  double restitution;   // e
+  double contact_time;  // per contact
 };
 
 DesignedOrbit DesignOrbit() {
@@ -68,8 +68,8 @@ DesignedOrbit DesignOrbit() {
 // Central-difference Jacobian of the exact map on the columns of Q, steps relative to each block's
 // size.
 Eigen::MatrixXd CentralDifferenceJacobian(ExactCycleMap& map, const SegmentTables& t,
-                                         const Eigen::VectorXd& z, const Eigen::MatrixXd& Q,
-                                         double relative_step) {
+                                          const Eigen::VectorXd& z, const Eigen::MatrixXd& Q,
+                                          double relative_step) {
   const int e = 2 * t.n;
   const Eigen::MatrixXd none(t.m, 0);
   const double position = std::max(z.head(t.n).norm(), 1e-300);
@@ -194,8 +194,8 @@ TEST_CASE("orbits: a contact orbit's Floquet multipliers are the eigenvalues of 
   CHECK((ElasticPart(s.tables, orbit.z) - expected).norm() <= 1e-9 * expected.norm());
   // The quotient map's elastic block has 2 extra zero eigenvalues (the projected free rotation).
   const int n = s.tables.n;
-  const Eigen::MatrixXd Pq = FreeRotationProjector(s.tables) * cycle.map() *
-                             FreeRotationProjector(s.tables);
+  const Eigen::MatrixXd Pq =
+      FreeRotationProjector(s.tables) * cycle.map() * FreeRotationProjector(s.tables);
   const auto all = SortedEigenvalues(Pq.topLeftCorner(2 * n, 2 * n));
   REQUIRE(orbit.multipliers.size() == all.size() - 2);
   for (size_t i = 0; i < orbit.multipliers.size(); ++i) {
@@ -209,7 +209,7 @@ TEST_CASE("orbits: shooting finds the designed impact orbit of a 1-DOF backlash 
   const DesignedOrbit d = DesignOrbit();
   const SegmentTables t = BuildOscillatorTables(d.oscillator);
   Eigen::VectorXd guess = d.z0;
-  guess[0] *= 1.3;   // well off the orbit
+  guess[0] *= 1.3;  // well off the orbit
   guess[1] *= 0.8;
   PeriodicOrbitOptions options;
   options.tolerance = 1e-12;
@@ -238,8 +238,8 @@ TEST_CASE("orbits: shooting finds the designed impact orbit of a 1-DOF backlash 
   const Eigen::MatrixXd fd =
       FiniteDifferenceJacobian(map, t, orbit.z, Eigen::MatrixXd::Identity(2, 2), 1e-6);
   CHECK((orbit.monodromy - fd).norm() <= 1e-6 * fd.norm());
-  CHECK(orbit.stable == (SortedEigenvalues(fd)[0].real() < 1.0 &&
-                         std::abs(SortedEigenvalues(fd)[0]) < 1.0));
+  CHECK(orbit.stable ==
+        (SortedEigenvalues(fd)[0].real() < 1.0 && std::abs(SortedEigenvalues(fd)[0]) < 1.0));
 }
 
 TEST_CASE("lyapunov: chaotic rattle's exponent matches the divergence of nearby exact runs",
@@ -273,7 +273,8 @@ TEST_CASE("lyapunov: chaotic rattle's exponent matches the divergence of nearby 
     const Eigen::VectorXd base = walker.state();
     const Eigen::VectorXd elastic = ElasticPart(s.tables, base);
     Eigen::VectorXd direction = Eigen::VectorXd::Zero(s.tables.m);
-    for (int i = 0; i < 2 * s.tables.n; ++i) direction[i] = std::cos(1.0 + 3.0 * i + k) * elastic[i];
+    for (int i = 0; i < 2 * s.tables.n; ++i)
+      direction[i] = std::cos(1.0 + 3.0 * i + k) * elastic[i];
     const double d0 = 1e-13 / ElasticPart(s.tables, direction).norm() * elastic.norm();
     ExactStepper a(s.tables, solver, base, walker.contact(), 0, 0);
     ExactStepper b(s.tables, solver, base + d0 * direction, walker.contact(), 0, 0);

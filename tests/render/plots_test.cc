@@ -1,10 +1,11 @@
 // Offscreen VTK plots: real PNGs of the requested size with ink where the plot should be.
+#include "gearnvh/render/plots.h"
+
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
 
 #include "gearnvh/render/display.h"
-#include "gearnvh/render/plots.h"
 #include "support/run_command.h"
 
 namespace gearnvh {

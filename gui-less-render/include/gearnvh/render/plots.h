@@ -20,9 +20,9 @@ using Rgb = std::array<double, 3>;  // 0..1
 Rgb PaletteColor(int index);
 
 struct ImageOptions {
-  int width = 1200;   // px, >= 200
-  int height = 800;   // px, >= 150
-  double dpi = 100;   // scales fonts (points at dpi / 72 px); >= 36
+  int width = 1200;       // px, >= 200
+  int height = 800;       // px, >= 150
+  double dpi = 100;       // scales fonts (points at dpi / 72 px); >= 36
   void Validate() const;  // throws std::invalid_argument naming the field
 };
 
@@ -31,7 +31,7 @@ struct Series {
   std::string label;  // legend entry; empty: not in the legend
   std::vector<double> x, y;
   Style style = Style::kLine;
-  int color = -1;     // palette index; -1: the series index
+  int color = -1;      // palette index; -1: the series index
   double width = 2.0;  // line width or marker size, px
 };
 

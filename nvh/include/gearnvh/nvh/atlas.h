@@ -21,23 +21,23 @@ namespace gearnvh {
 
 struct AtlasOptions {
   Tier tier = Tier::kTier1;
-  long transient_cycles = 300;      // mesh cycles settled before measuring; >= 0
-  long cycles = 1080;               // mesh cycles averaged per cell; >= 8
-  int threads = 0;                  // 0: all hardware threads
-  double chaos_threshold = 0.01;    // lambda T_f above which a cell is chaotic; > 0
-  std::string method = "v3";        // event method: v1 | v2 | v3 (fused falls back to v3)
-  void Validate() const;            // throws InputError naming the field
+  long transient_cycles = 300;    // mesh cycles settled before measuring; >= 0
+  long cycles = 1080;             // mesh cycles averaged per cell; >= 8
+  int threads = 0;                // 0: all hardware threads
+  double chaos_threshold = 0.01;  // lambda T_f above which a cell is chaotic; > 0
+  std::string method = "v3";      // event method: v1 | v2 | v3 (fused falls back to v3)
+  void Validate() const;          // throws InputError naming the field
 };
 
 struct AtlasCell {
   int ix = 0, iy = 0;
   double x = 0.0, y = 0.0;  // parameter values, SI
   bool ok = false;
-  std::string message;      // why the cell failed
+  std::string message;  // why the cell failed
   double lyapunov_per_s = 0.0, lyapunov_per_forcing_cycle = 0.0, lyapunov_standard_error = 0.0;
   double drive_impacts_per_cycle = 0.0, back_impacts_per_cycle = 0.0;  // per mesh cycle
-  double rattle_index = 0.0;        // J per forcing cycle
-  double impact_velocity_rms = 0.0;  // m/s
+  double rattle_index = 0.0;                                           // J per forcing cycle
+  double impact_velocity_rms = 0.0;                                    // m/s
   double separation_fraction = 0.0;
   std::string regime;
   double wall_s = 0.0;
@@ -55,8 +55,8 @@ struct AtlasResult {
 double AxisValue(const AtlasAxis& axis, int i);
 
 // One cell; never throws (a failure is reported in the cell).
-AtlasCell ComputeAtlasCell(const GearboxSpec& base, const AtlasAxis& x, const AtlasAxis& y,
-                           int ix, int iy, const AtlasOptions& options);
+AtlasCell ComputeAtlasCell(const GearboxSpec& base, const AtlasAxis& x, const AtlasAxis& y, int ix,
+                           int iy, const AtlasOptions& options);
 
 // (cells done, total): called under a lock, from worker threads.
 using AtlasProgress = std::function<void(int, int)>;

@@ -5,9 +5,10 @@
 // at state-triggered contact changes and the identity at time-triggered ones (ExactStepper::
 // AttachTangent). Every `renormalise_cycles` mesh cycles
 //   g_i = ln |u|,  u <- u / |u|
-// after `alignment_cycles` unaveraged cycles, with |.| the Euclidean norm of the elastic block [x; x'] on the quotient by the pair's free
-// rotation (that rotation is neutral and changes no gap or force, so it is projected out; its
-// multiplier 1 would otherwise hide every negative exponent). Then
+// after `alignment_cycles` unaveraged cycles, with |.| the Euclidean norm of the elastic block [x;
+// x'] on the quotient by the pair's free rotation (that rotation is neutral and changes no gap or
+// force, so it is projected out; its multiplier 1 would otherwise hide every negative exponent).
+// Then
 //   lambda = sum_i g_i / T  (1/s, T the averaged time),
 // reported per second, per mesh cycle (lambda T_m) and per rattle cycle (lambda T_f, T_f the period
 // of the first engine order 2 pi / (order Omega1); the mesh period without excitation).
@@ -45,11 +46,11 @@ struct LyapunovEstimate {
   enum class Info { kSuccess, kSolverFailed };
   Info info = Info::kSuccess;
   std::string message;
-  double exponent = 0.0;            // 1/s
-  double per_mesh_cycle = 0.0;      // lambda T_m
-  double per_forcing_cycle = 0.0;   // lambda T_f
-  double forcing_period = 0.0;      // T_f, s
-  double standard_error = 0.0;      // 1/s
+  double exponent = 0.0;                // 1/s
+  double per_mesh_cycle = 0.0;          // lambda T_m
+  double per_forcing_cycle = 0.0;       // lambda T_f
+  double forcing_period = 0.0;          // T_f, s
+  double standard_error = 0.0;          // 1/s
   std::vector<double> block_exponents;  // 1/s
   // t_p = ln(2^52) / lambda (s) and in forcing cycles; infinity when lambda <= 0.
   double predictability_horizon_s = 0.0;

@@ -28,7 +28,7 @@ struct OrbitScanPoint {
   double value = 0.0;  // parameter value (SI); the file's value without a sweep
   bool ok = false;     // the gearbox variant could be built and run
   std::string message;
-  std::string start;   // "continuation" | "settled run + k periods" | "" (not found)
+  std::string start;  // "continuation" | "settled run + k periods" | "" (not found)
   PeriodicOrbit orbit;
 };
 

@@ -63,11 +63,11 @@ class ExactCycleMap {
 };
 
 struct PeriodicOrbitOptions {
-  int period = 1;               // multiples of the base period; >= 1
-  int max_iterations = 40;      // Newton iterations; >= 1
-  double tolerance = 1e-10;     // scaled residual; > 0
-  SolverOptions solver;         // event method (method/cycles fields are ignored)
-  void Validate() const;        // throws InputError naming the field
+  int period = 1;            // multiples of the base period; >= 1
+  int max_iterations = 40;   // Newton iterations; >= 1
+  double tolerance = 1e-10;  // scaled residual; > 0
+  SolverOptions solver;      // event method (method/cycles fields are ignored)
+  void Validate() const;     // throws InputError naming the field
 };
 
 enum class StabilityBoundary { kFold, kFlip, kNeimarkSacker, kGrazing };
@@ -80,7 +80,7 @@ struct PeriodicOrbit {
   Eigen::VectorXd z;  // state at the start of the period (time 0 mod p T_0)
   ContactState state = ContactState::kFree;
   int iterations = 0;
-  double residual = 0.0;  // scaled, at the returned state
+  double residual = 0.0;   // scaled, at the returned state
   long period_cycles = 0;  // mesh cycles per period (p N_0)
   double period_s = 0.0;
   Eigen::MatrixXd monodromy;  // J_q on the quotient basis (positions first, then velocities)

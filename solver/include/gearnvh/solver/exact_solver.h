@@ -29,16 +29,18 @@
 #include <string>
 #include <vector>
 
+#include "gearnvh/solver/segment_runs.h"
 #include "gearnvh/solver/segment_tables.h"
 #include "gearnvh/solver/spectral_gap.h"
 
 namespace gearnvh {
 
-// kStepped: the event-locating sub-step loop everywhere. kFused: additionally, when the run starts
-// in contact with no engine excitation and ConstantContactCycle certifies that contact is kept
-// forever, the transient cycles are jumped in O(1) and recorded cycles advance one matvec per
-// segment (the same propagator products, so the result is unchanged to rounding). Otherwise kFused
-// = kStepped.
+// kStepped: the event-locating sub-step loop everywhere. kFused: additionally (1) when the run
+// starts in contact with no engine excitation and ConstantContactCycle certifies that contact is
+// kept forever, the transient cycles are jumped in O(1) and recorded cycles advance one matvec per
+// segment; (2) on cycles whose samples are not recorded, certified runs of 2..32 segments advance
+// in one matvec (segment_runs.h). Both use the same propagator products, so the result is
+// unchanged to rounding.
 enum class SolverMethod { kStepped, kFused };
 const char* SolverMethodName(SolverMethod m);
 
@@ -95,8 +97,9 @@ struct SolverSummary {
   long drive_impacts = 0, back_impacts = 0, separations = 0, grazing = 0;
   long events = 0;
   long matvecs = 0;
-  long fused_cycles = 0;   // cycles advanced one matvec per segment (certified contact)
-  long jumped_cycles = 0;  // cycles skipped by a certified O(1) jump
+  long fused_cycles = 0;        // cycles advanced one matvec per segment (certified contact)
+  long run_fused_segments = 0;  // segments advanced inside certified segment runs (kFused)
+  long jumped_cycles = 0;       // cycles skipped by a certified O(1) jump
   bool contact_certified = false;
   double events_per_cycle = 0.0, matvec_per_cycle = 0.0;
   double simulated_s = 0.0, wall_s = 0.0, real_time_ratio = 0.0;
@@ -200,7 +203,7 @@ class ExactStepper {
   int Outside(const SegmentSystem& sys, const Eigen::VectorXd& z, bool with_tolerance) const;
   void SwitchState(const SegmentSystem& sys, int wall, double time, bool record,
                    bool state_triggered);
-  void PropagateTangent(const Eigen::MatrixXd& propagator);  // V <- Phi V
+  void PropagateTangent(const Eigen::MatrixXd& propagator);            // V <- Phi V
   void PropagateTangentTaylor(const Eigen::MatrixXd& A, double step);  // V <- expm(A step) V
   void PropagateTangentDecoupled(const SpectralDecomposition& d, double step);
   bool TooManyEvents();  // sets the status and message; returns false
@@ -232,6 +235,12 @@ class ExactStepper {
   long events_this_cycle_ = 0;
   double free_since_ = -1.0;  // start of the current recorded free flight, or -1
   bool fused_ = false;
+  // kFused: certified segment runs (segment_runs.h), per contact state; used on cycles whose
+  // samples are not recorded and without a tangent.
+  std::array<SegmentRunTable, 3> runs_;
+  bool runs_built_ = false;
+  double excitation_bound_ = 0.0;
+  Eigen::VectorXd run_scratch_;
   int segment_ = 0;  // the segment being advanced
   Eigen::MatrixXd* tangent_ = nullptr;
   Eigen::MatrixXd tangent_next_, tangent_w_;
