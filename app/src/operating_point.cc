@@ -18,6 +18,7 @@ nlohmann::json SummaryJson(const SolverSummary& s) {
           {"matvecs", s.matvecs},
           {"matvec_per_cycle", s.matvec_per_cycle},
           {"fused_cycles", s.fused_cycles},
+          {"run_fused_segments", s.run_fused_segments},
           {"jumped_cycles", s.jumped_cycles},
           {"contact_certified", s.contact_certified},
           {"simulated_s", s.simulated_s},

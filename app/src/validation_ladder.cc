@@ -78,6 +78,27 @@ std::vector<ValidationRow> RunValidationLadder(const GearboxSpec& spec) {
                              "the static state leaves contact within a cycle"));
     }
   }
+  // 1b. Segment-run fusion against V3 stepping: 10 unrecorded cycles from the static state.
+  {
+    SolverOptions stepped, fused;
+    ApplyMethodName("v3", stepped);
+    ApplyMethodName("fused", fused);
+    ExactStepper a(tables, stepped, z0, state0, 0, 0), b(tables, fused, z0, state0, 0, 0);
+    const bool ok = a.Run(10, false) && b.Run(10, false);
+    const long runs = b.summary().run_fused_segments;
+    if (!ok || runs == 0) {
+      rows.push_back(Skipped("segment-run fusion vs step-by-step",
+                             ok ? "no run of segments was certified in 10 cycles"
+                                : a.summary().message + b.summary().message));
+    } else {
+      const Eigen::VectorXd ea = ElasticPart(tables, a.state()),
+                            eb = ElasticPart(tables, b.state());
+      rows.push_back(Row("segment-run fusion vs step-by-step", (ea - eb).norm() / ea.norm(), 1e-12,
+                         fmt::format("elastic state after 10 cycles, {} of {} segments in fused "
+                                     "runs (tier 1)",
+                                     runs, 10 * tables.segments())));
+    }
+  }
   // 2-3. Event times and TE against the CVODE reference (10 cycles, tier 1, with excitation).
   {
     SolverOptions opt;

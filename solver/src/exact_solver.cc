@@ -29,6 +29,10 @@ void SolverOptions::Validate() const {
     throw InputError("SolverOptions.spectral_max_condition", 0,
                      std::to_string(spectral_max_condition), "must be >= 1");
   }
+  if (fusion_levels < 0 || fusion_levels > 5) {
+    throw InputError("SolverOptions.fusion_levels", 0, std::to_string(fusion_levels),
+                     "must be in [0, 5] (runs of up to 32 segments)");
+  }
   if (!(grazing_rate_tolerance >= 0.0)) {
     throw InputError("SolverOptions.grazing_rate_tolerance", 0,
                      std::to_string(grazing_rate_tolerance), "must be >= 0");
@@ -215,9 +219,10 @@ ExactStepper::ExactStepper(const SegmentTables& tables, const SolverOptions& opt
     wt_.resize(tables.m);
     scratch_.resize(tables.m);
   }
-  if (options.method == SolverMethod::kFused && tables.segments() >= 2) {
+  if (options.method == SolverMethod::kFused && tables.segments() >= 2 &&
+      options.fusion_levels > 0) {
     int levels = 0;
-    while ((2 << levels) <= tables.segments() && levels < 5) ++levels;
+    while ((2 << levels) <= tables.segments() && levels < options.fusion_levels) ++levels;
     for (int st = 0; st < 3; ++st) {
       runs_[static_cast<size_t>(st)] =
           SegmentRunTable(tables, static_cast<ContactState>(st), levels);

@@ -79,6 +79,8 @@ struct SolverOptions {
   // The linear backlash-free reference: the state never changes (the contact spring of the
   // starting state also acts in tension), one propagator matvec per segment, no events.
   bool ignore_walls = false;
+  // kFused: segment runs of up to 2^fusion_levels segments (0 disables them); in [0, 5].
+  int fusion_levels = 5;
   void Validate() const;
 };
 
