@@ -204,9 +204,11 @@ int Main(int argc, char** argv) {
   }
   // Under mpirun only the commands that split their work across ranks run on every rank; for the
   // others rank 0 does everything and the other ranks leave at once.
-  if (gearnvh::app::MpiContext::Rank() != 0 && !atlas_cmd->parsed() && !sweep_cmd->parsed()) {
-    return 0;
-  }
+  bool splits = atlas_cmd->parsed() || sweep_cmd->parsed();
+#ifdef GEARNVH_HAVE_RENDER
+  splits = splits || report_cmd->parsed();
+#endif
+  if (gearnvh::app::MpiContext::Rank() != 0 && !splits) return 0;
   try {
     if (check_cmd->parsed()) return gearnvh::app::RunCheck(check);
     if (simulate_cmd->parsed()) return gearnvh::app::RunSimulate(simulate);

@@ -6,7 +6,9 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <mutex>
 #include <nlohmann/json.hpp>
@@ -23,6 +25,7 @@
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/periodic_orbit.h"
 #include "gearnvh/render/display.h"
+#include "mpi_context.h"
 #include "operating_point.h"
 #include "report_figures.h"
 #include "sweep_command.h"
@@ -57,6 +60,13 @@ std::string Html(const std::string& s) {
     }
   }
   return out;
+}
+
+std::string ReadWholeFileBytes(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream os;
+  os << in.rdbuf();
+  return os.str();
 }
 
 std::string Slug(const std::string& file) {
@@ -465,7 +475,82 @@ std::string BatchIndex(const std::vector<GearboxEntry>& entries) {
 
 }  // namespace
 
+namespace {
+
+// A rank's finished gearboxes for rank 0: a JSON header (entries and file names) followed by the
+// files' bytes, each preceded by its size (8 bytes).
+void AppendSize(std::string& out, uint64_t n) { out.append(reinterpret_cast<const char*>(&n), 8); }
+uint64_t ReadSize(const std::string& in, size_t& at) {
+  uint64_t n = 0;
+  std::memcpy(&n, in.data() + at, 8);
+  at += 8;
+  return n;
+}
+
+std::string PackEntries(const std::vector<size_t>& indices,
+                        const std::vector<GearboxEntry>& entries, const fs::path& root) {
+  nlohmann::json header = nlohmann::json::array();
+  std::string blobs;
+  for (size_t i : indices) {
+    const GearboxEntry& e = entries[i];
+    nlohmann::json files = nlohmann::json::array();
+    if (e.ok) {
+      for (const auto& f : fs::directory_iterator(root / e.folder)) {
+        const std::string bytes = ReadWholeFileBytes(f.path());
+        files.push_back(f.path().filename().string());
+        AppendSize(blobs, bytes.size());
+        blobs += bytes;
+      }
+    }
+    header.push_back({{"index", i},
+                      {"file", e.file},
+                      {"folder", e.folder},
+                      {"name", e.name},
+                      {"ok", e.ok},
+                      {"error", e.error},
+                      {"summary", e.summary},
+                      {"wall_s", e.wall_s},
+                      {"files", files}});
+  }
+  const std::string text = header.dump();
+  std::string out;
+  AppendSize(out, text.size());
+  out += text;
+  out += blobs;
+  return out;
+}
+
+void UnpackEntries(const std::string& packed, std::vector<GearboxEntry>& entries,
+                   const fs::path& staging) {
+  size_t at = 0;
+  const uint64_t length = ReadSize(packed, at);
+  const nlohmann::json header = nlohmann::json::parse(packed.substr(at, length));
+  at += length;
+  for (const auto& h : header) {
+    GearboxEntry& e = entries[h.at("index").get<size_t>()];
+    e.file = h.at("file").get<std::string>();
+    e.folder = h.at("folder").get<std::string>();
+    e.name = h.at("name").get<std::string>();
+    e.ok = h.at("ok").get<bool>();
+    e.error = h.at("error").get<std::string>();
+    e.summary = h.at("summary");
+    e.wall_s = h.at("wall_s").get<double>();
+    if (!e.ok) continue;
+    fs::create_directories(staging / e.folder);
+    for (const auto& name : h.at("files")) {
+      const uint64_t size = ReadSize(packed, at);
+      WriteFileAtomically((staging / e.folder / name.get<std::string>()).string(),
+                          packed.substr(at, size));
+      at += size;
+    }
+  }
+}
+
+}  // namespace
+
 int RunReport(const ReportCommandOptions& o) {
+  const int rank = MpiContext::Rank(), ranks = MpiContext::Size();
+  int code = 0;
   try {
     if (o.files.empty()) throw InputError("FILE", 0, "(none)", "give at least one gearbox file");
     const render::ImageOptions image{o.width, o.height, o.dpi};
@@ -485,14 +570,20 @@ int RunReport(const ReportCommandOptions& o) {
                          "(choose a new folder or an earlier report's folder)");
       }
     }
-    // Images need a display: fail before any work when there is none.
+    // Images need a display: fail before any work when rank 0 has none (every rank starts its own
+    // Xvfb when DISPLAY is unset; a rank without one reports its gearboxes as failed).
     const render::DisplayStatus& display = render::EnsureDisplay();
-    if (!display.ok()) {
+    if (MpiContext::BroadcastInt(display.ok() ? 1 : 0) == 0) {
       std::cerr << "error: " << display.message << "\n";
       return 1;
     }
-    const fs::path staging = out.parent_path() / ("." + out.filename().string() + ".partial-" +
-                                                  std::to_string(static_cast<long>(::getpid())));
+    const std::string suffix = std::to_string(static_cast<long>(::getpid()));
+    // Rank 0 builds the report in a staging folder beside DIR; other ranks in a private scratch
+    // folder whose files they send to rank 0.
+    const fs::path staging =
+        rank == 0 ? out.parent_path() / ("." + out.filename().string() + ".partial-" + suffix)
+                  : fs::temp_directory_path() /
+                        ("gearnvh-report-rank" + std::to_string(rank) + "-" + suffix);
     fs::remove_all(staging);
     fs::create_directories(staging);
     std::vector<std::string> folders;
@@ -503,22 +594,34 @@ int RunReport(const ReportCommandOptions& o) {
       used.insert(name);
       folders.push_back(name);
     }
+    std::vector<size_t> mine;
+    for (size_t i = 0; i < o.files.size(); ++i) {
+      if (static_cast<int>(i % static_cast<size_t>(ranks)) == rank) mine.push_back(i);
+    }
     const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     const int jobs =
-        std::min<int>(o.jobs > 0 ? o.jobs : hardware, static_cast<int>(o.files.size()));
-    const int inner = std::max(1, hardware / std::max(1, jobs));
+        std::max(1, std::min<int>(o.jobs > 0 ? o.jobs : hardware, static_cast<int>(mine.size())));
+    const int inner = std::max(1, hardware / jobs);
     std::vector<GearboxEntry> entries(o.files.size());
     std::atomic<size_t> next{0};
     std::mutex progress_mutex;
     size_t done = 0;
-    const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
+    const bool on_terminal = rank == 0 && ::isatty(STDERR_FILENO) != 0;
     auto worker = [&]() {
-      for (size_t i = next++; i < o.files.size(); i = next++) {
-        entries[i] = BuildGearboxReport(o.files[i], staging / folders[i], o, inner);
+      for (size_t k = next++; k < mine.size(); k = next++) {
+        const size_t i = mine[k];
+        if (display.ok()) {
+          entries[i] = BuildGearboxReport(o.files[i], staging / folders[i], o, inner);
+        } else {
+          entries[i].file = o.files[i];
+          entries[i].folder = folders[i];
+          entries[i].error = display.message;
+        }
         const std::lock_guard<std::mutex> lock(progress_mutex);
         ++done;
         if (on_terminal) {
-          fmt::print(stderr, "\rreport: {}/{} gearboxes", done, o.files.size());
+          fmt::print(stderr, "\rreport: {}/{} gearboxes{}", done, mine.size(),
+                     ranks > 1 ? fmt::format(" on rank 0 of {}", ranks) : "");
         }
       }
     };
@@ -527,6 +630,15 @@ int RunReport(const ReportCommandOptions& o) {
     worker();
     for (std::thread& t : pool) t.join();
     if (on_terminal) fmt::print(stderr, "\n");
+    if (ranks > 1) {
+      const std::vector<std::string> parts =
+          MpiContext::GatherToRoot(rank == 0 ? std::string() : PackEntries(mine, entries, staging));
+      if (rank != 0) {
+        fs::remove_all(staging);
+        return MpiContext::BroadcastInt(0);
+      }
+      for (size_t r = 1; r < parts.size(); ++r) UnpackEntries(parts[r], entries, staging);
+    }
 
     nlohmann::json batch = nlohmann::json::array();
     int failed = 0;
@@ -542,13 +654,13 @@ int RunReport(const ReportCommandOptions& o) {
       if (!e.ok) fs::remove_all(staging / e.folder);
     }
     WriteFileAtomically((staging / "index.html").string(), BatchIndex(entries));
-    WriteFileAtomically((staging / "report.json").string(),
-                        nlohmann::json{{"gearboxes", batch}, {"failed", failed}}.dump(1) + "\n");
+    WriteFileAtomically(
+        (staging / "report.json").string(),
+        nlohmann::json{{"gearboxes", batch}, {"failed", failed}, {"ranks", ranks}}.dump(1) + "\n");
     WriteFileAtomically((staging / kMarker).string(), "gearnvh report\n");
     // Swap the finished report into place.
     if (fs::exists(out)) {
-      const fs::path old = out.parent_path() / ("." + out.filename().string() + ".old-" +
-                                                std::to_string(static_cast<long>(::getpid())));
+      const fs::path old = out.parent_path() / ("." + out.filename().string() + ".old-" + suffix);
       fs::rename(out, old);
       fs::rename(staging, out);
       fs::remove_all(old);
@@ -567,16 +679,16 @@ int RunReport(const ReportCommandOptions& o) {
     if (failed > 0) {
       std::cerr << "error: " << failed << " of " << entries.size()
                 << " gearboxes failed (listed in the batch index)\n";
-      return 1;
+      code = 1;
     }
-    return 0;
   } catch (const InputError& e) {
     std::cerr << "error: " << e.what() << "\n";
-    return 1;
+    return 1;  // every rank sees the same input and the same error
   } catch (const fs::filesystem_error& e) {
     std::cerr << "error: " << e.what() << "\n";
-    return 1;
+    code = 1;
   }
+  return MpiContext::BroadcastInt(code);
 }
 
 }  // namespace gearnvh::app

@@ -5,7 +5,8 @@
 // Gearboxes run in parallel (their images are drawn one at a time); a bad file is listed in the
 // batch index and makes the exit code 1 while the others complete. The whole report is built in a
 // staging folder beside DIR and renamed into place at the end: DIR never mixes old and new
-// results, and a DIR that exists and is not a gearnvh report is refused untouched.
+// results, and a DIR that exists and is not a gearnvh report is refused untouched. Under mpirun
+// the gearboxes are split across ranks; rank 0 receives the other ranks' files and alone writes.
 #pragma once
 
 #include <string>

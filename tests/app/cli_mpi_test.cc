@@ -84,6 +84,38 @@ TEST_CASE("mpi: mpirun -np 2 gives the single-process speed sweep", "[cli][mpi]"
         comparable(dir.path() / "two" / "sweep.json"));
 }
 
+TEST_CASE("mpi: a report batch split over 2 ranks equals the single-process report", "[cli][mpi]") {
+  // Rank 1 builds the second gearbox (with its own Xvfb when there is no display) and sends the
+  // files to rank 0, which alone writes the report.
+  const TempDir dir;
+  const std::string args = " --no-atlas --width 600 --height 400 --out ";
+  const auto mpi = RunCommand(
+      "mpirun --allow-run-as-root --oversubscribe --mca btl self,tcp --mca btl_tcp_if_include lo "
+      "--mca oob_tcp_if_include lo -np 2 " +
+      kExe + " report " + kExamples + "/idle_rattle.yaml " + kExamples + "/flexible_shafts.yaml" +
+      args + (dir.path() / "two").string());
+  INFO(mpi.out << mpi.err);
+  REQUIRE(mpi.exit_code == 0);
+  const auto batch = nlohmann::json::parse(ReadWholeFile(dir.path() / "two" / "report.json"));
+  CHECK(batch["ranks"] == 2);
+  CHECK(batch["failed"] == 0);
+  const auto one = RunCommand(kExe + " report " + kExamples + "/flexible_shafts.yaml" + args +
+                              (dir.path() / "one").string());
+  REQUIRE(one.exit_code == 0);
+  // The gearbox rank 1 computed: the same data as in a single process, and every image arrived.
+  const fs::path a = dir.path() / "one" / "flexible-shafts",
+                 b = dir.path() / "two" / "flexible-shafts";
+  for (const char* file : {"mesh_cycle.csv", "campbell.csv", "waterfall.csv", "spectrum.csv"}) {
+    INFO(file);
+    CHECK(ReadWholeFile(a / file) == ReadWholeFile(b / file));
+  }
+  for (const auto& entry : fs::directory_iterator(a)) {
+    INFO(entry.path().filename());
+    CHECK(fs::exists(b / entry.path().filename()));
+    CHECK(fs::file_size(b / entry.path().filename()) > 0);
+  }
+}
+
 TEST_CASE("mpi: an atlas killed midway completes with --resume to the same cells",
           "[cli][resume]") {
   const TempDir dir;
