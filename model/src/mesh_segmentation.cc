@@ -40,6 +40,7 @@ MeshSegmentation SegmentMeshCycle(const GearboxSpec& spec, const MeshEvaluator& 
   std::vector<double> breaks{0.0};
   for (Flank flank : {Flank::kDrive, Flank::kBack}) {
     breaks.push_back(ev.PitchCrossing(flank));
+    for (double b : ev.OverrideBreaks(flank)) breaks.push_back(b);
     int previous = ev.Evaluate(0.0, flank).loaded_pairs;
     for (int i = 1; i <= scan_samples; ++i) {
       const double tau = static_cast<double>(i) / scan_samples;
@@ -63,7 +64,8 @@ MeshSegmentation SegmentMeshCycle(const GearboxSpec& spec, const MeshEvaluator& 
   if (segments_per_cycle < intervals) {
     throw InputError("analysis.segments_per_cycle", 0, std::to_string(segments_per_cycle),
                      "must be >= " + std::to_string(intervals) +
-                         " (the contact-count transitions and pitch-point crossings of this pair)");
+                         " (the contact-count transitions, pitch-point crossings and stiffness "
+                         "override switches of this pair)");
   }
   // Largest-remainder allocation of segments to intervals, at least one each.
   std::vector<double> length(intervals);

@@ -187,6 +187,20 @@ double MeshEvaluator::PitchCrossing(Flank flank) const {
   return Frac((s_drive - g_.contact_start) / g_.base_pitch);
 }
 
+std::vector<double> MeshEvaluator::OverrideBreaks(Flank flank) const {
+  std::vector<double> law;  // phases of the override's own cycle
+  if (const auto* r = std::get_if<RectangularStiffness>(&spec_->mesh.stiffness)) {
+    law = {0.0, r->contact_ratio - 1.0};
+  } else if (const auto* t = std::get_if<TableStiffness>(&spec_->mesh.stiffness)) {
+    law = t->phase;
+  }
+  // The drive flank reads the law at tau, the back flank at back_phase / p_b - tau (Evaluate).
+  for (double& phase : law) {
+    phase = Frac(flank == Flank::kDrive ? phase : back_phase_ / g_.base_pitch - phase);
+  }
+  return law;
+}
+
 FlankSample MeshEvaluator::Evaluate(double tau, Flank flank) const {
   const PairGeometry& g = g_;
   FlankSample out;

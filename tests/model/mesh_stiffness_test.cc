@@ -181,6 +181,43 @@ TEST_CASE("stiffness overrides reproduce their input exactly", "[mesh][override]
   }
 }
 
+TEST_CASE("a rectangular override is reproduced exactly at any segmentation, on both flanks",
+          "[mesh][override][segments]") {
+  GearboxSpec spec = StandardPair(27, 43);
+  spec.operating.torque = 20.0;
+  const PairGeometry g = ComputePairGeometry(spec);
+  // A measured contact ratio deliberately unlike the geometric one (1.65 here), so the switch
+  // falls inside the geometric intervals.
+  const RectangularStiffness rect{2.0e8, 3.4e8, 1.43};
+  spec.mesh.stiffness = rect;
+  const MeshEvaluator ev(spec, g);
+  for (int S : {12, 13, 32, 57, 200}) {
+    const MeshSegmentation seg = SegmentMeshCycle(spec, ev, S);
+    double drive_mean = 0.0, back_mean = 0.0;
+    for (const MeshSegment& s : seg.segments) {
+      // Each segment lies on one level of the wave: its mean is that level, to rounding of the
+      // 8-point quadrature (relative 1e-15; the bound allows a few ulps).
+      for (double k : {s.drive.stiffness, s.back.stiffness}) {
+        const bool on_level = std::abs(k - rect.single) <= 1e-14 * rect.single ||
+                              std::abs(k - rect.double_pair) <= 1e-14 * rect.double_pair;
+        INFO("S = " << S << ", segment [" << s.tau_begin << ", " << s.tau_end << "], k = " << k);
+        CHECK(on_level);
+      }
+      drive_mean += s.drive.stiffness * (s.tau_end - s.tau_begin);
+      back_mean += s.back.stiffness * (s.tau_end - s.tau_begin);
+    }
+    // The cycle mean is the wave's: single + (eps - 1)(double - single), exactly.
+    const double exact = rect.single + (rect.contact_ratio - 1.0) * (rect.double_pair - rect.single);
+    CHECK(drive_mean == Approx(exact).epsilon(1e-14));
+    CHECK(back_mean == Approx(exact).epsilon(1e-14));
+  }
+  // The switches are among the mandatory boundaries (drive: 0 and eps - 1).
+  const MeshSegmentation seg = SegmentMeshCycle(spec, ev, 32);
+  bool switch_found = false;
+  for (double b : seg.mandatory_breaks) switch_found |= std::abs(b - 0.43) < 1e-15;
+  CHECK(switch_found);
+}
+
 TEST_CASE("friction arms: rho1 + rho2 = |T1T2| and reversal at the pitch point",
           "[mesh][friction]") {
   GearboxSpec spec = StandardPair(27, 43);

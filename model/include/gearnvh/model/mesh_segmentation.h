@@ -1,8 +1,9 @@
 // Cutting the mesh cycle into S segments for the piecewise-LTI solver (DESIGN.md §4.1).
 //
 // Mandatory boundaries (in cycle fraction tau): 0, every change of the loaded-pair count on either
-// flank (located by bisection to 1e-12 of the cycle), and every pitch-point crossing on either
-// flank (friction reverses there). The remaining S - (#mandatory) cuts are spread over the
+// flank (located by bisection to 1e-12 of the cycle), every pitch-point crossing on either
+// flank (friction reverses there), and every switch of a stiffness override on either flank
+// (MeshEvaluator::OverrideBreaks), so no segment averages k or e across a discontinuity. The remaining S - (#mandatory) cuts are spread over the
 // intervals in proportion to their length (largest remainder; every interval gets at least one
 // segment, and segments inside an interval are equal). Within segment j every quantity is replaced
 // by its mean over the segment (8-point Gauss–Legendre on the smooth integrand between boundaries):

@@ -103,6 +103,11 @@ class MeshEvaluator {
   double back_phase() const { return back_phase_; }
   // Cycle fractions (in [0, 1)) where a pair crosses the pitch point on the given flank.
   double PitchCrossing(Flank flank) const;
+  // Cycle fractions (in [0, 1)) where a stiffness override changes its law on the given flank:
+  // the switches of a rectangular wave, the breakpoints of a table; none for Fourier data or the
+  // potential energy method. The segmentation puts a boundary at each, so the override is
+  // reproduced exactly (never averaged across a switch).
+  std::vector<double> OverrideBreaks(Flank flank) const;
   bool overridden() const { return overridden_; }
   const std::vector<std::string>& warnings() const { return pair_.warnings(); }
 
