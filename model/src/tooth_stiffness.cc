@@ -1,5 +1,6 @@
 #include "gearnvh/model/tooth_stiffness.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <sstream>
@@ -22,7 +23,8 @@ double SainsotFit(const double c[6], double h_f, double theta_f) {
          c[4] * h_f + c[5];
 }
 
-// Envelope in which gearnvh uses the fit without a warning (conservative; see docs).
+// The fit's range (Sainsot et al. 2004 cover h_f 1.4-7; theta_f is gearnvh's conservative
+// envelope, see docs/mesh-stiffness.md); outside it the fit is evaluated at the nearest point.
 constexpr double kHfMin = 1.4, kHfMax = 7.0;
 constexpr double kThetaMin = 0.01, kThetaMax = 0.3;
 
@@ -53,20 +55,29 @@ ToothStiffnessModel::ToothStiffnessModel(const GearSpec& gear, const Material& m
   const double bore_radius = 0.5 * gear.bore_diameter;
   // A solid gear (no bore) is taken at the fit's largest h_f: the body is stiffest there.
   h_f_ = bore_radius > 0.0 ? r_f_ / bore_radius : kHfMax;
-  fillet_L_ = SainsotFit(kSainsot[0], h_f_, theta_f_);
-  fillet_M_ = SainsotFit(kSainsot[1], h_f_, theta_f_);
-  fillet_P_ = SainsotFit(kSainsot[2], h_f_, theta_f_);
-  fillet_Q_ = SainsotFit(kSainsot[3], h_f_, theta_f_);
-  std::ostringstream w;
-  if (h_f_ < kHfMin || h_f_ > kHfMax) {
-    w << "fillet-foundation fit used outside " << kHfMin << " <= h_f <= " << kHfMax
-      << " (h_f = r_f/r_bore = " << h_f_ << ")";
+  // Outside its range the polynomial fit diverges (1/theta_f^2 terms: a 2000-tooth wheel would get
+  // a body compliance two decades too large). The fallback evaluates the fit at the nearest point
+  // of its range: a thicker rim than h_f = 7 is as stiff as h_f = 7 (the body stiffness saturates
+  // as the bore shrinks), and a tooth narrower than theta_f = 0.01 rad sits on a body that is
+  // locally a rack, as it is at theta_f = 0.01 (~150 teeth).
+  const double h_fit = std::clamp(h_f_, kHfMin, kHfMax);
+  const double theta_fit = std::clamp(theta_f_, kThetaMin, kThetaMax);
+  fillet_L_ = SainsotFit(kSainsot[0], h_fit, theta_fit);
+  fillet_M_ = SainsotFit(kSainsot[1], h_fit, theta_fit);
+  fillet_P_ = SainsotFit(kSainsot[2], h_fit, theta_fit);
+  fillet_Q_ = SainsotFit(kSainsot[3], h_fit, theta_fit);
+  if (h_fit != h_f_) {
+    std::ostringstream w;
+    w << "gear body outside the fillet-foundation fit (h_f = r_f/r_bore = " << h_f_
+      << ", fit range " << kHfMin << " to " << kHfMax << "): body compliance taken at h_f = "
+      << h_fit;
     warnings_.push_back(w.str());
   }
-  if (theta_f_ < kThetaMin || theta_f_ > kThetaMax) {
+  if (theta_fit != theta_f_) {
     std::ostringstream t;
-    t << "fillet-foundation fit used outside " << kThetaMin << " <= theta_f <= " << kThetaMax
-      << " rad (theta_f = " << theta_f_ << ")";
+    t << "tooth root outside the fillet-foundation fit (theta_f = " << theta_f_
+      << " rad, fit range " << kThetaMin << " to " << kThetaMax
+      << " rad): body compliance taken at theta_f = " << theta_fit << " rad";
     warnings_.push_back(t.str());
   }
 }

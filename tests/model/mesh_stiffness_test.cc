@@ -51,6 +51,41 @@ TEST_CASE("potential-energy stiffness lies within the spread of methods around I
   }
 }
 
+TEST_CASE("mesh stiffness stays valid for very large tooth counts (outside the body fit)",
+          "[mesh][iso]") {
+  // Sainsot's body polynomials diverge outside their range (1/theta_f^2 terms): a 23:2000 pair
+  // once got 1.1e6 N/m. Evaluated at the nearest point of the fit, a very large wheel behaves as
+  // a rack: its single-pair stiffness is within 2 % of a 500-tooth wheel's (ISO's c' differs by
+  // 0.7 % between the two), and with a realistic rim it lies in the +-35 % spread around ISO.
+  auto summary = [](int z1, int z2, double bore_ratio) {
+    GearboxSpec spec = StandardPair(z1, z2, 2e-3, 18e-3);
+    spec.wheel.bore_diameter = bore_ratio > 0.0 ? bore_ratio * 2e-3 * z2 : 20e-3;
+    spec.pinion.bore_diameter = bore_ratio > 0.0 ? bore_ratio * 2e-3 * z1 : 20e-3;
+    // A light load (~1 N/mm): the extension of contact under load (which depends on the flank
+    // curvature) stays negligible, so the comparison sees the tooth and body compliances.
+    spec.operating.torque = 1.0 * 18.0 * 1e-3 * z2;
+    const PairGeometry g = ComputePairGeometry(spec);
+    return SummarizeMeshCycle(ComputeMeshCycle(spec, g), g);
+  };
+  for (double bore_ratio : {0.0, 0.6}) {  // a 20 mm bore (h_f = 200) and a 60 % rim bore
+    const MeshStiffnessSummary huge = summary(23, 2000, bore_ratio);
+    const MeshStiffnessSummary large = summary(23, 500, bore_ratio);
+    const IsoStiffness iso = Iso6336(23, 2000, 18e-3, huge.contact_ratio);
+    INFO("bore ratio " << bore_ratio << ": 23:2000 single-pair " << huge.single_pair_mean
+                       << ", 23:500 " << large.single_pair_mean << ", ISO c'b " << iso.single);
+    CHECK(huge.single_pair_mean == Approx(large.single_pair_mean).epsilon(0.02));
+    CHECK(huge.mean > 0.5 * iso.mesh);  // never decades off, whatever the bore
+    CHECK(huge.mean < 1.35 * iso.mesh);
+    if (bore_ratio > 0.0) CHECK(std::abs(huge.single_pair_mean / iso.single - 1.0) < 0.35);
+  }
+  const MeshStiffnessSummary equal = summary(2000, 2000, 0.6);
+  const IsoStiffness iso = Iso6336(2000, 2000, 18e-3, equal.contact_ratio);
+  // Contact ratio ~1.95: never a single pair; the cycle mean against ISO's c_gamma instead.
+  INFO("2000:2000 mean " << equal.mean << " vs ISO c_gamma b " << iso.mesh);
+  CHECK(equal.mean > 0.5 * iso.mesh);
+  CHECK(equal.mean < 1.35 * iso.mesh);
+}
+
 TEST_CASE("Hertz stiffness reduces to pi E L / (4 (1 - nu^2)) for equal materials", "[mesh]") {
   const Material steel{206e9, 0.3, 7850};
   CHECK(HertzContactStiffness(steel, steel, 0.015) ==
