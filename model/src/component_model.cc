@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "gearnvh/model/input_error.h"
+#include "gearnvh/model/modal_analysis.h"
 #include "gearnvh/model/timoshenko_beam.h"
 
 namespace gearnvh {
@@ -248,22 +249,10 @@ ComponentModel BuildComponentModel(const GearboxSpec& spec, const ComponentModel
 }
 
 ModalSummary FullModelFrequencies(const ComponentModel& model, int count) {
-  const Eigen::MatrixXd M(model.M);
   const Eigen::MatrixXd K = Eigen::MatrixXd(model.K) +
                             model.mesh_summary.mean * model.v_drive * model.v_drive.transpose();
-  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(K, M);
-  ModalSummary out;
-  const Eigen::VectorXd& w2 = solver.eigenvalues();
-  // Rigid-body threshold: eigenvalues below 1e-9 of the largest are zero to rounding.
-  const double zero = 1e-9 * std::max(1.0, std::abs(w2[w2.size() - 1]));
-  for (int i = 0; i < w2.size(); ++i) {
-    if (std::abs(w2[i]) <= zero) {
-      ++out.rigid_body_modes;
-    } else if (static_cast<int>(out.frequencies_hz.size()) < count) {
-      out.frequencies_hz.push_back(std::sqrt(std::max(w2[i], 0.0)) / (2.0 * std::numbers::pi));
-    }
-  }
-  return out;
+  const NaturalModes modes = LowestNaturalModes(K, Eigen::MatrixXd(model.M), count);
+  return {modes.frequencies_hz, modes.rigid_body_modes};
 }
 
 }  // namespace gearnvh

@@ -69,8 +69,8 @@ ToothStiffnessModel::ToothStiffnessModel(const GearSpec& gear, const Material& m
   if (h_fit != h_f_) {
     std::ostringstream w;
     w << "gear body outside the fillet-foundation fit (h_f = r_f/r_bore = " << h_f_
-      << ", fit range " << kHfMin << " to " << kHfMax << "): body compliance taken at h_f = "
-      << h_fit;
+      << ", fit range " << kHfMin << " to " << kHfMax
+      << "): body compliance taken at h_f = " << h_fit;
     warnings_.push_back(w.str());
   }
   if (theta_fit != theta_f_) {

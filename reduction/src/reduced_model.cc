@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "gearnvh/model/input_error.h"
+#include "gearnvh/model/modal_analysis.h"
 #include "gearnvh/reduction/craig_bampton.h"
 
 namespace gearnvh {
@@ -166,19 +167,9 @@ std::vector<double> ReducedNaturalFrequencies(const ReducedModel& r, double mean
                                               int count, int* rigid_body_modes) {
   const Eigen::MatrixXd K =
       r.K + r.EffectiveMeshStiffness(mean_mesh_stiffness) * r.v_drive * r.v_drive.transpose();
-  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(K, r.M);
-  const Eigen::VectorXd& w2 = solver.eigenvalues();
-  const double zero = 1e-9 * std::max(1.0, std::abs(w2[w2.size() - 1]));
-  std::vector<double> f;
-  int rigid = 0;
-  for (int i = 0; i < w2.size(); ++i) {
-    if (std::abs(w2[i]) <= zero)
-      ++rigid;
-    else if (static_cast<int>(f.size()) < count)
-      f.push_back(std::sqrt(std::max(w2[i], 0.0)) / (2 * std::numbers::pi));
-  }
-  if (rigid_body_modes) *rigid_body_modes = rigid;
-  return f;
+  const NaturalModes modes = LowestNaturalModes(K, r.M, count);
+  if (rigid_body_modes) *rigid_body_modes = modes.rigid_body_modes;
+  return modes.frequencies_hz;
 }
 
 ReducedModel ReduceModel(const ComponentModel& m, Tier tier, const ReductionOptions& options) {

@@ -242,7 +242,8 @@ TEST_CASE("a rectangular override is reproduced exactly at any segmentation, on 
       back_mean += s.back.stiffness * (s.tau_end - s.tau_begin);
     }
     // The cycle mean is the wave's: single + (eps - 1)(double - single), exactly.
-    const double exact = rect.single + (rect.contact_ratio - 1.0) * (rect.double_pair - rect.single);
+    const double exact =
+        rect.single + (rect.contact_ratio - 1.0) * (rect.double_pair - rect.single);
     CHECK(drive_mean == Approx(exact).epsilon(1e-14));
     CHECK(back_mean == Approx(exact).epsilon(1e-14));
   }

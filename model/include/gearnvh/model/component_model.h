@@ -100,8 +100,8 @@ struct ModalSummary {
 };
 
 // Undamped natural frequencies of the full model linearised in drive contact at the mean mesh
-// stiffness: (K + k_mean v v^T) phi = w^2 M phi (dense; for check and reporting). Eigenvalues below
-// 1e-9 of the largest are zero to rounding and counted as rigid-body modes (the free rotation).
+// stiffness: (K + k_mean v v^T) phi = w^2 M phi (dense; for check and reporting). Rigid-body modes
+// (the free rotation) by the scale-aware criterion of modal_analysis.h.
 ModalSummary FullModelFrequencies(const ComponentModel& model, int count);
 
 }  // namespace gearnvh

@@ -81,7 +81,7 @@ ReducedModel ReduceModel(const ComponentModel& model, Tier tier,
 double FullStaticMeshCompliance(const ComponentModel& model);
 
 // Lowest natural frequencies of a reduced model linearised at mean drive contact, and the number of
-// rigid-body modes (eigenvalues below 1e-9 of the largest).
+// rigid-body modes (the scale-aware criterion of model/modal_analysis.h).
 std::vector<double> ReducedNaturalFrequencies(const ReducedModel& r, double mean_mesh_stiffness,
                                               int count, int* rigid_body_modes = nullptr);
 
