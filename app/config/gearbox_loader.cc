@@ -207,7 +207,9 @@ const std::vector<std::string> kGearKeys{"teeth",
                                          "profile_shift",
                                          "inertia",
                                          "mass",
-                                         "tip_relief"};
+                                         "tip_relief",
+                                         "runout",
+                                         "pitch_errors"};
 
 GearSpec ReadGear(Reader& r, const YAML::Node& n, const std::string& path,
                   const std::map<std::string, Material>& materials) {
@@ -242,6 +244,13 @@ GearSpec ReadGear(Reader& r, const YAML::Node& n, const std::string& path,
     g.tip_relief = TipRelief{r.Quantity(t, p, "amount", Dimension::kLength),
                              r.Quantity(t, p, "length", Dimension::kLength)};
   }
+  if (const YAML::Node t = r.Child(n, path, "runout", false); t.IsDefined()) {
+    const std::string p = Join(path, "runout");
+    r.ExpectMap(t, p, {"amplitude", "phase"});
+    g.runout = Runout{r.Quantity(t, p, "amplitude", Dimension::kLength),
+                      r.Quantity(t, p, "phase", Dimension::kAngle, 0.0)};
+  }
+  g.pitch_errors = r.QuantityList(n, path, "pitch_errors", Dimension::kLength, false);
   return g;
 }
 

@@ -189,6 +189,19 @@ ComponentModel BuildComponentModel(const GearboxSpec& spec, const ComponentModel
   m.mesh_summary = SummarizeMeshCycle(m.cycle, g);
   m.segmentation = SegmentMeshCycle(spec, evaluator, spec.analysis.segments_per_cycle);
   m.warnings = m.cycle.warnings;
+  m.errors = MeshErrorExcitation(spec, m.segmentation, spec.operating.speed);
+  if (m.errors.active() && m.mesh_summary.max > 0.0) {
+    const double pair_deflection = m.cycle.load / m.mesh_summary.max;
+    if (m.errors.largest_pair_deviation() > pair_deflection) {
+      m.warnings.push_back(
+          "pitch deviations differ by up to " +
+          std::to_string(m.errors.largest_pair_deviation() * 1e6) +
+          " um, more than the loaded deflection of the mesh (" +
+          std::to_string(pair_deflection * 1e6) +
+          " um at the operating load): they can unload tooth pairs, which the model does not "
+          "follow (the loaded pairs of the error-free mesh carry the errors' mean)");
+    }
+  }
   m.half_backlash = 0.5 * spec.mesh.backlash;
   m.friction_coefficient = spec.mesh.friction_coefficient;
   m.pinion_speed = spec.operating.speed;

@@ -72,6 +72,21 @@ void ValidateGear(const GearboxSpec& spec, const GearSpec& g, const std::string&
                        "must be > 0 when the relief amount is > 0");
     }
   }
+  // Manufacturing errors are small deviations of the geometry: beyond a module they describe a
+  // different gear, not an error of this one.
+  if (g.runout) {
+    InRange(p + ".runout.amplitude", g.runout->amplitude, 0.0, g.module, false, false);
+    if (!std::isfinite(g.runout->phase)) {
+      throw InputError(p + ".runout.phase", 0, Num(g.runout->phase), "must be a finite angle");
+    }
+  }
+  if (!g.pitch_errors.empty() && static_cast<int>(g.pitch_errors.size()) != g.teeth) {
+    throw InputError(p + ".pitch_errors", 0, std::to_string(g.pitch_errors.size()) + " values",
+                     "must list one deviation per tooth (" + std::to_string(g.teeth) + ")");
+  }
+  for (size_t i = 0; i < g.pitch_errors.size(); ++i) {
+    InRange(Indexed(p + ".pitch_errors", i), g.pitch_errors[i], -g.module, g.module, false, false);
+  }
   const GearRadii r = ComputeGearRadii(g);
   if (!(r.root > 0.0)) {
     throw InputError(p + ".dedendum_coefficient", 0, Num(g.dedendum_coefficient),

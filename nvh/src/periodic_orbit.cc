@@ -13,7 +13,9 @@ namespace gearnvh {
 long BasePeriodCycles(const SegmentTables& t) {
   const double z1 = std::round(2.0 * std::numbers::pi / (t.pinion_speed * t.mesh_period));
   constexpr long kMaxCycles = 100000;
-  for (long n = 1; n <= kMaxCycles; ++n) {
+  // Manufacturing errors repeat only after whole revolutions of both gears (the hunting period).
+  const long step = t.input_period_cycles();
+  for (long n = step; n <= kMaxCycles; n += step) {
     bool whole = true;
     for (const ExcitationOrder& o : t.excitation) {
       const double periods = static_cast<double>(n) * o.order / z1;
@@ -25,8 +27,9 @@ long BasePeriodCycles(const SegmentTables& t) {
     if (whole) return n;
   }
   throw InputError("operating.excitation", 0, "",
-                   "orders must repeat with the mesh within 100000 mesh cycles for a periodic "
-                   "orbit (order * N / teeth integer)");
+                   "orders must repeat with the mesh (and the gears' manufacturing errors, every "
+                   "lcm(z1, z2) mesh cycles) within 100000 mesh cycles for a periodic orbit "
+                   "(order * N / teeth integer)");
 }
 
 ContactState ContactStateOf(const SegmentTables& t, const Eigen::VectorXd& z) {

@@ -81,8 +81,7 @@ Eigen::VectorXd ConstantContactCycle::Project(const Eigen::VectorXd& z) const { 
 Eigen::VectorXd ConstantContactCycle::Jump(const Eigen::VectorXd& z0, long long cycles) const {
   const int n = t_.n;
   Eigen::VectorXd dev = Project(z0) - orbit_;
-  dev[2 * n] = 0.0;
-  dev[t_.m - 1] = 0.0;
+  dev.tail(t_.m - 2 * n).setZero();  // the constant and input slots
   const Eigen::VectorXd initial = dev;
   const long long total = cycles;
   for (int l = 0; cycles > 0; ++l, cycles >>= 1) {

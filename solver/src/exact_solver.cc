@@ -229,8 +229,8 @@ ExactStepper::ExactStepper(const SegmentTables& tables, const SolverOptions& opt
       summary_.table_bytes += runs_[static_cast<size_t>(st)].bytes();
     }
     runs_built_ = true;
-    for (const ExcitationOrder& o : tables.excitation) excitation_bound_ += std::abs(o.amplitude);
     run_scratch_.resize(tables.m);
+    input_scratch_.resize(tables.m);
   }
   trajectory_.samples.reserve(reserve_samples);
   trajectory_.events.reserve(reserve_events);
@@ -463,7 +463,6 @@ void ExactStepper::Record(int segment) {
 }
 
 bool ExactStepper::Run(long cycles, bool record) {
-  const int excitation_slot = t_.m - 1;
   const double run_start = static_cast<double>(cycle_) * t_.mesh_period;
   if (record && contact_ == ContactState::kFree && free_since_ < 0.0) free_since_ = run_start;
   for (long c = 0; c < cycles; ++c, ++cycle_) {
@@ -476,16 +475,17 @@ bool ExactStepper::Run(long cycles, bool record) {
       if (runs_built_ && !fused_ && tangent_ == nullptr && !options_.ignore_walls &&
           !(record && options_.record_trajectory)) {
         // A certified run of segments in one matvec (segment_runs.h), end state checked.
-        const SegmentRun* run =
-            runs_[static_cast<size_t>(contact_)].Certify(j, z_, excitation_bound_, run_scratch_);
+        const SegmentRun* run = runs_[static_cast<size_t>(contact_)].Certify(j, z_, run_scratch_);
         if (run != nullptr) {
           z1_ = z_;
-          z1_[excitation_slot] = 0.0;
+          z1_.tail(t_.inputs).setZero();
           zb_.noalias() = run->product * z1_;
-          for (int i = 0; i < run->length && !t_.excitation.empty(); ++i) {
-            const double s =
-                t_.MeanExcitation(cycle_start + t_.boundaries[j + i], t_.SegmentLength(j + i));
-            zb_ += s * run->excitation.col(i);
+          for (int i = 0; i < run->length; ++i) {
+            t_.SetInputs(cycle_, j + i, input_scratch_);
+            for (int q = 0; q < t_.inputs; ++q) {
+              const double u = input_scratch_[t_.input_slot(q)];
+              if (u != 0.0) zb_ += u * run->inputs.col(i * t_.inputs + q);
+            }
           }
           const SegmentSystem& last = t_.systems[j + run->length - 1][static_cast<int>(contact_)];
           if (Outside(last, zb_, false) < 0) {
@@ -498,7 +498,7 @@ bool ExactStepper::Run(long cycles, bool record) {
           }
         }
       }
-      z_[excitation_slot] = t_.excitation.empty() ? 0.0 : t_.MeanExcitation(seg_start, h);
+      t_.SetInputs(cycle_, j, z_);
       if (fused_ || options_.ignore_walls) {
         // Certified contact: the whole segment in one matvec (no wall can be reached).
         const Eigen::MatrixXd& full = t_.systems[j][static_cast<int>(contact_)].full;
@@ -549,7 +549,7 @@ bool ExactStepper::Run(long cycles, bool record) {
     z_.head(t_.n) -= drift * t_.rigid_rotation;
     if (tangent_ != nullptr) {
       RemoveFreeRotation(t_, *tangent_);
-      tangent_->bottomRows(2).setZero();
+      tangent_->bottomRows(1 + t_.inputs).setZero();
     }
   }
   return true;
@@ -614,9 +614,9 @@ void ExactStepper::PropagateTangentDecoupled(const SpectralDecomposition& d, dou
     tangent_w_.col(c) = wt_;
   }
   tangent_->noalias() = d.S * tangent_w_;
-  // The decomposition leaks rounding into the constant and excitation slots; a tangent entry there
+  // The decomposition leaks rounding into the constant and input slots; a tangent entry there
   // would act as a neutral (multiplier-1) forcing perturbation and pin the exponent at 0.
-  tangent_->bottomRows(2).setZero();
+  tangent_->bottomRows(1 + t_.inputs).setZero();
 }
 
 bool ExactStepper::TooManyEvents() {
@@ -747,10 +747,12 @@ SolverResult SimulateExact(const SegmentTables& tables, const Eigen::VectorXd& z
       static_cast<size_t>(std::min(options.cycles * 16, options.max_logged_events));
   ExactStepper stepper(tables, options, z0, state0, samples, events);
   bool ok = true;
-  // Fusion needs contact without excitation; the certificate is retried after every chunk of
+  // Fusion needs contact without excitation or manufacturing errors (both make one mesh cycle's
+  // map differ from the next's); the certificate is retried after every chunk of
   // stepped cycles (the transient decays), and once it holds the rest of the transient is jumped.
   std::optional<ConstantContactCycle> cycle;
-  const bool may_fuse = options.method == SolverMethod::kFused && tables.excitation.empty();
+  const bool may_fuse = options.method == SolverMethod::kFused && tables.excitation.empty() &&
+                        !tables.errors.active();
   auto try_fuse = [&]() {
     const ContactState state = stepper.contact();
     if (!may_fuse || stepper.summary().contact_certified || state == ContactState::kFree) return;

@@ -121,8 +121,7 @@ ReferenceResult SimulateReference(const SegmentTables& t, const Eigen::VectorXd&
     for (int j = 0; j < t.segments(); ++j) {
       const double seg_start = c * t.mesh_period + t.boundaries[j];
       const double seg_end = seg_start + t.SegmentLength(j);
-      NV_Ith_S(y, m - 1) =
-          t.excitation.empty() ? 0.0 : t.MeanExcitation(seg_start, seg_end - seg_start);
+      t.SetInputs(c, j, Eigen::Map<Eigen::VectorXd>(NV_DATA_S(y), m));
       problem.sys = &t.systems[j][static_cast<int>(problem.state)];
       {
         // The unloaded error e_j (part of the gap rows) can jump at a segment boundary and leave

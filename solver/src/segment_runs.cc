@@ -52,10 +52,14 @@ constexpr double kGridFactor = 4.0 / 3.0;
 
 SegmentRunTable::SegmentRunTable(const SegmentTables& t, ContactState state, int max_level)
     : t_(&t), tolerance_(1e-9 * t.half_backlash) {
-  const int m = t.m, S = t.segments(), st = static_cast<int>(state);
-  const int constant = 2 * t.n, slot = m - 1;
+  const int m = t.m, S = t.segments(), st = static_cast<int>(state), p = t.inputs;
+  const int constant = t.constant_slot();
   Eigen::MatrixXd clear = Eigen::MatrixXd::Identity(m, m);
-  clear(slot, slot) = 0.0;
+  input_bounds_.resize(p);
+  for (int q = 0; q < p; ++q) {
+    clear(t.input_slot(q), t.input_slot(q)) = 0.0;
+    input_bounds_[q] = t.InputBound(q);
+  }
   const std::vector<WallSpec> walls = WallsOf(state);
   for (int level = 1; level <= max_level && (1 << level) <= S; ++level) {
     const int r = 1 << level;
@@ -65,9 +69,9 @@ SegmentRunTable::SegmentRunTable(const SegmentTables& t, ContactState state, int
       run.start = start;
       run.length = r;
       run.duration = t.boundaries[start + r] - t.boundaries[start];
-      run.excitation = Eigen::MatrixXd::Zero(m, r);
-      // F: the map of z (slot cleared) to the state at the current segment start (before its
-      // slot is set); g_i: the state contribution of s_i there.
+      run.inputs = Eigen::MatrixXd::Zero(m, r * p);
+      // F: the map of z (slots cleared) to the state at the current segment start (before its
+      // slots are set); g[i p + q]: the state contribution of input q set at segment i there.
       Eigen::MatrixXd F = Eigen::MatrixXd::Identity(m, m);
       std::vector<Eigen::VectorXd> g;
       for (const WallSpec& w : walls) {
@@ -75,23 +79,32 @@ SegmentRunTable::SegmentRunTable(const SegmentTables& t, ContactState state, int
         wall.sign = w.sign;
         Eigen::RowVectorXd c = *w.row(t.systems[start][st]);
         c[constant] = 0.0;
+        // Input terms of the gap (the manufacturing error) change per segment like the constant:
+        // bounded by their largest value instead of followed.
+        double input_reach = 0.0;
+        for (int q = 0; q < p; ++q) {
+          input_reach += std::abs(c[t.input_slot(q)]) * input_bounds_[q];
+          c[t.input_slot(q)] = 0.0;
+        }
         wall.position_row = w.sign * c;
         wall.rate_row = w.sign * c * t.systems[start][st].A;
         wall.curvature_weights = Eigen::VectorXd::Zero(m);
+        wall.input_weights = Eigen::VectorXd::Zero(p);
         wall.reference = Equilibrium(t, t.systems[start][st].A, state);
         wall.constant_max = -1e300;
         for (int k = start; k < start + r; ++k) {
           wall.constant_max =
               std::max(wall.constant_max, w.sign * (*w.row(t.systems[k][st]))[constant]);
         }
+        wall.constant_max += input_reach;
         run.walls.push_back(std::move(wall));
       }
       for (int k = start; k < start + r; ++k) {
         const SegmentSystem& sys = t.systems[k][st];
-        // The slot is set at the segment start: clear it in F and in earlier contributions.
+        // The slots are set at the segment start: clear them in F and in earlier contributions.
         F = (clear * F).eval();
         for (Eigen::VectorXd& v : g) v = clear * v;
-        g.push_back(Eigen::VectorXd::Unit(m, slot));
+        for (int q = 0; q < p; ++q) g.push_back(Eigen::VectorXd::Unit(m, t.input_slot(q)));
         // Sample the curvature rows on the sub-step grid of this segment.
         Eigen::MatrixXd E = Eigen::MatrixXd::Identity(m, m);
         for (int n = 0; n <= t.substeps[k]; ++n) {
@@ -99,12 +112,15 @@ SegmentRunTable::SegmentRunTable(const SegmentTables& t, ContactState state, int
             SegmentRun::Wall& wall = run.walls[w];
             const Eigen::RowVectorXd curvature = wall.position_row * sys.A * sys.A * E;
             const Eigen::RowVectorXd on_start = curvature * F;
-            wall.curvature_weights = wall.curvature_weights.cwiseMax(on_start.transpose().cwiseAbs());
+            wall.curvature_weights =
+                wall.curvature_weights.cwiseMax(on_start.transpose().cwiseAbs());
             wall.reference_curvature =
                 std::max(wall.reference_curvature, std::abs(on_start.dot(wall.reference)));
-            double excitation = 0.0;
-            for (const Eigen::VectorXd& v : g) excitation += std::abs(curvature.dot(v));
-            wall.excitation_weight = std::max(wall.excitation_weight, excitation);
+            Eigen::VectorXd per_input = Eigen::VectorXd::Zero(p);
+            for (size_t i = 0; i < g.size(); ++i) {
+              per_input[static_cast<Eigen::Index>(i) % p] += std::abs(curvature.dot(g[i]));
+            }
+            wall.input_weights = wall.input_weights.cwiseMax(per_input);
           }
           if (n < t.substeps[k]) E = (sys.substep * E).eval();
         }
@@ -112,7 +128,7 @@ SegmentRunTable::SegmentRunTable(const SegmentTables& t, ContactState state, int
         for (Eigen::VectorXd& v : g) v = sys.full * v;
       }
       run.product = F;
-      for (int i = 0; i < r; ++i) run.excitation.col(i) = g[static_cast<size_t>(i)];
+      for (int i = 0; i < r * p; ++i) run.inputs.col(i) = g[static_cast<size_t>(i)];
       runs.push_back(std::move(run));
     }
     runs_.push_back(std::move(runs));
@@ -120,12 +136,11 @@ SegmentRunTable::SegmentRunTable(const SegmentTables& t, ContactState state, int
 }
 
 const SegmentRun* SegmentRunTable::Certify(int segment, const Eigen::VectorXd& z,
-                                           double excitation_bound,
                                            Eigen::VectorXd& scratch) const {
   if (runs_.empty()) return nullptr;
-  // |L Pi z|: the elastic state (free rotation removed), slot cleared, constant slot kept.
+  // |L Pi z|: the elastic state (free rotation removed), slots cleared, constant slot kept.
   scratch = z;
-  scratch[t_->m - 1] = 0.0;
+  scratch.tail(t_->inputs).setZero();
   Eigen::Map<Eigen::MatrixXd> as_matrix(scratch.data(), scratch.size(), 1);
   RemoveFreeRotation(*t_, as_matrix);
   for (int level = static_cast<int>(runs_.size()); level >= 1; --level) {
@@ -138,13 +153,12 @@ const SegmentRun* SegmentRunTable::Certify(int segment, const Eigen::VectorXd& z
     bool certified = true;
     for (const SegmentRun::Wall& w : run.walls) {
       const double h0 = w.position_row.dot(z);
-      // The rate at the start: the slot cleared in scratch, its term bounded by s_max.
+      // The rate at the start: the slots cleared in scratch, their terms bounded by u_max.
       const double h1 = std::abs(w.rate_row.dot(scratch)) +
-                        std::abs(w.rate_row[t_->m - 1]) * excitation_bound;
-      const double m2 =
-          kGridFactor * (w.reference_curvature +
-                 w.curvature_weights.dot((scratch - w.reference).cwiseAbs()) +
-                 w.excitation_weight * excitation_bound);
+                        w.rate_row.tail(t_->inputs).cwiseAbs().dot(input_bounds_);
+      const double m2 = kGridFactor * (w.reference_curvature +
+                                       w.curvature_weights.dot((scratch - w.reference).cwiseAbs()) +
+                                       w.input_weights.dot(input_bounds_));
       const double d = run.duration;
       const double reach = h0 + h1 * d + 0.5 * m2 * d * d;
       if (!(reach + w.constant_max < -tolerance_)) {
@@ -161,8 +175,8 @@ size_t SegmentRunTable::bytes() const {
   size_t total = 0;
   for (const auto& level : runs_) {
     for (const SegmentRun& run : level) {
-      total += sizeof(double) * (static_cast<size_t>(run.product.size()) +
-                                 static_cast<size_t>(run.excitation.size()));
+      total += sizeof(double) *
+               (static_cast<size_t>(run.product.size()) + static_cast<size_t>(run.inputs.size()));
     }
   }
   return total;

@@ -27,6 +27,21 @@ double SegmentTables::MeanExcitation(double t0, double h) const {
   return sum;
 }
 
+void SegmentTables::SetInputs(long cycle, int segment, Eigen::Ref<Eigen::VectorXd> z) const {
+  const double start = static_cast<double>(cycle) * mesh_period + boundaries[segment];
+  const double h = SegmentLength(segment);
+  z[input_slot(kExcitationInput)] = excitation.empty() ? 0.0 : MeanExcitation(start, h);
+  if (inputs > kErrorInput)
+    z[input_slot(kErrorInput)] = errors.SegmentMean(cycle, segment, start, h);
+}
+
+double SegmentTables::InputBound(int input) const {
+  if (input == kErrorInput) return errors.bound();
+  double bound = 0.0;
+  for (const ExcitationOrder& o : excitation) bound += std::abs(o.amplitude);
+  return bound;
+}
+
 double ReferenceFrequency(const Eigen::MatrixXd& A, int n) {
   const Eigen::MatrixXd stiffness = -A.block(n, 0, n, n);
   return std::max(1.0, std::sqrt(stiffness.eigenvalues().cwiseAbs().maxCoeff()));
@@ -71,7 +86,9 @@ SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel
                                  const GearboxSpec& spec) {
   SegmentTables t;
   t.n = r.dof;
-  t.m = 2 * t.n + 2;
+  t.errors = model.errors;
+  t.inputs = t.errors.active() ? 2 : 1;
+  t.m = 2 * t.n + 1 + t.inputs;
   t.pinion_speed = spec.operating.speed;
   t.mesh_period = 2.0 * std::numbers::pi / (spec.pinion.teeth * spec.operating.speed);
   t.excitation = spec.operating.excitation;
@@ -134,6 +151,7 @@ SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel
     for (ContactState state : {ContactState::kBack, ContactState::kFree, ContactState::kDrive}) {
       Eigen::MatrixXd K = r.K, C = C0;
       Eigen::VectorXd f = static_force;
+      Eigen::VectorXd error_force = Eigen::VectorXd::Zero(n);  // force per metre of e_err
       if (state == ContactState::kDrive) {
         const double k = r.EffectiveMeshStiffness(s.drive.stiffness);
         const Eigen::VectorXd u =
@@ -144,6 +162,7 @@ SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel
         K += k * u * r.v_drive.transpose();
         C += c * u * r.v_drive.transpose();
         f += k * (e + b) * u;
+        error_force = k * u;
       } else if (state == ContactState::kBack) {
         const double k = r.EffectiveMeshStiffness(s.back.stiffness);
         const Eigen::VectorXd u =
@@ -153,6 +172,7 @@ SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel
         K += k * u * r.v_back.transpose();
         C += c * u * r.v_back.transpose();
         f += k * (e - b) * u;
+        error_force = k * u;
       }
       SegmentSystem& sys = t.systems[j][static_cast<int>(state)];
       sys.A = Eigen::MatrixXd::Zero(m, m);
@@ -160,13 +180,19 @@ SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel
       sys.A.block(n, 0, n, n) = -mass.solve(K);
       sys.A.block(n, n, n, n) = -mass.solve(C);
       sys.A.block(n, 2 * n, n, 1) = mass.solve(f);
-      sys.A.block(n, 2 * n + 1, n, 1) = mass.solve(d);
+      sys.A.block(n, t.input_slot(SegmentTables::kExcitationInput), n, 1) = mass.solve(d);
       sys.gap_drive = Eigen::RowVectorXd::Zero(m);
       sys.gap_drive.head(n) = r.v_drive.transpose();
       sys.gap_drive[2 * n] = -(e + b);
       sys.gap_back = Eigen::RowVectorXd::Zero(m);
       sys.gap_back.head(n) = r.v_back.transpose();
       sys.gap_back[2 * n] = -e + b;
+      if (t.inputs > SegmentTables::kErrorInput) {
+        const int slot = t.input_slot(SegmentTables::kErrorInput);
+        sys.A.block(n, slot, n, 1) = mass.solve(error_force);
+        sys.gap_drive[slot] = -1.0;
+        sys.gap_back[slot] = -1.0;
+      }
       sys.gap_drive_rate = sys.gap_drive * sys.A;
       sys.gap_back_rate = sys.gap_back * sys.A;
       sys.wheel_acceleration_row = t.wheel_rate_row * sys.A;

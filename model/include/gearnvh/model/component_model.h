@@ -27,6 +27,7 @@
 
 #include "gearnvh/model/gear_geometry.h"
 #include "gearnvh/model/gearbox_spec.h"
+#include "gearnvh/model/manufacturing_errors.h"
 #include "gearnvh/model/mesh_segmentation.h"
 #include "gearnvh/model/mesh_stiffness.h"
 
@@ -67,6 +68,7 @@ struct ComponentModel {
   double mesh_damping = 0.0;    // c = 2 zeta sqrt(k_mean m_e), N s/m
   double effective_mass = 0.0;  // m_e = J1 J2 / (J1 r_b2^2 + J2 r_b1^2), kg
   double friction_coefficient = 0.0;
+  MeshErrorExcitation errors;  // runout and pitch errors as an input of the mesh
 
   // Structure.
   std::vector<FeNode> nodes;

@@ -25,6 +25,14 @@ struct TipRelief {
   double length = 0.0;  // m, >= 0: roll length along the line of action over which it grows
 };
 
+// Radial runout (eccentricity) of a gear, as the once-per-revolution transmission error it adds
+// along the line of action: amplitude * sin(gear angle + phase), the gear angle counted in the
+// gear's own direction of rotation from its position at t = 0.
+struct Runout {
+  double amplitude = 0.0;  // m, >= 0
+  double phase = 0.0;      // rad
+};
+
 struct GearSpec {
   int teeth = 0;                       // >= 6
   double module = 0.0;                 // m, > 0
@@ -38,6 +46,11 @@ struct GearSpec {
   std::optional<double> inertia;       // kg m^2 polar inertia override (default: solid disk)
   std::optional<double> mass;          // kg override (default: solid disk)
   std::optional<TipRelief> tip_relief;
+  std::optional<Runout> runout;
+  // Cumulative pitch deviation of each tooth along the line of action, m; empty or one per tooth,
+  // teeth numbered in the order they enter the mesh (tooth 0 is in the pair that enters the path
+  // of contact at t = 0).
+  std::vector<double> pitch_errors;
 };
 
 struct RectangularStiffness {

@@ -31,6 +31,10 @@ struct MeshSegment {
   FlankSegment drive, back;
   double lste = 0.0;            // mean loaded static TE (drive flank), m
   double unloaded_error = 0.0;  // e_j, m
+  // Sensitivity of the mesh approach to each loaded pair's unloaded separation (segment mean of
+  // d delta / d e_i = k_i / sum k over the loaded pairs; equal shares for a stiffness override),
+  // keyed by the pair's offset q: the pair entered the path of contact q mesh cycles ago.
+  std::vector<std::pair<int, double>> error_weights;
 };
 
 struct MeshSegmentation {

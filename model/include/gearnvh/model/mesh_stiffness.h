@@ -109,6 +109,7 @@ class MeshEvaluator {
   // reproduced exactly (never averaged across a switch).
   std::vector<double> OverrideBreaks(Flank flank) const;
   bool overridden() const { return overridden_; }
+  const PairGeometry& geometry() const { return g_; }
   const std::vector<std::string>& warnings() const { return pair_.warnings(); }
 
  private:

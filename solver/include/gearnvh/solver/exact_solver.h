@@ -36,11 +36,11 @@
 namespace gearnvh {
 
 // kStepped: the event-locating sub-step loop everywhere. kFused: additionally (1) when the run
-// starts in contact with no engine excitation and ConstantContactCycle certifies that contact is
-// kept forever, the transient cycles are jumped in O(1) and recorded cycles advance one matvec per
-// segment; (2) on cycles whose samples are not recorded, certified runs of 2..32 segments advance
-// in one matvec (segment_runs.h). Both use the same propagator products, so the result is
-// unchanged to rounding.
+// starts in contact with no engine excitation or manufacturing error and ConstantContactCycle
+// certifies that contact is kept forever, the transient cycles are jumped in O(1) and recorded
+// cycles advance one matvec per segment; (2) on cycles whose samples are not recorded, certified
+// runs of 2..32 segments advance in one matvec (segment_runs.h). Both use the same propagator
+// products, so the result is unchanged to rounding.
 enum class SolverMethod { kStepped, kFused };
 const char* SolverMethodName(SolverMethod m);
 
@@ -241,8 +241,7 @@ class ExactStepper {
   // samples are not recorded and without a tangent.
   std::array<SegmentRunTable, 3> runs_;
   bool runs_built_ = false;
-  double excitation_bound_ = 0.0;
-  Eigen::VectorXd run_scratch_;
+  Eigen::VectorXd run_scratch_, input_scratch_;
   int segment_ = 0;  // the segment being advanced
   Eigen::MatrixXd* tangent_ = nullptr;
   Eigen::MatrixXd tangent_next_, tangent_w_;

@@ -1,18 +1,21 @@
 // Piecewise-LTI model of the gear pair and its exact propagators (DESIGN.md §4.1–4.2).
 //
-// Augmented state z = [x; x'; 1; s] (dimension m = 2n + 2): x reduced coordinates, s the
-// engine-order excitation held at its mean over the current segment. Per segment j and contact
+// Augmented state z = [x; x'; 1; u] (dimension m = 2n + 1 + p): x reduced coordinates, u the p
+// inputs held at their mean over the current segment: u_0 = s, the engine-order excitation
+// (rad/s^2), and, when the gears carry runout or pitch errors, u_1 = e_err, the mesh's
+// manufacturing transmission error (m, model/manufacturing_errors.h). Per segment j and contact
 // state sigma in {drive (+), free (0), back (-)}:
-//   z' = A_{j,sigma} z,  A = [[0, I, 0, 0], [-M^-1 K_s, -M^-1 C_s, M^-1 f_s, M^-1 d], [0...],
-//   [0...]] drive: K_s = K + k (v + mu w) v^T,  C_s = C + Omega1 G + c (v + mu w) v^T,  f_s = f + k
-//   (e + b)(v + mu w) free:  K_s = K,                      C_s = C + Omega1 G, f_s = f back:  K_s =
-//   K + k (v' - mu w') v'^T, C_s = C + Omega1 G + c (v' - mu w') v'^T, f_s = f + k (e - b)(v' - mu
-//   w')
+//   z' = A_{j,sigma} z,  A = [[0, I, 0, 0], [-M^-1 K_s, -M^-1 C_s, M^-1 f_s, M^-1 B_s], [0...]]
+//   drive: K_s = K + k (v + mu w) v^T,  C_s = C + Omega1 G + c (v + mu w) v^T,
+//          f_s = f + k (e + b)(v + mu w),  B_s = [d, k (v + mu w)]
+//   free:  K_s = K,  C_s = C + Omega1 G,  f_s = f,  B_s = [d, 0]
+//   back:  K_s = K + k (v' - mu w') v'^T,  C_s = C + Omega1 G + c (v' - mu w') v'^T,
+//          f_s = f + k (e - b)(v' - mu w'),  B_s = [d, k (v' - mu w')]
 // with k the segment's mean mesh stiffness (MTA: k / (1 + k g_res)), c the mesh damping, e the
 // segment's unloaded error, b = backlash / 2, w/w' the segment's friction vectors, f the static
 // load and d = J1 e_pinion the excitation direction (torque J1 s on the pinion). Gaps (affine in
-// z): g+ = v^T x - e - b (drive contact while g+ > 0),
-//                     g- = v'^T x - e + b (back contact while g- < 0).
+// z): g+ = v^T x - e - e_err - b (drive contact while g+ > 0),
+//     g- = v'^T x - e - e_err + b (back contact while g- < 0).
 // Tables: for every (j, sigma) the full-segment propagator expm(A h_j), the sub-step propagator
 // expm(A h_j / N_j) with N_j a power of two such that rho(A) h_j / N_j <= 1/2 (rho the spectral
 // radius of the dynamic block), and A itself (for the
@@ -24,6 +27,7 @@
 #include <vector>
 
 #include "gearnvh/model/gearbox_spec.h"
+#include "gearnvh/model/manufacturing_errors.h"
 #include "gearnvh/reduction/reduced_model.h"
 
 namespace gearnvh {
@@ -43,7 +47,8 @@ struct SegmentSystem {
 
 struct SegmentTables {
   int n = 0;                       // reduced DOF
-  int m = 0;                       // augmented dimension 2n + 2
+  int inputs = 1;                  // p: the excitation, plus the manufacturing error when active
+  int m = 0;                       // augmented dimension 2n + 1 + p
   double mesh_period = 0.0;        // s
   double pinion_speed = 0.0;       // rad/s
   std::vector<double> boundaries;  // segment start times within a cycle, s (size S + 1)
@@ -64,6 +69,19 @@ struct SegmentTables {
   double friction_loss_torque = 0.0;
   Eigen::RowVectorXd recenter_row;
 
+  MeshErrorExcitation errors;  // runout and pitch errors (inactive: no error input)
+
+  static constexpr int kExcitationInput = 0, kErrorInput = 1;
+  int constant_slot() const { return 2 * n; }
+  int input_slot(int input) const { return 2 * n + 1 + input; }
+  // Sets the input slots of z to their means over segment `segment` of mesh cycle `cycle`
+  // (cycles counted from t = 0). Allocation-free.
+  void SetInputs(long cycle, int segment, Eigen::Ref<Eigen::VectorXd> z) const;
+  // An upper bound of |u_input| over all segments.
+  double InputBound(int input) const;
+  // Mesh cycles after which the inputs' sequence of segment means repeats (the common period of
+  // the engine orders is not included: it need not be a whole number of cycles).
+  long input_period_cycles() const { return errors.period_cycles(); }
   int segments() const { return static_cast<int>(systems.size()); }
   double SegmentLength(int j) const { return boundaries[j + 1] - boundaries[j]; }
   // Mean of sum_k a_k sin(k Omega1 t + phi_k) over [t0, t0 + h], rad/s^2 (closed form).
