@@ -57,8 +57,8 @@ OperatingPointAnalysis AnalyseOperatingPoint(const GearboxSpec& spec, const Comp
                                            : spec.pinion.teeth / spec.operating.excitation[0].order;
   op.rattle = ComputeRattleIndices(result, model.effective_mass, cycles_per_excitation, &reference);
   const RattleIndices& rattle = op.rattle;
-  op.te =
-      ComputeTransmissionErrorStats(trajectory, spec.operating.torque / model.geometry.wheel.base);
+  op.te = ComputeTransmissionErrorStats(
+      trajectory, spec.operating.torque / model.geometry.wheel.base, model.half_backlash);
 
   const TransmissionErrorStats& te = op.te;
   nlohmann::json& doc = op.doc;
@@ -86,13 +86,12 @@ OperatingPointAnalysis AnalyseOperatingPoint(const GearboxSpec& spec, const Comp
   // Mesh harmonics and shaft-order sidebands of the TE over whole revolutions of both shafts.
   const long revolution =
       std::lcm(static_cast<long>(spec.pinion.teeth), static_cast<long>(spec.wheel.teeth));
-  // The first recorded sample is one segment into the record: at most recorded - 1 whole cycles.
   op.sideband_window =
-      summary.trajectory_truncated ? 0 : ((summary.recorded_cycles - 1) / revolution) * revolution;
+      summary.trajectory_truncated ? 0 : (summary.recorded_cycles / revolution) * revolution;
   nlohmann::json sidebands = nlohmann::json::array();
   const long window = op.sideband_window;
   if (window > 0 && summary.status == SolverStatus::kSuccess) {
-    const int per_cycle = spec.analysis.segments_per_cycle;
+    const int per_cycle = solver.samples_per_cycle;
     SpectrumAnalyzer analyzer(static_cast<int>(window * per_cycle));
     op.spectrum = TeSpectrum(trajectory, tables.mesh_period, per_cycle, window, analyzer);
     const AmplitudeSpectrum& spectrum = op.spectrum;

@@ -42,7 +42,7 @@ SpeedPoint RunPoint(const GearboxSpec& base, const ComponentModel& model,
     return p;
   }
   const TransmissionErrorStats te = ComputeTransmissionErrorStats(
-      run.trajectory, spec.operating.torque / model.geometry.wheel.base);
+      run.trajectory, spec.operating.torque / model.geometry.wheel.base, model.half_backlash);
   p.te_rms = te.rms;
   p.te_peak_to_peak = te.peak_to_peak;
   const double per_excitation = spec.operating.excitation.empty()
@@ -54,7 +54,7 @@ SpeedPoint RunPoint(const GearboxSpec& base, const ComponentModel& model,
   p.drive_impacts_per_cycle = rattle.drive_impacts_per_cycle;
   p.back_impacts_per_cycle = rattle.back_impacts_per_cycle;
   p.regime = rattle.regime;
-  const int per_cycle = spec.analysis.segments_per_cycle;
+  const int per_cycle = solver.samples_per_cycle;
   SpectrumAnalyzer analyzer(static_cast<int>(options.waterfall_cycles * per_cycle));
   const AmplitudeSpectrum s =
       TeSpectrum(run.trajectory, tables.mesh_period, per_cycle, options.waterfall_cycles, analyzer);
@@ -71,10 +71,9 @@ SpeedSweepResult RunSpeedSweep(const GearboxSpec& spec, const ComponentModel& mo
   if (options.cycles < 2) {
     throw InputError("--cycles", 0, std::to_string(options.cycles), "must be >= 2");
   }
-  // The first recorded sample is one segment into the record: whole cycles end before it.
-  if (options.waterfall_cycles < 1 || options.waterfall_cycles > options.cycles - 1) {
+  if (options.waterfall_cycles < 1 || options.waterfall_cycles > options.cycles) {
     throw InputError("SpeedSweepOptions.waterfall_cycles", 0,
-                     std::to_string(options.waterfall_cycles), "must be in [1, cycles - 1]");
+                     std::to_string(options.waterfall_cycles), "must be in [1, cycles]");
   }
   const SweepRange& range = spec.analysis.speed_sweep;
   std::vector<double> speeds(static_cast<size_t>(range.points));
@@ -86,7 +85,7 @@ SpeedSweepResult RunSpeedSweep(const GearboxSpec& spec, const ComponentModel& mo
   const int z1 = spec.pinion.teeth;
   result.order_step = static_cast<double>(z1) / static_cast<double>(options.waterfall_cycles);
   const double max_order = options.max_order > 0.0 ? options.max_order : 3.5 * z1;
-  const long half = options.waterfall_cycles * spec.analysis.segments_per_cycle / 2;
+  const long half = options.waterfall_cycles * SolverOptions{}.samples_per_cycle / 2;
   result.order_bins =
       static_cast<int>(std::min<long>(half, static_cast<long>(max_order / result.order_step))) + 1;
 

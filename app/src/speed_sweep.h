@@ -15,7 +15,7 @@ namespace gearnvh::app {
 struct SpeedSweepOptions {
   long cycles = 512;            // recorded mesh cycles per speed; >= 2
   long transient_cycles = 200;  // unrecorded cycles first; >= 0
-  long waterfall_cycles = 256;  // the last cycles of each run in the spectrum (<= cycles - 1)
+  long waterfall_cycles = 256;  // the last cycles of each run in the spectrum (<= cycles)
   double max_order = 0.0;       // waterfall up to this pinion order (0: 3.5 mesh orders)
   int threads = 0;              // 0: all hardware threads
   int campbell_modes = 8;

@@ -63,7 +63,8 @@ LyapunovEstimate EstimateLyapunov(const SegmentTables& tables, const Eigen::Vect
   solver.method = SolverMethod::kStepped;
   solver.cycles = options.cycles;
   solver.transient_cycles = options.transient_cycles;
-  const long wanted_samples = options.record ? options.cycles * tables.segments() : 0;
+  solver.record_trajectory = options.record;
+  const long wanted_samples = options.record ? options.cycles * solver.samples_per_cycle : 0;
   const size_t samples =
       static_cast<size_t>(std::min(wanted_samples, solver.max_trajectory_samples));
   const size_t events =

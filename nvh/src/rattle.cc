@@ -5,21 +5,8 @@
 namespace gearnvh {
 
 double WheelAccelerationRms(const Trajectory& t) {
-  const auto& p = t.samples;
-  if (p.size() < 2) return 0.0;
-  const double span = p.back().time - p.front().time;
-  double mean = 0.0;
-  for (size_t i = 1; i < p.size(); ++i) {
-    mean +=
-        0.5 * (p[i].time - p[i - 1].time) * (p[i].wheel_acceleration + p[i - 1].wheel_acceleration);
-  }
-  mean /= span;
-  double square = 0.0;
-  for (size_t i = 1; i < p.size(); ++i) {
-    const double a = p[i].wheel_acceleration - mean, b = p[i - 1].wheel_acceleration - mean;
-    square += 0.5 * (p[i].time - p[i - 1].time) * (a * a + b * b);
-  }
-  return std::sqrt(square / span);
+  const TrajectoryStatistics& st = t.statistics;
+  return st.wheel_acceleration.Rms(st.duration);
 }
 
 RattleIndices ComputeRattleIndices(const SolverResult& run, double effective_mass,

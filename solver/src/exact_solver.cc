@@ -33,6 +33,10 @@ void SolverOptions::Validate() const {
     throw InputError("SolverOptions.fusion_levels", 0, std::to_string(fusion_levels),
                      "must be in [0, 5] (runs of up to 32 segments)");
   }
+  if (samples_per_cycle < 1) {
+    throw InputError("SolverOptions.samples_per_cycle", 0, std::to_string(samples_per_cycle),
+                     "must be >= 1");
+  }
   if (!(grazing_rate_tolerance >= 0.0)) {
     throw InputError("SolverOptions.grazing_rate_tolerance", 0,
                      std::to_string(grazing_rate_tolerance), "must be >= 0");
@@ -235,6 +239,11 @@ ExactStepper::ExactStepper(const SegmentTables& tables, const SolverOptions& opt
   trajectory_.samples.reserve(reserve_samples);
   trajectory_.events.reserve(reserve_events);
   summary_.table_bytes += tables.TableBytes();
+  if (options.record_trajectory) {
+    recorder_.emplace(tables, options.samples_per_cycle, &trajectory_);
+    piece_z_.resize(tables.m);
+    summary_.table_bytes += recorder_->bytes();
+  }
 }
 
 double ExactStepper::WallTolerance(const Eigen::RowVectorXd& row) const {
@@ -369,6 +378,11 @@ void ExactStepper::SwitchState(const SegmentSystem& sys, int wall, double time, 
     }
   }
   if (!record) return;
+  if (piece_open_) {
+    // z_ is the state at the event: the piece in the old state ends, one in the new state starts.
+    EndPiece(time);
+    BeginPiece(time);
+  }
   if (from == ContactState::kFree && free_since_ >= 0.0) summary_.separated_s += time - free_since_;
   free_since_ = contact_ == ContactState::kFree ? time : -1.0;
   ++summary_.events;
@@ -441,30 +455,26 @@ void ExactStepper::AdvanceDyadic(int segment, double start, bool record) {
   }
 }
 
-void ExactStepper::Record(int segment) {
-  if (trajectory_.samples.size() >= trajectory_.samples.capacity()) return;
-  const SegmentSystem& sys = t_.systems[segment][static_cast<int>(contact_)];
-  TrajectorySample s;
-  s.time = time_;
-  s.te = t_.te_row.dot(z_);
-  s.te_rate = t_.te_rate_row.dot(z_);
-  if (contact_ == ContactState::kDrive) {
-    s.mesh_force =
-        sys.mesh_stiffness * sys.gap_drive.dot(z_) + t_.mesh_damping * sys.gap_drive_rate.dot(z_);
-  } else if (contact_ == ContactState::kBack) {
-    s.mesh_force =
-        -(sys.mesh_stiffness * sys.gap_back.dot(z_) + t_.mesh_damping * sys.gap_back_rate.dot(z_));
-  }
-  s.pinion_speed = t_.pinion_rate_row.dot(z_);
-  s.wheel_speed = t_.wheel_rate_row.dot(z_);
-  s.wheel_acceleration = sys.wheel_acceleration_row.dot(z_);
-  s.state = contact_;
-  trajectory_.samples.push_back(s);
+void ExactStepper::BeginPiece(double time) {
+  piece_z_ = z_;
+  piece_start_ = time;
+  piece_state_ = contact_;
+  piece_open_ = true;
+}
+
+void ExactStepper::EndPiece(double time) {
+  piece_open_ = false;
+  recorder_->Piece(segment_, piece_state_, piece_start_, time - piece_start_, piece_z_);
 }
 
 bool ExactStepper::Run(long cycles, bool record) {
   const double run_start = static_cast<double>(cycle_) * t_.mesh_period;
   if (record && contact_ == ContactState::kFree && free_since_ < 0.0) free_since_ = run_start;
+  const bool recorded = record && recorder_.has_value();
+  if (recorded && !recording_) {
+    recorder_->Start(run_start);
+    recording_ = true;
+  }
   for (long c = 0; c < cycles; ++c, ++cycle_) {
     events_this_cycle_ = 0;
     const double cycle_start = static_cast<double>(cycle_) * t_.mesh_period;
@@ -472,8 +482,7 @@ bool ExactStepper::Run(long cycles, bool record) {
       segment_ = j;
       const double h = t_.SegmentLength(j);
       const double seg_start = cycle_start + t_.boundaries[j];
-      if (runs_built_ && !fused_ && tangent_ == nullptr && !options_.ignore_walls &&
-          !(record && options_.record_trajectory)) {
+      if (runs_built_ && !fused_ && tangent_ == nullptr && !options_.ignore_walls && !recorded) {
         // A certified run of segments in one matvec (segment_runs.h), end state checked.
         const SegmentRun* run = runs_[static_cast<size_t>(contact_)].Certify(j, z_, run_scratch_);
         if (run != nullptr) {
@@ -499,6 +508,7 @@ bool ExactStepper::Run(long cycles, bool record) {
         }
       }
       t_.SetInputs(cycle_, j, z_);
+      if (recorded) BeginPiece(seg_start);
       if (fused_ || options_.ignore_walls) {
         // Certified contact: the whole segment in one matvec (no wall can be reached).
         const Eigen::MatrixXd& full = t_.systems[j][static_cast<int>(contact_)].full;
@@ -507,14 +517,14 @@ bool ExactStepper::Run(long cycles, bool record) {
         if (tangent_ != nullptr) PropagateTangent(full);
         ++summary_.matvecs;
         time_ = seg_start + h;
-        if (record && options_.record_trajectory) Record(j);
+        if (recorded) EndPiece(time_);
         continue;
       }
       if (options_.events == EventMethod::kSpectral) {
         AdvanceSpectral(j, seg_start, record);
         if (events_this_cycle_ > options_.max_events_per_cycle) return TooManyEvents();
         time_ = seg_start + h;
-        if (record && options_.record_trajectory) Record(j);
+        if (recorded) EndPiece(time_);
         continue;
       }
       const int n = t_.substeps[j];
@@ -536,7 +546,7 @@ bool ExactStepper::Run(long cycles, bool record) {
         }
       }
       time_ = seg_start + h;
-      if (record && options_.record_trajectory) Record(j);
+      if (recorded) EndPiece(time_);
     }
     ++summary_.mesh_cycles;
     if (fused_) ++summary_.fused_cycles;
@@ -588,6 +598,9 @@ void ExactStepper::Restart(const Eigen::VectorXd& z, ContactState state) {
   summary_ = fresh;
   trajectory_.samples.clear();
   trajectory_.events.clear();
+  trajectory_.statistics = TrajectoryStatistics{};
+  recording_ = false;
+  piece_open_ = false;
 }
 
 void ExactStepper::PropagateTangent(const Eigen::MatrixXd& propagator) {
@@ -740,7 +753,8 @@ SolverResult SimulateExact(const SegmentTables& tables, const Eigen::VectorXd& z
                            const ProgressCallback& progress) {
   options.Validate();
   const auto start = std::chrono::steady_clock::now();
-  const long wanted_samples = options.record_trajectory ? options.cycles * tables.segments() : 0;
+  const long wanted_samples =
+      options.record_trajectory ? options.cycles * options.samples_per_cycle : 0;
   const size_t samples =
       static_cast<size_t>(std::min(wanted_samples, options.max_trajectory_samples));
   const size_t events =

@@ -5,10 +5,12 @@
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
+#include <algorithm>
 #include <chrono>
 #include <memory>
 
 #include "gearnvh/model/input_error.h"
+#include "gearnvh/model/quadrature.h"
 
 namespace gearnvh {
 
@@ -23,6 +25,10 @@ void ReferenceOptions::Validate() const {
   }
   if (max_events < 1)
     throw InputError("ReferenceOptions.max_events", 0, std::to_string(max_events), "must be >= 1");
+  if (samples_per_cycle < 1) {
+    throw InputError("ReferenceOptions.samples_per_cycle", 0, std::to_string(samples_per_cycle),
+                     "must be >= 1");
+  }
 }
 
 namespace {
@@ -83,6 +89,116 @@ struct CvodeDeleter {
   void operator()(void* mem) const { CVodeFree(&mem); }
 };
 
+// The outputs of the exact recorder at one time, from the state itself.
+TrajectorySample Sample(const SegmentTables& t, const SegmentSystem& sys, ContactState state,
+                        double time, const Eigen::Ref<const Eigen::VectorXd>& z) {
+  TrajectorySample s;
+  s.time = time;
+  s.te = t.te_row.dot(z);
+  s.te_rate = t.te_rate_row.dot(z);
+  if (state == ContactState::kDrive) {
+    s.mesh_force =
+        sys.mesh_stiffness * sys.gap_drive.dot(z) + t.mesh_damping * sys.gap_drive_rate.dot(z);
+  } else if (state == ContactState::kBack) {
+    s.mesh_force =
+        -(sys.mesh_stiffness * sys.gap_back.dot(z) + t.mesh_damping * sys.gap_back_rate.dot(z));
+  }
+  s.pinion_speed = t.pinion_rate_row.dot(z);
+  s.wheel_speed = t.wheel_rate_row.dot(z);
+  s.wheel_acceleration = sys.wheel_acceleration_row.dot(z);
+  s.state = state;
+  return s;
+}
+
+// Dense output of CVODE's steps: uniform samples, and statistics by 8-point Gauss-Legendre on
+// every step (the interpolant is a polynomial of degree <= 5 there, so y and y^2 integrate
+// exactly) with extrema from 16 points per step refined by a parabola.
+class DenseOutput {
+ public:
+  DenseOutput(const SegmentTables& t, int samples_per_cycle, long cycles, N_Vector like,
+              std::vector<TrajectorySample>* samples)
+      : t_(t),
+        step_(t.mesh_period / samples_per_cycle),
+        last_sample_(cycles * samples_per_cycle),
+        samples_(samples),
+        rule_(MakeGaussLegendre(8)) {
+    dky_ = N_VClone(like);
+  }
+  ~DenseOutput() { N_VDestroy(dky_); }
+  DenseOutput(const DenseOutput&) = delete;
+  DenseOutput& operator=(const DenseOutput&) = delete;
+
+  // [a, b] inside CVODE's last step, in `state` with generator `sys`.
+  void Interval(void* cvode, const SegmentSystem& sys, ContactState state, double a, double b) {
+    if (!(b > a)) return;
+    auto at = [&](double time) {
+      CVodeGetDky(cvode, time, 0, dky_);
+      return Sample(t_, sys, state, time,
+                    Eigen::Map<const Eigen::VectorXd>(NV_DATA_S(dky_), NV_LENGTH_S(dky_)));
+    };
+    // Uniform samples in [a, b) (b within rounding belongs to the next interval).
+    for (double time = static_cast<double>(next_sample_) * step_;
+         next_sample_ < last_sample_ && time < b - 1e-9 * step_;
+         time = static_cast<double>(++next_sample_) * step_) {
+      samples_->push_back(at(std::max(time, a)));
+    }
+    const double half = 0.5 * (b - a), mid = 0.5 * (a + b);
+    for (size_t q = 0; q < rule_.nodes.size(); ++q) {
+      const TrajectorySample s = at(mid + half * rule_.nodes[q]);
+      const double w = half * rule_.weights[q];
+      Accumulate(stats_.te, s.te, w);
+      Accumulate(stats_.mesh_force, s.mesh_force, w);
+      Accumulate(stats_.wheel_acceleration, s.wheel_acceleration, w);
+    }
+    constexpr int kPoints = 16;
+    TrajectorySample grid[kPoints + 1];
+    for (int i = 0; i <= kPoints; ++i) grid[i] = at(a + (b - a) * i / kPoints);
+    Extrema(grid, kPoints, &TrajectorySample::te, stats_.te, true);
+    if (state != ContactState::kFree) {
+      Extrema(grid, kPoints, &TrajectorySample::mesh_force, stats_.mesh_force, false);
+    } else {
+      stats_.mesh_force.max = std::max(stats_.mesh_force.max, 0.0);
+    }
+    stats_.duration += b - a;
+  }
+  const TrajectoryStatistics& statistics() const { return stats_; }
+
+ private:
+  static void Accumulate(OutputStatistics& st, double value, double weight) {
+    if (!st.has_offset) st.offset = value, st.has_offset = true;
+    st.integral += weight * (value - st.offset);
+    st.square_integral += weight * (value - st.offset) * (value - st.offset);
+  }
+  static void Extrema(const TrajectorySample* grid, int n, double TrajectorySample::*field,
+                      OutputStatistics& st, bool with_min) {
+    for (int sign : {1, -1}) {
+      if (sign < 0 && !with_min) break;
+      int best = 0;
+      for (int i = 1; i <= n; ++i) {
+        if (sign * (grid[i].*field) > sign * (grid[best].*field)) best = i;
+      }
+      double value = grid[best].*field, when = grid[best].time;
+      if (best > 0 && best < n) {
+        // The parabola through the best point and its neighbours.
+        const double ya = sign * (grid[best - 1].*field), yb = sign * (grid[best].*field),
+                     yc = sign * (grid[best + 1].*field);
+        const double curvature = ya - 2 * yb + yc;
+        if (curvature < 0.0) value = sign * (yb - 0.125 * (ya - yc) * (ya - yc) / curvature);
+      }
+      if (sign > 0 && value > st.max) st.max = value, st.time_of_max = when;
+      if (sign < 0 && value < st.min) st.min = value, st.time_of_min = when;
+    }
+  }
+
+  const SegmentTables& t_;
+  double step_;
+  long next_sample_ = 0, last_sample_;
+  std::vector<TrajectorySample>* samples_;
+  GaussLegendreRule rule_;
+  N_Vector dky_;
+  TrajectoryStatistics stats_;
+};
+
 }  // namespace
 
 ReferenceResult SimulateReference(const SegmentTables& t, const Eigen::VectorXd& z0,
@@ -117,6 +233,7 @@ ReferenceResult SimulateReference(const SegmentTables& t, const Eigen::VectorXd&
 
   double time = 0.0;
   long events = 0;
+  DenseOutput dense(t, options.samples_per_cycle, options.cycles, y, &result.trajectory.samples);
   for (long c = 0; c < options.cycles && result.status == ReferenceStatus::kSuccess; ++c) {
     for (int j = 0; j < t.segments(); ++j) {
       const double seg_start = c * t.mesh_period + t.boundaries[j];
@@ -150,56 +267,50 @@ ReferenceResult SimulateReference(const SegmentTables& t, const Eigen::VectorXd&
       result.steps += StepsSoFar(mem.get());  // CVodeReInit resets CVODE's counter
       CVodeReInit(mem.get(), time, y);
       CVodeSetStopTime(mem.get(), seg_end);
-      while (time < seg_end) {
-        const int flag = CVode(mem.get(), seg_end, y, &time, CV_NORMAL);
+      while (time < seg_end && result.status == ReferenceStatus::kSuccess) {
+        double reached = time;
+        const int flag = CVode(mem.get(), seg_end, y, &reached, CV_ONE_STEP);
         if (flag < 0) {
           result.status = ReferenceStatus::kSolverFailure;
           result.message = std::string("CVODE failed: ") + CVodeGetReturnFlagName(flag);
           break;
         }
-        if (flag == CV_ROOT_RETURN) {
-          CVodeGetRootInfo(mem.get(), roots_found);
-          const ContactState from = problem.state;
-          ContactState to = from;
-          // Only crossings in the triggering direction switch the state.
-          if (from == ContactState::kFree && roots_found[0] == 1)
-            to = ContactState::kDrive;
-          else if (from == ContactState::kFree && roots_found[1] == -1)
-            to = ContactState::kBack;
-          else if (from == ContactState::kDrive && roots_found[0] == -1)
-            to = ContactState::kFree;
-          else if (from == ContactState::kBack && roots_found[1] == 1)
-            to = ContactState::kFree;
-          if (to != from) {
-            Eigen::Map<const Eigen::VectorXd> z(NV_DATA_S(y), m);
-            const SegmentSystem& sys = *problem.sys;
-            const double rate = (to == ContactState::kDrive || from == ContactState::kDrive)
-                                    ? sys.gap_drive_rate.dot(z)
-                                    : sys.gap_back_rate.dot(z);
-            result.trajectory.events.push_back({time, from, to, rate});
-            problem.state = to;
-            problem.sys = &t.systems[j][static_cast<int>(to)];
-            result.steps += StepsSoFar(mem.get());
-            CVodeReInit(mem.get(), time, y);
-            if (++events > options.max_events) {
-              result.status = ReferenceStatus::kTooManyEvents;
-              result.message = "too many contact events";
-              break;
-            }
-          }
+        // [time, reached] lies inside CVODE's last step: its interpolant gives the dense output.
+        dense.Interval(mem.get(), *problem.sys, problem.state, time, reached);
+        time = reached;
+        if (flag != CV_ROOT_RETURN) continue;
+        CVodeGetRootInfo(mem.get(), roots_found);
+        const ContactState from = problem.state;
+        ContactState to = from;
+        // Only crossings in the triggering direction switch the state.
+        if (from == ContactState::kFree && roots_found[0] == 1)
+          to = ContactState::kDrive;
+        else if (from == ContactState::kFree && roots_found[1] == -1)
+          to = ContactState::kBack;
+        else if (from == ContactState::kDrive && roots_found[0] == -1)
+          to = ContactState::kFree;
+        else if (from == ContactState::kBack && roots_found[1] == 1)
+          to = ContactState::kFree;
+        if (to == from) continue;
+        Eigen::Map<const Eigen::VectorXd> z(NV_DATA_S(y), m);
+        const SegmentSystem& sys = *problem.sys;
+        const double rate = (to == ContactState::kDrive || from == ContactState::kDrive)
+                                ? sys.gap_drive_rate.dot(z)
+                                : sys.gap_back_rate.dot(z);
+        result.trajectory.events.push_back({time, from, to, rate});
+        problem.state = to;
+        problem.sys = &t.systems[j][static_cast<int>(to)];
+        result.steps += StepsSoFar(mem.get());
+        CVodeReInit(mem.get(), time, y);
+        if (++events > options.max_events) {
+          result.status = ReferenceStatus::kTooManyEvents;
+          result.message = "too many contact events";
         }
       }
       if (result.status != ReferenceStatus::kSuccess) break;
-      Eigen::Map<const Eigen::VectorXd> z(NV_DATA_S(y), m);
-      TrajectorySample s;
-      s.time = time;
-      s.te = t.te_row.dot(z);
-      s.pinion_speed = t.pinion_rate_row.dot(z);
-      s.wheel_speed = t.wheel_rate_row.dot(z);
-      s.state = problem.state;
-      result.trajectory.samples.push_back(s);
     }
   }
+  result.trajectory.statistics = dense.statistics();
   result.steps += StepsSoFar(mem.get());
   mem.reset();
   SUNLinSolFree(ls);

@@ -25,15 +25,14 @@ TEST_CASE("rattle indices of a constructed run with known impacts", "[nvh][rattl
                            ev(0.004, ContactState::kBack, ContactState::kFree, 1.5),
                            ev(0.005, ContactState::kFree, ContactState::kDrive, 3.0),
                            ev(0.006, ContactState::kDrive, ContactState::kFree, -2.0)};
-  // Wheel acceleration samples alternating +-100 rad/s^2 at equal spacing.
-  for (int i = 0; i <= 4; ++i) {
-    TrajectorySample p;
-    p.time = 0.0025 * i;
-    p.wheel_acceleration = (i % 2 == 0) ? 100.0 : -100.0;
-    run.trajectory.samples.push_back(p);
-  }
+  // Exact statistics of the wheel acceleration a = 100 sin(w t) over whole periods of 10 ms
+  // (offset 0): int a = 0, int a^2 = 100^2 T / 2.
+  TrajectoryStatistics& st = run.trajectory.statistics;
+  st.duration = 0.010;
+  st.wheel_acceleration.has_offset = true;
+  st.wheel_acceleration.square_integral = 100.0L * 100.0L * 0.010L / 2;
   SolverResult tight = run;
-  for (auto& p : tight.trajectory.samples) p.wheel_acceleration *= 0.25;
+  tight.trajectory.statistics.wheel_acceleration.square_integral /= 16;  // a quarter of the RMS
   const double me = 0.1;
   const RattleIndices r = ComputeRattleIndices(run, me, /*cycles per excitation=*/13.5, &tight);
   // Exact arithmetic on small numbers: tolerance a few ulps.
@@ -43,9 +42,7 @@ TEST_CASE("rattle indices of a constructed run with known impacts", "[nvh][rattl
   CHECK(r.impact_velocity_rms == Approx(std::sqrt((1.0 + 4.0 + 9.0) / 3)).epsilon(1e-15));
   CHECK(r.impact_energy_per_cycle == Approx(0.5 * me * 14.0 / 10).epsilon(1e-15));
   CHECK(r.separation_fraction == Approx(0.4).epsilon(1e-15));
-  // The documented rule is the trapezoid on (a - mean)^2: samples +-100 with mean 0 give exactly
-  // 100.
-  CHECK(r.wheel_acceleration_rms == Approx(100.0).epsilon(1e-12));
+  CHECK(r.wheel_acceleration_rms == Approx(100.0 / std::sqrt(2.0)).epsilon(1e-12));
   CHECK(r.acceleration_ratio == Approx(4.0).epsilon(1e-12));
   CHECK(r.regime == "double-sided");
   run.summary.back_impacts = 0;

@@ -8,8 +8,8 @@
 //                                   (J1 r_b2^2 + J2 r_b1^2), the mesh's effective mass)
 //   separation fraction             time in free flight / recorded time (exact, from event times)
 //   wheel acceleration RMS          sqrt((1/T) ∫ (a - mean a)^2 dt) of the loose gear's (wheel's)
-//                                   angular acceleration, trapezoidal over the segment-boundary
-//                                   samples
+//                                   angular acceleration, exact (closed-form integrals over the
+//                                   piecewise-exact solution, solver/exact_recorder.h)
 //   acceleration ratio              that RMS divided by the same quantity for the same gearbox with
 //                                   the backlash removed (a second run; 0 when not supplied)
 //   regime                          "no impact" | "single-sided" (drive impacts only) |
@@ -40,7 +40,7 @@ RattleIndices ComputeRattleIndices(const SolverResult& run, double effective_mas
                                    double mesh_cycles_per_excitation,
                                    const SolverResult* no_backlash);
 
-// RMS about the mean of the wheel's angular acceleration over the samples (trapezoidal in time).
+// RMS about the mean of the wheel's angular acceleration over the recorded window (exact).
 double WheelAccelerationRms(const Trajectory& trajectory);
 
 }  // namespace gearnvh

@@ -26,9 +26,11 @@
 #include <array>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "gearnvh/solver/exact_recorder.h"
 #include "gearnvh/solver/segment_runs.h"
 #include "gearnvh/solver/segment_tables.h"
 #include "gearnvh/solver/spectral_gap.h"
@@ -65,14 +67,17 @@ struct SolverOptions {
   EventMethod events = EventMethod::kSpectral;
   // kSpectral: decompositions with |S|_1 |S^-1|_1 above this fall back to kTaylor (state error
   // ~ cond(S) eps).
-  double spectral_max_condition = 1e6;   // >= 1
-  long cycles = 100;                     // mesh cycles recorded after the transient; >= 1
-  long transient_cycles = 0;             // mesh cycles run first and not recorded; >= 0
-  bool record_trajectory = true;         // samples at every segment boundary of recorded cycles
+  double spectral_max_condition = 1e6;  // >= 1
+  long cycles = 100;                    // mesh cycles recorded after the transient; >= 1
+  long transient_cycles = 0;            // mesh cycles run first and not recorded; >= 0
+  // Recorded cycles: exact statistics and uniform samples (samples_per_cycle per mesh cycle,
+  // evaluated exactly at their times; exact_recorder.h).
+  bool record_trajectory = true;
+  int samples_per_cycle = 32;            // >= 1
   long max_events_per_cycle = 1000;      // beyond this the run stops with kTooManyEvents; >= 1
   double grazing_rate_tolerance = 1e-9;  // |g'| (m/s) below which a root is a grazing touch; >= 0
   // Memory bounds of the recorded trajectory (reserved up front, so the loop never allocates):
-  // samples beyond max_trajectory_samples (~48 B each) and events beyond max_logged_events (~32 B
+  // samples beyond max_trajectory_samples (~64 B each) and events beyond max_logged_events (~32 B
   // each) are not stored; counts stay exact and the summary says the trajectory was truncated.
   long max_trajectory_samples = 4'000'000;  // >= 0
   long max_logged_events = 1'000'000;       // >= 0
@@ -117,28 +122,6 @@ struct SolverSummary {
   double min_event_rate = std::numeric_limits<double>::infinity();
 };
 
-struct EventRecord {
-  double time = 0.0;  // s since the start of the run
-  ContactState from = ContactState::kFree, to = ContactState::kFree;
-  double gap_rate = 0.0;  // m/s, d/dt of the gap crossing its wall
-};
-
-struct TrajectorySample {
-  double time = 0.0;          // s
-  double te = 0.0;            // dynamic transmission error v^T x, m
-  double te_rate = 0.0;       // its time derivative, m/s (for Hermite resampling)
-  double mesh_force = 0.0;    // N (positive on the drive flank)
-  double pinion_speed = 0.0;  // running angular velocity perturbation, rad/s
-  double wheel_speed = 0.0;
-  double wheel_acceleration = 0.0;  // running angular acceleration of the wheel, rad/s^2
-  ContactState state = ContactState::kFree;
-};
-
-struct Trajectory {
-  std::vector<TrajectorySample> samples;
-  std::vector<EventRecord> events;  // of the recorded cycles
-};
-
 struct SolverResult {
   Trajectory trajectory;
   SolverSummary summary;
@@ -154,7 +137,8 @@ std::pair<Eigen::VectorXd, ContactState> StaticInitialState(const SegmentTables&
 Eigen::VectorXd DriveEquilibrium(const SegmentTables& tables);
 
 // The stepping loop itself. Construction allocates every buffer; Run() does not allocate (the
-// trajectory's capacity is reserved up front; events beyond it are counted, not logged).
+// trajectory's capacity is reserved up front: `reserve_samples` uniform samples and
+// `reserve_events` events; beyond them they are counted, not stored).
 class ExactStepper {
  public:
   ExactStepper(const SegmentTables& tables, const SolverOptions& options, const Eigen::VectorXd& z0,
@@ -212,7 +196,10 @@ class ExactStepper {
   // The unloaded error e_j jumps at a segment boundary: a start outside a wall (beyond the wall
   // tolerance) switches at once.
   void SwitchIfOutsideAtStart(int segment, double start, bool record);
-  void Record(int segment);
+  // Recorded pieces (exact_recorder.h): a piece starts at a segment start or an event and ends at
+  // the next event or the segment end.
+  void BeginPiece(double time);
+  void EndPiece(double time);
 
   const SegmentTables& t_;
   SolverOptions options_;
@@ -248,6 +235,12 @@ class ExactStepper {
   Eigen::VectorXd f_minus_, f_plus_, tangent_col_;
   SolverSummary summary_;
   Trajectory trajectory_;
+  std::optional<ExactRecorder> recorder_;
+  bool recording_ = false;  // the recorded window has started
+  bool piece_open_ = false;
+  Eigen::VectorXd piece_z_;
+  double piece_start_ = 0.0;
+  ContactState piece_state_ = ContactState::kFree;
 };
 
 // Progress callback: (mesh cycles done, total) — called about 100 times per run; may be empty.

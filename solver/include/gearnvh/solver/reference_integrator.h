@@ -1,7 +1,12 @@
 // Brute-force reference for validation and benchmarks (DESIGN.md §4.6): SUNDIALS CVODE (BDF, dense
 // direct solver with the exact Jacobian A) on the same piecewise model z' = A_{j,sigma} z, stopping
 // at every segment boundary (tstop), with CVODE's rootfinding on the walls of the current contact
-// state. At a root the state switches and CVODE is re-initialised. Accuracy is set by rtol/atol;
+// state. At a root the state switches and CVODE is re-initialised. CVODE runs in one-step mode and
+// its interpolant over each internal step gives the dense output: samples at uniform times
+// (samples_per_cycle per mesh cycle from t = 0) and the statistics of the trajectory (8-point
+// Gauss-Legendre per step, which integrates the step's polynomial and its square exactly;
+// extrema from 16 points per step refined by the parabola through the best three) — a dense
+// reference for the exact recorder, computed independently of it. Accuracy is set by rtol/atol;
 // nothing here is exact — it is the independent yardstick the exact solver is checked against.
 #pragma once
 
@@ -17,6 +22,7 @@ struct ReferenceOptions {
   double atol_position = 1e-18;  // m or rad, > 0
   double atol_velocity = 1e-14;  // m/s or rad/s, > 0
   long max_events = 100000;      // >= 1
+  int samples_per_cycle = 32;    // uniform output samples per mesh cycle (CVODE's interpolant)
   void Validate() const;
 };
 
@@ -25,7 +31,7 @@ enum class ReferenceStatus { kSuccess, kSolverFailure, kTooManyEvents };
 struct ReferenceResult {
   ReferenceStatus status = ReferenceStatus::kSuccess;
   std::string message;
-  Trajectory trajectory;  // samples at segment boundaries, events
+  Trajectory trajectory;  // uniform samples, events, dense statistics
   long steps = 0;         // CVODE internal steps
   double wall_s = 0.0;
 };
