@@ -1,5 +1,7 @@
 #include "operating_point.h"
 
+#include <fmt/format.h>
+
 #include <numbers>
 #include <numeric>
 
@@ -39,16 +41,40 @@ OperatingPointAnalysis AnalyseOperatingPoint(const GearboxSpec& spec, const Comp
   op.tier_name = reduced.name;
   op.tables = BuildSegmentTables(model, reduced, spec);
   const SegmentTables& tables = op.tables;
+  // Shaft-order lines (runout, pitch errors, engine orders) sit on spectrum bins only over whole
+  // periods of what makes them: the record is rounded up to a multiple of the model's common
+  // period when that fits the sample storage, and a note says so (or what would be needed).
+  const bool shaft_order_sources = model.errors.active() || !spec.operating.excitation.empty();
+  const long max_cycles = op.solver.max_trajectory_samples / op.solver.samples_per_cycle;
+  const long period = shaft_order_sources ? tables.CommonPeriodCycles(max_cycles) : 1;
+  if (period == 0) {
+    op.cycles_note =
+        "shaft-order lines need whole periods of the engine orders and of the gears' errors: "
+        "none within the " +
+        std::to_string(max_cycles) + " cycles the sample storage holds";
+  } else if (op.solver.cycles % period != 0) {
+    const long rounded = (op.solver.cycles / period + 1) * period;
+    if (rounded <= max_cycles) {
+      op.cycles_note = "recorded " + std::to_string(rounded) + " mesh cycles instead of " +
+                       std::to_string(op.solver.cycles) + ": whole periods (" +
+                       std::to_string(period) +
+                       " cycles) of the engine orders and gear errors for the shaft-order lines";
+      op.solver.cycles = rounded;
+    } else {
+      op.cycles_note = "shaft-order lines need a multiple of " + std::to_string(period) +
+                       " recorded mesh cycles, more than the sample storage holds";
+    }
+  }
   const auto [z0, state0] = StaticInitialState(tables);
 
-  op.result = SimulateExact(tables, z0, state0, solver, progress);
+  op.result = SimulateExact(tables, z0, state0, op.solver, progress);
   const SolverResult& result = op.result;
   const SolverSummary& summary = result.summary;
   const Trajectory& trajectory = result.trajectory;
   // The same gearbox without backlash, for the acceleration ratio: the same tables in permanent
   // drive contact, the mesh spring acting in tension as well (a tiny but non-zero backlash would
   // chatter at contact-loss resonances instead).
-  SolverOptions linear = solver;
+  SolverOptions linear = op.solver;
   linear.ignore_walls = true;
   const SolverResult reference =
       SimulateExact(tables, DriveEquilibrium(tables), ContactState::kDrive, linear);
@@ -83,34 +109,51 @@ OperatingPointAnalysis AnalyseOperatingPoint(const GearboxSpec& spec, const Comp
   doc["mesh_force"] = {{"mean", te.mesh_force_mean},
                        {"max", te.mesh_force_max},
                        {"dynamic_factor", te.dynamic_factor}};
-  // Mesh harmonics and shaft-order sidebands of the TE over whole revolutions of both shafts.
-  const long revolution =
-      std::lcm(static_cast<long>(spec.pinion.teeth), static_cast<long>(spec.wheel.teeth));
-  op.sideband_window =
-      summary.trajectory_truncated ? 0 : (summary.recorded_cycles / revolution) * revolution;
+  // Mesh harmonics, shaft orders and their sidebands of the TE over whole periods of the sources
+  // (every recorded cycle when there are none).
+  const long recorded = summary.trajectory_truncated ? 0 : summary.recorded_cycles;
+  op.sideband_window = period > 0 ? (recorded / period) * period : 0;
   nlohmann::json sidebands = nlohmann::json::array();
   const long window = op.sideband_window;
+  SidebandOptions sideband_options;
+  sideband_options.shaft_order_sources = shaft_order_sources;
   if (window > 0 && summary.status == SolverStatus::kSuccess) {
-    const int per_cycle = solver.samples_per_cycle;
+    const int per_cycle = op.solver.samples_per_cycle;
     SpectrumAnalyzer analyzer(static_cast<int>(window * per_cycle));
     op.spectrum = TeSpectrum(trajectory, tables.mesh_period, per_cycle, window, analyzer);
     const AmplitudeSpectrum& spectrum = op.spectrum;
     const double pinion_hz = spec.operating.speed / (2.0 * std::numbers::pi);
-    op.sidebands = SidebandTable(spectrum, 1.0 / tables.mesh_period, pinion_hz,
-                                 pinion_hz * spec.pinion.teeth / spec.wheel.teeth, 3, 3);
+    op.sidebands =
+        SidebandTable(spectrum, 1.0 / tables.mesh_period, pinion_hz,
+                      pinion_hz * spec.pinion.teeth / spec.wheel.teeth, sideband_options);
     for (const SidebandRow& r : op.sidebands) {
       sidebands.push_back({{"label", r.label},
                            {"frequency_hz", r.frequency_hz},
                            {"amplitude_m", r.amplitude},
-                           {"db_re_1m", r.db}});
+                           {"db_re_1m", r.db},
+                           {"background_m", r.background}});
     }
   }
   doc["sidebands"] = sidebands;
   doc["sideband_window_cycles"] = window;
-  if (window == 0) {
-    doc["sidebands_note"] = "needs at least lcm(z1, z2) = " + std::to_string(revolution) +
-                            " recorded mesh cycles (whole revolutions of both shafts)";
+  nlohmann::json notes = nlohmann::json::array();
+  if (!op.cycles_note.empty()) notes.push_back(op.cycles_note);
+  if (!shaft_order_sources) {
+    notes.push_back(
+        "the model has no runout, pitch error or engine order: no shaft-order line or sideband "
+        "can arise, so only the mesh harmonics are listed");
   }
+  if (window == 0) {
+    notes.push_back(
+        "no spectrum: the record holds no whole period of the engine orders and gear "
+        "errors");
+  }
+  notes.push_back(fmt::format(
+      "lines are listed when {:g} dB above the median of the {} bins around them and above {:g} "
+      "dB relative to the strongest bin",
+      sideband_options.prominence_db, 2 * sideband_options.background_bins,
+      sideband_options.rounding_floor_db));
+  doc["sidebands_notes"] = notes;
   return op;
 }
 

@@ -18,8 +18,9 @@ namespace gearnvh::app {
 
 struct OperatingPointAnalysis {
   std::string tier_name;
+  std::string cycles_note;  // set when the recorded cycles were rounded to whole revolutions
   SegmentTables tables;
-  SolverOptions solver;
+  SolverOptions solver;  // as run (cycles may be rounded up to whole revolutions of both gears)
   SolverResult result;
   RattleIndices rattle;
   TransmissionErrorStats te;

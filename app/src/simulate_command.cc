@@ -102,7 +102,7 @@ int RunSimulate(const SimulateOptions& options) {
       fmt::print("{}  ({}), {}: state dimension {}\n", spec.name, options.file, op.tier_name,
                  op.tables.m);
       fmt::print("  status              {}\n", SolverStatusName(s.status));
-      fmt::print("  mesh cycles         {} ({} recorded)\n", s.mesh_cycles, solver.cycles);
+      fmt::print("  mesh cycles         {} ({} recorded)\n", s.mesh_cycles, op.solver.cycles);
       fmt::print(
           "  contact events      {} ({:.3f} per cycle): {} drive impacts, {} back impacts, {} "
           "separations, {} grazing\n",
@@ -139,9 +139,12 @@ int RunSimulate(const SimulateOptions& options) {
         }
         fmt::print("(sidebands in --json, over {} cycles)\n", window);
       }
+      if (!op.cycles_note.empty()) fmt::print("  note: {}\n", op.cycles_note);
       if (!s.message.empty()) fmt::print("  note: {}\n", s.message);
       if (s.trajectory_truncated) {
-        fmt::print("  note: trajectory storage bound reached; statistics cover the stored part\n");
+        fmt::print(
+            "  note: sample storage bound reached: statistics cover every recorded cycle, the "
+            "stored samples (and spectra) stop at the bound\n");
       }
     }
     return summary.status == SolverStatus::kSuccess ? 0 : 1;

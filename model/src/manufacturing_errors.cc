@@ -43,7 +43,12 @@ MeshErrorExcitation::MeshErrorExcitation(const GearboxSpec& spec,
     spread_ += Spread(pitch_[g]);
   }
   if (!active_) return;
-  period_ = std::lcm(static_cast<long>(teeth_[0]), static_cast<long>(teeth_[1]));
+  // Whole revolutions of every gear that carries an error.
+  for (int g = 0; g < 2; ++g) {
+    if (runout_[g].amplitude > 0.0 || !pitch_[g].empty()) {
+      period_ = std::lcm(period_, static_cast<long>(teeth_[g]));
+    }
+  }
   weights_.reserve(segmentation.segments.size());
   for (const MeshSegment& s : segmentation.segments) weights_.push_back(s.error_weights);
 }

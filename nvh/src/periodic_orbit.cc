@@ -11,25 +11,13 @@
 namespace gearnvh {
 
 long BasePeriodCycles(const SegmentTables& t) {
-  const double z1 = std::round(2.0 * std::numbers::pi / (t.pinion_speed * t.mesh_period));
   constexpr long kMaxCycles = 100000;
-  // Manufacturing errors repeat only after whole revolutions of both gears (the hunting period).
-  const long step = t.input_period_cycles();
-  for (long n = step; n <= kMaxCycles; n += step) {
-    bool whole = true;
-    for (const ExcitationOrder& o : t.excitation) {
-      const double periods = static_cast<double>(n) * o.order / z1;
-      if (std::abs(periods - std::round(periods)) > 1e-9 * std::max(1.0, periods)) {
-        whole = false;
-        break;
-      }
-    }
-    if (whole) return n;
-  }
+  const long n = t.CommonPeriodCycles(kMaxCycles);
+  if (n > 0) return n;
   throw InputError("operating.excitation", 0, "",
                    "orders must repeat with the mesh (and the gears' manufacturing errors, every "
-                   "lcm(z1, z2) mesh cycles) within 100000 mesh cycles for a periodic orbit "
-                   "(order * N / teeth integer)");
+                   "revolution of the gears that carry them) within 100000 mesh cycles for a "
+                   "periodic orbit (order * N / teeth integer)");
 }
 
 ContactState ContactStateOf(const SegmentTables& t, const Eigen::VectorXd& z) {

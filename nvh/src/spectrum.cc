@@ -98,21 +98,53 @@ SpectralLine FindLine(const AmplitudeSpectrum& s, double frequency_hz, int searc
 }
 
 std::vector<SidebandRow> SidebandTable(const AmplitudeSpectrum& s, double mesh_hz, double pinion_hz,
-                                       double wheel_hz, int harmonics, int orders) {
+                                       double wheel_hz, const SidebandOptions& options) {
   std::vector<SidebandRow> rows;
-  const double nyquist = s.bin_hz * static_cast<double>(s.amplitude.size() - 1);
+  const long bins = static_cast<long>(s.amplitude.size());
+  if (bins < 4) return rows;
+  const double nyquist = s.bin_hz * static_cast<double>(bins - 1);
+  const double strongest = *std::max_element(s.amplitude.begin() + 1, s.amplitude.end());
+  const double floor = strongest * std::pow(10.0, options.rounding_floor_db / 20.0);
+  const double prominence = std::pow(10.0, options.prominence_db / 20.0);
+  std::vector<double> around;
   auto add = [&](const std::string& label, double f) {
     if (f <= s.bin_hz || f >= nyquist - s.bin_hz) return;
-    // Whole shaft revolutions put every line on a bin: read that bin (interpolating would mix in
-    // a neighbouring sideband one bin away).
-    const double amp = s.amplitude[static_cast<size_t>(std::lround(f / s.bin_hz))];
-    rows.push_back({label, f, amp, amp > 0.0 ? 20.0 * std::log10(amp) : -400.0});
+    const long k = std::lround(f / s.bin_hz);
+    const double amp = s.amplitude[static_cast<size_t>(k)];
+    around.clear();
+    for (long i = std::max(1L, k - options.background_bins);
+         i <= std::min(bins - 1, k + options.background_bins); ++i) {
+      if (std::abs(i - k) > options.guard_bins)
+        around.push_back(s.amplitude[static_cast<size_t>(i)]);
+    }
+    double background = 0.0;
+    if (!around.empty()) {
+      const auto middle = around.begin() + static_cast<long>(around.size() / 2);
+      std::nth_element(around.begin(), middle, around.end());
+      background = *middle;
+    }
+    if (amp < floor || amp < prominence * background || !(amp > 0.0)) return;
+    // Lines that coincide (z2 a multiple of z1 puts 3 f2 on 1 f1) share one row.
+    for (SidebandRow& r : rows) {
+      if (std::lround(r.frequency_hz / s.bin_hz) == k) {
+        r.label += " = " + label;
+        return;
+      }
+    }
+    rows.push_back({label, f, amp, 20.0 * std::log10(amp), background});
   };
-  for (int k = 1; k <= harmonics; ++k) {
+  const std::pair<const char*, double> shafts[] = {{"f1", pinion_hz}, {"f2", wheel_hz}};
+  if (options.shaft_order_sources) {
+    for (const auto& [name, f] : shafts) {
+      for (int j = 1; j <= options.orders; ++j) add(std::to_string(j) + " " + name, j * f);
+    }
+  }
+  for (int k = 1; k <= options.harmonics; ++k) {
     const std::string fm = std::to_string(k) + " fm";
     add(fm, k * mesh_hz);
-    for (int j = 1; j <= orders; ++j) {
-      for (auto [name, f] : {std::pair{"f1", pinion_hz}, {"f2", wheel_hz}}) {
+    if (!options.shaft_order_sources) continue;
+    for (int j = 1; j <= options.orders; ++j) {
+      for (const auto& [name, f] : shafts) {
         add(fm + " - " + std::to_string(j) + " " + name, k * mesh_hz - j * f);
         add(fm + " + " + std::to_string(j) + " " + name, k * mesh_hz + j * f);
       }

@@ -42,6 +42,23 @@ double SegmentTables::InputBound(int input) const {
   return bound;
 }
 
+long SegmentTables::CommonPeriodCycles(long max_cycles) const {
+  const double z1 = std::round(2.0 * std::numbers::pi / (pinion_speed * mesh_period));
+  const long step = errors.period_cycles();
+  for (long n = step; n <= max_cycles; n += step) {
+    bool whole = true;
+    for (const ExcitationOrder& o : excitation) {
+      const double periods = static_cast<double>(n) * o.order / z1;
+      if (std::abs(periods - std::round(periods)) > 1e-9 * std::max(1.0, periods)) {
+        whole = false;
+        break;
+      }
+    }
+    if (whole) return n;
+  }
+  return 0;
+}
+
 double ReferenceFrequency(const Eigen::MatrixXd& A, int n) {
   const Eigen::MatrixXd stiffness = -A.block(n, 0, n, n);
   return std::max(1.0, std::sqrt(stiffness.eigenvalues().cwiseAbs().maxCoeff()));

@@ -107,6 +107,29 @@ std::vector<MalformedCase> MalformedCases() {
        "gears.pinion.pressure_angle", "must be in"},
       {"bore larger than root", ReplaceFirst(v, "bore_diameter: 25 mm", "bore_diameter: 200 mm"),
        "gears.pinion.bore_diameter", "root diameter"},
+      {"runout amplitude negative",
+       ReplaceFirst(v, "    bore_diameter: 25 mm\n",
+                    "    bore_diameter: 25 mm\n    runout: {amplitude: -5 um}\n"),
+       "gears.pinion.runout.amplitude", "must be in"},
+      {"runout without amplitude",
+       ReplaceFirst(v, "    bore_diameter: 25 mm\n",
+                    "    bore_diameter: 25 mm\n    runout: {phase: 10 deg}\n"),
+       "gears.pinion.runout.amplitude", "required key is missing"},
+      {"pitch errors of the wrong length",
+       ReplaceFirst(v, "    bore_diameter: 25 mm\n",
+                    "    bore_diameter: 25 mm\n    pitch_errors: [1 um, -2 um, 0 um]\n"),
+       "gears.pinion.pitch_errors", "one deviation per tooth (27)"},
+      {"pitch error larger than the module",
+       ReplaceFirst(
+           v, "    bore_diameter: 25 mm\n",
+           "    bore_diameter: 25 mm\n    pitch_errors: [" +
+               [] {
+                 std::string list = "3 mm";
+                 for (int i = 1; i < 27; ++i) list += ", 0 um";
+                 return list;
+               }() +
+               "]\n"),
+       "gears.pinion.pitch_errors[0]", "must be in"},
       {"unsupported schema version", ReplaceFirst(v, "gearnvh/1", "gearnvh/2"), "schema",
        "must be gearnvh/1"},
       {"unknown stiffness model",

@@ -27,7 +27,9 @@ TEST_CASE("simulate --json: summary keys, the rattle example rattles, the loaded
     CHECK(r["summary"].contains(key));
   }
   CHECK(r["summary"]["status"] == "success");
-  CHECK(r["summary"]["mesh_cycles"] == 400);
+  // 300 recorded cycles rounded up to whole periods of the order-2 excitation (27 cycles): 324.
+  CHECK(r["summary"]["mesh_cycles"] == 424);
+  CHECK(r["sideband_window_cycles"] == 324);
   CHECK(r["summary"]["drive_impacts"].get<long>() > 100);  // idle rattle: impacts every cycle
   CHECK(r["summary"]["back_impacts"].get<long>() > 0);     // ... on both flanks
   CHECK(r["te_rms"].get<double>() > 1e-6);
@@ -54,7 +56,7 @@ TEST_CASE("simulate --out writes the trajectory, events and results atomically",
           "[cli][simulate]") {
   TempDir dir;
   const auto out = dir.path() / "run";
-  const auto r = RunCommand(kExe + " simulate --cycles 50 --transient 10 --out " + out.string() +
+  const auto r = RunCommand(kExe + " simulate --cycles 54 --transient 10 --out " + out.string() +
                             " " + kExamples + "/idle_rattle.yaml");
   REQUIRE(r.exit_code == 0);
   CHECK(r.out.find("real time") != std::string::npos);
@@ -67,9 +69,10 @@ TEST_CASE("simulate --out writes the trajectory, events and results atomically",
   CHECK(files == 3);
   const std::string csv = testing::ReadWholeFile(out / "trajectory.csv");
   CHECK(csv.rfind("time_s,te_m,mesh_force_n", 0) == 0);
-  CHECK(std::count(csv.begin(), csv.end(), '\n') == 1 + 50 * 32);  // header + one row per segment
+  // Header + 32 uniform samples per recorded cycle (54: two periods of the order-2 excitation).
+  CHECK(std::count(csv.begin(), csv.end(), '\n') == 1 + 54 * 32);
   const auto doc = nlohmann::json::parse(testing::ReadWholeFile(out / "results.json"));
-  CHECK(doc["summary"]["mesh_cycles"] == 60);
+  CHECK(doc["summary"]["mesh_cycles"] == 64);
 }
 
 TEST_CASE("simulate: bad options and unavailable tiers are clear errors", "[cli][simulate]") {

@@ -67,20 +67,64 @@ TEST_CASE("an AM signal's sidebands are found at the right frequencies and ampli
                                                           std::sin(2 * kPi * fm * t);
                                                  }),
                                           rate);
-  const std::vector<SidebandRow> rows = SidebandTable(s, fm, f1, f2, 2, 1);
+  SidebandOptions options;
+  options.harmonics = 2;
+  options.orders = 1;
+  const std::vector<SidebandRow> rows = SidebandTable(s, fm, f1, f2, options);
+  auto has = [&](const std::string& label) {
+    for (const auto& r : rows)
+      if (r.label == label) return true;
+    return false;
+  };
   auto find = [&](const std::string& label) {
     for (const auto& r : rows)
       if (r.label == label) return r;
     FAIL("no row " << label);
     return SidebandRow{};
   };
+  // The three real lines are listed, exact to rounding; their background is rounding noise.
+  REQUIRE(rows.size() == 3);
   CHECK(find("1 fm").amplitude == Approx(a).epsilon(1e-9));
   CHECK(find("1 fm - 1 f1").amplitude == Approx(a * m / 2).epsilon(1e-9));
   CHECK(find("1 fm + 1 f1").amplitude == Approx(a * m / 2).epsilon(1e-9));
   CHECK(find("1 fm - 1 f1").frequency_hz == Approx(fm - f1));
-  CHECK(find("1 fm + 1 f2").amplitude < 1e-9 * a);
-  CHECK(find("2 fm").amplitude < 1e-9 * a);
   CHECK(find("1 fm").db == Approx(20 * std::log10(a)).epsilon(1e-12));
+  CHECK(find("1 fm").background < 1e-12 * a);
+  // Lines that are not in the signal (rounding noise, ~-300 dB) are not listed.
+  CHECK_FALSE(has("1 fm + 1 f2"));
+  CHECK_FALSE(has("2 fm"));
+  CHECK_FALSE(has("1 f1"));
+  // Without shaft-order sources only mesh harmonics are considered.
+  options.shaft_order_sources = false;
+  const std::vector<SidebandRow> harmonics_only = SidebandTable(s, fm, f1, f2, options);
+  REQUIRE(harmonics_only.size() == 1);
+  CHECK(harmonics_only[0].label == "1 fm");
+}
+
+TEST_CASE("a line buried in broadband noise is not listed as a sideband",
+          "[nvh][spectrum][sidebands]") {
+  // A carrier plus deterministic broadband "noise" (many incommensurate tones of 1e-2 a): a
+  // sideband of 3e-3 a sits below the background and is not listed; one of 0.1 a is.
+  const int z1 = 20, z2 = 30;
+  const double f1 = 8.0, fm = z1 * f1, f2 = fm / z2;
+  const double record = 3.0;
+  const int n = 6144;
+  const double rate = n / record, a = 1.0;
+  auto signal = [&](double small, double t) {
+    double v = a * std::sin(2 * kPi * fm * t) + small * a * std::sin(2 * kPi * (fm + f1) * t);
+    for (int i = 1; i < 400; ++i) {
+      v += 1e-2 * a * std::sin(2 * kPi * (0.5 + 0.731 * i) * t + i);  // off-bin: leaks broadly
+    }
+    return v;
+  };
+  SpectrumAnalyzer fft(n);
+  for (auto [small, listed] : {std::pair{3e-3, false}, {0.1, true}}) {
+    const AmplitudeSpectrum s =
+        fft.Analyze(Sample(n, rate, [&](double t) { return signal(small, t); }), rate);
+    bool found = false;
+    for (const SidebandRow& r : SidebandTable(s, fm, f1, f2)) found |= r.label == "1 fm + 1 f1";
+    CHECK(found == listed);
+  }
 }
 
 }  // namespace

@@ -15,8 +15,8 @@
 // to unload a pair (a deviation difference beyond the loaded deflection of a pair) change which
 // pairs carry load; that is not modelled, and MeshErrorExcitation::UnloadsPairs() says when it
 // may happen. Both flanks see the same error (the error is a kinematic angle error of the gears).
-// The error repeats after lcm(z1, z2) mesh cycles (the hunting period: whole revolutions of both
-// gears).
+// The error repeats after whole revolutions of the gears that carry it (lcm(z1, z2) mesh cycles,
+// the hunting period, when both do).
 #pragma once
 
 #include <vector>
@@ -40,7 +40,8 @@ class MeshErrorExcitation {
   double SegmentMean(long cycle, int segment, double t0, double h) const;
   // An upper bound of |e_err|, m.
   double bound() const { return bound_; }
-  // Mesh cycles after which the error repeats: lcm(z1, z2) when active, 1 otherwise.
+  // Mesh cycles after which the error repeats: whole revolutions of the gears that carry errors
+  // (z1, z2 or lcm(z1, z2)), 1 without errors.
   long period_cycles() const { return period_; }
   // The largest difference of pitch deviations between two teeth of one gear plus the other's,
   // against the loaded deflection of one pair at the operating load: when it is larger, the

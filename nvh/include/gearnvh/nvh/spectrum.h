@@ -47,17 +47,35 @@ struct SpectralLine {
 };
 SpectralLine FindLine(const AmplitudeSpectrum& s, double frequency_hz, int search_bins = 2);
 
-// Mesh harmonics k f_m (k = 1..harmonics) and sidebands k f_m +- j f_shaft (j = 1..orders) for the
-// pinion and wheel shafts: one row per line with its order label, frequency, amplitude and dB
-// (re 1 unit, 20 log10). The record must span whole revolutions of both shafts (a multiple of
-// lcm(z1, z2) mesh cycles) so that every line sits on a bin; the bin is read as is.
+// The lines an NVH engineer reads off a TE spectrum: shaft orders j f1, j f2 (j = 1..orders), mesh
+// harmonics k f_m (k = 1..harmonics) and their sidebands k f_m +- j f_shaft, each with its label,
+// frequency, amplitude and dB (re 1 unit, 20 log10). The record must span whole revolutions of
+// both shafts (a multiple of lcm(z1, z2) mesh cycles) so that every line sits on a bin; the bin is
+// read as is (interpolating would mix in a neighbouring sideband one bin away).
+// Only lines that stand out are listed: amplitude >= prominence_db above the local background
+// (the median amplitude of the +-background_bins bins around the line, the 2 x guard_bins + 1
+// nearest excluded: leakage of other lines, broadband rattle) and above rounding_floor_db
+// relative to the strongest bin of the spectrum (the exact solution's double-precision rounding
+// lies near -300 dB). Without a source of shaft-order content (no runout, pitch error or engine
+// order: `shaft_order_sources` false) only the mesh harmonics are considered.
+struct SidebandOptions {
+  int harmonics = 3;            // >= 1
+  int orders = 3;               // >= 0
+  double prominence_db = 12.0;  // >= 0
+  int background_bins = 32;     // > guard_bins
+  int guard_bins = 3;           // >= 1
+  double rounding_floor_db = -200.0;
+  bool shaft_order_sources = true;
+};
 struct SidebandRow {
-  std::string label;  // e.g. "2 fm", "1 fm + 1 f1", "3 fm - 2 f2"
+  std::string label;  // e.g. "1 f1", "2 fm", "1 fm + 1 f1", "3 fm - 2 f2"; "1 f1 = 3 f2" when
+                      // two lines fall on one frequency
   double frequency_hz = 0.0;
   double amplitude = 0.0;
   double db = 0.0;
+  double background = 0.0;  // local median amplitude
 };
 std::vector<SidebandRow> SidebandTable(const AmplitudeSpectrum& s, double mesh_hz, double pinion_hz,
-                                       double wheel_hz, int harmonics, int orders);
+                                       double wheel_hz, const SidebandOptions& options = {});
 
 }  // namespace gearnvh

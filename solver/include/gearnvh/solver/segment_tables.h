@@ -79,9 +79,10 @@ struct SegmentTables {
   void SetInputs(long cycle, int segment, Eigen::Ref<Eigen::VectorXd> z) const;
   // An upper bound of |u_input| over all segments.
   double InputBound(int input) const;
-  // Mesh cycles after which the inputs' sequence of segment means repeats (the common period of
-  // the engine orders is not included: it need not be a whole number of cycles).
-  long input_period_cycles() const { return errors.period_cycles(); }
+  // The smallest whole number of mesh cycles after which the model repeats: the engine orders
+  // (n order / z1 an integer for every order) and the gears' manufacturing errors (whole
+  // revolutions of the gears that carry them); 0 when none is found up to max_cycles.
+  long CommonPeriodCycles(long max_cycles) const;
   int segments() const { return static_cast<int>(systems.size()); }
   double SegmentLength(int j) const { return boundaries[j + 1] - boundaries[j]; }
   // Mean of sum_k a_k sin(k Omega1 t + phi_k) over [t0, t0 + h], rad/s^2 (closed form).
