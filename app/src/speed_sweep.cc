@@ -89,14 +89,12 @@ SpeedSweepResult RunSpeedSweep(const GearboxSpec& spec, const ComponentModel& mo
   result.order_bins =
       static_cast<int>(std::min<long>(half, static_cast<long>(max_order / result.order_step))) + 1;
 
-  // Campbell: the tier linearised in drive contact at the mean (effective) mesh stiffness.
-  LinearRotorModel linear;
-  linear.M = reduced.M;
-  linear.K = reduced.K + reduced.EffectiveMeshStiffness(model.mesh_summary.mean) * reduced.v_drive *
-                             reduced.v_drive.transpose();
-  linear.G = reduced.G;
+  // Campbell: the tier linearised in drive contact at the mean (effective) mesh stiffness; every
+  // mode up to 3x the highest mesh frequency of the sweep.
+  const LinearRotorModel linear = LinearisedRotor(model, reduced);
   CampbellOptions campbell;
-  campbell.modes = options.campbell_modes;
+  campbell.max_frequency_hz =
+      3.0 * z1 * *std::max_element(speeds.begin(), speeds.end()) / (2.0 * std::numbers::pi);
   result.campbell = ComputeCampbell(linear, speeds, GearOrderLines(z1, spec.wheel.teeth), campbell);
 
   // Waterfall: one exact run per speed, in parallel.

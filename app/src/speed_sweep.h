@@ -18,7 +18,6 @@ struct SpeedSweepOptions {
   long waterfall_cycles = 256;  // the last cycles of each run in the spectrum (<= cycles)
   double max_order = 0.0;       // waterfall up to this pinion order (0: 3.5 mesh orders)
   int threads = 0;              // 0: all hardware threads
-  int campbell_modes = 8;
   std::string method = "fused";  // v1 | v2 | v3 | fused
 };
 

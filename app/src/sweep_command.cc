@@ -67,12 +67,25 @@ nlohmann::json SweepJson(const SpeedSweepResult& r, double mesh_order) {
   for (const SpeedPoint& p : r.points) speeds.push_back(p.speed_rpm);
   nlohmann::json modes = nlohmann::json::array();
   for (size_t k = 0; k < r.campbell.frequency_hz.size(); ++k) {
-    nlohmann::json f = nlohmann::json::array(), mac = nlohmann::json::array();
+    nlohmann::json f = nlohmann::json::array(), mac = nlohmann::json::array(),
+                   zeta = nlohmann::json::array();
     for (size_t s = 0; s < r.campbell.frequency_hz[k].size(); ++s) {
       f.push_back(NumberOrNull(r.campbell.frequency_hz[k][s]));
       mac.push_back(NumberOrNull(r.campbell.mac[k][s]));
+      zeta.push_back(NumberOrNull(r.campbell.damping_ratio[k][s]));
     }
-    modes.push_back({{"mode", k}, {"frequency_hz", f}, {"mac", mac}});
+    const ModeInfo& info = r.campbell.modes[k];
+    modes.push_back({{"mode", k + 1},
+                     {"label", info.Label()},
+                     {"type", ModeTypeName(info.type)},
+                     {"whirl", WhirlName(info.whirl)},
+                     {"energy_fraction",
+                      {{"torsional", info.energy_fraction[0]},
+                       {"lateral", info.energy_fraction[1]},
+                       {"axial", info.energy_fraction[2]}}},
+                     {"frequency_hz", f},
+                     {"damping_ratio", zeta},
+                     {"mac", mac}});
   }
   nlohmann::json orders = nlohmann::json::array();
   for (const OrderLine& o : r.campbell.orders)
@@ -80,7 +93,8 @@ nlohmann::json SweepJson(const SpeedSweepResult& r, double mesh_order) {
   nlohmann::json critical = nlohmann::json::array();
   for (const CriticalSpeed& c : r.campbell.critical_speeds) {
     critical.push_back({{"order", c.order},
-                        {"mode", c.mode},
+                        {"mode", c.mode + 1},
+                        {"mode_label", r.campbell.modes[static_cast<size_t>(c.mode)].Label()},
                         {"speed_rpm", c.speed_rpm},
                         {"frequency_hz", c.frequency_hz}});
   }
@@ -112,10 +126,11 @@ nlohmann::json SweepJson(const SpeedSweepResult& r, double mesh_order) {
 std::string CampbellCsv(const SpeedSweepResult& r) {
   std::ostringstream os;
   os.precision(12);
-  os << "speed_rpm,mode,frequency_hz,mac\n";
+  os << "speed_rpm,mode,mode_label,frequency_hz,damping_ratio,mac\n";
   for (size_t k = 0; k < r.campbell.frequency_hz.size(); ++k) {
     for (size_t s = 0; s < r.points.size(); ++s) {
-      os << r.points[s].speed_rpm << ',' << k << ',' << r.campbell.frequency_hz[k][s] << ','
+      os << r.points[s].speed_rpm << ',' << k + 1 << ",\"" << r.campbell.modes[k].Label() << "\","
+         << r.campbell.frequency_hz[k][s] << ',' << r.campbell.damping_ratio[k][s] << ','
          << r.campbell.mac[k][s] << '\n';
     }
   }
@@ -125,9 +140,11 @@ std::string CampbellCsv(const SpeedSweepResult& r) {
 std::string CriticalCsv(const SpeedSweepResult& r) {
   std::ostringstream os;
   os.precision(12);
-  os << "order,mode,speed_rpm,frequency_hz\n";
+  os << "order,mode,mode_label,speed_rpm,frequency_hz\n";
   for (const CriticalSpeed& c : r.campbell.critical_speeds) {
-    os << c.order << ',' << c.mode << ',' << c.speed_rpm << ',' << c.frequency_hz << '\n';
+    os << c.order << ',' << c.mode + 1 << ",\""
+       << r.campbell.modes[static_cast<size_t>(c.mode)].Label() << "\"," << c.speed_rpm << ','
+       << c.frequency_hz << '\n';
   }
   return os.str();
 }
@@ -229,7 +246,8 @@ int RunSweep(const SweepOptions& options) {
       }
       fmt::print("  critical speeds (order line x tracked mode):\n");
       for (const CriticalSpeed& c : result.campbell.critical_speeds) {
-        fmt::print("    {:8.0f} rpm  {:>9}  mode {}  {:.1f} Hz\n", c.speed_rpm, c.order, c.mode,
+        fmt::print("    {:8.0f} rpm  {:>9}  mode {} ({})  {:.1f} Hz\n", c.speed_rpm, c.order,
+                   c.mode + 1, result.campbell.modes[static_cast<size_t>(c.mode)].Label(),
                    c.frequency_hz);
       }
       if (result.campbell.critical_speeds.empty()) fmt::print("    none in the sweep range\n");

@@ -79,7 +79,12 @@ TEST_CASE("sweep writes Campbell and waterfall data atomically and reports per s
   CHECK(speeds == 35);
   CHECK(r["failed_speeds"] == 0);
   CHECK(r["waterfall"]["amplitude_m"].size() == speeds);
-  CHECK(r["campbell"]["modes"].size() == 8);
+  // Every mode below 3x the highest mesh frequency (31 teeth at 6000 rpm: 9.3 kHz) of N20 MTA.
+  CHECK(r["campbell"]["modes"].size() >= 8);
+  for (const auto& mode : r["campbell"]["modes"]) {
+    CHECK(mode.contains("label"));
+    CHECK(mode["damping_ratio"].size() == speeds);
+  }
   CHECK(r["campbell"]["orders"].size() == 7);
   CHECK(!r["campbell"]["critical_speeds"].empty());
   for (const char* file : {"campbell.csv", "critical_speeds.csv", "waterfall.csv", "sweep.json"}) {
