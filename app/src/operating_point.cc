@@ -39,6 +39,14 @@ OperatingPointAnalysis AnalyseOperatingPoint(const GearboxSpec& spec, const Comp
   op.solver = solver;
   const ReducedModel reduced = ReduceModel(model, tier);
   op.tier_name = reduced.name;
+  // Warnings the engineer must see with the numbers: the model's (fits used outside their range,
+  // errors that can unload pairs) and whether the tier reproduces the modes the mesh excites.
+  op.warnings = model.warnings;
+  TierAdequacyOptions adequacy;
+  adequacy.max_frequency_hz =
+      3.0 * spec.pinion.teeth * spec.operating.speed / (2.0 * std::numbers::pi);
+  op.adequacy = AssessTierAdequacy(model, reduced, FullModelMeshModes(model, adequacy), adequacy);
+  if (!op.adequacy.adequate) op.warnings.push_back(op.adequacy.Warning());
   op.tables = BuildSegmentTables(model, reduced, spec);
   const SegmentTables& tables = op.tables;
   // Shaft-order lines (runout, pitch errors, engine orders) sit on spectrum bins only over whole
@@ -89,6 +97,23 @@ OperatingPointAnalysis AnalyseOperatingPoint(const GearboxSpec& spec, const Comp
   const TransmissionErrorStats& te = op.te;
   nlohmann::json& doc = op.doc;
   doc["tier"] = reduced.name;
+  doc["warnings"] = op.warnings;
+  nlohmann::json adequacy_modes = nlohmann::json::array();
+  for (const TierModeMatch& m : op.adequacy.modes) {
+    adequacy_modes.push_back({{"full_hz", m.full_hz},
+                              {"mesh_compliance_share", m.share},
+                              {"tier_hz", m.tier_hz},
+                              {"mac", m.mac},
+                              {"relative_error", m.relative_error},
+                              {"reproduced", m.reproduced}});
+  }
+  doc["tier_adequacy"] = {
+      {"adequate", op.adequacy.adequate},
+      {"max_frequency_hz", adequacy.max_frequency_hz},
+      {"modes", adequacy_modes},
+      {"adequate_tier", op.adequacy.adequate_tier
+                            ? nlohmann::json(TierName(*op.adequacy.adequate_tier))
+                            : nlohmann::json(nullptr)}};
   doc["method"] = SolverMethodName(solver.method);
   doc["events_method"] = EventMethodName(solver.events);
   doc["state_dim"] = tables.m;

@@ -11,6 +11,7 @@
 #include "gearnvh/nvh/spectrum.h"
 #include "gearnvh/nvh/transmission_error.h"
 #include "gearnvh/reduction/reduced_model.h"
+#include "gearnvh/reduction/tier_adequacy.h"
 #include "gearnvh/solver/exact_solver.h"
 #include "gearnvh/solver/segment_tables.h"
 
@@ -19,6 +20,8 @@ namespace gearnvh::app {
 struct OperatingPointAnalysis {
   std::string tier_name;
   std::string cycles_note;  // set when the recorded cycles were rounded to whole revolutions
+  std::vector<std::string> warnings;  // the model's and the tier adequacy's
+  TierAdequacy adequacy;
   SegmentTables tables;
   SolverOptions solver;  // as run (cycles may be rounded up to whole revolutions of both gears)
   SolverResult result;

@@ -140,6 +140,7 @@ int RunSimulate(const SimulateOptions& options) {
         fmt::print("(sidebands in --json, over {} cycles)\n", window);
       }
       if (!op.cycles_note.empty()) fmt::print("  note: {}\n", op.cycles_note);
+      for (const std::string& w : op.warnings) fmt::print("  warning: {}\n", w);
       if (!s.message.empty()) fmt::print("  note: {}\n", s.message);
       if (s.trajectory_truncated) {
         fmt::print(
