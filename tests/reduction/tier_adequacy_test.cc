@@ -56,7 +56,7 @@ GearboxSpec FlexiblePair() {
   return spec;
 }
 
-TEST_CASE("on flexible shafts the rigid tiers miss the shaft modes the mesh sees; N40 does not",
+TEST_CASE("on flexible shafts the rigid tiers miss the shaft modes the mesh sees, N40 does not",
           "[reduction][adequacy]") {
   const GearboxSpec spec = FlexiblePair();
   const ComponentModel model = BuildComponentModel(spec);
