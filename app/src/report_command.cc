@@ -103,6 +103,7 @@ th { background: #f0f0f0; }
 figure { margin: 1em 0 2em; }
 figure img { max-width: 100%; border: 1px solid #ddd; }
 figcaption { color: #555; font-size: 0.9em; }
+.warning { color: #8a4b00; background: #fff4e0; border-left: 4px solid #e0a030; padding: 0.3em 0.6em; }
 .warn { color: #a00; font-weight: bold; }
 .ok { color: #070; }
 </style>)";
@@ -335,6 +336,9 @@ GearboxEntry BuildGearboxReport(const std::string& file, const fs::path& folder,
     h << "<h1>" << Html(spec.name) << "</h1>\n<p>" << Html(file) << " &middot; tier "
       << Html(op.tier_name) << " &middot; <a href=\"results.json\">results.json</a> &middot; <a "
       << "href=\"../index.html\">batch</a></p>\n";
+    for (const std::string& w : op.warnings) {
+      h << "<p class=\"warning\">warning: " << Html(w) << "</p>\n";
+    }
     const PairGeometry& g = model.geometry;
     h << "<h2>Gear pair and operating point</h2>\n<table>\n"
       << Row("teeth (pinion / wheel)", fmt::format("{} / {}", spec.pinion.teeth, spec.wheel.teeth))
