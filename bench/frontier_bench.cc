@@ -111,7 +111,7 @@ RunFigures TimeRun(const Built& b, const std::string& method, const Settings& s)
           const SolverResult r = SimulateExact(b.tables, z0, s0, o);
           if (summary != nullptr) {
             *summary = r.summary;
-            f.te_rms = ComputeTransmissionErrorStats(r.trajectory, 0.0).rms;
+            f.te_rms = ComputeTransmissionErrorStats(r.trajectory, 0.0, 0.0).rms;
           }
         },
         s.repeats);
@@ -284,7 +284,7 @@ int main(int argc, char** argv) {
     o.cycles = cycles;
     SolverResult exact;
     const double exact_s = Seconds([&] { exact = SimulateExact(b.tables, z0, s0, o); }, s.repeats);
-    const double exact_rms = ComputeTransmissionErrorStats(exact.trajectory, 0.0).rms;
+    const double exact_rms = ComputeTransmissionErrorStats(exact.trajectory, 0.0, 0.0).rms;
     double matched_rtol = 0.0, peer_s = 0.0, peer_error = 0.0;
     long steps = 0;
     for (double rtol : {1e-6, 1e-8, 1e-10, 1e-12}) {
@@ -294,7 +294,7 @@ int main(int argc, char** argv) {
       ReferenceResult ref;
       const double t = Seconds([&] { ref = SimulateReference(b.tables, z0, s0, ro); }, 1);
       if (ref.status != ReferenceStatus::kSuccess) continue;
-      const double rms = ComputeTransmissionErrorStats(ref.trajectory, 0.0).rms;
+      const double rms = ComputeTransmissionErrorStats(ref.trajectory, 0.0, 0.0).rms;
       peer_error = std::abs(rms - exact_rms) / exact_rms;
       peer_s = t;
       steps = ref.steps;
