@@ -182,14 +182,15 @@ Eigen::VectorXd ComponentModel::FrictionVector(Flank flank, double sigma, double
 ComponentModel BuildComponentModel(const GearboxSpec& spec, const ComponentModelOptions& options) {
   options.Validate();
   ComponentModel m;
-  m.geometry = ComputePairGeometry(spec);
+  const MeshPair pair = PairOf(spec);
+  m.geometry = ComputePairGeometry(pair);
   const PairGeometry& g = m.geometry;
-  const MeshEvaluator evaluator(spec, g, options.mesh);
-  m.cycle = ComputeMeshCycle(spec, g, options.mesh);
+  const MeshEvaluator evaluator(pair, g, options.mesh);
+  m.cycle = ComputeMeshCycle(pair, g, options.mesh);
   m.mesh_summary = SummarizeMeshCycle(m.cycle, g);
-  m.segmentation = SegmentMeshCycle(spec, evaluator, spec.analysis.segments_per_cycle);
+  m.segmentation = SegmentMeshCycle(pair, evaluator, spec.analysis.segments_per_cycle);
   m.warnings = m.cycle.warnings;
-  m.errors = MeshErrorExcitation(spec, m.segmentation, spec.operating.speed);
+  m.errors = MeshErrorExcitation(pair, m.segmentation);
   if (m.errors.active() && m.mesh_summary.max > 0.0) {
     const double pair_deflection = m.cycle.load / m.mesh_summary.max;
     if (m.errors.largest_pair_deviation() > pair_deflection) {

@@ -40,16 +40,17 @@ GearRadii ComputeGearRadii(const GearSpec& g) {
   return r;
 }
 
-PairGeometry ComputePairGeometry(const GearboxSpec& spec) {
-  const GearSpec& p = spec.pinion;
-  const GearSpec& w = spec.wheel;
+PairGeometry ComputePairGeometry(const MeshPair& pair) {
+  const GearSpec& p = *pair.a;
+  const GearSpec& w = *pair.b;
   if (std::abs(p.module - w.module) > 1e-12 * p.module) {
-    throw InputError("gears.wheel.module", 0, Num(w.module),
-                     "must equal the pinion module (" + Num(p.module) + " m) for a spur pair");
+    throw InputError(pair.path_b + ".module", 0, Num(w.module),
+                     "must equal the module of " + pair.path_a + " (" + Num(p.module) +
+                         " m): gears in mesh share the module");
   }
   if (std::abs(p.pressure_angle - w.pressure_angle) > 1e-12) {
-    throw InputError("gears.wheel.pressure_angle", 0, Num(w.pressure_angle) + " rad",
-                     "must equal the pinion pressure angle for a spur pair");
+    throw InputError(pair.path_b + ".pressure_angle", 0, Num(w.pressure_angle) + " rad",
+                     "must equal the pressure angle of " + pair.path_a);
   }
   PairGeometry g;
   g.pinion = ComputeGearRadii(p);
@@ -57,8 +58,8 @@ PairGeometry ComputePairGeometry(const GearboxSpec& spec) {
   g.gear_ratio = static_cast<double>(w.teeth) / p.teeth;
   const double alpha0 = p.pressure_angle;
   const double a0 = g.pinion.pitch + g.wheel.pitch;
-  if (spec.mesh.center_distance) {
-    g.center_distance = *spec.mesh.center_distance;
+  if (pair.mesh->center_distance) {
+    g.center_distance = *pair.mesh->center_distance;
   } else {
     const double x_sum = p.profile_shift + w.profile_shift;
     const double inv_w = Involute(alpha0) + 2.0 * x_sum * std::tan(alpha0) / (p.teeth + w.teeth);
@@ -67,7 +68,7 @@ PairGeometry ComputePairGeometry(const GearboxSpec& spec) {
   const double cos_w = (g.pinion.base + g.wheel.base) / g.center_distance;
   if (!(cos_w < 1.0)) {
     throw InputError(
-        "mesh.center_distance", 0, Num(g.center_distance) + " m",
+        pair.path_mesh + ".center_distance", 0, Num(g.center_distance) + " m",
         "must exceed the sum of base radii (" + Num(g.pinion.base + g.wheel.base) + " m)");
   }
   g.working_pressure_angle = std::acos(cos_w);
@@ -80,15 +81,15 @@ PairGeometry ComputePairGeometry(const GearboxSpec& spec) {
   g.contact_end = ap;
   g.pitch_point = g.pinion.base * std::tan(g.working_pressure_angle);
   if (g.contact_start < 0.0 || g.contact_end > g.line_of_action_length) {
-    throw InputError("gears", 0, "",
+    throw InputError(pair.path_mesh, 0, "",
                      "a tip circle reaches beyond the mating base circle (involute interference); "
                      "reduce addendum_coefficient or profile_shift");
   }
   if (g.contact_ratio < 1.0) {
-    throw InputError("gears", 0, Num(g.contact_ratio),
+    throw InputError(pair.path_mesh, 0, Num(g.contact_ratio),
                      "contact ratio must be >= 1 for continuous contact");
   }
-  g.mesh_frequency_hz = p.teeth * spec.operating.speed / (2.0 * std::numbers::pi);
+  g.mesh_frequency_hz = p.teeth * pair.speed_a / (2.0 * std::numbers::pi);
   g.mesh_period_s = 1.0 / g.mesh_frequency_hz;
   return g;
 }

@@ -22,12 +22,11 @@ double LargestMagnitude(const std::vector<double>& f) {
 
 }  // namespace
 
-MeshErrorExcitation::MeshErrorExcitation(const GearboxSpec& spec,
-                                         const MeshSegmentation& segmentation,
-                                         double pinion_speed) {
-  const GearSpec* gears[2] = {&spec.pinion, &spec.wheel};
-  speeds_[0] = pinion_speed;
-  speeds_[1] = pinion_speed * spec.pinion.teeth / static_cast<double>(spec.wheel.teeth);
+MeshErrorExcitation::MeshErrorExcitation(const MeshPair& pair,
+                                         const MeshSegmentation& segmentation) {
+  const GearSpec* gears[2] = {pair.a, pair.b};
+  speeds_[0] = pair.speed_a;
+  speeds_[1] = pair.speed_a * pair.a->teeth / static_cast<double>(pair.b->teeth);
   for (int g = 0; g < 2; ++g) {
     teeth_[g] = gears[g]->teeth;
     if (gears[g]->runout && gears[g]->runout->amplitude > 0.0) {

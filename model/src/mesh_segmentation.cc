@@ -59,7 +59,7 @@ double UserSte(const StaticTransmissionError& ste, double tau) {
 
 }  // namespace
 
-MeshSegmentation SegmentMeshCycle(const GearboxSpec& spec, const MeshEvaluator& ev,
+MeshSegmentation SegmentMeshCycle(const MeshPair& pair, const MeshEvaluator& ev,
                                   int segments_per_cycle, int scan_samples) {
   MeshSegmentation out;
   std::vector<double> breaks{0.0};
@@ -135,7 +135,7 @@ MeshSegmentation SegmentMeshCycle(const GearboxSpec& spec, const MeshEvaluator& 
         seg.back.friction_arm_wheel += w * b.friction_arm_wheel;
         lste += w * d.lste;
         AddErrorWeights(ev, d, tau, w, seg.error_weights);
-        user += w * UserSte(spec.mesh.static_transmission_error, tau);
+        user += w * UserSte(pair.mesh->static_transmission_error, tau);
       }
       seg.lste = lste;
       seg.unloaded_error = lste - load / seg.drive.stiffness + user;

@@ -25,21 +25,21 @@ void MeshStiffnessOptions::Validate() const {
 struct PairStiffness::Impl {
   ToothStiffnessModel pinion, wheel;
   double hertz_compliance, line_length, start, end;
-  Impl(const GearboxSpec& spec, const PairGeometry& g)
-      : pinion(spec.pinion, spec.MaterialOf(spec.pinion)),
-        wheel(spec.wheel, spec.MaterialOf(spec.wheel)),
-        hertz_compliance(
-            1.0 / HertzContactStiffness(spec.MaterialOf(spec.pinion), spec.MaterialOf(spec.wheel),
-                                        std::min(spec.pinion.face_width, spec.wheel.face_width))),
+  Impl(const MeshPair& pair, const PairGeometry& g)
+      : pinion(*pair.a, *pair.material_a),
+        wheel(*pair.b, *pair.material_b),
+        hertz_compliance(1.0 /
+                         HertzContactStiffness(*pair.material_a, *pair.material_b,
+                                               std::min(pair.a->face_width, pair.b->face_width))),
         line_length(g.line_of_action_length),
         start(g.contact_start),
         end(g.contact_end) {}
 };
 
-PairStiffness::PairStiffness(const GearboxSpec& spec, const PairGeometry& geometry)
-    : impl_(std::make_shared<Impl>(spec, geometry)) {
-  for (const auto& w : impl_->pinion.warnings()) warnings_.push_back("pinion: " + w);
-  for (const auto& w : impl_->wheel.warnings()) warnings_.push_back("wheel: " + w);
+PairStiffness::PairStiffness(const MeshPair& pair, const PairGeometry& geometry)
+    : impl_(std::make_shared<Impl>(pair, geometry)) {
+  for (const auto& w : impl_->pinion.warnings()) warnings_.push_back(pair.path_a + ": " + w);
+  for (const auto& w : impl_->wheel.warnings()) warnings_.push_back(pair.path_b + ": " + w);
 }
 
 double PairStiffness::At(double roll) const {
@@ -137,25 +137,27 @@ double Frac(double x) { return x - std::floor(x); }
 
 }  // namespace
 
-MeshEvaluator::MeshEvaluator(const GearboxSpec& spec, const PairGeometry& g,
+MeshEvaluator::MeshEvaluator(const MeshPair& pair, const PairGeometry& g,
                              const MeshStiffnessOptions& options)
-    : spec_(&spec), g_(g), pair_(spec, g) {
+    : mesh_(pair.mesh), g_(g), pair_(pair, g) {
   options.Validate();
-  overridden_ = !std::holds_alternative<PotentialEnergyStiffness>(spec.mesh.stiffness);
-  load_ = spec.operating.torque / g.wheel.base;
+  const GearSpec& pinion = *pair.a;
+  const GearSpec& wheel = *pair.b;
+  overridden_ = !std::holds_alternative<PotentialEnergyStiffness>(mesh_->stiffness);
+  load_ = pair.transmitted_torque / g.wheel.base;
   reach_ = options.path_extension_pitches * g.base_pitch;
-  if (spec.wheel.tip_relief) {
-    relief_start_amount_ = spec.wheel.tip_relief->amount;
-    relief_start_length_ = spec.wheel.tip_relief->length;
+  if (wheel.tip_relief) {
+    relief_start_amount_ = wheel.tip_relief->amount;
+    relief_start_length_ = wheel.tip_relief->length;
   }
-  if (spec.pinion.tip_relief) {
-    relief_end_amount_ = spec.pinion.tip_relief->amount;
-    relief_end_length_ = spec.pinion.tip_relief->length;
+  if (pinion.tip_relief) {
+    relief_end_amount_ = pinion.tip_relief->amount;
+    relief_end_length_ = pinion.tip_relief->length;
   }
   // Pinion half-tooth angle at the working pitch circle, for the back-flank mirror offset.
-  const double alpha0 = spec.pinion.pressure_angle;
-  const double alpha2 = std::numbers::pi / (2.0 * spec.pinion.teeth) + Involute(alpha0) +
-                        2.0 * spec.pinion.profile_shift * std::tan(alpha0) / spec.pinion.teeth;
+  const double alpha0 = pinion.pressure_angle;
+  const double alpha2 = std::numbers::pi / (2.0 * pinion.teeth) + Involute(alpha0) +
+                        2.0 * pinion.profile_shift * std::tan(alpha0) / pinion.teeth;
   const double theta_w = alpha2 - Involute(g.working_pressure_angle);
   mirror_ = 2.0 * (g.pitch_point + g.pinion.base * theta_w);
   back_phase_ = mirror_ - 2.0 * g.contact_start;
@@ -189,9 +191,9 @@ double MeshEvaluator::PitchCrossing(Flank flank) const {
 
 std::vector<double> MeshEvaluator::OverrideBreaks(Flank flank) const {
   std::vector<double> law;  // phases of the override's own cycle
-  if (const auto* r = std::get_if<RectangularStiffness>(&spec_->mesh.stiffness)) {
+  if (const auto* r = std::get_if<RectangularStiffness>(&mesh_->stiffness)) {
     law = {0.0, r->contact_ratio - 1.0};
-  } else if (const auto* t = std::get_if<TableStiffness>(&spec_->mesh.stiffness)) {
+  } else if (const auto* t = std::get_if<TableStiffness>(&mesh_->stiffness)) {
     law = t->phase;
   }
   // The drive flank reads the law at tau, the back flank at back_phase / p_b - tau (Evaluate).
@@ -220,7 +222,7 @@ FlankSample MeshEvaluator::Evaluate(double tau, Flank flank) const {
   if (overridden_) {
     // User data replaces the stiffness; share equally among pairs inside the path.
     const double tau_flank = flank == Flank::kDrive ? tau : back_phase_ / g.base_pitch - tau;
-    out.stiffness = OverrideStiffness(spec_->mesh.stiffness, tau_flank);
+    out.stiffness = OverrideStiffness(mesh_->stiffness, tau_flank);
     int in_path = 0;
     for (int m = 0; m < out.pair_count; ++m) {
       in_path += (out.pairs[m].roll >= g.contact_start && out.pairs[m].roll <= g.contact_end);
@@ -242,9 +244,9 @@ FlankSample MeshEvaluator::Evaluate(double tau, Flank flank) const {
   return out;
 }
 
-MeshCycle ComputeMeshCycle(const GearboxSpec& spec, const PairGeometry& g,
+MeshCycle ComputeMeshCycle(const MeshPair& pair, const PairGeometry& g,
                            const MeshStiffnessOptions& options) {
-  const MeshEvaluator evaluator(spec, g, options);
+  const MeshEvaluator evaluator(pair, g, options);
   MeshCycle cycle;
   cycle.warnings = evaluator.warnings();
   cycle.overridden = evaluator.overridden();

@@ -38,7 +38,7 @@ TEST_CASE("potential-energy stiffness lies within the spread of methods around I
     spec.operating.torque =
         100.0 * b * 1e3 * 0.5 * m * z2;  // ~100 N/mm line load: a light design load
     const PairGeometry g = ComputePairGeometry(spec);
-    const MeshStiffnessSummary s = SummarizeMeshCycle(ComputeMeshCycle(spec, g), g);
+    const MeshStiffnessSummary s = SummarizeMeshCycle(ComputeMeshCycle(PairOf(spec), g), g);
     const IsoStiffness iso = Iso6336(z1, z2, b, g.contact_ratio);
     const double single_diff = s.single_pair_mean / iso.single - 1.0;
     const double mesh_diff = s.mean / iso.mesh - 1.0;
@@ -65,7 +65,7 @@ TEST_CASE("mesh stiffness stays valid for very large tooth counts (outside the b
     // curvature) stays negligible, so the comparison sees the tooth and body compliances.
     spec.operating.torque = 1.0 * 18.0 * 1e-3 * z2;
     const PairGeometry g = ComputePairGeometry(spec);
-    return SummarizeMeshCycle(ComputeMeshCycle(spec, g), g);
+    return SummarizeMeshCycle(ComputeMeshCycle(PairOf(spec), g), g);
   };
   for (double bore_ratio : {0.0, 0.6}) {  // a 20 mm bore (h_f = 200) and a 60 % rim bore
     const MeshStiffnessSummary huge = summary(23, 2000, bore_ratio);
@@ -117,7 +117,7 @@ TEST_CASE("load sharing sums to one and is symmetric for a symmetric pair", "[me
   spec.operating.torque = 200.0;
   spec.pinion.tip_relief = spec.wheel.tip_relief = TipRelief{8e-6, 1.5e-3};
   const PairGeometry g = ComputePairGeometry(spec);
-  const MeshEvaluator ev(spec, g);
+  const MeshEvaluator ev(PairOf(spec), g);
   const double tol = 1e-12;  // exact algebra, rounding only
   for (int i = 0; i < 200; ++i) {
     const double tau = (i + 0.37) / 200.0;
@@ -156,7 +156,7 @@ TEST_CASE("without separations the load shares in proportion to stiffness", "[me
   GearboxSpec spec = StandardPair(27, 43);
   spec.operating.torque = 0.0;
   const PairGeometry g = ComputePairGeometry(spec);
-  const MeshEvaluator ev(spec, g);
+  const MeshEvaluator ev(PairOf(spec), g);
   const FlankSample d = ev.Evaluate(0.1, Flank::kDrive);  // double contact at tau = 0.1
   REQUIRE(d.loaded_pairs == 2);
   double sum_k = 0.0;
@@ -175,13 +175,14 @@ TEST_CASE("tip relief lowers the LSTE peak-to-peak at design load", "[mesh][reli
   GearboxSpec spec = StandardPair(25, 75, 4e-3, 40e-3);
   spec.operating.torque = 1500.0;  // ~265 N/mm line load: design load of this pair
   const PairGeometry g = ComputePairGeometry(spec);
-  const MeshStiffnessSummary plain = SummarizeMeshCycle(ComputeMeshCycle(spec, g), g);
+  const MeshStiffnessSummary plain = SummarizeMeshCycle(ComputeMeshCycle(PairOf(spec), g), g);
   const double load = spec.operating.torque / g.wheel.base;
   CHECK(plain.lste_peak_to_peak ==
         Approx(load * (1 / plain.single_pair_mean - 1 / plain.double_pair_mean)).epsilon(0.1));
   spec.pinion.tip_relief = spec.wheel.tip_relief =
       TipRelief{20e-6, (g.contact_ratio - 1.0) * g.base_pitch};
-  const double relieved = SummarizeMeshCycle(ComputeMeshCycle(spec, g), g).lste_peak_to_peak;
+  const double relieved =
+      SummarizeMeshCycle(ComputeMeshCycle(PairOf(spec), g), g).lste_peak_to_peak;
   INFO("LSTE p-p " << plain.lste_peak_to_peak * 1e6 << " um unmodified, " << relieved * 1e6
                    << " um with long relief");
   CHECK(relieved < 0.5 * plain.lste_peak_to_peak);
@@ -191,7 +192,7 @@ TEST_CASE("stiffness overrides reproduce their input exactly", "[mesh][override]
   GearboxSpec spec = StandardPair(27, 43);
   const PairGeometry g = ComputePairGeometry(spec);
   spec.mesh.stiffness = RectangularStiffness{2.0e8, 3.4e8, 1.6};
-  MeshEvaluator rect(spec, g);
+  MeshEvaluator rect(PairOf(spec), g);
   CHECK(rect.Evaluate(0.1, Flank::kDrive).stiffness == 3.4e8);
   CHECK(rect.Evaluate(0.59, Flank::kDrive).stiffness == 3.4e8);
   CHECK(rect.Evaluate(0.61, Flank::kDrive).stiffness == 2.0e8);
@@ -199,7 +200,7 @@ TEST_CASE("stiffness overrides reproduce their input exactly", "[mesh][override]
 
   const TableStiffness table{{0.0, 0.3, 0.7}, {3e8, 2e8, 2.5e8}};
   spec.mesh.stiffness = table;
-  MeshEvaluator tab(spec, g);
+  MeshEvaluator tab(PairOf(spec), g);
   for (size_t i = 0; i < table.phase.size(); ++i) {
     CHECK(tab.Evaluate(table.phase[i], Flank::kDrive).stiffness == table.stiffness[i]);
   }
@@ -208,7 +209,7 @@ TEST_CASE("stiffness overrides reproduce their input exactly", "[mesh][override]
 
   const FourierStiffness fourier{2.7e8, {3e7, 1e7}, {-2e7}};
   spec.mesh.stiffness = fourier;
-  MeshEvaluator four(spec, g);
+  MeshEvaluator four(PairOf(spec), g);
   for (double tau : {0.0, 0.2, 0.45, 0.8}) {
     const double w = 2 * std::numbers::pi * tau;
     const double expected = 2.7e8 + 3e7 * std::cos(w) + 1e7 * std::cos(2 * w) - 2e7 * std::sin(w);
@@ -225,9 +226,9 @@ TEST_CASE("a rectangular override is reproduced exactly at any segmentation, on 
   // falls inside the geometric intervals.
   const RectangularStiffness rect{2.0e8, 3.4e8, 1.43};
   spec.mesh.stiffness = rect;
-  const MeshEvaluator ev(spec, g);
+  const MeshEvaluator ev(PairOf(spec), g);
   for (int S : {12, 13, 32, 57, 200}) {
-    const MeshSegmentation seg = SegmentMeshCycle(spec, ev, S);
+    const MeshSegmentation seg = SegmentMeshCycle(PairOf(spec), ev, S);
     double drive_mean = 0.0, back_mean = 0.0;
     for (const MeshSegment& s : seg.segments) {
       // Each segment lies on one level of the wave: its mean is that level, to rounding of the
@@ -248,7 +249,7 @@ TEST_CASE("a rectangular override is reproduced exactly at any segmentation, on 
     CHECK(back_mean == Approx(exact).epsilon(1e-14));
   }
   // The switches are among the mandatory boundaries (drive: 0 and eps - 1).
-  const MeshSegmentation seg = SegmentMeshCycle(spec, ev, 32);
+  const MeshSegmentation seg = SegmentMeshCycle(PairOf(spec), ev, 32);
   bool switch_found = false;
   for (double b : seg.mandatory_breaks) switch_found |= std::abs(b - 0.43) < 1e-15;
   CHECK(switch_found);
@@ -259,7 +260,7 @@ TEST_CASE("friction arms: rho1 + rho2 = |T1T2| and reversal at the pitch point",
   GearboxSpec spec = StandardPair(27, 43);
   spec.operating.torque = 50.0;
   const PairGeometry g = ComputePairGeometry(spec);
-  const MeshEvaluator ev(spec, g);
+  const MeshEvaluator ev(PairOf(spec), g);
   for (int i = 0; i < 100; ++i) {
     const FlankSample d = ev.Evaluate((i + 0.5) / 100, Flank::kDrive);
     // a1 + a2 = sum LSR sgn (rho1 + rho2) = sigma |T1T2|: exact, rounding only.
@@ -281,8 +282,8 @@ TEST_CASE("segmentation: S segments, boundaries on transitions, means consistent
   spec.operating.torque = 20.0;
   spec.analysis.segments_per_cycle = 32;
   const PairGeometry g = ComputePairGeometry(spec);
-  const MeshEvaluator ev(spec, g);
-  const MeshSegmentation seg = SegmentMeshCycle(spec, ev, 32);
+  const MeshEvaluator ev(PairOf(spec), g);
+  const MeshSegmentation seg = SegmentMeshCycle(PairOf(spec), ev, 32);
   REQUIRE(seg.segments.size() == 32);
   CHECK(seg.segments.front().tau_begin == 0.0);
   CHECK(seg.segments.back().tau_end == Approx(1.0).epsilon(1e-15));
@@ -299,8 +300,9 @@ TEST_CASE("segmentation: S segments, boundaries on transitions, means consistent
   // Under load a pair engages early / leaves late by at most sqrt(2 rho delta) along the line (the
   // curvature gap closes by the approach delta), so the transitions lie in [eps - 1, eps - 1 + d]
   // and [1 - d, 1) with d that extension in cycle fractions.
-  const double delta_max = SummarizeMeshCycle(ComputeMeshCycle(spec, g), g).lste_peak_to_peak +
-                           ev.Evaluate(0.9, Flank::kDrive).lste;
+  const double delta_max =
+      SummarizeMeshCycle(ComputeMeshCycle(PairOf(spec), g), g).lste_peak_to_peak +
+      ev.Evaluate(0.9, Flank::kDrive).lste;
   const double rho = std::max(g.contact_start, g.line_of_action_length - g.contact_end);
   const double d = std::sqrt(2 * rho * delta_max) / g.base_pitch;
   bool leave = false, engage = false;
@@ -320,10 +322,11 @@ TEST_CASE("segmentation: S segments, boundaries on transitions, means consistent
   // (midpoint rule on 2048 samples across 7 jumps: ~1e-3 relative).
   double mean = 0.0;
   for (const auto& s : seg.segments) mean += s.drive.stiffness * (s.tau_end - s.tau_begin);
-  const MeshStiffnessSummary sum = SummarizeMeshCycle(ComputeMeshCycle(spec, g), g);
+  const MeshStiffnessSummary sum = SummarizeMeshCycle(ComputeMeshCycle(PairOf(spec), g), g);
   CHECK(mean == Approx(sum.mean).epsilon(2e-3));
   // Too few segments is an input error naming the key.
-  CHECK_THROWS_WITH(SegmentMeshCycle(spec, ev, 4), Catch::Contains("analysis.segments_per_cycle"));
+  CHECK_THROWS_WITH(SegmentMeshCycle(PairOf(spec), ev, 4),
+                    Catch::Contains("analysis.segments_per_cycle"));
 }
 
 }  // namespace

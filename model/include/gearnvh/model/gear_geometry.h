@@ -14,6 +14,7 @@
 #pragma once
 
 #include "gearnvh/model/gearbox_spec.h"
+#include "gearnvh/model/mesh_pair.h"
 
 namespace gearnvh {
 
@@ -42,9 +43,13 @@ struct PairGeometry {
 
 GearRadii ComputeGearRadii(const GearSpec& gear);
 
-// Throws InputError (path "gears" or "mesh.center_distance") when the pair cannot mesh:
-// contact ratio < 1, tip beyond the other gear's base circle, centre distance too small.
-PairGeometry ComputePairGeometry(const GearboxSpec& spec);
+// Geometry of one mesh; "pinion" and "wheel" are the mesh's gears a and b. Throws InputError (the
+// mesh's or a gear's path) when the pair cannot mesh: contact ratio < 1, tip beyond the other
+// gear's base circle, centre distance too small, modules or pressure angles that differ.
+PairGeometry ComputePairGeometry(const MeshPair& pair);
+inline PairGeometry ComputePairGeometry(const GearboxSpec& spec) {
+  return ComputePairGeometry(PairOf(spec));
+}
 
 // inv(alpha) = tan(alpha) - alpha, and its inverse by Newton's method.
 double Involute(double alpha);

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "gearnvh/model/gearbox_spec.h"
+#include "gearnvh/model/mesh_pair.h"
 #include "gearnvh/model/mesh_segmentation.h"
 
 namespace gearnvh {
@@ -29,9 +30,8 @@ namespace gearnvh {
 class MeshErrorExcitation {
  public:
   MeshErrorExcitation() = default;
-  // `pinion_speed` Omega1 (rad/s); the segments' pair weights come from the segmentation.
-  MeshErrorExcitation(const GearboxSpec& spec, const MeshSegmentation& segmentation,
-                      double pinion_speed);
+  // The segments' pair weights come from the segmentation.
+  MeshErrorExcitation(const MeshPair& pair, const MeshSegmentation& segmentation);
 
   // True when the gears carry runout or pitch errors (otherwise the input is identically zero).
   bool active() const { return active_; }

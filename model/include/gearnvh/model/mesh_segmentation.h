@@ -3,10 +3,11 @@
 // Mandatory boundaries (in cycle fraction tau): 0, every change of the loaded-pair count on either
 // flank (located by bisection to 1e-12 of the cycle), every pitch-point crossing on either
 // flank (friction reverses there), and every switch of a stiffness override on either flank
-// (MeshEvaluator::OverrideBreaks), so no segment averages k or e across a discontinuity. The remaining S - (#mandatory) cuts are spread over the
-// intervals in proportion to their length (largest remainder; every interval gets at least one
-// segment, and segments inside an interval are equal). Within segment j every quantity is replaced
-// by its mean over the segment (8-point Gauss–Legendre on the smooth integrand between boundaries):
+// (MeshEvaluator::OverrideBreaks), so no segment averages k or e across a discontinuity. The
+// remaining S - (#mandatory) cuts are spread over the intervals in proportion to their length
+// (largest remainder; every interval gets at least one segment, and segments inside an interval are
+// equal). Within segment j every quantity is replaced by its mean over the segment (8-point
+// Gauss–Legendre on the smooth integrand between boundaries):
 //   k_j (per flank), LSTE_j, friction sigma/arms (per flank), and the unloaded error
 //   e_j = mean(LSTE) - F / k_j + mean(user STE),
 // chosen so that the static solution of k_j (delta - e_j) = F reproduces the mean loaded STE.
@@ -44,7 +45,7 @@ struct MeshSegmentation {
 
 // Throws InputError (analysis.segments_per_cycle) when S is below the number of mandatory
 // boundaries.
-MeshSegmentation SegmentMeshCycle(const GearboxSpec& spec, const MeshEvaluator& evaluator,
+MeshSegmentation SegmentMeshCycle(const MeshPair& pair, const MeshEvaluator& evaluator,
                                   int segments_per_cycle, int scan_samples = 2048);
 
 }  // namespace gearnvh

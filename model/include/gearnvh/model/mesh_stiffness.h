@@ -80,7 +80,7 @@ struct MeshStiffnessSummary {
 // path).
 class PairStiffness {
  public:
-  PairStiffness(const GearboxSpec& spec, const PairGeometry& geometry);
+  PairStiffness(const MeshPair& pair, const PairGeometry& geometry);
   double At(double roll) const;
   const std::vector<std::string>& warnings() const { return warnings_; }
 
@@ -96,7 +96,7 @@ enum class Flank { kDrive, kBack };
 // and transition bisection all go through here).
 class MeshEvaluator {
  public:
-  MeshEvaluator(const GearboxSpec& spec, const PairGeometry& geometry,
+  MeshEvaluator(const MeshPair& pair, const PairGeometry& geometry,
                 const MeshStiffnessOptions& options = {});
   FlankSample Evaluate(double tau, Flank flank) const;
   double load() const { return load_; }
@@ -113,7 +113,7 @@ class MeshEvaluator {
   const std::vector<std::string>& warnings() const { return pair_.warnings(); }
 
  private:
-  const GearboxSpec* spec_;
+  const MeshSpec* mesh_;
   PairGeometry g_;
   PairStiffness pair_;
   double reach_, load_, mirror_, back_phase_;
@@ -123,7 +123,7 @@ class MeshEvaluator {
   double Separation(double s) const;
 };
 
-MeshCycle ComputeMeshCycle(const GearboxSpec& spec, const PairGeometry& geometry,
+MeshCycle ComputeMeshCycle(const MeshPair& pair, const PairGeometry& geometry,
                            const MeshStiffnessOptions& options = {});
 
 MeshStiffnessSummary SummarizeMeshCycle(const MeshCycle& cycle, const PairGeometry& geometry);
