@@ -13,6 +13,7 @@
 
 #include "gearnvh/model/gearbox_spec_validation.h"
 #include "gearnvh/model/input_error.h"
+#include "gearnvh/model/train_spec.h"
 #include "units.h"
 
 namespace gearnvh::config {
@@ -208,12 +209,17 @@ const std::vector<std::string> kGearKeys{"teeth",
                                          "inertia",
                                          "mass",
                                          "tip_relief",
+                                         "helix_angle",
+                                         "hand",
                                          "runout",
                                          "pitch_errors"};
 
 GearSpec ReadGear(Reader& r, const YAML::Node& n, const std::string& path,
-                  const std::map<std::string, Material>& materials) {
-  r.ExpectMap(n, path, kGearKeys);
+                  const std::map<std::string, Material>& materials,
+                  const std::vector<std::string>& extra_keys = {}) {
+  std::vector<std::string> keys = kGearKeys;
+  keys.insert(keys.end(), extra_keys.begin(), extra_keys.end());
+  r.ExpectMap(n, path, keys);
   GearSpec g;
   g.teeth = r.Integer(n, path, "teeth");
   g.module = r.Quantity(n, path, "module", Dimension::kLength);
@@ -243,6 +249,16 @@ GearSpec ReadGear(Reader& r, const YAML::Node& n, const std::string& path,
     r.ExpectMap(t, p, {"amount", "length"});
     g.tip_relief = TipRelief{r.Quantity(t, p, "amount", Dimension::kLength),
                              r.Quantity(t, p, "length", Dimension::kLength)};
+  }
+  g.helix_angle = r.Quantity(n, path, "helix_angle", Dimension::kAngle, 0.0);
+  if (const YAML::Node h = r.Child(n, path, "hand", false); h.IsDefined()) {
+    const std::string hand = r.String(n, path, "hand");
+    if (hand != "right" && hand != "left") {
+      r.Fail(Join(path, "hand"), h, "'" + hand + "'", "must be right or left");
+    }
+    g.hand = hand == "right" ? Hand::kRight : Hand::kLeft;
+  } else if (g.helix_angle != 0.0) {
+    r.Fail(Join(path, "hand"), n, "", "required when helix_angle is not 0");
   }
   if (const YAML::Node t = r.Child(n, path, "runout", false); t.IsDefined()) {
     const std::string p = Join(path, "runout");
@@ -291,10 +307,32 @@ StiffnessModel ReadStiffness(Reader& r, const YAML::Node& n, const std::string& 
                           r.QuantityList(sub, p, "sin", Dimension::kStiffness, false)};
 }
 
+std::vector<BearingSpec> ReadBearings(Reader& r, const YAML::Node& n, const std::string& path,
+                                      bool required) {
+  std::vector<BearingSpec> bearings;
+  r.ForEachItem(n, path, "bearings", required, [&](const YAML::Node& item, const std::string& p) {
+    r.ExpectMap(item, p,
+                {"at", "radial_stiffness", "axial_stiffness", "tilt_stiffness", "damping"});
+    bearings.push_back(
+        {r.Quantity(item, p, "at", Dimension::kLength),
+         r.Quantity(item, p, "radial_stiffness", Dimension::kStiffness, 0.0),
+         r.Quantity(item, p, "axial_stiffness", Dimension::kStiffness, 0.0),
+         r.Quantity(item, p, "tilt_stiffness", Dimension::kRotationalStiffness, 0.0),
+         r.Quantity(item, p, "damping", Dimension::kDamping, 0.0)});
+  });
+  return bearings;
+}
+
+// An elastic shaft. Schema 1 places its one gear with `gear_at`; schema 2 places gears with their
+// own `at` and lets lumped bodies carry a mass.
 ShaftSpec ReadShaft(Reader& r, const YAML::Node& n, const std::string& path,
-                    const std::map<std::string, Material>& materials) {
-  r.ExpectMap(n, path,
-              {"material", "segments", "gear_at", "bearings", "inertias", "element_length"});
+                    const std::map<std::string, Material>& materials, int schema = 1) {
+  if (schema == 1) {
+    r.ExpectMap(n, path,
+                {"material", "segments", "gear_at", "bearings", "inertias", "element_length"});
+  } else {
+    r.ExpectMap(n, path, {"material", "segments", "bearings", "inertias", "element_length"});
+  }
   ShaftSpec s;
   s.material = r.String(n, path, "material");
   if (materials.find(s.material) == materials.end()) {
@@ -307,22 +345,18 @@ ShaftSpec ReadShaft(Reader& r, const YAML::Node& n, const std::string& path,
                           r.Quantity(item, p, "outer_diameter", Dimension::kLength),
                           r.Quantity(item, p, "inner_diameter", Dimension::kLength, 0.0)});
   });
-  s.gear_at = r.Quantity(n, path, "gear_at", Dimension::kLength);
-  r.ForEachItem(n, path, "bearings", true, [&](const YAML::Node& item, const std::string& p) {
-    r.ExpectMap(item, p,
-                {"at", "radial_stiffness", "axial_stiffness", "tilt_stiffness", "damping"});
-    s.bearings.push_back(
-        {r.Quantity(item, p, "at", Dimension::kLength),
-         r.Quantity(item, p, "radial_stiffness", Dimension::kStiffness, 0.0),
-         r.Quantity(item, p, "axial_stiffness", Dimension::kStiffness, 0.0),
-         r.Quantity(item, p, "tilt_stiffness", Dimension::kRotationalStiffness, 0.0),
-         r.Quantity(item, p, "damping", Dimension::kDamping, 0.0)});
-  });
+  if (schema == 1) s.gear_at = r.Quantity(n, path, "gear_at", Dimension::kLength);
+  s.bearings = ReadBearings(r, n, path, true);
   r.ForEachItem(n, path, "inertias", false, [&](const YAML::Node& item, const std::string& p) {
-    r.ExpectMap(item, p, {"at", "polar", "diametral"});
+    if (schema == 1) {
+      r.ExpectMap(item, p, {"at", "polar", "diametral"});
+    } else {
+      r.ExpectMap(item, p, {"at", "polar", "diametral", "mass"});
+    }
     s.inertias.push_back({r.Quantity(item, p, "at", Dimension::kLength),
                           r.Quantity(item, p, "polar", Dimension::kInertia, 0.0),
-                          r.Quantity(item, p, "diametral", Dimension::kInertia, 0.0)});
+                          r.Quantity(item, p, "diametral", Dimension::kInertia, 0.0),
+                          r.Quantity(item, p, "mass", Dimension::kMass, 0.0)});
   });
   s.element_length = r.OptionalQuantity(n, path, "element_length", Dimension::kLength);
   return s;
@@ -385,62 +419,108 @@ Tier ReadTier(Reader& r, const YAML::Node& map, const std::string& path) {
   r.Fail(p, n, "'" + s + "'", "must be 1..5 or \"N40 full\", \"N20 simple\", \"N20 MTA\"");
 }
 
-GearboxSpec ReadDocument(Reader& r, const YAML::Node& root) {
-  if (root.IsNull() || !root.IsDefined()) {
-    r.Fail("", root, "", "the document is empty; expected a gearbox mapping (schema: gearnvh/1)");
-  }
-  r.ExpectMap(root, "",
-              {"schema", "name", "materials", "gears", "mesh", "shafts", "operating", "analysis"});
-  GearboxSpec spec;
-  const std::string schema = r.String(root, "", "schema", std::string("gearnvh/1"));
-  if (schema != "gearnvh/1") {
-    r.Fail("schema", root["schema"], "'" + schema + "'",
-           "must be gearnvh/1 (the version this program reads)");
-  }
-  spec.name = r.String(root, "", "name");
-
+std::map<std::string, Material> ReadMaterials(Reader& r, const YAML::Node& root) {
+  std::map<std::string, Material> out;
   const YAML::Node materials = r.Child(root, "", "materials", true);
   r.ExpectMap(materials, "materials", {});
   for (const auto& kv : materials) {
     const std::string key = kv.first.Scalar();
     const std::string p = "materials." + key;
     r.ExpectMap(kv.second, p, {"youngs_modulus", "poisson_ratio", "density"});
-    spec.materials[key] =
-        Material{r.Quantity(kv.second, p, "youngs_modulus", Dimension::kPressure),
-                 r.Quantity(kv.second, p, "poisson_ratio", Dimension::kDimensionless),
-                 r.Quantity(kv.second, p, "density", Dimension::kDensity)};
+    out[key] = Material{r.Quantity(kv.second, p, "youngs_modulus", Dimension::kPressure),
+                        r.Quantity(kv.second, p, "poisson_ratio", Dimension::kDimensionless),
+                        r.Quantity(kv.second, p, "density", Dimension::kDensity)};
   }
-  if (spec.materials.empty()) r.Fail("materials", materials, "{}", "needs at least one material");
+  if (out.empty()) r.Fail("materials", materials, "{}", "needs at least one material");
+  return out;
+}
+
+MeshSpec ReadMesh(Reader& r, const YAML::Node& mesh, const std::string& path,
+                  const std::vector<std::string>& extra_keys = {}) {
+  std::vector<std::string> keys{"backlash",  "damping_ratio", "friction_coefficient",
+                                "center_distance", "stiffness", "static_transmission_error"};
+  keys.insert(keys.end(), extra_keys.begin(), extra_keys.end());
+  r.ExpectMap(mesh, path, keys);
+  MeshSpec out;
+  out.backlash = r.Quantity(mesh, path, "backlash", Dimension::kLength);
+  out.damping_ratio = r.Quantity(mesh, path, "damping_ratio", Dimension::kDimensionless, 0.05);
+  out.friction_coefficient =
+      r.Quantity(mesh, path, "friction_coefficient", Dimension::kDimensionless, 0.0);
+  out.center_distance = r.OptionalQuantity(mesh, path, "center_distance", Dimension::kLength);
+  if (const YAML::Node s = r.Child(mesh, path, "stiffness", false); s.IsDefined()) {
+    out.stiffness = ReadStiffness(r, s, Join(path, "stiffness"));
+  }
+  if (const YAML::Node s = r.Child(mesh, path, "static_transmission_error", false);
+      s.IsDefined()) {
+    const std::string p = Join(path, "static_transmission_error");
+    r.ExpectMap(s, p, {"amplitudes", "phases"});
+    out.static_transmission_error.amplitudes =
+        r.QuantityList(s, p, "amplitudes", Dimension::kLength, true);
+    out.static_transmission_error.phases = r.QuantityList(s, p, "phases", Dimension::kAngle, true);
+  }
+  return out;
+}
+
+std::vector<ExcitationOrder> ReadExcitation(Reader& r, const YAML::Node& op) {
+  std::vector<ExcitationOrder> out;
+  r.ForEachItem(op, "operating", "excitation", false,
+                [&](const YAML::Node& item, const std::string& p) {
+                  r.ExpectMap(item, p, {"order", "amplitude", "phase"});
+                  out.push_back({r.Quantity(item, p, "order", Dimension::kDimensionless),
+                                 r.Quantity(item, p, "amplitude", Dimension::kAngularAcceleration),
+                                 r.Quantity(item, p, "phase", Dimension::kAngle, 0.0)});
+                });
+  return out;
+}
+
+AnalysisSpec ReadAnalysis(Reader& r, const YAML::Node& root) {
+  AnalysisSpec an;
+  const YAML::Node a = r.Child(root, "", "analysis", false);
+  if (!a.IsDefined()) return an;
+  r.ExpectMap(a, "analysis",
+              {"tier", "segments_per_cycle", "cycles", "transient_cycles", "speed_sweep", "atlas"});
+  an.tier = ReadTier(r, a, "analysis");
+  an.segments_per_cycle = r.Integer(a, "analysis", "segments_per_cycle", 32);
+  an.cycles = r.Integer(a, "analysis", "cycles", 2000);
+  an.transient_cycles = r.Integer(a, "analysis", "transient_cycles", 500);
+  if (const YAML::Node s = r.Child(a, "analysis", "speed_sweep", false); s.IsDefined()) {
+    r.ExpectMap(s, "analysis.speed_sweep", {"from", "to", "points"});
+    an.speed_sweep = ReadRange(r, s, "analysis.speed_sweep", Dimension::kAngularSpeed);
+  }
+  if (const YAML::Node at = r.Child(a, "analysis", "atlas", false); at.IsDefined()) {
+    r.ExpectMap(at, "analysis.atlas", {"x", "y"});
+    an.atlas_x = ReadAtlasAxis(r, r.Child(at, "analysis.atlas", "x", true), "analysis.atlas.x");
+    an.atlas_y = ReadAtlasAxis(r, r.Child(at, "analysis.atlas", "y", true), "analysis.atlas.y");
+  }
+  return an;
+}
+
+// The schema version a document declares (gearnvh/1 when absent).
+int SchemaOf(Reader& r, const YAML::Node& root) {
+  if (root.IsNull() || !root.IsDefined()) {
+    r.Fail("", root, "", "the document is empty; expected a gearbox mapping (schema: gearnvh/1)");
+  }
+  if (!root.IsMap()) r.Fail("", root, Describe(root), "must be a mapping");
+  const std::string schema = r.String(root, "", "schema", std::string("gearnvh/1"));
+  if (schema == "gearnvh/1") return 1;
+  if (schema == "gearnvh/2") return 2;
+  r.Fail("schema", root["schema"], "'" + schema + "'",
+         "must be gearnvh/1 or gearnvh/2 (the versions this program reads)");
+}
+
+GearboxSpec ReadDocument(Reader& r, const YAML::Node& root) {
+  r.ExpectMap(root, "",
+              {"schema", "name", "materials", "gears", "mesh", "shafts", "operating", "analysis"});
+  GearboxSpec spec;
+  spec.name = r.String(root, "", "name");
+  spec.materials = ReadMaterials(r, root);
 
   const YAML::Node gears = r.Child(root, "", "gears", true);
   r.ExpectMap(gears, "gears", {"pinion", "wheel"});
   spec.pinion =
       ReadGear(r, r.Child(gears, "gears", "pinion", true), "gears.pinion", spec.materials);
   spec.wheel = ReadGear(r, r.Child(gears, "gears", "wheel", true), "gears.wheel", spec.materials);
-
-  const YAML::Node mesh = r.Child(root, "", "mesh", true);
-  r.ExpectMap(mesh, "mesh",
-              {"backlash", "damping_ratio", "friction_coefficient", "center_distance", "stiffness",
-               "static_transmission_error"});
-  spec.mesh.backlash = r.Quantity(mesh, "mesh", "backlash", Dimension::kLength);
-  spec.mesh.damping_ratio =
-      r.Quantity(mesh, "mesh", "damping_ratio", Dimension::kDimensionless, 0.05);
-  spec.mesh.friction_coefficient =
-      r.Quantity(mesh, "mesh", "friction_coefficient", Dimension::kDimensionless, 0.0);
-  spec.mesh.center_distance =
-      r.OptionalQuantity(mesh, "mesh", "center_distance", Dimension::kLength);
-  if (const YAML::Node s = r.Child(mesh, "mesh", "stiffness", false); s.IsDefined()) {
-    spec.mesh.stiffness = ReadStiffness(r, s, "mesh.stiffness");
-  }
-  if (const YAML::Node s = r.Child(mesh, "mesh", "static_transmission_error", false);
-      s.IsDefined()) {
-    const std::string p = "mesh.static_transmission_error";
-    r.ExpectMap(s, p, {"amplitudes", "phases"});
-    spec.mesh.static_transmission_error.amplitudes =
-        r.QuantityList(s, p, "amplitudes", Dimension::kLength, true);
-    spec.mesh.static_transmission_error.phases =
-        r.QuantityList(s, p, "phases", Dimension::kAngle, true);
-  }
+  spec.mesh = ReadMesh(r, r.Child(root, "", "mesh", true), "mesh");
 
   if (const YAML::Node shafts = r.Child(root, "", "shafts", false); shafts.IsDefined()) {
     r.ExpectMap(shafts, "shafts", {"input", "output"});
@@ -456,34 +536,81 @@ GearboxSpec ReadDocument(Reader& r, const YAML::Node& root) {
   r.ExpectMap(op, "operating", {"speed", "torque", "excitation"});
   spec.operating.speed = r.Quantity(op, "operating", "speed", Dimension::kAngularSpeed);
   spec.operating.torque = r.Quantity(op, "operating", "torque", Dimension::kTorque);
-  r.ForEachItem(op, "operating", "excitation", false,
-                [&](const YAML::Node& item, const std::string& p) {
-                  r.ExpectMap(item, p, {"order", "amplitude", "phase"});
-                  spec.operating.excitation.push_back(
-                      {r.Quantity(item, p, "order", Dimension::kDimensionless),
-                       r.Quantity(item, p, "amplitude", Dimension::kAngularAcceleration),
-                       r.Quantity(item, p, "phase", Dimension::kAngle, 0.0)});
-                });
+  spec.operating.excitation = ReadExcitation(r, op);
+  spec.analysis = ReadAnalysis(r, root);
+  return spec;
+}
 
-  if (const YAML::Node a = r.Child(root, "", "analysis", false); a.IsDefined()) {
-    r.ExpectMap(
-        a, "analysis",
-        {"tier", "segments_per_cycle", "cycles", "transient_cycles", "speed_sweep", "atlas"});
-    AnalysisSpec& an = spec.analysis;
-    an.tier = ReadTier(r, a, "analysis");
-    an.segments_per_cycle = r.Integer(a, "analysis", "segments_per_cycle", 32);
-    an.cycles = r.Integer(a, "analysis", "cycles", 2000);
-    an.transient_cycles = r.Integer(a, "analysis", "transient_cycles", 500);
-    if (const YAML::Node s = r.Child(a, "analysis", "speed_sweep", false); s.IsDefined()) {
-      r.ExpectMap(s, "analysis.speed_sweep", {"from", "to", "points"});
-      an.speed_sweep = ReadRange(r, s, "analysis.speed_sweep", Dimension::kAngularSpeed);
+// Schema gearnvh/2: shafts, gears and meshes by name.
+TrainSpec ReadTrainDocument(Reader& r, const YAML::Node& root) {
+  r.ExpectMap(root, "",
+              {"schema", "name", "materials", "shafts", "gears", "meshes", "operating", "analysis"});
+  TrainSpec spec;
+  spec.name = r.String(root, "", "name");
+  spec.materials = ReadMaterials(r, root);
+
+  const YAML::Node shafts = r.Child(root, "", "shafts", true);
+  r.ExpectMap(shafts, "shafts", {});
+  for (const auto& kv : shafts) {
+    TrainShaft shaft;
+    shaft.name = kv.first.Scalar();
+    const std::string p = "shafts." + shaft.name;
+    if (!kv.second.IsMap()) r.Fail(p, kv.second, Describe(kv.second), "must be a mapping");
+    if (kv.second["segments"].IsDefined()) {
+      shaft.elastic = ReadShaft(r, kv.second, p, spec.materials, 2);
+    } else {
+      r.ExpectMap(kv.second, p, {"inertia", "bearings"});
+      shaft.inertia = r.Quantity(kv.second, p, "inertia", Dimension::kInertia);
+      shaft.bearings = ReadBearings(r, kv.second, p, false);
     }
-    if (const YAML::Node at = r.Child(a, "analysis", "atlas", false); at.IsDefined()) {
-      r.ExpectMap(at, "analysis.atlas", {"x", "y"});
-      an.atlas_x = ReadAtlasAxis(r, r.Child(at, "analysis.atlas", "x", true), "analysis.atlas.x");
-      an.atlas_y = ReadAtlasAxis(r, r.Child(at, "analysis.atlas", "y", true), "analysis.atlas.y");
-    }
+    spec.shafts.push_back(shaft);
   }
+  if (spec.shafts.empty()) r.Fail("shafts", shafts, "{}", "needs at least one shaft");
+
+  const YAML::Node gears = r.Child(root, "", "gears", true);
+  r.ExpectMap(gears, "gears", {});
+  for (const auto& kv : gears) {
+    TrainGear gear;
+    gear.name = kv.first.Scalar();
+    const std::string p = "gears." + gear.name;
+    gear.gear = ReadGear(r, kv.second, p, spec.materials, {"shaft", "at", "mounting"});
+    gear.shaft = r.String(kv.second, p, "shaft");
+    gear.at = r.OptionalQuantity(kv.second, p, "at", Dimension::kLength);
+    const std::string mounting = r.String(kv.second, p, "mounting", std::string("fixed"));
+    if (mounting != "fixed" && mounting != "loose") {
+      r.Fail(Join(p, "mounting"), kv.second["mounting"], "'" + mounting + "'",
+             "must be fixed or loose");
+    }
+    gear.mounting = mounting == "fixed" ? Mounting::kFixed : Mounting::kLoose;
+    spec.gears.push_back(gear);
+  }
+
+  r.ForEachItem(root, "", "meshes", true, [&](const YAML::Node& item, const std::string& p) {
+    TrainMesh mesh;
+    mesh.mesh = ReadMesh(r, item, p, {"gears"});
+    const YAML::Node pair = r.Child(item, p, "gears", true);
+    if (!pair.IsSequence() || pair.size() != 2 || !pair[0].IsScalar() || !pair[1].IsScalar()) {
+      r.Fail(Join(p, "gears"), pair, Describe(pair), "must be a list of two gear names");
+    }
+    r.Remember(Join(p, "gears"), pair, "");
+    mesh.gear_a = pair[0].Scalar();
+    mesh.gear_b = pair[1].Scalar();
+    spec.meshes.push_back(mesh);
+  });
+
+  const YAML::Node op = r.Child(root, "", "operating", true);
+  r.ExpectMap(op, "operating", {"speed", "loads", "excitation"});
+  const YAML::Node speed = r.Child(op, "operating", "speed", true);
+  r.ExpectMap(speed, "operating.speed", {"shaft", "value"});
+  spec.operating.input_shaft = r.String(speed, "operating.speed", "shaft");
+  spec.operating.speed = r.Quantity(speed, "operating.speed", "value", Dimension::kAngularSpeed);
+  r.ForEachItem(op, "operating", "loads", false, [&](const YAML::Node& item, const std::string& p) {
+    r.ExpectMap(item, p, {"on", "torque"});
+    spec.operating.loads.push_back(
+        {r.String(item, p, "on"), r.Quantity(item, p, "torque", Dimension::kTorque)});
+  });
+  spec.operating.excitation = ReadExcitation(r, op);
+  spec.analysis = ReadAnalysis(r, root);
   return spec;
 }
 
@@ -516,21 +643,28 @@ std::string ClosestMatch(const std::string& word, const std::vector<std::string>
   return best;
 }
 
-GearboxSpec LoadGearboxFromString(const std::string& text, const std::string& source) {
-  Reader reader;
-  YAML::Node root;
+namespace {
+
+YAML::Node ParseYaml(const std::string& text, const std::string& source) {
   try {
-    root = YAML::Load(text);
+    return YAML::Load(text);
   } catch (const YAML::Exception& e) {
     const int line = e.mark.line >= 0 ? e.mark.line + 1 : 0;
     throw InputError("", line, "", "not valid YAML: " + e.msg, source);
   }
+}
+
+// Reads the document with `read`, validates it with `validate`, and attributes every error to
+// `source`, with range errors pointed back at the line and the value as the user wrote it.
+template <typename Read, typename Validate>
+auto ReadAndValidate(const YAML::Node& root, const std::string& source, Read&& read,
+                     Validate&& validate) {
+  Reader reader;
   try {
-    GearboxSpec spec = ReadDocument(reader, root);
+    auto spec = read(reader, root);
     try {
-      ValidateGearboxSpec(spec);
+      validate(spec);
     } catch (const InputError& e) {
-      // Point the range error back at the line, and the value as the user wrote it.
       const Reader::Location loc = reader.Find(e.path());
       const std::string value =
           reader.Exact(e.path()) && !loc.raw.empty() ? "'" + loc.raw + "'" : e.value();
@@ -544,6 +678,60 @@ GearboxSpec LoadGearboxFromString(const std::string& text, const std::string& so
     const int line = e.mark.line >= 0 ? e.mark.line + 1 : 0;
     throw InputError("", line, "", "cannot be read: " + e.msg, source);
   }
+}
+
+std::string ReadFileText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in)
+    throw InputError("", 0, "", std::string("cannot open file: ") + std::strerror(errno), path);
+  std::string text;
+  char buffer[65536];
+  while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
+    text.append(buffer, static_cast<size_t>(in.gcount()));
+    if (text.size() > kMaxFileBytes) {
+      throw InputError("", 0, "", "file is larger than 16 MiB; not a gearbox definition", path);
+    }
+  }
+  if (in.bad()) throw InputError("", 0, "", "read error", path);
+  return text;
+}
+
+}  // namespace
+
+GearboxSpec LoadGearboxFromString(const std::string& text, const std::string& source) {
+  const YAML::Node root = ParseYaml(text, source);
+  return ReadAndValidate(
+      root, source,
+      [](Reader& r, const YAML::Node& n) {
+        if (SchemaOf(r, n) == 2) {
+          r.Fail("schema", n["schema"], "'gearnvh/2'",
+                 "gear trains are checked (`gearnvh check`) but not yet simulated; this command "
+                 "reads gearnvh/1");
+        }
+        return ReadDocument(r, n);
+      },
+      [](const GearboxSpec& spec) { ValidateGearboxSpec(spec); });
+}
+
+LoadedGearbox LoadAnyGearboxFromString(const std::string& text, const std::string& source) {
+  const YAML::Node root = ParseYaml(text, source);
+  LoadedGearbox out;
+  {
+    Reader probe;
+    try {
+      out.schema = SchemaOf(probe, root);
+    } catch (const InputError& e) {
+      throw e.WithSource(source);
+    }
+  }
+  if (out.schema == 1) {
+    out.pair = LoadGearboxFromString(text, source);
+    out.train = TrainOf(*out.pair);
+    return out;
+  }
+  out.train = ReadAndValidate(root, source, ReadTrainDocument,
+                              [](const TrainSpec& spec) { ValidateTrainSpec(spec); });
+  return out;
 }
 
 AtlasAxis ParseAxisOption(const std::string& text, const std::string& field) {
@@ -583,19 +771,11 @@ AtlasAxis ParseAxisOption(const std::string& text, const std::string& field) {
 }
 
 GearboxSpec LoadGearboxFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in)
-    throw InputError("", 0, "", std::string("cannot open file: ") + std::strerror(errno), path);
-  std::string text;
-  char buffer[65536];
-  while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
-    text.append(buffer, static_cast<size_t>(in.gcount()));
-    if (text.size() > kMaxFileBytes) {
-      throw InputError("", 0, "", "file is larger than 16 MiB; not a gearbox definition", path);
-    }
-  }
-  if (in.bad()) throw InputError("", 0, "", "read error", path);
-  return LoadGearboxFromString(text, path);
+  return LoadGearboxFromString(ReadFileText(path), path);
+}
+
+LoadedGearbox LoadAnyGearboxFile(const std::string& path) {
+  return LoadAnyGearboxFromString(ReadFileText(path), path);
 }
 
 }  // namespace gearnvh::config

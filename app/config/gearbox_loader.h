@@ -1,4 +1,4 @@
-// Loads schema gearnvh/1 YAML into a validated GearboxSpec in SI units.
+// Loads gearbox YAML (schema gearnvh/1, or gearnvh/2 for trains) into a validated spec in SI units.
 //
 // This is the only place yaml-cpp is used. Every failure throws gearnvh::InputError naming the
 // source, line, YAML path, the value as written and the broken rule, e.g.
@@ -8,7 +8,10 @@
 
 #include <string>
 
+#include <optional>
+
 #include "gearnvh/model/gearbox_spec.h"
+#include "gearnvh/model/train_spec.h"
 
 namespace gearnvh::config {
 
@@ -17,6 +20,17 @@ GearboxSpec LoadGearboxFromString(const std::string& text, const std::string& so
 
 // Reads and parses a file (at most 16 MiB).
 GearboxSpec LoadGearboxFile(const std::string& path);
+
+// Either schema: a gearnvh/1 file gives its GearboxSpec and the train it means (TrainOf), a
+// gearnvh/2 file its TrainSpec.
+struct LoadedGearbox {
+  int schema = 1;
+  std::optional<GearboxSpec> pair;  // schema 1
+  TrainSpec train;
+};
+LoadedGearbox LoadAnyGearboxFromString(const std::string& text,
+                                       const std::string& source = "<string>");
+LoadedGearbox LoadAnyGearboxFile(const std::string& path);
 
 // An axis given on the command line, "PARAMETER=FROM:TO:POINTS" with units on FROM and TO
 // (operating.speed=600rpm:3000rpm:24). Throws InputError naming `field` (the option).

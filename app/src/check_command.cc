@@ -11,6 +11,7 @@
 #include "gearnvh/model/gear_geometry.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/reduction/reduced_model.h"
+#include "train_check.h"
 
 namespace gearnvh::app {
 std::vector<ReducedModel> ReduceAvailableTiers(const ComponentModel& model) {
@@ -148,7 +149,20 @@ int RunCheck(const CheckOptions& options) {
   nlohmann::json documents = nlohmann::json::array();
   for (const std::string& file : options.files) {
     try {
-      const GearboxSpec spec = config::LoadGearboxFile(file);
+      const config::LoadedGearbox loaded = config::LoadAnyGearboxFile(file);
+      if (loaded.schema == 2) {
+        const GearTrain train = BuildGearTrain(loaded.train);
+        const TrainTorsionalModes modes = TorsionalModes(train);
+        if (options.json) {
+          nlohmann::json doc = TrainCheckReport(loaded.train, train, modes);
+          doc["file"] = file;
+          documents.push_back(std::move(doc));
+        } else {
+          PrintTrainCheck(file, loaded.train, train, modes);
+        }
+        continue;
+      }
+      const GearboxSpec& spec = *loaded.pair;
       const ComponentModel model = BuildComponentModel(spec);
       const ModalSummary modes = FullModelFrequencies(model, kReportedModes);
       const std::vector<ReducedModel> tiers = ReduceAvailableTiers(model);

@@ -30,12 +30,10 @@ void ComponentModelOptions::Validate() const {
   }
 }
 
-namespace {
-
-using Triplets = std::vector<Eigen::Triplet<double>>;
-
 GearBody DiskBody(const GearSpec& gear, const Material& material) {
-  const double rp = 0.5 * gear.module * gear.teeth, rb = 0.5 * gear.bore_diameter;
+  // The pitch radius of the transverse section (m_t = m_n / cos beta).
+  const double rp = 0.5 * gear.module / std::cos(gear.helix_angle) * gear.teeth;
+  const double rb = 0.5 * gear.bore_diameter;
   const double L = gear.face_width;
   GearBody body;
   body.mass = gear.mass.value_or(material.density * std::numbers::pi * (rp * rp - rb * rb) * L);
@@ -43,6 +41,10 @@ GearBody DiskBody(const GearSpec& gear, const Material& material) {
   body.diametral = 0.5 * body.polar + body.mass * L * L / 12.0;
   return body;
 }
+
+namespace {
+
+using Triplets = std::vector<Eigen::Triplet<double>>;
 
 struct Assembler {
   Triplets m, c, k, g;

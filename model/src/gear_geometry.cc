@@ -31,7 +31,8 @@ double InverseInvolute(double inv) {
   return a;
 }
 
-GearRadii ComputeGearRadii(const GearSpec& g) {
+GearRadii ComputeGearRadii(const GearSpec& gear) {
+  const GearSpec g = TransverseSection(gear);
   GearRadii r;
   r.pitch = 0.5 * g.module * g.teeth;
   r.base = r.pitch * std::cos(g.pressure_angle);
@@ -41,8 +42,8 @@ GearRadii ComputeGearRadii(const GearSpec& g) {
 }
 
 PairGeometry ComputePairGeometry(const MeshPair& pair) {
-  const GearSpec& p = *pair.a;
-  const GearSpec& w = *pair.b;
+  const GearSpec& p = pair.a;
+  const GearSpec& w = pair.b;
   if (std::abs(p.module - w.module) > 1e-12 * p.module) {
     throw InputError(pair.path_b + ".module", 0, Num(w.module),
                      "must equal the module of " + pair.path_a + " (" + Num(p.module) +
@@ -58,8 +59,8 @@ PairGeometry ComputePairGeometry(const MeshPair& pair) {
   g.gear_ratio = static_cast<double>(w.teeth) / p.teeth;
   const double alpha0 = p.pressure_angle;
   const double a0 = g.pinion.pitch + g.wheel.pitch;
-  if (pair.mesh->center_distance) {
-    g.center_distance = *pair.mesh->center_distance;
+  if (pair.mesh.center_distance) {
+    g.center_distance = *pair.mesh.center_distance;
   } else {
     const double x_sum = p.profile_shift + w.profile_shift;
     const double inv_w = Involute(alpha0) + 2.0 * x_sum * std::tan(alpha0) / (p.teeth + w.teeth);
@@ -91,6 +92,16 @@ PairGeometry ComputePairGeometry(const MeshPair& pair) {
   }
   g.mesh_frequency_hz = p.teeth * pair.speed_a / (2.0 * std::numbers::pi);
   g.mesh_period_s = 1.0 / g.mesh_frequency_hz;
+  g.face_width = pair.face_width;
+  g.helix_angle = pair.helix_angle;
+  // sin(beta_b) = sin(beta) cos(a_n), with cos(a_n) from the transverse angle: tan a_n = tan a_t
+  // cos beta.
+  const double normal_pressure = std::atan(std::tan(alpha0) * std::cos(pair.helix_angle));
+  g.base_helix_angle = std::asin(std::sin(pair.helix_angle) * std::cos(normal_pressure));
+  g.overlap_ratio = pair.normal_module > 0.0 ? pair.face_width * std::sin(pair.helix_angle) /
+                                                   (std::numbers::pi * pair.normal_module)
+                                             : 0.0;
+  g.total_contact_ratio = g.contact_ratio + g.overlap_ratio;
   return g;
 }
 

@@ -50,6 +50,7 @@ void ValidateGear(const GearboxSpec& spec, const GearSpec& g, const std::string&
   Positive(p + ".module", g.module);
   InRange(p + ".pressure_angle", g.pressure_angle, 0.0, std::numbers::pi / 4.0, true, true);
   Positive(p + ".face_width", g.face_width);
+  InRange(p + ".helix_angle", g.helix_angle, 0.0, std::numbers::pi / 4.0, false, true);
   NonNegative(p + ".bore_diameter", g.bore_diameter);
   if (spec.materials.find(g.material) == spec.materials.end()) {
     throw InputError(p + ".material", 0, g.material, "must name a key of materials");
@@ -150,6 +151,7 @@ void ValidateShaft(const GearboxSpec& spec, const ShaftSpec& s, const std::strin
     within(q + ".at", s.inertias[i].at);
     NonNegative(q + ".polar", s.inertias[i].polar);
     NonNegative(q + ".diametral", s.inertias[i].diametral);
+    NonNegative(q + ".mass", s.inertias[i].mass);
   }
   if (s.element_length) {
     Positive(p + ".element_length", *s.element_length);
@@ -183,6 +185,16 @@ void ValidateGearboxSpec(const GearboxSpec& spec) {
   }
   ValidateGear(spec, spec.pinion, "gears.pinion");
   ValidateGear(spec, spec.wheel, "gears.wheel");
+  // An external helical pair: equal helix angles, opposite hands.
+  if (spec.pinion.helix_angle != spec.wheel.helix_angle) {
+    throw InputError("gears.wheel.helix_angle", 0, Num(spec.wheel.helix_angle) + " rad",
+                     "must equal the pinion's helix angle (" + Num(spec.pinion.helix_angle) +
+                         " rad): gears in mesh share it");
+  }
+  if (spec.pinion.helix_angle > 0.0 && spec.pinion.hand == spec.wheel.hand) {
+    throw InputError("gears.wheel.hand", 0, spec.wheel.hand == Hand::kRight ? "right" : "left",
+                     "must be the opposite of the pinion's hand (an external helical pair)");
+  }
 
   const MeshSpec& mesh = spec.mesh;
   Positive("mesh.backlash", mesh.backlash);

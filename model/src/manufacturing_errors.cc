@@ -24,9 +24,9 @@ double LargestMagnitude(const std::vector<double>& f) {
 
 MeshErrorExcitation::MeshErrorExcitation(const MeshPair& pair,
                                          const MeshSegmentation& segmentation) {
-  const GearSpec* gears[2] = {pair.a, pair.b};
+  const GearSpec* gears[2] = {&pair.a, &pair.b};
   speeds_[0] = pair.speed_a;
-  speeds_[1] = pair.speed_a * pair.a->teeth / static_cast<double>(pair.b->teeth);
+  speeds_[1] = pair.speed_a * pair.a.teeth / static_cast<double>(pair.b.teeth);
   for (int g = 0; g < 2; ++g) {
     teeth_[g] = gears[g]->teeth;
     if (gears[g]->runout && gears[g]->runout->amplitude > 0.0) {

@@ -24,20 +24,19 @@ double LocateTransition(const MeshEvaluator& ev, Flank flank, double a, double b
 }
 
 // Adds w * d delta / d e_i of every loaded pair at one sample to `weights` (keyed by the pair's
-// offset q: roll = s_start + (tau + q) p_b).
-void AddErrorWeights(const MeshEvaluator& ev, const FlankSample& sample, double tau, double w,
+// offset q).
+void AddErrorWeights(const MeshEvaluator& ev, const FlankSample& sample, double w,
                      std::vector<std::pair<int, double>>& weights) {
   double loaded_stiffness = 0.0;
   for (int i = 0; i < sample.pair_count; ++i) {
     if (sample.pairs[i].load_share > 0.0) loaded_stiffness += sample.pairs[i].stiffness;
   }
-  const PairGeometry& g = ev.geometry();
   for (int i = 0; i < sample.pair_count; ++i) {
     const PairState& p = sample.pairs[i];
     if (!(p.load_share > 0.0)) continue;
     // An override's pair stiffnesses are unknown: its pairs share equally (load_share = 1/count).
     const double sensitivity = ev.overridden() ? p.load_share : p.stiffness / loaded_stiffness;
-    const int q = static_cast<int>(std::lround((p.roll - g.contact_start) / g.base_pitch - tau));
+    const int q = p.offset;
     auto it = std::find_if(weights.begin(), weights.end(),
                            [q](const std::pair<int, double>& e) { return e.first == q; });
     if (it == weights.end()) {
@@ -134,8 +133,8 @@ MeshSegmentation SegmentMeshCycle(const MeshPair& pair, const MeshEvaluator& ev,
         seg.back.friction_arm_pinion += w * b.friction_arm_pinion;
         seg.back.friction_arm_wheel += w * b.friction_arm_wheel;
         lste += w * d.lste;
-        AddErrorWeights(ev, d, tau, w, seg.error_weights);
-        user += w * UserSte(pair.mesh->static_transmission_error, tau);
+        AddErrorWeights(ev, d, w, seg.error_weights);
+        user += w * UserSte(pair.mesh.static_transmission_error, tau);
       }
       seg.lste = lste;
       seg.unloaded_error = lste - load / seg.drive.stiffness + user;

@@ -5,6 +5,7 @@
 #include <memory>
 #include <numbers>
 #include <numeric>
+#include <tuple>
 
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/model/tooth_stiffness.h"
@@ -20,24 +21,112 @@ void MeshStiffnessOptions::Validate() const {
     throw InputError("MeshStiffnessOptions.path_extension_pitches", 0,
                      std::to_string(path_extension_pitches), "must be > 0");
   }
+  if (helical_slices < 2) {
+    throw InputError("MeshStiffnessOptions.helical_slices", 0, std::to_string(helical_slices),
+                     "must be >= 2");
+  }
 }
 
 struct PairStiffness::Impl {
   ToothStiffnessModel pinion, wheel;
   double hertz_compliance, line_length, start, end;
+  // Helical pairs (slice method on the normal section): the virtual spur gears of z / cos^3(beta)
+  // teeth per unit face width, and the map of a transverse contact point to the point at the same
+  // depth below the tip of the virtual tooth.
+  bool helical = false;
+  double cos_base_helix = 1.0, face_width = 0.0;
+  double base_a = 0.0, base_b = 0.0, tip_a = 0.0, tip_b = 0.0;  // transverse section
+  double virtual_base_a = 0.0, virtual_base_b = 0.0, virtual_tip_a = 0.0, virtual_tip_b = 0.0;
+  // Tabulated stiffness (helical pairs: N slices evaluate it N times more often): natural cubic
+  // spline through kTableNodes points over the path, relative error ~1e-12.
+  std::vector<double> table, second;
+
   Impl(const MeshPair& pair, const PairGeometry& g)
-      : pinion(*pair.a, *pair.material_a),
-        wheel(*pair.b, *pair.material_b),
-        hertz_compliance(1.0 /
-                         HertzContactStiffness(*pair.material_a, *pair.material_b,
-                                               std::min(pair.a->face_width, pair.b->face_width))),
+      : pinion(Section(pair, pair.a, pair.normal_a), pair.material_a, VirtualTeeth(pair, pair.a)),
+        wheel(Section(pair, pair.b, pair.normal_b), pair.material_b, VirtualTeeth(pair, pair.b)),
+        hertz_compliance(1.0 / HertzContactStiffness(
+                                   pair.material_a, pair.material_b,
+                                   pair.helical() ? 1.0 : std::min(pair.a.face_width,
+                                                                   pair.b.face_width))),
         line_length(g.line_of_action_length),
         start(g.contact_start),
-        end(g.contact_end) {}
+        end(g.contact_end),
+        helical(pair.helical()),
+        cos_base_helix(std::cos(g.base_helix_angle)),
+        face_width(pair.face_width) {
+    if (!helical) return;
+    base_a = g.pinion.base;
+    base_b = g.wheel.base;
+    tip_a = g.pinion.tip;
+    tip_b = g.wheel.tip;
+    for (auto [gear, vb, vt] : {std::tuple{&pair.normal_a, &virtual_base_a, &virtual_tip_a},
+                                {&pair.normal_b, &virtual_base_b, &virtual_tip_b}}) {
+      const double pitch = 0.5 * gear->module * VirtualTeeth(pair, *gear);
+      *vb = pitch * std::cos(gear->pressure_angle);
+      *vt = pitch + (gear->addendum_coefficient + gear->profile_shift) * gear->module;
+    }
+  }
+  // The normal section per unit width for a helical pair, the transverse section otherwise.
+  static GearSpec Section(const MeshPair& pair, const GearSpec& transverse, const GearSpec& normal) {
+    if (!pair.helical()) return transverse;
+    GearSpec v = normal;
+    v.helix_angle = 0.0;
+    v.face_width = 1.0;
+    // The body keeps its proportions: the bore scales with the virtual pitch radius.
+    v.bore_diameter = normal.bore_diameter / std::pow(std::cos(pair.helix_angle), 2);
+    return v;
+  }
+  static double VirtualTeeth(const MeshPair& pair, const GearSpec& gear) {
+    return pair.helical() ? gear.teeth / std::pow(std::cos(pair.helix_angle), 3)
+                          : static_cast<double>(gear.teeth);
+  }
+  // Roll on the virtual gear of the point at the same depth below the tip as the transverse
+  // contact point at roll `s` (from this gear's base tangent point).
+  static double VirtualRoll(double s, double base, double tip, double virtual_base,
+                            double virtual_tip) {
+    const double depth = tip - std::sqrt(base * base + s * s);
+    const double r = std::max(virtual_tip - depth, virtual_base);
+    return std::sqrt(r * r - virtual_base * virtual_base);
+  }
+  double Exact(double s) const {
+    if (!helical) {
+      return 1.0 /
+             (hertz_compliance + pinion.AtRoll(s).Total() + wheel.AtRoll(line_length - s).Total());
+    }
+    // Per unit length of contact line on the normal section; the slice's contact line is
+    // b / cos(beta_b) long over the face, and its transverse stiffness k_t = k_n cos^2(beta_b).
+    const double sa = VirtualRoll(s, base_a, tip_a, virtual_base_a, virtual_tip_a);
+    const double sb = VirtualRoll(line_length - s, base_b, tip_b, virtual_base_b, virtual_tip_b);
+    const double per_length =
+        1.0 / (hertz_compliance + pinion.AtRoll(sa).Total() + wheel.AtRoll(sb).Total());
+    return per_length * face_width * cos_base_helix;
+  }
 };
 
-PairStiffness::PairStiffness(const MeshPair& pair, const PairGeometry& geometry)
-    : impl_(std::make_shared<Impl>(pair, geometry)) {
+namespace {
+constexpr int kTableNodes = 1025;
+}  // namespace
+
+PairStiffness::PairStiffness(const MeshPair& pair, const PairGeometry& geometry, bool tabulate) {
+  auto impl = std::make_shared<Impl>(pair, geometry);
+  if (tabulate) {
+    // Natural cubic spline (tridiagonal solve for the second derivatives).
+    Impl& p = *impl;
+    const int n = kTableNodes;
+    const double h = (p.end - p.start) / (n - 1);
+    p.table.resize(n);
+    for (int i = 0; i < n; ++i) p.table[i] = p.Exact(p.start + h * i);
+    p.second.assign(n, 0.0);
+    std::vector<double> c(n, 0.0), d(n, 0.0);
+    for (int i = 1; i + 1 < n; ++i) {
+      const double rhs = 6.0 * (p.table[i + 1] - 2.0 * p.table[i] + p.table[i - 1]) / (h * h);
+      const double m = 4.0 - c[i - 1];
+      c[i] = 1.0 / m;
+      d[i] = (rhs - d[i - 1]) / m;
+    }
+    for (int i = n - 2; i >= 1; --i) p.second[i] = d[i] - c[i] * p.second[i + 1];
+  }
+  impl_ = impl;
   for (const auto& w : impl_->pinion.warnings()) warnings_.push_back(pair.path_a + ": " + w);
   for (const auto& w : impl_->wheel.warnings()) warnings_.push_back(pair.path_b + ": " + w);
 }
@@ -45,9 +134,13 @@ PairStiffness::PairStiffness(const MeshPair& pair, const PairGeometry& geometry)
 double PairStiffness::At(double roll) const {
   const Impl& p = *impl_;
   const double s = std::clamp(roll, p.start, p.end);
-  const double compliance =
-      p.hertz_compliance + p.pinion.AtRoll(s).Total() + p.wheel.AtRoll(p.line_length - s).Total();
-  return 1.0 / compliance;
+  if (p.table.empty()) return p.Exact(s);
+  const int n = static_cast<int>(p.table.size());
+  const double h = (p.end - p.start) / (n - 1);
+  const int i = std::clamp(static_cast<int>((s - p.start) / h), 0, n - 2);
+  const double t = (s - p.start) / h - i, u = 1.0 - t;
+  return u * p.table[i] + t * p.table[i + 1] +
+         h * h / 6.0 * ((u * u * u - u) * p.second[i] + (t * t * t - t) * p.second[i + 1]);
 }
 
 double OverrideStiffness(const StiffnessModel& model, double tau) {
@@ -86,14 +179,15 @@ double OverrideStiffness(const StiffnessModel& model, double tau) {
 
 namespace {
 
-// Solves sum k_j (delta - e_j)_+ = F exactly and fills the sample.
-void ShareLoad(FlankSample& out, double load) {
-  const int n = out.pair_count;
-  std::array<int, FlankSample::kMaxPairs> order{};
-  // Insertion sort by separation (at most kMaxPairs entries).
+// Solves sum k_j (delta - e_j)_+ = F exactly over the contact elements (tooth pairs, on every face
+// slice of a helical pair); returns the approach delta and sets each element's load share.
+double ShareLoad(std::vector<ContactElement>& elements, double load) {
+  const int n = static_cast<int>(elements.size());
+  std::vector<int> order(static_cast<size_t>(n));
+  // Insertion sort by separation (stable: equal separations keep their order).
   for (int m = 0; m < n; ++m) {
     int k = m;
-    while (k > 0 && out.pairs[order[k - 1]].separation > out.pairs[m].separation) {
+    while (k > 0 && elements[order[k - 1]].separation > elements[m].separation) {
       order[k] = order[k - 1];
       --k;
     }
@@ -102,35 +196,28 @@ void ShareLoad(FlankSample& out, double load) {
   double sum_k = 0.0, sum_ke = 0.0, delta = 0.0;
   int active = 0;
   for (int m = 0; m < n; ++m) {
-    const PairState& p = out.pairs[order[m]];
+    const ContactElement& p = elements[order[m]];
     sum_k += p.stiffness;
     sum_ke += p.stiffness * p.separation;
     active = m + 1;
     delta = (load + sum_ke) / sum_k;
     // Stop once delta is below the next separation; a pair with e == delta adds nothing under
     // load and must join at zero load (ties share by stiffness).
-    if (m + 1 == n || delta < out.pairs[order[m + 1]].separation) break;
+    if (m + 1 == n || delta < elements[order[m + 1]].separation) break;
   }
-  out.lste = delta;
-  out.stiffness = 0.0;
-  out.loaded_pairs = 0;
   double total_share = 0.0;
   const double tie = 1e-15 + 1e-12 * std::abs(delta);
   for (int m = 0; m < n; ++m) {
-    PairState& p = out.pairs[order[m]];
-    const bool loaded =
-        m < active && (load > 0.0 ? delta > p.separation : p.separation <= delta + tie);
+    ContactElement& p = elements[order[m]];
+    p.loaded = m < active && (load > 0.0 ? delta > p.separation : p.separation <= delta + tie);
     p.load_share =
-        loaded ? (load > 0.0 ? p.stiffness * (delta - p.separation) / load : p.stiffness) : 0.0;
-    if (loaded) {
-      out.stiffness += p.stiffness;
-      ++out.loaded_pairs;
-      total_share += p.load_share;
-    }
+        p.loaded ? (load > 0.0 ? p.stiffness * (delta - p.separation) / load : p.stiffness) : 0.0;
+    if (p.loaded) total_share += p.load_share;
   }
   if (load <= 0.0 && total_share > 0.0) {
-    for (int m = 0; m < n; ++m) out.pairs[m].load_share /= total_share;
+    for (ContactElement& p : elements) p.load_share /= total_share;
   }
+  return delta;
 }
 
 double Frac(double x) { return x - std::floor(x); }
@@ -139,11 +226,14 @@ double Frac(double x) { return x - std::floor(x); }
 
 MeshEvaluator::MeshEvaluator(const MeshPair& pair, const PairGeometry& g,
                              const MeshStiffnessOptions& options)
-    : mesh_(pair.mesh), g_(g), pair_(pair, g) {
+    : stiffness_(pair.mesh.stiffness),
+      g_(g),
+      pair_(pair, g, pair.helical()),
+      slices_(pair.helical() ? options.helical_slices : 1) {
   options.Validate();
-  const GearSpec& pinion = *pair.a;
-  const GearSpec& wheel = *pair.b;
-  overridden_ = !std::holds_alternative<PotentialEnergyStiffness>(mesh_->stiffness);
+  const GearSpec& pinion = pair.a;
+  const GearSpec& wheel = pair.b;
+  overridden_ = !std::holds_alternative<PotentialEnergyStiffness>(stiffness_);
   load_ = pair.transmitted_torque / g.wheel.base;
   reach_ = options.path_extension_pitches * g.base_pitch;
   if (wheel.tip_relief) {
@@ -191,9 +281,9 @@ double MeshEvaluator::PitchCrossing(Flank flank) const {
 
 std::vector<double> MeshEvaluator::OverrideBreaks(Flank flank) const {
   std::vector<double> law;  // phases of the override's own cycle
-  if (const auto* r = std::get_if<RectangularStiffness>(&mesh_->stiffness)) {
+  if (const auto* r = std::get_if<RectangularStiffness>(&stiffness_)) {
     law = {0.0, r->contact_ratio - 1.0};
-  } else if (const auto* t = std::get_if<TableStiffness>(&mesh_->stiffness)) {
+  } else if (const auto* t = std::get_if<TableStiffness>(&stiffness_)) {
     law = t->phase;
   }
   // The drive flank reads the law at tau, the back flank at back_phase / p_b - tau (Evaluate).
@@ -205,41 +295,79 @@ std::vector<double> MeshEvaluator::OverrideBreaks(Flank flank) const {
 
 FlankSample MeshEvaluator::Evaluate(double tau, Flank flank) const {
   const PairGeometry& g = g_;
-  FlankSample out;
-  const double s_drive = g.contact_start + tau * g.base_pitch;
-  const double s0 = flank == Flank::kDrive ? s_drive : mirror_ - s_drive;
-  // Shift by whole pitches to the first position at or after start - reach.
-  const double first =
-      s0 - std::floor((s0 - (g.contact_start - reach_)) / g.base_pitch) * g.base_pitch;
-  for (double s = first; s <= g.contact_end + reach_ && out.pair_count < FlankSample::kMaxPairs;
-       s += g.base_pitch) {
-    PairState& p = out.pairs[out.pair_count++];
-    p.roll = s;
-    p.stiffness = pair_.At(s);
-    p.separation = Separation(s);
+  // Contact elements: every tooth pair near the path, on every face slice (one slice for a spur
+  // pair). Slice k of a helical pair sits eps_beta (k + 1/2) / N mesh cycles ahead of the face's
+  // edge, and carries 1/N of the pair stiffness (all compliances scale with the width).
+  std::vector<ContactElement> elements;
+  const double slice_weight = 1.0 / slices_;
+  for (int k = 0; k < slices_; ++k) {
+    const double shift = slices_ > 1 ? g.overlap_ratio * (k + 0.5) / slices_ : 0.0;
+    const double s_drive = g.contact_start + (tau + shift) * g.base_pitch;
+    const double s0 = flank == Flank::kDrive ? s_drive : mirror_ - s_drive;
+    // Shift by whole pitches to the first position at or after start - reach.
+    const double first =
+        s0 - std::floor((s0 - (g.contact_start - reach_)) / g.base_pitch) * g.base_pitch;
+    int count = 0;
+    for (double s = first; s <= g.contact_end + reach_ && count < FlankSample::kMaxPairs;
+         s += g.base_pitch, ++count) {
+      ContactElement e;
+      e.roll = s;
+      e.stiffness = slices_ > 1 ? slice_weight * pair_.At(s) : pair_.At(s);
+      e.separation = Separation(s);
+      // The tooth pair: cycles since it entered the path of contact at this slice (drive flank),
+      // the same integer on every slice.
+      const double s_pair = flank == Flank::kDrive ? s : mirror_ - s;
+      e.pair = static_cast<int>(std::lround((s_pair - g.contact_start) / g.base_pitch - tau - shift));
+      elements.push_back(e);
+    }
   }
-  ShareLoad(out, load_);
+  FlankSample out;
+  out.lste = ShareLoad(elements, load_);
   if (overridden_) {
-    // User data replaces the stiffness; share equally among pairs inside the path.
+    // User data replaces the stiffness; share equally among elements inside the path.
     const double tau_flank = flank == Flank::kDrive ? tau : back_phase_ / g.base_pitch - tau;
-    out.stiffness = OverrideStiffness(mesh_->stiffness, tau_flank);
     int in_path = 0;
-    for (int m = 0; m < out.pair_count; ++m) {
-      in_path += (out.pairs[m].roll >= g.contact_start && out.pairs[m].roll <= g.contact_end);
+    for (const ContactElement& e : elements) {
+      in_path += (e.roll >= g.contact_start && e.roll <= g.contact_end);
     }
-    for (int m = 0; m < out.pair_count; ++m) {
-      const bool in = out.pairs[m].roll >= g.contact_start && out.pairs[m].roll <= g.contact_end;
-      out.pairs[m].load_share = in && in_path > 0 ? 1.0 / in_path : 0.0;
+    for (ContactElement& e : elements) {
+      const bool in = e.roll >= g.contact_start && e.roll <= g.contact_end;
+      e.loaded = in;
+      e.load_share = in && in_path > 0 ? 1.0 / in_path : 0.0;
     }
-    out.loaded_pairs = in_path;
+    out.stiffness = OverrideStiffness(stiffness_, tau_flank);
     out.lste = load_ / out.stiffness;
   }
-  for (int m = 0; m < out.pair_count; ++m) {
-    const PairState& p = out.pairs[m];
-    const double sgn = p.roll > g.pitch_point ? 1.0 : (p.roll < g.pitch_point ? -1.0 : 0.0);
-    out.friction_sigma += p.load_share * sgn;
-    out.friction_arm_pinion += p.load_share * sgn * p.roll;
-    out.friction_arm_wheel += p.load_share * sgn * (g.line_of_action_length - p.roll);
+  // Tooth pairs: the elements of one pair summed (the pair's loaded stiffness, its load share);
+  // roll is that of the pair's first slice.
+  for (const ContactElement& e : elements) {
+    if (e.loaded && !overridden_) out.stiffness += e.stiffness;
+    PairState* p = nullptr;
+    for (int m = 0; m < out.pair_count; ++m) {
+      if (out.pairs[m].offset == e.pair) p = &out.pairs[m];
+    }
+    if (p == nullptr) {
+      if (out.pair_count == FlankSample::kMaxPairs) continue;
+      p = &out.pairs[out.pair_count++];
+      p->offset = e.pair;
+      p->roll = e.roll;
+      p->separation = e.separation;
+    }
+    // A pair's stiffness is that of its loaded elements (all of them while it is unloaded).
+    const bool first_loaded = e.loaded && !p->loaded;
+    if (first_loaded) p->stiffness = 0.0;
+    if (e.loaded || !p->loaded) p->stiffness += e.stiffness;
+    p->loaded = p->loaded || e.loaded;
+    p->load_share += e.load_share;
+    p->separation = std::min(p->separation, e.separation);
+  }
+  for (int m = 0; m < out.pair_count; ++m) out.loaded_pairs += out.pairs[m].loaded ? 1 : 0;
+  // Friction: sliding reverses at the pitch point, element by element.
+  for (const ContactElement& e : elements) {
+    const double sgn = e.roll > g.pitch_point ? 1.0 : (e.roll < g.pitch_point ? -1.0 : 0.0);
+    out.friction_sigma += e.load_share * sgn;
+    out.friction_arm_pinion += e.load_share * sgn * e.roll;
+    out.friction_arm_wheel += e.load_share * sgn * (g.line_of_action_length - e.roll);
   }
   return out;
 }

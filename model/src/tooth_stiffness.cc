@@ -31,16 +31,20 @@ constexpr double kThetaMin = 0.01, kThetaMax = 0.3;
 }  // namespace
 
 ToothStiffnessModel::ToothStiffnessModel(const GearSpec& gear, const Material& material)
+    : ToothStiffnessModel(gear, material, static_cast<double>(gear.teeth)) {}
+
+ToothStiffnessModel::ToothStiffnessModel(const GearSpec& gear, const Material& material,
+                                         double teeth)
     : E_(material.youngs_modulus),
       G_(material.youngs_modulus / (2.0 * (1.0 + material.poisson_ratio))),
       L_(gear.face_width),
       rule_(MakeGaussLegendre(48)) {
-  const GearRadii radii = ComputeGearRadii(gear);
-  r_b_ = radii.base;
-  r_f_ = radii.root;
   const double a0 = gear.pressure_angle;
-  alpha2_ = std::numbers::pi / (2.0 * gear.teeth) + Involute(a0) +
-            2.0 * gear.profile_shift * std::tan(a0) / gear.teeth;
+  const double pitch = 0.5 * gear.module * teeth;
+  r_b_ = pitch * std::cos(a0);
+  r_f_ = pitch - (gear.dedendum_coefficient - gear.profile_shift) * gear.module;
+  alpha2_ = std::numbers::pi / (2.0 * teeth) + Involute(a0) +
+            2.0 * gear.profile_shift * std::tan(a0) / teeth;
   if (r_b_ > r_f_) {
     alpha_start_ = -alpha2_;
     straight_half_thickness_ = r_b_ * std::sin(alpha2_);

@@ -130,8 +130,8 @@ std::vector<MalformedCase> MalformedCases() {
                }() +
                "]\n"),
        "gears.pinion.pitch_errors[0]", "must be in"},
-      {"unsupported schema version", ReplaceFirst(v, "gearnvh/1", "gearnvh/2"), "schema",
-       "must be gearnvh/1"},
+      {"unsupported schema version", ReplaceFirst(v, "gearnvh/1", "gearnvh/3"), "schema",
+       "must be gearnvh/1 or gearnvh/2"},
       {"unknown stiffness model",
        ReplaceFirst(v, "backlash: 100 um", "backlash: 100 um\n  stiffness: {model: rectangle}"),
        "mesh.stiffness.model", "did you mean 'rectangular'"},

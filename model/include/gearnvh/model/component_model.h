@@ -58,6 +58,10 @@ struct GearBody {
   double diametral = 0.0;  // I_d, kg m^2
 };
 
+// A gear as a solid disk between its pitch and bore radii over its face width (the `inertia` and
+// `mass` keys override).
+GearBody DiskBody(const GearSpec& gear, const Material& material);
+
 struct ComponentModel {
   // Mesh.
   PairGeometry geometry;

@@ -33,10 +33,12 @@ struct Runout {
   double phase = 0.0;      // rad
 };
 
+enum class Hand { kRight, kLeft };
+
 struct GearSpec {
   int teeth = 0;                       // >= 6
-  double module = 0.0;                 // m, > 0
-  double pressure_angle = 0.0;         // rad, in (0, pi/4); default 20 deg
+  double module = 0.0;                 // m, > 0 (normal module for a helical gear)
+  double pressure_angle = 0.0;         // rad, in (0, pi/4); default 20 deg (normal)
   double face_width = 0.0;             // m, > 0
   double bore_diameter = 0.0;          // m, >= 0 and < root diameter
   std::string material;                // a key of GearboxSpec::materials
@@ -46,6 +48,8 @@ struct GearSpec {
   std::optional<double> inertia;       // kg m^2 polar inertia override (default: solid disk)
   std::optional<double> mass;          // kg override (default: solid disk)
   std::optional<TipRelief> tip_relief;
+  double helix_angle = 0.0;  // rad, in [0, pi/4): 0 for a spur gear
+  Hand hand = Hand::kRight;  // of the helix; meaningful when helix_angle > 0
   std::optional<Runout> runout;
   // Cumulative pitch deviation of each tooth along the line of action, m; empty or one per tooth,
   // teeth numbered in the order they enter the mesh (tooth 0 is in the pair that enters the path
@@ -104,6 +108,7 @@ struct LumpedInertia {
   double at = 0.0;         // m, within the shaft
   double polar = 0.0;      // kg m^2, >= 0
   double diametral = 0.0;  // kg m^2, >= 0
+  double mass = 0.0;       // kg, >= 0 (schema 2; schema 1 lumps no mass)
 };
 
 struct ShaftSpec {

@@ -34,14 +34,27 @@ struct MeshStiffnessOptions {
   int samples_per_cycle = 2048;
   // Pairs farther than this many base pitches outside the path of contact are ignored; > 0.
   double path_extension_pitches = 0.5;
+  // Face slices of a helical pair (the slice method, DESIGN §12); >= 2. Each slice is a spur pair
+  // of width b / N on the transverse section, displaced in mesh phase by its position along the
+  // face times tan(beta_b) / p_bt.
+  int helical_slices = 40;
   void Validate() const;
 };
 
 struct PairState {
-  double roll = 0.0;        // s, m from T1 along the line of action
-  double stiffness = 0.0;   // k_j, N/m
-  double separation = 0.0;  // e_j, m
+  double roll = 0.0;        // s, m from T1 along the line of action (a helical pair's face edge)
+  double stiffness = 0.0;   // k_j, N/m (a helical pair: its loaded slices)
+  double separation = 0.0;  // e_j, m (a helical pair: its smallest)
   double load_share = 0.0;  // LSR_j
+  int offset = 0;           // q: the pair entered the path of contact q mesh cycles ago
+  bool loaded = false;
+};
+
+// One tooth pair on one face slice (the whole face for a spur pair).
+struct ContactElement {
+  double roll = 0.0, stiffness = 0.0, separation = 0.0, load_share = 0.0;
+  int pair = 0;  // PairState::offset of its tooth pair
+  bool loaded = false;
 };
 
 // One flank's state at one cycle fraction.
@@ -80,7 +93,8 @@ struct MeshStiffnessSummary {
 // path).
 class PairStiffness {
  public:
-  PairStiffness(const MeshPair& pair, const PairGeometry& geometry);
+  // `tabulate`: evaluate through a cubic spline table (helical pairs) instead of the quadrature.
+  PairStiffness(const MeshPair& pair, const PairGeometry& geometry, bool tabulate = false);
   double At(double roll) const;
   const std::vector<std::string>& warnings() const { return warnings_; }
 
@@ -113,9 +127,10 @@ class MeshEvaluator {
   const std::vector<std::string>& warnings() const { return pair_.warnings(); }
 
  private:
-  const MeshSpec* mesh_;
+  StiffnessModel stiffness_;
   PairGeometry g_;
   PairStiffness pair_;
+  int slices_ = 1;
   double reach_, load_, mirror_, back_phase_;
   bool overridden_;
   double relief_start_amount_ = 0, relief_start_length_ = 0, relief_end_amount_ = 0,

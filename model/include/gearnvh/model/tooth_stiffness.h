@@ -42,6 +42,10 @@ struct ToothCompliance {
 class ToothStiffnessModel {
  public:
   ToothStiffnessModel(const GearSpec& gear, const Material& material);
+  // A (virtual) gear with a non-integer tooth count: the normal section of a helical gear is the
+  // spur gear of z_n = z / cos^3(beta) teeth (module and pressure angle from `gear`, which must be
+  // spur; the helix angle is ignored).
+  ToothStiffnessModel(const GearSpec& gear, const Material& material, double teeth);
 
   // Compliance for a contact at roll distance `roll` along the line of action from this gear's base
   // tangent point (roll = r_b tan(alpha_r) for contact radius r).

@@ -1,0 +1,62 @@
+// GearTrain: the component model of a gear train (schema gearnvh/2, DESIGN §11): its bodies with
+// their nominal speeds and polar inertias, and per mesh the mesh-level model (geometry,
+// deformation-compatible stiffness over the cycle, load sharing, LSTE) at the torque that mesh
+// transmits. A schema-1 gearbox is the train TrainOf(spec).
+//
+// Static torque flow: every load resists its body's rotation; the input shaft is driven by the
+// torque that balances them all (power balance, T_in |w_in| = sum T_j |w_j|). On the spanning tree
+// of the meshes each mesh carries the power of the bodies beyond it; a mesh that closes a
+// kinematic loop makes the split statically indeterminate and is analysed unloaded (warned).
+//
+// Tier 1 of a train (torsional): one rotation per body, each in its own direction of nominal
+// rotation; mesh i couples its bodies through delta_i = r_b,a th_a - r_b,b th_b, so
+//   M = diag(J_body),  K = sum_i k_mean,i v_i v_i^T,  v_i = r_b,a e_a - r_b,b e_b.
+#pragma once
+
+#include <Eigen/Dense>
+#include <string>
+#include <vector>
+
+#include "gearnvh/model/gear_geometry.h"
+#include "gearnvh/model/mesh_pair.h"
+#include "gearnvh/model/mesh_stiffness.h"
+#include "gearnvh/model/train_spec.h"
+
+namespace gearnvh {
+
+struct TrainMeshModel {
+  std::string name;  // "g1-g2"
+  int gear_a = 0, gear_b = 0;
+  int body_a = 0, body_b = 0;
+  GearboxSpec gearbox;  // the mesh as the schema-1 gearbox of its two gears
+  MeshPair pair;
+  PairGeometry geometry;  // at the nominal speed of gear a
+  MeshCycle cycle;
+  MeshStiffnessSummary stiffness;
+  double transmitted_torque = 0.0;  // N m on gear b (>= 0)
+  bool back_flank_loaded = false;   // the second gear drives (power flows from b to a)
+  bool in_loop = false;             // closes a kinematic loop: analysed unloaded
+};
+
+struct GearTrain {
+  TrainTopology topology;
+  std::vector<double> body_inertia;  // polar, kg m^2, per body
+  std::vector<TrainMeshModel> meshes;
+  double input_torque = 0.0;  // N m driving the input shaft (balances every load)
+  std::vector<std::string> warnings;
+};
+
+GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& options = {});
+
+// Tier 1 of the train: torsional natural frequencies at the mean mesh stiffnesses and the mode
+// shapes (bodies x modes, M-normalised). A validated train is connected, so it has exactly one free
+// rotation (th_j proportional to |w_j|), removed by construction rather than by a zero test.
+struct TrainTorsionalModes {
+  int free_rotations = 0;
+  std::vector<double> frequencies_hz;
+  Eigen::MatrixXd shapes;
+  Eigen::MatrixXd M, K;  // the tier-1 matrices
+};
+TrainTorsionalModes TorsionalModes(const GearTrain& train);
+
+}  // namespace gearnvh

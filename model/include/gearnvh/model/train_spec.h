@@ -1,0 +1,113 @@
+// TrainSpec: the validated, SI-unit description of a gear train (schema gearnvh/2): any number of
+// shafts, gears and meshes. A schema-1 gearbox is the train of two shafts "input" (pinion) and
+// "output" (wheel) with one mesh (TrainOf).
+//
+// Conventions (as schema 1, per mesh): every body's nominal rotation follows from the input speed
+// through the meshes (ratio -z_a/z_b); a mesh's first gear drives in the drive-flank sign
+// convention; loads are mean torques resisting the rotation of a shaft or of a loose gear.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gearnvh/model/gearbox_spec.h"
+
+namespace gearnvh {
+
+enum class Mounting {
+  kFixed,  // turns with its shaft
+  kLoose,  // turns freely on its shaft (its own torsional body, e.g. an idling gear)
+};
+
+struct TrainShaft {
+  std::string name;
+  // Rigid: its own polar inertia, kg m^2 (> 0). Elastic: `elastic` holds the FE description.
+  std::optional<double> inertia;
+  std::optional<ShaftSpec> elastic;
+  std::vector<BearingSpec> bearings;  // rigid shafts; an elastic shaft keeps its own
+};
+
+struct TrainGear {
+  std::string name;
+  std::string shaft;           // a TrainShaft name
+  std::optional<double> at;    // m, axial position; required on an elastic shaft
+  Mounting mounting = Mounting::kFixed;
+  GearSpec gear;
+};
+
+struct TrainMesh {
+  std::string gear_a, gear_b;  // gear_a drives in the drive-flank sign convention
+  MeshSpec mesh;
+  std::string Name() const { return gear_a + "-" + gear_b; }
+};
+
+struct TrainLoad {
+  std::string on;       // a shaft name or a loose gear's name
+  double torque = 0.0;  // N m, >= 0: mean torque resisting its rotation
+};
+
+struct TrainOperating {
+  std::string input_shaft;  // the shaft whose mean speed is given
+  double speed = 0.0;       // rad/s, > 0
+  std::vector<TrainLoad> loads;
+  std::vector<ExcitationOrder> excitation;  // orders of the input shaft's speed
+};
+
+struct TrainSpec {
+  std::string name;
+  std::map<std::string, Material> materials;
+  std::vector<TrainShaft> shafts;
+  std::vector<TrainGear> gears;
+  std::vector<TrainMesh> meshes;
+  TrainOperating operating;
+  AnalysisSpec analysis;
+
+  const TrainGear* FindGear(const std::string& name) const;
+  const TrainShaft* FindShaft(const std::string& name) const;
+};
+
+// The rotating bodies of a train: each shaft with the gears fixed on it, and each loose gear.
+enum class BodyKind { kShaft, kLooseGear };
+
+struct TrainBody {
+  std::string name;  // the shaft's or the loose gear's name
+  BodyKind kind = BodyKind::kShaft;
+  int shaft = -1;          // index in TrainSpec::shafts (a loose gear: the shaft it turns on)
+  std::vector<int> gears;  // indices in TrainSpec::gears turning with this body
+  // Nominal speed, rad/s, signed: > 0 turns the way the input shaft does. From the input speed
+  // through the meshes, omega_b = -omega_a z_a / z_b.
+  double speed = 0.0;
+};
+
+struct TrainTopology {
+  std::vector<TrainBody> bodies;  // shafts in file order, then loose gears in file order
+  std::vector<int> gear_body;     // body of each gear
+  int input_body = 0;
+  // The spanning tree the speeds were propagated on: for each body the mesh it was reached
+  // through (-1 for the input), and the meshes that close a kinematic loop.
+  std::vector<int> parent_mesh;
+  std::vector<int> loop_meshes;
+};
+
+// Bodies, nominal speeds and the spanning tree. Throws InputError for a topology rule (a loose
+// gear or shaft that no chain of meshes connects to the input, a loop whose ratios disagree).
+TrainTopology AnalyseTrainTopology(const TrainSpec& spec);
+
+// Mesh `m` as the schema-1 gearbox of its two gears (pinion = gear_a, wheel = gear_b, their
+// elastic shafts with gear_at = the gear's position), at the nominal speed of gear_a and carrying
+// `transmitted_torque` on gear_b: the input of the mesh-level model.
+GearboxSpec MeshGearbox(const TrainSpec& spec, const TrainTopology& topology, int m,
+                        double transmitted_torque);
+
+// The two-shaft, one-mesh train a schema-1 gearbox means.
+TrainSpec TrainOf(const GearboxSpec& spec);
+
+// Range and topology rules (every message names the schema path): names resolve, a mesh joins
+// gears on different shafts, every loose gear meshes, helical pairs have equal helix angles and
+// opposite hands, every shaft turns (is reached from the input through meshes and fixed gears),
+// and every kinematic loop closes with consistent ratios. Throws InputError.
+void ValidateTrainSpec(const TrainSpec& spec);
+
+}  // namespace gearnvh

@@ -1,0 +1,170 @@
+#include "gearnvh/model/gear_train.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "gearnvh/model/component_model.h"
+
+namespace gearnvh {
+namespace {
+
+// Polar inertia of an elastic shaft's tubes and lumped bodies.
+double ShaftPolarInertia(const ShaftSpec& shaft, const Material& material) {
+  double j = 0.0;
+  for (const ShaftSegment& s : shaft.segments) {
+    const double d4 = std::pow(s.outer_diameter, 4) - std::pow(s.inner_diameter, 4);
+    j += material.density * std::numbers::pi / 32.0 * d4 * s.length;
+  }
+  for (const LumpedInertia& l : shaft.inertias) j += l.polar;
+  return j;
+}
+
+int OtherBody(const TrainMeshModel& mesh, int body) {
+  return mesh.body_a == body ? mesh.body_b : mesh.body_a;
+}
+
+}  // namespace
+
+GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& options) {
+  GearTrain train;
+  train.topology = AnalyseTrainTopology(spec);
+  const TrainTopology& topo = train.topology;
+  const size_t n = topo.bodies.size();
+
+  train.body_inertia.assign(n, 0.0);
+  for (size_t b = 0; b < n; ++b) {
+    const TrainBody& body = topo.bodies[b];
+    if (body.kind == BodyKind::kShaft) {
+      const TrainShaft& s = spec.shafts[static_cast<size_t>(body.shaft)];
+      train.body_inertia[b] = s.elastic ? ShaftPolarInertia(*s.elastic,
+                                                             spec.materials.at(s.elastic->material))
+                                        : s.inertia.value_or(0.0);
+    }
+    for (int g : body.gears) {
+      const GearSpec& gear = spec.gears[static_cast<size_t>(g)].gear;
+      train.body_inertia[b] += DiskBody(gear, spec.materials.at(gear.material)).polar;
+    }
+  }
+
+  // Load power per body, then summed over the subtree beyond each body (deepest first).
+  std::vector<double> power(n, 0.0);
+  for (const TrainLoad& load : spec.operating.loads) {
+    int body = -1;
+    for (size_t b = 0; b < n; ++b) {
+      if (topo.bodies[b].kind == BodyKind::kShaft && topo.bodies[b].name == load.on) {
+        body = static_cast<int>(b);
+      }
+    }
+    if (body < 0) {
+      for (size_t g = 0; g < spec.gears.size(); ++g) {
+        if (spec.gears[g].name == load.on) body = topo.gear_body[g];
+      }
+    }
+    power[static_cast<size_t>(body)] += load.torque * std::abs(topo.bodies[static_cast<size_t>(body)].speed);
+  }
+  double total_power = 0.0;
+  for (double p : power) total_power += p;
+  train.input_torque = total_power / std::abs(topo.bodies[static_cast<size_t>(topo.input_body)].speed);
+
+  for (size_t m = 0; m < spec.meshes.size(); ++m) {
+    TrainMeshModel mesh;
+    mesh.name = spec.meshes[m].Name();
+    for (size_t g = 0; g < spec.gears.size(); ++g) {
+      if (spec.gears[g].name == spec.meshes[m].gear_a) mesh.gear_a = static_cast<int>(g);
+      if (spec.gears[g].name == spec.meshes[m].gear_b) mesh.gear_b = static_cast<int>(g);
+    }
+    mesh.body_a = topo.gear_body[static_cast<size_t>(mesh.gear_a)];
+    mesh.body_b = topo.gear_body[static_cast<size_t>(mesh.gear_b)];
+    mesh.in_loop = std::find(topo.loop_meshes.begin(), topo.loop_meshes.end(),
+                             static_cast<int>(m)) != topo.loop_meshes.end();
+    train.meshes.push_back(mesh);
+  }
+  // Depth of each body in the spanning tree, then the subtree powers deepest first.
+  std::vector<int> depth(n, 0);
+  for (size_t b = 0; b < n; ++b) {
+    for (int c = static_cast<int>(b); topo.parent_mesh[static_cast<size_t>(c)] >= 0;
+         c = OtherBody(train.meshes[static_cast<size_t>(topo.parent_mesh[static_cast<size_t>(c)])], c)) {
+      ++depth[b];
+    }
+  }
+  std::vector<size_t> order(n);
+  for (size_t b = 0; b < n; ++b) order[b] = b;
+  std::sort(order.begin(), order.end(), [&](size_t x, size_t y) { return depth[x] > depth[y]; });
+  std::vector<double> subtree = power;
+  for (size_t b : order) {
+    const int pm = topo.parent_mesh[b];
+    if (pm < 0) continue;
+    TrainMeshModel& mesh = train.meshes[static_cast<size_t>(pm)];
+    const int parent = OtherBody(mesh, static_cast<int>(b));
+    subtree[static_cast<size_t>(parent)] += subtree[b];
+    // Power P through the mesh at base-circle speed |w_b| r_b,b: force P / (|w_b| r_b,b), torque
+    // on gear b P / |w_b|.
+    mesh.transmitted_torque = subtree[b] / std::abs(topo.bodies[static_cast<size_t>(mesh.body_b)].speed);
+    mesh.back_flank_loaded = static_cast<int>(b) == mesh.body_a && subtree[b] > 0.0;
+  }
+
+  for (size_t m = 0; m < train.meshes.size(); ++m) {
+    TrainMeshModel& mesh = train.meshes[m];
+    mesh.gearbox = MeshGearbox(spec, topo, static_cast<int>(m), mesh.transmitted_torque);
+    mesh.pair = PairOf(mesh.gearbox);
+    mesh.pair.path_a = "gears." + spec.gears[static_cast<size_t>(mesh.gear_a)].name;
+    mesh.pair.path_b = "gears." + spec.gears[static_cast<size_t>(mesh.gear_b)].name;
+    mesh.pair.path_mesh = "meshes[" + std::to_string(m) + "]";
+    mesh.geometry = ComputePairGeometry(mesh.pair);
+    mesh.cycle = ComputeMeshCycle(mesh.pair, mesh.geometry, options);
+    mesh.stiffness = SummarizeMeshCycle(mesh.cycle, mesh.geometry);
+    for (const std::string& w : mesh.cycle.warnings) train.warnings.push_back(w);
+    if (mesh.back_flank_loaded) {
+      train.warnings.push_back(mesh.pair.path_mesh + " (" + mesh.name + "): power flows from " +
+                               mesh.pair.path_b + " to " + mesh.pair.path_a +
+                               ", so the load is on the back flank; its stiffness is evaluated on "
+                               "the drive flank (list the driving gear first to be exact)");
+    }
+    if (mesh.in_loop) {
+      train.warnings.push_back(mesh.pair.path_mesh + " (" + mesh.name +
+                               ") closes a kinematic loop: the static torque split is "
+                               "indeterminate, and this mesh is analysed unloaded");
+    }
+  }
+  return train;
+}
+
+TrainTorsionalModes TorsionalModes(const GearTrain& train) {
+  const int n = static_cast<int>(train.body_inertia.size());
+  TrainTorsionalModes out;
+  out.M = Eigen::MatrixXd::Zero(n, n);
+  out.K = Eigen::MatrixXd::Zero(n, n);
+  for (int b = 0; b < n; ++b) out.M(b, b) = train.body_inertia[static_cast<size_t>(b)];
+  for (const TrainMeshModel& mesh : train.meshes) {
+    Eigen::VectorXd v = Eigen::VectorXd::Zero(n);
+    v(mesh.body_a) += mesh.geometry.pinion.base;
+    v(mesh.body_b) -= mesh.geometry.wheel.base;
+    out.K += mesh.stiffness.mean * v * v.transpose();
+  }
+  // The free rotation is known exactly: every body turns by its share of the nominal motion,
+  // th_j ~ |w_j| (then r_b,a th_a = r_b,b th_b at every mesh). A numerical zero test would have to
+  // tell it from the rounding of K (~eps max K_ii), so it is removed by construction: the elastic
+  // modes are those of the pencil restricted to the M-orthogonal complement of the free rotation.
+  Eigen::VectorXd rigid(n);
+  for (int b = 0; b < n; ++b) {
+    rigid(b) = std::abs(train.topology.bodies[static_cast<size_t>(b)].speed);
+  }
+  const Eigen::MatrixXd mr = out.M * rigid;
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(mr);
+  const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(n, n);
+  const Eigen::MatrixXd t = q.rightCols(n - 1);
+  out.free_rotations = 1;
+  if (n > 1) {
+    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(
+        t.transpose() * out.K * t, t.transpose() * out.M * t);
+    for (int k = 0; k < n - 1; ++k) {
+      out.frequencies_hz.push_back(std::sqrt(std::max(eig.eigenvalues()(k), 0.0)) /
+                                   (2.0 * std::numbers::pi));
+    }
+    out.shapes = t * eig.eigenvectors();
+  }
+  return out;
+}
+
+}  // namespace gearnvh

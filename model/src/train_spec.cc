@@ -1,0 +1,294 @@
+#include "gearnvh/model/train_spec.h"
+
+#include <cmath>
+#include <deque>
+#include <set>
+
+#include "gearnvh/model/gearbox_spec_validation.h"
+#include "gearnvh/model/input_error.h"
+
+namespace gearnvh {
+namespace {
+
+std::string Num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
+std::string MeshPath(int m) { return "meshes[" + std::to_string(m) + "]"; }
+
+int IndexOfGear(const TrainSpec& spec, const std::string& name) {
+  for (size_t i = 0; i < spec.gears.size(); ++i) {
+    if (spec.gears[i].name == name) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+int IndexOfShaft(const TrainSpec& spec, const std::string& name) {
+  for (size_t i = 0; i < spec.shafts.size(); ++i) {
+    if (spec.shafts[i].name == name) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+// Replaces the schema-1 prefix of an error path found on a mesh's gearbox by the train's.
+std::string TrainPath(const std::string& path, const TrainSpec& spec, int m) {
+  const TrainMesh& mesh = spec.meshes[static_cast<size_t>(m)];
+  const TrainGear& a = *spec.FindGear(mesh.gear_a);
+  const TrainGear& b = *spec.FindGear(mesh.gear_b);
+  const std::vector<std::pair<std::string, std::string>> prefixes{
+      {"gears.pinion", "gears." + a.name},  {"gears.wheel", "gears." + b.name},
+      {"mesh", MeshPath(m)},                {"shafts.input", "shafts." + a.shaft},
+      {"shafts.output", "shafts." + b.shaft}, {"operating.torque", "operating.loads"}};
+  for (const auto& [from, to] : prefixes) {
+    if (path.compare(0, from.size(), from) == 0 &&
+        (path.size() == from.size() || path[from.size()] == '.' || path[from.size()] == '[')) {
+      return to + path.substr(from.size());
+    }
+  }
+  return path;
+}
+
+}  // namespace
+
+const TrainGear* TrainSpec::FindGear(const std::string& gear) const {
+  const int i = IndexOfGear(*this, gear);
+  return i < 0 ? nullptr : &gears[static_cast<size_t>(i)];
+}
+
+const TrainShaft* TrainSpec::FindShaft(const std::string& shaft) const {
+  const int i = IndexOfShaft(*this, shaft);
+  return i < 0 ? nullptr : &shafts[static_cast<size_t>(i)];
+}
+
+TrainTopology AnalyseTrainTopology(const TrainSpec& spec) {
+  TrainTopology t;
+  t.gear_body.assign(spec.gears.size(), -1);
+  for (size_t s = 0; s < spec.shafts.size(); ++s) {
+    TrainBody body;
+    body.name = spec.shafts[s].name;
+    body.shaft = static_cast<int>(s);
+    t.bodies.push_back(body);
+  }
+  for (size_t g = 0; g < spec.gears.size(); ++g) {
+    const TrainGear& gear = spec.gears[g];
+    const int shaft = IndexOfShaft(spec, gear.shaft);
+    if (gear.mounting == Mounting::kFixed) {
+      t.gear_body[g] = shaft;
+      t.bodies[static_cast<size_t>(shaft)].gears.push_back(static_cast<int>(g));
+    } else {
+      TrainBody body;
+      body.name = gear.name;
+      body.kind = BodyKind::kLooseGear;
+      body.shaft = shaft;
+      body.gears = {static_cast<int>(g)};
+      t.gear_body[g] = static_cast<int>(t.bodies.size());
+      t.bodies.push_back(body);
+    }
+  }
+  t.input_body = IndexOfShaft(spec, spec.operating.input_shaft);
+  t.parent_mesh.assign(t.bodies.size(), -2);  // -2: not reached
+  t.parent_mesh[static_cast<size_t>(t.input_body)] = -1;
+  t.bodies[static_cast<size_t>(t.input_body)].speed = spec.operating.speed;
+  // Breadth-first over the meshes from the input body.
+  std::deque<int> queue{t.input_body};
+  std::set<int> visited_meshes;
+  while (!queue.empty()) {
+    const int body = queue.front();
+    queue.pop_front();
+    for (size_t m = 0; m < spec.meshes.size(); ++m) {
+      const TrainMesh& mesh = spec.meshes[m];
+      const int ga = IndexOfGear(spec, mesh.gear_a), gb = IndexOfGear(spec, mesh.gear_b);
+      const int ba = t.gear_body[static_cast<size_t>(ga)], bb = t.gear_body[static_cast<size_t>(gb)];
+      if ((ba != body && bb != body) || visited_meshes.count(static_cast<int>(m)) > 0) continue;
+      visited_meshes.insert(static_cast<int>(m));
+      const bool forward = ba == body;
+      const int from_gear = forward ? ga : gb, to_gear = forward ? gb : ga;
+      const int to = forward ? bb : ba;
+      const double ratio = static_cast<double>(spec.gears[static_cast<size_t>(from_gear)].gear.teeth) /
+                           spec.gears[static_cast<size_t>(to_gear)].gear.teeth;
+      const double speed = -t.bodies[static_cast<size_t>(body)].speed * ratio;
+      TrainBody& target = t.bodies[static_cast<size_t>(to)];
+      if (t.parent_mesh[static_cast<size_t>(to)] == -2) {
+        t.parent_mesh[static_cast<size_t>(to)] = static_cast<int>(m);
+        target.speed = speed;
+        queue.push_back(to);
+      } else {
+        t.loop_meshes.push_back(static_cast<int>(m));
+        if (std::abs(target.speed - speed) > 1e-9 * std::abs(target.speed)) {
+          throw InputError(MeshPath(static_cast<int>(m)) + ".gears", 0,
+                           "[" + mesh.gear_a + ", " + mesh.gear_b + "]",
+                           "closes a kinematic loop whose ratios disagree: it would turn '" +
+                               target.name + "' at " + Num(speed) + " rad/s, the other path at " +
+                               Num(target.speed) + " rad/s");
+        }
+      }
+    }
+  }
+  for (size_t b = 0; b < t.bodies.size(); ++b) {
+    if (t.parent_mesh[b] != -2) continue;
+    const TrainBody& body = t.bodies[b];
+    const std::string path = body.kind == BodyKind::kShaft ? "shafts." + body.name
+                                                           : "gears." + body.name;
+    throw InputError(path, 0, "",
+                     body.kind == BodyKind::kShaft
+                         ? "has no way to turn: no chain of meshes and fixed gears connects it to "
+                           "the input shaft '" + spec.operating.input_shaft + "'"
+                         : "has no way to turn: no chain of meshes connects this loose gear to "
+                           "the input shaft '" + spec.operating.input_shaft + "'");
+  }
+  return t;
+}
+
+GearboxSpec MeshGearbox(const TrainSpec& spec, const TrainTopology& topology, int m,
+                        double transmitted_torque) {
+  const TrainMesh& mesh = spec.meshes[static_cast<size_t>(m)];
+  const int ga = IndexOfGear(spec, mesh.gear_a), gb = IndexOfGear(spec, mesh.gear_b);
+  const TrainGear& a = spec.gears[static_cast<size_t>(ga)];
+  const TrainGear& b = spec.gears[static_cast<size_t>(gb)];
+  GearboxSpec g;
+  g.name = spec.name + " " + mesh.Name();
+  g.materials = spec.materials;
+  g.pinion = a.gear;
+  g.wheel = b.gear;
+  g.mesh = mesh.mesh;
+  for (auto [gear, shaft] : {std::pair{&a, &g.input_shaft}, std::pair{&b, &g.output_shaft}}) {
+    const TrainShaft& s = *spec.FindShaft(gear->shaft);
+    if (s.elastic) {
+      *shaft = *s.elastic;
+      (*shaft)->gear_at = gear->at.value_or(0.0);
+    }
+  }
+  g.operating.speed = std::abs(topology.bodies[static_cast<size_t>(topology.gear_body[
+      static_cast<size_t>(ga)])].speed);
+  g.operating.torque = transmitted_torque;
+  g.analysis = spec.analysis;
+  return g;
+}
+
+TrainSpec TrainOf(const GearboxSpec& spec) {
+  TrainSpec t;
+  t.name = spec.name;
+  t.materials = spec.materials;
+  for (auto [name, gear, shaft] :
+       {std::tuple{"input", &spec.pinion, &spec.input_shaft},
+        std::tuple{"output", &spec.wheel, &spec.output_shaft}}) {
+    TrainShaft s;
+    s.name = name;
+    if (*shaft) {
+      s.elastic = **shaft;
+    } else {
+      s.inertia = 0.0;  // the gear body alone turns (schema 1: rigid shaft, no inertia of its own)
+    }
+    t.shafts.push_back(s);
+    TrainGear g;
+    g.name = gear == &spec.pinion ? "pinion" : "wheel";
+    g.shaft = name;
+    if (*shaft) g.at = (*shaft)->gear_at;
+    g.gear = *gear;
+    t.gears.push_back(g);
+  }
+  t.meshes.push_back({"pinion", "wheel", spec.mesh});
+  t.operating.input_shaft = "input";
+  t.operating.speed = spec.operating.speed;
+  t.operating.loads.push_back({"output", spec.operating.torque});
+  t.operating.excitation = spec.operating.excitation;
+  t.analysis = spec.analysis;
+  return t;
+}
+
+void ValidateTrainSpec(const TrainSpec& spec) {
+  if (spec.name.empty()) throw InputError("name", 0, "\"\"", "must not be empty");
+  if (spec.shafts.empty()) throw InputError("shafts", 0, "{}", "needs at least one shaft");
+  if (spec.gears.size() < 2) {
+    throw InputError("gears", 0, std::to_string(spec.gears.size()) + " gears",
+                     "needs at least two gears");
+  }
+  if (spec.meshes.empty()) throw InputError("meshes", 0, "[]", "needs at least one mesh");
+  for (const TrainShaft& s : spec.shafts) {
+    const std::string p = "shafts." + s.name;
+    if (s.inertia && !(*s.inertia >= 0.0 && std::isfinite(*s.inertia))) {
+      throw InputError(p + ".inertia", 0, Num(*s.inertia), "must be >= 0");
+    }
+    if (!s.inertia && !s.elastic) {
+      throw InputError(p, 0, "", "needs inertia (a rigid shaft) or segments (an elastic shaft)");
+    }
+  }
+  std::vector<int> meshes_of_gear(spec.gears.size(), 0);
+  for (const TrainGear& g : spec.gears) {
+    const std::string p = "gears." + g.name;
+    const TrainShaft* shaft = spec.FindShaft(g.shaft);
+    if (shaft == nullptr) {
+      throw InputError(p + ".shaft", 0, "'" + g.shaft + "'", "must name a key of shafts");
+    }
+    if (shaft->elastic && !g.at) {
+      throw InputError(p + ".at", 0, "", "required: the gear sits on an elastic shaft");
+    }
+  }
+  for (size_t m = 0; m < spec.meshes.size(); ++m) {
+    const TrainMesh& mesh = spec.meshes[m];
+    const std::string p = MeshPath(static_cast<int>(m)) + ".gears";
+    for (const std::string& name : {mesh.gear_a, mesh.gear_b}) {
+      if (spec.FindGear(name) == nullptr) {
+        throw InputError(p, 0, "'" + name + "'", "must name a key of gears");
+      }
+    }
+    const TrainGear& a = *spec.FindGear(mesh.gear_a);
+    const TrainGear& b = *spec.FindGear(mesh.gear_b);
+    if (a.name == b.name) throw InputError(p, 0, "'" + a.name + "' twice", "needs two gears");
+    if (a.shaft == b.shaft) {
+      throw InputError(p, 0, "[" + a.name + ", " + b.name + "]",
+                       "the two gears sit on the same shaft '" + a.shaft + "' and cannot mesh");
+    }
+    if (a.gear.helix_angle != b.gear.helix_angle) {
+      throw InputError("gears." + b.name + ".helix_angle", 0, Num(b.gear.helix_angle) + " rad",
+                       "must equal the helix angle of '" + a.name + "' (" +
+                           Num(a.gear.helix_angle) + " rad), the gear it meshes with in " +
+                           MeshPath(static_cast<int>(m)));
+    }
+    if (a.gear.helix_angle > 0.0 && a.gear.hand == b.gear.hand) {
+      throw InputError("gears." + b.name + ".hand", 0,
+                       b.gear.hand == Hand::kRight ? "right" : "left",
+                       "must be the opposite of the hand of '" + a.name +
+                           "' (an external helical pair, " + MeshPath(static_cast<int>(m)) + ")");
+    }
+    ++meshes_of_gear[static_cast<size_t>(IndexOfGear(spec, a.name))];
+    ++meshes_of_gear[static_cast<size_t>(IndexOfGear(spec, b.name))];
+  }
+  for (size_t g = 0; g < spec.gears.size(); ++g) {
+    if (spec.gears[g].mounting == Mounting::kLoose && meshes_of_gear[g] == 0) {
+      throw InputError("gears." + spec.gears[g].name + ".mounting", 0, "loose",
+                       "a loose gear needs a mesh: nothing else turns it");
+    }
+  }
+  if (spec.FindShaft(spec.operating.input_shaft) == nullptr) {
+    throw InputError("operating.speed.shaft", 0, "'" + spec.operating.input_shaft + "'",
+                     "must name a key of shafts");
+  }
+  for (size_t i = 0; i < spec.operating.loads.size(); ++i) {
+    const TrainLoad& load = spec.operating.loads[i];
+    const std::string p = "operating.loads[" + std::to_string(i) + "]";
+    if (spec.FindShaft(load.on) == nullptr && spec.FindGear(load.on) == nullptr) {
+      throw InputError(p + ".on", 0, "'" + load.on + "'", "must name a shaft or a gear");
+    }
+    if (!(load.torque >= 0.0 && std::isfinite(load.torque))) {
+      throw InputError(p + ".torque", 0, Num(load.torque), "must be >= 0");
+    }
+  }
+  const TrainTopology topology = AnalyseTrainTopology(spec);
+  // Every mesh as the schema-1 gearbox of its gears: the gear, mesh, shaft, speed, excitation
+  // and analysis rules of schema 1, with the train's paths in the messages.
+  for (size_t m = 0; m < spec.meshes.size(); ++m) {
+    GearboxSpec pair = MeshGearbox(spec, topology, static_cast<int>(m), 0.0);
+    pair.operating.excitation = spec.operating.excitation;
+    try {
+      ValidateGearboxSpec(pair);
+    } catch (const InputError& e) {
+      throw InputError(TrainPath(e.path(), spec, static_cast<int>(m)), e.line(), e.value(),
+                       e.rule());
+    }
+  }
+}
+
+}  // namespace gearnvh

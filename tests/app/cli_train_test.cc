@@ -1,0 +1,110 @@
+// End-to-end tests of gear trains (schema gearnvh/2) through `gearnvh check`.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <string>
+
+#include "support/run_command.h"
+
+namespace gearnvh {
+namespace {
+
+using testing::RunCommand;
+using testing::TempDir;
+
+const std::string kExe = GEARNVH_EXE;
+const std::string kExamples = GEARNVH_EXAMPLES_DIR;
+
+TEST_CASE("check on the manual transmission reports every mesh and body", "[cli][train]") {
+  const auto r = RunCommand(kExe + " check --json " + kExamples + "/manual_transmission_idle.yaml");
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const auto doc = nlohmann::json::parse(r.out);
+  REQUIRE(doc["meshes"].size() == 6);
+  CHECK(doc["meshes"][0]["name"] == "in-l0");
+  const auto& g = doc["meshes"][2]["geometry"];
+  // Helical: eps_beta = b sin(beta) / (pi m_n) with b = 17 mm, beta = 25 deg, m_n = 2.25 mm.
+  const double beta = 25.0 * std::numbers::pi / 180.0;
+  CHECK(g["overlap_ratio"].get<double>() ==
+        Approx(17.0 * std::sin(beta) / (std::numbers::pi * 2.25)).epsilon(1e-12));
+  CHECK(g["total_contact_ratio"].get<double>() ==
+        Approx(g["contact_ratio"].get<double>() + g["overlap_ratio"].get<double>()).epsilon(1e-12));
+  for (const auto& m : doc["meshes"]) {
+    CHECK(m["stiffness"]["mean"].get<double>() > 1e8);  // N/m: a steel pair of this size
+    CHECK(m["stiffness"]["min"].get<double>() <= m["stiffness"]["mean"].get<double>());
+  }
+  // Bodies: 3 shafts and 4 loose gears; the loose 2nd gear turns at 800 (21/35)(24/32) rpm, the
+  // way the input does (two reversals).
+  REQUIRE(doc["bodies"].size() == 7);
+  CHECK(doc["bodies"][3]["name"] == "o2");
+  CHECK(doc["bodies"][3]["kind"] == "loose gear");
+  CHECK(doc["bodies"][3]["speed_rpm"].get<double>() ==
+        Approx(800.0 * 21.0 / 35.0 * 24.0 / 32.0).epsilon(1e-12));
+  CHECK(doc["tiers"][0]["free_rotations"] == 1);
+  CHECK(doc["tiers"][0]["natural_frequencies_hz"].size() == 6);
+  CHECK_FALSE(doc["critical_speeds"].empty());
+}
+
+TEST_CASE("check prints a train in text", "[cli][train]") {
+  const auto r = RunCommand(kExe + " check " + kExamples + "/two_stage_helical_reducer.yaml");
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.out.find("g1-g2") != std::string::npos);
+  CHECK(r.out.find("intermediate") != std::string::npos);
+  CHECK(r.out.find("tier 1 (torsional, 3 DOF, 1 free rotation)") != std::string::npos);
+}
+
+TEST_CASE("a schema-2 file is refused with a clear message where trains are not built",
+          "[cli][train]") {
+  const auto r = RunCommand(kExe + " simulate " + kExamples + "/manual_transmission_idle.yaml");
+  CHECK(r.exit_code == 1);
+  CHECK(r.err.find("schema") != std::string::npos);
+  CHECK(r.err.find("not yet simulated") != std::string::npos);
+}
+
+TEST_CASE("malformed trains: exit 1 naming the path, the line and the rule", "[cli][train]") {
+  std::ifstream in(kExamples + "/manual_transmission_idle.yaml");
+  const std::string base((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  auto replace = [&](const std::string& from, const std::string& to) {
+    std::string s = base;
+    const size_t at = s.find(from);
+    REQUIRE(at != std::string::npos);
+    return s.replace(at, from.size(), to);
+  };
+  struct Case {
+    std::string name, text, path, rule;
+  };
+  const std::vector<Case> cases{
+      {"unknown gear in a mesh", replace("gears: [l2, o2]", "gears: [l2, o9]"), "meshes[2].gears",
+       "must name a key of gears"},
+      {"mesh on one shaft", replace("gears: [l2, o2]", "gears: [l2, l3]"), "meshes[2].gears",
+       "same shaft"},
+      {"unknown input shaft", replace("{shaft: input, value", "{shaft: inptu, value"),
+       "operating.speed.shaft", "must name a key of shafts"},
+      {"same hand", replace("hand: left}\n  l0", "hand: right}\n  l0"), "gears.l0.hand",
+       "opposite"},
+      {"bad mounting", replace("mounting: loose, teeth: 32", "mounting: idle, teeth: 32"),
+       "gears.o2.mounting", "must be fixed or loose"},
+      {"unknown gear key", replace("mounting: loose, teeth: 32", "mounting: loose, teth: 32"),
+       "gears.o2.teth", "did you mean 'teeth'"},
+      {"negative backlash", replace("backlash: 80 um", "backlash: -80 um"), "meshes[0].backlash",
+       "must be > 0"},
+  };
+  TempDir dir;
+  for (const Case& c : cases) {
+    INFO(c.name);
+    const std::string file = (dir.path() / "bad.yaml").string();
+    std::ofstream(file) << c.text;
+    const auto r = RunCommand(kExe + " check " + file);
+    INFO(r.err);
+    CHECK(r.exit_code == 1);
+    CHECK(r.err.find(c.path) != std::string::npos);
+    CHECK(r.err.find(c.rule) != std::string::npos);
+    CHECK(r.err.find("bad.yaml:") != std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace gearnvh

@@ -1,0 +1,227 @@
+// Gear trains (DESIGN.md §11): topology, nominal speeds, torque flow, tier-1 torsional modes.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <numbers>
+
+#include "gearnvh/model/component_model.h"
+#include "gearnvh/model/gear_train.h"
+#include "gearnvh/model/input_error.h"
+#include "model/test_specs.h"
+
+namespace gearnvh {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+TrainGear Gear(const std::string& name, const std::string& shaft, int teeth,
+               Mounting mounting = Mounting::kFixed) {
+  TrainGear g;
+  g.name = name;
+  g.shaft = shaft;
+  g.mounting = mounting;
+  g.gear = testing::StandardPair(teeth, teeth).pinion;
+  g.gear.teeth = teeth;
+  g.gear.bore_diameter = 10e-3;
+  return g;
+}
+
+TrainShaft Rigid(const std::string& name, double inertia) {
+  TrainShaft s;
+  s.name = name;
+  s.inertia = inertia;
+  return s;
+}
+
+TrainMesh Mesh(const std::string& a, const std::string& b) {
+  TrainMesh m;
+  m.gear_a = a;
+  m.gear_b = b;
+  m.mesh.backlash = 100e-6;
+  return m;
+}
+
+// Input (g1, 20) -> layshaft (g2, 40; g3, 15) -> output (g4, 45), and a loose gear g5 (30) on the
+// output shaft driven by g6 (25) on the layshaft.
+TrainSpec TwoStage() {
+  TrainSpec t;
+  t.name = "two-stage";
+  t.materials["steel"] = Material{206e9, 0.3, 7850.0};
+  t.shafts = {Rigid("input", 5e-3), Rigid("layshaft", 1e-3), Rigid("output", 0.2)};
+  t.gears = {Gear("g1", "input", 20),    Gear("g2", "layshaft", 40), Gear("g3", "layshaft", 15),
+             Gear("g4", "output", 45),   Gear("g5", "output", 30, Mounting::kLoose),
+             Gear("g6", "layshaft", 25)};
+  t.meshes = {Mesh("g1", "g2"), Mesh("g3", "g4"), Mesh("g6", "g5")};
+  t.operating.input_shaft = "input";
+  t.operating.speed = 1000.0 * 2.0 * kPi / 60.0;
+  t.operating.loads = {{"output", 30.0}, {"g5", 0.2}};
+  return t;
+}
+
+TEST_CASE("train topology: bodies and nominal speeds through the meshes", "[train]") {
+  const TrainSpec spec = TwoStage();
+  REQUIRE_NOTHROW(ValidateTrainSpec(spec));
+  const TrainTopology t = AnalyseTrainTopology(spec);
+  REQUIRE(t.bodies.size() == 4);  // three shafts and the loose gear
+  const double w = spec.operating.speed;
+  // omega_b = -omega_a z_a / z_b, exact in a few roundings.
+  CHECK(t.bodies[0].speed == Approx(w).epsilon(1e-15));
+  CHECK(t.bodies[1].speed == Approx(-w * 20.0 / 40.0).epsilon(1e-14));
+  CHECK(t.bodies[2].speed == Approx(w * 20.0 / 40.0 * 15.0 / 45.0).epsilon(1e-14));
+  CHECK(t.bodies[3].kind == BodyKind::kLooseGear);
+  CHECK(t.bodies[3].speed == Approx(w * 20.0 / 40.0 * 25.0 / 30.0).epsilon(1e-14));
+  CHECK(t.gear_body[4] == 3);
+  CHECK(t.gear_body[5] == 1);
+}
+
+TEST_CASE("train torque flow balances the loads by power", "[train]") {
+  const TrainSpec spec = TwoStage();
+  const GearTrain train = BuildGearTrain(spec);
+  const double w_in = spec.operating.speed, w_lay = w_in * 0.5, w_out = w_lay / 3.0,
+               w_loose = w_lay * 25.0 / 30.0;
+  // Power balance: T_in w_in = 30 w_out + 0.2 w_loose; mesh g3-g4 carries the output torque on
+  // g4, mesh g6-g5 the drag on g5, mesh g1-g2 both, as a torque on g2 (the layshaft).
+  CHECK(train.input_torque == Approx((30.0 * w_out + 0.2 * w_loose) / w_in).epsilon(1e-14));
+  CHECK(train.meshes[1].transmitted_torque == Approx(30.0).epsilon(1e-14));
+  CHECK(train.meshes[2].transmitted_torque == Approx(0.2).epsilon(1e-14));
+  CHECK(train.meshes[0].transmitted_torque ==
+        Approx((30.0 * w_out + 0.2 * w_loose) / w_lay).epsilon(1e-14));
+  for (const TrainMeshModel& m : train.meshes) CHECK_FALSE(m.back_flank_loaded);
+  // The mesh's load along the line of action: T / r_b of the driven gear.
+  CHECK(train.meshes[1].cycle.load ==
+        Approx(30.0 / train.meshes[1].geometry.wheel.base).epsilon(1e-14));
+}
+
+TEST_CASE("a two-mesh torsional train's frequencies equal the closed-form eigenproblem",
+          "[train]") {
+  TrainSpec spec = TwoStage();
+  spec.gears.pop_back();  // no loose gear: input, layshaft, output
+  spec.gears.pop_back();
+  spec.meshes.pop_back();
+  spec.operating.loads = {{"output", 30.0}};
+  const GearTrain train = BuildGearTrain(spec);
+  const TrainTorsionalModes modes = TorsionalModes(train);
+  REQUIRE(modes.frequencies_hz.size() == 2);
+  // The free rotation th_j ~ |w_j| strains no mesh: r_b,a |w_a| = r_b,b |w_b| (equal base-circle
+  // speeds) to rounding, so K annihilates it.
+  Eigen::Vector3d rigid;
+  for (int b = 0; b < 3; ++b) rigid(b) = std::abs(train.topology.bodies[static_cast<size_t>(b)].speed);
+  CHECK((modes.K * rigid).norm() <= 1e-13 * modes.K.norm() * rigid.norm());
+  // Shapes M-orthonormal.
+  const Eigen::MatrixXd gram = modes.shapes.transpose() * modes.M * modes.shapes;
+  CHECK((gram - Eigen::MatrixXd::Identity(2, 2)).norm() < 1e-12);
+  // K = k1 u u^T + k2 w w^T, u = (r1, -r2, 0), w = (0, r3, -r4); the nonzero eigenvalues of
+  // A = M^-1 K solve l^2 - tr(A) l + S = 0, S the sum of A's principal 2x2 minors.
+  const double k1 = train.meshes[0].stiffness.mean, k2 = train.meshes[1].stiffness.mean;
+  const double r1 = train.meshes[0].geometry.pinion.base, r2 = train.meshes[0].geometry.wheel.base;
+  const double r3 = train.meshes[1].geometry.pinion.base, r4 = train.meshes[1].geometry.wheel.base;
+  const double J1 = train.body_inertia[0], J2 = train.body_inertia[1], J3 = train.body_inertia[2];
+  const double a11 = k1 * r1 * r1 / J1, a12 = -k1 * r1 * r2 / J1, a21 = -k1 * r1 * r2 / J2,
+               a22 = (k1 * r2 * r2 + k2 * r3 * r3) / J2, a23 = -k2 * r3 * r4 / J2,
+               a32 = -k2 * r3 * r4 / J3, a33 = k2 * r4 * r4 / J3;
+  const double tr = a11 + a22 + a33;
+  const double s = (a11 * a22 - a12 * a21) + a11 * a33 + (a22 * a33 - a23 * a32);
+  const double disc = std::sqrt(tr * tr - 4.0 * s);
+  const double f_low = std::sqrt(0.5 * (tr - disc)) / (2 * kPi);
+  const double f_high = std::sqrt(0.5 * (tr + disc)) / (2 * kPi);
+  // The shift-invert eigensolver is accurate to ~1e-12 relative on a 3x3 pencil; the quadratic's
+  // cancellation in tr - disc costs at most tr / (tr - disc) ~ 1e2 more.
+  CHECK(modes.frequencies_hz[0] == Approx(f_low).epsilon(1e-9));
+  CHECK(modes.frequencies_hz[1] == Approx(f_high).epsilon(1e-9));
+  // Body inertias: the rigid shaft's own plus its gears' solid disks.
+  const GearSpec& g2 = spec.gears[1].gear;
+  const double rp = 0.5 * g2.module * g2.teeth, rb = 0.5 * g2.bore_diameter;
+  const double m2 = 7850.0 * kPi * (rp * rp - rb * rb) * g2.face_width;
+  const GearSpec& g3 = spec.gears[2].gear;
+  const double rp3 = 0.5 * g3.module * g3.teeth, rb3 = 0.5 * g3.bore_diameter;
+  const double m3 = 7850.0 * kPi * (rp3 * rp3 - rb3 * rb3) * g3.face_width;
+  CHECK(J2 == Approx(1e-3 + 0.5 * m2 * (rp * rp + rb * rb) + 0.5 * m3 * (rp3 * rp3 + rb3 * rb3))
+                  .epsilon(1e-13));
+}
+
+TEST_CASE("a schema-1 gearbox is the two-shaft train with the same mesh model", "[train]") {
+  GearboxSpec spec = testing::StandardPair(27, 43);
+  spec.operating.torque = 40.0;
+  const TrainSpec train_spec = TrainOf(spec);
+  REQUIRE_NOTHROW(ValidateTrainSpec(train_spec));
+  const GearTrain train = BuildGearTrain(train_spec);
+  const ComponentModel model = BuildComponentModel(spec);
+  REQUIRE(train.meshes.size() == 1);
+  // The same function on the same inputs: bitwise equal.
+  CHECK(train.meshes[0].stiffness.mean == model.mesh_summary.mean);
+  CHECK(train.meshes[0].stiffness.lste_peak_to_peak == model.mesh_summary.lste_peak_to_peak);
+  CHECK(train.meshes[0].cycle.load == model.cycle.load);
+  CHECK(train.body_inertia[0] == model.pinion_body.polar);
+  CHECK(train.body_inertia[1] == model.wheel_body.polar);
+  // One mesh: f = sqrt(k (r1^2 / J1 + r2^2 / J2)) / 2 pi.
+  const TrainTorsionalModes modes = TorsionalModes(train);
+  const double r1 = model.geometry.pinion.base, r2 = model.geometry.wheel.base;
+  const double f = std::sqrt(model.mesh_summary.mean *
+                             (r1 * r1 / model.pinion_body.polar + r2 * r2 / model.wheel_body.polar)) /
+                   (2 * kPi);
+  REQUIRE(modes.frequencies_hz.size() == 1);
+  CHECK(modes.frequencies_hz[0] == Approx(f).epsilon(1e-10));
+}
+
+std::string PathOfError(const TrainSpec& spec) {
+  try {
+    ValidateTrainSpec(spec);
+  } catch (const InputError& e) {
+    return e.path() + ": " + e.rule();
+  }
+  return "";
+}
+
+TEST_CASE("train validation names the path and the rule", "[train][validation]") {
+  {
+    TrainSpec s = TwoStage();
+    s.meshes[0].gear_b = "g6";  // g1 (input) with g6 (layshaft) is fine; g2 with g6 is not
+    s.meshes[0].gear_a = "g2";
+    CHECK(PathOfError(s).rfind("meshes[0].gears: the two gears sit on the same shaft", 0) == 0);
+  }
+  {
+    TrainSpec s = TwoStage();
+    s.meshes.pop_back();
+    CHECK(PathOfError(s).rfind("gears.g5.mounting: a loose gear needs a mesh", 0) == 0);
+  }
+  {
+    TrainSpec s = TwoStage();
+    s.meshes[1].gear_b = "g9";
+    CHECK(PathOfError(s).rfind("meshes[1].gears: must name a key of gears", 0) == 0);
+  }
+  {
+    TrainSpec s = TwoStage();
+    for (TrainGear& g : s.gears) {
+      g.gear.helix_angle = 0.2;
+      g.gear.hand = Hand::kRight;
+    }
+    CHECK(PathOfError(s).rfind("gears.g2.hand: must be the opposite", 0) == 0);
+  }
+  {
+    TrainSpec s = TwoStage();
+    s.gears[3].mounting = Mounting::kLoose;  // g4 loose: the output shaft has nothing to turn it
+    CHECK(PathOfError(s).rfind("shafts.output: has no way to turn", 0) == 0);
+  }
+  {
+    // A second path input -> layshaft whose ratio disagrees: g7 (20) on the input meshing g8 (50)
+    // on the layshaft would turn it at -0.4 w_in, the first path at -0.5 w_in.
+    TrainSpec s = TwoStage();
+    s.gears.push_back(Gear("g7", "input", 20));
+    s.gears.push_back(Gear("g8", "layshaft", 50));
+    s.meshes.push_back(Mesh("g7", "g8"));
+    CHECK(PathOfError(s).rfind("meshes[3].gears: closes a kinematic loop whose ratios disagree",
+                               0) == 0);
+  }
+  {
+    TrainSpec s = TwoStage();
+    s.meshes[1].mesh.backlash = -1e-6;
+    CHECK(PathOfError(s).rfind("meshes[1].backlash: must be > 0", 0) == 0);
+  }
+  {
+    TrainSpec s = TwoStage();
+    s.gears[3].gear.teeth = 3;
+    CHECK(PathOfError(s).rfind("gears.g4.teeth: must be >= 6", 0) == 0);
+  }
+}
+
+}  // namespace
+}  // namespace gearnvh

@@ -1,0 +1,115 @@
+// Helical pairs (DESIGN.md §12): transverse geometry, contact ratios, slice-method stiffness.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <numbers>
+
+#include "gearnvh/model/gear_geometry.h"
+#include "gearnvh/model/mesh_stiffness.h"
+#include "model/test_specs.h"
+
+namespace gearnvh {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kDeg = kPi / 180.0;
+
+GearboxSpec HelicalPair(double beta, double face = 30e-3) {
+  GearboxSpec spec = testing::StandardPair(20, 40, 3e-3, face);
+  for (GearSpec* g : {&spec.pinion, &spec.wheel}) g->helix_angle = beta;
+  spec.pinion.hand = Hand::kRight;
+  spec.wheel.hand = Hand::kLeft;
+  spec.pinion.bore_diameter = 30e-3;
+  spec.wheel.bore_diameter = 60e-3;
+  return spec;
+}
+
+TEST_CASE("helical geometry: transverse section and contact ratios by the closed forms",
+          "[mesh][helical]") {
+  const double beta = 20 * kDeg, an = 20 * kDeg, mn = 3e-3, b = 30e-3;
+  const GearboxSpec spec = HelicalPair(beta, b);
+  const PairGeometry g = ComputePairGeometry(spec);
+  // Independent closed forms (ISO 21771): m_t = m_n / cos b, tan a_t = tan a_n / cos b,
+  // r = m_t z / 2, r_b = r cos a_t, r_a = r + m_n, eps_a from the transverse path of contact,
+  // eps_b = b sin(beta) / (pi m_n), sin(beta_b) = sin(beta) cos(a_n).
+  const double mt = mn / std::cos(beta), at = std::atan(std::tan(an) / std::cos(beta));
+  const double r1 = mt * 10, r2 = mt * 20, rb1 = r1 * std::cos(at), rb2 = r2 * std::cos(at);
+  const double ra1 = r1 + mn, ra2 = r2 + mn, a = r1 + r2;
+  const double pbt = kPi * mt * std::cos(at);
+  const double eps_a = (std::sqrt(ra1 * ra1 - rb1 * rb1) + std::sqrt(ra2 * ra2 - rb2 * rb2) -
+                        a * std::sin(at)) /
+                       pbt;
+  const double eps_b = b * std::sin(beta) / (kPi * mn);
+  // Rounding of a handful of trigonometric operations: 1e-13.
+  CHECK(g.pinion.base == Approx(rb1).epsilon(1e-13));
+  CHECK(g.wheel.tip == Approx(ra2).epsilon(1e-13));
+  CHECK(g.center_distance == Approx(a).epsilon(1e-13));
+  CHECK(g.working_pressure_angle == Approx(at).epsilon(1e-12));
+  CHECK(g.base_pitch == Approx(pbt).epsilon(1e-13));
+  CHECK(g.contact_ratio == Approx(eps_a).epsilon(1e-12));
+  CHECK(g.overlap_ratio == Approx(eps_b).epsilon(1e-13));
+  CHECK(g.total_contact_ratio == Approx(eps_a + eps_b).epsilon(1e-12));
+  CHECK(std::sin(g.base_helix_angle) == Approx(std::sin(beta) * std::cos(an)).epsilon(1e-13));
+}
+
+TEST_CASE("the slice method tends to the spur pair as the helix angle vanishes",
+          "[mesh][helical]") {
+  GearboxSpec spur = HelicalPair(0.0);
+  spur.operating.torque = 50.0;
+  GearboxSpec nearly = HelicalPair(1e-7);
+  nearly.operating.torque = 50.0;
+  const PairGeometry gs = ComputePairGeometry(spur), gh = ComputePairGeometry(nearly);
+  const MeshStiffnessSummary s = SummarizeMeshCycle(ComputeMeshCycle(PairOf(spur), gs), gs);
+  const MeshStiffnessSummary h = SummarizeMeshCycle(ComputeMeshCycle(PairOf(nearly), gh), gh);
+  // beta = 1e-7 moves the slices by eps_beta = 3e-7 of a cycle and the transverse module by
+  // 5e-15; the spline table interpolates the pair stiffness to ~1e-12. Agreement to 1e-6 is the
+  // staircase of slices straddling the contact transitions (3e-7 of a cycle).
+  CHECK(h.mean == Approx(s.mean).epsilon(1e-6));
+  CHECK(h.max == Approx(s.max).epsilon(1e-6));
+  CHECK(h.lste_peak_to_peak == Approx(s.lste_peak_to_peak).epsilon(1e-4));
+}
+
+TEST_CASE("an overlap ratio of one smooths the mesh stiffness", "[mesh][helical]") {
+  // With eps_beta = 1 the total length of the contact lines is nearly constant over the cycle:
+  // the stiffness ripple that is ~40 % for the spur pair drops to a few per cent.
+  const double beta = 15 * kDeg;
+  const double face = kPi * 3e-3 / std::sin(beta);  // eps_beta = 1
+  GearboxSpec helical = HelicalPair(beta, face);
+  GearboxSpec spur = HelicalPair(0.0, face);
+  for (GearboxSpec* s : {&helical, &spur}) s->operating.torque = 50.0;
+  const PairGeometry gh = ComputePairGeometry(helical), gs = ComputePairGeometry(spur);
+  REQUIRE(gh.overlap_ratio == Approx(1.0).epsilon(1e-12));
+  const MeshStiffnessSummary h = SummarizeMeshCycle(ComputeMeshCycle(PairOf(helical), gh), gh);
+  const MeshStiffnessSummary s = SummarizeMeshCycle(ComputeMeshCycle(PairOf(spur), gs), gs);
+  const double helical_ripple = (h.max - h.min) / h.mean, spur_ripple = (s.max - s.min) / s.mean;
+  INFO("ripple helical " << helical_ripple << ", spur " << spur_ripple);
+  CHECK(spur_ripple > 0.3);
+  CHECK(helical_ripple < 0.1);
+}
+
+TEST_CASE("helical mesh stiffness lies within the spread of methods around ISO 6336-1 c_gamma_beta",
+          "[mesh][helical][iso]") {
+  // ISO 6336-1 method B for solid helical gears: q' with the virtual tooth numbers
+  // z_n = z / cos^3(beta) (x = 0), c'_th = 1/q', c' = 0.8 c'_th cos(beta) (C_M = 0.8,
+  // C_R = C_B = 1), c_gamma_alpha = c' (0.75 eps_alpha + 0.25), c_gamma_beta = 0.85 c_gamma_alpha,
+  // per unit face width along the normal to the flanks. The slice stiffness relates the
+  // transverse force and approach: along the normal k_n = k_t / cos^2(beta_b).
+  for (double deg : {10.0, 20.0, 30.0}) {
+    const double beta = deg * kDeg, face = 30e-3;
+    GearboxSpec spec = HelicalPair(beta, face);
+    spec.operating.torque = 100.0 * face * 1e3 * 0.5 * 0.06 / std::cos(beta);  // ~100 N/mm
+    const PairGeometry g = ComputePairGeometry(spec);
+    const MeshStiffnessSummary s = SummarizeMeshCycle(ComputeMeshCycle(PairOf(spec), g), g);
+    const double zn1 = 20 / std::pow(std::cos(beta), 3), zn2 = 40 / std::pow(std::cos(beta), 3);
+    const double q = 0.04723 + 0.15551 / zn1 + 0.25791 / zn2;
+    const double c_single = 0.8 / q * std::cos(beta);
+    const double c_gamma = 0.85 * c_single * (0.75 * g.contact_ratio + 0.25);  // N/(mm um)
+    const double iso = c_gamma * face * 1e3 * 1e6;                              // N/m
+    const double normal = s.mean / std::pow(std::cos(g.base_helix_angle), 2);
+    INFO(deg << " deg: mean (normal) " << normal << " N/m vs ISO c_gamma_beta b " << iso << " ("
+             << 100 * (normal / iso - 1) << " %)");
+    CHECK(std::abs(normal / iso - 1.0) < 0.35);
+  }
+}
+
+}  // namespace
+}  // namespace gearnvh
