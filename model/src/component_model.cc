@@ -46,6 +46,28 @@ namespace {
 
 using Triplets = std::vector<Eigen::Triplet<double>>;
 
+// The inclined line of action of a helical pair (see the header): the approach gains
+// s tan(beta_b) times the relative axial displacement of the contact point, which the gears'
+// axial translations and tilts produce through the contact points' arms rho x z.
+void AddHelicalTerms(ComponentModel& m, Hand pinion_hand, double base_helix_angle,
+                     const Eigen::Vector2d& n, const Eigen::Vector2d& nb) {
+  const double s = (pinion_hand == Hand::kRight ? 1.0 : -1.0) * std::tan(base_helix_angle);
+  const double rb1 = m.v_drive[m.PinionDof(kThz)], rb2 = m.v_drive[m.WheelDof(kThz)];
+  for (Eigen::VectorXd* v : {&m.v_drive, &m.v_back}) {
+    (*v)[m.PinionDof(kUz)] = s;
+    (*v)[m.WheelDof(kUz)] = -s;
+  }
+  for (int d = 0; d < 2; ++d) {
+    const NodeDof th = d == 0 ? kThx : kThy;
+    // Drive contact points: pinion -r_b1 t, wheel +r_b2 t (rho x z = -r_b1 n, +r_b2 n); back
+    // flank: pinion +r_b1 t_b, wheel -r_b2 t_b (rho x z = +r_b1 n_b, -r_b2 n_b).
+    m.v_drive[m.PinionDof(th)] = -s * rb1 * n[d];
+    m.v_drive[m.WheelDof(th)] = -s * rb2 * n[d];
+    m.v_back[m.PinionDof(th)] = s * rb1 * nb[d];
+    m.v_back[m.WheelDof(th)] = s * rb2 * nb[d];
+  }
+}
+
 struct Assembler {
   Triplets m, c, k, g;
   void Add(Triplets& t, int i, int j, double v) {
@@ -248,6 +270,7 @@ ComponentModel BuildComponentModel(const GearboxSpec& spec, const ComponentModel
   }
   m.v_drive[m.PinionDof(kThz)] = m.v_back[m.PinionDof(kThz)] = rb1;
   m.v_drive[m.WheelDof(kThz)] = m.v_back[m.WheelDof(kThz)] = rb2;
+  if (g.helix_angle > 0.0) AddHelicalTerms(m, spec.pinion.hand, g.base_helix_angle, n, nb);
 
   // Polar inertia rotating with each gear: 1^T M_thz,thz 1 over that shaft's torsion DOFs.
   for (int k = 0; k < m.M.outerSize(); ++k) {

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "gearnvh/model/component_model.h"
 #include "gearnvh/model/gear_geometry.h"
 #include "gearnvh/model/mesh_stiffness.h"
 #include "model/test_specs.h"
@@ -109,6 +110,47 @@ TEST_CASE("helical mesh stiffness lies within the spread of methods around ISO 6
              << 100 * (normal / iso - 1) << " %)");
     CHECK(std::abs(normal / iso - 1.0) < 0.35);
   }
+}
+
+}  // namespace
+}  // namespace gearnvh
+
+namespace gearnvh {
+namespace {
+
+TEST_CASE("the helical mesh vector carries the axial force T tan(beta) / r and its tilting moment",
+          "[mesh][helical]") {
+  const double beta = 20 * kDeg, torque = 100.0;
+  GearboxSpec spec = HelicalPair(beta);
+  spec.operating.torque = torque;
+  const ComponentModel model = BuildComponentModel(spec);
+  // Static equilibrium of the rigid-shaft pair in drive contact at the mean stiffness (the free
+  // rotation is unloaded: the minimum-norm solution of the singular system is the static one).
+  const Eigen::MatrixXd k = Eigen::MatrixXd(model.K) +
+                            model.mesh_summary.mean * model.v_drive * model.v_drive.transpose();
+  const Eigen::VectorXd q =
+      Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(k).solve(model.static_force);
+  REQUIRE((k * q - model.static_force).norm() < 1e-9 * model.static_force.norm());
+  const ComponentModelOptions options;
+  const double axial_pinion = options.rigid_axial_stiffness * q[model.PinionDof(kUz)];
+  const double axial_wheel = options.rigid_axial_stiffness * q[model.WheelDof(kUz)];
+  // ISO 21771: F_a = F_t tan(beta) with F_t = T / r at the pitch circle (transverse), the same as
+  // the base-circle force T / r_b times tan(beta_b) since tan(beta_b) = tan(beta) cos(a_t).
+  const double r_wheel = 0.5 * spec.wheel.module / std::cos(beta) * spec.wheel.teeth;
+  const double expected = torque / r_wheel * std::tan(beta);
+  // A 12-DOF solve at condition ~1e8 (bearing vs mesh stiffness): 1e-7 relative.
+  CHECK(std::abs(axial_pinion) == Approx(expected).epsilon(1e-7));
+  CHECK(axial_wheel == Approx(-axial_pinion).epsilon(1e-7));
+  // The axial force acts at the contact point, r_b1 from the pinion's axis: a tilting moment
+  // F_a r_b1 reacted by the supports' tilt stiffness.
+  const double tilt = options.rigid_tilt_stiffness *
+                      std::hypot(q[model.PinionDof(kThx)], q[model.PinionDof(kThy)]);
+  CHECK(tilt == Approx(expected * model.geometry.pinion.base).epsilon(1e-7));
+  // A spur pair has none.
+  GearboxSpec spur = HelicalPair(0.0);
+  spur.operating.torque = torque;
+  const ComponentModel spur_model = BuildComponentModel(spur);
+  CHECK(spur_model.v_drive[spur_model.PinionDof(kUz)] == 0.0);
 }
 
 }  // namespace

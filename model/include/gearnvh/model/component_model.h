@@ -11,6 +11,14 @@
 //   v_drive = [ n at pinion u;  r_b1 at pinion th_z;  -n at wheel u;  r_b2 at wheel th_z ]
 //   v_back  = [-n' at pinion u; r_b1 at pinion th_z;  n' at wheel u;  r_b2 at wheel th_z ]
 // (torsional parts equal: delta = r_b1 th1 - r_b2 th2 in running angles, the classic TE).
+// A helical pair's line of action is inclined by the base helix angle beta_b: with the stiffness
+// k_t of the transverse approach, the approach is delta = v^T q with
+//   v += s [u_z at pinion: 1; at wheel: -1; (th_x, th_y) at pinion: -r_b1 n; at wheel: -r_b2 n]
+// (back flank: +r_b1 n', +r_b2 n' on the tilts), s = tan(beta_b) (-tan for a left-hand pinion):
+// the relative axial displacement of the contact points (the gears' axial translations and the
+// tilts acting through the contact points' arms rho x z, rho = -r_b1 t on the pinion's drive
+// flank), so the mesh force carries its axial component F tan(beta_b) and the tilting moments.
+// Tiers 1-2 keep no axial or tilt DOF and see the spur vector.
 // Mesh force on q in contact: drive  -k (delta - b - e)(v_drive + mu w_drive),
 //                             back   -k (delta_b + b - e)(v_back - mu w_back),
 // friction vector w = sigma [t at pinion u; -t at wheel u] + a1 e_pinion_thz + a2 e_wheel_thz with
