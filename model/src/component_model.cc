@@ -257,8 +257,8 @@ ComponentModel BuildComponentModel(const GearboxSpec& spec, const ComponentModel
     }
   }
   m.static_force = Eigen::VectorXd::Zero(m.dofs);
-  m.static_force[m.PinionDof(kThz)] = spec.operating.torque * rb1 / rb2;
-  m.static_force[m.WheelDof(kThz)] = spec.operating.torque;
+  m.static_force[m.PinionDof(kThz)] = spec.WheelTorque() * rb1 / rb2;
+  m.static_force[m.WheelDof(kThz)] = spec.WheelTorque();
   return m;
 }
 

@@ -1,4 +1,4 @@
-// Spur-pair geometry (DESIGN.md §2.1), all in SI units.
+// Spur-pair geometry (docs/design.md §2.1), all in SI units.
 //
 //   r_p = m z / 2,  r_b = r_p cos(alpha0),  r_a = r_p + (h_a* + x) m,  r_f = r_p - (h_f* - x) m
 //   p_b = pi m cos(alpha0)

@@ -1,4 +1,4 @@
-// Deformation-compatible mesh stiffness over one mesh cycle (DESIGN.md §2.3–2.4).
+// Deformation-compatible mesh stiffness over one mesh cycle (docs/design.md §2.3–2.4).
 //
 // Cycle fraction tau in [0, 1) = pinion angle / (2 pi / z1). Tooth pair j sits at roll position
 //   s_j(tau) = s_start + (tau + j) p_b        (s measured along the line of action from T1)
