@@ -59,4 +59,25 @@ AxisRange AutoRange(const std::vector<double>& values, bool allow_log, double ma
   return {lo - pad, hi + pad, false};
 }
 
+AxisRange MakeRoomForLegend(const AxisRange& y, const AxisRange& x, const std::vector<double>& xs,
+                            const std::vector<double>& ys, double width, double height) {
+  if (!(height > 0.0 && height < 1.0) || !(width > 0.0) || xs.size() != ys.size()) return y;
+  auto t = [&y](double v) { return y.log ? std::log10(v) : v; };
+  const double lo = t(y.min), hi = t(y.max);
+  const double x_band = x.max - width * (x.max - x.min);
+  double peak = -std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < xs.size(); ++i) {
+    if (!(xs[i] >= x_band && xs[i] <= x.max) || !std::isfinite(ys[i])) continue;
+    if (y.log && !(ys[i] > 0.0)) continue;
+    peak = std::max(peak, t(ys[i]));
+  }
+  const double corner = hi - height * (hi - lo);
+  if (!(peak >= corner)) return y;  // nothing under the legend
+  // The highest point just under the corner: peak = lo + (1 - height) (new_hi - lo), 2 % spare.
+  const double new_hi = lo + 1.02 * (peak - lo) / (1.0 - height);
+  AxisRange out = y;
+  out.max = y.log ? std::pow(10.0, new_hi) : new_hi;
+  return out;
+}
+
 }  // namespace gearnvh::render

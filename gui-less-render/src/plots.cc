@@ -216,6 +216,28 @@ RenderStatus RenderLinePlot(const LinePlot& plot, const ImageOptions& options,
     y_range = AutoRange(positive, true, 0.05, 0.0);
   }
   const bool log_y = plot.log_y || y_range.log;
+  y_range.log = log_y;
+  // The legend (top right) must not hide data: estimate its box from its entries and the font
+  // (13 pt labels, one line each, a 10 px frame) against the plot area (the image less about
+  // 110 x 120 px of titles and tick labels), and raise the y range until the data clear it.
+  if (plot.legend) {
+    int entries = 0;
+    size_t longest = 0;
+    for (const Series& s : plot.series) {
+      if (s.label.empty() || s.x.empty()) continue;
+      ++entries;
+      longest = std::max(longest, s.label.size());
+    }
+    if (entries > 0) {
+      const double font_px = 13.0 * options.dpi / 72.0;
+      const double box_w = 0.55 * font_px * static_cast<double>(longest) + 45.0;
+      const double box_h = 1.35 * font_px * entries + 10.0;
+      const double area_w = std::max(1.0, options.width - 110.0);
+      const double area_h = std::max(1.0, options.height - 120.0);
+      y_range = MakeRoomForLegend(y_range, x_range, all_x, all_y, std::min(0.9, box_w / area_w),
+                                  std::min(0.7, box_h / area_h));
+    }
+  }
   if (log_y) y_axis->SetLogScale(true);
   x_axis->SetUnscaledRange(x_range.min, x_range.max);
   x_axis->SetBehavior(vtkAxis::FIXED);

@@ -80,3 +80,28 @@ TEST_CASE("axis ranges: linear with a margin, logarithmic over decades", "[layou
 
 }  // namespace
 }  // namespace gearnvh::render
+
+namespace gearnvh::render {
+namespace {
+
+TEST_CASE("legend room: data under the legend's corner raise the y range, others do not",
+          "[layout]") {
+  const AxisRange x{0.0, 10.0, false};
+  const AxisRange y{0.0, 100.0, false};
+  // A point at the top right (x = 9.5, y = 95) sits under a legend 30 % wide, 20 % high.
+  const AxisRange raised = MakeRoomForLegend(y, x, {1.0, 9.5}, {50.0, 95.0}, 0.3, 0.2);
+  CHECK(raised.min == 0.0);
+  // Afterwards the point is below the corner: 95 < max - 0.2 (max - min).
+  CHECK(95.0 < raised.max - 0.2 * (raised.max - raised.min));
+  CHECK(raised.max == Approx(1.02 * 95.0 / 0.8).epsilon(1e-12));
+  // High data outside the corner's x band, or low data inside it, leave the range alone.
+  CHECK(MakeRoomForLegend(y, x, {1.0, 9.5}, {99.0, 10.0}, 0.3, 0.2).max == 100.0);
+  // Log axes work in decades.
+  const AxisRange ylog{1e-6, 1.0, true};
+  const AxisRange r = MakeRoomForLegend(ylog, x, {9.9}, {0.5}, 0.3, 0.25);
+  CHECK(r.log);
+  CHECK(std::log10(0.5) < std::log10(r.max) - 0.25 * (std::log10(r.max) + 6.0));
+}
+
+}  // namespace
+}  // namespace gearnvh::render

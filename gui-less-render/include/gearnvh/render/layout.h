@@ -42,4 +42,11 @@ struct AxisRange {
 AxisRange AutoRange(const std::vector<double>& values, bool allow_log, double margin = 0.05,
                     double decades_for_log = 3.0, double max_decades = 8.0);
 
+// The y range raised so that no point (x, y) lies under a legend in the top-right corner of the
+// plot area, `width` x `height` as fractions of the area: the points in the corner's x band must
+// stay below the corner, so y.max grows (in log10 when y.log) to put the highest of them just under
+// it. The minimum and every other point stay where they were; nothing is clipped.
+AxisRange MakeRoomForLegend(const AxisRange& y, const AxisRange& x, const std::vector<double>& xs,
+                            const std::vector<double>& ys, double width, double height);
+
 }  // namespace gearnvh::render
