@@ -159,7 +159,7 @@ int Main(int argc, char** argv) {
       "tiers",
       "Compare the modal truncation levels side by side: DOF, state dimension, natural frequency "
       "and static compliance errors against the full FE model, TE RMS and rattle index against "
-      "the finest tier, and cost (matvec and us per cycle, real-time ratio).");
+      "the finest tier, and cost (matvec and µs per cycle, real-time ratio).");
   tiers_cmd->add_option("FILE", tiers.file, "Gearbox YAML file")
       ->required()
       ->check(CLI::ExistingFile);
