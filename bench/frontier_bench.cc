@@ -1,4 +1,4 @@
-// The real-time frontier, measured (issue 9, DESIGN.md §9): one table and one JSON document.
+// The real-time frontier, measured (issue 9, docs/design.md §9): one table and one JSON document.
 //
 //   bash scripts/bench.sh [--quick] [--json FILE]
 //

@@ -533,9 +533,18 @@ GearboxSpec ReadDocument(Reader& r, const YAML::Node& root) {
   }
 
   const YAML::Node op = r.Child(root, "", "operating", true);
-  r.ExpectMap(op, "operating", {"speed", "torque", "excitation"});
+  r.ExpectMap(op, "operating", {"speed", "torque", "torque_on", "excitation"});
   spec.operating.speed = r.Quantity(op, "operating", "speed", Dimension::kAngularSpeed);
   spec.operating.torque = r.Quantity(op, "operating", "torque", Dimension::kTorque);
+  if (const std::string on = r.String(op, "operating", "torque_on", std::string("wheel"));
+      on == "pinion") {
+    spec.operating.torque_on = TorqueOn::kPinion;
+  } else if (on != "wheel") {
+    r.Fail("operating.torque_on", op["torque_on"], "'" + on + "'", "must be wheel or pinion");
+  }
+  spec.operating.speed_unit =
+      DisplayUnitOf(r.Find("operating.speed").raw, Dimension::kAngularSpeed);
+  spec.operating.torque_unit = DisplayUnitOf(r.Find("operating.torque").raw, Dimension::kTorque);
   spec.operating.excitation = ReadExcitation(r, op);
   spec.analysis = ReadAnalysis(r, root);
   return spec;

@@ -129,6 +129,21 @@ std::optional<double> ParseNumber(std::string_view text) {
   return v;
 }
 
+DisplayUnit DisplayUnitOf(std::string_view text, Dimension d) {
+  const std::string unit = ParseQuantity(text, d).unit;
+  if (d == Dimension::kAngularSpeed) {
+    if (unit == "rpm" || unit == "rev/min") return {"rpm", 60.0 / (2.0 * std::numbers::pi)};
+    if (unit == "rev/s") return {"rev/s", 1.0 / (2.0 * std::numbers::pi)};
+    return {"rad/s", 1.0};
+  }
+  if (d == Dimension::kTorque) {
+    if (unit == "N*mm") return {"N mm", 1e3};
+    if (unit == "kN*m") return {"kN m", 1e-3};
+    return {"N m", 1.0};
+  }
+  return {unit, 1.0};
+}
+
 ParsedQuantity ParseQuantity(std::string_view text, Dimension d) {
   ParsedQuantity out;
   text = Trim(text);
@@ -166,6 +181,7 @@ ParsedQuantity ParseQuantity(std::string_view text, Dimension d) {
   for (const auto& u : Table(d)) {
     if (unit == u.symbol) {
       out.si_value = *value * u.to_si;
+      out.unit = u.symbol;
       return out;
     }
   }

@@ -7,6 +7,8 @@
 #include <string>
 #include <string_view>
 
+#include "gearnvh/model/gearbox_spec.h"
+
 namespace gearnvh::config {
 
 enum class Dimension {
@@ -31,11 +33,16 @@ std::string AcceptedUnits(Dimension d);
 
 struct ParsedQuantity {
   double si_value = 0.0;
+  std::string unit;   // the unit symbol as written ("" for a plain SI number)
   std::string error;  // empty on success; otherwise the rule broken
 };
 
 // Parses "<number> [unit]" into SI. A bare number is taken as SI.
 ParsedQuantity ParseQuantity(std::string_view text, Dimension d);
+
+// The unit a speed or torque written as `text` is best shown in: rpm for rpm and rev/min, rev/s,
+// rad/s (also for a plain number); N m, N mm, kN m.
+DisplayUnit DisplayUnitOf(std::string_view text, Dimension d);
 
 // Strict full-string number parse (no trailing junk, finite).
 std::optional<double> ParseNumber(std::string_view text);

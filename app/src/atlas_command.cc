@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "atomic_file.h"
+#include "display_units.h"
 #include "command_errors.h"
 #include "config/gearbox_loader.h"
 #include "gearnvh/model/input_error.h"
@@ -54,10 +55,15 @@ nlohmann::json CellJson(const AtlasCell& c) {
 
 }  // namespace
 
-std::string AtlasCsv(const AtlasResult& r) {
+std::string AtlasCsv(const AtlasResult& r, const GearboxSpec& spec) {
+  const DisplayAxis ax = DisplayAxisFor(r.x.parameter, spec);
+  const DisplayAxis ay = DisplayAxisFor(r.y.parameter, spec);
+  auto header = [](const std::string& parameter, const DisplayAxis& a) {
+    return a.unit.empty() ? parameter : parameter + " [" + a.unit + "]";
+  };
   std::ostringstream os;
   os.precision(12);
-  os << "ix,iy," << r.x.parameter << ',' << r.y.parameter
+  os << "ix,iy," << header(r.x.parameter, ax) << ',' << header(r.y.parameter, ay)
      << ",ok,lyapunov_per_s,lyapunov_per_forcing_cycle,lyapunov_standard_error,"
         "drive_impacts_per_cycle,back_impacts_per_cycle,rattle_index_j,impact_velocity_rms,"
         "separation_fraction,regime,message\n";
@@ -66,7 +72,8 @@ std::string AtlasCsv(const AtlasResult& r) {
     for (char& ch : message) {
       if (ch == '"' || ch == '\n') ch = '\'';
     }
-    os << c.ix << ',' << c.iy << ',' << c.x << ',' << c.y << ',' << (c.ok ? 1 : 0) << ','
+    os << c.ix << ',' << c.iy << ',' << c.x * ax.scale << ',' << c.y * ay.scale << ','
+       << (c.ok ? 1 : 0) << ','
        << c.lyapunov_per_s << ',' << c.lyapunov_per_forcing_cycle << ','
        << c.lyapunov_standard_error << ',' << c.drive_impacts_per_cycle << ','
        << c.back_impacts_per_cycle << ',' << c.rattle_index << ',' << c.impact_velocity_rms << ','
@@ -315,7 +322,7 @@ int RunAtlas(const AtlasCommandOptions& options) {
     if (options.out) {
       std::filesystem::create_directories(*options.out);
       const std::filesystem::path dir(*options.out);
-      WriteFileAtomically((dir / "atlas.csv").string(), AtlasCsv(result));
+      WriteFileAtomically((dir / "atlas.csv").string(), AtlasCsv(result, spec));
       WriteFileAtomically((dir / "atlas.json").string(), doc.dump(1) + "\n");
       // Complete: the checkpoint has served its purpose (failed cells stay failed in the output;
       // a new run retries them).
@@ -327,13 +334,19 @@ int RunAtlas(const AtlasCommandOptions& options) {
     if (options.json) {
       std::cout << doc.dump(1) << "\n";
     } else {
-      fmt::print("{}  ({}): chaos atlas, {} x {} cells, {} cycles each, {} threads{}, {:.1f} s{}\n",
-                 spec.name, options.file, nx, ny, atlas.cycles, result.threads,
+      fmt::print("{}  ({}): chaos atlas, {} x {} cells, {} each, {}{}, {:.1f} s{}\n", spec.name,
+                 options.file, nx, ny, Count(atlas.cycles, "mesh cycle", "mesh cycles"),
+                 Count(result.threads, "thread", "threads"),
                  ranks > 1 ? fmt::format(" x {} ranks", ranks) : "", result.wall_s,
-                 restored.empty() ? "" : fmt::format(" ({} cells restored)", restored.size()));
-      fmt::print("  rows: {} from {:g} to {:g} (SI); columns: {} from {:g} to {:g} (SI)\n",
-                 y->parameter, y->range.to, y->range.from, x->parameter, x->range.from,
-                 x->range.to);
+                 restored.empty() ? ""
+                                  : " (" +
+                                        Count(static_cast<long>(restored.size()), "cell", "cells") +
+                                        " restored)");
+      const DisplayAxis ax = DisplayAxisFor(x->parameter, spec);
+      const DisplayAxis ay = DisplayAxisFor(y->parameter, spec);
+      fmt::print("  rows: {} from {:.4g} to {:.4g} {}; columns: {} from {:.4g} to {:.4g} {}\n",
+                 y->parameter, y->range.to * ay.scale, y->range.from * ay.scale, ay.unit,
+                 x->parameter, x->range.from * ax.scale, x->range.to * ax.scale, ax.unit);
       fmt::print("  . no impact  S single-sided  D double-sided  C chaotic  X failed\n");
       for (int iy = ny - 1; iy >= 0; --iy) {
         std::string row;

@@ -31,6 +31,7 @@ int RunAtlas(const AtlasCommandOptions& options);
 
 // The atlas documents (also used by reports).
 nlohmann::json AtlasJson(const AtlasResult& r, const AtlasOptions& o);
-std::string AtlasCsv(const AtlasResult& r);
+// Parameter columns in the units of the gearbox file (header "operating.speed [rpm]").
+std::string AtlasCsv(const AtlasResult& r, const GearboxSpec& spec);
 
 }  // namespace gearnvh::app

@@ -7,10 +7,12 @@
 
 #include "command_errors.h"
 #include "config/gearbox_loader.h"
+#include "display_units.h"
 #include "gearnvh/model/component_model.h"
 #include "gearnvh/model/gear_geometry.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/reduction/reduced_model.h"
+#include "gearnvh/solver/segment_tables.h"
 #include "train_check.h"
 
 namespace gearnvh::app {
@@ -51,24 +53,25 @@ void PrintText(const std::string& file, const GearboxSpec& spec, const Component
   fmt::print("  {:<28}{:>14.4f}{:>14.4f}\n", "root radius", g.pinion.root * kMm,
              g.wheel.root * kMm);
   fmt::print("  {:<28}{:>14.4f} mm\n", "centre distance", g.center_distance * kMm);
-  fmt::print("  {:<28}{:>14.4f} deg\n", "working pressure angle",
+  fmt::print("  {:<28}{:>14.4f} °\n", "working pressure angle",
              g.working_pressure_angle * 180.0 / 3.141592653589793);
   fmt::print("  {:<28}{:>14.6f}\n", "contact ratio", g.contact_ratio);
   fmt::print("  {:<28}{:>14.3f} Hz\n", "mesh frequency", g.mesh_frequency_hz);
-  fmt::print("  {:<28}{:>14.3f} us\n", "mesh period", g.mesh_period_s * 1e6);
+  fmt::print("  {:<28}{:>14.3f} µs\n", "mesh period", g.mesh_period_s * 1e6);
   const MeshStiffnessSummary& k = model.mesh_summary;
-  fmt::print("  mesh stiffness at {:.4g} N along the line of action{}\n", model.cycle.load,
+  fmt::print("  mesh stiffness at {:.4g} N along the line of action ({}){}\n", model.cycle.load,
+             TorqueText(spec),
              model.cycle.overridden ? " (user override)" : " (potential energy method)");
   fmt::print("  {:<28}{:>14.4g} N/m\n", "mean", k.mean);
   fmt::print("  {:<28}{:>14.4g} N/m\n", "min", k.min);
   fmt::print("  {:<28}{:>14.4g} N/m\n", "max", k.max);
   fmt::print("  {:<28}{:>14.4g} N/m\n", "single-pair mean", k.single_pair_mean);
   fmt::print("  {:<28}{:>14.4g} N/m\n", "double-pair mean", k.double_pair_mean);
-  fmt::print("  {:<28}{:>14.4f} um\n", "LSTE peak-to-peak", k.lste_peak_to_peak * 1e6);
+  fmt::print("  {:<28}{:>14.4f} µm\n", "LSTE peak-to-peak", k.lste_peak_to_peak * 1e6);
   fmt::print("  {:<28}{:>14.4f}\n", "max load share", k.load_sharing_max);
-  fmt::print("  finite elements: {} nodes, {} DOF{}, {} rigid-body mode(s)\n", model.nodes.size(),
-             model.dofs, model.flexible ? " (flexible shafts)" : " (rigid shafts on bearings)",
-             modes.rigid_body_modes);
+  fmt::print("  finite elements: {} nodes, {} DOF{}, {}\n", model.nodes.size(), model.dofs,
+             model.flexible ? " (flexible shafts)" : " (rigid shafts on bearings)",
+             Count(modes.rigid_body_modes, "rigid-body mode", "rigid-body modes"));
   fmt::print("  {:<28}", "natural frequencies [Hz]");
   for (size_t i = 0; i < modes.frequencies_hz.size(); ++i) {
     if (i > 0 && i % 5 == 0) fmt::print("\n  {:<28}", "");
@@ -78,7 +81,7 @@ void PrintText(const std::string& file, const GearboxSpec& spec, const Component
   fmt::print("  {:<12}{:>5}{:>7}{:>14}{:>12}   lowest natural frequencies [Hz]\n", "modal tier",
              "DOF", "state", "g_mesh [m/N]", "vs full");
   for (const ReducedModel& r : tiers) {
-    fmt::print("  {:<12}{:>5}{:>7}{:>14.4e}{:>11.2e}  ", r.name, r.dof, r.state_dim(),
+    fmt::print("  {:<12}{:>5}{:>7}{:>14.4e}{:>11.2e}  ", r.name, r.dof, StateDimension(model, r),
                r.static_mesh_compliance, r.compliance_error_vs_full);
     for (size_t i = 0; i < std::min<size_t>(4, r.natural_frequencies_hz.size()); ++i) {
       fmt::print("{:>9.1f}", r.natural_frequencies_hz[i]);
@@ -132,7 +135,7 @@ nlohmann::json CheckReport(const GearboxSpec& spec, const ComponentModel& model,
   for (const ReducedModel& r : tiers) {
     doc["tiers"].push_back({{"name", r.name},
                             {"dof", r.dof},
-                            {"state_dim", r.state_dim()},
+                            {"state_dim", StateDimension(model, r)},
                             {"natural_frequencies_hz", r.natural_frequencies_hz},
                             {"static_mesh_compliance", r.static_mesh_compliance},
                             {"compliance_error_vs_full", r.compliance_error_vs_full},
@@ -164,6 +167,7 @@ int RunCheck(const CheckOptions& options) {
       }
       const GearboxSpec& spec = *loaded.pair;
       const ComponentModel model = BuildComponentModel(spec);
+      RequireTierAvailable(model, spec.analysis.tier);  // as simulate, sweep and report do
       const ModalSummary modes = FullModelFrequencies(model, kReportedModes);
       const std::vector<ReducedModel> tiers = ReduceAvailableTiers(model);
       nlohmann::json doc = CheckReport(spec, model, modes, tiers);

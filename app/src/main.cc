@@ -56,6 +56,8 @@ int Main(int argc, char** argv) {
       ->check(CLI::Range(0L, 100000000L));
   simulate_cmd->add_option("--out", simulate.out,
                            "Write trajectory.csv, events.csv and results.json into this directory");
+  simulate_cmd->add_option("--uff", simulate.uff,
+                           "Write TE and mesh force histories and the TE spectrum as UFF dataset 58");
   simulate_cmd->add_flag("--json", simulate.json, "Print the results as one JSON document");
   simulate_cmd
       ->add_option("--method", simulate.method,
@@ -97,6 +99,7 @@ int Main(int argc, char** argv) {
       ->check(CLI::IsMember({"v1", "v2", "v3", "fused"}));
   sweep_cmd->add_option("--out", sweep.out,
                         "Write campbell.csv, critical_speeds.csv, waterfall.csv and sweep.json");
+  sweep_cmd->add_option("--uff", sweep.uff, "Write the TE order tracks as UFF dataset 58");
   sweep_cmd->add_flag("--json", sweep.json, "Print the results as one JSON document");
 
   gearnvh::app::AtlasCommandOptions atlas;
@@ -156,7 +159,7 @@ int Main(int argc, char** argv) {
       "tiers",
       "Compare the modal truncation levels side by side: DOF, state dimension, natural frequency "
       "and static compliance errors against the full FE model, TE RMS and rattle index against "
-      "the finest tier, and cost (matvec and us per cycle, real-time ratio).");
+      "the finest tier, and cost (matvec and µs per cycle, real-time ratio).");
   tiers_cmd->add_option("FILE", tiers.file, "Gearbox YAML file")
       ->required()
       ->check(CLI::ExistingFile);

@@ -32,6 +32,24 @@ nlohmann::json SummaryJson(const SolverSummary& s) {
           {"trajectory_truncated", s.trajectory_truncated}};
 }
 
+std::string TeMeanNote(const TransmissionErrorStats& te, double half_backlash) {
+  return fmt::format(
+      "the mean includes half the backlash (b = {:.4g} µm: the TE is measured from the nominal "
+      "rigid rotation and drive contact closes the gap at TE = b); from the drive-flank contact it "
+      "is {:.4g} µm",
+      half_backlash * 1e6, te.mean_from_contact * 1e6);
+}
+
+std::string DynamicFactorNote(const TransmissionErrorStats& te) {
+  // Near zero: below a tenth of the peak force (a loaded mesh has mean ~ static force and peaks
+  // of a few times that at most).
+  if (te.dynamic_factor > 0.0 && te.mesh_force_mean >= 0.1 * te.mesh_force_max) return "";
+  return fmt::format(
+      "not meaningful here: the mean mesh force ({:.3g} N) is near zero next to its peaks ({:.3g} "
+      "N), as under a drag torque; the factor max / static force is then large by construction",
+      te.mesh_force_mean, te.mesh_force_max);
+}
+
 OperatingPointAnalysis AnalyseOperatingPoint(const GearboxSpec& spec, const ComponentModel& model,
                                              Tier tier, const SolverOptions& solver,
                                              const ProgressCallback& progress) {
@@ -92,7 +110,7 @@ OperatingPointAnalysis AnalyseOperatingPoint(const GearboxSpec& spec, const Comp
   op.rattle = ComputeRattleIndices(result, model.effective_mass, cycles_per_excitation, &reference);
   const RattleIndices& rattle = op.rattle;
   op.te = ComputeTransmissionErrorStats(
-      trajectory, spec.operating.torque / model.geometry.wheel.base, model.half_backlash);
+      trajectory, spec.WheelTorque() / model.geometry.wheel.base, model.half_backlash);
 
   const TransmissionErrorStats& te = op.te;
   nlohmann::json& doc = op.doc;
@@ -119,7 +137,13 @@ OperatingPointAnalysis AnalyseOperatingPoint(const GearboxSpec& spec, const Comp
   doc["state_dim"] = tables.m;
   doc["summary"] = SummaryJson(summary);
   doc["te_rms"] = te.rms;
-  doc["te"] = {{"mean", te.mean}, {"rms", te.rms}, {"peak_to_peak", te.peak_to_peak}};
+  doc["te"] = {{"mean", te.mean},
+               {"mean_from_contact", te.mean_from_contact},
+               {"mean_note", TeMeanNote(te, model.half_backlash)},
+               {"rms", te.rms},
+               {"peak_to_peak", te.peak_to_peak},
+               {"max", te.max},
+               {"min", te.min}};
   doc["rattle"] = {{"regime", rattle.regime},
                    {"drive_impacts_per_cycle", rattle.drive_impacts_per_cycle},
                    {"back_impacts_per_cycle", rattle.back_impacts_per_cycle},
@@ -133,7 +157,8 @@ OperatingPointAnalysis AnalyseOperatingPoint(const GearboxSpec& spec, const Comp
                    {"acceleration_ratio", rattle.acceleration_ratio}};
   doc["mesh_force"] = {{"mean", te.mesh_force_mean},
                        {"max", te.mesh_force_max},
-                       {"dynamic_factor", te.dynamic_factor}};
+                       {"dynamic_factor", te.dynamic_factor},
+                       {"dynamic_factor_note", DynamicFactorNote(te)}};
   // Mesh harmonics, shaft orders and their sidebands of the TE over whole periods of the sources
   // (every recorded cycle when there are none).
   const long recorded = summary.trajectory_truncated ? 0 : summary.recorded_cycles;
@@ -155,7 +180,7 @@ OperatingPointAnalysis AnalyseOperatingPoint(const GearboxSpec& spec, const Comp
       sidebands.push_back({{"label", r.label},
                            {"frequency_hz", r.frequency_hz},
                            {"amplitude_m", r.amplitude},
-                           {"db_re_1m", r.db},
+                           {"db_re_1um", r.db_re_1um},
                            {"background_m", r.background}});
     }
   }

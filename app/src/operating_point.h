@@ -39,4 +39,13 @@ OperatingPointAnalysis AnalyseOperatingPoint(const GearboxSpec& spec, const Comp
 
 nlohmann::json SummaryJson(const SolverSummary& s);
 
+// What the TE mean contains: half the backlash b (delta is measured from the nominal rigid
+// rotation, and drive contact closes the gap at delta = b), and the mean from the contact.
+std::string TeMeanNote(const TransmissionErrorStats& te, double half_backlash);
+
+// Why the dynamic factor may not be meaningful: "" under load; a note when the mean mesh force is
+// near zero next to its peaks (drag torque, rattle), where max / static force is large by
+// construction.
+std::string DynamicFactorNote(const TransmissionErrorStats& te);
+
 }  // namespace gearnvh::app

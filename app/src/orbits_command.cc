@@ -12,6 +12,7 @@
 #include "atomic_file.h"
 #include "command_errors.h"
 #include "config/gearbox_loader.h"
+#include "display_units.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/orbit_scan.h"
 #include "simulate_command.h"
@@ -50,15 +51,16 @@ nlohmann::json PointJson(const OrbitScanPoint& p) {
           {"separation_fraction", o.separation_fraction}};
 }
 
-std::string OrbitsCsv(const std::vector<OrbitScanPoint>& points, const std::string& parameter) {
+std::string OrbitsCsv(const std::vector<OrbitScanPoint>& points, const std::string& parameter,
+                      const DisplayAxis& axis) {
   std::ostringstream os;
   os.precision(12);
-  os << parameter << ",found,stable,spectral_radius,nearest_boundary,boundary_distance,"
+  os << parameter << (axis.unit.empty() ? "" : " [" + axis.unit + "]") << ",found,stable,spectral_radius,nearest_boundary,boundary_distance,"
      << "grazing_margin,drive_impacts_per_period,back_impacts_per_period,separation_fraction\n";
   for (const OrbitScanPoint& p : points) {
     const PeriodicOrbit& o = p.orbit;
     const bool found = !p.start.empty();
-    os << p.value << ',' << (found ? 1 : 0) << ',' << (found && o.stable ? 1 : 0) << ','
+    os << p.value * axis.scale << ',' << (found ? 1 : 0) << ',' << (found && o.stable ? 1 : 0) << ','
        << o.spectral_radius << ',' << StabilityBoundaryName(o.nearest_boundary) << ','
        << o.boundary_distance << ',' << o.grazing_margin << ',' << o.drive_impacts << ','
        << o.back_impacts << ',' << o.separation_fraction << '\n';
@@ -89,6 +91,7 @@ int RunOrbits(const OrbitsCommandOptions& options) {
     const std::vector<OrbitScanPoint> points = ScanPeriodicOrbits(spec, sweep, scan, progress);
     if (on_terminal && sweep) fmt::print(stderr, "\n");
     const std::string parameter = sweep ? sweep->parameter : "operating point";
+    const DisplayAxis axis = DisplayAxisFor(parameter, spec);
     nlohmann::json list = nlohmann::json::array();
     int stable = 0, failed = 0;
     for (const OrbitScanPoint& p : points) {
@@ -108,17 +111,21 @@ int RunOrbits(const OrbitsCommandOptions& options) {
     if (options.out) {
       std::filesystem::create_directories(*options.out);
       const std::filesystem::path dir(*options.out);
-      WriteFileAtomically((dir / "orbits.csv").string(), OrbitsCsv(points, parameter));
+      WriteFileAtomically((dir / "orbits.csv").string(), OrbitsCsv(points, parameter, axis));
       WriteFileAtomically((dir / "orbits.json").string(), doc.dump(1) + "\n");
     }
     if (options.json) {
       std::cout << doc.dump(1) << "\n";
     } else {
-      fmt::print("{}  ({}): period-{} orbits ({} mesh cycles, {:.4g} s per period)\n", spec.name,
-                 options.file, options.period, points.front().orbit.period_cycles,
-                 points.front().orbit.period_s);
+      fmt::print("{}  ({}): period-{} orbits ({}, {:.4g} s per period) at {}, {}\n", spec.name,
+                 options.file, options.period,
+                 Count(points.front().orbit.period_cycles, "mesh cycle", "mesh cycles"),
+                 points.front().orbit.period_s,
+                 Format(spec.operating.speed, spec.operating.speed_unit), TorqueText(spec));
       for (const OrbitScanPoint& p : points) {
-        const std::string where = sweep ? fmt::format("{} = {:g}: ", parameter, p.value) : "";
+        const std::string where =
+            sweep ? fmt::format("{} = {:.6g} {}: ", parameter, p.value * axis.scale, axis.unit)
+                  : "";
         if (!p.ok) {
           fmt::print("  {}failed: {}\n", where, p.message);
           continue;

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <mutex>
 #include <nlohmann/json.hpp>
@@ -21,6 +22,7 @@
 #include "atomic_file.h"
 #include "check_command.h"
 #include "command_errors.h"
+#include "display_units.h"
 #include "config/gearbox_loader.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/periodic_orbit.h"
@@ -29,6 +31,7 @@
 #include "operating_point.h"
 #include "report_figures.h"
 #include "sweep_command.h"
+#include "uff_export.h"
 
 namespace gearnvh::app {
 
@@ -150,9 +153,9 @@ std::string SpectrumCsv(const AmplitudeSpectrum& s) {
 std::string SidebandsCsv(const std::vector<SidebandRow>& rows) {
   std::ostringstream os;
   os.precision(12);
-  os << "label,frequency_hz,amplitude_m,db_re_1m\n";
+  os << "label,frequency_hz,amplitude_m,db_re_1um\n";
   for (const SidebandRow& r : rows) {
-    os << r.label << ',' << r.frequency_hz << ',' << r.amplitude << ',' << r.db << '\n';
+    os << r.label << ',' << r.frequency_hz << ',' << r.amplitude << ',' << r.db_re_1um << '\n';
   }
   return os.str();
 }
@@ -173,14 +176,24 @@ std::string Number(double v, int digits = 4) {
   return std::isfinite(v) ? fmt::format("{:.{}g}", v, digits) : "-";
 }
 
+// Reports the stage a gearbox is in ("speed sweep 12/56 speeds"); empty: silent.
+using StageProgress = std::function<void(const std::string&)>;
+
 // Everything for one gearbox, written into `folder`.
 GearboxEntry BuildGearboxReport(const std::string& file, const fs::path& folder,
-                                const ReportCommandOptions& o, int threads) {
+                                const ReportCommandOptions& o, int threads,
+                                const StageProgress& stage) {
+  auto counted = [&stage](const char* what, const char* unit) {
+    return [&stage, what, unit](long done, long total) {
+      stage(fmt::format("{} {}/{} {}", what, done, total, unit));
+    };
+  };
   const auto start = std::chrono::steady_clock::now();
   GearboxEntry entry;
   entry.file = file;
   entry.folder = folder.filename().string();
   try {
+    if (stage) stage("model and modal tiers");
     const GearboxSpec spec = config::LoadGearboxFile(file);
     entry.name = spec.name;
     fs::create_directories(folder);
@@ -192,7 +205,9 @@ GearboxEntry BuildGearboxReport(const std::string& file, const fs::path& folder,
     SolverOptions solver;
     solver.cycles = spec.analysis.cycles;
     solver.transient_cycles = spec.analysis.transient_cycles;
-    const OperatingPointAnalysis op = AnalyseOperatingPoint(spec, model, tier, solver);
+    const OperatingPointAnalysis op = AnalyseOperatingPoint(
+        spec, model, tier, solver,
+        stage ? ProgressCallback(counted("operating point", "mesh cycles")) : ProgressCallback());
     if (op.result.summary.status != SolverStatus::kSuccess) {
       throw std::runtime_error("operating point: " + op.result.summary.message);
     }
@@ -202,7 +217,9 @@ GearboxEntry BuildGearboxReport(const std::string& file, const fs::path& folder,
     sweep_options.transient_cycles = 100;
     sweep_options.waterfall_cycles = 255;
     sweep_options.threads = threads;
-    const SpeedSweepResult sweep = RunSpeedSweep(spec, model, reduced, sweep_options);
+    const SpeedSweepResult sweep = RunSpeedSweep(
+        spec, model, reduced, sweep_options,
+        stage ? SweepProgress(counted("speed sweep", "speeds")) : SweepProgress());
     std::optional<AtlasResult> atlas;
     AtlasOptions atlas_options;
     if (o.atlas && spec.analysis.atlas_x && spec.analysis.atlas_y) {
@@ -213,7 +230,8 @@ GearboxEntry BuildGearboxReport(const std::string& file, const fs::path& folder,
       atlas_options.transient_cycles = 270;
       atlas_options.cycles = 540;
       atlas_options.threads = threads;
-      atlas = RunChaosAtlas(spec, x, y, atlas_options);
+      atlas = RunChaosAtlas(spec, x, y, atlas_options,
+                            stage ? AtlasProgress(counted("chaos atlas", "cells")) : AtlasProgress());
     }
     long base_period = 1;
     try {
@@ -223,6 +241,7 @@ GearboxEntry BuildGearboxReport(const std::string& file, const fs::path& folder,
     }
 
     // Images.
+    if (stage) stage("images");
     render::ImageOptions image;
     image.width = o.width;
     image.height = o.height;
@@ -242,15 +261,14 @@ GearboxEntry BuildGearboxReport(const std::string& file, const fs::path& folder,
                                 (folder / "te_trace.png").string()));
     if (!op.spectrum.amplitude.empty()) {
       draw("spectrum.png",
-           fmt::format("TE spectrum over {} mesh cycles (whole revolutions of both shafts) with "
-                       "mesh harmonics and shaft-order sidebands.",
-                       op.sideband_window),
+           "TE spectrum over " + Count(op.sideband_window, "mesh cycle", "mesh cycles") +
+               " (whole periods of the engine orders and gear errors) with mesh harmonics and "
+               "shaft-order sidebands.",
            render::RenderLinePlot(SpectrumFigure(op), image, (folder / "spectrum.png").string()));
     }
     draw("phase.png",
-         fmt::format("TE against its rate; points: Poincare section every base period ({} mesh "
-                     "cycles).",
-                     base_period),
+         "TE against its rate; points: Poincaré section every base period (" +
+             Count(base_period, "mesh cycle", "mesh cycles") + ").",
          render::RenderLinePlot(PhaseFigure(op, 256, base_period), image,
                                 (folder / "phase.png").string()));
     draw("campbell.png",
@@ -271,14 +289,15 @@ GearboxEntry BuildGearboxReport(const std::string& file, const fs::path& folder,
       draw("atlas_lyapunov.png",
            "Largest Lyapunov exponent per forcing cycle (red: chaotic, blue: regular; strongly "
            "attracting cells are saturated at minus the largest positive value).",
-           render::RenderHeatMap(AtlasFigure(*atlas, true), image,
+           render::RenderHeatMap(AtlasFigure(*atlas, true, spec), image,
                                  (folder / "atlas_lyapunov.png").string()));
       draw("atlas_rattle.png", "Rattle index: impact energy per forcing cycle (log10 J).",
-           render::RenderHeatMap(AtlasFigure(*atlas, false), image,
+           render::RenderHeatMap(AtlasFigure(*atlas, false, spec), image,
                                  (folder / "atlas_rattle.png").string()));
     }
 
     // Data files.
+    if (stage) stage("data files and pages");
     const size_t per_cycle = op.tables.boundaries.size() - 1;
     WriteFileAtomically((folder / "te_trace.csv").string(),
                         TraceCsv(op.result.trajectory, 256 * per_cycle));
@@ -288,7 +307,12 @@ GearboxEntry BuildGearboxReport(const std::string& file, const fs::path& folder,
     WriteFileAtomically((folder / "campbell.csv").string(), CampbellCsv(sweep));
     WriteFileAtomically((folder / "critical_speeds.csv").string(), CriticalCsv(sweep));
     WriteFileAtomically((folder / "waterfall.csv").string(), WaterfallCsv(sweep));
-    if (atlas) WriteFileAtomically((folder / "atlas.csv").string(), AtlasCsv(*atlas));
+    if (atlas) WriteFileAtomically((folder / "atlas.csv").string(), AtlasCsv(*atlas, spec));
+    std::vector<UffFunction> uff = OperatingPointUff(spec, op);
+    for (UffFunction& f : SweepOrderTracksUff(spec, sweep, static_cast<int>(uff.size()) + 1)) {
+      uff.push_back(std::move(f));
+    }
+    WriteFileAtomically((folder / "results.uff").string(), UffFile(uff));
 
     nlohmann::json results = {{"name", spec.name},
                               {"file", file},
@@ -318,6 +342,9 @@ GearboxEntry BuildGearboxReport(const std::string& file, const fs::path& folder,
         {"tier", op.tier_name},
         {"speed_rpm", spec.operating.speed * kRpm},
         {"torque_nm", spec.operating.torque},
+        {"torque_on", TorqueOnName(spec.operating.torque_on)},
+        {"speed", Format(spec.operating.speed, spec.operating.speed_unit)},
+        {"torque", TorqueText(spec)},
         {"te_rms_um", op.te.rms * 1e6},
         {"te_peak_to_peak_um", op.te.peak_to_peak * 1e6},
         {"regime", r.regime},
@@ -333,7 +360,7 @@ GearboxEntry BuildGearboxReport(const std::string& file, const fs::path& folder,
     h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>"
       << Html(spec.name) << " - gearnvh report</title>\n"
       << kStyle << "\n</head><body>\n";
-    h << "<h1>" << Html(spec.name) << "</h1>\n<p>" << Html(file) << " &middot; tier "
+    h << "<h1>" << Html(spec.name) << "</h1>\n<p>" << Html(file) << " &middot; modal model "
       << Html(op.tier_name) << " &middot; <a href=\"results.json\">results.json</a> &middot; <a "
       << "href=\"../index.html\">batch</a></p>\n";
     for (const std::string& w : op.warnings) {
@@ -346,26 +373,31 @@ GearboxEntry BuildGearboxReport(const std::string& file, const fs::path& folder,
       << Row("contact ratio", Number(model.mesh_summary.contact_ratio))
       << Row("base radii (mm)",
              fmt::format("{} / {}", Number(g.pinion.base * 1e3), Number(g.wheel.base * 1e3)))
-      << Row("mesh stiffness mean / min / max (N/um)",
+      << Row("mesh stiffness mean / min / max (N/µm)",
              fmt::format("{} / {} / {}", Number(model.mesh_summary.mean * 1e-6),
                          Number(model.mesh_summary.min * 1e-6),
                          Number(model.mesh_summary.max * 1e-6)))
-      << Row("LSTE peak-to-peak (um)", Number(model.mesh_summary.lste_peak_to_peak * 1e6))
-      << Row("backlash (um)", Number(spec.mesh.backlash * 1e6))
-      << Row("pinion speed (rpm)", Number(spec.operating.speed * kRpm))
+      << Row("LSTE peak-to-peak (µm)", Number(model.mesh_summary.lste_peak_to_peak * 1e6))
+      << Row("backlash (µm)", Number(spec.mesh.backlash * 1e6))
+      << Row("pinion speed", Format(spec.operating.speed, spec.operating.speed_unit))
       << Row("mesh frequency (Hz)", Number(1.0 / op.tables.mesh_period))
-      << Row("torque on the wheel (N m)", Number(spec.operating.torque)) << "</table>\n";
+      << Row("torque", TorqueText(spec)) << "</table>\n";
+    const std::string factor_note = DynamicFactorNote(op.te);
     h << "<h2>Dynamics at the operating point</h2>\n<table>\n"
-      << Row("dynamic TE RMS / peak-to-peak (um)",
+      << Row("dynamic TE RMS / peak-to-peak (µm)",
              fmt::format("{} / {}", Number(op.te.rms * 1e6), Number(op.te.peak_to_peak * 1e6)))
-      << Row("dynamic factor", Number(op.te.dynamic_factor)) << Row("rattle regime", r.regime)
+      << Row("dynamic TE mean (µm)",
+             Number(op.te.mean * 1e6) + " (" + TeMeanNote(op.te, model.half_backlash) + ")")
+      << Row("dynamic factor", Number(op.te.dynamic_factor) +
+                                   (factor_note.empty() ? "" : " (" + factor_note + ")"))
+      << Row("rattle regime", r.regime)
       << Row("impacts per mesh cycle (drive / back)",
              fmt::format("{} / {}", Number(r.drive_impacts_per_cycle),
                          Number(r.back_impacts_per_cycle)))
       << Row("impact velocity RMS (mm/s)", Number(r.impact_velocity_rms * 1e3))
       << Row("impact energy per mesh cycle (J)", Number(r.impact_energy_per_cycle))
       << Row("time separated (%)", Number(100.0 * r.separation_fraction))
-      << Row("wheel acceleration RMS (rad/s^2)", Number(r.wheel_acceleration_rms))
+      << Row("wheel acceleration RMS (rad/s²)", Number(r.wheel_acceleration_rms))
       << Row("acceleration ratio vs no backlash", Number(r.acceleration_ratio))
       << Row("solver real-time ratio", Number(s.real_time_ratio))
       << Row("mesh cycles simulated", std::to_string(s.mesh_cycles)) << "</table>\n";
@@ -381,7 +413,7 @@ GearboxEntry BuildGearboxReport(const std::string& file, const fs::path& folder,
     }
     h << "</tr>\n";
     for (const ReducedModel& t : tiers) {
-      h << "<tr><td>" << Html(t.name) << "</td><td>" << t.dof << "</td><td>" << 2 * t.dof + 2
+      h << "<tr><td>" << Html(t.name) << "</td><td>" << t.dof << "</td><td>" << StateDimension(model, t)
         << "</td><td>" << Number(100.0 * t.compliance_error_vs_full, 3) << " %</td>";
       for (int k = 0; k < 6; ++k) {
         h << "<td>"
@@ -396,17 +428,17 @@ GearboxEntry BuildGearboxReport(const std::string& file, const fs::path& folder,
     h << "<h2>Critical speeds</h2>\n<table>\n<tr><th>order line</th><th>mode</th><th>speed "
          "(rpm)</th><th>frequency (Hz)</th></tr>\n";
     for (const CriticalSpeed& c : sweep.campbell.critical_speeds) {
-      h << "<tr><td>" << Html(c.order) << "</td><td>" << c.mode << "</td><td>"
+      h << "<tr><td>" << Html(c.order) << "</td><td>" << c.mode + 1 << "</td><td>"
         << Number(c.speed_rpm, 5) << "</td><td>" << Number(c.frequency_hz, 5) << "</td></tr>\n";
     }
     if (sweep.campbell.critical_speeds.empty()) {
       h << "<tr><td colspan=\"4\">none in the sweep range</td></tr>\n";
     }
     h << "</table>\n<h2>Mesh harmonics and sidebands of the TE</h2>\n<table>\n<tr><th>line</th>"
-         "<th>frequency (Hz)</th><th>amplitude (um)</th><th>dB re 1 m</th></tr>\n";
+         "<th>frequency (Hz)</th><th>amplitude (µm)</th><th>dB re 1 µm</th></tr>\n";
     for (const SidebandRow& row : op.sidebands) {
       h << "<tr><td>" << Html(row.label) << "</td><td>" << Number(row.frequency_hz, 6)
-        << "</td><td>" << Number(row.amplitude * 1e6) << "</td><td>" << Number(row.db, 4)
+        << "</td><td>" << Number(row.amplitude * 1e6) << "</td><td>" << Number(row.db_re_1um, 4)
         << "</td></tr>\n";
     }
     if (op.sidebands.empty()) h << "<tr><td colspan=\"4\">too few recorded cycles</td></tr>\n";
@@ -427,7 +459,8 @@ GearboxEntry BuildGearboxReport(const std::string& file, const fs::path& folder,
     }
     h << "<h2>Data</h2>\n<p>";
     for (const char* csv : {"te_trace.csv", "spectrum.csv", "sidebands.csv", "mesh_cycle.csv",
-                            "campbell.csv", "critical_speeds.csv", "waterfall.csv"}) {
+                            "campbell.csv", "critical_speeds.csv", "waterfall.csv",
+                            "results.uff"}) {
       h << "<a href=\"" << csv << "\">" << csv << "</a> ";
     }
     h << "</p>\n" << kImageCheckScript << "\n</body></html>\n";
@@ -448,11 +481,12 @@ std::string BatchIndex(const std::vector<GearboxEntry>& entries) {
   for (const GearboxEntry& e : entries) failed += e.ok ? 0 : 1;
   h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>gearnvh "
        "report</title>\n"
-    << kStyle << "\n</head><body>\n<h1>gearnvh report</h1>\n<p>" << entries.size() << " gearboxes, "
+    << kStyle << "\n</head><body>\n<h1>gearnvh report</h1>\n<p>"
+    << Count(static_cast<long>(entries.size()), "gearbox", "gearboxes") << ", "
     << (failed == 0 ? "<span class=\"ok\">all complete</span>"
                     : fmt::format("<span class=\"warn\">{} failed</span>", failed))
-    << "</p>\n<table>\n<tr><th>gearbox</th><th>tier</th><th>speed (rpm)</th><th>torque (N m)"
-       "</th><th>TE RMS (um)</th><th>rattle regime</th><th>impacts / mesh cycle</th><th>accel. "
+    << "</p>\n<table>\n<tr><th>gearbox</th><th>modal model</th><th>pinion speed</th><th>torque"
+       "</th><th>TE RMS (µm)</th><th>rattle regime</th><th>impacts / mesh cycle</th><th>accel. "
        "ratio</th><th>first critical speed (rpm)</th><th>chaotic atlas cells</th><th>real-time "
        "ratio</th></tr>\n";
   auto num = [](const nlohmann::json& v) {
@@ -466,8 +500,8 @@ std::string BatchIndex(const std::vector<GearboxEntry>& entries) {
     }
     const nlohmann::json& s = e.summary;
     h << "<tr><td><a href=\"" << e.folder << "/index.html\">" << Html(e.name) << "</a></td><td>"
-      << Html(s["tier"].get<std::string>()) << "</td><td>" << num(s["speed_rpm"]) << "</td><td>"
-      << num(s["torque_nm"]) << "</td><td>" << num(s["te_rms_um"]) << "</td><td>"
+      << Html(s["tier"].get<std::string>()) << "</td><td>" << Html(s["speed"].get<std::string>())
+      << "</td><td>" << Html(s["torque"].get<std::string>()) << "</td><td>" << num(s["te_rms_um"]) << "</td><td>"
       << Html(s["regime"].get<std::string>()) << "</td><td>" << num(s["impacts_per_cycle"])
       << "</td><td>" << num(s["acceleration_ratio"]) << "</td><td>"
       << num(s["first_critical_speed_rpm"]) << "</td><td>" << num(s["chaotic_atlas_cells"])
@@ -611,11 +645,19 @@ int RunReport(const ReportCommandOptions& o) {
     std::mutex progress_mutex;
     size_t done = 0;
     const bool on_terminal = rank == 0 && ::isatty(STDERR_FILENO) != 0;
+    // One gearbox: its stages and cycles on the terminal (a batch shows the gearboxes done).
+    StageProgress stage;
+    if (on_terminal && mine.size() == 1) {
+      stage = [&progress_mutex, file = o.files[mine.front()]](const std::string& what) {
+        const std::lock_guard<std::mutex> lock(progress_mutex);
+        fmt::print(stderr, "\rreport: {}: {}\x1b[K", file, what);
+      };
+    }
     auto worker = [&]() {
       for (size_t k = next++; k < mine.size(); k = next++) {
         const size_t i = mine[k];
         if (display.ok()) {
-          entries[i] = BuildGearboxReport(o.files[i], staging / folders[i], o, inner);
+          entries[i] = BuildGearboxReport(o.files[i], staging / folders[i], o, inner, stage);
         } else {
           entries[i].file = o.files[i];
           entries[i].folder = folders[i];
@@ -623,8 +665,9 @@ int RunReport(const ReportCommandOptions& o) {
         }
         const std::lock_guard<std::mutex> lock(progress_mutex);
         ++done;
-        if (on_terminal) {
-          fmt::print(stderr, "\rreport: {}/{} gearboxes{}", done, mine.size(),
+        if (on_terminal && !stage) {
+          fmt::print(stderr, "\rreport: {} of {}{}", done,
+                     Count(static_cast<long>(mine.size()), "gearbox", "gearboxes"),
                      ranks > 1 ? fmt::format(" on rank 0 of {}", ranks) : "");
         }
       }
@@ -681,8 +724,9 @@ int RunReport(const ReportCommandOptions& o) {
     }
     fmt::print("report: {}\n", (out / "index.html").string());
     if (failed > 0) {
-      std::cerr << "error: " << failed << " of " << entries.size()
-                << " gearboxes failed (listed in the batch index)\n";
+      std::cerr << "error: " << failed << " of "
+                << Count(static_cast<long>(entries.size()), "gearbox", "gearboxes")
+                << " failed (listed in the batch index)\n";
       code = 1;
     }
   } catch (const InputError& e) {

@@ -12,21 +12,8 @@ namespace gearnvh::app {
 namespace {
 
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
-constexpr double kRpm = 60.0 / (2.0 * std::numbers::pi);
 
 }  // namespace
-
-DisplayAxis DisplayAxisFor(const std::string& parameter) {
-  if (parameter == "operating.speed") return {"pinion speed (rpm)", kRpm};
-  if (parameter == "operating.torque") return {"torque on the wheel (N m)", 1.0};
-  if (parameter == "mesh.backlash") return {"backlash (um)", 1e6};
-  if (parameter == "mesh.damping_ratio") return {"mesh damping ratio (-)", 1.0};
-  if (parameter == "mesh.friction_coefficient") return {"friction coefficient (-)", 1.0};
-  if (parameter == "operating.excitation[0].amplitude") {
-    return {"excitation amplitude (rad/s^2)", 1.0};
-  }
-  return {parameter + " (SI)", 1.0};
-}
 
 render::LinePlot CampbellFigure(const SpeedSweepResult& sweep) {
   render::LinePlot p;
@@ -80,7 +67,7 @@ render::HeatMap WaterfallFigure(const SpeedSweepResult& sweep) {
   h.title = "Waterfall: dynamic TE amplitude";
   h.x_label = "pinion order (-)";
   h.y_label = "pinion speed (rpm)";
-  h.value_label = "dB re 1 um";
+  h.value_label = "dB re 1 µm";
   h.nx = std::max(1, sweep.order_bins);
   h.ny = static_cast<int>(sweep.points.size());
   h.x_min = -0.5 * sweep.order_step;
@@ -110,7 +97,7 @@ render::LinePlot SpectrumFigure(const OperatingPointAnalysis& op) {
   render::LinePlot p;
   p.title = "Dynamic TE spectrum, mesh harmonics and sidebands";
   p.x_label = "frequency (Hz)";
-  p.y_label = "TE amplitude (um)";
+  p.y_label = "TE amplitude (µm)";
   p.log_y = true;
   const double mesh_hz = 1.0 / op.tables.mesh_period;
   render::Series line{"TE spectrum", {}, {}};
@@ -152,7 +139,7 @@ render::LinePlot TeTraceFigure(const OperatingPointAnalysis& op, long cycles) {
   render::LinePlot p;
   p.title = fmt::format("Dynamic transmission error, last {} mesh cycles", cycles);
   p.x_label = "time (ms)";
-  p.y_label = "TE (um)";
+  p.y_label = "TE (µm)";
   const auto& samples = op.result.trajectory.samples;
   const size_t per_cycle = op.tables.boundaries.size() - 1;
   const size_t count = std::min(samples.size(), static_cast<size_t>(cycles) * per_cycle);
@@ -184,8 +171,8 @@ render::LinePlot TeTraceFigure(const OperatingPointAnalysis& op, long cycles) {
 render::LinePlot PhaseFigure(const OperatingPointAnalysis& op, long cycles,
                              long base_period_cycles) {
   render::LinePlot p;
-  p.title = "Phase portrait and Poincare section";
-  p.x_label = "TE (um)";
+  p.title = "Phase portrait and Poincaré section";
+  p.x_label = "TE (µm)";
   p.y_label = "TE rate (mm/s)";
   const auto& samples = op.result.trajectory.samples;
   const size_t per_cycle = op.tables.boundaries.size() - 1;
@@ -197,7 +184,7 @@ render::LinePlot PhaseFigure(const OperatingPointAnalysis& op, long cycles,
     orbit.y.push_back(1e3 * samples[i].te_rate);
   }
   p.series.push_back(std::move(orbit));
-  render::Series section{fmt::format("Poincare section (every {} mesh cycles)", base_period_cycles),
+  render::Series section{"Poincaré section (every " + Count(base_period_cycles, "mesh cycle", "mesh cycles") + ")",
                          {},
                          {},
                          render::Series::Style::kPoints};
@@ -232,7 +219,7 @@ render::LinePlot CycleFigure(const std::string& title, const std::string& y_labe
 }  // namespace
 
 render::LinePlot MeshStiffnessFigure(const ComponentModel& model) {
-  render::LinePlot p = CycleFigure("Mesh stiffness over one mesh cycle", "stiffness (N/um)");
+  render::LinePlot p = CycleFigure("Mesh stiffness over one mesh cycle", "stiffness (N/µm)");
   render::Series drive{"drive flank", model.cycle.tau, {}};
   for (const FlankSample& s : model.cycle.drive) drive.y.push_back(s.stiffness * 1e-6);
   render::Series back{"back flank", model.cycle.tau, {}, render::Series::Style::kDashed};
@@ -260,16 +247,17 @@ render::LinePlot LoadSharingFigure(const ComponentModel& model) {
 }
 
 render::LinePlot LsteFigure(const ComponentModel& model) {
-  render::LinePlot p = CycleFigure("Loaded static transmission error (LSTE)", "mesh approach (um)");
+  render::LinePlot p = CycleFigure("Loaded static transmission error (LSTE)", "mesh approach (µm)");
   render::Series s{"LSTE at the operating load", model.cycle.tau, {}};
   for (const FlankSample& f : model.cycle.drive) s.y.push_back(f.lste * 1e6);
   p.series = {s};
   return p;
 }
 
-render::HeatMap AtlasFigure(const AtlasResult& atlas, bool lyapunov) {
+render::HeatMap AtlasFigure(const AtlasResult& atlas, bool lyapunov, const GearboxSpec& spec) {
   render::HeatMap h;
-  const DisplayAxis ax = DisplayAxisFor(atlas.x.parameter), ay = DisplayAxisFor(atlas.y.parameter);
+  const DisplayAxis ax = DisplayAxisFor(atlas.x.parameter, spec);
+  const DisplayAxis ay = DisplayAxisFor(atlas.y.parameter, spec);
   h.title = lyapunov ? "Chaos atlas: largest Lyapunov exponent" : "Chaos atlas: rattle index";
   h.x_label = ax.label;
   h.y_label = ay.label;

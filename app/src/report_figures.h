@@ -9,6 +9,7 @@
 #include "gearnvh/model/component_model.h"
 #include "gearnvh/nvh/atlas.h"
 #include "gearnvh/render/plots.h"
+#include "display_units.h"
 #include "operating_point.h"
 #include "speed_sweep.h"
 
@@ -27,13 +28,7 @@ render::LinePlot MeshStiffnessFigure(const ComponentModel& model);
 render::LinePlot LoadSharingFigure(const ComponentModel& model);
 render::LinePlot LsteFigure(const ComponentModel& model);
 // lyapunov: lambda per forcing cycle (diverging map); otherwise log10 of the rattle index.
-render::HeatMap AtlasFigure(const AtlasResult& atlas, bool lyapunov);
-
-// How a schema parameter is shown: "speed (rpm)" with the factor from SI.
-struct DisplayAxis {
-  std::string label;
-  double scale = 1.0;
-};
-DisplayAxis DisplayAxisFor(const std::string& parameter);
+// Axes in the units of `spec` (the gearbox file).
+render::HeatMap AtlasFigure(const AtlasResult& atlas, bool lyapunov, const GearboxSpec& spec);
 
 }  // namespace gearnvh::app

@@ -12,12 +12,14 @@
 #include "atomic_file.h"
 #include "command_errors.h"
 #include "config/gearbox_loader.h"
+#include "display_units.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/rattle.h"
 #include "gearnvh/nvh/spectrum.h"
 #include "gearnvh/nvh/transmission_error.h"
 #include "gearnvh/reduction/reduced_model.h"
 #include "operating_point.h"
+#include "uff_export.h"
 
 namespace gearnvh::app {
 
@@ -95,20 +97,23 @@ int RunSimulate(const SimulateOptions& options) {
       WriteFileAtomically((dir / "events.csv").string(), EventsCsv(trajectory));
       WriteFileAtomically((dir / "results.json").string(), doc.dump(2) + "\n");
     }
+    if (options.uff) WriteFileAtomically(*options.uff, UffFile(OperatingPointUff(spec, op)));
     if (options.json) {
       std::cout << doc.dump(2) << "\n";
     } else {
       const SolverSummary& s = summary;
       fmt::print("{}  ({}), {}: state dimension {}\n", spec.name, options.file, op.tier_name,
                  op.tables.m);
+      fmt::print("  operating point     pinion at {}, {}\n",
+                 Format(spec.operating.speed, spec.operating.speed_unit), TorqueText(spec));
       fmt::print("  status              {}\n", SolverStatusName(s.status));
       fmt::print("  mesh cycles         {} ({} recorded)\n", s.mesh_cycles, op.solver.cycles);
       fmt::print(
           "  contact events      {} ({:.3f} per cycle): {} drive impacts, {} back impacts, {} "
           "separations, {} grazing\n",
           s.events, s.events_per_cycle, s.drive_impacts, s.back_impacts, s.separations, s.grazing);
-      fmt::print("  matvec per cycle    {:.1f} ({}: {} cycles fused, {} jumped{})\n",
-                 s.matvec_per_cycle, SolverMethodName(solver.method), s.fused_cycles,
+      fmt::print("  matvec per cycle    {:.1f} ({}: {} fused, {} jumped{})\n", s.matvec_per_cycle,
+                 SolverMethodName(solver.method), Count(s.fused_cycles, "cycle", "cycles"),
                  s.jumped_cycles, s.contact_certified ? ", permanent contact certified" : "");
       fmt::print("  wall time           {:.4f} s for {:.4f} s simulated: {:.2f}x real time\n",
                  s.wall_s, s.simulated_s, s.real_time_ratio);
@@ -118,26 +123,30 @@ int RunSimulate(const SimulateOptions& options) {
             "  v3 decompositions   max cond(S) {:.3g}, {} (segment, state) fell back to v2\n",
             s.spectral_max_condition, s.spectral_fallback_systems);
       }
-      fmt::print("  TE                  mean {:.4f} um, RMS {:.4f} um, p-p {:.4f} um\n",
+      fmt::print("  TE                  mean {:.4f} µm, RMS {:.4f} µm, p-p {:.4f} µm\n",
                  te.mean * 1e6, te.rms * 1e6, te.peak_to_peak * 1e6);
+      fmt::print("                      ({})\n", TeMeanNote(te, model.half_backlash));
       fmt::print("  mesh force          mean {:.2f} N, max {:.2f} N, dynamic factor {:.3f}\n",
                  te.mesh_force_mean, te.mesh_force_max, te.dynamic_factor);
+      if (const std::string note = DynamicFactorNote(te); !note.empty()) {
+        fmt::print("                      (dynamic factor {})\n", note);
+      }
       fmt::print(
           "  rattle              {}: {:.3f} drive / {:.3f} back impacts per mesh cycle, "
           "impact velocity RMS {:.4f} m/s, separated {:.1f} % of the time\n",
           rattle.regime, rattle.drive_impacts_per_cycle, rattle.back_impacts_per_cycle,
           rattle.impact_velocity_rms, 100.0 * rattle.separation_fraction);
       fmt::print(
-          "  wheel acceleration  RMS {:.1f} rad/s^2, {:.2f}x the same gearbox without backlash\n",
+          "  wheel acceleration  RMS {:.1f} rad/s², {:.2f}x the same gearbox without backlash\n",
           rattle.wheel_acceleration_rms, rattle.acceleration_ratio);
       if (!sideband_rows.empty()) {
         fmt::print("  TE mesh harmonics   ");
         for (const SidebandRow& r : sideband_rows) {
           if (r.label.find('f', r.label.find("fm") + 2) == std::string::npos) {
-            fmt::print("{}: {:.4f} um  ", r.label, r.amplitude * 1e6);
+            fmt::print("{}: {:.4f} µm  ", r.label, r.amplitude * 1e6);
           }
         }
-        fmt::print("(sidebands in --json, over {} cycles)\n", window);
+        fmt::print("(sidebands in --json, over {})\n", Count(window, "mesh cycle", "mesh cycles"));
       }
       if (!op.cycles_note.empty()) fmt::print("  note: {}\n", op.cycles_note);
       for (const std::string& w : op.warnings) fmt::print("  warning: {}\n", w);

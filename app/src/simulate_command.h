@@ -18,6 +18,7 @@ struct SimulateOptions {
   std::optional<long> cycles;  // overrides analysis.cycles
   std::optional<long> transient;   // overrides analysis.transient_cycles
   std::optional<std::string> out;  // output directory
+  std::optional<std::string> uff;  // UFF dataset-58 file (TE, mesh force, TE spectrum)
   std::string method = "fused";    // "v1" | "v2" | "v3" | "fused"
   bool json = false;
 };

@@ -42,7 +42,7 @@ SpeedPoint RunPoint(const GearboxSpec& base, const ComponentModel& model,
     return p;
   }
   const TransmissionErrorStats te = ComputeTransmissionErrorStats(
-      run.trajectory, spec.operating.torque / model.geometry.wheel.base, model.half_backlash);
+      run.trajectory, spec.WheelTorque() / model.geometry.wheel.base, model.half_backlash);
   p.te_rms = te.rms;
   p.te_peak_to_peak = te.peak_to_peak;
   const double per_excitation = spec.operating.excitation.empty()

@@ -12,10 +12,12 @@
 #include "atomic_file.h"
 #include "command_errors.h"
 #include "config/gearbox_loader.h"
+#include "display_units.h"
 #include "gearnvh/model/input_error.h"
 #include "mpi_context.h"
 #include "simulate_command.h"
 #include "speed_sweep.h"
+#include "uff_export.h"
 
 namespace gearnvh::app {
 
@@ -226,13 +228,17 @@ int RunSweep(const SweepOptions& options) {
       WriteFileAtomically((dir / "waterfall.csv").string(), WaterfallCsv(result));
       WriteFileAtomically((dir / "sweep.json").string(), doc.dump(1) + "\n");
     }
+    if (options.uff) {
+      WriteFileAtomically(*options.uff, UffFile(SweepOrderTracksUff(spec, result)));
+    }
     if (options.json) {
       std::cout << doc.dump(1) << "\n";
     } else {
-      fmt::print("{}  ({}), {}: speed sweep, {} speeds, {} cycles each\n", spec.name, options.file,
-                 reduced.name, result.points.size(), sweep.cycles);
-      fmt::print("  {:>8}  {:>10}  {:>12}  {:>14}  {}\n", "rpm", "TE RMS um", "events/cycle",
-                 "1x mesh TE um", "regime");
+      fmt::print("{}  ({}), {}: speed sweep, {} speeds, {} each\n", spec.name, options.file,
+                 reduced.name, result.points.size(),
+                 Count(sweep.cycles, "mesh cycle", "mesh cycles"));
+      fmt::print("  {:>8}  {:>10}  {:>12}  {:>14}  {}\n", "rpm", "TE RMS µm", "events/cycle",
+                 "1x mesh TE µm", "regime");
       const size_t mesh_bin =
           static_cast<size_t>(std::lround(spec.pinion.teeth / result.order_step));
       for (const SpeedPoint& p : result.points) {

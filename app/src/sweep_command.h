@@ -19,6 +19,7 @@ struct SweepOptions {
   int jobs = 0;                   // threads; 0 = all cores
   std::string method = "fused";
   std::optional<std::string> out;
+  std::optional<std::string> uff;  // UFF dataset-58 file (order tracks)
   bool json = false;
 };
 

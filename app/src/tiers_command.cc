@@ -14,6 +14,7 @@
 #include "check_command.h"
 #include "command_errors.h"
 #include "config/gearbox_loader.h"
+#include "display_units.h"
 #include "gearnvh/nvh/lyapunov.h"
 #include "operating_point.h"
 #ifdef GEARNVH_HAVE_RENDER
@@ -190,11 +191,12 @@ int RunTiers(const TiersCommandOptions& options) {
     if (options.json) {
       std::cout << doc.dump(1) << "\n";
     } else {
-      fmt::print("{}  ({}): modal tiers against the full FE model ({} DOF), {} cycles each\n",
-                 spec.name, options.file, model.dofs, solver.cycles);
+      fmt::print("{}  ({}): modal tiers against the full FE model ({} DOF), {} each\n",
+                 spec.name, options.file, model.dofs,
+                 Count(solver.cycles, "mesh cycle", "mesh cycles"));
       fmt::print("  {:<20} {:>4} {:>5} {:>9} {:>10} {:>10} {:>9} {:>10} {:>9} {:>9} {:>9} {:>9}\n",
-                 "tier", "DOF", "state", "max df/f", "dg/g", "TE RMS um", "vs finest", "rattle J",
-                 "vs finest", "matvec/c", "us/cycle", "x real");
+                 "tier", "DOF", "state", "max df/f", "dg/g", "TE RMS µm", "vs finest", "rattle J",
+                 "vs finest", "matvec/c", "µs/cycle", "x real");
       for (const TierRow& r : rows) {
         fmt::print(
             "  {:<20} {:>4} {:>5} {:>9.2e} {:>10.2e} {:>10.4f} {:>9.2e} {:>10.3e} {:>9.2e} "

@@ -1,4 +1,4 @@
-// `gearnvh validate FILE [--json]`: runs the validation ladder (DESIGN.md §8) on one gearbox and
+// `gearnvh validate FILE [--json]`: runs the validation ladder (docs/design.md §8) on one gearbox and
 // prints each row: check, measured value, threshold, pass/fail. Exit code 1 if any row fails.
 #pragma once
 

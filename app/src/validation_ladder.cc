@@ -253,7 +253,7 @@ std::vector<ValidationRow> RunValidationLadder(const GearboxSpec& spec) {
   // 6. Free flight under the constant load from the backlash centre: a parabola meeting e_j + b.
   {
     const double rb1 = model.geometry.pinion.base, rb2 = model.geometry.wheel.base;
-    const double T = spec.operating.torque;
+    const double T = spec.WheelTorque();
     const double j1 = tier1.M(0, 0), j2 = tier1.M(1, 1);
     const double accel = rb1 * (T * rb1 / rb2 + tables.friction_loss_torque) / j1 + rb2 * T / j2;
     if (!(accel > 0.0)) {

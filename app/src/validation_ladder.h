@@ -1,4 +1,4 @@
-// The validation ladder of DESIGN.md §8, run on one gearbox: each row a check with its measured
+// The validation ladder of docs/design.md §8, run on one gearbox: each row a check with its measured
 // value, its threshold and whether it passed. Rows that need a part the model lacks (MTA without
 // shafts) are reported as skipped, not passed silently.
 #pragma once

@@ -37,6 +37,7 @@
 #include <stdexcept>
 
 #include "gearnvh/render/display.h"
+#include "gearnvh/render/layout.h"
 
 namespace gearnvh::render {
 
@@ -44,12 +45,18 @@ namespace {
 
 std::mutex g_render_mutex;
 
-// Text at data coordinates of a chart, drawn after the chart has laid out its axes.
+// Text at data coordinates of a chart, drawn after the chart has laid out its axes and legend.
+// Labels are placed (layout.h) so they overlap neither each other, the legend nor the point
+// markers; one that has no free place is left out.
 class ChartLabels : public vtkContextItem {
  public:
   static ChartLabels* New();
   vtkTypeMacro(ChartLabels, vtkContextItem) vtkChartXY* chart = nullptr;
   std::vector<TextLabel> labels;
+  struct Marker {
+    double x, y, size;  // data coordinates, diameter px
+  };
+  std::vector<Marker> markers;
   int font_size = 14;
 
   bool Paint(vtkContext2D* painter) override {
@@ -69,11 +76,37 @@ class ChartLabels : public vtkContextItem {
     painter->GetTextProp()->SetColor(0.1, 0.1, 0.1);
     painter->GetTextProp()->SetJustificationToLeft();
     painter->GetTextProp()->SetVerticalJustificationToBottom();
+    const Box area{x1[0], y1[1], x2[0], y2[1]};
+    std::vector<Box> obstacles;
+    if (chart->GetShowLegend()) {
+      const vtkRectf r = chart->GetLegend()->GetBoundingRect(painter);
+      obstacles.push_back({r.GetX(), r.GetY(), r.GetX() + r.GetWidth(), r.GetY() + r.GetHeight()});
+    }
+    for (const Marker& m : markers) {
+      const double px = map(xa, m.x, x1[0], x2[0]), py = map(ya, m.y, y1[1], y2[1]);
+      const double half = 0.5 * m.size + 1.0;
+      obstacles.push_back({px - half, py - half, px + half, py + half});
+    }
+    std::vector<LabelRequest> requests;
+    std::vector<const TextLabel*> shown;
     for (const TextLabel& l : labels) {
       const float px = map(xa, l.x, x1[0], x2[0]);
       const float py = map(ya, l.y, y1[1], y2[1]);
       if (px < x1[0] || px > x2[0] || py < y1[1] || py > y2[1]) continue;
-      painter->DrawString(px + 4.0f, py + 4.0f, l.text.c_str());
+      float bounds[4] = {0, 0, 0, 0};
+      painter->ComputeStringBounds(l.text.c_str(), bounds);
+      requests.push_back({px, py, bounds[2], bounds[3]});
+      shown.push_back(&l);
+    }
+    // Markers are obstacles, but a label belongs next to its own marker: keep the gap larger
+    // than the marker radius.
+    double gap = 4.0;
+    for (const Marker& m : markers) gap = std::max(gap, 0.5 * m.size + 2.0);
+    const std::vector<std::optional<Box>> placed = PlaceLabels(requests, area, obstacles, gap);
+    for (size_t i = 0; i < placed.size(); ++i) {
+      if (!placed[i]) continue;
+      painter->DrawString(static_cast<float>(placed[i]->x0), static_cast<float>(placed[i]->y0),
+                          shown[i]->text.c_str());
     }
     return true;
   }
@@ -161,15 +194,55 @@ RenderStatus RenderLinePlot(const LinePlot& plot, const ImageOptions& options,
   chart->GetTitleProperties()->SetFontSize(20);
   StyleAxis(chart->GetAxis(vtkAxis::BOTTOM), plot.x_label);
   StyleAxis(chart->GetAxis(vtkAxis::LEFT), plot.y_label);
-  if (plot.log_y) chart->GetAxis(vtkAxis::LEFT)->SetLogScale(true);
-  if (plot.fixed_x) {
-    chart->GetAxis(vtkAxis::BOTTOM)->SetRange(plot.x_min, plot.x_max);
-    chart->GetAxis(vtkAxis::BOTTOM)->SetBehavior(vtkAxis::FIXED);
+  // Ranges: as given, or from the data with a margin (logarithmic in y when asked for, or when
+  // the data are positive and span three decades or more).
+  std::vector<double> all_x, all_y;
+  for (const Series& s : plot.series) {
+    all_x.insert(all_x.end(), s.x.begin(), s.x.end());
+    all_y.insert(all_y.end(), s.y.begin(), s.y.end());
   }
-  if (plot.fixed_y) {
-    chart->GetAxis(vtkAxis::LEFT)->SetRange(plot.y_min, plot.y_max);
-    chart->GetAxis(vtkAxis::LEFT)->SetBehavior(vtkAxis::FIXED);
+  vtkAxis* x_axis = chart->GetAxis(vtkAxis::BOTTOM);
+  vtkAxis* y_axis = chart->GetAxis(vtkAxis::LEFT);
+  const AxisRange x_range = plot.fixed_x ? AxisRange{plot.x_min, plot.x_max, false}
+                                         : AutoRange(all_x, false, 0.02);
+  AxisRange y_range = plot.fixed_y ? AxisRange{plot.y_min, plot.y_max, plot.log_y}
+                                   : AutoRange(all_y, plot.log_y || plot.auto_log_y);
+  if (plot.log_y && !y_range.log) {
+    // Asked for log but the data have non-positive values: show the positive ones.
+    std::vector<double> positive;
+    for (double v : all_y) {
+      if (v > 0.0) positive.push_back(v);
+    }
+    y_range = AutoRange(positive, true, 0.05, 0.0);
   }
+  const bool log_y = plot.log_y || y_range.log;
+  y_range.log = log_y;
+  // The legend (top right) must not hide data: estimate its box from its entries and the font
+  // (13 pt labels, one line each, a 10 px frame) against the plot area (the image less about
+  // 110 x 120 px of titles and tick labels), and raise the y range until the data clear it.
+  if (plot.legend) {
+    int entries = 0;
+    size_t longest = 0;
+    for (const Series& s : plot.series) {
+      if (s.label.empty() || s.x.empty()) continue;
+      ++entries;
+      longest = std::max(longest, s.label.size());
+    }
+    if (entries > 0) {
+      const double font_px = 13.0 * options.dpi / 72.0;
+      const double box_w = 0.55 * font_px * static_cast<double>(longest) + 45.0;
+      const double box_h = 1.35 * font_px * entries + 10.0;
+      const double area_w = std::max(1.0, options.width - 110.0);
+      const double area_h = std::max(1.0, options.height - 120.0);
+      y_range = MakeRoomForLegend(y_range, x_range, all_x, all_y, std::min(0.9, box_w / area_w),
+                                  std::min(0.7, box_h / area_h));
+    }
+  }
+  if (log_y) y_axis->SetLogScale(true);
+  x_axis->SetUnscaledRange(x_range.min, x_range.max);
+  x_axis->SetBehavior(vtkAxis::FIXED);
+  y_axis->SetUnscaledRange(y_range.min, y_range.max);
+  y_axis->SetBehavior(vtkAxis::FIXED);
   bool any_label = false;
   for (size_t i = 0; i < plot.series.size(); ++i) {
     const Series& s = plot.series[i];
@@ -184,7 +257,7 @@ RenderStatus RenderLinePlot(const LinePlot& plot, const ImageOptions& options,
     for (size_t k = 0; k < s.x.size(); ++k) {
       // Log axes cannot show non-positive values; NaN breaks are drawn as gaps by VTK.
       const double y =
-          plot.log_y && !(s.y[k] > 0.0) ? std::numeric_limits<double>::quiet_NaN() : s.y[k];
+          log_y && !(s.y[k] > 0.0) ? std::numeric_limits<double>::quiet_NaN() : s.y[k];
       xs->InsertNextValue(s.x[k]);
       ys->InsertNextValue(y);
     }
@@ -220,6 +293,10 @@ RenderStatus RenderLinePlot(const LinePlot& plot, const ImageOptions& options,
     vtkNew<ChartLabels> labels;
     labels->chart = chart;
     labels->labels = plot.labels;
+    for (const Series& s : plot.series) {
+      if (s.style != Series::Style::kPoints) continue;
+      for (size_t k = 0; k < s.x.size(); ++k) labels->markers.push_back({s.x[k], s.y[k], s.width});
+    }
     view->GetScene()->AddItem(labels);
     return WriteView(view, options, png_path);
   }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 #include "gearnvh/model/input_error.h"
@@ -218,13 +219,14 @@ ComponentModel BuildComponentModel(const GearboxSpec& spec, const ComponentModel
   if (m.errors.active() && m.mesh_summary.max > 0.0) {
     const double pair_deflection = m.cycle.load / m.mesh_summary.max;
     if (m.errors.largest_pair_deviation() > pair_deflection) {
-      m.warnings.push_back(
-          "pitch deviations differ by up to " +
-          std::to_string(m.errors.largest_pair_deviation() * 1e6) +
-          " um, more than the loaded deflection of the mesh (" +
-          std::to_string(pair_deflection * 1e6) +
-          " um at the operating load): they can unload tooth pairs, which the model does not "
-          "follow (the loaded pairs of the error-free mesh carry the errors' mean)");
+      char text[320];
+      std::snprintf(text, sizeof text,
+                    "pitch deviations differ by up to %.3g µm, more than the loaded deflection of "
+                    "the mesh (%.3g µm at the operating load): they can unload tooth pairs, which "
+                    "the model does not follow (the loaded pairs of the error-free mesh carry the "
+                    "errors' mean)",
+                    m.errors.largest_pair_deviation() * 1e6, pair_deflection * 1e6);
+      m.warnings.push_back(text);
     }
   }
   m.half_backlash = 0.5 * spec.mesh.backlash;
@@ -282,8 +284,8 @@ ComponentModel BuildComponentModel(const GearboxSpec& spec, const ComponentModel
     }
   }
   m.static_force = Eigen::VectorXd::Zero(m.dofs);
-  m.static_force[m.PinionDof(kThz)] = spec.operating.torque * rb1 / rb2;
-  m.static_force[m.WheelDof(kThz)] = spec.operating.torque;
+  m.static_force[m.PinionDof(kThz)] = spec.WheelTorque() * rb1 / rb2;
+  m.static_force[m.WheelDof(kThz)] = spec.WheelTorque();
   return m;
 }
 

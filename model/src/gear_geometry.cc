@@ -125,4 +125,6 @@ const char* TierName(Tier tier) {
   return "unknown";
 }
 
+const char* TorqueOnName(TorqueOn on) { return on == TorqueOn::kWheel ? "wheel" : "pinion"; }
+
 }  // namespace gearnvh

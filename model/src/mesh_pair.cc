@@ -33,7 +33,7 @@ MeshPair PairOf(const GearboxSpec& spec) {
   p.material_a = spec.MaterialOf(spec.pinion);
   p.material_b = spec.MaterialOf(spec.wheel);
   p.speed_a = spec.operating.speed;
-  p.transmitted_torque = spec.operating.torque;
+  p.transmitted_torque = spec.WheelTorque();
   p.path_a = "gears.pinion";
   p.path_b = "gears.wheel";
   p.path_mesh = "mesh";

@@ -131,7 +131,7 @@ std::vector<SidebandRow> SidebandTable(const AmplitudeSpectrum& s, double mesh_h
         return;
       }
     }
-    rows.push_back({label, f, amp, 20.0 * std::log10(amp), background});
+    rows.push_back({label, f, amp, 20.0 * std::log10(amp / 1e-6), background});
   };
   const std::pair<const char*, double> shafts[] = {{"f1", pinion_hz}, {"f2", wheel_hz}};
   if (options.shaft_order_sources) {

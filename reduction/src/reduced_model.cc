@@ -137,6 +137,14 @@ bool TierAvailable(const ComponentModel& model, Tier tier) {
   return ModesOf(tier) == 0 || model.dofs - 12 >= kTier5Modes;
 }
 
+void RequireTierAvailable(const ComponentModel& model, Tier tier) {
+  if (TierAvailable(model, tier)) return;
+  throw InputError("analysis.tier", 0, TierName(tier),
+                   "needs flexible shafts (`shafts:` with at least " +
+                       std::to_string(kTier5Modes) + " interior DOF); this model has " +
+                       std::to_string(model.dofs) + " DOF");
+}
+
 double FullStaticMeshCompliance(const ComponentModel& m) {
   // Remove the two held gear-rotation DOF; the rest is positive definite (bearings ground it).
   const int n = m.dofs;
@@ -175,12 +183,7 @@ std::vector<double> ReducedNaturalFrequencies(const ReducedModel& r, double mean
 ReducedModel ReduceModel(const ComponentModel& m, Tier tier, const ReductionOptions& options) {
   options.Validate();
   const auto start = std::chrono::steady_clock::now();
-  if (!TierAvailable(m, tier)) {
-    throw InputError("analysis.tier", 0, TierName(tier),
-                     "needs flexible shafts (`shafts:` with at least " +
-                         std::to_string(kTier5Modes) + " interior DOF); this model has " +
-                         std::to_string(m.dofs) + " DOF");
-  }
+  RequireTierAvailable(m, tier);
   const double full_compliance = FullStaticMeshCompliance(m);
   const std::vector<int> boundary = Boundary(m, tier);
   const int modes = ModesOf(tier);

@@ -174,9 +174,9 @@ ExactStepper::ExactStepper(const SegmentTables& tables, const SolverOptions& opt
     const double bytes = static_cast<double>(tables.segments()) * 3 * kDyadicLevels *
                          static_cast<double>(tables.m) * tables.m * sizeof(double);
     if (bytes > 256.0 * 1024 * 1024) {
-      throw InputError("--events", 0, "v1",
+      throw InputError("event method", 0, "v1",
                        "needs " + std::to_string(static_cast<long>(bytes / 1048576)) +
-                           " MiB of dyadic tables for this tier (limit 256 MiB); use taylor");
+                           " MiB of dyadic tables for this tier (limit 256 MiB); use v2 or v3");
     }
     dyadic_.resize(tables.segments());
     for (int j = 0; j < tables.segments(); ++j) {

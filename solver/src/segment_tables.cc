@@ -99,13 +99,19 @@ size_t SegmentTables::TableBytes() const {
   return systems.size() * 3 * per_system * sizeof(double);
 }
 
+int InputCount(const ComponentModel& model) { return model.errors.active() ? 2 : 1; }
+
+int StateDimension(const ComponentModel& model, const ReducedModel& reduced) {
+  return 2 * reduced.dof + 1 + InputCount(model);
+}
+
 SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel& r,
                                  const GearboxSpec& spec) {
   SegmentTables t;
   t.n = r.dof;
   t.errors = model.errors;
-  t.inputs = t.errors.active() ? 2 : 1;
-  t.m = 2 * t.n + 1 + t.inputs;
+  t.inputs = InputCount(model);
+  t.m = StateDimension(model, r);
   t.pinion_speed = spec.operating.speed;
   t.mesh_period = 2.0 * std::numbers::pi / (spec.pinion.teeth * spec.operating.speed);
   t.excitation = spec.operating.excitation;
@@ -150,7 +156,7 @@ SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel
                            seg.drive.friction_arm_wheel);
       mean_rw += (seg.tau_end - seg.tau_begin) * t.rigid_rotation.dot(w);
     }
-    const double load = spec.operating.torque / model.geometry.wheel.base;
+    const double load = spec.WheelTorque() / model.geometry.wheel.base;
     const double lever = t.rigid_rotation.dot(r.pinion_torsion);
     t.friction_loss_torque = lever != 0.0 ? mu * load * mean_rw / lever : 0.0;
     static_force += t.friction_loss_torque * r.pinion_torsion;

@@ -141,6 +141,8 @@ std::vector<MalformedCase> MalformedCases() {
                     "stiffness: [2e8 N/m]}}"),
        "mesh.stiffness.table.stiffness", "as many entries"},
       {"tier out of range", v + "analysis: {tier: 7}\n", "analysis.tier", "1..5"},
+      {"flexible tier without shafts", v + "analysis: {tier: \"N20 MTA\"}\n", "analysis.tier",
+       "needs flexible shafts"},
       {"too few segments", v + "analysis: {segments_per_cycle: 2}\n", "analysis.segments_per_cycle",
        "[4, 4096]"},
       {"zero speed", ReplaceFirst(v, "800 rpm", "0 rpm"), "operating.speed", "must be > 0"},
@@ -192,6 +194,19 @@ TEST_CASE("malformed gearbox files: exit code 1 and a message naming the path",
       if (!c.expected_rule.empty()) CHECK(r.err.find(c.expected_rule) != std::string::npos);
     }
   }
+}
+
+TEST_CASE("check and simulate refuse a tier the model cannot have with the same message",
+          "[cli][malformed]") {
+  TempDir dir;
+  const auto file = dir.Write("mta.yaml", kValid + "analysis: {tier: \"N20 MTA\", cycles: 10}\n");
+  const auto check = RunCommand(kExe + " check " + file.string());
+  const auto simulate = RunCommand(kExe + " simulate " + file.string());
+  INFO("check: " << check.err << "simulate: " << simulate.err);
+  CHECK(check.exit_code == 1);
+  CHECK(simulate.exit_code == 1);
+  CHECK(check.err.find("analysis.tier: needs flexible shafts") != std::string::npos);
+  CHECK(check.err == simulate.err);
 }
 
 TEST_CASE("error messages give the line of the offending value", "[cli][malformed]") {
@@ -270,7 +285,8 @@ TEST_CASE("check on the flexible example reports the shaft FE model", "[cli][jso
   CHECK(doc["tiers_unavailable"].empty());
   for (const auto& t : tiers) {
     INFO(t["name"]);
-    CHECK(t["state_dim"].get<int>() == 2 * t["dof"].get<int>() + 1);
+    // The solver's state: positions, velocities, the constant slot and one input (no errors).
+    CHECK(t["state_dim"].get<int>() == 2 * t["dof"].get<int>() + 2);
     CHECK(t["natural_frequencies_hz"].size() > 0);
     const std::string name = t["name"];
     if (name == "N20 simple") CHECK(std::abs(t["compliance_error_vs_full"].get<double>()) > 1e-6);

@@ -63,7 +63,8 @@ TEST_CASE("atlas: 1 and 2 threads give bitwise the same cells, with regular and 
   // Files: the same JSON and one CSV row per cell.
   const std::string csv = ReadWholeFile(dir.path() / "atlas.csv");
   CHECK(std::count(csv.begin(), csv.end(), '\n') == 7);
-  CHECK(csv.rfind("ix,iy,operating.speed,operating.torque,ok,lyapunov_per_s", 0) == 0);
+  // Parameter columns in the units of the file (800 rpm, 0.2 N*m).
+  CHECK(csv.rfind("ix,iy,operating.speed [rpm],operating.torque [N m],ok,lyapunov_per_s", 0) == 0);
   CHECK(WithoutTimes(nlohmann::json::parse(ReadWholeFile(dir.path() / "atlas.json"))).dump() ==
         WithoutTimes(b).dump());
 }

@@ -45,6 +45,7 @@ TEST_CASE("report: a batch with a malformed file completes the good gearbox and 
   INFO(run.out << run.err);
   CHECK(run.exit_code == 1);
   CHECK(run.err.find("broken.yaml") != std::string::npos);
+  CHECK(run.err.find('\r') == std::string::npos);  // no progress line when stderr is a file
   const std::string batch = ReadWholeFile(out / "index.html");
   CHECK(batch.find("broken.yaml") != std::string::npos);
   CHECK(batch.find("failed:") != std::string::npos);
@@ -99,6 +100,44 @@ TEST_CASE("report: a batch with a malformed file completes the good gearbox and 
             std::string::npos);
       CHECK(dom.out.find("data-images-broken=\"0\"") != std::string::npos);
     }
+  }
+}
+
+// A small loaded pair (short runs, three sweep speeds, no atlas) for the progress tests.
+const std::string kSmallGearbox = R"(schema: gearnvh/1
+name: small
+materials: {steel: {youngs_modulus: 206 GPa, poisson_ratio: 0.3, density: 7850 kg/m^3}}
+gears:
+  pinion: {teeth: 23, module: 2 mm, face_width: 12 mm, bore_diameter: 20 mm, material: steel}
+  wheel: {teeth: 37, module: 2 mm, face_width: 12 mm, bore_diameter: 25 mm, material: steel}
+mesh: {backlash: 80 um}
+operating: {speed: 1500 rpm, torque: 20 N*m}
+analysis:
+  cycles: 64
+  transient_cycles: 16
+  speed_sweep: {from: 1000 rpm, to: 2000 rpm, points: 3}
+)";
+
+TEST_CASE("report: one gearbox shows its stages on a terminal and stays quiet when piped",
+          "[cli][report]") {
+  const TempDir dir;
+  const fs::path file = dir.Write("small.yaml", kSmallGearbox);
+  const std::string command = kExe + " report " + file.string() + " --width 400 --height 300 --out ";
+  // Piped (stderr to a file): nothing on stderr at all.
+  const auto piped = RunCommand(command + (dir.path() / "piped").string());
+  INFO(piped.out << piped.err);
+  REQUIRE(piped.exit_code == 0);
+  CHECK(piped.err.empty());
+  // On a terminal (util-linux `script` gives the command a pseudo-terminal; its output is the
+  // terminal's): the stages of the one gearbox, with counts.
+  const auto tty = RunCommand("script -qec '" + command + (dir.path() / "tty").string() +
+                              "' /dev/null");
+  INFO(tty.out << tty.err);
+  REQUIRE(tty.exit_code == 0);
+  for (const char* stage : {"model and modal tiers", "operating point", " mesh cycles",
+                            "speed sweep", "3/3 speeds", "images", "data files and pages"}) {
+    INFO(stage);
+    CHECK(tty.out.find(stage) != std::string::npos);
   }
 }
 

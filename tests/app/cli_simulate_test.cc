@@ -61,6 +61,14 @@ TEST_CASE("simulate --out writes the trajectory, events and results atomically",
   REQUIRE(r.exit_code == 0);
   CHECK(r.out.find("real time") != std::string::npos);
   CHECK(r.err.empty());  // quiet when not on a terminal
+  // Units as the file wrote them (800 rpm, 0.2 N*m), µm, and what the TE mean and the dynamic
+  // factor under a drag torque mean.
+  INFO(r.out);
+  CHECK(r.out.find("pinion at 800 rpm, 0.2 N m on the wheel") != std::string::npos);
+  CHECK(r.out.find(" µm, RMS ") != std::string::npos);
+  CHECK(r.out.find(" um") == std::string::npos);
+  CHECK(r.out.find("the mean includes half the backlash (b = 50 µm") != std::string::npos);
+  CHECK(r.out.find("dynamic factor not meaningful here") != std::string::npos);
   size_t files = 0;
   for (const auto& e : std::filesystem::directory_iterator(out)) {
     ++files;

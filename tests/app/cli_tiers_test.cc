@@ -36,7 +36,7 @@ TEST_CASE("tiers compares every modal tier of a flexible gearbox with the full F
   CHECK(r["finest_tier"] == "N40 full");
   CHECK(by["N40 full"]["te_rms_difference_to_finest"].get<double>() == 0.0);
   // Craig-Bampton with 40 modes reproduces the lowest full-FE frequencies far better than the
-  // rigid tiers; MTA keeps the static mesh compliance of the full model (DESIGN: 1e-10).
+  // rigid tiers; MTA keeps the static mesh compliance of the full model (docs/design.md: 1e-10).
   CHECK(by["N40 full"]["max_frequency_error"].get<double>() < 1e-3);
   CHECK(by["tier 2"]["max_frequency_error"].get<double>() >
         10.0 * by["N40 full"]["max_frequency_error"].get<double>());

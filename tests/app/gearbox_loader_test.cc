@@ -1,9 +1,11 @@
 #include "config/gearbox_loader.h"
 
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <filesystem>
 #include <numbers>
 
+#include "gearnvh/model/component_model.h"
 #include "gearnvh/model/input_error.h"
 
 namespace gearnvh::config {
@@ -89,6 +91,62 @@ TEST_CASE("closest-key suggestions", "[loader]") {
   CHECK(ClosestMatch("backlsh", {"backlash", "damping_ratio"}) == "backlash");
   CHECK(ClosestMatch("modul", {"module", "teeth"}) == "module");
   CHECK(ClosestMatch("zzzzzz", {"module", "teeth"}).empty());
+}
+
+}  // namespace
+}  // namespace gearnvh::config
+
+namespace gearnvh::config {
+namespace {
+
+// A loaded spur pair 20:30 (m = 2 mm, alpha = 20 deg) whose torque is given on `on`.
+GearboxSpec TorquePair(const std::string& torque, const std::string& on) {
+  return LoadGearboxFromString(R"(
+name: torque
+materials: {steel: {youngs_modulus: 206 GPa, poisson_ratio: 0.3, density: 7850 kg/m^3}}
+gears:
+  pinion: {teeth: 20, module: 2 mm, face_width: 10 mm, bore_diameter: 10 mm, material: steel}
+  wheel:  {teeth: 30, module: 2 mm, face_width: 10 mm, bore_diameter: 10 mm, material: steel}
+mesh: {backlash: 100 um}
+operating: {speed: 1000 rpm, torque: )" + torque +
+                               (on.empty() ? "" : ", torque_on: " + on) + "}\n");
+}
+
+TEST_CASE("operating.torque_on: a pinion torque loads the mesh with T1 / r_b1", "[loader]") {
+  // Closed form: r_b = m z cos(alpha) / 2; the static mesh force along the line of action is the
+  // torque over the base radius of the gear it acts on. Tolerance 1e-12 relative: the same
+  // arithmetic in a different order.
+  const double alpha = 20.0 * std::numbers::pi / 180.0;
+  const double rb1 = 0.5 * 2e-3 * 20 * std::cos(alpha), rb2 = 0.5 * 2e-3 * 30 * std::cos(alpha);
+  const GearboxSpec wheel_default = TorquePair("30 N*m", "");
+  CHECK(wheel_default.operating.torque_on == TorqueOn::kWheel);
+  const GearboxSpec pinion = TorquePair("20 N*m", "pinion");
+  CHECK(pinion.operating.torque_on == TorqueOn::kPinion);
+  CHECK(pinion.operating.torque == Approx(20.0).epsilon(1e-15));  // kept as given
+  CHECK(pinion.WheelTorque() == Approx(20.0 * rb2 / rb1).epsilon(1e-12));
+
+  const ComponentModel on_pinion = BuildComponentModel(pinion);
+  CHECK(on_pinion.cycle.load == Approx(20.0 / rb1).epsilon(1e-12));
+  // The equivalent wheel torque T2 = T1 r_b2 / r_b1 = 30 N m gives the same model: the same mesh
+  // force and the same generalized forces (same sign: the drive flank is loaded).
+  const ComponentModel on_wheel = BuildComponentModel(wheel_default);
+  CHECK(on_wheel.cycle.load == Approx(30.0 / rb2).epsilon(1e-12));
+  CHECK(on_pinion.cycle.load == Approx(on_wheel.cycle.load).epsilon(1e-12));
+  REQUIRE(on_pinion.static_force.size() == on_wheel.static_force.size());
+  CHECK((on_pinion.static_force - on_wheel.static_force).norm() <=
+        1e-12 * on_wheel.static_force.norm());
+  CHECK(on_pinion.static_force[on_pinion.PinionDof(kThz)] == Approx(20.0).epsilon(1e-12));
+  CHECK(on_pinion.static_force[on_pinion.WheelDof(kThz)] == Approx(30.0).epsilon(1e-12));
+  CHECK(on_pinion.mesh_summary.mean == Approx(on_wheel.mesh_summary.mean).epsilon(1e-12));
+
+  CHECK(TorquePair("30 N*m", "wheel").WheelTorque() == 30.0);
+  try {
+    TorquePair("1 N*m", "shaft");
+    FAIL("accepted torque_on: shaft");
+  } catch (const InputError& e) {
+    CHECK(e.path() == "operating.torque_on");
+    CHECK(e.rule() == "must be wheel or pinion");
+  }
 }
 
 }  // namespace

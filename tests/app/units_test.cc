@@ -43,3 +43,27 @@ TEST_CASE("bad quantities are rejected with the rule", "[units]") {
 
 }  // namespace
 }  // namespace gearnvh::config
+
+namespace gearnvh::config {
+namespace {
+
+TEST_CASE("speed and torque are shown in the units the file used", "[units]") {
+  const double rpm = 60.0 / (2.0 * std::numbers::pi);
+  const DisplayUnit r = DisplayUnitOf("800 rpm", Dimension::kAngularSpeed);
+  CHECK(r.symbol == "rpm");
+  CHECK(r.per_si == Approx(rpm).epsilon(1e-15));
+  CHECK(DisplayUnitOf("800 rev/min", Dimension::kAngularSpeed).symbol == "rpm");
+  CHECK(DisplayUnitOf("13 rev/s", Dimension::kAngularSpeed).symbol == "rev/s");
+  CHECK(DisplayUnitOf("83.8", Dimension::kAngularSpeed).symbol == "rad/s");  // plain SI
+  CHECK(DisplayUnitOf("0.2 N*m", Dimension::kTorque).symbol == "N m");
+  CHECK(DisplayUnitOf("0.2 Nm", Dimension::kTorque).symbol == "N m");
+  const DisplayUnit mm = DisplayUnitOf("200 N*mm", Dimension::kTorque);
+  CHECK(mm.symbol == "N mm");
+  CHECK(mm.per_si == 1e3);
+  CHECK(DisplayUnitOf("2 kN*m", Dimension::kTorque).symbol == "kN m");
+  CHECK(ParseQuantity("2 kN*m", Dimension::kTorque).unit == "kN*m");
+  CHECK(ParseQuantity("2", Dimension::kTorque).unit.empty());
+}
+
+}  // namespace
+}  // namespace gearnvh::config

@@ -55,7 +55,7 @@ TEST_CASE("rigid-shaft model: structure, one rigid-body rotation, mesh vectors",
   const double n2 = m.v_drive[m.PinionDof(kUx)] * m.v_drive[m.PinionDof(kUx)] +
                     m.v_drive[m.PinionDof(kUy)] * m.v_drive[m.PinionDof(kUy)];
   CHECK(n2 == Approx(1.0).epsilon(1e-15));
-  // m_e and c = 2 zeta sqrt(k m_e) as DESIGN.md §4.1 defines them.
+  // m_e and c = 2 zeta sqrt(k m_e) as docs/design.md §4.1 defines them.
   const double j1 = m.pinion_body.polar, j2 = m.wheel_body.polar;
   const double rb1 = m.geometry.pinion.base, rb2 = m.geometry.wheel.base;
   CHECK(m.effective_mass == Approx(j1 * j2 / (j1 * rb2 * rb2 + j2 * rb1 * rb1)).epsilon(1e-15));
@@ -64,7 +64,7 @@ TEST_CASE("rigid-shaft model: structure, one rigid-body rotation, mesh vectors",
 }
 
 TEST_CASE("the static load carries no net torque on the rigid-body rotation", "[component]") {
-  // DESIGN.md §4.1: pinion driven by T r_b1/r_b2, wheel resisted by T: the rigid rotation
+  // docs/design.md §4.1: pinion driven by T r_b1/r_b2, wheel resisted by T: the rigid rotation
   // (th1 = 1/r_b1 on every pinion-shaft node, th_z2 = -1/r_b2 on the wheel shaft) does no work.
   for (const GearboxSpec& spec : {StandardPair(27, 43), FlexiblePair(0.02)}) {
     const ComponentModel m = BuildComponentModel(spec);

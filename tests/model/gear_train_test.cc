@@ -1,4 +1,4 @@
-// Gear trains (DESIGN.md §11): topology, nominal speeds, torque flow, tier-1 torsional modes.
+// Gear trains (docs/gear-trains.md): topology, nominal speeds, torque flow, tier-1 torsional modes.
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <numbers>

@@ -1,4 +1,4 @@
-// Helical pairs (DESIGN.md §12): transverse geometry, contact ratios, slice-method stiffness.
+// Helical pairs (docs/gear-trains.md): transverse geometry, contact ratios, slice-method stiffness.
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <numbers>

@@ -151,7 +151,7 @@ TEST_CASE("load sharing sums to one and is symmetric for a symmetric pair", "[me
 }
 
 TEST_CASE("without separations the load shares in proportion to stiffness", "[mesh][lsr]") {
-  // DESIGN.md §2.3: with e_i = 0, LSR_i = k_i / sum k. At a vanishing load the out-of-path pairs
+  // docs/design.md §2.3: with e_i = 0, LSR_i = k_i / sum k. At a vanishing load the out-of-path pairs
   // (e > 0) carry nothing, the in-path pairs share by stiffness.
   GearboxSpec spec = StandardPair(27, 43);
   spec.operating.torque = 0.0;

@@ -1,4 +1,4 @@
-// Tangent dynamics, Lyapunov exponents and periodic orbits (DESIGN.md §5).
+// Tangent dynamics, Lyapunov exponents and periodic orbits (docs/design.md §5).
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <complex>

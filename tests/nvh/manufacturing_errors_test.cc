@@ -1,4 +1,4 @@
-// Runout and pitch errors through model, solver and spectrum (DESIGN.md §13).
+// Runout and pitch errors through model, solver and spectrum (docs/design.md §13).
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <numbers>

@@ -88,7 +88,7 @@ TEST_CASE("an AM signal's sidebands are found at the right frequencies and ampli
   CHECK(find("1 fm - 1 f1").amplitude == Approx(a * m / 2).epsilon(1e-9));
   CHECK(find("1 fm + 1 f1").amplitude == Approx(a * m / 2).epsilon(1e-9));
   CHECK(find("1 fm - 1 f1").frequency_hz == Approx(fm - f1));
-  CHECK(find("1 fm").db == Approx(20 * std::log10(a)).epsilon(1e-12));
+  CHECK(find("1 fm").db_re_1um == Approx(20 * std::log10(a / 1e-6)).epsilon(1e-12));
   CHECK(find("1 fm").background < 1e-12 * a);
   // Lines that are not in the signal (rounding noise, ~-300 dB) are not listed.
   CHECK_FALSE(has("1 fm + 1 f2"));

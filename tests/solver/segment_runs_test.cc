@@ -1,4 +1,4 @@
-// Segment-run fusion (DESIGN.md §4.5): certified products of consecutive segment propagators give
+// Segment-run fusion (docs/design.md §4.5): certified products of consecutive segment propagators give
 // the step-by-step state to rounding (the ladder's bound: 1e-12 relative).
 #include <catch2/catch.hpp>
 

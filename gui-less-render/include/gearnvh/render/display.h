@@ -1,4 +1,4 @@
-// An X display for VTK's offscreen rendering (DESIGN.md §7).
+// An X display for VTK's offscreen rendering (docs/design.md §7).
 //
 // Debian's VTK 9.1 renders through GLX only (no OSMesa/EGL build): without an X server a render
 // would crash. EnsureDisplay() makes sure one is usable before anything is drawn:

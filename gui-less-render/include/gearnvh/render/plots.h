@@ -1,4 +1,4 @@
-// Plots rendered offscreen with VTK's chart module into PNG files (DESIGN.md §7).
+// Plots rendered offscreen with VTK's chart module into PNG files (docs/design.md §7).
 //
 // The figures are plain data (titles, axis labels with units, series, labels); this library only
 // draws them. Every render first makes sure an X display exists (display.h) and reports a missing
@@ -44,8 +44,10 @@ struct LinePlot {
   std::string title, x_label, y_label;  // labels carry their units, e.g. "speed (rpm)"
   std::vector<Series> series;
   std::vector<TextLabel> labels;
-  bool log_y = false;
-  bool fixed_x = false, fixed_y = false;  // use the ranges below instead of autoscaling
+  bool log_y = false;       // logarithmic y axis
+  bool auto_log_y = true;   // also logarithmic when the data are positive over >= 3 decades
+  // Use the ranges below instead of the data's range (with a margin, layout.h AutoRange).
+  bool fixed_x = false, fixed_y = false;
   double x_min = 0.0, x_max = 1.0, y_min = 0.0, y_max = 1.0;
   bool legend = true;
 };

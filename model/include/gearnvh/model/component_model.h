@@ -1,6 +1,6 @@
 // ComponentModel: the assembled gearbox — mesh (stiffness over the cycle, segments) and structure
 // (sparse M, C, K, G of shafts, bearings, gear bodies and driveline inertias) — built from a
-// GearboxSpec by BuildComponentModel(). DESIGN.md §2.
+// GearboxSpec by BuildComponentModel(). docs/design.md §2.
 //
 // Coordinates (global, SI): shafts along z; pinion centre at (0, 0), wheel centre at (a, 0); 6 DOF
 // per node [u_x, u_y, u_z, th_x, th_y, th_z]. The pinion runs at +Omega1 about z, the wheel at

@@ -1,5 +1,6 @@
-// Gear-pair geometry (DESIGN.md §2.1, §12), all in SI units; a helical pair is computed on its
-// transverse section (mesh_pair.h), so the spur formulas below hold with transverse quantities.
+// Gear-pair geometry (docs/design.md §2.1, docs/gear-trains.md), all in SI units; a helical pair is
+// computed on its transverse section (mesh_pair.h), so the spur formulas below hold with
+// transverse quantities.
 //
 //   r_p = m z / 2,  r_b = r_p cos(alpha0),  r_a = r_p + (h_a* + x) m,  r_f = r_p - (h_f* - x) m
 //   p_b = pi m cos(alpha0)
@@ -40,7 +41,7 @@ struct PairGeometry {
   double gear_ratio = 0.0;              // z2 / z1
   double mesh_frequency_hz = 0.0;       // at the operating speed
   double mesh_period_s = 0.0;
-  // Helical pairs (DESIGN §12; all 0 or equal to the transverse values for spur gears): the helix
+  // Helical pairs (docs/gear-trains.md; all 0 or equal to the transverse values for spur gears): the helix
   // angle beta, the base helix angle beta_b (sin beta_b = sin beta cos a_n), the common face width,
   // the overlap ratio eps_beta = b sin beta / (pi m_n) and the total contact ratio
   // eps_gamma = eps_alpha + eps_beta (contact_ratio above is the transverse eps_alpha).

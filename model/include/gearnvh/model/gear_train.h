@@ -1,4 +1,4 @@
-// GearTrain: the component model of a gear train (schema gearnvh/2, DESIGN §11): its bodies with
+// GearTrain: the component model of a gear train (schema gearnvh/2, docs/gear-trains.md): its bodies with
 // their nominal speeds and polar inertias, and per mesh the mesh-level model (geometry,
 // deformation-compatible stiffness over the cycle, load sharing, LSTE) at the torque that mesh
 // transmits. A schema-1 gearbox is the train TrainOf(spec).

@@ -132,13 +132,27 @@ struct ExcitationOrder {
   double phase = 0.0;      // rad
 };
 
+// The gear `OperatingSpec::torque` acts on: a load resisting the wheel, or the torque the pinion
+// transmits (converted to the wheel by the tooth ratio, so the mesh carries the same force).
+enum class TorqueOn { kWheel, kPinion };
+
+// A unit a quantity is shown in: shown value = SI value * per_si.
+struct DisplayUnit {
+  std::string symbol;
+  double per_si = 1.0;
+};
+
 struct OperatingSpec {
   double speed = 0.0;   // rad/s, > 0: mean pinion speed
-  double torque = 0.0;  // N m, >= 0: mean torque resisting the wheel
+  double torque = 0.0;  // N m, >= 0: mean torque on the gear `torque_on` names
+  TorqueOn torque_on = TorqueOn::kWheel;
+  // The units the input wrote speed and torque in (SI for plain numbers), for output in them.
+  DisplayUnit speed_unit{"rad/s", 1.0};
+  DisplayUnit torque_unit{"N m", 1.0};
   std::vector<ExcitationOrder> excitation;
 };
 
-// Modal tier names as in DESIGN.md §3.
+// Modal tier names as in docs/design.md §3.
 enum class Tier { kTier1, kTier2, kTier3, kTier4, kTier5, kN20Simple, kN20Mta };
 
 struct SweepRange {
@@ -175,7 +189,19 @@ struct GearboxSpec {
   AnalysisSpec analysis;
 
   const Material& MaterialOf(const GearSpec& gear) const { return materials.at(gear.material); }
+
+  // The mean torque T2 resisting the wheel, N m: `operating.torque` itself, or a pinion torque T1
+  // times r_b2 / r_b1 = z2 / z1 (both gears share module and pressure angle), so the static mesh
+  // force T1 / r_b1 = T2 / r_b2 is the same either way.
+  double WheelTorque() const {
+    return operating.torque_on == TorqueOn::kWheel
+               ? operating.torque
+               : operating.torque * static_cast<double>(wheel.teeth) / pinion.teeth;
+  }
 };
+
+// "wheel" or "pinion".
+const char* TorqueOnName(TorqueOn on);
 
 // Human-readable tier name ("tier 1" … "tier 5", "N20 simple", "N20 MTA").
 const char* TierName(Tier tier);

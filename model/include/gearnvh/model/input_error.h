@@ -1,4 +1,4 @@
-// InputError: the one exception type for bad user input (DESIGN.md §1, "three kinds of failure").
+// InputError: the one exception type for bad user input (docs/design.md §1, "three kinds of failure").
 //
 // It carries the YAML path of the offending value, the source line (1-based, 0 when unknown),
 // the value as written and the rule it broke, so the message reads

@@ -1,6 +1,6 @@
-// Manufacturing errors of the two gears as an unloaded transmission error of the mesh (DESIGN
-// §13): runout (eccentricity) a_g sin(theta_g(t) + phi_g) of each gear, and cumulative pitch
-// deviations f_g[i] of each tooth.
+// Manufacturing errors of the two gears as an unloaded transmission error of the mesh
+// (docs/design.md §13): runout (eccentricity) a_g sin(theta_g(t) + phi_g) of each gear, and
+// cumulative pitch deviations f_g[i] of each tooth.
 //
 // Pitch errors enter the deformation-compatible sharing pair by pair: the pair that entered the
 // path of contact q mesh cycles ago carries pinion tooth (c - q) mod z1 and wheel tooth

@@ -1,4 +1,4 @@
-// Cutting the mesh cycle into S segments for the piecewise-LTI solver (DESIGN.md §4.1).
+// Cutting the mesh cycle into S segments for the piecewise-LTI solver (docs/design.md §4.1).
 //
 // Mandatory boundaries (in cycle fraction tau): 0, every change of the loaded-pair count on either
 // flank (located by bisection to 1e-12 of the cycle), every pitch-point crossing on either

@@ -1,4 +1,4 @@
-// Deformation-compatible mesh stiffness over one mesh cycle (DESIGN.md §2.3–2.4).
+// Deformation-compatible mesh stiffness over one mesh cycle (docs/design.md §2.3–2.4).
 //
 // Cycle fraction tau in [0, 1) = pinion angle / (2 pi / z1). Tooth pair j sits at roll position
 //   s_j(tau) = s_start + (tau + j) p_b        (s measured along the line of action from T1)
@@ -34,7 +34,7 @@ struct MeshStiffnessOptions {
   int samples_per_cycle = 2048;
   // Pairs farther than this many base pitches outside the path of contact are ignored; > 0.
   double path_extension_pitches = 0.5;
-  // Face slices of a helical pair (the slice method, DESIGN §12); >= 2. Each slice is a spur pair
+  // Face slices of a helical pair (the slice method, docs/gear-trains.md); >= 2. Each slice is a spur pair
   // of width b / N on the transverse section, displaced in mesh phase by its position along the
   // face times tan(beta_b) / p_bt.
   int helical_slices = 40;

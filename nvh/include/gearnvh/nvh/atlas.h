@@ -1,4 +1,4 @@
-// Chaos atlas: a 2-D grid over two schema parameters (DESIGN.md §5). Each cell is one gearbox
+// Chaos atlas: a 2-D grid over two schema parameters (docs/design.md §5). Each cell is one gearbox
 // variant taken through model -> reduction -> tables -> settled exact run with a tangent vector:
 //   largest Lyapunov exponent (1/s and per forcing cycle, with its standard error),
 //   impacts per mesh cycle on each flank, rattle index, separation fraction, regime.

@@ -1,4 +1,4 @@
-// Campbell data of a linearised rotor/gear model (DESIGN.md §6).
+// Campbell data of a linearised rotor/gear model (docs/design.md §6).
 //
 // At pinion speed Omega the free vibration of M q'' + (C + Omega G) q' + K q = 0 has eigenvalues
 // lambda = sigma + i omega of the first-order form [[0, I], [-M^-1 K, -M^-1 (C + Omega G)]].

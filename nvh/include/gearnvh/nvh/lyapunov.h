@@ -1,4 +1,4 @@
-// Largest Lyapunov exponent of the exact piecewise-linear gear dynamics (DESIGN.md §5).
+// Largest Lyapunov exponent of the exact piecewise-linear gear dynamics (docs/design.md §5).
 //
 // Benettin's method on the exact tangent dynamics: one tangent vector u (zero in the constant and
 // excitation slots) is advanced with the state by the same segment propagators, saltation matrices

@@ -1,5 +1,5 @@
 // Periodic orbits of the exact gear dynamics by Newton shooting, with Floquet multipliers
-// (DESIGN.md §5).
+// (docs/design.md §5).
 //
 // Base period T_0 = N_0 T_m: the smallest whole number of mesh cycles after which the mesh
 // stiffness and every engine order repeat (N_0 k_i / z1 integer for every order k_i; N_0 = 1

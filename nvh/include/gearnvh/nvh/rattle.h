@@ -1,4 +1,4 @@
-// Rattle indices of a recorded run (DESIGN.md §6). Over N recorded mesh cycles of period T_m:
+// Rattle indices of a recorded run (docs/design.md §6). Over N recorded mesh cycles of period T_m:
 //   impacts per mesh cycle          n_d = drive impacts / N,  n_b = back impacts / N
 //   impacts per excitation cycle    n * T_e / T_m, T_e = 2 pi / (order_1 Omega1) (first engine
 //   order;

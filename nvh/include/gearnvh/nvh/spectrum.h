@@ -1,4 +1,4 @@
-// Amplitude spectra of uniformly sampled signals with FFTW (DESIGN.md §6), and the mesh-harmonic /
+// Amplitude spectra of uniformly sampled signals with FFTW (docs/design.md §6), and the mesh-harmonic /
 // sideband table an NVH engineer reads off a TE spectrum.
 //
 // Amplitude-correct one-sided spectrum with a Hann window w_n = 0.5 (1 - cos(2 pi n / N)):
@@ -71,8 +71,8 @@ struct SidebandRow {
   std::string label;  // e.g. "1 f1", "2 fm", "1 fm + 1 f1", "3 fm - 2 f2"; "1 f1 = 3 f2" when
                       // two lines fall on one frequency
   double frequency_hz = 0.0;
-  double amplitude = 0.0;
-  double db = 0.0;
+  double amplitude = 0.0;   // m
+  double db_re_1um = 0.0;  // 20 log10(amplitude / 1 µm)
   double background = 0.0;  // local median amplitude
 };
 std::vector<SidebandRow> SidebandTable(const AmplitudeSpectrum& s, double mesh_hz, double pinion_hz,

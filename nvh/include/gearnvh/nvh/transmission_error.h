@@ -1,4 +1,4 @@
-// Dynamic transmission error and mesh force statistics (DESIGN.md §6, §10).
+// Dynamic transmission error and mesh force statistics (docs/design.md §6, §10).
 //
 // Every statistic comes from the solver's exact statistics of the recorded window (closed-form
 // integrals and in-segment extrema of the piecewise-exact solution, solver/exact_recorder.h):

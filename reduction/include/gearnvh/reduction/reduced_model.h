@@ -1,4 +1,4 @@
-// ReducedModel: a component model reduced to one of the modal tiers of DESIGN.md §3, ready for the
+// ReducedModel: a component model reduced to one of the modal tiers of docs/design.md §3, ready for the
 // exact solver — dense M, C, K, G, gap and friction vectors and forcing in reduced coordinates, and
 // the recovery matrix back to the physical DOF (q_full = T x).
 //
@@ -60,7 +60,6 @@ struct ReducedModel {
   int rigid_body_modes = 0;
   double wall_seconds = 0.0;
 
-  int state_dim() const { return 2 * dof + 1; }
   double EffectiveMeshStiffness(double k) const { return k / (1.0 + k * residual_compliance); }
   Eigen::VectorXd FrictionVector(Flank flank, double sigma, double arm_pinion,
                                  double arm_wheel) const {
@@ -72,6 +71,10 @@ struct ReducedModel {
 
 // True when the component model can be reduced to `tier` (tiers 4, 5 and N20 need shaft interiors).
 bool TierAvailable(const ComponentModel& model, Tier tier);
+
+// Throws InputError (analysis.tier) when the tier is not available: the one rule `check` and the
+// solver commands share.
+void RequireTierAvailable(const ComponentModel& model, Tier tier);
 
 // Reduces the model. Throws InputError (analysis.tier) when the tier is not available.
 ReducedModel ReduceModel(const ComponentModel& model, Tier tier,

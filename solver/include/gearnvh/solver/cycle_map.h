@@ -1,5 +1,5 @@
 // Constant-contact regime: a mesh cycle as one matrix, its periodic orbit and certified jumps
-// (DESIGN.md §4.3).
+// (docs/design.md §4.3).
 //
 // In one contact state sigma, with no engine excitation, the cycle map is the product of the
 // segment propagators, P = Phi_S ... Phi_1 (affine in the augmented state: P = [[P_xx, p], [0,

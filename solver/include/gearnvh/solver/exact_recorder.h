@@ -1,4 +1,4 @@
-// Exact statistics and uniformly sampled outputs of a recorded trajectory (DESIGN.md §10).
+// Exact statistics and uniformly sampled outputs of a recorded trajectory (docs/design.md §10).
 //
 // The stepper hands over the recorded trajectory as pieces: the state z at the start of a piece,
 // the (segment, contact state) whose generator A propagates it, the start time and the length.

@@ -1,16 +1,19 @@
-// Exact piecewise-LTI propagation with closed-form-accurate event location (DESIGN.md §4).
+// Exact piecewise-LTI propagation with closed-form-accurate event location (docs/design.md §4).
 //
-// Stepping loop (per mesh cycle, per segment j, in contact state sigma):
-//   s <- mean engine excitation over the segment (z[m-1])
-//   for each of the N_j sub-steps of length D = h_j / N_j:
-//     z1 <- Phi_sub(j, sigma) z                       (one matvec)
-//     if no gap relevant to sigma can have reached its wall on [0, D]   (endpoint signs and rates)
-//       z <- z1
-//     else                                            (event path, rare)
-//       expand z(tau) = sum_k A^k z tau^k / k! (Taylor; rho(A) D <= 1/2 so 18 terms reach
-//       rounding), find the first root tau* of the relevant gap polynomial (sampling + safeguarded
-//       Newton), z <- z(tau*), sigma <- new state, log the event, and continue the sub-step in the
-//       new state.
+// Stepping loop, per mesh cycle and segment j, in contact state sigma (ExactStepper::Run):
+//   1. kFused, unrecorded cycle: try the longest certified run of segments from j in one matvec
+//      (segment_runs.h); taken when the certificate and the end-state check hold.
+//   2. the inputs u (engine excitation, manufacturing error) <- their means over segment j
+//   3. certified permanent contact (kFused, cycle_map.h): the whole segment in one matvec.
+//   4. otherwise, by EventMethod:
+//      kSpectral (V3, default): the whole segment at once; the first root of the closed-form gap
+//        in decoupled coordinates (spectral_gap.h) is the event; two matvecs without an event.
+//      kTaylor (V2) / kDyadic (V1): N_j sub-steps of length D = h_j / N_j, one matvec each; a
+//        sub-step whose endpoint signs and rates show a wall may have been reached is searched on
+//        the Taylor polynomial z(tau) = sum_k A^k z tau^k / k! (rho(A) D <= 1/2, 18 terms reach
+//        rounding; sampling + safeguarded Newton), or by dyadic bisection for V1.
+//      At an event: z <- z(t*), sigma <- new state, log it, continue the segment in the new state.
+//   5. at the cycle end: recentre the pair's free rotation.
 // Given the piecewise-constant segment model, event times and states are exact to rounding.
 // A state found outside its wall at the start of a (sub-)step by more than the wall tolerance
 // 1e-12 b + 64 eps sum_i |c_i z_i| (the rounding floor of the gap, whose terms grow as the pair's
@@ -150,7 +153,7 @@ class ExactStepper {
   void SetFusedContact(bool fused) { fused_ = fused; }
   // Replaces the state (after a certified jump) and advances the clock by whole cycles.
   void JumpTo(const Eigen::VectorXd& z, long cycles);
-  // Tangent propagation (DESIGN.md §5). The columns of *tangent (m x p, zero in the constant and
+  // Tangent propagation (docs/design.md §5). The columns of *tangent (m x p, zero in the constant and
   // excitation slots) are advanced with the state by the same propagators, so they carry the
   // derivative of the state with respect to the initial state. Events:
   //   state-triggered crossing (a located root)   V <- S V,  S = I + (f+ - f-) n^T / (n^T f-),

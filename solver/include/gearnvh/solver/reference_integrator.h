@@ -1,4 +1,4 @@
-// Brute-force reference for validation and benchmarks (DESIGN.md §4.6): SUNDIALS CVODE (BDF, dense
+// Brute-force reference for validation and benchmarks (docs/design.md §4.6): SUNDIALS CVODE (BDF, dense
 // direct solver with the exact Jacobian A) on the same piecewise model z' = A_{j,sigma} z, stopping
 // at every segment boundary (tstop), with CVODE's rootfinding on the walls of the current contact
 // state. At a root the state switches and CVODE is re-initialised. CVODE runs in one-step mode and

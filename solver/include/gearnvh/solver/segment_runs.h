@@ -1,4 +1,4 @@
-// Segment-run fusion (DESIGN.md §4.5): products of 2^l consecutive segment propagators in one
+// Segment-run fusion (docs/design.md §4.5): products of 2^l consecutive segment propagators in one
 // contact state, used when a certificate proves that no wall can be reached over the run.
 //
 // For a run of segments k = j .. j + r - 1 (aligned: j a multiple of r, r = 2^l, l >= 1) the

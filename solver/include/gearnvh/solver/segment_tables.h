@@ -1,4 +1,4 @@
-// Piecewise-LTI model of the gear pair and its exact propagators (DESIGN.md §4.1–4.2).
+// Piecewise-LTI model of the gear pair and its exact propagators (docs/design.md §4.1–4.2).
 //
 // Augmented state z = [x; x'; 1; u] (dimension m = 2n + 1 + p): x reduced coordinates, u the p
 // inputs held at their mean over the current segment: u_0 = s, the engine-order excitation
@@ -108,6 +108,14 @@ void RemoveFreeRotation(const SegmentTables& tables, Eigen::Ref<Eigen::MatrixXd>
 Eigen::VectorXd ElasticPart(const SegmentTables& tables, const Eigen::VectorXd& z);
 
 // Builds the tables for one operating point. `spec` gives speed, excitation, damping and friction.
+// The inputs p the state carries: the engine excitation, plus the manufacturing error when a gear
+// has runout or pitch errors.
+int InputCount(const ComponentModel& model);
+// The one definition of a tier's state dimension, as the solver runs it: m = 2n + 1 + p
+// (positions, velocities, the constant slot, the inputs). `check`, `simulate`, `tiers` and the
+// reports print this number.
+int StateDimension(const ComponentModel& model, const ReducedModel& reduced);
+
 SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel& reduced,
                                  const GearboxSpec& spec);
 

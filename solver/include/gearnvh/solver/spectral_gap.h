@@ -1,4 +1,4 @@
-// Closed-form gaps over a segment: the V3 event path (DESIGN.md §4.4).
+// Closed-form gaps over a segment: the V3 event path (docs/design.md §4.4).
 //
 // A generator A (balanced: velocities scaled by 1/w_ref) is brought to an ordered real Schur form
 // A = Q T Q^T (LAPACK dgees, the near-zero eigenvalues first) and T is block-diagonalised with

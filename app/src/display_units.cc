@@ -1,0 +1,40 @@
+#include "display_units.h"
+
+#include <fmt/format.h>
+
+namespace gearnvh::app {
+
+std::string Format(double si_value, const DisplayUnit& unit) {
+  return fmt::format("{:.4g} {}", si_value * unit.per_si, unit.symbol);
+}
+
+std::string TorqueText(const GearboxSpec& spec) {
+  return Format(spec.operating.torque, spec.operating.torque_unit) + " on the " +
+         TorqueOnName(spec.operating.torque_on);
+}
+
+std::string Count(long count, const std::string& singular, const std::string& plural) {
+  return std::to_string(count) + " " + (count == 1 ? singular : plural);
+}
+
+DisplayAxis DisplayAxisFor(const std::string& parameter, const GearboxSpec& spec) {
+  const OperatingSpec& op = spec.operating;
+  if (parameter == "operating.speed") {
+    return {"pinion speed (" + op.speed_unit.symbol + ")", op.speed_unit.per_si,
+            op.speed_unit.symbol};
+  }
+  if (parameter == "operating.torque") {
+    return {std::string("torque on the ") + TorqueOnName(op.torque_on) + " (" +
+                op.torque_unit.symbol + ")",
+            op.torque_unit.per_si, op.torque_unit.symbol};
+  }
+  if (parameter == "mesh.backlash") return {"backlash (µm)", 1e6, "µm"};
+  if (parameter == "mesh.damping_ratio") return {"mesh damping ratio (-)", 1.0, ""};
+  if (parameter == "mesh.friction_coefficient") return {"friction coefficient (-)", 1.0, ""};
+  if (parameter == "operating.excitation[0].amplitude") {
+    return {"excitation amplitude (rad/s²)", 1.0, "rad/s²"};
+  }
+  return {parameter + " (SI)", 1.0, ""};
+}
+
+}  // namespace gearnvh::app

@@ -1,0 +1,29 @@
+// How quantities are shown to the user: speed and torque in the units the gearbox file used
+// (rpm, N m, ...), lengths of the TE in µm, and plural-aware counts.
+#pragma once
+
+#include <string>
+
+#include "gearnvh/model/gearbox_spec.h"
+
+namespace gearnvh::app {
+
+// "800 rpm", "0.5 N m": the SI value in `unit`, 4 significant digits.
+std::string Format(double si_value, const DisplayUnit& unit);
+
+// The operating torque as given: "0.5 N m on the wheel", "20 N m on the pinion".
+std::string TorqueText(const GearboxSpec& spec);
+
+// "1 gearbox", "3 gearboxes": `count` and the singular or plural noun.
+std::string Count(long count, const std::string& singular, const std::string& plural);
+
+// How a schema parameter (an atlas or orbit-sweep axis) is shown: its label with the unit, the
+// factor from SI, the unit alone. Speed and torque use the units the gearbox file used.
+struct DisplayAxis {
+  std::string label;
+  double scale = 1.0;
+  std::string unit;
+};
+DisplayAxis DisplayAxisFor(const std::string& parameter, const GearboxSpec& spec);
+
+}  // namespace gearnvh::app

@@ -1,0 +1,156 @@
+#include "uff_export.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <ctime>
+
+namespace gearnvh::app {
+namespace {
+
+// ID lines and labels are plain ASCII in fixed columns.
+std::string Ascii(const std::string& s, size_t width) {
+  std::string out;
+  for (unsigned char c : s) {
+    if (out.size() == width) break;
+    out += c >= 32 && c < 127 ? static_cast<char>(c) : '_';
+  }
+  return out.empty() ? "NONE" : out;
+}
+
+std::string AxisRecord(const UffAxis& a) {
+  return fmt::format("{:10d}{:5d}{:5d}{:5d} {:<20} {:<20}\n", a.data_type, a.length_exponent,
+                     a.force_exponent, a.temperature_exponent, Ascii(a.label, 20),
+                     Ascii(a.units, 20));
+}
+
+// Fortran E format: d.ddddE+xx with `digits` after the point, right-aligned in `width`.
+std::string FortranE(double v, int width, int digits) {
+  return fmt::format("{:>{}.{}E}", v, width, digits);
+}
+
+std::string Today() {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char buffer[32];
+  std::strftime(buffer, sizeof buffer, "%d-%b-%y %H:%M:%S", &tm);
+  return buffer;
+}
+
+UffAxis TimeAxis() { return {17, 0, 0, 0, "time", "s"}; }
+UffAxis TeAxis() { return {8, 1, 0, 0, "transmission error", "m"}; }
+
+UffFunction Base(const GearboxSpec& spec, const std::string& what, int id) {
+  UffFunction f;
+  f.id1 = what;
+  f.id2 = spec.name;
+  f.id3 = Today();
+  f.id4 = "gearnvh";
+  f.id5 = "NONE";
+  f.function_id = id;
+  return f;
+}
+
+}  // namespace
+
+std::string UffDataset58(const UffFunction& f) {
+  std::string out = "    -1\n    58\n";
+  for (const std::string* id : {&f.id1, &f.id2, &f.id3, &f.id4, &f.id5}) {
+    out += Ascii(*id, 80) + "\n";
+  }
+  out += fmt::format("{:5d}{:10d}{:5d}{:10d} {:<10}{:10d}{:4d} {:<10}{:10d}{:4d}\n", f.function_type,
+                     f.function_id, 1, 0, Ascii(f.response_name, 10), f.response_node,
+                     f.response_direction, "NONE", 0, 0);
+  out += fmt::format("{:10d}{:10d}{:10d}{}{}{}\n", 4, f.values.size(), 1, FortranE(f.x_min, 13, 5),
+                     FortranE(f.dx, 13, 5), FortranE(f.z_value, 13, 5));
+  out += AxisRecord(f.abscissa) + AxisRecord(f.ordinate) + AxisRecord(f.denominator) +
+         AxisRecord(f.z);
+  for (size_t i = 0; i < f.values.size(); ++i) {
+    out += FortranE(f.values[i], 20, 11);
+    if (i % 4 == 3 || i + 1 == f.values.size()) out += '\n';
+  }
+  out += "    -1\n";
+  return out;
+}
+
+std::vector<UffFunction> OperatingPointUff(const GearboxSpec& spec,
+                                           const OperatingPointAnalysis& op, int first_id) {
+  std::vector<UffFunction> out;
+  const std::vector<TrajectorySample>& samples = op.result.trajectory.samples;
+  if (samples.size() >= 2) {
+    const double dx = op.tables.mesh_period / op.solver.samples_per_cycle;
+    UffFunction te = Base(spec, "dynamic transmission error", first_id++);
+    te.function_type = 1;
+    te.response_name = "TE";
+    te.abscissa = TimeAxis();
+    te.ordinate = TeAxis();
+    te.x_min = samples.front().time;
+    te.dx = dx;
+    UffFunction force = te;
+    force.id1 = "mesh force (drive flank positive)";
+    force.function_id = first_id++;
+    force.response_name = "MESH";
+    force.ordinate = {9, 0, 1, 0, "mesh force", "N"};
+    for (const TrajectorySample& s : samples) {
+      te.values.push_back(s.te);
+      force.values.push_back(s.mesh_force);
+    }
+    out.push_back(std::move(te));
+    out.push_back(std::move(force));
+  }
+  if (!op.spectrum.amplitude.empty()) {
+    UffFunction s = Base(spec, fmt::format("TE amplitude spectrum, Hann, {} mesh cycles",
+                                           op.sideband_window),
+                         first_id++);
+    s.function_type = 12;
+    s.response_name = "TE";
+    s.abscissa = {18, 0, 0, 0, "frequency", "Hz"};
+    s.ordinate = TeAxis();
+    s.x_min = 0.0;
+    s.dx = op.spectrum.bin_hz;
+    s.values = op.spectrum.amplitude;
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+std::vector<UffFunction> SweepOrderTracksUff(const GearboxSpec& spec,
+                                             const SpeedSweepResult& sweep, int first_id) {
+  std::vector<UffFunction> out;
+  // Even spacing needs every speed: when one failed, no track is written (the sweep reports the
+  // failure). Bin k z1 / order_step = k * window cycles lies exactly on the mesh order.
+  for (const SpeedPoint& p : sweep.points) {
+    if (!p.ok) return out;
+  }
+  if (sweep.points.size() < 2 || !(sweep.order_step > 0.0)) return out;
+  const double step = sweep.points[1].speed_rpm - sweep.points[0].speed_rpm;
+  for (int k = 1; k <= 3; ++k) {
+    const double order = static_cast<double>(k) * spec.pinion.teeth;
+    const long bin = std::lround(order / sweep.order_step);
+    UffFunction f = Base(spec, fmt::format("order track: TE at mesh order {} (pinion order {:g})",
+                                           k, order),
+                         first_id++);
+    f.function_type = 12;
+    f.response_name = "TE";
+    f.abscissa = {19, 0, 0, 0, "pinion speed", "rpm"};
+    f.ordinate = TeAxis();
+    f.z = {20, 0, 0, 0, "pinion order", "NONE"};
+    f.z_value = order;
+    f.x_min = sweep.points.front().speed_rpm;
+    f.dx = step;
+    for (const SpeedPoint& p : sweep.points) {
+      f.values.push_back(bin < static_cast<long>(p.amplitude_m.size()) ? p.amplitude_m[bin] : 0.0);
+    }
+    out.push_back(std::move(f));
+  }
+  return out;
+}
+
+std::string UffFile(const std::vector<UffFunction>& functions) {
+  std::string out;
+  for (const UffFunction& f : functions) out += UffDataset58(f);
+  return out;
+}
+
+}  // namespace gearnvh::app

@@ -1,0 +1,58 @@
+// Universal File Format (UFF / UNV) dataset 58, ASCII: the function records NVH tools (LMS
+// Test.Lab, Simcenter, ME'scope, pyuff, MATLAB readuff) read. gearnvh writes real, double
+// precision, evenly spaced functions (record 7 ordinate type 4, spacing 1; data as 4E20.12 per line,
+// 13 significant digits). The abscissa start and step are E13.5 fields (6 significant digits), as
+// the format defines them.
+//
+// What a report or `--uff` file holds (docs/reports.md):
+//   operating point: TE time history (m over s), mesh force time history (N over s), TE amplitude
+//     spectrum (m over Hz);
+//   speed sweep: order tracks of the TE amplitude at mesh orders 1..3 (m over rpm; z axis = the
+//     pinion order).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "gearnvh/model/gearbox_spec.h"
+#include "operating_point.h"
+#include "speed_sweep.h"
+
+namespace gearnvh::app {
+
+// Record 8-11: data characteristics of one axis.
+struct UffAxis {
+  int data_type = 0;  // specific data type: 1 general, 8 displacement, 9 reaction force,
+                      // 17 time, 18 frequency, 19 rpm, 20 order
+  int length_exponent = 0, force_exponent = 0, temperature_exponent = 0;
+  std::string label = "NONE", units = "NONE";
+};
+
+struct UffFunction {
+  std::string id1, id2, id3, id4, id5;  // ID lines (80 characters at most)
+  int function_type = 0;  // 1 time response, 12 spectrum
+  int function_id = 0;
+  std::string response_name = "NONE";
+  int response_node = 1, response_direction = 0;
+  UffAxis abscissa, ordinate, denominator, z;
+  double z_value = 0.0;
+  double x_min = 0.0, dx = 0.0;  // even abscissa
+  std::vector<double> values;
+};
+
+// One dataset 58 block, from its "    -1" line to the closing "    -1".
+std::string UffDataset58(const UffFunction& f);
+
+// The operating point's functions (TE and mesh force histories over the recorded samples, the TE
+// spectrum when there is one), ids from `first_id`.
+std::vector<UffFunction> OperatingPointUff(const GearboxSpec& spec,
+                                           const OperatingPointAnalysis& op, int first_id = 1);
+
+// Order tracks of the sweep's waterfall at mesh orders 1..3 (speeds that failed are left out).
+std::vector<UffFunction> SweepOrderTracksUff(const GearboxSpec& spec,
+                                             const SpeedSweepResult& sweep, int first_id = 1);
+
+// The concatenated datasets.
+std::string UffFile(const std::vector<UffFunction>& functions);
+
+}  // namespace gearnvh::app

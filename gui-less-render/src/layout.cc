@@ -1,0 +1,83 @@
+#include "gearnvh/render/layout.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace gearnvh::render {
+
+std::vector<std::optional<Box>> PlaceLabels(const std::vector<LabelRequest>& labels,
+                                            const Box& area, const std::vector<Box>& obstacles,
+                                            double gap) {
+  std::vector<std::optional<Box>> out;
+  std::vector<Box> taken = obstacles;
+  for (const LabelRequest& l : labels) {
+    const double w = l.width, h = l.height;
+    // Lower-left corners of the candidate boxes.
+    const double candidates[8][2] = {
+        {l.x + gap, l.y + gap},           {l.x - gap - w, l.y + gap},
+        {l.x + gap, l.y - gap - h},       {l.x - gap - w, l.y - gap - h},
+        {l.x - 0.5 * w, l.y + gap},       {l.x - 0.5 * w, l.y - gap - h},
+        {l.x + gap, l.y - 0.5 * h},       {l.x - gap - w, l.y - 0.5 * h}};
+    std::optional<Box> placed;
+    for (const auto& c : candidates) {
+      const Box b{c[0], c[1], c[0] + w, c[1] + h};
+      if (!b.Inside(area)) continue;
+      if (std::any_of(taken.begin(), taken.end(), [&](const Box& t) { return b.Overlaps(t); })) {
+        continue;
+      }
+      placed = b;
+      break;
+    }
+    if (placed) taken.push_back(*placed);
+    out.push_back(placed);
+  }
+  return out;
+}
+
+AxisRange AutoRange(const std::vector<double>& values, bool allow_log, double margin,
+                    double decades_for_log, double max_decades) {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  bool positive = true;
+  for (double v : values) {
+    if (!std::isfinite(v)) continue;
+    lo = std::min(lo, v);
+    hi = std::max(hi, v);
+    positive = positive && v > 0.0;
+  }
+  if (!(lo <= hi)) return {0.0, 1.0, false};
+  if (allow_log && positive && std::log10(hi / lo) >= decades_for_log) {
+    lo = std::max(lo, hi * std::pow(10.0, -max_decades));
+    const double pad = std::pow(hi / lo, margin);
+    return {lo / pad, hi * pad, true};
+  }
+  if (hi == lo) {
+    const double half = lo != 0.0 ? 0.1 * std::abs(lo) : 1.0;
+    return {lo - half, hi + half, false};
+  }
+  const double pad = margin * (hi - lo);
+  return {lo - pad, hi + pad, false};
+}
+
+AxisRange MakeRoomForLegend(const AxisRange& y, const AxisRange& x, const std::vector<double>& xs,
+                            const std::vector<double>& ys, double width, double height) {
+  if (!(height > 0.0 && height < 1.0) || !(width > 0.0) || xs.size() != ys.size()) return y;
+  auto t = [&y](double v) { return y.log ? std::log10(v) : v; };
+  const double lo = t(y.min), hi = t(y.max);
+  const double x_band = x.max - width * (x.max - x.min);
+  double peak = -std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < xs.size(); ++i) {
+    if (!(xs[i] >= x_band && xs[i] <= x.max) || !std::isfinite(ys[i])) continue;
+    if (y.log && !(ys[i] > 0.0)) continue;
+    peak = std::max(peak, t(ys[i]));
+  }
+  const double corner = hi - height * (hi - lo);
+  if (!(peak >= corner)) return y;  // nothing under the legend
+  // The highest point just under the corner: peak = lo + (1 - height) (new_hi - lo), 2 % spare.
+  const double new_hi = lo + 1.02 * (peak - lo) / (1.0 - height);
+  AxisRange out = y;
+  out.max = y.log ? std::pow(10.0, new_hi) : new_hi;
+  return out;
+}
+
+}  // namespace gearnvh::render

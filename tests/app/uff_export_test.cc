@@ -1,0 +1,255 @@
+// UFF dataset 58 export: a small reader written here from the format's definition (fixed columns,
+// independent of the writer) parses the files back, and the values must be those of the CSV and
+// JSON outputs of the same run.
+#include "uff_export.h"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "support/run_command.h"
+
+namespace gearnvh::app {
+namespace {
+
+using testing::ReadWholeFile;
+using testing::RunCommand;
+using testing::TempDir;
+
+struct ParsedAxis {
+  int data_type = 0, length_exponent = 0, force_exponent = 0;
+  std::string label, units;
+};
+
+struct Parsed58 {
+  std::string id1, id2;
+  int function_type = 0, function_id = 0;
+  std::string response_name;
+  int ordinate_type = 0, spacing = -1;
+  long count = 0;
+  double x_min = 0.0, dx = 0.0, z_value = 0.0;
+  ParsedAxis abscissa, ordinate, denominator, z;
+  std::vector<double> values;
+};
+
+std::string Trim(const std::string& s) {
+  const size_t a = s.find_first_not_of(' ');
+  if (a == std::string::npos) return "";
+  return s.substr(a, s.find_last_not_of(' ') - a + 1);
+}
+
+// Columns [from, from + width) of a line, padded with blanks (Fortran reads short lines so).
+std::string Field(const std::string& line, size_t from, size_t width) {
+  std::string padded = line;
+  if (padded.size() < from + width) padded.resize(from + width, ' ');
+  return padded.substr(from, width);
+}
+
+ParsedAxis ParseAxis(const std::string& line) {  // FORMAT(I10,3I5,2(1X,20A1))
+  return {std::stoi(Field(line, 0, 10)), std::stoi(Field(line, 10, 5)),
+          std::stoi(Field(line, 15, 5)), Trim(Field(line, 26, 20)), Trim(Field(line, 47, 20))};
+}
+
+// Every dataset 58 of a file: blocks delimited by lines "    -1".
+std::vector<Parsed58> ReadUff(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string l; std::getline(in, l);) lines.push_back(l);
+  std::vector<Parsed58> out;
+  size_t i = 0;
+  while (i < lines.size()) {
+    REQUIRE(lines[i] == "    -1");
+    REQUIRE(i + 13 < lines.size());
+    REQUIRE(lines[i + 1] == "    58");
+    Parsed58 d;
+    d.id1 = Trim(lines[i + 2]);
+    d.id2 = Trim(lines[i + 3]);
+    for (int k = 2; k <= 6; ++k) CHECK(lines[i + k].size() <= 80);
+    const std::string& r6 = lines[i + 7];  // FORMAT(2(I5,I10),2(1X,10A1,I10,I4))
+    CHECK(r6.size() == 80);
+    d.function_type = std::stoi(Field(r6, 0, 5));
+    d.function_id = std::stoi(Field(r6, 5, 10));
+    d.response_name = Trim(Field(r6, 31, 10));
+    const std::string& r7 = lines[i + 8];  // FORMAT(3I10,3E13.5)
+    d.ordinate_type = std::stoi(Field(r7, 0, 10));
+    d.count = std::stol(Field(r7, 10, 10));
+    d.spacing = std::stoi(Field(r7, 20, 10));
+    d.x_min = std::stod(Field(r7, 30, 13));
+    d.dx = std::stod(Field(r7, 43, 13));
+    d.z_value = std::stod(Field(r7, 56, 13));
+    d.abscissa = ParseAxis(lines[i + 9]);
+    d.ordinate = ParseAxis(lines[i + 10]);
+    d.denominator = ParseAxis(lines[i + 11]);
+    d.z = ParseAxis(lines[i + 12]);
+    i += 13;
+    // Real double, even spacing: 4E20.12 per line.
+    for (; i < lines.size() && lines[i] != "    -1"; ++i) {
+      CHECK(lines[i].size() % 20 == 0);
+      for (size_t c = 0; c + 20 <= lines[i].size(); c += 20) {
+        d.values.push_back(std::stod(lines[i].substr(c, 20)));
+      }
+    }
+    REQUIRE(i < lines.size());  // the closing -1
+    ++i;
+    out.push_back(std::move(d));
+  }
+  return out;
+}
+
+// E20.12 keeps 12 digits after the point: 5e-12 relative rounding.
+constexpr double kUffRelative = 1e-11;
+
+TEST_CASE("UFF dataset 58: the writer's records read back in their fixed columns", "[uff]") {
+  UffFunction f;
+  f.id1 = "a µ test";  // non-ASCII is replaced in the fixed-width ASCII records
+  f.id2 = "gearbox";
+  f.function_type = 12;
+  f.function_id = 7;
+  f.response_name = "TE";
+  f.abscissa = {18, 0, 0, 0, "frequency", "Hz"};
+  f.ordinate = {8, 1, 0, 0, "transmission error", "m"};
+  f.z = {20, 0, 0, 0, "pinion order", "NONE"};
+  f.z_value = 27.0;
+  f.x_min = 12.5;
+  f.dx = 0.25;
+  f.values = {1.0, -2.5e-7, 3.14159265358979e-12, 0.0, 6.02214076e23};
+  const std::vector<Parsed58> d = ReadUff(UffDataset58(f));
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].id1 == "a __ test");  // the two bytes of µ
+  CHECK(d[0].function_type == 12);
+  CHECK(d[0].function_id == 7);
+  CHECK(d[0].response_name == "TE");
+  CHECK(d[0].ordinate_type == 4);  // real, double precision
+  CHECK(d[0].spacing == 1);
+  CHECK(d[0].count == 5);
+  CHECK(d[0].x_min == 12.5);
+  CHECK(d[0].dx == 0.25);
+  CHECK(d[0].z_value == 27.0);
+  CHECK(d[0].abscissa.data_type == 18);
+  CHECK(d[0].abscissa.units == "Hz");
+  CHECK(d[0].ordinate.data_type == 8);
+  CHECK(d[0].ordinate.length_exponent == 1);
+  CHECK(d[0].ordinate.label == "transmission error");
+  CHECK(d[0].z.label == "pinion order");
+  REQUIRE(d[0].values.size() == 5);
+  for (size_t i = 0; i < 5; ++i) {
+    CHECK(d[0].values[i] == Approx(f.values[i]).epsilon(kUffRelative).margin(1e-300));
+  }
+}
+
+const std::string kExe = GEARNVH_EXE;
+
+// A loaded pair with short runs (its mesh harmonics stand far above the background).
+const std::string kGearbox = R"(schema: gearnvh/1
+name: uff pair
+materials: {steel: {youngs_modulus: 206 GPa, poisson_ratio: 0.3, density: 7850 kg/m^3}}
+gears:
+  pinion: {teeth: 23, module: 2 mm, face_width: 12 mm, bore_diameter: 20 mm, material: steel}
+  wheel: {teeth: 37, module: 2 mm, face_width: 12 mm, bore_diameter: 25 mm, material: steel}
+mesh: {backlash: 80 um}
+operating: {speed: 1500 rpm, torque: 20 N*m}
+analysis:
+  cycles: 64
+  transient_cycles: 16
+  speed_sweep: {from: 1000 rpm, to: 2000 rpm, points: 3}
+)";
+
+std::vector<std::vector<std::string>> Csv(const std::string& text) {
+  std::vector<std::vector<std::string>> rows;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) {
+    std::vector<std::string> row;
+    std::istringstream cells(line);
+    for (std::string c; std::getline(cells, c, ',');) row.push_back(c);
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+TEST_CASE("simulate --uff: TE and mesh force histories and the TE spectrum read back", "[uff]") {
+  const TempDir dir;
+  const auto file = dir.Write("pair.yaml", kGearbox);
+  const auto uff = dir.path() / "op.uff";
+  const auto r = RunCommand(kExe + " simulate --json --uff " + uff.string() + " --out " +
+                            (dir.path() / "out").string() + " " + file.string());
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const auto doc = nlohmann::json::parse(r.out);
+  const std::vector<Parsed58> d = ReadUff(ReadWholeFile(uff));
+  REQUIRE(d.size() == 3);
+  const auto csv = Csv(ReadWholeFile(dir.path() / "out" / "trajectory.csv"));
+  REQUIRE(csv.size() == 1 + 64 * 32);
+  REQUIRE(csv[0][1] == "te_m");
+  REQUIRE(csv[0][2] == "mesh_force_n");
+  // Time histories: every sample, in order, equal to the CSV's (17 digits) to the UFF rounding.
+  const double mesh_period = 60.0 / (1500.0 * 23);
+  for (int k = 0; k < 2; ++k) {
+    const Parsed58& h = d[static_cast<size_t>(k)];
+    INFO(h.id1);
+    CHECK(h.function_type == 1);
+    CHECK(h.abscissa.data_type == 17);
+    CHECK(h.abscissa.units == "s");
+    CHECK(h.ordinate.units == (k == 0 ? "m" : "N"));
+    REQUIRE(h.count == 64 * 32);
+    REQUIRE(h.values.size() == 64 * 32);
+    // E13.5 abscissa fields: 6 significant digits.
+    CHECK(h.dx == Approx(mesh_period / 32).epsilon(1e-5));
+    CHECK(h.x_min == Approx(std::stod(csv[1][0])).epsilon(1e-5));
+    for (size_t i = 0; i < h.values.size(); ++i) {
+      const double expected = std::stod(csv[i + 1][static_cast<size_t>(k + 1)]);
+      REQUIRE(h.values[i] == Approx(expected).epsilon(kUffRelative).margin(1e-300));
+    }
+  }
+  // The spectrum: the mesh-frequency bin holds the "1 fm" amplitude of the sideband table.
+  const Parsed58& s = d[2];
+  CHECK(s.function_type == 12);
+  CHECK(s.abscissa.data_type == 18);
+  const long window = doc["sideband_window_cycles"].get<long>();
+  REQUIRE(window == 64);
+  CHECK(s.count == window * 32 / 2 + 1);
+  CHECK(s.dx == Approx(1.0 / (window * mesh_period)).epsilon(1e-5));
+  double fm_amplitude = -1.0;
+  for (const auto& row : doc["sidebands"]) {
+    if (row["label"] == "1 fm") fm_amplitude = row["amplitude_m"].get<double>();
+  }
+  REQUIRE(fm_amplitude > 0.0);
+  CHECK(s.values[static_cast<size_t>(window)] == Approx(fm_amplitude).epsilon(kUffRelative));
+}
+
+TEST_CASE("sweep --uff: order tracks at mesh orders 1 to 3 equal the waterfall", "[uff]") {
+  const TempDir dir;
+  const auto file = dir.Write("pair.yaml", kGearbox);
+  const auto uff = dir.path() / "sweep.uff";
+  const auto r = RunCommand(kExe + " sweep --json --cycles 64 --transient 16 --uff " +
+                            uff.string() + " " + file.string());
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const auto doc = nlohmann::json::parse(r.out);
+  const auto& waterfall = doc["waterfall"];
+  const double order_step = waterfall["order_step"].get<double>();
+  const std::vector<Parsed58> d = ReadUff(ReadWholeFile(uff));
+  REQUIRE(d.size() == 3);
+  for (int k = 1; k <= 3; ++k) {
+    const Parsed58& t = d[static_cast<size_t>(k - 1)];
+    INFO("mesh order " << k);
+    CHECK(t.abscissa.data_type == 19);  // rpm
+    CHECK(t.abscissa.units == "rpm");
+    CHECK(t.z.data_type == 20);         // order
+    CHECK(t.z_value == Approx(23.0 * k).epsilon(1e-12));
+    CHECK(t.x_min == Approx(1000.0).epsilon(1e-12));
+    CHECK(t.dx == Approx(500.0).epsilon(1e-12));
+    REQUIRE(t.values.size() == 3);
+    const size_t bin = static_cast<size_t>(std::lround(23.0 * k / order_step));
+    for (size_t p = 0; p < 3; ++p) {
+      const double expected = waterfall["amplitude_m"][p][bin].get<double>();
+      CHECK(t.values[p] == Approx(expected).epsilon(kUffRelative).margin(1e-300));
+    }
+  }
+}
+
+}  // namespace
+}  // namespace gearnvh::app
