@@ -582,7 +582,7 @@ AtlasAxis ParseAxisOption(const std::string& text, const std::string& field) {
   return axis;
 }
 
-GearboxSpec LoadGearboxFile(const std::string& path) {
+std::string ReadGearboxText(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in)
     throw InputError("", 0, "", std::string("cannot open file: ") + std::strerror(errno), path);
@@ -595,7 +595,11 @@ GearboxSpec LoadGearboxFile(const std::string& path) {
     }
   }
   if (in.bad()) throw InputError("", 0, "", "read error", path);
-  return LoadGearboxFromString(text, path);
+  return text;
+}
+
+GearboxSpec LoadGearboxFile(const std::string& path) {
+  return LoadGearboxFromString(ReadGearboxText(path), path);
 }
 
 }  // namespace gearnvh::config

@@ -18,6 +18,9 @@ GearboxSpec LoadGearboxFromString(const std::string& text, const std::string& so
 // Reads and parses a file (at most 16 MiB).
 GearboxSpec LoadGearboxFile(const std::string& path);
 
+// The text of a gearbox file (at most 16 MiB); InputError naming the file when it cannot be read.
+std::string ReadGearboxText(const std::string& path);
+
 // An axis given on the command line, "PARAMETER=FROM:TO:POINTS" with units on FROM and TO
 // (operating.speed=600rpm:3000rpm:24). Throws InputError naming `field` (the option).
 AtlasAxis ParseAxisOption(const std::string& text, const std::string& field);
