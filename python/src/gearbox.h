@@ -47,6 +47,7 @@ auto NamingSource(const std::string& source, Body&& body) -> decltype(body()) {
 
 void BindGearbox(py::module_& m);
 void BindSimulate(py::module_& m);
-void BindAnalyses(py::module_& m);
+void BindSweepAtlas(py::module_& m);
+void BindOrbitsTiers(py::module_& m);
 
 }  // namespace gearnvh::python

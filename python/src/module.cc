@@ -136,5 +136,6 @@ PYBIND11_MODULE(gearnvh, m) {
   gearnvh::python::RegisterInputError(m);
   gearnvh::python::BindGearbox(m);
   gearnvh::python::BindSimulate(m);
-  gearnvh::python::BindAnalyses(m);
+  gearnvh::python::BindSweepAtlas(m);
+  gearnvh::python::BindOrbitsTiers(m);
 }
