@@ -6,6 +6,7 @@ PKGS=(
   libeigen3-dev liblapack-dev libspectra-dev libfftw3-dev libyaml-cpp-dev
   libvtk9-dev libopenmpi-dev openmpi-bin
   catch2 libcli11-dev libfmt-dev nlohmann-json3-dev libsundials-dev libbenchmark-dev
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
   xvfb xauth libgl1-mesa-dri chromium
 )
 missing=()

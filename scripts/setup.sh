@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Sets gearnvh up on a Debian machine: installs packages (idempotent), configures and builds.
+# Sets gearnvh up on a Debian machine: installs packages (idempotent), configures and builds the
+# command line and the Python module (build/python: PYTHONPATH=build/python python3 -c 'import gearnvh').
 #   bash scripts/setup.sh            Release build in build/
 # Environment: GEARNVH_BUILD_DIR (default build), GEARNVH_CMAKE_ARGS (extra cmake arguments).
 set -euo pipefail

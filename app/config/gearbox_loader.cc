@@ -689,21 +689,6 @@ auto ReadAndValidate(const YAML::Node& root, const std::string& source, Read&& r
   }
 }
 
-std::string ReadFileText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in)
-    throw InputError("", 0, "", std::string("cannot open file: ") + std::strerror(errno), path);
-  std::string text;
-  char buffer[65536];
-  while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
-    text.append(buffer, static_cast<size_t>(in.gcount()));
-    if (text.size() > kMaxFileBytes) {
-      throw InputError("", 0, "", "file is larger than 16 MiB; not a gearbox definition", path);
-    }
-  }
-  if (in.bad()) throw InputError("", 0, "", "read error", path);
-  return text;
-}
 
 }  // namespace
 
@@ -779,12 +764,28 @@ AtlasAxis ParseAxisOption(const std::string& text, const std::string& field) {
   return axis;
 }
 
+std::string ReadGearboxText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in)
+    throw InputError("", 0, "", std::string("cannot open file: ") + std::strerror(errno), path);
+  std::string text;
+  char buffer[65536];
+  while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
+    text.append(buffer, static_cast<size_t>(in.gcount()));
+    if (text.size() > kMaxFileBytes) {
+      throw InputError("", 0, "", "file is larger than 16 MiB; not a gearbox definition", path);
+    }
+  }
+  if (in.bad()) throw InputError("", 0, "", "read error", path);
+  return text;
+}
+
 GearboxSpec LoadGearboxFile(const std::string& path) {
-  return LoadGearboxFromString(ReadFileText(path), path);
+  return LoadGearboxFromString(ReadGearboxText(path), path);
 }
 
 LoadedGearbox LoadAnyGearboxFile(const std::string& path) {
-  return LoadAnyGearboxFromString(ReadFileText(path), path);
+  return LoadAnyGearboxFromString(ReadGearboxText(path), path);
 }
 
 }  // namespace gearnvh::config

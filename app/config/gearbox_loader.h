@@ -21,6 +21,9 @@ GearboxSpec LoadGearboxFromString(const std::string& text, const std::string& so
 // Reads and parses a file (at most 16 MiB).
 GearboxSpec LoadGearboxFile(const std::string& path);
 
+// The text of a gearbox file (at most 16 MiB); InputError naming the file when it cannot be read.
+std::string ReadGearboxText(const std::string& path);
+
 // Either schema: a gearnvh/1 file gives its GearboxSpec and the train it means (TrainOf), a
 // gearnvh/2 file its TrainSpec.
 struct LoadedGearbox {

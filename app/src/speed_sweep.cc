@@ -34,6 +34,8 @@ SpeedPoint RunPoint(const GearboxSpec& base, const ComponentModel& model,
   ApplyMethodName(options.method, solver);
   solver.cycles = options.cycles;
   solver.transient_cycles = options.transient_cycles;
+  solver.cancel = options.cancel;
+  if (solver.Cancelled()) throw RunCancelled();
   const SolverResult run = SimulateExact(tables, z0, state0, solver);
   p.matvec_per_cycle = run.summary.matvec_per_cycle;
   p.real_time_ratio = run.summary.real_time_ratio;

@@ -2,6 +2,7 @@
 // and a waterfall of steady-state TE spectra, one exact run per speed, speeds in parallel.
 #pragma once
 
+#include <atomic>
 #include <functional>
 #include <string>
 #include <vector>
@@ -19,6 +20,9 @@ struct SpeedSweepOptions {
   double max_order = 0.0;       // waterfall up to this pinion order (0: 3.5 mesh orders)
   int threads = 0;              // 0: all hardware threads
   std::string method = "fused";  // v1 | v2 | v3 | fused
+  // Cancellation (SolverOptions::cancel): once set, the runs in flight and the speeds not yet
+  // started fail with the message "cancelled". Not owned; may be null.
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 struct SpeedPoint {

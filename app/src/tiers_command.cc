@@ -25,21 +25,6 @@ namespace gearnvh::app {
 
 namespace {
 
-struct TierRow {
-  std::string name;
-  std::string method;  // solver method of the run
-  int dof = 0, state_dim = 0;
-  std::vector<double> frequencies_hz;    // lowest (up to 6)
-  std::vector<double> frequency_errors;  // relative, against the closest full-FE frequency
-  double max_frequency_error = 0.0;
-  double compliance_error = 0.0;
-  double te_rms = 0.0, rattle_index = 0.0;
-  double te_rms_difference = 0.0, rattle_index_difference = 0.0;  // relative to the finest tier
-  std::string regime;
-  double matvec_per_cycle = 0.0, us_per_cycle = 0.0, real_time_ratio = 0.0;
-  size_t table_bytes = 0;
-};
-
 double ClosestRelativeError(double f, const std::vector<double>& reference) {
   double best = std::numeric_limits<double>::infinity();
   for (double r : reference) best = std::min(best, std::abs(f - r) / r);
@@ -82,6 +67,67 @@ double RelativeDifference(double a, double b) {
 
 }  // namespace
 
+TiersComparison CompareTiers(const GearboxSpec& spec, const SolverOptions& solver,
+                             const TiersProgress& progress) {
+  solver.Validate();
+  const ComponentModel model = BuildComponentModel(spec);
+  // Enough full-FE modes that every tier frequency has its counterpart.
+  const ModalSummary full = FullModelFrequencies(model, 60);
+  const std::vector<ReducedModel> tiers = ReduceAvailableTiers(model);
+  TiersComparison out;
+  std::vector<TierRow>& rows = out.rows;
+  const size_t total = tiers.size() + 1;
+  for (const ReducedModel& r : tiers) {
+    if (progress) progress(rows.size() + 1, total, r.name);
+    rows.push_back(RunTier(spec, model, r, full, solver, r.name));
+    if (r.tier == Tier::kN20Mta) {
+      SolverOptions fused = solver;
+      ApplyMethodName("fused", fused);
+      rows.push_back(RunTier(spec, model, r, full, fused, r.name + " + fusion"));
+    }
+  }
+  // The finest tier: the one with most DOF (N40 full on flexible gearboxes, tier 3 otherwise).
+  size_t& finest = out.finest;
+  for (size_t i = 0; i < rows.size(); ++i) {
+    if (rows[i].dof > rows[finest].dof) finest = i;
+  }
+  for (TierRow& r : rows) {
+    r.te_rms_difference = RelativeDifference(r.te_rms, rows[finest].te_rms);
+    r.rattle_index_difference = rows[finest].rattle_index > 0.0
+                                    ? RelativeDifference(r.rattle_index, rows[finest].rattle_index)
+                                    : std::abs(r.rattle_index);
+  }
+
+  nlohmann::json list = nlohmann::json::array();
+  for (const TierRow& r : rows) {
+    list.push_back({{"name", r.name},
+                    {"method", r.method},
+                    {"dof", r.dof},
+                    {"state_dim", r.state_dim},
+                    {"frequencies_hz", r.frequencies_hz},
+                    {"frequency_errors", r.frequency_errors},
+                    {"max_frequency_error", r.max_frequency_error},
+                    {"static_compliance_error", r.compliance_error},
+                    {"te_rms_m", r.te_rms},
+                    {"te_rms_difference_to_finest", r.te_rms_difference},
+                    {"rattle_index_j", r.rattle_index},
+                    {"rattle_index_difference_to_finest", r.rattle_index_difference},
+                    {"regime", r.regime},
+                    {"matvec_per_cycle", r.matvec_per_cycle},
+                    {"us_per_cycle", r.us_per_cycle},
+                    {"real_time_ratio", r.real_time_ratio},
+                    {"table_bytes", r.table_bytes}});
+  }
+  out.full_fe_dof = model.dofs;
+  out.doc = {{"full_fe_dof", model.dofs},
+             {"full_fe_frequencies_hz", full.frequencies_hz},
+             {"finest_tier", rows[finest].name},
+             {"cycles", solver.cycles},
+             {"transient_cycles", solver.transient_cycles},
+             {"tiers", list}};
+  return out;
+}
+
 int RunTiers(const TiersCommandOptions& options) {
   return RunReportingErrors(options.file, [&]() -> int {
     const GearboxSpec spec = config::LoadGearboxFile(options.file);
@@ -90,66 +136,20 @@ int RunTiers(const TiersCommandOptions& options) {
     solver.cycles = options.cycles.value_or(std::min(spec.analysis.cycles, 400));
     solver.transient_cycles =
         options.transient.value_or(std::min(spec.analysis.transient_cycles, 200));
-    solver.Validate();
-    const ComponentModel model = BuildComponentModel(spec);
-    // Enough full-FE modes that every tier frequency has its counterpart.
-    const ModalSummary full = FullModelFrequencies(model, 60);
-    const std::vector<ReducedModel> tiers = ReduceAvailableTiers(model);
     const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
-    std::vector<TierRow> rows;
-    const size_t total = tiers.size() + 1;
-    for (const ReducedModel& r : tiers) {
-      if (on_terminal)
-        fmt::print(stderr, "\rtiers: {}/{} ({})        ", rows.size() + 1, total, r.name);
-      rows.push_back(RunTier(spec, model, r, full, solver, r.name));
-      if (r.tier == Tier::kN20Mta) {
-        SolverOptions fused = solver;
-        ApplyMethodName("fused", fused);
-        rows.push_back(RunTier(spec, model, r, full, fused, r.name + " + fusion"));
-      }
+    TiersProgress progress;
+    if (on_terminal) {
+      progress = [](size_t done, size_t total, const std::string& name) {
+        fmt::print(stderr, "\rtiers: {}/{} ({})        ", done, total, name);
+      };
     }
+    const TiersComparison comparison = CompareTiers(spec, solver, progress);
     if (on_terminal) fmt::print(stderr, "\n");
-    // The finest tier: the one with most DOF (N40 full on flexible gearboxes, tier 3 otherwise).
-    size_t finest = 0;
-    for (size_t i = 0; i < rows.size(); ++i) {
-      if (rows[i].dof > rows[finest].dof) finest = i;
-    }
-    for (TierRow& r : rows) {
-      r.te_rms_difference = RelativeDifference(r.te_rms, rows[finest].te_rms);
-      r.rattle_index_difference =
-          rows[finest].rattle_index > 0.0
-              ? RelativeDifference(r.rattle_index, rows[finest].rattle_index)
-              : std::abs(r.rattle_index);
-    }
-
-    nlohmann::json list = nlohmann::json::array();
-    for (const TierRow& r : rows) {
-      list.push_back({{"name", r.name},
-                      {"method", r.method},
-                      {"dof", r.dof},
-                      {"state_dim", r.state_dim},
-                      {"frequencies_hz", r.frequencies_hz},
-                      {"frequency_errors", r.frequency_errors},
-                      {"max_frequency_error", r.max_frequency_error},
-                      {"static_compliance_error", r.compliance_error},
-                      {"te_rms_m", r.te_rms},
-                      {"te_rms_difference_to_finest", r.te_rms_difference},
-                      {"rattle_index_j", r.rattle_index},
-                      {"rattle_index_difference_to_finest", r.rattle_index_difference},
-                      {"regime", r.regime},
-                      {"matvec_per_cycle", r.matvec_per_cycle},
-                      {"us_per_cycle", r.us_per_cycle},
-                      {"real_time_ratio", r.real_time_ratio},
-                      {"table_bytes", r.table_bytes}});
-    }
-    nlohmann::json doc = {{"name", spec.name},
-                          {"file", options.file},
-                          {"full_fe_dof", model.dofs},
-                          {"full_fe_frequencies_hz", full.frequencies_hz},
-                          {"finest_tier", rows[finest].name},
-                          {"cycles", solver.cycles},
-                          {"transient_cycles", solver.transient_cycles},
-                          {"tiers", list}};
+    const std::vector<TierRow>& rows = comparison.rows;
+    const size_t finest = comparison.finest;
+    nlohmann::json doc = comparison.doc;
+    doc["name"] = spec.name;
+    doc["file"] = options.file;
     if (options.out) {
       std::filesystem::create_directories(*options.out);
       const std::filesystem::path dir(*options.out);
@@ -192,7 +192,7 @@ int RunTiers(const TiersCommandOptions& options) {
       std::cout << doc.dump(1) << "\n";
     } else {
       fmt::print("{}  ({}): modal tiers against the full FE model ({} DOF), {} each\n",
-                 spec.name, options.file, model.dofs,
+                 spec.name, options.file, comparison.full_fe_dof,
                  Count(solver.cycles, "mesh cycle", "mesh cycles"));
       fmt::print("  {:<20} {:>4} {:>5} {:>9} {:>10} {:>10} {:>9} {:>10} {:>9} {:>9} {:>9} {:>9}\n",
                  "tier", "DOF", "state", "max df/f", "dg/g", "TE RMS µm", "vs finest", "rattle J",

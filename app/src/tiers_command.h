@@ -6,8 +6,14 @@
 // the terminal, JSON, and with --out tiers.json, tiers.csv and tiers.png (accuracy against cost).
 #pragma once
 
+#include <functional>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <vector>
+
+#include "gearnvh/model/gearbox_spec.h"
+#include "gearnvh/solver/exact_solver.h"
 
 namespace gearnvh::app {
 
@@ -20,5 +26,35 @@ struct TiersCommandOptions {
 };
 
 int RunTiers(const TiersCommandOptions& options);
+
+// One row of the comparison: a tier (and N20 MTA once more with fusion).
+struct TierRow {
+  std::string name;
+  std::string method;  // solver method of the run
+  int dof = 0, state_dim = 0;
+  std::vector<double> frequencies_hz;    // lowest (up to 6)
+  std::vector<double> frequency_errors;  // relative, against the closest full-FE frequency
+  double max_frequency_error = 0.0;
+  double compliance_error = 0.0;
+  double te_rms = 0.0, rattle_index = 0.0;
+  double te_rms_difference = 0.0, rattle_index_difference = 0.0;  // relative to the finest tier
+  std::string regime;
+  double matvec_per_cycle = 0.0, us_per_cycle = 0.0, real_time_ratio = 0.0;
+  size_t table_bytes = 0;
+};
+
+struct TiersComparison {
+  std::vector<TierRow> rows;
+  size_t finest = 0;  // the row with most DOF, the reference of the differences
+  int full_fe_dof = 0;
+  nlohmann::json doc;  // the `tiers --json` document without name and file
+};
+
+// (tier being run, tiers in all, its name)
+using TiersProgress = std::function<void(size_t, size_t, const std::string&)>;
+
+// Every available tier at the operating point with `solver`'s cycles (also N20 MTA with fusion).
+TiersComparison CompareTiers(const GearboxSpec& spec, const SolverOptions& solver,
+                             const TiersProgress& progress = {});
 
 }  // namespace gearnvh::app

@@ -62,6 +62,7 @@ AtlasCell ComputeAtlasCell(const GearboxSpec& base, const AtlasAxis& x, const At
     const auto [z0, state0] = StaticInitialState(tables);
     LyapunovOptions lyapunov;
     ApplyMethodName(options.method, lyapunov.solver);
+    lyapunov.solver.cancel = options.cancel;
     lyapunov.transient_cycles = options.transient_cycles;
     lyapunov.cycles = options.cycles;
     lyapunov.alignment_cycles = std::min<long>(100, options.cycles / 4);
@@ -121,12 +122,13 @@ AtlasResult RunChaosAtlas(const GearboxSpec& base, const AtlasAxis& x, const Atl
   for (int k = 0; k < total; ++k) {
     const int ix = k % nx, iy = k / nx;
     AtlasCell& cell = result.cells[static_cast<size_t>(k)];
-    if (!skip.empty() && skip[static_cast<size_t>(k)]) {
+    const bool cancelled = options.cancel != nullptr && options.cancel->load();
+    if (cancelled || (!skip.empty() && skip[static_cast<size_t>(k)])) {
       cell.ix = ix;
       cell.iy = iy;
       cell.x = AxisValue(x, ix);
       cell.y = AxisValue(y, iy);
-      cell.message = "skipped";
+      cell.message = cancelled ? "cancelled" : "skipped";
       continue;
     }
     cell = ComputeAtlasCell(base, x, y, ix, iy, options);

@@ -34,6 +34,7 @@ std::vector<OrbitScanPoint> ScanPeriodicOrbits(const GearboxSpec& base,
   for (int i = 0; i < points; ++i) {
     OrbitScanPoint& p = out[static_cast<size_t>(i)];
     try {
+      if (options.cancel != nullptr && options.cancel->load()) throw RunCancelled();
       GearboxSpec spec = base;
       if (sweep) {
         p.value = AxisValue(*sweep, i);
@@ -47,6 +48,7 @@ std::vector<OrbitScanPoint> ScanPeriodicOrbits(const GearboxSpec& base,
       orbit_options.period = options.period;
       ApplyMethodName(options.method, orbit_options.solver);
       orbit_options.solver.method = SolverMethod::kStepped;
+      orbit_options.solver.cancel = options.cancel;
       p.ok = true;
       if (previous) {
         p.orbit = FindPeriodicOrbit(tables, *previous, orbit_options);

@@ -476,6 +476,7 @@ bool ExactStepper::Run(long cycles, bool record) {
     recording_ = true;
   }
   for (long c = 0; c < cycles; ++c, ++cycle_) {
+    if (options_.Cancelled()) throw RunCancelled();
     events_this_cycle_ = 0;
     const double cycle_start = static_cast<double>(cycle_) * t_.mesh_period;
     for (int j = 0; j < t_.segments(); ++j) {

@@ -274,3 +274,36 @@ TEST_CASE("trajectory storage is bounded and the truncation is reported", "[solv
 
 }  // namespace
 }  // namespace gearnvh
+
+namespace gearnvh {
+namespace {
+
+TEST_CASE("a set cancel flag stops a run at the next mesh cycle", "[solver][cancel]") {
+  Setup s(testing::IdleRattleSpec(), Tier::kTier1);
+  const auto [z0, state0] = StaticInitialState(s.tables);
+  std::atomic<bool> cancel{false};
+  SolverOptions opt;
+  opt.cycles = 20;
+  opt.cancel = &cancel;
+  // Unset: the flag changes nothing (the same run as without it, bit for bit).
+  SolverOptions plain = opt;
+  plain.cancel = nullptr;
+  const SolverResult with_flag = SimulateExact(s.tables, z0, state0, opt);
+  const SolverResult without = SimulateExact(s.tables, z0, state0, plain);
+  REQUIRE(with_flag.trajectory.samples.size() == without.trajectory.samples.size());
+  CHECK(with_flag.final_state == without.final_state);
+  // Set (here from the progress callback after the first chunk): the run throws RunCancelled
+  // instead of finishing its cycles.
+  opt.cycles = 1000;
+  long calls = 0;
+  CHECK_THROWS_AS(SimulateExact(s.tables, z0, state0, opt,
+                                [&](long, long) {
+                                  ++calls;
+                                  cancel.store(true);
+                                }),
+                  RunCancelled);
+  CHECK(calls == 1);
+}
+
+}  // namespace
+}  // namespace gearnvh

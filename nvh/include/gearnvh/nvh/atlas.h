@@ -11,6 +11,7 @@
 // give bitwise the same numbers for any thread count.
 #pragma once
 
+#include <atomic>
 #include <functional>
 #include <string>
 #include <vector>
@@ -26,6 +27,9 @@ struct AtlasOptions {
   int threads = 0;                // 0: all hardware threads
   double chaos_threshold = 0.01;  // lambda T_f above which a cell is chaotic; > 0
   std::string method = "v3";      // event method: v1 | v2 | v3 (fused falls back to v3)
+  // Cancellation (SolverOptions::cancel): once set, cells in flight and cells not yet started
+  // fail with the message "cancelled". Not owned; may be null.
+  const std::atomic<bool>* cancel = nullptr;
   void Validate() const;          // throws InputError naming the field
 };
 

@@ -5,6 +5,7 @@
 // are tried. Each point records which start converged and the orbit's stability.
 #pragma once
 
+#include <atomic>
 #include <functional>
 #include <optional>
 #include <string>
@@ -21,6 +22,9 @@ struct OrbitScanOptions {
   long transient_cycles = 300;  // settling before the first guess; >= 0
   int settled_starts = 4;       // settled guesses tried when continuation fails; >= 1
   std::string method = "v3";    // event method v1 | v2 | v3
+  // Cancellation (SolverOptions::cancel): once set, the point in flight and the rest fail with
+  // the message "cancelled". Not owned; may be null.
+  const std::atomic<bool>* cancel = nullptr;
   void Validate() const;
 };
 

@@ -27,7 +27,9 @@
 
 #include <Eigen/Dense>
 #include <array>
+#include <atomic>
 #include <functional>
+#include <stdexcept>
 #include <limits>
 #include <optional>
 #include <string>
@@ -89,7 +91,17 @@ struct SolverOptions {
   bool ignore_walls = false;
   // kFused: segment runs of up to 2^fusion_levels segments (0 disables them); in [0, 5].
   int fusion_levels = 5;
+  // Cancellation (an interactive caller's Ctrl-C): polled at the start of every mesh cycle by
+  // ExactStepper::Run, which throws RunCancelled once it is set. Not owned; null: never cancelled.
+  const std::atomic<bool>* cancel = nullptr;
+  bool Cancelled() const { return cancel != nullptr && cancel->load(std::memory_order_relaxed); }
   void Validate() const;
+};
+
+// Thrown by a run whose SolverOptions::cancel was set.
+class RunCancelled : public std::runtime_error {
+ public:
+  RunCancelled() : std::runtime_error("cancelled") {}
 };
 
 // The method names of the CLI: v1, v2, v3 (stepped with that event path) and fused (v3 + fusion).

@@ -1,0 +1,38 @@
+#include "binding_support.h"
+
+#include <limits>
+
+#include "gearnvh/model/input_error.h"
+#include "simulate_command.h"
+
+namespace gearnvh::python {
+
+py::array_t<double> Matrix(const std::vector<std::vector<double>>& rows) {
+  size_t columns = 0;
+  for (const auto& r : rows) columns = std::max(columns, r.size());
+  py::array_t<double> out({rows.size(), columns});
+  auto m = out.mutable_unchecked<2>();
+  for (size_t i = 0; i < rows.size(); ++i) {
+    for (size_t j = 0; j < columns; ++j) {
+      m(static_cast<py::ssize_t>(i), static_cast<py::ssize_t>(j)) =
+          j < rows[i].size() ? rows[i][j] : std::numeric_limits<double>::quiet_NaN();
+    }
+  }
+  return out;
+}
+
+py::object ToPython(const nlohmann::json& doc) {
+  return py::module_::import("json").attr("loads")(doc.dump());
+}
+
+Tier TierArgument(const py::object& tier, Tier fallback) {
+  if (tier.is_none()) return fallback;
+  const std::string text = py::str(tier);
+  try {
+    return app::ParseTier(text);
+  } catch (const InputError& e) {
+    throw InputError("tier", 0, "'" + text + "'", e.rule());
+  }
+}
+
+}  // namespace gearnvh::python

@@ -1,0 +1,141 @@
+// The gearnvh Python module: gearboxes from YAML files, YAML strings or dicts; edits by schema
+// path; check, simulate, sweep, atlas, orbits and tiers over the same library calls as the command
+// line.
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "binding_support.h"
+#include "check_command.h"
+#include "gearbox.h"
+#include "gearnvh/model/component_model.h"
+#include "gearnvh/reduction/reduced_model.h"
+
+namespace gearnvh::python {
+
+void Gearbox::Set(const std::string& path, const py::object& value) {
+  if (py::isinstance<py::bool_>(value)) {
+    spec_ = document_.SetScalar(path, value.cast<bool>() ? "true" : "false");
+  } else if (py::isinstance<py::str>(value)) {
+    spec_ = document_.SetScalar(path, value.cast<std::string>());
+  } else if (py::isinstance<py::dict>(value) || py::isinstance<py::list>(value) ||
+             py::isinstance<py::tuple>(value)) {
+    const std::string json = py::str(py::module_::import("json").attr("dumps")(value));
+    spec_ = document_.SetYaml(path, json);
+  } else if (PyIndex_Check(value.ptr()) != 0) {  // int, numpy integers
+    spec_ = document_.SetScalar(path, py::str(py::int_(value)));
+  } else if (PyNumber_Check(value.ptr()) != 0) {  // float, numpy floats: SI, shortest round trip
+    spec_ = document_.SetScalar(path, py::repr(py::float_(value)));
+  } else {
+    throw py::type_error("gearnvh: set(" + path +
+                         ", value): value must be a str such as '0.3 N*m', a number (SI), a "
+                         "bool, a dict or a list, not " +
+                         std::string(py::str(value.get_type().attr("__name__"))));
+  }
+}
+
+namespace {
+
+Gearbox Load(const py::object& source) {
+  if (py::isinstance<py::dict>(source)) {
+    const std::string json = py::str(py::module_::import("json").attr("dumps")(source));
+    return Gearbox(config::GearboxDocument::FromData(json, "<dict>"));
+  }
+  if (py::isinstance<Gearbox>(source)) return source.cast<Gearbox>();
+  const std::string text = py::str(py::module_::import("os").attr("fspath")(source));
+  // YAML text has a line break (or is one flow mapping); anything else is a file name.
+  if (text.find('\n') != std::string::npos || text.starts_with('{')) {
+    return Gearbox(config::GearboxDocument::FromText(text, "<string>"));
+  }
+  return Gearbox(config::GearboxDocument::FromFile(text));
+}
+
+py::object Check(const Gearbox& gb) {
+  const GearboxSpec spec = gb.spec();
+  const std::string source = gb.source();
+  const nlohmann::json doc = RunInterruptible(
+      [&](CallControl&) {
+        return NamingSource(source, [&] {
+          const ComponentModel model = BuildComponentModel(spec);
+          const ModalSummary modes = FullModelFrequencies(model, app::kReportedModes);
+          const std::vector<ReducedModel> tiers = app::ReduceAvailableTiers(model);
+          nlohmann::json out = app::CheckReport(spec, model, modes, tiers);
+          out["file"] = source;
+          return out;
+        });
+      },
+      py::none());
+  return ToPython(doc);
+}
+
+void RegisterInputError(py::module_& m) {
+  // gearnvh.InputError(ValueError) with the YAML path, line, value and rule of the loader.
+  static py::handle type = py::exception<InputError>(m, "InputError", PyExc_ValueError).release();
+  py::setattr(type, "__doc__",
+              py::str("Invalid gearbox input. Attributes: path (YAML path such as "
+                      "'mesh.backlash'), rule (the rule broken), value (as written), line "
+                      "(1-based, 0 when unknown), source (file name, '<string>' or '<dict>')."));
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const InputError& e) {
+      py::object error = type(e.what());
+      error.attr("path") = e.path();
+      error.attr("rule") = e.rule();
+      error.attr("value") = e.value();
+      error.attr("line") = e.line();
+      error.attr("source") = e.source();
+      PyErr_SetObject(type.ptr(), error.ptr());
+    }
+  });
+}
+
+}  // namespace
+
+void BindGearbox(py::module_& m) {
+  py::class_<Gearbox>(m, "Gearbox",
+                      "A gearbox (schema gearnvh/1): its YAML document and validated model input. "
+                      "Create with gearnvh.load().")
+      .def("set", &Gearbox::Set, py::arg("path"), py::arg("value"),
+           "Set a value by schema path ('operating.torque', 'mesh.backlash', "
+           "'operating.excitation[0].amplitude') and revalidate. value: a str as in YAML "
+           "('0.3 N*m', '80 um'), a number in SI units, a bool, or a dict/list. Raises "
+           "gearnvh.InputError naming the path and rule; the gearbox is unchanged then.")
+      .def("get", &Gearbox::Get, py::arg("path"),
+           "The value at a schema path as written (a str), or the YAML text of a mapping/list.")
+      .def(
+          "copy", [](const Gearbox& gb) { return gb; }, "An independent copy.")
+      .def("__copy__", [](const Gearbox& gb) { return gb; })
+      .def(
+          "__deepcopy__", [](const Gearbox& gb, py::dict) { return gb; }, py::arg("memo"))
+      .def_property_readonly("name", [](const Gearbox& gb) { return gb.spec().name; })
+      .def_property_readonly("source", &Gearbox::source,
+                             "The file it came from, '<string>' or '<dict>'.")
+      .def_property_readonly(
+          "yaml", [](const Gearbox& gb) { return gb.document().Text(); },
+          "The YAML document (re-emitted without comments after set()).")
+      .def("__repr__", [](const Gearbox& gb) {
+        return "<gearnvh.Gearbox '" + gb.spec().name + "' from " + gb.source() +
+               (gb.document().Edited() ? ", edited>" : ">");
+      });
+  m.def("load", &Load, py::arg("source"),
+        "Load a gearbox from a YAML file name (str or path), YAML text (anything with a line "
+        "break) or a dict with the schema's keys. Raises gearnvh.InputError on invalid input.");
+  m.def("check", &Check, py::arg("gearbox"),
+        "Validate and describe a gearbox: the document of `gearnvh check --json` as a dict "
+        "(geometry, mesh, fe, tiers; SI units).");
+}
+
+}  // namespace gearnvh::python
+
+PYBIND11_MODULE(gearnvh, m) {
+  m.doc() =
+      "gearnvh: gearbox NVH from Python. load() a gearbox, set() parameters by schema path, run "
+      "check, simulate, sweep, atlas, orbits and tiers. Results carry NumPy views of the C++ "
+      "arrays. Ctrl-C interrupts long calls. See docs/python.md.";
+  m.attr("__version__") = "0.1.0";
+  gearnvh::python::RegisterInputError(m);
+  gearnvh::python::BindGearbox(m);
+  gearnvh::python::BindSimulate(m);
+  gearnvh::python::BindSweepAtlas(m);
+  gearnvh::python::BindOrbitsTiers(m);
+}

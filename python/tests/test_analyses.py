@@ -1,0 +1,89 @@
+"""sweep, atlas, orbits and tiers from Python against the command line's documents."""
+import json
+import subprocess
+
+import numpy as np
+import pytest
+
+import gearnvh
+from conftest import IDLE_RATTLE
+
+
+@pytest.fixture()
+def gb():
+    g = gearnvh.load(str(IDLE_RATTLE))
+    g.set("analysis.speed_sweep", {"from": "700 rpm", "to": "900 rpm", "points": 3})
+    return g
+
+
+def test_sweep_arrays_and_document(gb):
+    s = gearnvh.sweep(gb, cycles=64, transient=16, jobs=1)
+    assert np.allclose(s.speeds_rpm, [700.0, 800.0, 900.0], rtol=1e-12)
+    assert s.te_rms.shape == (3,) and all(s.ok)
+    assert s.waterfall.shape == (3, len(s.orders))
+    assert s.campbell_hz.shape[1] == 3
+    assert len(s.mode_labels) == s.campbell_hz.shape[0]
+    doc = s.to_dict()
+    assert doc["waterfall"]["amplitude_m"] == s.waterfall.tolist()
+    assert [p["te_rms"] for p in doc["waterfall"]["points"]] == s.te_rms.tolist()
+
+
+def test_atlas_grid_matches_the_command_line(gearnvh_exe):
+    args = dict(x="operating.torque=0.1Nm:0.4Nm:2", y="mesh.backlash=60um:120um:2", cycles=40,
+                transient=20, jobs=1)
+    a = gearnvh.atlas(gearnvh.load(str(IDLE_RATTLE)), **args)
+    assert a.rattle_index.shape == (2, 2) and a.failed == 0
+    assert np.allclose(a.x, [0.1, 0.4]) and np.allclose(a.y, [60e-6, 120e-6])
+    assert not a.rattle_index.flags.owndata  # a view of the cells
+    cli = json.loads(subprocess.run(
+        [gearnvh_exe, "atlas", str(IDLE_RATTLE), "--x", args["x"], "--y", args["y"], "--cycles",
+         "40", "--transient", "20", "--jobs", "1", "--json"],
+        check=True, capture_output=True, text=True).stdout)
+    # Cells are deterministic: the same numbers bit for bit (tolerance 0).
+    for cell in cli["cells"]:
+        assert a.rattle_index[cell["iy"], cell["ix"]] == cell["rattle_index_j"]
+        assert a.lyapunov_per_s[cell["iy"], cell["ix"]] == cell["lyapunov_per_s"]
+        assert a.regime[cell["iy"]][cell["ix"]] == cell["regime"]
+
+
+def test_orbits_at_the_operating_point(gb):
+    o = gearnvh.orbits(gb, transient=100)
+    assert o.parameter == "operating point" and len(o.points) == 1
+    p = o.points[0]
+    assert p.ok
+    if p.found:
+        # Stability is the spectral radius of the Floquet multipliers below 1.
+        assert p.stable == (p.spectral_radius < 1.0)
+        assert abs(p.multipliers[0]) == pytest.approx(p.spectral_radius, rel=1e-12)
+
+
+def test_tiers_document(gb):
+    t = gearnvh.tiers(gb, cycles=32, transient=8)
+    doc = t.to_dict()
+    assert t.names == [row["name"] for row in doc["tiers"]]
+    assert t.te_rms.tolist() == [row["te_rms_m"] for row in doc["tiers"]]
+    assert t.finest == doc["finest_tier"]
+
+
+@pytest.mark.parametrize("analysis", ["atlas", "sweep"])
+def test_ctrl_c_interrupts_threaded_analyses(gb, analysis):
+    import os
+    import signal
+    import threading
+    if threading.current_thread() is not threading.main_thread():
+        pytest.skip("signals reach the main thread only")
+    # Runs of a million cycles per cell/speed on two threads would take hours; SIGINT sets the
+    # cancel flag that every worker's solver polls per mesh cycle, and the cells or speeds not yet
+    # started are not run. (Without cancellation this test would run into ctest's timeout.)
+    timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            if analysis == "atlas":
+                gearnvh.atlas(gb, x="operating.torque=0.1Nm:0.4Nm:3",
+                              y="mesh.backlash=60um:120um:3", cycles=10, transient=1_000_000,
+                              jobs=2)
+            else:
+                gearnvh.sweep(gb, cycles=10, transient=1_000_000, jobs=2)
+    finally:
+        timer.cancel()
