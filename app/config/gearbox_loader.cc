@@ -8,7 +8,6 @@
 #include <cstring>
 #include <fstream>
 #include <map>
-#include <numbers>
 #include <sstream>
 
 #include "gearnvh/model/gearbox_spec_validation.h"
@@ -224,7 +223,7 @@ GearSpec ReadGear(Reader& r, const YAML::Node& n, const std::string& path,
   g.teeth = r.Integer(n, path, "teeth");
   g.module = r.Quantity(n, path, "module", Dimension::kLength);
   g.pressure_angle =
-      r.Quantity(n, path, "pressure_angle", Dimension::kAngle, 20.0 * std::numbers::pi / 180.0);
+      r.Quantity(n, path, "pressure_angle", Dimension::kAngle, g.pressure_angle);
   g.face_width = r.Quantity(n, path, "face_width", Dimension::kLength);
   g.bore_diameter = r.Quantity(n, path, "bore_diameter", Dimension::kLength);
   g.material = r.String(n, path, "material");
@@ -238,10 +237,10 @@ GearSpec ReadGear(Reader& r, const YAML::Node& n, const std::string& path,
     r.Fail(Join(path, "material"), n["material"], "'" + g.material + "'", rule);
   }
   g.addendum_coefficient =
-      r.Quantity(n, path, "addendum_coefficient", Dimension::kDimensionless, 1.0);
+      r.Quantity(n, path, "addendum_coefficient", Dimension::kDimensionless, g.addendum_coefficient);
   g.dedendum_coefficient =
-      r.Quantity(n, path, "dedendum_coefficient", Dimension::kDimensionless, 1.25);
-  g.profile_shift = r.Quantity(n, path, "profile_shift", Dimension::kDimensionless, 0.0);
+      r.Quantity(n, path, "dedendum_coefficient", Dimension::kDimensionless, g.dedendum_coefficient);
+  g.profile_shift = r.Quantity(n, path, "profile_shift", Dimension::kDimensionless, g.profile_shift);
   g.inertia = r.OptionalQuantity(n, path, "inertia", Dimension::kInertia);
   g.mass = r.OptionalQuantity(n, path, "mass", Dimension::kMass);
   if (const YAML::Node t = r.Child(n, path, "tip_relief", false); t.IsDefined()) {
@@ -443,9 +442,11 @@ MeshSpec ReadMesh(Reader& r, const YAML::Node& mesh, const std::string& path,
   r.ExpectMap(mesh, path, keys);
   MeshSpec out;
   out.backlash = r.Quantity(mesh, path, "backlash", Dimension::kLength);
-  out.damping_ratio = r.Quantity(mesh, path, "damping_ratio", Dimension::kDimensionless, 0.05);
+  out.damping_ratio =
+      r.Quantity(mesh, path, "damping_ratio", Dimension::kDimensionless, out.damping_ratio);
   out.friction_coefficient =
-      r.Quantity(mesh, path, "friction_coefficient", Dimension::kDimensionless, 0.0);
+      r.Quantity(mesh, path, "friction_coefficient", Dimension::kDimensionless,
+                 out.friction_coefficient);
   out.center_distance = r.OptionalQuantity(mesh, path, "center_distance", Dimension::kLength);
   if (const YAML::Node s = r.Child(mesh, path, "stiffness", false); s.IsDefined()) {
     out.stiffness = ReadStiffness(r, s, Join(path, "stiffness"));
@@ -480,9 +481,9 @@ AnalysisSpec ReadAnalysis(Reader& r, const YAML::Node& root) {
   r.ExpectMap(a, "analysis",
               {"tier", "segments_per_cycle", "cycles", "transient_cycles", "speed_sweep", "atlas"});
   an.tier = ReadTier(r, a, "analysis");
-  an.segments_per_cycle = r.Integer(a, "analysis", "segments_per_cycle", 32);
-  an.cycles = r.Integer(a, "analysis", "cycles", 2000);
-  an.transient_cycles = r.Integer(a, "analysis", "transient_cycles", 500);
+  an.segments_per_cycle = r.Integer(a, "analysis", "segments_per_cycle", an.segments_per_cycle);
+  an.cycles = r.Integer(a, "analysis", "cycles", an.cycles);
+  an.transient_cycles = r.Integer(a, "analysis", "transient_cycles", an.transient_cycles);
   if (const YAML::Node s = r.Child(a, "analysis", "speed_sweep", false); s.IsDefined()) {
     r.ExpectMap(s, "analysis.speed_sweep", {"from", "to", "points"});
     an.speed_sweep = ReadRange(r, s, "analysis.speed_sweep", Dimension::kAngularSpeed);

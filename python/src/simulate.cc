@@ -167,7 +167,7 @@ void BindSimulate(py::module_& m) {
       .def_readonly("label", &SidebandRow::label)
       .def_readonly("frequency_hz", &SidebandRow::frequency_hz)
       .def_readonly("amplitude", &SidebandRow::amplitude, "m")
-      .def_readonly("db", &SidebandRow::db, "dB re 1 m")
+      .def_readonly("db_re_1um", &SidebandRow::db_re_1um, "dB re 1 µm")
       .def_readonly("background", &SidebandRow::background, "m, local median")
       .def("__repr__", [](const SidebandRow& r) {
         return "<Sideband " + r.label + " " + std::to_string(r.frequency_hz) + " Hz>";

@@ -4,6 +4,8 @@
 // All quantities are SI: m, rad, kg, s, N, Pa. Angles are radians; speeds are rad/s.
 // The loader guarantees the invariants stated next to each field; code that builds a spec by
 // hand (tests, sweeps) should call ValidateGearboxSpec() before using it.
+// The in-class initialisers are the schema defaults: the loader falls back to them, so each default
+// is stated once, here.
 #pragma once
 
 #include <map>
@@ -38,7 +40,7 @@ enum class Hand { kRight, kLeft };
 struct GearSpec {
   int teeth = 0;                       // >= 6
   double module = 0.0;                 // m, > 0 (normal module for a helical gear)
-  double pressure_angle = 0.0;         // rad, in (0, pi/4); default 20 deg (normal)
+  double pressure_angle = 20.0 * 3.141592653589793 / 180.0;  // rad, in (0, pi/4) (normal)
   double face_width = 0.0;             // m, > 0
   double bore_diameter = 0.0;          // m, >= 0 and < root diameter
   std::string material;                // a key of GearboxSpec::materials
