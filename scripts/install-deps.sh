@@ -7,6 +7,7 @@ PKGS=(
   libvtk9-dev libopenmpi-dev openmpi-bin
   catch2 libcli11-dev libfmt-dev nlohmann-json3-dev libsundials-dev libbenchmark-dev
   xvfb xauth libgl1-mesa-dri chromium
+  clang
 )
 missing=()
 for p in "${PKGS[@]}"; do

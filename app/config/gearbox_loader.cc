@@ -1,4 +1,5 @@
 #include "gearbox_loader.h"
+#include "utf8_check.h"
 
 #include <yaml-cpp/yaml.h>
 
@@ -517,6 +518,7 @@ std::string ClosestMatch(const std::string& word, const std::vector<std::string>
 }
 
 GearboxSpec LoadGearboxFromString(const std::string& text, const std::string& source) {
+  RequireValidUtf8(text, source);
   Reader reader;
   YAML::Node root;
   try {

@@ -11,6 +11,8 @@
 
 #include "atomic_file.h"
 #include "command_errors.h"
+#include "finite_results.h"
+#include "output_folder.h"
 #include "config/gearbox_loader.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/orbit_scan.h"
@@ -70,6 +72,7 @@ std::string OrbitsCsv(const std::vector<OrbitScanPoint>& points, const std::stri
 
 int RunOrbits(const OrbitsCommandOptions& options) {
   return RunReportingErrors(options.file, [&]() -> int {
+    const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
     const GearboxSpec spec = config::LoadGearboxFile(options.file);
     OrbitScanOptions scan;
     scan.tier = options.tier ? ParseTier(*options.tier) : spec.analysis.tier;
@@ -105,11 +108,11 @@ int RunOrbits(const OrbitsCommandOptions& options) {
                           {"points", list},
                           {"stable_points", stable},
                           {"failed_points", failed}};
-    if (options.out) {
-      std::filesystem::create_directories(*options.out);
-      const std::filesystem::path dir(*options.out);
-      WriteFileAtomically((dir / "orbits.csv").string(), OrbitsCsv(points, parameter));
-      WriteFileAtomically((dir / "orbits.json").string(), doc.dump(1) + "\n");
+    RequireFinite(doc, "orbits");
+    if (out) {
+      out->Write("orbits.csv", OrbitsCsv(points, parameter));
+      out->Write("orbits.json", doc.dump(1) + "\n");
+      out->Commit();
     }
     if (options.json) {
       std::cout << doc.dump(1) << "\n";

@@ -11,6 +11,8 @@
 
 #include "atomic_file.h"
 #include "command_errors.h"
+#include "finite_results.h"
+#include "output_folder.h"
 #include "config/gearbox_loader.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/rattle.h"
@@ -60,6 +62,7 @@ std::string EventsCsv(const Trajectory& t) {
 
 int RunSimulate(const SimulateOptions& options) {
   return RunReportingErrors(options.file, [&]() -> int {
+    const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
     const GearboxSpec spec = config::LoadGearboxFile(options.file);
     const Tier tier = options.tier ? ParseTier(*options.tier) : spec.analysis.tier;
     SolverOptions solver;
@@ -88,12 +91,12 @@ int RunSimulate(const SimulateOptions& options) {
     nlohmann::json doc = op.doc;
     doc["name"] = spec.name;
     doc["file"] = options.file;
-    if (options.out) {
-      std::filesystem::create_directories(*options.out);
-      const std::filesystem::path dir(*options.out);
-      WriteFileAtomically((dir / "trajectory.csv").string(), TrajectoryCsv(trajectory));
-      WriteFileAtomically((dir / "events.csv").string(), EventsCsv(trajectory));
-      WriteFileAtomically((dir / "results.json").string(), doc.dump(2) + "\n");
+    RequireFinite(doc, "simulate");
+    if (out) {
+      out->Write("trajectory.csv", TrajectoryCsv(trajectory));
+      out->Write("events.csv", EventsCsv(trajectory));
+      out->Write("results.json", doc.dump(2) + "\n");
+      out->Commit();
     }
     if (options.json) {
       std::cout << doc.dump(2) << "\n";
