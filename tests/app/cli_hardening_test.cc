@@ -252,6 +252,37 @@ TEST_CASE("report: a re-run whose gearboxes all fail leaves the earlier report i
   CHECK(Debris(dir.path()).empty());
 }
 
+TEST_CASE("report: a batch replaces only the gearbox folders that succeeded", "[cli][hardening][report]") {
+  const TempDir dir;
+  const fs::path out = dir.path() / "OLD";
+  WriteEarlierReport(out);
+  // The earlier report also had a gearbox "broken" that was fine then.
+  fs::create_directories(out / "broken");
+  std::ofstream(out / "broken" / "index.html") << "<html>broken, as it was</html>\n";
+  auto earlier = nlohmann::json::parse(ReadWholeFile(out / "report.json"));
+  earlier["gearboxes"].push_back({{"file", "broken.yaml"}, {"folder", "broken"},
+                                  {"name", "broken"}, {"ok", true}, {"error", ""},
+                                  {"summary", {{"tier", "1"}, {"regime", "no impact"}}},
+                                  {"wall_s", 1.0}});
+  std::ofstream(out / "report.json") << earlier.dump(1);
+  const fs::path broken = dir.Write("broken.yaml", "schema: gearnvh/1\nname: broken\n");
+  const auto run = RunCommand(kExe + " report " + kWhine + " " + broken.string() +
+                              " --no-atlas --width 600 --height 400 --out " + out.string());
+  INFO(run.err);
+  CHECK(run.exit_code == 1);
+  CHECK(fs::exists(out / "industrial-whine" / "campbell.png"));  // the new gearbox is in
+  // The failed gearbox keeps its earlier folder; the untouched earlier gearbox stays listed.
+  CHECK(ReadWholeFile(out / "broken" / "index.html") == "<html>broken, as it was</html>\n");
+  CHECK(ReadWholeFile(out / "kept" / "index.html") == "<html>an earlier gearbox</html>\n");
+  const std::string index = ReadWholeFile(out / "index.html");
+  CHECK(index.find("the result of an earlier run is kept") != std::string::npos);
+  CHECK(index.find("kept</a> (earlier run)") != std::string::npos);
+  const auto batch = nlohmann::json::parse(ReadWholeFile(out / "report.json"));
+  CHECK(batch["failed"] == 1);
+  CHECK(batch["gearboxes"].size() == 3);
+  CHECK(Debris(dir.path()).empty());
+}
+
 TEST_CASE("report: a signal mid-run removes the staging folder and keeps the earlier report and "
           "stops Xvfb - after kill -9 the next run cleans up",
           "[cli][hardening][report]") {
