@@ -216,8 +216,8 @@ int Main(int argc, char** argv) {
   report_cmd->add_option("FILE", report.files, "Gearbox YAML files")->required();
   report_cmd
       ->add_option("--out", report.out,
-                   "Report folder (replaced as a whole when it is an "
-                   "earlier gearnvh report)")
+                   "Report folder: new, empty or an earlier gearnvh report (its gearbox folders "
+                   "are replaced one by one, only by gearboxes that succeed)")
       ->required();
   report_cmd->add_option("--jobs", report.jobs, "Gearboxes in parallel (default: all cores)")
       ->check(CLI::Range(1, 1024));
