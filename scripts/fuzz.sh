@@ -9,7 +9,6 @@ SECONDS_TO_RUN=${1:-600}
 bash scripts/install-deps.sh
 cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
-  -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined" \
   -DGEARNVH_FUZZ=ON -DGEARNVH_WITH_RENDER=OFF -DGEARNVH_BUILD_TESTS=ON
 cmake --build build-fuzz --target loader_fuzzer -j "$(nproc)"
 mkdir -p fuzz-corpus
