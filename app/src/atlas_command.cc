@@ -13,12 +13,12 @@
 
 #include "atomic_file.h"
 #include "command_errors.h"
-#include "finite_results.h"
-#include "output_folder.h"
 #include "config/gearbox_loader.h"
+#include "finite_results.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/atlas.h"
 #include "mpi_context.h"
+#include "output_folder.h"
 #include "simulate_command.h"
 
 namespace gearnvh::app {

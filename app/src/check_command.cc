@@ -7,8 +7,8 @@
 #include <iostream>
 
 #include "command_errors.h"
-#include "finite_results.h"
 #include "config/gearbox_loader.h"
+#include "finite_results.h"
 #include "gearnvh/model/component_model.h"
 #include "gearnvh/model/gear_geometry.h"
 #include "gearnvh/model/input_error.h"

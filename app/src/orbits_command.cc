@@ -9,13 +9,12 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "atomic_file.h"
 #include "command_errors.h"
-#include "finite_results.h"
-#include "output_folder.h"
 #include "config/gearbox_loader.h"
+#include "finite_results.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/orbit_scan.h"
+#include "output_folder.h"
 #include "simulate_command.h"
 
 namespace gearnvh::app {

@@ -9,17 +9,16 @@
 #include <numeric>
 #include <sstream>
 
-#include "atomic_file.h"
 #include "command_errors.h"
-#include "finite_results.h"
-#include "output_folder.h"
 #include "config/gearbox_loader.h"
+#include "finite_results.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/rattle.h"
 #include "gearnvh/nvh/spectrum.h"
 #include "gearnvh/nvh/transmission_error.h"
 #include "gearnvh/reduction/reduced_model.h"
 #include "operating_point.h"
+#include "output_folder.h"
 
 namespace gearnvh::app {
 

@@ -10,14 +10,13 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "atomic_file.h"
 #include "check_command.h"
 #include "command_errors.h"
-#include "finite_results.h"
-#include "output_folder.h"
 #include "config/gearbox_loader.h"
+#include "finite_results.h"
 #include "gearnvh/nvh/lyapunov.h"
 #include "operating_point.h"
+#include "output_folder.h"
 #ifdef GEARNVH_HAVE_RENDER
 #include "gearnvh/render/plots.h"
 #endif
