@@ -36,6 +36,9 @@ std::string Hidden(const fs::path& target, const std::string& suffix) {
   return name;
 }
 
+// Inside the target itself (its parent is not writable): ".gearnvh<suffix>".
+constexpr const char* kInsideBase = "gearnvh";
+
 bool Exists(const fs::path& p) {
   std::error_code ec;
   return fs::exists(fs::symlink_status(p, ec));
@@ -55,9 +58,9 @@ OutputFolder::OutputFolder(const fs::path& target, const std::string& flag) {
   Lock();
   try {
     RemoveStaleStaging();
-    staging_ = target_.parent_path() / Hidden(target_, ".partial-" + std::to_string(::getpid()));
+    staging_ = Beside(".partial-" + std::to_string(::getpid()));
     if (::mkdir(staging_.c_str(), 0755) != 0) {
-      throw IoError("cannot write into " + target_.parent_path().string() + ": " + Errno());
+      throw IoError("cannot write into " + work_dir_.string() + ": " + Errno());
     }
     RemoveOnSignal(staging_);
     // Prove it: a file written, flushed and renamed (a full or read-only disk fails here).
@@ -83,7 +86,7 @@ OutputFolder::~OutputFolder() {
   Unlock();
 }
 
-void OutputFolder::CheckTarget(const std::string& flag) const {
+void OutputFolder::CheckTarget(const std::string& flag) {
   const std::string named = flag + " " + target_.string();
   std::error_code ec;
   if (Exists(target_) && !fs::is_directory(target_, ec)) {
@@ -92,13 +95,21 @@ void OutputFolder::CheckTarget(const std::string& flag) const {
   const fs::path parent = target_.parent_path();
   fs::create_directories(parent, ec);
   if (ec) throw IoError(named + ": cannot create " + parent.string() + ": " + ec.message());
-  for (const fs::path& dir : {parent, target_}) {
-    if (Exists(dir) && ::access(dir.c_str(), W_OK | X_OK) != 0) {
-      throw IoError(named + ": " + dir.string() + " is not writable: " + Errno());
+  const bool target_exists = Exists(target_);
+  if (target_exists && ::access(target_.c_str(), W_OK | X_OK) != 0) {
+    throw IoError(named + ": " + target_.string() + " is not writable: " + Errno());
+  }
+  // The lock and the staging folder live beside DIR; inside an existing DIR when its parent is
+  // not ours to write (--out . in a home directory).
+  work_dir_ = parent;
+  if (::access(parent.c_str(), W_OK | X_OK) != 0) {
+    if (!target_exists) {
+      throw IoError(named + ": " + parent.string() + " is not writable: " + Errno());
     }
+    work_dir_ = target_;
   }
   struct statvfs fs_info {};
-  if (::statvfs(parent.c_str(), &fs_info) == 0) {
+  if (::statvfs(work_dir_.c_str(), &fs_info) == 0) {
     const unsigned long long free_bytes =
         static_cast<unsigned long long>(fs_info.f_bavail) * fs_info.f_frsize;
     if (free_bytes < kMinFreeBytes) {
@@ -109,8 +120,12 @@ void OutputFolder::CheckTarget(const std::string& flag) const {
   }
 }
 
+fs::path OutputFolder::Beside(const std::string& suffix) const {
+  return work_dir_ / (work_dir_ == target_ ? Hidden(kInsideBase, suffix) : Hidden(target_, suffix));
+}
+
 void OutputFolder::Lock() {
-  lock_path_ = target_.parent_path() / Hidden(target_, ".lock");
+  lock_path_ = Beside(".lock");
   for (;;) {
     const int fd = ::open(lock_path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
     if (fd < 0) throw IoError("cannot create the lock " + lock_path_.string() + ": " + Errno());
@@ -150,9 +165,10 @@ void OutputFolder::Unlock() {
 }
 
 void OutputFolder::RemoveStaleStaging() const {
-  const std::string partial = Hidden(target_, ".partial-"), old = Hidden(target_, ".old-");
+  const std::string partial = Beside(".partial-").filename().string();
+  const std::string old = Hidden(target_, ".old-");
   std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(target_.parent_path(), ec)) {
+  for (const auto& entry : fs::directory_iterator(work_dir_, ec)) {
     const std::string n = entry.path().filename().string();
     if (n.rfind(partial, 0) == 0) {
       fs::remove_all(entry.path(), ec);

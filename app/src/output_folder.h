@@ -2,7 +2,8 @@
 //  - checked before any computation: DIR is a directory or absent, its filesystem is writable and
 //    not full (IoError, exit 4, otherwise);
 //  - one writer at a time: an advisory lock (flock) on "<parent>/.<DIR>.lock"; a second run
-//    refuses at once, naming the process that holds it;
+//    refuses at once, naming the process that holds it (lock and staging folder go inside an
+//    existing DIR, as .gearnvh.lock and .gearnvh.partial-<pid>, when its parent is not writable);
 //  - everything is written into a hidden staging folder "<parent>/.<DIR>.partial-<pid>" first;
 //    staging folders of killed runs are removed by the next run into DIR (it holds the lock, so
 //    they cannot belong to a live writer);
@@ -36,12 +37,13 @@ class OutputFolder {
   void Commit();
 
  private:
-  void CheckTarget(const std::string& flag) const;
+  void CheckTarget(const std::string& flag);
+  std::filesystem::path Beside(const std::string& suffix) const;
   void Lock();
   void RemoveStaleStaging() const;
   void Unlock();
 
-  std::filesystem::path target_, staging_, lock_path_;
+  std::filesystem::path target_, work_dir_, staging_, lock_path_;
   int lock_fd_ = -1;
   bool committed_ = false;
 };

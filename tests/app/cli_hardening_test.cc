@@ -368,6 +368,26 @@ TEST_CASE("output: a full disk while writing leaves the earlier results - a full
   CHECK(readonly.out.find("rc=4") != std::string::npos);
 }
 
+TEST_CASE("output: --out . works when the parent folder is not writable", "[cli][hardening]") {
+  if (!NamespacesAvailable()) {
+    WARN("user and mount namespaces unavailable: the read-only-parent test is not run here");
+    return;
+  }
+  const TempDir dir;
+  const std::string d = dir.path().string();
+  // A read-only parent with a writable output folder mounted inside it.
+  const auto run = RunCommand("unshare -rm sh -c 'mount -t tmpfs -o size=8m tmpfs " + d +
+                              " && mkdir " + d + "/out && mount -t tmpfs -o size=8m tmpfs " + d +
+                              "/out && mount -o remount,ro " + d + " && cd " + d + "/out && " +
+                              kExe + " simulate " + kWhine +
+                              " --cycles 20 --transient 5 --out . ; echo rc=$?; ls -a " + d +
+                              "/out'");
+  INFO(run.out << run.err);
+  CHECK(run.out.find("rc=0") != std::string::npos);
+  CHECK(run.out.find("results.json") != std::string::npos);
+  CHECK(run.out.find(".gearnvh") == std::string::npos);  // lock and staging are gone
+}
+
 TEST_CASE("output: a failed rename undoes the moves and says where the new results are",
           "[cli][hardening]") {
   if (!NamespacesAvailable()) {
