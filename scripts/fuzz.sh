@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Builds the loader fuzzer with clang + libFuzzer + ASan/UBSan and runs it.
+# Builds the loader + model-builder fuzzer with clang + libFuzzer + ASan/UBSan and runs it.
 #   bash scripts/fuzz.sh [seconds=600]
-# The corpus lives in fuzz-corpus/ (git-ignored), seeded from examples/ and tests' YAML.
+# The corpus lives in fuzz-corpus/ (git-ignored), seeded from examples/ and the regression inputs
+# in tests/fuzz/regressions/. A crash leaves crash-* in the working directory and fails the script.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 SECONDS_TO_RUN=${1:-600}
@@ -11,7 +12,7 @@ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DGEARNVH_FUZZ=ON -DGEARNVH_WITH_RENDER=OFF -DGEARNVH_BUILD_TESTS=ON
 cmake --build build-fuzz --target loader_fuzzer -j "$(nproc)"
 mkdir -p fuzz-corpus
-cp -n examples/*.yaml fuzz-corpus/ 2>/dev/null || true
+cp -n examples/*.yaml tests/fuzz/regressions/* fuzz-corpus/ 2>/dev/null || true
 ASAN_OPTIONS=detect_leaks=1 ./build-fuzz/tests/fuzz/loader_fuzzer fuzz-corpus \
   -max_total_time="$SECONDS_TO_RUN" -max_len=8192 -timeout=10 -rss_limit_mb=2048 \
   -print_final_stats=1

@@ -1,4 +1,5 @@
 #include "gearbox_loader.h"
+#include "utf8_check.h"
 
 #include <yaml-cpp/yaml.h>
 
@@ -656,6 +657,7 @@ std::string ClosestMatch(const std::string& word, const std::vector<std::string>
 namespace {
 
 YAML::Node ParseYaml(const std::string& text, const std::string& source) {
+  RequireValidUtf8(text, source);
   try {
     return YAML::Load(text);
   } catch (const YAML::Exception& e) {

@@ -15,9 +15,11 @@
 #include "display_units.h"
 #include "command_errors.h"
 #include "config/gearbox_loader.h"
+#include "finite_results.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/atlas.h"
 #include "mpi_context.h"
+#include "output_folder.h"
 #include "simulate_command.h"
 
 namespace gearnvh::app {
@@ -199,6 +201,7 @@ std::vector<AtlasCell> PrepareCheckpoint(const Checkpoint& cp, bool resume, int 
 int RunAtlas(const AtlasCommandOptions& options) {
   const int rank = MpiContext::Rank(), ranks = MpiContext::Size();
   int code = RunReportingErrors(options.file, [&]() -> int {
+    const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", true);
     const GearboxSpec spec = config::LoadGearboxFile(options.file);
     AtlasOptions atlas;
     atlas.tier = options.tier ? ParseTier(*options.tier) : spec.analysis.tier;
@@ -319,11 +322,11 @@ int RunAtlas(const AtlasCommandOptions& options) {
     doc["file"] = options.file;
     doc["ranks"] = ranks;
     doc["restored_cells"] = restored.size();
-    if (options.out) {
-      std::filesystem::create_directories(*options.out);
-      const std::filesystem::path dir(*options.out);
-      WriteFileAtomically((dir / "atlas.csv").string(), AtlasCsv(result, spec));
-      WriteFileAtomically((dir / "atlas.json").string(), doc.dump(1) + "\n");
+    RequireFinite(doc, "atlas");
+    if (out) {
+      out->Write("atlas.csv", AtlasCsv(result, spec));
+      out->Write("atlas.json", doc.dump(1) + "\n");
+      out->Commit();
       // Complete: the checkpoint has served its purpose (failed cells stay failed in the output;
       // a new run retries them).
       if (result.Failed() == 0) {

@@ -2,12 +2,14 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 
 #include "command_errors.h"
 #include "config/gearbox_loader.h"
 #include "display_units.h"
+#include "finite_results.h"
 #include "gearnvh/model/component_model.h"
 #include "gearnvh/model/gear_geometry.h"
 #include "gearnvh/model/input_error.h"
@@ -156,8 +158,9 @@ int RunCheck(const CheckOptions& options) {
       if (loaded.schema == 2) {
         const GearTrain train = BuildGearTrain(loaded.train);
         const TrainTorsionalModes modes = TorsionalModes(train);
+        nlohmann::json doc = TrainCheckReport(loaded.train, train, modes);
+        RequireFinite(doc, "check");
         if (options.json) {
-          nlohmann::json doc = TrainCheckReport(loaded.train, train, modes);
           doc["file"] = file;
           documents.push_back(std::move(doc));
         } else {
@@ -171,6 +174,7 @@ int RunCheck(const CheckOptions& options) {
       const ModalSummary modes = FullModelFrequencies(model, kReportedModes);
       const std::vector<ReducedModel> tiers = ReduceAvailableTiers(model);
       nlohmann::json doc = CheckReport(spec, model, modes, tiers);
+      RequireFinite(doc, "check");
       if (options.json) {
         doc["file"] = file;
         documents.push_back(std::move(doc));
@@ -181,8 +185,14 @@ int RunCheck(const CheckOptions& options) {
       // Errors raised below the loader (e.g. segments_per_cycle too small) carry no file name.
       const std::string message = InputErrorMessage(e, file);
       std::cerr << "error: " << message << "\n";
-      exit_code = 1;
+      exit_code = std::max(exit_code, static_cast<int>(kExitInput));
       if (options.json) documents.push_back({{"file", file}, {"error", message}});
+    } catch (const std::exception& e) {
+      // A bug (or a non-finite result) in one file: that file's verdict is 3, the others go on.
+      const std::string message = file + ": " + e.what();
+      std::cerr << "internal error: " << message << "\n";
+      exit_code = std::max(exit_code, static_cast<int>(kExitInternal));
+      if (options.json) documents.push_back({{"file", file}, {"internal_error", message}});
     }
   }
   if (options.json) {

@@ -1,7 +1,10 @@
-// How commands report bad input: "error: file:line: yaml.path: rule, got 'value'" on stderr and
-// exit code 1 (main() maps anything else to 3, internal error).
+// How commands end. One exit-code table for every command (docs/cli.md):
+//   0 ok, 1 invalid input (the message names file:line, the YAML path, the value and the rule),
+//   2 usage error (command line), 3 internal error (a bug: an exception we did not expect, or a
+//   non-finite number in a result), 4 I/O error (an output that cannot be written or replaced).
 #pragma once
 
+#include <filesystem>
 #include <iostream>
 #include <stdexcept>
 #include <string>
@@ -10,25 +13,54 @@
 
 namespace gearnvh::app {
 
+enum ExitCode : int { kExitOk = 0, kExitInput = 1, kExitUsage = 2, kExitInternal = 3, kExitIo = 4 };
+
+// An output that cannot be written, replaced or locked (exit 4). The message names the path.
+class IoError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// A result that is not a finite number (exit 3): a bug or an unguarded corner of the model, never
+// something to print.
+class NonFiniteResult : public std::logic_error {
+ public:
+  using std::logic_error::logic_error;
+};
+
 // The message of an input error, naming `file` when the error was raised below the loader (range
 // rules of the model, solver options) and so carries no source.
 inline std::string InputErrorMessage(const InputError& e, const std::string& file) {
   return e.source().empty() ? e.WithSource(file).what() : e.what();
 }
 
-// Runs `body` (returning the exit code). Input errors and outputs that cannot be written
-// (permissions, disk full, a file in the way: std::runtime_error from the atomic writer, which
-// leaves no partial file) become a clear message and exit 1.
+// An input error about a command-line option ("--resume needs --out") is a usage error.
+inline int ExitCodeOf(const InputError& e) {
+  return e.path().rfind("--", 0) == 0 ? kExitUsage : kExitInput;
+}
+
+// Runs `body` (returning the exit code) and maps what it throws onto the exit-code table. Anything
+// not listed here reaches main(), which reports an internal error (3).
 template <typename Body>
 int RunReportingErrors(const std::string& file, Body&& body) {
   try {
     return body();
   } catch (const InputError& e) {
     std::cerr << "error: " << InputErrorMessage(e, file) << "\n";
-    return 1;
-  } catch (const std::runtime_error& e) {
+    return ExitCodeOf(e);
+  } catch (const IoError& e) {
     std::cerr << "error: " << e.what() << "\n";
-    return 1;
+    return kExitIo;
+  } catch (const std::filesystem::filesystem_error& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return kExitIo;
+  } catch (const NonFiniteResult& e) {
+    std::cerr << "internal error: " << file << ": " << e.what() << "\n";
+    return kExitInternal;
+  } catch (const std::runtime_error& e) {
+    // Failures the library reports as runtime_error (a run that could not be completed).
+    std::cerr << "error: " << e.what() << "\n";
+    return kExitInput;
   }
 }
 

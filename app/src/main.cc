@@ -1,4 +1,5 @@
-// gearnvh: the command line. Exit codes: 0 ok, 1 invalid input, 2 usage error, 3 internal error.
+// gearnvh: the command line. Exit codes (command_errors.h, docs/cli.md): 0 ok, 1 invalid input,
+// 2 usage error, 3 internal error, 4 I/O error.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
@@ -6,6 +7,11 @@
 
 #include "atlas_command.h"
 #include "check_command.h"
+#include "cleanup_on_exit.h"
+#include "command_errors.h"
+#include "config/gearbox_loader.h"
+#include "gearnvh/model/gearbox_spec_limits.h"
+#include "gearnvh_revision.h"
 #include "mpi_context.h"
 #include "orbits_command.h"
 #include "tiers_command.h"
@@ -18,12 +24,40 @@
 
 namespace {
 
+// Option values checked while the command line is parsed, so a bad one is a usage error (2).
+CLI::Validator TierValidator() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        try {
+          (void)gearnvh::app::ParseTier(text);
+          return {};
+        } catch (const gearnvh::InputError& e) {
+          return e.what();
+        }
+      },
+      "TIER");
+}
+
+CLI::Validator AxisValidator(const std::string& flag) {
+  return CLI::Validator(
+      [flag](std::string& text) -> std::string {
+        try {
+          (void)gearnvh::config::ParseAxisOption(text, flag);
+          return {};
+        } catch (const gearnvh::InputError& e) {
+          return e.what();
+        }
+      },
+      "PARAMETER=FROM:TO:N");
+}
+
 int Main(int argc, char** argv) {
   CLI::App app{
       "gearnvh: gearbox NVH from a YAML gearbox definition (schema gearnvh/1).\n"
       "Mesh stiffness, flexible shafts, modal tiers, exact gear-rattle dynamics, NVH reports."};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "gearnvh 0.1.0");
+  app.set_version_flag(
+      "--version", std::string("gearnvh ") + GEARNVH_VERSION + " (git " + GEARNVH_GIT_REVISION + ")");
 
   gearnvh::app::CheckOptions check;
   CLI::App* check_cmd = app.add_subcommand(
@@ -31,8 +65,7 @@ int Main(int argc, char** argv) {
       "Load and validate gearbox files; print derived geometry (radii, centre distance, "
       "contact ratio, mesh frequency).");
   check_cmd->add_option("FILE", check.files, "Gearbox YAML files")
-      ->required()
-      ->check(CLI::ExistingFile);
+      ->required();
   check_cmd->add_flag("--json", check.json,
                       "Print one JSON document (a list of documents for several files)");
 
@@ -42,14 +75,15 @@ int Main(int argc, char** argv) {
       "Run one operating point through the exact piecewise-LTI solver; print the solver summary, "
       "TE and mesh-force statistics.");
   simulate_cmd->add_option("FILE", simulate.file, "Gearbox YAML file")
-      ->required()
-      ->check(CLI::ExistingFile);
+      ->required();
   simulate_cmd->add_option("--tier", simulate.tier,
                            "Modal tier: 1..5, \"N40 full\", \"N20 simple\", \"N20 MTA\" "
-                           "(default: analysis.tier)");
+                           "(default: analysis.tier)")
+      ->check(TierValidator());
   simulate_cmd
-      ->add_option("--cycles", simulate.cycles, "Recorded mesh cycles (default: analysis.cycles)")
-      ->check(CLI::Range(1L, 100000000L));
+      ->add_option("--cycles", simulate.cycles,
+                   "Recorded mesh cycles, at most 1000000 (default: analysis.cycles)")
+      ->check(CLI::Range(1L, gearnvh::GearboxLimits::kMaxRecordedCycles));
   simulate_cmd
       ->add_option("--transient", simulate.transient,
                    "Unrecorded mesh cycles first (default: analysis.transient_cycles)")
@@ -74,8 +108,7 @@ int Main(int argc, char** argv) {
       "reference, closed forms, segment convergence, MTA compliance, ISO 6336 stiffness. "
       "Exit 1 if any check fails.");
   validate_cmd->add_option("FILE", validate.file, "Gearbox YAML file")
-      ->required()
-      ->check(CLI::ExistingFile);
+      ->required();
   validate_cmd->add_flag("--json", validate.json,
                          "Print {checks: [{name, value, threshold, pass}]}");
 
@@ -86,9 +119,9 @@ int Main(int argc, char** argv) {
       "by MAC, order lines, critical speeds) and a waterfall of steady-state TE spectra (one exact "
       "run per speed, speeds in parallel).");
   sweep_cmd->add_option("FILE", sweep.file, "Gearbox YAML file")
-      ->required()
-      ->check(CLI::ExistingFile);
-  sweep_cmd->add_option("--tier", sweep.tier, "Modal tier (default: analysis.tier)");
+      ->required();
+  sweep_cmd->add_option("--tier", sweep.tier, "Modal tier (default: analysis.tier)")
+      ->check(TierValidator());
   sweep_cmd->add_option("--cycles", sweep.cycles, "Recorded mesh cycles per speed (default 512)")
       ->check(CLI::Range(2L, 100000000L));
   sweep_cmd->add_option("--transient", sweep.transient, "Unrecorded cycles per speed (default 200)")
@@ -108,12 +141,14 @@ int Main(int argc, char** argv) {
       "Chaos atlas over two schema parameters (default: analysis.atlas): per cell the largest "
       "Lyapunov exponent, impacts per cycle, rattle index and regime; cells in parallel.");
   atlas_cmd->add_option("FILE", atlas.file, "Gearbox YAML file")
-      ->required()
-      ->check(CLI::ExistingFile);
+      ->required();
   atlas_cmd->add_option("--x", atlas.x,
-                        "x axis PARAMETER=FROM:TO:POINTS, e.g. operating.speed=600rpm:3000rpm:24");
-  atlas_cmd->add_option("--y", atlas.y, "y axis, e.g. operating.torque=0.05Nm:5Nm:24");
-  atlas_cmd->add_option("--tier", atlas.tier, "Modal tier (default: analysis.tier)");
+                        "x axis PARAMETER=FROM:TO:POINTS, e.g. operating.speed=600rpm:3000rpm:24")
+      ->check(AxisValidator("--x"));
+  atlas_cmd->add_option("--y", atlas.y, "y axis, e.g. operating.torque=0.05Nm:5Nm:24")
+      ->check(AxisValidator("--y"));
+  atlas_cmd->add_option("--tier", atlas.tier, "Modal tier (default: analysis.tier)")
+      ->check(TierValidator());
   atlas_cmd->add_option("--cycles", atlas.cycles, "Averaged mesh cycles per cell (default 1080)")
       ->check(CLI::Range(8L, 100000000L));
   atlas_cmd->add_option("--transient", atlas.transient, "Settling cycles per cell (default 300)")
@@ -135,16 +170,17 @@ int Main(int argc, char** argv) {
       "and the nearest stability boundary (fold, flip, Neimark-Sacker, grazing), at the file's "
       "operating point or continued along one parameter.");
   orbits_cmd->add_option("FILE", orbits.file, "Gearbox YAML file")
-      ->required()
-      ->check(CLI::ExistingFile);
+      ->required();
   orbits_cmd
       ->add_option("--period", orbits.period,
                    "Period in base periods (mesh and excitation both repeat), default 1")
       ->check(CLI::Range(1, 64));
   orbits_cmd->add_option("--sweep", orbits.sweep,
                          "Continue along PARAMETER=FROM:TO:POINTS, e.g. "
-                         "operating.torque=0.1Nm:1Nm:10");
-  orbits_cmd->add_option("--tier", orbits.tier, "Modal tier (default: analysis.tier)");
+                         "operating.torque=0.1Nm:1Nm:10")
+      ->check(AxisValidator("--sweep"));
+  orbits_cmd->add_option("--tier", orbits.tier, "Modal tier (default: analysis.tier)")
+      ->check(TierValidator());
   orbits_cmd
       ->add_option("--transient", orbits.transient,
                    "Settling cycles before the first guess (default: analysis.transient_cycles)")
@@ -161,8 +197,7 @@ int Main(int argc, char** argv) {
       "and static compliance errors against the full FE model, TE RMS and rattle index against "
       "the finest tier, and cost (matvec and µs per cycle, real-time ratio).");
   tiers_cmd->add_option("FILE", tiers.file, "Gearbox YAML file")
-      ->required()
-      ->check(CLI::ExistingFile);
+      ->required();
   tiers_cmd
       ->add_option("--cycles", tiers.cycles,
                    "Recorded mesh cycles per tier (default min(analysis.cycles, 400))")
@@ -184,8 +219,8 @@ int Main(int argc, char** argv) {
   report_cmd->add_option("FILE", report.files, "Gearbox YAML files")->required();
   report_cmd
       ->add_option("--out", report.out,
-                   "Report folder (replaced as a whole when it is an "
-                   "earlier gearnvh report)")
+                   "Report folder: new, empty or an earlier gearnvh report (its gearbox folders "
+                   "are replaced one by one, only by gearboxes that succeed)")
       ->required();
   report_cmd->add_option("--jobs", report.jobs, "Gearboxes in parallel (default: all cores)")
       ->check(CLI::Range(1, 1024));
@@ -202,8 +237,9 @@ int Main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? 0 : 2;
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    std::cerr << "error: " << e.what() << "\nRun with --help for more information.\n";
+    return gearnvh::app::kExitUsage;
   }
   // Under mpirun only the commands that split their work across ranks run on every rank; for the
   // others rank 0 does everything and the other ranks leave at once.
@@ -226,9 +262,12 @@ int Main(int argc, char** argv) {
       return gearnvh::app::RunReport(report);
     }
 #endif
+  } catch (const gearnvh::app::IoError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return gearnvh::app::kExitIo;
   } catch (const std::exception& e) {
     std::cerr << "internal error: " << e.what() << "\n";
-    return 3;
+    return gearnvh::app::kExitInternal;
   }
   return 0;
 }
@@ -236,6 +275,7 @@ int Main(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  gearnvh::app::InstallSignalCleanup();  // before any thread starts
   gearnvh::app::MpiContext::Initialize(&argc, &argv);
   if (gearnvh::app::MpiContext::Rank() != 0) {
     // Rank 0 alone talks to the user; the others report through it.

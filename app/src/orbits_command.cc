@@ -9,12 +9,13 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "atomic_file.h"
 #include "command_errors.h"
 #include "config/gearbox_loader.h"
 #include "display_units.h"
+#include "finite_results.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/orbit_scan.h"
+#include "output_folder.h"
 #include "simulate_command.h"
 
 namespace gearnvh::app {
@@ -72,6 +73,7 @@ std::string OrbitsCsv(const std::vector<OrbitScanPoint>& points, const std::stri
 
 int RunOrbits(const OrbitsCommandOptions& options) {
   return RunReportingErrors(options.file, [&]() -> int {
+    const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
     const GearboxSpec spec = config::LoadGearboxFile(options.file);
     OrbitScanOptions scan;
     scan.tier = options.tier ? ParseTier(*options.tier) : spec.analysis.tier;
@@ -108,11 +110,11 @@ int RunOrbits(const OrbitsCommandOptions& options) {
                           {"points", list},
                           {"stable_points", stable},
                           {"failed_points", failed}};
-    if (options.out) {
-      std::filesystem::create_directories(*options.out);
-      const std::filesystem::path dir(*options.out);
-      WriteFileAtomically((dir / "orbits.csv").string(), OrbitsCsv(points, parameter, axis));
-      WriteFileAtomically((dir / "orbits.json").string(), doc.dump(1) + "\n");
+    RequireFinite(doc, "orbits");
+    if (out) {
+      out->Write("orbits.csv", OrbitsCsv(points, parameter, axis));
+      out->Write("orbits.json", doc.dump(1) + "\n");
+      out->Commit();
     }
     if (options.json) {
       std::cout << doc.dump(1) << "\n";

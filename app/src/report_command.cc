@@ -21,14 +21,17 @@
 #include "atlas_command.h"
 #include "atomic_file.h"
 #include "check_command.h"
+#include "cleanup_on_exit.h"
 #include "command_errors.h"
 #include "display_units.h"
 #include "config/gearbox_loader.h"
+#include "finite_results.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/periodic_orbit.h"
 #include "gearnvh/render/display.h"
 #include "mpi_context.h"
 #include "operating_point.h"
+#include "output_folder.h"
 #include "report_figures.h"
 #include "sweep_command.h"
 #include "uff_export.h"
@@ -122,6 +125,9 @@ struct Figure {
 struct GearboxEntry {
   std::string file, folder, name;
   bool ok = false;
+  bool internal = false;      // failed by a bug (exit 3), not by its input
+  bool earlier_kept = false;  // failed now; DIR keeps this folder from an earlier run
+  bool from_earlier = false;  // not in this run; kept from an earlier run into DIR
   std::string error;
   nlohmann::json summary;
   double wall_s = 0.0;
@@ -324,6 +330,7 @@ GearboxEntry BuildGearboxReport(const std::string& file, const fs::path& folder,
     nlohmann::json images = nlohmann::json::array();
     for (const Figure& f : figures) images.push_back({{"file", f.file}, {"caption", f.caption}});
     results["images"] = images;
+    RequireFinite(results, "results.json");
     WriteFileAtomically((folder / "results.json").string(), results.dump(1) + "\n");
 
     // Summary for the batch and the page.
@@ -468,8 +475,14 @@ GearboxEntry BuildGearboxReport(const std::string& file, const fs::path& folder,
     entry.ok = true;
   } catch (const InputError& e) {
     entry.error = InputErrorMessage(e, file);
-  } catch (const std::exception& e) {
+  } catch (const NonFiniteResult& e) {
+    entry.error = file + ": internal error: " + e.what();
+    entry.internal = true;
+  } catch (const std::runtime_error& e) {
     entry.error = e.what();
+  } catch (const std::exception& e) {
+    entry.error = file + ": internal error: " + e.what();
+    entry.internal = true;
   }
   entry.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return entry;
@@ -495,13 +508,19 @@ std::string BatchIndex(const std::vector<GearboxEntry>& entries) {
   for (const GearboxEntry& e : entries) {
     if (!e.ok) {
       h << "<tr><td>" << Html(e.file)
-        << "</td><td colspan=\"10\" class=\"warn\">failed: " << Html(e.error) << "</td></tr>\n";
+        << "</td><td colspan=\"10\" class=\"warn\">failed: " << Html(e.error);
+      if (e.earlier_kept) {
+        h << " (the result of an earlier run is kept: <a href=\"" << e.folder
+          << "/index.html\">" << Html(e.folder) << "</a>)";
+      }
+      h << "</td></tr>\n";
       continue;
     }
     const nlohmann::json& s = e.summary;
-    h << "<tr><td><a href=\"" << e.folder << "/index.html\">" << Html(e.name) << "</a></td><td>"
-      << Html(s["tier"].get<std::string>()) << "</td><td>" << Html(s["speed"].get<std::string>())
-      << "</td><td>" << Html(s["torque"].get<std::string>()) << "</td><td>" << num(s["te_rms_um"]) << "</td><td>"
+    h << "<tr><td><a href=\"" << e.folder << "/index.html\">" << Html(e.name) << "</a>"
+      << (e.from_earlier ? " (earlier run)" : "") << "</td><td>"
+      << Html(s["tier"].get<std::string>()) << "</td><td>" << Html(s.value("speed", std::string()))
+      << "</td><td>" << Html(s.value("torque", std::string())) << "</td><td>" << num(s["te_rms_um"]) << "</td><td>"
       << Html(s["regime"].get<std::string>()) << "</td><td>" << num(s["impacts_per_cycle"])
       << "</td><td>" << num(s["acceleration_ratio"]) << "</td><td>"
       << num(s["first_critical_speed_rpm"]) << "</td><td>" << num(s["chaotic_atlas_cells"])
@@ -586,6 +605,32 @@ void UnpackEntries(const std::string& packed, std::vector<GearboxEntry>& entries
 
 }  // namespace
 
+namespace {
+
+// The gearboxes of an earlier report in `dir` (its report.json), empty when there is none.
+std::vector<GearboxEntry> EarlierEntries(const fs::path& dir) {
+  std::vector<GearboxEntry> out;
+  if (!fs::exists(dir / kMarker) || !fs::exists(dir / "report.json")) return out;
+  try {
+    const nlohmann::json doc = nlohmann::json::parse(ReadWholeFileBytes(dir / "report.json"));
+    for (const auto& g : doc.at("gearboxes")) {
+      GearboxEntry e;
+      e.file = g.at("file").get<std::string>();
+      e.folder = g.at("folder").get<std::string>();
+      e.name = g.at("name").get<std::string>();
+      e.ok = g.at("ok").get<bool>();
+      e.summary = g.at("summary");
+      e.wall_s = g.at("wall_s").get<double>();
+      if (e.ok && !e.folder.empty() && fs::is_directory(dir / e.folder)) out.push_back(e);
+    }
+  } catch (const std::exception&) {
+    // An unreadable earlier index: its gearbox folders stay, unlisted.
+  }
+  return out;
+}
+
+}  // namespace
+
 int RunReport(const ReportCommandOptions& o) {
   const int rank = MpiContext::Rank(), ranks = MpiContext::Size();
   int code = 0;
@@ -598,16 +643,14 @@ int RunReport(const ReportCommandOptions& o) {
       throw InputError("--width/--height/--dpi", 0, "", e.what());
     }
     const fs::path out = fs::absolute(o.out).lexically_normal();
-    if (fs::exists(out)) {
-      if (!fs::is_directory(out)) {
-        throw InputError("--out", 0, o.out, "exists and is not a directory");
-      }
-      if (!fs::is_empty(out) && !fs::exists(out / kMarker)) {
-        throw InputError("--out", 0, o.out,
-                         "exists and is not a gearnvh report; refusing to mix results into it "
-                         "(choose a new folder or an earlier report's folder)");
-      }
+    if (fs::exists(out) && fs::is_directory(out) && !fs::is_empty(out) &&
+        !fs::exists(out / kMarker)) {
+      throw IoError("--out " + o.out +
+                    ": exists and is not a gearnvh report; refusing to mix results into it "
+                    "(choose a new folder or an earlier report's folder)");
     }
+    // Checked, locked and staged before any work (every rank learns rank 0's verdict).
+    const std::unique_ptr<OutputFolder> target = OpenOutputFolder(o.out, "--out", true);
     // Images need a display: fail before any work when rank 0 has none (every rank starts its own
     // Xvfb when DISPLAY is unset; a rank without one reports its gearboxes as failed).
     const render::DisplayStatus& display = render::EnsureDisplay();
@@ -616,14 +659,16 @@ int RunReport(const ReportCommandOptions& o) {
       return 1;
     }
     const std::string suffix = std::to_string(static_cast<long>(::getpid()));
-    // Rank 0 builds the report in a staging folder beside DIR; other ranks in a private scratch
-    // folder whose files they send to rank 0.
-    const fs::path staging =
-        rank == 0 ? out.parent_path() / ("." + out.filename().string() + ".partial-" + suffix)
-                  : fs::temp_directory_path() /
-                        ("gearnvh-report-rank" + std::to_string(rank) + "-" + suffix);
-    fs::remove_all(staging);
-    fs::create_directories(staging);
+    // Rank 0 builds the report in the output folder's staging folder; other ranks in a private
+    // scratch folder whose files they send to rank 0.
+    const fs::path scratch = fs::temp_directory_path() /
+                             ("gearnvh-report-rank" + std::to_string(rank) + "-" + suffix);
+    const fs::path staging = rank == 0 ? target->staging() : scratch;
+    if (rank != 0) {
+      fs::remove_all(scratch);
+      fs::create_directories(scratch);
+      RemoveOnSignal(scratch);
+    }
     std::vector<std::string> folders;
     std::set<std::string> used;
     for (const std::string& f : o.files) {
@@ -681,45 +726,68 @@ int RunReport(const ReportCommandOptions& o) {
       const std::vector<std::string> parts =
           MpiContext::GatherToRoot(rank == 0 ? std::string() : PackEntries(mine, entries, staging));
       if (rank != 0) {
-        fs::remove_all(staging);
+        fs::remove_all(scratch);
+        ForgetOnSignal(scratch);
         return MpiContext::BroadcastInt(0);
       }
       for (size_t r = 1; r < parts.size(); ++r) UnpackEntries(parts[r], entries, staging);
     }
 
-    nlohmann::json batch = nlohmann::json::array();
-    int failed = 0;
+    int failed = 0, internal = 0;
     for (const GearboxEntry& e : entries) {
       failed += e.ok ? 0 : 1;
+      internal += e.internal ? 1 : 0;
+      if (!e.ok) fs::remove_all(staging / e.folder);
+    }
+    for (const GearboxEntry& e : entries) {
+      if (!e.ok) std::cerr << "error: " << e.error << "\n";
+    }
+    if (failed == static_cast<int>(entries.size())) {
+      // Nothing new to show: DIR (an earlier report, or nothing) stays exactly as it was.
+      std::cerr << "error: all " << entries.size() << " gearboxes failed; "
+                << (fs::exists(out) ? out.string() + " is unchanged" : "nothing was written")
+                << "\n";
+      return MpiContext::BroadcastInt(internal > 0 ? kExitInternal : kExitInput);
+    }
+    // The batch index covers this run and keeps what an earlier report in DIR showed: a gearbox
+    // that failed now keeps its earlier folder, earlier gearboxes not in this run stay listed.
+    std::vector<GearboxEntry> listed = entries;
+    std::set<std::string> this_run(folders.begin(), folders.end());
+    for (GearboxEntry e : EarlierEntries(out)) {
+      if (this_run.count(e.folder) == 0) {
+        e.from_earlier = true;
+        listed.push_back(e);
+        continue;
+      }
+      for (GearboxEntry& now : listed) {
+        if (!now.ok && now.folder == e.folder) now.earlier_kept = true;
+      }
+    }
+    nlohmann::json batch = nlohmann::json::array();
+    for (const GearboxEntry& e : listed) {
       batch.push_back({{"file", e.file},
-                       {"folder", e.ok ? e.folder : ""},
+                       {"folder", e.ok || e.earlier_kept ? e.folder : ""},
                        {"name", e.name},
                        {"ok", e.ok},
                        {"error", e.error},
+                       {"earlier_result_kept", e.earlier_kept},
+                       {"from_earlier_run", e.from_earlier},
                        {"summary", e.summary},
                        {"wall_s", e.wall_s}});
-      if (!e.ok) fs::remove_all(staging / e.folder);
     }
-    WriteFileAtomically((staging / "index.html").string(), BatchIndex(entries));
-    WriteFileAtomically(
-        (staging / "report.json").string(),
-        nlohmann::json{{"gearboxes", batch}, {"failed", failed}, {"ranks", ranks}}.dump(1) + "\n");
-    WriteFileAtomically((staging / kMarker).string(), "gearnvh report\n");
-    // Swap the finished report into place.
-    if (fs::exists(out)) {
-      const fs::path old = out.parent_path() / ("." + out.filename().string() + ".old-" + suffix);
-      fs::rename(out, old);
-      fs::rename(staging, out);
-      fs::remove_all(old);
-    } else {
-      fs::rename(staging, out);
-    }
+    target->Write("index.html", BatchIndex(listed));
+    target->Write("report.json", nlohmann::json{{"gearboxes", batch},
+                                                {"failed", failed},
+                                                {"ranks", ranks}}
+                                         .dump(1) +
+                                     "\n");
+    target->Write(kMarker, "gearnvh report\n");
+    // Each gearbox folder and the index replace their earlier versions one by one, atomically.
+    target->Commit();
     for (const GearboxEntry& e : entries) {
       if (e.ok) {
         fmt::print("{}: {} -> {}/index.html ({:.1f} s)\n", e.file, e.name,
                    (out / e.folder).string(), e.wall_s);
-      } else {
-        std::cerr << "error: " << e.error << "\n";
       }
     }
     fmt::print("report: {}\n", (out / "index.html").string());
@@ -727,14 +795,17 @@ int RunReport(const ReportCommandOptions& o) {
       std::cerr << "error: " << failed << " of "
                 << Count(static_cast<long>(entries.size()), "gearbox", "gearboxes")
                 << " failed (listed in the batch index)\n";
-      code = 1;
+      code = internal > 0 ? kExitInternal : kExitInput;
     }
   } catch (const InputError& e) {
     std::cerr << "error: " << e.what() << "\n";
-    return 1;  // every rank sees the same input and the same error
+    return ExitCodeOf(e);  // every rank sees the same input and the same error
+  } catch (const IoError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    code = kExitIo;
   } catch (const fs::filesystem_error& e) {
     std::cerr << "error: " << e.what() << "\n";
-    code = 1;
+    code = kExitIo;
   }
   return MpiContext::BroadcastInt(code);
 }

@@ -3,10 +3,12 @@
 // inline, results.json, CSV of the key series, PNGs) and DIR/index.html comparing the batch.
 //
 // Gearboxes run in parallel (their images are drawn one at a time); a bad file is listed in the
-// batch index and makes the exit code 1 while the others complete. The whole report is built in a
-// staging folder beside DIR and renamed into place at the end: DIR never mixes old and new
-// results, and a DIR that exists and is not a gearnvh report is refused untouched. Under mpirun
-// the gearboxes are split across ranks; rank 0 receives the other ranks' files and alone writes.
+// batch index and makes the exit code 1 while the others complete. The report is built in the
+// staging folder of an OutputFolder (output_folder.h) and moved into DIR at the end, gearbox folder
+// by gearbox folder: only gearboxes that succeeded replace their earlier folders, a run in which
+// every gearbox failed leaves DIR untouched, and a DIR that exists and is not a gearnvh report is
+// refused untouched. Under mpirun the gearboxes are split across ranks; rank 0 receives the other
+// ranks' files and alone writes.
 #pragma once
 
 #include <string>

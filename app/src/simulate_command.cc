@@ -13,6 +13,7 @@
 #include "command_errors.h"
 #include "config/gearbox_loader.h"
 #include "display_units.h"
+#include "finite_results.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/rattle.h"
 #include "gearnvh/nvh/spectrum.h"
@@ -20,6 +21,7 @@
 #include "gearnvh/reduction/reduced_model.h"
 #include "operating_point.h"
 #include "uff_export.h"
+#include "output_folder.h"
 
 namespace gearnvh::app {
 
@@ -62,6 +64,7 @@ std::string EventsCsv(const Trajectory& t) {
 
 int RunSimulate(const SimulateOptions& options) {
   return RunReportingErrors(options.file, [&]() -> int {
+    const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
     const GearboxSpec spec = config::LoadGearboxFile(options.file);
     const Tier tier = options.tier ? ParseTier(*options.tier) : spec.analysis.tier;
     SolverOptions solver;
@@ -90,12 +93,12 @@ int RunSimulate(const SimulateOptions& options) {
     nlohmann::json doc = op.doc;
     doc["name"] = spec.name;
     doc["file"] = options.file;
-    if (options.out) {
-      std::filesystem::create_directories(*options.out);
-      const std::filesystem::path dir(*options.out);
-      WriteFileAtomically((dir / "trajectory.csv").string(), TrajectoryCsv(trajectory));
-      WriteFileAtomically((dir / "events.csv").string(), EventsCsv(trajectory));
-      WriteFileAtomically((dir / "results.json").string(), doc.dump(2) + "\n");
+    RequireFinite(doc, "simulate");
+    if (out) {
+      out->Write("trajectory.csv", TrajectoryCsv(trajectory));
+      out->Write("events.csv", EventsCsv(trajectory));
+      out->Write("results.json", doc.dump(2) + "\n");
+      out->Commit();
     }
     if (options.uff) WriteFileAtomically(*options.uff, UffFile(OperatingPointUff(spec, op)));
     if (options.json) {

@@ -13,8 +13,10 @@
 #include "command_errors.h"
 #include "config/gearbox_loader.h"
 #include "display_units.h"
+#include "finite_results.h"
 #include "gearnvh/model/input_error.h"
 #include "mpi_context.h"
+#include "output_folder.h"
 #include "simulate_command.h"
 #include "speed_sweep.h"
 #include "uff_export.h"
@@ -167,6 +169,7 @@ std::string WaterfallCsv(const SpeedSweepResult& r) {
 
 int RunSweep(const SweepOptions& options) {
   const int code = RunReportingErrors(options.file, [&]() -> int {
+    const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", true);
     const GearboxSpec spec = config::LoadGearboxFile(options.file);
     const Tier tier = options.tier ? ParseTier(*options.tier) : spec.analysis.tier;
     SpeedSweepOptions sweep;
@@ -220,13 +223,13 @@ int RunSweep(const SweepOptions& options) {
     int failed = 0;
     for (const SpeedPoint& p : result.points) failed += p.ok ? 0 : 1;
     doc["failed_speeds"] = failed;
-    if (options.out) {
-      std::filesystem::create_directories(*options.out);
-      const std::filesystem::path dir(*options.out);
-      WriteFileAtomically((dir / "campbell.csv").string(), CampbellCsv(result));
-      WriteFileAtomically((dir / "critical_speeds.csv").string(), CriticalCsv(result));
-      WriteFileAtomically((dir / "waterfall.csv").string(), WaterfallCsv(result));
-      WriteFileAtomically((dir / "sweep.json").string(), doc.dump(1) + "\n");
+    RequireFinite(doc, "sweep");
+    if (out) {
+      out->Write("campbell.csv", CampbellCsv(result));
+      out->Write("critical_speeds.csv", CriticalCsv(result));
+      out->Write("waterfall.csv", WaterfallCsv(result));
+      out->Write("sweep.json", doc.dump(1) + "\n");
+      out->Commit();
     }
     if (options.uff) {
       WriteFileAtomically(*options.uff, UffFile(SweepOrderTracksUff(spec, result)));

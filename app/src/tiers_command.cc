@@ -10,13 +10,14 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "atomic_file.h"
 #include "check_command.h"
 #include "command_errors.h"
 #include "config/gearbox_loader.h"
 #include "display_units.h"
+#include "finite_results.h"
 #include "gearnvh/nvh/lyapunov.h"
 #include "operating_point.h"
+#include "output_folder.h"
 #ifdef GEARNVH_HAVE_RENDER
 #include "gearnvh/render/plots.h"
 #endif
@@ -130,6 +131,7 @@ TiersComparison CompareTiers(const GearboxSpec& spec, const SolverOptions& solve
 
 int RunTiers(const TiersCommandOptions& options) {
   return RunReportingErrors(options.file, [&]() -> int {
+    const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
     const GearboxSpec spec = config::LoadGearboxFile(options.file);
     SolverOptions solver;
     ApplyMethodName("v3", solver);
@@ -150,9 +152,9 @@ int RunTiers(const TiersCommandOptions& options) {
     nlohmann::json doc = comparison.doc;
     doc["name"] = spec.name;
     doc["file"] = options.file;
-    if (options.out) {
-      std::filesystem::create_directories(*options.out);
-      const std::filesystem::path dir(*options.out);
+    RequireFinite(doc, "tiers");
+    if (out) {
+      const std::filesystem::path dir = out->staging();
       std::ostringstream csv;
       csv.precision(10);
       csv << "tier,method,dof,state_dim,max_frequency_error,static_compliance_error,te_rms_m,"
@@ -165,8 +167,8 @@ int RunTiers(const TiersCommandOptions& options) {
             << ',' << r.matvec_per_cycle << ',' << r.us_per_cycle << ',' << r.real_time_ratio << ','
             << r.table_bytes << '\n';
       }
-      WriteFileAtomically((dir / "tiers.csv").string(), csv.str());
-      WriteFileAtomically((dir / "tiers.json").string(), doc.dump(1) + "\n");
+      out->Write("tiers.csv", csv.str());
+      out->Write("tiers.json", doc.dump(1) + "\n");
 #ifdef GEARNVH_HAVE_RENDER
       render::LinePlot plot;
       plot.title = "Modal tiers: accuracy against cost";
@@ -187,6 +189,7 @@ int RunTiers(const TiersCommandOptions& options) {
           render::RenderLinePlot(plot, {}, (dir / "tiers.png").string());
       if (!status.ok) throw std::runtime_error("tiers.png: " + status.message);
 #endif
+      out->Commit();
     }
     if (options.json) {
       std::cout << doc.dump(1) << "\n";

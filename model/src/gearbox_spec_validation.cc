@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "gearnvh/model/gear_geometry.h"
+#include "gearnvh/model/gearbox_spec_limits.h"
 #include "gearnvh/model/input_error.h"
 
 namespace gearnvh {
@@ -276,6 +277,7 @@ void ValidateGearboxSpec(const GearboxSpec& spec) {
 
   // The pair must mesh: contact ratio, interference, centre distance.
   (void)ComputePairGeometry(spec);
+  ValidateGearboxLimits(spec);
 }
 
 }  // namespace gearnvh

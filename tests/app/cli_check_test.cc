@@ -221,7 +221,7 @@ TEST_CASE("usage errors exit 2, help exits 0", "[cli]") {
   CHECK(RunCommand(kExe).exit_code == 2);
   CHECK(RunCommand(kExe + " frobnicate").exit_code == 2);
   CHECK(RunCommand(kExe + " check").exit_code == 2);
-  CHECK(RunCommand(kExe + " check /nonexistent/file.yaml").exit_code == 2);
+  CHECK(RunCommand(kExe + " check /nonexistent/file.yaml").exit_code == 1);  // input, not usage
   CHECK(RunCommand(kExe + " check --bogus " + kExamples + "/idle_rattle.yaml").exit_code == 2);
   const auto help = RunCommand(kExe + " --help");
   CHECK(help.exit_code == 0);

@@ -69,7 +69,7 @@ TEST_CASE("atlas: 1 and 2 threads give bitwise the same cells, with regular and 
         WithoutTimes(b).dump());
 }
 
-TEST_CASE("atlas: bad axes are input errors naming the option", "[cli][atlas]") {
+TEST_CASE("atlas: bad axes are usage errors naming the option", "[cli][atlas]") {
   const std::string file = kExamples + "/idle_rattle.yaml";
   struct Case {
     std::string args, needle;
@@ -85,7 +85,7 @@ TEST_CASE("atlas: bad axes are input errors naming the option", "[cli][atlas]") 
     const TempDir dir;
     const auto run = RunCommand(kExe + " atlas " + c.args + " --cycles 16 --transient 0 --out " +
                                 (dir.path() / "out").string() + " " + file);
-    CHECK(run.exit_code == 1);
+    CHECK(run.exit_code == 2);  // a usage error: the command line
     CHECK(run.err.find("error:") != std::string::npos);
     CHECK(run.err.find(c.needle) != std::string::npos);
     CHECK(!std::filesystem::exists(dir.path() / "out"));

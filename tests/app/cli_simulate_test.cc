@@ -85,7 +85,7 @@ TEST_CASE("simulate --out writes the trajectory, events and results atomically",
 
 TEST_CASE("simulate: bad options and unavailable tiers are clear errors", "[cli][simulate]") {
   const auto bad_tier = RunCommand(kExe + " simulate --tier 9 " + kExamples + "/idle_rattle.yaml");
-  CHECK(bad_tier.exit_code == 1);
+  CHECK(bad_tier.exit_code == 2);  // a usage error
   CHECK(bad_tier.err.find("--tier") != std::string::npos);
   const auto no_shafts = RunCommand(kExe + " simulate --tier 5 " + kExamples + "/idle_rattle.yaml");
   CHECK(no_shafts.exit_code == 1);
@@ -133,14 +133,14 @@ TEST_CASE("validate passes on every bundled example and --json lists the checks"
 namespace gearnvh {
 namespace {
 
-TEST_CASE("simulate --out into an unwritable place is a clear error with exit 1",
+TEST_CASE("simulate --out into an unwritable place is a clear I/O error with exit 4",
           "[cli][simulate]") {
   testing::TempDir dir;
   const auto blocker = dir.Write("not_a_dir", "x");  // a file where the output directory should go
   const auto r = testing::RunCommand(
       std::string(GEARNVH_EXE) + " simulate --cycles 5 --transient 0 --out " +
       (blocker / "run").string() + " " + GEARNVH_EXAMPLES_DIR + "/idle_rattle.yaml");
-  CHECK(r.exit_code == 1);
+  CHECK(r.exit_code == 4);
   CHECK(r.err.find("error:") != std::string::npos);
   CHECK(r.err.find("internal error") == std::string::npos);
 }

@@ -40,15 +40,15 @@ TrainMesh Mesh(const std::string& a, const std::string& b) {
   return m;
 }
 
-// Input (g1, 20) -> layshaft (g2, 40; g3, 15) -> output (g4, 45), and a loose gear g5 (30) on the
+// Input (g1, 20) -> layshaft (g2, 40; g3, 18) -> output (g4, 54), and a loose gear g5 (30) on the
 // output shaft driven by g6 (25) on the layshaft.
 TrainSpec TwoStage() {
   TrainSpec t;
   t.name = "two-stage";
   t.materials["steel"] = Material{206e9, 0.3, 7850.0};
   t.shafts = {Rigid("input", 5e-3), Rigid("layshaft", 1e-3), Rigid("output", 0.2)};
-  t.gears = {Gear("g1", "input", 20),    Gear("g2", "layshaft", 40), Gear("g3", "layshaft", 15),
-             Gear("g4", "output", 45),   Gear("g5", "output", 30, Mounting::kLoose),
+  t.gears = {Gear("g1", "input", 20),    Gear("g2", "layshaft", 40), Gear("g3", "layshaft", 18),
+             Gear("g4", "output", 54),   Gear("g5", "output", 30, Mounting::kLoose),
              Gear("g6", "layshaft", 25)};
   t.meshes = {Mesh("g1", "g2"), Mesh("g3", "g4"), Mesh("g6", "g5")};
   t.operating.input_shaft = "input";
@@ -66,7 +66,7 @@ TEST_CASE("train topology: bodies and nominal speeds through the meshes", "[trai
   // omega_b = -omega_a z_a / z_b, exact in a few roundings.
   CHECK(t.bodies[0].speed == Approx(w).epsilon(1e-15));
   CHECK(t.bodies[1].speed == Approx(-w * 20.0 / 40.0).epsilon(1e-14));
-  CHECK(t.bodies[2].speed == Approx(w * 20.0 / 40.0 * 15.0 / 45.0).epsilon(1e-14));
+  CHECK(t.bodies[2].speed == Approx(w * 20.0 / 40.0 * 18.0 / 54.0).epsilon(1e-14));
   CHECK(t.bodies[3].kind == BodyKind::kLooseGear);
   CHECK(t.bodies[3].speed == Approx(w * 20.0 / 40.0 * 25.0 / 30.0).epsilon(1e-14));
   CHECK(t.gear_body[4] == 3);

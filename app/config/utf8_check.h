@@ -1,0 +1,13 @@
+// Gearbox files are UTF-8: anything else is an input error at its line, before YAML parsing (so no
+// invalid byte sequence reaches a name, a report page or a JSON document).
+#pragma once
+
+#include <string>
+
+namespace gearnvh::config {
+
+// Throws InputError (line, byte offset, the offending bytes in hex) for the first byte sequence
+// that is not well-formed UTF-8 (overlong forms, surrogates and values above U+10FFFF included).
+void RequireValidUtf8(const std::string& text, const std::string& source);
+
+}  // namespace gearnvh::config

@@ -1,0 +1,32 @@
+#include "finite_results.h"
+
+#include <cmath>
+
+#include "command_errors.h"
+
+namespace gearnvh::app {
+
+namespace {
+
+void Walk(const nlohmann::json& j, const std::string& path, const std::string& what) {
+  if (j.is_object()) {
+    for (auto it = j.begin(); it != j.end(); ++it) {
+      Walk(it.value(), path.empty() ? it.key() : path + "." + it.key(), what);
+    }
+  } else if (j.is_array()) {
+    for (size_t i = 0; i < j.size(); ++i) Walk(j[i], path + "[" + std::to_string(i) + "]", what);
+  } else if (j.is_number_float()) {
+    const double v = j.get<double>();
+    if (!std::isfinite(v)) {
+      throw NonFiniteResult(what + ": " + (path.empty() ? std::string("result") : path) + " is " +
+                            (std::isnan(v) ? "NaN" : "infinite") +
+                            " (a non-finite result is never reported; please report this input)");
+    }
+  }
+}
+
+}  // namespace
+
+void RequireFinite(const nlohmann::json& doc, const std::string& what) { Walk(doc, "", what); }
+
+}  // namespace gearnvh::app

@@ -1,0 +1,13 @@
+// No non-finite number reaches an output: every result document is checked before it is printed
+// or written. A NaN or infinity is a bug or an unguarded corner of the model, never a result.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace gearnvh::app {
+
+// Throws NonFiniteResult naming the quantity (its JSON path, e.g. "simulate: te.rms is NaN").
+void RequireFinite(const nlohmann::json& doc, const std::string& what);
+
+}  // namespace gearnvh::app

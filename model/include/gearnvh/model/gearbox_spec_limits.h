@@ -1,0 +1,22 @@
+// Resource and plausibility limits of a gearbox spec, checked before any work: each broken limit is
+// an InputError naming the spec path, the value and the rule (with the model assumption it
+// protects). Called by ValidateGearboxSpec, so every command applies them.
+#pragma once
+
+#include "gearnvh/model/gearbox_spec.h"
+
+namespace gearnvh {
+
+// Documented limits (docs/input.md, "Limits").
+struct GearboxLimits {
+  static constexpr double kMinModule = 0.05e-3, kMaxModule = 100e-3;  // m
+  static constexpr double kMinTipThickness = 0.2;  // times the module: pointed teeth below
+  static constexpr double kMaxUnitLoad = 2e7;      // N/m (20 N/um) of face width
+  static constexpr double kMaxSimulatedSeconds = 3600.0;
+  static constexpr long kMaxRecordedCycles = 1000000;  // 32 samples each
+  static constexpr double kMaxModalBytes = 2e9;        // dense modal analysis of the full FE model
+};
+
+void ValidateGearboxLimits(const GearboxSpec& spec);
+
+}  // namespace gearnvh

@@ -1,0 +1,162 @@
+#include "gearnvh/model/gearbox_spec_limits.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <string>
+
+#include "gearnvh/model/gear_geometry.h"
+#include "gearnvh/model/input_error.h"
+#include "gearnvh/model/mesh_pair.h"
+
+namespace gearnvh {
+
+namespace {
+
+using L = GearboxLimits;
+
+std::string Num(double v) { return fmt::format("{:.6g}", v); }
+
+double Involute(double a) { return std::tan(a) - a; }
+
+void GearLimits(const GearSpec& gear, const std::string& p) {
+  if (!(gear.module >= L::kMinModule && gear.module <= L::kMaxModule)) {
+    throw InputError(p + ".module", 0, Num(gear.module),
+                     fmt::format("must be in [{}, {}] mm: the tooth stiffness and FE models are "
+                                 "for gears of that size",
+                                 L::kMinModule * 1e3, L::kMaxModule * 1e3));
+  }
+  // A helical gear's teeth are generated on its transverse section (m_t, alpha_t, and h_a*, x
+  // scaled by cos beta), so undercut (z_min = 2 h_a* cos(beta) / sin^2 alpha_t, ISO 21771) and the
+  // tip thickness are those of the section.
+  const GearSpec section = TransverseSection(gear);
+  const GearSpec& g = section;
+  const double a = g.pressure_angle, z = g.teeth, m = g.module;
+  // Undercut: the generating rack's tip line cuts below the base circle (no profile shift
+  // needed above z_min = 2 (h_a* - x) / sin^2 alpha); the involute-only tooth model then
+  // overstates the root thickness and the contact path.
+  const double z_min = 2.0 * (g.addendum_coefficient - g.profile_shift) / std::pow(std::sin(a), 2);
+  if (z < z_min - 1e-9) {
+    throw InputError(p + ".teeth", 0, std::to_string(g.teeth),
+                     fmt::format("is undercut at a {:.4g} deg pressure angle with profile shift "
+                                 "{:.4g}: needs at least {:.3g} teeth (z >= 2 (h_a* - x) / "
+                                 "sin^2 alpha), or more profile shift",
+                                 a * 180.0 / std::numbers::pi, g.profile_shift, z_min));
+  }
+  // Pointed teeth: the tooth thickness at the tip circle,
+  // s_a = d_a ((pi/2 + 2 x tan alpha) / z + inv alpha - inv alpha_a), cos alpha_a = d_b / d_a.
+  const double d = m * z, d_b = d * std::cos(a);
+  const double d_a = d + 2.0 * m * (g.addendum_coefficient + g.profile_shift);
+  const double alpha_a = std::acos(std::min(1.0, d_b / d_a));
+  const double s_a = d_a * ((std::numbers::pi / 2.0 + 2.0 * g.profile_shift * std::tan(a)) / z +
+                            Involute(a) - Involute(alpha_a));
+  if (!(s_a >= L::kMinTipThickness * m)) {
+    throw InputError(p + ".pressure_angle", 0, Num(a),
+                     fmt::format("gives pointed teeth: the tip thickness is {:.3g} mm, below {} x "
+                                 "module = {:.3g} mm (lower the pressure angle, the addendum or the "
+                                 "profile shift)",
+                                 s_a * 1e3, L::kMinTipThickness, L::kMinTipThickness * m * 1e3));
+  }
+}
+
+long ShaftElements(const ShaftSpec& s) {
+  double min_diameter = std::numeric_limits<double>::infinity();
+  for (const ShaftSegment& seg : s.segments) min_diameter = std::min(min_diameter, seg.outer_diameter);
+  const double length = s.Length();
+  // As the component model meshes it (30 elements or the thinnest diameter by default).
+  const double h = s.element_length.value_or(std::min(length / 30.0, min_diameter));
+  return static_cast<long>(std::ceil(length / h)) + static_cast<long>(s.segments.size()) +
+         static_cast<long>(s.bearings.size() + s.inertias.size()) + 1;
+}
+
+}  // namespace
+
+void ValidateGearboxLimits(const GearboxSpec& spec) {
+  GearLimits(spec.pinion, "gears.pinion");
+  GearLimits(spec.wheel, "gears.wheel");
+
+  // FE size: the full model's modal analysis is dense (stiffness, mass and the eigen solver's
+  // workspace: about 6 n^2 doubles for n DOF).
+  long elements = 0;
+  std::string largest;
+  double largest_elements = -1.0;
+  for (const auto& [shaft, path] :
+       {std::pair{&spec.input_shaft, "shafts.input"}, std::pair{&spec.output_shaft, "shafts.output"}}) {
+    if (!*shaft) continue;
+    const long e = ShaftElements(**shaft);
+    elements += e;
+    if (e > largest_elements) {
+      largest_elements = static_cast<double>(e);
+      largest = path;
+    }
+  }
+  if (elements > 0) {
+    const double dofs = 6.0 * static_cast<double>(elements + 2);
+    const double bytes = 6.0 * 8.0 * dofs * dofs;
+    if (bytes > L::kMaxModalBytes) {
+      const ShaftSpec& s = largest == "shafts.input" ? *spec.input_shaft : *spec.output_shaft;
+      const std::string path = largest + (s.element_length ? ".element_length" : ".segments");
+      throw InputError(
+          path, 0, s.element_length ? Num(*s.element_length) : std::string("(default)"),
+          fmt::format("gives {} shaft elements in all ({:.0f} DOF): the modal analysis of the full "
+                      "model would need about {:.3g} GB, the limit is {:.3g} GB (use longer "
+                      "elements)",
+                      elements, dofs, bytes * 1e-9, L::kMaxModalBytes * 1e-9));
+    }
+  }
+
+  // Load: a linear-elastic tooth model (small deflections, no yield, no contact-area growth).
+  const double wheel_pitch_radius =
+      0.5 * spec.wheel.module / std::cos(spec.wheel.helix_angle) * spec.wheel.teeth;
+  const double face = std::min(spec.pinion.face_width, spec.wheel.face_width);
+  const double unit_load = spec.operating.torque / wheel_pitch_radius / face;
+  if (!(unit_load <= L::kMaxUnitLoad)) {
+    throw InputError("operating.torque", 0, Num(spec.operating.torque),
+                     fmt::format("gives a tooth load of {:.3g} N/um of face width, above {} N/um: "
+                                 "the mesh-stiffness and LSTE models assume small linear-elastic "
+                                 "tooth deflections, and real teeth yield long before",
+                                 unit_load * 1e-6, L::kMaxUnitLoad * 1e-6));
+  }
+  // Excitation: the model runs about a steady mean speed; an acceleration whose speed
+  // fluctuation a / (k Omega) reaches the mean speed Omega would turn the pinion backwards.
+  const double omega = spec.operating.speed;
+  for (size_t i = 0; i < spec.operating.excitation.size(); ++i) {
+    const ExcitationOrder& e = spec.operating.excitation[i];
+    const double fluctuation = e.amplitude / (e.order * omega);
+    if (!(fluctuation <= omega)) {
+      throw InputError(
+          "operating.excitation[" + std::to_string(i) + "].amplitude", 0, Num(e.amplitude),
+          fmt::format("makes the speed fluctuation a / (order x speed) = {:.3g} rad/s exceed the "
+                      "mean speed {:.3g} rad/s: the shaft would turn backwards, and the model "
+                      "assumes a steady mean speed",
+                      fluctuation, omega));
+    }
+  }
+
+  // Run length and recorded samples.
+  const AnalysisSpec& a = spec.analysis;
+  if (a.cycles > L::kMaxRecordedCycles) {
+    throw InputError("analysis.cycles", 0, std::to_string(a.cycles),
+                     fmt::format("must be <= {}: each recorded cycle keeps 32 trajectory samples "
+                                 "in memory",
+                                 L::kMaxRecordedCycles));
+  }
+  for (const auto& [speed, path] : {std::pair{omega, "operating.speed"},
+                                    std::pair{a.speed_sweep.from, "analysis.speed_sweep.from"}}) {
+    const double hz = spec.pinion.teeth * speed / (2.0 * std::numbers::pi);
+    const double seconds = static_cast<double>(a.cycles + a.transient_cycles) / hz;
+    if (!(seconds <= L::kMaxSimulatedSeconds)) {
+      throw InputError(path, 0, Num(speed),
+                       fmt::format("is so low that the {} mesh cycles of analysis.cycles + "
+                                   "transient_cycles last {:.3g} s of simulated time (mesh "
+                                   "frequency {:.3g} Hz); the limit is {} s",
+                                   a.cycles + a.transient_cycles, seconds, hz,
+                                   L::kMaxSimulatedSeconds));
+    }
+  }
+}
+
+}  // namespace gearnvh

@@ -1,0 +1,101 @@
+// Unit tests of the output-safety pieces: the output folder (lock, staging, commit), the finite
+// check of result documents and the UTF-8 check of input files.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+
+#include "command_errors.h"
+#include "config/utf8_check.h"
+#include "finite_results.h"
+#include "gearnvh/model/input_error.h"
+#include "output_folder.h"
+#include "support/run_command.h"
+
+namespace gearnvh {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::ReadWholeFile;
+using testing::TempDir;
+
+TEST_CASE("OutputFolder: commits whole and keeps other files and holds one writer at a time",
+          "[app][output]") {
+  const TempDir dir;
+  const fs::path target = dir.path() / "out";
+  fs::create_directories(target);
+  std::ofstream(target / "mine.txt") << "mine\n";
+  std::ofstream(target / "a.csv") << "old\n";
+  {
+    app::OutputFolder out(target, "--out");
+    CHECK(fs::is_directory(out.staging()));
+    CHECK(fs::exists(dir.path() / ".out.lock"));
+    // A second writer (even in this process: flock is per open file) is refused at once.
+    CHECK_THROWS_AS(app::OutputFolder(target, "--out"), app::IoError);
+    out.Write("a.csv", "new\n");
+    out.Write("b.json", "{}\n");
+    CHECK(ReadWholeFile(target / "a.csv") == "old\n");  // nothing visible before the commit
+    out.Commit();
+  }
+  CHECK(ReadWholeFile(target / "a.csv") == "new\n");
+  CHECK(ReadWholeFile(target / "b.json") == "{}\n");
+  CHECK(ReadWholeFile(target / "mine.txt") == "mine\n");
+  // Nothing but the target is left beside it.
+  size_t entries = 0;
+  for (const auto& e : fs::directory_iterator(dir.path())) entries += e.path() != target ? 1 : 0;
+  CHECK(entries == 0);
+}
+
+TEST_CASE("OutputFolder: an uncommitted run leaves nothing and stale staging is removed",
+          "[app][output]") {
+  const TempDir dir;
+  const fs::path target = dir.path() / "out";
+  fs::create_directories(dir.path() / ".out.partial-999999" / "x");  // a killed run's debris
+  {
+    app::OutputFolder out(target, "--out");
+    CHECK(!fs::exists(dir.path() / ".out.partial-999999"));
+    out.Write("a.csv", "new\n");
+  }  // no commit: an error path
+  CHECK(!fs::exists(target));
+  CHECK(fs::is_empty(dir.path()));
+  // A file in the way is refused before anything is made.
+  std::ofstream(target) << "a file\n";
+  CHECK_THROWS_AS(app::OutputFolder(target, "--out"), app::IoError);
+  CHECK(ReadWholeFile(target) == "a file\n");
+}
+
+TEST_CASE("RequireFinite names the quantity that is not finite", "[app][output]") {
+  nlohmann::json doc = {{"te", {{"rms", 1e-6}, {"max", 2e-6}}}, {"list", {1.0, 2.0}}};
+  CHECK_NOTHROW(app::RequireFinite(doc, "simulate"));
+  doc["te"]["rms"] = std::numeric_limits<double>::quiet_NaN();
+  try {
+    app::RequireFinite(doc, "simulate");
+    FAIL("no exception");
+  } catch (const app::NonFiniteResult& e) {
+    CHECK(std::string(e.what()).find("simulate: te.rms is NaN") != std::string::npos);
+  }
+  doc["te"]["rms"] = 1.0;
+  doc["list"][1] = std::numeric_limits<double>::infinity();
+  CHECK_THROWS_WITH(app::RequireFinite(doc, "x"), Catch::Contains("list[1] is infinite"));
+}
+
+TEST_CASE("RequireValidUtf8 accepts UTF-8 and names the line of anything else", "[app][input]") {
+  CHECK_NOTHROW(config::RequireValidUtf8("name: Zahnräder \xE2\x82\xAC \xF0\x9F\x98\x80\n", "f"));
+  for (const std::string bad : {std::string("\xFF"), std::string("\xC0\xAF"),  // overlong '/'
+                                std::string("\xED\xA0\x80"),                    // surrogate
+                                std::string("\xF4\x90\x80\x80"),                // > U+10FFFF
+                                std::string("\xE2\x82")}) {                     // cut short
+    INFO(bad.size());
+    try {
+      config::RequireValidUtf8("schema: gearnvh/1\nname: a" + bad + "\n", "f.yaml");
+      FAIL("accepted");
+    } catch (const InputError& e) {
+      CHECK(e.line() == 2);
+      CHECK(std::string(e.what()).find("UTF-8") != std::string::npos);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace gearnvh
