@@ -1,0 +1,39 @@
+// The sections of a gearbox document that both schemas share (gears, meshes, shafts, bearings,
+// materials, excitation, analysis), read by the loader's Reader (internal to app/config).
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "gearnvh/model/gearbox_spec.h"
+#include "yaml_reader.h"
+
+namespace gearnvh::config {
+
+// A gear's keys (schema 1) plus `extra_keys` (schema 2: shaft, at, mounting).
+GearSpec ReadGear(Reader& r, const YAML::Node& n, const std::string& path,
+                  const std::map<std::string, Material>& materials,
+                  const std::vector<std::string>& extra_keys = {});
+StiffnessModel ReadStiffness(Reader& r, const YAML::Node& n, const std::string& path);
+std::vector<BearingSpec> ReadBearings(Reader& r, const YAML::Node& n, const std::string& path,
+                                      bool required);
+// An elastic shaft. Schema 1 places its one gear with `gear_at`; schema 2 places gears with their
+// own `at` and lets lumped bodies carry a mass.
+ShaftSpec ReadShaft(Reader& r, const YAML::Node& n, const std::string& path,
+                    const std::map<std::string, Material>& materials, int schema = 1);
+// Parameters an atlas axis may vary, with their dimension.
+const std::map<std::string, Dimension>& AtlasParameters();
+SweepRange ReadRange(Reader& r, const YAML::Node& n, const std::string& path, Dimension d);
+AtlasAxis ReadAtlasAxis(Reader& r, const YAML::Node& n, const std::string& path);
+Tier ReadTier(Reader& r, const YAML::Node& map, const std::string& path);
+std::map<std::string, Material> ReadMaterials(Reader& r, const YAML::Node& root);
+// A mesh's keys plus `extra_keys` (schema 2: gears).
+MeshSpec ReadMesh(Reader& r, const YAML::Node& mesh, const std::string& path,
+                  const std::vector<std::string>& extra_keys = {});
+std::vector<ExcitationOrder> ReadExcitation(Reader& r, const YAML::Node& op);
+AnalysisSpec ReadAnalysis(Reader& r, const YAML::Node& root);
+// The schema version a document declares (1 when absent): 1 or 2, else InputError.
+int SchemaOf(Reader& r, const YAML::Node& root);
+
+}  // namespace gearnvh::config

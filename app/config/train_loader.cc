@@ -1,0 +1,112 @@
+// Schema gearnvh/2 (gear trains): the document reader and the loader of either schema.
+#include <yaml-cpp/yaml.h>
+
+#include "gearbox_loader.h"
+#include "gearnvh/model/train_spec.h"
+#include "spec_sections.h"
+#include "yaml_reader.h"
+
+namespace gearnvh::config {
+namespace {
+
+// Schema gearnvh/2: shafts, gears and meshes by name.
+TrainSpec ReadTrainDocument(Reader& r, const YAML::Node& root) {
+  r.ExpectMap(root, "",
+              {"schema", "name", "materials", "shafts", "gears", "meshes", "operating", "analysis"});
+  TrainSpec spec;
+  spec.name = r.String(root, "", "name");
+  spec.materials = ReadMaterials(r, root);
+
+  const YAML::Node shafts = r.Child(root, "", "shafts", true);
+  r.ExpectMap(shafts, "shafts", {});
+  for (const auto& kv : shafts) {
+    TrainShaft shaft;
+    shaft.name = kv.first.Scalar();
+    const std::string p = "shafts." + shaft.name;
+    if (!kv.second.IsMap()) r.Fail(p, kv.second, Describe(kv.second), "must be a mapping");
+    if (kv.second["segments"].IsDefined()) {
+      shaft.elastic = ReadShaft(r, kv.second, p, spec.materials, 2);
+    } else {
+      r.ExpectMap(kv.second, p, {"inertia", "bearings"});
+      shaft.inertia = r.Quantity(kv.second, p, "inertia", Dimension::kInertia);
+      shaft.bearings = ReadBearings(r, kv.second, p, false);
+    }
+    spec.shafts.push_back(shaft);
+  }
+  if (spec.shafts.empty()) r.Fail("shafts", shafts, "{}", "needs at least one shaft");
+
+  const YAML::Node gears = r.Child(root, "", "gears", true);
+  r.ExpectMap(gears, "gears", {});
+  for (const auto& kv : gears) {
+    TrainGear gear;
+    gear.name = kv.first.Scalar();
+    const std::string p = "gears." + gear.name;
+    gear.gear = ReadGear(r, kv.second, p, spec.materials, {"shaft", "at", "mounting"});
+    gear.shaft = r.String(kv.second, p, "shaft");
+    gear.at = r.OptionalQuantity(kv.second, p, "at", Dimension::kLength);
+    const std::string mounting = r.String(kv.second, p, "mounting", std::string("fixed"));
+    if (mounting != "fixed" && mounting != "loose") {
+      r.Fail(Join(p, "mounting"), kv.second["mounting"], "'" + mounting + "'",
+             "must be fixed or loose");
+    }
+    gear.mounting = mounting == "fixed" ? Mounting::kFixed : Mounting::kLoose;
+    spec.gears.push_back(gear);
+  }
+
+  r.ForEachItem(root, "", "meshes", true, [&](const YAML::Node& item, const std::string& p) {
+    TrainMesh mesh;
+    mesh.mesh = ReadMesh(r, item, p, {"gears"});
+    const YAML::Node pair = r.Child(item, p, "gears", true);
+    if (!pair.IsSequence() || pair.size() != 2 || !pair[0].IsScalar() || !pair[1].IsScalar()) {
+      r.Fail(Join(p, "gears"), pair, Describe(pair), "must be a list of two gear names");
+    }
+    r.Remember(Join(p, "gears"), pair, "");
+    mesh.gear_a = pair[0].Scalar();
+    mesh.gear_b = pair[1].Scalar();
+    spec.meshes.push_back(mesh);
+  });
+
+  const YAML::Node op = r.Child(root, "", "operating", true);
+  r.ExpectMap(op, "operating", {"speed", "loads", "excitation"});
+  const YAML::Node speed = r.Child(op, "operating", "speed", true);
+  r.ExpectMap(speed, "operating.speed", {"shaft", "value"});
+  spec.operating.input_shaft = r.String(speed, "operating.speed", "shaft");
+  spec.operating.speed = r.Quantity(speed, "operating.speed", "value", Dimension::kAngularSpeed);
+  r.ForEachItem(op, "operating", "loads", false, [&](const YAML::Node& item, const std::string& p) {
+    r.ExpectMap(item, p, {"on", "torque"});
+    spec.operating.loads.push_back(
+        {r.String(item, p, "on"), r.Quantity(item, p, "torque", Dimension::kTorque)});
+  });
+  spec.operating.excitation = ReadExcitation(r, op);
+  spec.analysis = ReadAnalysis(r, root);
+  return spec;
+}
+
+}  // namespace
+
+LoadedGearbox LoadAnyGearboxFromString(const std::string& text, const std::string& source) {
+  const YAML::Node root = ParseYaml(text, source);
+  LoadedGearbox out;
+  {
+    Reader probe;
+    try {
+      out.schema = SchemaOf(probe, root);
+    } catch (const InputError& e) {
+      throw e.WithSource(source);
+    }
+  }
+  if (out.schema == 1) {
+    out.pair = LoadGearboxFromString(text, source);
+    out.train = TrainOf(*out.pair);
+    return out;
+  }
+  out.train = ReadAndValidate(root, source, ReadTrainDocument,
+                              [](const TrainSpec& spec) { ValidateTrainSpec(spec); });
+  return out;
+}
+
+LoadedGearbox LoadAnyGearboxFile(const std::string& path) {
+  return LoadAnyGearboxFromString(ReadGearboxText(path), path);
+}
+
+}  // namespace gearnvh::config
