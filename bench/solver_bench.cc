@@ -25,9 +25,8 @@ GearboxSpec At3900Hz(const std::string& example) {
 void RunSolver(benchmark::State& state, const std::string& example, Tier tier, SolverMethod method,
                EventMethod events) {
   const GearboxSpec spec = At3900Hz(example);
-  const ComponentModel model = BuildComponentModel(spec);
-  const ReducedModel reduced = ReduceModel(model, tier);
-  const SegmentTables tables = BuildSegmentTables(model, reduced, spec);
+  const OperatingPointModel op = BuildOperatingPointModel(spec, tier);
+  const SegmentTables& tables = op.tables;
   const auto [z0, s0] = StaticInitialState(tables);
   SolverOptions opt;
   opt.method = method;

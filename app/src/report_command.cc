@@ -502,9 +502,6 @@ std::string BatchIndex(const std::vector<GearboxEntry>& entries) {
        "</th><th>TE RMS (µm)</th><th>rattle regime</th><th>impacts / mesh cycle</th><th>accel. "
        "ratio</th><th>first critical speed (rpm)</th><th>chaotic atlas cells</th><th>real-time "
        "ratio</th></tr>\n";
-  auto num = [](const nlohmann::json& v) {
-    return v.is_number() ? Number(v.get<double>()) : std::string("-");
-  };
   for (const GearboxEntry& e : entries) {
     if (!e.ok) {
       h << "<tr><td>" << Html(e.file)
@@ -516,15 +513,23 @@ std::string BatchIndex(const std::vector<GearboxEntry>& entries) {
       h << "</td></tr>\n";
       continue;
     }
+    // An earlier run's summary may lack keys (older versions): a missing key reads as "-".
     const nlohmann::json& s = e.summary;
+    auto text = [&s](const char* key) {
+      const auto it = s.find(key);
+      return it != s.end() && it->is_string() ? Html(it->get<std::string>()) : std::string("-");
+    };
+    auto num = [&s](const char* key) {
+      const auto it = s.find(key);
+      return it != s.end() && it->is_number() ? Number(it->get<double>()) : std::string("-");
+    };
     h << "<tr><td><a href=\"" << e.folder << "/index.html\">" << Html(e.name) << "</a>"
-      << (e.from_earlier ? " (earlier run)" : "") << "</td><td>"
-      << Html(s["tier"].get<std::string>()) << "</td><td>" << Html(s.value("speed", std::string()))
-      << "</td><td>" << Html(s.value("torque", std::string())) << "</td><td>" << num(s["te_rms_um"]) << "</td><td>"
-      << Html(s["regime"].get<std::string>()) << "</td><td>" << num(s["impacts_per_cycle"])
-      << "</td><td>" << num(s["acceleration_ratio"]) << "</td><td>"
-      << num(s["first_critical_speed_rpm"]) << "</td><td>" << num(s["chaotic_atlas_cells"])
-      << "</td><td>" << num(s["real_time_ratio"]) << "</td></tr>\n";
+      << (e.from_earlier ? " (earlier run)" : "") << "</td><td>" << text("tier") << "</td><td>"
+      << text("speed") << "</td><td>" << text("torque") << "</td><td>" << num("te_rms_um")
+      << "</td><td>" << text("regime") << "</td><td>" << num("impacts_per_cycle") << "</td><td>"
+      << num("acceleration_ratio") << "</td><td>" << num("first_critical_speed_rpm")
+      << "</td><td>" << num("chaotic_atlas_cells") << "</td><td>" << num("real_time_ratio")
+      << "</td></tr>\n";
   }
   h << "</table>\n" << kImageCheckScript << "\n</body></html>\n";
   return h.str();

@@ -56,9 +56,8 @@ AtlasCell ComputeAtlasCell(const GearboxSpec& base, const AtlasAxis& x, const At
     SetParameter(spec, x.parameter, cell.x, "analysis.atlas.x.parameter");
     SetParameter(spec, y.parameter, cell.y, "analysis.atlas.y.parameter");
     ValidateGearboxSpec(spec);
-    const ComponentModel model = BuildComponentModel(spec);
-    const ReducedModel reduced = ReduceModel(model, options.tier);
-    const SegmentTables tables = BuildSegmentTables(model, reduced, spec);
+    const OperatingPointModel op = BuildOperatingPointModel(spec, options.tier);
+    const SegmentTables& tables = op.tables;
     const auto [z0, state0] = StaticInitialState(tables);
     LyapunovOptions lyapunov;
     ApplyMethodName(options.method, lyapunov.solver);
@@ -76,7 +75,7 @@ AtlasCell ComputeAtlasCell(const GearboxSpec& base, const AtlasAxis& x, const At
               ? 0.0
               : spec.pinion.teeth / spec.operating.excitation.front().order;
       const RattleIndices rattle =
-          ComputeRattleIndices(est.run, model.effective_mass, per_excitation, nullptr);
+          ComputeRattleIndices(est.run, op.model.effective_mass, per_excitation, nullptr);
       cell.lyapunov_per_s = est.exponent;
       cell.lyapunov_per_forcing_cycle = est.per_forcing_cycle;
       cell.lyapunov_standard_error = est.standard_error;

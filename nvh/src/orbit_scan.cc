@@ -41,9 +41,8 @@ std::vector<OrbitScanPoint> ScanPeriodicOrbits(const GearboxSpec& base,
         SetParameter(spec, sweep->parameter, p.value, "--sweep");
         ValidateGearboxSpec(spec);
       }
-      const ComponentModel model = BuildComponentModel(spec);
-      const ReducedModel reduced = ReduceModel(model, options.tier);
-      const SegmentTables tables = BuildSegmentTables(model, reduced, spec);
+      const OperatingPointModel op = BuildOperatingPointModel(spec, options.tier);
+      const SegmentTables& tables = op.tables;
       PeriodicOrbitOptions orbit_options;
       orbit_options.period = options.period;
       ApplyMethodName(options.method, orbit_options.solver);

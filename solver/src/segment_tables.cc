@@ -244,4 +244,11 @@ SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel
   return t;
 }
 
+OperatingPointModel BuildOperatingPointModel(const GearboxSpec& spec, Tier tier) {
+  OperatingPointModel op{BuildComponentModel(spec), {}, {}};
+  op.reduced = ReduceModel(op.model, tier);
+  op.tables = BuildSegmentTables(op.model, op.reduced, spec);
+  return op;
+}
+
 }  // namespace gearnvh

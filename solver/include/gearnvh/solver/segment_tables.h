@@ -119,4 +119,13 @@ int StateDimension(const ComponentModel& model, const ReducedModel& reduced);
 SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel& reduced,
                                  const GearboxSpec& spec);
 
+// One operating point's whole model chain, the way every analysis builds it: spec -> component
+// model -> reduced model of `tier` -> segment tables.
+struct OperatingPointModel {
+  ComponentModel model;
+  ReducedModel reduced;
+  SegmentTables tables;
+};
+OperatingPointModel BuildOperatingPointModel(const GearboxSpec& spec, Tier tier);
+
 }  // namespace gearnvh
