@@ -8,7 +8,7 @@ PKGS=(
   catch2 libcli11-dev libfmt-dev nlohmann-json3-dev libsundials-dev libbenchmark-dev
   pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
   xvfb xauth libgl1-mesa-dri chromium
-  clang
+  clang libclang-rt-14-dev
 )
 missing=()
 for p in "${PKGS[@]}"; do
