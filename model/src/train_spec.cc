@@ -37,7 +37,10 @@ std::string TrainPath(const std::string& path, const TrainSpec& spec, int m) {
   const TrainMesh& mesh = spec.meshes[static_cast<size_t>(m)];
   const TrainGear& a = *spec.FindGear(mesh.gear_a);
   const TrainGear& b = *spec.FindGear(mesh.gear_b);
+  // Schema 1 places a shaft's gear with `gear_at`; schema 2 with the gear's own `at`.
   const std::vector<std::pair<std::string, std::string>> prefixes{
+      {"shafts.input.gear_at", "gears." + a.name + ".at"},
+      {"shafts.output.gear_at", "gears." + b.name + ".at"},
       {"gears.pinion", "gears." + a.name},  {"gears.wheel", "gears." + b.name},
       {"mesh", MeshPath(m)},                {"shafts.input", "shafts." + a.shaft},
       {"shafts.output", "shafts." + b.shaft}, {"operating.torque", "operating.loads"}};

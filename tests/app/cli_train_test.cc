@@ -92,8 +92,17 @@ TEST_CASE("malformed trains: exit 1 naming the path, the line and the rule", "[c
       {"negative backlash", replace("backlash: 80 um", "backlash: -80 um"), "meshes[0].backlash",
        "must be > 0"},
   };
+  std::ifstream in2(kExamples + "/two_stage_helical_reducer.yaml");
+  const std::string reducer((std::istreambuf_iterator<char>(in2)), std::istreambuf_iterator<char>());
+  std::string off_shaft = reducer;
+  off_shaft.replace(off_shaft.find("at: 120 mm, teeth: 19"), 10, "at: 900 mm");
+  const std::vector<Case> reducer_cases{
+      {"gear beyond its elastic shaft", off_shaft, "gears.g1.at", "must lie on the shaft"},
+  };
   TempDir dir;
-  for (const Case& c : cases) {
+  std::vector<Case> all = cases;
+  all.insert(all.end(), reducer_cases.begin(), reducer_cases.end());
+  for (const Case& c : all) {
     INFO(c.name);
     const std::string file = (dir.path() / "bad.yaml").string();
     std::ofstream(file) << c.text;
