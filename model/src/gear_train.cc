@@ -50,17 +50,9 @@ GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& opti
   // Load power per body, then summed over the subtree beyond each body (deepest first).
   std::vector<double> power(n, 0.0);
   for (const TrainLoad& load : spec.operating.loads) {
-    int body = -1;
-    for (size_t b = 0; b < n; ++b) {
-      if (topo.bodies[b].kind == BodyKind::kShaft && topo.bodies[b].name == load.on) {
-        body = static_cast<int>(b);
-      }
-    }
-    if (body < 0) {
-      for (size_t g = 0; g < spec.gears.size(); ++g) {
-        if (spec.gears[g].name == load.on) body = topo.gear_body[g];
-      }
-    }
+    // A shaft by its name, else the body of the gear of that name.
+    const int shaft = spec.ShaftIndex(load.on);
+    const int body = shaft >= 0 ? shaft : topo.gear_body[static_cast<size_t>(spec.GearIndex(load.on))];
     power[static_cast<size_t>(body)] += load.torque * std::abs(topo.bodies[static_cast<size_t>(body)].speed);
   }
   double total_power = 0.0;
@@ -70,10 +62,8 @@ GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& opti
   for (size_t m = 0; m < spec.meshes.size(); ++m) {
     TrainMeshModel mesh;
     mesh.name = spec.meshes[m].Name();
-    for (size_t g = 0; g < spec.gears.size(); ++g) {
-      if (spec.gears[g].name == spec.meshes[m].gear_a) mesh.gear_a = static_cast<int>(g);
-      if (spec.gears[g].name == spec.meshes[m].gear_b) mesh.gear_b = static_cast<int>(g);
-    }
+    mesh.gear_a = spec.GearIndex(spec.meshes[m].gear_a);
+    mesh.gear_b = spec.GearIndex(spec.meshes[m].gear_b);
     mesh.body_a = topo.gear_body[static_cast<size_t>(mesh.gear_a)];
     mesh.body_b = topo.gear_body[static_cast<size_t>(mesh.gear_b)];
     mesh.in_loop = std::find(topo.loop_meshes.begin(), topo.loop_meshes.end(),

@@ -18,20 +18,6 @@ std::string Num(double v) {
 
 std::string MeshPath(int m) { return "meshes[" + std::to_string(m) + "]"; }
 
-int IndexOfGear(const TrainSpec& spec, const std::string& name) {
-  for (size_t i = 0; i < spec.gears.size(); ++i) {
-    if (spec.gears[i].name == name) return static_cast<int>(i);
-  }
-  return -1;
-}
-
-int IndexOfShaft(const TrainSpec& spec, const std::string& name) {
-  for (size_t i = 0; i < spec.shafts.size(); ++i) {
-    if (spec.shafts[i].name == name) return static_cast<int>(i);
-  }
-  return -1;
-}
-
 // Replaces the schema-1 prefix of an error path found on a mesh's gearbox by the train's.
 std::string TrainPath(const std::string& path, const TrainSpec& spec, int m) {
   const TrainMesh& mesh = spec.meshes[static_cast<size_t>(m)];
@@ -55,13 +41,27 @@ std::string TrainPath(const std::string& path, const TrainSpec& spec, int m) {
 
 }  // namespace
 
+int TrainSpec::GearIndex(const std::string& name) const {
+  for (size_t i = 0; i < gears.size(); ++i) {
+    if (gears[i].name == name) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+int TrainSpec::ShaftIndex(const std::string& name) const {
+  for (size_t i = 0; i < shafts.size(); ++i) {
+    if (shafts[i].name == name) return static_cast<int>(i);
+  }
+  return -1;
+}
+
 const TrainGear* TrainSpec::FindGear(const std::string& gear) const {
-  const int i = IndexOfGear(*this, gear);
+  const int i = GearIndex(gear);
   return i < 0 ? nullptr : &gears[static_cast<size_t>(i)];
 }
 
 const TrainShaft* TrainSpec::FindShaft(const std::string& shaft) const {
-  const int i = IndexOfShaft(*this, shaft);
+  const int i = ShaftIndex(shaft);
   return i < 0 ? nullptr : &shafts[static_cast<size_t>(i)];
 }
 
@@ -76,7 +76,7 @@ TrainTopology AnalyseTrainTopology(const TrainSpec& spec) {
   }
   for (size_t g = 0; g < spec.gears.size(); ++g) {
     const TrainGear& gear = spec.gears[g];
-    const int shaft = IndexOfShaft(spec, gear.shaft);
+    const int shaft = spec.ShaftIndex(gear.shaft);
     if (gear.mounting == Mounting::kFixed) {
       t.gear_body[g] = shaft;
       t.bodies[static_cast<size_t>(shaft)].gears.push_back(static_cast<int>(g));
@@ -90,7 +90,7 @@ TrainTopology AnalyseTrainTopology(const TrainSpec& spec) {
       t.bodies.push_back(body);
     }
   }
-  t.input_body = IndexOfShaft(spec, spec.operating.input_shaft);
+  t.input_body = spec.ShaftIndex(spec.operating.input_shaft);
   t.parent_mesh.assign(t.bodies.size(), -2);  // -2: not reached
   t.parent_mesh[static_cast<size_t>(t.input_body)] = -1;
   t.bodies[static_cast<size_t>(t.input_body)].speed = spec.operating.speed;
@@ -102,7 +102,7 @@ TrainTopology AnalyseTrainTopology(const TrainSpec& spec) {
     queue.pop_front();
     for (size_t m = 0; m < spec.meshes.size(); ++m) {
       const TrainMesh& mesh = spec.meshes[m];
-      const int ga = IndexOfGear(spec, mesh.gear_a), gb = IndexOfGear(spec, mesh.gear_b);
+      const int ga = spec.GearIndex(mesh.gear_a), gb = spec.GearIndex(mesh.gear_b);
       const int ba = t.gear_body[static_cast<size_t>(ga)], bb = t.gear_body[static_cast<size_t>(gb)];
       if ((ba != body && bb != body) || visited_meshes.count(static_cast<int>(m)) > 0) continue;
       visited_meshes.insert(static_cast<int>(m));
@@ -147,7 +147,7 @@ TrainTopology AnalyseTrainTopology(const TrainSpec& spec) {
 GearboxSpec MeshGearbox(const TrainSpec& spec, const TrainTopology& topology, int m,
                         double transmitted_torque) {
   const TrainMesh& mesh = spec.meshes[static_cast<size_t>(m)];
-  const int ga = IndexOfGear(spec, mesh.gear_a), gb = IndexOfGear(spec, mesh.gear_b);
+  const int ga = spec.GearIndex(mesh.gear_a), gb = spec.GearIndex(mesh.gear_b);
   const TrainGear& a = spec.gears[static_cast<size_t>(ga)];
   const TrainGear& b = spec.gears[static_cast<size_t>(gb)];
   GearboxSpec g;
@@ -256,8 +256,8 @@ void ValidateTrainSpec(const TrainSpec& spec) {
                        "must be the opposite of the hand of '" + a.name +
                            "' (an external helical pair, " + MeshPath(static_cast<int>(m)) + ")");
     }
-    ++meshes_of_gear[static_cast<size_t>(IndexOfGear(spec, a.name))];
-    ++meshes_of_gear[static_cast<size_t>(IndexOfGear(spec, b.name))];
+    ++meshes_of_gear[static_cast<size_t>(spec.GearIndex(a.name))];
+    ++meshes_of_gear[static_cast<size_t>(spec.GearIndex(b.name))];
   }
   for (size_t g = 0; g < spec.gears.size(); ++g) {
     if (spec.gears[g].mounting == Mounting::kLoose && meshes_of_gear[g] == 0) {

@@ -66,6 +66,8 @@ struct TrainSpec {
 
   const TrainGear* FindGear(const std::string& name) const;
   const TrainShaft* FindShaft(const std::string& name) const;
+  int GearIndex(const std::string& name) const;   // -1 when there is no such gear
+  int ShaftIndex(const std::string& name) const;  // -1 when there is no such shaft
 };
 
 // The rotating bodies of a train: each shaft with the gears fixed on it, and each loose gear.
