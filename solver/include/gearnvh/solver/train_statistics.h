@@ -1,0 +1,72 @@
+// Per-mesh and per-loose-gear results of a train run (docs/results.md, "Gear trains").
+//
+// Exact (from the located events and the state durations, no time grid): impacts per flank
+// (free -> drive, free -> back), separations (contact -> free), the fraction of time a mesh is
+// free, impact velocities |g'| at the impact instants. Sampled (uniform samples evaluated exactly,
+// z(t_k) = S e^{D (t_k - t_j)} w_j, not interpolated; samples_per_cycle per cycle of the fastest
+// mesh): TE delta_i = v_i^T x mean, RMS about the mean and peak-to-peak; the mesh force
+// k (g) + c delta' in contact (0 free) mean and maximum; and per loose gear its rattle index, the
+// RMS of its angular acceleration about the mean (rad/s^2). Sampled extrema can miss a peak between
+// samples (the pair's exact extrema are not generalised to trains yet).
+#pragma once
+
+#include <Eigen/Dense>
+#include <string>
+#include <vector>
+
+#include "gearnvh/solver/train_tables.h"
+
+namespace gearnvh {
+
+struct TrainMeshStatistics {
+  std::string name;
+  double te_mean = 0.0, te_rms = 0.0, te_peak_to_peak = 0.0;  // m (RMS about the mean)
+  double force_mean = 0.0, force_max = 0.0;                   // N
+  long drive_impacts = 0, back_impacts = 0, separations = 0, grazing = 0;
+  double free_time_fraction = 0.0;                              // [0, 1]
+  double impact_velocity_max = 0.0, impact_velocity_rms = 0.0;  // m/s
+};
+
+struct TrainLooseGearStatistics {
+  std::string name;
+  int body = 0;
+  double rattle_index = 0.0;  // RMS angular acceleration about the mean, rad/s^2
+  long impacts = 0;           // impacts of the meshes this gear belongs to
+  int rank = 0;               // 1 = rattles most
+};
+
+struct TrainStatistics {
+  double recorded_time = 0.0;  // s
+  long samples = 0;
+  std::vector<TrainMeshStatistics> meshes;            // in the order of the file
+  std::vector<TrainLooseGearStatistics> loose_gears;  // sorted by rank
+};
+
+class TrainRecorder {
+ public:
+  // Records from `start_time` on, with samples_per_cycle (>= 1) samples per cycle of the fastest
+  // mesh.
+  TrainRecorder(const TrainTables& tables, int samples_per_cycle, double start_time);
+  double next_sample() const { return next_; }
+  void Sample(double time, const Eigen::VectorXd& z, const TrainSystem& system,
+              const std::vector<int>& segments, const std::vector<ContactState>& states);
+  void Interval(double start, double length, const std::vector<ContactState>& states);
+  void Event(int mesh, ContactState from, ContactState to, double time, double rate);
+  void Grazing(int mesh, double time);
+  TrainStatistics Result() const;
+
+ private:
+  struct Running {
+    double sum = 0.0, sum2 = 0.0, min = 0.0, max = 0.0;
+    void Add(double x, bool first);
+  };
+  const TrainTables& t_;
+  double start_ = 0.0, dt_ = 0.0, next_ = 0.0;
+  long samples_ = 0;
+  double recorded_ = 0.0;
+  std::vector<Running> te_, force_, acceleration_;
+  std::vector<double> free_time_, impact_sum2_, impact_max_;
+  std::vector<long> drive_impacts_, back_impacts_, separations_, grazing_;
+};
+
+}  // namespace gearnvh

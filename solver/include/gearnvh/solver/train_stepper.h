@@ -1,0 +1,126 @@
+// Exact event-driven propagation of a gear train at tier 1 (docs/design.md §11, §4.4).
+//
+// Grid: TrainGrid walks the union of every mesh's segment boundaries (train_tables.h). Per grid
+// segment of length h the input slot holds the excitation's mean over the whole grid segment, and
+// the tuple (segment index, contact state) of every mesh fixes the generator (TrainSystemCache).
+// Per tuple with a usable decomposition (V3): w = S^-1 z, and every relevant wall of every mesh has
+// its closed-form gap (ClosedFormGap::FirstRise):
+//   drive: g+_i falling through 0 -> free;   back: g-_i rising through 0 -> free;
+//   free:  g+_i rising through 0 -> drive,   g-_i falling through 0 -> back.
+// The earliest root over all gaps is the event; the state is propagated there exactly
+// (z = S e^{D t*} w). Roots within kSimultaneous * h + 4 eps t of the earliest are simultaneous:
+// their meshes switch together, in the order of their roots. A root with |g'| below
+// grazing_rate_tolerance whose gap curves back inside is a grazing touch: counted, the state is
+// kept, the search resumes 1e-12 h past it (as the pair). A state found outside a wall at the
+// start of a grid segment (the unloaded error e_ij jumps at boundaries) by more than the wall
+// tolerance 1e-12 b_i + 64 eps sum |c z| switches at once.
+// Dense fallback (a tuple whose decomposition is ill-conditioned): sub-steps with rho(A) D <= 1/2
+// on the Taylor polynomial of the state (20 terms: the remainder is below 2^-20 / 20!, rounding);
+// each gap of a sub-step is a scalar polynomial, sampled at 16 points and at the end, its first
+// crossing bisected to rounding. Never silently wrong: a tuple either decomposes within the
+// condition limit or takes this path.
+// Free rotation: r (th_j ~ |w_j|) changes no gap and no force in any tuple, so its position drift
+// is removed (x <- x - r r~ x) once per common period (once per input revolution without one).
+// Once the cache holds the visited tuples, Run() allocates nothing.
+#pragma once
+
+#include <Eigen/Dense>
+#include <vector>
+
+#include "gearnvh/solver/train_tables.h"
+
+namespace gearnvh {
+
+class TrainRecorder;
+
+// The union grid of the meshes' segment boundaries, from integer cycle counts.
+class TrainGrid {
+ public:
+  explicit TrainGrid(const TrainTables& tables);
+  double start() const { return start_; }
+  double end() const { return end_; }
+  const std::vector<int>& segments() const { return segment_; }
+  void Next();  // the following grid segment
+
+ private:
+  void FindEnd();
+  const TrainTables* t_;
+  std::vector<int> segment_;
+  std::vector<long> cycle_;
+  double start_ = 0.0, end_ = 0.0;
+  double merge_ = 0.0;
+};
+
+struct TrainStepperOptions {
+  double grazing_rate_tolerance = 1e-9;  // m/s, >= 0
+  long max_events_per_segment = 1000;    // beyond this Run() stops with kTooManyEvents; >= 1
+  TrainTableOptions tables;
+  void Validate() const;
+};
+
+struct TrainStepperSummary {
+  enum class Info { kSuccess, kTooManyEvents };
+  Info info = Info::kSuccess;
+  long grid_segments = 0;
+  long events = 0, simultaneous_events = 0, grazing = 0;
+  long start_switches = 0;  // states switched at once at a segment start
+  long dense_pieces = 0;    // pieces propagated on the dense (Taylor) path
+  long recenterings = 0;
+  double simulated_time = 0.0;  // s
+  TrainCacheSummary cache;
+};
+
+// Static equilibrium at t = 0 with each mesh on the flank its load presses (drive first, a mesh
+// whose static gap says otherwise on the back flank, else free), centred (r~ x = 0).
+std::pair<Eigen::VectorXd, std::vector<ContactState>> TrainStaticState(const TrainTables& tables);
+
+class TrainStepper {
+ public:
+  static constexpr double kSimultaneous = 1e-12;  // relative to the grid segment length
+  TrainStepper(const TrainTables& tables, const TrainStepperOptions& options,
+               const Eigen::VectorXd& z0, const std::vector<ContactState>& states0);
+  // Advances to `end_time` (s); the recorder (optional) sees every piece, sample and event.
+  bool Run(double end_time, TrainRecorder* recorder = nullptr);
+
+  // Restarts at t = 0 from z0 in states0, keeping the cache (the tuples already built).
+  void Reset(const Eigen::VectorXd& z0, const std::vector<ContactState>& states0);
+
+  double time() const { return time_; }
+  const Eigen::VectorXd& state() const { return z_; }
+  const std::vector<ContactState>& states() const { return states_; }
+  TrainStepperSummary summary() const;
+
+ private:
+  bool AdvanceGridSegment(double until, TrainRecorder* recorder);
+  // One piece on the current tuple: returns the time advanced; sets `switched` when an event
+  // (or a grazing touch) ended the piece.
+  double AdvanceSpectral(const TrainSystem& sys, double remaining, TrainRecorder* rec,
+                         bool& switched);
+  double AdvanceDense(const TrainSystem& sys, double remaining, TrainRecorder* rec, bool& switched);
+  bool SwitchOutside(const TrainSystem& sys, TrainRecorder* rec);
+  double WallTolerance(const Eigen::RowVectorXd& row, double half_backlash) const;
+  // +1: the wall of `row` that sign * g > 0 leaves the state; for mesh i and its state.
+  int Walls(int mesh, const TrainSystem& sys, const Eigen::RowVectorXd* rows[2], double signs[2],
+            ContactState targets[2]) const;
+  void Switch(int mesh, ContactState to, double time, TrainRecorder* rec);
+  void Record(const TrainSystem& sys, double piece_start, double length, bool spectral,
+              TrainRecorder* rec);
+  void Recenter();
+
+  const TrainTables& t_;
+  TrainStepperOptions options_;
+  TrainSystemCache cache_;
+  TrainGrid grid_;
+  Eigen::VectorXd z_, w_, wt_, scratch_, zs_;
+  Eigen::MatrixXd taylor_;
+  std::vector<ContactState> states_;
+  std::vector<double> roots_;
+  std::vector<ContactState> targets_;
+  TupleKey key_;
+  double time_ = 0.0;
+  double recenter_period_ = 0.0, next_recenter_ = 0.0;
+  long events_this_segment_ = 0;
+  TrainStepperSummary summary_;
+};
+
+}  // namespace gearnvh

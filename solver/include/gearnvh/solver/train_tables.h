@@ -1,0 +1,154 @@
+// Piecewise-LTI model of a gear train at tier 1 and its lazily built, bounded table cache
+// (docs/design.md §11, docs/gear-trains.md).
+//
+// Tier 1: one torsional DOF per body (TorsionalModes), angles are perturbations from the nominal
+// rotation, each in its body's own direction. Augmented state z = [x; x'; 1; u] (m = 2n + 2), u the
+// engine excitation s (rad/s^2) held at its mean over the current grid segment. Mesh i couples its
+// bodies through delta_i = v_i^T x, v_i = r_b,a e_a - r_b,b e_b; it has its own mesh period T_i,
+// its own S_i segments (the pair's segmentation of that mesh at the torque it transmits), and per
+// segment j the drive and back stiffness k+_ij, k-_ij and the unloaded error e_ij; b_i =
+// backlash/2, c_i = 2 zeta_i sqrt(kbar_i m_e,i), m_e,i = J_a J_b / (J_a r_b,b^2 + J_b r_b,a^2) from
+// the bodies' polar inertias. For the contact tuple sigma = (j_i, s_i)_i of a grid segment:
+//   z' = A_sigma z,  A = [[0, I, 0, 0], [-M^-1 K_s, -M^-1 C_s, M^-1 f_s, M^-1 d], [0 ...]]
+//   K_s = sum_{i in drive} k+_ij v_i v_i^T + sum_{i in back} k-_ij v_i v_i^T,  C_s likewise with
+//   c_i, f_s = f + sum_{drive} k+_ij (e_ij + b_i) v_i + sum_{back} k-_ij (e_ij - b_i) v_i,
+// f the constant torques (every load resists its body, the input body is driven by the torque that
+// balances them: the free rotation carries no mean torque), d = J_in e_in (the excitation acts on
+// the input body as J_in s). Gaps (rows on z): g+_i = v_i^T x - e_ij - b_i (drive while > 0),
+// g-_i = v_i^T x - e_ij + b_i (back while < 0). Tooth friction and manufacturing errors are not
+// modelled on trains yet (the pair has them).
+//
+// Time grid: mesh i is periodic in T_i with segment boundaries t_ij; the train's grid is the union
+// of every mesh's boundaries, generated on the fly from integer cycle counts (no drift, no table of
+// the common period: a train whose common period is long or missing costs nothing extra here).
+// Boundaries of different meshes closer than kMergeTolerance * min T_i are one boundary. The
+// common period (CommonPeriod: the smallest whole number of input revolutions after which every
+// mesh and every excitation order is back in phase, up to a limit) is used to recentre the free
+// rotation and to report; when none is found within the limit, the free rotation is recentred
+// once per input revolution (exact either way: it changes no gap and no force).
+//
+// Tables per tuple (generator, its spectral decomposition, a ClosedFormGap per gap row) are built
+// when a tuple is first visited and held in an LRU cache bounded in bytes (TrainCacheOptions).
+#pragma once
+
+#include <Eigen/Dense>
+#include <cstdint>
+#include <list>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "gearnvh/model/gear_train.h"
+#include "gearnvh/model/gearbox_spec.h"
+#include "gearnvh/solver/segment_tables.h"
+#include "gearnvh/solver/spectral_gap.h"
+
+namespace gearnvh {
+
+struct TrainMeshTable {
+  std::string name;  // "g1-g2"
+  int body_a = 0, body_b = 0;
+  Eigen::VectorXd v;             // mesh vector on the n body angles
+  double period = 0.0;           // T_i, s
+  std::vector<double> boundary;  // segment starts within [0, T_i), plus T_i (size S_i + 1), s
+  std::vector<double> k_drive, k_back, error;  // per segment: N/m, N/m, m
+  double half_backlash = 0.0;                  // b_i, m
+  double damping = 0.0;                        // c_i, N s/m
+  double effective_mass = 0.0;                 // m_e,i, kg
+  double transmitted_torque = 0.0;             // N m on gear b (static torque flow)
+  int segments() const { return static_cast<int>(error.size()); }
+};
+
+struct TrainTables {
+  int n = 0;  // bodies
+  int m = 0;  // 2n + 2
+  std::vector<std::string> body_names;
+  std::vector<bool> loose;               // per body: a loose gear
+  Eigen::VectorXd inertia;               // J per body, kg m^2
+  Eigen::VectorXd force;                 // f: constant torques, N m
+  Eigen::VectorXd excitation_direction;  // d = J_in e_in
+  double input_speed = 0.0;              // rad/s
+  std::vector<ExcitationOrder> excitation;
+  std::vector<TrainMeshTable> meshes;
+  // The free rotation r (th_j ~ |w_j|, M-normalised; K_s r = 0 and v_i^T r = 0 for every tuple)
+  // and the row r^T M that measures it.
+  Eigen::VectorXd rigid_rotation;
+  Eigen::RowVectorXd recenter_row;
+  double common_period = 0.0;    // s; 0 when none within the limit
+  double longest_segment = 0.0;  // the longest segment of any mesh, s (bounds every grid segment)
+
+  int constant_slot() const { return 2 * n; }
+  int input_slot() const { return 2 * n + 1; }
+  // Mean of the excitation over [t0, t0 + h], rad/s^2 (closed form).
+  double MeanExcitation(double t0, double h) const;
+  double InputRevolution() const;  // 2 pi / input speed, s
+};
+
+// Options of the table build and of the cache.
+struct TrainTableOptions {
+  // Upper bound of the cached tables' bytes; the least recently used tuple is evicted beyond it
+  // (at least the tuple in use is always kept). >= 1.
+  size_t cache_limit_bytes = size_t{256} << 20;
+  // Decompositions with |S|_1 |S^-1|_1 above this use the dense (Taylor) path for that tuple.
+  double max_condition = 1e6;  // >= 1
+  // The common period is searched up to this many input revolutions. >= 1.
+  long max_common_period_revolutions = 1000;
+  void Validate() const;
+};
+
+// Builds the tier-1 train model (fixed per train): per mesh segmentation, loads, damping.
+// `segments_per_cycle` as analysis.segments_per_cycle; `damping_ratio` per mesh from the spec.
+TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
+                             const TrainTableOptions& options = {});
+
+// Tables of one contact tuple.
+struct TrainSystem {
+  Eigen::MatrixXd A;  // generator, m x m
+  SpectralDecomposition decomposition;
+  bool spectral = false;  // decomposition usable (else the dense Taylor path)
+  double substep = 0.0;   // dense path: sub-step length with rho(A) substep <= 1/2
+  std::vector<Eigen::RowVectorXd> gap_drive, gap_back;  // per mesh: g+_i, g-_i rows on z
+  // Their closed forms (spectral only); mutable: Load() keeps the loaded coefficients as scratch.
+  mutable std::vector<ClosedFormGap> drive, back;
+  size_t bytes = 0;
+};
+
+// The key of a tuple: per mesh segment * 3 + state, packed 16 bits per mesh.
+using TupleKey = std::vector<uint64_t>;
+struct TupleKeyHash {
+  size_t operator()(const TupleKey& k) const;
+};
+
+struct TrainCacheSummary {
+  long hits = 0, misses = 0, evictions = 0;
+  long ill_conditioned = 0;  // tuples built that use the dense path
+  size_t bytes = 0, peak_bytes = 0;
+  long tuples = 0;  // held now
+};
+
+// LRU cache of TrainSystems. Get() on a held tuple does not allocate.
+class TrainSystemCache {
+ public:
+  TrainSystemCache(const TrainTables& tables, const TrainTableOptions& options);
+  // segments[i], states[i] per mesh; `key` is scratch of KeyWords() words (filled here).
+  const TrainSystem& Get(const std::vector<int>& segments, const std::vector<ContactState>& states,
+                         TupleKey& key);
+  int KeyWords() const { return key_words_; }
+  const TrainCacheSummary& summary() const { return summary_; }
+
+ private:
+  TrainSystem Build(const std::vector<int>& segments,
+                    const std::vector<ContactState>& states) const;
+  struct Entry {
+    TupleKey key;
+    TrainSystem system;
+  };
+  const TrainTables& t_;
+  TrainTableOptions options_;
+  int key_words_ = 1;
+  std::list<Entry> lru_;  // most recent first
+  std::unordered_map<TupleKey, std::list<Entry>::iterator, TupleKeyHash> index_;
+  TrainCacheSummary summary_;
+};
+
+}  // namespace gearnvh

@@ -1,0 +1,254 @@
+#include "gearnvh/solver/train_reference.h"
+
+#include <cvode/cvode.h>
+#include <nvector/nvector_serial.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
+#include <memory>
+
+#include "gearnvh/model/input_error.h"
+#include "gearnvh/solver/train_stepper.h"
+
+namespace gearnvh {
+
+void TrainReferenceOptions::Validate() const {
+  if (!(end_time > 0.0))
+    throw InputError("TrainReferenceOptions.end_time", 0, std::to_string(end_time), "must be > 0");
+  if (!(rtol > 0.0 && rtol <= 1e-3))
+    throw InputError("TrainReferenceOptions.rtol", 0, std::to_string(rtol), "must be in (0, 1e-3]");
+  if (!(atol_position > 0.0) || !(atol_velocity > 0.0)) {
+    throw InputError("TrainReferenceOptions.atol_position", 0, "",
+                     "absolute tolerances must be > 0");
+  }
+  if (max_events < 1) {
+    throw InputError("TrainReferenceOptions.max_events", 0, std::to_string(max_events),
+                     "must be >= 1");
+  }
+  if (!(sample_interval >= 0.0)) {
+    throw InputError("TrainReferenceOptions.sample_interval", 0, std::to_string(sample_interval),
+                     "must be >= 0");
+  }
+}
+
+Eigen::MatrixXd AssembleTrainGenerator(const TrainTables& t, const std::vector<int>& segments,
+                                       const std::vector<ContactState>& states) {
+  const int n = t.n;
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(t.m, t.m);
+  for (int r = 0; r < n; ++r) {
+    A(r, n + r) = 1.0;
+    A(n + r, t.constant_slot()) = t.force[r] / t.inertia[r];
+    A(n + r, t.input_slot()) = t.excitation_direction[r] / t.inertia[r];
+  }
+  for (size_t i = 0; i < t.meshes.size(); ++i) {
+    if (states[i] == ContactState::kFree) continue;
+    const TrainMeshTable& mt = t.meshes[i];
+    const size_t j = static_cast<size_t>(segments[i]);
+    const bool drive = states[i] == ContactState::kDrive;
+    const double k = drive ? mt.k_drive[j] : mt.k_back[j];
+    const double wall = drive ? mt.error[j] + mt.half_backlash : mt.error[j] - mt.half_backlash;
+    // Mesh torque on body r: -v_r (k (v^T x - wall) + c v^T x').
+    for (int r = 0; r < n; ++r) {
+      if (mt.v[r] == 0.0) continue;
+      for (int s = 0; s < n; ++s) {
+        A(n + r, s) -= mt.v[r] * k * mt.v[s] / t.inertia[r];
+        A(n + r, n + s) -= mt.v[r] * mt.damping * mt.v[s] / t.inertia[r];
+      }
+      A(n + r, t.constant_slot()) += mt.v[r] * k * wall / t.inertia[r];
+    }
+  }
+  return A;
+}
+
+namespace {
+
+struct Problem {
+  const TrainTables* t = nullptr;
+  Eigen::MatrixXd A;
+  std::vector<int> segments;
+  std::vector<ContactState> states;
+};
+
+int Rhs(sunrealtype, N_Vector y, N_Vector ydot, void* data) {
+  const Problem& p = *static_cast<Problem*>(data);
+  Eigen::Map<const Eigen::VectorXd> z(NV_DATA_S(y), NV_LENGTH_S(y));
+  Eigen::Map<Eigen::VectorXd> dz(NV_DATA_S(ydot), NV_LENGTH_S(y));
+  dz.noalias() = p.A * z;
+  return 0;
+}
+
+int Jac(sunrealtype, N_Vector, N_Vector, SUNMatrix J, void* data, N_Vector, N_Vector, N_Vector) {
+  const Problem& p = *static_cast<Problem*>(data);
+  for (long c = 0; c < SM_COLUMNS_D(J); ++c)
+    for (long r = 0; r < SM_ROWS_D(J); ++r) SM_ELEMENT_D(J, r, c) = p.A(r, c);
+  return 0;
+}
+
+// Gaps of mesh i: g+ (index 2i) and g- (2i + 1).
+double Gap(const Problem& p, size_t i, bool drive, const double* z) {
+  const TrainMeshTable& mt = p.t->meshes[i];
+  double delta = 0.0;
+  for (int r = 0; r < p.t->n; ++r) delta += mt.v[r] * z[r];
+  const double e = mt.error[static_cast<size_t>(p.segments[i])];
+  return drive ? delta - e - mt.half_backlash : delta - e + mt.half_backlash;
+}
+
+int Roots(sunrealtype, N_Vector y, sunrealtype* g, void* data) {
+  const Problem& p = *static_cast<Problem*>(data);
+  for (size_t i = 0; i < p.t->meshes.size(); ++i) {
+    g[2 * i] = Gap(p, i, true, NV_DATA_S(y));
+    g[2 * i + 1] = Gap(p, i, false, NV_DATA_S(y));
+  }
+  return 0;
+}
+
+// The state a mesh switches to when gap g+ (drive = true) or g- has value / crossing direction
+// `sign` (> 0 rising), or its own state.
+ContactState Triggered(ContactState s, bool drive, int sign) {
+  if (s == ContactState::kFree && drive && sign > 0) return ContactState::kDrive;
+  if (s == ContactState::kFree && !drive && sign < 0) return ContactState::kBack;
+  if (s == ContactState::kDrive && drive && sign < 0) return ContactState::kFree;
+  if (s == ContactState::kBack && !drive && sign > 0) return ContactState::kFree;
+  return s;
+}
+
+long StepsSoFar(void* cvode) {
+  long steps = 0;
+  CVodeGetNumSteps(cvode, &steps);
+  return steps;
+}
+
+struct CvodeDeleter {
+  void operator()(void* mem) const { CVodeFree(&mem); }
+};
+
+}  // namespace
+
+TrainReferenceResult SimulateTrainReference(const TrainTables& t, const Eigen::VectorXd& z0,
+                                            const std::vector<ContactState>& states0,
+                                            const TrainReferenceOptions& options) {
+  options.Validate();
+  TrainReferenceResult result;
+  SUNContext ctx = nullptr;
+  SUNContext_Create(nullptr, &ctx);
+  const long m = t.m;
+  const size_t meshes = t.meshes.size();
+  N_Vector y = N_VNew_Serial(m, ctx);
+  N_Vector abstol = N_VNew_Serial(m, ctx);
+  N_Vector dky = N_VNew_Serial(m, ctx);
+  for (long i = 0; i < m; ++i) {
+    NV_Ith_S(y, i) = z0[i];
+    NV_Ith_S(abstol, i) =
+        i < t.n ? options.atol_position : (i < 2 * t.n ? options.atol_velocity : 1.0);
+  }
+  SUNMatrix J = SUNDenseMatrix(m, m, ctx);
+  SUNLinearSolver ls = SUNLinSol_Dense(y, J, ctx);
+  std::unique_ptr<void, CvodeDeleter> mem(CVodeCreate(CV_BDF, ctx));
+  Problem p;
+  p.t = &t;
+  p.states = states0;
+  TrainGrid grid(t);
+  p.segments = grid.segments();
+  p.A = AssembleTrainGenerator(t, p.segments, p.states);
+  CVodeInit(mem.get(), Rhs, 0.0, y);
+  CVodeSVtolerances(mem.get(), options.rtol, abstol);
+  CVodeSetUserData(mem.get(), &p);
+  CVodeSetLinearSolver(mem.get(), ls, J);
+  CVodeSetJacFn(mem.get(), Jac);
+  CVodeSetMaxNumSteps(mem.get(), 1000000);
+  CVodeRootInit(mem.get(), static_cast<int>(2 * meshes), Roots);
+  std::vector<int> found(2 * meshes);
+  std::vector<double> te_rows;
+  long next_sample = 0;
+  const auto emit_samples = [&](double a, double b) {
+    if (options.sample_interval <= 0.0) return;
+    for (double ts = next_sample * options.sample_interval;
+         ts < b - 1e-12 * options.sample_interval && ts <= options.end_time;
+         ts = ++next_sample * options.sample_interval) {
+      CVodeGetDky(mem.get(), std::max(ts, a), 0, dky);
+      result.sample_times.push_back(ts);
+      for (size_t i = 0; i < meshes; ++i)
+        te_rows.push_back(
+            t.meshes[i].v.dot(Eigen::Map<const Eigen::VectorXd>(NV_DATA_S(dky), t.n)));
+    }
+  };
+
+  double time = 0.0;
+  while (time < options.end_time && result.success) {
+    const double seg_end = std::min(grid.end(), options.end_time);
+    const double h = grid.end() - grid.start();
+    NV_Ith_S(y, t.input_slot()) = t.excitation.empty() ? 0.0 : t.MeanExcitation(grid.start(), h);
+    p.segments = grid.segments();
+    // Outside a wall at the boundary (e jumps): switch at once.
+    for (size_t i = 0; i < meshes; ++i) {
+      const double gd = Gap(p, i, true, NV_DATA_S(y)), gb = Gap(p, i, false, NV_DATA_S(y));
+      ContactState to = p.states[i];
+      if (to == ContactState::kFree && gd > 0.0)
+        to = ContactState::kDrive;
+      else if (to == ContactState::kFree && gb < 0.0)
+        to = ContactState::kBack;
+      else if (to == ContactState::kDrive && gd < 0.0)
+        to = ContactState::kFree;
+      else if (to == ContactState::kBack && gb > 0.0)
+        to = ContactState::kFree;
+      if (to != p.states[i]) {
+        result.events.push_back({static_cast<int>(i), time, p.states[i], to});
+        p.states[i] = to;
+      }
+    }
+    p.A = AssembleTrainGenerator(t, p.segments, p.states);
+    result.steps += StepsSoFar(mem.get());  // CVodeReInit resets CVODE's counter
+    CVodeReInit(mem.get(), time, y);
+    CVodeSetStopTime(mem.get(), seg_end);
+    while (time < seg_end && result.success) {
+      double reached = time;
+      const int flag = CVode(mem.get(), seg_end, y, &reached, CV_ONE_STEP);
+      if (flag < 0) {
+        result.success = false;
+        result.message = std::string("CVODE failed: ") + CVodeGetReturnFlagName(flag);
+        break;
+      }
+      emit_samples(time, reached);
+      time = reached;
+      if (flag != CV_ROOT_RETURN) continue;
+      CVodeGetRootInfo(mem.get(), found.data());
+      bool changed = false;
+      for (size_t i = 0; i < meshes; ++i) {
+        for (bool drive : {true, false}) {
+          const int dir = found[2 * i + (drive ? 0 : 1)];
+          if (dir == 0) continue;
+          const ContactState to = Triggered(p.states[i], drive, dir);
+          if (to == p.states[i]) continue;
+          result.events.push_back({static_cast<int>(i), time, p.states[i], to});
+          p.states[i] = to;
+          changed = true;
+        }
+      }
+      if (!changed) continue;
+      p.A = AssembleTrainGenerator(t, p.segments, p.states);
+      result.steps += StepsSoFar(mem.get());
+      CVodeReInit(mem.get(), time, y);
+      if (static_cast<long>(result.events.size()) > options.max_events) {
+        result.success = false;
+        result.message = "too many contact events";
+      }
+    }
+    if (time >= grid.end()) grid.Next();
+  }
+  result.te = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+      te_rows.data(), static_cast<Eigen::Index>(result.sample_times.size()),
+      static_cast<Eigen::Index>(meshes));
+  result.steps += StepsSoFar(mem.get());
+  result.final_state = Eigen::Map<const Eigen::VectorXd>(NV_DATA_S(y), m);
+  result.final_states = p.states;
+  mem.reset();
+  SUNLinSolFree(ls);
+  SUNMatDestroy(J);
+  N_VDestroy(dky);
+  N_VDestroy(abstol);
+  N_VDestroy(y);
+  SUNContext_Free(&ctx);
+  return result;
+}
+
+}  // namespace gearnvh

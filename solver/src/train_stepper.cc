@@ -1,0 +1,395 @@
+#include "gearnvh/solver/train_stepper.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "gearnvh/model/input_error.h"
+#include "gearnvh/solver/train_statistics.h"
+
+namespace gearnvh {
+namespace {
+
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+constexpr int kTaylorTerms = 20;
+constexpr int kDenseSamples = 16;
+
+}  // namespace
+
+void TrainStepperOptions::Validate() const {
+  if (!(grazing_rate_tolerance >= 0.0)) {
+    throw InputError("TrainStepperOptions.grazing_rate_tolerance", 0,
+                     std::to_string(grazing_rate_tolerance), "must be >= 0");
+  }
+  if (max_events_per_segment < 1) {
+    throw InputError("TrainStepperOptions.max_events_per_segment", 0,
+                     std::to_string(max_events_per_segment), "must be >= 1");
+  }
+  tables.Validate();
+}
+
+TrainGrid::TrainGrid(const TrainTables& tables)
+    : t_(&tables), segment_(tables.meshes.size(), 0), cycle_(tables.meshes.size(), 0) {
+  double shortest = std::numeric_limits<double>::infinity();
+  for (const TrainMeshTable& mt : tables.meshes) shortest = std::min(shortest, mt.period);
+  merge_ = 1e-12 * shortest;
+  FindEnd();
+}
+
+void TrainGrid::FindEnd() {
+  end_ = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < segment_.size(); ++i) {
+    const TrainMeshTable& mt = t_->meshes[i];
+    end_ = std::min(end_, static_cast<double>(cycle_[i]) * mt.period +
+                              mt.boundary[static_cast<size_t>(segment_[i]) + 1]);
+  }
+}
+
+void TrainGrid::Next() {
+  // Every mesh whose boundary is this end (within rounding of the time) moves on.
+  const double tolerance = merge_ + 4.0 * kEps * end_;
+  for (size_t i = 0; i < segment_.size(); ++i) {
+    const TrainMeshTable& mt = t_->meshes[i];
+    const double boundary = static_cast<double>(cycle_[i]) * mt.period +
+                            mt.boundary[static_cast<size_t>(segment_[i]) + 1];
+    if (boundary <= end_ + tolerance) {
+      if (++segment_[i] == mt.segments()) segment_[i] = 0, ++cycle_[i];
+    }
+  }
+  start_ = end_;
+  FindEnd();
+}
+
+std::pair<Eigen::VectorXd, std::vector<ContactState>> TrainStaticState(const TrainTables& t) {
+  const int n = t.n;
+  std::vector<ContactState> states(t.meshes.size(), ContactState::kDrive);
+  Eigen::VectorXd z = Eigen::VectorXd::Zero(t.m);
+  z[t.constant_slot()] = 1.0;
+  // Each pass fixes the meshes whose static gap contradicts their state; a mesh changes at most
+  // twice (drive -> back -> free).
+  for (size_t pass = 0; pass <= 2 * t.meshes.size(); ++pass) {
+    Eigen::MatrixXd B = Eigen::MatrixXd::Zero(n + 1, n);
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n + 1);
+    rhs.head(n) = t.force;
+    for (size_t i = 0; i < t.meshes.size(); ++i) {
+      const TrainMeshTable& mt = t.meshes[i];
+      if (states[i] == ContactState::kFree) continue;
+      const bool drive = states[i] == ContactState::kDrive;
+      const double k = drive ? mt.k_drive[0] : mt.k_back[0];
+      B.topRows(n) += k * mt.v * mt.v.transpose();
+      rhs.head(n) +=
+          k * (drive ? mt.error[0] + mt.half_backlash : mt.error[0] - mt.half_backlash) * mt.v;
+    }
+    // K x = f is singular along the free rotation (and more so with a free loose gear): the
+    // least-squares solution with r~ x = 0 is the centred one.
+    const double scale = std::max(B.topRows(n).norm(), 1.0) / t.recenter_row.norm();
+    B.row(n) = scale * t.recenter_row;
+    z.head(n) = B.completeOrthogonalDecomposition().solve(rhs);
+    bool changed = false;
+    for (size_t i = 0; i < t.meshes.size(); ++i) {
+      const TrainMeshTable& mt = t.meshes[i];
+      const double delta = mt.v.dot(z.head(n)) - mt.error[0];
+      ContactState want = ContactState::kFree;
+      if (delta > mt.half_backlash)
+        want = ContactState::kDrive;
+      else if (delta < -mt.half_backlash)
+        want = ContactState::kBack;
+      if (states[i] != ContactState::kFree && want != states[i]) {
+        states[i] = states[i] == ContactState::kDrive ? ContactState::kBack : ContactState::kFree;
+        changed = true;
+      }
+    }
+    if (!changed) break;
+  }
+  return {z, states};
+}
+
+TrainStepper::TrainStepper(const TrainTables& tables, const TrainStepperOptions& options,
+                           const Eigen::VectorXd& z0, const std::vector<ContactState>& states0)
+    : t_(tables),
+      options_(options),
+      cache_(tables, options.tables),
+      grid_(tables),
+      z_(z0),
+      states_(states0) {
+  options.Validate();
+  const int m = tables.m;
+  w_.resize(m);
+  wt_.resize(m);
+  scratch_.resize(m);
+  zs_.resize(m);
+  taylor_.resize(m, kTaylorTerms + 1);
+  roots_.resize(tables.meshes.size());
+  targets_.resize(tables.meshes.size());
+  key_.resize(static_cast<size_t>(cache_.KeyWords()));
+  recenter_period_ = tables.common_period > 0.0 ? tables.common_period : tables.InputRevolution();
+  next_recenter_ = recenter_period_;
+}
+
+void TrainStepper::Reset(const Eigen::VectorXd& z0, const std::vector<ContactState>& states0) {
+  z_ = z0;
+  states_ = states0;
+  grid_ = TrainGrid(t_);
+  time_ = 0.0;
+  next_recenter_ = recenter_period_;
+  summary_ = TrainStepperSummary{};
+}
+
+TrainStepperSummary TrainStepper::summary() const {
+  TrainStepperSummary s = summary_;
+  s.cache = cache_.summary();
+  s.simulated_time = time_;
+  return s;
+}
+
+bool TrainStepper::Run(double end_time, TrainRecorder* recorder) {
+  while (time_ < end_time) {
+    const double until = std::min(end_time, grid_.end());
+    if (!AdvanceGridSegment(until, recorder)) return false;
+    if (until >= grid_.end()) {
+      grid_.Next();
+      ++summary_.grid_segments;
+      time_ = grid_.start();
+    }
+    if (time_ >= next_recenter_) {
+      Recenter();
+      next_recenter_ += recenter_period_;
+    }
+  }
+  return true;
+}
+
+void TrainStepper::Recenter() {
+  const double drift = t_.recenter_row.dot(z_.head(t_.n));
+  z_.head(t_.n) -= drift * t_.rigid_rotation;
+  ++summary_.recenterings;
+}
+
+double TrainStepper::WallTolerance(const Eigen::RowVectorXd& row, double half_backlash) const {
+  double magnitude = 0.0;
+  for (Eigen::Index i = 0; i < row.size(); ++i) magnitude += std::abs(row[i] * z_[i]);
+  return 1e-12 * half_backlash + 64.0 * kEps * magnitude;
+}
+
+int TrainStepper::Walls(int mesh, const TrainSystem& sys, const Eigen::RowVectorXd* rows[2],
+                        double signs[2], ContactState targets[2]) const {
+  const size_t i = static_cast<size_t>(mesh);
+  switch (states_[i]) {
+    case ContactState::kDrive:
+      rows[0] = &sys.gap_drive[i], signs[0] = -1.0, targets[0] = ContactState::kFree;
+      return 1;
+    case ContactState::kBack:
+      rows[0] = &sys.gap_back[i], signs[0] = 1.0, targets[0] = ContactState::kFree;
+      return 1;
+    case ContactState::kFree:
+      rows[0] = &sys.gap_drive[i], signs[0] = 1.0, targets[0] = ContactState::kDrive;
+      rows[1] = &sys.gap_back[i], signs[1] = -1.0, targets[1] = ContactState::kBack;
+      return 2;
+  }
+  return 0;
+}
+
+void TrainStepper::Switch(int mesh, ContactState to, double time, TrainRecorder* rec) {
+  const size_t i = static_cast<size_t>(mesh);
+  if (rec != nullptr) {
+    const double rate = t_.meshes[i].v.dot(z_.segment(t_.n, t_.n));
+    rec->Event(mesh, states_[i], to, time, rate);
+  }
+  states_[i] = to;
+  ++summary_.events;
+  ++events_this_segment_;
+}
+
+bool TrainStepper::SwitchOutside(const TrainSystem& sys, TrainRecorder* rec) {
+  for (size_t i = 0; i < t_.meshes.size(); ++i) {
+    const Eigen::RowVectorXd* rows[2];
+    double signs[2];
+    ContactState targets[2];
+    const int count = Walls(static_cast<int>(i), sys, rows, signs, targets);
+    for (int k = 0; k < count; ++k) {
+      if (signs[k] * rows[k]->dot(z_) > WallTolerance(*rows[k], t_.meshes[i].half_backlash)) {
+        Switch(static_cast<int>(i), targets[k], time_, rec);
+        ++summary_.start_switches;
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+void TrainStepper::Record(const TrainSystem& sys, double piece_start, double length, bool spectral,
+                          TrainRecorder* rec) {
+  if (rec == nullptr) return;
+  rec->Interval(piece_start, length, states_);
+  while (rec->next_sample() < piece_start + length) {
+    const double tau = std::max(0.0, rec->next_sample() - piece_start);
+    if (spectral) {
+      PropagateDecoupled(sys.decomposition, w_, tau, wt_, scratch_);
+      zs_.noalias() = sys.decomposition.S * wt_;
+    } else {
+      zs_ = taylor_.col(kTaylorTerms);
+      for (int k = kTaylorTerms - 1; k >= 0; --k) {
+        zs_ *= tau;
+        zs_ += taylor_.col(k);
+      }
+    }
+    rec->Sample(rec->next_sample(), zs_, sys, grid_.segments(), states_);
+  }
+}
+
+bool TrainStepper::AdvanceGridSegment(double until, TrainRecorder* rec) {
+  // The input: the excitation's mean over the whole grid segment (independent of how runs split).
+  const double h = grid_.end() - grid_.start();
+  z_[t_.input_slot()] = t_.excitation.empty() ? 0.0 : t_.MeanExcitation(grid_.start(), h);
+  events_this_segment_ = 0;
+  int guard = 0;
+  while (until - time_ > 1e-15 * h) {
+    const TrainSystem& sys = cache_.Get(grid_.segments(), states_, key_);
+    if (guard++ < 2 * static_cast<int>(t_.meshes.size()) + 2 && SwitchOutside(sys, rec)) continue;
+    bool switched = false;
+    const double step = sys.spectral ? AdvanceSpectral(sys, until - time_, rec, switched)
+                                     : AdvanceDense(sys, until - time_, rec, switched);
+    time_ += step;
+    if (events_this_segment_ > options_.max_events_per_segment) {
+      summary_.info = TrainStepperSummary::Info::kTooManyEvents;
+      return false;
+    }
+    if (switched) guard = 0;
+  }
+  time_ = until;
+  return true;
+}
+
+double TrainStepper::AdvanceSpectral(const TrainSystem& sys, double remaining, TrainRecorder* rec,
+                                     bool& switched) {
+  w_.noalias() = sys.decomposition.S_inv * z_;
+  const Eigen::RowVectorXd* rows[2];
+  double signs[2];
+  ContactState targets[2];
+  double best = -1.0;
+  int best_mesh = -1;
+  for (size_t i = 0; i < t_.meshes.size(); ++i) {
+    roots_[i] = -1.0;
+    const int count = Walls(static_cast<int>(i), sys, rows, signs, targets);
+    for (int k = 0; k < count; ++k) {
+      ClosedFormGap& gap = rows[k] == &sys.gap_drive[i] ? sys.drive[i] : sys.back[i];
+      gap.Load(w_);
+      const double root = gap.FirstRise(signs[k], remaining);
+      if (root >= 0.0 && (roots_[i] < 0.0 || root < roots_[i])) {
+        roots_[i] = root;
+        targets_[i] = targets[k];
+      }
+    }
+    if (roots_[i] >= 0.0 && (best < 0.0 || roots_[i] < best)) {
+      best = roots_[i];
+      best_mesh = static_cast<int>(i);
+    }
+  }
+  const double step = best < 0.0 ? remaining : best;
+  bool touch = false;
+  double advance = step;
+  if (best >= 0.0) {
+    // Grazing: |g'| ~ 0 at the root and the gap curves back inside.
+    const size_t i = static_cast<size_t>(best_mesh);
+    const bool on_drive =
+        targets_[i] == ContactState::kDrive || (states_[i] == ContactState::kDrive);
+    const ClosedFormGap& gap = on_drive ? sys.drive[i] : sys.back[i];
+    const double sign =
+        (targets_[i] == ContactState::kDrive || states_[i] == ContactState::kBack) ? 1.0 : -1.0;
+    touch = best > 0.0 && std::abs(gap.Rate(best)) <= options_.grazing_rate_tolerance &&
+            sign * gap.Curvature(best) < 0.0;
+    if (touch) advance = std::min(remaining, best + 1e-12 * t_.longest_segment);
+  }
+  Record(sys, time_, advance, true, rec);
+  PropagateDecoupled(sys.decomposition, w_, advance, wt_, scratch_);
+  z_.noalias() = sys.decomposition.S * wt_;
+  if (best < 0.0) return advance;
+  switched = true;
+  if (touch) {
+    ++summary_.grazing;
+    ++events_this_segment_;
+    if (rec != nullptr) rec->Grazing(best_mesh, time_ + best);
+    return advance;
+  }
+  // Simultaneous roots switch together, in the order of their roots.
+  const double window = kSimultaneous * (grid_.end() - grid_.start()) + 4.0 * kEps * time_;
+  int switched_now = 0;
+  while (true) {
+    int next = -1;
+    for (size_t i = 0; i < roots_.size(); ++i) {
+      if (roots_[i] >= 0.0 && roots_[i] <= best + window &&
+          (next < 0 || roots_[i] < roots_[static_cast<size_t>(next)])) {
+        next = static_cast<int>(i);
+      }
+    }
+    if (next < 0) break;
+    Switch(next, targets_[static_cast<size_t>(next)], time_ + advance, rec);
+    roots_[static_cast<size_t>(next)] = -1.0;
+    ++switched_now;
+  }
+  if (switched_now > 1) summary_.simultaneous_events += switched_now - 1;
+  return advance;
+}
+
+double TrainStepper::AdvanceDense(const TrainSystem& sys, double remaining, TrainRecorder* rec,
+                                  bool& switched) {
+  ++summary_.dense_pieces;
+  const double d = std::min(remaining, sys.substep);
+  taylor_.col(0) = z_;
+  for (int k = 1; k <= kTaylorTerms; ++k) {
+    taylor_.col(k).noalias() = sys.A * taylor_.col(k - 1);
+    taylor_.col(k) /= static_cast<double>(k);
+  }
+  const auto gap_at = [&](const Eigen::RowVectorXd& row, double sign, double tau) {
+    double value = 0.0;
+    for (int k = kTaylorTerms; k >= 0; --k) value = value * tau + sign * row.dot(taylor_.col(k));
+    return value;
+  };
+  const Eigen::RowVectorXd* rows[2];
+  double signs[2];
+  ContactState targets[2];
+  double best = -1.0;
+  int best_mesh = -1;
+  ContactState best_target = ContactState::kFree;
+  for (size_t i = 0; i < t_.meshes.size(); ++i) {
+    const int count = Walls(static_cast<int>(i), sys, rows, signs, targets);
+    for (int k = 0; k < count; ++k) {
+      // The start is inside (or on) the wall: count rounding there as inside.
+      const double offset = std::max(0.0, gap_at(*rows[k], signs[k], 0.0));
+      double a = 0.0;
+      for (int s = 1; s <= kDenseSamples; ++s) {
+        double b = d * s / kDenseSamples;
+        if (gap_at(*rows[k], signs[k], b) - offset <= 0.0) {
+          a = b;
+          continue;
+        }
+        for (int it = 0; it < 200 && b - a > 4.0 * kEps * std::max(b, 1e-300); ++it) {
+          const double mid = 0.5 * (a + b);
+          if (gap_at(*rows[k], signs[k], mid) - offset > 0.0) {
+            b = mid;
+          } else {
+            a = mid;
+          }
+        }
+        if (best < 0.0 || b < best)
+          best = b, best_mesh = static_cast<int>(i), best_target = targets[k];
+        break;
+      }
+    }
+  }
+  const double step = best < 0.0 ? d : best;
+  Record(sys, time_, step, false, rec);
+  z_ = taylor_.col(kTaylorTerms);
+  for (int k = kTaylorTerms - 1; k >= 0; --k) {
+    z_ *= step;
+    z_ += taylor_.col(k);
+  }
+  if (best >= 0.0) {
+    switched = true;
+    Switch(best_mesh, best_target, time_ + step, rec);
+  }
+  return step;
+}
+
+}  // namespace gearnvh

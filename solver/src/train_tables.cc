@@ -1,0 +1,243 @@
+#include "gearnvh/solver/train_tables.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "gearnvh/model/input_error.h"
+#include "gearnvh/model/mesh_segmentation.h"
+
+namespace gearnvh {
+namespace {
+
+constexpr int kBitsPerMesh = 16;
+constexpr int kMeshesPerWord = 64 / kBitsPerMesh;
+
+}  // namespace
+
+void TrainTableOptions::Validate() const {
+  if (cache_limit_bytes < 1) {
+    throw InputError("TrainTableOptions.cache_limit_bytes", 0, std::to_string(cache_limit_bytes),
+                     "must be >= 1");
+  }
+  if (!(max_condition >= 1.0)) {
+    throw InputError("TrainTableOptions.max_condition", 0, std::to_string(max_condition),
+                     "must be >= 1");
+  }
+  if (max_common_period_revolutions < 1) {
+    throw InputError("TrainTableOptions.max_common_period_revolutions", 0,
+                     std::to_string(max_common_period_revolutions), "must be >= 1");
+  }
+}
+
+double TrainTables::MeanExcitation(double t0, double h) const {
+  double sum = 0.0;
+  for (const ExcitationOrder& e : excitation) {
+    const double w = e.order * input_speed;
+    sum += e.amplitude * (std::cos(w * t0 + e.phase) - std::cos(w * (t0 + h) + e.phase)) / (w * h);
+  }
+  return sum;
+}
+
+double TrainTables::InputRevolution() const { return 2.0 * std::numbers::pi / input_speed; }
+
+namespace {
+
+// Smallest whole number L of input revolutions after which every mesh (L z_a |w_a| / w_in mesh
+// cycles) and every excitation order (L * order periods) is whole; 0 when none up to `limit`.
+long CommonPeriodRevolutions(const std::vector<double>& cycles_per_revolution, long limit) {
+  for (long l = 1; l <= limit; ++l) {
+    bool whole = true;
+    for (double c : cycles_per_revolution) {
+      const double x = static_cast<double>(l) * c;
+      if (std::abs(x - std::round(x)) > 1e-9 * std::max(1.0, x)) {
+        whole = false;
+        break;
+      }
+    }
+    if (whole) return l;
+  }
+  return 0;
+}
+
+}  // namespace
+
+TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
+                             const TrainTableOptions& options) {
+  options.Validate();
+  const TrainTopology& topo = train.topology;
+  TrainTables t;
+  t.n = static_cast<int>(topo.bodies.size());
+  t.m = 2 * t.n + 2;
+  const int n = t.n;
+  t.inertia = Eigen::Map<const Eigen::VectorXd>(train.body_inertia.data(), n);
+  t.input_speed = spec.operating.speed;
+  t.excitation = spec.operating.excitation;
+  for (const TrainBody& b : topo.bodies) {
+    t.body_names.push_back(b.name);
+    t.loose.push_back(b.kind == BodyKind::kLooseGear);
+  }
+  t.force = Eigen::VectorXd::Zero(n);
+  for (const TrainLoad& load : spec.operating.loads) {
+    const int shaft = spec.ShaftIndex(load.on);
+    const int body =
+        shaft >= 0 ? shaft : topo.gear_body[static_cast<size_t>(spec.GearIndex(load.on))];
+    t.force[body] -= load.torque;
+  }
+  t.force[topo.input_body] += train.input_torque;
+  t.excitation_direction = Eigen::VectorXd::Zero(n);
+  t.excitation_direction[topo.input_body] = t.inertia[topo.input_body];
+
+  Eigen::VectorXd rigid(n);
+  for (int b = 0; b < n; ++b) rigid[b] = std::abs(topo.bodies[static_cast<size_t>(b)].speed);
+  rigid /= std::sqrt(rigid.dot(t.inertia.cwiseProduct(rigid)));
+  t.rigid_rotation = rigid;
+  t.recenter_row = t.inertia.cwiseProduct(rigid).transpose();
+
+  std::vector<double> cycles_per_revolution;
+  for (const ExcitationOrder& e : t.excitation) cycles_per_revolution.push_back(e.order);
+  for (size_t i = 0; i < train.meshes.size(); ++i) {
+    const TrainMeshModel& mm = train.meshes[i];
+    TrainMeshTable mt;
+    mt.name = mm.name;
+    mt.body_a = mm.body_a;
+    mt.body_b = mm.body_b;
+    const double ra = mm.geometry.pinion.base, rb = mm.geometry.wheel.base;
+    mt.v = Eigen::VectorXd::Zero(n);
+    mt.v[mm.body_a] += ra;
+    mt.v[mm.body_b] -= rb;
+    const int teeth = spec.gears[static_cast<size_t>(mm.gear_a)].gear.teeth;
+    const double speed_a = std::abs(topo.bodies[static_cast<size_t>(mm.body_a)].speed);
+    mt.period = 2.0 * std::numbers::pi / (teeth * speed_a);
+    cycles_per_revolution.push_back(teeth * speed_a / t.input_speed);
+    const MeshEvaluator evaluator(mm.pair, mm.geometry);
+    const MeshSegmentation seg =
+        SegmentMeshCycle(mm.pair, evaluator, spec.analysis.segments_per_cycle);
+    for (const MeshSegment& s : seg.segments) {
+      mt.boundary.push_back(s.tau_begin * mt.period);
+      mt.k_drive.push_back(s.drive.stiffness);
+      mt.k_back.push_back(s.back.stiffness);
+      mt.error.push_back(s.unloaded_error);
+      t.longest_segment = std::max(t.longest_segment, (s.tau_end - s.tau_begin) * mt.period);
+    }
+    mt.boundary.push_back(mt.period);
+    mt.half_backlash = 0.5 * spec.meshes[i].mesh.backlash;
+    const double ja = t.inertia[mm.body_a], jb = t.inertia[mm.body_b];
+    mt.effective_mass = ja * jb / (ja * rb * rb + jb * ra * ra);
+    mt.damping =
+        2.0 * spec.meshes[i].mesh.damping_ratio * std::sqrt(mm.stiffness.mean * mt.effective_mass);
+    mt.transmitted_torque = mm.transmitted_torque;
+    t.meshes.push_back(std::move(mt));
+  }
+  const long revolutions =
+      CommonPeriodRevolutions(cycles_per_revolution, options.max_common_period_revolutions);
+  t.common_period = static_cast<double>(revolutions) * t.InputRevolution();
+  return t;
+}
+
+size_t TupleKeyHash::operator()(const TupleKey& k) const {
+  size_t h = 0x9e3779b97f4a7c15ull;
+  for (uint64_t w : k) h ^= std::hash<uint64_t>()(w) + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
+  return h;
+}
+
+TrainSystemCache::TrainSystemCache(const TrainTables& tables, const TrainTableOptions& options)
+    : t_(tables), options_(options) {
+  options.Validate();
+  const int meshes = static_cast<int>(tables.meshes.size());
+  key_words_ = std::max(1, (meshes + kMeshesPerWord - 1) / kMeshesPerWord);
+  for (const TrainMeshTable& mt : tables.meshes) {
+    if (3 * mt.segments() >= (1 << kBitsPerMesh)) {
+      throw InputError("TrainTables.meshes.segments", 0, std::to_string(mt.segments()),
+                       "must be < 21845 per mesh (tuple key width)");
+    }
+  }
+}
+
+const TrainSystem& TrainSystemCache::Get(const std::vector<int>& segments,
+                                         const std::vector<ContactState>& states, TupleKey& key) {
+  std::fill(key.begin(), key.end(), 0);
+  for (size_t i = 0; i < segments.size(); ++i) {
+    const uint64_t code = static_cast<uint64_t>(3 * segments[i] + static_cast<int>(states[i]));
+    key[i / kMeshesPerWord] |= code << (kBitsPerMesh * (i % kMeshesPerWord));
+  }
+  const auto found = index_.find(key);
+  if (found != index_.end()) {
+    ++summary_.hits;
+    lru_.splice(lru_.begin(), lru_, found->second);
+    return lru_.front().system;
+  }
+  ++summary_.misses;
+  lru_.push_front(Entry{key, Build(segments, states)});
+  index_.emplace(key, lru_.begin());
+  summary_.bytes += lru_.front().system.bytes;
+  if (!lru_.front().system.spectral) ++summary_.ill_conditioned;
+  while (summary_.bytes > options_.cache_limit_bytes && lru_.size() > 1) {
+    summary_.bytes -= lru_.back().system.bytes;
+    index_.erase(lru_.back().key);
+    lru_.pop_back();
+    ++summary_.evictions;
+  }
+  summary_.peak_bytes = std::max(summary_.peak_bytes, summary_.bytes);
+  summary_.tuples = static_cast<long>(lru_.size());
+  return lru_.front().system;
+}
+
+TrainSystem TrainSystemCache::Build(const std::vector<int>& segments,
+                                    const std::vector<ContactState>& states) const {
+  const int n = t_.n, m = t_.m;
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n, n), C = Eigen::MatrixXd::Zero(n, n);
+  Eigen::VectorXd f = t_.force;
+  TrainSystem s;
+  for (size_t i = 0; i < t_.meshes.size(); ++i) {
+    const TrainMeshTable& mt = t_.meshes[i];
+    const int j = segments[i];
+    const double e = mt.error[static_cast<size_t>(j)], b = mt.half_backlash;
+    if (states[i] != ContactState::kFree) {
+      const bool drive = states[i] == ContactState::kDrive;
+      const double k =
+          drive ? mt.k_drive[static_cast<size_t>(j)] : mt.k_back[static_cast<size_t>(j)];
+      K += k * mt.v * mt.v.transpose();
+      C += mt.damping * mt.v * mt.v.transpose();
+      f += k * (drive ? e + b : e - b) * mt.v;
+    }
+    Eigen::RowVectorXd drive_row = Eigen::RowVectorXd::Zero(m);
+    drive_row.head(n) = mt.v.transpose();
+    Eigen::RowVectorXd back_row = drive_row;
+    drive_row[t_.constant_slot()] = -(e + b);
+    back_row[t_.constant_slot()] = -e + b;
+    s.gap_drive.push_back(drive_row);
+    s.gap_back.push_back(back_row);
+  }
+  const Eigen::VectorXd inv_j = t_.inertia.cwiseInverse();
+  s.A = Eigen::MatrixXd::Zero(m, m);
+  s.A.block(0, n, n, n).setIdentity();
+  s.A.block(n, 0, n, n) = -(inv_j.asDiagonal() * K);
+  s.A.block(n, n, n, n) = -(inv_j.asDiagonal() * C);
+  s.A.block(n, t_.constant_slot(), n, 1) = inv_j.cwiseProduct(f);
+  s.A.block(n, t_.input_slot(), n, 1) = inv_j.cwiseProduct(t_.excitation_direction);
+
+  const double w_ref = ReferenceFrequency(s.A, n);
+  s.decomposition = DecomposeGenerator(s.A, n, w_ref, t_.longest_segment, options_.max_condition);
+  s.spectral = s.decomposition.info == SpectralDecomposition::Info::kSuccess;
+  const double rho = s.A.topLeftCorner(2 * n, 2 * n).eigenvalues().cwiseAbs().maxCoeff();
+  s.substep = rho > 0.0 ? 0.5 / rho : t_.longest_segment;
+  size_t doubles = 3 * static_cast<size_t>(m) * m + 2 * t_.meshes.size() * m;
+  if (s.spectral) {
+    for (size_t i = 0; i < t_.meshes.size(); ++i) {
+      s.drive.emplace_back(s.decomposition, s.gap_drive[i]);
+      s.back.emplace_back(s.decomposition, s.gap_back[i]);
+    }
+    const size_t terms = static_cast<size_t>(std::max(s.decomposition.series_terms, 1));
+    const size_t zero = static_cast<size_t>(s.decomposition.zero_size);
+    doubles += zero * zero +
+               2 * t_.meshes.size() * (terms * (zero + 1) + 8 * s.decomposition.blocks.size());
+  } else {
+    s.decomposition = SpectralDecomposition{};  // drop the unusable factors
+  }
+  s.bytes = doubles * sizeof(double) + sizeof(TrainSystem);
+  return s;
+}
+
+}  // namespace gearnvh
