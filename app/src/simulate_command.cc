@@ -20,6 +20,7 @@
 #include "gearnvh/nvh/transmission_error.h"
 #include "gearnvh/reduction/reduced_model.h"
 #include "operating_point.h"
+#include "simulate_train.h"
 #include "uff_export.h"
 #include "output_folder.h"
 
@@ -64,8 +65,10 @@ std::string EventsCsv(const Trajectory& t) {
 
 int RunSimulate(const SimulateOptions& options) {
   return RunReportingErrors(options.file, [&]() -> int {
+    config::LoadedGearbox loaded = config::LoadAnyGearboxFile(options.file);
+    if (loaded.schema == 2) return SimulateTrain(options, loaded.train);
     const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
-    const GearboxSpec spec = config::LoadGearboxFile(options.file);
+    const GearboxSpec spec = std::move(*loaded.pair);
     const Tier tier = options.tier ? ParseTier(*options.tier) : spec.analysis.tier;
     SolverOptions solver;
     solver.cycles = options.cycles.value_or(spec.analysis.cycles);

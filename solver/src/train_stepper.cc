@@ -121,7 +121,7 @@ TrainStepper::TrainStepper(const TrainTables& tables, const TrainStepperOptions&
   zs_.resize(m);
   taylor_.resize(m, kTaylorTerms + 1);
   roots_.resize(tables.meshes.size());
-  targets_.resize(tables.meshes.size());
+  root_walls_.resize(tables.meshes.size());
   key_.resize(static_cast<size_t>(cache_.KeyWords()));
   recenter_period_ = tables.common_period > 0.0 ? tables.common_period : tables.InputRevolution();
   next_recenter_ = recenter_period_;
@@ -166,25 +166,17 @@ void TrainStepper::Recenter() {
   ++summary_.recenterings;
 }
 
-double TrainStepper::WallTolerance(const Eigen::RowVectorXd& row, double half_backlash) const {
-  double magnitude = 0.0;
-  for (Eigen::Index i = 0; i < row.size(); ++i) magnitude += std::abs(row[i] * z_[i]);
-  return 1e-12 * half_backlash + 64.0 * kEps * magnitude;
-}
-
-int TrainStepper::Walls(int mesh, const TrainSystem& sys, const Eigen::RowVectorXd* rows[2],
-                        double signs[2], ContactState targets[2]) const {
-  const size_t i = static_cast<size_t>(mesh);
-  switch (states_[i]) {
+int TrainStepper::Walls(int mesh, Wall walls[2]) const {
+  switch (states_[static_cast<size_t>(mesh)]) {
     case ContactState::kDrive:
-      rows[0] = &sys.gap_drive[i], signs[0] = -1.0, targets[0] = ContactState::kFree;
+      walls[0] = {true, -1.0, ContactState::kFree};
       return 1;
     case ContactState::kBack:
-      rows[0] = &sys.gap_back[i], signs[0] = 1.0, targets[0] = ContactState::kFree;
+      walls[0] = {false, 1.0, ContactState::kFree};
       return 1;
     case ContactState::kFree:
-      rows[0] = &sys.gap_drive[i], signs[0] = 1.0, targets[0] = ContactState::kDrive;
-      rows[1] = &sys.gap_back[i], signs[1] = -1.0, targets[1] = ContactState::kBack;
+      walls[0] = {true, 1.0, ContactState::kDrive};
+      walls[1] = {false, -1.0, ContactState::kBack};
       return 2;
   }
   return 0;
@@ -201,15 +193,15 @@ void TrainStepper::Switch(int mesh, ContactState to, double time, TrainRecorder*
   ++events_this_segment_;
 }
 
-bool TrainStepper::SwitchOutside(const TrainSystem& sys, TrainRecorder* rec) {
-  for (size_t i = 0; i < t_.meshes.size(); ++i) {
-    const Eigen::RowVectorXd* rows[2];
-    double signs[2];
-    ContactState targets[2];
-    const int count = Walls(static_cast<int>(i), sys, rows, signs, targets);
+bool TrainStepper::SwitchOutside(TrainRecorder* rec) {
+  for (int i = 0; i < static_cast<int>(t_.meshes.size()); ++i) {
+    const int segment = grid_.segments()[static_cast<size_t>(i)];
+    Wall walls[2];
+    const int count = Walls(i, walls);
     for (int k = 0; k < count; ++k) {
-      if (signs[k] * rows[k]->dot(z_) > WallTolerance(*rows[k], t_.meshes[i].half_backlash)) {
-        Switch(static_cast<int>(i), targets[k], time_, rec);
+      if (walls[k].sign * t_.GapValue(i, segment, walls[k].drive, z_) >
+          t_.GapTolerance(i, segment, walls[k].drive, z_)) {
+        Switch(i, walls[k].target, time_, rec);
         ++summary_.start_switches;
         return true;
       }
@@ -243,42 +235,44 @@ bool TrainStepper::AdvanceGridSegment(double until, TrainRecorder* rec) {
   const double h = grid_.end() - grid_.start();
   z_[t_.input_slot()] = t_.excitation.empty() ? 0.0 : t_.MeanExcitation(grid_.start(), h);
   events_this_segment_ = 0;
-  int guard = 0;
+  // A state outside a wall at the grid segment's start (e_ij jumped) switches at once; at most
+  // two switches per mesh (free -> contact -> never outside its own wall). Only at the start, as
+  // the pair: right after a located event the gap is within the decomposition's rounding of the
+  // wall, and re-testing it there could switch back and forth.
+  if (time_ == grid_.start()) {
+    for (size_t guard = 0; guard < 2 * t_.meshes.size() && SwitchOutside(rec); ++guard) {
+    }
+  }
   while (until - time_ > 1e-15 * h) {
     const TrainSystem& sys = cache_.Get(grid_.segments(), states_, key_);
-    if (guard++ < 2 * static_cast<int>(t_.meshes.size()) + 2 && SwitchOutside(sys, rec)) continue;
-    bool switched = false;
-    const double step = sys.spectral ? AdvanceSpectral(sys, until - time_, rec, switched)
-                                     : AdvanceDense(sys, until - time_, rec, switched);
+    const double step = sys.spectral ? AdvanceSpectral(sys, until - time_, rec)
+                                     : AdvanceDense(sys, until - time_, rec);
     time_ += step;
     if (events_this_segment_ > options_.max_events_per_segment) {
       summary_.info = TrainStepperSummary::Info::kTooManyEvents;
       return false;
     }
-    if (switched) guard = 0;
   }
   time_ = until;
   return true;
 }
 
-double TrainStepper::AdvanceSpectral(const TrainSystem& sys, double remaining, TrainRecorder* rec,
-                                     bool& switched) {
+double TrainStepper::AdvanceSpectral(const TrainSystem& sys, double remaining, TrainRecorder* rec) {
   w_.noalias() = sys.decomposition.S_inv * z_;
-  const Eigen::RowVectorXd* rows[2];
-  double signs[2];
-  ContactState targets[2];
   double best = -1.0;
   int best_mesh = -1;
   for (size_t i = 0; i < t_.meshes.size(); ++i) {
     roots_[i] = -1.0;
-    const int count = Walls(static_cast<int>(i), sys, rows, signs, targets);
+    const int segment = grid_.segments()[i];
+    Wall walls[2];
+    const int count = Walls(static_cast<int>(i), walls);
     for (int k = 0; k < count; ++k) {
-      ClosedFormGap& gap = rows[k] == &sys.gap_drive[i] ? sys.drive[i] : sys.back[i];
+      ClosedFormGap& gap = cache_.Gap(sys, static_cast<int>(i), segment, walls[k].drive);
       gap.Load(w_);
-      const double root = gap.FirstRise(signs[k], remaining);
+      const double root = gap.FirstRise(walls[k].sign, remaining);
       if (root >= 0.0 && (roots_[i] < 0.0 || root < roots_[i])) {
         roots_[i] = root;
-        targets_[i] = targets[k];
+        root_walls_[i] = walls[k];
       }
     }
     if (roots_[i] >= 0.0 && (best < 0.0 || roots_[i] < best)) {
@@ -292,20 +286,18 @@ double TrainStepper::AdvanceSpectral(const TrainSystem& sys, double remaining, T
   if (best >= 0.0) {
     // Grazing: |g'| ~ 0 at the root and the gap curves back inside.
     const size_t i = static_cast<size_t>(best_mesh);
-    const bool on_drive =
-        targets_[i] == ContactState::kDrive || (states_[i] == ContactState::kDrive);
-    const ClosedFormGap& gap = on_drive ? sys.drive[i] : sys.back[i];
-    const double sign =
-        (targets_[i] == ContactState::kDrive || states_[i] == ContactState::kBack) ? 1.0 : -1.0;
+    const Wall& wall = root_walls_[i];
+    // Reload: the last Load() of this mesh's walls may have been the other wall.
+    ClosedFormGap& gap = cache_.Gap(sys, best_mesh, grid_.segments()[i], wall.drive);
+    gap.Load(w_);
     touch = best > 0.0 && std::abs(gap.Rate(best)) <= options_.grazing_rate_tolerance &&
-            sign * gap.Curvature(best) < 0.0;
+            wall.sign * gap.Curvature(best) < 0.0;
     if (touch) advance = std::min(remaining, best + 1e-12 * t_.longest_segment);
   }
   Record(sys, time_, advance, true, rec);
   PropagateDecoupled(sys.decomposition, w_, advance, wt_, scratch_);
   z_.noalias() = sys.decomposition.S * wt_;
   if (best < 0.0) return advance;
-  switched = true;
   if (touch) {
     ++summary_.grazing;
     ++events_this_segment_;
@@ -324,7 +316,7 @@ double TrainStepper::AdvanceSpectral(const TrainSystem& sys, double remaining, T
       }
     }
     if (next < 0) break;
-    Switch(next, targets_[static_cast<size_t>(next)], time_ + advance, rec);
+    Switch(next, root_walls_[static_cast<size_t>(next)].target, time_ + advance, rec);
     roots_[static_cast<size_t>(next)] = -1.0;
     ++switched_now;
   }
@@ -332,8 +324,7 @@ double TrainStepper::AdvanceSpectral(const TrainSystem& sys, double remaining, T
   return advance;
 }
 
-double TrainStepper::AdvanceDense(const TrainSystem& sys, double remaining, TrainRecorder* rec,
-                                  bool& switched) {
+double TrainStepper::AdvanceDense(const TrainSystem& sys, double remaining, TrainRecorder* rec) {
   ++summary_.dense_pieces;
   const double d = std::min(remaining, sys.substep);
   taylor_.col(0) = z_;
@@ -341,39 +332,47 @@ double TrainStepper::AdvanceDense(const TrainSystem& sys, double remaining, Trai
     taylor_.col(k).noalias() = sys.A * taylor_.col(k - 1);
     taylor_.col(k) /= static_cast<double>(k);
   }
-  const auto gap_at = [&](const Eigen::RowVectorXd& row, double sign, double tau) {
-    double value = 0.0;
-    for (int k = kTaylorTerms; k >= 0; --k) value = value * tau + sign * row.dot(taylor_.col(k));
-    return value;
-  };
-  const Eigen::RowVectorXd* rows[2];
-  double signs[2];
-  ContactState targets[2];
+  const int n = t_.n;
   double best = -1.0;
   int best_mesh = -1;
   ContactState best_target = ContactState::kFree;
+  double coeff[kTaylorTerms + 1];
+  const auto gap_at = [&](double tau) {
+    double value = 0.0;
+    for (int k = kTaylorTerms; k >= 0; --k) value = value * tau + coeff[k];
+    return value;
+  };
   for (size_t i = 0; i < t_.meshes.size(); ++i) {
-    const int count = Walls(static_cast<int>(i), sys, rows, signs, targets);
+    const TrainMeshTable& mt = t_.meshes[i];
+    const double e = mt.error[static_cast<size_t>(grid_.segments()[i])];
+    Wall walls[2];
+    const int count = Walls(static_cast<int>(i), walls);
     for (int k = 0; k < count; ++k) {
+      const double wall = walls[k].drive ? e + mt.half_backlash : e - mt.half_backlash;
+      for (int p = 0; p <= kTaylorTerms; ++p) {
+        coeff[p] = walls[k].sign *
+                   (mt.v.dot(taylor_.col(p).head(n)) - wall * taylor_(t_.constant_slot(), p));
+      }
       // The start is inside (or on) the wall: count rounding there as inside.
-      const double offset = std::max(0.0, gap_at(*rows[k], signs[k], 0.0));
+      const double offset = std::max(0.0, gap_at(0.0));
       double a = 0.0;
-      for (int s = 1; s <= kDenseSamples; ++s) {
-        double b = d * s / kDenseSamples;
-        if (gap_at(*rows[k], signs[k], b) - offset <= 0.0) {
+      for (int q = 1; q <= kDenseSamples; ++q) {
+        double b = d * q / kDenseSamples;
+        if (gap_at(b) - offset <= 0.0) {
           a = b;
           continue;
         }
         for (int it = 0; it < 200 && b - a > 4.0 * kEps * std::max(b, 1e-300); ++it) {
           const double mid = 0.5 * (a + b);
-          if (gap_at(*rows[k], signs[k], mid) - offset > 0.0) {
+          if (gap_at(mid) - offset > 0.0) {
             b = mid;
           } else {
             a = mid;
           }
         }
-        if (best < 0.0 || b < best)
-          best = b, best_mesh = static_cast<int>(i), best_target = targets[k];
+        if (best < 0.0 || b < best) {
+          best = b, best_mesh = static_cast<int>(i), best_target = walls[k].target;
+        }
         break;
       }
     }
@@ -386,7 +385,6 @@ double TrainStepper::AdvanceDense(const TrainSystem& sys, double remaining, Trai
     z_ += taylor_.col(k);
   }
   if (best >= 0.0) {
-    switched = true;
     Switch(best_mesh, best_target, time_ + step, rec);
   }
   return step;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <string>
 
@@ -38,6 +39,30 @@ double TrainTables::MeanExcitation(double t0, double h) const {
     sum += e.amplitude * (std::cos(w * t0 + e.phase) - std::cos(w * (t0 + h) + e.phase)) / (w * h);
   }
   return sum;
+}
+
+Eigen::RowVectorXd TrainTables::GapRow(int mesh, int segment, bool drive) const {
+  const TrainMeshTable& mt = meshes[static_cast<size_t>(mesh)];
+  Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(m);
+  row.head(n) = mt.v.transpose();
+  const double e = mt.error[static_cast<size_t>(segment)];
+  row[constant_slot()] = drive ? -(e + mt.half_backlash) : -e + mt.half_backlash;
+  return row;
+}
+
+double TrainTables::GapValue(int mesh, int segment, bool drive, const Eigen::VectorXd& z) const {
+  const TrainMeshTable& mt = meshes[static_cast<size_t>(mesh)];
+  const double e = mt.error[static_cast<size_t>(segment)];
+  return mt.v.dot(z.head(n)) - e + (drive ? -mt.half_backlash : mt.half_backlash);
+}
+
+double TrainTables::GapTolerance(int mesh, int segment, bool drive,
+                                 const Eigen::VectorXd& z) const {
+  const TrainMeshTable& mt = meshes[static_cast<size_t>(mesh)];
+  const double e = mt.error[static_cast<size_t>(segment)];
+  double magnitude = std::abs(e + (drive ? mt.half_backlash : -mt.half_backlash));
+  for (int j = 0; j < n; ++j) magnitude += std::abs(mt.v[j] * z[j]);
+  return 1e-12 * mt.half_backlash + 64.0 * std::numeric_limits<double>::epsilon() * magnitude;
 }
 
 double TrainTables::InputRevolution() const { return 2.0 * std::numbers::pi / input_speed; }
@@ -159,7 +184,8 @@ const TrainSystem& TrainSystemCache::Get(const std::vector<int>& segments,
                                          const std::vector<ContactState>& states, TupleKey& key) {
   std::fill(key.begin(), key.end(), 0);
   for (size_t i = 0; i < segments.size(); ++i) {
-    const uint64_t code = static_cast<uint64_t>(3 * segments[i] + static_cast<int>(states[i]));
+    const int segment = states[i] == ContactState::kFree ? 0 : segments[i];
+    const uint64_t code = static_cast<uint64_t>(3 * segment + static_cast<int>(states[i]));
     key[i / kMeshesPerWord] |= code << (kBitsPerMesh * (i % kMeshesPerWord));
   }
   const auto found = index_.find(key);
@@ -184,6 +210,28 @@ const TrainSystem& TrainSystemCache::Get(const std::vector<int>& segments,
   return lru_.front().system;
 }
 
+ClosedFormGap& TrainSystemCache::Gap(const TrainSystem& sys, int mesh, int segment, bool drive) {
+  const size_t i = static_cast<size_t>(mesh);
+  const size_t slot = 2 * static_cast<size_t>(segment) + (drive ? 0 : 1);
+  if (sys.gaps[i].empty()) {
+    sys.gaps[i].resize(2 * static_cast<size_t>(t_.meshes[i].segments()));
+    sys.built[i].assign(sys.gaps[i].size(), 0);
+  }
+  if (!sys.built[i][slot]) {
+    sys.gaps[i][slot] = ClosedFormGap(sys.decomposition, t_.GapRow(mesh, segment, drive));
+    sys.built[i][slot] = 1;
+    const size_t terms = static_cast<size_t>(std::max(sys.decomposition.series_terms, 1));
+    const size_t zero = static_cast<size_t>(sys.decomposition.zero_size);
+    const size_t bytes =
+        sizeof(double) * (terms * (zero + 1) + 8 * sys.decomposition.blocks.size()) +
+        sizeof(ClosedFormGap);
+    sys.bytes += bytes;
+    summary_.bytes += bytes;
+    summary_.peak_bytes = std::max(summary_.peak_bytes, summary_.bytes);
+  }
+  return sys.gaps[i][slot];
+}
+
 TrainSystem TrainSystemCache::Build(const std::vector<int>& segments,
                                     const std::vector<ContactState>& states) const {
   const int n = t_.n, m = t_.m;
@@ -202,13 +250,6 @@ TrainSystem TrainSystemCache::Build(const std::vector<int>& segments,
       C += mt.damping * mt.v * mt.v.transpose();
       f += k * (drive ? e + b : e - b) * mt.v;
     }
-    Eigen::RowVectorXd drive_row = Eigen::RowVectorXd::Zero(m);
-    drive_row.head(n) = mt.v.transpose();
-    Eigen::RowVectorXd back_row = drive_row;
-    drive_row[t_.constant_slot()] = -(e + b);
-    back_row[t_.constant_slot()] = -e + b;
-    s.gap_drive.push_back(drive_row);
-    s.gap_back.push_back(back_row);
   }
   const Eigen::VectorXd inv_j = t_.inertia.cwiseInverse();
   s.A = Eigen::MatrixXd::Zero(m, m);
@@ -223,16 +264,12 @@ TrainSystem TrainSystemCache::Build(const std::vector<int>& segments,
   s.spectral = s.decomposition.info == SpectralDecomposition::Info::kSuccess;
   const double rho = s.A.topLeftCorner(2 * n, 2 * n).eigenvalues().cwiseAbs().maxCoeff();
   s.substep = rho > 0.0 ? 0.5 / rho : t_.longest_segment;
-  size_t doubles = 3 * static_cast<size_t>(m) * m + 2 * t_.meshes.size() * m;
+  size_t doubles = 3 * static_cast<size_t>(m) * m;
   if (s.spectral) {
-    for (size_t i = 0; i < t_.meshes.size(); ++i) {
-      s.drive.emplace_back(s.decomposition, s.gap_drive[i]);
-      s.back.emplace_back(s.decomposition, s.gap_back[i]);
-    }
-    const size_t terms = static_cast<size_t>(std::max(s.decomposition.series_terms, 1));
     const size_t zero = static_cast<size_t>(s.decomposition.zero_size);
-    doubles += zero * zero +
-               2 * t_.meshes.size() * (terms * (zero + 1) + 8 * s.decomposition.blocks.size());
+    doubles += zero * zero;
+    s.gaps.resize(t_.meshes.size());
+    s.built.resize(t_.meshes.size());
   } else {
     s.decomposition = SpectralDecomposition{};  // drop the unusable factors
   }

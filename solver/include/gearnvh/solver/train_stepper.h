@@ -92,16 +92,18 @@ class TrainStepper {
 
  private:
   bool AdvanceGridSegment(double until, TrainRecorder* recorder);
-  // One piece on the current tuple: returns the time advanced; sets `switched` when an event
-  // (or a grazing touch) ended the piece.
-  double AdvanceSpectral(const TrainSystem& sys, double remaining, TrainRecorder* rec,
-                         bool& switched);
-  double AdvanceDense(const TrainSystem& sys, double remaining, TrainRecorder* rec, bool& switched);
-  bool SwitchOutside(const TrainSystem& sys, TrainRecorder* rec);
-  double WallTolerance(const Eigen::RowVectorXd& row, double half_backlash) const;
-  // +1: the wall of `row` that sign * g > 0 leaves the state; for mesh i and its state.
-  int Walls(int mesh, const TrainSystem& sys, const Eigen::RowVectorXd* rows[2], double signs[2],
-            ContactState targets[2]) const;
+  // One piece on the current tuple, up to its first event (or grazing touch) or `remaining`:
+  // returns the time advanced.
+  double AdvanceSpectral(const TrainSystem& sys, double remaining, TrainRecorder* rec);
+  double AdvanceDense(const TrainSystem& sys, double remaining, TrainRecorder* rec);
+  bool SwitchOutside(TrainRecorder* rec);
+  // A wall of a mesh's state: gap g+ (drive) or g-; sign * g > 0 is outside; the state beyond.
+  struct Wall {
+    bool drive = true;
+    double sign = 1.0;
+    ContactState target = ContactState::kFree;
+  };
+  int Walls(int mesh, Wall walls[2]) const;
   void Switch(int mesh, ContactState to, double time, TrainRecorder* rec);
   void Record(const TrainSystem& sys, double piece_start, double length, bool spectral,
               TrainRecorder* rec);
@@ -115,7 +117,7 @@ class TrainStepper {
   Eigen::MatrixXd taylor_;
   std::vector<ContactState> states_;
   std::vector<double> roots_;
-  std::vector<ContactState> targets_;
+  std::vector<Wall> root_walls_;
   TupleKey key_;
   double time_ = 0.0;
   double recenter_period_ = 0.0, next_recenter_ = 0.0;

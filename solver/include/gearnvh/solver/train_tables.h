@@ -78,6 +78,11 @@ struct TrainTables {
   double longest_segment = 0.0;  // the longest segment of any mesh, s (bounds every grid segment)
 
   int constant_slot() const { return 2 * n; }
+  // Gap g+ (drive) or g- of mesh i in segment j as a row on z, and its value at z.
+  Eigen::RowVectorXd GapRow(int mesh, int segment, bool drive) const;
+  double GapValue(int mesh, int segment, bool drive, const Eigen::VectorXd& z) const;
+  // The rounding floor of that gap at z: 1e-12 b_i + 64 eps (sum_j |v_ij x_j| + |wall|).
+  double GapTolerance(int mesh, int segment, bool drive, const Eigen::VectorXd& z) const;
   int input_slot() const { return 2 * n + 1; }
   // Mean of the excitation over [t0, t0 + h], rad/s^2 (closed form).
   double MeanExcitation(double t0, double h) const;
@@ -101,19 +106,22 @@ struct TrainTableOptions {
 TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
                              const TrainTableOptions& options = {});
 
-// Tables of one contact tuple.
+// Tables of one contact tuple. The generator depends on the segment of a mesh only while that
+// mesh is in contact, so a free mesh's segment is left out of the key; the gap rows do depend on
+// it (the wall e_ij +- b_i), so their closed forms are kept per mesh and segment, built on first
+// use (TrainSystemCache::Gap).
 struct TrainSystem {
   Eigen::MatrixXd A;  // generator, m x m
   SpectralDecomposition decomposition;
   bool spectral = false;  // decomposition usable (else the dense Taylor path)
   double substep = 0.0;   // dense path: sub-step length with rho(A) substep <= 1/2
-  std::vector<Eigen::RowVectorXd> gap_drive, gap_back;  // per mesh: g+_i, g-_i rows on z
-  // Their closed forms (spectral only); mutable: Load() keeps the loaded coefficients as scratch.
-  mutable std::vector<ClosedFormGap> drive, back;
-  size_t bytes = 0;
+  // [mesh][2 segment + (0 drive, 1 back)]; mutable: built lazily and Load()ed as scratch.
+  mutable std::vector<std::vector<ClosedFormGap>> gaps;
+  mutable std::vector<std::vector<char>> built;
+  mutable size_t bytes = 0;  // grows as gaps are built
 };
 
-// The key of a tuple: per mesh segment * 3 + state, packed 16 bits per mesh.
+// The key of a tuple: per mesh segment * 3 + state (a free mesh: segment 0), 16 bits per mesh.
 using TupleKey = std::vector<uint64_t>;
 struct TupleKeyHash {
   size_t operator()(const TupleKey& k) const;
@@ -134,6 +142,9 @@ class TrainSystemCache {
   const TrainSystem& Get(const std::vector<int>& segments, const std::vector<ContactState>& states,
                          TupleKey& key);
   int KeyWords() const { return key_words_; }
+  // The closed form of gap g+ (drive) or g- of `mesh` in `segment` on a spectral system; built on
+  // first use (allocates then only).
+  ClosedFormGap& Gap(const TrainSystem& system, int mesh, int segment, bool drive);
   const TrainCacheSummary& summary() const { return summary_; }
 
  private:
