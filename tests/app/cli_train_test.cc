@@ -58,10 +58,10 @@ TEST_CASE("check prints a train in text", "[cli][train]") {
 
 TEST_CASE("a schema-2 file is refused with a clear message where trains are not built",
           "[cli][train]") {
-  const auto r = RunCommand(kExe + " simulate " + kExamples + "/manual_transmission_idle.yaml");
+  const auto r = RunCommand(kExe + " sweep " + kExamples + "/manual_transmission_idle.yaml");
   CHECK(r.exit_code == 1);
   CHECK(r.err.find("schema") != std::string::npos);
-  CHECK(r.err.find("not yet simulated") != std::string::npos);
+  CHECK(r.err.find("this command reads gearnvh/1") != std::string::npos);
 }
 
 TEST_CASE("malformed trains: exit 1 naming the path, the line and the rule", "[cli][train]") {
