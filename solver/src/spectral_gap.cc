@@ -230,6 +230,11 @@ void ClosedFormGap::Load(const Eigen::VectorXd& w) {
   }
 }
 
+void ClosedFormGap::Load(const Eigen::VectorXd& w, double constant) {
+  Load(w);
+  poly_[0] += constant;
+}
+
 double ClosedFormGap::Evaluate(double t, int order) const {
   // Polynomial part (Horner on the order-th derivative).
   double value = 0.0;

@@ -267,8 +267,8 @@ double TrainStepper::AdvanceSpectral(const TrainSystem& sys, double remaining, T
     Wall walls[2];
     const int count = Walls(static_cast<int>(i), walls);
     for (int k = 0; k < count; ++k) {
-      ClosedFormGap& gap = cache_.Gap(sys, static_cast<int>(i), segment, walls[k].drive);
-      gap.Load(w_);
+      ClosedFormGap& gap = sys.delta[i];
+      gap.Load(w_, -t_.Wall(static_cast<int>(i), segment, walls[k].drive));
       const double root = gap.FirstRise(walls[k].sign, remaining);
       if (root >= 0.0 && (roots_[i] < 0.0 || root < roots_[i])) {
         roots_[i] = root;
@@ -288,8 +288,8 @@ double TrainStepper::AdvanceSpectral(const TrainSystem& sys, double remaining, T
     const size_t i = static_cast<size_t>(best_mesh);
     const Wall& wall = root_walls_[i];
     // Reload: the last Load() of this mesh's walls may have been the other wall.
-    ClosedFormGap& gap = cache_.Gap(sys, best_mesh, grid_.segments()[i], wall.drive);
-    gap.Load(w_);
+    ClosedFormGap& gap = sys.delta[i];
+    gap.Load(w_, -t_.Wall(best_mesh, grid_.segments()[i], wall.drive));
     touch = best > 0.0 && std::abs(gap.Rate(best)) <= options_.grazing_rate_tolerance &&
             wall.sign * gap.Curvature(best) < 0.0;
     if (touch) advance = std::min(remaining, best + 1e-12 * t_.longest_segment);

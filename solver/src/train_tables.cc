@@ -41,13 +41,10 @@ double TrainTables::MeanExcitation(double t0, double h) const {
   return sum;
 }
 
-Eigen::RowVectorXd TrainTables::GapRow(int mesh, int segment, bool drive) const {
+double TrainTables::Wall(int mesh, int segment, bool drive) const {
   const TrainMeshTable& mt = meshes[static_cast<size_t>(mesh)];
-  Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(m);
-  row.head(n) = mt.v.transpose();
   const double e = mt.error[static_cast<size_t>(segment)];
-  row[constant_slot()] = drive ? -(e + mt.half_backlash) : -e + mt.half_backlash;
-  return row;
+  return drive ? e + mt.half_backlash : e - mt.half_backlash;
 }
 
 double TrainTables::GapValue(int mesh, int segment, bool drive, const Eigen::VectorXd& z) const {
@@ -210,28 +207,6 @@ const TrainSystem& TrainSystemCache::Get(const std::vector<int>& segments,
   return lru_.front().system;
 }
 
-ClosedFormGap& TrainSystemCache::Gap(const TrainSystem& sys, int mesh, int segment, bool drive) {
-  const size_t i = static_cast<size_t>(mesh);
-  const size_t slot = 2 * static_cast<size_t>(segment) + (drive ? 0 : 1);
-  if (sys.gaps[i].empty()) {
-    sys.gaps[i].resize(2 * static_cast<size_t>(t_.meshes[i].segments()));
-    sys.built[i].assign(sys.gaps[i].size(), 0);
-  }
-  if (!sys.built[i][slot]) {
-    sys.gaps[i][slot] = ClosedFormGap(sys.decomposition, t_.GapRow(mesh, segment, drive));
-    sys.built[i][slot] = 1;
-    const size_t terms = static_cast<size_t>(std::max(sys.decomposition.series_terms, 1));
-    const size_t zero = static_cast<size_t>(sys.decomposition.zero_size);
-    const size_t bytes =
-        sizeof(double) * (terms * (zero + 1) + 8 * sys.decomposition.blocks.size()) +
-        sizeof(ClosedFormGap);
-    sys.bytes += bytes;
-    summary_.bytes += bytes;
-    summary_.peak_bytes = std::max(summary_.peak_bytes, summary_.bytes);
-  }
-  return sys.gaps[i][slot];
-}
-
 TrainSystem TrainSystemCache::Build(const std::vector<int>& segments,
                                     const std::vector<ContactState>& states) const {
   const int n = t_.n, m = t_.m;
@@ -264,16 +239,23 @@ TrainSystem TrainSystemCache::Build(const std::vector<int>& segments,
   s.spectral = s.decomposition.info == SpectralDecomposition::Info::kSuccess;
   const double rho = s.A.topLeftCorner(2 * n, 2 * n).eigenvalues().cwiseAbs().maxCoeff();
   s.substep = rho > 0.0 ? 0.5 / rho : t_.longest_segment;
+  s.spectral = s.spectral && s.decomposition.zero_size > 0;
   size_t doubles = 3 * static_cast<size_t>(m) * m;
   if (s.spectral) {
+    const size_t terms = static_cast<size_t>(std::max(s.decomposition.series_terms, 1));
     const size_t zero = static_cast<size_t>(s.decomposition.zero_size);
     doubles += zero * zero;
-    s.gaps.resize(t_.meshes.size());
-    s.built.resize(t_.meshes.size());
+    for (const TrainMeshTable& mt : t_.meshes) {
+      Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(m);
+      row.head(n) = mt.v.transpose();
+      s.delta.emplace_back(s.decomposition, row);
+      doubles += terms * (zero + 1) + 8 * s.decomposition.blocks.size();
+    }
   } else {
     s.decomposition = SpectralDecomposition{};  // drop the unusable factors
   }
-  s.bytes = doubles * sizeof(double) + sizeof(TrainSystem);
+  s.bytes =
+      doubles * sizeof(double) + sizeof(TrainSystem) + t_.meshes.size() * sizeof(ClosedFormGap);
   return s;
 }
 

@@ -64,6 +64,10 @@ class ClosedFormGap {
   ClosedFormGap(const SpectralDecomposition& d, const Eigen::RowVectorXd& row);
 
   void Load(const Eigen::VectorXd& w);
+  // As Load(w) for the gap g(t) + constant: one closed form serves every wall that differs from
+  // the row only by a constant (the train solver's walls e_ij +- b_i). Needs zero_size > 0 (an
+  // augmented generator always has the constant slot's zero eigenvalue).
+  void Load(const Eigen::VectorXd& w, double constant);
   double Value(double t) const { return Evaluate(t, 0); }
   double Rate(double t) const { return Evaluate(t, 1); }
   double Curvature(double t) const { return Evaluate(t, 2); }

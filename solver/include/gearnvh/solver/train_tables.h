@@ -27,7 +27,7 @@
 // rotation and to report; when none is found within the limit, the free rotation is recentred
 // once per input revolution (exact either way: it changes no gap and no force).
 //
-// Tables per tuple (generator, its spectral decomposition, a ClosedFormGap per gap row) are built
+// Tables per tuple (generator, its spectral decomposition, a ClosedFormGap per mesh) are built
 // when a tuple is first visited and held in an LRU cache bounded in bytes (TrainCacheOptions).
 #pragma once
 
@@ -78,8 +78,8 @@ struct TrainTables {
   double longest_segment = 0.0;  // the longest segment of any mesh, s (bounds every grid segment)
 
   int constant_slot() const { return 2 * n; }
-  // Gap g+ (drive) or g- of mesh i in segment j as a row on z, and its value at z.
-  Eigen::RowVectorXd GapRow(int mesh, int segment, bool drive) const;
+  // The wall of gap g+ (drive) or g- of mesh i in segment j: g = delta_i - Wall; and g at z.
+  double Wall(int mesh, int segment, bool drive) const;
   double GapValue(int mesh, int segment, bool drive, const Eigen::VectorXd& z) const;
   // The rounding floor of that gap at z: 1e-12 b_i + 64 eps (sum_j |v_ij x_j| + |wall|).
   double GapTolerance(int mesh, int segment, bool drive, const Eigen::VectorXd& z) const;
@@ -107,18 +107,17 @@ TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
                              const TrainTableOptions& options = {});
 
 // Tables of one contact tuple. The generator depends on the segment of a mesh only while that
-// mesh is in contact, so a free mesh's segment is left out of the key; the gap rows do depend on
-// it (the wall e_ij +- b_i), so their closed forms are kept per mesh and segment, built on first
-// use (TrainSystemCache::Gap).
+// mesh is in contact, so a free mesh's segment is left out of the key. The gaps g+_i and g-_i
+// differ from delta_i = v_i^T x only by the constant wall e_ij +- b_i, so one closed form of
+// delta_i per mesh serves both walls in every segment (ClosedFormGap::Load(w, constant)).
 struct TrainSystem {
   Eigen::MatrixXd A;  // generator, m x m
   SpectralDecomposition decomposition;
   bool spectral = false;  // decomposition usable (else the dense Taylor path)
   double substep = 0.0;   // dense path: sub-step length with rho(A) substep <= 1/2
-  // [mesh][2 segment + (0 drive, 1 back)]; mutable: built lazily and Load()ed as scratch.
-  mutable std::vector<std::vector<ClosedFormGap>> gaps;
-  mutable std::vector<std::vector<char>> built;
-  mutable size_t bytes = 0;  // grows as gaps are built
+  // Per mesh, the closed form of delta_i (spectral only); mutable: Load() keeps its coefficients.
+  mutable std::vector<ClosedFormGap> delta;
+  size_t bytes = 0;
 };
 
 // The key of a tuple: per mesh segment * 3 + state (a free mesh: segment 0), 16 bits per mesh.
@@ -142,9 +141,6 @@ class TrainSystemCache {
   const TrainSystem& Get(const std::vector<int>& segments, const std::vector<ContactState>& states,
                          TupleKey& key);
   int KeyWords() const { return key_words_; }
-  // The closed form of gap g+ (drive) or g- of `mesh` in `segment` on a spectral system; built on
-  // first use (allocates then only).
-  ClosedFormGap& Gap(const TrainSystem& system, int mesh, int segment, bool drive);
   const TrainCacheSummary& summary() const { return summary_; }
 
  private:
