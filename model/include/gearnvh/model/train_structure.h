@@ -59,7 +59,10 @@ struct TrainStructure {
   std::vector<int> gear_node;            // per gear (TrainSpec::gears order)
   std::vector<TrainMeshVectors> meshes;  // per mesh (file order)
   std::vector<double> mean_stiffness;    // k_mean per mesh, N/m
-  std::vector<int> elastic_shafts;       // indices in TrainSpec::shafts with FE
+  // c = 2 zeta sqrt(k_mean m_e) per mesh, m_e = J_a J_b / (J_a r_b,b^2 + J_b r_b,a^2) from the two
+  // bodies' polar inertias, N s/m.
+  std::vector<double> mesh_damping;
+  std::vector<int> elastic_shafts;  // indices in TrainSpec::shafts with FE
   // Rigid rotation of every body (dofs x bodies) and the free rotations with every mesh engaged
   // (dofs x count, orthonormal combinations of the body rotations).
   Eigen::MatrixXd body_rotations, free_rotations;
