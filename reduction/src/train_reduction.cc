@@ -3,6 +3,7 @@
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/model/modal_analysis.h"
@@ -96,22 +97,28 @@ Eigen::MatrixXd Columns(const std::vector<Eigen::VectorXd>& v) {
 
 Eigen::MatrixXd Symmetric(const Eigen::MatrixXd& a) { return 0.5 * (a + a.transpose()); }
 
-// Projects the structure onto the basis T (full DOF x n).
+// Projects the structure onto the basis T (full DOF x n). T is block-sparse (a shaft's constraint
+// modes and fixed-interface modes vanish on the other shafts), so the products run sparse.
 TrainReducedModel Project(const TrainStructure& s, const Eigen::MatrixXd& T) {
   TrainReducedModel r;
   r.dof = static_cast<int>(T.cols());
   r.recovery = T;
-  r.M = Symmetric(T.transpose() * (s.M * T));
-  r.K = Symmetric(T.transpose() * (s.K * T));
-  r.C = Symmetric(T.transpose() * (s.C * T));
-  const Eigen::MatrixXd g = T.transpose() * (s.G * T);
+  const Eigen::SparseMatrix<double> t = T.sparseView();
+  const Eigen::SparseMatrix<double> tt = t.transpose();
+  auto project = [&](const Eigen::SparseMatrix<double>& a) {
+    return Eigen::MatrixXd(Eigen::SparseMatrix<double>(tt * (a * t)));
+  };
+  r.M = Symmetric(project(s.M));
+  r.K = Symmetric(project(s.K));
+  r.C = Symmetric(project(s.C));
+  const Eigen::MatrixXd g = project(s.G);
   r.G = 0.5 * (g - g.transpose());
   for (const TrainMeshVectors& m : s.meshes) {
-    r.v_drive.push_back(T.transpose() * m.v_drive);
-    r.v_back.push_back(T.transpose() * m.v_back);
+    r.v_drive.push_back(tt * m.v_drive);
+    r.v_back.push_back(tt * m.v_back);
   }
-  r.body_rotations = T.transpose() * s.body_rotations;
-  r.static_force = T.transpose() * s.static_force;
+  r.body_rotations = tt * s.body_rotations;
+  r.static_force = tt * s.static_force;
   return r;
 }
 
@@ -129,6 +136,24 @@ Eigen::MatrixXd EngagedDense(const TrainStructure& s, const TrainReducedModel& r
     k += s.mean_stiffness[i] * r.v_drive[i] * r.v_drive[i].transpose();
   }
   return k;
+}
+
+// The lowest elastic modes of (K, M) with the free rotations F (columns, these coordinates) removed
+// by construction: the pencil restricted to the M-orthogonal complement of F (as TorsionalModes
+// does). A rounding-level eigenvalue of a free rotation could not be told from a slow elastic mode
+// by a zero test once the stiffest DOF is ~1e12 times stiffer; the count of free rotations is
+// known from the meshes (FreeRotations). Further rigid-body modes (a direction no bearing holds)
+// are still counted by the scale-aware criterion.
+NaturalModes ModesWithoutFreeRotations(const Eigen::MatrixXd& K, const Eigen::MatrixXd& M,
+                                       const Eigen::MatrixXd& F, int count) {
+  const Eigen::Index n = K.rows(), f = F.cols();
+  if (f == 0) return LowestNaturalModes(K, M, count);
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(M * F);
+  const Eigen::MatrixXd Z = (qr.householderQ() * Eigen::MatrixXd::Identity(n, n)).rightCols(n - f);
+  NaturalModes modes =
+      LowestNaturalModes(Symmetric(Z.transpose() * K * Z), Symmetric(Z.transpose() * M * Z), count);
+  modes.rigid_body_modes += static_cast<int>(f);
+  return modes;
 }
 
 }  // namespace
@@ -173,17 +198,33 @@ Eigen::MatrixXd FullStaticComplianceMatrix(const TrainStructure& s) {
 NaturalModes FullTrainModes(const TrainStructure& s, int count, int dense_limit) {
   const Eigen::SparseMatrix<double> K = s.EngagedStiffness();
   if (s.dofs <= dense_limit) {
-    return LowestNaturalModes(Eigen::MatrixXd(K), Eigen::MatrixXd(s.M), count);
+    return ModesWithoutFreeRotations(Eigen::MatrixXd(K), Eigen::MatrixXd(s.M), s.free_rotations,
+                                     count);
   }
-  return LowestSparseNaturalModes(K, s.M, count, static_cast<int>(s.free_rotations.cols()));
+  // Lanczos cannot restrict to the complement cheaply: the known number of free rotations are the
+  // lowest eigenpairs, dropped when the zero test did not already classify them.
+  const int free = static_cast<int>(s.free_rotations.cols());
+  NaturalModes modes = LowestSparseNaturalModes(K, s.M, count + free, free);
+  const int unclassified = std::max(0, free - modes.rigid_body_modes);
+  const int drop = std::min(unclassified, static_cast<int>(modes.frequencies_hz.size()));
+  modes.frequencies_hz.erase(modes.frequencies_hz.begin(), modes.frequencies_hz.begin() + drop);
+  if (modes.shapes.cols() >= drop) {
+    modes.shapes = modes.shapes.rightCols(modes.shapes.cols() - drop).eval();
+  }
+  modes.rigid_body_modes += drop;
+  if (static_cast<int>(modes.frequencies_hz.size()) > count) {
+    modes.frequencies_hz.resize(static_cast<size_t>(count));
+    modes.shapes = modes.shapes.leftCols(count).eval();
+  }
+  return modes;
 }
 
-TrainReducedModel ReduceTrain(const TrainStructure& s, Tier tier, const ReductionOptions& options) {
-  options.Validate();
-  if (!TrainTierAvailable(s, tier)) {
-    throw InputError("analysis.tier", 0, TierName(tier),
-                     "needs at least one elastic shaft (with segments) in the train");
-  }
+namespace {
+
+// Tiers 1-5: the Guyan/Craig–Bampton basis projected, with modal damping on the fixed-interface
+// modes.
+TrainReducedModel CraigBamptonTier(const TrainStructure& s, Tier tier,
+                                   const ReductionOptions& options) {
   const std::vector<int> boundary = Boundary(s, tier);
   const CraigBamptonBasis guyan = CraigBampton(s.K, s.M, boundary, 0, options);
   if (guyan.status != CraigBamptonStatus::kSuccess) {
@@ -222,44 +263,109 @@ TrainReducedModel ReduceTrain(const TrainStructure& s, Tier tier, const Reductio
     r.C(r.boundary_dof + j, r.boundary_dof + j) +=
         2.0 * options.structural_damping_ratio * std::sqrt(omega2[static_cast<size_t>(j)]);
   }
-  if (tier == Tier::kN20Simple || tier == Tier::kN20Mta) {
-    // As many free-free modes of tier 5 as tier 4 has DOF.
-    const int keep = std::min(
-        r.dof, r.boundary_dof + kTier4ModesPerShaft * static_cast<int>(s.elastic_shafts.size()));
-    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(r.K, r.M);
-    Eigen::MatrixXd basis = eig.eigenvectors().leftCols(keep);
-    if (tier == Tier::kN20Mta) {
-      const Eigen::MatrixXd X =
-          HeldStaticResponses(r.K, HeldRows(s, r.recovery), Columns(r.v_drive));
-      const Eigen::MatrixXd R = X - basis * (basis.transpose() * r.M * X);
-      // M-orthonormal residual vectors; a residual that the kept modes already span is dropped.
-      const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> gram(Symmetric(R.transpose() * r.M * R));
-      const double largest = gram.eigenvalues().size() > 0 ? gram.eigenvalues().maxCoeff() : 0.0;
-      for (Eigen::Index k = 0; k < gram.eigenvalues().size(); ++k) {
-        const double lambda = gram.eigenvalues()[k];
-        if (!(lambda > 1e-14 * largest)) continue;
-        basis.conservativeResize(Eigen::NoChange, basis.cols() + 1);
-        basis.rightCols(1) = R * gram.eigenvectors().col(k) / std::sqrt(lambda);
-      }
-    }
-    TrainReducedModel t = Project(s, r.recovery * basis);
-    t.boundary_dof = 0;
-    t.modal_dof = t.dof;
-    r = std::move(t);
-  }
   r.tier = tier;
-  r.name = TierName(tier);
-  r.full_static_compliance = FullStaticComplianceMatrix(s);
+  return r;
+}
+
+// A change of coordinates x = P y of a reduced model.
+TrainReducedModel Transform(const TrainReducedModel& a, const Eigen::MatrixXd& P) {
+  TrainReducedModel r;
+  r.dof = static_cast<int>(P.cols());
+  r.recovery = a.recovery * P;
+  r.M = Symmetric(P.transpose() * a.M * P);
+  r.K = Symmetric(P.transpose() * a.K * P);
+  r.C = Symmetric(P.transpose() * a.C * P);
+  const Eigen::MatrixXd g = P.transpose() * a.G * P;
+  r.G = 0.5 * (g - g.transpose());
+  for (size_t i = 0; i < a.v_drive.size(); ++i) {
+    r.v_drive.push_back(P.transpose() * a.v_drive[i]);
+    r.v_back.push_back(P.transpose() * a.v_back[i]);
+  }
+  r.body_rotations = P.transpose() * a.body_rotations;
+  r.static_force = P.transpose() * a.static_force;
+  return r;
+}
+
+// N20 simple / MTA from tier 5: as many free-free modes as tier 4 has DOF, and for MTA one
+// residual vector per mesh.
+TrainReducedModel Truncate(const TrainStructure& s, const TrainReducedModel& tier5, Tier tier) {
+  const int keep =
+      std::min(tier5.dof, tier5.boundary_dof +
+                              kTier4ModesPerShaft * static_cast<int>(s.elastic_shafts.size()));
+  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(tier5.K, tier5.M);
+  Eigen::MatrixXd basis = eig.eigenvectors().leftCols(keep);
+  if (tier == Tier::kN20Mta) {
+    const Eigen::MatrixXd X =
+        HeldStaticResponses(tier5.K, HeldRows(s, tier5.recovery), Columns(tier5.v_drive));
+    const Eigen::MatrixXd R = X - basis * (basis.transpose() * tier5.M * X);
+    // M-orthonormal residual vectors; a residual that the kept modes already span is dropped.
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> gram(
+        Symmetric(R.transpose() * tier5.M * R));
+    const double largest = gram.eigenvalues().size() > 0 ? gram.eigenvalues().maxCoeff() : 0.0;
+    for (Eigen::Index k = 0; k < gram.eigenvalues().size(); ++k) {
+      const double lambda = gram.eigenvalues()[k];
+      if (!(lambda > 1e-14 * largest)) continue;
+      basis.conservativeResize(Eigen::NoChange, basis.cols() + 1);
+      basis.rightCols(1) = R * gram.eigenvectors().col(k) / std::sqrt(lambda);
+    }
+  }
+  TrainReducedModel r = Transform(tier5, basis);
+  r.boundary_dof = 0;
+  r.modal_dof = r.dof;
+  r.tier = tier;
+  return r;
+}
+
+// Names, compliance matrix against the full model's, natural frequencies.
+void Finish(const TrainStructure& s, const Eigen::MatrixXd& full_compliance, TrainReducedModel& r) {
+  r.name = TierName(r.tier);
+  r.full_static_compliance = full_compliance;
   r.static_compliance =
       Symmetric(Columns(r.v_drive).transpose() *
                 HeldStaticResponses(r.K, HeldRows(s, r.recovery), Columns(r.v_drive)));
-  const double full_norm = r.full_static_compliance.norm();
+  const double full_norm = full_compliance.norm();
   r.compliance_error_vs_full =
-      full_norm > 0.0 ? (r.static_compliance - r.full_static_compliance).norm() / full_norm : 0.0;
-  const NaturalModes modes = LowestNaturalModes(EngagedDense(s, r), r.M, kReportedFrequencies);
+      full_norm > 0.0 ? (r.static_compliance - full_compliance).norm() / full_norm : 0.0;
+  // The free rotations in reduced coordinates: the M-orthogonal projection of the physical ones.
+  const Eigen::MatrixXd free = r.M.ldlt().solve(r.recovery.transpose() * (s.M * s.free_rotations));
+  const NaturalModes modes =
+      ModesWithoutFreeRotations(EngagedDense(s, r), r.M, free, kReportedFrequencies);
   r.natural_frequencies_hz = modes.frequencies_hz;
   r.rigid_body_modes = modes.rigid_body_modes;
-  return r;
+}
+
+}  // namespace
+
+std::vector<TrainReducedModel> ReduceTrainTiers(const TrainStructure& s,
+                                                const std::vector<Tier>& tiers,
+                                                const ReductionOptions& options) {
+  options.Validate();
+  for (Tier tier : tiers) {
+    if (!TrainTierAvailable(s, tier)) {
+      throw InputError("analysis.tier", 0, TierName(tier),
+                       "needs at least one elastic shaft (with segments) in the train");
+    }
+  }
+  const Eigen::MatrixXd full_compliance = FullStaticComplianceMatrix(s);
+  std::optional<TrainReducedModel> tier5;  // shared by tier 5, N20 simple and N20 MTA
+  auto tier5_model = [&]() -> const TrainReducedModel& {
+    if (!tier5) tier5 = CraigBamptonTier(s, Tier::kTier5, options);
+    return *tier5;
+  };
+  std::vector<TrainReducedModel> out;
+  for (Tier tier : tiers) {
+    TrainReducedModel r = tier == Tier::kN20Simple || tier == Tier::kN20Mta
+                              ? Truncate(s, tier5_model(), tier)
+                          : tier == Tier::kTier5 ? tier5_model()
+                                                 : CraigBamptonTier(s, tier, options);
+    Finish(s, full_compliance, r);
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+TrainReducedModel ReduceTrain(const TrainStructure& s, Tier tier, const ReductionOptions& options) {
+  return std::move(ReduceTrainTiers(s, {tier}, options).front());
 }
 
 }  // namespace gearnvh

@@ -57,12 +57,19 @@ bool TrainTierAvailable(const TrainStructure& structure, Tier tier);
 TrainReducedModel ReduceTrain(const TrainStructure& structure, Tier tier,
                               const ReductionOptions& options = {});
 
+// Several tiers at once, sharing the full model's compliance and the tier-5 basis (tier 5, N20
+// simple and N20 MTA); the same results as ReduceTrain tier by tier.
+std::vector<TrainReducedModel> ReduceTrainTiers(const TrainStructure& structure,
+                                                const std::vector<Tier>& tiers,
+                                                const ReductionOptions& options = {});
+
 // The full FE model's static compliance matrix at the meshes (sparse LDL^T, gear rotations held).
 Eigen::MatrixXd FullStaticComplianceMatrix(const TrainStructure& structure);
 
 // Lowest `count` elastic natural frequencies of the full FE model with every mesh at its mean
-// stiffness (dense up to `dense_limit` DOF, sparse shift-invert Lanczos above), and the number of
-// rigid-body modes found.
+// stiffness (dense up to `dense_limit` DOF, on the complement of the free rotations; sparse
+// shift-invert Lanczos above, dropping the known number of free rotations), and the number of
+// rigid-body modes.
 NaturalModes FullTrainModes(const TrainStructure& structure, int count, int dense_limit = 600);
 
 }  // namespace gearnvh
