@@ -143,6 +143,11 @@ TEST_CASE("free rotations are found from the engaged meshes", "[train]") {
   CHECK(loose.cols() == 2);
   CHECK(FreeRotations(s, {false, true, true}).cols() == 2);
   CHECK(FreeRotations(s, {false, false, false}).cols() == 4);
+  // The input torque balances every load by power, so the static load does no work on the free
+  // rotation (the rigid-body mode carries no net mean torque): f^T R_free = 0 against the scale
+  // of the input torque's own work (rounding, 1e-12).
+  const double scale = s.static_force.cwiseAbs().maxCoeff() * s.free_rotations.col(0).norm();
+  CHECK(std::abs(s.static_force.dot(s.free_rotations.col(0))) < 1e-12 * scale);
   // Every free rotation leaves every engaged mesh's approach at zero (to rounding of radii 1e-15).
   for (Eigen::Index c = 0; c < loose.cols(); ++c) {
     CHECK(std::abs(s.meshes[0].v_drive.dot(loose.col(c))) < 1e-15);
