@@ -290,9 +290,15 @@ void PrintTrainCheck(const std::string& file, const TrainSpec& spec, const Train
       "critical speeds\n",
       TierName(check.campbell_tier), cd.speeds_rad_s.front() * kRpm, cd.speeds_rad_s.back() * kRpm,
       cd.modes.size(), cd.orders.size(), cd.critical_speeds.size());
-  for (const CriticalSpeed& c : cd.critical_speeds) {
+  constexpr size_t kPrintedCrossings = 30;
+  for (size_t i = 0; i < std::min(kPrintedCrossings, cd.critical_speeds.size()); ++i) {
+    const CriticalSpeed& c = cd.critical_speeds[i];
     fmt::print("    {:<24} x mode {:<3} {:>10.1f} rpm {:>10.1f} Hz  {}\n", c.order, c.mode + 1,
                c.speed_rpm, c.frequency_hz, cd.modes[static_cast<size_t>(c.mode)].Label());
+  }
+  if (cd.critical_speeds.size() > kPrintedCrossings) {
+    fmt::print("    ... and {} more (all in check --json)\n",
+               cd.critical_speeds.size() - kPrintedCrossings);
   }
   for (const std::string& w : train.warnings) fmt::print("  warning: {}\n", w);
 }
