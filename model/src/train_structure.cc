@@ -1,5 +1,6 @@
 #include "gearnvh/model/train_structure.h"
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <string>
 
@@ -156,8 +157,24 @@ TrainStructure AssembleTrainStructure(const TrainSpec& spec, const GearTrain& tr
     const TrainMeshModel& mesh = train.meshes[m];
     TrainMeshVectors v;
     v.sense = topo.bodies[static_cast<size_t>(mesh.body_a)].speed > 0.0 ? 1.0 : -1.0;
-    const detail::LocalMeshVectors loa = detail::MeshLineOfAction(
+    detail::LocalMeshVectors loa = detail::MeshLineOfAction(
         mesh.geometry, spec.gears[static_cast<size_t>(mesh.gear_a)].gear.hand, v.sense);
+    const double angle = spec.meshes[m].center_line_angle;
+    if (angle != 0.0) {
+      // The mesh built along +x, turned about z to its line of centres: every (x, y) pair of a
+      // generalised vector (translations and tilts of both gears) rotates with it.
+      const Eigen::Rotation2Dd turn(angle);
+      for (auto* local : {&loa.drive, &loa.back, &loa.friction_drive, &loa.friction_back}) {
+        for (int base : {0, 6}) {
+          for (int pair : {kUx, kThx}) {
+            const Eigen::Vector2d xy =
+                turn * Eigen::Vector2d((*local)[base + pair], (*local)[base + pair + 1]);
+            (*local)[base + pair] = xy.x();
+            (*local)[base + pair + 1] = xy.y();
+          }
+        }
+      }
+    }
     const int na = s.gear_node[static_cast<size_t>(mesh.gear_a)];
     const int nb = s.gear_node[static_cast<size_t>(mesh.gear_b)];
     // A loose gear's offset is 0 (its own node); a fixed gear on a rigid shaft sits at its `at`.

@@ -12,8 +12,9 @@
 // - a loose gear: a node of its own, coupled to its shaft at `at` by its bearing (radial, axial and
 //   tilting springs of TrainStructureOptions) and free to rotate about the axis.
 // Gyroscopic matrices are per unit input speed (each body's spin is its signed speed ratio).
-// Layout: the schema gives no angular positions of the shafts, so every mesh's line of centres
-// points along +x from its first gear to its second (an unfolded planar layout).
+// Layout: mesh i's line of centres points from its first gear to its second at the angle
+// TrainMesh::center_line_angle about +z from +x (default 0: an unfolded planar layout); its vectors
+// are built along +x and turned by that angle (translations and tilts of both gears).
 // Mesh i: its first gear turns with sense s_a = sign(speed) about z; its vectors are those of the
 // schema-1 pair (component_model.h) mirrored (y -> -y) when s_a = -1, so the torsional part is
 //   delta_i = s_a (r_b,a th_z,a + r_b,b th_z,b) = r_b,a theta_a - r_b,b theta_b  (running angles),
