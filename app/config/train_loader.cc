@@ -11,8 +11,9 @@ namespace {
 
 // Schema gearnvh/2: shafts, gears and meshes by name.
 TrainSpec ReadTrainDocument(Reader& r, const YAML::Node& root) {
-  r.ExpectMap(root, "",
-              {"schema", "name", "materials", "shafts", "gears", "meshes", "operating", "analysis"});
+  r.ExpectMap(
+      root, "",
+      {"schema", "name", "materials", "shafts", "gears", "meshes", "operating", "analysis"});
   TrainSpec spec;
   spec.name = r.String(root, "", "name");
   spec.materials = ReadMaterials(r, root);
@@ -55,7 +56,8 @@ TrainSpec ReadTrainDocument(Reader& r, const YAML::Node& root) {
 
   r.ForEachItem(root, "", "meshes", true, [&](const YAML::Node& item, const std::string& p) {
     TrainMesh mesh;
-    mesh.mesh = ReadMesh(r, item, p, {"gears"});
+    mesh.mesh = ReadMesh(r, item, p, {"gears", "center_line_angle"});
+    mesh.center_line_angle = r.Quantity(item, p, "center_line_angle", Dimension::kAngle, 0.0);
     const YAML::Node pair = r.Child(item, p, "gears", true);
     if (!pair.IsSequence() || pair.size() != 2 || !pair[0].IsScalar() || !pair[1].IsScalar()) {
       r.Fail(Join(p, "gears"), pair, Describe(pair), "must be a list of two gear names");

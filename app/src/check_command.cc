@@ -156,15 +156,14 @@ int RunCheck(const CheckOptions& options) {
     try {
       const config::LoadedGearbox loaded = config::LoadAnyGearboxFile(file);
       if (loaded.schema == 2) {
-        const GearTrain train = BuildGearTrain(loaded.train);
-        const TrainTorsionalModes modes = TorsionalModes(train);
-        nlohmann::json doc = TrainCheckReport(loaded.train, train, modes);
+        const TrainCheck check = BuildTrainCheck(loaded.train);
+        nlohmann::json doc = TrainCheckReport(loaded.train, check);
         RequireFinite(doc, "check");
         if (options.json) {
           doc["file"] = file;
           documents.push_back(std::move(doc));
         } else {
-          PrintTrainCheck(file, loaded.train, train, modes);
+          PrintTrainCheck(file, loaded.train, check);
         }
         continue;
       }

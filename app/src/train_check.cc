@@ -2,30 +2,36 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+
+#include "gearnvh/model/input_error.h"
+#include "gearnvh/nvh/train_campbell.h"
 
 namespace gearnvh::app {
 namespace {
 
 constexpr double kRpm = 60.0 / (2.0 * std::numbers::pi);
 
-struct CriticalSpeed {
-  int mode = 0;            // numbered from 1
-  std::string line;        // "mesh g1-g2 1x", "shaft input 1x"
+struct TierCrossing {
+  int mode = 0;              // numbered from 1
+  std::string line;          // "mesh g1-g2 1x", "shaft input 1x"
   double input_speed = 0.0;  // rad/s of the input shaft
 };
 
 // Input speeds at which an order line crosses a mode: mesh i harmonic h at frequency
 // h z_a |w_a| / 2 pi, shaft j at |w_j| / 2 pi, both proportional to the input speed.
-std::vector<CriticalSpeed> CriticalSpeeds(const TrainSpec& spec, const GearTrain& train,
-                                          const TrainTorsionalModes& modes) {
-  std::vector<CriticalSpeed> out;
-  const double w_in = std::abs(train.topology.bodies[static_cast<size_t>(train.topology.input_body)].speed);
+std::vector<TierCrossing> CriticalSpeeds(const TrainSpec& spec, const GearTrain& train,
+                                         const TrainTorsionalModes& modes) {
+  std::vector<TierCrossing> out;
+  const double w_in =
+      std::abs(train.topology.bodies[static_cast<size_t>(train.topology.input_body)].speed);
   for (size_t k = 0; k < modes.frequencies_hz.size(); ++k) {
     const double w_mode = 2.0 * std::numbers::pi * modes.frequencies_hz[k];
     for (const TrainMeshModel& mesh : train.meshes) {
-      const double ratio = std::abs(train.topology.bodies[static_cast<size_t>(mesh.body_a)].speed) / w_in;
+      const double ratio =
+          std::abs(train.topology.bodies[static_cast<size_t>(mesh.body_a)].speed) / w_in;
       const int z = spec.gears[static_cast<size_t>(mesh.gear_a)].gear.teeth;
       for (int h = 1; h <= 3; ++h) {
         out.push_back({static_cast<int>(k) + 1, fmt::format("mesh {} {}x", mesh.name, h),
@@ -43,10 +49,90 @@ std::vector<CriticalSpeed> CriticalSpeeds(const TrainSpec& spec, const GearTrain
 
 const char* KindName(BodyKind kind) { return kind == BodyKind::kShaft ? "shaft" : "loose gear"; }
 
+const std::vector<Tier> kAllTiers{Tier::kTier1, Tier::kTier2,     Tier::kTier3, Tier::kTier4,
+                                  Tier::kTier5, Tier::kN20Simple, Tier::kN20Mta};
+constexpr int kReportedModes = 10;
+
+nlohmann::json MatrixJson(const Eigen::MatrixXd& m) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (Eigen::Index r = 0; r < m.rows(); ++r) {
+    nlohmann::json row = nlohmann::json::array();
+    for (Eigen::Index c = 0; c < m.cols(); ++c) row.push_back(m(r, c));
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+nlohmann::json CampbellJson(const CampbellData& data) {
+  std::vector<double> speeds_rpm;
+  for (double w : data.speeds_rad_s) speeds_rpm.push_back(w * kRpm);
+  nlohmann::json modes = nlohmann::json::array();
+  for (size_t k = 0; k < data.modes.size(); ++k) {
+    nlohmann::json f = nlohmann::json::array();
+    for (double x : data.frequency_hz[k])
+      f.push_back(std::isfinite(x) ? nlohmann::json(x) : nlohmann::json());
+    modes.push_back({{"mode", k + 1},
+                     {"label", data.modes[k].Label()},
+                     {"type", ModeTypeName(data.modes[k].type)},
+                     {"whirl", WhirlName(data.modes[k].whirl)},
+                     {"frequency_hz", f}});
+  }
+  nlohmann::json orders = nlohmann::json::array();
+  for (const OrderLine& o : data.orders) orders.push_back({{"label", o.label}, {"order", o.order}});
+  nlohmann::json critical = nlohmann::json::array();
+  for (const CriticalSpeed& c : data.critical_speeds) {
+    critical.push_back({{"order", c.order},
+                        {"mode", c.mode + 1},
+                        {"mode_label", data.modes[static_cast<size_t>(c.mode)].Label()},
+                        {"speed_rpm", c.speed_rpm},
+                        {"frequency_hz", c.frequency_hz}});
+  }
+  return {{"speeds_rpm", speeds_rpm},
+          {"modes", modes},
+          {"orders", orders},
+          {"critical_speeds", critical}};
+}
+
 }  // namespace
 
-nlohmann::json TrainCheckReport(const TrainSpec& spec, const GearTrain& train,
-                                const TrainTorsionalModes& modes) {
+TrainCheck BuildTrainCheck(const TrainSpec& spec) {
+  TrainCheck c;
+  c.train = BuildGearTrain(spec);
+  c.torsional = TorsionalModes(c.train);
+  c.structure = AssembleTrainStructure(spec, c.train);
+  c.campbell_tier = spec.analysis.tier;
+  if (!TrainTierAvailable(c.structure, c.campbell_tier)) {
+    throw InputError("analysis.tier", 0, TierName(c.campbell_tier),
+                     "needs at least one elastic shaft (with segments) in the train");
+  }
+  c.fe = FullTrainModes(c.structure, kReportedModes);
+  const TrainReducedModel* analysis = nullptr;
+  std::vector<Tier> available;
+  for (Tier t : kAllTiers) {
+    (TrainTierAvailable(c.structure, t) ? available : c.unavailable).push_back(t);
+  }
+  c.tiers = ReduceTrainTiers(c.structure, available);
+  for (const TrainReducedModel& r : c.tiers) {
+    if (r.tier == c.campbell_tier) analysis = &r;
+  }
+  // Every mode below 3x the highest mesh frequency of the sweep is tracked.
+  const SweepRange& sweep = spec.analysis.speed_sweep;
+  std::vector<double> speeds;
+  for (int i = 0; i < sweep.points; ++i) {
+    speeds.push_back(sweep.from + (sweep.to - sweep.from) * i / std::max(1, sweep.points - 1));
+  }
+  double max_order = 0.0;
+  for (const OrderLine& line : TrainOrderLines(spec, c.train))
+    max_order = std::max(max_order, line.order);
+  CampbellOptions options;
+  options.max_frequency_hz = 3.0 * max_order * sweep.to / (2.0 * std::numbers::pi);
+  c.campbell = TrainCampbell(spec, c.train, c.structure, *analysis, speeds, options);
+  return c;
+}
+
+nlohmann::json TrainCheckReport(const TrainSpec& spec, const TrainCheck& check) {
+  const GearTrain& train = check.train;
+  const TrainTorsionalModes& modes = check.torsional;
   nlohmann::json doc;
   doc["name"] = spec.name;
   doc["schema"] = "gearnvh/2";
@@ -68,8 +154,9 @@ nlohmann::json TrainCheckReport(const TrainSpec& spec, const GearTrain& train,
     const MeshStiffnessSummary& k = m.stiffness;
     doc["meshes"].push_back(
         {{"name", m.name},
-         {"gears", {spec.gears[static_cast<size_t>(m.gear_a)].name,
-                    spec.gears[static_cast<size_t>(m.gear_b)].name}},
+         {"gears",
+          {spec.gears[static_cast<size_t>(m.gear_a)].name,
+           spec.gears[static_cast<size_t>(m.gear_b)].name}},
          {"geometry", geometry},
          {"transmitted_torque", m.transmitted_torque},
          {"load", m.cycle.load},
@@ -99,28 +186,49 @@ nlohmann::json TrainCheckReport(const TrainSpec& spec, const GearTrain& train,
   }
   doc["input_torque"] = train.input_torque;
   nlohmann::json critical = nlohmann::json::array();
-  for (const CriticalSpeed& c : CriticalSpeeds(spec, train, modes)) {
+  for (const TierCrossing& c : CriticalSpeeds(spec, train, modes)) {
     critical.push_back({{"mode", c.mode},
                         {"line", c.line},
                         {"input_speed", c.input_speed},
                         {"input_speed_rpm", c.input_speed * kRpm}});
   }
-  doc["tiers"] = nlohmann::json::array({{{"name", "tier 1"},
-                                         {"dof", train.body_inertia.size()},
-                                         {"free_rotations", modes.free_rotations},
-                                         {"natural_frequencies_hz", modes.frequencies_hz}}});
+  const TrainStructure& st = check.structure;
+  doc["fe"] = {{"nodes", st.nodes.size()},
+               {"dofs", st.dofs},
+               {"elastic_shafts", st.elastic_shafts.size()},
+               {"free_rotations", st.free_rotations.cols()},
+               {"rigid_body_modes", check.fe.rigid_body_modes},
+               {"natural_frequencies_hz", check.fe.frequencies_hz}};
+  doc["tiers"] = nlohmann::json::array();
+  for (const TrainReducedModel& r : check.tiers) {
+    doc["tiers"].push_back({{"name", r.name},
+                            {"dof", r.dof},
+                            {"free_rotations", r.rigid_body_modes},
+                            {"natural_frequencies_hz", r.natural_frequencies_hz},
+                            {"static_compliance", MatrixJson(r.static_compliance)},
+                            {"compliance_error_vs_full", r.compliance_error_vs_full}});
+  }
+  nlohmann::json unavailable = nlohmann::json::array();
+  for (Tier t : check.unavailable) unavailable.push_back(TierName(t));
+  doc["tiers_unavailable"] = unavailable;
+  doc["full_static_compliance"] = check.tiers.empty()
+                                      ? nlohmann::json()
+                                      : MatrixJson(check.tiers.front().full_static_compliance);
   doc["critical_speeds"] = critical;
-  doc["tiers_unavailable"] = {"tier 2", "tier 3", "tier 4", "tier 5", "N20 simple", "N20 MTA"};
+  nlohmann::json campbell = CampbellJson(check.campbell);
+  campbell["tier"] = TierName(check.campbell_tier);
+  doc["campbell"] = campbell;
   doc["warnings"] = train.warnings;
   return doc;
 }
 
-void PrintTrainCheck(const std::string& file, const TrainSpec& spec, const GearTrain& train,
-                     const TrainTorsionalModes& modes) {
+void PrintTrainCheck(const std::string& file, const TrainSpec& spec, const TrainCheck& check) {
+  const GearTrain& train = check.train;
+  const TrainTorsionalModes& modes = check.torsional;
   fmt::print("{}  ({}, gear train: {} shafts, {} gears, {} meshes)\n", spec.name, file,
              spec.shafts.size(), spec.gears.size(), spec.meshes.size());
-  fmt::print("  {:<16}{:>12}{:>8}{:>8}{:>9}{:>9}{:>10}{:>12}{:>12}\n", "mesh", "torque",
-             "eps_a", "eps_b", "eps_g", "f_mesh", "k_mean", "k_single", "LSTE p-p");
+  fmt::print("  {:<16}{:>12}{:>8}{:>8}{:>9}{:>9}{:>10}{:>12}{:>12}\n", "mesh", "torque", "eps_a",
+             "eps_b", "eps_g", "f_mesh", "k_mean", "k_single", "LSTE p-p");
   // Width-padded by bytes: each µ is two bytes, so its column is one wider.
   fmt::print("  {:<16}{:>12}{:>8}{:>8}{:>9}{:>9}{:>11}{:>13}{:>13}\n", "", "[N m]", "", "", "",
              "[Hz]", "[N/µm]", "[N/µm]", "[µm]");
@@ -133,16 +241,16 @@ void PrintTrainCheck(const std::string& file, const TrainSpec& spec, const GearT
                m.name, m.transmitted_torque, g.contact_ratio, g.overlap_ratio,
                g.total_contact_ratio, g.mesh_frequency_hz, m.stiffness.mean * 1e-6, single,
                m.stiffness.lste_peak_to_peak * 1e6,
-               g.helix_angle > 0.0 ? fmt::format("  helical {:.1f}°", g.helix_angle * 180.0 /
-                                                                        std::numbers::pi)
-                                   : "  spur");
+               g.helix_angle > 0.0
+                   ? fmt::format("  helical {:.1f}°", g.helix_angle * 180.0 / std::numbers::pi)
+                   : "  spur");
   }
-  fmt::print("  {:<16}{:<12}{:>14}{:>18}   gears\n", "body", "kind", "speed [rpm]",
-             "J [kg m²]");
+  fmt::print("  {:<16}{:<12}{:>14}{:>18}   gears\n", "body", "kind", "speed [rpm]", "J [kg m²]");
   for (size_t b = 0; b < train.topology.bodies.size(); ++b) {
     const TrainBody& body = train.topology.bodies[b];
     std::string gears;
-    for (int g : body.gears) gears += (gears.empty() ? "" : ", ") + spec.gears[static_cast<size_t>(g)].name;
+    for (int g : body.gears)
+      gears += (gears.empty() ? "" : ", ") + spec.gears[static_cast<size_t>(g)].name;
     fmt::print("  {:<16}{:<12}{:>14.2f}{:>18.4e}   {}\n", body.name, KindName(body.kind),
                body.speed * kRpm, train.body_inertia[b], gears);
   }
@@ -150,16 +258,48 @@ void PrintTrainCheck(const std::string& file, const TrainSpec& spec, const GearT
   fmt::print("  tier 1 (torsional, {} DOF, {} free rotation{}): natural frequencies [Hz]\n   ",
              train.body_inertia.size(), modes.free_rotations, modes.free_rotations == 1 ? "" : "s");
   for (double f : modes.frequencies_hz) fmt::print(" {:.1f}", f);
-  const SweepRange& sweep = spec.analysis.speed_sweep;
-  fmt::print("\n  critical input speeds, mesh order 1, within the speed sweep {:.0f}-{:.0f} rpm:\n",
-             sweep.from * kRpm, sweep.to * kRpm);
-  for (const CriticalSpeed& c : CriticalSpeeds(spec, train, modes)) {
-    if (c.line.find("mesh") == 0 && c.line.find(" 1x") != std::string::npos &&
-        c.input_speed >= sweep.from && c.input_speed <= sweep.to) {
-      fmt::print("    mode {:<3} {:<28}{:>12.1f}\n", c.mode, c.line, c.input_speed * kRpm);
-    }
+  const TrainStructure& st = check.structure;
+  fmt::print("\n  finite elements: {} nodes, {} DOF ({} elastic shaft{}), {} free rotation{}\n",
+             st.nodes.size(), st.dofs, st.elastic_shafts.size(),
+             st.elastic_shafts.size() == 1 ? "" : "s", st.free_rotations.cols(),
+             st.free_rotations.cols() == 1 ? "" : "s");
+  fmt::print("  {:<28}", "natural frequencies [Hz]");
+  for (size_t i = 0; i < check.fe.frequencies_hz.size(); ++i) {
+    if (i > 0 && i % 5 == 0) fmt::print("\n  {:<28}", "");
+    fmt::print("{:>10.1f}", check.fe.frequencies_hz[i]);
   }
-  fmt::print("  tiers 2-5 and N20 of a train are not built yet: tier 1 only\n");
+  fmt::print("\n  {:<12}{:>5}{:>6}{:>12}   lowest natural frequencies [Hz]\n", "modal tier", "DOF",
+             "free", "G vs full");
+  for (const TrainReducedModel& r : check.tiers) {
+    fmt::print("  {:<12}{:>5}{:>6}{:>12.2e}  ", r.name, r.dof, r.rigid_body_modes,
+               r.compliance_error_vs_full);
+    for (size_t i = 0; i < std::min<size_t>(5, r.natural_frequencies_hz.size()); ++i) {
+      fmt::print("{:>9.1f}", r.natural_frequencies_hz[i]);
+    }
+    fmt::print("\n");
+  }
+  if (!check.unavailable.empty()) {
+    std::string names;
+    for (Tier t : check.unavailable)
+      names += (names.empty() ? "" : ", ") + std::string(TierName(t));
+    fmt::print("  not available (no elastic shaft): {}\n", names);
+  }
+  const CampbellData& cd = check.campbell;
+  fmt::print(
+      "  Campbell ({}, input {:.0f}-{:.0f} rpm): {} tracked modes, {} order lines, {} "
+      "critical speeds\n",
+      TierName(check.campbell_tier), cd.speeds_rad_s.front() * kRpm, cd.speeds_rad_s.back() * kRpm,
+      cd.modes.size(), cd.orders.size(), cd.critical_speeds.size());
+  constexpr size_t kPrintedCrossings = 30;
+  for (size_t i = 0; i < std::min(kPrintedCrossings, cd.critical_speeds.size()); ++i) {
+    const CriticalSpeed& c = cd.critical_speeds[i];
+    fmt::print("    {:<24} x mode {:<3} {:>10.1f} rpm {:>10.1f} Hz  {}\n", c.order, c.mode + 1,
+               c.speed_rpm, c.frequency_hz, cd.modes[static_cast<size_t>(c.mode)].Label());
+  }
+  if (cd.critical_speeds.size() > kPrintedCrossings) {
+    fmt::print("    ... and {} more (all in check --json)\n",
+               cd.critical_speeds.size() - kPrintedCrossings);
+  }
   for (const std::string& w : train.warnings) fmt::print("  warning: {}\n", w);
 }
 

@@ -1,21 +1,38 @@
 // `check` of a gear train (schema gearnvh/2): per mesh its geometry and stiffness, the bodies with
-// their nominal speeds and inertias, the tier-1 torsional modes, and the critical input speeds
-// where an order line of a shaft or a mesh crosses a mode (the train's Campbell diagram at tier 1,
-// whose torsional modes do not depend on speed).
+// their nominal speeds and inertias, the full FE model's and every available tier's natural
+// frequencies with the static compliance matrix at the meshes, the tier-1 critical input speeds
+// (every crossing of an order line with a torsional mode) and the Campbell data of the analysis
+// tier over the speed sweep.
 #pragma once
 
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "gearnvh/model/gear_train.h"
+#include "gearnvh/model/train_structure.h"
+#include "gearnvh/nvh/campbell.h"
+#include "gearnvh/reduction/train_reduction.h"
 
 namespace gearnvh::app {
 
-// The JSON document `check --json` prints for a train (keys documented in docs/cli.md).
-nlohmann::json TrainCheckReport(const TrainSpec& spec, const GearTrain& train,
-                                const TrainTorsionalModes& modes);
+struct TrainCheck {
+  GearTrain train;
+  TrainTorsionalModes torsional;
+  TrainStructure structure;
+  NaturalModes fe;                       // the full FE model, every mesh at its mean stiffness
+  std::vector<TrainReducedModel> tiers;  // the available ones, in the order of kAllTiers
+  std::vector<Tier> unavailable;
+  Tier campbell_tier = Tier::kTier1;  // analysis.tier
+  CampbellData campbell;
+};
 
-void PrintTrainCheck(const std::string& file, const TrainSpec& spec, const GearTrain& train,
-                     const TrainTorsionalModes& modes);
+// Throws InputError when analysis.tier is not available for this train.
+TrainCheck BuildTrainCheck(const TrainSpec& spec);
+
+// The JSON document `check --json` prints for a train (keys documented in docs/results.md).
+nlohmann::json TrainCheckReport(const TrainSpec& spec, const TrainCheck& check);
+
+void PrintTrainCheck(const std::string& file, const TrainSpec& spec, const TrainCheck& check);
 
 }  // namespace gearnvh::app

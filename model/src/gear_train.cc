@@ -37,9 +37,9 @@ GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& opti
     const TrainBody& body = topo.bodies[b];
     if (body.kind == BodyKind::kShaft) {
       const TrainShaft& s = spec.shafts[static_cast<size_t>(body.shaft)];
-      train.body_inertia[b] = s.elastic ? ShaftPolarInertia(*s.elastic,
-                                                             spec.materials.at(s.elastic->material))
-                                        : s.inertia.value_or(0.0);
+      train.body_inertia[b] =
+          s.elastic ? ShaftPolarInertia(*s.elastic, spec.materials.at(s.elastic->material))
+                    : s.inertia.value_or(0.0);
     }
     for (int g : body.gears) {
       const GearSpec& gear = spec.gears[static_cast<size_t>(g)].gear;
@@ -52,12 +52,15 @@ GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& opti
   for (const TrainLoad& load : spec.operating.loads) {
     // A shaft by its name, else the body of the gear of that name.
     const int shaft = spec.ShaftIndex(load.on);
-    const int body = shaft >= 0 ? shaft : topo.gear_body[static_cast<size_t>(spec.GearIndex(load.on))];
-    power[static_cast<size_t>(body)] += load.torque * std::abs(topo.bodies[static_cast<size_t>(body)].speed);
+    const int body =
+        shaft >= 0 ? shaft : topo.gear_body[static_cast<size_t>(spec.GearIndex(load.on))];
+    power[static_cast<size_t>(body)] +=
+        load.torque * std::abs(topo.bodies[static_cast<size_t>(body)].speed);
   }
   double total_power = 0.0;
   for (double p : power) total_power += p;
-  train.input_torque = total_power / std::abs(topo.bodies[static_cast<size_t>(topo.input_body)].speed);
+  train.input_torque =
+      total_power / std::abs(topo.bodies[static_cast<size_t>(topo.input_body)].speed);
 
   for (size_t m = 0; m < spec.meshes.size(); ++m) {
     TrainMeshModel mesh;
@@ -74,7 +77,8 @@ GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& opti
   std::vector<int> depth(n, 0);
   for (size_t b = 0; b < n; ++b) {
     for (int c = static_cast<int>(b); topo.parent_mesh[static_cast<size_t>(c)] >= 0;
-         c = OtherBody(train.meshes[static_cast<size_t>(topo.parent_mesh[static_cast<size_t>(c)])], c)) {
+         c = OtherBody(train.meshes[static_cast<size_t>(topo.parent_mesh[static_cast<size_t>(c)])],
+                       c)) {
       ++depth[b];
     }
   }
@@ -90,7 +94,8 @@ GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& opti
     subtree[static_cast<size_t>(parent)] += subtree[b];
     // Power P through the mesh at base-circle speed |w_b| r_b,b: force P / (|w_b| r_b,b), torque
     // on gear b P / |w_b|.
-    mesh.transmitted_torque = subtree[b] / std::abs(topo.bodies[static_cast<size_t>(mesh.body_b)].speed);
+    mesh.transmitted_torque =
+        subtree[b] / std::abs(topo.bodies[static_cast<size_t>(mesh.body_b)].speed);
     mesh.back_flank_loaded = static_cast<int>(b) == mesh.body_a && subtree[b] > 0.0;
   }
 
@@ -126,29 +131,35 @@ TrainTorsionalModes TorsionalModes(const GearTrain& train) {
   out.M = Eigen::MatrixXd::Zero(n, n);
   out.K = Eigen::MatrixXd::Zero(n, n);
   for (int b = 0; b < n; ++b) out.M(b, b) = train.body_inertia[static_cast<size_t>(b)];
-  for (const TrainMeshModel& mesh : train.meshes) {
+  Eigen::MatrixXd V = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(train.meshes.size()), n);
+  for (size_t i = 0; i < train.meshes.size(); ++i) {
+    const TrainMeshModel& mesh = train.meshes[i];
     Eigen::VectorXd v = Eigen::VectorXd::Zero(n);
     v(mesh.body_a) += mesh.geometry.pinion.base;
     v(mesh.body_b) -= mesh.geometry.wheel.base;
     out.K += mesh.stiffness.mean * v * v.transpose();
+    V.row(static_cast<Eigen::Index>(i)) = v.transpose();
   }
-  // The free rotation is known exactly: every body turns by its share of the nominal motion,
-  // th_j ~ |w_j| (then r_b,a th_a = r_b,b th_b at every mesh). A numerical zero test would have to
-  // tell it from the rounding of K (~eps max K_ii), so it is removed by construction: the elastic
-  // modes are those of the pencil restricted to the M-orthogonal complement of the free rotation.
-  Eigen::VectorXd rigid(n);
-  for (int b = 0; b < n; ++b) {
-    rigid(b) = std::abs(train.topology.bodies[static_cast<size_t>(b)].speed);
+  // The free rotations are the null space of V (no mesh sees them): found by the SVD of V, whose
+  // entries are base radii, so "zero" is a scale-free 1e-9 of the largest singular value (a
+  // numerical zero test on K would have to tell them from the rounding of K, ~eps max K_ii). The
+  // elastic modes are those of the pencil restricted to the M-orthogonal complement of that null
+  // space. A connected train with every mesh engaged has one: th_j ~ |w_j|.
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(V, Eigen::ComputeFullV);
+  int rank = 0;
+  for (Eigen::Index i = 0; i < svd.singularValues().size(); ++i) {
+    if (svd.singularValues()[i] > 1e-9 * svd.singularValues()[0]) ++rank;
   }
+  out.free_rotations = n - rank;
+  const Eigen::MatrixXd rigid = svd.matrixV().rightCols(n - rank);
   const Eigen::MatrixXd mr = out.M * rigid;
   const Eigen::HouseholderQR<Eigen::MatrixXd> qr(mr);
   const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(n, n);
-  const Eigen::MatrixXd t = q.rightCols(n - 1);
-  out.free_rotations = 1;
-  if (n > 1) {
-    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(
-        t.transpose() * out.K * t, t.transpose() * out.M * t);
-    for (int k = 0; k < n - 1; ++k) {
+  const Eigen::MatrixXd t = q.rightCols(rank);
+  if (rank > 0) {
+    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(t.transpose() * out.K * t,
+                                                                        t.transpose() * out.M * t);
+    for (int k = 0; k < rank; ++k) {
       out.frequencies_hz.push_back(std::sqrt(std::max(eig.eigenvalues()(k), 0.0)) /
                                    (2.0 * std::numbers::pi));
     }

@@ -29,6 +29,57 @@ SpMat Block(const SpMat& A, const std::vector<int>& row_map, int rows,
 
 }  // namespace
 
+FixedInterfaceModeSet FixedInterfaceModes(const SpMat& K, const SpMat& M,
+                                          const std::vector<int>& interior, int modes,
+                                          const ReductionOptions& options) {
+  FixedInterfaceModeSet out;
+  const int n = static_cast<int>(K.rows());
+  const int ni = static_cast<int>(interior.size());
+  modes = std::clamp(modes, 0, ni);
+  out.shapes = Eigen::MatrixXd::Zero(n, modes);
+  out.omega2 = Eigen::VectorXd::Zero(modes);
+  if (modes == 0) return out;
+  std::vector<int> interior_map(n, -1);
+  for (int k = 0; k < ni; ++k) interior_map[interior[k]] = k;
+  const SpMat Kii = Block(K, interior_map, ni, interior_map, ni);
+  const SpMat Mii = Block(M, interior_map, ni, interior_map, ni);
+  Eigen::MatrixXd phi;
+  Eigen::VectorXd w2;
+  const int ncv = std::min(ni, std::max(2 * modes + 1, modes + 20));
+  if (ni >= options.dense_eigen_threshold && ncv < ni) {
+    using Op = Spectra::SymShiftInvert<double, Eigen::Sparse, Eigen::Sparse>;
+    using BOp = Spectra::SparseSymMatProd<double>;
+    Op op(Kii, Mii);
+    BOp bop(Mii);
+    Spectra::SymGEigsShiftSolver<Op, BOp, Spectra::GEigsMode::ShiftInvert> solver(op, bop, modes,
+                                                                                  ncv, 0.0);
+    solver.init();
+    solver.compute(Spectra::SortRule::LargestMagn, 1000, 1e-12);
+    if (solver.info() != Spectra::CompInfo::Successful) {
+      out.status = CraigBamptonStatus::kEigenNotConverged;
+      out.message = "Spectra shift-invert eigensolver did not converge";
+      return out;
+    }
+    w2 = solver.eigenvalues();
+    phi = solver.eigenvectors();
+    out.sparse_eigensolver = true;
+  } else {
+    const Eigen::MatrixXd kd(Kii), md(Mii);
+    Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> dense(kd, md);
+    w2 = dense.eigenvalues().head(modes);
+    phi = dense.eigenvectors().leftCols(modes);
+  }
+  // Ascending order.
+  std::vector<int> order(modes);
+  for (int j = 0; j < modes; ++j) order[j] = j;
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return w2[a] < w2[b]; });
+  for (int j = 0; j < modes; ++j) {
+    out.omega2[j] = w2[order[j]];
+    for (int r = 0; r < ni; ++r) out.shapes(interior[r], j) = phi(r, order[j]);
+  }
+  return out;
+}
+
 CraigBamptonBasis CraigBampton(const SpMat& K, const SpMat& M, const std::vector<int>& boundary,
                                int modes, const ReductionOptions& options) {
   CraigBamptonBasis out;
@@ -62,41 +113,15 @@ CraigBamptonBasis CraigBampton(const SpMat& K, const SpMat& M, const std::vector
   for (int r = 0; r < ni; ++r) out.T.row(interior[r]).head(nb) = psi.row(r);
   if (modes == 0) return out;
 
-  Eigen::MatrixXd phi;
-  Eigen::VectorXd w2;
-  const int ncv = std::min(ni, std::max(2 * modes + 1, modes + 20));
-  if (ni >= options.dense_eigen_threshold && ncv < ni) {
-    using Op = Spectra::SymShiftInvert<double, Eigen::Sparse, Eigen::Sparse>;
-    using BOp = Spectra::SparseSymMatProd<double>;
-    Op op(Kii, Mii);
-    BOp bop(Mii);
-    Spectra::SymGEigsShiftSolver<Op, BOp, Spectra::GEigsMode::ShiftInvert> solver(op, bop, modes,
-                                                                                  ncv, 0.0);
-    solver.init();
-    solver.compute(Spectra::SortRule::LargestMagn, 1000, 1e-12);
-    if (solver.info() != Spectra::CompInfo::Successful) {
-      out.status = CraigBamptonStatus::kEigenNotConverged;
-      out.message = "Spectra shift-invert eigensolver did not converge";
-      return out;
-    }
-    w2 = solver.eigenvalues();
-    phi = solver.eigenvectors();
-    out.sparse_eigensolver = true;
-  } else {
-    const Eigen::MatrixXd kd(Kii), md(Mii);
-    Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> dense(kd, md);
-    w2 = dense.eigenvalues().head(modes);
-    phi = dense.eigenvectors().leftCols(modes);
+  const FixedInterfaceModeSet fixed = FixedInterfaceModes(K, M, interior, modes, options);
+  if (fixed.status != CraigBamptonStatus::kSuccess) {
+    out.status = fixed.status;
+    out.message = fixed.message;
+    return out;
   }
-  // Ascending order.
-  std::vector<int> order(modes);
-  for (int j = 0; j < modes; ++j) order[j] = j;
-  std::sort(order.begin(), order.end(), [&](int a, int b) { return w2[a] < w2[b]; });
-  out.fixed_interface_omega2.resize(modes);
-  for (int j = 0; j < modes; ++j) {
-    out.fixed_interface_omega2[j] = w2[order[j]];
-    for (int r = 0; r < ni; ++r) out.T(interior[r], nb + j) = phi(r, order[j]);
-  }
+  out.sparse_eigensolver = fixed.sparse_eigensolver;
+  out.fixed_interface_omega2 = fixed.omega2;
+  out.T.rightCols(modes) = fixed.shapes;
   return out;
 }
 

@@ -1,8 +1,5 @@
 #include "gearnvh/reduction/tier_adequacy.h"
 
-#include <Spectra/MatOp/SparseSymMatProd.h>
-#include <Spectra/MatOp/SymShiftInvert.h>
-#include <Spectra/SymGEigsShiftSolver.h>
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -11,6 +8,7 @@
 
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/model/modal_analysis.h"
+#include "gearnvh/reduction/sparse_modes.h"
 
 namespace gearnvh {
 
@@ -31,51 +29,6 @@ namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
-// The lowest `count` elastic modes of the sparse pencil by shift-invert Lanczos at a negative
-// shift (K + k v v^T keeps the pair's free rotation: singular at 0).
-NaturalModes SparseModes(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& M,
-                         int count) {
-  double scale = 0.0;
-  for (int i = 0; i < K.rows(); ++i) {
-    if (M.coeff(i, i) > 0.0) scale = std::max(scale, K.coeff(i, i) / M.coeff(i, i));
-  }
-  const double shift = -1e-10 * scale;
-  using Op = Spectra::SymShiftInvert<double, Eigen::Sparse, Eigen::Sparse>;
-  Op op(K, M);
-  Spectra::SparseSymMatProd<double> bop(M);
-  const int n = static_cast<int>(K.rows());
-  const int wanted = std::min(count + 1, n - 1);  // + the free rotation
-  const int ncv = std::min(n, std::max(2 * wanted + 1, wanted + 20));
-  Spectra::SymGEigsShiftSolver<Op, Spectra::SparseSymMatProd<double>,
-                               Spectra::GEigsMode::ShiftInvert>
-      solver(op, bop, wanted, ncv, shift);
-  solver.init();
-  solver.compute(Spectra::SortRule::LargestMagn, 1000, 1e-10);
-  NaturalModes out;
-  if (solver.info() != Spectra::CompInfo::Successful) return out;
-  const Eigen::VectorXd w2 = solver.eigenvalues();
-  const Eigen::MatrixXd phi = solver.eigenvectors();
-  std::vector<int> order(static_cast<size_t>(w2.size()));
-  for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
-  std::sort(order.begin(), order.end(), [&](int a, int b) { return w2[a] < w2[b]; });
-  std::vector<int> kept;
-  for (int i : order) {
-    if (w2[i] <= -1e-8 * shift) {
-      ++out.rigid_body_modes;
-    } else {
-      out.frequencies_hz.push_back(std::sqrt(w2[i]) / kTwoPi);
-      kept.push_back(i);
-    }
-  }
-  out.shapes.resize(n, static_cast<Eigen::Index>(kept.size()));
-  for (size_t c = 0; c < kept.size(); ++c) {
-    Eigen::VectorXd x = phi.col(kept[c]);
-    x /= std::sqrt(x.dot(M * x));
-    out.shapes.col(static_cast<Eigen::Index>(c)) = x;
-  }
-  return out;
-}
-
 }  // namespace
 
 MeshModes FullModelMeshModes(const ComponentModel& model, const TierAdequacyOptions& options) {
@@ -87,7 +40,7 @@ MeshModes FullModelMeshModes(const ComponentModel& model, const TierAdequacyOpti
   const NaturalModes modes =
       model.dofs <= options.dense_limit
           ? LowestNaturalModes(Eigen::MatrixXd(K), Eigen::MatrixXd(model.M), model.dofs, true)
-          : SparseModes(K, model.M, options.sparse_modes);
+          : LowestSparseNaturalModes(K, model.M, options.sparse_modes, 1);
   double total = 0.0;
   std::vector<double> compliance(modes.frequencies_hz.size());
   for (size_t i = 0; i < compliance.size(); ++i) {

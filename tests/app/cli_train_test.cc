@@ -47,6 +47,45 @@ TEST_CASE("check on the manual transmission reports every mesh and body", "[cli]
   CHECK_FALSE(doc["critical_speeds"].empty());
 }
 
+TEST_CASE("check reports a train's FE model, tiers and Campbell data", "[cli][train]") {
+  const auto r =
+      RunCommand(kExe + " check --json " + kExamples + "/two_stage_helical_reducer.yaml");
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const auto doc = nlohmann::json::parse(r.out);
+  CHECK(doc["fe"]["free_rotations"] == 1);
+  CHECK(doc["fe"]["rigid_body_modes"] == 1);
+  REQUIRE(doc["fe"]["natural_frequencies_hz"].size() == 10);
+  const double f1 = doc["fe"]["natural_frequencies_hz"][0].get<double>();
+  // Three elastic shafts: every tier is available, each with one free rotation.
+  REQUIRE(doc["tiers"].size() == 7);
+  CHECK(doc["tiers_unavailable"].empty());
+  for (const auto& t : doc["tiers"]) {
+    INFO(t["name"]);
+    CHECK(t["free_rotations"] == 1);
+    REQUIRE(t["static_compliance"].size() == 2);  // two meshes
+    const std::string name = t["name"];
+    if (name != "tier 1" && name != "tier 2" && name != "N20 simple") {
+      // Craig–Bampton and MTA keep the compliance matrix exactly (rounding: 1e-10).
+      CHECK(t["compliance_error_vs_full"].get<double>() < 1e-10);
+      // and reach the full model's first frequency from above (Ritz) within 1 %.
+      const double f = t["natural_frequencies_hz"][0].get<double>();
+      CHECK(f >= f1 * (1.0 - 1e-9));
+      if (name != "tier 3") CHECK(f < 1.01 * f1);
+    }
+  }
+  // Campbell of analysis.tier (tier 1 by default): 3 shaft lines and 3 harmonics of 2 meshes.
+  const auto& campbell = doc["campbell"];
+  CHECK(campbell["tier"] == "tier 1");
+  CHECK(campbell["orders"].size() == 3 + 2 * 3);
+  CHECK(campbell["speeds_rpm"].size() == doc["campbell"]["modes"][0]["frequency_hz"].size());
+  REQUIRE_FALSE(campbell["critical_speeds"].empty());
+  for (const auto& c : campbell["critical_speeds"]) {
+    CHECK(c["speed_rpm"].get<double>() >= campbell["speeds_rpm"].front().get<double>());
+    CHECK(c["speed_rpm"].get<double>() <= campbell["speeds_rpm"].back().get<double>());
+  }
+}
+
 TEST_CASE("check prints a train in text", "[cli][train]") {
   const auto r = RunCommand(kExe + " check " + kExamples + "/two_stage_helical_reducer.yaml");
   INFO(r.err);
@@ -54,6 +93,9 @@ TEST_CASE("check prints a train in text", "[cli][train]") {
   CHECK(r.out.find("g1-g2") != std::string::npos);
   CHECK(r.out.find("intermediate") != std::string::npos);
   CHECK(r.out.find("tier 1 (torsional, 3 DOF, 1 free rotation)") != std::string::npos);
+  CHECK(r.out.find("finite elements:") != std::string::npos);
+  CHECK(r.out.find("N20 MTA") != std::string::npos);
+  CHECK(r.out.find("Campbell (tier 1") != std::string::npos);
 }
 
 TEST_CASE("a schema-2 file is refused with a clear message where trains are not built",
@@ -93,7 +135,8 @@ TEST_CASE("malformed trains: exit 1 naming the path, the line and the rule", "[c
        "must be > 0"},
   };
   std::ifstream in2(kExamples + "/two_stage_helical_reducer.yaml");
-  const std::string reducer((std::istreambuf_iterator<char>(in2)), std::istreambuf_iterator<char>());
+  const std::string reducer((std::istreambuf_iterator<char>(in2)),
+                            std::istreambuf_iterator<char>());
   std::string off_shaft = reducer;
   off_shaft.replace(off_shaft.find("at: 120 mm, teeth: 19"), 10, "at: 900 mm");
   const std::vector<Case> reducer_cases{

@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <numbers>
 
 #include "gearnvh/model/component_model.h"
@@ -108,8 +109,8 @@ gears:
   pinion: {teeth: 20, module: 2 mm, face_width: 10 mm, bore_diameter: 10 mm, material: steel}
   wheel:  {teeth: 30, module: 2 mm, face_width: 10 mm, bore_diameter: 10 mm, material: steel}
 mesh: {backlash: 100 um}
-operating: {speed: 1000 rpm, torque: )" + torque +
-                               (on.empty() ? "" : ", torque_on: " + on) + "}\n");
+operating: {speed: 1000 rpm, torque: )" +
+                               torque + (on.empty() ? "" : ", torque_on: " + on) + "}\n");
 }
 
 TEST_CASE("operating.torque_on: a pinion torque loads the mesh with T1 / r_b1", "[loader]") {
@@ -151,3 +152,30 @@ TEST_CASE("operating.torque_on: a pinion torque loads the mesh with T1 / r_b1", 
 
 }  // namespace
 }  // namespace gearnvh::config
+
+namespace gearnvh {
+namespace {
+
+TEST_CASE("a train mesh's center_line_angle is read in angle units, default 0", "[loader][train]") {
+  std::ifstream in(std::string(GEARNVH_EXAMPLES_DIR) + "/manual_transmission_idle.yaml");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // The example gives every mesh its angle; drop the first one's (default 0), turn the second.
+  auto replace = [&](const std::string& from, const std::string& to) {
+    const size_t at = text.find(from);
+    REQUIRE(at != std::string::npos);
+    text.replace(at, from.size(), to);
+  };
+  replace("backlash: 80 um, center_line_angle: -90 deg", "backlash: 80 um");
+  replace("[l1, o1], backlash: 100 um, center_line_angle: 90 deg",
+          "[l1, o1], backlash: 100 um, center_line_angle: 180 deg");
+  const config::LoadedGearbox loaded = config::LoadAnyGearboxFromString(text);
+  REQUIRE(loaded.schema == 2);
+  CHECK(loaded.train.meshes[0].center_line_angle == 0.0);
+  CHECK(loaded.train.meshes[1].center_line_angle == Approx(std::numbers::pi).epsilon(1e-15));
+  CHECK(loaded.train.meshes[2].center_line_angle == Approx(0.5 * std::numbers::pi).epsilon(1e-15));
+  replace("center_line_angle: 180 deg", "center_line_angle: 3 mm");
+  CHECK_THROWS_AS(config::LoadAnyGearboxFromString(text), InputError);
+}
+
+}  // namespace
+}  // namespace gearnvh

@@ -49,8 +49,8 @@ struct GearTrain {
 GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& options = {});
 
 // Tier 1 of the train: torsional natural frequencies at the mean mesh stiffnesses and the mode
-// shapes (bodies x modes, M-normalised). A validated train is connected, so it has exactly one free
-// rotation (th_j proportional to |w_j|), removed by construction rather than by a zero test.
+// shapes (bodies x modes, M-normalised). The free rotations are found as the null space of the
+// meshes' torsional vectors (one for a connected train: th_j proportional to |w_j|) and removed.
 struct TrainTorsionalModes {
   int free_rotations = 0;
   std::vector<double> frequencies_hz;

@@ -31,8 +31,8 @@ struct TrainShaft {
 
 struct TrainGear {
   std::string name;
-  std::string shaft;           // a TrainShaft name
-  std::optional<double> at;    // m, axial position; required on an elastic shaft
+  std::string shaft;         // a TrainShaft name
+  std::optional<double> at;  // m, axial position; required on an elastic shaft
   Mounting mounting = Mounting::kFixed;
   GearSpec gear;
 };
@@ -40,6 +40,9 @@ struct TrainGear {
 struct TrainMesh {
   std::string gear_a, gear_b;  // gear_a drives in the drive-flank sign convention
   MeshSpec mesh;
+  // Layout (lateral DOF only): direction of the line of centres from gear a's axis to gear b's,
+  // rad about +z from +x. Default 0: every mesh along +x (an unfolded planar layout).
+  double center_line_angle = 0.0;
   std::string Name() const { return gear_a + "-" + gear_b; }
 };
 

@@ -30,6 +30,21 @@ struct CraigBamptonBasis {
   std::string message;
 };
 
+// The lowest `modes` fixed-interface modes of the DOF `interior` (every other DOF held):
+// K_ii phi = w^2 M_ii phi, M_ii-normalised, ascending, as columns over the full DOF (zero outside
+// the interior). The eigensolver choice is CraigBampton's.
+struct FixedInterfaceModeSet {
+  CraigBamptonStatus status = CraigBamptonStatus::kSuccess;
+  Eigen::MatrixXd shapes;  // full DOF x modes
+  Eigen::VectorXd omega2;  // rad^2/s^2
+  bool sparse_eigensolver = false;
+  std::string message;
+};
+FixedInterfaceModeSet FixedInterfaceModes(const Eigen::SparseMatrix<double>& K,
+                                          const Eigen::SparseMatrix<double>& M,
+                                          const std::vector<int>& interior, int modes,
+                                          const ReductionOptions& options = {});
+
 CraigBamptonBasis CraigBampton(const Eigen::SparseMatrix<double>& K,
                                const Eigen::SparseMatrix<double>& M,
                                const std::vector<int>& boundary, int modes,

@@ -1,0 +1,80 @@
+#include "gearnvh/nvh/train_campbell.h"
+
+#include <cmath>
+#include <string>
+
+namespace gearnvh {
+
+std::vector<OrderLine> TrainOrderLines(const TrainSpec& spec, const GearTrain& train) {
+  const TrainTopology& topo = train.topology;
+  const double w_in = std::abs(topo.bodies[static_cast<size_t>(topo.input_body)].speed);
+  std::vector<OrderLine> lines;
+  for (const TrainBody& body : topo.bodies) {
+    if (body.kind == BodyKind::kShaft)
+      lines.push_back({body.name + " 1x", std::abs(body.speed) / w_in});
+  }
+  for (const TrainMeshModel& mesh : train.meshes) {
+    const double ratio = std::abs(topo.bodies[static_cast<size_t>(mesh.body_a)].speed) / w_in;
+    const int z = spec.gears[static_cast<size_t>(mesh.gear_a)].gear.teeth;
+    for (int h = 1; h <= 3; ++h) {
+      lines.push_back({"mesh " + mesh.name + " " + std::to_string(h) + "x", h * z * ratio});
+    }
+  }
+  return lines;
+}
+
+LinearRotorModel LinearisedTrain(const TrainStructure& s, const TrainReducedModel& reduced,
+                                 const GearTrain& train) {
+  LinearRotorModel r;
+  r.M = reduced.M;
+  r.K = reduced.K;
+  r.C = reduced.C;
+  r.G = reduced.G;
+  for (size_t i = 0; i < reduced.v_drive.size(); ++i) {
+    const Eigen::MatrixXd vv = reduced.v_drive[i] * reduced.v_drive[i].transpose();
+    r.K += s.mean_stiffness[i] * vv;
+    r.C += s.mesh_damping[i] * vv;
+  }
+  const Eigen::MatrixXd& T = reduced.recovery;
+  // Kinetic-energy matrix of each DOF class of the physical model (torsional, lateral incl. tilts,
+  // axial), in reduced coordinates, as LinearisedRotor does for the pair.
+  const std::vector<std::vector<int>> classes{{kThz}, {kUx, kUy, kThx, kThy}, {kUz}};
+  for (size_t c = 0; c < classes.size(); ++c) {
+    auto in_class = [&](Eigen::Index dof) {
+      const int d = static_cast<int>(dof % 6);
+      for (int nd : classes[c]) {
+        if (d == nd) return true;
+      }
+      return false;
+    };
+    std::vector<Eigen::Triplet<double>> entries;
+    for (int outer = 0; outer < s.M.outerSize(); ++outer) {
+      for (Eigen::SparseMatrix<double>::InnerIterator it(s.M, outer); it; ++it) {
+        if (in_class(it.row()) && in_class(it.col())) {
+          entries.emplace_back(it.row(), it.col(), it.value());
+        }
+      }
+    }
+    Eigen::SparseMatrix<double> Mc(s.dofs, s.dofs);
+    Mc.setFromTriplets(entries.begin(), entries.end());
+    r.class_mass[c] = T.transpose() * (Mc * T);
+  }
+  for (size_t g = 0; g < s.gear_node.size(); ++g) {
+    const int node = s.gear_node[g];
+    const int body = train.topology.gear_body[g];
+    const double spin = train.topology.bodies[static_cast<size_t>(body)].speed > 0.0 ? 1.0 : -1.0;
+    r.disks.push_back(
+        {T.row(TrainStructure::Dof(node, kUx)), T.row(TrainStructure::Dof(node, kUy)), spin});
+  }
+  return r;
+}
+
+CampbellData TrainCampbell(const TrainSpec& spec, const GearTrain& train,
+                           const TrainStructure& structure, const TrainReducedModel& reduced,
+                           const std::vector<double>& input_speeds,
+                           const CampbellOptions& options) {
+  return ComputeCampbell(LinearisedTrain(structure, reduced, train), input_speeds,
+                         TrainOrderLines(spec, train), options);
+}
+
+}  // namespace gearnvh
