@@ -184,10 +184,11 @@ render::LinePlot PhaseFigure(const OperatingPointAnalysis& op, long cycles,
     orbit.y.push_back(1e3 * samples[i].te_rate);
   }
   p.series.push_back(std::move(orbit));
-  render::Series section{"Poincaré section (every " + Count(base_period_cycles, "mesh cycle", "mesh cycles") + ")",
-                         {},
-                         {},
-                         render::Series::Style::kPoints};
+  render::Series section{
+      "Poincaré section (every " + Count(base_period_cycles, "mesh cycle", "mesh cycles") + ")",
+      {},
+      {},
+      render::Series::Style::kPoints};
   section.color = 3;
   section.width = 6.0;
   const double T = op.tables.mesh_period;

@@ -6,10 +6,10 @@
 
 #include <string>
 
+#include "display_units.h"
 #include "gearnvh/model/component_model.h"
 #include "gearnvh/nvh/atlas.h"
 #include "gearnvh/render/plots.h"
-#include "display_units.h"
 #include "operating_point.h"
 #include "speed_sweep.h"
 
