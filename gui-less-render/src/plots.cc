@@ -23,6 +23,7 @@
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
 #include <vtkSmartPointer.h>
+#include <vtkStringArray.h>
 #include <vtkTable.h>
 #include <vtkTextProperty.h>
 #include <vtkUnsignedCharArray.h>
@@ -30,6 +31,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <limits>
 #include <mutex>
@@ -45,22 +47,81 @@ namespace {
 
 std::mutex g_render_mutex;
 
-// Text at data coordinates of a chart, drawn after the chart has laid out its axes and legend.
-// Labels are placed (layout.h) so they overlap neither each other, the legend nor the point
-// markers; one that has no free place is left out.
+// Paints before the chart: fits the title and the axis titles to the image (their fonts shrink
+// until they fit, down to 8 pt), draws the title centred in a band at the top, and gives the chart
+// the rest of the image, so no title is clipped at small sizes.
+class TitleBand : public vtkContextItem {
+ public:
+  static TitleBand* New();
+  vtkTypeMacro(TitleBand, vtkContextItem);
+  vtkChartXY* chart = nullptr;
+  std::string title;
+  DrawnLayout* layout = nullptr;
+
+  bool Paint(vtkContext2D* painter) override {
+    const double w = GetScene()->GetSceneWidth(), h = GetScene()->GetSceneHeight();
+    layout->image = {0.0, 0.0, w, h};
+    double band = 12.0;
+    if (!title.empty()) {
+      vtkNew<vtkTextProperty> prop;
+      prop->SetColor(0.0, 0.0, 0.0);
+      prop->SetJustificationToLeft();
+      prop->SetVerticalJustificationToBottom();
+      float b[4] = {0, 0, 0, 0};
+      for (int size = 20; size >= 8; --size) {
+        prop->SetFontSize(size);
+        painter->ApplyTextProp(prop);
+        painter->ComputeStringBounds(title.c_str(), b);
+        if (b[2] <= w - 20.0) break;
+      }
+      const double x0 = 0.5 * (w - b[2]), y0 = h - 8.0 - b[3];
+      painter->DrawString(static_cast<float>(x0), static_cast<float>(y0), title.c_str());
+      layout->title = {x0, y0, x0 + b[2], y0 + b[3]};
+      band = b[3] + 14.0;
+    }
+    FitAxisTitle(painter, chart->GetAxis(vtkAxis::BOTTOM), w - 60.0);
+    FitAxisTitle(painter, chart->GetAxis(vtkAxis::LEFT), h - band - 70.0);
+    chart->SetSize(vtkRectf(0.0f, 0.0f, static_cast<float>(w), static_cast<float>(h - band)));
+    return true;
+  }
+
+ private:
+  // The axis title's font shrinks until its length (horizontal, whatever the axis' orientation)
+  // is at most `room` px.
+  static void FitAxisTitle(vtkContext2D* painter, vtkAxis* axis, double room) {
+    vtkNew<vtkTextProperty> prop;
+    prop->ShallowCopy(axis->GetTitleProperties());
+    prop->SetOrientation(0.0);
+    float b[4] = {0, 0, 0, 0};
+    int size = 16;
+    for (; size > 8; --size) {
+      prop->SetFontSize(size);
+      painter->ApplyTextProp(prop);
+      painter->ComputeStringBounds(axis->GetTitle().c_str(), b);
+      if (b[2] <= room) break;
+    }
+    axis->GetTitleProperties()->SetFontSize(size);
+  }
+};
+vtkStandardNewMacro(TitleBand);
+
+// Paints after the chart has laid out its axes and legend: text at data coordinates, placed
+// (layout.h) so labels overlap neither each other, the title, the legend nor the point markers
+// (one with no free place is left out), and records the layout (plots.h DrawnLayout).
 class ChartLabels : public vtkContextItem {
  public:
   static ChartLabels* New();
-  vtkTypeMacro(ChartLabels, vtkContextItem) vtkChartXY* chart = nullptr;
+  vtkTypeMacro(ChartLabels, vtkContextItem);
+  vtkChartXY* chart = nullptr;
+  DrawnLayout* layout = nullptr;
   std::vector<TextLabel> labels;
   struct Marker {
     double x, y, size;  // data coordinates, diameter px
   };
   std::vector<Marker> markers;
-  int font_size = 14;
+  int font_size = 13;
 
   bool Paint(vtkContext2D* painter) override {
-    if (chart == nullptr) return true;
     vtkAxis* xa = chart->GetAxis(vtkAxis::BOTTOM);
     vtkAxis* ya = chart->GetAxis(vtkAxis::LEFT);
     const float* x1 = xa->GetPoint1();
@@ -72,27 +133,37 @@ class ChartLabels : public vtkContextItem {
       if (axis->GetLogScaleActive()) v = std::log10(std::max(v, 1e-300));
       return p1 + static_cast<float>((v - lo) / (hi - lo)) * (p2 - p1);
     };
-    painter->GetTextProp()->SetFontSize(font_size);
-    painter->GetTextProp()->SetColor(0.1, 0.1, 0.1);
-    painter->GetTextProp()->SetJustificationToLeft();
-    painter->GetTextProp()->SetVerticalJustificationToBottom();
     const Box area{x1[0], y1[1], x2[0], y2[1]};
+    layout->plot_area = area;
+    layout->labels.clear();
+    layout->legend.reset();
     std::vector<Box> obstacles;
-    if (chart->GetShowLegend()) {
+    if (layout->title.x1 > layout->title.x0) obstacles.push_back(layout->title);
+    if (chart->GetShowLegend() && chart->GetLegend() != nullptr) {
       const vtkRectf r = chart->GetLegend()->GetBoundingRect(painter);
-      obstacles.push_back({r.GetX(), r.GetY(), r.GetX() + r.GetWidth(), r.GetY() + r.GetHeight()});
+      layout->legend = Box{r.GetX(), r.GetY(), r.GetX() + r.GetWidth(), r.GetY() + r.GetHeight()};
+      obstacles.push_back(*layout->legend);
     }
     for (const Marker& m : markers) {
       const double px = map(xa, m.x, x1[0], x2[0]), py = map(ya, m.y, y1[1], y2[1]);
       const double half = 0.5 * m.size + 1.0;
       obstacles.push_back({px - half, py - half, px + half, py + half});
     }
+    painter->GetTextProp()->SetFontSize(font_size);
+    painter->GetTextProp()->SetColor(0.1, 0.1, 0.1);
+    painter->GetTextProp()->SetOrientation(0.0);
+    painter->GetTextProp()->SetJustificationToLeft();
+    painter->GetTextProp()->SetVerticalJustificationToBottom();
     std::vector<LabelRequest> requests;
     std::vector<const TextLabel*> shown;
+    int outside = 0;
     for (const TextLabel& l : labels) {
       const float px = map(xa, l.x, x1[0], x2[0]);
       const float py = map(ya, l.y, y1[1], y2[1]);
-      if (px < x1[0] || px > x2[0] || py < y1[1] || py > y2[1]) continue;
+      if (!(px >= x1[0] && px <= x2[0] && py >= y1[1] && py <= y2[1])) {
+        ++outside;
+        continue;
+      }
       float bounds[4] = {0, 0, 0, 0};
       painter->ComputeStringBounds(l.text.c_str(), bounds);
       requests.push_back({px, py, bounds[2], bounds[3]});
@@ -103,15 +174,53 @@ class ChartLabels : public vtkContextItem {
     double gap = 4.0;
     for (const Marker& m : markers) gap = std::max(gap, 0.5 * m.size + 2.0);
     const std::vector<std::optional<Box>> placed = PlaceLabels(requests, area, obstacles, gap);
+    layout->labels_dropped = outside;
     for (size_t i = 0; i < placed.size(); ++i) {
-      if (!placed[i]) continue;
+      if (!placed[i]) {
+        ++layout->labels_dropped;
+        continue;
+      }
       painter->DrawString(static_cast<float>(placed[i]->x0), static_cast<float>(placed[i]->y0),
                           shown[i]->text.c_str());
+      layout->labels.push_back(*placed[i]);
     }
+    layout->text.clear();
+    if (layout->title.x1 > layout->title.x0) layout->text.push_back(layout->title);
+    if (layout->legend) layout->text.push_back(*layout->legend);
+    layout->text.insert(layout->text.end(), layout->labels.begin(), layout->labels.end());
     return true;
   }
 };
 vtkStandardNewMacro(ChartLabels);
+
+// The title band before the chart, the labels (and the layout record) after it.
+void AddLayoutItems(vtkContextView* view, vtkChartXY* chart, const std::string& title,
+                    DrawnLayout* layout, vtkSmartPointer<ChartLabels>& labels) {
+  vtkNew<TitleBand> band;
+  band->chart = chart;
+  band->title = title;
+  band->layout = layout;
+  view->GetScene()->AddItem(band);
+  chart->SetAutoSize(false);
+  view->GetScene()->AddItem(chart);
+  labels = vtkSmartPointer<ChartLabels>::New();
+  labels->chart = chart;
+  labels->layout = layout;
+  view->GetScene()->AddItem(labels);
+}
+
+// Custom ticks for a log axis drawn in log10 units: positions log10(t), labels t.
+void SetLogTicks(vtkAxis* axis, double lo, double hi) {
+  vtkNew<vtkDoubleArray> positions;
+  vtkNew<vtkStringArray> names;
+  for (double t : LogTicks(lo, hi)) {
+    positions->InsertNextValue(std::log10(t));
+    char text[32];
+    std::snprintf(text, sizeof(text), "%g", t);
+    names->InsertNextValue(text);
+  }
+  axis->SetCustomTickPositions(positions, names);
+}
 
 void StyleAxis(vtkAxis* axis, const std::string& title) {
   axis->SetTitle(title);
@@ -189,9 +298,9 @@ RenderStatus RenderLinePlot(const LinePlot& plot, const ImageOptions& options,
   const std::lock_guard<std::mutex> lock(g_render_mutex);
   vtkNew<vtkContextView> view;
   vtkNew<vtkChartXY> chart;
-  view->GetScene()->AddItem(chart);
-  chart->SetTitle(plot.title);
-  chart->GetTitleProperties()->SetFontSize(20);
+  DrawnLayout layout;
+  vtkSmartPointer<ChartLabels> labels;
+  AddLayoutItems(view, chart, plot.title, &layout, labels);
   StyleAxis(chart->GetAxis(vtkAxis::BOTTOM), plot.x_label);
   StyleAxis(chart->GetAxis(vtkAxis::LEFT), plot.y_label);
   // Ranges: as given, or from the data with a margin (logarithmic in y when asked for, or when
@@ -203,8 +312,12 @@ RenderStatus RenderLinePlot(const LinePlot& plot, const ImageOptions& options,
   }
   vtkAxis* x_axis = chart->GetAxis(vtkAxis::BOTTOM);
   vtkAxis* y_axis = chart->GetAxis(vtkAxis::LEFT);
-  const AxisRange x_range = plot.fixed_x ? AxisRange{plot.x_min, plot.x_max, false}
-                                         : AutoRange(all_x, false, 0.02);
+  std::vector<double> shown_x;  // a log x axis shows the positive x only
+  for (double v : all_x) {
+    if (!plot.log_x || v > 0.0) shown_x.push_back(v);
+  }
+  const AxisRange x_range = plot.fixed_x ? AxisRange{plot.x_min, plot.x_max, plot.log_x}
+                                         : AutoRange(shown_x, plot.log_x, 0.02, 0.0);
   AxisRange y_range = plot.fixed_y ? AxisRange{plot.y_min, plot.y_max, plot.log_y}
                                    : AutoRange(all_y, plot.log_y || plot.auto_log_y);
   if (plot.log_y && !y_range.log) {
@@ -239,6 +352,7 @@ RenderStatus RenderLinePlot(const LinePlot& plot, const ImageOptions& options,
     }
   }
   if (log_y) y_axis->SetLogScale(true);
+  if (x_range.log) x_axis->SetLogScale(true);
   x_axis->SetUnscaledRange(x_range.min, x_range.max);
   x_axis->SetBehavior(vtkAxis::FIXED);
   y_axis->SetUnscaledRange(y_range.min, y_range.max);
@@ -256,8 +370,8 @@ RenderStatus RenderLinePlot(const LinePlot& plot, const ImageOptions& options,
     ys->SetName(s.label.empty() ? ("series " + std::to_string(i)).c_str() : s.label.c_str());
     for (size_t k = 0; k < s.x.size(); ++k) {
       // Log axes cannot show non-positive values; NaN breaks are drawn as gaps by VTK.
-      const double y =
-          log_y && !(s.y[k] > 0.0) ? std::numeric_limits<double>::quiet_NaN() : s.y[k];
+      const bool hidden = (log_y && !(s.y[k] > 0.0)) || (x_range.log && !(s.x[k] > 0.0));
+      const double y = hidden ? std::numeric_limits<double>::quiet_NaN() : s.y[k];
       xs->InsertNextValue(s.x[k]);
       ys->InsertNextValue(y);
     }
@@ -289,18 +403,14 @@ RenderStatus RenderLinePlot(const LinePlot& plot, const ImageOptions& options,
   chart->GetLegend()->SetLabelSize(13);
   chart->GetLegend()->SetHorizontalAlignment(vtkChartLegend::RIGHT);
   chart->GetLegend()->SetVerticalAlignment(vtkChartLegend::TOP);
-  if (!plot.labels.empty()) {
-    vtkNew<ChartLabels> labels;
-    labels->chart = chart;
-    labels->labels = plot.labels;
-    for (const Series& s : plot.series) {
-      if (s.style != Series::Style::kPoints) continue;
-      for (size_t k = 0; k < s.x.size(); ++k) labels->markers.push_back({s.x[k], s.y[k], s.width});
-    }
-    view->GetScene()->AddItem(labels);
-    return WriteView(view, options, png_path);
+  labels->labels = plot.labels;
+  for (const Series& s : plot.series) {
+    if (s.style != Series::Style::kPoints) continue;
+    for (size_t k = 0; k < s.x.size(); ++k) labels->markers.push_back({s.x[k], s.y[k], s.width});
   }
-  return WriteView(view, options, png_path);
+  RenderStatus status = WriteView(view, options, png_path);
+  if (status.ok) status.layout = layout;
+  return status;
 }
 
 RenderStatus RenderHeatMap(const HeatMap& map, const ImageOptions& options,
@@ -313,8 +423,17 @@ RenderStatus RenderHeatMap(const HeatMap& map, const ImageOptions& options,
   const std::lock_guard<std::mutex> lock(g_render_mutex);
   vtkNew<vtkImageData> image;
   image->SetDimensions(map.nx, map.ny, 1);
-  const double dx = (map.x_max - map.x_min) / map.nx, dy = (map.y_max - map.y_min) / map.ny;
-  image->SetOrigin(map.x_min, map.y_min, 0.0);
+  if ((map.log_x && !(map.x_min > 0.0)) || (map.log_y && !(map.y_min > 0.0))) {
+    throw std::invalid_argument("heat map '" + map.title + "': a log axis needs a positive range");
+  }
+  // A log axis is drawn in log10 units (the cells of a geometric grid are then even) with ticks
+  // labelled in the values.
+  const double x_lo = map.log_x ? std::log10(map.x_min) : map.x_min;
+  const double x_hi = map.log_x ? std::log10(map.x_max) : map.x_max;
+  const double y_lo = map.log_y ? std::log10(map.y_min) : map.y_min;
+  const double y_hi = map.log_y ? std::log10(map.y_max) : map.y_max;
+  const double dx = (x_hi - x_lo) / map.nx, dy = (y_hi - y_lo) / map.ny;
+  image->SetOrigin(x_lo, y_lo, 0.0);
   image->SetSpacing(dx, dy, 1.0);
   image->AllocateScalars(VTK_DOUBLE, 1);
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
@@ -348,24 +467,32 @@ RenderStatus RenderHeatMap(const HeatMap& map, const ImageOptions& options,
   }
   vtkNew<vtkContextView> view;
   vtkNew<vtkChartHistogram2D> chart;
-  view->GetScene()->AddItem(chart);
+  DrawnLayout layout;
+  vtkSmartPointer<ChartLabels> labels;
+  // The colour bar's own title overprints its tick labels (VTK 9.1): the value label goes into
+  // the figure's title instead.
+  AddLayoutItems(
+      view, chart,
+      map.value_label.empty() ? map.title : map.title + " (colour: " + map.value_label + ")",
+      &layout, labels);
   chart->SetInputData(image);
   chart->SetTransferFunction(colors);
-  chart->SetTitle(map.title);
-  chart->GetTitleProperties()->SetFontSize(20);
   StyleAxis(chart->GetAxis(vtkAxis::BOTTOM), map.x_label);
   StyleAxis(chart->GetAxis(vtkAxis::LEFT), map.y_label);
   chart->GetAxis(vtkAxis::BOTTOM)->SetGridVisible(false);
   chart->GetAxis(vtkAxis::LEFT)->SetGridVisible(false);
-  chart->GetAxis(vtkAxis::BOTTOM)->SetRange(map.x_min, map.x_max);
+  chart->GetAxis(vtkAxis::BOTTOM)->SetRange(x_lo, x_hi);
   chart->GetAxis(vtkAxis::BOTTOM)->SetBehavior(vtkAxis::FIXED);
-  chart->GetAxis(vtkAxis::LEFT)->SetRange(map.y_min, map.y_max);
+  chart->GetAxis(vtkAxis::LEFT)->SetRange(y_lo, y_hi);
   chart->GetAxis(vtkAxis::LEFT)->SetBehavior(vtkAxis::FIXED);
+  if (map.log_x) SetLogTicks(chart->GetAxis(vtkAxis::BOTTOM), map.x_min, map.x_max);
+  if (map.log_y) SetLogTicks(chart->GetAxis(vtkAxis::LEFT), map.y_min, map.y_max);
   if (auto* legend = vtkColorLegend::SafeDownCast(chart->GetLegend()); legend != nullptr) {
-    legend->SetTitle(map.value_label);
     legend->SetLabelSize(13);
   }
-  return WriteView(view, options, png_path);
+  RenderStatus status = WriteView(view, options, png_path);
+  if (status.ok) status.layout = layout;
+  return status;
 }
 
 std::array<std::uint8_t, 3> RgbImage::Pixel(int x, int y) const {
