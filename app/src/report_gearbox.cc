@@ -18,9 +18,12 @@
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/periodic_orbit.h"
 #include "operating_point.h"
+#include "order_tracks.h"
 #include "report_figures.h"
 #include "report_page.h"
+#include "report_sweep_figures.h"
 #include "sweep_command.h"
+#include "tiers_command.h"
 #include "uff_export.h"
 
 namespace gearnvh::app {
@@ -72,6 +75,37 @@ std::string MeshCycleCsv(const ComponentModel& model) {
     os << model.cycle.tau[k] << ',' << model.cycle.drive[k].stiffness << ','
        << model.cycle.back[k].stiffness << ',' << model.cycle.drive[k].lste << ','
        << model.cycle.drive[k].loaded_pairs << '\n';
+  }
+  return os.str();
+}
+
+// speed_rpm, then per track its amplitude in m and in dB re 1 µm (empty where the run failed).
+std::string OrderTracksCsv(const std::vector<OrderTrack>& mesh,
+                           const std::vector<OrderTrack>& sidebands) {
+  std::vector<const OrderTrack*> all;
+  for (const auto* tracks : {&mesh, &sidebands}) {
+    for (const OrderTrack& t : *tracks) all.push_back(&t);
+  }
+  std::ostringstream os;
+  os.precision(12);
+  os << "speed_rpm";
+  for (const OrderTrack* t : all) {
+    os << ",\"" << t->label << " (pinion order " << t->pinion_order << ") m\",\"" << t->label
+       << " dB re 1 µm\"";
+  }
+  os << '\n';
+  const size_t n = all.empty() ? 0 : all.front()->speed_rpm.size();
+  for (size_t i = 0; i < n; ++i) {
+    os << all.front()->speed_rpm[i];
+    for (const OrderTrack* t : all) {
+      const double a = t->amplitude_m[i];
+      if (a > 0.0) {
+        os << ',' << a << ',' << 20.0 * std::log10(a / 1e-6);
+      } else {
+        os << ",,";
+      }
+    }
+    os << '\n';
   }
   return os.str();
 }
@@ -139,6 +173,9 @@ GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::
       base_period = 1;  // incommensurate orders: section every mesh cycle
     }
 
+    const std::vector<OrderTrack> mesh_tracks = MeshOrderTracks(spec, sweep, 3);
+    const std::vector<OrderTrack> sideband_tracks = LargestSidebandTracks(spec, sweep, 2);
+
     // Images.
     if (stage) stage("images");
     render::ImageOptions image;
@@ -170,12 +207,39 @@ GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::
              Count(base_period, "mesh cycle", "mesh cycles") + ").",
          render::RenderLinePlot(PhaseFigure(op, 256, base_period), image,
                                 (folder / "phase.png").string()));
+    if (!op.sidebands.empty()) {
+      draw(
+          "sidebands.png",
+          "Mesh harmonics (blue) and shaft-order sidebands (vermillion) of the TE at the operating "
+          "point, dB re 1 µm; f1, f2: pinion and wheel shaft frequencies, fm: mesh frequency "
+          "(the full list: sidebands.csv and the table below).",
+          render::RenderLinePlot(SidebandStemFigure(op), image,
+                                 (folder / "sidebands.png").string()));
+    }
     draw("campbell.png",
-         "Natural frequencies of the linearised tier (drive contact, mean mesh stiffness, "
-         "gyroscopic terms) against speed; dashed: order lines; points: critical speeds.",
+         "Every tracked natural frequency of the linearised tier (drive contact, mean mesh "
+         "stiffness, gyroscopic terms) against speed, coloured and labelled by mode type (number "
+         "from 1; fw/bw: forward/backward whirl); dashed: order lines; points: critical speeds.",
          render::RenderLinePlot(CampbellFigure(sweep), image, (folder / "campbell.png").string()));
+    draw("order_tracks.png",
+         "Order tracks from the speed sweep: TE amplitude at mesh orders 1-3 (solid) and the two "
+         "largest shaft-order sidebands (dashed), dB re 1 µm (order_tracks.csv).",
+         render::RenderLinePlot(OrderTrackFigure(mesh_tracks, sideband_tracks), image,
+                                (folder / "order_tracks.png").string()));
     draw("waterfall.png", "Steady-state TE spectra across the speed sweep (pinion orders).",
          render::RenderHeatMap(WaterfallFigure(sweep), image, (folder / "waterfall.png").string()));
+    std::vector<TierPoint> tier_points;
+    for (const ReducedModel& t : tiers) {
+      tier_points.push_back({t.name, static_cast<double>(StateDimension(model, t)),
+                             TierFrequencyError(t, modes), t.compliance_error_vs_full});
+    }
+    draw("tiers.png",
+         "Modal tiers: the largest error of the lowest natural frequencies and the static mesh "
+         "compliance error against the state dimension the solver integrates (run-time cost "
+         "per tier: `gearnvh tiers`).",
+         render::RenderLinePlot(
+             TierComparisonFigure("state dimension (-)", tier_points, "static compliance error"),
+             image, (folder / "tiers.png").string()));
     draw("mesh_stiffness.png", "Mesh stiffness over one mesh cycle (potential energy method).",
          render::RenderLinePlot(MeshStiffnessFigure(model), small,
                                 (folder / "mesh_stiffness.png").string()));
@@ -206,6 +270,8 @@ GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::
     WriteFileAtomically((folder / "campbell.csv").string(), CampbellCsv(sweep));
     WriteFileAtomically((folder / "critical_speeds.csv").string(), CriticalCsv(sweep));
     WriteFileAtomically((folder / "waterfall.csv").string(), WaterfallCsv(sweep));
+    WriteFileAtomically((folder / "order_tracks.csv").string(),
+                        OrderTracksCsv(mesh_tracks, sideband_tracks));
     if (atlas) WriteFileAtomically((folder / "atlas.csv").string(), AtlasCsv(*atlas, spec));
     std::vector<UffFunction> uff = OperatingPointUff(spec, op);
     for (UffFunction& f : SweepOrderTracksUff(spec, sweep, static_cast<int>(uff.size()) + 1)) {

@@ -98,14 +98,17 @@ std::string GearboxPage(const GearboxPageInput& in) {
   if (sweep.campbell.critical_speeds.empty()) {
     h << "<tr><td colspan=\"4\">none in the sweep range</td></tr>\n";
   }
-  h << "</table>\n<h2>Mesh harmonics and sidebands of the TE</h2>\n<table>\n<tr><th>line</th>"
+  h << "</table>\n<h2>Mesh harmonics and sidebands of the TE</h2>\n<p>Plotted as stems in "
+       "<a href=\"#sidebands.png\">sidebands.png</a>.</p>\n<details><summary>"
+    << op.sidebands.size()
+    << " lines</summary>\n<table>\n<tr><th>line</th>"
        "<th>frequency (Hz)</th><th>amplitude (µm)</th><th>dB re 1 µm</th></tr>\n";
   for (const SidebandRow& row : op.sidebands) {
     h << "<tr><td>" << Html(row.label) << "</td><td>" << Number(row.frequency_hz, 6) << "</td><td>"
       << Number(row.amplitude * 1e6) << "</td><td>" << Number(row.db_re_1um, 4) << "</td></tr>\n";
   }
   if (op.sidebands.empty()) h << "<tr><td colspan=\"4\">too few recorded cycles</td></tr>\n";
-  h << "</table>\n";
+  h << "</table>\n</details>\n";
   if (const AtlasResult* atlas = in.atlas) {
     std::map<std::string, int> regimes;
     for (const AtlasCell& c : atlas->cells) ++regimes[c.ok ? c.regime : "failed"];
@@ -117,12 +120,13 @@ std::string GearboxPage(const GearboxPageInput& in) {
   }
   h << "<h2>Figures</h2>\n";
   for (const ReportFigure& f : in.figures) {
-    h << "<figure><img src=\"" << f.file << "\" alt=\"" << Html(f.caption) << "\"><figcaption>"
-      << Html(f.caption) << "</figcaption></figure>\n";
+    h << "<figure id=\"" << f.file << "\"><img src=\"" << f.file << "\" alt=\"" << Html(f.caption)
+      << "\"><figcaption>" << Html(f.caption) << "</figcaption></figure>\n";
   }
   h << "<h2>Data</h2>\n<p>";
-  for (const char* csv : {"te_trace.csv", "spectrum.csv", "sidebands.csv", "mesh_cycle.csv",
-                          "campbell.csv", "critical_speeds.csv", "waterfall.csv", "results.uff"}) {
+  for (const char* csv :
+       {"te_trace.csv", "spectrum.csv", "sidebands.csv", "mesh_cycle.csv", "campbell.csv",
+        "critical_speeds.csv", "waterfall.csv", "order_tracks.csv", "results.uff"}) {
     h << "<a href=\"" << csv << "\">" << csv << "</a> ";
   }
   h << "</p>\n" << kImageCheckScript << "\n</body></html>\n";

@@ -26,20 +26,24 @@ std::vector<std::optional<Box>> PlaceLabels(const std::vector<LabelRequest>& lab
   std::vector<Box> taken = obstacles;
   for (const LabelRequest& l : labels) {
     const double w = l.width, h = l.height;
-    // Lower-left corners of the candidate boxes.
-    const double candidates[8][2] = {{l.x + gap, l.y + gap},     {l.x - gap - w, l.y + gap},
-                                     {l.x + gap, l.y - gap - h}, {l.x - gap - w, l.y - gap - h},
-                                     {l.x - 0.5 * w, l.y + gap}, {l.x - 0.5 * w, l.y - gap - h},
-                                     {l.x + gap, l.y - 0.5 * h}, {l.x - gap - w, l.y - 0.5 * h}};
     std::optional<Box> placed;
-    for (const auto& c : candidates) {
-      const Box b{c[0], c[1], c[0] + w, c[1] + h};
-      if (!b.Inside(area)) continue;
-      if (std::any_of(taken.begin(), taken.end(), [&](const Box& t) { return b.Overlaps(t); })) {
-        continue;
+    // Rings of candidates at gap, gap + h and gap + 2 h from the point: the nearest free one.
+    for (int ring = 0; ring < 3 && !placed; ++ring) {
+      const double d = gap + ring * h;
+      // Lower-left corners of the candidate boxes.
+      const double candidates[8][2] = {{l.x + d, l.y + d},       {l.x - d - w, l.y + d},
+                                       {l.x + d, l.y - d - h},   {l.x - d - w, l.y - d - h},
+                                       {l.x - 0.5 * w, l.y + d}, {l.x - 0.5 * w, l.y - d - h},
+                                       {l.x + d, l.y - 0.5 * h}, {l.x - d - w, l.y - 0.5 * h}};
+      for (const auto& c : candidates) {
+        const Box b{c[0], c[1], c[0] + w, c[1] + h};
+        if (!b.Inside(area)) continue;
+        if (std::any_of(taken.begin(), taken.end(), [&](const Box& t) { return b.Overlaps(t); })) {
+          continue;
+        }
+        placed = b;
+        break;
       }
-      placed = b;
-      break;
     }
     if (placed) taken.push_back(*placed);
     out.push_back(placed);

@@ -36,7 +36,9 @@
 #include <limits>
 #include <mutex>
 #include <random>
+#include <set>
 #include <stdexcept>
+#include <utility>
 
 #include "gearnvh/render/display.h"
 #include "gearnvh/render/layout.h"
@@ -119,6 +121,11 @@ class ChartLabels : public vtkContextItem {
     double x, y, size;  // data coordinates, diameter px
   };
   std::vector<Marker> markers;
+  struct Polyline {
+    const std::vector<double>*x, *y;  // data coordinates; non-finite points break the line
+    double width;                     // px
+  };
+  std::vector<Polyline> lines;
   int font_size = 13;
 
   bool Paint(vtkContext2D* painter) override {
@@ -149,6 +156,10 @@ class ChartLabels : public vtkContextItem {
       const double half = 0.5 * m.size + 1.0;
       obstacles.push_back({px - half, py - half, px + half, py + half});
     }
+    AddLineObstacles(xa, ya, area, map, obstacles);
+    layout->data_marks.assign(obstacles.begin() + (layout->legend ? 1 : 0) +
+                                  (layout->title.x1 > layout->title.x0 ? 1 : 0),
+                              obstacles.end());
     painter->GetTextProp()->SetFontSize(font_size);
     painter->GetTextProp()->SetColor(0.1, 0.1, 0.1);
     painter->GetTextProp()->SetOrientation(0.0);
@@ -189,6 +200,49 @@ class ChartLabels : public vtkContextItem {
     if (layout->legend) layout->text.push_back(*layout->legend);
     layout->text.insert(layout->text.end(), layout->labels.begin(), layout->labels.end());
     return true;
+  }
+
+ private:
+  // The drawn lines as obstacles too: small boxes every 3 px along each segment inside the plot
+  // area (one per 3 px cell), as wide as the line.
+  template <typename Map>
+  void AddLineObstacles(vtkAxis* xa, vtkAxis* ya, const Box& area, const Map& map,
+                        std::vector<Box>& obstacles) const {
+    std::set<std::pair<long, long>> cells;
+    for (const Polyline& l : lines) {
+      const double half = 0.5 * l.width + 1.0;
+      auto add = [&](double cx, double cy) {
+        if (cx < area.x0 || cx > area.x1 || cy < area.y0 || cy > area.y1) return;
+        if (!cells.insert({std::lround(cx / 3.0), std::lround(cy / 3.0)}).second) return;
+        obstacles.push_back({cx - half, cy - half, cx + half, cy + half});
+      };
+      bool have_previous = false;
+      double px0 = 0.0, py0 = 0.0;
+      for (size_t k = 0; k < l.x->size(); ++k) {
+        const double xv = (*l.x)[k], yv = (*l.y)[k];
+        const bool drawable = std::isfinite(xv) && std::isfinite(yv) &&
+                              (!xa->GetLogScaleActive() || xv > 0.0) &&
+                              (!ya->GetLogScaleActive() || yv > 0.0);
+        if (!drawable) {
+          have_previous = false;
+          continue;
+        }
+        const double px = map(xa, xv, area.x0, area.x1), py = map(ya, yv, area.y0, area.y1);
+        if (!have_previous) {
+          add(px, py);
+        } else {
+          const double length = std::hypot(px - px0, py - py0);
+          const int steps = static_cast<int>(std::min(1e5, length / 3.0)) + 1;
+          for (int j = 1; j <= steps; ++j) {
+            const double t = static_cast<double>(j) / steps;
+            add(px0 + t * (px - px0), py0 + t * (py - py0));
+          }
+        }
+        px0 = px;
+        py0 = py;
+        have_previous = true;
+      }
+    }
   }
 };
 vtkStandardNewMacro(ChartLabels);
@@ -333,7 +387,12 @@ RenderStatus RenderLinePlot(const LinePlot& plot, const ImageOptions& options,
   // The legend (top right) must not hide data: estimate its box from its entries and the font
   // (13 pt labels, one line each, a 10 px frame) against the plot area (the image less about
   // 110 x 120 px of titles and tick labels), and raise the y range until the data clear it.
-  if (plot.legend) {
+  // A legend of more than three entries goes outside, right of the plot area; a smaller one sits
+  // inside, top right.
+  int legend_entries = 0;
+  for (const Series& s : plot.series) legend_entries += s.label.empty() || s.x.empty() ? 0 : 1;
+  const bool legend_inside = legend_entries <= 3;
+  if (plot.legend && legend_inside) {
     int entries = 0;
     size_t longest = 0;
     for (const Series& s : plot.series) {
@@ -403,9 +462,13 @@ RenderStatus RenderLinePlot(const LinePlot& plot, const ImageOptions& options,
   chart->GetLegend()->SetLabelSize(13);
   chart->GetLegend()->SetHorizontalAlignment(vtkChartLegend::RIGHT);
   chart->GetLegend()->SetVerticalAlignment(vtkChartLegend::TOP);
+  chart->GetLegend()->SetInline(legend_inside);
   labels->labels = plot.labels;
   for (const Series& s : plot.series) {
-    if (s.style != Series::Style::kPoints) continue;
+    if (s.style != Series::Style::kPoints) {
+      labels->lines.push_back({&s.x, &s.y, s.width});
+      continue;
+    }
     for (size_t k = 0; k < s.x.size(); ++k) labels->markers.push_back({s.x[k], s.y[k], s.width});
   }
   RenderStatus status = WriteView(view, options, png_path);

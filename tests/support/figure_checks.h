@@ -1,7 +1,7 @@
 // Checks on a drawn figure (render::RenderStatus and its PNG): the text boxes the drawing reports
-// overlap no other and lie inside the image, the plot area lies inside the image, and there is
-// ink inside the plot area. With GEARNVH_KEEP_FIGURES=DIR set, the PNG is also copied into DIR
-// (to look at what the tests drew).
+// overlap no other and lie inside the image, no data label covers a marker or a line, the plot area
+// lies inside the image, and there is ink inside the plot area. With GEARNVH_KEEP_FIGURES=DIR set,
+// the PNG is also copied into DIR (to look at what the tests drew).
 #pragma once
 
 #include <catch2/catch.hpp>
@@ -39,7 +39,12 @@ inline void CheckDrawnFigure(const render::RenderStatus& status, const std::stri
     CHECK(a.Inside(l.image));
     for (size_t j = i + 1; j < l.text.size(); ++j) CHECK_FALSE(a.Overlaps(l.text[j]));
   }
-  for (const render::Box& b : l.labels) CHECK(b.Inside(l.plot_area));
+  long covered = 0;
+  for (const render::Box& b : l.labels) {
+    CHECK(b.Inside(l.plot_area));
+    for (const render::Box& d : l.data_marks) covered += b.Overlaps(d) ? 1 : 0;
+  }
+  CHECK(covered == 0);
   // Ink inside the plot area (the layout's y runs up, the image's rows down); the white
   // background differs from every palette colour by more than the tolerance.
   const render::RgbImage img = render::ReadPng(png);

@@ -22,9 +22,10 @@ struct LabelRequest {
 
 // Places labels in request order (callers put the important ones first): each at the first of
 // eight positions around its point (right-above, left-above, right-below, left-below, above,
-// below, right, left; `gap` px away) that lies inside `area` and overlaps neither a label placed
-// before nor any of `obstacles` (the legend, data markers). A label with no free position is
-// dropped (nullopt): a missing label is better than an unreadable one.
+// below, right, left; `gap` px away, then gap + h and gap + 2 h away for a label h px high) that
+// lies inside `area` and overlaps neither a label placed before nor any of `obstacles` (the
+// legend, data markers, samples of the lines). A label with no free position is dropped
+// (nullopt): a missing label is better than an unreadable one.
 std::vector<std::optional<Box>> PlaceLabels(const std::vector<LabelRequest>& labels,
                                             const Box& area, const std::vector<Box>& obstacles,
                                             double gap = 4.0);

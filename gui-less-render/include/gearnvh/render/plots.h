@@ -72,14 +72,15 @@ struct HeatMap {
 
 // Where a drawing put its text, in pixels of the image (origin bottom left, y up, as VTK's scene).
 // The boxes in `text` (the title, the legend, the data labels drawn) overlap no other and lie
-// inside `image`; the tests check this on every figure.
+// inside `image`, and no label overlaps `data_marks`; the tests check this on every figure.
 struct DrawnLayout {
   Box image, plot_area;
-  Box title;                  // empty box (all 0) when there is no title
-  std::optional<Box> legend;  // the series legend or the colour bar
-  std::vector<Box> labels;    // the data labels that were drawn
-  int labels_dropped = 0;     // data labels with no free place (left out)
-  std::vector<Box> text;      // title, legend and labels together
+  Box title;                    // empty box (all 0) when there is no title
+  std::optional<Box> legend;    // the series legend or the colour bar
+  std::vector<Box> labels;      // the data labels that were drawn
+  std::vector<Box> data_marks;  // point markers and samples along the drawn lines (line plots)
+  int labels_dropped = 0;       // data labels with no free place (left out)
+  std::vector<Box> text;        // title, legend and labels together
 };
 
 struct RenderStatus {
