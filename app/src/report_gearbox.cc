@@ -224,8 +224,8 @@ GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::
     draw("order_tracks.png",
          "Order tracks from the speed sweep: TE amplitude at mesh orders 1-3 (solid) and the two "
          "largest shaft-order sidebands (dashed), dB re 1 µm (order_tracks.csv).",
-         render::RenderLinePlot(OrderTrackFigure(mesh_tracks, sideband_tracks), image,
-                                (folder / "order_tracks.png").string()));
+         render::RenderLinePlot(OrderTrackFigure(mesh_tracks, sideband_tracks, sweep.speed_scale),
+                                image, (folder / "order_tracks.png").string()));
     draw("waterfall.png", "Steady-state TE spectra across the speed sweep (pinion orders).",
          render::RenderHeatMap(WaterfallFigure(sweep), image, (folder / "waterfall.png").string()));
     std::vector<TierPoint> tier_points;

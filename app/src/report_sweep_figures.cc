@@ -51,6 +51,21 @@ bool LastPoint(const std::vector<double>& x, const std::vector<double>& y, doubl
   return false;
 }
 
+// The outer cell edges of a grid on `range` (values times `scale`): half a step beyond the ends,
+// the step a difference (linear) or a ratio (log).
+void CellEdges(const SweepRange& range, double scale, double& lo, double& hi) {
+  const double from = range.from * scale, to = range.to * scale;
+  if (range.scale == AxisScale::kLog) {
+    const double ratio = range.points > 1 ? std::pow(to / from, 1.0 / (range.points - 1)) : 2.0;
+    lo = from / std::sqrt(ratio);
+    hi = to * std::sqrt(ratio);
+    return;
+  }
+  const double step = range.points > 1 ? (to - from) / (range.points - 1) : 1.0;
+  lo = from - 0.5 * step;
+  hi = to + 0.5 * step;
+}
+
 }  // namespace
 
 render::LinePlot CampbellFigure(const SpeedSweepResult& sweep) {
@@ -108,6 +123,7 @@ render::LinePlot CampbellFigure(const SpeedSweepResult& sweep) {
     p.series.push_back(std::move(s));
   }
   if (!critical.x.empty()) p.series.push_back(std::move(critical));
+  p.log_x = sweep.speed_scale == AxisScale::kLog;
   if (rpm.size() >= 2) {
     p.fixed_x = true;
     p.x_min = rpm.front();
@@ -126,10 +142,10 @@ render::HeatMap WaterfallFigure(const SpeedSweepResult& sweep) {
   h.ny = static_cast<int>(sweep.points.size());
   h.x_min = -0.5 * sweep.order_step;
   h.x_max = (h.nx - 0.5) * sweep.order_step;
-  const double first = sweep.points.front().speed_rpm, last = sweep.points.back().speed_rpm;
-  const double step = h.ny > 1 ? (last - first) / (h.ny - 1) : 1.0;
-  h.y_min = first - 0.5 * step;
-  h.y_max = last + 0.5 * step;
+  const SweepRange rpm{sweep.points.front().speed_rpm, sweep.points.back().speed_rpm, h.ny,
+                       sweep.speed_scale};
+  CellEdges(rpm, 1.0, h.y_min, h.y_max);
+  h.log_y = sweep.speed_scale == AxisScale::kLog;
   for (const SpeedPoint& s : sweep.points) {
     for (int k = 0; k < h.nx; ++k) {
       const double a = s.ok && k < static_cast<int>(s.amplitude_m.size()) ? s.amplitude_m[k] : kNan;
@@ -148,8 +164,9 @@ render::HeatMap WaterfallFigure(const SpeedSweepResult& sweep) {
 }
 
 render::LinePlot OrderTrackFigure(const std::vector<OrderTrack>& mesh,
-                                  const std::vector<OrderTrack>& sidebands) {
+                                  const std::vector<OrderTrack>& sidebands, AxisScale speed_scale) {
   render::LinePlot p;
+  p.log_x = speed_scale == AxisScale::kLog;
   p.title = "Order tracks: TE at the mesh orders and the largest sidebands";
   p.x_label = "pinion speed (rpm)";
   p.y_label = "TE amplitude (dB re 1 µm)";
@@ -190,14 +207,10 @@ render::HeatMap AtlasFigure(const AtlasResult& atlas, bool lyapunov, const Gearb
   h.diverging = lyapunov;
   h.nx = atlas.x.range.points;
   h.ny = atlas.y.range.points;
-  auto edges = [](const AtlasAxis& a, double scale, double& lo, double& hi) {
-    const double from = a.range.from * scale, to = a.range.to * scale;
-    const double step = a.range.points > 1 ? (to - from) / (a.range.points - 1) : 1.0;
-    lo = from - 0.5 * step;
-    hi = to + 0.5 * step;
-  };
-  edges(atlas.x, ax.scale, h.x_min, h.x_max);
-  edges(atlas.y, ay.scale, h.y_min, h.y_max);
+  CellEdges(atlas.x.range, ax.scale, h.x_min, h.x_max);
+  CellEdges(atlas.y.range, ay.scale, h.y_min, h.y_max);
+  h.log_x = atlas.x.range.scale == AxisScale::kLog;
+  h.log_y = atlas.y.range.scale == AxisScale::kLog;
   // Strongly attracting cells (contact, lambda T_f ~ -60) would wash out the chaotic ones
   // (~ +3): the exponent is saturated at -max(largest positive value, 1).
   double positive = 1.0;

@@ -17,13 +17,14 @@ namespace gearnvh::app {
 // Every tracked mode, coloured by its type (torsional, lateral, axial, coupled) and labelled at
 // its end with its number (from 1), type and whirl; order lines dashed and labelled; critical
 // speeds marked and labelled in rpm with their mode. Logarithmic frequency axis, so the shaft
-// orders are not squeezed under the mesh orders.
+// orders are not squeezed under the mesh orders; the speed axis has the sweep's scale.
 render::LinePlot CampbellFigure(const SpeedSweepResult& sweep);
 render::HeatMap WaterfallFigure(const SpeedSweepResult& sweep);
 // Amplitude in dB re 1 µm against speed: `mesh` solid, `sidebands` dashed. Values more than
 // 100 dB under the strongest are left out (an exact solution's rounding noise lies far below).
+// The speed axis has the sweep's scale.
 render::LinePlot OrderTrackFigure(const std::vector<OrderTrack>& mesh,
-                                  const std::vector<OrderTrack>& sidebands);
+                                  const std::vector<OrderTrack>& sidebands, AxisScale speed_scale);
 // lyapunov: lambda per forcing cycle (diverging map); otherwise log10 of the rattle index.
 // Axes in the units of `spec` (the gearbox file), logarithmic where the atlas axis is.
 render::HeatMap AtlasFigure(const AtlasResult& atlas, bool lyapunov, const GearboxSpec& spec);

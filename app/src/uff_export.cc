@@ -126,6 +126,9 @@ std::vector<UffFunction> SweepOrderTracksUff(const GearboxSpec& spec, const Spee
     if (!p.ok) return out;
   }
   if (sweep.points.size() < 2 || !(sweep.order_step > 0.0)) return out;
+  // Dataset 58 is written with an even abscissa: a log-spaced sweep has none (its tracks are in
+  // the report's order_tracks.csv).
+  if (sweep.speed_scale == AxisScale::kLog) return out;
   const double step = sweep.points[1].speed_rpm - sweep.points[0].speed_rpm;
   int k = 0;
   for (const OrderTrack& track : MeshOrderTracks(spec, sweep, 3)) {

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 
+#include "config/gearbox_loader.h"
 #include "gearnvh/render/plots.h"
 #include "order_tracks.h"
 #include "report_sweep_figures.h"
@@ -84,8 +85,8 @@ TEST_CASE("order-track figure: dB re 1 µm against rpm, drawn apart at both size
           "[app][figures][render]") {
   const SpeedSweepResult sweep = KnownSweep();
   const GearboxSpec spec = Pair20x40();
-  const render::LinePlot plot =
-      OrderTrackFigure(MeshOrderTracks(spec, sweep, 3), LargestSidebandTracks(spec, sweep, 2));
+  const render::LinePlot plot = OrderTrackFigure(
+      MeshOrderTracks(spec, sweep, 3), LargestSidebandTracks(spec, sweep, 2), AxisScale::kLinear);
   CHECK(plot.y_label == "TE amplitude (dB re 1 µm)");
   REQUIRE(plot.series.size() == 5);
   // 1 µm x 1.5 at resonance: 20 log10(1.5) = 3.52 dB.
@@ -194,6 +195,47 @@ TEST_CASE("tier comparison: log cost and error, every tier named, apart at both 
     const render::RenderStatus s = render::RenderLinePlot(plot, {w, h, 100.0}, png);
     testing::CheckDrawnFigure(s, png, w, h, 100);
     CHECK(s.layout.labels.size() == 4);
+  }
+}
+
+TEST_CASE("atlas figure: a log torque axis has geometric cell edges and draws at both sizes",
+          "[app][figures][render]") {
+  const GearboxSpec spec =
+      config::LoadGearboxFile(std::string(GEARNVH_EXAMPLES_DIR) + "/idle_rattle.yaml");
+  REQUIRE(spec.analysis.atlas_y->range.scale == AxisScale::kLog);
+  AtlasResult atlas;
+  atlas.x = *spec.analysis.atlas_x;
+  atlas.y = *spec.analysis.atlas_y;
+  atlas.x.range.points = 5;
+  atlas.y.range.points = 6;
+  for (int iy = 0; iy < 6; ++iy) {
+    for (int ix = 0; ix < 5; ++ix) {
+      AtlasCell c;
+      c.ix = ix;
+      c.iy = iy;
+      c.ok = !(ix == 2 && iy == 3);  // one failed cell: grey
+      c.lyapunov_per_forcing_cycle = iy < 2 ? 0.5 + 0.1 * ix : -3.0;
+      c.rattle_index = std::pow(10.0, -6.0 + iy);
+      atlas.cells.push_back(c);
+    }
+  }
+  const render::HeatMap map = AtlasFigure(atlas, false, spec);
+  CHECK(map.log_y);
+  CHECK_FALSE(map.log_x);
+  // 0.05..5 N m in 6 points: ratio q = 100^(1/5); the edges lie half a step (sqrt q) beyond the
+  // ends (1e-12 relative: a few roundings).
+  const double q = std::pow(100.0, 0.2);
+  CHECK(map.y_min == Approx(0.05 / std::sqrt(q)).epsilon(1e-12));
+  CHECK(map.y_max == Approx(5.0 * std::sqrt(q)).epsilon(1e-12));
+  CHECK(map.values[1 * 5 + 0] == Approx(-5.0).epsilon(1e-12));  // log10 of the rattle index
+  CHECK(std::isnan(map.values[3 * 5 + 2]));
+  const testing::TempDir dir;
+  for (const auto& [w, h] : kSizes) {
+    const std::string png = (dir.path() / ("atlas" + std::to_string(w) + ".png")).string();
+    const render::RenderStatus s = render::RenderHeatMap(map, {w, h, 100.0}, png);
+    const double area = (s.layout.plot_area.x1 - s.layout.plot_area.x0) *
+                        (s.layout.plot_area.y1 - s.layout.plot_area.y0);
+    testing::CheckDrawnFigure(s, png, w, h, static_cast<long>(0.5 * area));
   }
 }
 
