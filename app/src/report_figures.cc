@@ -66,9 +66,11 @@ render::LinePlot SidebandStemFigure(const OperatingPointAnalysis& op) {
   double top = -std::numeric_limits<double>::infinity();
   for (const SidebandRow& r : op.sidebands) top = std::max(top, r.db_re_1um);
   if (!std::isfinite(top)) return p;
-  // A harmonic's label has no sideband sign ("2 fm"; sidebands read "1 fm + 1 f1").
+  // A mesh harmonic's label names fm without a sideband sign ("2 fm"; sidebands read
+  // "1 fm + 1 f1", shaft orders "2 f1").
   auto harmonic = [](const SidebandRow& r) {
-    return r.label.find(" + ") == std::string::npos && r.label.find(" - ") == std::string::npos;
+    return r.label.find("fm") != std::string::npos && r.label.find(" + ") == std::string::npos &&
+           r.label.find(" - ") == std::string::npos;
   };
   std::vector<const SidebandRow*> shown;
   double bottom = top;
@@ -80,8 +82,9 @@ render::LinePlot SidebandStemFigure(const OperatingPointAnalysis& op) {
   const double base = bottom - 5.0;
   // Stems as one line per kind broken by NaN (drawn as gaps), heads as points.
   render::Series stems[2] = {{"", {}, {}}, {"", {}, {}}};
-  render::Series heads[2] = {{"mesh harmonics", {}, {}, render::Series::Style::kPoints},
-                             {"shaft-order sidebands", {}, {}, render::Series::Style::kPoints}};
+  render::Series heads[2] = {
+      {"mesh harmonics", {}, {}, render::Series::Style::kPoints},
+      {"shaft orders and sidebands", {}, {}, render::Series::Style::kPoints}};
   for (const SidebandRow* r : shown) {
     const int kind = harmonic(*r) ? 0 : 1;
     stems[kind].x.insert(stems[kind].x.end(), {r->frequency_hz, r->frequency_hz, r->frequency_hz});

@@ -16,7 +16,8 @@ namespace gearnvh::app {
 
 render::LinePlot SpectrumFigure(const OperatingPointAnalysis& op);
 // The sideband table as stems: each mesh harmonic and shaft-order sideband (op.sidebands) within
-// 80 dB of the strongest, in dB re 1 µm at its frequency; the strongest labelled, harmonics first.
+// 80 dB of the strongest, in dB re 1 µm at its frequency (mesh harmonics apart from shaft orders
+// and sidebands); the strongest labelled, mesh harmonics first.
 render::LinePlot SidebandStemFigure(const OperatingPointAnalysis& op);
 // The last `cycles` recorded mesh cycles.
 render::LinePlot TeTraceFigure(const OperatingPointAnalysis& op, long cycles);

@@ -210,7 +210,8 @@ GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::
     if (!op.sidebands.empty()) {
       draw(
           "sidebands.png",
-          "Mesh harmonics (blue) and shaft-order sidebands (vermillion) of the TE at the operating "
+          "Mesh harmonics (blue), shaft orders and shaft-order sidebands (vermillion) of the TE at "
+          "the operating "
           "point, dB re 1 µm; f1, f2: pinion and wheel shaft frequencies, fm: mesh frequency "
           "(the full list: sidebands.csv and the table below).",
           render::RenderLinePlot(SidebandStemFigure(op), image,
@@ -254,9 +255,12 @@ GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::
            "attracting cells are saturated at minus the largest positive value).",
            render::RenderHeatMap(AtlasFigure(*atlas, true, spec), image,
                                  (folder / "atlas_lyapunov.png").string()));
-      draw("atlas_rattle.png", "Rattle index: impact energy per forcing cycle (log10 J).",
-           render::RenderHeatMap(AtlasFigure(*atlas, false, spec), image,
-                                 (folder / "atlas_rattle.png").string()));
+      draw(
+          "atlas_rattle.png",
+          "Rattle index: impact energy per forcing cycle (log10 J); grey: no impact (index 0) or a "
+          "failed cell.",
+          render::RenderHeatMap(AtlasFigure(*atlas, false, spec), image,
+                                (folder / "atlas_rattle.png").string()));
     }
 
     // Data files.
