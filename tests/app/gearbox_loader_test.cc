@@ -205,7 +205,7 @@ TEST_CASE("scale: log spaces sweep and atlas points geometrically, linear stays 
   }
 }
 
-TEST_CASE("scale: log needs a positive range; an unknown scale is named", "[loader]") {
+TEST_CASE("scale: log needs a positive range, and an unknown scale is named", "[loader]") {
   try {
     ScaledAxes("", "0 N*m", "log");
     FAIL("accepted a log axis from 0");
