@@ -187,12 +187,23 @@ const std::map<std::string, Dimension>& AtlasParameters() {
 }
 
 SweepRange ReadRange(Reader& r, const YAML::Node& n, const std::string& path, Dimension d) {
-  return SweepRange{r.Quantity(n, path, "from", d), r.Quantity(n, path, "to", d),
-                    r.Integer(n, path, "points")};
+  SweepRange range{r.Quantity(n, path, "from", d), r.Quantity(n, path, "to", d),
+                   r.Integer(n, path, "points")};
+  if (r.Child(n, path, "scale", false).IsDefined()) {  // else the struct's default (linear)
+    const std::string scale = r.String(n, path, "scale");
+    if (scale == "linear") {
+      range.scale = AxisScale::kLinear;
+    } else if (scale == "log") {
+      range.scale = AxisScale::kLog;
+    } else {
+      r.Fail(Join(path, "scale"), n["scale"], "'" + scale + "'", "must be linear or log");
+    }
+  }
+  return range;
 }
 
 AtlasAxis ReadAtlasAxis(Reader& r, const YAML::Node& n, const std::string& path) {
-  r.ExpectMap(n, path, {"parameter", "from", "to", "points"});
+  r.ExpectMap(n, path, {"parameter", "from", "to", "points", "scale"});
   AtlasAxis axis;
   axis.parameter = r.String(n, path, "parameter");
   const auto& params = AtlasParameters();
@@ -297,7 +308,7 @@ AnalysisSpec ReadAnalysis(Reader& r, const YAML::Node& root) {
   an.cycles = r.Integer(a, "analysis", "cycles", an.cycles);
   an.transient_cycles = r.Integer(a, "analysis", "transient_cycles", an.transient_cycles);
   if (const YAML::Node s = r.Child(a, "analysis", "speed_sweep", false); s.IsDefined()) {
-    r.ExpectMap(s, "analysis.speed_sweep", {"from", "to", "points"});
+    r.ExpectMap(s, "analysis.speed_sweep", {"from", "to", "points", "scale"});
     an.speed_sweep = ReadRange(r, s, "analysis.speed_sweep", Dimension::kAngularSpeed);
   }
   if (const YAML::Node at = r.Child(a, "analysis", "atlas", false); at.IsDefined()) {

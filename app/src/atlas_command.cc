@@ -33,6 +33,7 @@ nlohmann::json AxisJson(const AtlasAxis& a) {
           {"from", a.range.from},
           {"to", a.range.to},
           {"points", a.range.points},
+          {"scale", a.range.scale == AxisScale::kLog ? "log" : "linear"},
           {"values_si", values}};
 }
 

@@ -208,6 +208,14 @@ int Main(int argc, char** argv) {
       ->check(CLI::Range(0L, 100000000L));
   tiers_cmd->add_option("--out", tiers.out, "Write tiers.json, tiers.csv and tiers.png");
   tiers_cmd->add_flag("--json", tiers.json, "Print the comparison as one JSON document");
+#ifdef GEARNVH_HAVE_RENDER
+  tiers_cmd->add_option("--width", tiers.width, "tiers.png width in pixels (default 1200)")
+      ->check(CLI::Range(200, 8000));
+  tiers_cmd->add_option("--height", tiers.height, "tiers.png height in pixels (default 800)")
+      ->check(CLI::Range(150, 8000));
+  tiers_cmd->add_option("--dpi", tiers.dpi, "tiers.png DPI, scales the fonts (default 100)")
+      ->check(CLI::Range(36.0, 600.0));
+#endif
 
 #ifdef GEARNVH_HAVE_RENDER
   gearnvh::app::ReportCommandOptions report;

@@ -15,84 +15,6 @@ constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 
 }  // namespace
 
-render::LinePlot CampbellFigure(const SpeedSweepResult& sweep) {
-  render::LinePlot p;
-  p.title = "Campbell diagram";
-  p.x_label = "pinion speed (rpm)";
-  p.y_label = "frequency (Hz)";
-  std::vector<double> rpm;
-  for (const SpeedPoint& s : sweep.points) rpm.push_back(s.speed_rpm);
-  double top = 0.0;
-  for (size_t k = 0; k < sweep.campbell.frequency_hz.size(); ++k) {
-    render::Series s{k == 0 ? "tracked modes" : "", rpm, sweep.campbell.frequency_hz[k]};
-    s.color = 0;
-    for (double f : s.y) {
-      if (std::isfinite(f)) top = std::max(top, f);
-    }
-    p.series.push_back(std::move(s));
-  }
-  int color = 1;
-  for (const OrderLine& o : sweep.campbell.orders) {
-    render::Series s{o.label, {}, {}, render::Series::Style::kDashed};
-    s.color = color++;
-    if (color == 3) ++color;  // vermillion is kept for the critical speeds
-    s.width = 1.5;
-    for (double r : rpm) {
-      s.x.push_back(r);
-      s.y.push_back(o.order * r / 60.0);
-    }
-    p.series.push_back(std::move(s));
-  }
-  render::Series critical{"critical speeds", {}, {}, render::Series::Style::kPoints};
-  critical.color = 3;
-  critical.width = 9.0;
-  for (const CriticalSpeed& c : sweep.campbell.critical_speeds) {
-    critical.x.push_back(c.speed_rpm);
-    critical.y.push_back(c.frequency_hz);
-    p.labels.push_back({c.speed_rpm, c.frequency_hz, fmt::format("{:.0f} rpm", c.speed_rpm)});
-  }
-  if (!critical.x.empty()) p.series.push_back(std::move(critical));
-  if (!rpm.empty() && top > 0.0) {
-    p.fixed_x = p.fixed_y = true;
-    p.x_min = rpm.front();
-    p.x_max = rpm.back();
-    p.y_min = 0.0;
-    p.y_max = 1.1 * top;
-  }
-  return p;
-}
-
-render::HeatMap WaterfallFigure(const SpeedSweepResult& sweep) {
-  render::HeatMap h;
-  h.title = "Waterfall: dynamic TE amplitude";
-  h.x_label = "pinion order (-)";
-  h.y_label = "pinion speed (rpm)";
-  h.value_label = "dB re 1 µm";
-  h.nx = std::max(1, sweep.order_bins);
-  h.ny = static_cast<int>(sweep.points.size());
-  h.x_min = -0.5 * sweep.order_step;
-  h.x_max = (h.nx - 0.5) * sweep.order_step;
-  const double first = sweep.points.front().speed_rpm, last = sweep.points.back().speed_rpm;
-  const double step = h.ny > 1 ? (last - first) / (h.ny - 1) : 1.0;
-  h.y_min = first - 0.5 * step;
-  h.y_max = last + 0.5 * step;
-  for (const SpeedPoint& s : sweep.points) {
-    for (int k = 0; k < h.nx; ++k) {
-      const double a = s.ok && k < static_cast<int>(s.amplitude_m.size()) ? s.amplitude_m[k] : kNan;
-      h.values.push_back(a > 0.0 ? 20.0 * std::log10(a / 1e-6) : kNan);
-    }
-  }
-  // Keep the colour range on the signal: floor 60 dB below the strongest line.
-  double top = -1e300;
-  for (double v : h.values) {
-    if (std::isfinite(v)) top = std::max(top, v);
-  }
-  for (double& v : h.values) {
-    if (std::isfinite(v)) v = std::max(v, top - 60.0);
-  }
-  return h;
-}
-
 render::LinePlot SpectrumFigure(const OperatingPointAnalysis& op) {
   render::LinePlot p;
   p.title = "Dynamic TE spectrum, mesh harmonics and sidebands";
@@ -132,6 +54,63 @@ render::LinePlot SpectrumFigure(const OperatingPointAnalysis& op) {
     p.y_min = std::max(1e-6 * top, 1e-12);
     p.y_max = 3.0 * top;
   }
+  return p;
+}
+
+render::LinePlot SidebandStemFigure(const OperatingPointAnalysis& op) {
+  render::LinePlot p;
+  p.title = "Mesh harmonics and shaft-order sidebands of the TE";
+  p.x_label = "frequency (Hz)";
+  p.y_label = "TE amplitude (dB re 1 µm)";
+  p.auto_log_y = false;
+  double top = -std::numeric_limits<double>::infinity();
+  for (const SidebandRow& r : op.sidebands) top = std::max(top, r.db_re_1um);
+  if (!std::isfinite(top)) return p;
+  // A mesh harmonic's label names fm without a sideband sign ("2 fm"; sidebands read
+  // "1 fm + 1 f1", shaft orders "2 f1").
+  auto harmonic = [](const SidebandRow& r) {
+    return r.label.find("fm") != std::string::npos && r.label.find(" + ") == std::string::npos &&
+           r.label.find(" - ") == std::string::npos;
+  };
+  std::vector<const SidebandRow*> shown;
+  double bottom = top;
+  for (const SidebandRow& r : op.sidebands) {
+    if (!(r.db_re_1um >= top - 80.0)) continue;
+    shown.push_back(&r);
+    bottom = std::min(bottom, r.db_re_1um);
+  }
+  const double base = bottom - 5.0;
+  // Stems as one line per kind broken by NaN (drawn as gaps), heads as points.
+  render::Series stems[2] = {{"", {}, {}}, {"", {}, {}}};
+  render::Series heads[2] = {
+      {"mesh harmonics", {}, {}, render::Series::Style::kPoints},
+      {"shaft orders and sidebands", {}, {}, render::Series::Style::kPoints}};
+  for (const SidebandRow* r : shown) {
+    const int kind = harmonic(*r) ? 0 : 1;
+    stems[kind].x.insert(stems[kind].x.end(), {r->frequency_hz, r->frequency_hz, r->frequency_hz});
+    stems[kind].y.insert(stems[kind].y.end(), {base, r->db_re_1um, kNan});
+    heads[kind].x.push_back(r->frequency_hz);
+    heads[kind].y.push_back(r->db_re_1um);
+  }
+  for (int kind = 0; kind < 2; ++kind) {
+    stems[kind].color = heads[kind].color = kind == 0 ? 0 : 3;
+    stems[kind].width = 2.0;
+    heads[kind].width = 8.0;
+    if (!heads[kind].x.empty()) p.series.push_back(stems[kind]);
+  }
+  for (int kind = 0; kind < 2; ++kind) {
+    if (!heads[kind].x.empty()) p.series.push_back(heads[kind]);
+  }
+  std::stable_sort(shown.begin(), shown.end(), [&](const SidebandRow* a, const SidebandRow* b) {
+    if (harmonic(*a) != harmonic(*b)) return harmonic(*a);
+    return a->amplitude > b->amplitude;
+  });
+  for (size_t i = 0; i < shown.size() && i < 12; ++i) {
+    p.labels.push_back({shown[i]->frequency_hz, shown[i]->db_re_1um, shown[i]->label});
+  }
+  p.fixed_y = true;
+  p.y_min = base;
+  p.y_max = top + 0.12 * (top - base) + 3.0;  // room for the labels above the strongest
   return p;
 }
 
@@ -184,10 +163,11 @@ render::LinePlot PhaseFigure(const OperatingPointAnalysis& op, long cycles,
     orbit.y.push_back(1e3 * samples[i].te_rate);
   }
   p.series.push_back(std::move(orbit));
-  render::Series section{"Poincaré section (every " + Count(base_period_cycles, "mesh cycle", "mesh cycles") + ")",
-                         {},
-                         {},
-                         render::Series::Style::kPoints};
+  render::Series section{
+      "Poincaré section (every " + Count(base_period_cycles, "mesh cycle", "mesh cycles") + ")",
+      {},
+      {},
+      render::Series::Style::kPoints};
   section.color = 3;
   section.width = 6.0;
   const double T = op.tables.mesh_period;
@@ -252,43 +232,6 @@ render::LinePlot LsteFigure(const ComponentModel& model) {
   for (const FlankSample& f : model.cycle.drive) s.y.push_back(f.lste * 1e6);
   p.series = {s};
   return p;
-}
-
-render::HeatMap AtlasFigure(const AtlasResult& atlas, bool lyapunov, const GearboxSpec& spec) {
-  render::HeatMap h;
-  const DisplayAxis ax = DisplayAxisFor(atlas.x.parameter, spec);
-  const DisplayAxis ay = DisplayAxisFor(atlas.y.parameter, spec);
-  h.title = lyapunov ? "Chaos atlas: largest Lyapunov exponent" : "Chaos atlas: rattle index";
-  h.x_label = ax.label;
-  h.y_label = ay.label;
-  h.value_label = lyapunov ? "per forcing cycle" : "log10 J per forcing cycle";
-  h.diverging = lyapunov;
-  h.nx = atlas.x.range.points;
-  h.ny = atlas.y.range.points;
-  auto edges = [](const AtlasAxis& a, double scale, double& lo, double& hi) {
-    const double from = a.range.from * scale, to = a.range.to * scale;
-    const double step = a.range.points > 1 ? (to - from) / (a.range.points - 1) : 1.0;
-    lo = from - 0.5 * step;
-    hi = to + 0.5 * step;
-  };
-  edges(atlas.x, ax.scale, h.x_min, h.x_max);
-  edges(atlas.y, ay.scale, h.y_min, h.y_max);
-  // Strongly attracting cells (contact, lambda T_f ~ -60) would wash out the chaotic ones
-  // (~ +3): the exponent is saturated at -max(largest positive value, 1).
-  double positive = 1.0;
-  for (const AtlasCell& c : atlas.cells) {
-    if (c.ok) positive = std::max(positive, c.lyapunov_per_forcing_cycle);
-  }
-  for (const AtlasCell& c : atlas.cells) {
-    if (!c.ok) {
-      h.values.push_back(kNan);
-    } else if (lyapunov) {
-      h.values.push_back(std::max(c.lyapunov_per_forcing_cycle, -positive));
-    } else {
-      h.values.push_back(c.rattle_index > 0.0 ? std::log10(c.rattle_index) : kNan);
-    }
-  }
-  return h;
 }
 
 }  // namespace gearnvh::app

@@ -79,11 +79,9 @@ SpeedSweepResult RunSpeedSweep(const GearboxSpec& spec, const ComponentModel& mo
   }
   const SweepRange& range = spec.analysis.speed_sweep;
   std::vector<double> speeds(static_cast<size_t>(range.points));
-  for (int i = 0; i < range.points; ++i) {
-    speeds[static_cast<size_t>(i)] =
-        range.from + (range.to - range.from) * i / std::max(1, range.points - 1);
-  }
+  for (int i = 0; i < range.points; ++i) speeds[static_cast<size_t>(i)] = range.Point(i);
   SpeedSweepResult result;
+  result.speed_scale = range.scale;
   const int z1 = spec.pinion.teeth;
   result.order_step = static_cast<double>(z1) / static_cast<double>(options.waterfall_cycles);
   const double max_order = options.max_order > 0.0 ? options.max_order : 3.5 * z1;

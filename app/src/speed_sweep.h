@@ -40,6 +40,7 @@ struct SpeedSweepResult {
   std::vector<SpeedPoint> points;
   double order_step = 0.0;  // pinion orders per waterfall bin (z1 / waterfall_cycles)
   int order_bins = 0;
+  AxisScale speed_scale = AxisScale::kLinear;  // of analysis.speed_sweep
   CampbellData campbell;
 };
 

@@ -20,6 +20,7 @@
 #include "output_folder.h"
 #ifdef GEARNVH_HAVE_RENDER
 #include "gearnvh/render/plots.h"
+#include "report_sweep_figures.h"
 #endif
 
 namespace gearnvh::app {
@@ -43,8 +44,8 @@ TierRow RunTier(const GearboxSpec& spec, const ComponentModel& model, const Redu
     const double f = reduced.natural_frequencies_hz[k];
     row.frequencies_hz.push_back(f);
     row.frequency_errors.push_back(ClosestRelativeError(f, full.frequencies_hz));
-    row.max_frequency_error = std::max(row.max_frequency_error, row.frequency_errors.back());
   }
+  row.max_frequency_error = TierFrequencyError(reduced, full);
   const OperatingPointAnalysis op = AnalyseOperatingPoint(spec, model, reduced.tier, solver);
   const SolverSummary& s = op.result.summary;
   if (s.status != SolverStatus::kSuccess) throw std::runtime_error(label + ": " + s.message);
@@ -67,6 +68,15 @@ double RelativeDifference(double a, double b) {
 }
 
 }  // namespace
+
+double TierFrequencyError(const ReducedModel& reduced, const ModalSummary& full) {
+  double worst = 0.0;
+  for (size_t k = 0; k < reduced.natural_frequencies_hz.size() && k < 6; ++k) {
+    worst = std::max(worst,
+                     ClosestRelativeError(reduced.natural_frequencies_hz[k], full.frequencies_hz));
+  }
+  return worst;
+}
 
 TiersComparison CompareTiers(const GearboxSpec& spec, const SolverOptions& solver,
                              const TiersProgress& progress) {
@@ -170,23 +180,14 @@ int RunTiers(const TiersCommandOptions& options) {
       out->Write("tiers.csv", csv.str());
       out->Write("tiers.json", doc.dump(1) + "\n");
 #ifdef GEARNVH_HAVE_RENDER
-      render::LinePlot plot;
-      plot.title = "Modal tiers: accuracy against cost";
-      plot.x_label = "cost (us per mesh cycle)";
-      plot.y_label = "largest error of the lowest natural frequencies (%)";
-      plot.log_y = true;
-      plot.legend = false;
-      render::Series points{"", {}, {}, render::Series::Style::kPoints};
-      points.width = 10.0;
+      std::vector<TierPoint> points;
       for (const TierRow& r : rows) {
-        const double error = std::max(100.0 * r.max_frequency_error, 1e-12);
-        points.x.push_back(r.us_per_cycle);
-        points.y.push_back(error);
-        plot.labels.push_back({r.us_per_cycle, error, r.name});
+        points.push_back({r.name, r.us_per_cycle, r.max_frequency_error, r.te_rms_difference});
       }
-      plot.series = {points};
-      const render::RenderStatus status =
-          render::RenderLinePlot(plot, {}, (dir / "tiers.png").string());
+      const render::LinePlot plot = TierComparisonFigure("cost (µs per mesh cycle)", points,
+                                                         "TE RMS difference to the finest tier");
+      const render::RenderStatus status = render::RenderLinePlot(
+          plot, {options.width, options.height, options.dpi}, (dir / "tiers.png").string());
       if (!status.ok) throw std::runtime_error("tiers.png: " + status.message);
 #endif
       out->Commit();
@@ -194,8 +195,8 @@ int RunTiers(const TiersCommandOptions& options) {
     if (options.json) {
       std::cout << doc.dump(1) << "\n";
     } else {
-      fmt::print("{}  ({}): modal tiers against the full FE model ({} DOF), {} each\n",
-                 spec.name, options.file, comparison.full_fe_dof,
+      fmt::print("{}  ({}): modal tiers against the full FE model ({} DOF), {} each\n", spec.name,
+                 options.file, comparison.full_fe_dof,
                  Count(solver.cycles, "mesh cycle", "mesh cycles"));
       fmt::print("  {:<20} {:>4} {:>5} {:>9} {:>10} {:>10} {:>9} {:>10} {:>9} {:>9} {:>9} {:>9}\n",
                  "tier", "DOF", "state", "max df/f", "dg/g", "TE RMS µm", "vs finest", "rattle J",

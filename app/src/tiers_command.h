@@ -1,4 +1,5 @@
-// `gearnvh tiers FILE [--cycles N] [--transient N] [--json] [--out DIR]`: the modal truncation
+// `gearnvh tiers FILE [--cycles N] [--transient N] [--json] [--out DIR] [--width PX]
+// [--height PX] [--dpi DPI]`: the modal truncation
 // levels side by side (tiers 1-5 / N40 full, N20 simple, N20 MTA, N20 MTA + fusion): DOF, state
 // dimension, lowest natural frequencies and their error against the full FE model, static mesh
 // compliance error, TE RMS and rattle index at the operating point and their difference to the
@@ -12,7 +13,9 @@
 #include <string>
 #include <vector>
 
+#include "gearnvh/model/component_model.h"
 #include "gearnvh/model/gearbox_spec.h"
+#include "gearnvh/reduction/reduced_model.h"
 #include "gearnvh/solver/exact_solver.h"
 
 namespace gearnvh::app {
@@ -23,6 +26,8 @@ struct TiersCommandOptions {
   std::optional<long> transient;  // default min(analysis.transient_cycles, 200)
   std::optional<std::string> out;
   bool json = false;
+  int width = 1200, height = 800;  // tiers.png, px
+  double dpi = 100.0;              // tiers.png; scales the fonts
 };
 
 int RunTiers(const TiersCommandOptions& options);
@@ -49,6 +54,10 @@ struct TiersComparison {
   int full_fe_dof = 0;
   nlohmann::json doc;  // the `tiers --json` document without name and file
 };
+
+// The largest relative error of a tier's lowest (up to 6) natural frequencies, each against the
+// closest frequency of the full FE model.
+double TierFrequencyError(const ReducedModel& reduced, const ModalSummary& full);
 
 // (tier being run, tiers in all, its name)
 using TiersProgress = std::function<void(size_t, size_t, const std::string&)>;

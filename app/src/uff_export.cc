@@ -5,6 +5,8 @@
 #include <cmath>
 #include <ctime>
 
+#include "order_tracks.h"
+
 namespace gearnvh::app {
 namespace {
 
@@ -59,13 +61,13 @@ std::string UffDataset58(const UffFunction& f) {
   for (const std::string* id : {&f.id1, &f.id2, &f.id3, &f.id4, &f.id5}) {
     out += Ascii(*id, 80) + "\n";
   }
-  out += fmt::format("{:5d}{:10d}{:5d}{:10d} {:<10}{:10d}{:4d} {:<10}{:10d}{:4d}\n", f.function_type,
-                     f.function_id, 1, 0, Ascii(f.response_name, 10), f.response_node,
-                     f.response_direction, "NONE", 0, 0);
+  out += fmt::format("{:5d}{:10d}{:5d}{:10d} {:<10}{:10d}{:4d} {:<10}{:10d}{:4d}\n",
+                     f.function_type, f.function_id, 1, 0, Ascii(f.response_name, 10),
+                     f.response_node, f.response_direction, "NONE", 0, 0);
   out += fmt::format("{:10d}{:10d}{:10d}{}{}{}\n", 4, f.values.size(), 1, FortranE(f.x_min, 13, 5),
                      FortranE(f.dx, 13, 5), FortranE(f.z_value, 13, 5));
-  out += AxisRecord(f.abscissa) + AxisRecord(f.ordinate) + AxisRecord(f.denominator) +
-         AxisRecord(f.z);
+  out +=
+      AxisRecord(f.abscissa) + AxisRecord(f.ordinate) + AxisRecord(f.denominator) + AxisRecord(f.z);
   for (size_t i = 0; i < f.values.size(); ++i) {
     out += FortranE(f.values[i], 20, 11);
     if (i % 4 == 3 || i + 1 == f.values.size()) out += '\n';
@@ -100,9 +102,9 @@ std::vector<UffFunction> OperatingPointUff(const GearboxSpec& spec,
     out.push_back(std::move(force));
   }
   if (!op.spectrum.amplitude.empty()) {
-    UffFunction s = Base(spec, fmt::format("TE amplitude spectrum, Hann, {} mesh cycles",
-                                           op.sideband_window),
-                         first_id++);
+    UffFunction s =
+        Base(spec, fmt::format("TE amplitude spectrum, Hann, {} mesh cycles", op.sideband_window),
+             first_id++);
     s.function_type = 12;
     s.response_name = "TE";
     s.abscissa = {18, 0, 0, 0, "frequency", "Hz"};
@@ -115,8 +117,8 @@ std::vector<UffFunction> OperatingPointUff(const GearboxSpec& spec,
   return out;
 }
 
-std::vector<UffFunction> SweepOrderTracksUff(const GearboxSpec& spec,
-                                             const SpeedSweepResult& sweep, int first_id) {
+std::vector<UffFunction> SweepOrderTracksUff(const GearboxSpec& spec, const SpeedSweepResult& sweep,
+                                             int first_id) {
   std::vector<UffFunction> out;
   // Even spacing needs every speed: when one failed, no track is written (the sweep reports the
   // failure). Bin k z1 / order_step = k * window cycles lies exactly on the mesh order.
@@ -124,13 +126,17 @@ std::vector<UffFunction> SweepOrderTracksUff(const GearboxSpec& spec,
     if (!p.ok) return out;
   }
   if (sweep.points.size() < 2 || !(sweep.order_step > 0.0)) return out;
+  // Dataset 58 is written with an even abscissa: a log-spaced sweep has none (its tracks are in
+  // the report's order_tracks.csv).
+  if (sweep.speed_scale == AxisScale::kLog) return out;
   const double step = sweep.points[1].speed_rpm - sweep.points[0].speed_rpm;
-  for (int k = 1; k <= 3; ++k) {
-    const double order = static_cast<double>(k) * spec.pinion.teeth;
-    const long bin = std::lround(order / sweep.order_step);
-    UffFunction f = Base(spec, fmt::format("order track: TE at mesh order {} (pinion order {:g})",
-                                           k, order),
-                         first_id++);
+  int k = 0;
+  for (const OrderTrack& track : MeshOrderTracks(spec, sweep, 3)) {
+    ++k;
+    const double order = track.pinion_order;
+    UffFunction f =
+        Base(spec, fmt::format("order track: TE at mesh order {} (pinion order {:g})", k, order),
+             first_id++);
     f.function_type = 12;
     f.response_name = "TE";
     f.abscissa = {19, 0, 0, 0, "pinion speed", "rpm"};
@@ -139,9 +145,8 @@ std::vector<UffFunction> SweepOrderTracksUff(const GearboxSpec& spec,
     f.z_value = order;
     f.x_min = sweep.points.front().speed_rpm;
     f.dx = step;
-    for (const SpeedPoint& p : sweep.points) {
-      f.values.push_back(bin < static_cast<long>(p.amplitude_m.size()) ? p.amplitude_m[bin] : 0.0);
-    }
+    // Every speed succeeded; an order beyond the waterfall's order range reads as 0.
+    for (double a : track.amplitude_m) f.values.push_back(std::isfinite(a) ? a : 0.0);
     out.push_back(std::move(f));
   }
   return out;

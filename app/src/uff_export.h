@@ -48,7 +48,8 @@ std::string UffDataset58(const UffFunction& f);
 std::vector<UffFunction> OperatingPointUff(const GearboxSpec& spec,
                                            const OperatingPointAnalysis& op, int first_id = 1);
 
-// Order tracks of the sweep's waterfall at mesh orders 1..3 (speeds that failed are left out).
+// Order tracks of the sweep's waterfall at mesh orders 1..3 (order_tracks.h); none when a speed
+// failed or the sweep is log-spaced (the dataset's abscissa is even).
 std::vector<UffFunction> SweepOrderTracksUff(const GearboxSpec& spec,
                                              const SpeedSweepResult& sweep, int first_id = 1);
 

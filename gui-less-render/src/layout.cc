@@ -2,9 +2,22 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <initializer_list>
 #include <limits>
+#include <string>
 
 namespace gearnvh::render {
+
+namespace {
+
+std::string TwelveDigits(double v) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.12g", v);
+  return text;
+}
+
+}  // namespace
 
 std::vector<std::optional<Box>> PlaceLabels(const std::vector<LabelRequest>& labels,
                                             const Box& area, const std::vector<Box>& obstacles,
@@ -13,21 +26,24 @@ std::vector<std::optional<Box>> PlaceLabels(const std::vector<LabelRequest>& lab
   std::vector<Box> taken = obstacles;
   for (const LabelRequest& l : labels) {
     const double w = l.width, h = l.height;
-    // Lower-left corners of the candidate boxes.
-    const double candidates[8][2] = {
-        {l.x + gap, l.y + gap},           {l.x - gap - w, l.y + gap},
-        {l.x + gap, l.y - gap - h},       {l.x - gap - w, l.y - gap - h},
-        {l.x - 0.5 * w, l.y + gap},       {l.x - 0.5 * w, l.y - gap - h},
-        {l.x + gap, l.y - 0.5 * h},       {l.x - gap - w, l.y - 0.5 * h}};
     std::optional<Box> placed;
-    for (const auto& c : candidates) {
-      const Box b{c[0], c[1], c[0] + w, c[1] + h};
-      if (!b.Inside(area)) continue;
-      if (std::any_of(taken.begin(), taken.end(), [&](const Box& t) { return b.Overlaps(t); })) {
-        continue;
+    // Rings of candidates at gap, gap + h and gap + 2 h from the point: the nearest free one.
+    for (int ring = 0; ring < 3 && !placed; ++ring) {
+      const double d = gap + ring * h;
+      // Lower-left corners of the candidate boxes.
+      const double candidates[8][2] = {{l.x + d, l.y + d},       {l.x - d - w, l.y + d},
+                                       {l.x + d, l.y - d - h},   {l.x - d - w, l.y - d - h},
+                                       {l.x - 0.5 * w, l.y + d}, {l.x - 0.5 * w, l.y - d - h},
+                                       {l.x + d, l.y - 0.5 * h}, {l.x - d - w, l.y - 0.5 * h}};
+      for (const auto& c : candidates) {
+        const Box b{c[0], c[1], c[0] + w, c[1] + h};
+        if (!b.Inside(area)) continue;
+        if (std::any_of(taken.begin(), taken.end(), [&](const Box& t) { return b.Overlaps(t); })) {
+          continue;
+        }
+        placed = b;
+        break;
       }
-      placed = b;
-      break;
     }
     if (placed) taken.push_back(*placed);
     out.push_back(placed);
@@ -59,15 +75,38 @@ AxisRange AutoRange(const std::vector<double>& values, bool allow_log, double ma
   return {lo - pad, hi + pad, false};
 }
 
+std::vector<double> LogTicks(double lo, double hi) {
+  std::vector<double> out;
+  if (!(lo > 0.0 && hi > lo)) return out;
+  const int first = static_cast<int>(std::floor(std::log10(lo)));
+  const int last = static_cast<int>(std::ceil(std::log10(hi)));
+  auto with = [&](std::initializer_list<double> mantissas) {
+    out.clear();
+    for (int e = first; e <= last; ++e) {
+      for (double m : mantissas) {
+        // Rounded to 12 digits so 3 x 10^-1 prints as 0.3, not 0.30000000000000004.
+        const double t = std::stod(TwelveDigits(m * std::pow(10.0, e)));
+        if (t >= lo * (1.0 - 1e-12) && t <= hi * (1.0 + 1e-12)) out.push_back(t);
+      }
+    }
+  };
+  with({1.0});
+  if (out.size() < 3) with({1.0, 2.0, 5.0});
+  if (out.size() < 2) with({1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0});
+  return out;
+}
+
 AxisRange MakeRoomForLegend(const AxisRange& y, const AxisRange& x, const std::vector<double>& xs,
                             const std::vector<double>& ys, double width, double height) {
   if (!(height > 0.0 && height < 1.0) || !(width > 0.0) || xs.size() != ys.size()) return y;
   auto t = [&y](double v) { return y.log ? std::log10(v) : v; };
   const double lo = t(y.min), hi = t(y.max);
-  const double x_band = x.max - width * (x.max - x.min);
+  auto tx = [&x](double v) { return x.log ? std::log10(v) : v; };
+  const double x_band = tx(x.max) - width * (tx(x.max) - tx(x.min));
   double peak = -std::numeric_limits<double>::infinity();
   for (size_t i = 0; i < xs.size(); ++i) {
-    if (!(xs[i] >= x_band && xs[i] <= x.max) || !std::isfinite(ys[i])) continue;
+    if (x.log && !(xs[i] > 0.0)) continue;
+    if (!(tx(xs[i]) >= x_band && xs[i] <= x.max) || !std::isfinite(ys[i])) continue;
     if (y.log && !(ys[i] > 0.0)) continue;
     peak = std::max(peak, t(ys[i]));
   }

@@ -23,6 +23,7 @@
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
 #include <vtkSmartPointer.h>
+#include <vtkStringArray.h>
 #include <vtkTable.h>
 #include <vtkTextProperty.h>
 #include <vtkUnsignedCharArray.h>
@@ -30,12 +31,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <limits>
 #include <mutex>
 #include <random>
+#include <set>
 #include <stdexcept>
+#include <utility>
 
+#include "chart_items.h"
 #include "gearnvh/render/display.h"
 #include "gearnvh/render/layout.h"
 
@@ -44,74 +49,6 @@ namespace gearnvh::render {
 namespace {
 
 std::mutex g_render_mutex;
-
-// Text at data coordinates of a chart, drawn after the chart has laid out its axes and legend.
-// Labels are placed (layout.h) so they overlap neither each other, the legend nor the point
-// markers; one that has no free place is left out.
-class ChartLabels : public vtkContextItem {
- public:
-  static ChartLabels* New();
-  vtkTypeMacro(ChartLabels, vtkContextItem) vtkChartXY* chart = nullptr;
-  std::vector<TextLabel> labels;
-  struct Marker {
-    double x, y, size;  // data coordinates, diameter px
-  };
-  std::vector<Marker> markers;
-  int font_size = 14;
-
-  bool Paint(vtkContext2D* painter) override {
-    if (chart == nullptr) return true;
-    vtkAxis* xa = chart->GetAxis(vtkAxis::BOTTOM);
-    vtkAxis* ya = chart->GetAxis(vtkAxis::LEFT);
-    const float* x1 = xa->GetPoint1();
-    const float* x2 = xa->GetPoint2();
-    const float* y1 = ya->GetPoint1();
-    const float* y2 = ya->GetPoint2();
-    auto map = [](vtkAxis* axis, double v, float p1, float p2) {
-      double lo = axis->GetMinimum(), hi = axis->GetMaximum();
-      if (axis->GetLogScaleActive()) v = std::log10(std::max(v, 1e-300));
-      return p1 + static_cast<float>((v - lo) / (hi - lo)) * (p2 - p1);
-    };
-    painter->GetTextProp()->SetFontSize(font_size);
-    painter->GetTextProp()->SetColor(0.1, 0.1, 0.1);
-    painter->GetTextProp()->SetJustificationToLeft();
-    painter->GetTextProp()->SetVerticalJustificationToBottom();
-    const Box area{x1[0], y1[1], x2[0], y2[1]};
-    std::vector<Box> obstacles;
-    if (chart->GetShowLegend()) {
-      const vtkRectf r = chart->GetLegend()->GetBoundingRect(painter);
-      obstacles.push_back({r.GetX(), r.GetY(), r.GetX() + r.GetWidth(), r.GetY() + r.GetHeight()});
-    }
-    for (const Marker& m : markers) {
-      const double px = map(xa, m.x, x1[0], x2[0]), py = map(ya, m.y, y1[1], y2[1]);
-      const double half = 0.5 * m.size + 1.0;
-      obstacles.push_back({px - half, py - half, px + half, py + half});
-    }
-    std::vector<LabelRequest> requests;
-    std::vector<const TextLabel*> shown;
-    for (const TextLabel& l : labels) {
-      const float px = map(xa, l.x, x1[0], x2[0]);
-      const float py = map(ya, l.y, y1[1], y2[1]);
-      if (px < x1[0] || px > x2[0] || py < y1[1] || py > y2[1]) continue;
-      float bounds[4] = {0, 0, 0, 0};
-      painter->ComputeStringBounds(l.text.c_str(), bounds);
-      requests.push_back({px, py, bounds[2], bounds[3]});
-      shown.push_back(&l);
-    }
-    // Markers are obstacles, but a label belongs next to its own marker: keep the gap larger
-    // than the marker radius.
-    double gap = 4.0;
-    for (const Marker& m : markers) gap = std::max(gap, 0.5 * m.size + 2.0);
-    const std::vector<std::optional<Box>> placed = PlaceLabels(requests, area, obstacles, gap);
-    for (size_t i = 0; i < placed.size(); ++i) {
-      if (!placed[i]) continue;
-      painter->DrawString(static_cast<float>(placed[i]->x0), static_cast<float>(placed[i]->y0),
-                          shown[i]->text.c_str());
-    }
-    return true;
-  }
-};
-vtkStandardNewMacro(ChartLabels);
 
 void StyleAxis(vtkAxis* axis, const std::string& title) {
   axis->SetTitle(title);
@@ -150,19 +87,19 @@ RenderStatus WriteView(vtkContextView* view, const ImageOptions& options,
   if (writer->GetErrorCode() != 0 || !std::filesystem::exists(tmp, ec) ||
       std::filesystem::file_size(tmp, ec) == 0) {
     std::filesystem::remove(tmp, ec);
-    return {false, "could not write " + png_path};
+    return {false, "could not write " + png_path, {}};
   }
   std::filesystem::rename(tmp, target, ec);
   if (ec) {
     std::filesystem::remove(tmp, ec);
-    return {false, "could not write " + png_path + ": " + ec.message()};
+    return {false, "could not write " + png_path + ": " + ec.message(), {}};
   }
   return {};
 }
 
 RenderStatus CheckDisplay() {
   const DisplayStatus& d = EnsureDisplay();
-  if (!d.ok()) return {false, d.message};
+  if (!d.ok()) return {false, d.message, {}};
   return {};
 }
 
@@ -189,9 +126,9 @@ RenderStatus RenderLinePlot(const LinePlot& plot, const ImageOptions& options,
   const std::lock_guard<std::mutex> lock(g_render_mutex);
   vtkNew<vtkContextView> view;
   vtkNew<vtkChartXY> chart;
-  view->GetScene()->AddItem(chart);
-  chart->SetTitle(plot.title);
-  chart->GetTitleProperties()->SetFontSize(20);
+  DrawnLayout layout;
+  ChartText text;
+  AddChartWithLayout(view, chart, plot.title, &text, &layout);
   StyleAxis(chart->GetAxis(vtkAxis::BOTTOM), plot.x_label);
   StyleAxis(chart->GetAxis(vtkAxis::LEFT), plot.y_label);
   // Ranges: as given, or from the data with a margin (logarithmic in y when asked for, or when
@@ -203,8 +140,12 @@ RenderStatus RenderLinePlot(const LinePlot& plot, const ImageOptions& options,
   }
   vtkAxis* x_axis = chart->GetAxis(vtkAxis::BOTTOM);
   vtkAxis* y_axis = chart->GetAxis(vtkAxis::LEFT);
-  const AxisRange x_range = plot.fixed_x ? AxisRange{plot.x_min, plot.x_max, false}
-                                         : AutoRange(all_x, false, 0.02);
+  std::vector<double> shown_x;  // a log x axis shows the positive x only
+  for (double v : all_x) {
+    if (!plot.log_x || v > 0.0) shown_x.push_back(v);
+  }
+  const AxisRange x_range = plot.fixed_x ? AxisRange{plot.x_min, plot.x_max, plot.log_x}
+                                         : AutoRange(shown_x, plot.log_x, 0.02, 0.0);
   AxisRange y_range = plot.fixed_y ? AxisRange{plot.y_min, plot.y_max, plot.log_y}
                                    : AutoRange(all_y, plot.log_y || plot.auto_log_y);
   if (plot.log_y && !y_range.log) {
@@ -220,7 +161,12 @@ RenderStatus RenderLinePlot(const LinePlot& plot, const ImageOptions& options,
   // The legend (top right) must not hide data: estimate its box from its entries and the font
   // (13 pt labels, one line each, a 10 px frame) against the plot area (the image less about
   // 110 x 120 px of titles and tick labels), and raise the y range until the data clear it.
-  if (plot.legend) {
+  // A legend of more than three entries goes outside, right of the plot area; a smaller one sits
+  // inside, top right.
+  int legend_entries = 0;
+  for (const Series& s : plot.series) legend_entries += s.label.empty() || s.x.empty() ? 0 : 1;
+  const bool legend_inside = legend_entries <= 3;
+  if (plot.legend && legend_inside) {
     int entries = 0;
     size_t longest = 0;
     for (const Series& s : plot.series) {
@@ -239,6 +185,7 @@ RenderStatus RenderLinePlot(const LinePlot& plot, const ImageOptions& options,
     }
   }
   if (log_y) y_axis->SetLogScale(true);
+  if (x_range.log) x_axis->SetLogScale(true);
   x_axis->SetUnscaledRange(x_range.min, x_range.max);
   x_axis->SetBehavior(vtkAxis::FIXED);
   y_axis->SetUnscaledRange(y_range.min, y_range.max);
@@ -256,8 +203,8 @@ RenderStatus RenderLinePlot(const LinePlot& plot, const ImageOptions& options,
     ys->SetName(s.label.empty() ? ("series " + std::to_string(i)).c_str() : s.label.c_str());
     for (size_t k = 0; k < s.x.size(); ++k) {
       // Log axes cannot show non-positive values; NaN breaks are drawn as gaps by VTK.
-      const double y =
-          log_y && !(s.y[k] > 0.0) ? std::numeric_limits<double>::quiet_NaN() : s.y[k];
+      const bool hidden = (log_y && !(s.y[k] > 0.0)) || (x_range.log && !(s.x[k] > 0.0));
+      const double y = hidden ? std::numeric_limits<double>::quiet_NaN() : s.y[k];
       xs->InsertNextValue(s.x[k]);
       ys->InsertNextValue(y);
     }
@@ -289,18 +236,18 @@ RenderStatus RenderLinePlot(const LinePlot& plot, const ImageOptions& options,
   chart->GetLegend()->SetLabelSize(13);
   chart->GetLegend()->SetHorizontalAlignment(vtkChartLegend::RIGHT);
   chart->GetLegend()->SetVerticalAlignment(vtkChartLegend::TOP);
-  if (!plot.labels.empty()) {
-    vtkNew<ChartLabels> labels;
-    labels->chart = chart;
-    labels->labels = plot.labels;
-    for (const Series& s : plot.series) {
-      if (s.style != Series::Style::kPoints) continue;
-      for (size_t k = 0; k < s.x.size(); ++k) labels->markers.push_back({s.x[k], s.y[k], s.width});
+  chart->GetLegend()->SetInline(legend_inside);
+  text.labels = plot.labels;
+  for (const Series& s : plot.series) {
+    if (s.style != Series::Style::kPoints) {
+      text.lines.push_back({&s.x, &s.y, s.width});
+      continue;
     }
-    view->GetScene()->AddItem(labels);
-    return WriteView(view, options, png_path);
+    for (size_t k = 0; k < s.x.size(); ++k) text.markers.push_back({s.x[k], s.y[k], s.width});
   }
-  return WriteView(view, options, png_path);
+  RenderStatus status = WriteView(view, options, png_path);
+  if (status.ok) status.layout = layout;
+  return status;
 }
 
 RenderStatus RenderHeatMap(const HeatMap& map, const ImageOptions& options,
@@ -313,8 +260,17 @@ RenderStatus RenderHeatMap(const HeatMap& map, const ImageOptions& options,
   const std::lock_guard<std::mutex> lock(g_render_mutex);
   vtkNew<vtkImageData> image;
   image->SetDimensions(map.nx, map.ny, 1);
-  const double dx = (map.x_max - map.x_min) / map.nx, dy = (map.y_max - map.y_min) / map.ny;
-  image->SetOrigin(map.x_min, map.y_min, 0.0);
+  if ((map.log_x && !(map.x_min > 0.0)) || (map.log_y && !(map.y_min > 0.0))) {
+    throw std::invalid_argument("heat map '" + map.title + "': a log axis needs a positive range");
+  }
+  // A log axis is drawn in log10 units (the cells of a geometric grid are then even) with ticks
+  // labelled in the values.
+  const double x_lo = map.log_x ? std::log10(map.x_min) : map.x_min;
+  const double x_hi = map.log_x ? std::log10(map.x_max) : map.x_max;
+  const double y_lo = map.log_y ? std::log10(map.y_min) : map.y_min;
+  const double y_hi = map.log_y ? std::log10(map.y_max) : map.y_max;
+  const double dx = (x_hi - x_lo) / map.nx, dy = (y_hi - y_lo) / map.ny;
+  image->SetOrigin(x_lo, y_lo, 0.0);
   image->SetSpacing(dx, dy, 1.0);
   image->AllocateScalars(VTK_DOUBLE, 1);
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
@@ -348,24 +304,32 @@ RenderStatus RenderHeatMap(const HeatMap& map, const ImageOptions& options,
   }
   vtkNew<vtkContextView> view;
   vtkNew<vtkChartHistogram2D> chart;
-  view->GetScene()->AddItem(chart);
+  DrawnLayout layout;
+  const ChartText no_text;
+  // The colour bar's own title overprints its tick labels (VTK 9.1): the value label goes into
+  // the figure's title instead.
+  AddChartWithLayout(
+      view, chart,
+      map.value_label.empty() ? map.title : map.title + " (colour: " + map.value_label + ")",
+      &no_text, &layout);
   chart->SetInputData(image);
   chart->SetTransferFunction(colors);
-  chart->SetTitle(map.title);
-  chart->GetTitleProperties()->SetFontSize(20);
   StyleAxis(chart->GetAxis(vtkAxis::BOTTOM), map.x_label);
   StyleAxis(chart->GetAxis(vtkAxis::LEFT), map.y_label);
   chart->GetAxis(vtkAxis::BOTTOM)->SetGridVisible(false);
   chart->GetAxis(vtkAxis::LEFT)->SetGridVisible(false);
-  chart->GetAxis(vtkAxis::BOTTOM)->SetRange(map.x_min, map.x_max);
+  chart->GetAxis(vtkAxis::BOTTOM)->SetRange(x_lo, x_hi);
   chart->GetAxis(vtkAxis::BOTTOM)->SetBehavior(vtkAxis::FIXED);
-  chart->GetAxis(vtkAxis::LEFT)->SetRange(map.y_min, map.y_max);
+  chart->GetAxis(vtkAxis::LEFT)->SetRange(y_lo, y_hi);
   chart->GetAxis(vtkAxis::LEFT)->SetBehavior(vtkAxis::FIXED);
+  if (map.log_x) SetLogTicks(chart->GetAxis(vtkAxis::BOTTOM), map.x_min, map.x_max);
+  if (map.log_y) SetLogTicks(chart->GetAxis(vtkAxis::LEFT), map.y_min, map.y_max);
   if (auto* legend = vtkColorLegend::SafeDownCast(chart->GetLegend()); legend != nullptr) {
-    legend->SetTitle(map.value_label);
     legend->SetLabelSize(13);
   }
-  return WriteView(view, options, png_path);
+  RenderStatus status = WriteView(view, options, png_path);
+  if (status.ok) status.layout = layout;
+  return status;
 }
 
 std::array<std::uint8_t, 3> RgbImage::Pixel(int x, int y) const {

@@ -171,6 +171,10 @@ void ValidateRange(const SweepRange& r, const std::string& p) {
   if (!std::isfinite(r.from) || !std::isfinite(r.to) || !(r.to > r.from)) {
     throw InputError(p + ".to", 0, Num(r.to), "must be greater than from (" + Num(r.from) + ")");
   }
+  if (r.scale == AxisScale::kLog && !(r.from > 0.0)) {
+    throw InputError(p + ".from", 0, Num(r.from),
+                     "must be > 0 with scale: log (the points are spaced geometrically)");
+  }
 }
 
 }  // namespace

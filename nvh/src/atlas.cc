@@ -39,8 +39,7 @@ int AtlasResult::Failed() const {
 }
 
 double AxisValue(const AtlasAxis& axis, int i) {
-  const SweepRange& r = axis.range;
-  return r.points <= 1 ? r.from : r.from + (r.to - r.from) * i / (r.points - 1);
+  return axis.range.Point(i);
 }
 
 AtlasCell ComputeAtlasCell(const GearboxSpec& base, const AtlasAxis& x, const AtlasAxis& y, int ix,

@@ -59,7 +59,8 @@ TEST_CASE("report: a batch with a malformed file completes the good gearbox and 
   const fs::path g = out / "idle-rattle";
   const std::string page = ReadWholeFile(g / "index.html");
   const auto images = ImageSources(page);
-  CHECK(images.size() == 10);  // TE, spectrum, phase, Campbell, waterfall, 3 mesh, 2 atlas
+  // TE, spectrum, sideband stems, phase, Campbell, order tracks, waterfall, tiers, 3 mesh, 2 atlas
+  CHECK(images.size() == 13);
   for (const std::string& src : images) {
     INFO(src);
     const render::RgbImage img = render::ReadPng((g / src).string());
@@ -74,7 +75,7 @@ TEST_CASE("report: a batch with a malformed file completes the good gearbox and 
   CHECK(results["atlas"]["cells"].size() == 144);
   CHECK(results["check"]["tiers"].size() >= 1);
   for (const char* csv : {"te_trace.csv", "spectrum.csv", "sidebands.csv", "mesh_cycle.csv",
-                          "campbell.csv", "waterfall.csv", "atlas.csv"}) {
+                          "campbell.csv", "waterfall.csv", "order_tracks.csv", "atlas.csv"}) {
     INFO(csv);
     CHECK(fs::file_size(g / csv) > 30);
   }

@@ -150,6 +150,81 @@ TEST_CASE("operating.torque_on: a pinion torque loads the mesh with T1 / r_b1", 
   }
 }
 
+// A pair with an atlas and a speed sweep whose axes carry `scale` entries (empty: no entry).
+GearboxSpec ScaledAxes(const std::string& sweep_scale, const std::string& torque_from,
+                       const std::string& torque_scale) {
+  auto entry = [](const std::string& scale) {
+    return scale.empty() ? std::string() : ", scale: " + scale;
+  };
+  return LoadGearboxFromString(R"(name: x
+materials: {steel: {youngs_modulus: 206 GPa, poisson_ratio: 0.3, density: 7850 kg/m^3}}
+gears:
+  pinion: {teeth: 20, module: 2 mm, face_width: 10 mm, bore_diameter: 10 mm, material: steel}
+  wheel:  {teeth: 30, module: 2 mm, face_width: 10 mm, bore_diameter: 10 mm, material: steel}
+mesh: {backlash: 100 um}
+operating: {speed: 1000 rpm, torque: 1 N*m}
+analysis:
+  speed_sweep: {from: 300 rpm, to: 6000 rpm, points: 17)" +
+                                   entry(sweep_scale) + R"(}
+  atlas:
+    x: {parameter: operating.speed, from: 600 rpm, to: 3000 rpm, points: 5}
+    y: {parameter: operating.torque, from: )" +
+                                   torque_from + R"(, to: 5 N*m, points: 12)" +
+                                   entry(torque_scale) + R"(}
+)",
+                               "x.yaml");
+}
+
+TEST_CASE("scale: log spaces sweep and atlas points geometrically, linear stays the default",
+          "[loader]") {
+  const GearboxSpec linear = ScaledAxes("", "0.05 N*m", "");
+  CHECK(linear.analysis.speed_sweep.scale == AxisScale::kLinear);
+  CHECK(linear.analysis.atlas_y->range.scale == AxisScale::kLinear);
+  const GearboxSpec log = ScaledAxes("log", "0.05 N*m", "log");
+  CHECK(log.analysis.atlas_x->range.scale == AxisScale::kLinear);  // not given: linear
+  for (const SweepRange* r : {&log.analysis.speed_sweep, &log.analysis.atlas_y->range}) {
+    REQUIRE(r->scale == AxisScale::kLog);
+    // Closed form: consecutive points in the ratio q = (to / from)^(1 / (n - 1)); 1e-12
+    // relative allows the rounding of pow over at most 16 steps (a few ulps each).
+    const double q = std::exp(std::log(r->to / r->from) / (r->points - 1));
+    CHECK(r->Point(0) == r->from);
+    CHECK(r->Point(r->points - 1) == r->to);
+    for (int i = 0; i + 1 < r->points; ++i) {
+      INFO("point " << i);
+      CHECK(r->Point(i + 1) / r->Point(i) == Approx(q).epsilon(1e-12));
+      CHECK(r->Point(i) == Approx(r->from * std::pow(q, i)).epsilon(1e-12));
+    }
+  }
+  // 0.05..5 N m in 12 points: a decade every 11/2 steps, 0.5 N m exactly in the middle of
+  // log10 (between points 5 and 6: their geometric mean).
+  const SweepRange& t = log.analysis.atlas_y->range;
+  CHECK(std::sqrt(t.Point(5) * t.Point(6)) == Approx(0.5).epsilon(1e-12));
+  // The linear grid: even differences (1e-12 relative: one rounding per point).
+  const SweepRange& l = linear.analysis.atlas_y->range;
+  for (int i = 0; i + 1 < l.points; ++i) {
+    CHECK(l.Point(i + 1) - l.Point(i) == Approx((5.0 - 0.05) / 11.0).epsilon(1e-12));
+  }
+}
+
+TEST_CASE("scale: log needs a positive range, and an unknown scale is named", "[loader]") {
+  try {
+    ScaledAxes("", "0 N*m", "log");
+    FAIL("accepted a log axis from 0");
+  } catch (const InputError& e) {
+    CHECK(e.path() == "analysis.atlas.y.from");
+    CHECK(std::string(e.what()).find("must be > 0 with scale: log") != std::string::npos);
+    CHECK(std::string(e.what()).find("'0 N*m'") != std::string::npos);
+  }
+  try {
+    ScaledAxes("logarithmic", "0.05 N*m", "");
+    FAIL("accepted scale: logarithmic");
+  } catch (const InputError& e) {
+    CHECK(e.path() == "analysis.speed_sweep.scale");
+    CHECK(std::string(e.what()).find("must be linear or log, got 'logarithmic'") !=
+          std::string::npos);
+  }
+}
+
 }  // namespace
 }  // namespace gearnvh::config
 

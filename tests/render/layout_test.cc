@@ -36,9 +36,9 @@ TEST_CASE("labels: crowded points get non-overlapping labels inside the area", "
     }
     CHECK(b.x1 - b.x0 == 70.0);
   }
-  CHECK(shown >= 2);      // room around the cluster for several
-  CHECK(placed[0]);       // the first (most important) always finds room here
-  CHECK(shown < 12);      // and not all twelve fit: the rest are dropped, not stacked
+  CHECK(shown >= 2);  // room around the cluster for several
+  CHECK(placed[0]);   // the first (most important) always finds room here
+  CHECK(shown < 12);  // and not all twelve fit: the rest are dropped, not stacked
 }
 
 TEST_CASE("labels: a lone label sits right-above its point", "[layout]") {
@@ -67,9 +67,9 @@ TEST_CASE("axis ranges: linear with a margin, logarithmic over decades", "[layou
   const AxisRange noisy = AutoRange({1e-30, 1e-6, 1.0}, true);
   CHECK(noisy.log);
   CHECK(noisy.min == Approx(1e-8 / std::pow(1e8, 0.05)).epsilon(1e-12));
-  CHECK_FALSE(AutoRange({1e-9, 1e-6, 3e-5}, false).log);   // not allowed
-  CHECK_FALSE(AutoRange({-1e-9, 1e-6, 3e-5}, true).log);   // a non-positive value
-  CHECK_FALSE(AutoRange({1.0, 999.0}, true).log);          // under three decades
+  CHECK_FALSE(AutoRange({1e-9, 1e-6, 3e-5}, false).log);  // not allowed
+  CHECK_FALSE(AutoRange({-1e-9, 1e-6, 3e-5}, true).log);  // a non-positive value
+  CHECK_FALSE(AutoRange({1.0, 999.0}, true).log);         // under three decades
   const AxisRange flat = AutoRange({5.0, 5.0}, true);
   CHECK(flat.min == Approx(4.5).epsilon(1e-12));
   CHECK(flat.max == Approx(5.5).epsilon(1e-12));
@@ -101,6 +101,17 @@ TEST_CASE("legend room: data under the legend's corner raise the y range, others
   const AxisRange r = MakeRoomForLegend(ylog, x, {9.9}, {0.5}, 0.3, 0.25);
   CHECK(r.log);
   CHECK(std::log10(0.5) < std::log10(r.max) - 0.25 * (std::log10(r.max) + 6.0));
+}
+
+TEST_CASE("log ticks: decades, with 2 and 5 on short ranges, exact decimal values", "[layout]") {
+  // Four decades: the powers of ten only.
+  CHECK(LogTicks(0.5, 2000.0) == std::vector<double>{1.0, 10.0, 100.0, 1000.0});
+  // 0.05..5 N m holds two powers of ten: 2 and 5 times them join (values as printed, 0.2 not
+  // 0.20000000000000001: they are rounded to 12 digits).
+  CHECK(LogTicks(0.05, 5.0) == std::vector<double>{0.05, 0.1, 0.2, 0.5, 1.0, 2.0, 5.0});
+  // Within one decade: 1..9 times the power.
+  CHECK(LogTicks(600.0, 900.0) == std::vector<double>{600.0, 700.0, 800.0, 900.0});
+  CHECK(LogTicks(0.0, 1.0).empty());
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "gearnvh/render/display.h"
+#include "support/figure_checks.h"
 #include "support/run_command.h"
 
 namespace gearnvh {
@@ -105,6 +106,101 @@ TEST_CASE("render: a heat map fills the plot area with its colour map", "[render
   }
   CHECK(red > 10000);
   CHECK(blue > 10000);
+}
+
+// A crowded figure: a long title, a legend and twenty labels on points a few pixels apart.
+render::LinePlot CrowdedPlot() {
+  render::LinePlot plot;
+  plot.title = "Dynamic transmission error spectrum with mesh harmonics and sidebands (crowded)";
+  plot.x_label = "frequency (Hz)";
+  plot.y_label = "TE amplitude (µm)";
+  render::Series line{"TE spectrum", {}, {}};
+  render::Series marks{"sidebands", {}, {}, render::Series::Style::kPoints};
+  marks.width = 8.0;
+  for (int i = 1; i <= 400; ++i) {
+    line.x.push_back(5.0 * i);
+    line.y.push_back(1e-3 + std::exp(-std::pow((5.0 * i - 1000.0) / 40.0, 2)));
+  }
+  for (int k = 0; k < 20; ++k) {
+    const double f = 900.0 + 10.0 * k;
+    marks.x.push_back(f);
+    marks.y.push_back(1e-3 + std::exp(-std::pow((f - 1000.0) / 40.0, 2)));
+    plot.labels.push_back({f, marks.y.back(), "1x mesh +" + std::to_string(k) + "x pinion"});
+  }
+  plot.series = {line, marks};
+  return plot;
+}
+
+TEST_CASE("render: labels, legend and title never overlap and stay inside, at 1200x800 and 600x400",
+          "[render]") {
+  const testing::TempDir dir;
+  for (const auto& [w, h] : {std::pair{1200, 800}, std::pair{600, 400}}) {
+    render::ImageOptions options;
+    options.width = w;
+    options.height = h;
+    const std::string path = (dir.path() / ("crowded" + std::to_string(w) + ".png")).string();
+    const render::RenderStatus s = render::RenderLinePlot(CrowdedPlot(), options, path);
+    testing::CheckDrawnFigure(s, path, w, h);
+    // Every label is drawn apart or left out (never overprinted); the title fits.
+    CHECK(s.layout.labels.size() >= 10);
+    CHECK(s.layout.labels.size() + s.layout.labels_dropped == 20);
+    CHECK(s.layout.title.x1 - s.layout.title.x0 > 0.3 * w);
+    REQUIRE(s.layout.legend.has_value());
+  }
+}
+
+TEST_CASE("render: a log x axis shows decades of cost, with labels placed", "[render]") {
+  const testing::TempDir dir;
+  render::LinePlot plot;
+  plot.title = "Modal tiers: accuracy against cost";
+  plot.x_label = "cost (µs per mesh cycle)";
+  plot.y_label = "largest frequency error (%)";
+  plot.log_x = plot.log_y = true;
+  render::Series points{
+      "", {0.5, 3.0, 40.0, 900.0}, {20.0, 2.0, 0.1, 1e-6}, render::Series::Style::kPoints};
+  points.width = 10.0;
+  plot.series = {points};
+  for (size_t i = 0; i < points.x.size(); ++i) {
+    plot.labels.push_back({points.x[i], points.y[i], "N" + std::to_string(4 * (i + 1))});
+  }
+  render::ImageOptions options;
+  options.width = 600;
+  options.height = 400;
+  const std::string path = (dir.path() / "tiers.png").string();
+  const render::RenderStatus s = render::RenderLinePlot(plot, options, path);
+  testing::CheckDrawnFigure(s, path, 600, 400, 100);
+  // Four points a decade or more apart: every label finds a place.
+  CHECK(s.layout.labels.size() == 4);
+  CHECK(s.layout.labels_dropped == 0);
+}
+
+TEST_CASE("render: a heat map on log axes fills the plot area, its text inside and apart",
+          "[render]") {
+  const testing::TempDir dir;
+  render::HeatMap map;
+  map.title = "Chaos atlas: rattle index";
+  map.x_label = "pinion speed (rpm)";
+  map.y_label = "drag torque (N m)";
+  map.value_label = "log10 J";
+  map.nx = 6;
+  map.ny = 5;
+  map.x_min = 600;
+  map.x_max = 6000;
+  map.y_min = 0.05;
+  map.y_max = 5;
+  map.log_x = map.log_y = true;
+  for (int i = 0; i < map.nx * map.ny; ++i) map.values.push_back(std::sin(0.7 * i));
+  for (const auto& [w, h] : {std::pair{1200, 800}, std::pair{600, 400}}) {
+    render::ImageOptions options;
+    options.width = w;
+    options.height = h;
+    const std::string path = (dir.path() / ("atlas" + std::to_string(w) + ".png")).string();
+    const render::RenderStatus s = render::RenderHeatMap(map, options, path);
+    // Cells cover the plot area: at least half of it is coloured.
+    const double area = (s.layout.plot_area.x1 - s.layout.plot_area.x0) *
+                        (s.layout.plot_area.y1 - s.layout.plot_area.y0);
+    testing::CheckDrawnFigure(s, path, w, h, static_cast<long>(0.5 * area));
+  }
 }
 
 }  // namespace

@@ -22,9 +22,10 @@ struct LabelRequest {
 
 // Places labels in request order (callers put the important ones first): each at the first of
 // eight positions around its point (right-above, left-above, right-below, left-below, above,
-// below, right, left; `gap` px away) that lies inside `area` and overlaps neither a label placed
-// before nor any of `obstacles` (the legend, data markers). A label with no free position is
-// dropped (nullopt): a missing label is better than an unreadable one.
+// below, right, left; `gap` px away, then gap + h and gap + 2 h away for a label h px high) that
+// lies inside `area` and overlaps neither a label placed before nor any of `obstacles` (the
+// legend, data markers, samples of the lines). A label with no free position is dropped
+// (nullopt): a missing label is better than an unreadable one.
 std::vector<std::optional<Box>> PlaceLabels(const std::vector<LabelRequest>& labels,
                                             const Box& area, const std::vector<Box>& obstacles,
                                             double gap = 4.0);
@@ -45,7 +46,13 @@ AxisRange AutoRange(const std::vector<double>& values, bool allow_log, double ma
 // The y range raised so that no point (x, y) lies under a legend in the top-right corner of the
 // plot area, `width` x `height` as fractions of the area: the points in the corner's x band must
 // stay below the corner, so y.max grows (in log10 when y.log) to put the highest of them just under
-// it. The minimum and every other point stay where they were; nothing is clipped.
+// it (the x band in log10 when x.log). The minimum and every other point stay where they were;
+// nothing is clipped.
+// Tick values for a logarithmic axis over [lo, hi] (0 < lo < hi): the powers of ten inside, with
+// 2 and 5 times them as well when fewer than three powers fall inside, and 1..9 times them when
+// the range is within one decade (still at least two ticks when the range allows).
+std::vector<double> LogTicks(double lo, double hi);
+
 AxisRange MakeRoomForLegend(const AxisRange& y, const AxisRange& x, const std::vector<double>& xs,
                             const std::vector<double>& ys, double width, double height);
 

@@ -9,8 +9,11 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "gearnvh/render/layout.h"
 
 namespace gearnvh::render {
 
@@ -44,8 +47,9 @@ struct LinePlot {
   std::string title, x_label, y_label;  // labels carry their units, e.g. "speed (rpm)"
   std::vector<Series> series;
   std::vector<TextLabel> labels;
-  bool log_y = false;       // logarithmic y axis
-  bool auto_log_y = true;   // also logarithmic when the data are positive over >= 3 decades
+  bool log_x = false;      // logarithmic x axis (non-positive x are not drawn)
+  bool log_y = false;      // logarithmic y axis
+  bool auto_log_y = true;  // also logarithmic when the data are positive over >= 3 decades
   // Use the ranges below instead of the data's range (with a margin, layout.h AutoRange).
   bool fixed_x = false, fixed_y = false;
   double x_min = 0.0, x_max = 1.0, y_min = 0.0, y_max = 1.0;
@@ -54,17 +58,35 @@ struct LinePlot {
 
 // values[iy * nx + ix] at the cell centres of a regular grid spanning [x_min, x_max] x
 // [y_min, y_max] (cell edges). Colour: a sequential map, or a diverging map centred at 0.
+// A log axis (x_min > 0) spaces the cells evenly in log10 (a geometric grid) and labels its ticks
+// with the values.
 struct HeatMap {
-  std::string title, x_label, y_label, value_label;
+  std::string title, x_label, y_label;
+  std::string value_label;  // what the colours mean; shown in the title as "(colour: ...)"
   int nx = 0, ny = 0;
   double x_min = 0.0, x_max = 1.0, y_min = 0.0, y_max = 1.0;
+  bool log_x = false, log_y = false;
   std::vector<double> values;  // NaN: no value (drawn grey)
   bool diverging = false;
+};
+
+// Where a drawing put its text, in pixels of the image (origin bottom left, y up, as VTK's scene).
+// The boxes in `text` (the title, the legend, the data labels drawn) overlap no other and lie
+// inside `image`, and no label overlaps `data_marks`; the tests check this on every figure.
+struct DrawnLayout {
+  Box image, plot_area;
+  Box title;                    // empty box (all 0) when there is no title
+  std::optional<Box> legend;    // the series legend or the colour bar
+  std::vector<Box> labels;      // the data labels that were drawn
+  std::vector<Box> data_marks;  // point markers and samples along the drawn lines (line plots)
+  int labels_dropped = 0;       // data labels with no free place (left out)
+  std::vector<Box> text;        // title, legend and labels together
 };
 
 struct RenderStatus {
   bool ok = true;
   std::string message;
+  DrawnLayout layout;  // when ok
 };
 
 RenderStatus RenderLinePlot(const LinePlot& plot, const ImageOptions& options,

@@ -8,6 +8,7 @@
 // is stated once, here.
 #pragma once
 
+#include <cmath>
 #include <map>
 #include <optional>
 #include <string>
@@ -157,10 +158,24 @@ struct OperatingSpec {
 // Modal tier names as in docs/design.md §3.
 enum class Tier { kTier1, kTier2, kTier3, kTier4, kTier5, kN20Simple, kN20Mta };
 
+// How the points of a range are spaced: evenly (linear) or geometrically (log; from > 0).
+enum class AxisScale { kLinear, kLog };
+
 struct SweepRange {
   double from = 0.0;  // SI value of the parameter
   double to = 0.0;
   int points = 0;  // >= 2
+  AxisScale scale = AxisScale::kLinear;
+
+  // Point i of 0 .. points-1: from + (to - from) i / (points - 1), or from (to / from)^(i /
+  // (points - 1)) on a log scale (consecutive points in the ratio (to / from)^(1 / (points - 1))).
+  // The ends are from and to exactly.
+  double Point(int i) const {
+    if (points <= 1 || i <= 0) return from;
+    if (i >= points - 1) return to;
+    const double t = static_cast<double>(i) / (points - 1);
+    return scale == AxisScale::kLog ? from * std::pow(to / from, t) : from + (to - from) * t;
+  }
 };
 
 struct AtlasAxis {

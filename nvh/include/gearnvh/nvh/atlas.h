@@ -55,7 +55,7 @@ struct AtlasResult {
   int Failed() const;
 };
 
-// The value of point i of an axis (linear from `from` to `to`).
+// The value of point i of an axis (SweepRange::Point: even or geometric from `from` to `to`).
 double AxisValue(const AtlasAxis& axis, int i);
 
 // One cell; never throws (a failure is reported in the cell).

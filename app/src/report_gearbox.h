@@ -1,0 +1,35 @@
+// One gearbox of a report, built into its folder: the model, the operating point, the speed
+// sweep and (optionally) a coarse chaos atlas; the images, CSV, UFF, results.json and its page
+// (report_page.h); and the summary the batch index lists.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "report_command.h"
+
+namespace gearnvh::app {
+
+struct GearboxEntry {
+  std::string file, folder, name;
+  bool ok = false;
+  bool internal = false;      // failed by a bug (exit 3), not by its input
+  bool earlier_kept = false;  // failed now; DIR keeps this folder from an earlier run
+  bool from_earlier = false;  // not in this run; kept from an earlier run into DIR
+  std::string error;
+  nlohmann::json summary;
+  double wall_s = 0.0;
+};
+
+// Reports the stage a gearbox is in ("speed sweep 12/56 speeds"); empty: silent.
+using StageProgress = std::function<void(const std::string&)>;
+
+// Everything for one gearbox, written into `folder` with `threads` threads. Never throws: a
+// failure is reported in the entry (ok = false, error; internal for a bug).
+GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::path& folder,
+                                const ReportCommandOptions& options, int threads,
+                                const StageProgress& stage);
+
+}  // namespace gearnvh::app
