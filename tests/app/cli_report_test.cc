@@ -101,6 +101,23 @@ TEST_CASE("report: a batch with a malformed file completes the good gearbox and 
             std::string::npos);
       CHECK(dom.out.find("data-images-broken=\"0\"") != std::string::npos);
     }
+    // A screenshot of the gearbox page as Chromium lays it out, kept as a test artefact
+    // (GEARNVH_TEST_ARTIFACTS_DIR/report_page.png): the page is drawn, and drawn with figures
+    // (a text-only page has far fewer non-white pixels than its images give).
+    const fs::path shot = fs::path(GEARNVH_TEST_ARTIFACTS_DIR) / "report_page.png";
+    fs::create_directories(shot.parent_path());
+    fs::remove(shot);
+    const auto screenshot = RunCommand(
+        "chromium --headless --no-sandbox --disable-gpu --hide-scrollbars "
+        "--virtual-time-budget=10000 --window-size=1280,4000 --screenshot=" +
+        shot.string() + " file://" + (g / "index.html").string() + " 2>/dev/null");
+    REQUIRE(screenshot.exit_code == 0);
+    REQUIRE(fs::exists(shot));
+    const render::RgbImage page = render::ReadPng(shot.string());
+    CHECK(page.width == 1280);
+    CHECK(page.height == 4000);
+    // Ten or more figures of the 1200 x 800 default scaled into the page: at least 5 % of it ink.
+    CHECK(page.CountDifferent(0.0, 0.0, 1.0, 1.0, {255, 255, 255}) > 0.05 * 1280 * 4000);
   }
 }
 
