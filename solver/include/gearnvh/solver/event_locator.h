@@ -175,6 +175,35 @@ class SubstepLocator : public EventLocator {
   bool PossibleEvent(const SegmentSystem& sys, const LocatorState& state, bool segment_start) const;
 };
 
+// Inline: called at every segment start (V3) or flagged sub-step (V1).
+inline int EventLocator::Outside(const SegmentSystem& sys, ContactState state,
+                                 const Eigen::VectorXd& z, bool with_tolerance) const {
+  GapWall walls[kMaxWalls];
+  const int count = ActiveWalls(sys, state, walls);
+  for (int i = 0; i < count; ++i) {
+    const double gap = walls[i].sign * walls[i].row->dot(z);
+    if (with_tolerance ? BeyondTolerance(gap, *walls[i].row, z) : gap > 0.0) return i;
+  }
+  return -1;
+}
+
+inline bool EventLocator::SwitchIfOutsideAtStart(int segment, double start, LocatorState& state,
+                                                 EventHandler& handler) const {
+  // At most two switches: free -> contact, and a contact state can never be outside its own wall
+  // right after entering it.
+  for (int guard = 0; guard < 2; ++guard) {
+    const SegmentSystem& sys = t_.systems[segment][static_cast<int>(state.contact)];
+    const int outside = Outside(sys, state.contact, state.z, true);
+    if (outside < 0) return true;
+    GapWall walls[kMaxWalls];
+    ActiveWalls(sys, state.contact, walls);
+    if (!handler.Switch(segment, sys, walls[outside], start, /*state_triggered=*/false)) {
+      return false;
+    }
+  }
+  return true;
+}
+
 // Inline: the sub-step loop is the hot path of V1/V2 (tier 1 costs tens of ns per sub-step).
 inline bool SubstepLocator::PossibleEvent(const SegmentSystem& sys, const LocatorState& state,
                                           bool segment_start) const {
