@@ -81,8 +81,8 @@ struct Settings {
 struct Figures {
   SolverSummary summary;
   double us_per_cycle = 0.0;
-  double setup_ms = 0.0;   // the solver's per-run set-up (decompositions), model build excluded
-  double build_ms = 0.0;   // spec -> component model -> reduced model -> tables
+  double setup_ms = 0.0;  // the solver's per-run set-up (decompositions), model build excluded
+  double build_ms = 0.0;  // spec -> component model -> reduced model -> tables
 };
 
 Figures Measure(const GearboxSpec& spec, Tier tier, const char* method, bool record,
@@ -127,7 +127,8 @@ int main(int argc, char** argv) {
     } else if (std::strcmp(argv[i], "--case") == 0 && i + 1 < argc) {
       only = argv[++i];
     } else {
-      fmt::print(stderr, "usage: {} [--quick] [--cycles C] [--json FILE] [--case SUBSTRING]\n", argv[0]);
+      fmt::print(stderr, "usage: {} [--quick] [--cycles C] [--json FILE] [--case SUBSTRING]\n",
+                 argv[0]);
       return 2;
     }
   }
@@ -175,11 +176,12 @@ int main(int argc, char** argv) {
     }();
     const double floor_us = 1e-3 * floor_of(m) * f.summary.matvec_per_cycle;
     const double paper_ratio = c.paper_us > 0.0 ? c.paper_us / f.us_per_cycle : 0.0;
-    fmt::print("  {:<30} {:>4} {:>7.2f} {:>8.1f} {:>9.2f} {:>8.2f} {:>9} {:>9.2f} {:>9.2f} {:>9.1f}\n",
-               c.label, m, f.summary.events_per_cycle, f.summary.matvec_per_cycle,
-               f.us_per_cycle, mesh_period_us / f.us_per_cycle,
-               paper_ratio > 0.0 ? fmt::format("{:.1f}", paper_ratio) : "-", floor_us,
-               f.us_per_cycle / floor_us, f.setup_ms);
+    fmt::print(
+        "  {:<30} {:>4} {:>7.2f} {:>8.1f} {:>9.2f} {:>8.2f} {:>9} {:>9.2f} {:>9.2f} {:>9.1f}\n",
+        c.label, m, f.summary.events_per_cycle, f.summary.matvec_per_cycle, f.us_per_cycle,
+        mesh_period_us / f.us_per_cycle,
+        paper_ratio > 0.0 ? fmt::format("{:.1f}", paper_ratio) : "-", floor_us,
+        f.us_per_cycle / floor_us, f.setup_ms);
     rows.push_back({{"case", c.label},
                     {"state_dim", m},
                     {"recorded", c.record},
@@ -203,12 +205,9 @@ int main(int argc, char** argv) {
   }
   fmt::print("\n");
   if (!json_file.empty()) {
-    const nlohmann::json doc = {{"machine", Machine()},
-                                {"mesh_period_us", mesh_period_us},
-                                {"cycles", s.cycles},
-                                {"pairs", s.pairs},
-                                {"runs", rows},
-                                {"matvec_floor_ns", floors}};
+    const nlohmann::json doc = {{"machine", Machine()}, {"mesh_period_us", mesh_period_us},
+                                {"cycles", s.cycles},   {"pairs", s.pairs},
+                                {"runs", rows},         {"matvec_floor_ns", floors}};
     std::ofstream(json_file) << doc.dump(1) << "\n";
     fmt::print("JSON: {}\n", json_file);
   }

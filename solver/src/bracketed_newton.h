@@ -13,7 +13,7 @@ namespace gearnvh {
 // when the bracket collapsed (hi is a point known to be past the root).
 template <typename Jet>
 double BracketedNewtonJet(Jet&& jet, double lo, double hi, double x0, double tolerance,
-                       int max_iterations = 200) {
+                          int max_iterations = 200) {
   double x = (x0 > lo && x0 < hi) ? x0 : 0.5 * (lo + hi);
   for (int it = 0; it < max_iterations; ++it) {
     const auto at = jet(x);
@@ -37,8 +37,11 @@ double BracketedNewton(F&& f, DF&& df, double lo, double hi, double x0, double t
   struct At {
     double value, rate;
   };
-  return BracketedNewtonJet([&](double x) { return At{f(x), df(x)}; }, lo, hi, x0, tolerance,
-                         max_iterations);
+  return BracketedNewtonJet(
+      [&](double x) {
+        return At{f(x), df(x)};
+      },
+      lo, hi, x0, tolerance, max_iterations);
 }
 
 }  // namespace gearnvh

@@ -314,8 +314,7 @@ double ClosedFormGap::DerivativeBound(double a, double b, int order) const {
   // e^{-x} (1 + x) <= 1 for x >= 0; or e^{sigma b} (sigma > 0).
   for (const Term& term : terms_) {
     const double weight = order == 1 ? term.bound1 : term.bound2;
-    const double grow =
-        term.sigma <= 0.0 ? 1.0 / (1.0 - term.sigma * a) : std::exp(term.sigma * b);
+    const double grow = term.sigma <= 0.0 ? 1.0 / (1.0 - term.sigma * a) : std::exp(term.sigma * b);
     bound += weight * grow;
   }
   // Rounding of the evaluated bound itself: a hair of slack keeps the certificate conservative.
