@@ -1,0 +1,50 @@
+// Fusion in the stepping loop (docs/design.md §4.3, §4.5): the two ways a segment is advanced
+// without looking for events, both with the very propagator products of step-by-step stepping.
+//   Segment runs (SolverMethod::kFused, cycles not recorded, no tangent): from a segment start
+//     the longest certified run of 2..2^fusion_levels aligned segments (segment_runs.h) advances
+//     in one matvec, z_end = P z + sum_i U_i u_i (u_i the inputs of segment i); taken when the
+//     certificate holds and the end state is inside every wall of the contact state.
+//   Whole segments: certified permanent contact (ConstantContactCycle, set by SimulateExact) or
+//     the linear reference (ignore_walls): z <- Phi_{j,sigma} z, one matvec, no event possible.
+// Nothing here allocates after construction.
+#pragma once
+
+#include <Eigen/Dense>
+#include <array>
+#include <cstddef>
+
+#include "gearnvh/solver/event_locator.h"
+#include "gearnvh/solver/segment_runs.h"
+#include "gearnvh/solver/segment_tables.h"
+#include "gearnvh/solver/solver_options.h"
+
+namespace gearnvh {
+
+class SegmentFusion {
+ public:
+  SegmentFusion(const SegmentTables& tables, const SolverOptions& options);
+  // Certified permanent contact: every segment in one matvec from now on.
+  void SetPermanentContact(bool permanent) { permanent_ = permanent; }
+  bool permanent_contact() const { return permanent_; }
+  // Every segment is advanced whole (permanent contact or the linear reference).
+  bool whole_segments() const { return permanent_ || ignore_walls_; }
+  // Segment runs may be tried (built, walls active, contact not already certified).
+  bool runs_enabled() const { return built_ && !permanent_ && !ignore_walls_; }
+  // From the start of `segment` in mesh cycle `cycle`: advances state.z over a certified run and
+  // returns its length in segments, or 0 (state unchanged) when no run is certified.
+  int TryRun(long cycle, int segment, LocatorState& state);
+  // The whole segment in one matvec (and the tangent, if attached).
+  void AdvanceWhole(int segment, LocatorState& state);
+  size_t bytes() const { return bytes_; }
+
+ private:
+  const SegmentTables& t_;
+  bool ignore_walls_;
+  bool permanent_ = false;
+  bool built_ = false;
+  std::array<SegmentRunTable, 3> runs_;  // per contact state
+  size_t bytes_ = 0;
+  Eigen::VectorXd start_, end_, certify_scratch_, inputs_;
+};
+
+}  // namespace gearnvh

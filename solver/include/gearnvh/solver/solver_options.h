@@ -1,0 +1,106 @@
+// Options, status and summary of the exact solver (exact_solver.h; docs/solver.md).
+#pragma once
+
+#include <atomic>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace gearnvh {
+
+// kStepped: the event-locating sub-step loop everywhere. kFused: additionally (1) when the run
+// starts in contact with no engine excitation or manufacturing error and ConstantContactCycle
+// certifies that contact is kept forever, the transient cycles are jumped in O(1) and recorded
+// cycles advance one matvec per segment; (2) on cycles whose samples are not recorded, certified
+// runs of 2..32 segments advance in one matvec (segment_runs.h). Both use the same propagator
+// products, so the result is unchanged to rounding.
+enum class SolverMethod { kStepped, kFused };
+const char* SolverMethodName(SolverMethod m);
+
+// How events are located (all three give the same event times; the ladder and the tests compare
+// them).
+// kSpectral (V3, default): per whole segment, closed-form gap in the decoupled coordinates of the
+//   generator (spectral_gap.h): derivative-bound prescreen, certified monotone sub-intervals,
+//   safeguarded Newton; two matvecs per segment; exact event times. A (segment, state) whose
+//   decomposition is ill-conditioned (cond(S) > spectral_max_condition, close eigenvalues of
+//   different blocks) falls back to the kTaylor path for that segment; the summary counts them.
+// kTaylor (V2): sub-steps of length D (rho(A) D <= 1/2); the endpoint signs and rates of each
+//   sub-step certify that no wall was reached; a flagged sub-step is searched on the Taylor
+//   polynomial of the state (sampling, interior extrema, safeguarded Newton), exact to rounding.
+// kDyadic (V1 baseline): bisection on dense dyadic propagators expm(A D / 2^l), l = 1..34; event
+//   times quantised to D 2^-34; tables grow by 34 matrices per segment and state (refused above
+//   256 MiB).
+enum class EventMethod { kSpectral, kTaylor, kDyadic };
+const char* EventMethodName(EventMethod m);
+
+struct SolverOptions {
+  SolverMethod method = SolverMethod::kFused;
+  EventMethod events = EventMethod::kSpectral;
+  // kSpectral: decompositions with |S|_1 |S^-1|_1 above this fall back to kTaylor (state error
+  // ~ cond(S) eps).
+  double spectral_max_condition = 1e6;  // >= 1
+  long cycles = 100;                    // mesh cycles recorded after the transient; >= 1
+  long transient_cycles = 0;            // mesh cycles run first and not recorded; >= 0
+  // Recorded cycles: exact statistics and uniform samples (samples_per_cycle per mesh cycle,
+  // evaluated exactly at their times; exact_recorder.h).
+  bool record_trajectory = true;
+  int samples_per_cycle = 32;            // >= 1
+  long max_events_per_cycle = 1000;      // beyond this the run stops with kTooManyEvents; >= 1
+  double grazing_rate_tolerance = 1e-9;  // |g'| (m/s) below which a root is a grazing touch; >= 0
+  // Memory bounds of the recorded trajectory (reserved up front, so the loop never allocates):
+  // samples beyond max_trajectory_samples (~64 B each) and events beyond max_logged_events (~32 B
+  // each) are not stored; counts stay exact and the summary says the trajectory was truncated.
+  long max_trajectory_samples = 4'000'000;  // >= 0
+  long max_logged_events = 1'000'000;       // >= 0
+  // The linear backlash-free reference: the state never changes (the contact spring of the
+  // starting state also acts in tension), one propagator matvec per segment, no events.
+  bool ignore_walls = false;
+  // kFused: segment runs of up to 2^fusion_levels segments (0 disables them); in [0, 5].
+  int fusion_levels = 5;
+  // Cancellation (an interactive caller's Ctrl-C): polled at the start of every mesh cycle by
+  // ExactStepper::Run, which throws RunCancelled once it is set. Not owned; null: never cancelled.
+  const std::atomic<bool>* cancel = nullptr;
+  bool Cancelled() const { return cancel != nullptr && cancel->load(std::memory_order_relaxed); }
+  void Validate() const;
+};
+
+// Thrown by a run whose SolverOptions::cancel was set.
+class RunCancelled : public std::runtime_error {
+ public:
+  RunCancelled() : std::runtime_error("cancelled") {}
+};
+
+// The method names of the CLI: v1, v2, v3 (stepped with that event path) and fused (v3 + fusion).
+// Throws InputError naming `field` for anything else.
+void ApplyMethodName(const std::string& name, SolverOptions& options,
+                     const std::string& field = "--method");
+
+enum class SolverStatus { kSuccess, kTooManyEvents };
+const char* SolverStatusName(SolverStatus s);
+
+struct SolverSummary {
+  SolverStatus status = SolverStatus::kSuccess;
+  std::string message;
+  long mesh_cycles = 0;  // recorded + transient
+  long drive_impacts = 0, back_impacts = 0, separations = 0, grazing = 0;
+  long events = 0;
+  long matvecs = 0;
+  long fused_cycles = 0;        // cycles advanced one matvec per segment (certified contact)
+  long run_fused_segments = 0;  // segments advanced inside certified segment runs (kFused)
+  long jumped_cycles = 0;       // cycles skipped by a certified O(1) jump
+  bool contact_certified = false;
+  double events_per_cycle = 0.0, matvec_per_cycle = 0.0;
+  double simulated_s = 0.0, wall_s = 0.0, real_time_ratio = 0.0;
+  long recorded_cycles = 0;
+  double recorded_s = 0.0;   // simulated time of the recorded cycles
+  double separated_s = 0.0;  // recorded time spent in the free state (exact, from event times)
+  size_t table_bytes = 0;
+  int spectral_fallback_systems = 0;    // (segment, state) pairs located by kTaylor instead of V3
+  double spectral_max_condition = 0.0;  // largest cond(S) among the decompositions used
+  bool trajectory_truncated = false;    // a memory bound of SolverOptions was reached
+  // Smallest |g'| (m/s) at a state-triggered contact change so far (infinity when none): how
+  // close the run came to a grazing contact, where saltation matrices blow up.
+  double min_event_rate = std::numeric_limits<double>::infinity();
+};
+
+}  // namespace gearnvh

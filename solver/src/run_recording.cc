@@ -1,0 +1,67 @@
+#include "gearnvh/solver/run_recording.h"
+
+namespace gearnvh {
+
+RunRecording::RunRecording(const SegmentTables& tables, const SolverOptions& options,
+                           size_t reserve_samples, size_t reserve_events) {
+  trajectory_.samples.reserve(reserve_samples);
+  trajectory_.events.reserve(reserve_events);
+  if (options.record_trajectory) {
+    recorder_.emplace(tables, options.samples_per_cycle, &trajectory_);
+    piece_z_.resize(tables.m);
+  }
+}
+
+bool RunRecording::StartRun(double time, bool record, ContactState contact) {
+  if (record && contact == ContactState::kFree && free_since_ < 0.0) free_since_ = time;
+  const bool recorded = record && recorder_.has_value();
+  if (recorded && !window_started_) {
+    recorder_->Start(time);
+    window_started_ = true;
+  }
+  return recorded;
+}
+
+void RunRecording::BeginPiece(double time, const Eigen::VectorXd& z, ContactState contact) {
+  piece_z_ = z;
+  piece_start_ = time;
+  piece_state_ = contact;
+  piece_open_ = true;
+}
+
+void RunRecording::EndPiece(int segment, double time) {
+  piece_open_ = false;
+  recorder_->Piece(segment, piece_state_, piece_start_, time - piece_start_, piece_z_);
+}
+
+void RunRecording::Event(int segment, double time, ContactState from, ContactState to, double rate,
+                         const Eigen::VectorXd& z, SolverSummary& summary) {
+  if (piece_open_) {
+    // z is the state at the event: the piece in the old state ends, one in the new state starts.
+    EndPiece(segment, time);
+    BeginPiece(time, z, to);
+  }
+  if (from == ContactState::kFree && free_since_ >= 0.0) summary.separated_s += time - free_since_;
+  free_since_ = to == ContactState::kFree ? time : -1.0;
+  ++summary.events;
+  if (to == ContactState::kDrive)
+    ++summary.drive_impacts;
+  else if (to == ContactState::kBack)
+    ++summary.back_impacts;
+  else
+    ++summary.separations;
+  if (trajectory_.events.size() < trajectory_.events.capacity()) {
+    trajectory_.events.push_back({time, from, to, rate});
+  }
+}
+
+void RunRecording::Clear() {
+  trajectory_.samples.clear();
+  trajectory_.events.clear();
+  trajectory_.statistics = TrajectoryStatistics{};
+  window_started_ = false;
+  piece_open_ = false;
+  free_since_ = -1.0;
+}
+
+}  // namespace gearnvh

@@ -1,0 +1,59 @@
+#include "gearnvh/solver/segment_fusion.h"
+
+#include "gearnvh/solver/tangent_propagator.h"
+
+namespace gearnvh {
+
+SegmentFusion::SegmentFusion(const SegmentTables& tables, const SolverOptions& options)
+    : t_(tables), ignore_walls_(options.ignore_walls), start_(tables.m), end_(tables.m) {
+  if (options.method != SolverMethod::kFused || tables.segments() < 2 ||
+      options.fusion_levels <= 0) {
+    return;
+  }
+  int levels = 0;
+  while ((2 << levels) <= tables.segments() && levels < options.fusion_levels) ++levels;
+  for (int st = 0; st < 3; ++st) {
+    runs_[static_cast<size_t>(st)] = SegmentRunTable(tables, static_cast<ContactState>(st), levels);
+    bytes_ += runs_[static_cast<size_t>(st)].bytes();
+  }
+  built_ = true;
+  certify_scratch_.resize(tables.m);
+  inputs_.resize(tables.m);
+}
+
+int SegmentFusion::TryRun(long cycle, int segment, LocatorState& state) {
+  const SegmentRun* run =
+      runs_[static_cast<size_t>(state.contact)].Certify(segment, state.z, certify_scratch_);
+  if (run == nullptr) return 0;
+  start_ = state.z;
+  start_.tail(t_.inputs).setZero();
+  end_.noalias() = run->product * start_;
+  for (int i = 0; i < run->length; ++i) {
+    t_.SetInputs(cycle, segment + i, inputs_);
+    for (int q = 0; q < t_.inputs; ++q) {
+      const double u = inputs_[t_.input_slot(q)];
+      if (u != 0.0) end_ += u * run->inputs.col(i * t_.inputs + q);
+    }
+  }
+  // The end state must be inside every wall of the state (no event at the run's end).
+  const SegmentSystem& last =
+      t_.systems[segment + run->length - 1][static_cast<int>(state.contact)];
+  GapWall walls[kMaxWalls];
+  const int count = ActiveWalls(last, state.contact, walls);
+  for (int i = 0; i < count; ++i) {
+    if (walls[i].sign * walls[i].row->dot(end_) > 0.0) return 0;
+  }
+  state.z.swap(end_);
+  ++state.matvecs;
+  return run->length;
+}
+
+void SegmentFusion::AdvanceWhole(int segment, LocatorState& state) {
+  const Eigen::MatrixXd& full = t_.systems[segment][static_cast<int>(state.contact)].full;
+  end_.noalias() = full * state.z;
+  state.z.swap(end_);
+  if (state.tangent != nullptr) state.tangent->Propagate(full);
+  ++state.matvecs;
+}
+
+}  // namespace gearnvh
