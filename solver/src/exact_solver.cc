@@ -120,7 +120,39 @@ bool ExactStepper::Run(long cycles, bool record) {
   return ok;
 }
 
+void ExactStepper::StepWholeSegments(bool recorded) {
+  // Certified permanent contact or the linear reference: no wall can be reached.
+  const double cycle_start = static_cast<double>(cycle_) * t_.mesh_period;
+  for (int j = 0; j < t_.segments(); ++j) {
+    const double seg_start = cycle_start + t_.boundaries[j];
+    t_.SetInputs(cycle_, j, state_.z);
+    if (recorded) recording_.BeginPiece(seg_start, state_.z, state_.contact);
+    fusion_.AdvanceWhole(j, state_);
+    time_ = seg_start + t_.SegmentLength(j);
+    if (recorded) recording_.EndPiece(j, time_);
+  }
+}
+
 bool ExactStepper::StepCycle(bool recorded, bool try_runs) {
+  if (fusion_.whole_segments()) {
+    StepWholeSegments(recorded);
+    return true;
+  }
+  // Dispatched once per cycle to the final locator class: the per-segment call is direct (and the
+  // sub-step loop of V1/V2 inlined), as it was before the locators were split out.
+  switch (locator_->method()) {
+    case EventMethod::kSpectral:
+      return StepCycleWith(static_cast<SpectralLocator&>(*locator_), recorded, try_runs);
+    case EventMethod::kTaylor:
+      return StepCycleWith(static_cast<TaylorLocator&>(*locator_), recorded, try_runs);
+    case EventMethod::kDyadic:
+      return StepCycleWith(static_cast<DyadicLocator&>(*locator_), recorded, try_runs);
+  }
+  return StepCycleWith(*locator_, recorded, try_runs);
+}
+
+template <class Locator>
+bool ExactStepper::StepCycleWith(Locator& locator, bool recorded, bool try_runs) {
   const double cycle_start = static_cast<double>(cycle_) * t_.mesh_period;
   for (int j = 0; j < t_.segments(); ++j) {
     if (try_runs) {
@@ -135,11 +167,7 @@ bool ExactStepper::StepCycle(bool recorded, bool try_runs) {
     const double seg_start = cycle_start + t_.boundaries[j];
     t_.SetInputs(cycle_, j, state_.z);
     if (recorded) recording_.BeginPiece(seg_start, state_.z, state_.contact);
-    if (fusion_.whole_segments()) {
-      fusion_.AdvanceWhole(j, state_);  // no wall can be reached
-    } else if (!locator_->DoStep(j, seg_start, state_, *this)) {
-      return false;
-    }
+    if (!locator.DoStep(j, seg_start, state_, *this)) return false;
     time_ = seg_start + t_.SegmentLength(j);
     if (recorded) recording_.EndPiece(j, time_);
   }

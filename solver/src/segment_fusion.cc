@@ -48,12 +48,4 @@ int SegmentFusion::TryRun(long cycle, int segment, LocatorState& state) {
   return run->length;
 }
 
-void SegmentFusion::AdvanceWhole(int segment, LocatorState& state) {
-  const Eigen::MatrixXd& full = t_.systems[segment][static_cast<int>(state.contact)].full;
-  end_.noalias() = full * state.z;
-  state.z.swap(end_);
-  if (state.tangent != nullptr) state.tangent->Propagate(full);
-  ++state.matvecs;
-}
-
 }  // namespace gearnvh

@@ -107,7 +107,7 @@ bool TaylorLocator::Search(int segment, double start, double length, LocatorStat
       // the gap's sign, so the event is now. Within rounding of the wall (just after a located
       // event) we count as inside.
       double root = 0.0;
-      outside_at_start[i] = coeff[0] > WallTolerance(*walls[i].row, z);
+      outside_at_start[i] = BeyondTolerance(coeff[0], *walls[i].row, z);
       if (!outside_at_start[i]) {
         coeff[0] = std::min(coeff[0], 0.0);
         root = FirstRoot(coeff, kTaylorTerms, remaining, kRootSamples);

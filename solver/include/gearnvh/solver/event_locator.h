@@ -23,30 +23,35 @@
 // 1e-12 b + 64 eps sum_i |c_i z_i| (the gap's rounding floor) switches at once (time-triggered:
 // the unloaded error e_j jumps at segment boundaries). A root with |g'| <= grazing_rate_tolerance
 // that curves back inside is a grazing touch: reported, the state is kept.
-// DoStep does not allocate: each locator owns its tables and workspace.
+// DoStep does not allocate: each locator owns its tables and workspace. The classes are final,
+// and ExactStepper dispatches once per mesh cycle to the concrete class, so the per-segment call
+// is direct (the V1/V2 sub-step loop is inline); at tier 1 a segment costs only ~100 ns.
 //
-// Gear trains: the locators see a contact state only through its list of GapWalls (each with its
-// row, rate row, trigger sign, target and index into the per-(segment, state) gap set) and loop
-// over that list; the earliest root over all walls is the event. A train stepper adopts this
-// interface by giving each wall the mesh it belongs to (target = that mesh's new state), by
-// keying the systems and the locator tables on (segment, contact combination) instead of
-// (segment, sigma), and by listing the walls of every mesh in ActiveWalls: the search loops, the
-// sub-step screen and the handler protocol stay as they are.
+// Gear trains (how solver/train_* can adopt this interface): the searches never name a flank.
+// They loop over the GapWalls of the current state (row, rate row, trigger sign, target, index
+// into the gap set), take the earliest root over all of them, and hand it to the handler; the
+// V3 tables hold one ClosedFormGap per gap row, indexed by GapWall::gap. Only two lookups tie a
+// locator to a single pair: the generator t_.systems[j][sigma] and ActiveWalls(sys, sigma). A
+// train stepper replaces them by its (segment, contact combination) systems and by the walls of
+// every mesh (each wall's target then names that mesh's new state, and its handler updates the
+// combination); the search loops, the sub-step screen, the tolerance rules and the handler
+// protocol carry over unchanged.
 #pragma once
 
 #include <Eigen/Dense>
 #include <array>
+#include <cmath>
 #include <cstddef>
+#include <limits>
 #include <memory>
 #include <vector>
 
 #include "gearnvh/solver/segment_tables.h"
 #include "gearnvh/solver/solver_options.h"
 #include "gearnvh/solver/spectral_gap.h"
+#include "gearnvh/solver/tangent_propagator.h"
 
 namespace gearnvh {
-
-class TangentPropagator;
 
 // One gap row a contact state can cross: the event is when sign * (row . z) rises through 0.
 struct GapWall {
@@ -60,9 +65,26 @@ struct GapWall {
 inline constexpr int kMaxWalls = 2;
 inline constexpr int kGapRows = 2;
 // The walls of `state` in segment system `sys` (free: both flanks; contact: its own flank).
-int ActiveWalls(const SegmentSystem& sys, ContactState state, GapWall out[kMaxWalls]);
+// Inline: it is called on every sub-step.
+inline int ActiveWalls(const SegmentSystem& sys, ContactState state, GapWall out[kMaxWalls]) {
+  switch (state) {
+    case ContactState::kFree:
+      out[0] = {&sys.gap_drive, &sys.gap_drive_rate, 1.0, ContactState::kDrive, 0};
+      out[1] = {&sys.gap_back, &sys.gap_back_rate, -1.0, ContactState::kBack, 1};
+      return 2;
+    case ContactState::kDrive:
+      out[0] = {&sys.gap_drive, &sys.gap_drive_rate, -1.0, ContactState::kFree, 0};
+      return 1;
+    case ContactState::kBack:
+      out[0] = {&sys.gap_back, &sys.gap_back_rate, 1.0, ContactState::kFree, 1};
+      return 1;
+  }
+  return 0;
+}
 // The gap set of a pair: 0 -> g+ (drive flank), 1 -> g- (back flank).
-const Eigen::RowVectorXd& GapRow(const SegmentSystem& sys, int gap);
+inline const Eigen::RowVectorXd& GapRow(const SegmentSystem& sys, int gap) {
+  return gap == 0 ? sys.gap_drive : sys.gap_back;
+}
 
 // What a locator advances: the augmented state, its contact state, the tangent (null when none is
 // attached; advanced by the same maps) and the running matvec count.
@@ -112,7 +134,15 @@ class EventLocator {
  protected:
   // Rounding floor of the gap `row` . z (its terms can be much larger than the gap, e.g. as the
   // pair's free rotation drifts): inside it a state is not moved.
-  double WallTolerance(const Eigen::RowVectorXd& row, const Eigen::VectorXd& z) const;
+  double WallTolerance(const Eigen::RowVectorXd& row, const Eigen::VectorXd& z) const {
+    double magnitude = 0.0;
+    for (Eigen::Index i = 0; i < row.size(); ++i) magnitude += std::abs(row[i] * z[i]);
+    return gap_tolerance_ + 64.0 * std::numeric_limits<double>::epsilon() * magnitude;
+  }
+  // gap > WallTolerance(row, z), skipping the sum when gap is below its floor gap_tolerance_.
+  bool BeyondTolerance(double gap, const Eigen::RowVectorXd& row, const Eigen::VectorXd& z) const {
+    return gap > gap_tolerance_ && gap > WallTolerance(row, z);
+  }
   // The first wall (index into ActiveWalls) that z is outside of, or -1.
   int Outside(const SegmentSystem& sys, ContactState state, const Eigen::VectorXd& z,
               bool with_tolerance) const;
@@ -144,6 +174,42 @@ class SubstepLocator : public EventLocator {
  private:
   bool PossibleEvent(const SegmentSystem& sys, const LocatorState& state, bool segment_start) const;
 };
+
+// Inline: the sub-step loop is the hot path of V1/V2 (tier 1 costs tens of ns per sub-step).
+inline bool SubstepLocator::PossibleEvent(const SegmentSystem& sys, const LocatorState& state,
+                                          bool segment_start) const {
+  GapWall walls[kMaxWalls];
+  const int count = ActiveWalls(sys, state.contact, walls);
+  for (int i = 0; i < count; ++i) {
+    const GapWall& w = walls[i];
+    // The gap rows change at a segment boundary (e_j): the start itself may be outside.
+    if (segment_start && BeyondTolerance(w.sign * w.row->dot(state.z), *w.row, state.z)) {
+      return true;
+    }
+    if (w.sign * w.row->dot(z1_) > 0.0) return true;  // crossed by the end of the sub-step
+    // Turned towards the wall and back inside the sub-step: an interior extremum to examine.
+    if (w.sign * w.rate->dot(state.z) > 0.0 && w.sign * w.rate->dot(z1_) < 0.0) return true;
+  }
+  return false;
+}
+
+inline bool SubstepLocator::DoStep(int segment, double start, LocatorState& state,
+                                   EventHandler& handler) {
+  const int n = t_.substeps[segment];
+  const double d = t_.SegmentLength(segment) / n;
+  for (int i = 0; i < n; ++i) {
+    const SegmentSystem& sys = t_.systems[segment][static_cast<int>(state.contact)];
+    z1_.noalias() = sys.substep * state.z;
+    ++state.matvecs;
+    if (!PossibleEvent(sys, state, i == 0)) {
+      state.z.swap(z1_);
+      if (state.tangent != nullptr) state.tangent->Propagate(sys.substep);
+    } else if (!Examine(segment, start + i * d, state, handler)) {
+      return false;
+    }
+  }
+  return true;
+}
 
 // V2: the flagged sub-step is searched on the Taylor polynomial of the state (sampling, interior
 // maxima, safeguarded Newton); the state at the root is the same polynomial evaluated there.

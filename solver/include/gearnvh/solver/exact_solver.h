@@ -80,7 +80,9 @@ Eigen::VectorXd DriveEquilibrium(const SegmentTables& tables);
 //   3. SegmentFusion::AdvanceWhole (certified permanent contact, ignore_walls): one matvec; or
 //      EventLocator::DoStep (V1/V2/V3, event_locator.h): the segment with its events.
 //   4. the recorded piece of the segment goes to RunRecording (recorded cycles).
-// At the cycle end the free rotation is recentred (and projected out of the tangent).
+// At the cycle end the free rotation is recentred (and projected out of the tangent). Each cycle
+// is dispatched to the concrete locator class (StepCycleWith), so the per-segment DoStep is a
+// direct call; whole-segment cycles (permanent contact, ignore_walls) run a loop of their own.
 // The stepper is the locators' EventHandler: at each event it switches the contact state, applies
 // the saltation (TangentPropagator), counts and records, and stops after max_events_per_cycle.
 // Construction allocates every buffer; Run() does not allocate (the trajectory's capacity is
@@ -129,6 +131,11 @@ class ExactStepper : private EventHandler {
   bool Graze(double time) override;
   // The segments of the current mesh cycle; false when a cycle had too many events.
   bool StepCycle(bool recorded, bool try_runs);
+  // StepCycle when every segment is advanced whole (permanent contact, ignore_walls).
+  void StepWholeSegments(bool recorded);
+  // StepCycle with the concrete (final) locator class: the per-segment DoStep is a direct call.
+  template <class Locator>
+  bool StepCycleWith(Locator& locator, bool recorded, bool try_runs);
   void EndCycle(bool record);
   bool TooManyEvents();  // sets the status and message; returns false
   // Copies the table sizes and decomposition counts of the locator (which grow on first visits).
