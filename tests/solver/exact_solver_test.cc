@@ -197,7 +197,7 @@ TEST_CASE("the stepping loop does not allocate, for every locator", "[solver][al
                        /*reserve_events=*/1000);
   // Warm-up outside the counted region: the whole run once, so that the V3 decompositions of
   // every (segment, state) it visits exist (they are built on first visit), then the same run.
-  stepper.Run(55, true);
+  stepper.Run(75, true);
   stepper.Restart(z0, state0);
   stepper.Run(5, true);
   testing::AllocationCounter counter;
