@@ -9,10 +9,10 @@
 //   loaded          examples/flexible_shafts.yaml at 7548 rpm, 200 N m: permanent contact
 //   flexible rattle examples/flexible_shafts.yaml at 7548 rpm, 2 N m with the idle example's
 //                   2nd-order excitation (1500 rad/s^2): tiers 1-5 with impacts
-// Timing: best of `repeats` runs, one core unless stated. Stepping cost per cycle is the marginal
-// cost (a run of 2C cycles minus one of C); the set-up each run pays (V3 decompositions, V1
-// tables) is its own column. Wall-clock numbers depend on the machine, ratios within one run
-// do not.
+// Timing: one core unless stated. Stepping cost per cycle is the marginal cost, the median of
+// `repeats` paired differences (a run of 2C cycles minus one of C, back to back); the set-up each
+// run pays (V3 decompositions, V1 tables) is its own column; other figures are the best of
+// `repeats`. Wall-clock numbers depend on the machine, ratios within one run do not.
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -27,6 +27,7 @@
 #include <string>
 #include <thread>
 
+#include "bench_common.h"
 #include "config/gearbox_loader.h"
 #include "gearnvh/nvh/atlas.h"
 #include "gearnvh/nvh/transmission_error.h"
@@ -37,7 +38,7 @@
 namespace {
 
 using namespace gearnvh;
-using Clock = std::chrono::steady_clock;
+using bench::Clock;
 
 struct Settings {
   bool quick = false;
@@ -47,17 +48,12 @@ struct Settings {
 
 double Seconds(const std::function<void()>& f, int repeats) {
   double best = 1e300;
-  for (int r = 0; r < repeats; ++r) {
-    const auto t0 = Clock::now();
-    f();
-    best = std::min(best, std::chrono::duration<double>(Clock::now() - t0).count());
-  }
+  for (int r = 0; r < repeats; ++r) best = std::min(best, bench::SecondsOnce(f));
   return best;
 }
 
-GearboxSpec Example(const std::string& name) {
-  return config::LoadGearboxFile(std::string(GEARNVH_EXAMPLES_DIR) + "/" + name);
-}
+using bench::Example;
+using bench::Machine;
 
 GearboxSpec At3900Hz(GearboxSpec spec) {
   spec.operating.speed = 2.0 * std::numbers::pi * 3900.0 / spec.pinion.teeth;
@@ -95,8 +91,8 @@ struct RunFigures {
   double te_rms = 0.0;
 };
 
-// The per-cycle cost is the difference of a run of C cycles and one of 2C cycles (same start),
-// so the set-up each SimulateExact call pays (decompositions, dyadic tables) is reported apart.
+// The per-cycle cost is the median paired difference of runs of C and 2C cycles (same start), so
+// the set-up each SimulateExact call pays (decompositions, dyadic tables) is reported apart.
 RunFigures TimeRun(const Built& b, const std::string& method, const Settings& s) {
   const auto [z0, s0] = StaticInitialState(b.tables);
   SolverOptions o;
@@ -104,25 +100,23 @@ RunFigures TimeRun(const Built& b, const std::string& method, const Settings& s)
   o.transient_cycles = s.transient;
   o.record_trajectory = true;
   RunFigures f;
-  auto best = [&](long cycles, SolverSummary* summary) {
-    o.cycles = cycles;
-    return Seconds(
-        [&] {
-          const SolverResult r = SimulateExact(b.tables, z0, s0, o);
-          if (summary != nullptr) {
-            *summary = r.summary;
-            f.te_rms = ComputeTransmissionErrorStats(r.trajectory, 0.0, 0.0).rms;
-          }
-        },
-        s.repeats);
-  };
-  SolverSummary half;
-  const double t1 = best(s.cycles, &half);
-  const double t2 = best(2 * s.cycles, &f.summary);
+  double long_run_s = 0.0;
+  const double marginal = bench::PairedMarginalSeconds(
+      [&](bool longer) {
+        o.cycles = longer ? 2 * s.cycles : s.cycles;
+        const auto t0 = Clock::now();
+        const SolverResult r = SimulateExact(b.tables, z0, s0, o);
+        if (longer) {
+          long_run_s = std::chrono::duration<double>(Clock::now() - t0).count();
+          f.summary = r.summary;
+          f.te_rms = ComputeTransmissionErrorStats(r.trajectory, 0.0, 0.0).rms;
+        }
+      },
+      s.repeats);
   // Stepping cost of all 2C + transient cycles, extrapolated from the marginal cost of C cycles.
-  const double per_cycle = std::max(t2 - t1, 1e-12) / static_cast<double>(s.cycles);
+  const double per_cycle = std::max(marginal, 1e-12) / static_cast<double>(s.cycles);
   f.wall_s = per_cycle * static_cast<double>(f.summary.mesh_cycles);
-  f.setup_s = std::max(0.0, t2 - f.wall_s);
+  f.setup_s = std::max(0.0, long_run_s - f.wall_s);
   return f;
 }
 
@@ -157,15 +151,6 @@ void Header(const std::string& title) {
              "m", "ev/cyc", "matvec/c", "ns/step", "us/cycle", "x real", "table KiB", "setup ms");
 }
 
-std::string Machine() {
-  std::ifstream in("/proc/cpuinfo");
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
-  }
-  return "unknown CPU";
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -186,8 +171,8 @@ int main(int argc, char** argv) {
   }
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   fmt::print(
-      "gearnvh frontier benchmark — {} — {} cores — {} recorded + {} transient cycles, best "
-      "of {}\n",
+      "gearnvh frontier benchmark — {} — {} cores — {} recorded + {} transient cycles, median "
+      "of {} paired differences\n",
       Machine(), cores, s.cycles, s.transient, s.repeats);
   nlohmann::json rows = nlohmann::json::array();
   auto add = [&](const std::string& section, const std::string& name, const Built& b,

@@ -1,9 +1,23 @@
 #include "gearnvh/solver/cycle_map.h"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace gearnvh {
+
+namespace {
+
+// High powers of a contracting map decay below the smallest normal double; arithmetic on
+// subnormal numbers is ~100x slower on x86. Setting them to zero changes a result by less than
+// 2.3e-308 per entry.
+template <typename Derived>
+void FlushSubnormals(Eigen::MatrixBase<Derived>& x) {
+  constexpr double kSmallest = std::numeric_limits<double>::min();
+  x = x.unaryExpr([](double v) { return std::abs(v) < kSmallest ? 0.0 : v; });
+}
+
+}  // namespace
 
 ConstantContactCycle::ConstantContactCycle(const SegmentTables& t, ContactState state,
                                            int max_jump_log2)
@@ -35,7 +49,10 @@ ConstantContactCycle::ConstantContactCycle(const SegmentTables& t, ContactState 
     velocity_sum_row_ = velocity_row_.head(e) * lu.inverse();  // rho (I - Pq)^-1 on range(L)
   }
   powers_.push_back(Pq_);
-  for (int l = 1; l < max_jump_log2; ++l) powers_.push_back(powers_.back() * powers_.back());
+  for (int l = 1; l < max_jump_log2; ++l) {
+    powers_.push_back(powers_.back() * powers_.back());
+    FlushSubnormals(powers_.back());
+  }
 
   // Orbit margin over the sub-step grid of one cycle, and the grid rows c Phi(t) L (elastic block).
   if (!has_orbit_) return;
@@ -86,7 +103,10 @@ Eigen::VectorXd ConstantContactCycle::Jump(const Eigen::VectorXd& z0, long long 
   const long long total = cycles;
   for (int l = 0; cycles > 0; ++l, cycles >>= 1) {
     if (l >= static_cast<int>(powers_.size())) throw std::out_of_range("cycle jump too long");
-    if (cycles & 1) dev = (powers_[l] * dev).eval();
+    if (cycles & 1) {
+      dev = (powers_[l] * dev).eval();
+      FlushSubnormals(dev);
+    }
   }
   Eigen::VectorXd z = orbit_ + dev;
   // The free rotation's velocity changes by rho (P - I) L z_i each cycle: summed in closed form,

@@ -57,7 +57,14 @@ bool DyadicLocator::Examine(int segment, double start, LocatorState& state, Even
       bool suspect = false;
       for (int i = 0; i < count; ++i) {
         const GapWall& w = walls[i];
-        if (w.sign * w.row->dot(zb_) > 0.0) suspect = true;
+        // Outside at the end, unless only by the gap's rounding floor while moving inward: right
+        // after a slow separation the state sits on the wall within rounding, and that noise is
+        // not a new contact (V2 and V3 discount it the same way).
+        const double outside = w.sign * w.row->dot(zb_);
+        if (outside > 0.0 &&
+            (w.sign * w.rate->dot(zb_) > 0.0 || outside > WallTolerance(*w.row, zb_))) {
+          suspect = true;
+        }
         if (k > 0 && w.sign * w.rate->dot(z) > 0.0 && w.sign * w.rate->dot(zb_) < 0.0 &&
             w.sign * w.row->dot(zb_) > -1e-3 * t_.half_backlash) {
           suspect = true;  // turned back near the wall: look inside

@@ -90,11 +90,15 @@ ExactStepper::ExactStepper(const SegmentTables& tables, const SolverOptions& opt
       recording_(tables, options, reserve_samples, reserve_events) {
   state_.z = z0;
   state_.contact = state0;
+  UpdateTableStatistics();
+}
+
+void ExactStepper::UpdateTableStatistics() {
   const LocatorStatistics& located = locator_->statistics();
   summary_.spectral_fallback_systems = located.spectral_fallback_systems;
   summary_.spectral_max_condition = located.spectral_max_condition;
   summary_.table_bytes =
-      located.table_bytes + fusion_.bytes() + tables.TableBytes() + recording_.bytes();
+      located.table_bytes + fusion_.bytes() + t_.TableBytes() + recording_.bytes();
 }
 
 bool ExactStepper::Run(long cycles, bool record) {
@@ -102,13 +106,18 @@ bool ExactStepper::Run(long cycles, bool record) {
   const double run_start = static_cast<double>(cycle_) * t_.mesh_period;
   const bool recorded = recording_.StartRun(run_start, record, state_.contact);
   const bool try_runs = fusion_.runs_enabled() && !tangent_.active() && !recorded;
+  bool ok = true;
   for (long c = 0; c < cycles; ++c, ++cycle_) {
     if (options_.Cancelled()) throw RunCancelled();
     events_this_cycle_ = 0;
-    if (!StepCycle(recorded, try_runs)) return TooManyEvents();
+    if (!StepCycle(recorded, try_runs)) {
+      ok = TooManyEvents();
+      break;
+    }
     EndCycle(record);
   }
-  return true;
+  UpdateTableStatistics();  // the locator builds tables on first visits
+  return ok;
 }
 
 void ExactStepper::StepWholeSegments(bool recorded) {

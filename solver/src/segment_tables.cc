@@ -18,19 +18,46 @@ const char* ContactStateName(ContactState s) {
   return "?";
 }
 
+// Mean of a sin(w t + phi) over [t0, t0 + h] = a sinc(w h / 2) sin(w (t0 + h / 2) + phi), with
+// sinc(x) = sin(x) / x: one sine per order at a known window, and no cancellation for short h
+// (the difference-of-cosines form loses digits as w h -> 0).
+namespace {
+double Sinc(double x) { return x == 0.0 ? 1.0 : std::sin(x) / x; }
+}  // namespace
+
 double SegmentTables::MeanExcitation(double t0, double h) const {
   double sum = 0.0;
   for (const ExcitationOrder& e : excitation) {
     const double w = e.order * pinion_speed;
-    sum += e.amplitude * (std::cos(w * t0 + e.phase) - std::cos(w * (t0 + h) + e.phase)) / (w * h);
+    sum += e.amplitude * Sinc(0.5 * w * h) * std::sin(w * (t0 + 0.5 * h) + e.phase);
   }
   return sum;
+}
+
+void SegmentTables::PrepareExcitationWindows() {
+  excitation_windows.clear();
+  for (int j = 0; j < segments(); ++j) {
+    for (const ExcitationOrder& e : excitation)
+      excitation_windows.push_back(Sinc(0.5 * e.order * pinion_speed * SegmentLength(j)));
+  }
 }
 
 void SegmentTables::SetInputs(long cycle, int segment, Eigen::Ref<Eigen::VectorXd> z) const {
   const double start = static_cast<double>(cycle) * mesh_period + boundaries[segment];
   const double h = SegmentLength(segment);
-  z[input_slot(kExcitationInput)] = excitation.empty() ? 0.0 : MeanExcitation(start, h);
+  double mean = 0.0;
+  const size_t orders = excitation.size();
+  if (excitation_windows.size() == orders * static_cast<size_t>(segments())) {
+    const double* window = excitation_windows.data() + static_cast<size_t>(segment) * orders;
+    for (size_t k = 0; k < orders; ++k) {
+      const ExcitationOrder& e = excitation[k];
+      const double w = e.order * pinion_speed;
+      mean += e.amplitude * window[k] * std::sin(w * (start + 0.5 * h) + e.phase);
+    }
+  } else {
+    mean = MeanExcitation(start, h);
+  }
+  z[input_slot(kExcitationInput)] = mean;
   if (inputs > kErrorInput)
     z[input_slot(kErrorInput)] = errors.SegmentMean(cycle, segment, start, h);
 }
@@ -241,6 +268,7 @@ SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel
       sys.substep = BalancedExpm(sys.A, h / substeps, n, w_ref);
     }
   }
+  t.PrepareExcitationWindows();
   return t;
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "bracketed_newton.h"
 
@@ -206,6 +207,7 @@ ClosedFormGap::ClosedFormGap(const SpectralDecomposition& d, const Eigen::RowVec
     term.size = b.size;
     term.sigma = b.sigma;
     term.omega = b.omega;
+    term.rate = std::hypot(b.sigma, b.omega);
     if (b.size == 1) {
       term.r1[0] = u[b.start];
     } else {
@@ -222,11 +224,15 @@ void ClosedFormGap::Load(const Eigen::VectorXd& w) {
   for (Term& t : terms_) {
     if (t.size == 1) {
       t.alpha = t.r1[0] * w[t.start];
+      t.beta = 0.0;
     } else {
       const Eigen::Vector2d wb = w.segment<2>(t.start);
       t.alpha = t.r1.dot(wb);
       t.beta = t.r2.dot(wb);
     }
+    const double amplitude = std::sqrt(t.alpha * t.alpha + t.beta * t.beta);
+    t.bound1 = amplitude * t.rate;
+    t.bound2 = t.bound1 * t.rate;
   }
 }
 
@@ -249,7 +255,9 @@ double ClosedFormGap::Evaluate(double t, int order) const {
   for (const Term& term : terms_) {
     const double grow = std::exp(term.sigma * t);
     if (term.size == 1) {
-      value += term.alpha * std::pow(term.sigma, order) * grow;
+      double scale = term.alpha;
+      for (int i = 0; i < order; ++i) scale *= term.sigma;
+      value += scale * grow;
       continue;
     }
     // d/dt [e^{st}(a cos wt + b sin wt)] = e^{st}((s a + w b) cos wt + (s b - w a) sin wt).
@@ -265,6 +273,38 @@ double ClosedFormGap::Evaluate(double t, int order) const {
   return value;
 }
 
+ClosedFormGap::Jet ClosedFormGap::SearchJet(double t) const {
+  // The same sums as Evaluate(t, 0) and Evaluate(t, 1), sharing each term's exp and sincos.
+  double value = 0.0, rate = 0.0;
+  if (t == 0.0) {  // every segment's search starts here: no exp, no sincos
+    if (zero_size_ > 0) value = poly_[0], rate = poly_.size() > 1 ? poly_[1] : 0.0;
+    for (const Term& term : terms_) {
+      value += term.alpha;
+      rate += term.size == 1 ? term.alpha * term.sigma
+                             : term.sigma * term.alpha + term.omega * term.beta;
+    }
+    return {sign_ * value - offset_, sign_ * rate};
+  }
+  const int degree = static_cast<int>(poly_.size()) - 1;
+  if (zero_size_ > 0) {
+    for (int k = degree; k >= 0; --k) value = value * t + poly_[k];
+    for (int k = degree; k >= 1; --k) rate = rate * t + static_cast<double>(k) * poly_[k];
+  }
+  for (const Term& term : terms_) {
+    const double grow = std::exp(term.sigma * t);
+    if (term.size == 1) {
+      value += term.alpha * grow;
+      rate += term.alpha * term.sigma * grow;
+      continue;
+    }
+    const double c = std::cos(term.omega * t), s = std::sin(term.omega * t);
+    const double a = term.alpha, b = term.beta;
+    value += grow * (a * c + b * s);
+    rate += grow * ((term.sigma * a + term.omega * b) * c + (term.sigma * b - term.omega * a) * s);
+  }
+  return {sign_ * value - offset_, sign_ * rate};
+}
+
 double ClosedFormGap::DerivativeBound(double a, double b, int order) const {
   double bound = 0.0;
   const int degree = static_cast<int>(poly_.size()) - 1;
@@ -275,11 +315,12 @@ double ClosedFormGap::DerivativeBound(double a, double b, int order) const {
       bound = bound * b + factor * std::abs(poly_[k]);
     }
   }
+  // max over [a, b] of e^{sigma t} is e^{sigma a} (sigma <= 0), bounded by 1 / (1 - sigma a) since
+  // e^{-x} (1 + x) <= 1 for x >= 0; or e^{sigma b} (sigma > 0).
   for (const Term& term : terms_) {
-    const double grow = std::exp(std::max(term.sigma * a, term.sigma * b));
-    const double rate = std::hypot(term.sigma, term.omega);
-    const double amplitude = std::hypot(term.alpha, term.beta);
-    bound += amplitude * std::pow(rate, order) * grow;
+    const double weight = order == 1 ? term.bound1 : term.bound2;
+    const double grow = term.sigma <= 0.0 ? 1.0 / (1.0 - term.sigma * a) : std::exp(term.sigma * b);
+    bound += weight * grow;
   }
   // Rounding of the evaluated bound itself: a hair of slack keeps the certificate conservative.
   return bound * (1.0 + 1e-12);
@@ -289,36 +330,37 @@ double ClosedFormGap::FirstRise(double sign, double horizon) const {
   sign_ = sign;
   horizon_ = horizon;
   offset_ = 0.0;
-  const double f0 = sign * Value(0.0);
-  offset_ = std::max(f0, 0.0);
-  return Search(0.0, f0 - offset_, horizon, 0);
+  Jet start = SearchJet(0.0);
+  offset_ = std::max(start.value, 0.0);
+  start.value -= offset_;
+  return Search(0.0, start, horizon, std::nullopt, 0);
 }
 
-double ClosedFormGap::Search(double a, double fa, double b, int depth) const {
-  auto f = [&](double t) { return sign_ * Value(t) - offset_; };
-  auto df = [&](double t) { return sign_ * Rate(t); };
+double ClosedFormGap::Search(double a, Jet at_a, double b, std::optional<Jet> at_b,
+                             int depth) const {
   const double length = b - a;
-  // Certificate 1: the wall cannot be reached on [a, b].
-  if (fa + DerivativeBound(a, b, 1) * length <= 0.0) return -1.0;
-  const double fb = f(b);
+  // Certificate 1: the wall cannot be reached on [a, b] (most segments end here, before any
+  // evaluation at b).
+  if (at_a.value + DerivativeBound(a, b, 1) * length <= 0.0) return -1.0;
+  if (!at_b) at_b = SearchJet(b);
   // Certificate 2: f' keeps its sign on [a, b], so f is monotone there.
-  const double slope = df(a);
-  if (std::abs(slope) > DerivativeBound(a, b, 2) * length) {
-    if (!(fb > 0.0)) return -1.0;
+  if (std::abs(at_a.rate) > DerivativeBound(a, b, 2) * length) {
+    if (!(at_b->value > 0.0)) return -1.0;
     // Monotone with f(a) <= 0 < f(b): the root to ~eps H, Newton started from a's tangent.
-    return BracketedNewton(f, df, a, b, a - fa / slope,
-                           4.0 * std::numeric_limits<double>::epsilon() * horizon_, 100);
+    return BracketedNewtonJet([this](double t) { return SearchJet(t); }, a, b,
+                              a - at_a.value / at_a.rate,
+                              4.0 * std::numeric_limits<double>::epsilon() * horizon_, 100);
   }
   // Neither certificate at rounding resolution: a grazing contact (f and f' both ~ 0).
   if (depth >= 60 || length <= 8.0 * std::numeric_limits<double>::epsilon() * horizon_) {
-    return fb > 0.0 ? b : -1.0;
+    return at_b->value > 0.0 ? b : -1.0;
   }
   const double mid = a + 0.5 * length;
-  const double fm = f(mid);
-  const double left = Search(a, fa, mid, depth + 1);
+  const Jet at_mid = SearchJet(mid);
+  const double left = Search(a, at_a, mid, at_mid, depth + 1);
   if (left >= 0.0) return left;
-  if (fm > 0.0) return mid;  // the left half ends outside: the crossing is at its end
-  return Search(mid, fm, b, depth + 1);
+  if (at_mid.value > 0.0) return mid;  // the left half ends outside: the crossing is at its end
+  return Search(mid, at_mid, b, at_b, depth + 1);
 }
 
 }  // namespace gearnvh

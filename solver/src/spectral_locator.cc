@@ -9,33 +9,41 @@ namespace gearnvh {
 
 SpectralLocator::SpectralLocator(const SegmentTables& tables, const SolverOptions& options)
     : EventLocator(tables, options),
+      max_condition_(options.spectral_max_condition),
       fallback_(tables, options),
       w_(tables.m),
       wt_(tables.m),
       scratch_(tables.m),
       z1_(tables.m) {
   systems_.resize(tables.segments());
-  for (int j = 0; j < tables.segments(); ++j) {
-    double w_ref = 1.0;
-    for (const auto& sys : tables.systems[j])
-      w_ref = std::max(w_ref, ReferenceFrequency(sys.A, tables.n));
-    for (int st = 0; st < 3; ++st) {
-      const SegmentSystem& sys = tables.systems[j][st];
-      System& sp = systems_[j][st];
-      sp.decomposition = DecomposeGenerator(sys.A, tables.n, w_ref, tables.SegmentLength(j),
-                                            options.spectral_max_condition);
-      sp.ok = sp.decomposition.info == SpectralDecomposition::Info::kSuccess;
-      if (!sp.ok) {
-        ++statistics_.spectral_fallback_systems;
-        continue;
-      }
-      statistics_.spectral_max_condition =
-          std::max(statistics_.spectral_max_condition, sp.decomposition.condition);
-      for (int g = 0; g < kGapRows; ++g)
-        sp.gaps[g] = ClosedFormGap(sp.decomposition, GapRow(sys, g));
-      statistics_.table_bytes += 2 * sizeof(double) * static_cast<size_t>(tables.m) * tables.m;
-    }
+  w_ref_.assign(tables.segments(), 0.0);
+}
+
+SpectralLocator::System& SpectralLocator::Prepared(int segment, ContactState state) {
+  System& sp = systems_[segment][static_cast<int>(state)];
+  if (sp.built) return sp;
+  sp.built = true;
+  // One balancing frequency for all three states of a segment (the same scaling whichever state
+  // is visited first).
+  double& w_ref = w_ref_[segment];
+  if (w_ref == 0.0) {
+    w_ref = 1.0;
+    for (const auto& sys : t_.systems[segment])
+      w_ref = std::max(w_ref, ReferenceFrequency(sys.A, t_.n));
   }
+  const SegmentSystem& sys = t_.systems[segment][static_cast<int>(state)];
+  sp.decomposition =
+      DecomposeGenerator(sys.A, t_.n, w_ref, t_.SegmentLength(segment), max_condition_);
+  sp.ok = sp.decomposition.info == SpectralDecomposition::Info::kSuccess;
+  if (!sp.ok) {
+    ++statistics_.spectral_fallback_systems;
+    return sp;
+  }
+  statistics_.spectral_max_condition =
+      std::max(statistics_.spectral_max_condition, sp.decomposition.condition);
+  for (int g = 0; g < kGapRows; ++g) sp.gaps[g] = ClosedFormGap(sp.decomposition, GapRow(sys, g));
+  statistics_.table_bytes += 2 * sizeof(double) * static_cast<size_t>(t_.m) * t_.m;
+  return sp;
 }
 
 bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
@@ -47,7 +55,7 @@ bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
   Eigen::VectorXd& z = state.z;
   while (true) {
     const SegmentSystem& sys = t_.systems[segment][static_cast<int>(state.contact)];
-    System& sp = systems_[segment][static_cast<int>(state.contact)];
+    System& sp = Prepared(segment, state.contact);
     if (!sp.ok) return fallback_.AdvanceFrom(segment, start, done, state, handler);
     const double remaining = h - done;
     w_.noalias() = sp.decomposition.S_inv * z;

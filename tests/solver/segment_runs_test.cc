@@ -1,5 +1,5 @@
-// Segment-run fusion (docs/design.md §4.5): certified products of consecutive segment propagators give
-// the step-by-step state to rounding (the ladder's bound: 1e-12 relative).
+// Segment-run fusion (docs/design.md §4.5): certified products of consecutive segment propagators
+// give the step-by-step state to rounding (the ladder's bound: 1e-12 relative).
 #include <catch2/catch.hpp>
 
 #include "solver/solver_fixture.h"
@@ -14,8 +14,7 @@ struct Pair {
 };
 
 // The same start through V3 stepping and through V3 with segment runs, `cycles` unrecorded.
-void CompareFusedRuns(const SegmentTables& t, long cycles, double tolerance,
-                      long* fused_segments) {
+void CompareFusedRuns(const SegmentTables& t, long cycles, double tolerance, long* fused_segments) {
   const auto [z0, s0] = StaticInitialState(t);
   SolverOptions stepped, fused;
   ApplyMethodName("v3", stepped);

@@ -146,8 +146,9 @@ TEST_CASE("V3 with every decomposition refused falls back to V2 and gives its ev
   const SolverResult a = SimulateExact(s.tables, z0, state0, v2);
   const SolverResult b = SimulateExact(s.tables, z0, state0, refused);
   // Free flight in tier 1 is all-nilpotent with S = Q orthogonal: cond 1 may pass; the contact
-  // states cannot.
-  CHECK(b.summary.spectral_fallback_systems >= 2 * s.tables.segments());
+  // states cannot. Decompositions are built on first visit, and the run starts in drive contact
+  // (its first impacts come after ~10 cycles), so every segment's drive state was refused.
+  CHECK(b.summary.spectral_fallback_systems >= s.tables.segments());
   REQUIRE(!a.trajectory.events.empty());
   // Both locate on the same Taylor polynomials in contact; free flight differs (closed form vs
   // Taylor) by rounding: 1e-9 of a segment.
@@ -171,6 +172,47 @@ TEST_CASE("V3 with partial fallback (tier 3) gives V2's events", "[solver][spect
   REQUIRE(a.trajectory.events.size() >= 2);
   // Exact to rounding both: the issue's 1e-9 of a segment.
   testing::CheckSameEvents(a.trajectory, b.trajectory, 1e-9 * s.tables.SegmentLength(0));
+}
+
+TEST_CASE("derivative bounds of the closed-form gap hold on every sub-interval",
+          "[solver][spectral]") {
+  // The search's certificates are only as good as these bounds: |g'| and |g''| sampled densely
+  // on [a, b] must never exceed DerivativeBound(a, b, order).
+  GearboxSpec spec = testing::StandardPair(27, 43, 2e-3, 15e-3);
+  spec.operating.torque = 0.2;
+  spec.operating.excitation = {{2.0, 1500.0, 0.0}};
+  const Tier tier = GENERATE(Tier::kTier1, Tier::kTier3);
+  const testing::SolverSetup s(spec, tier);
+  const SegmentTables& t = s.tables;
+  auto [z, state0] = StaticInitialState(t);
+  z[t.m - 1] = 50.0;
+  z.segment(t.n, t.n).setConstant(0.01);
+  const int j = 3;
+  const int st = static_cast<int>(ContactState::kDrive);
+  const SegmentSystem& sys = t.systems[j][st];
+  const double w_ref = ReferenceFrequency(sys.A, t.n);
+  const double h = t.SegmentLength(j);
+  // Three segment lengths, so that the decaying terms fall noticeably over [0, 3h].
+  const SpectralDecomposition d = DecomposeGenerator(sys.A, t.n, w_ref, 3.0 * h, 1e6);
+  REQUIRE(d.info == SpectralDecomposition::Info::kSuccess);
+  ClosedFormGap gap(d, sys.gap_drive);
+  gap.Load(d.S_inv * z);
+  for (const auto& [a, b] :
+       {std::pair{0.0, 3.0 * h}, std::pair{0.5 * h, 0.75 * h}, std::pair{2.0 * h, 3.0 * h}}) {
+    const double bound1 = gap.DerivativeBound(a, b, 1), bound2 = gap.DerivativeBound(a, b, 2);
+    double max1 = 0.0, max2 = 0.0;
+    for (int k = 0; k <= 400; ++k) {
+      const double tk = a + (b - a) * k / 400.0;
+      max1 = std::max(max1, std::abs(gap.Rate(tk)));
+      max2 = std::max(max2, std::abs(gap.Curvature(tk)));
+    }
+    INFO("[" << a / h << " h, " << b / h << " h]");
+    CHECK(max1 <= bound1);
+    CHECK(max2 <= bound2);
+    // And not uselessly loose: a bound far above the sampled maximum would make every search
+    // bisect to the bottom (the sum of amplitudes can exceed the maximum by the modes' count).
+    CHECK(bound1 <= 50.0 * max1);
+  }
 }
 
 }  // namespace

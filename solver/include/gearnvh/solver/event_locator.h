@@ -292,6 +292,8 @@ class DyadicLocator final : public SubstepLocator {
 // propagator) when the segment is entered unchanged, else S e^{B(h - t)} w. At an event
 // z <- S e^{B t*} w and the search restarts in the new state. An ill-conditioned (segment, state)
 // (cond(S) > spectral_max_condition) is handed to the Taylor search for the rest of the segment.
+// Decompositions are built when their (segment, state) is first visited (a loaded run never
+// decomposes its free and back states), so DoStep allocates only on a first visit.
 class SpectralLocator final : public EventLocator {
  public:
   static constexpr EventMethod kMethod = EventMethod::kSpectral;
@@ -303,9 +305,14 @@ class SpectralLocator final : public EventLocator {
   struct System {
     SpectralDecomposition decomposition;
     std::array<ClosedFormGap, kGapRows> gaps;  // indexed by GapWall::gap
+    bool built = false;
     bool ok = false;
   };
+  // The system of (segment, state), decomposed on first use.
+  System& Prepared(int segment, ContactState state);
+  double max_condition_;
   std::vector<std::array<System, 3>> systems_;  // [segment][state]
+  std::vector<double> w_ref_;                   // per segment; 0 until its first visit
   TaylorLocator fallback_;
   Eigen::VectorXd w_, wt_, scratch_, z1_;
 };

@@ -138,6 +138,8 @@ class ExactStepper : private EventHandler {
   bool StepCycleWith(Locator& locator, bool recorded, bool try_runs);
   void EndCycle(bool record);
   bool TooManyEvents();  // sets the status and message; returns false
+  // Copies the table sizes and decomposition counts of the locator (which grow on first visits).
+  void UpdateTableStatistics();
 
   const SegmentTables& t_;
   SolverOptions options_;

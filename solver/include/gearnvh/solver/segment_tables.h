@@ -87,6 +87,11 @@ struct SegmentTables {
   double SegmentLength(int j) const { return boundaries[j + 1] - boundaries[j]; }
   // Mean of sum_k a_k sin(k Omega1 t + phi_k) over [t0, t0 + h], rad/s^2 (closed form).
   double MeanExcitation(double t0, double h) const;
+  // Per segment and order, the averaging window sinc(w_k h_j / 2) of MeanExcitation, so that
+  // SetInputs evaluates one sine per order (BuildSegmentTables fills it; tables assembled by
+  // hand without it fall back to MeanExcitation).
+  std::vector<double> excitation_windows;
+  void PrepareExcitationWindows();
   size_t TableBytes() const;
 };
 

@@ -24,6 +24,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <optional>
 #include <vector>
 
 namespace gearnvh {
@@ -56,8 +57,12 @@ SpectralDecomposition DecomposeGenerator(const Eigen::MatrixXd& A, int n, double
 void PropagateDecoupled(const SpectralDecomposition& d, const Eigen::VectorXd& w, double t,
                         Eigen::VectorXd& out, Eigen::VectorXd& scratch);
 
-// The closed form of one gap row on one decomposition. Construction precomputes rows; Load()
-// takes the decoupled state of a segment start; the rest is scalar work without allocation.
+// The closed form of one gap row on one decomposition. Construction precomputes rows and each
+// term's rate |sigma + i omega|; Load() takes the decoupled state of a segment start (and each
+// term's amplitude); the rest is scalar work without allocation. The search evaluates value and
+// rate together (one exp and one sincos per term and point) and reuses every point it has
+// evaluated, and its derivative bounds cost one division per damped term: e^{sigma a} <=
+// 1 / (1 - sigma a) for sigma <= 0 (equal at a = 0, within 1 + (sigma a)^2 / 2 for small sigma a).
 class ClosedFormGap {
  public:
   ClosedFormGap() = default;
@@ -71,23 +76,31 @@ class ClosedFormGap {
   double Value(double t) const { return Evaluate(t, 0); }
   double Rate(double t) const { return Evaluate(t, 1); }
   double Curvature(double t) const { return Evaluate(t, 2); }
-  // An upper bound of |d^order g / dt^order| on [a, b], 0 <= a <= b.
+  // An upper bound of |d^order g / dt^order| on [a, b], 0 <= a <= b, order 1 or 2.
   double DerivativeBound(double a, double b, int order) const;
   // First t in (0, horizon] where sign * g(t) - offset > 0, or -1; offset = max(0, sign g(0)) so
   // a start on the wall (within rounding, right after an event) counts as inside.
   double FirstRise(double sign, double horizon) const;
 
  private:
+  // sign * g - offset and sign * g' at one time.
+  struct Jet {
+    double value = 0.0, rate = 0.0;
+  };
   double Evaluate(double t, int order) const;
-  double Search(double a, double fa, double b, int depth) const;
+  Jet SearchJet(double t) const;
+  double Search(double a, Jet at_a, double b, std::optional<Jet> at_b, int depth) const;
 
   // p_k = poly_rows_.row(k) . w0, with w0 the B0 part of w.
   Eigen::MatrixXd poly_rows_;
   struct Term {
     int start = 0, size = 1;
     double sigma = 0.0, omega = 0.0;
+    double rate = 0.0;  // |sigma + i omega|: the factor each derivative adds to the amplitude
     Eigen::RowVector2d r1 = Eigen::RowVector2d::Zero(), r2 = Eigen::RowVector2d::Zero();
     double alpha = 0.0, beta = 0.0;  // loaded coefficients
+    // Loaded amplitude sqrt(alpha^2 + beta^2) times rate^order, order 1 and 2.
+    double bound1 = 0.0, bound2 = 0.0;
   };
   std::vector<Term> terms_;
   Eigen::VectorXd poly_;  // loaded polynomial coefficients
