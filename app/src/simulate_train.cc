@@ -134,7 +134,11 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
     meshes.push_back(
         {{"name", m.name},
          {"mesh_period_s", tables.meshes[i].period},
-         {"te", {{"mean", m.te_mean}, {"rms", m.te_rms}, {"peak_to_peak", m.te_peak_to_peak}}},
+         {"te",
+          {{"mean", m.te_mean},
+           {"rms", m.te_rms},
+           {"peak_to_peak", m.te_peak_to_peak},
+           {"half_backlash", tables.meshes[i].half_backlash}}},
          {"mesh_force", {{"mean", m.force_mean}, {"max", m.force_max}}},
          {"rattle",
           {{"drive_impacts", m.drive_impacts},
@@ -195,6 +199,12 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
                    g.impacts);
       }
     }
+    fmt::print(
+        "  (TE is measured from the nominal rigid rotation, so its mean includes the mesh's half "
+        "backlash b:\n   drive contact closes the gap at TE = b; b per mesh in µm:");
+    for (size_t i = 0; i < stats.meshes.size(); ++i)
+      fmt::print(" {} {:.4g}", stats.meshes[i].name, tables.meshes[i].half_backlash * 1e6);
+    fmt::print(")\n");
     fmt::print(
         "  (TE, force and rattle index from {} uniform samples, {} per cycle of the fastest "
         "mesh; impacts and separation from the exact events)\n",
