@@ -203,7 +203,9 @@ render::HeatMap AtlasFigure(const AtlasResult& atlas, bool lyapunov, const Gearb
   h.title = lyapunov ? "Chaos atlas: largest Lyapunov exponent" : "Chaos atlas: rattle index";
   h.x_label = ax.label;
   h.y_label = ay.label;
-  h.value_label = lyapunov ? "per forcing cycle" : "log10 J per forcing cycle";
+  // Grey cells (NaN) are part of the colour key: the figure says what they mean.
+  h.value_label = lyapunov ? "per forcing cycle; grey: failed cell"
+                           : "log10 J per forcing cycle; grey: no impact or failed cell";
   h.diverging = lyapunov;
   h.nx = atlas.x.range.points;
   h.ny = atlas.y.range.points;
