@@ -132,7 +132,9 @@ TEST_CASE("the line-of-centres angles place the meshes: a turned layout has the 
           "[train]") {
   // Rigid shafts on the isotropic default supports and isotropic loose-gear bearings: turning
   // every mesh by the same angle turns the whole model about z, so its frequencies do not change
-  // (the dense eigensolver on two congruent pencils: 1e-9). Turning one mesh only changes how the
+  // (the dense eigensolver on two congruent pencils: 1e-7; the isotropic supports make close
+  // lateral pairs, whose computed values move by ~1e-9 relative between the release and the
+  // sanitizer builds' floating-point contraction). Turning one mesh only changes how the
   // meshes on the layshaft load it laterally, so the lateral frequencies move while the torsional
   // part (no lateral DOF) stays.
   TrainSpec spec = testing::RigidTwoStage();
@@ -146,7 +148,7 @@ TEST_CASE("the line-of-centres angles place the meshes: a turned layout has the 
   for (TrainMesh& m : turned.meshes) m.center_line_angle = 0.7;
   const std::vector<double> all_turned = frequencies(turned);
   REQUIRE(all_turned.size() == base.size());
-  for (size_t k = 0; k < base.size(); ++k) CHECK(all_turned[k] == Approx(base[k]).epsilon(1e-9));
+  for (size_t k = 0; k < base.size(); ++k) CHECK(all_turned[k] == Approx(base[k]).epsilon(1e-7));
   TrainSpec one = spec;
   one.meshes[1].center_line_angle = std::numbers::pi;  // g3-g4 on the other side of the layshaft
   const std::vector<double> moved = frequencies(one);
