@@ -1,14 +1,10 @@
 #include "gearnvh/solver/reference_integrator.h"
 
-#include <cvode/cvode.h>
-#include <nvector/nvector_serial.h>
-#include <sunlinsol/sunlinsol_dense.h>
-#include <sunmatrix/sunmatrix_dense.h>
-
 #include <algorithm>
 #include <chrono>
 #include <memory>
 
+#include "cvode_bdf.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/model/quadrature.h"
 
@@ -32,13 +28,6 @@ void ReferenceOptions::Validate() const {
 }
 
 namespace {
-
-// Internal steps since the last (re)initialisation.
-long StepsSoFar(void* cvode) {
-  long steps = 0;
-  CVodeGetNumSteps(cvode, &steps);
-  return steps;
-}
 
 struct Problem {
   const SegmentSystem* sys = nullptr;
@@ -84,10 +73,6 @@ int Roots(sunrealtype, N_Vector y, sunrealtype* g, void* data) {
   }
   return 0;
 }
-
-struct CvodeDeleter {
-  void operator()(void* mem) const { CVodeFree(&mem); }
-};
 
 // The outputs of the exact recorder at one time, from the state itself.
 TrajectorySample Sample(const SegmentTables& t, const SegmentSystem& sys, ContactState state,
@@ -206,29 +191,14 @@ ReferenceResult SimulateReference(const SegmentTables& t, const Eigen::VectorXd&
   options.Validate();
   const auto start = std::chrono::steady_clock::now();
   ReferenceResult result;
-  SUNContext ctx = nullptr;
-  SUNContext_Create(nullptr, &ctx);
   const long m = t.m;
-  N_Vector y = N_VNew_Serial(m, ctx);
-  N_Vector abstol = N_VNew_Serial(m, ctx);
-  for (long i = 0; i < m; ++i) {
-    NV_Ith_S(y, i) = z0[i];
-    NV_Ith_S(abstol, i) =
-        i < t.n ? options.atol_position : (i < 2 * t.n ? options.atol_velocity : 1.0);
-  }
-  SUNMatrix J = SUNDenseMatrix(m, m, ctx);
-  SUNLinearSolver ls = SUNLinSol_Dense(y, J, ctx);
-  std::unique_ptr<void, CvodeDeleter> mem(CVodeCreate(CV_BDF, ctx));
   Problem problem;
   problem.state = state0;
   problem.sys = &t.systems[0][static_cast<int>(state0)];
-  CVodeInit(mem.get(), Rhs, 0.0, y);
-  CVodeSVtolerances(mem.get(), options.rtol, abstol);
-  CVodeSetUserData(mem.get(), &problem);
-  CVodeSetLinearSolver(mem.get(), ls, J);
-  CVodeSetJacFn(mem.get(), Jac);
-  CVodeSetMaxNumSteps(mem.get(), 1000000);
-  CVodeRootInit(mem.get(), 2, Roots);
+  const CvodeBdf cvode(z0, {t.n, options.rtol, options.atol_position, options.atol_velocity, Rhs,
+                            Jac, Roots, 2, &problem});
+  void* mem = cvode.mem();
+  N_Vector y = cvode.y();
   int roots_found[2];
 
   double time = 0.0;
@@ -264,22 +234,22 @@ ReferenceResult SimulateReference(const SegmentTables& t, const Eigen::VectorXd&
           problem.sys = &t.systems[j][static_cast<int>(to)];
         }
       }
-      result.steps += StepsSoFar(mem.get());  // CVodeReInit resets CVODE's counter
-      CVodeReInit(mem.get(), time, y);
-      CVodeSetStopTime(mem.get(), seg_end);
+      result.steps += cvode.StepsSoFar();  // CVodeReInit resets CVODE's counter
+      CVodeReInit(mem, time, y);
+      CVodeSetStopTime(mem, seg_end);
       while (time < seg_end && result.status == ReferenceStatus::kSuccess) {
         double reached = time;
-        const int flag = CVode(mem.get(), seg_end, y, &reached, CV_ONE_STEP);
+        const int flag = CVode(mem, seg_end, y, &reached, CV_ONE_STEP);
         if (flag < 0) {
           result.status = ReferenceStatus::kSolverFailure;
           result.message = std::string("CVODE failed: ") + CVodeGetReturnFlagName(flag);
           break;
         }
         // [time, reached] lies inside CVODE's last step: its interpolant gives the dense output.
-        dense.Interval(mem.get(), *problem.sys, problem.state, time, reached);
+        dense.Interval(mem, *problem.sys, problem.state, time, reached);
         time = reached;
         if (flag != CV_ROOT_RETURN) continue;
-        CVodeGetRootInfo(mem.get(), roots_found);
+        CVodeGetRootInfo(mem, roots_found);
         const ContactState from = problem.state;
         ContactState to = from;
         // Only crossings in the triggering direction switch the state.
@@ -300,8 +270,8 @@ ReferenceResult SimulateReference(const SegmentTables& t, const Eigen::VectorXd&
         result.trajectory.events.push_back({time, from, to, rate});
         problem.state = to;
         problem.sys = &t.systems[j][static_cast<int>(to)];
-        result.steps += StepsSoFar(mem.get());
-        CVodeReInit(mem.get(), time, y);
+        result.steps += cvode.StepsSoFar();
+        CVodeReInit(mem, time, y);
         if (++events > options.max_events) {
           result.status = ReferenceStatus::kTooManyEvents;
           result.message = "too many contact events";
@@ -311,13 +281,7 @@ ReferenceResult SimulateReference(const SegmentTables& t, const Eigen::VectorXd&
     }
   }
   result.trajectory.statistics = dense.statistics();
-  result.steps += StepsSoFar(mem.get());
-  mem.reset();
-  SUNLinSolFree(ls);
-  SUNMatDestroy(J);
-  N_VDestroy(abstol);
-  N_VDestroy(y);
-  SUNContext_Free(&ctx);
+  result.steps += cvode.StepsSoFar();
   result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

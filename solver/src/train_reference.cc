@@ -1,12 +1,8 @@
 #include "gearnvh/solver/train_reference.h"
 
-#include <cvode/cvode.h>
-#include <nvector/nvector_serial.h>
-#include <sunlinsol/sunlinsol_dense.h>
-#include <sunmatrix/sunmatrix_dense.h>
-
 #include <memory>
 
+#include "cvode_bdf.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/solver/train_stepper.h"
 
@@ -112,16 +108,6 @@ ContactState Triggered(ContactState s, bool drive, int sign) {
   return s;
 }
 
-long StepsSoFar(void* cvode) {
-  long steps = 0;
-  CVodeGetNumSteps(cvode, &steps);
-  return steps;
-}
-
-struct CvodeDeleter {
-  void operator()(void* mem) const { CVodeFree(&mem); }
-};
-
 }  // namespace
 
 TrainReferenceResult SimulateTrainReference(const TrainTables& t, const Eigen::VectorXd& z0,
@@ -129,34 +115,19 @@ TrainReferenceResult SimulateTrainReference(const TrainTables& t, const Eigen::V
                                             const TrainReferenceOptions& options) {
   options.Validate();
   TrainReferenceResult result;
-  SUNContext ctx = nullptr;
-  SUNContext_Create(nullptr, &ctx);
   const long m = t.m;
   const size_t meshes = t.meshes.size();
-  N_Vector y = N_VNew_Serial(m, ctx);
-  N_Vector abstol = N_VNew_Serial(m, ctx);
-  N_Vector dky = N_VNew_Serial(m, ctx);
-  for (long i = 0; i < m; ++i) {
-    NV_Ith_S(y, i) = z0[i];
-    NV_Ith_S(abstol, i) =
-        i < t.n ? options.atol_position : (i < 2 * t.n ? options.atol_velocity : 1.0);
-  }
-  SUNMatrix J = SUNDenseMatrix(m, m, ctx);
-  SUNLinearSolver ls = SUNLinSol_Dense(y, J, ctx);
-  std::unique_ptr<void, CvodeDeleter> mem(CVodeCreate(CV_BDF, ctx));
   Problem p;
   p.t = &t;
   p.states = states0;
   TrainGrid grid(t);
   p.segments = grid.segments();
   p.A = AssembleTrainGenerator(t, p.segments, p.states);
-  CVodeInit(mem.get(), Rhs, 0.0, y);
-  CVodeSVtolerances(mem.get(), options.rtol, abstol);
-  CVodeSetUserData(mem.get(), &p);
-  CVodeSetLinearSolver(mem.get(), ls, J);
-  CVodeSetJacFn(mem.get(), Jac);
-  CVodeSetMaxNumSteps(mem.get(), 1000000);
-  CVodeRootInit(mem.get(), static_cast<int>(2 * meshes), Roots);
+  const CvodeBdf cvode(z0, {t.n, options.rtol, options.atol_position, options.atol_velocity, Rhs,
+                            Jac, Roots, static_cast<int>(2 * meshes), &p});
+  void* mem = cvode.mem();
+  N_Vector y = cvode.y();
+  N_Vector dky = N_VNew_Serial(m, cvode.context());
   std::vector<int> found(2 * meshes);
   std::vector<double> te_rows;
   long next_sample = 0;
@@ -165,7 +136,7 @@ TrainReferenceResult SimulateTrainReference(const TrainTables& t, const Eigen::V
     for (double ts = next_sample * options.sample_interval;
          ts < b - 1e-12 * options.sample_interval && ts <= options.end_time;
          ts = ++next_sample * options.sample_interval) {
-      CVodeGetDky(mem.get(), std::max(ts, a), 0, dky);
+      CVodeGetDky(mem, std::max(ts, a), 0, dky);
       result.sample_times.push_back(ts);
       for (size_t i = 0; i < meshes; ++i)
         te_rows.push_back(
@@ -197,12 +168,12 @@ TrainReferenceResult SimulateTrainReference(const TrainTables& t, const Eigen::V
       }
     }
     p.A = AssembleTrainGenerator(t, p.segments, p.states);
-    result.steps += StepsSoFar(mem.get());  // CVodeReInit resets CVODE's counter
-    CVodeReInit(mem.get(), time, y);
-    CVodeSetStopTime(mem.get(), seg_end);
+    result.steps += cvode.StepsSoFar();  // CVodeReInit resets CVODE's counter
+    CVodeReInit(mem, time, y);
+    CVodeSetStopTime(mem, seg_end);
     while (time < seg_end && result.success) {
       double reached = time;
-      const int flag = CVode(mem.get(), seg_end, y, &reached, CV_ONE_STEP);
+      const int flag = CVode(mem, seg_end, y, &reached, CV_ONE_STEP);
       if (flag < 0) {
         result.success = false;
         result.message = std::string("CVODE failed: ") + CVodeGetReturnFlagName(flag);
@@ -211,7 +182,7 @@ TrainReferenceResult SimulateTrainReference(const TrainTables& t, const Eigen::V
       emit_samples(time, reached);
       time = reached;
       if (flag != CV_ROOT_RETURN) continue;
-      CVodeGetRootInfo(mem.get(), found.data());
+      CVodeGetRootInfo(mem, found.data());
       bool changed = false;
       for (size_t i = 0; i < meshes; ++i) {
         for (bool drive : {true, false}) {
@@ -226,8 +197,8 @@ TrainReferenceResult SimulateTrainReference(const TrainTables& t, const Eigen::V
       }
       if (!changed) continue;
       p.A = AssembleTrainGenerator(t, p.segments, p.states);
-      result.steps += StepsSoFar(mem.get());
-      CVodeReInit(mem.get(), time, y);
+      result.steps += cvode.StepsSoFar();
+      CVodeReInit(mem, time, y);
       if (static_cast<long>(result.events.size()) > options.max_events) {
         result.success = false;
         result.message = "too many contact events";
@@ -238,16 +209,10 @@ TrainReferenceResult SimulateTrainReference(const TrainTables& t, const Eigen::V
   result.te = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
       te_rows.data(), static_cast<Eigen::Index>(result.sample_times.size()),
       static_cast<Eigen::Index>(meshes));
-  result.steps += StepsSoFar(mem.get());
+  result.steps += cvode.StepsSoFar();
   result.final_state = Eigen::Map<const Eigen::VectorXd>(NV_DATA_S(y), m);
   result.final_states = p.states;
-  mem.reset();
-  SUNLinSolFree(ls);
-  SUNMatDestroy(J);
   N_VDestroy(dky);
-  N_VDestroy(abstol);
-  N_VDestroy(y);
-  SUNContext_Free(&ctx);
   return result;
 }
 

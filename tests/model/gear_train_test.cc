@@ -1,44 +1,29 @@
 // Gear trains (docs/gear-trains.md): topology, nominal speeds, torque flow, tier-1 torsional modes.
+#include "gearnvh/model/gear_train.h"
+
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <numbers>
 
 #include "gearnvh/model/component_model.h"
-#include "gearnvh/model/gear_train.h"
 #include "gearnvh/model/input_error.h"
 #include "model/test_specs.h"
+#include "model/test_trains.h"
 
 namespace gearnvh {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
 
+// The hand-built pieces of tests/model/test_trains.h under short names.
 TrainGear Gear(const std::string& name, const std::string& shaft, int teeth,
                Mounting mounting = Mounting::kFixed) {
-  TrainGear g;
-  g.name = name;
-  g.shaft = shaft;
-  g.mounting = mounting;
-  g.gear = testing::StandardPair(teeth, teeth).pinion;
-  g.gear.teeth = teeth;
-  g.gear.bore_diameter = 10e-3;
-  return g;
+  return testing::TrainGearOf(name, shaft, teeth, mounting);
 }
-
-TrainShaft Rigid(const std::string& name, double inertia) {
-  TrainShaft s;
-  s.name = name;
-  s.inertia = inertia;
-  return s;
-}
-
-TrainMesh Mesh(const std::string& a, const std::string& b) {
-  TrainMesh m;
-  m.gear_a = a;
-  m.gear_b = b;
-  m.mesh.backlash = 100e-6;
-  return m;
-}
+constexpr auto Rigid = testing::RigidShaft;
+constexpr auto Mesh = [](const std::string& a, const std::string& b, double backlash = 100e-6) {
+  return testing::TrainMeshOf(a, b, backlash);
+};
 
 // Input (g1, 20) -> layshaft (g2, 40; g3, 18) -> output (g4, 54), and a loose gear g5 (30) on the
 // output shaft driven by g6 (25) on the layshaft.
@@ -47,8 +32,11 @@ TrainSpec TwoStage() {
   t.name = "two-stage";
   t.materials["steel"] = Material{206e9, 0.3, 7850.0};
   t.shafts = {Rigid("input", 5e-3), Rigid("layshaft", 1e-3), Rigid("output", 0.2)};
-  t.gears = {Gear("g1", "input", 20),    Gear("g2", "layshaft", 40), Gear("g3", "layshaft", 18),
-             Gear("g4", "output", 54),   Gear("g5", "output", 30, Mounting::kLoose),
+  t.gears = {Gear("g1", "input", 20),
+             Gear("g2", "layshaft", 40),
+             Gear("g3", "layshaft", 18),
+             Gear("g4", "output", 54),
+             Gear("g5", "output", 30, Mounting::kLoose),
              Gear("g6", "layshaft", 25)};
   t.meshes = {Mesh("g1", "g2"), Mesh("g3", "g4"), Mesh("g6", "g5")};
   t.operating.input_shaft = "input";
@@ -104,7 +92,8 @@ TEST_CASE("a two-mesh torsional train's frequencies equal the closed-form eigenp
   // The free rotation th_j ~ |w_j| strains no mesh: r_b,a |w_a| = r_b,b |w_b| (equal base-circle
   // speeds) to rounding, so K annihilates it.
   Eigen::Vector3d rigid;
-  for (int b = 0; b < 3; ++b) rigid(b) = std::abs(train.topology.bodies[static_cast<size_t>(b)].speed);
+  for (int b = 0; b < 3; ++b)
+    rigid(b) = std::abs(train.topology.bodies[static_cast<size_t>(b)].speed);
   CHECK((modes.K * rigid).norm() <= 1e-13 * modes.K.norm() * rigid.norm());
   // Shapes M-orthonormal.
   const Eigen::MatrixXd gram = modes.shapes.transpose() * modes.M * modes.shapes;
@@ -155,8 +144,8 @@ TEST_CASE("a schema-1 gearbox is the two-shaft train with the same mesh model", 
   // One mesh: f = sqrt(k (r1^2 / J1 + r2^2 / J2)) / 2 pi.
   const TrainTorsionalModes modes = TorsionalModes(train);
   const double r1 = model.geometry.pinion.base, r2 = model.geometry.wheel.base;
-  const double f = std::sqrt(model.mesh_summary.mean *
-                             (r1 * r1 / model.pinion_body.polar + r2 * r2 / model.wheel_body.polar)) /
+  const double f = std::sqrt(model.mesh_summary.mean * (r1 * r1 / model.pinion_body.polar +
+                                                        r2 * r2 / model.wheel_body.polar)) /
                    (2 * kPi);
   REQUIRE(modes.frequencies_hz.size() == 1);
   CHECK(modes.frequencies_hz[0] == Approx(f).epsilon(1e-10));

@@ -28,11 +28,11 @@ inline TrainShaft RigidShaft(const std::string& name, double inertia) {
   return s;
 }
 
-inline TrainMesh TrainMeshOf(const std::string& a, const std::string& b) {
+inline TrainMesh TrainMeshOf(const std::string& a, const std::string& b, double backlash = 100e-6) {
   TrainMesh m;
   m.gear_a = a;
   m.gear_b = b;
-  m.mesh.backlash = 100e-6;
+  m.mesh.backlash = backlash;
   return m;
 }
 

@@ -11,6 +11,7 @@
 #include "gearnvh/solver/train_reference.h"
 #include "gearnvh/solver/train_statistics.h"
 #include "model/test_specs.h"
+#include "model/test_trains.h"
 #include "support/allocation_counter.h"
 
 namespace gearnvh {
@@ -18,32 +19,15 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
+// The hand-built pieces of tests/model/test_trains.h under short names.
 TrainGear Gear(const std::string& name, const std::string& shaft, int teeth,
                Mounting mounting = Mounting::kFixed) {
-  TrainGear g;
-  g.name = name;
-  g.shaft = shaft;
-  g.mounting = mounting;
-  g.gear = testing::StandardPair(teeth, teeth).pinion;
-  g.gear.teeth = teeth;
-  g.gear.bore_diameter = 10e-3;
-  return g;
+  return testing::TrainGearOf(name, shaft, teeth, mounting);
 }
-
-TrainShaft Rigid(const std::string& name, double inertia) {
-  TrainShaft s;
-  s.name = name;
-  s.inertia = inertia;
-  return s;
-}
-
-TrainMesh Mesh(const std::string& a, const std::string& b, double backlash = 100e-6) {
-  TrainMesh m;
-  m.gear_a = a;
-  m.gear_b = b;
-  m.mesh.backlash = backlash;
-  return m;
-}
+constexpr auto Rigid = testing::RigidShaft;
+constexpr auto Mesh = [](const std::string& a, const std::string& b, double backlash = 100e-6) {
+  return testing::TrainMeshOf(a, b, backlash);
+};
 
 // Input (g1, 20) -> layshaft (g2, 30; g3, 25) -> loose gear g4 (25) idling on the input shaft,
 // with a load on the layshaft and a drag on g4: the small rattling train of these tests.
