@@ -28,4 +28,22 @@ inline GearboxSpec StandardPair(int z1, int z2, double module = 2e-3, double fac
   return s;
 }
 
+// A 31:47 pair (module 3 mm, face 30 mm) on two flexible shafts with bearings and driveline
+// inertias, ~50 nodes at 10 mm elements: the shape of examples/flexible_shafts.yaml, at 200 N m.
+inline GearboxSpec FlexibleShaftsPair(double element_length = 0.01) {
+  GearboxSpec spec = StandardPair(31, 47, 3e-3, 30e-3);
+  spec.operating.torque = 200.0;
+  for (int s = 0; s < 2; ++s) {
+    ShaftSpec shaft;
+    shaft.material = "steel";
+    shaft.segments = {{0.06, 0.03, 0.0}, {0.08, 0.035, 0.0}, {0.1, 0.03, 0.0}};
+    shaft.gear_at = s == 0 ? 0.1 : 0.13;
+    shaft.bearings = {{0.01, 3e8, 1e8, 0.0, 500.0}, {0.23, 3e8, 0.0, 0.0, 500.0}};
+    shaft.inertias = {{s == 0 ? 0.0 : 0.24, 0.02, 0.01}};
+    shaft.element_length = element_length;
+    (s == 0 ? spec.input_shaft : spec.output_shaft) = shaft;
+  }
+  return spec;
+}
+
 }  // namespace gearnvh::testing

@@ -40,19 +40,8 @@ TEST_CASE("tier 1 is adequate for a rigid pair until the gears' lateral modes en
 }
 
 GearboxSpec FlexiblePair() {
-  GearboxSpec spec = testing::StandardPair(31, 47, 3e-3, 30e-3);
-  spec.operating.torque = 200.0;
+  GearboxSpec spec = testing::FlexibleShaftsPair(0.01);
   spec.operating.speed = 3000.0 * 2 * std::numbers::pi / 60;
-  for (int s = 0; s < 2; ++s) {
-    ShaftSpec shaft;
-    shaft.material = "steel";
-    shaft.segments = {{0.06, 0.03, 0.0}, {0.08, 0.035, 0.0}, {0.1, 0.03, 0.0}};
-    shaft.gear_at = s == 0 ? 0.1 : 0.13;
-    shaft.bearings = {{0.01, 3e8, 1e8, 0.0, 500.0}, {0.23, 3e8, 0.0, 0.0, 500.0}};
-    shaft.inertias = {{s == 0 ? 0.0 : 0.24, 0.02, 0.01}};
-    shaft.element_length = 0.01;
-    (s == 0 ? spec.input_shaft : spec.output_shaft) = shaft;
-  }
   return spec;
 }
 
