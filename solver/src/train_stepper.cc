@@ -12,8 +12,6 @@ namespace gearnvh {
 namespace {
 
 constexpr double kEps = std::numeric_limits<double>::epsilon();
-constexpr int kTaylorTerms = 20;
-constexpr int kDenseSamples = 16;
 
 }  // namespace
 
@@ -120,6 +118,11 @@ TrainStepper::TrainStepper(const TrainTables& tables, const TrainStepperOptions&
   scratch_.resize(m);
   zs_.resize(m);
   taylor_.resize(m, kTaylorTerms + 1);
+  z1_.resize(m);
+  if (options.events == EventMethod::kDyadic) {
+    substep_map_.resize(m, m);
+    dyadic_levels_.assign(kDyadicLevels, Eigen::MatrixXd(m, m));
+  }
   roots_.resize(tables.meshes.size());
   root_walls_.resize(tables.meshes.size());
   key_.resize(static_cast<size_t>(cache_.KeyWords()));
@@ -245,8 +248,14 @@ bool TrainStepper::AdvanceGridSegment(double until, TrainRecorder* rec) {
   }
   while (until - time_ > 1e-15 * h) {
     const TrainSystem& sys = cache_.Get(grid_.segments(), states_, key_);
-    const double step = sys.spectral ? AdvanceSpectral(sys, until - time_, rec)
-                                     : AdvanceDense(sys, until - time_, rec);
+    double step = 0.0;
+    if (options_.events == EventMethod::kDyadic) {
+      step = AdvanceDyadic(sys, until - time_, rec);
+    } else if (sys.spectral && options_.events == EventMethod::kSpectral) {
+      step = AdvanceSpectral(sys, until - time_, rec);
+    } else {
+      step = AdvanceDense(sys, until - time_, rec);
+    }
     time_ += step;
     if (events_this_segment_ > options_.max_events_per_segment) {
       summary_.info = TrainStepperSummary::Info::kTooManyEvents;
@@ -322,72 +331,6 @@ double TrainStepper::AdvanceSpectral(const TrainSystem& sys, double remaining, T
   }
   if (switched_now > 1) summary_.simultaneous_events += switched_now - 1;
   return advance;
-}
-
-double TrainStepper::AdvanceDense(const TrainSystem& sys, double remaining, TrainRecorder* rec) {
-  ++summary_.dense_pieces;
-  const double d = std::min(remaining, sys.substep);
-  taylor_.col(0) = z_;
-  for (int k = 1; k <= kTaylorTerms; ++k) {
-    taylor_.col(k).noalias() = sys.A * taylor_.col(k - 1);
-    taylor_.col(k) /= static_cast<double>(k);
-  }
-  const int n = t_.n;
-  double best = -1.0;
-  int best_mesh = -1;
-  ContactState best_target = ContactState::kFree;
-  double coeff[kTaylorTerms + 1];
-  const auto gap_at = [&](double tau) {
-    double value = 0.0;
-    for (int k = kTaylorTerms; k >= 0; --k) value = value * tau + coeff[k];
-    return value;
-  };
-  for (size_t i = 0; i < t_.meshes.size(); ++i) {
-    const TrainMeshTable& mt = t_.meshes[i];
-    const double e = mt.error[static_cast<size_t>(grid_.segments()[i])];
-    Wall walls[2];
-    const int count = Walls(static_cast<int>(i), walls);
-    for (int k = 0; k < count; ++k) {
-      const double wall = walls[k].drive ? e + mt.half_backlash : e - mt.half_backlash;
-      for (int p = 0; p <= kTaylorTerms; ++p) {
-        coeff[p] = walls[k].sign *
-                   (mt.v.dot(taylor_.col(p).head(n)) - wall * taylor_(t_.constant_slot(), p));
-      }
-      // The start is inside (or on) the wall: count rounding there as inside.
-      const double offset = std::max(0.0, gap_at(0.0));
-      double a = 0.0;
-      for (int q = 1; q <= kDenseSamples; ++q) {
-        double b = d * q / kDenseSamples;
-        if (gap_at(b) - offset <= 0.0) {
-          a = b;
-          continue;
-        }
-        for (int it = 0; it < 200 && b - a > 4.0 * kEps * std::max(b, 1e-300); ++it) {
-          const double mid = 0.5 * (a + b);
-          if (gap_at(mid) - offset > 0.0) {
-            b = mid;
-          } else {
-            a = mid;
-          }
-        }
-        if (best < 0.0 || b < best) {
-          best = b, best_mesh = static_cast<int>(i), best_target = walls[k].target;
-        }
-        break;
-      }
-    }
-  }
-  const double step = best < 0.0 ? d : best;
-  Record(sys, time_, step, false, rec);
-  z_ = taylor_.col(kTaylorTerms);
-  for (int k = kTaylorTerms - 1; k >= 0; --k) {
-    z_ *= step;
-    z_ += taylor_.col(k);
-  }
-  if (best >= 0.0) {
-    Switch(best_mesh, best_target, time_ + step, rec);
-  }
-  return step;
 }
 
 }  // namespace gearnvh

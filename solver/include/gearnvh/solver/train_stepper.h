@@ -19,6 +19,17 @@
 // each gap of a sub-step is a scalar polynomial, sampled at 16 points and at the end, its first
 // crossing bisected to rounding. Never silently wrong: a tuple either decomposes within the
 // condition limit or takes this path.
+// Event methods (TrainStepperOptions::events), as the pair's locators (event_locator.h):
+//   V3 (kSpectral, default): the closed form above, the dense path for ill-conditioned tuples.
+//   V2 (kTaylor): every tuple on the Taylor path; each gap's first crossing is the pair's
+//     polynomial search (taylor_root.h: samples plus every interior maximum between them, so a
+//     brief excursion is not missed), with the same grazing rule as V3.
+//   V1 (kDyadic, the baseline): sub-steps of length d <= D, one dense propagator expm(A d) each,
+//     screened as the pair's V1 (end point outside, or the gap turned back towards the wall); a
+//     flagged sub-step is walked on dyadic propagators expm(A d 2^-l), l = 1..34, built for it, and
+//     the event placed at the end of the cell holding the crossing (times quantised to d 2^-34).
+//     Tables are built per sub-step (a train's grid segments have many lengths): slow, and only
+//     for validation.
 // Free rotation: r (th_j ~ |w_j|) changes no gap and no force in any tuple, so its position drift
 // is removed (x <- x - r r~ x) once per common period (once per input revolution without one).
 // Once the cache holds the visited tuples, Run() allocates nothing.
@@ -27,6 +38,7 @@
 #include <Eigen/Dense>
 #include <vector>
 
+#include "gearnvh/solver/solver_options.h"
 #include "gearnvh/solver/train_tables.h"
 
 namespace gearnvh {
@@ -52,8 +64,9 @@ class TrainGrid {
 };
 
 struct TrainStepperOptions {
-  double grazing_rate_tolerance = 1e-9;  // m/s, >= 0
-  long max_events_per_segment = 1000;    // beyond this Run() stops with kTooManyEvents; >= 1
+  double grazing_rate_tolerance = 1e-9;         // m/s, >= 0
+  long max_events_per_segment = 1000;           // beyond this Run() stops with kTooManyEvents; >= 1
+  EventMethod events = EventMethod::kSpectral;  // V3; V2 and V1 for validation
   TrainTableOptions tables;
   void Validate() const;
 };
@@ -63,8 +76,9 @@ struct TrainStepperSummary {
   Info info = Info::kSuccess;
   long grid_segments = 0;
   long events = 0, simultaneous_events = 0, grazing = 0;
-  long start_switches = 0;  // states switched at once at a segment start
-  long dense_pieces = 0;    // pieces propagated on the dense (Taylor) path
+  long start_switches = 0;   // states switched at once at a segment start
+  long dense_pieces = 0;     // pieces propagated on the dense (Taylor) path
+  long dyadic_substeps = 0;  // V1: flagged sub-steps walked on the dyadic grid
   long recenterings = 0;
   double simulated_time = 0.0;  // s
   TrainCacheSummary cache;
@@ -77,6 +91,10 @@ std::pair<Eigen::VectorXd, std::vector<ContactState>> TrainStaticState(const Tra
 class TrainStepper {
  public:
   static constexpr double kSimultaneous = 1e-12;  // relative to the grid segment length
+  // The dense path's Taylor polynomial: (rho d)^21 / 21! with rho d <= 1/2 is below rounding.
+  static constexpr int kTaylorTerms = 20;
+  static constexpr int kRootSamples = 16;  // samples per sub-step of the V2 root search
+  static constexpr int kDyadicLevels = 34;
   TrainStepper(const TrainTables& tables, const TrainStepperOptions& options,
                const Eigen::VectorXd& z0, const std::vector<ContactState>& states0);
   // Advances to `end_time` (s); the recorder (optional) sees every piece, sample and event.
@@ -96,6 +114,17 @@ class TrainStepper {
   // returns the time advanced.
   double AdvanceSpectral(const TrainSystem& sys, double remaining, TrainRecorder* rec);
   double AdvanceDense(const TrainSystem& sys, double remaining, TrainRecorder* rec);
+  double AdvanceDyadic(const TrainSystem& sys, double remaining, TrainRecorder* rec);
+  // Fills taylor_ with A^k z / k!, k = 0..kTaylorTerms (the dense path's polynomial).
+  void TaylorColumns(const TrainSystem& sys);
+  // The first wall (of any mesh) that z is outside of, as (mesh, wall), or mesh -1; the gap turned
+  // back towards a wall between z and z1 sets `turned`.
+  struct WallHit {
+    int mesh = -1;
+    ContactState target = ContactState::kFree;
+  };
+  WallHit Suspect(const Eigen::VectorXd& z, const Eigen::VectorXd& z1, bool look_inside,
+                  bool& turned) const;
   bool SwitchOutside(TrainRecorder* rec);
   // A wall of a mesh's state: gap g+ (drive) or g-; sign * g > 0 is outside; the state beyond.
   struct Wall {
@@ -115,6 +144,9 @@ class TrainStepper {
   TrainGrid grid_;
   Eigen::VectorXd z_, w_, wt_, scratch_, zs_;
   Eigen::MatrixXd taylor_;
+  Eigen::MatrixXd substep_map_;                 // V1: expm(A d) of the current sub-step
+  std::vector<Eigen::MatrixXd> dyadic_levels_;  // V1: expm(A d 2^-(l+1)), l = 0..33
+  Eigen::VectorXd z1_;
   std::vector<ContactState> states_;
   std::vector<double> roots_;
   std::vector<Wall> root_walls_;

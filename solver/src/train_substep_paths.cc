@@ -1,0 +1,174 @@
+// The train's V2 (Taylor) and V1 (dyadic) pieces (train_stepper.h): the V3 dense fallback and the
+// validation baselines.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "gearnvh/solver/segment_tables.h"
+#include "gearnvh/solver/train_statistics.h"
+#include "gearnvh/solver/train_stepper.h"
+#include "taylor_root.h"
+
+namespace gearnvh {
+
+void TrainStepper::TaylorColumns(const TrainSystem& sys) {
+  taylor_.col(0) = z_;
+  for (int k = 1; k <= kTaylorTerms; ++k) {
+    taylor_.col(k).noalias() = sys.A * taylor_.col(k - 1);
+    taylor_.col(k) /= static_cast<double>(k);
+  }
+}
+
+double TrainStepper::AdvanceDense(const TrainSystem& sys, double remaining, TrainRecorder* rec) {
+  ++summary_.dense_pieces;
+  const double d = std::min(remaining, sys.substep);
+  TaylorColumns(sys);
+  const int n = t_.n;
+  double best = -1.0;
+  int best_mesh = -1;
+  Wall best_wall;
+  double coeff[kTaylorTerms + 1];
+  // sign * (gap of `wall` of mesh i) as a polynomial in the time into the sub-step.
+  const auto load = [&](size_t i, const Wall& wall) {
+    const TrainMeshTable& mt = t_.meshes[i];
+    const double at = t_.Wall(static_cast<int>(i), grid_.segments()[i], wall.drive);
+    for (int p = 0; p <= kTaylorTerms; ++p) {
+      coeff[p] =
+          wall.sign * (mt.v.dot(taylor_.col(p).head(n)) - at * taylor_(t_.constant_slot(), p));
+    }
+  };
+  for (size_t i = 0; i < t_.meshes.size(); ++i) {
+    Wall walls[2];
+    const int count = Walls(static_cast<int>(i), walls);
+    for (int k = 0; k < count; ++k) {
+      load(i, walls[k]);
+      // We start inside: rounding right after a located event counts as inside (a start outside
+      // beyond the wall tolerance was switched at the grid segment's start).
+      coeff[0] = std::min(coeff[0], 0.0);
+      const double root = taylor_root::FirstRoot(coeff, kTaylorTerms, d, kRootSamples);
+      if (root >= 0.0 && (best < 0.0 || root < best)) {
+        best = root, best_mesh = static_cast<int>(i), best_wall = walls[k];
+      }
+    }
+  }
+  double advance = best < 0.0 ? d : best;
+  bool touch = false;
+  if (best > 0.0) {
+    // Grazing, as V3: |g'| ~ 0 at the root and the gap curves back inside.
+    load(static_cast<size_t>(best_mesh), best_wall);
+    touch = std::abs(taylor_root::PolyDerivative(coeff, kTaylorTerms, best)) <=
+                options_.grazing_rate_tolerance &&
+            taylor_root::PolySecondDerivative(coeff, kTaylorTerms, best) < 0.0;
+    if (touch) advance = std::min(d, best + 1e-12 * t_.longest_segment);
+  }
+  Record(sys, time_, advance, false, rec);
+  z_ = taylor_.col(kTaylorTerms);
+  for (int k = kTaylorTerms - 1; k >= 0; --k) {
+    z_ *= advance;
+    z_ += taylor_.col(k);
+  }
+  if (best < 0.0) return advance;
+  if (touch) {
+    ++summary_.grazing;
+    ++events_this_segment_;
+    if (rec != nullptr) rec->Grazing(best_mesh, time_ + best);
+    return advance;
+  }
+  Switch(best_mesh, best_wall.target, time_ + advance, rec);
+  return advance;
+}
+
+TrainStepper::WallHit TrainStepper::Suspect(const Eigen::VectorXd& z, const Eigen::VectorXd& z1,
+                                            bool near_only, bool& turned) const {
+  const int n = t_.n;
+  WallHit hit;
+  turned = false;
+  for (size_t i = 0; i < t_.meshes.size(); ++i) {
+    const TrainMeshTable& mt = t_.meshes[i];
+    const int segment = grid_.segments()[i];
+    Wall walls[2];
+    const int count = Walls(static_cast<int>(i), walls);
+    for (int k = 0; k < count; ++k) {
+      const Wall& w = walls[k];
+      const double outside = w.sign * t_.GapValue(static_cast<int>(i), segment, w.drive, z1);
+      const double rate1 = w.sign * mt.v.dot(z1.segment(n, n));
+      // Outside at the end, unless only by the gap's rounding floor while moving inward (as the
+      // pair's V1: right after a slow separation the state sits on the wall within rounding).
+      if (hit.mesh < 0 && outside > 0.0 &&
+          (rate1 > 0.0 || outside > t_.GapTolerance(static_cast<int>(i), segment, w.drive, z1))) {
+        hit = {static_cast<int>(i), w.target};
+      }
+      // Turned towards the wall and back: an interior extremum to look at (in the walk, only near
+      // the wall).
+      if (w.sign * mt.v.dot(z.segment(n, n)) > 0.0 && rate1 < 0.0 &&
+          (!near_only || outside > -1e-3 * mt.half_backlash)) {
+        turned = true;
+      }
+    }
+  }
+  return hit;
+}
+
+double TrainStepper::AdvanceDyadic(const TrainSystem& sys, double remaining, TrainRecorder* rec) {
+  const int n = t_.n;
+  const double d = std::min(remaining, sys.substep);
+  const double w_ref = ReferenceFrequency(sys.A, n);
+  substep_map_ = BalancedExpm(sys.A, d, n, w_ref);
+  z1_.noalias() = substep_map_ * z_;
+  if (rec != nullptr) TaylorColumns(sys);  // the samples inside the sub-step
+  bool turned = false;
+  if (Suspect(z_, z1_, false, turned).mesh < 0 && !turned) {
+    Record(sys, time_, d, false, rec);
+    z_.swap(z1_);
+    return d;
+  }
+  ++summary_.dyadic_substeps;
+  // Every level straight from the balanced Pade (squaring up from the finest level would amplify
+  // rounding by 2^34).
+  for (int l = 0; l < kDyadicLevels; ++l) {
+    dyadic_levels_[static_cast<size_t>(l)] =
+        BalancedExpm(sys.A, d / static_cast<double>(1LL << (l + 1)), n, w_ref);
+  }
+  const long long cells = 1LL << kDyadicLevels;
+  const double cell = d / static_cast<double>(cells);
+  long long pos = 0;
+  while (pos < cells) {
+    // Steps of 2^k cells, k = the trailing zeros of pos (L - 1 at pos = 0): aligned.
+    int k = pos == 0 ? kDyadicLevels - 1 : __builtin_ctzll(static_cast<unsigned long long>(pos));
+    while (pos + (1LL << k) > cells) --k;
+    bool crossed = false;
+    while (true) {
+      z1_.noalias() = dyadic_levels_[static_cast<size_t>(kDyadicLevels - 1 - k)] * z_;
+      const bool suspect = Suspect(z_, z1_, true, turned).mesh >= 0 || (k > 0 && turned);
+      if (!suspect) break;
+      if (k == 0) {
+        crossed = true;
+        break;
+      }
+      --k;  // bisect: try the first half
+    }
+    pos += 1LL << k;
+    if (!crossed) {
+      z_.swap(z1_);
+      continue;
+    }
+    // The crossing lies in this cell: the event at its end. Every mesh outside there switches
+    // (a cell of d 2^-34 cannot order simultaneous crossings), in the order of the meshes.
+    const double advance = static_cast<double>(pos) * cell;
+    Record(sys, time_, advance, false, rec);
+    z_.swap(z1_);
+    int switched = 0;  // >= 1: the finest cell ended outside a wall
+    for (int guard = 0; guard < static_cast<int>(t_.meshes.size()); ++guard) {
+      const WallHit hit = Suspect(z_, z_, true, turned);
+      if (hit.mesh < 0) break;
+      Switch(hit.mesh, hit.target, time_ + advance, rec);
+      ++switched;
+    }
+    if (switched > 1) summary_.simultaneous_events += switched - 1;
+    return advance;
+  }
+  Record(sys, time_, d, false, rec);
+  return d;
+}
+
+}  // namespace gearnvh
