@@ -54,10 +54,9 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
                      options.tier ? *options.tier : TierName(tier),
                      "gear trains run on tier 1 (one torsional DOF per body) for now");
   }
-  if (options.method != "fused" && options.method != "v3") {
-    throw InputError("--method", 0, options.method,
-                     "gear trains run the closed-form event locator (v3) only for now");
-  }
+  // Segment-run fusion is not built for trains: "fused" (the default) runs V3.
+  SolverOptions method;
+  ApplyMethodName(options.method, method, "--method");
   if (options.uff) {
     throw InputError("--uff", 0, *options.uff, "UFF export is not available for gear trains yet");
   }
@@ -77,6 +76,7 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
 
   const auto [z0, states0] = TrainStaticState(tables);
   TrainStepperOptions solver;
+  solver.events = method.events;
   TrainStepper stepper(tables, solver, z0, states0);
   TrainRecorder recorder(tables, kSamplesPerCycle, start);
   const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
@@ -102,7 +102,7 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
   doc["file"] = options.file;
   doc["tier"] = TierName(tier);
   doc["state_dim"] = tables.m;
-  doc["method"] = "v3";
+  doc["method"] = EventMethodName(solver.events);
   doc["input_speed"] = {{"rad_s", spec.operating.speed}, {"rpm", spec.operating.speed * kRpm}};
   doc["common_period_s"] = tables.common_period;
   doc["warnings"] = warnings;
@@ -117,6 +117,7 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
                     {"grazing", s.grazing},
                     {"start_switches", s.start_switches},
                     {"dense_pieces", s.dense_pieces},
+                    {"dyadic_substeps", s.dyadic_substeps},
                     {"samples", stats.samples},
                     {"cache",
                      {{"bytes", s.cache.bytes},

@@ -8,14 +8,18 @@
 #include "command_errors.h"
 #include "config/gearbox_loader.h"
 #include "gearnvh/model/input_error.h"
+#include "train_validation.h"
 #include "validation_ladder.h"
 
 namespace gearnvh::app {
 
 int RunValidate(const ValidateOptions& options) {
   try {
-    const GearboxSpec spec = config::LoadGearboxFile(options.file);
-    const std::vector<ValidationRow> rows = RunValidationLadder(spec);
+    const config::LoadedGearbox loaded = config::LoadAnyGearboxFile(options.file);
+    const std::string name = loaded.schema == 2 ? loaded.train.name : loaded.pair->name;
+    const std::vector<ValidationRow> rows = loaded.schema == 2
+                                                ? RunTrainValidationLadder(loaded.train)
+                                                : RunValidationLadder(*loaded.pair);
     bool all = true;
     nlohmann::json checks = nlohmann::json::array();
     for (const ValidationRow& r : rows) {
@@ -28,14 +32,14 @@ int RunValidate(const ValidateOptions& options) {
                         {"detail", r.detail}});
     }
     if (options.json) {
-      std::cout << nlohmann::json{{"name", spec.name},
+      std::cout << nlohmann::json{{"name", name},
                                   {"file", options.file},
                                   {"checks", checks},
                                   {"pass", all}}
                        .dump(2)
                 << "\n";
     } else {
-      fmt::print("{}  ({}): validation ladder\n", spec.name, options.file);
+      fmt::print("{}  ({}): validation ladder\n", name, options.file);
       fmt::print("  {:<50}{:>12}{:>12}  {}\n", "check", "value", "threshold", "result");
       for (const ValidationRow& r : rows) {
         fmt::print("  {:<50}{:>12.3e}{:>12.3e}  {}\n", r.name, r.value, r.threshold,

@@ -11,15 +11,16 @@
 #include "gearnvh/solver/reference_integrator.h"
 
 namespace gearnvh::app {
-namespace {
 
-ValidationRow Row(std::string name, double value, double threshold, std::string detail) {
+ValidationRow CheckRow(std::string name, double value, double threshold, std::string detail) {
   return {std::move(name), value, threshold, value <= threshold, false, std::move(detail)};
 }
 
-ValidationRow Skipped(std::string name, std::string why) {
+ValidationRow SkippedRow(std::string name, std::string why) {
   return {std::move(name), 0.0, 0.0, true, true, std::move(why)};
 }
+
+namespace {
 
 double MaxRelativeTe(const Trajectory& a, const Trajectory& b, size_t count) {
   double diff = 0.0, scale = 0.0;
@@ -71,12 +72,12 @@ std::vector<ValidationRow> RunValidationLadder(const GearboxSpec& spec) {
           std::max(std::abs(tables.te_row.dot(a) - tables.te_row.dot(fused)) / te_scale,
                    std::abs(tables.te_rate_row.dot(a) - tables.te_rate_row.dot(fused)) /
                        std::max(rate_scale, 1e-300));
-      rows.push_back(Row(
+      rows.push_back(CheckRow(
           "fused cycle vs step-by-step propagation", rel, 1e-12,
           "TE and TE rate after one mesh cycle, relative to |TE| and omega_mesh |TE| (tier 1)"));
     } else {
-      rows.push_back(Skipped("fused cycle vs step-by-step propagation",
-                             "the static state leaves contact within a cycle"));
+      rows.push_back(SkippedRow("fused cycle vs step-by-step propagation",
+                                "the static state leaves contact within a cycle"));
     }
   }
   // 1b. Segment-run fusion against V3 stepping: 10 unrecorded cycles from the static state.
@@ -88,16 +89,17 @@ std::vector<ValidationRow> RunValidationLadder(const GearboxSpec& spec) {
     const bool ok = a.Run(10, false) && b.Run(10, false);
     const long runs = b.summary().run_fused_segments;
     if (!ok || runs == 0) {
-      rows.push_back(Skipped("segment-run fusion vs step-by-step",
-                             ok ? "no run of segments was certified in 10 cycles"
-                                : a.summary().message + b.summary().message));
+      rows.push_back(SkippedRow("segment-run fusion vs step-by-step",
+                                ok ? "no run of segments was certified in 10 cycles"
+                                   : a.summary().message + b.summary().message));
     } else {
       const Eigen::VectorXd ea = ElasticPart(tables, a.state()),
                             eb = ElasticPart(tables, b.state());
-      rows.push_back(Row("segment-run fusion vs step-by-step", (ea - eb).norm() / ea.norm(), 1e-12,
-                         fmt::format("elastic state after 10 cycles, {} of {} segments in fused "
-                                     "runs (tier 1)",
-                                     runs, 10 * tables.segments())));
+      rows.push_back(
+          CheckRow("segment-run fusion vs step-by-step", (ea - eb).norm() / ea.norm(), 1e-12,
+                   fmt::format("elastic state after 10 cycles, {} of {} segments in fused "
+                               "runs (tier 1)",
+                               runs, 10 * tables.segments())));
     }
   }
   // 2-3. Event times and TE against the CVODE reference (10 cycles, tier 1, with excitation).
@@ -125,17 +127,17 @@ std::vector<ValidationRow> RunValidationLadder(const GearboxSpec& spec) {
         worst = std::max(worst, std::abs(ea[i].time - eb[i].time) / segment);
         same = same && ea[i].to == eb[i].to;
       }
-      ValidationRow row = Row("event times vs reference integrator", worst, 1e-5,
-                              std::to_string(ea.size()) +
-                                  " events in 10 cycles; max |dt| in segment lengths "
-                                  "(CVODE rtol 1e-13 is the limit)");
+      ValidationRow row = CheckRow("event times vs reference integrator", worst, 1e-5,
+                                   std::to_string(ea.size()) +
+                                       " events in 10 cycles; max |dt| in segment lengths "
+                                       "(CVODE rtol 1e-13 is the limit)");
       row.pass = row.pass && same;
       rows.push_back(row);
     }
     rows.push_back(
-        Row("exact TE vs reference integrator",
-            MaxRelativeTe(exact.trajectory, ref.trajectory, exact.trajectory.samples.size()), 1e-8,
-            "max |TE difference| / max |TE| over 10 cycles"));
+        CheckRow("exact TE vs reference integrator",
+                 MaxRelativeTe(exact.trajectory, ref.trajectory, exact.trajectory.samples.size()),
+                 1e-8, "max |TE difference| / max |TE| over 10 cycles"));
     // The exact statistics (closed-form integrals, in-segment extrema) against CVODE's dense
     // output integrated by Gauss-Legendre over each of its steps.
     const TrajectoryStatistics& a = exact.trajectory.statistics;
@@ -149,10 +151,11 @@ std::vector<ValidationRow> RunValidationLadder(const GearboxSpec& spec) {
                   relative(a.te.max - a.te.min, b.te.max - b.te.min),
                   relative(a.mesh_force.max, b.mesh_force.max),
                   relative(a.wheel_acceleration.Rms(T), b.wheel_acceleration.Rms(T))});
-    rows.push_back(Row("exact statistics vs dense reference", worst_statistic, 1e-6,
-                       "worst relative difference of TE mean/RMS/p-p, max mesh force and wheel "
-                       "acceleration RMS over 10 cycles (CVODE dense output, Gauss-Legendre per "
-                       "step)"));
+    rows.push_back(
+        CheckRow("exact statistics vs dense reference", worst_statistic, 1e-6,
+                 "worst relative difference of TE mean/RMS/p-p, max mesh force and wheel "
+                 "acceleration RMS over 10 cycles (CVODE dense output, Gauss-Legendre per "
+                 "step)"));
   }
   // 3b. The three event locators against each other (10 cycles, tier 1): V1 quantises to
   //     2^-34 of a sub-step, V2 and V3 are exact to rounding.
@@ -175,9 +178,9 @@ std::vector<ValidationRow> RunValidationLadder(const GearboxSpec& spec) {
         same = ea[i].to == eb[i].to;
       }
     }
-    ValidationRow row = Row("event times V1 / V2 vs V3", same ? worst : 1.0, 1e-9,
-                            std::to_string(runs.back().trajectory.events.size()) +
-                                " events in 10 cycles; max |dt| in segment lengths");
+    ValidationRow row = CheckRow("event times V1 / V2 vs V3", same ? worst : 1.0, 1e-9,
+                                 std::to_string(runs.back().trajectory.events.size()) +
+                                     " events in 10 cycles; max |dt| in segment lengths");
     row.pass = row.pass && same;
     rows.push_back(row);
   }
@@ -212,8 +215,8 @@ std::vector<ValidationRow> RunValidationLadder(const GearboxSpec& spec) {
       te.push_back({stepper.trajectory().samples.back().te, t.te_row.dot(cycle.orbit())});
     }
     if (!ok) {
-      rows.push_back(Skipped("piecewise-constant stiffness converges (S -> 32S)",
-                             "no permanent-contact orbit without excitation at this load"));
+      rows.push_back(SkippedRow("piecewise-constant stiffness converges (S -> 32S)",
+                                "no permanent-contact orbit without excitation at this load"));
     } else {
       // Errors against the 32S reference; the order from 4S -> 8S (past the pre-asymptotic range of
       // coarse grids, where a single point can converge irregularly).
@@ -241,13 +244,13 @@ std::vector<ValidationRow> RunValidationLadder(const GearboxSpec& spec) {
     ExactStepper stepper(quiet, opt, cycle.orbit(), ContactState::kDrive, 0, 16);
     stepper.Run(3, true);
     if (!cycle.has_orbit() || stepper.summary().events > 0) {
-      rows.push_back(Skipped("permanent contact vs linear steady state",
-                             "the drive-contact orbit leaves contact at this load"));
+      rows.push_back(SkippedRow("permanent contact vs linear steady state",
+                                "the drive-contact orbit leaves contact at this load"));
     } else {
       const Eigen::VectorXd a = ElasticPart(quiet, stepper.state());
       const Eigen::VectorXd b = ElasticPart(quiet, cycle.orbit());
-      rows.push_back(Row("permanent contact vs linear steady state", (a - b).norm() / b.norm(),
-                         1e-10, "3 stepped cycles from the periodic orbit of the cycle map"));
+      rows.push_back(CheckRow("permanent contact vs linear steady state", (a - b).norm() / b.norm(),
+                              1e-10, "3 stepped cycles from the periodic orbit of the cycle map"));
     }
   }
   // 6. Free flight under the constant load from the backlash centre: a parabola meeting e_j + b.
@@ -258,7 +261,7 @@ std::vector<ValidationRow> RunValidationLadder(const GearboxSpec& spec) {
     const double accel = rb1 * (T * rb1 / rb2 + tables.friction_loss_torque) / j1 + rb2 * T / j2;
     if (!(accel > 0.0)) {
       rows.push_back(
-          Skipped("free flight vs closed-form parabola", "no load to accelerate the gap"));
+          SkippedRow("free flight vs closed-form parabola", "no load to accelerate the gap"));
     } else {
       Eigen::VectorXd z = Eigen::VectorXd::Zero(tables.m);
       z[2 * tables.n] = 1.0;
@@ -284,18 +287,18 @@ std::vector<ValidationRow> RunValidationLadder(const GearboxSpec& spec) {
         rows.push_back({"free flight vs closed-form parabola", 1.0, 1e-12, false, false,
                         "no impact found in 50 cycles"});
       } else {
-        rows.push_back(Row("free flight vs closed-form parabola",
-                           std::abs(r.trajectory.events[0].time - t_hit) / t_hit, 1e-12,
-                           "relative error of the first impact time"));
+        rows.push_back(CheckRow("free flight vs closed-form parabola",
+                                std::abs(r.trajectory.events[0].time - t_hit) / t_hit, 1e-12,
+                                "relative error of the first impact time"));
       }
     }
   }
   // 7. MTA static mesh compliance; 8. reduced frequencies vs the full FE model.
   if (TierAvailable(model, Tier::kN20Mta)) {
     const ReducedModel mta = ReduceModel(model, Tier::kN20Mta);
-    rows.push_back(Row("MTA static mesh compliance vs full FE",
-                       std::abs(mta.compliance_error_vs_full), 1e-10,
-                       "relative, gear rotations held"));
+    rows.push_back(CheckRow("MTA static mesh compliance vs full FE",
+                            std::abs(mta.compliance_error_vs_full), 1e-10,
+                            "relative, gear rotations held"));
     const ReducedModel t5 = ReduceModel(model, Tier::kTier5);
     const ModalSummary full = FullModelFrequencies(model, 6);
     double worst = 0.0;
@@ -303,11 +306,11 @@ std::vector<ValidationRow> RunValidationLadder(const GearboxSpec& spec) {
       worst = std::max(
           worst, (t5.natural_frequencies_hz[i] - full.frequencies_hz[i]) / full.frequencies_hz[i]);
     }
-    rows.push_back(Row("N40 natural frequencies vs full FE", worst, 1e-2,
-                       "max relative excess of the lowest 6 (Rayleigh-Ritz: from above)"));
+    rows.push_back(CheckRow("N40 natural frequencies vs full FE", worst, 1e-2,
+                            "max relative excess of the lowest 6 (Rayleigh-Ritz: from above)"));
   } else {
-    rows.push_back(Skipped("MTA static mesh compliance vs full FE", "no flexible shafts"));
-    rows.push_back(Skipped("N40 natural frequencies vs full FE", "no flexible shafts"));
+    rows.push_back(SkippedRow("MTA static mesh compliance vs full FE", "no flexible shafts"));
+    rows.push_back(SkippedRow("N40 natural frequencies vs full FE", "no flexible shafts"));
   }
   // 9. Mesh stiffness against ISO 6336-1 method B.
   {
@@ -321,11 +324,11 @@ std::vector<ValidationRow> RunValidationLadder(const GearboxSpec& spec) {
     const double b = std::min(spec.pinion.face_width, spec.wheel.face_width) * 1e3;
     const double c_gamma = 0.8 / q * (0.75 * model.geometry.contact_ratio + 0.25) * b * 1e6;
     if (model.cycle.overridden) {
-      rows.push_back(Skipped("mesh stiffness vs ISO 6336-1", "stiffness given by the user"));
+      rows.push_back(SkippedRow("mesh stiffness vs ISO 6336-1", "stiffness given by the user"));
     } else {
-      rows.push_back(Row("mesh stiffness vs ISO 6336-1",
-                         std::abs(model.mesh_summary.mean / c_gamma - 1.0), 0.35,
-                         "|mean k / (c_gamma b) - 1|; methods spread about +-35 %"));
+      rows.push_back(CheckRow("mesh stiffness vs ISO 6336-1",
+                              std::abs(model.mesh_summary.mean / c_gamma - 1.0), 0.35,
+                              "|mean k / (c_gamma b) - 1|; methods spread about +-35 %"));
     }
   }
   return rows;

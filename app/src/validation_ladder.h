@@ -1,6 +1,6 @@
-// The validation ladder of docs/design.md §8, run on one gearbox: each row a check with its measured
-// value, its threshold and whether it passed. Rows that need a part the model lacks (MTA without
-// shafts) are reported as skipped, not passed silently.
+// The validation ladder of docs/design.md §8, run on one gearbox: each row a check with its
+// measured value, its threshold and whether it passed. Rows that need a part the model lacks (MTA
+// without shafts) are reported as skipped, not passed silently.
 #pragma once
 
 #include <string>
@@ -18,6 +18,10 @@ struct ValidationRow {
   bool skipped = false;
   std::string detail;  // units, what was compared, or why skipped
 };
+
+// A measured row (pass when value <= threshold) and a skipped one.
+ValidationRow CheckRow(std::string name, double value, double threshold, std::string detail);
+ValidationRow SkippedRow(std::string name, std::string why);
 
 std::vector<ValidationRow> RunValidationLadder(const GearboxSpec& spec);
 
