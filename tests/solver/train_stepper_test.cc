@@ -504,5 +504,66 @@ namespace {
 
 // Input (g1, 20) -> layshaft (g2, 40; g3, 20) -> output (g4, 40) with the layshaft `inertia`; or
 // one of its stages alone as a one-mesh train with the same transmitted torque.
+TEST_CASE("train: V1, V2 and V3 find a near-grazing excursion and ignore a near miss",
+          "[solver][train][methods]") {
+  // The rattler without the layshaft load (so the meshes barely accelerate apart) and without
+  // excitation, every mesh free: the loose gear's gap delta_1(t) = a + b t + c t^2 is a parabola
+  // whose extremum at t_a is placed eps = 1e-9 m beyond its wall (a brief excursion: an event) or
+  // eps inside it (a near miss: none). The excursion lasts 2 sqrt(eps / |c|) ~ 30 us, shorter than
+  // a grid segment (230 us), with |g'| ~ 1e-4 m/s at its roots (far from grazing's 1e-9 m/s).
+  TrainSpec spec = Rattler(0.0);
+  spec.operating.loads = {{"g4", 0.05}};
+  const Model s(spec);
+  const TrainTables& t = s.tables;
+  const int n = t.n;
+  const int loose = 2;
+  REQUIRE(t.loose[loose]);
+  const TrainMeshTable& mt = t.meshes[1];
+  const Eigen::VectorXd acc = t.force.cwiseQuotient(t.inertia);
+  const double c = 0.5 * mt.v.dot(acc);
+  REQUIRE(std::abs(c) > 1.0);  // m/s^2: the drag does curve the gap
+  // t_a: the middle of the first grid segment longer than 150 us after 200 us.
+  TrainGrid grid(t);
+  while (grid.start() < 200e-6 || grid.end() - grid.start() < 150e-6) grid.Next();
+  const double t_a = 0.5 * (grid.start() + grid.end());
+  const double e = mt.error[static_cast<size_t>(grid.segments()[1])];
+  const double eps = 1e-9;
+  const std::vector<ContactState> free(2, ContactState::kFree);
+  for (const double side : {1.0, -1.0}) {  // +1 beyond the wall, -1 short of it
+    // A maximum (c < 0) reaches the drive wall e + b from below, a minimum the back wall e - b.
+    const double peak =
+        c < 0.0 ? e + mt.half_backlash + side * eps : e - mt.half_backlash - side * eps;
+    Eigen::VectorXd z0 = Eigen::VectorXd::Zero(t.m);
+    z0[t.constant_slot()] = 1.0;
+    z0[loose] = (peak + c * t_a * t_a) / mt.v[loose];  // delta(0) = peak + c t_a^2
+    z0[n + loose] = -2.0 * c * t_a / mt.v[loose];      // delta'(t_a) = 0
+    // The first root of delta(t) = peak - side eps, before t_a.
+    const double root = t_a - std::sqrt(eps / std::abs(c));
+    for (const EventMethod method :
+         {EventMethod::kSpectral, EventMethod::kTaylor, EventMethod::kDyadic}) {
+      INFO("method " << EventMethodName(method) << ", side " << side);
+      TrainStepperOptions options;
+      options.events = method;
+      TrainStepper before(t, options, z0, free), after(t, options, z0, free);
+      // Tolerance of the event time: 1e-10 s. The root is conditioned by |g'| ~ 1e-4 m/s against
+      // a gap rounding of ~1e-19 m (1e-15 s); V1 places it up to d 2^-34 ~ 1e-14 s late.
+      REQUIRE(before.Run(root - 1e-10));
+      CHECK(before.summary().events == 0);
+      REQUIRE(after.Run(grid.end()));
+      if (side > 0.0) {
+        CHECK(after.summary().events >= 1);
+        TrainStepper just(t, options, z0, free);
+        REQUIRE(just.Run(root + 1e-10));
+        CHECK(just.summary().events == 1);
+        CHECK(just.states()[1] != ContactState::kFree);
+        CHECK(just.states()[0] == ContactState::kFree);
+      } else {
+        CHECK(after.summary().events == 0);
+        CHECK(after.states()[1] == ContactState::kFree);
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace gearnvh
