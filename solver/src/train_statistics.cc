@@ -4,14 +4,9 @@
 #include <cmath>
 #include <limits>
 
-namespace gearnvh {
+#include "polynomial_statistics.h"
 
-void TrainRecorder::Running::Add(double x, bool first) {
-  sum += x;
-  sum2 += x * x;
-  min = first ? x : std::min(min, x);
-  max = first ? x : std::max(max, x);
-}
+namespace gearnvh {
 
 TrainRecorder::TrainRecorder(const TrainTables& tables, int samples_per_cycle, double start_time)
     : t_(tables), start_(start_time), next_(start_time) {
@@ -22,6 +17,8 @@ TrainRecorder::TrainRecorder(const TrainTables& tables, int samples_per_cycle, d
   te_.resize(meshes);
   force_.resize(meshes);
   acceleration_.resize(static_cast<size_t>(tables.n));
+  taylor_.resize(tables.m, kTerms + 1);
+  chunk_z_.resize(tables.m);
   free_time_.assign(meshes, 0.0);
   impact_sum2_.assign(meshes, 0.0);
   impact_max_.assign(meshes, 0.0);
@@ -31,31 +28,94 @@ TrainRecorder::TrainRecorder(const TrainTables& tables, int samples_per_cycle, d
   grazing_.assign(meshes, 0);
 }
 
-void TrainRecorder::Sample(double, const Eigen::VectorXd& z, const TrainSystem& system,
-                           const std::vector<int>& segments,
-                           const std::vector<ContactState>& states) {
-  const int n = t_.n;
-  const bool first = samples_ == 0;
-  for (size_t i = 0; i < t_.meshes.size(); ++i) {
-    const TrainMeshTable& mt = t_.meshes[i];
-    const double te = mt.v.dot(z.head(n));
-    const double rate = mt.v.dot(z.segment(n, n));
-    const size_t j = static_cast<size_t>(segments[i]);
-    double force = 0.0;
-    if (states[i] == ContactState::kDrive) {
-      force = mt.k_drive[j] * (te - mt.error[j] - mt.half_backlash) + mt.damping * rate;
-    } else if (states[i] == ContactState::kBack) {
-      force = mt.k_back[j] * (te - mt.error[j] + mt.half_backlash) + mt.damping * rate;
-    }
-    te_[i].Add(te, first);
-    force_[i].Add(force, first);
-  }
-  for (int b = 0; b < n; ++b) {
-    if (t_.loose[static_cast<size_t>(b)])
-      acceleration_[static_cast<size_t>(b)].Add(system.A.row(n + b).dot(z), first);
-  }
+void TrainRecorder::Sample(double, const Eigen::VectorXd&, const TrainSystem&,
+                           const std::vector<int>&, const std::vector<ContactState>&) {
   ++samples_;
   next_ = start_ + static_cast<double>(samples_) * dt_;
+}
+
+void TrainRecorder::TaylorColumns(const TrainSystem& system, const Eigen::VectorXd& z) {
+  taylor_.col(0) = z;
+  for (int k = 1; k <= kTerms; ++k) {
+    taylor_.col(k).noalias() = system.A * taylor_.col(k - 1);
+    taylor_.col(k) /= static_cast<double>(k);
+  }
+}
+
+void TrainRecorder::MoveOnColumns(double tau, Eigen::VectorXd& z) const {
+  z = taylor_.col(kTerms);
+  for (int k = kTerms - 1; k >= 0; --k) {
+    z *= tau;
+    z += taylor_.col(k);
+  }
+}
+
+void TrainRecorder::Piece(const TrainSystem& system, const Eigen::Ref<const Eigen::VectorXd>& z,
+                          double start, double length, const std::vector<int>& segments,
+                          const std::vector<ContactState>& states) {
+  const double end = start + length;
+  if (!(length > 0.0) || end <= start_) return;
+  chunk_z_ = z;
+  // Before the window: move the state to its start on sub-steps.
+  if (start < start_) {
+    const double skip = start_ - start;
+    const int steps = std::max(1, static_cast<int>(std::ceil(skip / system.substep - 1e-9)));
+    for (int c = 0; c < steps; ++c) {
+      TaylorColumns(system, chunk_z_);
+      MoveOnColumns(skip / steps, chunk_z_);
+    }
+    start = start_;
+    length = end - start_;
+  }
+  const int chunks = std::max(1, static_cast<int>(std::ceil(length / system.substep - 1e-9)));
+  const double step = length / chunks;
+  for (int c = 0; c < chunks; ++c) {
+    TaylorColumns(system, chunk_z_);
+    Chunk(start + c * step, step, segments, states);
+    if (c + 1 < chunks) MoveOnColumns(step, chunk_z_);
+  }
+}
+
+void TrainRecorder::Chunk(double start, double length, const std::vector<int>& segments,
+                          const std::vector<ContactState>& states) {
+  namespace ps = polynomial_statistics;
+  const int n = t_.n;
+  double te[kTerms + 1], force[kTerms + 1], rate[kTerms + 1];
+  for (size_t i = 0; i < t_.meshes.size(); ++i) {
+    const TrainMeshTable& mt = t_.meshes[i];
+    for (int k = 0; k <= kTerms; ++k) te[k] = mt.v.dot(taylor_.col(k).head(n));
+    const ps::Poly delta = ps::Trimmed(te, kTerms, length);
+    ps::Accumulate(te_[i], delta, length);
+    ps::UpdateExtrema(delta, length, start, te_[i], true);
+    if (states[i] == ContactState::kFree) {
+      const double zero = 0.0;
+      ps::Accumulate(force_[i], ps::Poly{&zero, 0}, length);
+      ps::Consider(force_[i], 0.0, start, false);
+      continue;
+    }
+    // k (delta - wall) + c delta', the wall of the flank in contact.
+    const bool drive = states[i] == ContactState::kDrive;
+    const size_t j = static_cast<size_t>(segments[i]);
+    const double k_mesh = drive ? mt.k_drive[j] : mt.k_back[j];
+    const double wall = t_.Wall(static_cast<int>(i), segments[i], drive);
+    for (int k = 0; k <= kTerms; ++k) {
+      rate[k] = k < kTerms ? (k + 1) * te[k + 1] : 0.0;
+      force[k] = k_mesh * te[k] + mt.damping * rate[k];
+    }
+    force[0] -= k_mesh * wall;
+    const ps::Poly f = ps::Trimmed(force, kTerms, length);
+    ps::Accumulate(force_[i], f, length);
+    ps::UpdateExtrema(f, length, start, force_[i], false);
+  }
+  double accel[kTerms + 1];
+  for (int b = 0; b < n; ++b) {
+    if (!t_.loose[static_cast<size_t>(b)]) continue;
+    // The acceleration is the velocity's derivative: (k + 1) times its next coefficient.
+    for (int k = 0; k < kTerms; ++k) accel[k] = (k + 1) * taylor_(n + b, k + 1);
+    ps::Accumulate(acceleration_[static_cast<size_t>(b)], ps::Trimmed(accel, kTerms - 1, length),
+                   length);
+  }
+  exact_duration_ += length;
 }
 
 void TrainRecorder::Interval(double start, double length, const std::vector<ContactState>& states) {
@@ -87,19 +147,17 @@ TrainStatistics TrainRecorder::Result() const {
   TrainStatistics out;
   out.recorded_time = recorded_;
   out.samples = samples_;
-  const double count = static_cast<double>(std::max(samples_, 1L));
-  const auto rms_about_mean = [&](const Running& r) {
-    const double mean = r.sum / count;
-    return std::sqrt(std::max(0.0, r.sum2 / count - mean * mean));
-  };
+  const double T = exact_duration_;
   for (size_t i = 0; i < t_.meshes.size(); ++i) {
     TrainMeshStatistics s;
     s.name = t_.meshes[i].name;
-    s.te_mean = te_[i].sum / count;
-    s.te_rms = rms_about_mean(te_[i]);
-    s.te_peak_to_peak = te_[i].max - te_[i].min;
-    s.force_mean = force_[i].sum / count;
-    s.force_max = force_[i].max;
+    if (T > 0.0) {
+      s.te_mean = te_[i].Mean(T);
+      s.te_rms = te_[i].Rms(T);
+      s.te_peak_to_peak = te_[i].max - te_[i].min;
+      s.force_mean = force_[i].Mean(T);
+      s.force_max = force_[i].max;
+    }
     s.drive_impacts = drive_impacts_[i];
     s.back_impacts = back_impacts_[i];
     s.separations = separations_[i];
@@ -116,7 +174,7 @@ TrainStatistics TrainRecorder::Result() const {
     TrainLooseGearStatistics g;
     g.name = t_.body_names[static_cast<size_t>(b)];
     g.body = b;
-    g.rattle_index = rms_about_mean(acceleration_[static_cast<size_t>(b)]);
+    g.rattle_index = acceleration_[static_cast<size_t>(b)].Rms(T);
     for (size_t i = 0; i < t_.meshes.size(); ++i) {
       if (t_.meshes[i].body_a == b || t_.meshes[i].body_b == b)
         g.impacts += out.meshes[i].drive_impacts + out.meshes[i].back_impacts;

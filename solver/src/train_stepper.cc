@@ -213,10 +213,11 @@ bool TrainStepper::SwitchOutside(TrainRecorder* rec) {
   return false;
 }
 
-void TrainStepper::Record(const TrainSystem& sys, double piece_start, double length, bool spectral,
-                          TrainRecorder* rec) {
+void TrainStepper::Record(const TrainSystem& sys, const Eigen::Ref<const Eigen::VectorXd>& z_start,
+                          double piece_start, double length, bool spectral, TrainRecorder* rec) {
   if (rec == nullptr) return;
   rec->Interval(piece_start, length, states_);
+  rec->Piece(sys, z_start, piece_start, length, grid_.segments(), states_);
   while (rec->next_sample() < piece_start + length) {
     const double tau = std::max(0.0, rec->next_sample() - piece_start);
     if (spectral) {
@@ -303,7 +304,7 @@ double TrainStepper::AdvanceSpectral(const TrainSystem& sys, double remaining, T
             wall.sign * gap.Curvature(best) < 0.0;
     if (touch) advance = std::min(remaining, best + 1e-12 * t_.longest_segment);
   }
-  Record(sys, time_, advance, true, rec);
+  Record(sys, z_, time_, advance, true, rec);
   PropagateDecoupled(sys.decomposition, w_, advance, wt_, scratch_);
   z_.noalias() = sys.decomposition.S * wt_;
   if (best < 0.0) return advance;

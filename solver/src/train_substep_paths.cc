@@ -61,7 +61,7 @@ double TrainStepper::AdvanceDense(const TrainSystem& sys, double remaining, Trai
             taylor_root::PolySecondDerivative(coeff, kTaylorTerms, best) < 0.0;
     if (touch) advance = std::min(d, best + 1e-12 * t_.longest_segment);
   }
-  Record(sys, time_, advance, false, rec);
+  Record(sys, z_, time_, advance, false, rec);
   z_ = taylor_.col(kTaylorTerms);
   for (int k = kTaylorTerms - 1; k >= 0; --k) {
     z_ *= advance;
@@ -118,7 +118,7 @@ double TrainStepper::AdvanceDyadic(const TrainSystem& sys, double remaining, Tra
   if (rec != nullptr) TaylorColumns(sys);  // the samples inside the sub-step
   bool turned = false;
   if (Suspect(z_, z1_, false, turned).mesh < 0 && !turned) {
-    Record(sys, time_, d, false, rec);
+    Record(sys, z_, time_, d, false, rec);
     z_.swap(z1_);
     return d;
   }
@@ -155,7 +155,7 @@ double TrainStepper::AdvanceDyadic(const TrainSystem& sys, double remaining, Tra
     // The crossing lies in this cell: the event at its end. Every mesh outside there switches
     // (a cell of d 2^-34 cannot order simultaneous crossings), in the order of the meshes.
     const double advance = static_cast<double>(pos) * cell;
-    Record(sys, time_, advance, false, rec);
+    Record(sys, taylor_.col(0), time_, advance, false, rec);  // z_ has moved: its start
     z_.swap(z1_);
     int switched = 0;  // >= 1: the finest cell ended outside a wall
     for (int guard = 0; guard < static_cast<int>(t_.meshes.size()); ++guard) {
@@ -167,7 +167,7 @@ double TrainStepper::AdvanceDyadic(const TrainSystem& sys, double remaining, Tra
     if (switched > 1) summary_.simultaneous_events += switched - 1;
     return advance;
   }
-  Record(sys, time_, d, false, rec);
+  Record(sys, taylor_.col(0), time_, d, false, rec);
   return d;
 }
 

@@ -2,12 +2,17 @@
 //
 // Exact (from the located events and the state durations, no time grid): impacts per flank
 // (free -> drive, free -> back), separations (contact -> free), the fraction of time a mesh is
-// free, impact velocities |g'| at the impact instants. Sampled (uniform samples evaluated exactly,
-// z(t_k) = S e^{D (t_k - t_j)} w_j, not interpolated; samples_per_cycle per cycle of the fastest
-// mesh): TE delta_i = v_i^T x mean, RMS about the mean and peak-to-peak; the mesh force
-// k (g) + c delta' in contact (0 free) mean and maximum; and per loose gear its rattle index, the
-// RMS of its angular acceleration about the mean (rad/s^2). Sampled extrema can miss a peak between
-// samples (the pair's exact extrema are not generalised to trains yet).
+// free, impact velocities |g'| at the impact instants. Exact as well (as the pair's ExactRecorder,
+// solver/exact_recorder.h): the stepper hands over every piece (the state at its start, its tuple,
+// start and length); the piece is cut into chunks no longer than the tuple's sub-step D
+// (rho(A) D <= 1/2), and on a chunk each output is the polynomial y(s) = sum_{k<=18} r A^k z_c
+// s^k / k! (truncation (rho s)^19 / 19! ~ 1e-23, below rounding), whose integrals of y and y^2 are
+// closed forms and whose extrema are certified (polynomial_statistics.h). Outputs per mesh: the TE
+// delta_i = v_i^T x (mean, RMS about the mean, peak-to-peak), the mesh force k (g) + c delta' in
+// contact, 0 free (mean and maximum); per loose gear its rattle index, the RMS of its angular
+// acceleration about the mean (rad/s^2). Nothing is taken from samples: a peak between samples,
+// such as an impact's force, is found. Uniform samples (samples_per_cycle per cycle of the fastest
+// mesh, each the exact state at its time) are counted and serve the spectra.
 #pragma once
 
 #include <Eigen/Dense>
@@ -15,6 +20,7 @@
 #include <vector>
 
 #include "gearnvh/solver/train_tables.h"
+#include "gearnvh/solver/trajectory.h"
 
 namespace gearnvh {
 
@@ -48,6 +54,11 @@ class TrainRecorder {
   // mesh.
   TrainRecorder(const TrainTables& tables, int samples_per_cycle, double start_time);
   double next_sample() const { return next_; }
+  // The trajectory from z (at `start`, in `system`, the tuple of `segments` and `states`) for
+  // `length` seconds: the exact statistics of its part inside the recorded window.
+  void Piece(const TrainSystem& system, const Eigen::Ref<const Eigen::VectorXd>& z, double start,
+             double length, const std::vector<int>& segments,
+             const std::vector<ContactState>& states);
   void Sample(double time, const Eigen::VectorXd& z, const TrainSystem& system,
               const std::vector<int>& segments, const std::vector<ContactState>& states);
   void Interval(double start, double length, const std::vector<ContactState>& states);
@@ -56,15 +67,20 @@ class TrainRecorder {
   TrainStatistics Result() const;
 
  private:
-  struct Running {
-    double sum = 0.0, sum2 = 0.0, min = 0.0, max = 0.0;
-    void Add(double x, bool first);
-  };
+  static constexpr int kTerms = 18;  // as the pair's ExactRecorder
+  // Taylor columns A^k z / k! of the current chunk start, and the state moved by `tau` on them.
+  void TaylorColumns(const TrainSystem& system, const Eigen::VectorXd& z);
+  void MoveOnColumns(double tau, Eigen::VectorXd& z) const;
+  void Chunk(double start, double length, const std::vector<int>& segments,
+             const std::vector<ContactState>& states);
   const TrainTables& t_;
   double start_ = 0.0, dt_ = 0.0, next_ = 0.0;
   long samples_ = 0;
   double recorded_ = 0.0;
-  std::vector<Running> te_, force_, acceleration_;
+  double exact_duration_ = 0.0;
+  std::vector<OutputStatistics> te_, force_, acceleration_;  // per mesh, mesh, body
+  Eigen::MatrixXd taylor_;
+  Eigen::VectorXd chunk_z_;
   std::vector<double> free_time_, impact_sum2_, impact_max_;
   std::vector<long> drive_impacts_, back_impacts_, separations_, grazing_;
 };

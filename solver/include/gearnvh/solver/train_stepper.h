@@ -134,8 +134,10 @@ class TrainStepper {
   };
   int Walls(int mesh, Wall walls[2]) const;
   void Switch(int mesh, ContactState to, double time, TrainRecorder* rec);
-  void Record(const TrainSystem& sys, double piece_start, double length, bool spectral,
-              TrainRecorder* rec);
+  // Hands the piece from z_start (at piece_start, in the current tuple) to the recorder: its
+  // exact statistics, and its samples (on the decomposition or on taylor_).
+  void Record(const TrainSystem& sys, const Eigen::Ref<const Eigen::VectorXd>& z_start,
+              double piece_start, double length, bool spectral, TrainRecorder* rec);
   void Recenter();
 
   const TrainTables& t_;
