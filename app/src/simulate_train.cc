@@ -207,9 +207,8 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
       fmt::print(" {} {:.4g}", stats.meshes[i].name, tables.meshes[i].half_backlash * 1e6);
     fmt::print(")\n");
     fmt::print(
-        "  (TE, force and rattle index from {} uniform samples, {} per cycle of the fastest "
-        "mesh; impacts and separation from the exact events)\n",
-        stats.samples, kSamplesPerCycle);
+        "  (TE, force and rattle index exact: closed-form integrals and extrema of the recorded "
+        "trajectory;\n   impacts and separation from the exact events)\n");
     for (const std::string& w : warnings) fmt::print("  warning: {}\n", w);
   }
   return s.info == TrainStepperSummary::Info::kSuccess ? 0 : 1;
