@@ -658,5 +658,25 @@ TEST_CASE("train: the recorded statistics are exact, against dense samples of th
   CHECK(std::abs(exact.loose_gears[0].rattle_index - rattle) <= 1e-3 * rattle);
 }
 
+TEST_CASE("train: the V2 stepping loop and its exact recording do not allocate",
+          "[solver][train][allocation]") {
+  // As the V3 test above, with every tuple on the dense Taylor path (V1 builds its dyadic
+  // propagators per flagged sub-step and does allocate: it is the validation baseline).
+  const Model s(Rattler(1500.0));
+  const auto [z0, states0] = TrainStaticState(s.tables);
+  TrainStepperOptions v2;
+  v2.events = EventMethod::kTaylor;
+  TrainStepper stepper(s.tables, v2, z0, states0);
+  TrainRecorder warm(s.tables, 32, 0.0);
+  REQUIRE(stepper.Run(0.02, &warm));
+  stepper.Reset(z0, states0);
+  TrainRecorder recorder(s.tables, 32, 0.0);
+  testing::AllocationCounter counter;
+  REQUIRE(stepper.Run(0.02, &recorder));
+  CHECK(counter.count() == 0);
+  CHECK(stepper.summary().dense_pieces > 0);
+  CHECK(stepper.summary().events > 10);
+}
+
 }  // namespace
 }  // namespace gearnvh
