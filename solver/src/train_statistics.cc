@@ -31,7 +31,14 @@ TrainRecorder::TrainRecorder(const TrainTables& tables, int samples_per_cycle, d
   grazing_.assign(meshes, 0);
 }
 
-void TrainRecorder::Sample(double, const Eigen::VectorXd& z, const TrainSystem& system,
+void TrainRecorder::KeepTeSeries(double from_time, long max_samples) {
+  keep_from_ = from_time;
+  keep_max_ = std::max(0L, max_samples);
+  te_series_.assign(t_.meshes.size(), {});
+  for (std::vector<double>& series : te_series_) series.reserve(static_cast<size_t>(keep_max_));
+}
+
+void TrainRecorder::Sample(double time, const Eigen::VectorXd& z, const TrainSystem& system,
                            const std::vector<int>& segments,
                            const std::vector<ContactState>& states) {
   const int n = t_.n;
@@ -48,6 +55,11 @@ void TrainRecorder::Sample(double, const Eigen::VectorXd& z, const TrainSystem& 
       force = mt.k_back[j] * (te - mt.error[j] + mt.half_backlash) + mt.damping * rate;
     }
     te_[i].Add(te, first);
+    // Half a sample interval of slack: sample times are start + k dt, rounded.
+    if (keep_max_ > 0 && time >= keep_from_ - 0.5 * dt_ &&
+        static_cast<long>(te_series_[i].size()) < keep_max_) {
+      te_series_[i].push_back(te);
+    }
     force_[i].Add(force, first);
   }
   for (int b = 0; b < n; ++b) {

@@ -48,6 +48,12 @@ class TrainRecorder {
   // mesh.
   TrainRecorder(const TrainTables& tables, int samples_per_cycle, double start_time);
   double next_sample() const { return next_; }
+  double sample_interval() const { return dt_; }
+  // Keeps the TE of every mesh at the samples at or after `from_time` (s), at most `max_samples`
+  // per mesh (storage reserved here, so recording allocates nothing).
+  void KeepTeSeries(double from_time, long max_samples);
+  // Per mesh (file order) the kept TE samples, m.
+  const std::vector<std::vector<double>>& te_series() const { return te_series_; }
   void Sample(double time, const Eigen::VectorXd& z, const TrainSystem& system,
               const std::vector<int>& segments, const std::vector<ContactState>& states);
   void Interval(double start, double length, const std::vector<ContactState>& states);
@@ -67,6 +73,9 @@ class TrainRecorder {
   std::vector<Running> te_, force_, acceleration_;
   std::vector<double> free_time_, impact_sum2_, impact_max_;
   std::vector<long> drive_impacts_, back_impacts_, separations_, grazing_;
+  double keep_from_ = 0.0;
+  long keep_max_ = 0;
+  std::vector<std::vector<double>> te_series_;
 };
 
 }  // namespace gearnvh
