@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "display_units.h"
 
@@ -69,14 +70,18 @@ void CellEdges(const SweepRange& range, double scale, double& lo, double& hi) {
 }  // namespace
 
 render::LinePlot CampbellFigure(const SpeedSweepResult& sweep) {
-  const CampbellData& c = sweep.campbell;
+  return CampbellFigure(sweep.campbell, sweep.speed_scale, "pinion speed (rpm)");
+}
+
+render::LinePlot CampbellFigure(const CampbellData& c, AxisScale speed_scale,
+                                const std::string& speed_label) {
   render::LinePlot p;
   p.title = "Campbell diagram: every tracked mode";
-  p.x_label = "pinion speed (rpm)";
+  p.x_label = speed_label;
   p.y_label = "frequency (Hz)";
   p.log_y = true;
   std::vector<double> rpm;
-  for (const SpeedPoint& s : sweep.points) rpm.push_back(s.speed_rpm);
+  for (double w : c.speeds_rad_s) rpm.push_back(w * 60.0 / (2.0 * std::numbers::pi));
   // Labels in order of importance (the layout drops the later ones first when crowded):
   // critical speeds, order lines, modes.
   render::Series critical{"critical speeds", {}, {}, render::Series::Style::kPoints};
@@ -123,7 +128,7 @@ render::LinePlot CampbellFigure(const SpeedSweepResult& sweep) {
     p.series.push_back(std::move(s));
   }
   if (!critical.x.empty()) p.series.push_back(std::move(critical));
-  p.log_x = sweep.speed_scale == AxisScale::kLog;
+  p.log_x = speed_scale == AxisScale::kLog;
   if (rpm.size() >= 2) {
     p.fixed_x = true;
     p.x_min = rpm.front();

@@ -22,18 +22,6 @@ namespace {
 constexpr double kRpm = 60.0 / (2.0 * std::numbers::pi);
 constexpr int kSamplesPerCycle = 32;
 
-nlohmann::json TrainSidebandsJson(const std::vector<SidebandRow>& rows) {
-  nlohmann::json out = nlohmann::json::array();
-  for (const SidebandRow& r : rows) {
-    out.push_back({{"label", r.label},
-                   {"frequency_hz", r.frequency_hz},
-                   {"amplitude_m", r.amplitude},
-                   {"db_re_1um", r.db_re_1um},
-                   {"background_m", r.background}});
-  }
-  return out;
-}
-
 void PrintTrainSidebands(const TrainOperatingPoint& op) {
   if (op.sideband_window_common_periods > 0) {
     fmt::print("\n  TE spectrum lines per mesh over {} common period(s) ({:.4g} s):\n",
@@ -129,43 +117,10 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
                       {"misses", s.cache.misses},
                       {"evictions", s.cache.evictions},
                       {"ill_conditioned", s.cache.ill_conditioned}}}};
-  nlohmann::json meshes = nlohmann::json::array();
-  for (size_t i = 0; i < stats.meshes.size(); ++i) {
-    const TrainMeshStatistics& m = stats.meshes[i];
-    const double mesh_cycles = stats.recorded_time / tables.meshes[i].period;
-    meshes.push_back(
-        {{"name", m.name},
-         {"mesh_period_s", tables.meshes[i].period},
-         {"te",
-          {{"mean", m.te_mean},
-           {"rms", m.te_rms},
-           {"peak_to_peak", m.te_peak_to_peak},
-           {"half_backlash", tables.meshes[i].half_backlash}}},
-         {"mesh_force", {{"mean", m.force_mean}, {"max", m.force_max}}},
-         {"rattle",
-          {{"drive_impacts", m.drive_impacts},
-           {"back_impacts", m.back_impacts},
-           {"separations", m.separations},
-           {"grazing", m.grazing},
-           {"drive_impacts_per_cycle", mesh_cycles > 0 ? m.drive_impacts / mesh_cycles : 0.0},
-           {"back_impacts_per_cycle", mesh_cycles > 0 ? m.back_impacts / mesh_cycles : 0.0},
-           {"separation_fraction", m.free_time_fraction},
-           {"impact_velocity_rms", m.impact_velocity_rms},
-           {"impact_velocity_max", m.impact_velocity_max}}},
-         {"sidebands", TrainSidebandsJson(op.sidebands[i].rows)},
-         {"sideband_window_cycles", op.sidebands[i].window_cycles}});
-  }
-  doc["meshes"] = meshes;
+  doc["meshes"] = TrainMeshesJson(op);
   doc["sideband_window_common_periods"] = op.sideband_window_common_periods;
   doc["sidebands_notes"] = op.sideband_notes;
-  nlohmann::json loose = nlohmann::json::array();
-  for (const TrainLooseGearStatistics& g : stats.loose_gears) {
-    loose.push_back({{"name", g.name},
-                     {"rank", g.rank},
-                     {"rattle_index", g.rattle_index},
-                     {"impacts", g.impacts}});
-  }
-  doc["loose_gears"] = loose;
+  doc["loose_gears"] = TrainLooseGearsJson(op.stats.loose_gears);
   RequireFinite(doc, "simulate");
   if (out) {
     out->Write("results.json", doc.dump(2) + "\n");

@@ -179,4 +179,62 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, const TrainRun
   return op;
 }
 
+nlohmann::json TrainSidebandsJson(const std::vector<SidebandRow>& rows) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const SidebandRow& r : rows) {
+    out.push_back({{"label", r.label},
+                   {"frequency_hz", r.frequency_hz},
+                   {"amplitude_m", r.amplitude},
+                   {"db_re_1um", r.db_re_1um},
+                   {"background_m", r.background}});
+  }
+  return out;
+}
+
+nlohmann::json TrainMeshesJson(const TrainOperatingPoint& op) {
+  const TrainStatistics& stats = op.stats;
+  const TrainTables& tables = op.tables;
+  nlohmann::json meshes = nlohmann::json::array();
+  for (size_t i = 0; i < stats.meshes.size(); ++i) {
+    const TrainMeshStatistics& m = stats.meshes[i];
+    const double mesh_cycles = stats.recorded_time / tables.meshes[i].period;
+    nlohmann::json mesh = {
+        {"name", m.name},
+        {"mesh_period_s", tables.meshes[i].period},
+        {"te",
+         {{"mean", m.te_mean},
+          {"rms", m.te_rms},
+          {"peak_to_peak", m.te_peak_to_peak},
+          {"half_backlash", tables.meshes[i].half_backlash}}},
+        {"mesh_force", {{"mean", m.force_mean}, {"max", m.force_max}}},
+        {"rattle",
+         {{"drive_impacts", m.drive_impacts},
+          {"back_impacts", m.back_impacts},
+          {"separations", m.separations},
+          {"grazing", m.grazing},
+          {"drive_impacts_per_cycle", mesh_cycles > 0 ? m.drive_impacts / mesh_cycles : 0.0},
+          {"back_impacts_per_cycle", mesh_cycles > 0 ? m.back_impacts / mesh_cycles : 0.0},
+          {"separation_fraction", m.free_time_fraction},
+          {"impact_velocity_rms", m.impact_velocity_rms},
+          {"impact_velocity_max", m.impact_velocity_max}}}};
+    if (i < op.sidebands.size()) {
+      mesh["sidebands"] = TrainSidebandsJson(op.sidebands[i].rows);
+      mesh["sideband_window_cycles"] = op.sidebands[i].window_cycles;
+    }
+    meshes.push_back(mesh);
+  }
+  return meshes;
+}
+
+nlohmann::json TrainLooseGearsJson(const std::vector<TrainLooseGearStatistics>& gears) {
+  nlohmann::json loose = nlohmann::json::array();
+  for (const TrainLooseGearStatistics& g : gears) {
+    loose.push_back({{"name", g.name},
+                     {"rank", g.rank},
+                     {"rattle_index", g.rattle_index},
+                     {"impacts", g.impacts}});
+  }
+  return loose;
+}
+
 }  // namespace gearnvh::app

@@ -16,6 +16,7 @@
 #pragma once
 
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -62,5 +63,10 @@ using TrainProgress = std::function<void(double time, double end)>;
 
 TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, const TrainRunOptions& options,
                                            const TrainProgress& progress = {});
+
+// `meshes` and `loose_gears` of `simulate --json` on a train (docs/cli.md), SI units.
+nlohmann::json TrainMeshesJson(const TrainOperatingPoint& op);
+nlohmann::json TrainLooseGearsJson(const std::vector<TrainLooseGearStatistics>& gears);
+nlohmann::json TrainSidebandsJson(const std::vector<SidebandRow>& rows);
 
 }  // namespace gearnvh::app

@@ -122,12 +122,7 @@ nlohmann::json TrainSweepJson(const TrainSweepResult& r) {
              {"separation_fraction", m.free_time_fraction},
              {"impact_velocity_rms", m.impact_velocity_rms}}}});
     }
-    for (const TrainLooseGearStatistics& g : p.loose_gears) {
-      loose.push_back({{"name", g.name},
-                       {"rattle_index", g.rattle_index},
-                       {"rank", g.rank},
-                       {"impacts", g.impacts}});
-    }
+    loose = TrainLooseGearsJson(p.loose_gears);
     points.push_back({{"speed_rpm", p.speed_rpm},
                       {"speed_rad_s", p.speed_rad_s},
                       {"ok", p.ok},
