@@ -49,19 +49,7 @@ const char* StatusName(TrainStepperSummary::Info info) {
 }  // namespace
 
 int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
-  const Tier tier = options.tier ? ParseTier(*options.tier) : spec.analysis.tier;
-  if (tier != Tier::kTier1) {
-    throw InputError(options.tier ? "--tier" : "analysis.tier", 0,
-                     options.tier ? *options.tier : TierName(tier),
-                     "gear trains run on tier 1 (one torsional DOF per body) for now");
-  }
-  if (options.method != "fused" && options.method != "v3") {
-    throw InputError("--method", 0, options.method,
-                     "gear trains run the closed-form event locator (v3) only for now");
-  }
-  if (options.uff) {
-    throw InputError("--uff", 0, *options.uff, "UFF export is not available for gear trains yet");
-  }
+  const Tier tier = CheckTrainCommandOptions(options.tier, spec, options.method, options.uff);
   const long cycles = options.cycles.value_or(spec.analysis.cycles);
   const long transient = options.transient.value_or(spec.analysis.transient_cycles);
   if (cycles < 1) throw InputError("--cycles", 0, std::to_string(cycles), "must be >= 1");

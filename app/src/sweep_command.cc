@@ -19,6 +19,7 @@
 #include "output_folder.h"
 #include "simulate_command.h"
 #include "speed_sweep.h"
+#include "train_operating_point.h"
 #include "train_sweep.h"
 #include "uff_export.h"
 
@@ -68,19 +69,7 @@ SpeedPoint PointFromJson(const nlohmann::json& j) {
 // `sweep` on a gear train: the tier-1 train solver per speed (train_sweep.h). Under mpirun rank 0
 // runs every speed (trains are not split across ranks yet).
 int SweepTrain(const SweepOptions& options, const TrainSpec& spec) {
-  const Tier tier = options.tier ? ParseTier(*options.tier) : spec.analysis.tier;
-  if (tier != Tier::kTier1) {
-    throw InputError(options.tier ? "--tier" : "analysis.tier", 0,
-                     options.tier ? *options.tier : TierName(tier),
-                     "gear trains run on tier 1 (one torsional DOF per body) for now");
-  }
-  if (options.method != "fused" && options.method != "v3") {
-    throw InputError("--method", 0, options.method,
-                     "gear trains run the closed-form event locator (v3) only for now");
-  }
-  if (options.uff) {
-    throw InputError("--uff", 0, *options.uff, "UFF export is not available for gear trains yet");
-  }
+  const Tier tier = CheckTrainCommandOptions(options.tier, spec, options.method, options.uff);
   if (MpiContext::Rank() != 0) return 0;
   const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", true);
   TrainSweepOptions sweep;

@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "gearnvh/model/input_error.h"
+#include "simulate_command.h"
 
 namespace gearnvh::app {
 namespace {
@@ -81,6 +82,22 @@ SpectrumWindow PlanWindow(const TrainTables& t, double dt, double start, double 
 }
 
 }  // namespace
+
+Tier CheckTrainCommandOptions(const std::optional<std::string>& tier_option, const TrainSpec& spec,
+                              const std::string& method, const std::optional<std::string>& uff) {
+  const Tier tier = tier_option ? ParseTier(*tier_option) : spec.analysis.tier;
+  if (tier != Tier::kTier1) {
+    throw InputError(tier_option ? "--tier" : "analysis.tier", 0,
+                     tier_option ? *tier_option : TierName(tier),
+                     "gear trains run on tier 1 (one torsional DOF per body) for now");
+  }
+  if (method != "fused" && method != "v3") {
+    throw InputError("--method", 0, method,
+                     "gear trains run the closed-form event locator (v3) only for now");
+  }
+  if (uff) throw InputError("--uff", 0, *uff, "UFF export is not available for gear trains yet");
+  return tier;
+}
 
 void TrainRunOptions::Validate() const {
   if (cycles < 1)

@@ -17,6 +17,7 @@
 
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -57,6 +58,12 @@ struct TrainOperatingPoint {
   std::vector<std::string> sideband_notes;
   bool ok() const { return summary.info == TrainStepperSummary::Info::kSuccess; }
 };
+
+// What `simulate` and `sweep` accept on a train: tier 1 (`--tier` or analysis.tier), the method
+// v3 (or the default "fused", which means v3 on a train), no UFF file. Returns the tier; throws
+// InputError naming the option or key otherwise.
+Tier CheckTrainCommandOptions(const std::optional<std::string>& tier_option, const TrainSpec& spec,
+                              const std::string& method, const std::optional<std::string>& uff);
 
 // Called about 100 times during the run with the simulated time reached (s) and the end time.
 using TrainProgress = std::function<void(double time, double end)>;

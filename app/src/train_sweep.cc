@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "gearnvh/model/input_error.h"
+#include "parallel_for.h"
 #include "train_operating_point.h"
 
 namespace gearnvh::app {
@@ -68,32 +69,22 @@ TrainSweepResult RunTrainSweep(const TrainSpec& spec, const TrainSweepOptions& o
   TrainSweepResult result;
   for (const TrainMesh& m : spec.meshes) result.mesh_names.push_back(m.Name());
   result.points.resize(speeds.size());
-  std::atomic<size_t> next{0};
   std::mutex progress_mutex;
   int done = 0;
-  auto worker = [&]() {
-    for (size_t i = next++; i < speeds.size(); i = next++) {
-      TrainSweepPoint& p = result.points[i];
-      try {
-        p = RunPoint(spec, options, speeds[i]);
-      } catch (const std::exception& e) {
-        p.speed_rad_s = speeds[i];
-        p.speed_rpm = speeds[i] * kRpm;
-        p.ok = false;
-        p.message = e.what();
-      }
-      const std::lock_guard<std::mutex> lock(progress_mutex);
-      ++done;
-      if (progress) progress(done, static_cast<int>(speeds.size()));
+  ParallelFor(speeds.size(), options.threads, [&](size_t i) {
+    TrainSweepPoint& p = result.points[i];
+    try {
+      p = RunPoint(spec, options, speeds[i]);
+    } catch (const std::exception& e) {
+      p.speed_rad_s = speeds[i];
+      p.speed_rpm = speeds[i] * kRpm;
+      p.ok = false;
+      p.message = e.what();
     }
-  };
-  const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  const int threads = std::min<int>(options.threads > 0 ? options.threads : hardware,
-                                    static_cast<int>(speeds.size()));
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (std::thread& t : pool) t.join();
+    const std::lock_guard<std::mutex> lock(progress_mutex);
+    ++done;
+    if (progress) progress(done, static_cast<int>(speeds.size()));
+  });
   for (const TrainSweepPoint& p : result.points) {
     if (!p.ok) continue;
     for (const TrainLooseGearStatistics& g : p.loose_gears)
