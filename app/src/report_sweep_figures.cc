@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 
 #include "display_units.h"
 
@@ -70,18 +69,18 @@ void CellEdges(const SweepRange& range, double scale, double& lo, double& hi) {
 }  // namespace
 
 render::LinePlot CampbellFigure(const SpeedSweepResult& sweep) {
-  return CampbellFigure(sweep.campbell, sweep.speed_scale, "pinion speed (rpm)");
+  std::vector<double> rpm;
+  for (const SpeedPoint& s : sweep.points) rpm.push_back(s.speed_rpm);
+  return CampbellFigure(sweep.campbell, rpm, sweep.speed_scale, "pinion speed (rpm)");
 }
 
-render::LinePlot CampbellFigure(const CampbellData& c, AxisScale speed_scale,
-                                const std::string& speed_label) {
+render::LinePlot CampbellFigure(const CampbellData& c, const std::vector<double>& rpm,
+                                AxisScale speed_scale, const std::string& speed_label) {
   render::LinePlot p;
   p.title = "Campbell diagram: every tracked mode";
   p.x_label = speed_label;
   p.y_label = "frequency (Hz)";
   p.log_y = true;
-  std::vector<double> rpm;
-  for (double w : c.speeds_rad_s) rpm.push_back(w * 60.0 / (2.0 * std::numbers::pi));
   // Labels in order of importance (the layout drops the later ones first when crowded):
   // critical speeds, order lines, modes.
   render::Series critical{"critical speeds", {}, {}, render::Series::Style::kPoints};

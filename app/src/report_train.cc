@@ -212,13 +212,16 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
     figures.emplace_back(name, caption);
   };
   const AxisScale scale = spec.analysis.speed_sweep.scale;
+  std::vector<double> campbell_rpm;
+  for (double w : check.campbell.speeds_rad_s) campbell_rpm.push_back(w * kRpm);
   draw("campbell.png",
        std::string("Every tracked natural frequency of the train's ") +
            TierName(check.campbell_tier) +
            " (every mesh in drive contact at its mean stiffness, gyroscopic terms) against the "
            "input speed; dashed: order lines of every shaft and mesh; points: critical speeds.",
-       render::RenderLinePlot(CampbellFigure(check.campbell, scale, "input speed (rpm)"), image,
-                              (folder / "campbell.png").string()));
+       render::RenderLinePlot(
+           CampbellFigure(check.campbell, campbell_rpm, scale, "input speed (rpm)"), image,
+           (folder / "campbell.png").string()));
   draw("mesh_impacts.png",
        "Rattle index per mesh: impacts (drive + back) per cycle of that mesh against the input "
        "speed (exact events; meshes.csv).",

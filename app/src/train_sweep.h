@@ -1,7 +1,7 @@
 // The speed sweep of a gear train (schema gearnvh/2) behind `gearnvh sweep` and the train report:
 // one tier-1 train run per input speed of analysis.speed_sweep (RunTrainOperatingPoint), speeds in
 // parallel, and per speed each mesh's TE, mesh force and rattle and each loose gear's rattle index
-// (docs/results.md, "Speed sweep of a train").
+// (docs/cli.md, "`sweep` on a gear train").
 #pragma once
 
 #include <functional>
