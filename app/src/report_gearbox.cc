@@ -22,6 +22,7 @@
 #include "report_figures.h"
 #include "report_page.h"
 #include "report_sweep_figures.h"
+#include "report_train.h"
 #include "sweep_command.h"
 #include "tiers_command.h"
 #include "uff_export.h"
@@ -125,8 +126,18 @@ GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::
   entry.file = file;
   entry.folder = folder.filename().string();
   try {
+    config::LoadedGearbox loaded = config::LoadAnyGearboxFile(file);
+    if (loaded.schema == 2) {
+      entry.name = loaded.train.name;
+      fs::create_directories(folder);
+      entry.summary = BuildTrainReport(file, folder, o, threads, stage, loaded.train);
+      entry.ok = true;
+      entry.wall_s =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      return entry;
+    }
     if (stage) stage("model and modal tiers");
-    const GearboxSpec spec = config::LoadGearboxFile(file);
+    const GearboxSpec spec = std::move(*loaded.pair);
     entry.name = spec.name;
     fs::create_directories(folder);
     const ComponentModel model = BuildComponentModel(spec);

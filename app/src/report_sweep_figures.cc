@@ -69,14 +69,18 @@ void CellEdges(const SweepRange& range, double scale, double& lo, double& hi) {
 }  // namespace
 
 render::LinePlot CampbellFigure(const SpeedSweepResult& sweep) {
-  const CampbellData& c = sweep.campbell;
-  render::LinePlot p;
-  p.title = "Campbell diagram: every tracked mode";
-  p.x_label = "pinion speed (rpm)";
-  p.y_label = "frequency (Hz)";
-  p.log_y = true;
   std::vector<double> rpm;
   for (const SpeedPoint& s : sweep.points) rpm.push_back(s.speed_rpm);
+  return CampbellFigure(sweep.campbell, rpm, sweep.speed_scale, "pinion speed (rpm)");
+}
+
+render::LinePlot CampbellFigure(const CampbellData& c, const std::vector<double>& rpm,
+                                AxisScale speed_scale, const std::string& speed_label) {
+  render::LinePlot p;
+  p.title = "Campbell diagram: every tracked mode";
+  p.x_label = speed_label;
+  p.y_label = "frequency (Hz)";
+  p.log_y = true;
   // Labels in order of importance (the layout drops the later ones first when crowded):
   // critical speeds, order lines, modes.
   render::Series critical{"critical speeds", {}, {}, render::Series::Style::kPoints};
@@ -123,7 +127,7 @@ render::LinePlot CampbellFigure(const SpeedSweepResult& sweep) {
     p.series.push_back(std::move(s));
   }
   if (!critical.x.empty()) p.series.push_back(std::move(critical));
-  p.log_x = sweep.speed_scale == AxisScale::kLog;
+  p.log_x = speed_scale == AxisScale::kLog;
   if (rpm.size() >= 2) {
     p.fixed_x = true;
     p.x_min = rpm.front();

@@ -19,6 +19,10 @@ namespace gearnvh::app {
 // speeds marked and labelled in rpm with their mode. Logarithmic frequency axis, so the shaft
 // orders are not squeezed under the mesh orders; the speed axis has the sweep's scale.
 render::LinePlot CampbellFigure(const SpeedSweepResult& sweep);
+// The same from Campbell data (e.g. a gear train's, nvh/train_campbell.h) at its speeds in rpm
+// (one per column of campbell.frequency_hz), with its speed axis label ("input speed (rpm)").
+render::LinePlot CampbellFigure(const CampbellData& campbell, const std::vector<double>& rpm,
+                                AxisScale speed_scale, const std::string& speed_label);
 render::HeatMap WaterfallFigure(const SpeedSweepResult& sweep);
 // Amplitude in dB re 1 µm against speed: `mesh` solid, `sidebands` dashed. Values more than
 // 100 dB under the strongest are left out (an exact solution's rounding noise lies far below).

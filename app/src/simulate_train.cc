@@ -14,6 +14,7 @@
 #include "gearnvh/solver/train_statistics.h"
 #include "gearnvh/solver/train_stepper.h"
 #include "output_folder.h"
+#include "train_operating_point.h"
 
 namespace gearnvh::app {
 namespace {
@@ -21,81 +22,61 @@ namespace {
 constexpr double kRpm = 60.0 / (2.0 * std::numbers::pi);
 constexpr int kSamplesPerCycle = 32;
 
-const char* StatusName(TrainStepperSummary::Info info) {
-  return info == TrainStepperSummary::Info::kSuccess ? "success" : "too many events";
+void PrintTrainSidebands(const TrainOperatingPoint& op) {
+  if (op.sideband_window_common_periods > 0) {
+    fmt::print("\n  TE spectrum lines per mesh over {} common period(s) ({:.4g} s):\n",
+               op.sideband_window_common_periods,
+               op.tables.common_period * static_cast<double>(op.sideband_window_common_periods));
+    for (size_t i = 0; i < op.sidebands.size(); ++i) {
+      const std::vector<SidebandRow>& rows = op.sidebands[i].rows;
+      if (rows.empty()) {
+        fmt::print("    {:<10}no line stands out\n", op.tables.meshes[i].name);
+      }
+      for (size_t k = 0; k < rows.size(); ++k) {
+        fmt::print("    {:<10}{:<22}{:>11.2f} Hz{:>13.4g} µm{:>9.1f} dB re 1 µm\n",
+                   k == 0 ? op.tables.meshes[i].name : "", rows[k].label, rows[k].frequency_hz,
+                   rows[k].amplitude * 1e6, rows[k].db_re_1um);
+      }
+    }
+  }
+  for (const std::string& note : op.sideband_notes) fmt::print("  (spectrum: {})\n", note);
 }
 
-// What the train solver does not model yet, said once per run.
-std::vector<std::string> TrainWarnings(const TrainSpec& spec, const GearTrain& train) {
-  std::vector<std::string> out = train.warnings;
-  for (size_t i = 0; i < spec.meshes.size(); ++i) {
-    if (spec.meshes[i].mesh.friction_coefficient > 0.0) {
-      out.push_back(fmt::format(
-          "meshes[{}].friction_coefficient = {:g}: tooth friction is not modelled by the train "
-          "solver yet (ignored)",
-          i, spec.meshes[i].mesh.friction_coefficient));
-    }
-  }
-  for (const TrainGear& g : spec.gears) {
-    if (g.gear.runout || !g.gear.pitch_errors.empty()) {
-      out.push_back("gears." + g.name +
-                    ": runout and pitch errors are not modelled by the train solver yet (ignored)");
-    }
-  }
-  return out;
+const char* StatusName(TrainStepperSummary::Info info) {
+  return info == TrainStepperSummary::Info::kSuccess ? "success" : "too many events";
 }
 
 }  // namespace
 
 int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
-  const Tier tier = options.tier ? ParseTier(*options.tier) : spec.analysis.tier;
-  if (tier != Tier::kTier1) {
-    throw InputError(options.tier ? "--tier" : "analysis.tier", 0,
-                     options.tier ? *options.tier : TierName(tier),
-                     "gear trains run on tier 1 (one torsional DOF per body) for now");
-  }
-  // Segment-run fusion is not built for trains: "fused" (the default) runs V3.
-  SolverOptions method;
-  ApplyMethodName(options.method, method, "--method");
-  if (options.uff) {
-    throw InputError("--uff", 0, *options.uff, "UFF export is not available for gear trains yet");
-  }
+  const TrainCommandSettings settings =
+      CheckTrainCommandOptions(options.tier, spec, options.method, options.uff);
+  const Tier tier = settings.tier;
   const long cycles = options.cycles.value_or(spec.analysis.cycles);
   const long transient = options.transient.value_or(spec.analysis.transient_cycles);
   if (cycles < 1) throw InputError("--cycles", 0, std::to_string(cycles), "must be >= 1");
   if (transient < 0) throw InputError("--transient", 0, std::to_string(transient), "must be >= 0");
   const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
 
-  const GearTrain train = BuildGearTrain(spec);
-  const TrainTables tables = BuildTrainTables(spec, train);
-  const std::vector<std::string> warnings = TrainWarnings(spec, train);
-  // cycles and transient_cycles count cycles of the first mesh in the file.
-  const double period = tables.meshes.front().period;
-  const double start = static_cast<double>(transient) * period;
-  const double end = start + static_cast<double>(cycles) * period;
-
-  const auto [z0, states0] = TrainStaticState(tables);
-  TrainStepperOptions solver;
-  solver.events = method.events;
-  TrainStepper stepper(tables, solver, z0, states0);
-  TrainRecorder recorder(tables, kSamplesPerCycle, start);
+  TrainRunOptions run;
+  run.cycles = cycles;
+  run.transient = transient;
+  run.samples_per_cycle = kSamplesPerCycle;
+  run.events = settings.events;
   const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
-  const auto wall_start = std::chrono::steady_clock::now();
-  constexpr int kChunks = 100;
-  bool ok = true;
-  for (int c = 1; c <= kChunks && ok; ++c) {
-    ok = stepper.Run(end * c / kChunks, &recorder);
-    if (on_terminal) {
-      fmt::print(stderr, "\rsimulate: {:3d}% ({:.0f}/{} mesh cycles of {})", c,
-                 stepper.time() / period, transient + cycles, tables.meshes.front().name);
-    }
-  }
+  const TrainOperatingPoint op = RunTrainOperatingPoint(spec, run, [&](double time, double end) {
+    if (!on_terminal) return;
+    fmt::print(stderr, "\rsimulate: {:3.0f}% ({:.0f}/{} mesh cycles of {})", 100.0 * time / end,
+               static_cast<double>(transient + cycles) * time / end, transient + cycles,
+               spec.meshes.front().Name());
+  });
   if (on_terminal) fmt::print(stderr, "\n");
-  const double wall =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-  const TrainStepperSummary s = stepper.summary();
-  const TrainStatistics stats = recorder.Result();
-
+  const TrainTables& tables = op.tables;
+  const TrainStepperOptions& solver = op.solver;
+  const TrainStepperSummary& s = op.summary;
+  const TrainStatistics& stats = op.stats;
+  const std::vector<std::string>& warnings = op.warnings;
+  const double wall = op.wall_s;
   nlohmann::json doc;
   doc["schema"] = "gearnvh/2";
   doc["name"] = spec.name;
@@ -117,7 +98,6 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
                     {"grazing", s.grazing},
                     {"start_switches", s.start_switches},
                     {"dense_pieces", s.dense_pieces},
-                    {"dyadic_substeps", s.dyadic_substeps},
                     {"samples", stats.samples},
                     {"cache",
                      {{"bytes", s.cache.bytes},
@@ -128,39 +108,10 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
                       {"misses", s.cache.misses},
                       {"evictions", s.cache.evictions},
                       {"ill_conditioned", s.cache.ill_conditioned}}}};
-  nlohmann::json meshes = nlohmann::json::array();
-  for (size_t i = 0; i < stats.meshes.size(); ++i) {
-    const TrainMeshStatistics& m = stats.meshes[i];
-    const double mesh_cycles = stats.recorded_time / tables.meshes[i].period;
-    meshes.push_back(
-        {{"name", m.name},
-         {"mesh_period_s", tables.meshes[i].period},
-         {"te",
-          {{"mean", m.te_mean},
-           {"rms", m.te_rms},
-           {"peak_to_peak", m.te_peak_to_peak},
-           {"half_backlash", tables.meshes[i].half_backlash}}},
-         {"mesh_force", {{"mean", m.force_mean}, {"max", m.force_max}}},
-         {"rattle",
-          {{"drive_impacts", m.drive_impacts},
-           {"back_impacts", m.back_impacts},
-           {"separations", m.separations},
-           {"grazing", m.grazing},
-           {"drive_impacts_per_cycle", mesh_cycles > 0 ? m.drive_impacts / mesh_cycles : 0.0},
-           {"back_impacts_per_cycle", mesh_cycles > 0 ? m.back_impacts / mesh_cycles : 0.0},
-           {"separation_fraction", m.free_time_fraction},
-           {"impact_velocity_rms", m.impact_velocity_rms},
-           {"impact_velocity_max", m.impact_velocity_max}}}});
-  }
-  doc["meshes"] = meshes;
-  nlohmann::json loose = nlohmann::json::array();
-  for (const TrainLooseGearStatistics& g : stats.loose_gears) {
-    loose.push_back({{"name", g.name},
-                     {"rank", g.rank},
-                     {"rattle_index", g.rattle_index},
-                     {"impacts", g.impacts}});
-  }
-  doc["loose_gears"] = loose;
+  doc["meshes"] = TrainMeshesJson(op);
+  doc["sideband_window_common_periods"] = op.sideband_window_common_periods;
+  doc["sidebands_notes"] = op.sideband_notes;
+  doc["loose_gears"] = TrainLooseGearsJson(op.stats.loose_gears);
   RequireFinite(doc, "simulate");
   if (out) {
     out->Write("results.json", doc.dump(2) + "\n");
@@ -206,6 +157,7 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
     for (size_t i = 0; i < stats.meshes.size(); ++i)
       fmt::print(" {} {:.4g}", stats.meshes[i].name, tables.meshes[i].half_backlash * 1e6);
     fmt::print(")\n");
+    PrintTrainSidebands(op);
     fmt::print(
         "  (TE, force and rattle index exact: closed-form integrals and extrema of the recorded "
         "trajectory;\n   impacts and separation from the exact events)\n");

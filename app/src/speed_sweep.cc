@@ -13,6 +13,7 @@
 #include "gearnvh/nvh/transmission_error.h"
 #include "gearnvh/solver/exact_solver.h"
 #include "gearnvh/solver/segment_tables.h"
+#include "parallel_for.h"
 
 namespace gearnvh::app {
 
@@ -99,38 +100,28 @@ SpeedSweepResult RunSpeedSweep(const GearboxSpec& spec, const ComponentModel& mo
 
   // Waterfall: one exact run per speed, in parallel.
   result.points.resize(speeds.size());
-  std::atomic<size_t> next{0};
   std::mutex progress_mutex;
   int done = 0;
-  auto worker = [&]() {
-    for (size_t i = next++; i < speeds.size(); i = next++) {
-      SpeedPoint& p = result.points[i];
-      if (!skip.empty() && skip[i]) {
-        p.speed_rad_s = speeds[i];
-        p.speed_rpm = speeds[i] * kRpm;
-        p.message = "skipped";
-        continue;
-      }
-      try {
-        p = RunPoint(spec, model, reduced, options, speeds[i], result.order_bins);
-      } catch (const std::exception& e) {
-        p.speed_rad_s = speeds[i];
-        p.speed_rpm = speeds[i] * kRpm;
-        p.ok = false;
-        p.message = e.what();
-      }
-      const std::lock_guard<std::mutex> lock(progress_mutex);
-      ++done;
-      if (progress) progress(done, static_cast<int>(speeds.size()));
+  ParallelFor(speeds.size(), options.threads, [&](size_t i) {
+    SpeedPoint& p = result.points[i];
+    if (!skip.empty() && skip[i]) {
+      p.speed_rad_s = speeds[i];
+      p.speed_rpm = speeds[i] * kRpm;
+      p.message = "skipped";
+      return;
     }
-  };
-  const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  const int threads = std::min<int>(options.threads > 0 ? options.threads : hardware,
-                                    static_cast<int>(speeds.size()));
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (std::thread& t : pool) t.join();
+    try {
+      p = RunPoint(spec, model, reduced, options, speeds[i], result.order_bins);
+    } catch (const std::exception& e) {
+      p.speed_rad_s = speeds[i];
+      p.speed_rpm = speeds[i] * kRpm;
+      p.ok = false;
+      p.message = e.what();
+    }
+    const std::lock_guard<std::mutex> lock(progress_mutex);
+    ++done;
+    if (progress) progress(done, static_cast<int>(speeds.size()));
+  });
   return result;
 }
 

@@ -19,6 +19,8 @@
 #include "output_folder.h"
 #include "simulate_command.h"
 #include "speed_sweep.h"
+#include "train_operating_point.h"
+#include "train_sweep.h"
 #include "uff_export.h"
 
 namespace gearnvh::app {
@@ -62,6 +64,59 @@ SpeedPoint PointFromJson(const nlohmann::json& j) {
   p.real_time_ratio = j.at("real_time_ratio").get<double>();
   p.amplitude_m = j.at("amplitude_m").get<std::vector<double>>();
   return p;
+}
+
+// `sweep` on a gear train: the tier-1 train solver per speed (train_sweep.h). Under mpirun rank 0
+// runs every speed (trains are not split across ranks yet).
+int SweepTrain(const SweepOptions& options, const TrainSpec& spec) {
+  const TrainCommandSettings settings =
+      CheckTrainCommandOptions(options.tier, spec, options.method, options.uff);
+  const Tier tier = settings.tier;
+  if (MpiContext::Rank() != 0) return 0;
+  const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", true);
+  TrainSweepOptions sweep;
+  sweep.cycles = options.cycles.value_or(sweep.cycles);
+  sweep.transient = options.transient.value_or(sweep.transient);
+  sweep.threads = options.jobs;
+  sweep.events = settings.events;
+  sweep.Validate();
+  const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
+  TrainSweepProgress progress;
+  if (on_terminal) {
+    progress = [](int done, int total) {
+      fmt::print(stderr, "\rsweep: {:3d}% ({}/{} speeds)", 100 * done / total, done, total);
+    };
+  }
+  const TrainSweepResult result = RunTrainSweep(spec, sweep, progress);
+  if (on_terminal) fmt::print(stderr, "\n");
+  nlohmann::json doc = TrainSweepJson(result);
+  doc["name"] = spec.name;
+  doc["file"] = options.file;
+  doc["tier"] = TierName(tier);
+  doc["cycles_per_speed"] = sweep.cycles;
+  doc["transient_cycles"] = sweep.transient;
+  RequireFinite(doc, "sweep");
+  if (out) {
+    out->Write("meshes.csv", TrainMeshesCsv(result));
+    out->Write("loose_gears.csv", TrainLooseGearsCsv(result));
+    out->Write("sweep.json", doc.dump(1) + "\n");
+    out->Commit();
+  }
+  if (options.json) {
+    std::cout << doc.dump(1) << "\n";
+  } else {
+    fmt::print("{}  ({}), gear train, {}: speed sweep of {}, {} speeds, {} each\n", spec.name,
+               options.file, TierName(tier), spec.operating.input_shaft, result.points.size(),
+               Count(sweep.cycles, "cycle of " + result.mesh_names.front(),
+                     "cycles of " + result.mesh_names.front()));
+    PrintTrainSweep(result);
+  }
+  if (result.failed() > 0) {
+    std::cerr << "error: " << result.failed() << " of " << result.points.size()
+              << " speeds failed (listed in the output)\n";
+    return 1;
+  }
+  return 0;
 }
 
 }  // namespace
@@ -169,8 +224,10 @@ std::string WaterfallCsv(const SpeedSweepResult& r) {
 
 int RunSweep(const SweepOptions& options) {
   const int code = RunReportingErrors(options.file, [&]() -> int {
+    config::LoadedGearbox loaded = config::LoadAnyGearboxFile(options.file);
+    if (loaded.schema == 2) return SweepTrain(options, loaded.train);
     const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", true);
-    const GearboxSpec spec = config::LoadGearboxFile(options.file);
+    const GearboxSpec spec = std::move(*loaded.pair);
     const Tier tier = options.tier ? ParseTier(*options.tier) : spec.analysis.tier;
     SpeedSweepOptions sweep;
     sweep.cycles = options.cycles.value_or(sweep.cycles);

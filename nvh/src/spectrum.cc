@@ -99,6 +99,12 @@ SpectralLine FindLine(const AmplitudeSpectrum& s, double frequency_hz, int searc
 
 std::vector<SidebandRow> SidebandTable(const AmplitudeSpectrum& s, double mesh_hz, double pinion_hz,
                                        double wheel_hz, const SidebandOptions& options) {
+  return SidebandTable(s, mesh_hz, {{"f1", pinion_hz}, {"f2", wheel_hz}}, options);
+}
+
+std::vector<SidebandRow> SidebandTable(const AmplitudeSpectrum& s, double mesh_hz,
+                                       const std::vector<ShaftOrderSource>& sources,
+                                       const SidebandOptions& options) {
   std::vector<SidebandRow> rows;
   const long bins = static_cast<long>(s.amplitude.size());
   if (bins < 4) return rows;
@@ -133,9 +139,8 @@ std::vector<SidebandRow> SidebandTable(const AmplitudeSpectrum& s, double mesh_h
     }
     rows.push_back({label, f, amp, 20.0 * std::log10(amp / 1e-6), background});
   };
-  const std::pair<const char*, double> shafts[] = {{"f1", pinion_hz}, {"f2", wheel_hz}};
   if (options.shaft_order_sources) {
-    for (const auto& [name, f] : shafts) {
+    for (const auto& [name, f] : sources) {
       for (int j = 1; j <= options.orders; ++j) add(std::to_string(j) + " " + name, j * f);
     }
   }
@@ -144,7 +149,7 @@ std::vector<SidebandRow> SidebandTable(const AmplitudeSpectrum& s, double mesh_h
     add(fm, k * mesh_hz);
     if (!options.shaft_order_sources) continue;
     for (int j = 1; j <= options.orders; ++j) {
-      for (const auto& [name, f] : shafts) {
+      for (const auto& [name, f] : sources) {
         add(fm + " - " + std::to_string(j) + " " + name, k * mesh_hz - j * f);
         add(fm + " + " + std::to_string(j) + " " + name, k * mesh_hz + j * f);
       }

@@ -28,8 +28,21 @@ TrainRecorder::TrainRecorder(const TrainTables& tables, int samples_per_cycle, d
   grazing_.assign(meshes, 0);
 }
 
-void TrainRecorder::Sample(double, const Eigen::VectorXd&, const TrainSystem&,
-                           const std::vector<int>&, const std::vector<ContactState>&) {
+void TrainRecorder::KeepTeSeries(double from_time, long max_samples) {
+  keep_from_ = from_time;
+  keep_max_ = std::max(0L, max_samples);
+  te_series_.assign(t_.meshes.size(), {});
+  for (std::vector<double>& series : te_series_) series.reserve(static_cast<size_t>(keep_max_));
+}
+
+void TrainRecorder::Sample(double time, const Eigen::VectorXd& z) {
+  // Half a sample interval of slack: sample times are start + k dt, rounded.
+  if (keep_max_ > 0 && time >= keep_from_ - 0.5 * dt_) {
+    for (size_t i = 0; i < t_.meshes.size(); ++i) {
+      if (static_cast<long>(te_series_[i].size()) < keep_max_)
+        te_series_[i].push_back(t_.meshes[i].v.dot(z.head(t_.n)));
+    }
+  }
   ++samples_;
   next_ = start_ + static_cast<double>(samples_) * dt_;
 }

@@ -230,7 +230,7 @@ void TrainStepper::Record(const TrainSystem& sys, const Eigen::Ref<const Eigen::
         zs_ += taylor_.col(k);
       }
     }
-    rec->Sample(rec->next_sample(), zs_, sys, grid_.segments(), states_);
+    rec->Sample(rec->next_sample(), zs_);
   }
 }
 

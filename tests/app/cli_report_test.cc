@@ -1,5 +1,6 @@
 // End-to-end tests of `gearnvh report`: the README's main job, batches with a bad file, the
 // output folder rules, the no-display error, and the report opened in headless Chromium.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
@@ -140,7 +141,8 @@ TEST_CASE("report: one gearbox shows its stages on a terminal and stays quiet wh
           "[cli][report]") {
   const TempDir dir;
   const fs::path file = dir.Write("small.yaml", kSmallGearbox);
-  const std::string command = kExe + " report " + file.string() + " --width 400 --height 300 --out ";
+  const std::string command =
+      kExe + " report " + file.string() + " --width 400 --height 300 --out ";
   // Piped (stderr to a file): nothing on stderr at all.
   const auto piped = RunCommand(command + (dir.path() / "piped").string());
   INFO(piped.out << piped.err);
@@ -148,8 +150,8 @@ TEST_CASE("report: one gearbox shows its stages on a terminal and stays quiet wh
   CHECK(piped.err.empty());
   // On a terminal (util-linux `script` gives the command a pseudo-terminal; its output is the
   // terminal's): the stages of the one gearbox, with counts.
-  const auto tty = RunCommand("script -qec '" + command + (dir.path() / "tty").string() +
-                              "' /dev/null");
+  const auto tty =
+      RunCommand("script -qec '" + command + (dir.path() / "tty").string() + "' /dev/null");
   INFO(tty.out << tty.err);
   REQUIRE(tty.exit_code == 0);
   for (const char* stage : {"model and modal tiers", "operating point", " mesh cycles",
@@ -198,6 +200,62 @@ TEST_CASE("report: without a display and without Xvfb the error says what to ins
   CHECK(run.err.find("Xvfb") != std::string::npos);
   CHECK(run.err.find("apt-get install xvfb") != std::string::npos);
   CHECK(!fs::exists(dir.path() / "r"));
+}
+
+TEST_CASE("report: a gear train gets its page and figures, next to a pair and past a bad file",
+          "[cli][report][train]") {
+  // The manual transmission, shortened (210 recorded cycles: two common periods; 3 sweep speeds).
+  const TempDir dir;
+  std::ifstream in(kExamples + "/manual_transmission_idle.yaml");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string at = "analysis:\n";
+  const size_t pos = text.find(at);
+  REQUIRE(pos != std::string::npos);
+  text.insert(pos + at.size(),
+              "  cycles: 210\n  transient_cycles: 50\n"
+              "  speed_sweep: {from: 700 rpm, to: 1300 rpm, points: 3}\n");
+  const fs::path train = dir.Write("transmission.yaml", text);
+  // A broken train (a mesh names a gear that does not exist) must not stop the batch.
+  std::string broken_text = text;
+  const size_t gear = broken_text.find("gears: [in, l0]");
+  REQUIRE(gear != std::string::npos);
+  broken_text.replace(gear, 15, "gears: [in, zz]");
+  const fs::path broken = dir.Write("broken_train.yaml", broken_text);
+  const fs::path out = dir.path() / "report";
+  const auto run = RunCommand(kExe + " report " + train.string() + " " + broken.string() + " " +
+                              kExamples + "/idle_rattle.yaml --no-atlas --out " + out.string() +
+                              " --width 800 --height 560");
+  INFO(run.out << run.err);
+  CHECK(run.exit_code == 1);  // the broken train
+  CHECK(run.err.find("broken_train.yaml") != std::string::npos);
+  CHECK(fs::exists(out / "idle-rattle" / "index.html"));  // the pair completed
+  const fs::path g = out / "transmission";
+  const std::string page = ReadWholeFile(g / "index.html");
+  CHECK(page.find("Loose gears by rattle index") != std::string::npos);
+  CHECK(page.find("TE spectrum lines per mesh") != std::string::npos);
+  CHECK(page.find("l5-o5") != std::string::npos);
+  // Campbell, per-mesh TE RMS and impacts, loose gears: drawn, with a title and data.
+  const auto images = ImageSources(page);
+  CHECK(images.size() == 4);
+  for (const std::string& src : images) {
+    INFO(src);
+    const render::RgbImage img = render::ReadPng((g / src).string());
+    CHECK(img.width >= 533);
+    CHECK(img.CountDifferent(0.3, 0.0, 0.7, 0.08, kWhite) > 50);      // title
+    CHECK(img.CountDifferent(0.15, 0.15, 0.85, 0.85, kWhite) > 800);  // data
+  }
+  const auto results = nlohmann::json::parse(ReadWholeFile(g / "results.json"));
+  CHECK(results["schema"] == "gearnvh/2");
+  CHECK(results["operating_point"]["meshes"].size() == 6);
+  CHECK(results["operating_point"]["loose_gears"].size() == 4);
+  CHECK(results["sweep"]["points"].size() == 3);
+  CHECK(results["check"]["campbell"]["modes"].size() >= 1);
+  const std::string meshes = ReadWholeFile(g / "meshes.csv");
+  CHECK(std::count(meshes.begin(), meshes.end(), '\n') == 1 + 3 * 6);
+  const std::string batch = ReadWholeFile(out / "index.html");
+  CHECK(batch.find("transmission/index.html") != std::string::npos);
+  CHECK(batch.find("tier 1 (gear train)") != std::string::npos);
+  CHECK(batch.find("broken_train.yaml") != std::string::npos);
 }
 
 }  // namespace

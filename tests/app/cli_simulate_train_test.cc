@@ -1,5 +1,6 @@
 // `gearnvh simulate` on gear trains (schema gearnvh/2): the tier-1 train solver end to end.
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -63,6 +64,67 @@ TEST_CASE("simulate on a train refuses a tier other than 1", "[cli][train]") {
   CHECK(r.exit_code == 2);  // a command-line option: usage error
   CHECK(r.err.find("--tier") != std::string::npos);
   CHECK(r.err.find("tier 1") != std::string::npos);
+}
+
+TEST_CASE("simulate on a train: per-mesh TE spectrum lines over whole common periods",
+          "[cli][train][sidebands]") {
+  // The two-stage reducer: common period 1349 cycles of g1-g2 (= 437 of g3-g4), no engine order.
+  const std::string file = kExamples + "/two_stage_helical_reducer.yaml";
+  const auto r = RunCommand(kExe + " simulate --json --cycles 1349 --transient 100 " + file);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const auto doc = nlohmann::json::parse(r.out);
+  CHECK(doc["sideband_window_common_periods"] == 1);
+  CHECK(doc["meshes"][0]["sideband_window_cycles"] == 1349);
+  CHECK(doc["meshes"][1]["sideband_window_cycles"] == 437);
+  CHECK(doc["sidebands_notes"][0].get<std::string>().find("not modelled on trains") !=
+        std::string::npos);
+  for (const auto& m : doc["meshes"]) {
+    // Without runout, pitch errors or engine orders only the mesh's harmonics are considered.
+    REQUIRE(!m["sidebands"].empty());
+    const double fm = 1.0 / m["mesh_period_s"].get<double>();
+    for (const auto& row : m["sidebands"]) {
+      const std::string label = row["label"];
+      INFO(label);
+      REQUIRE(label.size() == 4);  // "k fm"
+      CHECK(label.substr(1) == " fm");
+      CHECK(row["frequency_hz"].get<double>() == Approx((label[0] - '0') * fm).epsilon(1e-12));
+      // Parseval: a line of amplitude A carries A^2/2 of the variance, so A <= sqrt(2) RMS (the
+      // same steady periodic state, in permanent contact; 1e-6 for the sampled RMS's window).
+      CHECK(row["amplitude_m"].get<double>() <=
+            std::sqrt(2.0) * m["te"]["rms"].get<double>() * (1 + 1e-6));
+      CHECK(row["db_re_1um"].get<double>() ==
+            Approx(20.0 * std::log10(row["amplitude_m"].get<double>() / 1e-6)).epsilon(1e-12));
+    }
+    CHECK(m["sidebands"][0]["label"] == "1 fm");
+  }
+  // A record shorter than one common period: no spectrum, and the note says what is needed.
+  const auto short_run = RunCommand(kExe + " simulate --json --cycles 200 --transient 10 " + file);
+  REQUIRE(short_run.exit_code == 0);
+  const auto short_doc = nlohmann::json::parse(short_run.out);
+  CHECK(short_doc["sideband_window_common_periods"] == 0);
+  CHECK(short_doc["meshes"][0]["sidebands"].empty());
+  CHECK(short_doc["sidebands_notes"][0].get<std::string>().find("1349 cycles") !=
+        std::string::npos);
+}
+
+TEST_CASE("simulate on a train: the engine order shows in the headset mesh's spectrum",
+          "[cli][train][sidebands]") {
+  // Order 2 of the input at 800 rpm: 26.67 Hz, on a bin over whole common periods (105 cycles).
+  const auto r = RunCommand(kExe + " simulate --json --cycles 210 --transient 50 " + kExamples +
+                            "/manual_transmission_idle.yaml");
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const auto doc = nlohmann::json::parse(r.out);
+  CHECK(doc["sideband_window_common_periods"] == 2);
+  bool found = false;
+  for (const auto& row : doc["meshes"][0]["sidebands"]) {
+    if (row["label"] == "2 fin") {
+      found = true;
+      CHECK(row["frequency_hz"].get<double>() == Approx(2.0 * 800.0 / 60.0).epsilon(1e-12));
+    }
+  }
+  CHECK(found);
 }
 
 }  // namespace

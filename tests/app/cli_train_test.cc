@@ -1,4 +1,5 @@
 // End-to-end tests of gear trains (schema gearnvh/2) through `gearnvh check`.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <fstream>
@@ -13,6 +14,7 @@ namespace {
 
 using testing::RunCommand;
 using testing::TempDir;
+namespace fs = std::filesystem;
 
 const std::string kExe = GEARNVH_EXE;
 const std::string kExamples = GEARNVH_EXAMPLES_DIR;
@@ -100,10 +102,73 @@ TEST_CASE("check prints a train in text", "[cli][train]") {
 
 TEST_CASE("a schema-2 file is refused with a clear message where trains are not built",
           "[cli][train]") {
-  const auto r = RunCommand(kExe + " sweep " + kExamples + "/manual_transmission_idle.yaml");
-  CHECK(r.exit_code == 1);
-  CHECK(r.err.find("schema") != std::string::npos);
-  CHECK(r.err.find("this command reads gearnvh/1") != std::string::npos);
+  for (const std::string command : {"tiers", "atlas", "orbits"}) {
+    const auto r =
+        RunCommand(kExe + " " + command + " " + kExamples + "/manual_transmission_idle.yaml");
+    INFO(command << ": " << r.err);
+    CHECK(r.exit_code == 1);
+    CHECK(r.out.empty());
+    CHECK(
+        r.err.find("schema: gear trains run in `gearnvh check`, `simulate`, `sweep`, `report` and "
+                   "`validate`") != std::string::npos);
+    CHECK(r.err.find("this command reads gearnvh/1, got 'gearnvh/2'") != std::string::npos);
+  }
+}
+
+// The two-stage reducer with a short speed sweep (3 speeds), for the sweep tests.
+std::string ShortSweepReducer() {
+  std::ifstream in(kExamples + "/two_stage_helical_reducer.yaml");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string at = "analysis:\n";
+  const size_t pos = text.find(at);
+  REQUIRE(pos != std::string::npos);
+  return text.insert(pos + at.size(), "  speed_sweep: {from: 1000 rpm, to: 1600 rpm, points: 3}\n");
+}
+
+TEST_CASE("sweep on a train: JSON, CSV files, quiet when piped", "[cli][train][sweep]") {
+  const TempDir dir;
+  const auto file = dir.Write("reducer.yaml", ShortSweepReducer());
+  const auto out = dir.path() / "out";
+  const auto r = RunCommand(kExe + " sweep --json --cycles 40 --transient 20 --out " +
+                            out.string() + " " + file.string());
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.err.empty());  // no progress when piped
+  const auto doc = nlohmann::json::parse(r.out);
+  CHECK(doc["schema"] == "gearnvh/2");
+  CHECK(doc["tier"] == "tier 1");
+  CHECK(doc["failed_speeds"] == 0);
+  REQUIRE(doc["speeds_rpm"].size() == 3);
+  CHECK(doc["speeds_rpm"][2].get<double>() == Approx(1600.0).epsilon(1e-12));
+  CHECK(doc["meshes"] == nlohmann::json({"g1-g2", "g3-g4"}));
+  for (const auto& p : doc["points"]) {
+    CHECK(p["ok"] == true);
+    REQUIRE(p["meshes"].size() == 2);
+    for (const auto& m : p["meshes"]) {
+      CHECK(m["te"]["rms"].get<double>() > 0.0);
+      CHECK(m["te"]["peak_to_peak"].get<double>() >= 2.0 * m["te"]["rms"].get<double>());
+      CHECK(m["mesh_force"]["max"].get<double>() >= m["mesh_force"]["mean"].get<double>());
+    }
+  }
+  CHECK(fs::exists(out / "sweep.json"));
+  const std::string meshes = testing::ReadWholeFile(out / "meshes.csv");
+  CHECK(std::count(meshes.begin(), meshes.end(), '\n') == 1 + 3 * 2);
+  CHECK(fs::exists(out / "loose_gears.csv"));
+  // Text: a table per mesh.
+  const auto text = RunCommand(kExe + " sweep --cycles 40 --transient 20 " + file.string());
+  REQUIRE(text.exit_code == 0);
+  CHECK(text.out.find("mesh g3-g4") != std::string::npos);
+  CHECK(text.out.find("impacts/cycle") != std::string::npos);
+}
+
+TEST_CASE("sweep on a train refuses what trains do not run yet", "[cli][train][sweep]") {
+  const std::string file = kExamples + "/two_stage_helical_reducer.yaml";
+  const auto tier = RunCommand(kExe + " sweep --tier 3 " + file);
+  CHECK(tier.exit_code == 2);
+  CHECK(tier.err.find("gear trains run on tier 1") != std::string::npos);
+  const auto uff = RunCommand(kExe + " sweep --uff x.uff " + file);
+  CHECK(uff.exit_code == 2);
+  CHECK(uff.err.find("--uff") != std::string::npos);
 }
 
 TEST_CASE("malformed trains: exit 1 naming the path, the line and the rule", "[cli][train]") {

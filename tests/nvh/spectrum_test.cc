@@ -101,6 +101,46 @@ TEST_CASE("an AM signal's sidebands are found at the right frequencies and ampli
   CHECK(harmonics_only[0].label == "1 fm");
 }
 
+TEST_CASE("a sideband table with one named source: the input shaft's orders of a train mesh",
+          "[nvh][spectrum][sidebands]") {
+  // A train mesh whose frequency is not a whole order of the input (fm = 7.5 fin) modulated by
+  // the engine's second order: a (1 + m cos(2 pi 2 fin t)) sin(2 pi fm t) + c sin(2 pi 2 fin t)
+  // has the lines 2 fin (c), 1 fm (a) and 1 fm +- 2 fin (a m / 2) and nothing else. 3 s at
+  // fin = 4 Hz holds 12 input revolutions and 90 mesh cycles: every line on a bin, exact to
+  // rounding (1e-9 as the test above).
+  const double fin = 4.0, fm = 7.5 * fin, record = 3.0;
+  const int n = 3072;
+  const double rate = n / record, m = 0.5, a = 2e-6, c = 5e-6;
+  SpectrumAnalyzer fft(n);
+  const AmplitudeSpectrum s = fft.Analyze(
+      Sample(n, rate,
+             [&](double t) {
+               return a * (1 + m * std::cos(2 * kPi * 2 * fin * t)) * std::sin(2 * kPi * fm * t) +
+                      c * std::sin(2 * kPi * 2 * fin * t);
+             }),
+      rate);
+  const std::vector<SidebandRow> rows = SidebandTable(s, fm, {{"fin", fin}});
+  auto amplitude = [&](const std::string& label) {
+    for (const auto& r : rows)
+      if (r.label == label) return r.amplitude;
+    FAIL("no row " << label);
+    return 0.0;
+  };
+  REQUIRE(rows.size() == 4);
+  CHECK(amplitude("2 fin") == Approx(c).epsilon(1e-9));
+  CHECK(amplitude("1 fm") == Approx(a).epsilon(1e-9));
+  CHECK(amplitude("1 fm - 2 fin") == Approx(a * m / 2).epsilon(1e-9));
+  CHECK(amplitude("1 fm + 2 fin") == Approx(a * m / 2).epsilon(1e-9));
+  // The pair's two-shaft table is this table with the sources f1 and f2.
+  const std::vector<SidebandRow> pair = SidebandTable(s, fm, fin, 0.75 * fin);
+  const std::vector<SidebandRow> named = SidebandTable(s, fm, {{"f1", fin}, {"f2", 0.75 * fin}});
+  REQUIRE(pair.size() == named.size());
+  for (size_t k = 0; k < pair.size(); ++k) {
+    CHECK(pair[k].label == named[k].label);
+    CHECK(pair[k].amplitude == named[k].amplitude);
+  }
+}
+
 TEST_CASE("a line buried in broadband noise is not listed as a sideband",
           "[nvh][spectrum][sidebands]") {
   // A carrier plus deterministic broadband "noise" (many incommensurate tones of 1e-2 a): a

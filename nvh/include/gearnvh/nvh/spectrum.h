@@ -1,5 +1,5 @@
-// Amplitude spectra of uniformly sampled signals with FFTW (docs/design.md §6), and the mesh-harmonic /
-// sideband table an NVH engineer reads off a TE spectrum.
+// Amplitude spectra of uniformly sampled signals with FFTW (docs/design.md §6), and the
+// mesh-harmonic / sideband table an NVH engineer reads off a TE spectrum.
 //
 // Amplitude-correct one-sided spectrum with a Hann window w_n = 0.5 (1 - cos(2 pi n / N)):
 //   A_k = 2 |sum_n w_n x_n e^{-2 pi i k n / N}| / sum_n w_n   (k > 0; A_0 without the factor 2),
@@ -72,10 +72,21 @@ struct SidebandRow {
                       // two lines fall on one frequency
   double frequency_hz = 0.0;
   double amplitude = 0.0;   // m
-  double db_re_1um = 0.0;  // 20 log10(amplitude / 1 µm)
+  double db_re_1um = 0.0;   // 20 log10(amplitude / 1 µm)
   double background = 0.0;  // local median amplitude
 };
 std::vector<SidebandRow> SidebandTable(const AmplitudeSpectrum& s, double mesh_hz, double pinion_hz,
                                        double wheel_hz, const SidebandOptions& options = {});
+
+// The same table with any list of shaft-order sources, each a label stem and its rotation
+// frequency: lines j f and k fm +- j f for every source f (the pair's table is the sources
+// {"f1", pinion_hz}, {"f2", wheel_hz}). Every source's orders must sit on bins of the record.
+struct ShaftOrderSource {
+  std::string name;  // e.g. "f1", "fin"
+  double frequency_hz = 0.0;
+};
+std::vector<SidebandRow> SidebandTable(const AmplitudeSpectrum& s, double mesh_hz,
+                                       const std::vector<ShaftOrderSource>& sources,
+                                       const SidebandOptions& options = {});
 
 }  // namespace gearnvh

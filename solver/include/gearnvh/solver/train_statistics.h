@@ -54,13 +54,19 @@ class TrainRecorder {
   // mesh.
   TrainRecorder(const TrainTables& tables, int samples_per_cycle, double start_time);
   double next_sample() const { return next_; }
+  double sample_interval() const { return dt_; }
+  // Keeps the TE of every mesh at the samples at or after `from_time` (s), at most `max_samples`
+  // per mesh (storage reserved here, so recording allocates nothing).
+  void KeepTeSeries(double from_time, long max_samples);
+  // Per mesh (file order) the kept TE samples, m.
+  const std::vector<std::vector<double>>& te_series() const { return te_series_; }
   // The trajectory from z (at `start`, in `system`, the tuple of `segments` and `states`) for
   // `length` seconds: the exact statistics of its part inside the recorded window.
   void Piece(const TrainSystem& system, const Eigen::Ref<const Eigen::VectorXd>& z, double start,
              double length, const std::vector<int>& segments,
              const std::vector<ContactState>& states);
-  void Sample(double time, const Eigen::VectorXd& z, const TrainSystem& system,
-              const std::vector<int>& segments, const std::vector<ContactState>& states);
+  // The exact state z at the sample time next_sample(): counted, and its TE kept (KeepTeSeries).
+  void Sample(double time, const Eigen::VectorXd& z);
   void Interval(double start, double length, const std::vector<ContactState>& states);
   void Event(int mesh, ContactState from, ContactState to, double time, double rate);
   void Grazing(int mesh, double time);
@@ -83,6 +89,9 @@ class TrainRecorder {
   Eigen::VectorXd chunk_z_;
   std::vector<double> free_time_, impact_sum2_, impact_max_;
   std::vector<long> drive_impacts_, back_impacts_, separations_, grazing_;
+  double keep_from_ = 0.0;
+  long keep_max_ = 0;
+  std::vector<std::vector<double>> te_series_;
 };
 
 }  // namespace gearnvh

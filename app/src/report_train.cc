@@ -1,0 +1,293 @@
+#include "report_train.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <sstream>
+
+#include "atomic_file.h"
+#include "finite_results.h"
+#include "gearnvh/model/input_error.h"
+#include "report_html.h"
+#include "report_sweep_figures.h"
+#include "train_check.h"
+#include "train_operating_point.h"
+#include "train_sweep.h"
+
+namespace gearnvh::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kRpm = 60.0 / (2.0 * std::numbers::pi);
+
+// One series per mesh (or loose gear) of `value` against the input speed; failed speeds left out.
+template <typename Value>
+render::LinePlot OverSpeed(const TrainSweepResult& sweep, const std::vector<std::string>& names,
+                           const std::string& title, const std::string& y_label, Value value,
+                           AxisScale speed_scale) {
+  render::LinePlot p;
+  p.title = title;
+  p.x_label = "input speed (rpm)";
+  p.y_label = y_label;
+  p.log_x = speed_scale == AxisScale::kLog;
+  for (size_t i = 0; i < names.size(); ++i) {
+    render::Series s{names[i], {}, {}};
+    for (const TrainSweepPoint& point : sweep.points) {
+      if (!point.ok) continue;
+      s.x.push_back(point.speed_rpm);
+      s.y.push_back(value(point, i));
+    }
+    p.series.push_back(std::move(s));
+  }
+  return p;
+}
+
+std::string TrainSidebandsCsv(const TrainOperatingPoint& op) {
+  std::ostringstream os;
+  os.precision(12);
+  os << "mesh,label,frequency_hz,amplitude_m,db_re_1um\n";
+  for (size_t i = 0; i < op.sidebands.size(); ++i) {
+    for (const SidebandRow& r : op.sidebands[i].rows) {
+      os << op.tables.meshes[i].name << ',' << r.label << ',' << r.frequency_hz << ','
+         << r.amplitude << ',' << r.db_re_1um << '\n';
+    }
+  }
+  return os.str();
+}
+
+struct TrainPageInput {
+  const std::string& file;
+  const TrainSpec& spec;
+  const TrainCheck& check;
+  const TrainOperatingPoint& op;
+  const TrainSweepResult& sweep;
+  const std::vector<std::pair<std::string, std::string>>& figures;  // file, caption
+};
+
+std::string TrainPage(const TrainPageInput& in) {
+  const TrainOperatingPoint& op = in.op;
+  std::ostringstream h;
+  h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>"
+    << Html(in.spec.name) << " - gearnvh report</title>\n"
+    << kReportStyle << "\n</head><body>\n";
+  h << "<h1>" << Html(in.spec.name) << "</h1>\n<p>" << Html(in.file)
+    << " &middot; gear train, tier 1 &middot; <a href=\"results.json\">results.json</a> &middot; "
+       "<a href=\"../index.html\">batch</a></p>\n";
+  for (const std::string& w : op.warnings) {
+    h << "<p class=\"warning\">warning: " << Html(w) << "</p>\n";
+  }
+  h << "<h2>Operating point</h2>\n<table>\n"
+    << Row("input shaft", in.spec.operating.input_shaft)
+    << Row("input speed (rpm)", Number(in.spec.operating.speed * kRpm))
+    << Row("bodies / meshes", fmt::format("{} / {}", op.tables.n, op.tables.meshes.size()))
+    << Row("common period (s)", op.tables.common_period > 0.0
+                                    ? Number(op.tables.common_period)
+                                    : std::string("none within 1000 input revolutions"))
+    << Row("simulated / recorded (s)", fmt::format("{} / {}", Number(op.summary.simulated_time),
+                                                   Number(op.stats.recorded_time)))
+    << Row("contact events", std::to_string(op.summary.events))
+    << Row("real-time ratio", Number(op.wall_s > 0.0 ? op.summary.simulated_time / op.wall_s : 0.0))
+    << "</table>\n";
+  h << "<h2>Meshes at the operating point</h2>\n<p>TE, force and rattle index from exact uniform "
+       "samples, impacts and separation from the exact events (docs/results.md, \"Gear "
+       "trains\"); the TE mean includes the half backlash b.</p>\n<table>\n<tr><th>mesh</th>"
+       "<th>mesh frequency (Hz)</th><th>b (µm)</th><th>TE mean / RMS / p-p (µm)</th><th>mesh "
+       "force mean / max (N)</th><th>impacts / mesh cycle (drive / back)</th><th>separated</th>"
+       "</tr>\n";
+  for (size_t i = 0; i < op.stats.meshes.size(); ++i) {
+    const TrainMeshStatistics& m = op.stats.meshes[i];
+    const TrainMeshTable& mt = op.tables.meshes[i];
+    const double cycles = op.stats.recorded_time / mt.period;
+    h << "<tr><td>" << Html(m.name) << "</td><td>" << Number(1.0 / mt.period) << "</td><td>"
+      << Number(mt.half_backlash * 1e6) << "</td><td>"
+      << fmt::format("{} / {} / {}", Number(m.te_mean * 1e6), Number(m.te_rms * 1e6),
+                     Number(m.te_peak_to_peak * 1e6))
+      << "</td><td>" << fmt::format("{} / {}", Number(m.force_mean), Number(m.force_max))
+      << "</td><td>"
+      << fmt::format("{} / {}", Number(cycles > 0 ? m.drive_impacts / cycles : 0.0),
+                     Number(cycles > 0 ? m.back_impacts / cycles : 0.0))
+      << "</td><td>" << Number(100.0 * m.free_time_fraction, 3) << " %</td></tr>\n";
+  }
+  h << "</table>\n";
+  h << "<h2>Loose gears by rattle index</h2>\n";
+  if (op.stats.loose_gears.empty()) {
+    h << "<p>The train has no loose gear.</p>\n";
+  } else {
+    h << "<table>\n<tr><th>rank</th><th>loose gear</th><th>rattle index (RMS angular "
+         "acceleration, rad/s²)</th><th>impacts</th></tr>\n";
+    for (const TrainLooseGearStatistics& g : op.stats.loose_gears) {
+      h << "<tr><td>" << g.rank << "</td><td>" << Html(g.name) << "</td><td>"
+        << Number(g.rattle_index) << "</td><td>" << g.impacts << "</td></tr>\n";
+    }
+    h << "</table>\n";
+  }
+  h << "<h2>TE spectrum lines per mesh</h2>\n<table>\n<tr><th>mesh</th><th>line</th><th>frequency "
+       "(Hz)</th><th>amplitude (µm)</th><th>dB re 1 µm</th></tr>\n";
+  for (size_t i = 0; i < op.sidebands.size(); ++i) {
+    for (const SidebandRow& r : op.sidebands[i].rows) {
+      h << "<tr><td>" << Html(op.tables.meshes[i].name) << "</td><td>" << Html(r.label)
+        << "</td><td>" << Number(r.frequency_hz) << "</td><td>" << Number(r.amplitude * 1e6)
+        << "</td><td>" << Number(r.db_re_1um) << "</td></tr>\n";
+    }
+  }
+  h << "</table>\n";
+  for (const std::string& note : op.sideband_notes) h << "<p>" << Html(note) << "</p>\n";
+  const CampbellData& c = in.check.campbell;
+  h << "<h2>Critical speeds (" << Html(TierName(in.check.campbell_tier))
+    << ", inside the speed sweep)</h2>\n";
+  if (c.critical_speeds.empty()) {
+    h << "<p>No order line crosses a tracked mode inside the sweep.</p>\n";
+  } else {
+    h << "<table>\n<tr><th>input speed (rpm)</th><th>order line</th><th>mode</th><th>frequency "
+         "(Hz)</th></tr>\n";
+    for (const CriticalSpeed& s : c.critical_speeds) {
+      h << "<tr><td>" << Number(s.speed_rpm) << "</td><td>" << Html(s.order) << "</td><td>"
+        << s.mode + 1 << " (" << Html(c.modes[static_cast<size_t>(s.mode)].Label()) << ")</td><td>"
+        << Number(s.frequency_hz) << "</td></tr>\n";
+    }
+    h << "</table>\n";
+  }
+  h << "<h2>Speed sweep</h2>\n<p>" << in.sweep.points.size() << " input speeds, "
+    << in.sweep.failed() << " failed";
+  for (const TrainSweepPoint& p : in.sweep.points) {
+    if (!p.ok) h << "; " << Number(p.speed_rpm) << " rpm: " << Html(p.message);
+  }
+  h << ". Per speed and mesh: meshes.csv; per speed and loose gear: loose_gears.csv.</p>\n";
+  h << "<h2>Figures</h2>\n";
+  for (const auto& [name, caption] : in.figures) {
+    h << "<figure><img src=\"" << name << "\" alt=\"" << Html(caption) << "\"><figcaption>"
+      << Html(caption) << "</figcaption></figure>\n";
+  }
+  h << "<p>Data: <a href=\"meshes.csv\">meshes.csv</a>, <a href=\"loose_gears.csv\">"
+       "loose_gears.csv</a>, <a href=\"sidebands.csv\">sidebands.csv</a>, <a "
+       "href=\"results.json\">results.json</a>. Not built for trains yet: the waterfall, order "
+       "tracks, chaos atlas and tier comparison of a gear pair's report.</p>\n";
+  h << kImageCheckScript << "\n</body></html>\n";
+  return h.str();
+}
+
+}  // namespace
+
+nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
+                                const ReportCommandOptions& o, int threads,
+                                const StageProgress& stage, const TrainSpec& spec) {
+  if (spec.analysis.tier != Tier::kTier1) {
+    throw InputError("analysis.tier", 0, TierName(spec.analysis.tier),
+                     "gear trains run on tier 1 (one torsional DOF per body) for now");
+  }
+  if (stage) stage("train model, modes and Campbell data");
+  const TrainCheck check = BuildTrainCheck(spec);
+  if (stage) stage("operating point");
+  TrainRunOptions run;
+  run.cycles = spec.analysis.cycles;
+  run.transient = spec.analysis.transient_cycles;
+  const TrainOperatingPoint op = RunTrainOperatingPoint(spec, run);
+  if (!op.ok()) {
+    throw std::runtime_error("operating point: more than 1000 events in a grid segment");
+  }
+  TrainSweepOptions sweep_options;
+  sweep_options.cycles = 256;
+  sweep_options.transient = 100;
+  sweep_options.threads = threads;
+  const TrainSweepResult sweep =
+      RunTrainSweep(spec, sweep_options,
+                    stage ? TrainSweepProgress([&stage](int done, int total) {
+                      stage(fmt::format("speed sweep {}/{} speeds", done, total));
+                    })
+                          : TrainSweepProgress());
+
+  if (stage) stage("images");
+  render::ImageOptions image;
+  image.width = o.width;
+  image.height = o.height;
+  image.dpi = o.dpi;
+  std::vector<std::pair<std::string, std::string>> figures;
+  auto draw = [&](const std::string& name, const std::string& caption,
+                  const render::RenderStatus& status) {
+    if (!status.ok) throw std::runtime_error("image " + name + ": " + status.message);
+    figures.emplace_back(name, caption);
+  };
+  const AxisScale scale = spec.analysis.speed_sweep.scale;
+  std::vector<double> campbell_rpm;
+  for (double w : check.campbell.speeds_rad_s) campbell_rpm.push_back(w * kRpm);
+  draw("campbell.png",
+       std::string("Every tracked natural frequency of the train's ") +
+           TierName(check.campbell_tier) +
+           " (every mesh in drive contact at its mean stiffness, gyroscopic terms) against the "
+           "input speed; dashed: order lines of every shaft and mesh; points: critical speeds.",
+       render::RenderLinePlot(
+           CampbellFigure(check.campbell, campbell_rpm, scale, "input speed (rpm)"), image,
+           (folder / "campbell.png").string()));
+  draw("mesh_impacts.png",
+       "Rattle index per mesh: impacts (drive + back) per cycle of that mesh against the input "
+       "speed (exact events; meshes.csv).",
+       render::RenderLinePlot(
+           OverSpeed(
+               sweep, sweep.mesh_names, "Impacts per mesh cycle", "impacts per mesh cycle (-)",
+               [](const TrainSweepPoint& p, size_t i) { return p.ImpactsPerCycle(i); }, scale),
+           image, (folder / "mesh_impacts.png").string()));
+  draw("mesh_te.png", "Dynamic TE RMS per mesh against the input speed (sampled; meshes.csv).",
+       render::RenderLinePlot(
+           OverSpeed(
+               sweep, sweep.mesh_names, "Dynamic TE RMS per mesh", "TE RMS (µm)",
+               [](const TrainSweepPoint& p, size_t i) { return p.meshes[i].te_rms * 1e6; }, scale),
+           image, (folder / "mesh_te.png").string()));
+  if (!sweep.loose_gear_names.empty()) {
+    draw(
+        "loose_gears.png",
+        "Rattle index of each loose gear (RMS angular acceleration) against the input speed "
+        "(loose_gears.csv).",
+        render::RenderLinePlot(
+            OverSpeed(
+                sweep, sweep.loose_gear_names, "Loose gears: rattle index", "rattle index (rad/s²)",
+                [](const TrainSweepPoint& p, size_t i) { return p.loose_gears[i].rattle_index; },
+                scale),
+            image, (folder / "loose_gears.png").string()));
+  }
+
+  if (stage) stage("data files and page");
+  WriteFileAtomically((folder / "meshes.csv").string(), TrainMeshesCsv(sweep));
+  WriteFileAtomically((folder / "loose_gears.csv").string(), TrainLooseGearsCsv(sweep));
+  WriteFileAtomically((folder / "sidebands.csv").string(), TrainSidebandsCsv(op));
+  nlohmann::json images = nlohmann::json::array();
+  for (const auto& [name, caption] : figures)
+    images.push_back({{"file", name}, {"caption", caption}});
+  nlohmann::json results = {{"name", spec.name},
+                            {"file", file},
+                            {"schema", "gearnvh/2"},
+                            {"check", TrainCheckReport(spec, check)},
+                            {"operating_point",
+                             {{"meshes", TrainMeshesJson(op)},
+                              {"loose_gears", TrainLooseGearsJson(op.stats.loose_gears)},
+                              {"sideband_window_common_periods", op.sideband_window_common_periods},
+                              {"sidebands_notes", op.sideband_notes},
+                              {"warnings", op.warnings}}},
+                            {"sweep", TrainSweepJson(sweep)},
+                            {"images", images}};
+  RequireFinite(results, "results.json");
+  WriteFileAtomically((folder / "results.json").string(), results.dump(1) + "\n");
+  WriteFileAtomically((folder / "index.html").string(),
+                      TrainPage({file, spec, check, op, sweep, figures}));
+
+  double first_critical = std::numeric_limits<double>::quiet_NaN();
+  for (const CriticalSpeed& c : check.campbell.critical_speeds) {
+    if (!std::isfinite(first_critical) || c.speed_rpm < first_critical)
+      first_critical = c.speed_rpm;
+  }
+  return {{"tier", "tier 1 (gear train)"},
+          {"speed",
+           fmt::format("{:.4g} rpm ({})", spec.operating.speed * kRpm, spec.operating.input_shaft)},
+          {"speed_rpm", spec.operating.speed * kRpm},
+          {"loudest_loose_gear", op.stats.loose_gears.empty()
+                                     ? nlohmann::json()
+                                     : nlohmann::json(op.stats.loose_gears.front().name)},
+          {"first_critical_speed_rpm",
+           std::isfinite(first_critical) ? nlohmann::json(first_critical) : nlohmann::json()},
+          {"real_time_ratio", op.wall_s > 0.0 ? op.summary.simulated_time / op.wall_s : 0.0}};
+}
+
+}  // namespace gearnvh::app

@@ -1,0 +1,23 @@
+// One gear train (schema gearnvh/2) of a report, built into its folder: the train's check (modes
+// and Campbell data of analysis.tier), the operating point on the tier-1 train solver with every
+// mesh's TE spectrum lines, a speed sweep, the figures (Campbell diagram; per mesh TE RMS and
+// impacts per cycle against the input speed; each loose gear's rattle index against speed), the
+// data files and the page (docs/reports.md, "Gear trains").
+#pragma once
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "gearnvh/model/train_spec.h"
+#include "report_gearbox.h"
+
+namespace gearnvh::app {
+
+// Writes everything into `folder` (which exists) and returns the summary the batch index lists.
+// Throws (InputError, std::runtime_error) on failure; BuildGearboxReport reports it.
+nlohmann::json BuildTrainReport(const std::string& file, const std::filesystem::path& folder,
+                                const ReportCommandOptions& options, int threads,
+                                const StageProgress& stage, const TrainSpec& spec);
+
+}  // namespace gearnvh::app

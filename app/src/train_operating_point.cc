@@ -1,0 +1,257 @@
+#include "train_operating_point.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+
+#include "gearnvh/model/input_error.h"
+#include "simulate_command.h"
+
+namespace gearnvh::app {
+namespace {
+
+// What the train solver does not model yet, said once per run.
+std::vector<std::string> TrainWarnings(const TrainSpec& spec, const GearTrain& train) {
+  std::vector<std::string> out = train.warnings;
+  for (size_t i = 0; i < spec.meshes.size(); ++i) {
+    if (spec.meshes[i].mesh.friction_coefficient > 0.0) {
+      out.push_back(fmt::format(
+          "meshes[{}].friction_coefficient = {:g}: tooth friction is not modelled by the train "
+          "solver yet (ignored)",
+          i, spec.meshes[i].mesh.friction_coefficient));
+    }
+  }
+  for (const TrainGear& g : spec.gears) {
+    if (g.gear.runout || !g.gear.pitch_errors.empty()) {
+      out.push_back("gears." + g.name +
+                    ": runout and pitch errors are not modelled by the train solver yet (ignored)");
+    }
+  }
+  return out;
+}
+
+// The spectrum window on the recorder's sample grid t_k = start + k dt: the last W whole common
+// periods inside [start, end].
+struct SpectrumWindow {
+  long periods = 0;             // W
+  long samples_per_period = 0;  // common period / dt (a whole number)
+  double from_time = 0.0;       // the window's first sample
+  std::string note;             // why there is no window
+};
+
+SpectrumWindow PlanWindow(const TrainTables& t, double dt, double start, double end,
+                          long max_samples, long first_mesh_cycles) {
+  SpectrumWindow w;
+  if (t.common_period <= 0.0) {
+    w.note =
+        "no spectrum: the meshes and engine orders have no common period within 1000 input "
+        "revolutions, so no window holds whole periods of every line";
+    return w;
+  }
+  const double per_period = t.common_period / dt;
+  w.samples_per_period = std::llround(per_period);
+  // The common period is a whole number of cycles of the fastest mesh, dt a whole fraction of it.
+  if (w.samples_per_period < 1 ||
+      std::abs(per_period - static_cast<double>(w.samples_per_period)) > 1e-6) {
+    w.note = "no spectrum: the common period is not a whole number of samples";
+    return w;
+  }
+  const long in_record =
+      static_cast<long>(std::floor((end - start) / t.common_period * (1 + 1e-12)));
+  w.periods = std::min(in_record, max_samples / w.samples_per_period);
+  const long period_cycles = std::llround(t.common_period / t.meshes.front().period);
+  if (w.periods == 0) {
+    w.note = in_record == 0
+                 ? fmt::format(
+                       "no spectrum: the record ({} cycles of {}) is shorter than the "
+                       "common period of the train ({} cycles); record at least that many",
+                       first_mesh_cycles, t.meshes.front().name, period_cycles)
+                 : fmt::format(
+                       "no spectrum: one common period ({} cycles of {}) needs more "
+                       "samples than the {} kept per mesh",
+                       period_cycles, t.meshes.front().name, max_samples);
+    return w;
+  }
+  const long last = static_cast<long>(std::floor((end - start) / dt));
+  const long first = std::max(0L, last - w.periods * w.samples_per_period);
+  w.from_time = start + static_cast<double>(first) * dt;
+  return w;
+}
+
+}  // namespace
+
+TrainCommandSettings CheckTrainCommandOptions(const std::optional<std::string>& tier_option,
+                                              const TrainSpec& spec, const std::string& method,
+                                              const std::optional<std::string>& uff) {
+  const Tier tier = tier_option ? ParseTier(*tier_option) : spec.analysis.tier;
+  if (tier != Tier::kTier1) {
+    throw InputError(tier_option ? "--tier" : "analysis.tier", 0,
+                     tier_option ? *tier_option : TierName(tier),
+                     "gear trains run on tier 1 (one torsional DOF per body) for now");
+  }
+  SolverOptions parsed;
+  ApplyMethodName(method, parsed, "--method");
+  if (uff) throw InputError("--uff", 0, *uff, "UFF export is not available for gear trains yet");
+  return {tier, parsed.events};
+}
+
+void TrainRunOptions::Validate() const {
+  if (cycles < 1)
+    throw InputError("TrainRunOptions.cycles", 0, std::to_string(cycles), "must be >= 1");
+  if (transient < 0) {
+    throw InputError("TrainRunOptions.transient", 0, std::to_string(transient), "must be >= 0");
+  }
+  if (samples_per_cycle < 4) {
+    throw InputError("TrainRunOptions.samples_per_cycle", 0, std::to_string(samples_per_cycle),
+                     "must be >= 4");
+  }
+  if (max_spectrum_samples < 1) {
+    throw InputError("TrainRunOptions.max_spectrum_samples", 0,
+                     std::to_string(max_spectrum_samples), "must be >= 1");
+  }
+}
+
+TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, const TrainRunOptions& options,
+                                           const TrainProgress& progress) {
+  options.Validate();
+  TrainOperatingPoint op;
+  op.train = BuildGearTrain(spec);
+  op.tables = BuildTrainTables(spec, op.train);
+  op.warnings = TrainWarnings(spec, op.train);
+  const TrainTables& tables = op.tables;
+  // cycles and transient count cycles of the first mesh in the file.
+  const double period = tables.meshes.front().period;
+  const double start = static_cast<double>(options.transient) * period;
+  const double end = start + static_cast<double>(options.cycles) * period;
+
+  const auto [z0, states0] = TrainStaticState(tables);
+  op.solver.events = options.events;
+  TrainStepper stepper(tables, op.solver, z0, states0);
+  TrainRecorder recorder(tables, options.samples_per_cycle, start);
+  SpectrumWindow window;
+  if (options.spectra) {
+    window = PlanWindow(tables, recorder.sample_interval(), start, end,
+                        options.max_spectrum_samples, options.cycles);
+    if (window.periods > 0) {
+      recorder.KeepTeSeries(window.from_time, window.periods * window.samples_per_period);
+    }
+  }
+  const auto wall_start = std::chrono::steady_clock::now();
+  constexpr int kChunks = 100;
+  bool ok = true;
+  for (int c = 1; c <= kChunks && ok; ++c) {
+    ok = stepper.Run(end * c / kChunks, &recorder);
+    if (progress) progress(stepper.time(), end);
+  }
+  op.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  op.summary = stepper.summary();
+  op.stats = recorder.Result();
+  if (!options.spectra) return op;
+
+  // Shaft-order content can only come from the engine orders on a train (no runout or pitch
+  // error), i.e. from orders of the input shaft: those are the shaft-order lines considered, up to
+  // the highest engine order. The common period holds whole input revolutions, so they sit on bins.
+  op.sideband_options.shaft_order_sources = !tables.excitation.empty();
+  for (const ExcitationOrder& e : tables.excitation) {
+    op.sideband_options.orders =
+        std::max(op.sideband_options.orders, static_cast<int>(std::ceil(e.order)));
+  }
+  const std::vector<ShaftOrderSource> sources = {
+      {"fin", tables.input_speed / (2.0 * std::numbers::pi)}};
+  op.sideband_window_common_periods = window.periods;
+  op.sidebands.resize(tables.meshes.size());
+  const long window_samples = window.periods * window.samples_per_period;
+  const bool complete = ok && window.periods > 0 &&
+                        static_cast<long>(recorder.te_series().front().size()) == window_samples;
+  if (complete) {
+    SpectrumAnalyzer analyzer(static_cast<int>(window_samples));
+    const double rate = 1.0 / recorder.sample_interval();
+    for (size_t i = 0; i < tables.meshes.size(); ++i) {
+      const TrainMeshTable& mt = tables.meshes[i];
+      const AmplitudeSpectrum spectrum = analyzer.Analyze(recorder.te_series()[i], rate);
+      op.sidebands[i].window_cycles =
+          std::llround(static_cast<double>(window.periods) * tables.common_period / mt.period);
+      op.sidebands[i].rows = SidebandTable(spectrum, 1.0 / mt.period, sources, op.sideband_options);
+    }
+  } else if (!window.note.empty()) {
+    op.sideband_notes.push_back(window.note);
+  } else {
+    op.sideband_notes.push_back("no spectrum: the run stopped before the end of the record");
+  }
+  op.sideband_notes.push_back(
+      tables.excitation.empty()
+          ? "runout and pitch errors are not modelled on trains and the file has no engine order: "
+            "no shaft-order line or sideband can arise, so only each mesh's harmonics are listed"
+          : "runout and pitch errors are not modelled on trains: shaft-order lines and sidebands "
+            "come from the engine orders only, so the orders j fin of the input shaft are the "
+            "shaft-order lines considered");
+  op.sideband_notes.push_back(fmt::format(
+      "lines are listed when {:g} dB above the median of the {} bins around them and above {:g} "
+      "dB relative to the strongest bin (rounding of the exact solution lies near -300 dB)",
+      op.sideband_options.prominence_db, 2 * op.sideband_options.background_bins,
+      op.sideband_options.rounding_floor_db));
+  return op;
+}
+
+nlohmann::json TrainSidebandsJson(const std::vector<SidebandRow>& rows) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const SidebandRow& r : rows) {
+    out.push_back({{"label", r.label},
+                   {"frequency_hz", r.frequency_hz},
+                   {"amplitude_m", r.amplitude},
+                   {"db_re_1um", r.db_re_1um},
+                   {"background_m", r.background}});
+  }
+  return out;
+}
+
+nlohmann::json TrainMeshesJson(const TrainOperatingPoint& op) {
+  const TrainStatistics& stats = op.stats;
+  const TrainTables& tables = op.tables;
+  nlohmann::json meshes = nlohmann::json::array();
+  for (size_t i = 0; i < stats.meshes.size(); ++i) {
+    const TrainMeshStatistics& m = stats.meshes[i];
+    const double mesh_cycles = stats.recorded_time / tables.meshes[i].period;
+    nlohmann::json mesh = {
+        {"name", m.name},
+        {"mesh_period_s", tables.meshes[i].period},
+        {"te",
+         {{"mean", m.te_mean},
+          {"rms", m.te_rms},
+          {"peak_to_peak", m.te_peak_to_peak},
+          {"half_backlash", tables.meshes[i].half_backlash}}},
+        {"mesh_force", {{"mean", m.force_mean}, {"max", m.force_max}}},
+        {"rattle",
+         {{"drive_impacts", m.drive_impacts},
+          {"back_impacts", m.back_impacts},
+          {"separations", m.separations},
+          {"grazing", m.grazing},
+          {"drive_impacts_per_cycle", mesh_cycles > 0 ? m.drive_impacts / mesh_cycles : 0.0},
+          {"back_impacts_per_cycle", mesh_cycles > 0 ? m.back_impacts / mesh_cycles : 0.0},
+          {"separation_fraction", m.free_time_fraction},
+          {"impact_velocity_rms", m.impact_velocity_rms},
+          {"impact_velocity_max", m.impact_velocity_max}}}};
+    if (i < op.sidebands.size()) {
+      mesh["sidebands"] = TrainSidebandsJson(op.sidebands[i].rows);
+      mesh["sideband_window_cycles"] = op.sidebands[i].window_cycles;
+    }
+    meshes.push_back(mesh);
+  }
+  return meshes;
+}
+
+nlohmann::json TrainLooseGearsJson(const std::vector<TrainLooseGearStatistics>& gears) {
+  nlohmann::json loose = nlohmann::json::array();
+  for (const TrainLooseGearStatistics& g : gears) {
+    loose.push_back({{"name", g.name},
+                     {"rank", g.rank},
+                     {"rattle_index", g.rattle_index},
+                     {"impacts", g.impacts}});
+  }
+  return loose;
+}
+
+}  // namespace gearnvh::app

@@ -1,0 +1,86 @@
+// One operating point of a gear train (schema gearnvh/2) through the tier-1 train solver
+// (solver/train_stepper.h) and its per-mesh NVH: what `gearnvh simulate` prints for a train and
+// what each point of a train's `sweep` holds.
+//
+// Per-mesh TE spectrum (docs/results.md, "Gear trains"): the amplitude-correct Hann spectrum
+// (nvh/spectrum.h) of mesh i's TE at the recorder's uniform samples (dt = the fastest mesh period
+// / samples_per_cycle) over the last W whole common periods of the record (every mesh and every
+// engine order back in phase, so every periodic line of every mesh sits on a bin). W is the number
+// of whole common periods in the record, bounded by the sample storage; 0 (no spectrum, a note
+// says what is needed) when the record is shorter than one common period or the train has none.
+// The lines are the pair's SidebandTable per mesh: its harmonics k fm_i and, with engine orders,
+// the input shaft's orders j fin and the sidebands k fm_i +- j fin, listed only when they stand out
+// of the local background and above the rounding floor. Runout and pitch errors are not modelled
+// on trains, so the engine excitation (orders of the input speed) is the only source of
+// shaft-order content; without it only mesh harmonics are considered (the pair's rule).
+#pragma once
+
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gearnvh/model/gear_train.h"
+#include "gearnvh/model/train_spec.h"
+#include "gearnvh/nvh/spectrum.h"
+#include "gearnvh/solver/train_statistics.h"
+#include "gearnvh/solver/train_stepper.h"
+
+namespace gearnvh::app {
+
+struct TrainRunOptions {
+  long cycles = 2000;                         // recorded cycles of the first mesh in the file, >= 1
+  long transient = 500;                       // cycles of the first mesh before recording, >= 0
+  int samples_per_cycle = 32;                 // per cycle of the fastest mesh, >= 4
+  bool spectra = true;                        // keep the TE samples and compute per-mesh sidebands
+  long max_spectrum_samples = long{1} << 21;  // TE samples kept per mesh for spectra, >= 1
+  EventMethod events = EventMethod::kSpectral;  // V3; V2 and V1 to validate
+  void Validate() const;
+};
+
+struct TrainMeshSidebands {
+  long window_cycles = 0;  // cycles of this mesh in the spectrum window
+  std::vector<SidebandRow> rows;
+};
+
+struct TrainOperatingPoint {
+  GearTrain train;
+  TrainTables tables;
+  TrainStepperOptions solver;
+  TrainStepperSummary summary;
+  TrainStatistics stats;
+  std::vector<std::string> warnings;  // what the train solver does not model, said once
+  double wall_s = 0.0;
+  // Spectra (empty `sidebands` when TrainRunOptions::spectra is false).
+  long sideband_window_common_periods = 0;
+  SidebandOptions sideband_options;
+  std::vector<TrainMeshSidebands> sidebands;  // per mesh, file order
+  std::vector<std::string> sideband_notes;
+  bool ok() const { return summary.info == TrainStepperSummary::Info::kSuccess; }
+};
+
+struct TrainCommandSettings {
+  Tier tier = Tier::kTier1;
+  EventMethod events = EventMethod::kSpectral;
+};
+
+// What `simulate` and `sweep` accept on a train: tier 1 (`--tier` or analysis.tier), an event
+// method v1, v2 or v3 (the default "fused" means v3: fusion is not built for trains), no UFF file.
+// Throws InputError naming the option or key otherwise.
+TrainCommandSettings CheckTrainCommandOptions(const std::optional<std::string>& tier_option,
+                                              const TrainSpec& spec, const std::string& method,
+                                              const std::optional<std::string>& uff);
+
+// Called about 100 times during the run with the simulated time reached (s) and the end time.
+using TrainProgress = std::function<void(double time, double end)>;
+
+TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, const TrainRunOptions& options,
+                                           const TrainProgress& progress = {});
+
+// `meshes` and `loose_gears` of `simulate --json` on a train (docs/cli.md), SI units.
+nlohmann::json TrainMeshesJson(const TrainOperatingPoint& op);
+nlohmann::json TrainLooseGearsJson(const std::vector<TrainLooseGearStatistics>& gears);
+nlohmann::json TrainSidebandsJson(const std::vector<SidebandRow>& rows);
+
+}  // namespace gearnvh::app

@@ -1,0 +1,192 @@
+#include "train_sweep.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <atomic>
+#include <mutex>
+#include <numbers>
+#include <sstream>
+#include <thread>
+
+#include "gearnvh/model/input_error.h"
+#include "parallel_for.h"
+#include "train_operating_point.h"
+
+namespace gearnvh::app {
+namespace {
+
+constexpr double kRpm = 60.0 / (2.0 * std::numbers::pi);
+
+TrainSweepPoint RunPoint(const TrainSpec& base, const TrainSweepOptions& options, double speed) {
+  TrainSweepPoint p;
+  p.speed_rad_s = speed;
+  p.speed_rpm = speed * kRpm;
+  TrainSpec spec = base;
+  spec.operating.speed = speed;
+  TrainRunOptions run;
+  run.cycles = options.cycles;
+  run.transient = options.transient;
+  run.spectra = false;
+  run.events = options.events;
+  const TrainOperatingPoint op = RunTrainOperatingPoint(spec, run);
+  p.ok = op.ok();
+  if (!p.ok) p.message = "more than 1000 events in a grid segment: the run stopped";
+  p.real_time_ratio = op.wall_s > 0.0 ? op.summary.simulated_time / op.wall_s : 0.0;
+  p.recorded_s = op.stats.recorded_time;
+  for (const TrainMeshTable& mt : op.tables.meshes) p.mesh_periods.push_back(mt.period);
+  p.meshes = op.stats.meshes;
+  p.loose_gears = op.stats.loose_gears;
+  std::sort(p.loose_gears.begin(), p.loose_gears.end(),
+            [](const auto& a, const auto& b) { return a.body < b.body; });
+  return p;
+}
+
+}  // namespace
+
+void TrainSweepOptions::Validate() const {
+  if (cycles < 1) throw InputError("--cycles", 0, std::to_string(cycles), "must be >= 1");
+  if (transient < 0) throw InputError("--transient", 0, std::to_string(transient), "must be >= 0");
+}
+
+double TrainSweepPoint::ImpactsPerCycle(size_t mesh) const {
+  const double cycles = recorded_s / mesh_periods[mesh];
+  const TrainMeshStatistics& m = meshes[mesh];
+  return cycles > 0.0 ? static_cast<double>(m.drive_impacts + m.back_impacts) / cycles : 0.0;
+}
+
+int TrainSweepResult::failed() const {
+  int n = 0;
+  for (const TrainSweepPoint& p : points) n += p.ok ? 0 : 1;
+  return n;
+}
+
+TrainSweepResult RunTrainSweep(const TrainSpec& spec, const TrainSweepOptions& options,
+                               const TrainSweepProgress& progress) {
+  options.Validate();
+  const SweepRange& range = spec.analysis.speed_sweep;
+  std::vector<double> speeds(static_cast<size_t>(range.points));
+  for (int i = 0; i < range.points; ++i) speeds[static_cast<size_t>(i)] = range.Point(i);
+  TrainSweepResult result;
+  for (const TrainMesh& m : spec.meshes) result.mesh_names.push_back(m.Name());
+  result.points.resize(speeds.size());
+  std::mutex progress_mutex;
+  int done = 0;
+  ParallelFor(speeds.size(), options.threads, [&](size_t i) {
+    TrainSweepPoint& p = result.points[i];
+    try {
+      p = RunPoint(spec, options, speeds[i]);
+    } catch (const std::exception& e) {
+      p.speed_rad_s = speeds[i];
+      p.speed_rpm = speeds[i] * kRpm;
+      p.ok = false;
+      p.message = e.what();
+    }
+    const std::lock_guard<std::mutex> lock(progress_mutex);
+    ++done;
+    if (progress) progress(done, static_cast<int>(speeds.size()));
+  });
+  for (const TrainSweepPoint& p : result.points) {
+    if (!p.ok) continue;
+    for (const TrainLooseGearStatistics& g : p.loose_gears)
+      result.loose_gear_names.push_back(g.name);
+    break;
+  }
+  return result;
+}
+
+nlohmann::json TrainSweepJson(const TrainSweepResult& r) {
+  nlohmann::json speeds = nlohmann::json::array(), points = nlohmann::json::array();
+  for (const TrainSweepPoint& p : r.points) {
+    speeds.push_back(p.speed_rpm);
+    nlohmann::json meshes = nlohmann::json::array(), loose = nlohmann::json::array();
+    for (size_t i = 0; i < p.meshes.size(); ++i) {
+      const TrainMeshStatistics& m = p.meshes[i];
+      const double cycles = p.recorded_s / p.mesh_periods[i];
+      meshes.push_back(
+          {{"name", m.name},
+           {"te", {{"mean", m.te_mean}, {"rms", m.te_rms}, {"peak_to_peak", m.te_peak_to_peak}}},
+           {"mesh_force", {{"mean", m.force_mean}, {"max", m.force_max}}},
+           {"rattle",
+            {{"impacts_per_cycle", p.ImpactsPerCycle(i)},
+             {"drive_impacts_per_cycle", cycles > 0 ? m.drive_impacts / cycles : 0.0},
+             {"back_impacts_per_cycle", cycles > 0 ? m.back_impacts / cycles : 0.0},
+             {"separation_fraction", m.free_time_fraction},
+             {"impact_velocity_rms", m.impact_velocity_rms}}}});
+    }
+    loose = TrainLooseGearsJson(p.loose_gears);
+    points.push_back({{"speed_rpm", p.speed_rpm},
+                      {"speed_rad_s", p.speed_rad_s},
+                      {"ok", p.ok},
+                      {"message", p.message},
+                      {"real_time_ratio", p.real_time_ratio},
+                      {"meshes", meshes},
+                      {"loose_gears", loose}});
+  }
+  return {{"schema", "gearnvh/2"},  {"speeds_rpm", speeds},
+          {"meshes", r.mesh_names}, {"loose_gears", r.loose_gear_names},
+          {"points", points},       {"failed_speeds", r.failed()}};
+}
+
+std::string TrainMeshesCsv(const TrainSweepResult& r) {
+  std::ostringstream os;
+  os.precision(12);
+  os << "speed_rpm,mesh,te_mean_m,te_rms_m,te_peak_to_peak_m,force_mean_n,force_max_n,"
+        "impacts_per_cycle,separation_fraction,impact_velocity_rms_m_s\n";
+  for (const TrainSweepPoint& p : r.points) {
+    if (!p.ok) continue;
+    for (size_t i = 0; i < p.meshes.size(); ++i) {
+      const TrainMeshStatistics& m = p.meshes[i];
+      os << p.speed_rpm << ',' << m.name << ',' << m.te_mean << ',' << m.te_rms << ','
+         << m.te_peak_to_peak << ',' << m.force_mean << ',' << m.force_max << ','
+         << p.ImpactsPerCycle(i) << ',' << m.free_time_fraction << ',' << m.impact_velocity_rms
+         << '\n';
+    }
+  }
+  return os.str();
+}
+
+std::string TrainLooseGearsCsv(const TrainSweepResult& r) {
+  std::ostringstream os;
+  os.precision(12);
+  os << "speed_rpm,gear,rattle_index_rad_s2,rank,impacts\n";
+  for (const TrainSweepPoint& p : r.points) {
+    if (!p.ok) continue;
+    for (const TrainLooseGearStatistics& g : p.loose_gears) {
+      os << p.speed_rpm << ',' << g.name << ',' << g.rattle_index << ',' << g.rank << ','
+         << g.impacts << '\n';
+    }
+  }
+  return os.str();
+}
+
+void PrintTrainSweep(const TrainSweepResult& r) {
+  for (size_t i = 0; i < r.mesh_names.size(); ++i) {
+    fmt::print("\n  mesh {}\n  {:>8}{:>12}{:>12}{:>14}{:>16}{:>11}\n", r.mesh_names[i], "rpm",
+               "TE RMS µm", "TE p-p µm", "force max N", "impacts/cycle", "separated");
+    for (const TrainSweepPoint& p : r.points) {
+      if (!p.ok) {
+        fmt::print("  {:8.0f}  failed: {}\n", p.speed_rpm, p.message);
+        continue;
+      }
+      const TrainMeshStatistics& m = p.meshes[i];
+      fmt::print("  {:8.0f}{:12.4f}{:12.4f}{:14.2f}{:16.4f}{:10.1f}%\n", p.speed_rpm,
+                 m.te_rms * 1e6, m.te_peak_to_peak * 1e6, m.force_max, p.ImpactsPerCycle(i),
+                 100.0 * m.free_time_fraction);
+    }
+  }
+  if (r.loose_gear_names.empty()) return;
+  fmt::print("\n  loose gears: rattle index (RMS angular acceleration, rad/s²) and rank\n  {:>8}",
+             "rpm");
+  for (const std::string& name : r.loose_gear_names) fmt::print("{:>16}", name);
+  fmt::print("\n");
+  for (const TrainSweepPoint& p : r.points) {
+    if (!p.ok) continue;
+    fmt::print("  {:8.0f}", p.speed_rpm);
+    for (const TrainLooseGearStatistics& g : p.loose_gears)
+      fmt::print("{:>16}", fmt::format("{:.1f} ({})", g.rattle_index, g.rank));
+    fmt::print("\n");
+  }
+}
+
+}  // namespace gearnvh::app

@@ -1,0 +1,60 @@
+// The speed sweep of a gear train (schema gearnvh/2) behind `gearnvh sweep` and the train report:
+// one tier-1 train run per input speed of analysis.speed_sweep (RunTrainOperatingPoint), speeds in
+// parallel, and per speed each mesh's TE, mesh force and rattle and each loose gear's rattle index
+// (docs/cli.md, "`sweep` on a gear train").
+#pragma once
+
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "gearnvh/model/train_spec.h"
+#include "gearnvh/solver/solver_options.h"
+#include "gearnvh/solver/train_statistics.h"
+
+namespace gearnvh::app {
+
+struct TrainSweepOptions {
+  long cycles = 512;                            // recorded cycles of the first mesh per speed, >= 1
+  long transient = 200;                         // cycles of the first mesh before recording, >= 0
+  int threads = 0;                              // 0: all hardware threads
+  EventMethod events = EventMethod::kSpectral;  // V3; V2 and V1 to validate
+  void Validate() const;
+};
+
+struct TrainSweepPoint {
+  double speed_rad_s = 0.0, speed_rpm = 0.0;
+  bool ok = false;
+  std::string message;  // why the run failed
+  double real_time_ratio = 0.0;
+  double recorded_s = 0.0;
+  std::vector<double> mesh_periods;                   // s, per mesh
+  std::vector<TrainMeshStatistics> meshes;            // file order
+  std::vector<TrainLooseGearStatistics> loose_gears;  // body order (rank at this speed inside)
+  // Impacts (drive + back) per cycle of mesh i: the mesh's rattle index.
+  double ImpactsPerCycle(size_t mesh) const;
+};
+
+struct TrainSweepResult {
+  std::vector<std::string> mesh_names, loose_gear_names;
+  std::vector<TrainSweepPoint> points;  // ascending input speed
+  int failed() const;
+};
+
+using TrainSweepProgress = std::function<void(int done, int total)>;
+
+// Runs every speed of spec.analysis.speed_sweep (the input shaft's speed); a speed whose run
+// throws or stops is kept with ok = false and its message, the others go on.
+TrainSweepResult RunTrainSweep(const TrainSpec& spec, const TrainSweepOptions& options,
+                               const TrainSweepProgress& progress = {});
+
+// The sweep's documents: JSON (SI units) and CSV, one row per speed and mesh / loose gear.
+nlohmann::json TrainSweepJson(const TrainSweepResult& r);
+std::string TrainMeshesCsv(const TrainSweepResult& r);
+std::string TrainLooseGearsCsv(const TrainSweepResult& r);
+
+// Prints the sweep's text tables (per mesh, then the loose gears' rattle index per speed).
+void PrintTrainSweep(const TrainSweepResult& r);
+
+}  // namespace gearnvh::app
