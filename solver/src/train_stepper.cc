@@ -266,9 +266,16 @@ double TrainStepper::AdvanceSpectral(const TrainSystem& sys, double remaining, T
     const int segment = grid_.segments()[i];
     Wall walls[2];
     const int count = Walls(static_cast<int>(i), walls);
+    ClosedFormGap& gap = sys.delta[i];
+    double loaded = 0.0;  // the wall whose constant the closed form holds
     for (int k = 0; k < count; ++k) {
-      ClosedFormGap& gap = sys.delta[i];
-      gap.Load(w_, -t_.Wall(static_cast<int>(i), segment, walls[k].drive));
+      const double wall = t_.Wall(static_cast<int>(i), segment, walls[k].drive);
+      if (k == 0) {
+        gap.Load(w_, -wall);
+      } else {
+        gap.ShiftConstant(loaded - wall);
+      }
+      loaded = wall;
       const double root = gap.FirstRise(walls[k].sign, remaining);
       if (root >= 0.0 && (roots_[i] < 0.0 || root < roots_[i])) {
         roots_[i] = root;
@@ -287,9 +294,8 @@ double TrainStepper::AdvanceSpectral(const TrainSystem& sys, double remaining, T
     // Grazing: |g'| ~ 0 at the root and the gap curves back inside.
     const size_t i = static_cast<size_t>(best_mesh);
     const Wall& wall = root_walls_[i];
-    // Reload: the last Load() of this mesh's walls may have been the other wall.
-    ClosedFormGap& gap = sys.delta[i];
-    gap.Load(w_, -t_.Wall(best_mesh, grid_.segments()[i], wall.drive));
+    // Rate and curvature do not depend on which wall's constant the closed form holds.
+    const ClosedFormGap& gap = sys.delta[i];
     touch = best > 0.0 && std::abs(gap.Rate(best)) <= options_.grazing_rate_tolerance &&
             wall.sign * gap.Curvature(best) < 0.0;
     if (touch) advance = std::min(remaining, best + 1e-12 * t_.longest_segment);
@@ -327,16 +333,21 @@ double TrainStepper::AdvanceSpectral(const TrainSystem& sys, double remaining, T
 double TrainStepper::AdvanceDense(const TrainSystem& sys, double remaining, TrainRecorder* rec) {
   ++summary_.dense_pieces;
   const double d = std::min(remaining, sys.substep);
+  const int n = t_.n;
+  // Taylor columns z_k = A z_{k-1} / k. A = [[0, I, 0, 0], [A_x, A_v, f, d], [0 ...]]: positions
+  // take the velocities, only the n acceleration rows need a product, the slots stay constant.
   taylor_.col(0) = z_;
   for (int k = 1; k <= kTaylorTerms; ++k) {
-    taylor_.col(k).noalias() = sys.A * taylor_.col(k - 1);
-    taylor_.col(k) /= static_cast<double>(k);
+    const double inv_k = 1.0 / static_cast<double>(k);
+    taylor_.col(k).head(n) = taylor_.col(k - 1).segment(n, n) * inv_k;
+    taylor_.col(k).segment(n, n).noalias() = sys.A.middleRows(n, n) * taylor_.col(k - 1);
+    taylor_.col(k).segment(n, n) *= inv_k;
+    taylor_.col(k).tail(2).setZero();
   }
-  const int n = t_.n;
   double best = -1.0;
   int best_mesh = -1;
   ContactState best_target = ContactState::kFree;
-  double coeff[kTaylorTerms + 1];
+  double delta[kTaylorTerms + 1], coeff[kTaylorTerms + 1];
   const auto gap_at = [&](double tau) {
     double value = 0.0;
     for (int k = kTaylorTerms; k >= 0; --k) value = value * tau + coeff[k];
@@ -345,16 +356,23 @@ double TrainStepper::AdvanceDense(const TrainSystem& sys, double remaining, Trai
   for (size_t i = 0; i < t_.meshes.size(); ++i) {
     const TrainMeshTable& mt = t_.meshes[i];
     const double e = mt.error[static_cast<size_t>(grid_.segments()[i])];
+    // delta_i's Taylor coefficients (the walls differ only in the constant term).
+    double reach = 0.0;  // sum_{p >= 1} |delta_p| d^p bounds |delta(t) - delta(0)| on [0, d]
+    double power = 1.0;
+    for (int p = 0; p <= kTaylorTerms; ++p) {
+      delta[p] = mt.v.dot(taylor_.col(p).head(n));
+      if (p > 0) power *= d, reach += std::abs(delta[p]) * power;
+    }
     Wall walls[2];
     const int count = Walls(static_cast<int>(i), walls);
     for (int k = 0; k < count; ++k) {
       const double wall = walls[k].drive ? e + mt.half_backlash : e - mt.half_backlash;
-      for (int p = 0; p <= kTaylorTerms; ++p) {
-        coeff[p] = walls[k].sign *
-                   (mt.v.dot(taylor_.col(p).head(n)) - wall * taylor_(t_.constant_slot(), p));
-      }
+      for (int p = 0; p <= kTaylorTerms; ++p) coeff[p] = walls[k].sign * delta[p];
+      coeff[0] -= walls[k].sign * wall * z_[t_.constant_slot()];
       // The start is inside (or on) the wall: count rounding there as inside.
-      const double offset = std::max(0.0, gap_at(0.0));
+      const double offset = std::max(0.0, coeff[0]);
+      // Certificate: the polynomial cannot rise above the offset on [0, d].
+      if (coeff[0] - offset + reach <= 0.0) continue;
       double a = 0.0;
       for (int q = 1; q <= kDenseSamples; ++q) {
         double b = d * q / kDenseSamples;
