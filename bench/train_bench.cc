@@ -58,6 +58,9 @@ void RunTrain(benchmark::State& state, bool warm, size_t cache_limit) {
   state.counters["cpu_time_ratio"] = cpu_ratio;  // simulated / CPU time of the timed run
   state.counters["run_cpu_s"] = cpu;
   state.counters["cache_hits"] = static_cast<double>(last.cache.hits);
+  state.counters["decompositions"] = static_cast<double>(last.cache.decompositions);
+  state.counters["dense_pieces"] = static_cast<double>(last.dense_pieces);
+  state.counters["grid_segments"] = static_cast<double>(last.grid_segments);
   state.counters["cache_peak_MiB"] = last.cache.peak_bytes / 1048576.0;
   state.counters["tuples_built"] = static_cast<double>(last.cache.misses);
   state.counters["evictions"] = static_cast<double>(last.cache.evictions);

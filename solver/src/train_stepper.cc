@@ -243,10 +243,15 @@ bool TrainStepper::AdvanceGridSegment(double until, TrainRecorder* rec) {
     for (size_t guard = 0; guard < 2 * t_.meshes.size() && SwitchOutside(rec); ++guard) {
     }
   }
+  const TrainSystem* sys = nullptr;
+  long entered_at = -1;  // the events count when `sys` was fetched: the tuple holds until the next
   while (until - time_ > 1e-15 * h) {
-    const TrainSystem& sys = cache_.Get(grid_.segments(), states_, key_);
-    const double step = sys.spectral ? AdvanceSpectral(sys, until - time_, rec)
-                                     : AdvanceDense(sys, until - time_, rec);
+    if (sys == nullptr || entered_at != summary_.events) {
+      sys = &cache_.Get(grid_.segments(), states_, key_);
+      entered_at = summary_.events;
+    }
+    const double step = sys->spectral ? AdvanceSpectral(*sys, until - time_, rec)
+                                      : AdvanceDense(*sys, until - time_, rec);
     time_ += step;
     if (events_this_segment_ > options_.max_events_per_segment) {
       summary_.info = TrainStepperSummary::Info::kTooManyEvents;
@@ -337,12 +342,22 @@ double TrainStepper::AdvanceDense(const TrainSystem& sys, double remaining, Trai
   // Taylor columns z_k = A z_{k-1} / k. A = [[0, I, 0, 0], [A_x, A_v, f, d], [0 ...]]: positions
   // take the velocities, only the n acceleration rows need a product, the slots stay constant.
   taylor_.col(0) = z_;
+  const int m = t_.m;
+  const double* a = sys.A.data();  // column-major, leading dimension m
   for (int k = 1; k <= kTaylorTerms; ++k) {
     const double inv_k = 1.0 / static_cast<double>(k);
-    taylor_.col(k).head(n) = taylor_.col(k - 1).segment(n, n) * inv_k;
-    taylor_.col(k).segment(n, n).noalias() = sys.A.middleRows(n, n) * taylor_.col(k - 1);
-    taylor_.col(k).segment(n, n) *= inv_k;
-    taylor_.col(k).tail(2).setZero();
+    const double* prev = taylor_.col(k - 1).data();
+    double* next = taylor_.col(k).data();
+    for (int r = 0; r < n; ++r) next[r] = prev[n + r] * inv_k;
+    for (int r = n; r < m; ++r) next[r] = 0.0;
+    // The slots' columns only act on z itself (the later columns are zero there).
+    const int columns = k == 1 ? m : 2 * n;
+    for (int c = 0; c < columns; ++c) {
+      const double x = prev[c] * inv_k;
+      if (x == 0.0) continue;
+      const double* column = a + static_cast<size_t>(c) * m + n;
+      for (int r = 0; r < n; ++r) next[n + r] += column[r] * x;
+    }
   }
   double best = -1.0;
   int best_mesh = -1;
