@@ -14,6 +14,8 @@ namespace {
 
 constexpr int kBitsPerMesh = 16;
 constexpr int kMeshesPerWord = 64 / kBitsPerMesh;
+// An index node of the entry counts: hash node, its key's vector and heap header, the slot.
+constexpr size_t kIndexNodeBytes = 96;
 
 }  // namespace
 
@@ -195,7 +197,8 @@ size_t SystemBytes(const TrainSystem& s, size_t key_words) {
   }
   return doubles * sizeof(double) +
          s.decomposition.blocks.size() * sizeof(SpectralDecomposition::Block) +
-         s.delta.size() * (sizeof(ClosedFormGap) + 8 * s.decomposition.blocks.size() * 8) +
+         s.delta.size() *
+             (sizeof(ClosedFormGap) + 16 * sizeof(double) * s.decomposition.blocks.size()) +
          sizeof(TrainSystem) + 2 * key_words * sizeof(uint64_t) + 128;
 }
 
@@ -242,7 +245,10 @@ const TrainSystem& TrainSystemCache::Get(const std::vector<int>& segments,
     return Enter(lru_.front());
   }
   ++summary_.misses;
-  if (found == index_.end()) found = index_.emplace(key, Slot{}).first;
+  if (found == index_.end()) {
+    found = index_.emplace(key, Slot{}).first;
+    summary_.index_bytes += kIndexNodeBytes + key.size() * sizeof(uint64_t);
+  }
   lru_.push_front(Entry{key, Build(segments, states), &found->second});
   found->second.entry = lru_.begin();
   found->second.held = true;

@@ -143,7 +143,10 @@ struct TrainCacheSummary {
   long hits = 0, misses = 0, evictions = 0;
   long ill_conditioned = 0;  // decompositions that failed (those tuples keep the dense path)
   long decompositions = 0;   // decompositions attempted
-  size_t bytes = 0, peak_bytes = 0;
+  size_t bytes = 0, peak_bytes = 0;  // tuples held (bounded by cache_limit_bytes)
+  // The entry count kept for every tuple key seen (never evicted, ~100 bytes per key; not part
+  // of `bytes`).
+  size_t index_bytes = 0;
   long tuples = 0;  // held now
 };
 
