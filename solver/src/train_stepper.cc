@@ -103,11 +103,23 @@ std::pair<Eigen::VectorXd, std::vector<ContactState>> TrainStaticState(const Tra
   return {z, states};
 }
 
+namespace {
+
+// V1 and V2 never use a decomposition: their tuples are not decomposed.
+TrainTableOptions CacheOptions(const TrainStepperOptions& options) {
+  TrainTableOptions tables = options.tables;
+  if (options.events != EventMethod::kSpectral)
+    tables.decompose_after_visits = std::numeric_limits<int>::max();
+  return tables;
+}
+
+}  // namespace
+
 TrainStepper::TrainStepper(const TrainTables& tables, const TrainStepperOptions& options,
                            const Eigen::VectorXd& z0, const std::vector<ContactState>& states0)
     : t_(tables),
       options_(options),
-      cache_(tables, options.tables),
+      cache_(tables, CacheOptions(options)),
       grid_(tables),
       z_(z0),
       states_(states0) {
@@ -247,15 +259,20 @@ bool TrainStepper::AdvanceGridSegment(double until, TrainRecorder* rec) {
     for (size_t guard = 0; guard < 2 * t_.meshes.size() && SwitchOutside(rec); ++guard) {
     }
   }
+  const TrainSystem* sys = nullptr;
+  long entered_at = -1;  // the events count when `sys` was fetched: the tuple holds until the next
   while (until - time_ > 1e-15 * h) {
-    const TrainSystem& sys = cache_.Get(grid_.segments(), states_, key_);
+    if (sys == nullptr || entered_at != summary_.events) {
+      sys = &cache_.Get(grid_.segments(), states_, key_);
+      entered_at = summary_.events;
+    }
     double step = 0.0;
     if (options_.events == EventMethod::kDyadic) {
-      step = AdvanceDyadic(sys, until - time_, rec);
-    } else if (sys.spectral && options_.events == EventMethod::kSpectral) {
-      step = AdvanceSpectral(sys, until - time_, rec);
+      step = AdvanceDyadic(*sys, until - time_, rec);
+    } else if (sys->spectral && options_.events == EventMethod::kSpectral) {
+      step = AdvanceSpectral(*sys, until - time_, rec);
     } else {
-      step = AdvanceDense(sys, until - time_, rec);
+      step = AdvanceDense(*sys, until - time_, rec);
     }
     time_ += step;
     if (events_this_segment_ > options_.max_events_per_segment) {
@@ -276,9 +293,16 @@ double TrainStepper::AdvanceSpectral(const TrainSystem& sys, double remaining, T
     const int segment = grid_.segments()[i];
     Wall walls[2];
     const int count = Walls(static_cast<int>(i), walls);
+    ClosedFormGap& gap = sys.delta[i];
+    double loaded = 0.0;  // the wall whose constant the closed form holds
     for (int k = 0; k < count; ++k) {
-      ClosedFormGap& gap = sys.delta[i];
-      gap.Load(w_, -t_.Wall(static_cast<int>(i), segment, walls[k].drive));
+      const double wall = t_.Wall(static_cast<int>(i), segment, walls[k].drive);
+      if (k == 0) {
+        gap.Load(w_, -wall);
+      } else {
+        gap.ShiftConstant(loaded - wall);
+      }
+      loaded = wall;
       const double root = gap.FirstRise(walls[k].sign, remaining);
       if (root >= 0.0 && (roots_[i] < 0.0 || root < roots_[i])) {
         roots_[i] = root;
@@ -297,9 +321,8 @@ double TrainStepper::AdvanceSpectral(const TrainSystem& sys, double remaining, T
     // Grazing: |g'| ~ 0 at the root and the gap curves back inside.
     const size_t i = static_cast<size_t>(best_mesh);
     const Wall& wall = root_walls_[i];
-    // Reload: the last Load() of this mesh's walls may have been the other wall.
-    ClosedFormGap& gap = sys.delta[i];
-    gap.Load(w_, -t_.Wall(best_mesh, grid_.segments()[i], wall.drive));
+    // Rate and curvature do not depend on which wall's constant the closed form holds.
+    const ClosedFormGap& gap = sys.delta[i];
     touch = best > 0.0 && std::abs(gap.Rate(best)) <= options_.grazing_rate_tolerance &&
             wall.sign * gap.Curvature(best) < 0.0;
     if (touch) advance = std::min(remaining, best + 1e-12 * t_.longest_segment);

@@ -12,10 +12,25 @@
 namespace gearnvh {
 
 void TrainStepper::TaylorColumns(const TrainSystem& sys) {
+  // z_k = A z_{k-1} / k. A = [[0, I, 0, 0], [A_x, A_v, f, d], [0 ...]]: positions take the
+  // velocities, only the n acceleration rows need a product, the slots stay constant.
+  const int n = t_.n, m = t_.m;
   taylor_.col(0) = z_;
+  const double* a = sys.A.data();  // column-major, leading dimension m
   for (int k = 1; k <= kTaylorTerms; ++k) {
-    taylor_.col(k).noalias() = sys.A * taylor_.col(k - 1);
-    taylor_.col(k) /= static_cast<double>(k);
+    const double inv_k = 1.0 / static_cast<double>(k);
+    const double* prev = taylor_.col(k - 1).data();
+    double* next = taylor_.col(k).data();
+    for (int r = 0; r < n; ++r) next[r] = prev[n + r] * inv_k;
+    for (int r = n; r < m; ++r) next[r] = 0.0;
+    // The slots' columns only act on z itself (the later columns are zero there).
+    const int columns = k == 1 ? m : 2 * n;
+    for (int c = 0; c < columns; ++c) {
+      const double x = prev[c] * inv_k;
+      if (x == 0.0) continue;
+      const double* column = a + static_cast<size_t>(c) * m + n;
+      for (int r = 0; r < n; ++r) next[n + r] += column[r] * x;
+    }
   }
 }
 
@@ -27,24 +42,30 @@ double TrainStepper::AdvanceDense(const TrainSystem& sys, double remaining, Trai
   double best = -1.0;
   int best_mesh = -1;
   Wall best_wall;
-  double coeff[kTaylorTerms + 1];
+  double delta[kTaylorTerms + 1], coeff[kTaylorTerms + 1];
+  // delta_i's Taylor coefficients; a wall's gap differs only in the constant term.
+  const auto load_delta = [&](size_t i) {
+    for (int p = 0; p <= kTaylorTerms; ++p) delta[p] = t_.meshes[i].v.dot(taylor_.col(p).head(n));
+  };
   // sign * (gap of `wall` of mesh i) as a polynomial in the time into the sub-step.
-  const auto load = [&](size_t i, const Wall& wall) {
-    const TrainMeshTable& mt = t_.meshes[i];
+  const auto load_wall = [&](size_t i, const Wall& wall) {
     const double at = t_.Wall(static_cast<int>(i), grid_.segments()[i], wall.drive);
-    for (int p = 0; p <= kTaylorTerms; ++p) {
-      coeff[p] =
-          wall.sign * (mt.v.dot(taylor_.col(p).head(n)) - at * taylor_(t_.constant_slot(), p));
-    }
+    for (int p = 0; p <= kTaylorTerms; ++p) coeff[p] = wall.sign * delta[p];
+    coeff[0] -= wall.sign * at * z_[t_.constant_slot()];
   };
   for (size_t i = 0; i < t_.meshes.size(); ++i) {
+    load_delta(i);
+    double reach = 0.0;  // sum_{p >= 1} |delta_p| d^p bounds |delta(t) - delta(0)| on [0, d]
+    double power = 1.0;
+    for (int p = 1; p <= kTaylorTerms; ++p) power *= d, reach += std::abs(delta[p]) * power;
     Wall walls[2];
     const int count = Walls(static_cast<int>(i), walls);
     for (int k = 0; k < count; ++k) {
-      load(i, walls[k]);
+      load_wall(i, walls[k]);
       // We start inside: rounding right after a located event counts as inside (a start outside
       // beyond the wall tolerance was switched at the grid segment's start).
       coeff[0] = std::min(coeff[0], 0.0);
+      if (coeff[0] + reach <= 0.0) continue;  // certificate: the wall is out of reach
       const double root = taylor_root::FirstRoot(coeff, kTaylorTerms, d, kRootSamples);
       if (root >= 0.0 && (best < 0.0 || root < best)) {
         best = root, best_mesh = static_cast<int>(i), best_wall = walls[k];
@@ -55,7 +76,8 @@ double TrainStepper::AdvanceDense(const TrainSystem& sys, double remaining, Trai
   bool touch = false;
   if (best > 0.0) {
     // Grazing, as V3: |g'| ~ 0 at the root and the gap curves back inside.
-    load(static_cast<size_t>(best_mesh), best_wall);
+    load_delta(static_cast<size_t>(best_mesh));
+    load_wall(static_cast<size_t>(best_mesh), best_wall);
     touch = std::abs(taylor_root::PolyDerivative(coeff, kTaylorTerms, best)) <=
                 options_.grazing_rate_tolerance &&
             taylor_root::PolySecondDerivative(coeff, kTaylorTerms, best) < 0.0;
@@ -112,7 +134,7 @@ TrainStepper::WallHit TrainStepper::Suspect(const Eigen::VectorXd& z, const Eige
 double TrainStepper::AdvanceDyadic(const TrainSystem& sys, double remaining, TrainRecorder* rec) {
   const int n = t_.n;
   const double d = std::min(remaining, sys.substep);
-  const double w_ref = ReferenceFrequency(sys.A, n);
+  const double w_ref = sys.w_ref;
   substep_map_ = BalancedExpm(sys.A, d, n, w_ref);
   z1_.noalias() = substep_map_ * z_;
   if (rec != nullptr) TaylorColumns(sys);  // the samples inside the sub-step

@@ -14,6 +14,8 @@ namespace {
 
 constexpr int kBitsPerMesh = 16;
 constexpr int kMeshesPerWord = 64 / kBitsPerMesh;
+// An index node of the entry counts: hash node, its key's vector and heap header, the slot.
+constexpr size_t kIndexNodeBytes = 96;
 
 }  // namespace
 
@@ -25,6 +27,10 @@ void TrainTableOptions::Validate() const {
   if (!(max_condition >= 1.0)) {
     throw InputError("TrainTableOptions.max_condition", 0, std::to_string(max_condition),
                      "must be >= 1");
+  }
+  if (decompose_after_visits < 1) {
+    throw InputError("TrainTableOptions.decompose_after_visits", 0,
+                     std::to_string(decompose_after_visits), "must be >= 1");
   }
   if (max_common_period_revolutions < 1) {
     throw InputError("TrainTableOptions.max_common_period_revolutions", 0,
@@ -177,6 +183,48 @@ TrainSystemCache::TrainSystemCache(const TrainTables& tables, const TrainTableOp
   }
 }
 
+namespace {
+
+// Bytes a held tuple occupies: its matrices, closed forms, key and list/index nodes.
+size_t SystemBytes(const TrainSystem& s, size_t key_words) {
+  size_t doubles = static_cast<size_t>(s.A.size());
+  if (s.spectral) {
+    const SpectralDecomposition& d = s.decomposition;
+    doubles += static_cast<size_t>(d.S.size() + d.S_inv.size() + d.B0.size());
+    const size_t terms = static_cast<size_t>(std::max(d.series_terms, 1));
+    const size_t zero = static_cast<size_t>(d.zero_size);
+    doubles += s.delta.size() * terms * (zero + 1);
+  }
+  return doubles * sizeof(double) +
+         s.decomposition.blocks.size() * sizeof(SpectralDecomposition::Block) +
+         s.delta.size() *
+             (sizeof(ClosedFormGap) + 16 * sizeof(double) * s.decomposition.blocks.size()) +
+         sizeof(TrainSystem) + 2 * key_words * sizeof(uint64_t) + 128;
+}
+
+// DecomposeGenerator keeps at least zero_size + 1 terms of e^{B0 t} (the nilpotency index can
+// be as large as the cluster). On a train the cluster is mostly free bodies (the rigid rotation
+// and every free loose gear: 2 each, plus the two slots) whose chains are short (slot -> velocity
+// -> angle), so B0^k vanishes to rounding from k = 3 on. Keeps the terms up to the last one that
+// is not below the decomposition's own cut (1e-18 of the largest term, t <= horizon): every term
+// dropped is below that cut, as the terms the decomposition drops after its last.
+void TrimSeries(SpectralDecomposition& d, double horizon) {
+  if (d.zero_size == 0 || d.series_terms <= 1) return;
+  std::vector<double> size(static_cast<size_t>(d.series_terms));
+  Eigen::MatrixXd power = Eigen::MatrixXd::Identity(d.zero_size, d.zero_size);
+  double largest = 1.0;
+  for (int k = 0; k < d.series_terms; ++k) {
+    size[static_cast<size_t>(k)] = power.cwiseAbs().maxCoeff() * std::pow(horizon, k);
+    largest = std::max(largest, size[static_cast<size_t>(k)]);
+    power = (d.B0 * power) / static_cast<double>(k + 1);
+  }
+  int keep = d.series_terms;
+  while (keep > 1 && size[static_cast<size_t>(keep) - 1] <= 1e-18 * largest) --keep;
+  d.series_terms = keep;
+}
+
+}  // namespace
+
 const TrainSystem& TrainSystemCache::Get(const std::vector<int>& segments,
                                          const std::vector<ContactState>& states, TupleKey& key) {
   std::fill(key.begin(), key.end(), 0);
@@ -185,26 +233,53 @@ const TrainSystem& TrainSystemCache::Get(const std::vector<int>& segments,
     const uint64_t code = static_cast<uint64_t>(3 * segment + static_cast<int>(states[i]));
     key[i / kMeshesPerWord] |= code << (kBitsPerMesh * (i % kMeshesPerWord));
   }
-  const auto found = index_.find(key);
-  if (found != index_.end()) {
+  // Consecutive pieces mostly stay on one tuple (the front of the LRU list): the same entry.
+  if (!lru_.empty() && lru_.front().key == key) {
     ++summary_.hits;
-    lru_.splice(lru_.begin(), lru_, found->second);
     return lru_.front().system;
   }
+  auto found = index_.find(key);
+  if (found != index_.end() && found->second.held) {
+    ++summary_.hits;
+    lru_.splice(lru_.begin(), lru_, found->second.entry);
+    return Enter(lru_.front());
+  }
   ++summary_.misses;
-  lru_.push_front(Entry{key, Build(segments, states)});
-  index_.emplace(key, lru_.begin());
+  if (found == index_.end()) {
+    found = index_.emplace(key, Slot{}).first;
+    summary_.index_bytes += kIndexNodeBytes + key.size() * sizeof(uint64_t);
+  }
+  lru_.push_front(Entry{key, Build(segments, states), &found->second});
+  found->second.entry = lru_.begin();
+  found->second.held = true;
   summary_.bytes += lru_.front().system.bytes;
-  if (!lru_.front().system.spectral) ++summary_.ill_conditioned;
+  summary_.tuples = static_cast<long>(lru_.size());
+  return Enter(lru_.front());
+}
+
+const TrainSystem& TrainSystemCache::Enter(Entry& e) {
+  ++e.slot->visits;
+  if (!e.system.decomposed && e.slot->visits >= options_.decompose_after_visits) {
+    summary_.bytes -= e.system.bytes;
+    Decompose(e.system);
+    e.system.bytes = SystemBytes(e.system, static_cast<size_t>(key_words_));
+    summary_.bytes += e.system.bytes;
+    ++summary_.decompositions;
+    if (!e.system.spectral) ++summary_.ill_conditioned;
+  }
+  Evict();
+  return e.system;
+}
+
+void TrainSystemCache::Evict() {
   while (summary_.bytes > options_.cache_limit_bytes && lru_.size() > 1) {
     summary_.bytes -= lru_.back().system.bytes;
-    index_.erase(lru_.back().key);
+    lru_.back().slot->held = false;
     lru_.pop_back();
     ++summary_.evictions;
   }
   summary_.peak_bytes = std::max(summary_.peak_bytes, summary_.bytes);
   summary_.tuples = static_cast<long>(lru_.size());
-  return lru_.front().system;
 }
 
 TrainSystem TrainSystemCache::Build(const std::vector<int>& segments,
@@ -233,30 +308,40 @@ TrainSystem TrainSystemCache::Build(const std::vector<int>& segments,
   s.A.block(n, n, n, n) = -(inv_j.asDiagonal() * C);
   s.A.block(n, t_.constant_slot(), n, 1) = inv_j.cwiseProduct(f);
   s.A.block(n, t_.input_slot(), n, 1) = inv_j.cwiseProduct(t_.excitation_direction);
-
-  const double w_ref = ReferenceFrequency(s.A, n);
-  s.decomposition = DecomposeGenerator(s.A, n, w_ref, t_.longest_segment, options_.max_condition);
-  s.spectral = s.decomposition.info == SpectralDecomposition::Info::kSuccess;
-  const double rho = s.A.topLeftCorner(2 * n, 2 * n).eigenvalues().cwiseAbs().maxCoeff();
+  // lambda_max(M^-1 X) from the symmetric M^-1/2 X M^-1/2 (same eigenvalues, cheaper).
+  const Eigen::VectorXd root_inv_j = inv_j.cwiseSqrt();
+  const auto largest = [&](const Eigen::MatrixXd& X) {
+    const Eigen::MatrixXd sym = root_inv_j.asDiagonal() * X * root_inv_j.asDiagonal();
+    return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(sym, Eigen::EigenvaluesOnly)
+        .eigenvalues()
+        .cwiseAbs()
+        .maxCoeff();
+  };
+  const double w_stiff = std::sqrt(largest(K));
+  const double rho = std::max(w_stiff, largest(C));
   s.substep = rho > 0.0 ? 0.5 / rho : t_.longest_segment;
-  s.spectral = s.spectral && s.decomposition.zero_size > 0;
-  size_t doubles = 3 * static_cast<size_t>(m) * m;
-  if (s.spectral) {
-    const size_t terms = static_cast<size_t>(std::max(s.decomposition.series_terms, 1));
-    const size_t zero = static_cast<size_t>(s.decomposition.zero_size);
-    doubles += zero * zero;
-    for (const TrainMeshTable& mt : t_.meshes) {
-      Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(m);
-      row.head(n) = mt.v.transpose();
-      s.delta.emplace_back(s.decomposition, row);
-      doubles += terms * (zero + 1) + 8 * s.decomposition.blocks.size();
-    }
-  } else {
-    s.decomposition = SpectralDecomposition{};  // drop the unusable factors
-  }
-  s.bytes =
-      doubles * sizeof(double) + sizeof(TrainSystem) + t_.meshes.size() * sizeof(ClosedFormGap);
+  s.w_ref = std::max(1.0, w_stiff);  // as ReferenceFrequency(A, n)
+  s.bytes = SystemBytes(s, static_cast<size_t>(key_words_));
   return s;
+}
+
+void TrainSystemCache::Decompose(TrainSystem& s) const {
+  const int n = t_.n, m = t_.m;
+  s.decomposed = true;
+  s.decomposition = DecomposeGenerator(s.A, n, s.w_ref, t_.longest_segment, options_.max_condition);
+  s.spectral = s.decomposition.info == SpectralDecomposition::Info::kSuccess &&
+               s.decomposition.zero_size > 0;
+  if (!s.spectral) {
+    s.decomposition = SpectralDecomposition{};  // drop the unusable factors
+    return;
+  }
+  TrimSeries(s.decomposition, t_.longest_segment);
+  Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(m);
+  s.delta.reserve(t_.meshes.size());
+  for (const TrainMeshTable& mt : t_.meshes) {
+    row.head(n) = mt.v.transpose();
+    s.delta.emplace_back(s.decomposition, row);
+  }
 }
 
 }  // namespace gearnvh

@@ -327,7 +327,13 @@ TEST_CASE("train: the stepping loop does not allocate once the cache holds the t
           "[solver][train][allocation]") {
   const Model s(Rattler(1500.0));
   const auto [z0, states0] = TrainStaticState(s.tables);
-  TrainStepper stepper(s.tables, {}, z0, states0);
+  // Each tuple is decomposed at its first entry: under the default lazy policy a repeated run
+  // decomposes tuples the first run only entered once or twice, and the rattling amplifies that
+  // rounding difference into a different trajectory with other tuples. The dense path (every
+  // tuple before its decomposition) is covered by the next test.
+  TrainStepperOptions options;
+  options.tables.decompose_after_visits = GENERATE(1, 1000000);
+  TrainStepper stepper(s.tables, options, z0, states0);
   TrainRecorder warm(s.tables, 32, 0.0);
   REQUIRE(stepper.Run(0.02, &warm));
   const long misses = stepper.summary().cache.misses;
@@ -338,6 +344,7 @@ TEST_CASE("train: the stepping loop does not allocate once the cache holds the t
   CHECK(counter.count() == 0);
   CHECK(stepper.summary().cache.misses == misses);
   CHECK(stepper.summary().events > 10);
+  if (options.tables.decompose_after_visits > 1) CHECK(stepper.summary().dense_pieces > 0);
 }
 
 }  // namespace
@@ -421,7 +428,10 @@ TEST_CASE("train: the dense fallback agrees with the closed-form path", "[solver
   const auto [z0, states0] = TrainStaticState(s.tables);
   TrainStepperOptions dense;
   dense.tables.max_condition = 1.0;
-  TrainStepper a(s.tables, {}, z0, states0), b(s.tables, dense, z0, states0);
+  dense.tables.decompose_after_visits = 1;  // every tuple tries (and fails) at its first entry
+  TrainStepperOptions spectral;
+  spectral.tables.decompose_after_visits = 1;
+  TrainStepper a(s.tables, spectral, z0, states0), b(s.tables, dense, z0, states0);
   double worst = 0.0, scale = 0.0;
   for (int k = 1; k <= 64; ++k) {
     const double time = 0.008 * k / 64.0;
@@ -433,6 +443,7 @@ TEST_CASE("train: the dense fallback agrees with the closed-form path", "[solver
       scale = std::max(scale, std::abs(te));
     }
   }
+  CHECK(a.summary().dense_pieces == 0);
   CHECK(b.summary().dense_pieces > 0);
   CHECK(b.summary().cache.ill_conditioned == b.summary().cache.misses);
   CHECK(a.summary().events == b.summary().events);
@@ -496,14 +507,6 @@ TEST_CASE("train: V1, V2 and V3 agree on a rattling train", "[solver][train][met
   CHECK(worst1 <= 1e-8 * scale);
 }
 
-}  // namespace
-}  // namespace gearnvh
-
-namespace gearnvh {
-namespace {
-
-// Input (g1, 20) -> layshaft (g2, 40; g3, 20) -> output (g4, 40) with the layshaft `inertia`; or
-// one of its stages alone as a one-mesh train with the same transmitted torque.
 TEST_CASE("train: V1, V2 and V3 find a near-grazing excursion and ignore a near miss",
           "[solver][train][methods]") {
   // The rattler without the layshaft load (so the meshes barely accelerate apart) and without
@@ -676,6 +679,67 @@ TEST_CASE("train: the V2 stepping loop and its exact recording do not allocate",
   CHECK(counter.count() == 0);
   CHECK(stepper.summary().dense_pieces > 0);
   CHECK(stepper.summary().events > 10);
+}
+
+TEST_CASE("train: lazy decomposition (dense until a tuple's third entry) agrees with eager",
+          "[solver][train]") {
+  // The default policy propagates a tuple on the dense path until it is entered for the
+  // decompose_after_visits-th time; eager decomposes at the first entry. Both paths are exact to
+  // rounding, so over 8 ms of rattling (differences grow ~tenfold per ms) 1e-8 of the TE, as the
+  // dense-fallback test.
+  const Model s(Rattler(1500.0));
+  const auto [z0, states0] = TrainStaticState(s.tables);
+  TrainStepperOptions eager, lazy;
+  eager.tables.decompose_after_visits = 1;
+  REQUIRE(lazy.tables.decompose_after_visits == 3);
+  TrainStepper a(s.tables, eager, z0, states0), b(s.tables, lazy, z0, states0);
+  double worst = 0.0, scale = 0.0;
+  for (int k = 1; k <= 64; ++k) {
+    const double time = 0.008 * k / 64.0;
+    REQUIRE(a.Run(time));
+    REQUIRE(b.Run(time));
+    for (const TrainMeshTable& mt : s.tables.meshes) {
+      const double te = mt.v.dot(a.state().head(s.tables.n));
+      worst = std::max(worst, std::abs(te - mt.v.dot(b.state().head(s.tables.n))));
+      scale = std::max(scale, std::abs(te));
+    }
+  }
+  const TrainCacheSummary& cache = b.summary().cache;
+  CHECK(b.summary().dense_pieces > 0);
+  CHECK(cache.decompositions > 0);             // tuples entered three times are decomposed
+  CHECK(cache.decompositions < cache.misses);  // and some never are
+  CHECK(a.summary().cache.decompositions == a.summary().cache.misses);
+  CHECK(a.summary().events == b.summary().events);
+  INFO("worst TE difference " << worst << " m");
+  CHECK(worst <= 1e-8 * scale);
+}
+
+TEST_CASE("train: a tuple's sub-step bound covers its spectral radius", "[solver][train]") {
+  // substep = 1/(2 rho~) with rho~ = max(sqrt(lambda_max(M^-1 K)), lambda_max(M^-1 C)) >= rho(A)
+  // (Rayleigh quotients of the symmetric pencil); checked against the general eigensolver of
+  // the dynamic block for every contact state of the rattler, and not loose by more than the
+  // damping term (rho~ <= rho + lambda_max(M^-1 C)).
+  const Model s(Rattler(1500.0));
+  TrainSystemCache cache(s.tables, {});
+  TupleKey key(static_cast<size_t>(cache.KeyWords()));
+  const ContactState all[3] = {ContactState::kBack, ContactState::kFree, ContactState::kDrive};
+  const int n = s.tables.n;
+  for (int a = 0; a < 3; ++a) {
+    for (int b = 0; b < 3; ++b) {
+      const TrainSystem& sys = cache.Get({5, 2}, {all[a], all[b]}, key);
+      const double rho = sys.A.topLeftCorner(2 * n, 2 * n).eigenvalues().cwiseAbs().maxCoeff();
+      if (a == 1 && b == 1) {  // all free: rho = 0, the sub-step is the longest segment
+        CHECK(sys.substep == s.tables.longest_segment);
+        continue;
+      }
+      const double bound = 0.5 / sys.substep;
+      // Tolerance: the general eigensolver's error in |lambda| is ~ eps |A| / |lambda| (|A| ~
+      // |M^-1 K| ~ 1e9 s^-2, |lambda| ~ 4e4 s^-1: ~1e-11 relative); 1e-9 leaves room for that.
+      CHECK(rho <= bound * (1.0 + 1e-9));
+      const double damping = (-sys.A.block(n, n, n, n)).eigenvalues().cwiseAbs().maxCoeff();
+      CHECK(bound <= rho + damping + 1e-9 * bound);
+    }
+  }
 }
 
 }  // namespace

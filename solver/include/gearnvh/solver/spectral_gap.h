@@ -73,6 +73,9 @@ class ClosedFormGap {
   // the row only by a constant (the train solver's walls e_ij +- b_i). Needs zero_size > 0 (an
   // augmented generator always has the constant slot's zero eigenvalue).
   void Load(const Eigen::VectorXd& w, double constant);
+  // Adds `delta` to the loaded constant (the other wall of the same loaded state, without a
+  // reload: the rates and bounds do not depend on the constant).
+  void ShiftConstant(double delta) { poly_[0] += delta; }
   double Value(double t) const { return Evaluate(t, 0); }
   double Rate(double t) const { return Evaluate(t, 1); }
   double Curvature(double t) const { return Evaluate(t, 2); }

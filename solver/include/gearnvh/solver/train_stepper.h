@@ -14,16 +14,17 @@
 // kept, the search resumes 1e-12 h past it (as the pair). A state found outside a wall at the
 // start of a grid segment (the unloaded error e_ij jumps at boundaries) by more than the wall
 // tolerance 1e-12 b_i + 64 eps sum |c z| switches at once.
-// Dense fallback (a tuple whose decomposition is ill-conditioned): sub-steps with rho(A) D <= 1/2
-// on the Taylor polynomial of the state (20 terms: the remainder is below 2^-20 / 20!, rounding);
-// each gap of a sub-step is a scalar polynomial, sampled at 16 points and at the end, its first
-// crossing bisected to rounding. Never silently wrong: a tuple either decomposes within the
-// condition limit or takes this path.
+// Dense path (a tuple not decomposed yet, TrainTableOptions::decompose_after_visits, or whose
+// decomposition is ill-conditioned): sub-steps with rho(A) D <= 1/2 (rho bounded as
+// TrainSystem::substep says) on the Taylor polynomial of the state (20 terms: the remainder is
+// below 2^-20 / 20!, rounding); each gap of a sub-step is a scalar polynomial; a wall it cannot
+// reach (|g(0)| against sum_{p>=1} |g_p| D^p) is skipped, else its first crossing is the pair's
+// V2 polynomial search (taylor_root.h: samples plus every interior maximum between them, so a
+// brief excursion is not missed), with the same grazing rule as V3. Never silently wrong: a tuple
+// either decomposes within the condition limit or takes this path.
 // Event methods (TrainStepperOptions::events), as the pair's locators (event_locator.h):
-//   V3 (kSpectral, default): the closed form above, the dense path for ill-conditioned tuples.
-//   V2 (kTaylor): every tuple on the Taylor path; each gap's first crossing is the pair's
-//     polynomial search (taylor_root.h: samples plus every interior maximum between them, so a
-//     brief excursion is not missed), with the same grazing rule as V3.
+//   V3 (kSpectral, default): the closed form above, the dense path for the other tuples.
+//   V2 (kTaylor): every tuple on the dense path.
 //   V1 (kDyadic, the baseline): sub-steps of length d <= D, one dense propagator expm(A d) each,
 //     screened as the pair's V1 (end point outside, or the gap turned back towards the wall); a
 //     flagged sub-step is walked on dyadic propagators expm(A d 2^-l), l = 1..34, built for it, and
@@ -32,7 +33,7 @@
 //     for validation.
 // Free rotation: r (th_j ~ |w_j|) changes no gap and no force in any tuple, so its position drift
 // is removed (x <- x - r r~ x) once per common period (once per input revolution without one).
-// Once the cache holds the visited tuples, Run() allocates nothing.
+// Once the cache holds the visited tuples (and has decomposed those due), Run() allocates nothing.
 #pragma once
 
 #include <Eigen/Dense>

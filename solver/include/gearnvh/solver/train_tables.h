@@ -27,8 +27,12 @@
 // rotation and to report; when none is found within the limit, the free rotation is recentred
 // once per input revolution (exact either way: it changes no gap and no force).
 //
-// Tables per tuple (generator, its spectral decomposition, a ClosedFormGap per mesh) are built
-// when a tuple is first visited and held in an LRU cache bounded in bytes (TrainCacheOptions).
+// Tables per tuple: the generator (and a sub-step bound for the dense path) when a tuple is first
+// visited; its spectral decomposition and a ClosedFormGap per mesh when it is entered for the
+// decompose_after_visits-th time (a rattle impact visits most tuples once: the dense path is
+// cheaper than a decomposition used for one or two pieces). Held in an LRU cache bounded in bytes
+// (TrainTableOptions); the visit count of every tuple key seen survives eviction, so which path a
+// tuple takes does not depend on the cache limit.
 #pragma once
 
 #include <Eigen/Dense>
@@ -93,7 +97,11 @@ struct TrainTables {
 struct TrainTableOptions {
   // Upper bound of the cached tables' bytes; the least recently used tuple is evicted beyond it
   // (at least the tuple in use is always kept). >= 1.
-  size_t cache_limit_bytes = size_t{256} << 20;
+  size_t cache_limit_bytes = size_t{160} << 20;
+  // A tuple is decomposed (V3 closed forms) when it is entered for this many times (consecutive
+  // pieces on one tuple are one entry); before that it takes the dense path. 1: at the first
+  // entry. >= 1.
+  int decompose_after_visits = 3;
   // Decompositions with |S|_1 |S^-1|_1 above this use the dense (Taylor) path for that tuple.
   double max_condition = 1e6;  // >= 1
   // The common period is searched up to this many input revolutions. >= 1.
@@ -113,8 +121,13 @@ TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
 struct TrainSystem {
   Eigen::MatrixXd A;  // generator, m x m
   SpectralDecomposition decomposition;
-  bool spectral = false;  // decomposition usable (else the dense Taylor path)
-  double substep = 0.0;   // dense path: sub-step length with rho(A) substep <= 1/2
+  bool decomposed = false;  // the decomposition was attempted (TrainTableOptions)
+  bool spectral = false;    // decomposition usable (else the dense Taylor path)
+  // Dense path: sub-step length with rho(A) substep <= 1/2, rho bounded by the Rayleigh quotients
+  // of the pencil (lambda^2 M + lambda C + K, symmetric, M > 0, C, K >= 0): |lambda| <=
+  // max(sqrt(lambda_max(M^-1 K)), lambda_max(M^-1 C)).
+  double substep = 0.0;
+  double w_ref = 1.0;  // sqrt(lambda_max(M^-1 K)): the decomposition's velocity balance, rad/s
   // Per mesh, the closed form of delta_i (spectral only); mutable: Load() keeps its coefficients.
   mutable std::vector<ClosedFormGap> delta;
   size_t bytes = 0;
@@ -128,8 +141,12 @@ struct TupleKeyHash {
 
 struct TrainCacheSummary {
   long hits = 0, misses = 0, evictions = 0;
-  long ill_conditioned = 0;  // tuples built that use the dense path
-  size_t bytes = 0, peak_bytes = 0;
+  long ill_conditioned = 0;  // decompositions that failed (those tuples keep the dense path)
+  long decompositions = 0;   // decompositions attempted
+  size_t bytes = 0, peak_bytes = 0;  // tuples held (bounded by cache_limit_bytes)
+  // The entry count kept for every tuple key seen (never evicted, ~100 bytes per key; not part
+  // of `bytes`).
+  size_t index_bytes = 0;
   long tuples = 0;  // held now
 };
 
@@ -146,15 +163,26 @@ class TrainSystemCache {
  private:
   TrainSystem Build(const std::vector<int>& segments,
                     const std::vector<ContactState>& states) const;
+  void Decompose(TrainSystem& s) const;
+  struct Entry;
+  struct Slot {
+    std::list<Entry>::iterator entry;
+    bool held = false;  // false once evicted (the visit count stays)
+    long visits = 0;
+  };
   struct Entry {
     TupleKey key;
     TrainSystem system;
+    Slot* slot = nullptr;  // its index entry (unordered_map nodes are stable)
   };
+  // Counts an entry of `e`'s tuple, decomposes it when due, evicts beyond the limit.
+  const TrainSystem& Enter(Entry& e);
+  void Evict();
   const TrainTables& t_;
   TrainTableOptions options_;
   int key_words_ = 1;
   std::list<Entry> lru_;  // most recent first
-  std::unordered_map<TupleKey, std::list<Entry>::iterator, TupleKeyHash> index_;
+  std::unordered_map<TupleKey, Slot, TupleKeyHash> index_;
   TrainCacheSummary summary_;
 };
 
