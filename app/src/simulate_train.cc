@@ -5,12 +5,15 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <iostream>
 #include <numbers>
+#include <optional>
 
 #include "finite_results.h"
 #include "gearnvh/model/gear_train.h"
 #include "gearnvh/model/input_error.h"
+#include "gearnvh/nvh/train_lyapunov.h"
 #include "gearnvh/solver/train_statistics.h"
 #include "gearnvh/solver/train_stepper.h"
 #include "output_folder.h"
@@ -45,6 +48,56 @@ std::vector<std::string> TrainWarnings(const TrainSpec& spec, const GearTrain& t
   return out;
 }
 
+// The K largest exponents over the same transient and cycles as the run (a second run).
+TrainLyapunovSummary RunLyapunov(const TrainTables& tables, const Eigen::VectorXd& z0,
+                                 const std::vector<ContactState>& states0, int exponents,
+                                 long transient, long cycles, bool on_terminal) {
+  TrainLyapunovOptions options;
+  options.exponents = exponents;
+  options.transient_cycles = transient;
+  options.alignment_cycles = std::min<long>(options.alignment_cycles, cycles / 4);
+  options.cycles = cycles;
+  if (on_terminal) {
+    options.progress = [](double fraction) {
+      fmt::print(stderr, "\rlyapunov: {:3.0f}%", 100.0 * fraction);
+    };
+  }
+  TrainLyapunovSummary out = EstimateTrainLyapunov(tables, z0, states0, options);
+  if (on_terminal) fmt::print(stderr, "\n");
+  return out;
+}
+
+// Infinity (no positive exponent: no horizon) as null.
+nlohmann::json FiniteOrNull(double x) { return std::isfinite(x) ? nlohmann::json(x) : nullptr; }
+
+nlohmann::json LyapunovJson(const TrainLyapunovSummary& l) {
+  return {{"status", TrainLyapunovInfoName(l.info)},
+          {"exponents_per_s", l.exponents},
+          {"per_forcing_cycle", l.per_forcing_cycle},
+          {"per_mesh_cycle", l.per_mesh_cycle},
+          {"standard_errors_per_s", l.standard_errors},
+          {"forcing_period_s", l.forcing_period},
+          {"averaged_s", l.averaged_s},
+          {"saltations", l.saltations},
+          {"predictability_horizon_s", FiniteOrNull(l.predictability_horizon_s)},
+          {"predictability_horizon_cycles", FiniteOrNull(l.predictability_horizon_cycles)}};
+}
+
+void PrintLyapunov(const TrainLyapunovSummary& l) {
+  fmt::print("\n  Lyapunov exponents  ({}; free rotation removed; {} saltations over {:.4f} s)\n",
+             TrainLyapunovInfoName(l.info), l.saltations, l.averaged_s);
+  for (size_t j = 0; j < l.exponents.size(); ++j) {
+    fmt::print("    lambda_{}  {:>12.4g} 1/s  ± {:.2g}   {:>10.4g} per forcing cycle\n", j + 1,
+               l.exponents[j], l.standard_errors[j], l.per_forcing_cycle[j]);
+  }
+  if (std::isfinite(l.predictability_horizon_s)) {
+    fmt::print("    predictability horizon {:.4g} s ({:.4g} forcing cycles)\n",
+               l.predictability_horizon_s, l.predictability_horizon_cycles);
+  } else {
+    fmt::print("    no positive exponent: no predictability horizon\n");
+  }
+}
+
 }  // namespace
 
 int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
@@ -65,10 +118,22 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
   const long transient = options.transient.value_or(spec.analysis.transient_cycles);
   if (cycles < 1) throw InputError("--cycles", 0, std::to_string(cycles), "must be >= 1");
   if (transient < 0) throw InputError("--transient", 0, std::to_string(transient), "must be >= 0");
+  const TrainLyapunovOptions lyapunov_defaults;
+  if (options.lyapunov && cycles < lyapunov_defaults.blocks) {
+    throw InputError("--cycles", 0, std::to_string(cycles),
+                     "must be >= " + std::to_string(lyapunov_defaults.blocks) +
+                         " with --lyapunov (one block per standard-error block)");
+  }
   const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
 
   const GearTrain train = BuildGearTrain(spec);
   const TrainTables tables = BuildTrainTables(spec, train);
+  if (options.lyapunov && *options.lyapunov > 2 * tables.n - 2) {
+    throw InputError("--lyapunov", 0, std::to_string(*options.lyapunov),
+                     "must be <= 2n - 2 = " + std::to_string(2 * tables.n - 2) +
+                         " for this train (" + std::to_string(tables.n) +
+                         " bodies; the free rotation's two neutral directions are removed)");
+  }
   const std::vector<std::string> warnings = TrainWarnings(spec, train);
   // cycles and transient_cycles count cycles of the first mesh in the file.
   const double period = tables.meshes.front().period;
@@ -95,6 +160,10 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   const TrainStepperSummary s = stepper.summary();
   const TrainStatistics stats = recorder.Result();
+  std::optional<TrainLyapunovSummary> lyapunov;
+  if (options.lyapunov && ok) {
+    lyapunov = RunLyapunov(tables, z0, states0, *options.lyapunov, transient, cycles, on_terminal);
+  }
 
   nlohmann::json doc;
   doc["schema"] = "gearnvh/2";
@@ -160,6 +229,7 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
                      {"impacts", g.impacts}});
   }
   doc["loose_gears"] = loose;
+  if (lyapunov) doc["lyapunov"] = LyapunovJson(*lyapunov);
   RequireFinite(doc, "simulate");
   if (out) {
     out->Write("results.json", doc.dump(2) + "\n");
@@ -209,9 +279,11 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
         "  (TE, force and rattle index from {} uniform samples, {} per cycle of the fastest "
         "mesh; impacts and separation from the exact events)\n",
         stats.samples, kSamplesPerCycle);
+    if (lyapunov) PrintLyapunov(*lyapunov);
     for (const std::string& w : warnings) fmt::print("  warning: {}\n", w);
   }
-  return s.info == TrainStepperSummary::Info::kSuccess ? 0 : 1;
+  const bool lyapunov_ok = !lyapunov || lyapunov->info == TrainLyapunovSummary::Info::kSuccess;
+  return s.info == TrainStepperSummary::Info::kSuccess && lyapunov_ok ? 0 : 1;
 }
 
 }  // namespace gearnvh::app

@@ -110,12 +110,17 @@ TrainLyapunovSummary EstimateTrainLyapunov(const TrainTables& tables, const Eige
   double time = static_cast<double>(options.transient_cycles) * period;
   const long alignment_intervals =
       (options.alignment_cycles + options.renormalise_cycles - 1) / options.renormalise_cycles;
+  const long intervals = options.cycles / options.renormalise_cycles;
+  const double end_time = time + static_cast<double>(alignment_intervals + intervals) * interval;
+  const auto report = [&]() {
+    if (options.progress) options.progress(time / end_time);
+  };
   for (long i = 0; i < alignment_intervals; ++i) {
     time += interval;
     if (!stepper.Run(time)) return fail();
     Reorthonormalise(tables, V, nullptr);
+    report();
   }
-  const long intervals = options.cycles / options.renormalise_cycles;
   const long per_block = intervals / options.blocks;
   std::vector<double> total(static_cast<size_t>(k), 0.0), block(static_cast<size_t>(k), 0.0);
   std::vector<std::vector<double>> block_exponents(static_cast<size_t>(k));
@@ -123,6 +128,7 @@ TrainLyapunovSummary EstimateTrainLyapunov(const TrainTables& tables, const Eige
     time += interval;
     if (!stepper.Run(time)) return fail();
     Reorthonormalise(tables, V, block.data());
+    report();
     if ((i + 1) % per_block == 0 && static_cast<int>(block_exponents[0].size()) < options.blocks) {
       for (size_t j = 0; j < block.size(); ++j) {
         block_exponents[j].push_back(block[j] / (static_cast<double>(per_block) * interval));

@@ -21,6 +21,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,8 @@ struct TrainLyapunovOptions {
   long renormalise_cycles = 1;  // cycles between re-orthonormalisations; >= 1
   int blocks = 8;               // blocks for the standard errors; >= 2
   TrainStepperOptions stepper;
+  // Called after every interval with the fraction of the run done, in (0, 1]; may be empty.
+  std::function<void(double)> progress;
   void Validate() const;  // throws InputError naming the field
 };
 
