@@ -10,7 +10,10 @@
 
 #include "gearnvh/model/gear_train.h"
 #include "gearnvh/model/input_error.h"
+#include "gearnvh/nvh/lyapunov.h"
+#include "gearnvh/solver/exact_solver.h"
 #include "gearnvh/solver/train_reference.h"
+#include "model/test_specs.h"
 #include "model/test_trains.h"
 
 namespace gearnvh {
@@ -53,7 +56,7 @@ std::vector<double> FloquetExponents(const TrainTables& t) {
   std::sort(moduli.begin(), moduli.end());
   // The two zeros come out at the rounding floor of Pi P; the elastic multipliers carry an
   // absolute error of the same size, so moduli[1] / moduli[2] bounds their relative error (and
-  // that over T the exponents' error: < 1e-2 1/s with the 1e-3 bound below, measured 1e-4).
+  // that over T the exponents' error: < 2e-2 1/s with the 1e-3 bound below, measured 1e-3).
   INFO("multipliers " << Eigen::Map<Eigen::VectorXd>(moduli.data(), e).transpose());
   REQUIRE(moduli[1] < 1e-3 * moduli[2]);
   moduli.erase(moduli.begin(), moduli.begin() + 2);
@@ -169,6 +172,45 @@ TEST_CASE("a train decoupled by a massive layshaft has the exponents of its one-
   CheckAgainst(b, FloquetExponents(first.tables));
   CheckAgainst(c, FloquetExponents(second.tables));
   CheckAgainst(a, {b.exponents[0], b.exponents[1], c.exponents[0], c.exponents[1]});
+}
+
+}  // namespace
+}  // namespace gearnvh
+
+namespace gearnvh {
+namespace {
+
+TEST_CASE("a one-mesh train has the single pair's exponent at the same operating point",
+          "[nvh][train][lyapunov]") {
+  // The schema-1 pair and its train TrainOf(pair) at tier 1 are the same two torsional bodies and
+  // the same mesh model; the pair's solver (ExactStepper, one tangent) and the train's (tangent
+  // columns with saltation per gap) are independent implementations. Loaded, no excitation:
+  // permanent contact, one complex pair of multipliers, so the train's two exponents and the
+  // pair's one are the same sigma.
+  GearboxSpec pair = testing::StandardPair(27, 43);
+  pair.operating.torque = 40.0;
+  pair.operating.excitation.clear();
+  // Light damping: the multipliers over one revolution stay far above rounding (FloquetExponents).
+  pair.mesh.damping_ratio = 0.005;
+  const OperatingPointModel op = BuildOperatingPointModel(pair, Tier::kTier1);
+  const auto [z_pair, state_pair] = StaticInitialState(op.tables);
+  LyapunovOptions pair_options;
+  pair_options.transient_cycles = 20;
+  pair_options.cycles = 1000;
+  const LyapunovEstimate pair_est = EstimateLyapunov(op.tables, z_pair, state_pair, pair_options);
+  REQUIRE(pair_est.info == LyapunovEstimate::Info::kSuccess);
+  REQUIRE(pair_est.run.summary.events == 0);
+
+  const Model train(TrainOf(pair));
+  REQUIRE(train.tables.n == 2);
+  const TrainLyapunovSummary est = Estimate(train.tables, 2, 1000);
+  const std::vector<double> floquet = FloquetExponents(train.tables);
+  CheckAgainst(est, floquet);
+  INFO("pair " << pair_est.exponent << " 1/s, train " << est.exponents[0] << ", "
+               << est.exponents[1] << " 1/s, Floquet " << floquet[0] << ", " << floquet[1]);
+  // Tolerance: 3 / T as for the train (the pair's one tangent splits the same rotating plane;
+  // measured 0.16 1/s = 0.45 / T), far below the 245 1/s exponent a wrong damping would move.
+  CHECK(std::abs(pair_est.exponent - floquet[0]) <= 3.0 / est.averaged_s);
 }
 
 }  // namespace
