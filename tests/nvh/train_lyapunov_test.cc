@@ -1,5 +1,7 @@
-// Lyapunov exponents of gear trains (nvh/train_lyapunov.h): Floquet exponents of a train in
-// permanent contact, a train decoupled by a massive layshaft against its one-mesh trains.
+// Lyapunov exponents (nvh/train_lyapunov.h) and periodic orbits (nvh/train_periodic_orbit.h) of
+// gear trains: Floquet exponents of a train in permanent contact, a train decoupled by a massive
+// layshaft against its one-mesh trains, a one-mesh train against the pair's solver, the periodic
+// orbit of a train in permanent contact against the linear periodic solution.
 #include "gearnvh/nvh/train_lyapunov.h"
 
 #include <algorithm>
@@ -11,6 +13,7 @@
 #include "gearnvh/model/gear_train.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/lyapunov.h"
+#include "gearnvh/nvh/train_periodic_orbit.h"
 #include "gearnvh/solver/exact_solver.h"
 #include "gearnvh/solver/train_reference.h"
 #include "model/test_specs.h"
@@ -211,6 +214,59 @@ TEST_CASE("a one-mesh train has the single pair's exponent at the same operating
   // Tolerance: 3 / T as for the train (the pair's one tangent splits the same rotating plane;
   // measured 0.16 1/s = 0.45 / T), far below the 245 1/s exponent a wrong damping would move.
   CHECK(std::abs(pair_est.exponent - floquet[0]) <= 3.0 / est.averaged_s);
+}
+
+}  // namespace
+}  // namespace gearnvh
+
+namespace gearnvh {
+namespace {
+
+TEST_CASE("a train's periodic orbit in permanent contact is the linear periodic solution",
+          "[nvh][train][orbit]") {
+  // The train of the Floquet test: linear and T-periodic in permanent contact, so its periodic
+  // orbit is the fixed point of the affine period map, here from dense Pade propagators of an
+  // independent assembly ((I - P) y = p, least squares: the free rotation is null), and its
+  // multipliers are those of FloquetExponents.
+  TrainSpec spec = testing::TwoStageTrain(1000.0, 0.0, 1000.0);
+  spec.operating.excitation.clear();
+  for (TrainMesh& m : spec.meshes) m.mesh.damping_ratio = 0.01;
+  const Model s(spec);
+  const TrainTables& t = s.tables;
+  const int n = t.n, e = 2 * n;
+  const std::vector<ContactState> drive(t.meshes.size(), ContactState::kDrive);
+  Eigen::MatrixXd P = Eigen::MatrixXd::Identity(t.m, t.m);
+  for (TrainGrid grid(t); grid.start() < t.common_period * (1.0 - 1e-12); grid.Next()) {
+    const Eigen::MatrixXd A = AssembleTrainGenerator(t, grid.segments(), drive);
+    P = BalancedExpm(A, grid.end() - grid.start(), n, ReferenceFrequency(A, n)) * P;
+  }
+  const Eigen::VectorXd reference = (Eigen::MatrixXd::Identity(e, e) - P.topLeftCorner(e, e))
+                                        .completeOrthogonalDecomposition()
+                                        .solve(P.block(0, t.constant_slot(), e, 1));
+
+  const auto [z0, states0] = TrainStaticState(t);
+  const TrainOrbit orbit = FindTrainPeriodicOrbit(t, z0, states0, {});
+  INFO("residual " << orbit.residual << " after " << orbit.iterations << " iterations");
+  REQUIRE(orbit.info == TrainOrbit::Info::kConverged);
+  CHECK(orbit.events_per_period == 0);
+  CHECK(orbit.stable);
+  // TE (free of the free rotation). Tolerance: both are the same fixed point to the Newton
+  // tolerance (1e-10) and the rounding of ~400 pieces (~1e-13 of the TE in the stepper's test);
+  // 1e-8 of the TE.
+  for (const TrainMeshTable& mt : t.meshes) {
+    const double expected = mt.v.dot(reference.head(n));
+    CHECK(std::abs(mt.v.dot(orbit.z.head(n)) - expected) <= 1e-8 * std::abs(expected));
+  }
+  // Multipliers: |mu| = e^{lambda T} with the Floquet exponents of the Pade monodromy.
+  // Tolerance: 1e-6 relative in |mu| (the two products agree to rounding times cond, the
+  // smallest multiplier is 1e-5 here).
+  const std::vector<double> floquet = FloquetExponents(t);
+  REQUIRE(orbit.multipliers.size() == static_cast<Eigen::Index>(floquet.size()));
+  for (size_t j = 0; j < floquet.size(); ++j) {
+    const double expected = std::exp(floquet[j] * t.common_period);
+    CHECK(std::abs(std::abs(orbit.multipliers[static_cast<Eigen::Index>(j)]) - expected) <=
+          1e-6 * expected);
+  }
 }
 
 }  // namespace
