@@ -100,6 +100,12 @@ int Main(int argc, char** argv) {
                    "(closed-form spectral location per segment), fused (default: v3 plus "
                    "segment-run fusion, certified constant-contact cycles and O(1) jumps)")
       ->check(CLI::IsMember({"v1", "v2", "v3", "fused"}));
+  simulate_cmd
+      ->add_option("--lyapunov", simulate.lyapunov,
+                   "Gear trains: also estimate the K largest Lyapunov exponents (exact tangents "
+                   "with saltation per gap, free rotation removed; a second run of the same "
+                   "cycles)")
+      ->check(CLI::Range(1, 64));
 
   gearnvh::app::ValidateOptions validate;
   CLI::App* validate_cmd = app.add_subcommand(

@@ -67,6 +67,11 @@ int RunSimulate(const SimulateOptions& options) {
   return RunReportingErrors(options.file, [&]() -> int {
     config::LoadedGearbox loaded = config::LoadAnyGearboxFile(options.file);
     if (loaded.schema == 2) return SimulateTrain(options, loaded.train);
+    if (options.lyapunov) {
+      throw InputError("--lyapunov", 0, std::to_string(*options.lyapunov),
+                       "is available on gear trains (schema gearnvh/2); a single pair's exponent "
+                       "is in `gearnvh atlas`");
+    }
     const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
     const GearboxSpec spec = std::move(*loaded.pair);
     const Tier tier = options.tier ? ParseTier(*options.tier) : spec.analysis.tier;

@@ -22,6 +22,8 @@ struct SimulateOptions {
   std::optional<std::string> uff;  // UFF dataset-58 file (TE, mesh force, TE spectrum)
   std::string method = "fused";    // "v1" | "v2" | "v3" | "fused"
   bool json = false;
+  // Gear trains: the K largest Lyapunov exponents (tangents with saltation, a second run).
+  std::optional<int> lyapunov;
 };
 
 int RunSimulate(const SimulateOptions& options);

@@ -5,12 +5,15 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <iostream>
 #include <numbers>
+#include <optional>
 
 #include "finite_results.h"
 #include "gearnvh/model/gear_train.h"
 #include "gearnvh/model/input_error.h"
+#include "gearnvh/nvh/train_lyapunov.h"
 #include "gearnvh/solver/train_statistics.h"
 #include "gearnvh/solver/train_stepper.h"
 #include "output_folder.h"
@@ -46,6 +49,56 @@ const char* StatusName(TrainStepperSummary::Info info) {
   return info == TrainStepperSummary::Info::kSuccess ? "success" : "too many events";
 }
 
+// The K largest exponents over the same transient and cycles as the run (a second run).
+TrainLyapunovSummary RunLyapunov(const TrainTables& tables, const Eigen::VectorXd& z0,
+                                 const std::vector<ContactState>& states0, int exponents,
+                                 long transient, long cycles, bool on_terminal) {
+  TrainLyapunovOptions options;
+  options.exponents = exponents;
+  options.transient_cycles = transient;
+  options.alignment_cycles = std::min<long>(options.alignment_cycles, cycles / 4);
+  options.cycles = cycles;
+  if (on_terminal) {
+    options.progress = [](double fraction) {
+      fmt::print(stderr, "\rlyapunov: {:3.0f}%", 100.0 * fraction);
+    };
+  }
+  TrainLyapunovSummary out = EstimateTrainLyapunov(tables, z0, states0, options);
+  if (on_terminal) fmt::print(stderr, "\n");
+  return out;
+}
+
+// Infinity (no positive exponent: no horizon) as null.
+nlohmann::json FiniteOrNull(double x) { return std::isfinite(x) ? nlohmann::json(x) : nullptr; }
+
+nlohmann::json LyapunovJson(const TrainLyapunovSummary& l) {
+  return {{"status", TrainLyapunovInfoName(l.info)},
+          {"exponents_per_s", l.exponents},
+          {"per_forcing_cycle", l.per_forcing_cycle},
+          {"per_mesh_cycle", l.per_mesh_cycle},
+          {"standard_errors_per_s", l.standard_errors},
+          {"forcing_period_s", l.forcing_period},
+          {"averaged_s", l.averaged_s},
+          {"saltations", l.saltations},
+          {"predictability_horizon_s", FiniteOrNull(l.predictability_horizon_s)},
+          {"predictability_horizon_cycles", FiniteOrNull(l.predictability_horizon_cycles)}};
+}
+
+void PrintLyapunov(const TrainLyapunovSummary& l) {
+  fmt::print("\n  Lyapunov exponents  ({}; free rotation removed; {} saltations over {:.4f} s)\n",
+             TrainLyapunovInfoName(l.info), l.saltations, l.averaged_s);
+  for (size_t j = 0; j < l.exponents.size(); ++j) {
+    fmt::print("    lambda_{}  {:>12.4g} 1/s  ± {:.2g}   {:>10.4g} per forcing cycle\n", j + 1,
+               l.exponents[j], l.standard_errors[j], l.per_forcing_cycle[j]);
+  }
+  if (std::isfinite(l.predictability_horizon_s)) {
+    fmt::print("    predictability horizon {:.4g} s ({:.4g} forcing cycles)\n",
+               l.predictability_horizon_s, l.predictability_horizon_cycles);
+  } else {
+    fmt::print("    no positive exponent: no predictability horizon\n");
+  }
+}
+
 }  // namespace
 
 int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
@@ -56,8 +109,26 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
   const long transient = options.transient.value_or(spec.analysis.transient_cycles);
   if (cycles < 1) throw InputError("--cycles", 0, std::to_string(cycles), "must be >= 1");
   if (transient < 0) throw InputError("--transient", 0, std::to_string(transient), "must be >= 0");
+  const TrainLyapunovOptions lyapunov_defaults;
+  if (options.lyapunov && cycles < lyapunov_defaults.blocks) {
+    throw InputError("--cycles", 0, std::to_string(cycles),
+                     "must be >= " + std::to_string(lyapunov_defaults.blocks) +
+                         " with --lyapunov (one block per standard-error block)");
+  }
   const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
 
+  // Tier 1: one body per shaft and per loose gear.
+  const int bodies =
+      static_cast<int>(spec.shafts.size() +
+                       std::count_if(spec.gears.begin(), spec.gears.end(), [](const TrainGear& g) {
+                         return g.mounting == Mounting::kLoose;
+                       }));
+  if (options.lyapunov && *options.lyapunov > 2 * bodies - 2) {
+    throw InputError("--lyapunov", 0, std::to_string(*options.lyapunov),
+                     "must be <= 2n - 2 = " + std::to_string(2 * bodies - 2) + " for this train (" +
+                         std::to_string(bodies) +
+                         " bodies; the free rotation's two neutral directions are removed)");
+  }
   TrainRunOptions run;
   run.cycles = cycles;
   run.transient = transient;
@@ -77,6 +148,11 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
   const TrainStatistics& stats = op.stats;
   const std::vector<std::string>& warnings = op.warnings;
   const double wall = op.wall_s;
+  std::optional<TrainLyapunovSummary> lyapunov;
+  if (options.lyapunov && op.ok()) {
+    const auto [z0, states0] = TrainStaticState(tables);
+    lyapunov = RunLyapunov(tables, z0, states0, *options.lyapunov, transient, cycles, on_terminal);
+  }
   nlohmann::json doc;
   doc["schema"] = "gearnvh/2";
   doc["name"] = spec.name;
@@ -112,6 +188,7 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
   doc["sideband_window_common_periods"] = op.sideband_window_common_periods;
   doc["sidebands_notes"] = op.sideband_notes;
   doc["loose_gears"] = TrainLooseGearsJson(op.stats.loose_gears);
+  if (lyapunov) doc["lyapunov"] = LyapunovJson(*lyapunov);
   RequireFinite(doc, "simulate");
   if (out) {
     out->Write("results.json", doc.dump(2) + "\n");
@@ -161,9 +238,11 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
     fmt::print(
         "  (TE, force and rattle index exact: closed-form integrals and extrema of the recorded "
         "trajectory;\n   impacts and separation from the exact events)\n");
+    if (lyapunov) PrintLyapunov(*lyapunov);
     for (const std::string& w : warnings) fmt::print("  warning: {}\n", w);
   }
-  return s.info == TrainStepperSummary::Info::kSuccess ? 0 : 1;
+  const bool lyapunov_ok = !lyapunov || lyapunov->info == TrainLyapunovSummary::Info::kSuccess;
+  return s.info == TrainStepperSummary::Info::kSuccess && lyapunov_ok ? 0 : 1;
 }
 
 }  // namespace gearnvh::app

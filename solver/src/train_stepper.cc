@@ -7,6 +7,7 @@
 
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/solver/train_statistics.h"
+#include "gearnvh/solver/train_tangents.h"
 
 namespace gearnvh {
 namespace {
@@ -178,6 +179,7 @@ bool TrainStepper::Run(double end_time, TrainRecorder* recorder) {
 void TrainStepper::Recenter() {
   const double drift = t_.recenter_row.dot(z_.head(t_.n));
   z_.head(t_.n) -= drift * t_.rigid_rotation;
+  if (tangent_ != nullptr && tangent_->active()) tangent_->Recenter();
   ++summary_.recenterings;
 }
 
@@ -330,6 +332,8 @@ double TrainStepper::AdvanceSpectral(const TrainSystem& sys, double remaining, T
   Record(sys, z_, time_, advance, true, rec);
   PropagateDecoupled(sys.decomposition, w_, advance, wt_, scratch_);
   z_.noalias() = sys.decomposition.S * wt_;
+  const bool tangent = tangent_ != nullptr && tangent_->active();
+  if (tangent) tangent_->PropagateDecoupled(sys.decomposition, advance);
   if (best < 0.0) return advance;
   if (touch) {
     ++summary_.grazing;
@@ -349,6 +353,10 @@ double TrainStepper::AdvanceSpectral(const TrainSystem& sys, double remaining, T
       }
     }
     if (next < 0) break;
+    if (tangent) {
+      const size_t i = static_cast<size_t>(next);
+      tangent_->Saltation(next, grid_.segments()[i], states_[i], root_walls_[i].target, z_);
+    }
     Switch(next, root_walls_[static_cast<size_t>(next)].target, time_ + advance, rec);
     roots_[static_cast<size_t>(next)] = -1.0;
     ++switched_now;

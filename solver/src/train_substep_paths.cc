@@ -7,6 +7,7 @@
 #include "gearnvh/solver/segment_tables.h"
 #include "gearnvh/solver/train_statistics.h"
 #include "gearnvh/solver/train_stepper.h"
+#include "gearnvh/solver/train_tangents.h"
 #include "taylor_root.h"
 
 namespace gearnvh {
@@ -89,12 +90,18 @@ double TrainStepper::AdvanceDense(const TrainSystem& sys, double remaining, Trai
     z_ *= advance;
     z_ += taylor_.col(k);
   }
+  const bool tangent = tangent_ != nullptr && tangent_->active();
+  if (tangent) tangent_->PropagateTaylor(sys.A, advance);
   if (best < 0.0) return advance;
   if (touch) {
     ++summary_.grazing;
     ++events_this_segment_;
     if (rec != nullptr) rec->Grazing(best_mesh, time_ + best);
     return advance;
+  }
+  if (tangent) {
+    const size_t i = static_cast<size_t>(best_mesh);
+    tangent_->Saltation(best_mesh, grid_.segments()[i], states_[i], best_wall.target, z_);
   }
   Switch(best_mesh, best_wall.target, time_ + advance, rec);
   return advance;
@@ -142,6 +149,7 @@ double TrainStepper::AdvanceDyadic(const TrainSystem& sys, double remaining, Tra
   if (Suspect(z_, z1_, false, turned).mesh < 0 && !turned) {
     Record(sys, z_, time_, d, false, rec);
     z_.swap(z1_);
+    if (tangent_ != nullptr && tangent_->active()) tangent_->PropagateTaylor(sys.A, d);
     return d;
   }
   ++summary_.dyadic_substeps;
@@ -179,10 +187,16 @@ double TrainStepper::AdvanceDyadic(const TrainSystem& sys, double remaining, Tra
     const double advance = static_cast<double>(pos) * cell;
     Record(sys, taylor_.col(0), time_, advance, false, rec);  // z_ has moved: its start
     z_.swap(z1_);
+    const bool tangent = tangent_ != nullptr && tangent_->active();
+    if (tangent) tangent_->PropagateTaylor(sys.A, advance);
     int switched = 0;  // >= 1: the finest cell ended outside a wall
     for (int guard = 0; guard < static_cast<int>(t_.meshes.size()); ++guard) {
       const WallHit hit = Suspect(z_, z_, true, turned);
       if (hit.mesh < 0) break;
+      if (tangent) {
+        const size_t i = static_cast<size_t>(hit.mesh);
+        tangent_->Saltation(hit.mesh, grid_.segments()[i], states_[i], hit.target, z_);
+      }
       Switch(hit.mesh, hit.target, time_ + advance, rec);
       ++switched;
     }
@@ -190,6 +204,7 @@ double TrainStepper::AdvanceDyadic(const TrainSystem& sys, double remaining, Tra
     return advance;
   }
   Record(sys, taylor_.col(0), time_, d, false, rec);
+  if (tangent_ != nullptr && tangent_->active()) tangent_->PropagateTaylor(sys.A, d);
   return d;
 }
 

@@ -127,5 +127,42 @@ TEST_CASE("simulate on a train: the engine order shows in the headset mesh's spe
   CHECK(found);
 }
 
+TEST_CASE("simulate --lyapunov on a train reports the largest exponents", "[cli][train]") {
+  const auto r = RunCommand(kExe + " simulate --json --cycles 40 --transient 10 --lyapunov 3 " +
+                            kExamples + "/manual_transmission_idle.yaml");
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const auto doc = nlohmann::json::parse(r.out);
+  const auto& l = doc["lyapunov"];
+  CHECK(l["status"] == "success");
+  REQUIRE(l["exponents_per_s"].size() == 3);
+  REQUIRE(l["standard_errors_per_s"].size() == 3);
+  // Largest first; per forcing cycle = per second * the forcing period (the first engine order of
+  // the input, 800 rpm, order 2: 37.5 ms). Tolerance: rounding of one product.
+  CHECK(l["forcing_period_s"].get<double>() == Approx(60.0 / (800.0 * 2.0)).epsilon(1e-12));
+  for (size_t j = 0; j < 3; ++j) {
+    const double lambda = l["exponents_per_s"][j].get<double>();
+    if (j > 0) CHECK(lambda <= l["exponents_per_s"][j - 1].get<double>());
+    CHECK(l["per_forcing_cycle"][j].get<double>() ==
+          Approx(lambda * l["forcing_period_s"].get<double>()).epsilon(1e-12));
+  }
+  // The idling transmission rattles: impacts on every mesh, each a saltation of the tangents.
+  CHECK(l["saltations"].get<long>() > 100);
+}
+
+TEST_CASE("simulate --lyapunov refuses more exponents than the train has and a single pair",
+          "[cli][train]") {
+  const auto many = RunCommand(kExe + " simulate --cycles 40 --lyapunov 13 " + kExamples +
+                               "/manual_transmission_idle.yaml");
+  CHECK(many.exit_code != 0);
+  CHECK(many.err.find("--lyapunov") != std::string::npos);
+  CHECK(many.err.find("2n - 2 = 12") != std::string::npos);
+  const auto pair =
+      RunCommand(kExe + " simulate --cycles 40 --lyapunov 1 " + kExamples + "/idle_rattle.yaml");
+  CHECK(pair.exit_code != 0);
+  CHECK(pair.err.find("--lyapunov") != std::string::npos);
+  CHECK(pair.err.find("gear trains") != std::string::npos);
+}
+
 }  // namespace
 }  // namespace gearnvh

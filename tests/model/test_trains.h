@@ -94,4 +94,40 @@ inline TrainSpec RigidTwoStage() {
   return t;
 }
 
+// Input (g1, 20) -> layshaft (g2, 30; g3, 25) -> loose gear g4 (25) idling on the input shaft,
+// with a load on the layshaft and a drag on g4: a small rattling train (`excitation` rad/s^2 of
+// engine order 2; 0 for none).
+inline TrainSpec RattlerTrain(double excitation) {
+  TrainSpec t;
+  t.name = "rattler";
+  t.materials["steel"] = Material{206e9, 0.3, 7850.0};
+  t.shafts = {RigidShaft("input", 2e-3), RigidShaft("layshaft", 1e-3)};
+  t.gears = {TrainGearOf("g1", "input", 20), TrainGearOf("g2", "layshaft", 30),
+             TrainGearOf("g3", "layshaft", 25), TrainGearOf("g4", "input", 25, Mounting::kLoose)};
+  t.meshes = {TrainMeshOf("g1", "g2"), TrainMeshOf("g3", "g4")};
+  t.operating.input_shaft = "input";
+  t.operating.speed = 800.0 * 2.0 * std::numbers::pi / 60.0;
+  t.operating.loads = {{"layshaft", 20.0}, {"g4", 0.05}};
+  if (excitation > 0.0) t.operating.excitation = {{2.0, excitation, 0.0}};
+  t.analysis.segments_per_cycle = 16;
+  return t;
+}
+
+// Input (g1, 20) -> layshaft (g2, 40; g3, 20) -> output (g4, 40): two loaded stages.
+inline TrainSpec TwoStageTrain(double load, double excitation, double rpm) {
+  TrainSpec t;
+  t.name = "two-stage";
+  t.materials["steel"] = Material{206e9, 0.3, 7850.0};
+  t.shafts = {RigidShaft("input", 2e-3), RigidShaft("layshaft", 1e-3), RigidShaft("output", 5e-3)};
+  t.gears = {TrainGearOf("g1", "input", 20), TrainGearOf("g2", "layshaft", 40),
+             TrainGearOf("g3", "layshaft", 20), TrainGearOf("g4", "output", 40)};
+  t.meshes = {TrainMeshOf("g1", "g2"), TrainMeshOf("g3", "g4")};
+  t.operating.input_shaft = "input";
+  t.operating.speed = rpm * 2.0 * std::numbers::pi / 60.0;
+  t.operating.loads = {{"output", load}};
+  t.operating.excitation = {{2.0, excitation, 0.0}};
+  t.analysis.segments_per_cycle = 16;
+  return t;
+}
+
 }  // namespace gearnvh::testing

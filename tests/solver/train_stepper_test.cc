@@ -19,49 +19,10 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-// The hand-built pieces of tests/model/test_trains.h under short names.
-TrainGear Gear(const std::string& name, const std::string& shaft, int teeth,
-               Mounting mounting = Mounting::kFixed) {
-  return testing::TrainGearOf(name, shaft, teeth, mounting);
-}
-constexpr auto Rigid = testing::RigidShaft;
-constexpr auto Mesh = [](const std::string& a, const std::string& b, double backlash = 100e-6) {
-  return testing::TrainMeshOf(a, b, backlash);
-};
-
-// Input (g1, 20) -> layshaft (g2, 30; g3, 25) -> loose gear g4 (25) idling on the input shaft,
-// with a load on the layshaft and a drag on g4: the small rattling train of these tests.
-TrainSpec Rattler(double excitation) {
-  TrainSpec t;
-  t.name = "rattler";
-  t.materials["steel"] = Material{206e9, 0.3, 7850.0};
-  t.shafts = {Rigid("input", 2e-3), Rigid("layshaft", 1e-3)};
-  t.gears = {Gear("g1", "input", 20), Gear("g2", "layshaft", 30), Gear("g3", "layshaft", 25),
-             Gear("g4", "input", 25, Mounting::kLoose)};
-  t.meshes = {Mesh("g1", "g2"), Mesh("g3", "g4")};
-  t.operating.input_shaft = "input";
-  t.operating.speed = 800.0 * 2.0 * kPi / 60.0;
-  t.operating.loads = {{"layshaft", 20.0}, {"g4", 0.05}};
-  if (excitation > 0.0) t.operating.excitation = {{2.0, excitation, 0.0}};
-  t.analysis.segments_per_cycle = 16;
-  return t;
-}
-
-// Input (g1, 20) -> layshaft (g2, 40; g3, 20) -> output (g4, 40): two loaded stages.
+// The small rattling train and the two-stage train of tests/model/test_trains.h.
+TrainSpec Rattler(double excitation) { return testing::RattlerTrain(excitation); }
 TrainSpec TwoStage(double load, double excitation, double rpm) {
-  TrainSpec t;
-  t.name = "two-stage";
-  t.materials["steel"] = Material{206e9, 0.3, 7850.0};
-  t.shafts = {Rigid("input", 2e-3), Rigid("layshaft", 1e-3), Rigid("output", 5e-3)};
-  t.gears = {Gear("g1", "input", 20), Gear("g2", "layshaft", 40), Gear("g3", "layshaft", 20),
-             Gear("g4", "output", 40)};
-  t.meshes = {Mesh("g1", "g2"), Mesh("g3", "g4")};
-  t.operating.input_shaft = "input";
-  t.operating.speed = rpm * 2.0 * kPi / 60.0;
-  t.operating.loads = {{"output", load}};
-  t.operating.excitation = {{2.0, excitation, 0.0}};
-  t.analysis.segments_per_cycle = 16;
-  return t;
+  return testing::TwoStageTrain(load, excitation, rpm);
 }
 
 struct Model {

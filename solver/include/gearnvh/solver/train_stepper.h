@@ -45,6 +45,7 @@
 namespace gearnvh {
 
 class TrainRecorder;
+class TrainTangentPropagator;
 
 // The union grid of the meshes' segment boundaries, from integer cycle counts.
 class TrainGrid {
@@ -100,6 +101,9 @@ class TrainStepper {
                const Eigen::VectorXd& z0, const std::vector<ContactState>& states0);
   // Advances to `end_time` (s); the recorder (optional) sees every piece, sample and event.
   bool Run(double end_time, TrainRecorder* recorder = nullptr);
+
+  // Tangent columns advanced with the state (train_tangents.h); nullptr detaches. Not owned.
+  void AttachTangent(TrainTangentPropagator* tangent) { tangent_ = tangent; }
 
   // Restarts at t = 0 from z0 in states0, keeping the cache (the tuples already built).
   void Reset(const Eigen::VectorXd& z0, const std::vector<ContactState>& states0);
@@ -158,6 +162,7 @@ class TrainStepper {
   double recenter_period_ = 0.0, next_recenter_ = 0.0;
   long events_this_segment_ = 0;
   TrainStepperSummary summary_;
+  TrainTangentPropagator* tangent_ = nullptr;
 };
 
 }  // namespace gearnvh

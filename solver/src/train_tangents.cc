@@ -1,0 +1,87 @@
+#include "gearnvh/solver/train_tangents.h"
+
+#include <stdexcept>
+
+namespace gearnvh {
+
+void TrainTangentPropagator::Attach(Eigen::MatrixXd* tangent) {
+  v_ = tangent;
+  if (tangent == nullptr) return;
+  if (tangent->rows() != t_.m) {
+    throw std::invalid_argument("TrainTangentPropagator::Attach: the tangent needs m rows");
+  }
+  next_.resize(t_.m, tangent->cols());
+  work_.resize(t_.m, tangent->cols());
+  column_.resize(t_.m);
+  wt_.resize(t_.m);
+  scratch_.resize(t_.m);
+}
+
+void TrainTangentPropagator::PropagateDecoupled(const SpectralDecomposition& d, double step) {
+  work_.noalias() = d.S_inv * *v_;
+  for (Eigen::Index c = 0; c < v_->cols(); ++c) {
+    column_ = work_.col(c);
+    gearnvh::PropagateDecoupled(d, column_, step, wt_, scratch_);
+    work_.col(c) = wt_;
+  }
+  v_->noalias() = d.S * work_;
+  // The decomposition leaks rounding into the constant and input slots; a tangent entry there
+  // would act as a neutral forcing perturbation.
+  v_->bottomRows(2).setZero();
+}
+
+void TrainTangentPropagator::PropagateTaylor(const Eigen::MatrixXd& A, double step) {
+  // expm(A step) V by Horner: V + A step (V + A step / 2 (V + ...)).
+  work_ = *v_;
+  for (int k = kTaylorTerms; k >= 1; --k) {
+    next_.noalias() = A * work_;
+    work_ = *v_ + (step / static_cast<double>(k)) * next_;
+  }
+  v_->swap(work_);
+  v_->bottomRows(2).setZero();
+}
+
+double TrainTangentPropagator::MeshForce(int mesh, int segment, ContactState state,
+                                         const Eigen::VectorXd& z) const {
+  if (state == ContactState::kFree) return 0.0;
+  const TrainMeshTable& mt = t_.meshes[static_cast<size_t>(mesh)];
+  const bool drive = state == ContactState::kDrive;
+  const size_t j = static_cast<size_t>(segment);
+  const double k = drive ? mt.k_drive[j] : mt.k_back[j];
+  const double gap = t_.GapValue(mesh, segment, drive, z);
+  return k * gap + mt.damping * mt.v.dot(z.segment(t_.n, t_.n));
+}
+
+void TrainTangentPropagator::Saltation(int mesh, int segment, ContactState from, ContactState to,
+                                       const Eigen::VectorXd& z) {
+  const TrainMeshTable& mt = t_.meshes[static_cast<size_t>(mesh)];
+  const int n = t_.n;
+  const double rate = mt.v.dot(z.segment(n, n));  // n^T f-
+  const double jump = MeshForce(mesh, segment, from, z) - MeshForce(mesh, segment, to, z);
+  // V <- V + [0; M^-1 v_i jump] (v_i^T V.x) / rate.
+  for (Eigen::Index c = 0; c < v_->cols(); ++c) {
+    const double along = mt.v.dot(v_->col(c).head(n)) * jump / rate;
+    v_->col(c).segment(n, n) += along * mt.v.cwiseQuotient(t_.inertia);
+  }
+  ++saltations_;
+}
+
+void TrainTangentPropagator::Recenter() {
+  for (Eigen::Index c = 0; c < v_->cols(); ++c) {
+    const double drift = t_.recenter_row.dot(v_->col(c).head(t_.n));
+    v_->col(c).head(t_.n) -= drift * t_.rigid_rotation;
+  }
+}
+
+void RemoveTrainFreeRotation(const TrainTables& t, Eigen::Ref<Eigen::MatrixXd> V) {
+  const int n = t.n;
+  for (Eigen::Index c = 0; c < V.cols(); ++c) {
+    const double position = t.recenter_row.dot(V.col(c).head(n));
+    const double velocity = t.recenter_row.dot(V.col(c).segment(n, n));
+    V.col(c).head(n) -= position * t.rigid_rotation;
+    V.col(c).segment(n, n) -= velocity * t.rigid_rotation;
+  }
+  V.bottomRows(2).setZero();
+}
+
+}  // namespace gearnvh
