@@ -1,7 +1,7 @@
 // The preprint's strong-rattle operating point, like for like (issue 21, docs/BENCHMARKS.md §
 // "The paper's operating point"):
 //
-//   bash scripts/bench.sh --paper [--quick] [--cycles C] [--json FILE] [--case SUBSTRING]
+//   bash scripts/bench.sh --paper [--quick] [--cpu] [--cycles C] [--json FILE] [--case SUBSTRING]
 //
 // examples/flexible_shafts.yaml at 7548.387097 rpm (mesh frequency 3.9 kHz, period 256 us),
 // 20 N m, one engine order 15.5 of 200000 rad/s^2: 2.7-2.9 events per mesh cycle on every tier,
@@ -15,6 +15,7 @@
 #include <Eigen/Dense>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -72,7 +73,21 @@ double MatvecFloorNs(int m, int repeats) {
   return 1e9 * std::max(Median(t) - Median(rescale), 0.0) / static_cast<double>(n);
 }
 
+// Thread CPU seconds of f: on a machine shared with other jobs, wall time counts the waits for a
+// core (--cpu; the figures then still share caches with the other jobs).
+double CpuSecondsOnce(const std::function<void()>& f) {
+  auto now = [] {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+  };
+  const double t0 = now();
+  f();
+  return now() - t0;
+}
+
 struct Settings {
+  bool cpu = false;
   bool quick = false;
   int pairs = 5;
   long cycles = 1000, transient = 100;
@@ -86,7 +101,7 @@ struct Figures {
 };
 
 Figures Measure(const GearboxSpec& spec, Tier tier, const char* method, bool record,
-                const Settings& s) {
+                bool cycle_rows, const Settings& s, long cycles) {
   Figures f;
   OperatingPointModel op;
   f.build_ms = 1e3 * SecondsOnce([&] { op = BuildOperatingPointModel(spec, tier); });
@@ -95,14 +110,26 @@ Figures Measure(const GearboxSpec& spec, Tier tier, const char* method, bool rec
   ApplyMethodName(method, o);
   o.transient_cycles = s.transient;
   o.record_trajectory = record;
-  const double marginal = PairedMarginalSeconds(
-      [&](bool longer) {
-        o.cycles = longer ? 2 * s.cycles : s.cycles;
-        const SolverResult r = SimulateExact(op.tables, z0, s0, o);
-        if (longer) f.summary = r.summary;
-      },
-      s.pairs);
-  f.us_per_cycle = 1e6 * marginal / static_cast<double>(s.cycles);
+  o.cycle_rows = cycle_rows;
+  auto run = [&](bool longer) {
+    o.cycles = longer ? 2 * cycles : cycles;
+    const SolverResult r = SimulateExact(op.tables, z0, s0, o);
+    if (longer) f.summary = r.summary;
+  };
+  double marginal = 0.0;
+  if (s.cpu) {
+    // PairedMarginalSeconds with thread CPU time.
+    std::vector<double> differences;
+    for (int p = 0; p < s.pairs; ++p) {
+      const double short_run = CpuSecondsOnce([&] { run(false); });
+      const double long_run = CpuSecondsOnce([&] { run(true); });
+      differences.push_back(long_run - short_run);
+    }
+    marginal = std::max(Median(differences), 0.0);
+  } else {
+    marginal = PairedMarginalSeconds(run, s.pairs);
+  }
+  f.us_per_cycle = 1e6 * marginal / static_cast<double>(cycles);
   o.cycles = 1;
   o.transient_cycles = 0;
   f.setup_ms = 1e3 * SecondsOnce([&] { SimulateExact(op.tables, z0, s0, o); });
@@ -120,6 +147,8 @@ int main(int argc, char** argv) {
       s.pairs = 3;
       s.cycles = 300;
       s.transient = 50;
+    } else if (std::strcmp(argv[i], "--cpu") == 0) {
+      s.cpu = true;
     } else if (std::strcmp(argv[i], "--json") == 0 && i + 1 < argc) {
       json_file = argv[++i];
     } else if (std::strcmp(argv[i], "--cycles") == 0 && i + 1 < argc) {
@@ -127,16 +156,18 @@ int main(int argc, char** argv) {
     } else if (std::strcmp(argv[i], "--case") == 0 && i + 1 < argc) {
       only = argv[++i];
     } else {
-      fmt::print(stderr, "usage: {} [--quick] [--cycles C] [--json FILE] [--case SUBSTRING]\n",
+      fmt::print(stderr,
+                 "usage: {} [--quick] [--cpu] [--cycles C] [--json FILE] [--case SUBSTRING]\n",
                  argv[0]);
       return 2;
     }
   }
   const double mesh_period_us = 1e6 / 3900.0;
   fmt::print(
-      "gearnvh at the preprint's strong-rattle point — {} — one core — {} + {} transient cycles, "
-      "median of {} paired differences\n",
-      Machine(), s.cycles, s.transient, s.pairs);
+      "gearnvh at the preprint's strong-rattle point — {} — one core — runs of C and 2C cycles "
+      "(C = {} unless the row says) + {} transient cycles, "
+      "median of {} paired differences of {} time\n",
+      Machine(), s.cycles, s.transient, s.pairs, s.cpu ? "thread CPU" : "wall");
 
   std::map<int, double> floor_ns;  // state dimension -> ns per matvec
   auto floor_of = [&](int m) {
@@ -144,8 +175,8 @@ int main(int argc, char** argv) {
     return floor_ns[m];
   };
 
-  fmt::print("\n  {:<30} {:>4} {:>7} {:>8} {:>9} {:>8} {:>9} {:>9} {:>9} {:>9}\n", "case", "m",
-             "ev/cyc", "matvec/c", "us/cycle", "x real", "x paper", "floor us", "x floor",
+  fmt::print("\n  {:<40} {:>6} {:>4} {:>7} {:>8} {:>9} {:>8} {:>9} {:>9} {:>9} {:>9}\n", "case",
+             "C", "m", "ev/cyc", "matvec/c", "us/cycle", "x real", "x paper", "floor us", "x floor",
              "setup ms");
   struct Case {
     const char* label;
@@ -153,7 +184,11 @@ int main(int argc, char** argv) {
     Tier tier;
     const char* method;
     bool record;
-    double paper_us;  // 0: the preprint has no figure for it
+    double paper_us;         // 0: the preprint has no figure for it
+    bool cycle_rows = true;  // SolverOptions::cycle_rows
+    // At least this many cycles per run: a per-cycle cost of a few us must stand out of the
+    // set-up's jitter (the runs share a ~0.5 s set-up on N40 full).
+    long min_cycles = 0;
   };
   const GearboxSpec paper = PaperPoint();
   const Case cases[] = {
@@ -164,12 +199,16 @@ int main(int argc, char** argv) {
       {"N40 full, v3", paper, Tier::kTier5, "v3", false, kPaperN40FullUs},
       {"N40 full, fused", paper, Tier::kTier5, "fused", false, kPaperN40FullUs},
       {"N40 full, fused, recorded", paper, Tier::kTier5, "fused", true, kPaperN40FullUs},
-      {"loaded N40 full, recorded", LoadedPoint(), Tier::kTier5, "fused", true, 0.0},
+      {"loaded N40 full, recorded", LoadedPoint(), Tier::kTier5, "fused", true, 0.0, true, 50000},
+      // The same run recorded one matvec per segment and piece by piece (before output rows).
+      {"loaded N40 full, recorded, per segment", LoadedPoint(), Tier::kTier5, "fused", true, 0.0,
+       false},
   };
   nlohmann::json rows = nlohmann::json::array();
   for (const Case& c : cases) {
     if (std::string(c.label).find(only) == std::string::npos) continue;
-    const Figures f = Measure(c.spec, c.tier, c.method, c.record, s);
+    const long cycles = std::max(s.cycles, s.quick ? c.min_cycles / 5 : c.min_cycles);
+    const Figures f = Measure(c.spec, c.tier, c.method, c.record, c.cycle_rows, s, cycles);
     const int m = [&] {
       const OperatingPointModel op = BuildOperatingPointModel(c.spec, c.tier);
       return op.tables.m;
@@ -177,14 +216,17 @@ int main(int argc, char** argv) {
     const double floor_us = 1e-3 * floor_of(m) * f.summary.matvec_per_cycle;
     const double paper_ratio = c.paper_us > 0.0 ? c.paper_us / f.us_per_cycle : 0.0;
     fmt::print(
-        "  {:<30} {:>4} {:>7.2f} {:>8.1f} {:>9.2f} {:>8.2f} {:>9} {:>9.2f} {:>9.2f} {:>9.1f}\n",
-        c.label, m, f.summary.events_per_cycle, f.summary.matvec_per_cycle, f.us_per_cycle,
+        "  {:<40} {:>6} {:>4} {:>7.2f} {:>8.1f} {:>9.2f} {:>8.2f} {:>9} {:>9.2f} {:>9.2f} "
+        "{:>9.1f}\n",
+        c.label, cycles, m, f.summary.events_per_cycle, f.summary.matvec_per_cycle, f.us_per_cycle,
         mesh_period_us / f.us_per_cycle,
         paper_ratio > 0.0 ? fmt::format("{:.1f}", paper_ratio) : "-", floor_us,
         f.us_per_cycle / floor_us, f.setup_ms);
     rows.push_back({{"case", c.label},
                     {"state_dim", m},
                     {"recorded", c.record},
+                    {"cycles", cycles},
+                    {"cycle_rows", c.cycle_rows},
                     {"events_per_cycle", f.summary.events_per_cycle},
                     {"matvec_per_cycle", f.summary.matvec_per_cycle},
                     {"us_per_cycle", f.us_per_cycle},
@@ -205,9 +247,13 @@ int main(int argc, char** argv) {
   }
   fmt::print("\n");
   if (!json_file.empty()) {
-    const nlohmann::json doc = {{"machine", Machine()}, {"mesh_period_us", mesh_period_us},
-                                {"cycles", s.cycles},   {"pairs", s.pairs},
-                                {"runs", rows},         {"matvec_floor_ns", floors}};
+    const nlohmann::json doc = {{"machine", Machine()},
+                                {"clock", s.cpu ? "thread_cpu" : "wall"},
+                                {"mesh_period_us", mesh_period_us},
+                                {"cycles", s.cycles},
+                                {"pairs", s.pairs},
+                                {"runs", rows},
+                                {"matvec_floor_ns", floors}};
     std::ofstream(json_file) << doc.dump(1) << "\n";
     fmt::print("JSON: {}\n", json_file);
   }

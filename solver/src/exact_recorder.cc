@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "gearnvh/solver/cycle_output_rows.h"
 #include "polynomial_statistics.h"
 
 namespace gearnvh {
@@ -99,6 +100,11 @@ void ExactRecorder::Piece(int segment, ContactState state, double start, double 
   }
   ++out_->statistics.pieces;
   out_->statistics.duration += length;
+}
+
+void ExactRecorder::RowCycle(CycleOutputRows& rows, long cycle, double cycle_start,
+                             const Eigen::VectorXd& z) {
+  rows.Record(cycle, cycle_start, z, window_start_, next_sample_, dropped_, *out_);
 }
 
 void ExactRecorder::Chunk(const Eigen::MatrixXd& rows, double start, double length,

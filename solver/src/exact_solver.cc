@@ -120,9 +120,26 @@ bool ExactStepper::Run(long cycles, bool record) {
   return ok;
 }
 
+void ExactStepper::SetCycleMap(const ConstantContactCycle* cycle) {
+  cycle_map_ = cycle;
+  recording_.UseCycleMap(cycle);
+  if (cycle != nullptr) cycle_end_.resize(t_.m);
+}
+
 void ExactStepper::StepWholeSegments(bool recorded) {
   // Certified permanent contact or the linear reference: no wall can be reached.
   const double cycle_start = static_cast<double>(cycle_) * t_.mesh_period;
+  if (cycle_map_ != nullptr && !tangent_.active()) {
+    t_.SetInputs(cycle_, 0, state_.z);
+    if (!recorded || recording_.RowCycle(cycle_, cycle_start, state_.z)) {
+      cycle_end_.noalias() = cycle_map_->map() * state_.z;
+      state_.z.swap(cycle_end_);
+      ++state_.matvecs;
+      const int last = t_.segments() - 1;
+      time_ = cycle_start + t_.boundaries[last] + t_.SegmentLength(last);
+      return;
+    }
+  }
   for (int j = 0; j < t_.segments(); ++j) {
     const double seg_start = cycle_start + t_.boundaries[j];
     t_.SetInputs(cycle_, j, state_.z);
@@ -222,6 +239,7 @@ void ExactStepper::Restart(const Eigen::VectorXd& z, ContactState state) {
   time_ = 0.0;
   events_this_cycle_ = 0;
   fusion_.SetPermanentContact(false);
+  cycle_map_ = nullptr;
   SolverSummary fresh;
   fresh.table_bytes = summary_.table_bytes;
   fresh.spectral_fallback_systems = summary_.spectral_fallback_systems;
@@ -297,6 +315,7 @@ SolverResult SimulateExact(const SegmentTables& tables, const Eigen::VectorXd& z
     if (!cycle->Certify(stepper.state()).certified) return;
     stepper.summary().contact_certified = true;
     stepper.SetFusedContact(true);
+    if (options.cycle_rows) stepper.SetCycleMap(&*cycle);
     const long remaining_transient = options.transient_cycles - stepper.summary().mesh_cycles;
     if (remaining_transient > 0) {
       stepper.JumpTo(cycle->Jump(stepper.state(), remaining_transient), remaining_transient);

@@ -3,7 +3,8 @@
 namespace gearnvh {
 
 RunRecording::RunRecording(const SegmentTables& tables, const SolverOptions& options,
-                           size_t reserve_samples, size_t reserve_events) {
+                           size_t reserve_samples, size_t reserve_events)
+    : tables_(tables), samples_per_cycle_(options.samples_per_cycle) {
   trajectory_.samples.reserve(reserve_samples);
   trajectory_.events.reserve(reserve_events);
   if (options.record_trajectory) {
@@ -55,7 +56,28 @@ void RunRecording::Event(int segment, double time, ContactState from, ContactSta
   }
 }
 
+void RunRecording::UseCycleMap(const ConstantContactCycle* cycle) {
+  if (cycle != cycle_map_) {
+    rows_.reset();
+    rows_refused_ = false;
+  }
+  cycle_map_ = cycle;
+}
+
+bool RunRecording::RowCycle(long cycle, double cycle_start, const Eigen::VectorXd& z) {
+  if (!recorder_ || cycle_map_ == nullptr || rows_refused_) return false;
+  if (!rows_) {
+    rows_.emplace(tables_, *cycle_map_, *recorder_, samples_per_cycle_);
+    rows_refused_ = !rows_->usable();
+    if (rows_refused_) return false;
+  }
+  if (!rows_->entered()) rows_->Enter(cycle, z);
+  recorder_->RowCycle(*rows_, cycle, cycle_start, z);
+  return true;
+}
+
 void RunRecording::Clear() {
+  UseCycleMap(nullptr);
   trajectory_.samples.clear();
   trajectory_.events.clear();
   trajectory_.statistics = TrajectoryStatistics{};

@@ -53,6 +53,11 @@ class ConstantContactCycle {
   // Whether contact is kept forever from z0 (at a cycle start).
   ContactCertificate Certify(const Eigen::VectorXd& z0) const;
   ContactState state() const { return state_; }
+  // The quotient map's elastic block Pq = (L P L)[0:2n, 0:2n]: eigenvalues and eigenvectors
+  // (empty without an orbit), and the projector L itself.
+  const Eigen::VectorXcd& eigenvalues() const { return eigenvalues_; }
+  const Eigen::MatrixXcd& eigenvectors() const { return eigenvectors_; }
+  const Eigen::MatrixXd& projector() const { return L_; }
 
  private:
   Eigen::VectorXd Project(const Eigen::VectorXd& z) const;  // L z

@@ -31,6 +31,8 @@
 
 namespace gearnvh {
 
+class CycleOutputRows;
+
 class ExactRecorder {
  public:
   // Writes samples and statistics into *out; `samples_per_cycle` uniform samples per mesh cycle
@@ -46,10 +48,18 @@ class ExactRecorder {
   long dropped_samples() const { return dropped_; }
   size_t bytes() const;
 
-  static constexpr int kTerms = 18;  // K
+  // Mesh cycle `cycle` (starting at `cycle_start`) from z at its start by the output rows of a
+  // certified cycle (cycle_output_rows.h): the same samples and statistics as its pieces.
+  void RowCycle(CycleOutputRows& rows, long cycle, double cycle_start, const Eigen::VectorXd& z);
+  // The rows r_o A^k / k! of (segment, state): kOutputs (K + 1) x m, block o row k.
+  const Eigen::MatrixXd& chunk_rows(int segment, ContactState state) const {
+    return rows_[static_cast<size_t>(segment)][static_cast<int>(state)];
+  }
+
+  static constexpr int kTerms = 18;   // K
+  static constexpr int kOutputs = 4;  // TE, mesh force, pinion speed, wheel speed
 
  private:
-  static constexpr int kOutputs = 4;  // TE, mesh force, pinion speed, wheel speed
   void Chunk(const Eigen::MatrixXd& rows, double start, double length, const Eigen::VectorXd& z,
              ContactState state);
 

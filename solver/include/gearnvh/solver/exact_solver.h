@@ -25,6 +25,9 @@
 //        rounding; sampling + safeguarded Newton), or by dyadic bisection for V1.
 //      At an event: z <- z(t*), sigma <- new state, log it, continue the segment in the new state.
 //   4. at the cycle end: recentre the pair's free rotation.
+// Certified permanent contact with its cycle map (kFused, SolverOptions::cycle_rows): the whole
+// cycle is one cycle-map matvec instead, and a recorded cycle is recorded by output rows on its
+// start state (cycle_output_rows.h).
 // Given the piecewise-constant segment model, event times and states are exact to rounding.
 // A state found outside its wall at the start of a (sub-)step by more than the wall tolerance
 // 1e-12 b + 64 eps sum_i |c_i z_i| (the rounding floor of the gap, whose terms grow as the pair's
@@ -47,6 +50,7 @@
 #include <string>
 #include <vector>
 
+#include "gearnvh/solver/cycle_map.h"
 #include "gearnvh/solver/event_locator.h"
 #include "gearnvh/solver/exact_recorder.h"
 #include "gearnvh/solver/run_recording.h"
@@ -99,6 +103,10 @@ class ExactStepper : private EventHandler {
   bool Run(long cycles, bool record);
   // Certified permanent contact: cycles advance one matvec per segment from now on.
   void SetFusedContact(bool fused) { fusion_.SetPermanentContact(fused); }
+  // With SetFusedContact(true) and the certified cycle map of the current contact state (not
+  // owned; nullptr: none): each cycle in one cycle-map matvec, recorded cycles by output rows
+  // (cycle_output_rows.h). Not with an attached tangent.
+  void SetCycleMap(const ConstantContactCycle* cycle);
   // Replaces the state (after a certified jump) and advances the clock by whole cycles.
   void JumpTo(const Eigen::VectorXd& z, long cycles);
   // Tangent propagation (tangent_propagator.h, docs/design.md §5): the columns of *tangent
@@ -148,6 +156,8 @@ class ExactStepper : private EventHandler {
   SegmentFusion fusion_;
   RunRecording recording_;
   LocatorState state_;  // z, contact state, tangent, matvec count
+  const ConstantContactCycle* cycle_map_ = nullptr;
+  Eigen::VectorXd cycle_end_;
   double time_ = 0.0;
   long cycle_ = 0;
   long events_this_cycle_ = 0;

@@ -5,13 +5,18 @@
 //   Events: each contact change is counted (drive impacts, back impacts, separations) and logged
 //     (time, from, to, gap rate) while the reserved log has room; beyond it, counted only.
 //   Separated time: the recorded time in free flight, exact from the event times.
-// Construction reserves every buffer; nothing here allocates afterwards.
+//   Row cycles: with a certified cycle map (UseCycleMap), a whole recorded cycle goes to the
+//     recorder as output rows on its start state (cycle_output_rows.h, built on first use).
+// Construction reserves every buffer; nothing here allocates afterwards except the output rows'
+// tables, built once on the first row cycle.
 #pragma once
 
 #include <Eigen/Dense>
 #include <cstddef>
 #include <optional>
 
+#include "gearnvh/solver/cycle_map.h"
+#include "gearnvh/solver/cycle_output_rows.h"
 #include "gearnvh/solver/exact_recorder.h"
 #include "gearnvh/solver/segment_tables.h"
 #include "gearnvh/solver/solver_options.h"
@@ -41,14 +46,26 @@ class RunRecording {
   double SeparatedTime(const SolverSummary& summary, double now) const {
     return summary.separated_s + (free_since_ >= 0.0 ? now - free_since_ : 0.0);
   }
-  // Forgets everything recorded (the buffers keep their capacity).
+  // Certified permanent contact in cycle's state from now on (nullptr: none); not owned.
+  void UseCycleMap(const ConstantContactCycle* cycle);
+  // Records mesh cycle `cycle` (from `cycle_start`, state z at its start) by output rows; false
+  // (nothing recorded) when there is no certified cycle map or its rows are not usable.
+  bool RowCycle(long cycle, double cycle_start, const Eigen::VectorXd& z);
+  // Forgets everything recorded (the buffers keep their capacity) and the cycle map.
   void Clear();
   Trajectory& trajectory() { return trajectory_; }
-  size_t bytes() const { return recorder_ ? recorder_->bytes() : 0; }
+  size_t bytes() const {
+    return (recorder_ ? recorder_->bytes() : 0) + (rows_ ? rows_->bytes() : 0);
+  }
 
  private:
+  const SegmentTables& tables_;
+  int samples_per_cycle_;
   Trajectory trajectory_;
   std::optional<ExactRecorder> recorder_;
+  const ConstantContactCycle* cycle_map_ = nullptr;
+  std::optional<CycleOutputRows> rows_;
+  bool rows_refused_ = false;
   bool window_started_ = false;
   double free_since_ = -1.0;  // start of the current recorded free flight, or -1
   bool piece_open_ = false;

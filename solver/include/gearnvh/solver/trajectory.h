@@ -31,6 +31,7 @@ struct TrajectoryStatistics {
   OutputStatistics mesh_force;          // N
   OutputStatistics wheel_acceleration;  // rad/s^2 (integrals only)
   long pieces = 0, chunks = 0;
+  long row_cycles = 0;  // cycles recorded by output rows (cycle_output_rows.h); in pieces/chunks
 };
 
 struct TrajectorySample {
