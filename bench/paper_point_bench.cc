@@ -86,13 +86,14 @@ struct Figures {
 };
 
 Figures Measure(const GearboxSpec& spec, Tier tier, const char* method, bool record,
-                const Settings& s) {
+                double carry_max_error, const Settings& s) {
   Figures f;
   OperatingPointModel op;
   f.build_ms = 1e3 * SecondsOnce([&] { op = BuildOperatingPointModel(spec, tier); });
   const auto [z0, s0] = StaticInitialState(op.tables);
   SolverOptions o;
   ApplyMethodName(method, o);
+  o.carry_max_error = carry_max_error;
   o.transient_cycles = s.transient;
   o.record_trajectory = record;
   const double marginal = PairedMarginalSeconds(
@@ -154,13 +155,18 @@ int main(int argc, char** argv) {
     const char* method;
     bool record;
     double paper_us;  // 0: the preprint has no figure for it
+    // V3's carry in decoupled coordinates (SolverOptions::carry_max_error; 0: off, as before).
+    double carry_max_error = SolverOptions{}.carry_max_error;
   };
   const GearboxSpec paper = PaperPoint();
   const Case cases[] = {
+      {"tier 1, v3 uncarried", paper, Tier::kTier1, "v3", false, 0.0, 0.0},
       {"tier 1, v3", paper, Tier::kTier1, "v3", false, 0.0},
       {"tier 1, fused", paper, Tier::kTier1, "fused", false, 0.0},
+      {"N20 MTA, v3 uncarried", paper, Tier::kN20Mta, "v3", false, kPaperN20MtaUs, 0.0},
       {"N20 MTA, v3", paper, Tier::kN20Mta, "v3", false, kPaperN20MtaUs},
       {"N20 MTA, fused", paper, Tier::kN20Mta, "fused", false, kPaperN20MtaUs},
+      {"N40 full, v3 uncarried", paper, Tier::kTier5, "v3", false, kPaperN40FullUs, 0.0},
       {"N40 full, v3", paper, Tier::kTier5, "v3", false, kPaperN40FullUs},
       {"N40 full, fused", paper, Tier::kTier5, "fused", false, kPaperN40FullUs},
       {"N40 full, fused, recorded", paper, Tier::kTier5, "fused", true, kPaperN40FullUs},
@@ -169,7 +175,7 @@ int main(int argc, char** argv) {
   nlohmann::json rows = nlohmann::json::array();
   for (const Case& c : cases) {
     if (std::string(c.label).find(only) == std::string::npos) continue;
-    const Figures f = Measure(c.spec, c.tier, c.method, c.record, s);
+    const Figures f = Measure(c.spec, c.tier, c.method, c.record, c.carry_max_error, s);
     const int m = [&] {
       const OperatingPointModel op = BuildOperatingPointModel(c.spec, c.tier);
       return op.tables.m;
@@ -195,7 +201,13 @@ int main(int argc, char** argv) {
                     {"ratio_to_floor", f.us_per_cycle / floor_us},
                     {"solver_setup_ms", f.setup_ms},
                     {"model_build_ms", f.build_ms},
-                    {"table_bytes", f.summary.table_bytes}});
+                    {"table_bytes", f.summary.table_bytes},
+                    {"carried_systems", f.summary.carried_systems},
+                    {"carry_error_bound", f.summary.carry_error_bound},
+                    {"spectral_max_condition", f.summary.spectral_max_condition}});
+    fmt::print("    carried pairs {}, carry error bound {:.2g}, max cond(S) {:.3g}\n",
+               f.summary.carried_systems, f.summary.carry_error_bound,
+               f.summary.spectral_max_condition);
   }
   fmt::print("\n  matvec floor (ns per product, 32 matrices cycled):");
   nlohmann::json floors = nlohmann::json::object();

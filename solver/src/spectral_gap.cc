@@ -46,9 +46,7 @@ const char* SpectralInfoName(SpectralDecomposition::Info info) {
   return "unknown";
 }
 
-SpectralDecomposition DecomposeGenerator(const Eigen::MatrixXd& A, int n, double w_ref,
-                                         double horizon, double max_condition) {
-  SpectralDecomposition d;
+Eigen::VectorXd BalancingScale(const Eigen::MatrixXd& A, int n, double w_ref) {
   const int m = static_cast<int>(A.rows());
   Eigen::VectorXd scale = Eigen::VectorXd::Ones(m);
   scale.segment(n, n).setConstant(1.0 / w_ref);
@@ -60,6 +58,14 @@ SpectralDecomposition DecomposeGenerator(const Eigen::MatrixXd& A, int n, double
     const double column = (scale.asDiagonal() * A.col(j)).norm();
     if (column > 0.0) scale[j] = column / w_ref;
   }
+  return scale;
+}
+
+SpectralDecomposition DecomposeGenerator(const Eigen::MatrixXd& A, int n, double w_ref,
+                                         double horizon, double max_condition) {
+  SpectralDecomposition d;
+  const int m = static_cast<int>(A.rows());
+  const Eigen::VectorXd scale = BalancingScale(A, n, w_ref);
   Eigen::MatrixXd T = scale.asDiagonal() * A * scale.cwiseInverse().asDiagonal();
 
   // Ordered real Schur form: eigenvalues with |lambda| <= 1e-4 w_ref first. A Jordan block of
@@ -239,6 +245,12 @@ void ClosedFormGap::Load(const Eigen::VectorXd& w) {
 void ClosedFormGap::Load(const Eigen::VectorXd& w, double constant) {
   Load(w);
   poly_[0] += constant;
+}
+
+double ClosedFormGap::StartValue() const {
+  double value = zero_size_ > 0 ? poly_[0] : 0.0;
+  for (const Term& term : terms_) value += term.alpha;
+  return value;
 }
 
 double ClosedFormGap::Evaluate(double t, int order) const {

@@ -47,6 +47,11 @@ struct SpectralDecomposition {
 };
 const char* SpectralInfoName(SpectralDecomposition::Info info);
 
+// The balancing D of DecomposeGenerator (balanced generator D A D^-1): 1 on positions, 1/w_ref on
+// velocities, and on each constant or input slot the scale that gives its forcing column the norm
+// w_ref. Norms of D z weigh positions, velocities and forcing alike.
+Eigen::VectorXd BalancingScale(const Eigen::MatrixXd& A, int n, double w_ref);
+
 // Decomposes the augmented generator A (n reduced DOF, velocities balanced by w_ref as in
 // BalancedExpm) for times up to `horizon`.
 SpectralDecomposition DecomposeGenerator(const Eigen::MatrixXd& A, int n, double w_ref,
@@ -74,6 +79,8 @@ class ClosedFormGap {
   // augmented generator always has the constant slot's zero eigenvalue).
   void Load(const Eigen::VectorXd& w, double constant);
   double Value(double t) const { return Evaluate(t, 0); }
+  // g(0) of the loaded state, without exp or sincos.
+  double StartValue() const;
   double Rate(double t) const { return Evaluate(t, 1); }
   double Curvature(double t) const { return Evaluate(t, 2); }
   // An upper bound of |d^order g / dt^order| on [a, b], 0 <= a <= b, order 1 or 2.
