@@ -165,8 +165,7 @@ bool ExactStepper::StepCycleWith(Locator& locator, bool recorded, bool try_runs)
   const double cycle_start = static_cast<double>(cycle_) * t_.mesh_period;
   for (int j = 0; j < t_.segments(); ++j) {
     if (try_runs) {
-      if (state_.z_stale) locator.Materialise(state_);
-      const int run = fusion_.TryRun(cycle_, j, state_);
+      const int run = fusion_.TryRun(cycle_, j, state_, locator);
       if (run > 0) {
         summary_.run_fused_segments += run;
         j += run - 1;
