@@ -1,7 +1,7 @@
 // The preprint's strong-rattle operating point, like for like (issue 21, docs/BENCHMARKS.md §
 // "The paper's operating point"):
 //
-//   bash scripts/bench.sh --paper [--quick] [--cycles C] [--json FILE] [--case SUBSTRING]
+//   bash scripts/bench.sh --paper [--quick] [--cpu-time] [--cycles C] [--json FILE] [--case S]
 //
 // examples/flexible_shafts.yaml at 7548.387097 rpm (mesh frequency 3.9 kHz, period 256 us),
 // 20 N m, one engine order 15.5 of 200000 rad/s^2: 2.7-2.9 events per mesh cycle on every tier,
@@ -15,6 +15,8 @@
 #include <Eigen/Dense>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
+#include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -26,6 +28,32 @@ namespace {
 
 using namespace gearnvh;
 using namespace gearnvh::bench;
+
+// --cpu-time: every duration is the thread's CPU time (CLOCK_THREAD_CPUTIME_ID) instead of wall
+// time, so time slices given to other processes on a shared core are not counted (their cache
+// pollution still is).
+bool use_cpu_time = false;
+
+double Seconds(const std::function<void()>& f) {
+  if (!use_cpu_time) return SecondsOnce(f);
+  timespec t0{}, t1{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t0);
+  f();
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t1);
+  return static_cast<double>(t1.tv_sec - t0.tv_sec) +
+         1e-9 * static_cast<double>(t1.tv_nsec - t0.tv_nsec);
+}
+
+// PairedMarginalSeconds (bench_common.h) on the clock above.
+double PairedMarginal(const std::function<void(bool longer)>& run, int pairs) {
+  std::vector<double> differences;
+  for (int p = 0; p < pairs; ++p) {
+    const double short_run = Seconds([&] { run(false); });
+    const double long_run = Seconds([&] { run(true); });
+    differences.push_back(long_run - short_run);
+  }
+  return std::max(Median(differences), 0.0);
+}
 
 // The preprint's figures (us per mesh cycle at its strong-rattle rate, one core).
 constexpr double kPaperN40FullUs = 1282.0;
@@ -54,7 +82,7 @@ double MatvecFloorNs(int m, int repeats) {
   const long n = std::max<long>(20000, 40'000'000L / (static_cast<long>(m) * m));
   std::vector<double> t;
   for (int r = 0; r < repeats; ++r) {
-    t.push_back(SecondsOnce([&] {
+    t.push_back(Seconds([&] {
       for (long k = 0; k < n; ++k) {
         y.noalias() = a[k & 31] * x;
         x.swap(y);
@@ -65,7 +93,7 @@ double MatvecFloorNs(int m, int repeats) {
   // The rescale costs a pass over x; time it alone and subtract it.
   std::vector<double> rescale;
   for (int r = 0; r < repeats; ++r) {
-    rescale.push_back(SecondsOnce([&] {
+    rescale.push_back(Seconds([&] {
       for (long k = 0; k < n; ++k) x *= 0.5 / std::max(1.0, x.cwiseAbs().maxCoeff());
     }));
   }
@@ -89,14 +117,14 @@ Figures Measure(const GearboxSpec& spec, Tier tier, const char* method, bool rec
                 double carry_max_error, const Settings& s) {
   Figures f;
   OperatingPointModel op;
-  f.build_ms = 1e3 * SecondsOnce([&] { op = BuildOperatingPointModel(spec, tier); });
+  f.build_ms = 1e3 * Seconds([&] { op = BuildOperatingPointModel(spec, tier); });
   const auto [z0, s0] = StaticInitialState(op.tables);
   SolverOptions o;
   ApplyMethodName(method, o);
   o.carry_max_error = carry_max_error;
   o.transient_cycles = s.transient;
   o.record_trajectory = record;
-  const double marginal = PairedMarginalSeconds(
+  const double marginal = PairedMarginal(
       [&](bool longer) {
         o.cycles = longer ? 2 * s.cycles : s.cycles;
         const SolverResult r = SimulateExact(op.tables, z0, s0, o);
@@ -106,7 +134,7 @@ Figures Measure(const GearboxSpec& spec, Tier tier, const char* method, bool rec
   f.us_per_cycle = 1e6 * marginal / static_cast<double>(s.cycles);
   o.cycles = 1;
   o.transient_cycles = 0;
-  f.setup_ms = 1e3 * SecondsOnce([&] { SimulateExact(op.tables, z0, s0, o); });
+  f.setup_ms = 1e3 * Seconds([&] { SimulateExact(op.tables, z0, s0, o); });
   return f;
 }
 
@@ -121,6 +149,8 @@ int main(int argc, char** argv) {
       s.pairs = 3;
       s.cycles = 300;
       s.transient = 50;
+    } else if (std::strcmp(argv[i], "--cpu-time") == 0) {
+      use_cpu_time = true;
     } else if (std::strcmp(argv[i], "--json") == 0 && i + 1 < argc) {
       json_file = argv[++i];
     } else if (std::strcmp(argv[i], "--cycles") == 0 && i + 1 < argc) {
@@ -128,7 +158,8 @@ int main(int argc, char** argv) {
     } else if (std::strcmp(argv[i], "--case") == 0 && i + 1 < argc) {
       only = argv[++i];
     } else {
-      fmt::print(stderr, "usage: {} [--quick] [--cycles C] [--json FILE] [--case SUBSTRING]\n",
+      fmt::print(stderr,
+                 "usage: {} [--quick] [--cpu-time] [--cycles C] [--json FILE] [--case SUBSTRING]\n",
                  argv[0]);
       return 2;
     }
@@ -136,8 +167,8 @@ int main(int argc, char** argv) {
   const double mesh_period_us = 1e6 / 3900.0;
   fmt::print(
       "gearnvh at the preprint's strong-rattle point — {} — one core — {} + {} transient cycles, "
-      "median of {} paired differences\n",
-      Machine(), s.cycles, s.transient, s.pairs);
+      "median of {} paired differences, {} time\n",
+      Machine(), s.cycles, s.transient, s.pairs, use_cpu_time ? "thread CPU" : "wall");
 
   std::map<int, double> floor_ns;  // state dimension -> ns per matvec
   auto floor_of = [&](int m) {

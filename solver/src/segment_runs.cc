@@ -141,19 +141,22 @@ const SegmentRun& SegmentRunTable::Run(int level, int index) {
 
 const SegmentRun* SegmentRunTable::Certify(int segment, const Eigen::VectorXd& z,
                                            Eigen::VectorXd& scratch) {
-  if (runs_.empty()) return nullptr;
+  if (runs_.empty() || segment % 2 != 0) return nullptr;
   // |L Pi z|: the elastic state (free rotation removed), slots cleared, constant slot kept.
   scratch = z;
   scratch.tail(t_->inputs).setZero();
   Eigen::Map<Eigen::MatrixXd> as_matrix(scratch.data(), scratch.size(), 1);
   RemoveFreeRotation(*t_, as_matrix);
-  for (int level = static_cast<int>(runs_.size()); level >= 1; --level) {
+  // Shortest first: a run's certificate implies that of every shorter run from the same start (the
+  // same rows and reference, its weights and constant maxima over a subset of the grid, a shorter
+  // duration), so the first refusal ends the search and longer runs are built only when needed.
+  const SegmentRun* longest = nullptr;
+  for (int level = 1; level <= static_cast<int>(runs_.size()); ++level) {
     const int r = 1 << level;
-    if (segment % r != 0) continue;
+    if (segment % r != 0) break;
     const size_t index = static_cast<size_t>(segment / r);
-    if (index >= runs_[static_cast<size_t>(level - 1)].size()) continue;
+    if (index >= runs_[static_cast<size_t>(level - 1)].size()) break;
     const SegmentRun& run = Run(level, static_cast<int>(index));
-    bool certified = true;
     for (const SegmentRun::Wall& w : run.walls) {
       const double h0 = w.position_row.dot(z);
       // The rate at the start: the slots cleared in scratch, their terms bounded by u_max.
@@ -164,14 +167,11 @@ const SegmentRun* SegmentRunTable::Certify(int segment, const Eigen::VectorXd& z
                                        w.input_weights.dot(input_bounds_));
       const double d = run.duration;
       const double reach = h0 + h1 * d + 0.5 * m2 * d * d;
-      if (!(reach + w.constant_max < -tolerance_)) {
-        certified = false;
-        break;
-      }
+      if (!(reach + w.constant_max < -tolerance_)) return longest;
     }
-    if (certified) return &run;
+    longest = &run;
   }
-  return nullptr;
+  return longest;
 }
 
 size_t SegmentRunTable::bytes() const { return bytes_; }
