@@ -225,7 +225,48 @@ ClosedFormGap::ClosedFormGap(const SpectralDecomposition& d, const Eigen::RowVec
   }
 }
 
+ClosedFormGap::ClosedFormGap(const SpectralDecomposition& d, const Eigen::RowVectorXd& row,
+                             double horizon)
+    : ClosedFormGap(d, row) {
+  const Eigen::RowVectorXd u = row * d.S;
+  const int m = static_cast<int>(u.size());
+  end_ = horizon;
+  end_value_row_ = Eigen::RowVectorXd::Zero(m);
+  end_rate_row_ = Eigen::RowVectorXd::Zero(m);
+  // Polynomial part: p(H) = sum_k poly_rows_k H^k w0, p'(H) = sum_k k poly_rows_k H^(k-1) w0.
+  if (zero_size_ > 0) {
+    double power = 1.0;  // H^k
+    for (int k = 0; k < poly_rows_.rows(); ++k) {
+      end_value_row_.head(zero_size_) += power * poly_rows_.row(k);
+      if (k + 1 < poly_rows_.rows())
+        end_rate_row_.head(zero_size_) +=
+            static_cast<double>(k + 1) * power * poly_rows_.row(k + 1);
+      power *= horizon;
+    }
+  }
+  for (const auto& b : d.blocks) {
+    const double grow = std::exp(b.sigma * horizon);
+    if (b.size == 1) {
+      end_value_row_[b.start] = u[b.start] * grow;
+      end_rate_row_[b.start] = u[b.start] * b.sigma * grow;
+      continue;
+    }
+    // e^{B H} = e^{sigma H}(cos(omega H) I + sin(omega H) / omega (B - sigma I)); the rate row
+    // is u_b B e^{B H}.
+    const Eigen::Matrix2d E = grow * (std::cos(b.omega * horizon) * Eigen::Matrix2d::Identity() +
+                                      std::sin(b.omega * horizon) / b.omega *
+                                          (b.B - b.sigma * Eigen::Matrix2d::Identity()));
+    const Eigen::RowVector2d ub = u.segment<2>(b.start);
+    end_value_row_.segment<2>(b.start) = ub * E;
+    end_rate_row_.segment<2>(b.start) = ub * b.B * E;
+  }
+}
+
 void ClosedFormGap::Load(const Eigen::VectorXd& w) {
+  if (end_ >= 0.0) {
+    end_value_ = end_value_row_.dot(w);
+    end_rate_ = end_rate_row_.dot(w);
+  }
   if (zero_size_ > 0) poly_.noalias() = poly_rows_ * w.head(zero_size_);
   for (Term& t : terms_) {
     if (t.size == 1) {
@@ -245,6 +286,7 @@ void ClosedFormGap::Load(const Eigen::VectorXd& w) {
 void ClosedFormGap::Load(const Eigen::VectorXd& w, double constant) {
   Load(w);
   poly_[0] += constant;
+  end_value_ += constant;
 }
 
 double ClosedFormGap::StartValue() const {
@@ -297,6 +339,7 @@ ClosedFormGap::Jet ClosedFormGap::SearchJet(double t) const {
     }
     return {sign_ * value - offset_, sign_ * rate};
   }
+  if (t == end_) return {sign_ * end_value_ - offset_, sign_ * end_rate_};  // two dot products
   const int degree = static_cast<int>(poly_.size()) - 1;
   if (zero_size_ > 0) {
     for (int k = degree; k >= 0; --k) value = value * t + poly_[k];

@@ -44,7 +44,8 @@ SpectralLocator::System& SpectralLocator::Prepared(int segment, ContactState sta
   }
   statistics_.spectral_max_condition =
       std::max(statistics_.spectral_max_condition, sp.decomposition.condition);
-  for (int g = 0; g < kGapRows; ++g) sp.gaps[g] = ClosedFormGap(sp.decomposition, GapRow(sys, g));
+  for (int g = 0; g < kGapRows; ++g)
+    sp.gaps[g] = ClosedFormGap(sp.decomposition, GapRow(sys, g), t_.SegmentLength(segment));
   statistics_.table_bytes += 2 * sizeof(double) * static_cast<size_t>(t_.m) * t_.m;
   return sp;
 }
