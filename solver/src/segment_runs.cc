@@ -59,6 +59,13 @@ SegmentRunTable::SegmentRunTable(const SegmentTables& t, ContactState state, int
     runs_.emplace_back(static_cast<size_t>(S / (1 << level)));
     built_.emplace_back(static_cast<size_t>(S / (1 << level)), false);
   }
+  // Built up front: the stepping loop must not allocate (a lazy build on a run's first
+  // certificate would, at any cycle).
+  for (int level = 1; level <= static_cast<int>(runs_.size()); ++level) {
+    for (int index = 0; index < static_cast<int>(runs_[static_cast<size_t>(level - 1)].size());
+         ++index)
+      Run(level, index);
+  }
 }
 
 const SegmentRun& SegmentRunTable::Run(int level, int index) {

@@ -6,10 +6,10 @@
 //     certificate holds and the end state is inside every wall of the contact state. Refusals
 //     back off: after k refusals in a row at a (state, segment) the next 2^k - 1 visits there
 //     (at most kMaxBackoff) are not tried, so a strongly rattling run pays the certificate
-//     rarely; one success resets it. The run tables are built when first tried.
+//     rarely; one success resets it.
 //   Whole segments: certified permanent contact (ConstantContactCycle, set by SimulateExact) or
 //     the linear reference (ignore_walls): z <- Phi_{j,sigma} z, one matvec, no event possible.
-// Nothing here allocates after construction except the first certificate of a run.
+// Nothing here allocates after construction.
 #pragma once
 
 #include <Eigen/Dense>

@@ -54,17 +54,15 @@ struct SegmentRun {
 class SegmentRunTable {
  public:
   SegmentRunTable() = default;
-  // Runs of 2, 4, ..., 2^max_level segments in `state`, aligned, for every start; each run's
-  // product and weights are built when a certificate first asks for it (a run the stepper never
-  // tries costs nothing).
+  // Runs of 2, 4, ..., 2^max_level segments in `state`, aligned, for every start, built here.
   SegmentRunTable(const SegmentTables& tables, ContactState state, int max_level);
   // The longest run starting at `segment` that is certified for z (at that segment's start), or
-  // nullptr. `scratch` has m entries. Allocates only when it builds a run.
+  // nullptr. `scratch` has m entries. Does not allocate.
   const SegmentRun* Certify(int segment, const Eigen::VectorXd& z, Eigen::VectorXd& scratch);
   size_t bytes() const;  // of the runs built so far
 
  private:
-  // The run of 2^level segments starting at segment index * 2^level, built on first use.
+  // The run of 2^level segments starting at segment index * 2^level (built by the constructor).
   const SegmentRun& Run(int level, int index);
   const SegmentTables* t_ = nullptr;
   ContactState state_ = ContactState::kFree;
