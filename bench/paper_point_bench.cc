@@ -1,7 +1,8 @@
 // The preprint's strong-rattle operating point, like for like (issue 21, docs/BENCHMARKS.md §
 // "The paper's operating point"):
 //
-//   bash scripts/bench.sh --paper [--quick] [--cpu] [--cycles C] [--json FILE] [--case SUBSTRING]
+//   bash scripts/bench.sh --paper [--quick] [--cpu-time] [--events K] [--cycles C] [--json FILE]
+//                                 [--case S]
 //
 // examples/flexible_shafts.yaml at 7548.387097 rpm (mesh frequency 3.9 kHz, period 256 us),
 // 20 N m, one engine order 15.5 of 200000 rad/s^2: 2.7-2.9 events per mesh cycle on every tier,
@@ -16,6 +17,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <ctime>
+#include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -27,6 +29,32 @@ namespace {
 
 using namespace gearnvh;
 using namespace gearnvh::bench;
+
+// --cpu-time: every duration is the thread's CPU time (CLOCK_THREAD_CPUTIME_ID) instead of wall
+// time, so time slices given to other processes on a shared core are not counted (their cache
+// pollution still is).
+bool use_cpu_time = false;
+
+double Seconds(const std::function<void()>& f) {
+  if (!use_cpu_time) return SecondsOnce(f);
+  timespec t0{}, t1{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t0);
+  f();
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t1);
+  return static_cast<double>(t1.tv_sec - t0.tv_sec) +
+         1e-9 * static_cast<double>(t1.tv_nsec - t0.tv_nsec);
+}
+
+// PairedMarginalSeconds (bench_common.h) on the clock above.
+double PairedMarginal(const std::function<void(bool longer)>& run, int pairs) {
+  std::vector<double> differences;
+  for (int p = 0; p < pairs; ++p) {
+    const double short_run = Seconds([&] { run(false); });
+    const double long_run = Seconds([&] { run(true); });
+    differences.push_back(long_run - short_run);
+  }
+  return std::max(Median(differences), 0.0);
+}
 
 // The preprint's figures (us per mesh cycle at its strong-rattle rate, one core).
 constexpr double kPaperN40FullUs = 1282.0;
@@ -55,7 +83,7 @@ double MatvecFloorNs(int m, int repeats) {
   const long n = std::max<long>(20000, 40'000'000L / (static_cast<long>(m) * m));
   std::vector<double> t;
   for (int r = 0; r < repeats; ++r) {
-    t.push_back(SecondsOnce([&] {
+    t.push_back(Seconds([&] {
       for (long k = 0; k < n; ++k) {
         y.noalias() = a[k & 31] * x;
         x.swap(y);
@@ -66,28 +94,14 @@ double MatvecFloorNs(int m, int repeats) {
   // The rescale costs a pass over x; time it alone and subtract it.
   std::vector<double> rescale;
   for (int r = 0; r < repeats; ++r) {
-    rescale.push_back(SecondsOnce([&] {
+    rescale.push_back(Seconds([&] {
       for (long k = 0; k < n; ++k) x *= 0.5 / std::max(1.0, x.cwiseAbs().maxCoeff());
     }));
   }
   return 1e9 * std::max(Median(t) - Median(rescale), 0.0) / static_cast<double>(n);
 }
 
-// Thread CPU seconds of f: on a machine shared with other jobs, wall time counts the waits for a
-// core (--cpu; the figures then still share caches with the other jobs).
-double CpuSecondsOnce(const std::function<void()>& f) {
-  auto now = [] {
-    timespec ts{};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-  };
-  const double t0 = now();
-  f();
-  return now() - t0;
-}
-
 struct Settings {
-  bool cpu = false;
   bool quick = false;
   int pairs = 5;
   long cycles = 1000, transient = 100;
@@ -101,39 +115,62 @@ struct Figures {
 };
 
 Figures Measure(const GearboxSpec& spec, Tier tier, const char* method, bool record,
-                bool cycle_rows, const Settings& s, long cycles) {
+                double carry_max_error, bool cycle_rows, const Settings& s, long cycles) {
   Figures f;
   OperatingPointModel op;
-  f.build_ms = 1e3 * SecondsOnce([&] { op = BuildOperatingPointModel(spec, tier); });
+  f.build_ms = 1e3 * Seconds([&] { op = BuildOperatingPointModel(spec, tier); });
   const auto [z0, s0] = StaticInitialState(op.tables);
   SolverOptions o;
   ApplyMethodName(method, o);
+  o.carry_max_error = carry_max_error;
+  o.cycle_rows = cycle_rows;
   o.transient_cycles = s.transient;
   o.record_trajectory = record;
-  o.cycle_rows = cycle_rows;
-  auto run = [&](bool longer) {
-    o.cycles = longer ? 2 * cycles : cycles;
-    const SolverResult r = SimulateExact(op.tables, z0, s0, o);
-    if (longer) f.summary = r.summary;
-  };
-  double marginal = 0.0;
-  if (s.cpu) {
-    // PairedMarginalSeconds with thread CPU time.
-    std::vector<double> differences;
-    for (int p = 0; p < s.pairs; ++p) {
-      const double short_run = CpuSecondsOnce([&] { run(false); });
-      const double long_run = CpuSecondsOnce([&] { run(true); });
-      differences.push_back(long_run - short_run);
-    }
-    marginal = std::max(Median(differences), 0.0);
-  } else {
-    marginal = PairedMarginalSeconds(run, s.pairs);
-  }
+  const double marginal = PairedMarginal(
+      [&](bool longer) {
+        o.cycles = longer ? 2 * cycles : cycles;
+        const SolverResult r = SimulateExact(op.tables, z0, s0, o);
+        if (longer) f.summary = r.summary;
+      },
+      s.pairs);
   f.us_per_cycle = 1e6 * marginal / static_cast<double>(cycles);
   o.cycles = 1;
   o.transient_cycles = 0;
-  f.setup_ms = 1e3 * SecondsOnce([&] { SimulateExact(op.tables, z0, s0, o); });
+  f.setup_ms = 1e3 * Seconds([&] { SimulateExact(op.tables, z0, s0, o); });
   return f;
+}
+
+// The events of `cycles` mesh cycles after `transient` ones, V3 with and without the carry in
+// decoupled coordinates, from the same start: counts and the largest time difference (in units of
+// the first segment's length). Rattle amplifies rounding differences from impact to impact, so
+// the horizon is short.
+void CompareCarriedEvents(const GearboxSpec& spec, Tier tier, long transient, long cycles) {
+  const OperatingPointModel op = BuildOperatingPointModel(spec, tier);
+  const auto [z0, s0] = StaticInitialState(op.tables);
+  SolverOptions o;
+  ApplyMethodName("v3", o);
+  o.record_trajectory = false;
+  ExactStepper settle(op.tables, o, z0, s0, 0, 0);
+  settle.Run(transient, false);
+  std::vector<EventRecord> events[2];
+  for (int carried = 0; carried < 2; ++carried) {
+    o.carry_max_error = carried == 1 ? SolverOptions{}.carry_max_error : 0.0;
+    ExactStepper stepper(op.tables, o, settle.state(), settle.contact(), 0, 4096);
+    stepper.Run(cycles, true);
+    events[carried] = stepper.trajectory().events;
+  }
+  const double h = op.tables.SegmentLength(0);
+  double worst = 0.0;
+  size_t same_kind = 0;
+  for (size_t i = 0; i < std::min(events[0].size(), events[1].size()); ++i) {
+    if (events[0][i].to != events[1][i].to) break;
+    ++same_kind;
+    worst = std::max(worst, std::abs(events[0][i].time - events[1][i].time));
+  }
+  fmt::print(
+      "    events over {} cycles: {} uncarried, {} carried, {} alike in order, largest time "
+      "difference {:.2g} h\n",
+      cycles, events[0].size(), events[1].size(), same_kind, worst / h);
 }
 
 }  // namespace
@@ -141,14 +178,17 @@ Figures Measure(const GearboxSpec& spec, Tier tier, const char* method, bool rec
 int main(int argc, char** argv) {
   Settings s;
   std::string json_file, only;
+  long event_cycles = 0;  // --events K: the carried/uncarried event comparison of each V3 case
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--quick") == 0) {
       s.quick = true;
       s.pairs = 3;
       s.cycles = 300;
       s.transient = 50;
-    } else if (std::strcmp(argv[i], "--cpu") == 0) {
-      s.cpu = true;
+    } else if (std::strcmp(argv[i], "--events") == 0 && i + 1 < argc) {
+      event_cycles = std::max(1L, std::atol(argv[++i]));
+    } else if (std::strcmp(argv[i], "--cpu-time") == 0) {
+      use_cpu_time = true;
     } else if (std::strcmp(argv[i], "--json") == 0 && i + 1 < argc) {
       json_file = argv[++i];
     } else if (std::strcmp(argv[i], "--cycles") == 0 && i + 1 < argc) {
@@ -156,18 +196,18 @@ int main(int argc, char** argv) {
     } else if (std::strcmp(argv[i], "--case") == 0 && i + 1 < argc) {
       only = argv[++i];
     } else {
-      fmt::print(stderr,
-                 "usage: {} [--quick] [--cpu] [--cycles C] [--json FILE] [--case SUBSTRING]\n",
-                 argv[0]);
+      fmt::print(
+          stderr,
+          "usage: {} [--quick] [--cpu-time] [--events K] [--cycles C] [--json FILE] [--case S]\n",
+          argv[0]);
       return 2;
     }
   }
   const double mesh_period_us = 1e6 / 3900.0;
   fmt::print(
-      "gearnvh at the preprint's strong-rattle point — {} — one core — runs of C and 2C cycles "
-      "(C = {} unless the row says) + {} transient cycles, "
-      "median of {} paired differences of {} time\n",
-      Machine(), s.cycles, s.transient, s.pairs, s.cpu ? "thread CPU" : "wall");
+      "gearnvh at the preprint's strong-rattle point — {} — one core — {} + {} transient cycles, "
+      "median of {} paired differences, {} time\n",
+      Machine(), s.cycles, s.transient, s.pairs, use_cpu_time ? "thread CPU" : "wall");
 
   std::map<int, double> floor_ns;  // state dimension -> ns per matvec
   auto floor_of = [&](int m) {
@@ -184,7 +224,9 @@ int main(int argc, char** argv) {
     Tier tier;
     const char* method;
     bool record;
-    double paper_us;         // 0: the preprint has no figure for it
+    double paper_us;  // 0: the preprint has no figure for it
+    // V3's carry in decoupled coordinates (SolverOptions::carry_max_error; 0: off, as before).
+    double carry_max_error = SolverOptions{}.carry_max_error;
     bool cycle_rows = true;  // SolverOptions::cycle_rows
     // At least this many cycles per run: a per-cycle cost of a few us must stand out of the
     // set-up's jitter (the runs share a ~0.5 s set-up on N40 full).
@@ -192,23 +234,28 @@ int main(int argc, char** argv) {
   };
   const GearboxSpec paper = PaperPoint();
   const Case cases[] = {
+      {"tier 1, v3 uncarried", paper, Tier::kTier1, "v3", false, 0.0, 0.0},
       {"tier 1, v3", paper, Tier::kTier1, "v3", false, 0.0},
       {"tier 1, fused", paper, Tier::kTier1, "fused", false, 0.0},
+      {"N20 MTA, v3 uncarried", paper, Tier::kN20Mta, "v3", false, kPaperN20MtaUs, 0.0},
       {"N20 MTA, v3", paper, Tier::kN20Mta, "v3", false, kPaperN20MtaUs},
       {"N20 MTA, fused", paper, Tier::kN20Mta, "fused", false, kPaperN20MtaUs},
+      {"N40 full, v3 uncarried", paper, Tier::kTier5, "v3", false, kPaperN40FullUs, 0.0},
       {"N40 full, v3", paper, Tier::kTier5, "v3", false, kPaperN40FullUs},
       {"N40 full, fused", paper, Tier::kTier5, "fused", false, kPaperN40FullUs},
       {"N40 full, fused, recorded", paper, Tier::kTier5, "fused", true, kPaperN40FullUs},
-      {"loaded N40 full, recorded", LoadedPoint(), Tier::kTier5, "fused", true, 0.0, true, 50000},
+      {"loaded N40 full, recorded", LoadedPoint(), Tier::kTier5, "fused", true, 0.0,
+       SolverOptions{}.carry_max_error, true, 50000},
       // The same run recorded one matvec per segment and piece by piece (before output rows).
       {"loaded N40 full, recorded, per segment", LoadedPoint(), Tier::kTier5, "fused", true, 0.0,
-       false},
+       SolverOptions{}.carry_max_error, false},
   };
   nlohmann::json rows = nlohmann::json::array();
   for (const Case& c : cases) {
     if (std::string(c.label).find(only) == std::string::npos) continue;
     const long cycles = std::max(s.cycles, s.quick ? c.min_cycles / 5 : c.min_cycles);
-    const Figures f = Measure(c.spec, c.tier, c.method, c.record, c.cycle_rows, s, cycles);
+    const Figures f =
+        Measure(c.spec, c.tier, c.method, c.record, c.carry_max_error, c.cycle_rows, s, cycles);
     const int m = [&] {
       const OperatingPointModel op = BuildOperatingPointModel(c.spec, c.tier);
       return op.tables.m;
@@ -224,9 +271,9 @@ int main(int argc, char** argv) {
         f.us_per_cycle / floor_us, f.setup_ms);
     rows.push_back({{"case", c.label},
                     {"state_dim", m},
-                    {"recorded", c.record},
                     {"cycles", cycles},
                     {"cycle_rows", c.cycle_rows},
+                    {"recorded", c.record},
                     {"events_per_cycle", f.summary.events_per_cycle},
                     {"matvec_per_cycle", f.summary.matvec_per_cycle},
                     {"us_per_cycle", f.us_per_cycle},
@@ -237,7 +284,15 @@ int main(int argc, char** argv) {
                     {"ratio_to_floor", f.us_per_cycle / floor_us},
                     {"solver_setup_ms", f.setup_ms},
                     {"model_build_ms", f.build_ms},
-                    {"table_bytes", f.summary.table_bytes}});
+                    {"table_bytes", f.summary.table_bytes},
+                    {"carried_systems", f.summary.carried_systems},
+                    {"carry_error_bound", f.summary.carry_error_bound},
+                    {"spectral_max_condition", f.summary.spectral_max_condition}});
+    if (event_cycles > 0 && std::strcmp(c.method, "v3") == 0 && c.carry_max_error > 0.0)
+      CompareCarriedEvents(c.spec, c.tier, s.transient, event_cycles);
+    fmt::print("    carried pairs {}, carry error bound {:.2g}, max cond(S) {:.3g}\n",
+               f.summary.carried_systems, f.summary.carry_error_bound,
+               f.summary.spectral_max_condition);
   }
   fmt::print("\n  matvec floor (ns per product, 32 matrices cycled):");
   nlohmann::json floors = nlohmann::json::object();
@@ -247,13 +302,9 @@ int main(int argc, char** argv) {
   }
   fmt::print("\n");
   if (!json_file.empty()) {
-    const nlohmann::json doc = {{"machine", Machine()},
-                                {"clock", s.cpu ? "thread_cpu" : "wall"},
-                                {"mesh_period_us", mesh_period_us},
-                                {"cycles", s.cycles},
-                                {"pairs", s.pairs},
-                                {"runs", rows},
-                                {"matvec_floor_ns", floors}};
+    const nlohmann::json doc = {{"machine", Machine()}, {"mesh_period_us", mesh_period_us},
+                                {"cycles", s.cycles},   {"pairs", s.pairs},
+                                {"runs", rows},         {"matvec_floor_ns", floors}};
     std::ofstream(json_file) << doc.dump(1) << "\n";
     fmt::print("JSON: {}\n", json_file);
   }

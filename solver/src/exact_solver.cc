@@ -29,6 +29,10 @@ void SolverOptions::Validate() const {
     throw InputError("SolverOptions.spectral_max_condition", 0,
                      std::to_string(spectral_max_condition), "must be >= 1");
   }
+  if (!(carry_max_error >= 0.0)) {
+    throw InputError("SolverOptions.carry_max_error", 0, std::to_string(carry_max_error),
+                     "must be >= 0");
+  }
   if (fusion_levels < 0 || fusion_levels > 5) {
     throw InputError("SolverOptions.fusion_levels", 0, std::to_string(fusion_levels),
                      "must be in [0, 5] (runs of up to 32 segments)");
@@ -97,6 +101,8 @@ void ExactStepper::UpdateTableStatistics() {
   const LocatorStatistics& located = locator_->statistics();
   summary_.spectral_fallback_systems = located.spectral_fallback_systems;
   summary_.spectral_max_condition = located.spectral_max_condition;
+  summary_.carried_systems = located.carried_systems;
+  summary_.carry_error_bound = located.carry_error_bound;
   summary_.table_bytes =
       located.table_bytes + fusion_.bytes() + t_.TableBytes() + recording_.bytes();
 }
@@ -106,6 +112,9 @@ bool ExactStepper::Run(long cycles, bool record) {
   const double run_start = static_cast<double>(cycle_) * t_.mesh_period;
   const bool recorded = recording_.StartRun(run_start, record, state_.contact);
   const bool try_runs = fusion_.runs_enabled() && !tangent_.active() && !recorded;
+  // Between segments only the input slots of z are touched unless a piece is recorded or a
+  // tangent is carried: the locator may then keep the state in its own coordinates.
+  state_.allow_carry = !recorded && !tangent_.active();
   bool ok = true;
   for (long c = 0; c < cycles; ++c, ++cycle_) {
     if (options_.Cancelled()) throw RunCancelled();
@@ -173,7 +182,7 @@ bool ExactStepper::StepCycleWith(Locator& locator, bool recorded, bool try_runs)
   const double cycle_start = static_cast<double>(cycle_) * t_.mesh_period;
   for (int j = 0; j < t_.segments(); ++j) {
     if (try_runs) {
-      const int run = fusion_.TryRun(cycle_, j, state_);
+      const int run = fusion_.TryRun(cycle_, j, state_, locator);
       if (run > 0) {
         summary_.run_fused_segments += run;
         j += run - 1;
@@ -233,6 +242,7 @@ void ExactStepper::AttachTangent(Eigen::MatrixXd* tangent) {
 
 void ExactStepper::Restart(const Eigen::VectorXd& z, ContactState state) {
   state_.z = z;
+  state_.z_stale = false;
   state_.contact = state;
   state_.matvecs = 0;
   cycle_ = 0;
@@ -244,6 +254,8 @@ void ExactStepper::Restart(const Eigen::VectorXd& z, ContactState state) {
   fresh.table_bytes = summary_.table_bytes;
   fresh.spectral_fallback_systems = summary_.spectral_fallback_systems;
   fresh.spectral_max_condition = summary_.spectral_max_condition;
+  fresh.carried_systems = summary_.carried_systems;
+  fresh.carry_error_bound = summary_.carry_error_bound;
   summary_ = fresh;
   recording_.Clear();
 }

@@ -1,5 +1,7 @@
 #include "gearnvh/solver/segment_fusion.h"
 
+#include <algorithm>
+
 #include "gearnvh/solver/tangent_propagator.h"
 
 namespace gearnvh {
@@ -12,16 +14,40 @@ SegmentFusion::SegmentFusion(const SegmentTables& tables, const SolverOptions& o
   }
   int levels = 0;
   while ((2 << levels) <= tables.segments() && levels < options.fusion_levels) ++levels;
-  for (int st = 0; st < 3; ++st) {
+  for (int st = 0; st < 3; ++st)
     runs_[static_cast<size_t>(st)] = SegmentRunTable(tables, static_cast<ContactState>(st), levels);
-    bytes_ += runs_[static_cast<size_t>(st)].bytes();
-  }
+  skip_.assign(3 * static_cast<size_t>(tables.segments()), 0);
+  backoff_.assign(skip_.size(), 0);
   built_ = true;
   certify_scratch_.resize(tables.m);
   inputs_.resize(tables.m);
 }
 
-int SegmentFusion::TryRun(long cycle, int segment, LocatorState& state) {
+size_t SegmentFusion::bytes() const {
+  size_t total = 0;
+  for (const SegmentRunTable& table : runs_) total += table.bytes();
+  return total;
+}
+
+int SegmentFusion::TryRun(long cycle, int segment, LocatorState& state, EventLocator& locator) {
+  const size_t key =
+      static_cast<size_t>(state.contact) * static_cast<size_t>(t_.segments()) + segment;
+  if (skip_[key] > 0) {
+    --skip_[key];
+    return 0;
+  }
+  if (state.z_stale) locator.Materialise(state);
+  const int length = Advance(cycle, segment, state);
+  if (length > 0) {
+    backoff_[key] = 0;
+  } else {
+    backoff_[key] = std::min(2 * backoff_[key] + 1, kMaxBackoff);
+    skip_[key] = backoff_[key];
+  }
+  return length;
+}
+
+int SegmentFusion::Advance(long cycle, int segment, LocatorState& state) {
   const SegmentRun* run =
       runs_[static_cast<size_t>(state.contact)].Certify(segment, state.z, certify_scratch_);
   if (run == nullptr) return 0;

@@ -51,106 +51,119 @@ constexpr double kGridFactor = 4.0 / 3.0;
 }  // namespace
 
 SegmentRunTable::SegmentRunTable(const SegmentTables& t, ContactState state, int max_level)
-    : t_(&t), tolerance_(1e-9 * t.half_backlash) {
-  const int m = t.m, S = t.segments(), st = static_cast<int>(state), p = t.inputs;
-  const int constant = t.constant_slot();
-  Eigen::MatrixXd clear = Eigen::MatrixXd::Identity(m, m);
+    : t_(&t), state_(state), tolerance_(1e-9 * t.half_backlash) {
+  const int S = t.segments(), p = t.inputs;
   input_bounds_.resize(p);
-  for (int q = 0; q < p; ++q) {
-    clear(t.input_slot(q), t.input_slot(q)) = 0.0;
-    input_bounds_[q] = t.InputBound(q);
-  }
-  const std::vector<WallSpec> walls = WallsOf(state);
+  for (int q = 0; q < p; ++q) input_bounds_[q] = t.InputBound(q);
   for (int level = 1; level <= max_level && (1 << level) <= S; ++level) {
-    const int r = 1 << level;
-    std::vector<SegmentRun> runs;
-    for (int start = 0; start + r <= S; start += r) {
-      SegmentRun run;
-      run.start = start;
-      run.length = r;
-      run.duration = t.boundaries[start + r] - t.boundaries[start];
-      run.inputs = Eigen::MatrixXd::Zero(m, r * p);
-      // F: the map of z (slots cleared) to the state at the current segment start (before its
-      // slots are set); g[i p + q]: the state contribution of input q set at segment i there.
-      Eigen::MatrixXd F = Eigen::MatrixXd::Identity(m, m);
-      std::vector<Eigen::VectorXd> g;
-      for (const WallSpec& w : walls) {
-        SegmentRun::Wall wall;
-        wall.sign = w.sign;
-        Eigen::RowVectorXd c = *w.row(t.systems[start][st]);
-        c[constant] = 0.0;
-        // Input terms of the gap (the manufacturing error) change per segment like the constant:
-        // bounded by their largest value instead of followed.
-        double input_reach = 0.0;
-        for (int q = 0; q < p; ++q) {
-          input_reach += std::abs(c[t.input_slot(q)]) * input_bounds_[q];
-          c[t.input_slot(q)] = 0.0;
-        }
-        wall.position_row = w.sign * c;
-        wall.rate_row = w.sign * c * t.systems[start][st].A;
-        wall.curvature_weights = Eigen::VectorXd::Zero(m);
-        wall.input_weights = Eigen::VectorXd::Zero(p);
-        wall.reference = Equilibrium(t, t.systems[start][st].A, state);
-        wall.constant_max = -1e300;
-        for (int k = start; k < start + r; ++k) {
-          wall.constant_max =
-              std::max(wall.constant_max, w.sign * (*w.row(t.systems[k][st]))[constant]);
-        }
-        wall.constant_max += input_reach;
-        run.walls.push_back(std::move(wall));
-      }
-      for (int k = start; k < start + r; ++k) {
-        const SegmentSystem& sys = t.systems[k][st];
-        // The slots are set at the segment start: clear them in F and in earlier contributions.
-        F = (clear * F).eval();
-        for (Eigen::VectorXd& v : g) v = clear * v;
-        for (int q = 0; q < p; ++q) g.push_back(Eigen::VectorXd::Unit(m, t.input_slot(q)));
-        // Sample the curvature rows on the sub-step grid of this segment.
-        Eigen::MatrixXd E = Eigen::MatrixXd::Identity(m, m);
-        for (int n = 0; n <= t.substeps[k]; ++n) {
-          for (size_t w = 0; w < run.walls.size(); ++w) {
-            SegmentRun::Wall& wall = run.walls[w];
-            const Eigen::RowVectorXd curvature = wall.position_row * sys.A * sys.A * E;
-            const Eigen::RowVectorXd on_start = curvature * F;
-            wall.curvature_weights =
-                wall.curvature_weights.cwiseMax(on_start.transpose().cwiseAbs());
-            wall.reference_curvature =
-                std::max(wall.reference_curvature, std::abs(on_start.dot(wall.reference)));
-            Eigen::VectorXd per_input = Eigen::VectorXd::Zero(p);
-            for (size_t i = 0; i < g.size(); ++i) {
-              per_input[static_cast<Eigen::Index>(i) % p] += std::abs(curvature.dot(g[i]));
-            }
-            wall.input_weights = wall.input_weights.cwiseMax(per_input);
-          }
-          if (n < t.substeps[k]) E = (sys.substep * E).eval();
-        }
-        F = (sys.full * F).eval();
-        for (Eigen::VectorXd& v : g) v = sys.full * v;
-      }
-      run.product = F;
-      for (int i = 0; i < r * p; ++i) run.inputs.col(i) = g[static_cast<size_t>(i)];
-      runs.push_back(std::move(run));
-    }
-    runs_.push_back(std::move(runs));
+    runs_.emplace_back(static_cast<size_t>(S / (1 << level)));
+    built_.emplace_back(static_cast<size_t>(S / (1 << level)), false);
+  }
+  // Built up front: the stepping loop must not allocate (a lazy build on a run's first
+  // certificate would, at any cycle).
+  for (int level = 1; level <= static_cast<int>(runs_.size()); ++level) {
+    for (int index = 0; index < static_cast<int>(runs_[static_cast<size_t>(level - 1)].size());
+         ++index)
+      Run(level, index);
   }
 }
 
+const SegmentRun& SegmentRunTable::Run(int level, int index) {
+  SegmentRun& run = runs_[static_cast<size_t>(level - 1)][static_cast<size_t>(index)];
+  if (built_[static_cast<size_t>(level - 1)][static_cast<size_t>(index)]) return run;
+  built_[static_cast<size_t>(level - 1)][static_cast<size_t>(index)] = true;
+  const SegmentTables& t = *t_;
+  const int m = t.m, st = static_cast<int>(state_), p = t.inputs;
+  const int constant = t.constant_slot();
+  const int r = 1 << level, start = index * r;
+  Eigen::MatrixXd clear = Eigen::MatrixXd::Identity(m, m);
+  for (int q = 0; q < p; ++q) clear(t.input_slot(q), t.input_slot(q)) = 0.0;
+  const std::vector<WallSpec> walls = WallsOf(state_);
+  run.start = start;
+  run.length = r;
+  run.duration = t.boundaries[start + r] - t.boundaries[start];
+  run.inputs = Eigen::MatrixXd::Zero(m, r * p);
+  // F: the map of z (slots cleared) to the state at the current segment start (before its
+  // slots are set); g[i p + q]: the state contribution of input q set at segment i there.
+  Eigen::MatrixXd F = Eigen::MatrixXd::Identity(m, m);
+  std::vector<Eigen::VectorXd> g;
+  for (const WallSpec& w : walls) {
+    SegmentRun::Wall wall;
+    wall.sign = w.sign;
+    Eigen::RowVectorXd c = *w.row(t.systems[start][st]);
+    c[constant] = 0.0;
+    // Input terms of the gap (the manufacturing error) change per segment like the constant:
+    // bounded by their largest value instead of followed.
+    double input_reach = 0.0;
+    for (int q = 0; q < p; ++q) {
+      input_reach += std::abs(c[t.input_slot(q)]) * input_bounds_[q];
+      c[t.input_slot(q)] = 0.0;
+    }
+    wall.position_row = w.sign * c;
+    wall.rate_row = w.sign * c * t.systems[start][st].A;
+    wall.curvature_weights = Eigen::VectorXd::Zero(m);
+    wall.input_weights = Eigen::VectorXd::Zero(p);
+    wall.reference = Equilibrium(t, t.systems[start][st].A, state_);
+    wall.constant_max = -1e300;
+    for (int k = start; k < start + r; ++k) {
+      wall.constant_max =
+          std::max(wall.constant_max, w.sign * (*w.row(t.systems[k][st]))[constant]);
+    }
+    wall.constant_max += input_reach;
+    run.walls.push_back(std::move(wall));
+  }
+  for (int k = start; k < start + r; ++k) {
+    const SegmentSystem& sys = t.systems[k][st];
+    // The slots are set at the segment start: clear them in F and in earlier contributions.
+    F = (clear * F).eval();
+    for (Eigen::VectorXd& v : g) v = clear * v;
+    for (int q = 0; q < p; ++q) g.push_back(Eigen::VectorXd::Unit(m, t.input_slot(q)));
+    // Sample the curvature rows on the sub-step grid of this segment.
+    Eigen::MatrixXd E = Eigen::MatrixXd::Identity(m, m);
+    for (int n = 0; n <= t.substeps[k]; ++n) {
+      for (size_t w = 0; w < run.walls.size(); ++w) {
+        SegmentRun::Wall& wall = run.walls[w];
+        const Eigen::RowVectorXd curvature = wall.position_row * sys.A * sys.A * E;
+        const Eigen::RowVectorXd on_start = curvature * F;
+        wall.curvature_weights = wall.curvature_weights.cwiseMax(on_start.transpose().cwiseAbs());
+        wall.reference_curvature =
+            std::max(wall.reference_curvature, std::abs(on_start.dot(wall.reference)));
+        Eigen::VectorXd per_input = Eigen::VectorXd::Zero(p);
+        for (size_t i = 0; i < g.size(); ++i) {
+          per_input[static_cast<Eigen::Index>(i) % p] += std::abs(curvature.dot(g[i]));
+        }
+        wall.input_weights = wall.input_weights.cwiseMax(per_input);
+      }
+      if (n < t.substeps[k]) E = (sys.substep * E).eval();
+    }
+    F = (sys.full * F).eval();
+    for (Eigen::VectorXd& v : g) v = sys.full * v;
+  }
+  run.product = F;
+  for (int i = 0; i < r * p; ++i) run.inputs.col(i) = g[static_cast<size_t>(i)];
+  bytes_ += sizeof(double) *
+            (static_cast<size_t>(run.product.size()) + static_cast<size_t>(run.inputs.size()));
+  return run;
+}
+
 const SegmentRun* SegmentRunTable::Certify(int segment, const Eigen::VectorXd& z,
-                                           Eigen::VectorXd& scratch) const {
-  if (runs_.empty()) return nullptr;
+                                           Eigen::VectorXd& scratch) {
+  if (runs_.empty() || segment % 2 != 0) return nullptr;
   // |L Pi z|: the elastic state (free rotation removed), slots cleared, constant slot kept.
   scratch = z;
   scratch.tail(t_->inputs).setZero();
   Eigen::Map<Eigen::MatrixXd> as_matrix(scratch.data(), scratch.size(), 1);
   RemoveFreeRotation(*t_, as_matrix);
-  for (int level = static_cast<int>(runs_.size()); level >= 1; --level) {
+  // Shortest first: a run's certificate implies that of every shorter run from the same start (the
+  // same rows and reference, its weights and constant maxima over a subset of the grid, a shorter
+  // duration), so the first refusal ends the search and longer runs are built only when needed.
+  const SegmentRun* longest = nullptr;
+  for (int level = 1; level <= static_cast<int>(runs_.size()); ++level) {
     const int r = 1 << level;
-    if (segment % r != 0) continue;
-    const auto& runs = runs_[static_cast<size_t>(level - 1)];
+    if (segment % r != 0) break;
     const size_t index = static_cast<size_t>(segment / r);
-    if (index >= runs.size()) continue;
-    const SegmentRun& run = runs[index];
-    bool certified = true;
+    if (index >= runs_[static_cast<size_t>(level - 1)].size()) break;
+    const SegmentRun& run = Run(level, static_cast<int>(index));
     for (const SegmentRun::Wall& w : run.walls) {
       const double h0 = w.position_row.dot(z);
       // The rate at the start: the slots cleared in scratch, their terms bounded by u_max.
@@ -161,25 +174,13 @@ const SegmentRun* SegmentRunTable::Certify(int segment, const Eigen::VectorXd& z
                                        w.input_weights.dot(input_bounds_));
       const double d = run.duration;
       const double reach = h0 + h1 * d + 0.5 * m2 * d * d;
-      if (!(reach + w.constant_max < -tolerance_)) {
-        certified = false;
-        break;
-      }
+      if (!(reach + w.constant_max < -tolerance_)) return longest;
     }
-    if (certified) return &run;
+    longest = &run;
   }
-  return nullptr;
+  return longest;
 }
 
-size_t SegmentRunTable::bytes() const {
-  size_t total = 0;
-  for (const auto& level : runs_) {
-    for (const SegmentRun& run : level) {
-      total += sizeof(double) *
-               (static_cast<size_t>(run.product.size()) + static_cast<size_t>(run.inputs.size()));
-    }
-  }
-  return total;
-}
+size_t SegmentRunTable::bytes() const { return bytes_; }
 
 }  // namespace gearnvh

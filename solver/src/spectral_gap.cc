@@ -46,9 +46,7 @@ const char* SpectralInfoName(SpectralDecomposition::Info info) {
   return "unknown";
 }
 
-SpectralDecomposition DecomposeGenerator(const Eigen::MatrixXd& A, int n, double w_ref,
-                                         double horizon, double max_condition) {
-  SpectralDecomposition d;
+Eigen::VectorXd BalancingScale(const Eigen::MatrixXd& A, int n, double w_ref) {
   const int m = static_cast<int>(A.rows());
   Eigen::VectorXd scale = Eigen::VectorXd::Ones(m);
   scale.segment(n, n).setConstant(1.0 / w_ref);
@@ -60,6 +58,14 @@ SpectralDecomposition DecomposeGenerator(const Eigen::MatrixXd& A, int n, double
     const double column = (scale.asDiagonal() * A.col(j)).norm();
     if (column > 0.0) scale[j] = column / w_ref;
   }
+  return scale;
+}
+
+SpectralDecomposition DecomposeGenerator(const Eigen::MatrixXd& A, int n, double w_ref,
+                                         double horizon, double max_condition) {
+  SpectralDecomposition d;
+  const int m = static_cast<int>(A.rows());
+  const Eigen::VectorXd scale = BalancingScale(A, n, w_ref);
   Eigen::MatrixXd T = scale.asDiagonal() * A * scale.cwiseInverse().asDiagonal();
 
   // Ordered real Schur form: eigenvalues with |lambda| <= 1e-4 w_ref first. A Jordan block of
@@ -219,7 +225,48 @@ ClosedFormGap::ClosedFormGap(const SpectralDecomposition& d, const Eigen::RowVec
   }
 }
 
+ClosedFormGap::ClosedFormGap(const SpectralDecomposition& d, const Eigen::RowVectorXd& row,
+                             double horizon)
+    : ClosedFormGap(d, row) {
+  const Eigen::RowVectorXd u = row * d.S;
+  const int m = static_cast<int>(u.size());
+  end_ = horizon;
+  end_value_row_ = Eigen::RowVectorXd::Zero(m);
+  end_rate_row_ = Eigen::RowVectorXd::Zero(m);
+  // Polynomial part: p(H) = sum_k poly_rows_k H^k w0, p'(H) = sum_k k poly_rows_k H^(k-1) w0.
+  if (zero_size_ > 0) {
+    double power = 1.0;  // H^k
+    for (int k = 0; k < poly_rows_.rows(); ++k) {
+      end_value_row_.head(zero_size_) += power * poly_rows_.row(k);
+      if (k + 1 < poly_rows_.rows())
+        end_rate_row_.head(zero_size_) +=
+            static_cast<double>(k + 1) * power * poly_rows_.row(k + 1);
+      power *= horizon;
+    }
+  }
+  for (const auto& b : d.blocks) {
+    const double grow = std::exp(b.sigma * horizon);
+    if (b.size == 1) {
+      end_value_row_[b.start] = u[b.start] * grow;
+      end_rate_row_[b.start] = u[b.start] * b.sigma * grow;
+      continue;
+    }
+    // e^{B H} = e^{sigma H}(cos(omega H) I + sin(omega H) / omega (B - sigma I)); the rate row
+    // is u_b B e^{B H}.
+    const Eigen::Matrix2d E = grow * (std::cos(b.omega * horizon) * Eigen::Matrix2d::Identity() +
+                                      std::sin(b.omega * horizon) / b.omega *
+                                          (b.B - b.sigma * Eigen::Matrix2d::Identity()));
+    const Eigen::RowVector2d ub = u.segment<2>(b.start);
+    end_value_row_.segment<2>(b.start) = ub * E;
+    end_rate_row_.segment<2>(b.start) = ub * b.B * E;
+  }
+}
+
 void ClosedFormGap::Load(const Eigen::VectorXd& w) {
+  if (end_ >= 0.0) {
+    end_value_ = end_value_row_.dot(w);
+    end_rate_ = end_rate_row_.dot(w);
+  }
   if (zero_size_ > 0) poly_.noalias() = poly_rows_ * w.head(zero_size_);
   for (Term& t : terms_) {
     if (t.size == 1) {
@@ -239,6 +286,13 @@ void ClosedFormGap::Load(const Eigen::VectorXd& w) {
 void ClosedFormGap::Load(const Eigen::VectorXd& w, double constant) {
   Load(w);
   poly_[0] += constant;
+  end_value_ += constant;
+}
+
+double ClosedFormGap::StartValue() const {
+  double value = zero_size_ > 0 ? poly_[0] : 0.0;
+  for (const Term& term : terms_) value += term.alpha;
+  return value;
 }
 
 double ClosedFormGap::Evaluate(double t, int order) const {
@@ -285,6 +339,7 @@ ClosedFormGap::Jet ClosedFormGap::SearchJet(double t) const {
     }
     return {sign_ * value - offset_, sign_ * rate};
   }
+  if (t == end_) return {sign_ * end_value_ - offset_, sign_ * end_rate_};  // two dot products
   const int degree = static_cast<int>(poly_.size()) - 1;
   if (zero_size_ > 0) {
     for (int k = degree; k >= 0; --k) value = value * t + poly_[k];

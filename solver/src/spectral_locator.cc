@@ -1,6 +1,7 @@
 // V3: closed-form event location in decoupled coordinates (event_locator.h, spectral_gap.h).
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "gearnvh/solver/event_locator.h"
 #include "gearnvh/solver/tangent_propagator.h"
@@ -10,11 +11,13 @@ namespace gearnvh {
 SpectralLocator::SpectralLocator(const SegmentTables& tables, const SolverOptions& options)
     : EventLocator(tables, options),
       max_condition_(options.spectral_max_condition),
+      max_carry_error_(options.carry_max_error),
       fallback_(tables, options),
       w_(tables.m),
       wt_(tables.m),
       scratch_(tables.m),
-      z1_(tables.m) {
+      z1_(tables.m),
+      carried_(tables.m) {
   systems_.resize(tables.segments());
   w_ref_.assign(tables.segments(), 0.0);
 }
@@ -41,15 +44,84 @@ SpectralLocator::System& SpectralLocator::Prepared(int segment, ContactState sta
   }
   statistics_.spectral_max_condition =
       std::max(statistics_.spectral_max_condition, sp.decomposition.condition);
-  for (int g = 0; g < kGapRows; ++g) sp.gaps[g] = ClosedFormGap(sp.decomposition, GapRow(sys, g));
+  for (int g = 0; g < kGapRows; ++g)
+    sp.gaps[g] = ClosedFormGap(sp.decomposition, GapRow(sys, g), t_.SegmentLength(segment));
   statistics_.table_bytes += 2 * sizeof(double) * static_cast<size_t>(t_.m) * t_.m;
   return sp;
+}
+
+const Eigen::MatrixXd* SpectralLocator::Carry(int segment, ContactState state) {
+  System& sp = systems_[segment][static_cast<int>(state)];
+  if (sp.carry_built) return sp.carry.size() > 0 ? &sp.carry : nullptr;
+  sp.carry_built = true;
+  if (max_carry_error_ <= 0.0) return nullptr;
+  const int m = t_.m, p = t_.inputs;
+  const bool last = segment + 1 == t_.segments();
+  const System* next = last ? nullptr : &Prepared(segment + 1, state);
+  if (next != nullptr && !next->ok) return nullptr;
+  const SpectralDecomposition& d = sp.decomposition;
+  // S_j e^{D_j h_j}, column by column (e^{Dh} is block diagonal).
+  Eigen::MatrixXd decoupled(m, m);
+  Eigen::VectorXd unit = Eigen::VectorXd::Zero(m), column(m), scratch(m);
+  for (int k = 0; k < m; ++k) {
+    unit[k] = 1.0;
+    PropagateDecoupled(d, unit, t_.SegmentLength(segment), column, scratch);
+    decoupled.col(k) = column;
+    unit[k] = 0.0;
+  }
+  Eigen::MatrixXd exit = d.S * decoupled;
+  auto norm1 = [](const Eigen::MatrixXd& a) { return a.cwiseAbs().colwise().sum().maxCoeff(); };
+  double kappa = 0.0;
+  Eigen::MatrixXd carry;
+  // The bound is taken in balanced coordinates D z (BalancingScale), where positions, velocities
+  // and forcing weigh alike: relative to |D_j z_j|_1, the error of D_{j+1} z_{j+1} is at most
+  // (m + 1) eps |D_{j+1} S_{j+1}|_1 |C_j|_1 |S_j^-1 D_j^-1|_1 (two rounded products).
+  const SegmentSystem& sys = t_.systems[segment][static_cast<int>(state)];
+  const Eigen::VectorXd scale = BalancingScale(sys.A, t_.n, w_ref_[segment]);
+  const double from = norm1(d.S_inv * scale.cwiseInverse().asDiagonal());
+  if (last) {
+    carry = std::move(exit);
+    kappa = norm1(scale.asDiagonal() * carry) * from;
+  } else {
+    exit.bottomRows(p).setZero();  // Pi: the next segment sets its own inputs
+    carry = next->decomposition.S_inv * exit;
+    const SegmentSystem& to = t_.systems[segment + 1][static_cast<int>(state)];
+    const Eigen::VectorXd next_scale = BalancingScale(to.A, t_.n, w_ref_[segment + 1]);
+    kappa = norm1(next_scale.asDiagonal() * next->decomposition.S) * norm1(carry) * from;
+  }
+  const double bound = (m + 1) * std::numeric_limits<double>::epsilon() * kappa;
+  if (!(bound <= max_carry_error_)) return nullptr;
+  sp.carry = std::move(carry);
+  ++statistics_.carried_systems;
+  statistics_.carry_error_bound = std::max(statistics_.carry_error_bound, bound);
+  statistics_.table_bytes += sizeof(double) * static_cast<size_t>(m) * m;
+  return &sp.carry;
+}
+
+void SpectralLocator::Materialise(LocatorState& state) {
+  if (!state.z_stale) return;
+  const int live = t_.m - t_.inputs;  // the input slots of z are the stepper's
+  const System& sp = systems_[carry_segment_][static_cast<int>(carry_state_)];
+  state.z.head(live).noalias() = sp.decomposition.S.topRows(live) * carried_;
+  ++state.matvecs;
+  state.z_stale = false;
 }
 
 bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
                              EventHandler& handler) {
   const double h = t_.SegmentLength(segment);
-  if (!SwitchIfOutsideAtStart(segment, start, state, handler)) return false;
+  // Entered carried: w = C_{j-1} w_{j-1} + sum_q u_q S_j^-1 e_q (the stepper has set the slots).
+  bool carried = state.z_stale;
+  if (carried) {
+    const System& sp = systems_[segment][static_cast<int>(state.contact)];
+    w_ = carried_;
+    for (int q = 0; q < t_.inputs; ++q) {
+      const int slot = t_.input_slot(q);
+      if (state.z[slot] != 0.0) w_ += state.z[slot] * sp.decomposition.S_inv.col(slot);
+    }
+  } else if (!SwitchIfOutsideAtStart(segment, start, state, handler)) {
+    return false;
+  }
   double done = 0.0;
   bool moved = false;  // z was advanced inside this segment (the full propagator no longer fits)
   Eigen::VectorXd& z = state.z;
@@ -58,32 +130,57 @@ bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
     System& sp = Prepared(segment, state.contact);
     if (!sp.ok) return fallback_.AdvanceFrom(segment, start, done, state, handler);
     const double remaining = h - done;
-    w_.noalias() = sp.decomposition.S_inv * z;
-    ++state.matvecs;
+    if (!carried) {
+      w_.noalias() = sp.decomposition.S_inv * z;
+      ++state.matvecs;
+    }
     GapWall walls[kMaxWalls];
     const int count = ActiveWalls(sys, state.contact, walls);
-    double best = -1.0;
-    int best_wall = -1;
+    bool near_wall = false;
     for (int i = 0; i < count; ++i) {
       ClosedFormGap& gap = sp.gaps[walls[i].gap];
       gap.Load(w_);
-      const double root = gap.FirstRise(walls[i].sign, remaining);
+      // Carried: the time-triggered check on the closed form; near a wall it is decided on z.
+      if (carried && walls[i].sign * gap.StartValue() > 0.5 * gap_tolerance_) near_wall = true;
+    }
+    if (near_wall) {
+      Materialise(state);
+      carried = false;
+      if (!SwitchIfOutsideAtStart(segment, start, state, handler)) return false;
+      continue;
+    }
+    double best = -1.0;
+    int best_wall = -1;
+    for (int i = 0; i < count; ++i) {
+      const double root = sp.gaps[walls[i].gap].FirstRise(walls[i].sign, remaining);
       if (root >= 0.0 && (best < 0.0 || root < best)) best = root, best_wall = i;
     }
     if (best < 0.0) {
-      if (!moved) {
+      const Eigen::MatrixXd* carry =
+          !moved && state.allow_carry ? Carry(segment, state.contact) : nullptr;
+      if (carry != nullptr && segment + 1 < t_.segments()) {
+        carried_.noalias() = *carry * w_;
+        carry_segment_ = segment + 1;
+        carry_state_ = state.contact;
+        state.z_stale = true;
+      } else if (carry != nullptr) {
+        z.head(t_.m - t_.inputs).noalias() = carry->topRows(t_.m - t_.inputs) * w_;
+        state.z_stale = false;
+      } else if (!moved && !state.z_stale) {
         z1_.noalias() = sys.full * z;  // the dense propagator: exact to rounding, cond-free
         if (state.tangent != nullptr) state.tangent->Propagate(sys.full);
+        z.swap(z1_);
       } else {
         PropagateDecoupled(sp.decomposition, w_, remaining, wt_, scratch_);
-        z1_.noalias() = sp.decomposition.S * wt_;
+        z.noalias() = sp.decomposition.S * wt_;
+        state.z_stale = false;
         if (state.tangent != nullptr)
           state.tangent->PropagateDecoupled(sp.decomposition, remaining);
       }
-      z.swap(z1_);
       ++state.matvecs;
       return true;
     }
+    carried = false;
     const GapWall& w = walls[best_wall];
     ClosedFormGap& gap = sp.gaps[w.gap];
     double step = best;
@@ -94,6 +191,7 @@ bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
     if (touch) step = std::min(remaining, best + 1e-12 * h);
     PropagateDecoupled(sp.decomposition, w_, step, wt_, scratch_);
     z.noalias() = sp.decomposition.S * wt_;
+    state.z_stale = false;
     if (state.tangent != nullptr) state.tangent->PropagateDecoupled(sp.decomposition, step);
     ++state.matvecs;
     moved = true;

@@ -43,6 +43,35 @@ TEST_CASE("free flight: the closed-form gap is the parabola and its first root t
   CHECK(std::abs(root - 1.0 / 3.0) <= 16 * kEps);
 }
 
+TEST_CASE("the precomputed segment end: g(H) and g'(H) equal the closed form's, roots alike",
+          "[solver][spectral]") {
+  // A damped oscillator with a rest offset (blocks: the constant slot's zero and one complex pair):
+  // x = rest + e^{-zeta w t}(...). The end rows u e^{DH} and u D e^{DH} are the same function at
+  // t = H evaluated as a dot product: equal to a few eps of the terms' size.
+  const double w = 1000.0, rest = 2e-5;
+  Eigen::MatrixXd A = Oscillator(w, rest, 0.0);
+  A(1, 1) = -0.1 * w;  // damping
+  const double horizon = 3e-3;
+  const SpectralDecomposition d = DecomposeGenerator(A, 1, w, horizon, 1e6);
+  REQUIRE(d.info == SpectralDecomposition::Info::kSuccess);
+  const Eigen::RowVector3d row(1.0, 0.0, -1e-5);
+  ClosedFormGap plain(d, row), with_end(d, row, horizon);
+  const Eigen::Vector3d z(-3e-5, 0.02, 1.0);
+  plain.Load(d.S_inv * z);
+  with_end.Load(d.S_inv * z);
+  const double scale = 1e-4;  // the size of the terms (m): 16 eps of it
+  CHECK(std::abs(with_end.EndValue() - plain.Value(horizon)) <= 16 * kEps * scale);
+  CHECK(std::abs(with_end.EndRate() - plain.Rate(horizon)) <= 16 * kEps * scale * w);
+  // The search over the whole segment uses the end row at H: the same first rise (a few eps H;
+  // the crossing of x through 1e-5 on the way up from -3e-5).
+  const double a = plain.FirstRise(1.0, horizon), b = with_end.FirstRise(1.0, horizon);
+  REQUIRE(a > 0.0);
+  CHECK(std::abs(a - b) <= 16 * kEps * horizon);
+  // The end rows themselves, against the dense exponential: g(H) = row expm(A H) z.
+  const Eigen::Vector3d zH = BalancedExpm(A, horizon, 1, w) * z;
+  CHECK(std::abs(with_end.EndValue() - row.dot(zH)) <= 1e-12 * scale);
+}
+
 TEST_CASE("oscillator: a brief excursion across the wall is found, a near miss is not",
           "[solver][spectral]") {
   // x = A0 cos(w t): peak A0 at t = 2 pi / w. Wall at L < A0: first root acos(L / A0) ... of the

@@ -93,6 +93,13 @@ struct LocatorState {
   ContactState contact = ContactState::kFree;
   TangentPropagator* tangent = nullptr;
   long matvecs = 0;
+  // Set by the stepper: between two segments of one mesh cycle nothing but the input slots of z
+  // is read or written, so a locator may carry the state in its own coordinates (V3: decoupled)
+  // instead of z. Never across a cycle end, a recorded piece or an attached tangent.
+  bool allow_carry = false;
+  // Set by the locator while it carries: z holds valid input slots only, the rest is stale until
+  // EventLocator::Materialise(state).
+  bool z_stale = false;
 };
 
 // Receives the events a locator finds, in time order.
@@ -115,6 +122,11 @@ struct LocatorStatistics {
   size_t table_bytes = 0;
   int spectral_fallback_systems = 0;    // (segment, state) pairs searched by V2 instead of V3
   double spectral_max_condition = 0.0;  // largest cond(S) among the decompositions used
+  // V3 carried steps (SpectralLocator): (segment, state) pairs stepped in decoupled coordinates,
+  // and the largest first-order bound of the relative state error one carried step adds,
+  // (m + 1) eps |S_{j+1}|_1 |C_j|_1 |S_j^-1|_1 (C_j the carry matrix).
+  int carried_systems = 0;
+  double carry_error_bound = 0.0;
 };
 
 class EventLocator {
@@ -129,6 +141,9 @@ class EventLocator {
   // Returns false as soon as the handler asks to stop.
   virtual bool DoStep(int segment, double start, LocatorState& state, EventHandler& handler) = 0;
   virtual EventMethod method() const = 0;
+  // Writes the carried state back into state.z (all but the input slots) and clears z_stale.
+  // Only a locator that sets z_stale carries; the others never need it.
+  virtual void Materialise(LocatorState& state) { state.z_stale = false; }
   const LocatorStatistics& statistics() const { return statistics_; }
 
  protected:
@@ -288,18 +303,29 @@ class DyadicLocator final : public SubstepLocator {
 
 // V3: per whole segment, w = S^-1 z (one matvec); the gap of every wall is the closed form
 // p(t) + sum e^{sigma t}(alpha cos wt + beta sin wt) + sum gamma e^{lambda t} (ClosedFormGap);
-// its first rise is found with certified bounds and Newton. No event: z <- Phi z (the dense
-// propagator) when the segment is entered unchanged, else S e^{B(h - t)} w. At an event
-// z <- S e^{B t*} w and the search restarts in the new state. An ill-conditioned (segment, state)
-// (cond(S) > spectral_max_condition) is handed to the Taylor search for the rest of the segment.
-// Decompositions are built when their (segment, state) is first visited (a loaded run never
-// decomposes its free and back states), so DoStep allocates only on a first visit.
+// its first rise is found with certified bounds and Newton. At an event z <- S e^{B t*} w and the
+// search restarts in the new state; after the last event of a segment z <- S e^{B(h - t)} w.
+// A segment without an event is left in one matvec:
+//   carried (state.allow_carry, the next segment's decomposition in the same state usable and
+//     the carry's error bound within SolverOptions::carry_max_error): w_{j+1} = C_j w with
+//     C_j = S_{j+1}^-1 Pi S_j e^{D_j h_j} (Pi clears the input slots), and the next segment adds
+//     u_q S_{j+1}^-1 e_q for its inputs: the S^-1 z of the next segment is saved, z is stale
+//     (LocatorState::z_stale) until Materialise(). The last segment of a cycle writes
+//     z = S_j e^{D_j h_j} w (the same matrix without S_{j+1}^-1 Pi), so z is valid at every
+//     cycle end. The closed-form gap at the start decides the time-triggered switch; a start
+//     within half the wall tolerance of a wall materialises z and takes the dense path.
+//   otherwise: z <- Phi z (the dense propagator) when the segment was entered with z valid.
+// An ill-conditioned (segment, state) (cond(S) > spectral_max_condition) is handed to the Taylor
+// search for the rest of the segment. Decompositions and carry matrices are built when their
+// (segment, state) is first visited (a loaded run never decomposes its free and back states), so
+// DoStep allocates only on a first visit.
 class SpectralLocator final : public EventLocator {
  public:
   static constexpr EventMethod kMethod = EventMethod::kSpectral;
   SpectralLocator(const SegmentTables& tables, const SolverOptions& options);
   EventMethod method() const override { return kMethod; }
   bool DoStep(int segment, double start, LocatorState& state, EventHandler& handler) override;
+  void Materialise(LocatorState& state) override;
 
  private:
   struct System {
@@ -307,14 +333,31 @@ class SpectralLocator final : public EventLocator {
     std::array<ClosedFormGap, kGapRows> gaps;  // indexed by GapWall::gap
     bool built = false;
     bool ok = false;
+    // C_j (to the next segment) or S_j e^{D_j h_j} (last segment of the cycle); empty when the
+    // pair does not carry. carry_built: decided on first use.
+    Eigen::MatrixXd carry;
+    bool carry_built = false;
   };
   // The system of (segment, state), decomposed on first use.
   System& Prepared(int segment, ContactState state);
+  // The carry matrix of (segment, state), built on first use; nullptr when it does not carry.
+  const Eigen::MatrixXd* Carry(int segment, ContactState state);
+  // w_ = the carried state plus the inputs the stepper set in z for `segment`; false when a wall
+  // is within half the wall tolerance at the start (then z is materialised instead).
+  bool ResumeCarried(int segment, LocatorState& state);
   double max_condition_;
+  // Largest first-order relative state error a carried step may add; pairs above it step through
+  // z and Phi.
+  double max_carry_error_;
   std::vector<std::array<System, 3>> systems_;  // [segment][state]
   std::vector<double> w_ref_;                   // per segment; 0 until its first visit
   TaylorLocator fallback_;
   Eigen::VectorXd w_, wt_, scratch_, z1_;
+  // The carried state: decoupled coordinates of (carry_segment_, carry_state_) at its start,
+  // input slots cleared.
+  Eigen::VectorXd carried_;
+  int carry_segment_ = -1;
+  ContactState carry_state_ = ContactState::kFree;
 };
 
 // The locator of `options.events`.

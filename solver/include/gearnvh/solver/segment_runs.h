@@ -54,17 +54,22 @@ struct SegmentRun {
 class SegmentRunTable {
  public:
   SegmentRunTable() = default;
-  // Runs of 2, 4, ..., 2^max_level segments in `state`, aligned, for every start.
+  // Runs of 2, 4, ..., 2^max_level segments in `state`, aligned, for every start, built here.
   SegmentRunTable(const SegmentTables& tables, ContactState state, int max_level);
   // The longest run starting at `segment` that is certified for z (at that segment's start), or
-  // nullptr. `scratch` has m entries.
-  const SegmentRun* Certify(int segment, const Eigen::VectorXd& z, Eigen::VectorXd& scratch) const;
-  size_t bytes() const;
+  // nullptr. `scratch` has m entries. Does not allocate.
+  const SegmentRun* Certify(int segment, const Eigen::VectorXd& z, Eigen::VectorXd& scratch);
+  size_t bytes() const;  // of the runs built so far
 
  private:
+  // The run of 2^level segments starting at segment index * 2^level (built by the constructor).
+  const SegmentRun& Run(int level, int index);
   const SegmentTables* t_ = nullptr;
-  // runs_[level - 1][start / 2^level]
+  ContactState state_ = ContactState::kFree;
+  // runs_[level - 1][start / 2^level], built_ alike.
   std::vector<std::vector<SegmentRun>> runs_;
+  std::vector<std::vector<bool>> built_;
+  size_t bytes_ = 0;
   double tolerance_ = 0.0;
   Eigen::VectorXd input_bounds_;  // u_q,max
 };

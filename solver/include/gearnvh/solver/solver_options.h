@@ -39,8 +39,12 @@ struct SolverOptions {
   // kSpectral: decompositions with |S|_1 |S^-1|_1 above this fall back to kTaylor (state error
   // ~ cond(S) eps).
   double spectral_max_condition = 1e6;  // >= 1
-  long cycles = 100;                    // mesh cycles recorded after the transient; >= 1
-  long transient_cycles = 0;            // mesh cycles run first and not recorded; >= 0
+  // kSpectral: a segment without an event hands its state to the next segment in decoupled
+  // coordinates (one matvec instead of two; event_locator.h, SpectralLocator) where the
+  // first-order bound of the relative state error that step adds is at most this; 0 disables it.
+  double carry_max_error = 1e-7;  // >= 0
+  long cycles = 100;              // mesh cycles recorded after the transient; >= 1
+  long transient_cycles = 0;      // mesh cycles run first and not recorded; >= 0
   // Recorded cycles: exact statistics and uniform samples (samples_per_cycle per mesh cycle,
   // evaluated exactly at their times; exact_recorder.h).
   bool record_trajectory = true;
@@ -101,7 +105,12 @@ struct SolverSummary {
   size_t table_bytes = 0;
   int spectral_fallback_systems = 0;    // (segment, state) pairs located by kTaylor instead of V3
   double spectral_max_condition = 0.0;  // largest cond(S) among the decompositions used
-  bool trajectory_truncated = false;    // a memory bound of SolverOptions was reached
+  // V3 steps carried in decoupled coordinates (event_locator.h, SpectralLocator): the (segment,
+  // state) pairs that carry and the largest first-order bound of the relative state error one
+  // carried step adds.
+  int carried_systems = 0;
+  double carry_error_bound = 0.0;
+  bool trajectory_truncated = false;  // a memory bound of SolverOptions was reached
   // Smallest |g'| (m/s) at a state-triggered contact change so far (infinity when none): how
   // close the run came to a grazing contact, where saltation matrices blow up.
   double min_event_rate = std::numeric_limits<double>::infinity();

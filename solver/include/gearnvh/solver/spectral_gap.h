@@ -47,6 +47,11 @@ struct SpectralDecomposition {
 };
 const char* SpectralInfoName(SpectralDecomposition::Info info);
 
+// The balancing D of DecomposeGenerator (balanced generator D A D^-1): 1 on positions, 1/w_ref on
+// velocities, and on each constant or input slot the scale that gives its forcing column the norm
+// w_ref. Norms of D z weigh positions, velocities and forcing alike.
+Eigen::VectorXd BalancingScale(const Eigen::MatrixXd& A, int n, double w_ref);
+
 // Decomposes the augmented generator A (n reduced DOF, velocities balanced by w_ref as in
 // BalancedExpm) for times up to `horizon`.
 SpectralDecomposition DecomposeGenerator(const Eigen::MatrixXd& A, int n, double w_ref,
@@ -67,6 +72,10 @@ class ClosedFormGap {
  public:
   ClosedFormGap() = default;
   ClosedFormGap(const SpectralDecomposition& d, const Eigen::RowVectorXd& row);
+  // As above, with the rows of g(H) and g'(H) in w precomputed for the segment length H
+  // (u e^{DH} and u D e^{DH}, u = row S): Load() then takes both at the segment end with two dot
+  // products, and a search over the whole segment evaluates its end point without exp or sincos.
+  ClosedFormGap(const SpectralDecomposition& d, const Eigen::RowVectorXd& row, double horizon);
 
   void Load(const Eigen::VectorXd& w);
   // As Load(w) for the gap g(t) + constant: one closed form serves every wall that differs from
@@ -77,6 +86,11 @@ class ClosedFormGap {
   // reload: the rates and bounds do not depend on the constant).
   void ShiftConstant(double delta) { poly_[0] += delta; }
   double Value(double t) const { return Evaluate(t, 0); }
+  // g(0) of the loaded state, without exp or sincos.
+  double StartValue() const;
+  // g(H) and g'(H) of the loaded state from the end rows (constructed with a horizon H).
+  double EndValue() const { return end_value_; }
+  double EndRate() const { return end_rate_; }
   double Rate(double t) const { return Evaluate(t, 1); }
   double Curvature(double t) const { return Evaluate(t, 2); }
   // An upper bound of |d^order g / dt^order| on [a, b], 0 <= a <= b, order 1 or 2.
@@ -108,6 +122,10 @@ class ClosedFormGap {
   std::vector<Term> terms_;
   Eigen::VectorXd poly_;  // loaded polynomial coefficients
   int zero_size_ = 0;
+  // The segment end H (< 0: none) and g(H), g'(H) of the loaded state.
+  double end_ = -1.0;
+  Eigen::RowVectorXd end_value_row_, end_rate_row_;
+  double end_value_ = 0.0, end_rate_ = 0.0;
   // Search state (set by FirstRise).
   mutable double sign_ = 1.0, offset_ = 0.0, horizon_ = 0.0;
 };
