@@ -158,6 +158,7 @@ TEST_CASE("recorded cycles by output rows match the per-segment recording", "[so
   SolverOptions rows, pieces;
   rows.cycles = pieces.cycles = 400;
   rows.transient_cycles = pieces.transient_cycles = 50;
+  rows.cycle_rows = true;
   pieces.cycle_rows = false;
   const SolverResult a = SimulateExact(s.tables, z0, state0, pieces);
   const SolverResult b = SimulateExact(s.tables, z0, state0, rows);
