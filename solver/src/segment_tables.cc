@@ -4,6 +4,8 @@
 #include <numbers>
 #include <unsupported/Eigen/MatrixFunctions>
 
+#include "free_rotation.h"
+
 namespace gearnvh {
 
 const char* ContactStateName(ContactState s) {
@@ -112,13 +114,7 @@ Eigen::MatrixXd FreeRotationProjector(const SegmentTables& t) {
 }
 
 void RemoveFreeRotation(const SegmentTables& t, Eigen::Ref<Eigen::MatrixXd> V) {
-  const int n = t.n;
-  for (Eigen::Index c = 0; c < V.cols(); ++c) {
-    const double position = t.recenter_row.dot(V.col(c).head(n));
-    const double velocity = t.recenter_row.dot(V.col(c).segment(n, n));
-    V.col(c).head(n) -= position * t.rigid_rotation;
-    V.col(c).segment(n, n) -= velocity * t.rigid_rotation;
-  }
+  ProjectOutFreeRotation(t, V);
 }
 
 size_t SegmentTables::TableBytes() const {

@@ -210,6 +210,20 @@ void TrainStepper::Switch(int mesh, ContactState to, double time, TrainRecorder*
   ++events_this_segment_;
 }
 
+void TrainStepper::Graze(int mesh, double time, TrainRecorder* rec) {
+  ++summary_.grazing;
+  ++events_this_segment_;
+  if (rec != nullptr) rec->Grazing(mesh, time);
+}
+
+void TrainStepper::TaylorValue(double tau, Eigen::VectorXd& out) const {
+  out = taylor_.col(kTaylorTerms);
+  for (int k = kTaylorTerms - 1; k >= 0; --k) {
+    out *= tau;
+    out += taylor_.col(k);
+  }
+}
+
 bool TrainStepper::SwitchOutside(TrainRecorder* rec) {
   for (int i = 0; i < static_cast<int>(t_.meshes.size()); ++i) {
     const int segment = grid_.segments()[static_cast<size_t>(i)];
@@ -238,11 +252,7 @@ void TrainStepper::Record(const TrainSystem& sys, const Eigen::Ref<const Eigen::
       PropagateDecoupled(sys.decomposition, w_, tau, wt_, scratch_);
       zs_.noalias() = sys.decomposition.S * wt_;
     } else {
-      zs_ = taylor_.col(kTaylorTerms);
-      for (int k = kTaylorTerms - 1; k >= 0; --k) {
-        zs_ *= tau;
-        zs_ += taylor_.col(k);
-      }
+      TaylorValue(tau, zs_);
     }
     rec->Sample(rec->next_sample(), zs_);
   }
@@ -336,9 +346,7 @@ double TrainStepper::AdvanceSpectral(const TrainSystem& sys, double remaining, T
   if (tangent) tangent_->PropagateDecoupled(sys.decomposition, advance);
   if (best < 0.0) return advance;
   if (touch) {
-    ++summary_.grazing;
-    ++events_this_segment_;
-    if (rec != nullptr) rec->Grazing(best_mesh, time_ + best);
+    Graze(best_mesh, time_ + best, rec);
     return advance;
   }
   // Simultaneous roots switch together, in the order of their roots.

@@ -85,18 +85,12 @@ double TrainStepper::AdvanceDense(const TrainSystem& sys, double remaining, Trai
     if (touch) advance = std::min(d, best + 1e-12 * t_.longest_segment);
   }
   Record(sys, z_, time_, advance, false, rec);
-  z_ = taylor_.col(kTaylorTerms);
-  for (int k = kTaylorTerms - 1; k >= 0; --k) {
-    z_ *= advance;
-    z_ += taylor_.col(k);
-  }
+  TaylorValue(advance, z_);
   const bool tangent = tangent_ != nullptr && tangent_->active();
   if (tangent) tangent_->PropagateTaylor(sys.A, advance);
   if (best < 0.0) return advance;
   if (touch) {
-    ++summary_.grazing;
-    ++events_this_segment_;
-    if (rec != nullptr) rec->Grazing(best_mesh, time_ + best);
+    Graze(best_mesh, time_ + best, rec);
     return advance;
   }
   if (tangent) {

@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "free_rotation.h"
+
 namespace gearnvh {
 
 void TrainTangentPropagator::Attach(Eigen::MatrixXd* tangent) {
@@ -74,13 +76,7 @@ void TrainTangentPropagator::Recenter() {
 }
 
 void RemoveTrainFreeRotation(const TrainTables& t, Eigen::Ref<Eigen::MatrixXd> V) {
-  const int n = t.n;
-  for (Eigen::Index c = 0; c < V.cols(); ++c) {
-    const double position = t.recenter_row.dot(V.col(c).head(n));
-    const double velocity = t.recenter_row.dot(V.col(c).segment(n, n));
-    V.col(c).head(n) -= position * t.rigid_rotation;
-    V.col(c).segment(n, n) -= velocity * t.rigid_rotation;
-  }
+  ProjectOutFreeRotation(t, V);
   V.bottomRows(2).setZero();
 }
 

@@ -139,6 +139,10 @@ class TrainStepper {
   };
   int Walls(int mesh, Wall walls[2]) const;
   void Switch(int mesh, ContactState to, double time, TrainRecorder* rec);
+  // A grazing touch of `mesh` at `time`: counted (as an event of the segment), the state kept.
+  void Graze(int mesh, double time, TrainRecorder* rec);
+  // out = sum_k taylor_.col(k) tau^k (Horner).
+  void TaylorValue(double tau, Eigen::VectorXd& out) const;
   // Hands the piece from z_start (at piece_start, in the current tuple) to the recorder: its
   // exact statistics, and its samples (on the decomposition or on taylor_).
   void Record(const TrainSystem& sys, const Eigen::Ref<const Eigen::VectorXd>& z_start,
