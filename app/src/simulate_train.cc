@@ -174,6 +174,7 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
                     {"grazing", s.grazing},
                     {"start_switches", s.start_switches},
                     {"dense_pieces", s.dense_pieces},
+                    {"dyadic_substeps", s.dyadic_substeps},
                     {"samples", stats.samples},
                     {"cache",
                      {{"bytes", s.cache.bytes},

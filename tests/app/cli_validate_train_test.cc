@@ -46,6 +46,8 @@ TEST_CASE("simulate on a train runs every event method with the same events", "[
     const auto doc = nlohmann::json::parse(r.out);
     CHECK(doc["method"] == methods[k]);
     events[k] = doc["summary"]["events"].get<long>();
+    // V1 walks its flagged sub-steps on the dyadic grid; V2 and V3 never do.
+    CHECK((doc["summary"]["dyadic_substeps"].get<long>() > 0) == (k == 2));
   }
   // 8 cycles from the static state: the three methods agree to ~1e-10 of the TE there (validate),
   // so their event counts are equal.
