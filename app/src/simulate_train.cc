@@ -184,6 +184,7 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
                       {"hits", s.cache.hits},
                       {"misses", s.cache.misses},
                       {"evictions", s.cache.evictions},
+                      {"decompositions", s.cache.decompositions},
                       {"ill_conditioned", s.cache.ill_conditioned}}}};
   doc["meshes"] = TrainMeshesJson(op);
   doc["sideband_window_common_periods"] = op.sideband_window_common_periods;
@@ -212,9 +213,9 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
                wall > 0.0 ? s.simulated_time / wall : 0.0);
     fmt::print(
         "  table cache         {:.1f} MiB held (peak {:.1f} MiB), {} tuples, {} built, {} "
-        "evicted, {} on the dense path\n",
+        "decomposed ({} ill-conditioned), {} evicted\n",
         s.cache.bytes / 1048576.0, s.cache.peak_bytes / 1048576.0, s.cache.tuples, s.cache.misses,
-        s.cache.evictions, s.cache.ill_conditioned);
+        s.cache.decompositions, s.cache.ill_conditioned, s.cache.evictions);
     fmt::print("\n  {:<10}{:>12}{:>12}{:>12}{:>14}{:>9}{:>9}{:>11}\n", "mesh", "TE mean µm",
                "TE RMS µm", "TE p-p µm", "force max N", "drive", "back", "separated");
     for (const TrainMeshStatistics& m : stats.meshes) {
