@@ -18,17 +18,12 @@
 #include "gearnvh/solver/train_reference.h"
 #include "model/test_specs.h"
 #include "model/test_trains.h"
+#include "solver/train_model.h"
 
 namespace gearnvh {
 namespace {
 
-struct Model {
-  TrainSpec spec;
-  GearTrain train;
-  TrainTables tables;
-  explicit Model(TrainSpec s)
-      : spec(std::move(s)), train(BuildGearTrain(spec)), tables(BuildTrainTables(spec, train)) {}
-};
+using Model = testing::TrainModel;
 
 // Floquet exponents ln |mu| / T (descending) of a train held in drive contact on every mesh, from
 // the monodromy over the common period T assembled from dense propagators of an independent

@@ -12,6 +12,7 @@
 #include "gearnvh/solver/train_statistics.h"
 #include "model/test_specs.h"
 #include "model/test_trains.h"
+#include "solver/train_model.h"
 #include "support/allocation_counter.h"
 
 namespace gearnvh {
@@ -25,15 +26,7 @@ TrainSpec TwoStage(double load, double excitation, double rpm) {
   return testing::TwoStageTrain(load, excitation, rpm);
 }
 
-struct Model {
-  TrainSpec spec;
-  GearTrain train;
-  TrainTables tables;
-  explicit Model(TrainSpec s, TrainTableOptions options = {})
-      : spec(std::move(s)),
-        train(BuildGearTrain(spec)),
-        tables(BuildTrainTables(spec, train, options)) {}
-};
+using Model = testing::TrainModel;
 
 double Gap(const TrainTables& t, size_t i, const std::vector<int>& seg, const Eigen::VectorXd& z,
            bool drive) {
@@ -291,9 +284,13 @@ TEST_CASE("train: the stepping loop does not allocate once the cache holds the t
   // Each tuple is decomposed at its first entry: under the default lazy policy a repeated run
   // decomposes tuples the first run only entered once or twice, and the rattling amplifies that
   // rounding difference into a different trajectory with other tuples. The dense path (every
-  // tuple before its decomposition) is covered by the next test.
+  // tuple before its decomposition) is covered by the never-decomposing runs: V3 with an
+  // unreachable threshold, and V2 (with its exact recording).
+  const auto [method, decompose] = GENERATE(table<EventMethod, int>(
+      {{EventMethod::kSpectral, 1}, {EventMethod::kSpectral, 1000000}, {EventMethod::kTaylor, 3}}));
   TrainStepperOptions options;
-  options.tables.decompose_after_visits = GENERATE(1, 1000000);
+  options.events = method;
+  options.tables.decompose_after_visits = decompose;
   TrainStepper stepper(s.tables, options, z0, states0);
   TrainRecorder warm(s.tables, 32, 0.0);
   REQUIRE(stepper.Run(0.02, &warm));
@@ -305,7 +302,7 @@ TEST_CASE("train: the stepping loop does not allocate once the cache holds the t
   CHECK(counter.count() == 0);
   CHECK(stepper.summary().cache.misses == misses);
   CHECK(stepper.summary().events > 10);
-  if (options.tables.decompose_after_visits > 1) CHECK(stepper.summary().dense_pieces > 0);
+  if (method == EventMethod::kTaylor || decompose > 1) CHECK(stepper.summary().dense_pieces > 0);
 }
 
 }  // namespace
@@ -620,26 +617,6 @@ TEST_CASE("train: the recorded statistics are exact, against dense samples of th
   // The acceleration jumps at every event and segment boundary: Simpson's rule is first order
   // there, ~dt / contact per jump (measured 1.4e-4): 1e-3.
   CHECK(std::abs(exact.loose_gears[0].rattle_index - rattle) <= 1e-3 * rattle);
-}
-
-TEST_CASE("train: the V2 stepping loop and its exact recording do not allocate",
-          "[solver][train][allocation]") {
-  // As the V3 test above, with every tuple on the dense Taylor path (V1 builds its dyadic
-  // propagators per flagged sub-step and does allocate: it is the validation baseline).
-  const Model s(Rattler(1500.0));
-  const auto [z0, states0] = TrainStaticState(s.tables);
-  TrainStepperOptions v2;
-  v2.events = EventMethod::kTaylor;
-  TrainStepper stepper(s.tables, v2, z0, states0);
-  TrainRecorder warm(s.tables, 32, 0.0);
-  REQUIRE(stepper.Run(0.02, &warm));
-  stepper.Reset(z0, states0);
-  TrainRecorder recorder(s.tables, 32, 0.0);
-  testing::AllocationCounter counter;
-  REQUIRE(stepper.Run(0.02, &recorder));
-  CHECK(counter.count() == 0);
-  CHECK(stepper.summary().dense_pieces > 0);
-  CHECK(stepper.summary().events > 10);
 }
 
 TEST_CASE("train: lazy decomposition (dense until a tuple's third entry) agrees with eager",

@@ -9,19 +9,12 @@
 #include "gearnvh/solver/train_reference.h"
 #include "gearnvh/solver/train_stepper.h"
 #include "model/test_trains.h"
+#include "solver/train_model.h"
 
 namespace gearnvh {
 namespace {
 
-struct Model {
-  TrainSpec spec;
-  GearTrain train;
-  TrainTables tables;
-  explicit Model(TrainSpec s, TrainTableOptions options = {})
-      : spec(std::move(s)),
-        train(BuildGearTrain(spec)),
-        tables(BuildTrainTables(spec, train, options)) {}
-};
+using Model = testing::TrainModel;
 
 // The state at `time` from z0 (states0), and the run's event count.
 Eigen::VectorXd FlowTo(const TrainTables& t, const TrainStepperOptions& options,
