@@ -5,6 +5,10 @@
 #include <algorithm>
 #include <atomic>
 #include <cstddef>
+#include <exception>
+#include <functional>
+#include <mutex>
+#include <numbers>
 #include <thread>
 #include <vector>
 
@@ -24,5 +28,38 @@ void ParallelFor(size_t count, int threads, Body&& body) {
   worker();
   for (std::thread& t : pool) t.join();
 }
+
+// One point of a speed sweep (the pair's or a train's: both carry speed_rad_s, speed_rpm, ok and
+// message): `run()` fills it; an exception becomes a failed point with its message, so a sweep
+// goes on past one bad speed.
+template <typename Point, typename Run>
+void RunSweepPoint(Point& p, double speed, Run&& run) {
+  try {
+    p = run();
+  } catch (const std::exception& e) {
+    p.speed_rad_s = speed;
+    p.speed_rpm = speed * 60.0 / (2.0 * std::numbers::pi);
+    p.ok = false;
+    p.message = e.what();
+  }
+}
+
+// Counts finished points from several threads and reports (done, total) under a lock.
+class SweepProgressCounter {
+ public:
+  SweepProgressCounter(int total, std::function<void(int, int)> report)
+      : total_(total), report_(std::move(report)) {}
+  void Tick() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    ++done_;
+    if (report_) report_(done_, total_);
+  }
+
+ private:
+  std::mutex mutex_;
+  int done_ = 0;
+  int total_;
+  std::function<void(int, int)> report_;
+};
 
 }  // namespace gearnvh::app

@@ -100,8 +100,7 @@ SpeedSweepResult RunSpeedSweep(const GearboxSpec& spec, const ComponentModel& mo
 
   // Waterfall: one exact run per speed, in parallel.
   result.points.resize(speeds.size());
-  std::mutex progress_mutex;
-  int done = 0;
+  SweepProgressCounter counter(static_cast<int>(speeds.size()), progress);
   ParallelFor(speeds.size(), options.threads, [&](size_t i) {
     SpeedPoint& p = result.points[i];
     if (!skip.empty() && skip[i]) {
@@ -110,17 +109,10 @@ SpeedSweepResult RunSpeedSweep(const GearboxSpec& spec, const ComponentModel& mo
       p.message = "skipped";
       return;
     }
-    try {
-      p = RunPoint(spec, model, reduced, options, speeds[i], result.order_bins);
-    } catch (const std::exception& e) {
-      p.speed_rad_s = speeds[i];
-      p.speed_rpm = speeds[i] * kRpm;
-      p.ok = false;
-      p.message = e.what();
-    }
-    const std::lock_guard<std::mutex> lock(progress_mutex);
-    ++done;
-    if (progress) progress(done, static_cast<int>(speeds.size()));
+    RunSweepPoint(p, speeds[i], [&] {
+      return RunPoint(spec, model, reduced, options, speeds[i], result.order_bins);
+    });
+    counter.Tick();
   });
   return result;
 }

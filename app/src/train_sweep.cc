@@ -70,21 +70,11 @@ TrainSweepResult RunTrainSweep(const TrainSpec& spec, const TrainSweepOptions& o
   TrainSweepResult result;
   for (const TrainMesh& m : spec.meshes) result.mesh_names.push_back(m.Name());
   result.points.resize(speeds.size());
-  std::mutex progress_mutex;
-  int done = 0;
+  SweepProgressCounter counter(static_cast<int>(speeds.size()), progress);
   ParallelFor(speeds.size(), options.threads, [&](size_t i) {
     TrainSweepPoint& p = result.points[i];
-    try {
-      p = RunPoint(spec, options, speeds[i]);
-    } catch (const std::exception& e) {
-      p.speed_rad_s = speeds[i];
-      p.speed_rpm = speeds[i] * kRpm;
-      p.ok = false;
-      p.message = e.what();
-    }
-    const std::lock_guard<std::mutex> lock(progress_mutex);
-    ++done;
-    if (progress) progress(done, static_cast<int>(speeds.size()));
+    RunSweepPoint(p, speeds[i], [&] { return RunPoint(spec, options, speeds[i]); });
+    counter.Tick();
   });
   for (const TrainSweepPoint& p : result.points) {
     if (!p.ok) continue;
