@@ -10,6 +10,7 @@
 #include <sunmatrix/sunmatrix_dense.h>
 
 #include <Eigen/Dense>
+#include <string>
 
 namespace gearnvh {
 
@@ -45,6 +46,8 @@ class CvodeBdf {
     CVodeSetJacFn(mem_, setup.jacobian);
     CVodeSetMaxNumSteps(mem_, 1000000);
     CVodeRootInit(mem_, setup.root_count, setup.roots);
+    // Library code never prints: CVODE's messages are kept for the caller's result.
+    CVodeSetErrHandlerFn(mem_, KeepMessage, &last_message_);
   }
   ~CvodeBdf() {
     CVodeFree(&mem_);
@@ -60,6 +63,8 @@ class CvodeBdf {
   void* mem() const { return mem_; }
   N_Vector y() const { return y_; }  // the state CVODE advances
   SUNContext context() const { return ctx_; }
+  // CVODE's last error or warning message ("" if none).
+  const std::string& last_message() const { return last_message_; }
   // Steps since the last (re)initialisation (CVodeReInit resets CVODE's counter).
   long StepsSoFar() const {
     long steps = 0;
@@ -68,6 +73,11 @@ class CvodeBdf {
   }
 
  private:
+  static void KeepMessage(int, const char*, const char*, char* message, void* kept) {
+    *static_cast<std::string*>(kept) = message;
+  }
+
+  std::string last_message_;
   SUNContext ctx_ = nullptr;
   N_Vector y_ = nullptr, abstol_ = nullptr;
   SUNMatrix J_ = nullptr;

@@ -242,7 +242,8 @@ ReferenceResult SimulateReference(const SegmentTables& t, const Eigen::VectorXd&
         const int flag = CVode(mem, seg_end, y, &reached, CV_ONE_STEP);
         if (flag < 0) {
           result.status = ReferenceStatus::kSolverFailure;
-          result.message = std::string("CVODE failed: ") + CVodeGetReturnFlagName(flag);
+          result.message = std::string("CVODE failed: ") + CVodeGetReturnFlagName(flag) + " (" +
+                           cvode.last_message() + ")";
           break;
         }
         // [time, reached] lies inside CVODE's last step: its interpolant gives the dense output.
