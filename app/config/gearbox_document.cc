@@ -35,6 +35,12 @@ void MakeBlock(YAML::Node node) {
   }
 }
 
+// The `schema` key as written ("" when absent or not a scalar).
+std::string SchemaText(const YAML::Node& root) {
+  const YAML::Node schema = root["schema"];
+  return schema && schema.IsScalar() ? schema.Scalar() : "";
+}
+
 // "operating.excitation[0].amplitude" -> operating, excitation, 0, amplitude. A step of digits
 // indexes a list (also written as ".0.").
 using Step = std::variant<std::string, size_t>;
@@ -120,30 +126,38 @@ GearboxDocument GearboxDocument::FromData(const std::string& flow_text, const st
   return GearboxDocument(Emit(root), source, false);
 }
 
-GearboxSpec GearboxDocument::Load() const { return LoadGearboxFromString(text_, LoadSource()); }
+LoadedGearbox GearboxDocument::Load() const {
+  return LoadAnyGearboxFromString(text_, LoadSource());
+}
 
 template <typename Assign>
-GearboxSpec GearboxDocument::Edit(const std::string& path, const Assign& assign) {
+LoadedGearbox GearboxDocument::Edit(const std::string& path, const Assign& assign) {
   const std::vector<Step> steps = ParsePath(path);
   YAML::Node root = Parse(text_, LoadSource(), "");
   if (!root.IsMap()) throw InputError(path, 0, "", "the document is not a mapping", source_);
+  const std::string schema = SchemaText(root);
   try {
     YAML::Node target = Walk(root, steps, path, true);
     assign(target);
   } catch (const InputError& e) {
     throw e.WithSource(source_);
   }
+  if (SchemaText(root) != schema) {
+    // A pair's object cannot become a train's (their results differ): load the file again.
+    throw InputError("schema", 0, SchemaText(root),
+                     "an edit cannot change the schema (it is " + schema + ")", source_);
+  }
   GearboxDocument edited(Emit(root), source_, true);
-  GearboxSpec spec = edited.Load();
+  LoadedGearbox loaded = edited.Load();
   *this = std::move(edited);
-  return spec;
+  return loaded;
 }
 
-GearboxSpec GearboxDocument::SetScalar(const std::string& path, const std::string& value) {
+LoadedGearbox GearboxDocument::SetScalar(const std::string& path, const std::string& value) {
   return Edit(path, [&](YAML::Node& target) { target = value; });
 }
 
-GearboxSpec GearboxDocument::SetYaml(const std::string& path, const std::string& yaml) {
+LoadedGearbox GearboxDocument::SetYaml(const std::string& path, const std::string& yaml) {
   YAML::Node value = Parse(yaml, source_, path);
   MakeBlock(value);
   return Edit(path, [&](YAML::Node& target) { target = value; });

@@ -101,6 +101,53 @@ void PrintLyapunov(const TrainLyapunovSummary& l) {
 
 }  // namespace
 
+nlohmann::json TrainSimulationJson(const TrainOperatingPoint& op, const TrainSpec& spec,
+                                   const std::string& file, Tier tier) {
+  nlohmann::json doc;
+  const TrainTables& tables = op.tables;
+  const TrainStepperOptions& solver = op.solver;
+  const TrainStepperSummary& s = op.summary;
+  const TrainStatistics& stats = op.stats;
+  const double wall = op.wall_s;
+  doc["schema"] = "gearnvh/2";
+  doc["name"] = spec.name;
+  doc["file"] = file;
+  doc["tier"] = TierName(tier);
+  doc["state_dim"] = tables.m;
+  doc["method"] = EventMethodName(solver.events);
+  doc["input_speed"] = {{"rad_s", spec.operating.speed}, {"rpm", spec.operating.speed * kRpm}};
+  doc["common_period_s"] = tables.common_period;
+  doc["warnings"] = op.warnings;
+  doc["summary"] = {{"status", StatusName(s.info)},
+                    {"simulated_s", s.simulated_time},
+                    {"recorded_s", stats.recorded_time},
+                    {"wall_s", wall},
+                    {"real_time_ratio", wall > 0.0 ? s.simulated_time / wall : 0.0},
+                    {"grid_segments", s.grid_segments},
+                    {"events", s.events},
+                    {"simultaneous_events", s.simultaneous_events},
+                    {"grazing", s.grazing},
+                    {"start_switches", s.start_switches},
+                    {"dense_pieces", s.dense_pieces},
+                    {"dyadic_substeps", s.dyadic_substeps},
+                    {"samples", stats.samples},
+                    {"cache",
+                     {{"bytes", s.cache.bytes},
+                      {"peak_bytes", s.cache.peak_bytes},
+                      {"limit_bytes", solver.tables.cache_limit_bytes},
+                      {"tuples", s.cache.tuples},
+                      {"hits", s.cache.hits},
+                      {"misses", s.cache.misses},
+                      {"evictions", s.cache.evictions},
+                      {"decompositions", s.cache.decompositions},
+                      {"ill_conditioned", s.cache.ill_conditioned}}}};
+  doc["meshes"] = TrainMeshesJson(op);
+  doc["sideband_window_common_periods"] = op.sideband_window_common_periods;
+  doc["sidebands_notes"] = op.sideband_notes;
+  doc["loose_gears"] = TrainLooseGearsJson(op.stats.loose_gears);
+  return doc;
+}
+
 int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
   const TrainCommandSettings settings =
       CheckTrainCommandOptions(options.tier, spec, options.method, options.uff);
@@ -153,43 +200,7 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
     const auto [z0, states0] = TrainStaticState(tables);
     lyapunov = RunLyapunov(tables, z0, states0, *options.lyapunov, transient, cycles, on_terminal);
   }
-  nlohmann::json doc;
-  doc["schema"] = "gearnvh/2";
-  doc["name"] = spec.name;
-  doc["file"] = options.file;
-  doc["tier"] = TierName(tier);
-  doc["state_dim"] = tables.m;
-  doc["method"] = EventMethodName(solver.events);
-  doc["input_speed"] = {{"rad_s", spec.operating.speed}, {"rpm", spec.operating.speed * kRpm}};
-  doc["common_period_s"] = tables.common_period;
-  doc["warnings"] = warnings;
-  doc["summary"] = {{"status", StatusName(s.info)},
-                    {"simulated_s", s.simulated_time},
-                    {"recorded_s", stats.recorded_time},
-                    {"wall_s", wall},
-                    {"real_time_ratio", wall > 0.0 ? s.simulated_time / wall : 0.0},
-                    {"grid_segments", s.grid_segments},
-                    {"events", s.events},
-                    {"simultaneous_events", s.simultaneous_events},
-                    {"grazing", s.grazing},
-                    {"start_switches", s.start_switches},
-                    {"dense_pieces", s.dense_pieces},
-                    {"dyadic_substeps", s.dyadic_substeps},
-                    {"samples", stats.samples},
-                    {"cache",
-                     {{"bytes", s.cache.bytes},
-                      {"peak_bytes", s.cache.peak_bytes},
-                      {"limit_bytes", solver.tables.cache_limit_bytes},
-                      {"tuples", s.cache.tuples},
-                      {"hits", s.cache.hits},
-                      {"misses", s.cache.misses},
-                      {"evictions", s.cache.evictions},
-                      {"decompositions", s.cache.decompositions},
-                      {"ill_conditioned", s.cache.ill_conditioned}}}};
-  doc["meshes"] = TrainMeshesJson(op);
-  doc["sideband_window_common_periods"] = op.sideband_window_common_periods;
-  doc["sidebands_notes"] = op.sideband_notes;
-  doc["loose_gears"] = TrainLooseGearsJson(op.stats.loose_gears);
+  nlohmann::json doc = TrainSimulationJson(op, spec, options.file, tier);
   if (lyapunov) doc["lyapunov"] = LyapunovJson(*lyapunov);
   RequireFinite(doc, "simulate");
   if (out) {

@@ -140,11 +140,24 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, const TrainRun
     }
   }
   const auto wall_start = std::chrono::steady_clock::now();
-  constexpr int kChunks = 100;
+  // The run goes in chunks of at most 1 % and kCancelCycles cycles: cancellation is seen within
+  // that, progress is reported at every 1 %.
+  constexpr int kProgressSteps = 100;
+  constexpr double kCancelCycles = 64.0;
+  const double chunk = std::min(end / kProgressSteps, kCancelCycles * period);
+  const long chunks = static_cast<long>(std::ceil(end / chunk));
   bool ok = true;
-  for (int c = 1; c <= kChunks && ok; ++c) {
-    ok = stepper.Run(end * c / kChunks, &recorder);
-    if (progress) progress(stepper.time(), end);
+  long reported = 0;
+  for (long c = 1; c <= chunks && ok; ++c) {
+    if (options.cancel != nullptr && options.cancel->load(std::memory_order_relaxed)) {
+      throw RunCancelled();
+    }
+    ok = stepper.Run(c == chunks ? end : std::min(end, chunk * static_cast<double>(c)), &recorder);
+    const long step = static_cast<long>(kProgressSteps * stepper.time() / end);
+    if (progress && (step > reported || c == chunks || !ok)) {
+      reported = step;
+      progress(stepper.time(), end);
+    }
   }
   op.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   op.summary = stepper.summary();

@@ -15,6 +15,7 @@
 // shaft-order content; without it only mesh harmonics are considered (the pair's rule).
 #pragma once
 
+#include <atomic>
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -36,6 +37,8 @@ struct TrainRunOptions {
   bool spectra = true;                        // keep the TE samples and compute per-mesh sidebands
   long max_spectrum_samples = long{1} << 21;  // TE samples kept per mesh for spectra, >= 1
   EventMethod events = EventMethod::kSpectral;  // V3; V2 and V1 to validate
+  // Checked before each 1 % of the run: RunCancelled once set. Not owned; null: never cancelled.
+  const std::atomic<bool>* cancel = nullptr;
   void Validate() const;
 };
 

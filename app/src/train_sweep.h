@@ -4,6 +4,7 @@
 // (docs/cli.md, "`sweep` on a gear train").
 #pragma once
 
+#include <atomic>
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -20,6 +21,9 @@ struct TrainSweepOptions {
   long transient = 200;                         // cycles of the first mesh before recording, >= 0
   int threads = 0;                              // 0: all hardware threads
   EventMethod events = EventMethod::kSpectral;  // V3; V2 and V1 to validate
+  // Passed to every speed's run (TrainRunOptions::cancel); a cancelled speed fails with its
+  // message. Not owned; null: never cancelled.
+  const std::atomic<bool>* cancel = nullptr;
   void Validate() const;
 };
 

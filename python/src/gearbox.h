@@ -1,5 +1,6 @@
-// gearnvh.Gearbox: a YAML gearbox document and its validated spec. Edits go through the loader
-// (config::GearboxDocument), so every schema rule applies.
+// gearnvh.Gearbox (schema gearnvh/1) and gearnvh.Train (schema gearnvh/2): a YAML document and
+// its validated spec. Edits go through the loader (config::GearboxDocument), so every schema rule
+// applies.
 #pragma once
 
 #include <pybind11/pybind11.h>
@@ -9,18 +10,26 @@
 #include "config/gearbox_document.h"
 #include "gearnvh/model/gearbox_spec.h"
 #include "gearnvh/model/input_error.h"
+#include "gearnvh/model/train_spec.h"
 
 namespace gearnvh::python {
 
 namespace py = pybind11;
 
+// gb.set's edit: `value` is a str as written ("0.3 N*m"), an int/float as SI, a bool, or a
+// dict/list; the document is edited and reloaded (either schema; it cannot change).
+config::LoadedGearbox SetByPath(config::GearboxDocument& document, const std::string& path,
+                                const py::object& value);
+
+// A schema-1 gearbox (one pair).
 class Gearbox {
  public:
-  explicit Gearbox(config::GearboxDocument document)
-      : document_(std::move(document)), spec_(document_.Load()) {}
+  Gearbox(config::GearboxDocument document, GearboxSpec spec)
+      : document_(std::move(document)), spec_(std::move(spec)) {}
 
-  // gb.set(path, value): str as written ("0.3 N*m"), int/float as SI, bool, dict/list.
-  void Set(const std::string& path, const py::object& value);
+  void Set(const std::string& path, const py::object& value) {
+    spec_ = *SetByPath(document_, path, value).pair;
+  }
   std::string Get(const std::string& path) const { return document_.Get(path); }
 
   const GearboxSpec& spec() const { return spec_; }
@@ -31,6 +40,26 @@ class Gearbox {
  private:
   config::GearboxDocument document_;
   GearboxSpec spec_;
+};
+
+// A schema-2 gear train.
+class Train {
+ public:
+  Train(config::GearboxDocument document, TrainSpec spec)
+      : document_(std::move(document)), spec_(std::move(spec)) {}
+
+  void Set(const std::string& path, const py::object& value) {
+    spec_ = SetByPath(document_, path, value).train;
+  }
+  std::string Get(const std::string& path) const { return document_.Get(path); }
+
+  const TrainSpec& spec() const { return spec_; }
+  const config::GearboxDocument& document() const { return document_; }
+  const std::string& source() const { return document_.Source(); }
+
+ private:
+  config::GearboxDocument document_;
+  TrainSpec spec_;
 };
 
 // Runs `body`; an InputError raised below the loader (range rules of the model, solver options)
@@ -49,5 +78,6 @@ void BindGearbox(py::module_& m);
 void BindSimulate(py::module_& m);
 void BindSweepAtlas(py::module_& m);
 void BindOrbitsTiers(py::module_& m);
+void BindTrain(py::module_& m);
 
 }  // namespace gearnvh::python

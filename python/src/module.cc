@@ -12,41 +12,51 @@
 
 namespace gearnvh::python {
 
-void Gearbox::Set(const std::string& path, const py::object& value) {
+config::LoadedGearbox SetByPath(config::GearboxDocument& document, const std::string& path,
+                                const py::object& value) {
   if (py::isinstance<py::bool_>(value)) {
-    spec_ = document_.SetScalar(path, value.cast<bool>() ? "true" : "false");
-  } else if (py::isinstance<py::str>(value)) {
-    spec_ = document_.SetScalar(path, value.cast<std::string>());
-  } else if (py::isinstance<py::dict>(value) || py::isinstance<py::list>(value) ||
-             py::isinstance<py::tuple>(value)) {
-    const std::string json = py::str(py::module_::import("json").attr("dumps")(value));
-    spec_ = document_.SetYaml(path, json);
-  } else if (PyIndex_Check(value.ptr()) != 0) {  // int, numpy integers
-    spec_ = document_.SetScalar(path, py::str(py::int_(value)));
-  } else if (PyNumber_Check(value.ptr()) != 0) {  // float, numpy floats: SI, shortest round trip
-    spec_ = document_.SetScalar(path, py::repr(py::float_(value)));
-  } else {
-    throw py::type_error("gearnvh: set(" + path +
-                         ", value): value must be a str such as '0.3 N*m', a number (SI), a "
-                         "bool, a dict or a list, not " +
-                         std::string(py::str(value.get_type().attr("__name__"))));
+    return document.SetScalar(path, value.cast<bool>() ? "true" : "false");
   }
+  if (py::isinstance<py::str>(value)) return document.SetScalar(path, value.cast<std::string>());
+  if (py::isinstance<py::dict>(value) || py::isinstance<py::list>(value) ||
+      py::isinstance<py::tuple>(value)) {
+    const std::string json = py::str(py::module_::import("json").attr("dumps")(value));
+    return document.SetYaml(path, json);
+  }
+  if (PyIndex_Check(value.ptr()) != 0) {  // int, numpy integers
+    return document.SetScalar(path, py::str(py::int_(value)));
+  }
+  if (PyNumber_Check(value.ptr()) != 0) {  // float, numpy floats: SI, shortest round trip
+    return document.SetScalar(path, py::repr(py::float_(value)));
+  }
+  throw py::type_error("gearnvh: set(" + path +
+                       ", value): value must be a str such as '0.3 N*m', a number (SI), a "
+                       "bool, a dict or a list, not " +
+                       std::string(py::str(value.get_type().attr("__name__"))));
 }
 
 namespace {
 
-Gearbox Load(const py::object& source) {
+// A Gearbox for a schema-1 document, a Train for a schema-2 one.
+py::object Wrap(config::GearboxDocument document) {
+  config::LoadedGearbox loaded = document.Load();
+  if (loaded.schema == 2) return py::cast(Train(std::move(document), std::move(loaded.train)));
+  return py::cast(Gearbox(std::move(document), std::move(*loaded.pair)));
+}
+
+py::object Load(const py::object& source) {
   if (py::isinstance<py::dict>(source)) {
     const std::string json = py::str(py::module_::import("json").attr("dumps")(source));
-    return Gearbox(config::GearboxDocument::FromData(json, "<dict>"));
+    return Wrap(config::GearboxDocument::FromData(json, "<dict>"));
   }
-  if (py::isinstance<Gearbox>(source)) return source.cast<Gearbox>();
+  if (py::isinstance<Gearbox>(source)) return py::cast(source.cast<Gearbox>());
+  if (py::isinstance<Train>(source)) return py::cast(source.cast<Train>());
   const std::string text = py::str(py::module_::import("os").attr("fspath")(source));
   // YAML text has a line break (or is one flow mapping); anything else is a file name.
   if (text.find('\n') != std::string::npos || text.starts_with('{')) {
-    return Gearbox(config::GearboxDocument::FromText(text, "<string>"));
+    return Wrap(config::GearboxDocument::FromText(text, "<string>"));
   }
-  return Gearbox(config::GearboxDocument::FromFile(text));
+  return Wrap(config::GearboxDocument::FromFile(text));
 }
 
 py::object Check(const Gearbox& gb) {
@@ -119,7 +129,8 @@ void BindGearbox(py::module_& m) {
       });
   m.def("load", &Load, py::arg("source"),
         "Load a gearbox from a YAML file name (str or path), YAML text (anything with a line "
-        "break) or a dict with the schema's keys. Raises gearnvh.InputError on invalid input.");
+        "break) or a dict with the schema's keys: a Gearbox (schema gearnvh/1, one pair) or a "
+        "Train (schema gearnvh/2). Raises gearnvh.InputError on invalid input.");
   m.def("check", &Check, py::arg("gearbox"),
         "Validate and describe a gearbox: the document of `gearnvh check --json` as a dict "
         "(geometry, mesh, fe, tiers; SI units).");
@@ -135,6 +146,7 @@ PYBIND11_MODULE(gearnvh, m) {
   m.attr("__version__") = "0.1.0";
   gearnvh::python::RegisterInputError(m);
   gearnvh::python::BindGearbox(m);
+  gearnvh::python::BindTrain(m);
   gearnvh::python::BindSimulate(m);
   gearnvh::python::BindSweepAtlas(m);
   gearnvh::python::BindOrbitsTiers(m);

@@ -1,6 +1,7 @@
 #include "config/gearbox_document.h"
 
 #include <catch2/catch.hpp>
+#include <numbers>
 
 #include "config/gearbox_loader.h"
 #include "gearnvh/model/input_error.h"
@@ -14,26 +15,50 @@ TEST_CASE("a document loads as the loader does and edits by schema path", "[docu
   GearboxDocument doc = GearboxDocument::FromFile(kExample);
   CHECK_FALSE(doc.Edited());
   const GearboxSpec original = LoadGearboxFile(kExample);
-  CHECK(doc.Load().operating.torque == original.operating.torque);
+  CHECK(doc.Load().pair->operating.torque == original.operating.torque);
   // A quantity with units as written, and a bare number as SI: the same double either way.
-  const GearboxSpec with_units = doc.SetScalar("operating.torque", "0.3 N*m");
-  const GearboxSpec si = doc.SetScalar("operating.torque", "0.3");
+  const GearboxSpec with_units = *doc.SetScalar("operating.torque", "0.3 N*m").pair;
+  const GearboxSpec si = *doc.SetScalar("operating.torque", "0.3").pair;
   CHECK(with_units.operating.torque == si.operating.torque);
   CHECK(si.operating.torque == 0.3);
   CHECK(doc.Edited());
   CHECK(doc.Get("operating.torque") == "0.3");
   // List entries by [i] or .i; whole lists as YAML/JSON.
   CHECK(doc.SetScalar("operating.excitation[0].amplitude", "900 rad/s^2")
-            .operating.excitation[0]
+            .pair->operating.excitation[0]
             .amplitude == 900.0);
   CHECK(doc.Get("operating.excitation.0.amplitude") == "900 rad/s^2");
-  const GearboxSpec two = doc.SetYaml(
-      "operating.excitation", R"([{"order": 2, "amplitude": 100}, {order: 4, amplitude: 50}])");
+  const GearboxSpec two =
+      *doc.SetYaml("operating.excitation",
+                   R"([{"order": 2, "amplitude": 100}, {order: 4, amplitude: 50}])")
+           .pair;
   REQUIRE(two.operating.excitation.size() == 2);
   CHECK(two.operating.excitation[1].order == 4.0);
   // Everything else is untouched by the edits.
   CHECK(two.mesh.backlash == original.mesh.backlash);
   CHECK(two.pinion.inertia == original.pinion.inertia);
+}
+
+TEST_CASE("a train document edits by schema path and keeps its schema", "[document]") {
+  const std::string file = std::string(GEARNVH_EXAMPLES_DIR) + "/two_stage_helical_reducer.yaml";
+  GearboxDocument doc = GearboxDocument::FromFile(file);
+  const LoadedGearbox original = LoadAnyGearboxFile(file);
+  REQUIRE(doc.Load().schema == 2);
+  const LoadedGearbox edited = doc.SetScalar("operating.speed.value", "1234 rpm");
+  CHECK(edited.schema == 2);
+  // rpm to rad/s: the loader's conversion of the same text, so equal to rounding (one product).
+  CHECK(edited.train.operating.speed ==
+        Approx(1234.0 * 2.0 * std::numbers::pi / 60.0).epsilon(1e-15));
+  CHECK(edited.train.meshes.size() == original.train.meshes.size());
+  const std::string before = doc.Text();
+  try {
+    doc.SetScalar("schema", "gearnvh/1");
+    FAIL("an edit changed the schema");
+  } catch (const InputError& e) {
+    CHECK(e.path() == "schema");
+    CHECK(std::string(e.what()).find("cannot change the schema") != std::string::npos);
+  }
+  CHECK(doc.Text() == before);
 }
 
 TEST_CASE("a bad edit names the path and rule and leaves the document unchanged", "[document]") {

@@ -1,0 +1,315 @@
+// gearnvh.Train (schema gearnvh/2) and check, simulate and sweep on it: the library calls behind
+// `gearnvh check|simulate|sweep TRAIN.yaml`, per-mesh and per-loose-gear results as objects and
+// NumPy arrays (speeds x meshes), and to_dict() giving the command line's JSON.
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <optional>
+
+#include "binding_support.h"
+#include "gearbox.h"
+#include "simulate_train.h"
+#include "train_check.h"
+#include "train_operating_point.h"
+#include "train_sweep.h"
+
+namespace gearnvh::python {
+
+namespace {
+
+struct TrainSimulation {
+  app::TrainOperatingPoint op;
+  nlohmann::json doc;  // the `simulate --json` document
+};
+
+struct TrainSweep {
+  app::TrainSweepResult result;
+  nlohmann::json doc;  // the `sweep --json` document
+};
+
+// tier= on a train: None (analysis.tier) or what `--tier` takes; CheckTrainCommandOptions says
+// which tiers the train solver runs.
+std::optional<std::string> TierText(const py::object& tier) {
+  if (tier.is_none()) return std::nullopt;
+  return std::string(py::str(tier));
+}
+
+py::object CheckTrain(const Train& train) {
+  const TrainSpec spec = train.spec();
+  const std::string source = train.source();
+  const nlohmann::json doc = RunInterruptible(
+      [&](CallControl&) {
+        return NamingSource(source, [&] {
+          nlohmann::json out = app::TrainCheckReport(spec, app::BuildTrainCheck(spec));
+          out["file"] = source;
+          return out;
+        });
+      },
+      py::none());
+  return ToPython(doc);
+}
+
+std::shared_ptr<TrainSimulation> SimulateTrain(const Train& train, const py::object& tier,
+                                               std::optional<long> cycles,
+                                               std::optional<long> transient,
+                                               const std::string& method,
+                                               const py::object& progress) {
+  const TrainSpec spec = train.spec();
+  const std::string source = train.source();
+  const app::TrainCommandSettings settings = NamingSource(source, [&] {
+    return app::CheckTrainCommandOptions(TierText(tier), spec, method, std::nullopt);
+  });
+  app::TrainRunOptions run;
+  run.cycles = cycles.value_or(spec.analysis.cycles);
+  run.transient = transient.value_or(spec.analysis.transient_cycles);
+  run.events = settings.events;
+  NamingSource(source, [&] { run.Validate(); });
+  return RunInterruptible(
+      [&](CallControl& control) {
+        return NamingSource(source, [&] {
+          run.cancel = &control.cancel;
+          constexpr long kSteps = 1000;  // progress in thousandths of the run
+          auto out = std::make_shared<TrainSimulation>();
+          out->op = app::RunTrainOperatingPoint(spec, run, [&](double time, double end) {
+            control.Progress(std::lround(kSteps * time / end), kSteps);
+          });
+          out->doc = app::TrainSimulationJson(out->op, spec, source, settings.tier);
+          return out;
+        });
+      },
+      progress);
+}
+
+std::shared_ptr<TrainSweep> SweepTrain(const Train& train, std::optional<long> cycles,
+                                       std::optional<long> transient, int jobs,
+                                       const std::string& method, const py::object& progress) {
+  const TrainSpec spec = train.spec();
+  const std::string source = train.source();
+  const app::TrainCommandSettings settings = NamingSource(source, [&] {
+    return app::CheckTrainCommandOptions(std::nullopt, spec, method, std::nullopt);
+  });
+  app::TrainSweepOptions options;
+  options.cycles = cycles.value_or(options.cycles);
+  options.transient = transient.value_or(options.transient);
+  options.threads = jobs;
+  options.events = settings.events;
+  NamingSource(source, [&] { options.Validate(); });
+  return RunInterruptible(
+      [&](CallControl& control) {
+        return NamingSource(source, [&] {
+          options.cancel = &control.cancel;
+          auto out = std::make_shared<TrainSweep>();
+          out->result =
+              app::RunTrainSweep(spec, options, [&](int d, int t) { control.Progress(d, t); });
+          out->doc = app::TrainSweepJson(out->result);
+          out->doc["name"] = spec.name;
+          out->doc["file"] = source;
+          return out;
+        });
+      },
+      progress);
+}
+
+// speeds x columns of value(point, column); NaN for a failed speed.
+template <typename Value>
+py::array_t<double> PerSpeed(const app::TrainSweepResult& r, size_t columns, Value&& value) {
+  std::vector<std::vector<double>> rows;
+  for (const app::TrainSweepPoint& p : r.points) {
+    std::vector<double> row(columns, std::numeric_limits<double>::quiet_NaN());
+    if (p.ok) {
+      for (size_t c = 0; c < columns; ++c) row[c] = value(p, c);
+    }
+    rows.push_back(std::move(row));
+  }
+  return Matrix(rows);
+}
+
+}  // namespace
+
+void BindTrain(py::module_& m) {
+  py::class_<Train>(m, "Train",
+                    "A gear train (schema gearnvh/2): its YAML document and validated input. "
+                    "Create with gearnvh.load().")
+      .def("set", &Train::Set, py::arg("path"), py::arg("value"),
+           "Set a value by schema path ('operating.speed.value', 'meshes[0].backlash', "
+           "'operating.loads[1].torque') and revalidate; as Gearbox.set.")
+      .def("get", &Train::Get, py::arg("path"),
+           "The value at a schema path as written (a str), or the YAML text of a mapping/list.")
+      .def(
+          "copy", [](const Train& t) { return t; }, "An independent copy.")
+      .def("__copy__", [](const Train& t) { return t; })
+      .def(
+          "__deepcopy__", [](const Train& t, py::dict) { return t; }, py::arg("memo"))
+      .def_property_readonly("name", [](const Train& t) { return t.spec().name; })
+      .def_property_readonly("source", &Train::source,
+                             "The file it came from, '<string>' or '<dict>'.")
+      .def_property_readonly(
+          "yaml", [](const Train& t) { return t.document().Text(); },
+          "The YAML document (re-emitted without comments after set()).")
+      .def_property_readonly(
+          "meshes",
+          [](const Train& t) {
+            std::vector<std::string> names;
+            for (const TrainMesh& mesh : t.spec().meshes) names.push_back(mesh.Name());
+            return names;
+          },
+          "Mesh names ('gear_a-gear_b'), file order.")
+      .def("__repr__", [](const Train& t) {
+        return "<gearnvh.Train '" + t.spec().name + "' from " + t.source() + ", " +
+               std::to_string(t.spec().meshes.size()) + " meshes" +
+               (t.document().Edited() ? ", edited>" : ">");
+      });
+
+  py::class_<TrainMeshStatistics>(m, "MeshResult",
+                                  "One mesh of a train run: exact statistics over the record (SI).")
+      .def_readonly("name", &TrainMeshStatistics::name)
+      .def_readonly("te_mean", &TrainMeshStatistics::te_mean, "m")
+      .def_readonly("te_rms", &TrainMeshStatistics::te_rms, "m, about the mean")
+      .def_readonly("te_peak_to_peak", &TrainMeshStatistics::te_peak_to_peak, "m")
+      .def_readonly("force_mean", &TrainMeshStatistics::force_mean, "N")
+      .def_readonly("force_max", &TrainMeshStatistics::force_max, "N")
+      .def_readonly("drive_impacts", &TrainMeshStatistics::drive_impacts)
+      .def_readonly("back_impacts", &TrainMeshStatistics::back_impacts)
+      .def_readonly("separations", &TrainMeshStatistics::separations)
+      .def_readonly("grazing", &TrainMeshStatistics::grazing)
+      .def_readonly("separation_fraction", &TrainMeshStatistics::free_time_fraction,
+                    "fraction of the record out of contact")
+      .def_readonly("impact_velocity_rms", &TrainMeshStatistics::impact_velocity_rms, "m/s")
+      .def_readonly("impact_velocity_max", &TrainMeshStatistics::impact_velocity_max, "m/s")
+      .def("__repr__", [](const TrainMeshStatistics& s) {
+        return "<gearnvh.MeshResult " + s.name + ", TE RMS " + std::to_string(s.te_rms * 1e6) +
+               " um, " + std::to_string(s.drive_impacts + s.back_impacts) + " impacts>";
+      });
+
+  py::class_<TrainLooseGearStatistics>(m, "LooseGearResult",
+                                       "A loose gear's rattle in a train run.")
+      .def_readonly("name", &TrainLooseGearStatistics::name)
+      .def_readonly("rank", &TrainLooseGearStatistics::rank, "1 = rattles most")
+      .def_readonly("rattle_index", &TrainLooseGearStatistics::rattle_index,
+                    "RMS angular acceleration about the mean, rad/s^2")
+      .def_readonly("impacts", &TrainLooseGearStatistics::impacts,
+                    "impacts of the meshes this gear belongs to")
+      .def("__repr__", [](const TrainLooseGearStatistics& g) {
+        return "<gearnvh.LooseGearResult " + std::to_string(g.rank) + ". " + g.name + ", " +
+               std::to_string(g.rattle_index) + " rad/s^2>";
+      });
+
+  py::class_<TrainSimulation, std::shared_ptr<TrainSimulation>>(
+      m, "TrainSimulation", "One operating point of a gear train (gearnvh simulate TRAIN.yaml).")
+      .def_property_readonly(
+          "meshes", [](const TrainSimulation& s) { return s.op.stats.meshes; },
+          "MeshResult per mesh, file order")
+      .def_property_readonly(
+          "loose_gears", [](const TrainSimulation& s) { return s.op.stats.loose_gears; },
+          "LooseGearResult per loose gear, by rank (1 = rattles most)")
+      .def_property_readonly(
+          "sidebands",
+          [](const TrainSimulation& s) {
+            py::dict out;
+            for (size_t i = 0; i < s.op.sidebands.size(); ++i)
+              out[py::str(s.op.tables.meshes[i].name)] = s.op.sidebands[i].rows;
+            return out;
+          },
+          "mesh name -> the TE spectrum lines that stand out (Sideband list)")
+      .def_property_readonly("warnings", [](const TrainSimulation& s) { return s.op.warnings; })
+      .def_property_readonly(
+          "events", [](const TrainSimulation& s) { return s.op.summary.events; },
+          "contact events of the whole run")
+      .def_property_readonly("real_time_ratio",
+                             [](const TrainSimulation& s) {
+                               return s.op.wall_s > 0.0 ? s.op.summary.simulated_time / s.op.wall_s
+                                                        : 0.0;
+                             })
+      .def_property_readonly("ok", [](const TrainSimulation& s) { return s.op.ok(); })
+      .def(
+          "to_dict", [](const TrainSimulation& s) { return ToPython(s.doc); },
+          "The document `gearnvh simulate --json TRAIN.yaml` prints.")
+      .def("__repr__", [](const TrainSimulation& s) {
+        return "<gearnvh.TrainSimulation " + std::to_string(s.op.stats.meshes.size()) +
+               " meshes, " + std::to_string(s.op.summary.events) + " events>";
+      });
+
+  py::class_<TrainSweep, std::shared_ptr<TrainSweep>>(
+      m, "TrainSweep", "A train's speed sweep (gearnvh sweep TRAIN.yaml); arrays are speeds x ...")
+      .def_property_readonly("speeds_rpm",
+                             [](const TrainSweep& s) {
+                               std::vector<double> v;
+                               for (const auto& p : s.result.points) v.push_back(p.speed_rpm);
+                               return py::array_t<double>(static_cast<py::ssize_t>(v.size()),
+                                                          v.data());
+                             })
+      .def_property_readonly(
+          "ok",
+          [](const TrainSweep& s) {
+            std::vector<bool> v;
+            for (const auto& p : s.result.points) v.push_back(p.ok);
+            return v;
+          },
+          "per speed: the run finished")
+      .def_property_readonly(
+          "messages",
+          [](const TrainSweep& s) {
+            std::vector<std::string> v;
+            for (const auto& p : s.result.points) v.push_back(p.message);
+            return v;
+          },
+          "per speed: why the run failed ('' when it did not)")
+      .def_property_readonly("mesh_names", [](const TrainSweep& s) { return s.result.mesh_names; })
+      .def_property_readonly("loose_gear_names",
+                             [](const TrainSweep& s) { return s.result.loose_gear_names; })
+      .def_property_readonly(
+          "te_rms",
+          [](const TrainSweep& s) {
+            return PerSpeed(
+                s.result, s.result.mesh_names.size(),
+                [](const app::TrainSweepPoint& p, size_t i) { return p.meshes[i].te_rms; });
+          },
+          "speeds x meshes, m (NaN for a failed speed)")
+      .def_property_readonly(
+          "force_max",
+          [](const TrainSweep& s) {
+            return PerSpeed(
+                s.result, s.result.mesh_names.size(),
+                [](const app::TrainSweepPoint& p, size_t i) { return p.meshes[i].force_max; });
+          },
+          "speeds x meshes, N")
+      .def_property_readonly(
+          "impacts_per_cycle",
+          [](const TrainSweep& s) {
+            return PerSpeed(
+                s.result, s.result.mesh_names.size(),
+                [](const app::TrainSweepPoint& p, size_t i) { return p.ImpactsPerCycle(i); });
+          },
+          "speeds x meshes: drive + back impacts per cycle of that mesh")
+      .def_property_readonly(
+          "rattle_index",
+          [](const TrainSweep& s) {
+            return PerSpeed(s.result, s.result.loose_gear_names.size(),
+                            [](const app::TrainSweepPoint& p, size_t g) {
+                              return p.loose_gears[g].rattle_index;
+                            });
+          },
+          "speeds x loose gears, rad/s^2 (RMS angular acceleration)")
+      .def(
+          "to_dict", [](const TrainSweep& s) { return ToPython(s.doc); },
+          "The document `gearnvh sweep --json TRAIN.yaml` prints.");
+
+  m.def("check", &CheckTrain, py::arg("gearbox"),
+        "Validate and describe a gear train: the document of `gearnvh check --json TRAIN.yaml` "
+        "(bodies, meshes, modes, tiers, Campbell data; SI units).");
+  m.def("simulate", &SimulateTrain, py::arg("gearbox"), py::kw_only(), py::arg("tier") = py::none(),
+        py::arg("cycles") = py::none(), py::arg("transient") = py::none(), py::arg("method") = "v3",
+        py::arg("progress") = py::none(),
+        "A gear train's operating point, as `gearnvh simulate TRAIN.yaml`: cycles and transient "
+        "count cycles of the first mesh (default analysis.cycles, analysis.transient_cycles); "
+        "method: v1, v2, v3 (fused means v3 on trains).");
+  m.def("sweep", &SweepTrain, py::arg("gearbox"), py::kw_only(), py::arg("cycles") = py::none(),
+        py::arg("transient") = py::none(), py::arg("jobs") = 0, py::arg("method") = "v3",
+        py::arg("progress") = py::none(),
+        "A gear train's speed sweep over analysis.speed_sweep, as `gearnvh sweep TRAIN.yaml`.");
+}
+
+}  // namespace gearnvh::python
