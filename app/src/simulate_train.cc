@@ -130,6 +130,7 @@ nlohmann::json TrainSimulationJson(const TrainOperatingPoint& op, const TrainSpe
                     {"start_switches", s.start_switches},
                     {"dense_pieces", s.dense_pieces},
                     {"dyadic_substeps", s.dyadic_substeps},
+                    {"dyadic_matvecs", s.dyadic_matvecs},
                     {"samples", stats.samples},
                     {"cache",
                      {{"bytes", s.cache.bytes},

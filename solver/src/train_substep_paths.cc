@@ -102,7 +102,7 @@ double TrainStepper::AdvanceDense(const TrainSystem& sys, double remaining, Trai
 }
 
 TrainStepper::WallHit TrainStepper::Suspect(const Eigen::VectorXd& z, const Eigen::VectorXd& z1,
-                                            bool near_only, bool& turned) const {
+                                            double walk_cell, bool& turned) const {
   const int n = t_.n;
   WallHit hit;
   turned = false;
@@ -121,15 +121,29 @@ TrainStepper::WallHit TrainStepper::Suspect(const Eigen::VectorXd& z, const Eige
           (rate1 > 0.0 || outside > t_.GapTolerance(static_cast<int>(i), segment, w.drive, z1))) {
         hit = {static_cast<int>(i), w.target};
       }
-      // Turned towards the wall and back: an interior extremum to look at (in the walk, only near
-      // the wall).
-      if (w.sign * mt.v.dot(z.segment(n, n)) > 0.0 && rate1 < 0.0 &&
-          (!near_only || outside > -1e-3 * mt.half_backlash)) {
+      // Turned towards the wall and back: an interior extremum to look at (in the walk, only one
+      // that can reach the wall).
+      const double rate0 = w.sign * mt.v.dot(z.segment(n, n));
+      if (rate0 > 0.0 && rate1 < 0.0 &&
+          (walk_cell == 0.0 || w.sign * t_.GapValue(static_cast<int>(i), segment, w.drive, z) +
+                                       2.0 * walk_cell * rate0 >
+                                   0.0)) {
         turned = true;
       }
     }
   }
   return hit;
+}
+
+bool TrainStepper::BelowGapRounding(const WallHit& hit, const Eigen::VectorXd& z,
+                                    double step) const {
+  const size_t i = static_cast<size_t>(hit.mesh);
+  const ContactState now = states_[i];
+  const bool drive =
+      now == ContactState::kFree ? hit.target == ContactState::kDrive : now == ContactState::kDrive;
+  const double rate = std::abs(t_.meshes[i].v.dot(z.segment(t_.n, t_.n)));
+  return rate * step <=
+         kResolvableRounding * t_.GapTolerance(hit.mesh, grid_.segments()[i], drive, z);
 }
 
 double TrainStepper::AdvanceDyadic(const TrainSystem& sys, double remaining, TrainRecorder* rec) {
@@ -140,7 +154,7 @@ double TrainStepper::AdvanceDyadic(const TrainSystem& sys, double remaining, Tra
   z1_.noalias() = substep_map_ * z_;
   if (rec != nullptr) TaylorColumns(sys);  // the samples inside the sub-step
   bool turned = false;
-  if (Suspect(z_, z1_, false, turned).mesh < 0 && !turned) {
+  if (Suspect(z_, z1_, 0.0, turned).mesh < 0 && !turned) {
     Record(sys, z_, time_, d, false, rec);
     z_.swap(z1_);
     if (tangent_ != nullptr && tangent_->active()) tangent_->PropagateTaylor(sys.A, d);
@@ -163,9 +177,11 @@ double TrainStepper::AdvanceDyadic(const TrainSystem& sys, double remaining, Tra
     bool crossed = false;
     while (true) {
       z1_.noalias() = dyadic_levels_[static_cast<size_t>(kDyadicLevels - 1 - k)] * z_;
-      const bool suspect = Suspect(z_, z1_, true, turned).mesh >= 0 || (k > 0 && turned);
-      if (!suspect) break;
-      if (k == 0) {
+      ++summary_.dyadic_matvecs;
+      const double step = cell * static_cast<double>(1LL << k);
+      const WallHit hit = Suspect(z_, z1_, step, turned);
+      if (hit.mesh < 0 && !(k > 0 && turned)) break;
+      if (k == 0 || (hit.mesh >= 0 && BelowGapRounding(hit, z1_, step))) {
         crossed = true;
         break;
       }
@@ -185,7 +201,7 @@ double TrainStepper::AdvanceDyadic(const TrainSystem& sys, double remaining, Tra
     if (tangent) tangent_->PropagateTaylor(sys.A, advance);
     int switched = 0;  // >= 1: the finest cell ended outside a wall
     for (int guard = 0; guard < static_cast<int>(t_.meshes.size()); ++guard) {
-      const WallHit hit = Suspect(z_, z_, true, turned);
+      const WallHit hit = Suspect(z_, z_, cell, turned);
       if (hit.mesh < 0) break;
       if (tangent) {
         const size_t i = static_cast<size_t>(hit.mesh);

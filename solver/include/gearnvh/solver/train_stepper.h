@@ -81,6 +81,7 @@ struct TrainStepperSummary {
   long start_switches = 0;   // states switched at once at a segment start
   long dense_pieces = 0;     // pieces propagated on the dense (Taylor) path
   long dyadic_substeps = 0;  // V1: flagged sub-steps walked on the dyadic grid
+  long dyadic_matvecs = 0;   // V1: cell maps applied in those walks (bisections included)
   long recenterings = 0;
   double simulated_time = 0.0;  // s
   TrainCacheSummary cache;
@@ -122,14 +123,25 @@ class TrainStepper {
   double AdvanceDyadic(const TrainSystem& sys, double remaining, TrainRecorder* rec);
   // Fills taylor_ with A^k z / k!, k = 0..kTaylorTerms (the dense path's polynomial).
   void TaylorColumns(const TrainSystem& sys);
-  // The first wall (of any mesh) that z is outside of, as (mesh, wall), or mesh -1; the gap turned
-  // back towards a wall between z and z1 sets `turned`.
+  // The first wall (of any mesh) that z1 is outside of, as (mesh, wall), or mesh -1. A gap that
+  // turned back towards a wall between z and z1 sets `turned`: any turn when screening a sub-step
+  // (walk_cell = 0); in the dyadic walk (walk_cell = the cell length tau) only a turn whose
+  // excursion bound reaches the wall, sign g(z) + 2 tau sign g'(z) > 0 (g' falls from g'(z) to
+  // below 0 within tau, so the gap rises by at most tau g'(z); 2 for margin). A turn far from a
+  // wall, or one at a rate at rounding level (an inflection), would otherwise be bisected to
+  // the finest cell at every step of a long stretch.
   struct WallHit {
     int mesh = -1;
     ContactState target = ContactState::kFree;
   };
-  WallHit Suspect(const Eigen::VectorXd& z, const Eigen::VectorXd& z1, bool look_inside,
+  WallHit Suspect(const Eigen::VectorXd& z, const Eigen::VectorXd& z1, double walk_cell,
                   bool& turned) const;
+  // V1: the gap of `hit`'s mesh moves by less than kResolvableRounding times its rounding floor
+  // over `step` at z: a finer cell cannot place the crossing better (its state change is lost
+  // in rounding, and bisecting further would crawl through 2^34 cells that do not move z). The
+  // event goes at the cell's end, within that rounding-level time.
+  static constexpr double kResolvableRounding = 4.0;
+  bool BelowGapRounding(const WallHit& hit, const Eigen::VectorXd& z, double step) const;
   bool SwitchOutside(TrainRecorder* rec);
   // A wall of a mesh's state: gap g+ (drive) or g-; sign * g > 0 is outside; the state beyond.
   struct Wall {
