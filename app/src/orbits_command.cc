@@ -17,6 +17,7 @@
 #include "gearnvh/nvh/orbit_scan.h"
 #include "output_folder.h"
 #include "simulate_command.h"
+#include "train_orbits_command.h"
 
 namespace gearnvh::app {
 
@@ -29,9 +30,7 @@ nlohmann::json FiniteOrNull(double v) {
 nlohmann::json PointJson(const OrbitScanPoint& p) {
   const PeriodicOrbit& o = p.orbit;
   nlohmann::json mu = nlohmann::json::array();
-  for (const auto& m : o.multipliers) {
-    mu.push_back({{"re", m.real()}, {"im", m.imag()}, {"abs", std::abs(m)}});
-  }
+  for (const auto& m : o.multipliers) mu.push_back(MultiplierJson(m));
   const bool found = !p.start.empty();
   return {{"value", p.value},
           {"ok", p.ok},
@@ -71,10 +70,23 @@ std::string OrbitsCsv(const std::vector<OrbitScanPoint>& points, const std::stri
 
 }  // namespace
 
+nlohmann::json MultiplierJson(std::complex<double> mu) {
+  return {{"re", mu.real()}, {"im", mu.imag()}, {"abs", std::abs(mu)}};
+}
+
+std::string NoStableOrbitText(int period, bool swept) {
+  return fmt::format(
+      "  No stable period-{} orbit exists at {} (none found by shooting from the settled motion "
+      "and continuation).",
+      period, swept ? "any point of the sweep" : "this operating point");
+}
+
 int RunOrbits(const OrbitsCommandOptions& options) {
   return RunReportingErrors(options.file, [&]() -> int {
+    const config::LoadedGearbox loaded = config::LoadAnyGearboxFile(options.file);
+    if (loaded.schema == 2) return OrbitsTrain(options, loaded.train);
     const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
-    const GearboxSpec spec = config::LoadGearboxFile(options.file);
+    const GearboxSpec& spec = *loaded.pair;
     OrbitScanOptions scan;
     scan.tier = options.tier ? ParseTier(*options.tier) : spec.analysis.tier;
     scan.period = options.period;
@@ -144,12 +156,7 @@ int RunOrbits(const OrbitsCommandOptions& options) {
             StabilityBoundaryName(o.nearest_boundary), o.boundary_distance, o.drive_impacts,
             o.back_impacts, p.start);
       }
-      if (stable == 0) {
-        fmt::print(
-            "  No stable period-{} orbit exists at {} (none found by shooting from the "
-            "settled motion and continuation).\n",
-            options.period, sweep ? "any point of the sweep" : "this operating point");
-      }
+      if (stable == 0) fmt::print("{}\n", NoStableOrbitText(options.period, sweep.has_value()));
     }
     if (failed > 0) {
       std::cerr << "error: " << failed << " of " << points.size()

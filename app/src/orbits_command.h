@@ -4,6 +4,8 @@
 // (nvh/orbit_scan.h). Says plainly when no stable orbit was found.
 #pragma once
 
+#include <complex>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 
@@ -21,5 +23,11 @@ struct OrbitsCommandOptions {
 };
 
 int RunOrbits(const OrbitsCommandOptions& options);
+
+// Shared with the train's orbits (train_orbits_command.h):
+// {"re", "im", "abs"} of one Floquet multiplier.
+nlohmann::json MultiplierJson(std::complex<double> mu);
+// "  No stable period-M orbit exists at ..." (the plain statement when none was found).
+std::string NoStableOrbitText(int period, bool swept);
 
 }  // namespace gearnvh::app
