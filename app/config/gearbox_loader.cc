@@ -134,10 +134,10 @@ AtlasAxis ParseAxisOption(const std::string& text, const std::string& field) {
       });
 }
 
-AtlasAxis ParseAxisOption(const std::string& text, const std::string& field,
-                          const std::function<std::optional<Dimension>(const std::string&)>&
-                              dimension_of,
-                          const std::function<std::string(const std::string&)>& rejection) {
+AtlasAxis ParseAxisOption(
+    const std::string& text, const std::string& field,
+    const std::function<std::optional<Dimension>(const std::string&)>& dimension_of,
+    const std::function<std::string(const std::string&)>& rejection) {
   const std::string form =
       "must be PARAMETER=FROM:TO:POINTS, e.g. operating.speed=600rpm:3000rpm:24";
   const size_t eq = text.find('=');

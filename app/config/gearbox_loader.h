@@ -6,14 +6,13 @@
 // Unknown keys get a suggestion for the closest known key; duplicate keys are rejected.
 #pragma once
 
-#include <string>
-
 #include <functional>
 #include <optional>
+#include <string>
 
+#include "config/units.h"
 #include "gearnvh/model/gearbox_spec.h"
 #include "gearnvh/model/train_spec.h"
-#include "config/units.h"
 
 namespace gearnvh::config {
 
@@ -44,10 +43,10 @@ AtlasAxis ParseAxisOption(const std::string& text, const std::string& field);
 // The same for any set of parameters: `dimension_of` gives a parameter's dimension (nullopt: not
 // a parameter, and `rejection` gives the rule to print for that name, e.g. with the accepted forms
 // or a close match).
-AtlasAxis ParseAxisOption(const std::string& text, const std::string& field,
-                          const std::function<std::optional<Dimension>(const std::string&)>&
-                              dimension_of,
-                          const std::function<std::string(const std::string&)>& rejection);
+AtlasAxis ParseAxisOption(
+    const std::string& text, const std::string& field,
+    const std::function<std::optional<Dimension>(const std::string&)>& dimension_of,
+    const std::function<std::string(const std::string&)>& rejection);
 
 // The closest of `candidates` to `word` by edit distance, or "" when none is close.
 std::string ClosestMatch(const std::string& word, const std::vector<std::string>& candidates);

@@ -12,9 +12,9 @@
 #include <sstream>
 
 #include "atomic_file.h"
-#include "display_units.h"
 #include "command_errors.h"
 #include "config/gearbox_loader.h"
+#include "display_units.h"
 #include "finite_results.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/atlas.h"
@@ -74,8 +74,7 @@ std::string AtlasCsv(const AtlasResult& r, const GearboxSpec& spec) {
         "separation_fraction,regime,message\n";
   for (const AtlasCell& c : r.cells) {
     os << c.ix << ',' << c.iy << ',' << c.x * ax.scale << ',' << c.y * ay.scale << ','
-       << (c.ok ? 1 : 0) << ','
-       << c.lyapunov_per_s << ',' << c.lyapunov_per_forcing_cycle << ','
+       << (c.ok ? 1 : 0) << ',' << c.lyapunov_per_s << ',' << c.lyapunov_per_forcing_cycle << ','
        << c.lyapunov_standard_error << ',' << c.drive_impacts_per_cycle << ','
        << c.back_impacts_per_cycle << ',' << c.rattle_index << ',' << c.impact_velocity_rms << ','
        << c.separation_fraction << ',' << c.regime << ',' << CsvQuoted(c.message) << '\n';
@@ -352,14 +351,14 @@ int RunAtlas(const AtlasCommandOptions& options) {
     if (options.json) {
       std::cout << doc.dump(1) << "\n";
     } else {
-      fmt::print("{}  ({}): chaos atlas, {} x {} cells, {} each, {}{}, {:.1f} s{}\n", spec.name,
-                 options.file, nx, ny, Count(atlas.cycles, "mesh cycle", "mesh cycles"),
-                 Count(result.threads, "thread", "threads"),
-                 ranks > 1 ? fmt::format(" x {} ranks", ranks) : "", result.wall_s,
-                 restored.empty() ? ""
-                                  : " (" +
-                                        Count(static_cast<long>(restored.size()), "cell", "cells") +
-                                        " restored)");
+      fmt::print(
+          "{}  ({}): chaos atlas, {} x {} cells, {} each, {}{}, {:.1f} s{}\n", spec.name,
+          options.file, nx, ny, Count(atlas.cycles, "mesh cycle", "mesh cycles"),
+          Count(result.threads, "thread", "threads"),
+          ranks > 1 ? fmt::format(" x {} ranks", ranks) : "", result.wall_s,
+          restored.empty()
+              ? ""
+              : " (" + Count(static_cast<long>(restored.size()), "cell", "cells") + " restored)");
       const DisplayAxis ax = DisplayAxisFor(x->parameter, spec);
       const DisplayAxis ay = DisplayAxisFor(y->parameter, spec);
       fmt::print("  rows: {} from {:.4g} to {:.4g} {}; columns: {} from {:.4g} to {:.4g} {}\n",

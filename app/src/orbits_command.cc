@@ -55,13 +55,14 @@ std::string OrbitsCsv(const std::vector<OrbitScanPoint>& points, const std::stri
                       const DisplayAxis& axis) {
   std::ostringstream os;
   os.precision(12);
-  os << parameter << (axis.unit.empty() ? "" : " [" + axis.unit + "]") << ",found,stable,spectral_radius,nearest_boundary,boundary_distance,"
+  os << parameter << (axis.unit.empty() ? "" : " [" + axis.unit + "]")
+     << ",found,stable,spectral_radius,nearest_boundary,boundary_distance,"
      << "grazing_margin,drive_impacts_per_period,back_impacts_per_period,separation_fraction\n";
   for (const OrbitScanPoint& p : points) {
     const PeriodicOrbit& o = p.orbit;
     const bool found = !p.start.empty();
-    os << p.value * axis.scale << ',' << (found ? 1 : 0) << ',' << (found && o.stable ? 1 : 0) << ','
-       << o.spectral_radius << ',' << StabilityBoundaryName(o.nearest_boundary) << ','
+    os << p.value * axis.scale << ',' << (found ? 1 : 0) << ',' << (found && o.stable ? 1 : 0)
+       << ',' << o.spectral_radius << ',' << StabilityBoundaryName(o.nearest_boundary) << ','
        << o.boundary_distance << ',' << o.grazing_margin << ',' << o.drive_impacts << ','
        << o.back_impacts << ',' << o.separation_fraction << '\n';
   }

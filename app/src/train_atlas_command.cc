@@ -29,11 +29,13 @@ int TrainAtlasResult::Failed() const {
 
 namespace {
 
+// The fields name where each axis came from (the option or the file's analysis.atlas).
 TrainSpec CellVariant(const TrainSpec& base, const AtlasAxis& x, const AtlasAxis& y, double vx,
-                      double vy) {
+                      double vy, const std::string& x_field = "--x",
+                      const std::string& y_field = "--y") {
   TrainSpec spec = base;
-  SetTrainParameter(spec, x.parameter, vx, "--x");
-  SetTrainParameter(spec, y.parameter, vy, "--y");
+  SetTrainParameter(spec, x.parameter, vx, x_field);
+  SetTrainParameter(spec, y.parameter, vy, y_field);
   return spec;
 }
 
@@ -87,8 +89,9 @@ void PrintTrainAtlas(const TrainAtlasResult& r, const std::string& name, const s
   fmt::print("  rows: {} from {:.4g} to {:.4g} {}; columns: {} from {:.4g} to {:.4g} {}\n",
              r.y.parameter, r.y.range.to * dy.scale, r.y.range.from * dy.scale, dy.unit,
              r.x.parameter, r.x.range.from * dx.scale, r.x.range.to * dx.scale, dx.unit);
-  fmt::print("  the train (chaotic from its largest Lyapunov exponent, else its most impacting "
-             "mesh):\n");
+  fmt::print(
+      "  the train (chaotic from its largest Lyapunov exponent, else its most impacting "
+      "mesh):\n");
   PrintRegimeMap(nx, ny, [&](int k) {
     const TrainAtlasPoint& p = r.cells[static_cast<size_t>(k)].point;
     return RegimeLetter(p.ok, RattleRegimeName(p.regime));
@@ -231,7 +234,8 @@ int AtlasTrain(const AtlasCommandOptions& options, const TrainSpec& spec) {
   atlas.cycles = options.cycles.value_or(atlas.cycles);
   atlas.transient_cycles = options.transient.value_or(atlas.transient_cycles);
   atlas.events = settings.events;
-  if (atlas.cycles < 8) throw InputError("--cycles", 0, std::to_string(atlas.cycles), "must be >= 8");
+  if (atlas.cycles < 8)
+    throw InputError("--cycles", 0, std::to_string(atlas.cycles), "must be >= 8");
   if (atlas.transient_cycles < 0) {
     throw InputError("--transient", 0, std::to_string(atlas.transient_cycles), "must be >= 0");
   }
@@ -247,7 +251,9 @@ int AtlasTrain(const AtlasCommandOptions& options, const TrainSpec& spec) {
     throw InputError("--y", 0, y->parameter, "must differ from the x parameter");
   }
   // Names and indices are checked once here (a bad name is a usage error, not a failed cell).
-  (void)CellVariant(spec, *x, *y, x->range.from, y->range.from);
+  (void)CellVariant(spec, *x, *y, x->range.from, y->range.from,
+                    options.x ? "--x" : "analysis.atlas.x.parameter",
+                    options.y ? "--y" : "analysis.atlas.y.parameter");
   const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", true);
   const AtlasProgress progress = AtlasTerminalProgress(0, 1);
   const TrainAtlasResult result = RunTrainAtlas(spec, *x, *y, atlas, options.jobs, progress);

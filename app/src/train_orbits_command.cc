@@ -27,7 +27,8 @@ double SpectralRadius(const TrainOrbit& o) {
 nlohmann::json PointJson(const TrainOrbitScanPoint& p, double value) {
   const TrainOrbit& o = p.orbit;
   nlohmann::json mu = nlohmann::json::array();
-  for (Eigen::Index i = 0; i < o.multipliers.size(); ++i) mu.push_back(MultiplierJson(o.multipliers[i]));
+  for (Eigen::Index i = 0; i < o.multipliers.size(); ++i)
+    mu.push_back(MultiplierJson(o.multipliers[i]));
   return {{"value", value},
           {"ok", p.ok},
           {"found", p.found()},
@@ -54,8 +55,7 @@ std::string OrbitsCsv(const std::vector<TrainOrbitScanPoint>& points,
     const TrainOrbitScanPoint& p = points[i];
     os << values[i] * d.scale << ',' << (p.found() ? 1 : 0) << ','
        << (p.found() && p.orbit.stable ? 1 : 0) << ',' << SpectralRadius(p.orbit) << ','
-       << p.orbit.events_per_period << ',' << p.orbit.iterations << ',' << p.orbit.residual
-       << '\n';
+       << p.orbit.events_per_period << ',' << p.orbit.iterations << ',' << p.orbit.residual << '\n';
   }
   return os.str();
 }
@@ -113,7 +113,8 @@ int OrbitsTrain(const OrbitsCommandOptions& options, const TrainSpec& spec) {
       count,
       [&](int i) {
         TrainSpec variant = spec;
-        if (sweep) SetTrainParameter(variant, sweep->parameter, values[static_cast<size_t>(i)], "--sweep");
+        if (sweep)
+          SetTrainParameter(variant, sweep->parameter, values[static_cast<size_t>(i)], "--sweep");
         return variant;
       },
       scan, progress);

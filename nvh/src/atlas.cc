@@ -38,9 +38,7 @@ int AtlasResult::Failed() const {
   return failed;
 }
 
-double AxisValue(const AtlasAxis& axis, int i) {
-  return axis.range.Point(i);
-}
+double AxisValue(const AtlasAxis& axis, int i) { return axis.range.Point(i); }
 
 AtlasCell ComputeAtlasCell(const GearboxSpec& base, const AtlasAxis& x, const AtlasAxis& y, int ix,
                            int iy, const AtlasOptions& options) {

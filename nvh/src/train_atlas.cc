@@ -60,8 +60,7 @@ void FillPoint(const TrainTables& tables, const TrainLyapunovSummary& lyapunov,
 
 }  // namespace
 
-TrainAtlasPoint ComputeTrainAtlasPoint(const TrainSpec& variant,
-                                       const TrainAtlasOptions& options) {
+TrainAtlasPoint ComputeTrainAtlasPoint(const TrainSpec& variant, const TrainAtlasOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   TrainAtlasPoint p;
   try {

@@ -14,8 +14,8 @@ void TrainOrbitScanOptions::Validate() const {
     throw InputError("TrainOrbitScanOptions.periods", 0, std::to_string(periods), "must be >= 1");
   }
   if (transient_cycles < 0) {
-    throw InputError("TrainOrbitScanOptions.transient_cycles", 0,
-                     std::to_string(transient_cycles), "must be >= 0");
+    throw InputError("TrainOrbitScanOptions.transient_cycles", 0, std::to_string(transient_cycles),
+                     "must be >= 0");
   }
   if (settled_starts < 1) {
     throw InputError("TrainOrbitScanOptions.settled_starts", 0, std::to_string(settled_starts),
@@ -67,8 +67,8 @@ void TrySettledStarts(const TrainTables& tables, const TrainOrbitOptions& orbit_
   int k = 0;
   for (; k < options.settled_starts; ++k) {
     if (k > 0 && !stepper.Run(settle + k * period)) break;
-    TrainOrbit trial = FindTrainPeriodicOrbit(tables, stepper.state(), stepper.states(),
-                                              orbit_options);
+    TrainOrbit trial =
+        FindTrainPeriodicOrbit(tables, stepper.state(), stepper.states(), orbit_options);
     const bool converged = trial.info == TrainOrbit::Info::kConverged;
     if (k == 0 || converged) p.orbit = std::move(trial);
     if (converged) {

@@ -28,7 +28,8 @@ using testing::TempDir;
 const std::string kExe = GEARNVH_EXE;
 
 // Input shaft (g1, g3) drives the output shaft through g1-g2 (loads[0] on the output); g4 turns
-// loosely on the output shaft, driven by g3 against its drag (loads[1]). Engine order 2 on the input.
+// loosely on the output shaft, driven by g3 against its drag (loads[1]). Engine order 2 on the
+// input.
 std::string SmallTrain(const std::string& drag) {
   return R"(schema: gearnvh/2
 name: Small rattling train
@@ -89,9 +90,10 @@ double SlowestDecay(const std::vector<std::complex<double>>& lambda) {
   return slowest;
 }
 
-TEST_CASE("atlas on a train: a loaded cell decays at the slowest rate of the linear system, an "
-          "undragged loose gear rattles",
-          "[cli][train][atlas]") {
+TEST_CASE(
+    "atlas on a train: a loaded cell decays at the slowest rate of the linear system, an "
+    "undragged loose gear rattles",
+    "[cli][train][atlas]") {
   const TempDir dir;
   const auto file = dir.Write("train.yaml", SmallTrain("1 N*m"));
   const long cycles = 1000;  // of g1-g2: 1 ms each at 3000 rpm (20 teeth)
@@ -144,9 +146,10 @@ TEST_CASE("atlas on a train: a loaded cell decays at the slowest rate of the lin
         4);
 
   // The terminal map (piped: no progress on stderr).
-  const auto text = RunCommand(kExe + " atlas --jobs 1 --cycles 64 --transient 10"
-                                      " --x operating.loads[1].torque=0Nm:2Nm:2"
-                                      " --y operating.speed=2900rpm:3000rpm:2 " +
+  const auto text = RunCommand(kExe +
+                               " atlas --jobs 1 --cycles 64 --transient 10"
+                               " --x operating.loads[1].torque=0Nm:2Nm:2"
+                               " --y operating.speed=2900rpm:3000rpm:2 " +
                                file.string());
   INFO(text.err);
   REQUIRE(text.exit_code == 0);
@@ -164,8 +167,9 @@ TEST_CASE("atlas and orbits on a train refuse bad parameters naming the value an
   };
   for (const Case& c : std::vector<Case>{
            {"atlas --x operating.torque=1Nm:2Nm:2 --y operating.speed=1000rpm:2000rpm:2",
-            "'operating.torque'", "is a schema-1 parameter; a gear train's torques are "
-                                  "operating.loads[i].torque"},
+            "'operating.torque'",
+            "is a schema-1 parameter; a gear train's torques are "
+            "operating.loads[i].torque"},
            {"atlas --x mesh.backlash=50um:100um:2 --y operating.speed=1000rpm:2000rpm:2",
             "'mesh.backlash'", "a gear train's meshes are meshes[i]"},
            {"atlas --x meshes[0].stiffness=1:2:2 --y operating.speed=1000rpm:2000rpm:2",
@@ -184,9 +188,10 @@ TEST_CASE("atlas and orbits on a train refuse bad parameters naming the value an
     CHECK(r.err.find(c.rule) != std::string::npos);
   }
   // A value outside the schema's range fails its cell with the schema path and rule.
-  const auto r = RunCommand(kExe + " atlas --json --cycles 8 --transient 0"
-                                   " --x meshes[0].backlash=0um:80um:2"
-                                   " --y operating.speed=2900rpm:3000rpm:1 " +
+  const auto r = RunCommand(kExe +
+                            " atlas --json --cycles 8 --transient 0"
+                            " --x meshes[0].backlash=0um:80um:2"
+                            " --y operating.speed=2900rpm:3000rpm:1 " +
                             file);
   CHECK(r.exit_code == 1);
   const auto doc = nlohmann::json::parse(r.out);
@@ -197,9 +202,10 @@ TEST_CASE("atlas and orbits on a train refuse bad parameters naming the value an
   CHECK(doc["cells"][1]["ok"] == true);
 }
 
-TEST_CASE("orbits on a loaded train: the linear periodic solution with multipliers "
-          "exp(lambda T)",
-          "[cli][train][orbits]") {
+TEST_CASE(
+    "orbits on a loaded train: the linear periodic solution with multipliers "
+    "exp(lambda T)",
+    "[cli][train][orbits]") {
   const TempDir dir;
   const std::string yaml = SmallTrain("2 N*m");
   const auto file = dir.Write("train.yaml", yaml);
@@ -237,16 +243,17 @@ TEST_CASE("orbits on a loaded train: the linear periodic solution with multiplie
   CHECK(std::filesystem::exists(dir.path() / "out" / "orbits.csv"));
 
   // Without drag the loose gear rattles; the text says plainly when no stable orbit is found.
-  const auto text = RunCommand(kExe + " orbits --transient 20 --sweep "
-                                      "operating.loads[1].torque=0Nm:2Nm:2 " +
+  const auto text = RunCommand(kExe +
+                               " orbits --transient 20 --sweep "
+                               "operating.loads[1].torque=0Nm:2Nm:2 " +
                                dir.Write("train0.yaml", SmallTrain("0 N*m")).string());
   INFO(text.err);
   REQUIRE(text.exit_code == 0);
   CHECK(text.out.find("operating.loads[1].torque = 2 N m: stable") != std::string::npos);
   CHECK(text.out.find("multipliers:") != std::string::npos);
   // At zero drag alone the rattling orbit found is unstable: said plainly.
-  const auto none = RunCommand(kExe + " orbits --transient 20 " +
-                               (dir.path() / "train0.yaml").string());
+  const auto none =
+      RunCommand(kExe + " orbits --transient 20 " + (dir.path() / "train0.yaml").string());
   INFO(none.err);
   REQUIRE(none.exit_code == 0);
   CHECK(none.out.find("No stable period-1 orbit exists at this operating point") !=

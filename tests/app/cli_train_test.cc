@@ -108,9 +108,8 @@ TEST_CASE("a schema-2 file is refused with a clear message where trains are not 
     INFO(command << ": " << r.err);
     CHECK(r.exit_code == 1);
     CHECK(r.out.empty());
-    CHECK(
-        r.err.find("schema: gear trains run in `gearnvh check`, `simulate`, `sweep`, `report`, "
-                   "`validate`, `atlas` and `orbits`") != std::string::npos);
+    CHECK(r.err.find("schema: gear trains run in `gearnvh check`, `simulate`, `sweep`, `report`, "
+                     "`validate`, `atlas` and `orbits`") != std::string::npos);
     CHECK(r.err.find("this command reads gearnvh/1, got 'gearnvh/2'") != std::string::npos);
   }
 }

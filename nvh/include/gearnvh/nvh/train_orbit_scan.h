@@ -42,8 +42,8 @@ std::string TrainOrbitStartText(const TrainOrbitScanPoint& p);
 using TrainVariant = std::function<TrainSpec(int)>;
 using TrainOrbitScanProgress = std::function<void(int done, int total)>;
 
-std::vector<TrainOrbitScanPoint> ScanTrainPeriodicOrbits(int count, const TrainVariant& variant,
-                                                         const TrainOrbitScanOptions& options,
-                                                         const TrainOrbitScanProgress& progress = {});
+std::vector<TrainOrbitScanPoint> ScanTrainPeriodicOrbits(
+    int count, const TrainVariant& variant, const TrainOrbitScanOptions& options,
+    const TrainOrbitScanProgress& progress = {});
 
 }  // namespace gearnvh
