@@ -97,13 +97,20 @@ char RegimeLetter(bool ok, const std::string& regime) {
   return '.';
 }
 
-void PrintRegimeMap(int nx, int ny, const std::function<char(int)>& letter) {
-  fmt::print("  . no impact  S single-sided  D double-sided  C chaotic  X failed\n");
+void PrintRegimeMap(int nx, int ny, const std::function<char(int)>& letter, bool legend) {
+  if (legend) fmt::print("  . no impact  S single-sided  D double-sided  C chaotic  X failed\n");
   for (int iy = ny - 1; iy >= 0; --iy) {
     std::string row;
     for (int ix = 0; ix < nx; ++ix) row += letter(iy * nx + ix);
     fmt::print("  {}\n", row);
   }
+}
+
+int ReportFailedAtlasCells(int failed, size_t total) {
+  if (failed == 0) return 0;
+  std::cerr << "error: " << failed << " of " << total
+            << " atlas cells failed (listed in the output)\n";
+  return 1;
 }
 
 AtlasProgress AtlasTerminalProgress(int rank, int ranks) {
@@ -372,12 +379,7 @@ int RunAtlas(const AtlasCommandOptions& options) {
         if (!c.ok) fmt::print("  cell ({}, {}) failed: {}\n", c.ix, c.iy, c.message);
       }
     }
-    if (result.Failed() > 0) {
-      std::cerr << "error: " << result.Failed() << " of " << result.cells.size()
-                << " atlas cells failed (listed in the output)\n";
-      return 1;
-    }
-    return 0;
+    return ReportFailedAtlasCells(result.Failed(), result.cells.size());
   });
   // Every rank exits with rank 0's verdict (an input error is seen by every rank alike).
   return MpiContext::BroadcastInt(code);

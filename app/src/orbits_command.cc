@@ -82,6 +82,20 @@ std::string NoStableOrbitText(int period, bool swept) {
       period, swept ? "any point of the sweep" : "this operating point");
 }
 
+std::function<void(int, int)> OrbitsTerminalProgress(bool swept) {
+  if (!swept || ::isatty(STDERR_FILENO) == 0) return {};
+  return [](int done, int total) {
+    fmt::print(stderr, "\rorbits: {:3d}% ({}/{} points)", 100 * done / total, done, total);
+  };
+}
+
+int ReportFailedOrbitPoints(int failed, size_t total) {
+  if (failed == 0) return 0;
+  std::cerr << "error: " << failed << " of " << total
+            << " points could not be computed (listed in the output)\n";
+  return 1;
+}
+
 int RunOrbits(const OrbitsCommandOptions& options) {
   return RunReportingErrors(options.file, [&]() -> int {
     const config::LoadedGearbox loaded = config::LoadAnyGearboxFile(options.file);
@@ -96,15 +110,9 @@ int RunOrbits(const OrbitsCommandOptions& options) {
     std::optional<AtlasAxis> sweep;
     if (options.sweep) sweep = config::ParseAxisOption(*options.sweep, "--sweep");
     scan.Validate();
-    const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
-    OrbitScanProgress progress;
-    if (on_terminal && sweep) {
-      progress = [](int done, int total) {
-        fmt::print(stderr, "\rorbits: {:3d}% ({}/{} points)", 100 * done / total, done, total);
-      };
-    }
+    const OrbitScanProgress progress = OrbitsTerminalProgress(sweep.has_value());
     const std::vector<OrbitScanPoint> points = ScanPeriodicOrbits(spec, sweep, scan, progress);
-    if (on_terminal && sweep) fmt::print(stderr, "\n");
+    if (progress) fmt::print(stderr, "\n");
     const std::string parameter = sweep ? sweep->parameter : "operating point";
     const DisplayAxis axis = DisplayAxisFor(parameter, spec);
     nlohmann::json list = nlohmann::json::array();
@@ -159,12 +167,7 @@ int RunOrbits(const OrbitsCommandOptions& options) {
       }
       if (stable == 0) fmt::print("{}\n", NoStableOrbitText(options.period, sweep.has_value()));
     }
-    if (failed > 0) {
-      std::cerr << "error: " << failed << " of " << points.size()
-                << " points could not be computed (listed in the output)\n";
-      return 1;
-    }
-    return 0;
+    return ReportFailedOrbitPoints(failed, points.size());
   });
 }
 

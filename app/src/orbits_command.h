@@ -5,6 +5,7 @@
 #pragma once
 
 #include <complex>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -29,5 +30,9 @@ int RunOrbits(const OrbitsCommandOptions& options);
 nlohmann::json MultiplierJson(std::complex<double> mu);
 // "  No stable period-M orbit exists at ..." (the plain statement when none was found).
 std::string NoStableOrbitText(int period, bool swept);
+// "orbits: 42% (5/12 points)" on stderr when it is a terminal and the run is a sweep; else empty.
+std::function<void(int, int)> OrbitsTerminalProgress(bool swept);
+// The exit code of a run with `failed` of `total` points lost: 1 (saying so on stderr) or 0.
+int ReportFailedOrbitPoints(int failed, size_t total);
 
 }  // namespace gearnvh::app

@@ -98,14 +98,13 @@ void PrintTrainAtlas(const TrainAtlasResult& r, const std::string& name, const s
   });
   for (size_t i = 0; i < r.mesh_names.size(); ++i) {
     fmt::print("  mesh {}:\n", r.mesh_names[i]);
-    for (int iy = ny - 1; iy >= 0; --iy) {
-      std::string row;
-      for (int ix = 0; ix < nx; ++ix) {
-        const TrainAtlasPoint& p = r.cells[static_cast<size_t>(iy * nx + ix)].point;
-        row += RegimeLetter(p.ok, p.ok ? RattleRegimeName(p.meshes[i].regime) : "");
-      }
-      fmt::print("  {}\n", row);
-    }
+    PrintRegimeMap(
+        nx, ny,
+        [&](int k) {
+          const TrainAtlasPoint& p = r.cells[static_cast<size_t>(k)].point;
+          return RegimeLetter(p.ok, p.ok ? RattleRegimeName(p.meshes[i].regime) : "");
+        },
+        false);
   }
   if (!r.loose_gear_names.empty()) {
     fmt::print("  loose gear that rattles most (rattle index, RMS angular acceleration):\n");
@@ -272,12 +271,7 @@ int AtlasTrain(const AtlasCommandOptions& options, const TrainSpec& spec) {
   } else {
     PrintTrainAtlas(result, spec.name, options.file, atlas.cycles);
   }
-  if (result.Failed() > 0) {
-    std::cerr << "error: " << result.Failed() << " of " << result.cells.size()
-              << " atlas cells failed (listed in the output)\n";
-    return 1;
-  }
-  return 0;
+  return ReportFailedAtlasCells(result.Failed(), result.cells.size());
 }
 
 }  // namespace gearnvh::app

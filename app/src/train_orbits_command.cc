@@ -1,7 +1,6 @@
 #include "train_orbits_command.h"
 
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <iostream>
@@ -102,13 +101,7 @@ int OrbitsTrain(const OrbitsCommandOptions& options, const TrainSpec& spec) {
   const int count = sweep ? sweep->range.points : 1;
   std::vector<double> values(static_cast<size_t>(count), 0.0);
   for (int i = 0; sweep && i < count; ++i) values[static_cast<size_t>(i)] = AxisValue(*sweep, i);
-  const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
-  TrainOrbitScanProgress progress;
-  if (on_terminal && sweep) {
-    progress = [](int done, int total) {
-      fmt::print(stderr, "\rorbits: {:3d}% ({}/{} points)", 100 * done / total, done, total);
-    };
-  }
+  const TrainOrbitScanProgress progress = OrbitsTerminalProgress(sweep.has_value());
   const std::vector<TrainOrbitScanPoint> points = ScanTrainPeriodicOrbits(
       count,
       [&](int i) {
@@ -118,7 +111,7 @@ int OrbitsTrain(const OrbitsCommandOptions& options, const TrainSpec& spec) {
         return variant;
       },
       scan, progress);
-  if (on_terminal && sweep) fmt::print(stderr, "\n");
+  if (progress) fmt::print(stderr, "\n");
   const std::string parameter = sweep ? sweep->parameter : "operating point";
   nlohmann::json list = nlohmann::json::array();
   int stable = 0, failed = 0;
@@ -164,12 +157,7 @@ int OrbitsTrain(const OrbitsCommandOptions& options, const TrainSpec& spec) {
     }
     if (stable == 0) fmt::print("{}\n", NoStableOrbitText(options.period, sweep.has_value()));
   }
-  if (failed > 0) {
-    std::cerr << "error: " << failed << " of " << points.size()
-              << " points could not be computed (listed in the output)\n";
-    return 1;
-  }
-  return 0;
+  return ReportFailedOrbitPoints(failed, points.size());
 }
 
 }  // namespace gearnvh::app
