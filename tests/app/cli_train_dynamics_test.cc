@@ -96,7 +96,7 @@ TEST_CASE(
     "[cli][train][atlas]") {
   const TempDir dir;
   const auto file = dir.Write("train.yaml", SmallTrain("1 N*m"));
-  const long cycles = 1000;  // of g1-g2: 1 ms each at 3000 rpm (20 teeth)
+  const long cycles = 600;  // of g1-g2: 1 ms each at 3000 rpm (20 teeth)
   const auto r = RunCommand(kExe + " atlas --json --jobs 2 --cycles " + std::to_string(cycles) +
                             " --transient 50 --x operating.loads[1].torque=0Nm:2Nm:2"
                             " --y operating.speed=2900rpm:3000rpm:2 --out " +
