@@ -107,8 +107,8 @@ GearboxSpec LoadGearboxFromString(const std::string& text, const std::string& so
       [](Reader& r, const YAML::Node& n) {
         if (SchemaOf(r, n) == 2) {
           r.Fail("schema", n["schema"], "'gearnvh/2'",
-                 "gear trains run in `gearnvh check`, `simulate`, `sweep`, `report` and `validate` "
-                 "(tier 1) so far; "
+                 "gear trains run in `gearnvh check`, `simulate`, `sweep`, `report`, `validate`, "
+                 "`atlas` and `orbits` (tier 1) so far; "
                  "this command reads gearnvh/1");
         }
         return ReadDocument(r, n);
@@ -117,28 +117,41 @@ GearboxSpec LoadGearboxFromString(const std::string& text, const std::string& so
 }
 
 AtlasAxis ParseAxisOption(const std::string& text, const std::string& field) {
+  const auto& params = AtlasParameters();
+  return ParseAxisOption(
+      text, field,
+      [&](const std::string& name) -> std::optional<Dimension> {
+        const auto it = params.find(name);
+        return it == params.end() ? std::nullopt : std::optional<Dimension>(it->second);
+      },
+      [&](const std::string& name) {
+        std::vector<std::string> names;
+        for (const auto& kv : params) names.push_back(kv.first);
+        std::string rule = "is not a parameter that can be varied";
+        const std::string close = ClosestMatch(name, names);
+        if (!close.empty()) rule += " (did you mean '" + close + "'?)";
+        return rule;
+      });
+}
+
+AtlasAxis ParseAxisOption(
+    const std::string& text, const std::string& field,
+    const std::function<std::optional<Dimension>(const std::string&)>& dimension_of,
+    const std::function<std::string(const std::string&)>& rejection) {
   const std::string form =
       "must be PARAMETER=FROM:TO:POINTS, e.g. operating.speed=600rpm:3000rpm:24";
   const size_t eq = text.find('=');
   if (eq == std::string::npos) throw InputError(field, 0, "'" + text + "'", form);
   AtlasAxis axis;
   axis.parameter = text.substr(0, eq);
-  const auto& params = AtlasParameters();
-  const auto it = params.find(axis.parameter);
-  if (it == params.end()) {
-    std::vector<std::string> names;
-    for (const auto& kv : params) names.push_back(kv.first);
-    std::string rule = "is not a parameter that can be varied";
-    const std::string close = ClosestMatch(axis.parameter, names);
-    if (!close.empty()) rule += " (did you mean '" + close + "'?)";
-    throw InputError(field, 0, "'" + axis.parameter + "'", rule);
-  }
+  const std::optional<Dimension> dimension = dimension_of(axis.parameter);
+  if (!dimension) throw InputError(field, 0, "'" + axis.parameter + "'", rejection(axis.parameter));
   const std::string rest = text.substr(eq + 1);
   const size_t c1 = rest.find(':');
   const size_t c2 = c1 == std::string::npos ? c1 : rest.find(':', c1 + 1);
   if (c2 == std::string::npos) throw InputError(field, 0, "'" + text + "'", form);
-  const ParsedQuantity from = ParseQuantity(rest.substr(0, c1), it->second);
-  const ParsedQuantity to = ParseQuantity(rest.substr(c1 + 1, c2 - c1 - 1), it->second);
+  const ParsedQuantity from = ParseQuantity(rest.substr(0, c1), *dimension);
+  const ParsedQuantity to = ParseQuantity(rest.substr(c1 + 1, c2 - c1 - 1), *dimension);
   const auto points = ParseNumber(rest.substr(c2 + 1));
   if (!from.error.empty()) throw InputError(field, 0, "'" + rest.substr(0, c1) + "'", from.error);
   if (!to.error.empty()) {

@@ -6,10 +6,11 @@
 // Unknown keys get a suggestion for the closest known key; duplicate keys are rejected.
 #pragma once
 
+#include <functional>
+#include <optional>
 #include <string>
 
-#include <optional>
-
+#include "config/units.h"
 #include "gearnvh/model/gearbox_spec.h"
 #include "gearnvh/model/train_spec.h"
 
@@ -38,6 +39,14 @@ LoadedGearbox LoadAnyGearboxFile(const std::string& path);
 // An axis given on the command line, "PARAMETER=FROM:TO:POINTS" with units on FROM and TO
 // (operating.speed=600rpm:3000rpm:24). Throws InputError naming `field` (the option).
 AtlasAxis ParseAxisOption(const std::string& text, const std::string& field);
+
+// The same for any set of parameters: `dimension_of` gives a parameter's dimension (nullopt: not
+// a parameter, and `rejection` gives the rule to print for that name, e.g. with the accepted forms
+// or a close match).
+AtlasAxis ParseAxisOption(
+    const std::string& text, const std::string& field,
+    const std::function<std::optional<Dimension>(const std::string&)>& dimension_of,
+    const std::function<std::string(const std::string&)>& rejection);
 
 // The closest of `candidates` to `word` by edit distance, or "" when none is close.
 std::string ClosestMatch(const std::string& word, const std::vector<std::string>& candidates);

@@ -12,21 +12,21 @@
 #include <sstream>
 
 #include "atomic_file.h"
-#include "display_units.h"
 #include "command_errors.h"
 #include "config/gearbox_loader.h"
+#include "display_units.h"
 #include "finite_results.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/atlas.h"
+#include "gearnvh/nvh/rattle.h"
 #include "mpi_context.h"
 #include "output_folder.h"
 #include "simulate_command.h"
+#include "train_atlas_command.h"
 
 namespace gearnvh::app {
 
-namespace {
-
-nlohmann::json AxisJson(const AtlasAxis& a) {
+nlohmann::json AtlasAxisJson(const AtlasAxis& a) {
   nlohmann::json values = nlohmann::json::array();
   for (int i = 0; i < a.range.points; ++i) values.push_back(AxisValue(a, i));
   return {{"parameter", a.parameter},
@@ -36,6 +36,8 @@ nlohmann::json AxisJson(const AtlasAxis& a) {
           {"scale", a.range.scale == AxisScale::kLog ? "log" : "linear"},
           {"values_si", values}};
 }
+
+namespace {
 
 nlohmann::json CellJson(const AtlasCell& c) {
   return {{"ix", c.ix},
@@ -71,31 +73,53 @@ std::string AtlasCsv(const AtlasResult& r, const GearboxSpec& spec) {
         "drive_impacts_per_cycle,back_impacts_per_cycle,rattle_index_j,impact_velocity_rms,"
         "separation_fraction,regime,message\n";
   for (const AtlasCell& c : r.cells) {
-    std::string message = c.message;
-    for (char& ch : message) {
-      if (ch == '"' || ch == '\n') ch = '\'';
-    }
     os << c.ix << ',' << c.iy << ',' << c.x * ax.scale << ',' << c.y * ay.scale << ','
-       << (c.ok ? 1 : 0) << ','
-       << c.lyapunov_per_s << ',' << c.lyapunov_per_forcing_cycle << ','
+       << (c.ok ? 1 : 0) << ',' << c.lyapunov_per_s << ',' << c.lyapunov_per_forcing_cycle << ','
        << c.lyapunov_standard_error << ',' << c.drive_impacts_per_cycle << ','
        << c.back_impacts_per_cycle << ',' << c.rattle_index << ',' << c.impact_velocity_rms << ','
-       << c.separation_fraction << ',' << c.regime << ",\"" << message << "\"\n";
+       << c.separation_fraction << ',' << c.regime << ',' << CsvQuoted(c.message) << '\n';
   }
   return os.str();
 }
 
-namespace {
+std::string CsvQuoted(std::string text) {
+  for (char& ch : text) {
+    if (ch == '"' || ch == '\n') ch = '\'';
+  }
+  return '"' + text + '"';
+}
 
-char RegimeLetter(const AtlasCell& c) {
-  if (!c.ok) return 'X';
-  if (c.regime == "chaotic") return 'C';
-  if (c.regime == "double-sided") return 'D';
-  if (c.regime == "single-sided") return 'S';
+char RegimeLetter(bool ok, const std::string& regime) {
+  if (!ok) return 'X';
+  if (regime == RattleRegimeName(RattleRegime::kChaotic)) return 'C';
+  if (regime == RattleRegimeName(RattleRegime::kDoubleSided)) return 'D';
+  if (regime == RattleRegimeName(RattleRegime::kSingleSided)) return 'S';
   return '.';
 }
 
-}  // namespace
+void PrintRegimeMap(int nx, int ny, const std::function<char(int)>& letter, bool legend) {
+  if (legend) fmt::print("  . no impact  S single-sided  D double-sided  C chaotic  X failed\n");
+  for (int iy = ny - 1; iy >= 0; --iy) {
+    std::string row;
+    for (int ix = 0; ix < nx; ++ix) row += letter(iy * nx + ix);
+    fmt::print("  {}\n", row);
+  }
+}
+
+int ReportFailedAtlasCells(int failed, size_t total) {
+  if (failed == 0) return 0;
+  std::cerr << "error: " << failed << " of " << total
+            << " atlas cells failed (listed in the output)\n";
+  return 1;
+}
+
+AtlasProgress AtlasTerminalProgress(int rank, int ranks) {
+  if (rank != 0 || ::isatty(STDERR_FILENO) == 0) return {};
+  return [ranks](int done, int todo) {
+    fmt::print(stderr, "\ratlas: {:3d}% ({}/{} cells{})", 100 * done / std::max(todo, 1), done,
+               todo, ranks > 1 ? fmt::format(" on rank 0 of {}", ranks) : "");
+  };
+}
 
 nlohmann::json AtlasJson(const AtlasResult& r, const AtlasOptions& o) {
   nlohmann::json cells = nlohmann::json::array();
@@ -104,8 +128,8 @@ nlohmann::json AtlasJson(const AtlasResult& r, const AtlasOptions& o) {
     cells.push_back(CellJson(c));
     ++regimes[c.ok ? c.regime : "failed"];
   }
-  return {{"x", AxisJson(r.x)},
-          {"y", AxisJson(r.y)},
+  return {{"x", AtlasAxisJson(r.x)},
+          {"y", AtlasAxisJson(r.y)},
           {"cells", cells},
           {"regime_counts", regimes},
           {"failed_cells", r.Failed()},
@@ -151,8 +175,8 @@ struct Checkpoint {
 std::string SettingsKey(const std::string& file_text, const AtlasAxis& x, const AtlasAxis& y,
                         const AtlasOptions& o) {
   const nlohmann::json j = {{"file_hash", std::to_string(std::hash<std::string>{}(file_text))},
-                            {"x", AxisJson(x)},
-                            {"y", AxisJson(y)},
+                            {"x", AtlasAxisJson(x)},
+                            {"y", AtlasAxisJson(y)},
                             {"cycles", o.cycles},
                             {"transient", o.transient_cycles},
                             {"method", o.method},
@@ -202,8 +226,10 @@ std::vector<AtlasCell> PrepareCheckpoint(const Checkpoint& cp, bool resume, int 
 int RunAtlas(const AtlasCommandOptions& options) {
   const int rank = MpiContext::Rank(), ranks = MpiContext::Size();
   int code = RunReportingErrors(options.file, [&]() -> int {
+    const config::LoadedGearbox loaded = config::LoadAnyGearboxFile(options.file);
+    if (loaded.schema == 2) return AtlasTrain(options, loaded.train);
     const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", true);
-    const GearboxSpec spec = config::LoadGearboxFile(options.file);
+    const GearboxSpec& spec = *loaded.pair;
     AtlasOptions atlas;
     atlas.tier = options.tier ? ParseTier(*options.tier) : spec.analysis.tier;
     atlas.cycles = options.cycles.value_or(atlas.cycles);
@@ -249,14 +275,8 @@ int RunAtlas(const AtlasCommandOptions& options) {
     for (int k = 0; k < total; ++k) skip[static_cast<size_t>(k)] = k % ranks != rank;
     for (const auto& k : nlohmann::json::parse(restored_text)) skip[k.get<size_t>()] = true;
 
-    const bool on_terminal = rank == 0 && ::isatty(STDERR_FILENO) != 0;
-    AtlasProgress progress;
-    if (on_terminal) {
-      progress = [ranks](int done, int todo) {
-        fmt::print(stderr, "\ratlas: {:3d}% ({}/{} cells{})", 100 * done / std::max(todo, 1), done,
-                   todo, ranks > 1 ? fmt::format(" on rank 0 of {}", ranks) : "");
-      };
-    }
+    const AtlasProgress progress = AtlasTerminalProgress(rank, ranks);
+    const bool on_terminal = static_cast<bool>(progress);
     std::ofstream log;
     if (checkpoint) {
       log.open(checkpoint->dir / ("cells-rank-" + std::to_string(rank) + ".jsonl"), std::ios::app);
@@ -338,37 +358,28 @@ int RunAtlas(const AtlasCommandOptions& options) {
     if (options.json) {
       std::cout << doc.dump(1) << "\n";
     } else {
-      fmt::print("{}  ({}): chaos atlas, {} x {} cells, {} each, {}{}, {:.1f} s{}\n", spec.name,
-                 options.file, nx, ny, Count(atlas.cycles, "mesh cycle", "mesh cycles"),
-                 Count(result.threads, "thread", "threads"),
-                 ranks > 1 ? fmt::format(" x {} ranks", ranks) : "", result.wall_s,
-                 restored.empty() ? ""
-                                  : " (" +
-                                        Count(static_cast<long>(restored.size()), "cell", "cells") +
-                                        " restored)");
+      fmt::print(
+          "{}  ({}): chaos atlas, {} x {} cells, {} each, {}{}, {:.1f} s{}\n", spec.name,
+          options.file, nx, ny, Count(atlas.cycles, "mesh cycle", "mesh cycles"),
+          Count(result.threads, "thread", "threads"),
+          ranks > 1 ? fmt::format(" x {} ranks", ranks) : "", result.wall_s,
+          restored.empty()
+              ? ""
+              : " (" + Count(static_cast<long>(restored.size()), "cell", "cells") + " restored)");
       const DisplayAxis ax = DisplayAxisFor(x->parameter, spec);
       const DisplayAxis ay = DisplayAxisFor(y->parameter, spec);
       fmt::print("  rows: {} from {:.4g} to {:.4g} {}; columns: {} from {:.4g} to {:.4g} {}\n",
                  y->parameter, y->range.to * ay.scale, y->range.from * ay.scale, ay.unit,
                  x->parameter, x->range.from * ax.scale, x->range.to * ax.scale, ax.unit);
-      fmt::print("  . no impact  S single-sided  D double-sided  C chaotic  X failed\n");
-      for (int iy = ny - 1; iy >= 0; --iy) {
-        std::string row;
-        for (int ix = 0; ix < nx; ++ix) {
-          row += RegimeLetter(result.cells[static_cast<size_t>(iy * nx + ix)]);
-        }
-        fmt::print("  {}\n", row);
-      }
+      PrintRegimeMap(nx, ny, [&](int k) {
+        const AtlasCell& c = result.cells[static_cast<size_t>(k)];
+        return RegimeLetter(c.ok, c.regime);
+      });
       for (const AtlasCell& c : result.cells) {
         if (!c.ok) fmt::print("  cell ({}, {}) failed: {}\n", c.ix, c.iy, c.message);
       }
     }
-    if (result.Failed() > 0) {
-      std::cerr << "error: " << result.Failed() << " of " << result.cells.size()
-                << " atlas cells failed (listed in the output)\n";
-      return 1;
-    }
-    return 0;
+    return ReportFailedAtlasCells(result.Failed(), result.cells.size());
   });
   // Every rank exits with rank 0's verdict (an input error is seen by every rank alike).
   return MpiContext::BroadcastInt(code);

@@ -4,6 +4,7 @@
 // atlas.json.
 #pragma once
 
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -31,6 +32,20 @@ int RunAtlas(const AtlasCommandOptions& options);
 
 // The atlas documents (also used by reports).
 nlohmann::json AtlasJson(const AtlasResult& r, const AtlasOptions& o);
+// Shared with the train's atlas (train_atlas_command.h):
+nlohmann::json AtlasAxisJson(const AtlasAxis& a);
+// '.' no impact, 'S' single-sided, 'D' double-sided, 'C' chaotic, 'X' failed.
+char RegimeLetter(bool ok, const std::string& regime);
+// The legend (when asked) and the map, rows from the last y value down; letter(k) of cell
+// k = iy * nx + ix.
+void PrintRegimeMap(int nx, int ny, const std::function<char(int)>& letter, bool legend = true);
+// A CSV field in double quotes (quotes and newlines in `text` become single quotes).
+std::string CsvQuoted(std::string text);
+// "atlas: 42% (5/12 cells)" on stderr when it is a terminal (and rank 0); empty otherwise.
+AtlasProgress AtlasTerminalProgress(int rank, int ranks);
+// The exit code of an atlas with `failed` of `total` cells failed: 1 (saying so on stderr) or 0.
+int ReportFailedAtlasCells(int failed, size_t total);
+
 // Parameter columns in the units of the gearbox file (header "operating.speed [rpm]").
 std::string AtlasCsv(const AtlasResult& r, const GearboxSpec& spec);
 

@@ -20,6 +20,7 @@
 #endif
 #include "simulate_command.h"
 #include "sweep_command.h"
+#include "train_parameters.h"
 #include "validate_command.h"
 
 namespace {
@@ -38,14 +39,26 @@ CLI::Validator TierValidator() {
       "TIER");
 }
 
+// An axis of either schema's parameters (the file, read later, decides which apply; the command
+// then refuses a parameter of the other schema with its own message).
 CLI::Validator AxisValidator(const std::string& flag) {
   return CLI::Validator(
       [flag](std::string& text) -> std::string {
         try {
           (void)gearnvh::config::ParseAxisOption(text, flag);
           return {};
-        } catch (const gearnvh::InputError& e) {
-          return e.what();
+        } catch (const gearnvh::InputError& pair_error) {
+          const std::string name = text.substr(0, text.find('='));
+          const bool train_form = gearnvh::app::TrainParameterDimension(name).has_value() ||
+                                  name.rfind("meshes", 0) == 0 ||
+                                  name.rfind("operating.loads", 0) == 0;
+          if (!train_form) return pair_error.what();
+          try {
+            (void)gearnvh::app::ParseTrainAxisOption(text, flag);
+            return {};
+          } catch (const gearnvh::InputError& train_error) {
+            return train_error.what();
+          }
         }
       },
       "PARAMETER=FROM:TO:N");

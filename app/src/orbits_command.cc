@@ -17,6 +17,7 @@
 #include "gearnvh/nvh/orbit_scan.h"
 #include "output_folder.h"
 #include "simulate_command.h"
+#include "train_orbits_command.h"
 
 namespace gearnvh::app {
 
@@ -29,9 +30,7 @@ nlohmann::json FiniteOrNull(double v) {
 nlohmann::json PointJson(const OrbitScanPoint& p) {
   const PeriodicOrbit& o = p.orbit;
   nlohmann::json mu = nlohmann::json::array();
-  for (const auto& m : o.multipliers) {
-    mu.push_back({{"re", m.real()}, {"im", m.imag()}, {"abs", std::abs(m)}});
-  }
+  for (const auto& m : o.multipliers) mu.push_back(MultiplierJson(m));
   const bool found = !p.start.empty();
   return {{"value", p.value},
           {"ok", p.ok},
@@ -56,13 +55,14 @@ std::string OrbitsCsv(const std::vector<OrbitScanPoint>& points, const std::stri
                       const DisplayAxis& axis) {
   std::ostringstream os;
   os.precision(12);
-  os << parameter << (axis.unit.empty() ? "" : " [" + axis.unit + "]") << ",found,stable,spectral_radius,nearest_boundary,boundary_distance,"
+  os << parameter << (axis.unit.empty() ? "" : " [" + axis.unit + "]")
+     << ",found,stable,spectral_radius,nearest_boundary,boundary_distance,"
      << "grazing_margin,drive_impacts_per_period,back_impacts_per_period,separation_fraction\n";
   for (const OrbitScanPoint& p : points) {
     const PeriodicOrbit& o = p.orbit;
     const bool found = !p.start.empty();
-    os << p.value * axis.scale << ',' << (found ? 1 : 0) << ',' << (found && o.stable ? 1 : 0) << ','
-       << o.spectral_radius << ',' << StabilityBoundaryName(o.nearest_boundary) << ','
+    os << p.value * axis.scale << ',' << (found ? 1 : 0) << ',' << (found && o.stable ? 1 : 0)
+       << ',' << o.spectral_radius << ',' << StabilityBoundaryName(o.nearest_boundary) << ','
        << o.boundary_distance << ',' << o.grazing_margin << ',' << o.drive_impacts << ','
        << o.back_impacts << ',' << o.separation_fraction << '\n';
   }
@@ -71,10 +71,37 @@ std::string OrbitsCsv(const std::vector<OrbitScanPoint>& points, const std::stri
 
 }  // namespace
 
+nlohmann::json MultiplierJson(std::complex<double> mu) {
+  return {{"re", mu.real()}, {"im", mu.imag()}, {"abs", std::abs(mu)}};
+}
+
+std::string NoStableOrbitText(int period, bool swept) {
+  return fmt::format(
+      "  No stable period-{} orbit exists at {} (none found by shooting from the settled motion "
+      "and continuation).",
+      period, swept ? "any point of the sweep" : "this operating point");
+}
+
+std::function<void(int, int)> OrbitsTerminalProgress(bool swept) {
+  if (!swept || ::isatty(STDERR_FILENO) == 0) return {};
+  return [](int done, int total) {
+    fmt::print(stderr, "\rorbits: {:3d}% ({}/{} points)", 100 * done / total, done, total);
+  };
+}
+
+int ReportFailedOrbitPoints(int failed, size_t total) {
+  if (failed == 0) return 0;
+  std::cerr << "error: " << failed << " of " << total
+            << " points could not be computed (listed in the output)\n";
+  return 1;
+}
+
 int RunOrbits(const OrbitsCommandOptions& options) {
   return RunReportingErrors(options.file, [&]() -> int {
+    const config::LoadedGearbox loaded = config::LoadAnyGearboxFile(options.file);
+    if (loaded.schema == 2) return OrbitsTrain(options, loaded.train);
     const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
-    const GearboxSpec spec = config::LoadGearboxFile(options.file);
+    const GearboxSpec& spec = *loaded.pair;
     OrbitScanOptions scan;
     scan.tier = options.tier ? ParseTier(*options.tier) : spec.analysis.tier;
     scan.period = options.period;
@@ -83,15 +110,9 @@ int RunOrbits(const OrbitsCommandOptions& options) {
     std::optional<AtlasAxis> sweep;
     if (options.sweep) sweep = config::ParseAxisOption(*options.sweep, "--sweep");
     scan.Validate();
-    const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
-    OrbitScanProgress progress;
-    if (on_terminal && sweep) {
-      progress = [](int done, int total) {
-        fmt::print(stderr, "\rorbits: {:3d}% ({}/{} points)", 100 * done / total, done, total);
-      };
-    }
+    const OrbitScanProgress progress = OrbitsTerminalProgress(sweep.has_value());
     const std::vector<OrbitScanPoint> points = ScanPeriodicOrbits(spec, sweep, scan, progress);
-    if (on_terminal && sweep) fmt::print(stderr, "\n");
+    if (progress) fmt::print(stderr, "\n");
     const std::string parameter = sweep ? sweep->parameter : "operating point";
     const DisplayAxis axis = DisplayAxisFor(parameter, spec);
     nlohmann::json list = nlohmann::json::array();
@@ -144,19 +165,9 @@ int RunOrbits(const OrbitsCommandOptions& options) {
             StabilityBoundaryName(o.nearest_boundary), o.boundary_distance, o.drive_impacts,
             o.back_impacts, p.start);
       }
-      if (stable == 0) {
-        fmt::print(
-            "  No stable period-{} orbit exists at {} (none found by shooting from the "
-            "settled motion and continuation).\n",
-            options.period, sweep ? "any point of the sweep" : "this operating point");
-      }
+      if (stable == 0) fmt::print("{}\n", NoStableOrbitText(options.period, sweep.has_value()));
     }
-    if (failed > 0) {
-      std::cerr << "error: " << failed << " of " << points.size()
-                << " points could not be computed (listed in the output)\n";
-      return 1;
-    }
-    return 0;
+    return ReportFailedOrbitPoints(failed, points.size());
   });
 }
 

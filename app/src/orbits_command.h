@@ -4,6 +4,9 @@
 // (nvh/orbit_scan.h). Says plainly when no stable orbit was found.
 #pragma once
 
+#include <complex>
+#include <functional>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 
@@ -21,5 +24,15 @@ struct OrbitsCommandOptions {
 };
 
 int RunOrbits(const OrbitsCommandOptions& options);
+
+// Shared with the train's orbits (train_orbits_command.h):
+// {"re", "im", "abs"} of one Floquet multiplier.
+nlohmann::json MultiplierJson(std::complex<double> mu);
+// "  No stable period-M orbit exists at ..." (the plain statement when none was found).
+std::string NoStableOrbitText(int period, bool swept);
+// "orbits: 42% (5/12 points)" on stderr when it is a terminal and the run is a sweep; else empty.
+std::function<void(int, int)> OrbitsTerminalProgress(bool swept);
+// The exit code of a run with `failed` of `total` points lost: 1 (saying so on stderr) or 0.
+int ReportFailedOrbitPoints(int failed, size_t total);
 
 }  // namespace gearnvh::app

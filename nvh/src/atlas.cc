@@ -38,9 +38,7 @@ int AtlasResult::Failed() const {
   return failed;
 }
 
-double AxisValue(const AtlasAxis& axis, int i) {
-  return axis.range.Point(i);
-}
+double AxisValue(const AtlasAxis& axis, int i) { return axis.range.Point(i); }
 
 AtlasCell ComputeAtlasCell(const GearboxSpec& base, const AtlasAxis& x, const AtlasAxis& y, int ix,
                            int iy, const AtlasOptions& options) {
@@ -84,9 +82,9 @@ AtlasCell ComputeAtlasCell(const GearboxSpec& base, const AtlasAxis& x, const At
       cell.rattle_index = rattle.impact_energy_per_cycle * cycles_per_forcing;
       cell.impact_velocity_rms = rattle.impact_velocity_rms;
       cell.separation_fraction = rattle.separation_fraction;
-      const bool chaotic = est.per_forcing_cycle > options.chaos_threshold &&
-                           est.exponent > 3.0 * est.standard_error;
-      cell.regime = chaotic ? "chaotic" : rattle.regime;
+      const bool chaotic = IsChaotic(est.per_forcing_cycle, est.exponent, est.standard_error,
+                                     options.chaos_threshold);
+      cell.regime = chaotic ? RattleRegimeName(RattleRegime::kChaotic) : rattle.regime;
       cell.ok = true;
     }
   } catch (const std::exception& e) {

@@ -4,6 +4,30 @@
 
 namespace gearnvh {
 
+const char* RattleRegimeName(RattleRegime regime) {
+  switch (regime) {
+    case RattleRegime::kNoImpact:
+      return "no impact";
+    case RattleRegime::kSingleSided:
+      return "single-sided";
+    case RattleRegime::kDoubleSided:
+      return "double-sided";
+    case RattleRegime::kChaotic:
+      return "chaotic";
+  }
+  return "?";
+}
+
+RattleRegime ImpactRegime(long drive_impacts, long back_impacts) {
+  if (drive_impacts + back_impacts == 0) return RattleRegime::kNoImpact;
+  return back_impacts == 0 ? RattleRegime::kSingleSided : RattleRegime::kDoubleSided;
+}
+
+bool IsChaotic(double per_forcing_cycle, double exponent_per_s, double standard_error_per_s,
+               double threshold) {
+  return per_forcing_cycle > threshold && exponent_per_s > 3.0 * standard_error_per_s;
+}
+
 double WheelAccelerationRms(const Trajectory& t) {
   const TrajectoryStatistics& st = t.statistics;
   return st.wheel_acceleration.Rms(st.duration);
@@ -36,9 +60,7 @@ RattleIndices ComputeRattleIndices(const SolverResult& run, double effective_mas
                                ? r.wheel_acceleration_rms / r.no_backlash_acceleration_rms
                                : 0.0;
   }
-  r.regime = s.drive_impacts + s.back_impacts == 0 ? "no impact"
-             : s.back_impacts == 0                 ? "single-sided"
-                                                   : "double-sided";
+  r.regime = RattleRegimeName(ImpactRegime(s.drive_impacts, s.back_impacts));
   return r;
 }
 

@@ -117,7 +117,7 @@ TrainLyapunovSummary EstimateTrainLyapunov(const TrainTables& tables, const Eige
   };
   for (long i = 0; i < alignment_intervals; ++i) {
     time += interval;
-    if (!stepper.Run(time)) return fail();
+    if (!stepper.Run(time, options.recorder)) return fail();
     Reorthonormalise(tables, V, nullptr);
     report();
   }
@@ -126,7 +126,7 @@ TrainLyapunovSummary EstimateTrainLyapunov(const TrainTables& tables, const Eige
   std::vector<std::vector<double>> block_exponents(static_cast<size_t>(k));
   for (long i = 0; i < intervals; ++i) {
     time += interval;
-    if (!stepper.Run(time)) return fail();
+    if (!stepper.Run(time, options.recorder)) return fail();
     Reorthonormalise(tables, V, block.data());
     report();
     if ((i + 1) % per_block == 0 && static_cast<int>(block_exponents[0].size()) < options.blocks) {

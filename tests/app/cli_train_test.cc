@@ -102,15 +102,14 @@ TEST_CASE("check prints a train in text", "[cli][train]") {
 
 TEST_CASE("a schema-2 file is refused with a clear message where trains are not built",
           "[cli][train]") {
-  for (const std::string command : {"tiers", "atlas", "orbits"}) {
+  for (const std::string command : {"tiers"}) {
     const auto r =
         RunCommand(kExe + " " + command + " " + kExamples + "/manual_transmission_idle.yaml");
     INFO(command << ": " << r.err);
     CHECK(r.exit_code == 1);
     CHECK(r.out.empty());
-    CHECK(
-        r.err.find("schema: gear trains run in `gearnvh check`, `simulate`, `sweep`, `report` and "
-                   "`validate`") != std::string::npos);
+    CHECK(r.err.find("schema: gear trains run in `gearnvh check`, `simulate`, `sweep`, `report`, "
+                     "`validate`, `atlas` and `orbits`") != std::string::npos);
     CHECK(r.err.find("this command reads gearnvh/1, got 'gearnvh/2'") != std::string::npos);
   }
 }

@@ -23,6 +23,17 @@
 
 namespace gearnvh {
 
+// The rattle regime of a mesh, shared by the pair and the train: from its impacts (ImpactRegime),
+// replaced by kChaotic when the largest Lyapunov exponent says so (IsChaotic; atlases only).
+enum class RattleRegime { kNoImpact, kSingleSided, kDoubleSided, kChaotic };
+// "no impact" | "single-sided" | "double-sided" | "chaotic".
+const char* RattleRegimeName(RattleRegime regime);
+// kNoImpact without impacts, kSingleSided with drive-flank impacts only, else kDoubleSided.
+RattleRegime ImpactRegime(long drive_impacts, long back_impacts);
+// Chaotic: lambda T_f above `threshold` (per forcing cycle) and lambda above three standard errors.
+bool IsChaotic(double per_forcing_cycle, double exponent_per_s, double standard_error_per_s,
+               double threshold);
+
 struct RattleIndices {
   double drive_impacts_per_cycle = 0.0, back_impacts_per_cycle = 0.0;
   double drive_impacts_per_excitation = 0.0, back_impacts_per_excitation = 0.0;

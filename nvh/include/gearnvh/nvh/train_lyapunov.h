@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "gearnvh/solver/train_statistics.h"
 #include "gearnvh/solver/train_stepper.h"
 
 namespace gearnvh {
@@ -37,6 +38,10 @@ struct TrainLyapunovOptions {
   long renormalise_cycles = 1;  // cycles between re-orthonormalisations; >= 1
   int blocks = 8;               // blocks for the standard errors; >= 2
   TrainStepperOptions stepper;
+  // Sees every piece, sample and event after the transient (alignment and averaged cycles), so
+  // one run gives the exponents and the statistics (atlases). Not owned; may be null. Its start
+  // time should be the transient's end.
+  TrainRecorder* recorder = nullptr;
   // Called after every interval with the fraction of the run done, in (0, 1]; may be empty.
   std::function<void(double)> progress;
   void Validate() const;  // throws InputError naming the field

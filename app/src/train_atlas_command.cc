@@ -1,0 +1,277 @@
+#include "train_atlas_command.h"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <thread>
+
+#include "command_errors.h"
+#include "display_units.h"
+#include "finite_results.h"
+#include "gearnvh/model/input_error.h"
+#include "gearnvh/nvh/atlas.h"
+#include "mpi_context.h"
+#include "output_folder.h"
+#include "parallel_for.h"
+#include "train_operating_point.h"
+#include "train_parameters.h"
+
+namespace gearnvh::app {
+
+int TrainAtlasResult::Failed() const {
+  int failed = 0;
+  for (const TrainAtlasCell& c : cells) failed += c.point.ok ? 0 : 1;
+  return failed;
+}
+
+namespace {
+
+// The fields name where each axis came from (the option or the file's analysis.atlas).
+TrainSpec CellVariant(const TrainSpec& base, const AtlasAxis& x, const AtlasAxis& y, double vx,
+                      double vy, const std::string& x_field = "--x",
+                      const std::string& y_field = "--y") {
+  TrainSpec spec = base;
+  SetTrainParameter(spec, x.parameter, vx, x_field);
+  SetTrainParameter(spec, y.parameter, vy, y_field);
+  return spec;
+}
+
+nlohmann::json CellJson(const TrainAtlasCell& c) {
+  const TrainAtlasPoint& p = c.point;
+  nlohmann::json meshes = nlohmann::json::array();
+  for (const TrainAtlasMesh& m : p.meshes) {
+    meshes.push_back({{"name", m.name},
+                      {"drive_impacts_per_cycle", m.drive_impacts_per_cycle},
+                      {"back_impacts_per_cycle", m.back_impacts_per_cycle},
+                      {"separation_fraction", m.separation_fraction},
+                      {"impact_velocity_rms", m.impact_velocity_rms},
+                      {"regime", RattleRegimeName(m.regime)}});
+  }
+  nlohmann::json loose = nlohmann::json::array();
+  for (const TrainAtlasLooseGear& g : p.loose_gears) {
+    loose.push_back({{"name", g.name},
+                     {"rattle_index", g.rattle_index},
+                     {"impacts", g.impacts},
+                     {"rank", g.rank}});
+  }
+  return {{"ix", c.ix},
+          {"iy", c.iy},
+          {"x", c.x},
+          {"y", c.y},
+          {"ok", p.ok},
+          {"message", p.message},
+          {"lyapunov_per_s", p.lyapunov_per_s},
+          {"lyapunov_per_forcing_cycle", p.lyapunov_per_forcing_cycle},
+          {"lyapunov_standard_error", p.lyapunov_standard_error},
+          {"regime", p.ok ? RattleRegimeName(p.regime) : ""},
+          {"meshes", meshes},
+          {"loose_gears", loose},
+          {"wall_s", p.wall_s}};
+}
+
+// The axis's values in display units, for the map's caption and the CSV header.
+std::string AxisHeader(const AtlasAxis& a) {
+  const TrainDisplayAxis d = TrainDisplayAxisFor(a.parameter);
+  return d.unit.empty() ? a.parameter : a.parameter + " [" + d.unit + "]";
+}
+
+void PrintTrainAtlas(const TrainAtlasResult& r, const std::string& name, const std::string& file,
+                     long cycles) {
+  const int nx = r.x.range.points, ny = r.y.range.points;
+  fmt::print("{}  ({}): chaos atlas of a gear train, {} x {} cells, {} of {} each, {}, {:.1f} s\n",
+             name, file, nx, ny, Count(cycles, "cycle", "cycles"), r.mesh_names.front(),
+             Count(r.threads, "thread", "threads"), r.wall_s);
+  const TrainDisplayAxis dx = TrainDisplayAxisFor(r.x.parameter);
+  const TrainDisplayAxis dy = TrainDisplayAxisFor(r.y.parameter);
+  fmt::print("  rows: {} from {:.4g} to {:.4g} {}; columns: {} from {:.4g} to {:.4g} {}\n",
+             r.y.parameter, r.y.range.to * dy.scale, r.y.range.from * dy.scale, dy.unit,
+             r.x.parameter, r.x.range.from * dx.scale, r.x.range.to * dx.scale, dx.unit);
+  fmt::print(
+      "  the train (chaotic from its largest Lyapunov exponent, else its most impacting "
+      "mesh):\n");
+  PrintRegimeMap(nx, ny, [&](int k) {
+    const TrainAtlasPoint& p = r.cells[static_cast<size_t>(k)].point;
+    return RegimeLetter(p.ok, RattleRegimeName(p.regime));
+  });
+  for (size_t i = 0; i < r.mesh_names.size(); ++i) {
+    fmt::print("  mesh {}:\n", r.mesh_names[i]);
+    PrintRegimeMap(
+        nx, ny,
+        [&](int k) {
+          const TrainAtlasPoint& p = r.cells[static_cast<size_t>(k)].point;
+          return RegimeLetter(p.ok, p.ok ? RattleRegimeName(p.meshes[i].regime) : "");
+        },
+        false);
+  }
+  if (!r.loose_gear_names.empty()) {
+    fmt::print("  loose gear that rattles most (rattle index, RMS angular acceleration):\n");
+    for (const TrainAtlasCell& c : r.cells) {
+      if (!c.point.ok || c.point.loose_gears.empty()) continue;
+      const TrainAtlasLooseGear& top = c.point.loose_gears.front();
+      fmt::print("    cell ({}, {}): {} {:.4g} rad/s²\n", c.ix, c.iy, top.name, top.rattle_index);
+    }
+  }
+  for (const TrainAtlasCell& c : r.cells) {
+    if (!c.point.ok) fmt::print("  cell ({}, {}) failed: {}\n", c.ix, c.iy, c.point.message);
+  }
+}
+
+}  // namespace
+
+TrainAtlasResult RunTrainAtlas(const TrainSpec& base, const AtlasAxis& x, const AtlasAxis& y,
+                               const TrainAtlasOptions& options, int threads,
+                               const AtlasProgress& progress) {
+  options.Validate();
+  const auto start = std::chrono::steady_clock::now();
+  TrainAtlasResult r;
+  r.x = x;
+  r.y = y;
+  for (const TrainMesh& m : base.meshes) r.mesh_names.push_back(m.Name());
+  for (const TrainGear& g : base.gears) {
+    if (g.mounting == Mounting::kLoose) r.loose_gear_names.push_back(g.name);
+  }
+  const int nx = x.range.points, total = nx * y.range.points;
+  r.cells.resize(static_cast<size_t>(total));
+  const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  r.threads = std::max(1, std::min(threads > 0 ? threads : hardware, total));
+  SweepProgressCounter counter(total, progress);
+  ParallelFor(static_cast<size_t>(total), r.threads, [&](size_t k) {
+    TrainAtlasCell& c = r.cells[k];
+    c.ix = static_cast<int>(k) % nx;
+    c.iy = static_cast<int>(k) / nx;
+    c.x = AxisValue(x, c.ix);
+    c.y = AxisValue(y, c.iy);
+    try {
+      c.point = ComputeTrainAtlasPoint(CellVariant(base, x, y, c.x, c.y), options);
+    } catch (const std::exception& e) {  // the variant itself (ComputeTrainAtlasPoint never throws)
+      c.point.ok = false;
+      c.point.message = e.what();
+    }
+    counter.Tick();
+  });
+  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return r;
+}
+
+nlohmann::json TrainAtlasJson(const TrainAtlasResult& r, const TrainAtlasOptions& o) {
+  nlohmann::json cells = nlohmann::json::array();
+  std::map<std::string, int> regimes;
+  for (const TrainAtlasCell& c : r.cells) {
+    cells.push_back(CellJson(c));
+    ++regimes[c.point.ok ? RattleRegimeName(c.point.regime) : "failed"];
+  }
+  return {{"schema", "gearnvh/2"},
+          {"x", AtlasAxisJson(r.x)},
+          {"y", AtlasAxisJson(r.y)},
+          {"meshes", r.mesh_names},
+          {"loose_gears", r.loose_gear_names},
+          {"cells", cells},
+          {"regime_counts", regimes},
+          {"failed_cells", r.Failed()},
+          {"cycles_per_cell", o.cycles},
+          {"transient_cycles", o.transient_cycles},
+          {"chaos_threshold_per_forcing_cycle", o.chaos_threshold},
+          {"method", EventMethodName(o.events)},
+          {"threads", r.threads},
+          {"wall_s", r.wall_s}};
+}
+
+std::string TrainAtlasCsv(const TrainAtlasResult& r) {
+  const TrainDisplayAxis dx = TrainDisplayAxisFor(r.x.parameter);
+  const TrainDisplayAxis dy = TrainDisplayAxisFor(r.y.parameter);
+  std::ostringstream os;
+  os.precision(12);
+  os << "ix,iy," << AxisHeader(r.x) << ',' << AxisHeader(r.y)
+     << ",ok,lyapunov_per_s,lyapunov_per_forcing_cycle,lyapunov_standard_error,regime";
+  for (const std::string& m : r.mesh_names) {
+    os << ',' << m << " drive_impacts_per_cycle," << m << " back_impacts_per_cycle," << m
+       << " separation_fraction," << m << " impact_velocity_rms," << m << " regime";
+  }
+  for (const std::string& g : r.loose_gear_names) os << ',' << g << " rattle_index";
+  os << ",message\n";
+  for (const TrainAtlasCell& c : r.cells) {
+    const TrainAtlasPoint& p = c.point;
+    os << c.ix << ',' << c.iy << ',' << c.x * dx.scale << ',' << c.y * dy.scale << ','
+       << (p.ok ? 1 : 0) << ',' << p.lyapunov_per_s << ',' << p.lyapunov_per_forcing_cycle << ','
+       << p.lyapunov_standard_error << ',' << (p.ok ? RattleRegimeName(p.regime) : "");
+    for (size_t i = 0; i < r.mesh_names.size(); ++i) {
+      if (!p.ok) {
+        os << ",,,,,";
+        continue;
+      }
+      const TrainAtlasMesh& m = p.meshes[i];
+      os << ',' << m.drive_impacts_per_cycle << ',' << m.back_impacts_per_cycle << ','
+         << m.separation_fraction << ',' << m.impact_velocity_rms << ','
+         << RattleRegimeName(m.regime);
+    }
+    for (const std::string& g : r.loose_gear_names) {
+      os << ',';
+      for (const TrainAtlasLooseGear& lg : p.loose_gears) {
+        if (lg.name == g) os << lg.rattle_index;
+      }
+    }
+    os << ',' << CsvQuoted(p.message) << '\n';
+  }
+  return os.str();
+}
+
+int AtlasTrain(const AtlasCommandOptions& options, const TrainSpec& spec) {
+  const TrainCommandSettings settings =
+      CheckTrainCommandOptions(options.tier, spec, options.method, std::nullopt);
+  if (options.resume) {
+    throw InputError("--resume", 0, "", "checkpoints are not available for gear trains yet");
+  }
+  if (MpiContext::Size() > 1) {
+    throw InputError("mpirun", 0, std::to_string(MpiContext::Size()) + " ranks",
+                     "the atlas of a gear train runs in one process (threads, --jobs); MPI is "
+                     "not available for gear trains yet");
+  }
+  TrainAtlasOptions atlas;
+  atlas.cycles = options.cycles.value_or(atlas.cycles);
+  atlas.transient_cycles = options.transient.value_or(atlas.transient_cycles);
+  atlas.events = settings.events;
+  if (atlas.cycles < 8)
+    throw InputError("--cycles", 0, std::to_string(atlas.cycles), "must be >= 8");
+  if (atlas.transient_cycles < 0) {
+    throw InputError("--transient", 0, std::to_string(atlas.transient_cycles), "must be >= 0");
+  }
+  if (options.jobs < 0) throw InputError("--jobs", 0, std::to_string(options.jobs), "must be >= 0");
+  std::optional<AtlasAxis> x = spec.analysis.atlas_x, y = spec.analysis.atlas_y;
+  if (options.x) x = ParseTrainAxisOption(*options.x, "--x");
+  if (options.y) y = ParseTrainAxisOption(*options.y, "--y");
+  if (!x || !y) {
+    throw InputError("analysis.atlas", 0, "(missing)",
+                     "an atlas needs two axes: --x and --y (or analysis.atlas.x and .y)");
+  }
+  if (x->parameter == y->parameter) {
+    throw InputError("--y", 0, y->parameter, "must differ from the x parameter");
+  }
+  // Names and indices are checked once here (a bad name is a usage error, not a failed cell).
+  (void)CellVariant(spec, *x, *y, x->range.from, y->range.from,
+                    options.x ? "--x" : "analysis.atlas.x.parameter",
+                    options.y ? "--y" : "analysis.atlas.y.parameter");
+  const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", true);
+  const AtlasProgress progress = AtlasTerminalProgress(0, 1);
+  const TrainAtlasResult result = RunTrainAtlas(spec, *x, *y, atlas, options.jobs, progress);
+  if (progress) fmt::print(stderr, "\n");
+  nlohmann::json doc = TrainAtlasJson(result, atlas);
+  doc["name"] = spec.name;
+  doc["file"] = options.file;
+  RequireFinite(doc, "atlas");
+  if (out) {
+    out->Write("atlas.csv", TrainAtlasCsv(result));
+    out->Write("atlas.json", doc.dump(1) + "\n");
+    out->Commit();
+  }
+  if (options.json) {
+    std::cout << doc.dump(1) << "\n";
+  } else {
+    PrintTrainAtlas(result, spec.name, options.file, atlas.cycles);
+  }
+  return ReportFailedAtlasCells(result.Failed(), result.cells.size());
+}
+
+}  // namespace gearnvh::app

@@ -1,0 +1,44 @@
+// `gearnvh atlas` on a gear train (schema gearnvh/2): per cell of two train parameters
+// (train_parameters.h) one ComputeTrainAtlasPoint (nvh/train_atlas.h) — the largest Lyapunov
+// exponent, each mesh's impacts and regime, each loose gear's rattle index — cells in parallel
+// (ParallelFor), a failed cell kept with its message. A regime map per train and per mesh on the
+// terminal, atlas.csv and atlas.json (docs/cli.md, docs/results.md). One process: MPI and
+// --resume are not available on trains.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "atlas_command.h"
+#include "gearnvh/model/train_spec.h"
+#include "gearnvh/nvh/train_atlas.h"
+
+namespace gearnvh::app {
+
+struct TrainAtlasCell {
+  int ix = 0, iy = 0;
+  double x = 0.0, y = 0.0;  // SI
+  TrainAtlasPoint point;
+};
+
+struct TrainAtlasResult {
+  AtlasAxis x, y;
+  std::vector<std::string> mesh_names, loose_gear_names;
+  std::vector<TrainAtlasCell> cells;  // row-major: iy * x.points + ix
+  int threads = 1;
+  double wall_s = 0.0;
+  int Failed() const;
+};
+
+// Every cell of the grid on `threads` threads (0: all cores); progress(done, total) under a lock.
+TrainAtlasResult RunTrainAtlas(const TrainSpec& base, const AtlasAxis& x, const AtlasAxis& y,
+                               const TrainAtlasOptions& options, int threads,
+                               const AtlasProgress& progress = {});
+
+nlohmann::json TrainAtlasJson(const TrainAtlasResult& r, const TrainAtlasOptions& o);
+std::string TrainAtlasCsv(const TrainAtlasResult& r);
+
+int AtlasTrain(const AtlasCommandOptions& options, const TrainSpec& spec);
+
+}  // namespace gearnvh::app
