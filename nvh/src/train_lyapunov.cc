@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <numeric>
 
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/solver/train_tangents.h"
@@ -47,6 +48,22 @@ double TrainForcingPeriod(const TrainTables& tables) {
 }
 
 namespace {
+
+// The exponents largest first, each with its standard error. Column j of the QR converges to the
+// j-th exponent, but over a short run two close ones may not have separated yet (the partial sums
+// are the volume growth rates either way).
+void SortDescending(TrainLyapunovSummary& out) {
+  std::vector<size_t> order(out.exponents.size());
+  std::iota(order.begin(), order.end(), size_t{0});
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return out.exponents[a] > out.exponents[b]; });
+  for (std::vector<double>* v :
+       {&out.exponents, &out.per_mesh_cycle, &out.per_forcing_cycle, &out.standard_errors}) {
+    std::vector<double> sorted;
+    for (size_t j : order) sorted.push_back((*v)[j]);
+    *v = std::move(sorted);
+  }
+}
 
 // Fixed generic start directions on the quotient (every elastic coordinate excited, columns
 // independent).
@@ -150,6 +167,7 @@ TrainLyapunovSummary EstimateTrainLyapunov(const TrainTables& tables, const Eige
     var /= static_cast<double>(options.blocks - 1);
     out.standard_errors.push_back(std::sqrt(var / static_cast<double>(options.blocks)));
   }
+  SortDescending(out);
   const double inf = std::numeric_limits<double>::infinity();
   out.predictability_horizon_s =
       out.exponents.front() > 0.0 ? 52.0 * std::log(2.0) / out.exponents.front() : inf;
