@@ -109,8 +109,8 @@ OperatingPointAnalysis AnalyseOperatingPoint(const GearboxSpec& spec, const Comp
                                            : spec.pinion.teeth / spec.operating.excitation[0].order;
   op.rattle = ComputeRattleIndices(result, model.effective_mass, cycles_per_excitation, &reference);
   const RattleIndices& rattle = op.rattle;
-  op.te = ComputeTransmissionErrorStats(
-      trajectory, spec.WheelTorque() / model.geometry.wheel.base, model.half_backlash);
+  op.te = ComputeTransmissionErrorStats(trajectory, spec.WheelTorque() / model.geometry.wheel.base,
+                                        model.half_backlash);
 
   const TransmissionErrorStats& te = op.te;
   nlohmann::json& doc = op.doc;
@@ -167,6 +167,7 @@ OperatingPointAnalysis AnalyseOperatingPoint(const GearboxSpec& spec, const Comp
   const long window = op.sideband_window;
   SidebandOptions sideband_options;
   sideband_options.shaft_order_sources = shaft_order_sources;
+  sideband_options.scale = tables.half_backlash;
   if (window > 0 && summary.status == SolverStatus::kSuccess) {
     const int per_cycle = op.solver.samples_per_cycle;
     SpectrumAnalyzer analyzer(static_cast<int>(window * per_cycle));

@@ -187,7 +187,9 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, const TrainRun
       const AmplitudeSpectrum spectrum = analyzer.Analyze(recorder.te_series()[i], rate);
       op.sidebands[i].window_cycles =
           std::llround(static_cast<double>(window.periods) * tables.common_period / mt.period);
-      op.sidebands[i].rows = SidebandTable(spectrum, 1.0 / mt.period, sources, op.sideband_options);
+      SidebandOptions mesh_options = op.sideband_options;
+      mesh_options.scale = mt.half_backlash;
+      op.sidebands[i].rows = SidebandTable(spectrum, 1.0 / mt.period, sources, mesh_options);
     }
   } else if (!window.note.empty()) {
     op.sideband_notes.push_back(window.note);

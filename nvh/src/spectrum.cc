@@ -109,7 +109,10 @@ std::vector<SidebandRow> SidebandTable(const AmplitudeSpectrum& s, double mesh_h
   const long bins = static_cast<long>(s.amplitude.size());
   if (bins < 4) return rows;
   const double nyquist = s.bin_hz * static_cast<double>(bins - 1);
-  const double strongest = *std::max_element(s.amplitude.begin() + 1, s.amplitude.end());
+  // The mean (bin 0) counts: the samples' rounding is relative to the whole signal, so a TE
+  // that only sits at its mean (no line at all) has nothing but rounding in its other bins.
+  const double strongest =
+      std::max(options.scale, *std::max_element(s.amplitude.begin(), s.amplitude.end()));
   const double floor = strongest * std::pow(10.0, options.rounding_floor_db / 20.0);
   const double prominence = std::pow(10.0, options.prominence_db / 20.0);
   std::vector<double> around;

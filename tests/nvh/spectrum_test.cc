@@ -167,5 +167,35 @@ TEST_CASE("a line buried in broadband noise is not listed as a sideband",
   }
 }
 
+TEST_CASE("a signal at rest lists no line, whatever its rounding holds",
+          "[nvh][spectrum][sidebands]") {
+  // A TE at rest, 50 um, carrying a mesh-frequency ripple of 1e-21 m (the -334 dB its rounding
+  // would hold): the floor is relative to the strongest bin with the mean included, so nothing is
+  // listed; the same ripple at 1e-9 m (-94 dB) is a line.
+  const double fm = 30.0, record = 3.0;
+  const int n = 3072;
+  const double rate = n / record, mean = 50e-6;
+  SpectrumAnalyzer fft(n);
+  for (auto [ripple, listed] : {std::pair{1e-21, false}, {1e-9, true}}) {
+    const AmplitudeSpectrum s = fft.Analyze(
+        Sample(n, rate, [&](double t) { return mean + ripple * std::sin(2 * kPi * fm * t); }),
+        rate);
+    const std::vector<SidebandRow> rows = SidebandTable(s, fm, {{"fin", 4.0}});
+    INFO("ripple " << ripple);
+    CHECK(rows.empty() == !listed);
+  }
+  // A TE at rest at 0 (a train without load): every bin is rounding, so the spectrum's own
+  // strongest bin says nothing; relative to the half backlash (50 um) the 1e-22 m ripple is
+  // -354 dB and not listed, a 1e-9 m one is.
+  for (auto [ripple, listed] : {std::pair{1e-22, false}, {1e-9, true}}) {
+    const AmplitudeSpectrum s = fft.Analyze(
+        Sample(n, rate, [&](double t) { return ripple * std::sin(2 * kPi * fm * t); }), rate);
+    SidebandOptions options;
+    options.scale = 50e-6;
+    INFO("ripple " << ripple << " about 0");
+    CHECK(SidebandTable(s, fm, {{"fin", 4.0}}, options).empty() == !listed);
+  }
+}
+
 }  // namespace
 }  // namespace gearnvh

@@ -55,9 +55,11 @@ SpectralLine FindLine(const AmplitudeSpectrum& s, double frequency_hz, int searc
 // Only lines that stand out are listed: amplitude >= prominence_db above the local background
 // (the median amplitude of the +-background_bins bins around the line, the 2 x guard_bins + 1
 // nearest excluded: leakage of other lines, broadband rattle) and above rounding_floor_db
-// relative to the strongest bin of the spectrum (the exact solution's double-precision rounding
-// lies near -300 dB). Without a source of shaft-order content (no runout, pitch error or engine
-// order: `shaft_order_sources` false) only the mesh harmonics are considered.
+// relative to the strongest bin of the spectrum, the mean (bin 0) included, or to `scale` when
+// that is larger (the exact solution's double-precision rounding lies near -300 dB of the
+// quantities it is computed from: a TE at rest has only rounding in every bin, so its size says
+// nothing; the mesh's half backlash does). Without a source of shaft-order content (no runout,
+// pitch error or engine order: `shaft_order_sources` false) only the mesh harmonics are considered.
 struct SidebandOptions {
   int harmonics = 3;            // >= 1
   int orders = 3;               // >= 0
@@ -65,6 +67,7 @@ struct SidebandOptions {
   int background_bins = 32;     // > guard_bins
   int guard_bins = 3;           // >= 1
   double rounding_floor_db = -200.0;
+  double scale = 0.0;  // the signal's natural size in its units (a TE: the half backlash), >= 0
   bool shaft_order_sources = true;
 };
 struct SidebandRow {
