@@ -27,7 +27,7 @@ void RequireSchemaLineForTrainKeys(Reader& r, const YAML::Node& root) {
   std::string key;
   if (root["meshes"].IsDefined()) {
     key = "meshes";
-  } else if (const YAML::Node shafts = root["shafts"]; shafts.IsMap()) {
+  } else if (const YAML::Node shafts = root["shafts"]; shafts.IsDefined() && shafts.IsMap()) {
     for (const auto& kv : shafts) {
       const std::string name = kv.first.IsScalar() ? kv.first.Scalar() : "";
       if (name != "input" && name != "output") {
