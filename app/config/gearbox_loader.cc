@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 
 #include "gearnvh/model/gearbox_spec_validation.h"
@@ -19,7 +20,31 @@ namespace {
 
 constexpr size_t kMaxFileBytes = 16u << 20;
 
+// A document without a `schema:` line is read as gearnvh/1; a gear train's keys then say which
+// line is missing.
+void RequireSchemaLineForTrainKeys(Reader& r, const YAML::Node& root) {
+  if (root["schema"].IsDefined()) return;
+  std::string key;
+  if (root["meshes"].IsDefined()) {
+    key = "meshes";
+  } else if (const YAML::Node shafts = root["shafts"]; shafts.IsDefined() && shafts.IsMap()) {
+    for (const auto& kv : shafts) {
+      const std::string name = kv.first.IsScalar() ? kv.first.Scalar() : "";
+      if (name != "input" && name != "output") {
+        key = "shafts." + name;
+        break;
+      }
+    }
+  }
+  if (key.empty()) return;
+  const YAML::Node at = key == "meshes" ? root["meshes"] : root["shafts"];
+  r.Fail(key, at, key == "meshes" ? "meshes" : key.substr(7),
+         "is a gear-train (schema gearnvh/2) key, but the document has no `schema:` line and is "
+         "read as gearnvh/1: write `schema: gearnvh/2` as its first line");
+}
+
 GearboxSpec ReadDocument(Reader& r, const YAML::Node& root) {
+  RequireSchemaLineForTrainKeys(r, root);
   r.ExpectMap(root, "",
               {"schema", "name", "materials", "gears", "mesh", "shafts", "operating", "analysis"});
   GearboxSpec spec;
@@ -166,6 +191,10 @@ AtlasAxis ParseAxisOption(
 }
 
 std::string ReadGearboxText(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    throw InputError("", 0, "", "is a directory, not a gearbox file (give a .yaml file)", path);
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in)
     throw InputError("", 0, "", std::string("cannot open file: ") + std::strerror(errno), path);

@@ -9,6 +9,16 @@
 namespace gearnvh::config {
 namespace {
 
+// A list as written in flow style ("[g1, g2, g3]"), other nodes as Describe says.
+std::string ListText(const YAML::Node& n) {
+  if (!n.IsSequence()) return Describe(n);
+  std::string s = "[";
+  for (size_t i = 0; i < n.size(); ++i) {
+    s += (i == 0 ? "" : ", ") + (n[i].IsScalar() ? n[i].Scalar() : Describe(n[i]));
+  }
+  return s + "]";
+}
+
 // Schema gearnvh/2: shafts, gears and meshes by name.
 TrainSpec ReadTrainDocument(Reader& r, const YAML::Node& root) {
   r.ExpectMap(
@@ -60,7 +70,10 @@ TrainSpec ReadTrainDocument(Reader& r, const YAML::Node& root) {
     mesh.center_line_angle = r.Quantity(item, p, "center_line_angle", Dimension::kAngle, 0.0);
     const YAML::Node pair = r.Child(item, p, "gears", true);
     if (!pair.IsSequence() || pair.size() != 2 || !pair[0].IsScalar() || !pair[1].IsScalar()) {
-      r.Fail(Join(p, "gears"), pair, Describe(pair), "must be a list of two gear names");
+      r.Fail(Join(p, "gears"), pair, ListText(pair),
+             pair.IsSequence()
+                 ? "must be a list of two gear names, not " + std::to_string(pair.size())
+                 : std::string("must be a list of two gear names"));
     }
     r.Remember(Join(p, "gears"), pair, "");
     mesh.gear_a = pair[0].Scalar();

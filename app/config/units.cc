@@ -76,6 +76,11 @@ std::string_view Trim(std::string_view s) {
 
 }  // namespace
 
+std::string DimensionWithArticle(Dimension d) {
+  const std::string name = DimensionName(d);
+  return (name.find_first_of("aeiou") == 0 ? "an " : "a ") + name;
+}
+
 const char* DimensionName(Dimension d) {
   switch (d) {
     case Dimension::kDimensionless:
@@ -170,7 +175,7 @@ ParsedQuantity ParseQuantity(std::string_view text, Dimension d) {
   }
   const auto value = ParseNumber(number);
   if (!value) {
-    out.error = std::string("must be a ") + DimensionName(d) + " (a number" +
+    out.error = "must be " + DimensionWithArticle(d) + " (a number" +
                 (d == Dimension::kDimensionless ? "" : ", optionally with a unit") + ")";
     return out;
   }
@@ -185,7 +190,7 @@ ParsedQuantity ParseQuantity(std::string_view text, Dimension d) {
       return out;
     }
   }
-  out.error = "unknown unit '" + std::string(unit) + "' for a " + DimensionName(d) +
+  out.error = "unknown unit '" + std::string(unit) + "' for " + DimensionWithArticle(d) +
               "; accepted: " + AcceptedUnits(d);
   return out;
 }

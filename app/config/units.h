@@ -28,6 +28,8 @@ enum class Dimension {
 };
 
 const char* DimensionName(Dimension d);
+// The name with its indefinite article: "a length", "an angle".
+std::string DimensionWithArticle(Dimension d);
 // The units accepted for a dimension, comma separated (for error messages and docs).
 std::string AcceptedUnits(Dimension d);
 

@@ -109,7 +109,7 @@ class Reader {
   double QuantityNode(const YAML::Node& n, const std::string& path, Dimension d) {
     if (!n.IsScalar()) {
       Fail(path, n, Describe(n),
-           std::string("must be a ") + DimensionName(d) +
+           "must be " + DimensionWithArticle(d) +
                (d == Dimension::kDimensionless ? "" : " such as a number with a unit"));
     }
     const ParsedQuantity q = ParseQuantity(n.Scalar(), d);

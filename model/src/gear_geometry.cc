@@ -51,7 +51,9 @@ PairGeometry ComputePairGeometry(const MeshPair& pair) {
   }
   if (std::abs(p.pressure_angle - w.pressure_angle) > 1e-12) {
     throw InputError(pair.path_b + ".pressure_angle", 0, Num(w.pressure_angle) + " rad",
-                     "must equal the pressure angle of " + pair.path_a);
+                     "must equal the pressure angle of " + pair.path_a + " (" +
+                         Num(p.pressure_angle * 180.0 / std::numbers::pi) +
+                         " deg): gears in mesh share the pressure angle");
   }
   PairGeometry g;
   g.pinion = ComputeGearRadii(p);
@@ -87,6 +89,14 @@ PairGeometry ComputePairGeometry(const MeshPair& pair) {
                      "reduce addendum_coefficient or profile_shift");
   }
   if (g.contact_ratio < 1.0) {
+    // A given centre distance is the likely cause: name it and what it gives.
+    if (pair.mesh.center_distance) {
+      throw InputError(pair.path_mesh + ".center_distance", 0, Num(g.center_distance) + " m",
+                       "gives a transverse contact ratio of " + Num(g.contact_ratio) +
+                           ", must give >= 1 for continuous contact (the standard centre distance "
+                           "r_p,a + r_p,b is " +
+                           Num(a0) + " m)");
+    }
     throw InputError(pair.path_mesh, 0, Num(g.contact_ratio),
                      "contact ratio must be >= 1 for continuous contact");
   }

@@ -20,10 +20,6 @@ double ShaftPolarInertia(const ShaftSpec& shaft, const Material& material) {
   return j;
 }
 
-int OtherBody(const TrainMeshModel& mesh, int body) {
-  return mesh.body_a == body ? mesh.body_b : mesh.body_a;
-}
-
 }  // namespace
 
 GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& options) {
@@ -47,21 +43,8 @@ GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& opti
     }
   }
 
-  // Load power per body, then summed over the subtree beyond each body (deepest first).
-  std::vector<double> power(n, 0.0);
-  for (const TrainLoad& load : spec.operating.loads) {
-    // A shaft by its name, else the body of the gear of that name.
-    const int shaft = spec.ShaftIndex(load.on);
-    const int body =
-        shaft >= 0 ? shaft : topo.gear_body[static_cast<size_t>(spec.GearIndex(load.on))];
-    power[static_cast<size_t>(body)] +=
-        load.torque * std::abs(topo.bodies[static_cast<size_t>(body)].speed);
-  }
-  double total_power = 0.0;
-  for (double p : power) total_power += p;
-  train.input_torque =
-      total_power / std::abs(topo.bodies[static_cast<size_t>(topo.input_body)].speed);
-
+  const TrainTorqueFlow flow = StaticTorqueFlow(spec, topo);
+  train.input_torque = flow.input_torque;
   for (size_t m = 0; m < spec.meshes.size(); ++m) {
     TrainMeshModel mesh;
     mesh.name = spec.meshes[m].Name();
@@ -71,32 +54,9 @@ GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& opti
     mesh.body_b = topo.gear_body[static_cast<size_t>(mesh.gear_b)];
     mesh.in_loop = std::find(topo.loop_meshes.begin(), topo.loop_meshes.end(),
                              static_cast<int>(m)) != topo.loop_meshes.end();
+    mesh.transmitted_torque = flow.transmitted_torque[m];
+    mesh.back_flank_loaded = flow.back_flank_loaded[m];
     train.meshes.push_back(mesh);
-  }
-  // Depth of each body in the spanning tree, then the subtree powers deepest first.
-  std::vector<int> depth(n, 0);
-  for (size_t b = 0; b < n; ++b) {
-    for (int c = static_cast<int>(b); topo.parent_mesh[static_cast<size_t>(c)] >= 0;
-         c = OtherBody(train.meshes[static_cast<size_t>(topo.parent_mesh[static_cast<size_t>(c)])],
-                       c)) {
-      ++depth[b];
-    }
-  }
-  std::vector<size_t> order(n);
-  for (size_t b = 0; b < n; ++b) order[b] = b;
-  std::sort(order.begin(), order.end(), [&](size_t x, size_t y) { return depth[x] > depth[y]; });
-  std::vector<double> subtree = power;
-  for (size_t b : order) {
-    const int pm = topo.parent_mesh[b];
-    if (pm < 0) continue;
-    TrainMeshModel& mesh = train.meshes[static_cast<size_t>(pm)];
-    const int parent = OtherBody(mesh, static_cast<int>(b));
-    subtree[static_cast<size_t>(parent)] += subtree[b];
-    // Power P through the mesh at base-circle speed |w_b| r_b,b: force P / (|w_b| r_b,b), torque
-    // on gear b P / |w_b|.
-    mesh.transmitted_torque =
-        subtree[b] / std::abs(topo.bodies[static_cast<size_t>(mesh.body_b)].speed);
-    mesh.back_flank_loaded = static_cast<int>(b) == mesh.body_a && subtree[b] > 0.0;
   }
 
   for (size_t m = 0; m < train.meshes.size(); ++m) {

@@ -54,17 +54,19 @@ void GearLimits(const GearSpec& gear, const std::string& p) {
   const double s_a = d_a * ((std::numbers::pi / 2.0 + 2.0 * g.profile_shift * std::tan(a)) / z +
                             Involute(a) - Involute(alpha_a));
   if (!(s_a >= L::kMinTipThickness * m)) {
-    throw InputError(p + ".pressure_angle", 0, Num(a),
-                     fmt::format("gives pointed teeth: the tip thickness is {:.3g} mm, below {} x "
-                                 "module = {:.3g} mm (lower the pressure angle, the addendum or the "
-                                 "profile shift)",
-                                 s_a * 1e3, L::kMinTipThickness, L::kMinTipThickness * m * 1e3));
+    throw InputError(
+        p + ".pressure_angle", 0, Num(a),
+        fmt::format("gives pointed teeth: the tip thickness is {:.3g} mm, below {} x "
+                    "module = {:.3g} mm (lower the pressure angle, the addendum or the "
+                    "profile shift)",
+                    s_a * 1e3, L::kMinTipThickness, L::kMinTipThickness * m * 1e3));
   }
 }
 
 long ShaftElements(const ShaftSpec& s) {
   double min_diameter = std::numeric_limits<double>::infinity();
-  for (const ShaftSegment& seg : s.segments) min_diameter = std::min(min_diameter, seg.outer_diameter);
+  for (const ShaftSegment& seg : s.segments)
+    min_diameter = std::min(min_diameter, seg.outer_diameter);
   const double length = s.Length();
   // As the component model meshes it (30 elements or the thinnest diameter by default).
   const double h = s.element_length.value_or(std::min(length / 30.0, min_diameter));
@@ -74,7 +76,12 @@ long ShaftElements(const ShaftSpec& s) {
 
 }  // namespace
 
-void ValidateGearboxLimits(const GearboxSpec& spec) {
+double ToothUnitLoad(const GearSpec& a, const GearSpec& b, double torque_on_b) {
+  const double pitch_radius_b = 0.5 * b.module / std::cos(b.helix_angle) * b.teeth;
+  return torque_on_b / pitch_radius_b / std::min(a.face_width, b.face_width);
+}
+
+void ValidateGearboxLimits(const GearboxSpec& spec, OperatingLimits operating) {
   GearLimits(spec.pinion, "gears.pinion");
   GearLimits(spec.wheel, "gears.wheel");
 
@@ -83,8 +90,8 @@ void ValidateGearboxLimits(const GearboxSpec& spec) {
   long elements = 0;
   std::string largest;
   double largest_elements = -1.0;
-  for (const auto& [shaft, path] :
-       {std::pair{&spec.input_shaft, "shafts.input"}, std::pair{&spec.output_shaft, "shafts.output"}}) {
+  for (const auto& [shaft, path] : {std::pair{&spec.input_shaft, "shafts.input"},
+                                    std::pair{&spec.output_shaft, "shafts.output"}}) {
     if (!*shaft) continue;
     const long e = ShaftElements(**shaft);
     elements += e;
@@ -108,11 +115,17 @@ void ValidateGearboxLimits(const GearboxSpec& spec) {
     }
   }
 
+  const AnalysisSpec& a = spec.analysis;
+  if (a.cycles > L::kMaxRecordedCycles) {
+    throw InputError("analysis.cycles", 0, std::to_string(a.cycles),
+                     fmt::format("must be <= {}: each recorded cycle keeps 32 trajectory samples "
+                                 "in memory",
+                                 L::kMaxRecordedCycles));
+  }
+  if (operating == OperatingLimits::kLeftToTheTrain) return;
+
   // Load: a linear-elastic tooth model (small deflections, no yield, no contact-area growth).
-  const double wheel_pitch_radius =
-      0.5 * spec.wheel.module / std::cos(spec.wheel.helix_angle) * spec.wheel.teeth;
-  const double face = std::min(spec.pinion.face_width, spec.wheel.face_width);
-  const double unit_load = spec.operating.torque / wheel_pitch_radius / face;
+  const double unit_load = ToothUnitLoad(spec.pinion, spec.wheel, spec.operating.torque);
   if (!(unit_load <= L::kMaxUnitLoad)) {
     throw InputError("operating.torque", 0, Num(spec.operating.torque),
                      fmt::format("gives a tooth load of {:.3g} N/um of face width, above {} N/um: "
@@ -136,25 +149,18 @@ void ValidateGearboxLimits(const GearboxSpec& spec) {
     }
   }
 
-  // Run length and recorded samples.
-  const AnalysisSpec& a = spec.analysis;
-  if (a.cycles > L::kMaxRecordedCycles) {
-    throw InputError("analysis.cycles", 0, std::to_string(a.cycles),
-                     fmt::format("must be <= {}: each recorded cycle keeps 32 trajectory samples "
-                                 "in memory",
-                                 L::kMaxRecordedCycles));
-  }
+  // Run length.
   for (const auto& [speed, path] : {std::pair{omega, "operating.speed"},
                                     std::pair{a.speed_sweep.from, "analysis.speed_sweep.from"}}) {
     const double hz = spec.pinion.teeth * speed / (2.0 * std::numbers::pi);
     const double seconds = static_cast<double>(a.cycles + a.transient_cycles) / hz;
     if (!(seconds <= L::kMaxSimulatedSeconds)) {
-      throw InputError(path, 0, Num(speed),
-                       fmt::format("is so low that the {} mesh cycles of analysis.cycles + "
-                                   "transient_cycles last {:.3g} s of simulated time (mesh "
-                                   "frequency {:.3g} Hz); the limit is {} s",
-                                   a.cycles + a.transient_cycles, seconds, hz,
-                                   L::kMaxSimulatedSeconds));
+      throw InputError(
+          path, 0, Num(speed),
+          fmt::format("is so low that the {} mesh cycles of analysis.cycles + "
+                      "transient_cycles last {:.3g} s of simulated time (mesh "
+                      "frequency {:.3g} Hz); the limit is {} s",
+                      a.cycles + a.transient_cycles, seconds, hz, L::kMaxSimulatedSeconds));
     }
   }
 }

@@ -179,7 +179,7 @@ void ValidateRange(const SweepRange& r, const std::string& p) {
 
 }  // namespace
 
-void ValidateGearboxSpec(const GearboxSpec& spec) {
+void ValidateGearboxSpec(const GearboxSpec& spec, OperatingLimits operating) {
   if (spec.name.empty()) throw InputError("name", 0, "\"\"", "must not be empty");
   if (spec.materials.empty()) throw InputError("materials", 0, "{}", "needs at least one material");
   for (const auto& [key, m] : spec.materials) {
@@ -281,7 +281,7 @@ void ValidateGearboxSpec(const GearboxSpec& spec) {
 
   // The pair must mesh: contact ratio, interference, centre distance.
   (void)ComputePairGeometry(spec);
-  ValidateGearboxLimits(spec);
+  ValidateGearboxLimits(spec, operating);
 }
 
 }  // namespace gearnvh

@@ -27,9 +27,12 @@ std::string TrainPath(const std::string& path, const TrainSpec& spec, int m) {
   const std::vector<std::pair<std::string, std::string>> prefixes{
       {"shafts.input.gear_at", "gears." + a.name + ".at"},
       {"shafts.output.gear_at", "gears." + b.name + ".at"},
-      {"gears.pinion", "gears." + a.name},  {"gears.wheel", "gears." + b.name},
-      {"mesh", MeshPath(m)},                {"shafts.input", "shafts." + a.shaft},
-      {"shafts.output", "shafts." + b.shaft}, {"operating.torque", "operating.loads"}};
+      {"gears.pinion", "gears." + a.name},
+      {"gears.wheel", "gears." + b.name},
+      {"mesh", MeshPath(m)},
+      {"shafts.input", "shafts." + a.shaft},
+      {"shafts.output", "shafts." + b.shaft},
+      {"operating.torque", "operating.loads"}};
   for (const auto& [from, to] : prefixes) {
     if (path.compare(0, from.size(), from) == 0 &&
         (path.size() == from.size() || path[from.size()] == '.' || path[from.size()] == '[')) {
@@ -37,6 +40,20 @@ std::string TrainPath(const std::string& path, const TrainSpec& spec, int m) {
     }
   }
   return path;
+}
+
+// The schema-1 gear names a pair rule's text may mention ("the module of gears.pinion"), as the
+// train's gears.
+std::string TrainRule(std::string rule, const TrainSpec& spec, int m) {
+  const TrainMesh& mesh = spec.meshes[static_cast<size_t>(m)];
+  for (const auto& [from, to] : {std::pair{std::string("gears.pinion"), "gears." + mesh.gear_a},
+                                 std::pair{std::string("gears.wheel"), "gears." + mesh.gear_b}}) {
+    for (size_t at = rule.find(from); at != std::string::npos; at = rule.find(from, at)) {
+      rule.replace(at, from.size(), to);
+      at += to.size();
+    }
+  }
+  return rule;
 }
 
 }  // namespace
@@ -103,14 +120,16 @@ TrainTopology AnalyseTrainTopology(const TrainSpec& spec) {
     for (size_t m = 0; m < spec.meshes.size(); ++m) {
       const TrainMesh& mesh = spec.meshes[m];
       const int ga = spec.GearIndex(mesh.gear_a), gb = spec.GearIndex(mesh.gear_b);
-      const int ba = t.gear_body[static_cast<size_t>(ga)], bb = t.gear_body[static_cast<size_t>(gb)];
+      const int ba = t.gear_body[static_cast<size_t>(ga)],
+                bb = t.gear_body[static_cast<size_t>(gb)];
       if ((ba != body && bb != body) || visited_meshes.count(static_cast<int>(m)) > 0) continue;
       visited_meshes.insert(static_cast<int>(m));
       const bool forward = ba == body;
       const int from_gear = forward ? ga : gb, to_gear = forward ? gb : ga;
       const int to = forward ? bb : ba;
-      const double ratio = static_cast<double>(spec.gears[static_cast<size_t>(from_gear)].gear.teeth) /
-                           spec.gears[static_cast<size_t>(to_gear)].gear.teeth;
+      const double ratio =
+          static_cast<double>(spec.gears[static_cast<size_t>(from_gear)].gear.teeth) /
+          spec.gears[static_cast<size_t>(to_gear)].gear.teeth;
       const double speed = -t.bodies[static_cast<size_t>(body)].speed * ratio;
       TrainBody& target = t.bodies[static_cast<size_t>(to)];
       if (t.parent_mesh[static_cast<size_t>(to)] == -2) {
@@ -132,14 +151,16 @@ TrainTopology AnalyseTrainTopology(const TrainSpec& spec) {
   for (size_t b = 0; b < t.bodies.size(); ++b) {
     if (t.parent_mesh[b] != -2) continue;
     const TrainBody& body = t.bodies[b];
-    const std::string path = body.kind == BodyKind::kShaft ? "shafts." + body.name
-                                                           : "gears." + body.name;
+    const std::string path =
+        body.kind == BodyKind::kShaft ? "shafts." + body.name : "gears." + body.name;
     throw InputError(path, 0, "",
                      body.kind == BodyKind::kShaft
                          ? "has no way to turn: no chain of meshes and fixed gears connects it to "
-                           "the input shaft '" + spec.operating.input_shaft + "'"
+                           "the input shaft '" +
+                               spec.operating.input_shaft + "'"
                          : "has no way to turn: no chain of meshes connects this loose gear to "
-                           "the input shaft '" + spec.operating.input_shaft + "'");
+                           "the input shaft '" +
+                               spec.operating.input_shaft + "'");
   }
   return t;
 }
@@ -163,8 +184,8 @@ GearboxSpec MeshGearbox(const TrainSpec& spec, const TrainTopology& topology, in
       (*shaft)->gear_at = gear->at.value_or(0.0);
     }
   }
-  g.operating.speed = std::abs(topology.bodies[static_cast<size_t>(topology.gear_body[
-      static_cast<size_t>(ga)])].speed);
+  g.operating.speed = std::abs(
+      topology.bodies[static_cast<size_t>(topology.gear_body[static_cast<size_t>(ga)])].speed);
   g.operating.torque = transmitted_torque;
   g.analysis = spec.analysis;
   return g;
@@ -174,9 +195,8 @@ TrainSpec TrainOf(const GearboxSpec& spec) {
   TrainSpec t;
   t.name = spec.name;
   t.materials = spec.materials;
-  for (auto [name, gear, shaft] :
-       {std::tuple{"input", &spec.pinion, &spec.input_shaft},
-        std::tuple{"output", &spec.wheel, &spec.output_shaft}}) {
+  for (auto [name, gear, shaft] : {std::tuple{"input", &spec.pinion, &spec.input_shaft},
+                                   std::tuple{"output", &spec.wheel, &spec.output_shaft}}) {
     TrainShaft s;
     s.name = name;
     if (*shaft) {
@@ -256,6 +276,17 @@ void ValidateTrainSpec(const TrainSpec& spec) {
                        "must be the opposite of the hand of '" + a.name +
                            "' (an external helical pair, " + MeshPath(static_cast<int>(m)) + ")");
     }
+    // A pair meshes once: a second mesh of it would double its stiffness under the same name.
+    for (size_t earlier = 0; earlier < m; ++earlier) {
+      const TrainMesh& e = spec.meshes[earlier];
+      if ((e.gear_a == a.name && e.gear_b == b.name) ||
+          (e.gear_a == b.name && e.gear_b == a.name)) {
+        throw InputError(p, 0, "[" + mesh.gear_a + ", " + mesh.gear_b + "]",
+                         "meshes the same pair of gears as " + MeshPath(static_cast<int>(earlier)) +
+                             " ([" + e.gear_a + ", " + e.gear_b +
+                             "]): a pair meshes once (a second mesh would double its stiffness)");
+      }
+    }
     ++meshes_of_gear[static_cast<size_t>(spec.GearIndex(a.name))];
     ++meshes_of_gear[static_cast<size_t>(spec.GearIndex(b.name))];
   }
@@ -269,6 +300,10 @@ void ValidateTrainSpec(const TrainSpec& spec) {
     throw InputError("operating.speed.shaft", 0, "'" + spec.operating.input_shaft + "'",
                      "must name a key of shafts");
   }
+  if (!(spec.operating.speed > 0.0 && std::isfinite(spec.operating.speed))) {
+    throw InputError("operating.speed.value", 0, Num(spec.operating.speed) + " rad/s",
+                     "must be > 0: the input shaft's mean speed (it turns the way it is driven)");
+  }
   for (size_t i = 0; i < spec.operating.loads.size(); ++i) {
     const TrainLoad& load = spec.operating.loads[i];
     const std::string p = "operating.loads[" + std::to_string(i) + "]";
@@ -280,18 +315,20 @@ void ValidateTrainSpec(const TrainSpec& spec) {
     }
   }
   const TrainTopology topology = AnalyseTrainTopology(spec);
-  // Every mesh as the schema-1 gearbox of its gears: the gear, mesh, shaft, speed, excitation
-  // and analysis rules of schema 1, with the train's paths in the messages.
+  // Every mesh as the schema-1 gearbox of its gears: the gear, mesh, shaft, excitation-order and
+  // analysis rules of schema 1, with the train's paths in the messages. The operating limits
+  // (speed, load, excitation amplitude) are the train's, on its input shaft and loads.
   for (size_t m = 0; m < spec.meshes.size(); ++m) {
     GearboxSpec pair = MeshGearbox(spec, topology, static_cast<int>(m), 0.0);
     pair.operating.excitation = spec.operating.excitation;
     try {
-      ValidateGearboxSpec(pair);
+      ValidateGearboxSpec(pair, OperatingLimits::kLeftToTheTrain);
     } catch (const InputError& e) {
       throw InputError(TrainPath(e.path(), spec, static_cast<int>(m)), e.line(), e.value(),
-                       e.rule());
+                       TrainRule(e.rule(), spec, static_cast<int>(m)));
     }
   }
+  ValidateTrainLimits(spec, topology);
 }
 
 }  // namespace gearnvh

@@ -17,6 +17,19 @@ struct GearboxLimits {
   static constexpr double kMaxModalBytes = 2e9;        // dense modal analysis of the full FE model
 };
 
-void ValidateGearboxLimits(const GearboxSpec& spec);
+// Which limits apply. A schema-1 gearbox owns its operating point (kChecked). A train's mesh
+// gearbox (MeshGearbox) takes its speed, load and excitation from the train, whose rules are stated
+// on the train's input shaft and loads (ValidateTrainSpec), so there they are left to the train.
+enum class OperatingLimits {
+  kChecked,         // tooth load, excitation fluctuation and run length of spec.operating
+  kLeftToTheTrain,  // only the gear, FE-size and recorded-cycle limits
+};
+
+void ValidateGearboxLimits(const GearboxSpec& spec,
+                           OperatingLimits operating = OperatingLimits::kChecked);
+
+// Tooth load per unit face width, N/m: the torque on gear `b` over its pitch radius and the
+// narrower face, w = T_b / (r_b b_min). Limited to GearboxLimits::kMaxUnitLoad.
+double ToothUnitLoad(const GearSpec& a, const GearSpec& b, double torque_on_b);
 
 }  // namespace gearnvh

@@ -6,9 +6,12 @@
 #pragma once
 
 #include "gearnvh/model/gearbox_spec.h"
+#include "gearnvh/model/gearbox_spec_limits.h"
 
 namespace gearnvh {
 
-void ValidateGearboxSpec(const GearboxSpec& spec);
+// `operating`: kLeftToTheTrain for a train's mesh gearbox (see OperatingLimits).
+void ValidateGearboxSpec(const GearboxSpec& spec,
+                         OperatingLimits operating = OperatingLimits::kChecked);
 
 }  // namespace gearnvh

@@ -100,6 +100,19 @@ struct TrainTopology {
 // gear or shaft that no chain of meshes connects to the input, a loop whose ratios disagree).
 TrainTopology AnalyseTrainTopology(const TrainSpec& spec);
 
+// Static torque flow: every load resists its body's rotation; the input shaft is driven by the
+// torque that balances them all (power balance, T_in |w_in| = sum T_j |w_j|). A load's power
+// passes through every mesh on the spanning-tree path from its body to the input; a mesh carrying
+// power P transmits T = P / |w_b| on gear b. A mesh that closes a kinematic loop is not on the tree
+// and carries nothing (the split is statically indeterminate).
+struct TrainTorqueFlow {
+  double input_torque = 0.0;               // N m driving the input shaft
+  std::vector<double> transmitted_torque;  // per mesh, N m on gear b (>= 0)
+  std::vector<bool> back_flank_loaded;     // per mesh: power flows from gear b to gear a
+  std::vector<int> main_load;  // per mesh, the index of the load sending it most power, or -1
+};
+TrainTorqueFlow StaticTorqueFlow(const TrainSpec& spec, const TrainTopology& topology);
+
 // Mesh `m` as the schema-1 gearbox of its two gears (pinion = gear_a, wheel = gear_b, their
 // elastic shafts with gear_at = the gear's position), at the nominal speed of gear_a and carrying
 // `transmitted_torque` on gear_b: the input of the mesh-level model.
@@ -112,7 +125,15 @@ TrainSpec TrainOf(const GearboxSpec& spec);
 // Range and topology rules (every message names the schema path): names resolve, a mesh joins
 // gears on different shafts, every loose gear meshes, helical pairs have equal helix angles and
 // opposite hands, every shaft turns (is reached from the input through meshes and fixed gears),
-// and every kinematic loop closes with consistent ratios. Throws InputError.
+// and every kinematic loop closes with consistent ratios; no pair of gears meshes twice. Every mesh
+// obeys the schema-1 gear and mesh rules; the operating limits are the train's: the input speed
+// > 0, an excitation order's speed fluctuation below the input shaft's speed, a tooth load per
+// mesh (from StaticTorqueFlow) of at most GearboxLimits::kMaxUnitLoad, and a bounded run (cycles
+// count the first mesh). Throws InputError.
 void ValidateTrainSpec(const TrainSpec& spec);
+
+// The operating limits of ValidateTrainSpec alone (tooth load per mesh, excitation on the input
+// shaft, run length), for a spec whose names, speed and topology are already valid.
+void ValidateTrainLimits(const TrainSpec& spec, const TrainTopology& topology);
 
 }  // namespace gearnvh

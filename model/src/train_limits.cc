@@ -1,0 +1,129 @@
+// The static torque flow of a train and the train's operating limits (the schema-1 limits of
+// gearbox_spec_limits.cc stated on the train's input shaft, loads and first mesh).
+#include <fmt/format.h>
+
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "gearnvh/model/gearbox_spec_limits.h"
+#include "gearnvh/model/input_error.h"
+#include "gearnvh/model/train_spec.h"
+
+namespace gearnvh {
+namespace {
+
+using L = GearboxLimits;
+
+std::string Num(double v) { return fmt::format("{:.6g}", v); }
+
+double BodySpeed(const TrainTopology& t, int body) {
+  return std::abs(t.bodies[static_cast<size_t>(body)].speed);
+}
+
+}  // namespace
+
+TrainTorqueFlow StaticTorqueFlow(const TrainSpec& spec, const TrainTopology& topology) {
+  const size_t meshes = spec.meshes.size();
+  TrainTorqueFlow flow;
+  flow.transmitted_torque.assign(meshes, 0.0);
+  flow.back_flank_loaded.assign(meshes, false);
+  flow.main_load.assign(meshes, -1);
+  std::vector<double> main_power(meshes, 0.0);
+  std::vector<double> mesh_power(meshes, 0.0);
+  double total_power = 0.0;
+  for (size_t i = 0; i < spec.operating.loads.size(); ++i) {
+    const TrainLoad& load = spec.operating.loads[i];
+    // A shaft by its name, else the body of the gear of that name.
+    const int shaft = spec.ShaftIndex(load.on);
+    const int body =
+        shaft >= 0 ? shaft : topology.gear_body[static_cast<size_t>(spec.GearIndex(load.on))];
+    const double power = load.torque * BodySpeed(topology, body);
+    total_power += power;
+    // Up the spanning tree to the input: every mesh on the way carries this power.
+    for (int child = body; topology.parent_mesh[static_cast<size_t>(child)] >= 0;) {
+      const auto m = static_cast<size_t>(topology.parent_mesh[static_cast<size_t>(child)]);
+      const int body_a =
+          topology.gear_body[static_cast<size_t>(spec.GearIndex(spec.meshes[m].gear_a))];
+      const int body_b =
+          topology.gear_body[static_cast<size_t>(spec.GearIndex(spec.meshes[m].gear_b))];
+      mesh_power[m] += power;
+      if (power > main_power[m]) {
+        main_power[m] = power;
+        flow.main_load[m] = static_cast<int>(i);
+      }
+      if (child == body_a && power > 0.0) flow.back_flank_loaded[m] = true;
+      child = child == body_a ? body_b : body_a;
+    }
+  }
+  flow.input_torque = total_power / BodySpeed(topology, topology.input_body);
+  for (size_t m = 0; m < meshes; ++m) {
+    const int body_b =
+        topology.gear_body[static_cast<size_t>(spec.GearIndex(spec.meshes[m].gear_b))];
+    // Power P through the mesh at base-circle speed |w_b| r_b,b: torque on gear b P / |w_b|.
+    flow.transmitted_torque[m] = mesh_power[m] / BodySpeed(topology, body_b);
+  }
+  return flow;
+}
+
+void ValidateTrainLimits(const TrainSpec& spec, const TrainTopology& topology) {
+  const TrainOperating& op = spec.operating;
+  const double omega_in = op.speed;
+
+  // Load: a linear-elastic tooth model, per mesh at the torque it transmits.
+  const TrainTorqueFlow flow = StaticTorqueFlow(spec, topology);
+  for (size_t m = 0; m < spec.meshes.size(); ++m) {
+    const TrainGear& a = *spec.FindGear(spec.meshes[m].gear_a);
+    const TrainGear& b = *spec.FindGear(spec.meshes[m].gear_b);
+    const double unit_load = ToothUnitLoad(a.gear, b.gear, flow.transmitted_torque[m]);
+    if (unit_load <= L::kMaxUnitLoad) continue;
+    const int load = flow.main_load[m];  // power flows, so some load sends it
+    throw InputError(
+        "operating.loads[" + std::to_string(load) + "].torque", 0,
+        Num(op.loads[static_cast<size_t>(load)].torque),
+        fmt::format("gives meshes[{}] ({}-{}) a tooth load of {:.3g} N/um of face width "
+                    "(transmitted torque {:.6g} N m on {}), above {} N/um: the mesh-stiffness and "
+                    "LSTE models assume small linear-elastic tooth deflections, and real teeth "
+                    "yield long before",
+                    m, a.name, b.name, unit_load * 1e-6, flow.transmitted_torque[m], b.name,
+                    L::kMaxUnitLoad * 1e-6));
+  }
+
+  // Excitation acts on the input shaft: its speed fluctuation a / (k Omega_in) must stay below
+  // the input's mean speed, else the input shaft would turn backwards.
+  for (size_t i = 0; i < op.excitation.size(); ++i) {
+    const ExcitationOrder& e = op.excitation[i];
+    const double fluctuation = e.amplitude / (e.order * omega_in);
+    if (!(fluctuation <= omega_in)) {
+      throw InputError(
+          "operating.excitation[" + std::to_string(i) + "].amplitude", 0, Num(e.amplitude),
+          fmt::format("makes the speed fluctuation a / (order x speed) = {:.3g} rad/s of the "
+                      "input shaft '{}' exceed its mean speed {:.3g} rad/s: the shaft would turn "
+                      "backwards, and the model assumes a steady mean speed",
+                      fluctuation, op.input_shaft, omega_in));
+    }
+  }
+
+  // Run length: analysis.cycles and transient_cycles count cycles of the first mesh, whose mesh
+  // frequency is z_a |w_a| / 2 pi with |w_a| in proportion to the input speed.
+  const AnalysisSpec& an = spec.analysis;
+  const TrainMesh& first = spec.meshes.front();
+  const int teeth_a = spec.FindGear(first.gear_a)->gear.teeth;
+  const int body_a = topology.gear_body[static_cast<size_t>(spec.GearIndex(first.gear_a))];
+  const double speed_ratio = BodySpeed(topology, body_a) / omega_in;
+  for (const auto& [speed, path] : {std::pair{omega_in, "operating.speed.value"},
+                                    std::pair{an.speed_sweep.from, "analysis.speed_sweep.from"}}) {
+    const double hz = teeth_a * speed_ratio * speed / (2.0 * std::numbers::pi);
+    const double seconds = static_cast<double>(an.cycles + an.transient_cycles) / hz;
+    if (!(seconds <= L::kMaxSimulatedSeconds)) {
+      throw InputError(
+          path, 0, Num(speed),
+          fmt::format("is so low that the {} cycles of the first mesh (meshes[0], "
+                      "analysis.cycles + transient_cycles) last {:.3g} s of simulated "
+                      "time (mesh frequency {:.3g} Hz); the limit is {} s",
+                      an.cycles + an.transient_cycles, seconds, hz, L::kMaxSimulatedSeconds));
+    }
+  }
+}
+
+}  // namespace gearnvh
