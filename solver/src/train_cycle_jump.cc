@@ -48,6 +48,8 @@ void TrainStepper::JumpOutcome(TrainStepperSummary& s) const {
     s.jumps = TrainStepperSummary::Jumps::kDisabled;
   } else if (t_.common_period <= 0.0) {
     s.jumps = TrainStepperSummary::Jumps::kNoCommonPeriod;
+  } else if (s.period_starts == 0) {
+    s.jumps = TrainStepperSummary::Jumps::kTransientTooShort;
   }
 }
 
@@ -71,14 +73,17 @@ void TrainStepper::TryJump(double end_time, const TrainRecorder* rec) {
   const long long periods =
       std::min<long long>(static_cast<long long>(std::floor((horizon - time_) / period)),
                           (1LL << TrainCycleMap::kMaxJumpLog2) - 1);
-  if (!quiet || !contact || periods < 1) return;
+  if (periods < options_.min_jump_periods) return;
+  ++summary_.period_starts;
+  if (!quiet || !contact) return;
   if (period_segments_ == 0) period_segments_ = CountPeriodSegments();
   if (period_segments_ > options_.max_cycle_map_segments) {
     outcome = Jumps::kPeriodTooLong;
     return;
   }
   if (!cycle_map_ || cycle_map_->states() != states_) {
-    cycle_map_ = std::make_unique<TrainCycleMap>(t_, states_, options_.jump_margin_fraction);
+    cycle_map_ = std::make_unique<TrainCycleMap>(t_, states_, options_.jump_margin_fraction,
+                                                 period_segments_);
     ++summary_.cycle_map_builds;
   }
   summary_.cycle_map_info = cycle_map_->info();

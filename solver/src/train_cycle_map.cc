@@ -4,6 +4,7 @@
 #include <cmath>
 #include <complex>
 #include <limits>
+#include <map>
 
 #include "gearnvh/solver/segment_tables.h"
 #include "gearnvh/solver/train_reference.h"
@@ -36,7 +37,7 @@ void ForEachPeriodSegment(const TrainTables& t, F&& f) {
 }  // namespace
 
 TrainCycleMap::TrainCycleMap(const TrainTables& tables, const std::vector<ContactState>& states,
-                             double margin_fraction)
+                             double margin_fraction, long grid_segments)
     : t_(tables), states_(states), margin_fraction_(margin_fraction) {
   const int m = t_.m, e = 2 * t_.n;
   dev_.resize(e);
@@ -47,20 +48,27 @@ TrainCycleMap::TrainCycleMap(const TrainTables& tables, const std::vector<Contac
   rebuilt_.resize(e);
   margin_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(t_.meshes.size()));
   bound_ = margin_;
-  BuildMap();
-  if (info_ == Info::kSuccess) BuildCertificate();
+  TupleMemo memo;  // the tuples of one period (a few per cent of its grid segments)
+  std::vector<Eigen::MatrixXd> propagators;
+  BuildMap(memo, propagators, grid_segments);
+  if (info_ == Info::kSuccess) BuildCertificate(memo, propagators);
 }
 
-void TrainCycleMap::BuildMap() {
+void TrainCycleMap::BuildMap(TupleMemo& memo, std::vector<Eigen::MatrixXd>& propagators,
+                             long grid_segments) {
   const int n = t_.n, m = t_.m, e = 2 * n;
   const int c = t_.constant_slot(), u = t_.input_slot();
   phi_ = Eigen::MatrixXd::Identity(m, m);
+  const bool keep = static_cast<double>(grid_segments) * m * m * sizeof(double) <= kKeepBytes;
+  if (keep) propagators.reserve(static_cast<size_t>(grid_segments));
   ForEachPeriodSegment(t_, [&](const std::vector<int>& segments, double start, double h) {
     // R_g: the input slot is set to the segment's mean excitation (times the constant slot).
     const double input = t_.excitation.empty() ? 0.0 : t_.MeanExcitation(start, h);
     phi_.row(u) = input * phi_.row(c);
-    const Eigen::MatrixXd A = AssembleTrainGenerator(t_, segments, states_);
-    phi_ = (BalancedExpm(A, h, n, ReferenceFrequency(A, n)) * phi_).eval();
+    const Tuple& tuple = Lookup(memo, segments);
+    const Eigen::MatrixXd full = BalancedExpm(tuple.A, h, n, tuple.w_ref);
+    phi_ = (full * phi_).eval();
+    if (keep) propagators.push_back(full);
   });
   // The quotient by the free rotation (position and velocity).
   Eigen::VectorXd rp = Eigen::VectorXd::Zero(m), rv = Eigen::VectorXd::Zero(m);
@@ -105,68 +113,102 @@ void TrainCycleMap::BuildMap() {
   }
 }
 
-void TrainCycleMap::BuildCertificate() {
+void TrainCycleMap::BuildCertificate(TupleMemo& memo,
+                                     const std::vector<Eigen::MatrixXd>& propagators) {
   const int n = t_.n, m = t_.m, e = 2 * n;
   const int c = t_.constant_slot(), u = t_.input_slot();
-  const size_t meshes = t_.meshes.size();
+  const int meshes = static_cast<int>(t_.meshes.size());
+  const int terms = kTaylorTerms + 1;
   Eigen::VectorXd z = orbit_;
-  // Y(t) = Phi(t) V: the eigenvectors carried through the period (slots zero: Phi(t) keeps them).
-  Eigen::MatrixXcd Y = Eigen::MatrixXcd::Zero(m, e);
-  Y.topRows(e) = eigenvectors_;
+  // Y(t) = Phi(t) V, real and imaginary parts side by side (slots zero: Phi(t) keeps them).
+  Eigen::MatrixXd Y = Eigen::MatrixXd::Zero(m, 2 * e);
+  Y.topLeftCorner(e, e) = eigenvectors_.real();
+  Y.topRightCorner(e, e) = eigenvectors_.imag();
   margin_.setConstant(std::numeric_limits<double>::infinity());
-  gain_ = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(meshes), e);
-  std::vector<std::vector<Eigen::RowVectorXd>> rows(
-      meshes, std::vector<Eigen::RowVectorXd>(kTaylorTerms + 1, Eigen::RowVectorXd(m)));
-  Eigen::VectorXd f(kTaylorTerms + 1);
-  Eigen::MatrixXcd q(kTaylorTerms + 1, e);
+  gain_ = Eigen::MatrixXd::Zero(meshes, e);
+  Eigen::MatrixXd rows(meshes * terms, m), E(m, m), term(m, m), next(m, m),
+      Q(meshes * terms, 2 * e);
+  Eigen::VectorXd f(meshes * terms), zn(m);
+  Eigen::MatrixXd Yn(m, 2 * e);
+  size_t index = 0;
   ForEachPeriodSegment(t_, [&](const std::vector<int>& segments, double start, double h) {
     z[u] = t_.excitation.empty() ? 0.0 : t_.MeanExcitation(start, h);
-    const Eigen::MatrixXd A = AssembleTrainGenerator(t_, segments, states_);
-    const double rho =
-        Eigen::EigenSolver<Eigen::MatrixXd>(A, false).eigenvalues().cwiseAbs().maxCoeff();
-    const int substeps = std::max(1, static_cast<int>(std::ceil(2.0 * rho * h)));
+    const Tuple& tuple = Lookup(memo, segments);
+    const int substeps = std::max(1, static_cast<int>(std::ceil(tuple.rho * h)));
     const double d = h / substeps;
-    // E = sum_p (A d)^p / p!, the sub-step's propagator (rho d <= 1/2).
-    Eigen::MatrixXd E = Eigen::MatrixXd::Identity(m, m), term = E;
-    for (int p = 1; p <= kTaylorTerms; ++p) {
-      term = (A * term * (d / p)).eval();
-      E += term;
+    if (substeps == 1 && index < propagators.size()) {
+      E = propagators[index];  // the map's own expm(A h)
+    } else {
+      // E = sum_p (A d)^p / p!, the sub-step's propagator (rho d <= 1: remainder ~ 1/21!).
+      E.setIdentity();
+      term.setIdentity();
+      for (int p = 1; p <= kTaylorTerms; ++p) {
+        next.noalias() = tuple.A * term;
+        term = next * (d / p);
+        E += term;
+      }
     }
-    // rows[j][p] = c_j A^p d^p / p!: mesh j's gap as a polynomial in (tau / d) on a sub-step.
-    for (size_t j = 0; j < meshes; ++j) {
-      rows[j][0].setZero();
-      rows[j][0].head(n) = t_.meshes[j].v.transpose();
-      for (int p = 1; p <= kTaylorTerms; ++p) rows[j][p] = rows[j][p - 1] * A * (d / p);
+    ++index;
+    // rows (mesh j, p) = c_j A^p d^p / p!: mesh j's gap as a polynomial in (tau / d).
+    double scale = 1.0;
+    for (int p = 0; p < terms; ++p) {
+      if (p > 0) scale *= d / p;
+      for (int j = 0; j < meshes; ++j)
+        rows.row(j * terms + p) = scale * tuple.gap_powers.row(j * terms + p);
     }
-    const Eigen::MatrixXcd Ec = E.cast<std::complex<double>>();
     for (int k = 0; k < substeps; ++k) {
-      for (size_t j = 0; j < meshes; ++j) {
-        const bool drive = states_[j] == ContactState::kDrive;
+      f.noalias() = rows * z;
+      Q.noalias() = rows * Y;
+      for (int j = 0; j < meshes; ++j) {
+        const bool drive = states_[static_cast<size_t>(j)] == ContactState::kDrive;
         const double sign = drive ? 1.0 : -1.0;  // inside: g+ > 0 (drive), g- < 0 (back)
-        const double wall = t_.Wall(static_cast<int>(j), segments[j], drive);
+        const double wall = t_.Wall(j, segments[static_cast<size_t>(j)], drive) * z[c];
+        const auto fj = f.segment(j * terms, terms);
         double curvature = 0.0;
-        for (int p = 0; p <= kTaylorTerms; ++p) {
-          f[p] = rows[j][p].dot(z);
-          q.row(p) = rows[j][p].cast<std::complex<double>>() * Y;
-          if (p >= 2) curvature += p * (p - 1) * std::abs(f[p]);
-        }
+        for (int p = 2; p < terms; ++p) curvature += p * (p - 1) * std::abs(fj[p]);
         // The orbit's margin: min over [0, d] >= min of the ends - sup|g''| d^2 / 8.
-        const double g0 = sign * (f[0] - wall * z[c]), g1 = sign * (f.sum() - wall * z[c]);
-        const Eigen::Index jj = static_cast<Eigen::Index>(j);
-        margin_[jj] = std::min(margin_[jj], std::min(g0, g1) - 0.125 * curvature);
+        const double g0 = sign * (fj[0] - wall), g1 = sign * (fj.sum() - wall);
+        margin_[j] = std::min(margin_[j], std::min(g0, g1) - 0.125 * curvature);
         // Each mode's gap: max |.| over [0, d] <= max of the ends + sup|g''| d^2 / 8.
         for (int i = 0; i < e; ++i) {
+          const auto re = Q.col(i).segment(j * terms, terms);
+          const auto im = Q.col(e + i).segment(j * terms, terms);
           double mode_curvature = 0.0;
-          for (int p = 2; p <= kTaylorTerms; ++p) mode_curvature += p * (p - 1) * std::abs(q(p, i));
-          const double ends = std::max(std::abs(q(0, i)), std::abs(q.col(i).sum()));
-          gain_(jj, i) = std::max(gain_(jj, i), ends + 0.125 * mode_curvature);
+          for (int p = 2; p < terms; ++p)
+            mode_curvature += p * (p - 1) * std::sqrt(re[p] * re[p] + im[p] * im[p]);
+          const double r1 = re.sum(), i1 = im.sum();
+          const double ends = std::sqrt(std::max(re[0] * re[0] + im[0] * im[0], r1 * r1 + i1 * i1));
+          gain_(j, i) = std::max(gain_(j, i), ends + 0.125 * mode_curvature);
         }
       }
-      z = (E * z).eval();
-      Y = (Ec * Y).eval();
+      zn.noalias() = E * z;
+      z = zn;
+      Yn.noalias() = E * Y;
+      Y = Yn;
     }
   });
   if (!(margin_.minCoeff() > 0.0)) info_ = Info::kNoMargin;
+}
+
+const TrainCycleMap::Tuple& TrainCycleMap::Lookup(TupleMemo& memo,
+                                                  const std::vector<int>& segments) const {
+  auto [it, inserted] = memo.try_emplace(segments);
+  Tuple& tuple = it->second;
+  if (!inserted) return tuple;
+  const int n = t_.n, m = t_.m, terms = kTaylorTerms + 1;
+  tuple.A = AssembleTrainGenerator(t_, segments, states_);
+  tuple.w_ref = ReferenceFrequency(tuple.A, n);
+  tuple.rho =
+      Eigen::EigenSolver<Eigen::MatrixXd>(tuple.A, false).eigenvalues().cwiseAbs().maxCoeff();
+  tuple.gap_powers.resize(static_cast<Eigen::Index>(t_.meshes.size()) * terms, m);
+  for (size_t j = 0; j < t_.meshes.size(); ++j) {
+    const Eigen::Index r = static_cast<Eigen::Index>(j) * terms;
+    tuple.gap_powers.row(r).setZero();
+    tuple.gap_powers.row(r).head(n) = t_.meshes[j].v.transpose();
+    for (int p = 1; p < terms; ++p)
+      tuple.gap_powers.row(r + p) = tuple.gap_powers.row(r + p - 1) * tuple.A;
+  }
+  return tuple;
 }
 
 size_t TrainCycleMap::bytes() const {

@@ -29,6 +29,10 @@ void TrainStepperOptions::Validate() const {
     throw InputError("TrainStepperOptions.max_cycle_map_segments", 0,
                      std::to_string(max_cycle_map_segments), "must be >= 1");
   }
+  if (min_jump_periods < 1) {
+    throw InputError("TrainStepperOptions.min_jump_periods", 0, std::to_string(min_jump_periods),
+                     "must be >= 1");
+  }
   if (!(jump_margin_fraction >= 0.0 && jump_margin_fraction < 1.0)) {
     throw InputError("TrainStepperOptions.jump_margin_fraction", 0,
                      std::to_string(jump_margin_fraction), "must be in [0, 1)");

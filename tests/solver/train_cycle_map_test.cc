@@ -156,7 +156,7 @@ TEST_CASE("train jumps: a common period longer than the limit is not mapped", "[
   TrainStepperOptions options;
   options.max_cycle_map_segments = 100;  // the period has ~500 grid segments
   TrainStepper stepper(t, options, z0, states0);
-  REQUIRE(stepper.Run(6.0 * t.common_period));
+  REQUIRE(stepper.Run(12.0 * t.common_period));
   const TrainStepperSummary summary = stepper.summary();
   CHECK(summary.jumps == Jumps::kPeriodTooLong);
   CHECK(summary.jumped_periods == 0);
@@ -168,8 +168,22 @@ TEST_CASE("train jumps: a common period longer than the limit is not mapped", "[
   bad.max_cycle_map_segments = 0;
   CHECK_THROWS_WITH(bad.Validate(), Catch::Contains("max_cycle_map_segments"));
   bad = {};
+  bad.min_jump_periods = 0;
+  CHECK_THROWS_WITH(bad.Validate(), Catch::Contains("min_jump_periods"));
+  bad = {};
   bad.jump_margin_fraction = 1.0;
   CHECK_THROWS_WITH(bad.Validate(), Catch::Contains("jump_margin_fraction"));
+}
+
+TEST_CASE("train jumps: a transient shorter than min_jump_periods is not mapped",
+          "[solver][train]") {
+  const Model s = Loaded();
+  const TrainTables& t = s.tables;
+  const double start = 5.0 * t.common_period;  // 4 periods left after the first: below 8
+  const Run run = RunTrain(t, true, start, start + t.common_period);
+  CHECK(run.summary.jumps == Jumps::kTransientTooShort);
+  CHECK(run.summary.cycle_map_builds == 0);
+  CHECK(run.summary.jumped_periods == 0);
 }
 
 TEST_CASE("train jumps: no common period means no jump, and says so", "[solver][train]") {
@@ -182,6 +196,7 @@ TEST_CASE("train jumps: no common period means no jump, and says so", "[solver][
   TrainStepper stepper(s.tables, {}, z0, states0);
   REQUIRE(stepper.Run(0.05));
   CHECK(stepper.summary().jumps == Jumps::kNoCommonPeriod);
+  CHECK(stepper.summary().cycle_map_builds == 0);
   CHECK(stepper.summary().jumped_periods == 0);
 }
 
@@ -191,7 +206,7 @@ TEST_CASE("train jumps: a certificate and a jump do not allocate once the map is
   const TrainTables& t = s.tables;
   const auto [z0, states0] = TrainStaticState(t);
   TrainStepper stepper(t, {}, z0, states0);
-  const double start = 10.0 * t.common_period, end = start + 0.5 * t.common_period;
+  const double start = 12.0 * t.common_period, end = start + 0.5 * t.common_period;
   TrainRecorder warm(t, 32, start);
   REQUIRE(stepper.Run(end, &warm));  // builds the tuples and the cycle map
   REQUIRE(stepper.summary().jumps == Jumps::kJumped);

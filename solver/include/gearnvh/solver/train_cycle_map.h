@@ -21,16 +21,20 @@
 // eigenvectors of Pq, the gap of mesh j at time t of period k moves from the orbit's by
 // sum_i a_i lambda_i^k c_j Phi(t) phi_i, at most B_j = sum_i |a_i| G_ji, G_ji = sup_t |c_j Phi(t)
 // phi_i|. The orbit's margin M_j = inf_t sign_j g_j(t). Both are bounded over every sub-step of
-// every grid segment (rho(A_g) d <= 1/2, the Taylor polynomial of the sub-step, 20 terms): on
+// every grid segment (rho(A_g) d <= 1, the Taylor polynomial of the sub-step, 20 terms, remainder
+// ~1/21! of the gap's scale; the sub-step propagator is the map's own expm when d = h): on
 // [0, d] a C^2 function's minimum is >= min(f(0), f(d)) - d^2 sup|f''| / 8 and the modulus of a
 // complex one's maximum <= max(|f(0)|, |f(d)|) + d^2 sup|f''| / 8, sup|f''| from the polynomial's
 // coefficients (sum p (p-1) |f_p| d^(p-2)). Certified when B_j < (1 - margin_fraction) M_j for
 // every mesh j. A jump of K periods: powers Pq^(2^l) (binary, subnormals flushed to zero).
-// Cost: G expm and G sub-step walks once per contact combination; memory (40 + 4) m^2 doubles
-// plus the meshes' gains; built only when G <= TrainStepperOptions::max_cycle_map_segments.
+// Cost: G expm and G sub-step walks once per contact combination (the period's distinct tuples
+// assembled once each; its propagators kept during the build up to kKeepBytes); memory held
+// (40 + 4) m^2 doubles plus the meshes' gains; built only when G <=
+// TrainStepperOptions::max_cycle_map_segments.
 #pragma once
 
 #include <Eigen/Dense>
+#include <map>
 #include <vector>
 
 #include "gearnvh/solver/train_tables.h"
@@ -47,12 +51,13 @@ class TrainCycleMap {
     kDefectiveBasis,  // the eigenvectors of Pq are not a usable basis
   };
   static constexpr int kMaxJumpLog2 = 40;  // jumps of up to 2^40 - 1 periods
-  static constexpr int kTaylorTerms = 20;  // (rho d)^21 / 21! with rho d <= 1/2: rounding
+  static constexpr int kTaylorTerms = 20;  // (rho d)^21 / 21! with rho d <= 1: ~2e-20
 
   // The map of one common period with every mesh in `states` (each kDrive or kBack);
-  // margin_fraction in [0, 1) is the share of each orbit margin kept free of the transient.
+  // margin_fraction in [0, 1) is the share of each orbit margin kept free of the transient;
+  // grid_segments: the period's grid segments (sizes the kept propagators).
   TrainCycleMap(const TrainTables& tables, const std::vector<ContactState>& states,
-                double margin_fraction);
+                double margin_fraction, long grid_segments);
   Info info() const { return info_; }
   const std::vector<ContactState>& states() const { return states_; }
   const Eigen::MatrixXd& map() const { return phi_; }
@@ -70,8 +75,18 @@ class TrainCycleMap {
   void Jump(Eigen::VectorXd& z, long long periods);
 
  private:
-  void BuildMap();
-  void BuildCertificate();
+  // Per tuple of the period (keyed by the meshes' segments; the states are fixed): its generator,
+  // w_ref, spectral radius, and the gap rows c_j A^p, p = 0..kTaylorTerms (mesh-major).
+  struct Tuple {
+    Eigen::MatrixXd A, gap_powers;
+    double w_ref = 1.0, rho = 0.0;
+  };
+  using TupleMemo = std::map<std::vector<int>, Tuple>;
+  const Tuple& Lookup(TupleMemo& memo, const std::vector<int>& segments) const;
+  // The period's propagators expm(A_g h_g) are kept for the certificate's walk up to this size.
+  static constexpr double kKeepBytes = 64.0 * 1048576.0;
+  void BuildMap(TupleMemo& memo, std::vector<Eigen::MatrixXd>& propagators, long grid_segments);
+  void BuildCertificate(TupleMemo& memo, const std::vector<Eigen::MatrixXd>& propagators);
   const TrainTables& t_;
   std::vector<ContactState> states_;
   double margin_fraction_;

@@ -86,8 +86,12 @@ struct TrainStepperOptions {
   // Certified jumps of whole common periods in the unrecorded transient (V3 only; see above).
   bool jumps = true;
   // The cycle map is built only when the common period has at most this many grid segments
-  // (cost: one expm and one sub-step walk per grid segment, once). >= 1.
-  long max_cycle_map_segments = 20000;
+  // (cost, once: one expm and one sub-step walk per grid segment, ~7x the cost of stepping the
+  // segment; up to 64 MiB of propagators during the build at state dimension 8). >= 1.
+  long max_cycle_map_segments = 100000;
+  // A certificate (and the map's build) is tried only when at least this many whole common
+  // periods are left before the recording: the build costs about 7 stepped periods. >= 1.
+  long min_jump_periods = 8;
   // Share of each mesh's orbit margin kept free of the transient's bound. In [0, 1).
   double jump_margin_fraction = 0.01;
   TrainTableOptions tables;
@@ -102,6 +106,7 @@ struct TrainStepperSummary {
     kDisabled,           // options.jumps off, V1/V2, or a tangent attached
     kNoCommonPeriod,     // TrainTables::common_period is 0 (none within its limit)
     kPeriodTooLong,      // more grid segments per common period than max_cycle_map_segments
+    kTransientTooShort,  // no period start in the transient with min_jump_periods periods ahead
     kNoConstantContact,  // no whole transient period with every mesh in one contact state
     kMapRefused,         // the cycle map has no usable orbit (cycle_map_info says why)
     kNotCertified,       // the transient's bound reached an orbit margin at every try
@@ -110,6 +115,7 @@ struct TrainStepperSummary {
   Jumps jumps = Jumps::kNoConstantContact;
   long jumped_periods = 0;      // common periods jumped
   double jumped_time = 0.0;     // s
+  long period_starts = 0;       // period starts with min_jump_periods periods ahead
   long certificates = 0;        // certificates tried
   long cycle_map_builds = 0;    // cycle maps built (one per contact combination tried)
   long cycle_map_segments = 0;  // grid segments per common period (0: not counted)
