@@ -49,6 +49,88 @@ const char* StatusName(TrainStepperSummary::Info info) {
   return info == TrainStepperSummary::Info::kSuccess ? "success" : "too many events";
 }
 
+const char* JumpsName(TrainStepperSummary::Jumps jumps) {
+  using J = TrainStepperSummary::Jumps;
+  switch (jumps) {
+    case J::kJumped:
+      return "jumped";
+    case J::kDisabled:
+      return "disabled";
+    case J::kNoCommonPeriod:
+      return "no common period";
+    case J::kPeriodTooLong:
+      return "common period too long";
+    case J::kTransientTooShort:
+      return "transient too short";
+    case J::kNoConstantContact:
+      return "no constant contact";
+    case J::kMapRefused:
+      return "cycle map refused";
+    case J::kNotCertified:
+      return "not certified";
+  }
+  return "";
+}
+
+const char* CycleMapName(TrainCycleMap::Info info) {
+  using I = TrainCycleMap::Info;
+  switch (info) {
+    case I::kSuccess:
+      return "success";
+    case I::kNoOrbit:
+      return "no periodic orbit";
+    case I::kNotContracting:
+      return "not contracting";
+    case I::kNoMargin:
+      return "orbit touches a wall";
+    case I::kDefectiveBasis:
+      return "defective eigenbasis";
+  }
+  return "";
+}
+
+nlohmann::json JumpsJson(const TrainTables& tables, const TrainStepperOptions& solver,
+                         const TrainStepperSummary& s) {
+  return {{"status", JumpsName(s.jumps)},
+          {"periods", s.jumped_periods},
+          {"time_s", s.jumped_time},
+          {"mesh_cycles", s.jumped_time / tables.meshes.front().period},
+          {"certificates", s.certificates},
+          {"cycle_map",
+           {{"builds", s.cycle_map_builds},
+            {"info", CycleMapName(s.cycle_map_info)},
+            {"segments_per_period", s.cycle_map_segments},
+            {"limit_segments", solver.max_cycle_map_segments},
+            {"min_jump_periods", solver.min_jump_periods},
+            {"bytes", s.cycle_map_bytes}}}};
+}
+
+void PrintJumps(const TrainTables& tables, const TrainStepperOptions& solver,
+                const TrainStepperSummary& s) {
+  using J = TrainStepperSummary::Jumps;
+  if (s.jumps == J::kJumped) {
+    fmt::print(
+        "  certified jumps     {} common periods ({:.0f} cycles of {}, {:.4f} s) of the transient "
+        "jumped; cycle map of {} grid segments, {:.1f} KiB\n",
+        s.jumped_periods, s.jumped_time / tables.meshes.front().period, tables.meshes.front().name,
+        s.jumped_time, s.cycle_map_segments, s.cycle_map_bytes / 1024.0);
+  } else if (s.jumps == J::kPeriodTooLong) {
+    fmt::print(
+        "  certified jumps     none: the common period has more than {} grid segments (no cycle "
+        "map built)\n",
+        solver.max_cycle_map_segments);
+  } else if (s.jumps == J::kTransientTooShort) {
+    fmt::print(
+        "  certified jumps     none: the transient is shorter than {} common periods ({:.4g} s)\n",
+        solver.min_jump_periods + 1, tables.common_period);
+  } else if (s.jumps == J::kMapRefused) {
+    fmt::print("  certified jumps     none: cycle map refused ({})\n",
+               CycleMapName(s.cycle_map_info));
+  } else {
+    fmt::print("  certified jumps     none: {}\n", JumpsName(s.jumps));
+  }
+}
+
 // The K largest exponents over the same transient and cycles as the run (a second run).
 TrainLyapunovSummary RunLyapunov(const TrainTables& tables, const Eigen::VectorXd& z0,
                                  const std::vector<ContactState>& states0, int exponents,
@@ -131,6 +213,7 @@ nlohmann::json TrainSimulationJson(const TrainOperatingPoint& op, const TrainSpe
                     {"dense_pieces", s.dense_pieces},
                     {"dyadic_substeps", s.dyadic_substeps},
                     {"dyadic_matvecs", s.dyadic_matvecs},
+                    {"jumps", JumpsJson(tables, solver, s)},
                     {"samples", stats.samples},
                     {"cache",
                      {{"bytes", s.cache.bytes},
@@ -228,6 +311,7 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
         "decomposed ({} ill-conditioned), {} evicted\n",
         s.cache.bytes / 1048576.0, s.cache.peak_bytes / 1048576.0, s.cache.tuples, s.cache.misses,
         s.cache.decompositions, s.cache.ill_conditioned, s.cache.evictions);
+    PrintJumps(tables, solver, s);
     fmt::print("\n  {:<10}{:>12}{:>12}{:>12}{:>14}{:>9}{:>9}{:>11}\n", "mesh", "TE mean µm",
                "TE RMS µm", "TE p-p µm", "force max N", "drive", "back", "separated");
     for (const TrainMeshStatistics& m : stats.meshes) {

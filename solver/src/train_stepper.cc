@@ -25,6 +25,18 @@ void TrainStepperOptions::Validate() const {
     throw InputError("TrainStepperOptions.max_events_per_segment", 0,
                      std::to_string(max_events_per_segment), "must be >= 1");
   }
+  if (max_cycle_map_segments < 1) {
+    throw InputError("TrainStepperOptions.max_cycle_map_segments", 0,
+                     std::to_string(max_cycle_map_segments), "must be >= 1");
+  }
+  if (min_jump_periods < 1) {
+    throw InputError("TrainStepperOptions.min_jump_periods", 0, std::to_string(min_jump_periods),
+                     "must be >= 1");
+  }
+  if (!(jump_margin_fraction >= 0.0 && jump_margin_fraction < 1.0)) {
+    throw InputError("TrainStepperOptions.jump_margin_fraction", 0,
+                     std::to_string(jump_margin_fraction), "must be in [0, 1)");
+  }
   tables.Validate();
 }
 
@@ -141,7 +153,11 @@ TrainStepper::TrainStepper(const TrainTables& tables, const TrainStepperOptions&
   key_.resize(static_cast<size_t>(cache_.KeyWords()));
   recenter_period_ = tables.common_period > 0.0 ? tables.common_period : tables.InputRevolution();
   next_recenter_ = recenter_period_;
+  for (const TrainMeshTable& mt : tables.meshes)
+    period_cycles_.push_back(std::lround(tables.common_period / mt.period));
 }
+
+TrainStepper::~TrainStepper() = default;
 
 void TrainStepper::Reset(const Eigen::VectorXd& z0, const std::vector<ContactState>& states0) {
   z_ = z0;
@@ -149,6 +165,7 @@ void TrainStepper::Reset(const Eigen::VectorXd& z0, const std::vector<ContactSta
   grid_ = TrainGrid(t_);
   time_ = 0.0;
   next_recenter_ = recenter_period_;
+  events_at_period_ = 0;
   summary_ = TrainStepperSummary{};
 }
 
@@ -156,6 +173,7 @@ TrainStepperSummary TrainStepper::summary() const {
   TrainStepperSummary s = summary_;
   s.cache = cache_.summary();
   s.simulated_time = time_;
+  JumpOutcome(s);
   return s;
 }
 
@@ -167,6 +185,7 @@ bool TrainStepper::Run(double end_time, TrainRecorder* recorder) {
       grid_.Next();
       ++summary_.grid_segments;
       time_ = grid_.start();
+      if (AtPeriodStart()) TryJump(end_time, recorder);
     }
     if (time_ >= next_recenter_) {
       Recenter();

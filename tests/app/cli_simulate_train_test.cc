@@ -46,6 +46,10 @@ TEST_CASE("simulate --json on a train reports every mesh and ranks the loose gea
   CHECK(doc["summary"]["simulated_s"].get<double>() ==
         Approx(50.0 * 60.0 / (800.0 * 21.0)).epsilon(1e-9));
   CHECK(doc["summary"]["cache"]["bytes"].get<double>() > 0.0);
+  // A rattling idle with no transient: nothing jumped, and the reason is given.
+  CHECK(doc["summary"]["jumps"]["periods"].get<long>() == 0);
+  CHECK(doc["summary"]["jumps"]["status"].get<std::string>() == "transient too short");
+  CHECK(doc["summary"]["jumps"]["cycle_map"]["builds"].get<long>() == 0);
 }
 
 TEST_CASE("simulate on a train prints the per-mesh table", "[cli][train]") {

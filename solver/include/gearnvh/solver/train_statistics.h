@@ -54,6 +54,7 @@ class TrainRecorder {
   // mesh.
   TrainRecorder(const TrainTables& tables, int samples_per_cycle, double start_time);
   double next_sample() const { return next_; }
+  double start_time() const { return start_; }  // s
   double sample_interval() const { return dt_; }
   // Keeps the TE of every mesh at the samples at or after `from_time` (s), at most `max_samples`
   // per mesh (storage reserved here, so recording allocates nothing).

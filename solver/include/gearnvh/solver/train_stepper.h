@@ -33,13 +33,23 @@
 //     for validation.
 // Free rotation: r (th_j ~ |w_j|) changes no gap and no force in any tuple, so its position drift
 // is removed (x <- x - r r~ x) once per common period (once per input revolution without one).
-// Once the cache holds the visited tuples (and has decomposed those due), Run() allocates nothing.
+// Certified jumps (TrainStepperOptions::jumps, V3 only, never with a tangent attached): at a
+// common period's start in the unrecorded transient, when every mesh is in contact and none has
+// switched (or grazed) since the previous period start, the cycle map of that contact combination
+// over the common period (train_cycle_map.h; built once, only when the period has at most
+// max_cycle_map_segments grid segments) certifies that contact holds forever, and the state jumps
+// K whole periods, as far as the recording start allows (the pair's rule: jumped periods record
+// nothing). The certificate is retried at each following period start while it fails.
+// Once the cache holds the visited tuples (and has decomposed those due), Run() allocates nothing;
+// nor does a certificate or a jump once the cycle map is built.
 #pragma once
 
 #include <Eigen/Dense>
+#include <memory>
 #include <vector>
 
 #include "gearnvh/solver/solver_options.h"
+#include "gearnvh/solver/train_cycle_map.h"
 #include "gearnvh/solver/train_tables.h"
 
 namespace gearnvh {
@@ -54,7 +64,11 @@ class TrainGrid {
   double start() const { return start_; }
   double end() const { return end_; }
   const std::vector<int>& segments() const { return segment_; }
-  void Next();  // the following grid segment
+  const std::vector<long>& cycles() const { return cycle_; }  // whole cycles of each mesh done
+  void Next();                                                // the following grid segment
+  // From the start of a common period (every mesh at segment 0) `periods` periods on, mesh i
+  // doing cycles_per_period[i] cycles per period.
+  void Skip(const std::vector<long>& cycles_per_period, long long periods);
 
  private:
   void FindEnd();
@@ -69,13 +83,44 @@ struct TrainStepperOptions {
   double grazing_rate_tolerance = 1e-9;         // m/s, >= 0
   long max_events_per_segment = 1000;           // beyond this Run() stops with kTooManyEvents; >= 1
   EventMethod events = EventMethod::kSpectral;  // V3; V2 and V1 for validation
+  // Certified jumps of whole common periods in the unrecorded transient (V3 only; see above).
+  bool jumps = true;
+  // The cycle map is built only when the common period has at most this many grid segments
+  // (cost, once: one expm and one sub-step walk per grid segment, ~7x the cost of stepping the
+  // segment; up to 64 MiB of propagators during the build at state dimension 8). >= 1.
+  long max_cycle_map_segments = 100000;
+  // A certificate (and the map's build) is tried only when at least this many whole common
+  // periods are left before the recording: the build costs about 7 stepped periods. >= 1.
+  long min_jump_periods = 8;
+  // Share of each mesh's orbit margin kept free of the transient's bound. In [0, 1).
+  double jump_margin_fraction = 0.01;
   TrainTableOptions tables;
   void Validate() const;
 };
 
 struct TrainStepperSummary {
   enum class Info { kSuccess, kTooManyEvents };
+  // The outcome of certified jumps (the last reason when none was made).
+  enum class Jumps {
+    kJumped,
+    kDisabled,           // options.jumps off, V1/V2, or a tangent attached
+    kNoCommonPeriod,     // TrainTables::common_period is 0 (none within its limit)
+    kPeriodTooLong,      // more grid segments per common period than max_cycle_map_segments
+    kTransientTooShort,  // no period start in the transient with min_jump_periods periods ahead
+    kNoConstantContact,  // no whole transient period with every mesh in one contact state
+    kMapRefused,         // the cycle map has no usable orbit (cycle_map_info says why)
+    kNotCertified,       // the transient's bound reached an orbit margin at every try
+  };
   Info info = Info::kSuccess;
+  Jumps jumps = Jumps::kNoConstantContact;
+  long jumped_periods = 0;      // common periods jumped
+  double jumped_time = 0.0;     // s
+  long period_starts = 0;       // period starts with min_jump_periods periods ahead
+  long certificates = 0;        // certificates tried
+  long cycle_map_builds = 0;    // cycle maps built (one per contact combination tried)
+  long cycle_map_segments = 0;  // grid segments per common period (0: not counted)
+  size_t cycle_map_bytes = 0;   // the cycle map held
+  TrainCycleMap::Info cycle_map_info = TrainCycleMap::Info::kSuccess;  // of the last map built
   long grid_segments = 0;
   long events = 0, simultaneous_events = 0, grazing = 0;
   long start_switches = 0;   // states switched at once at a segment start
@@ -100,7 +145,10 @@ class TrainStepper {
   static constexpr int kDyadicLevels = 34;
   TrainStepper(const TrainTables& tables, const TrainStepperOptions& options,
                const Eigen::VectorXd& z0, const std::vector<ContactState>& states0);
-  // Advances to `end_time` (s); the recorder (optional) sees every piece, sample and event.
+  ~TrainStepper();
+  // Advances to `end_time` (s); the recorder (optional) sees every piece, sample and event. A
+  // certified jump may carry the state up to the recorder's start_time() (end_time without a
+  // recorder), so time() can end beyond end_time when the recording starts later.
   bool Run(double end_time, TrainRecorder* recorder = nullptr);
 
   // Tangent columns advanced with the state (train_tangents.h); nullptr detaches. Not owned.
@@ -160,6 +208,11 @@ class TrainStepper {
   void Record(const TrainSystem& sys, const Eigen::Ref<const Eigen::VectorXd>& z_start,
               double piece_start, double length, bool spectral, TrainRecorder* rec);
   void Recenter();
+  // At a common period's start: certifies permanent contact and jumps (train_cycle_jump.cc).
+  bool AtPeriodStart() const;
+  void TryJump(double end_time, const TrainRecorder* rec);
+  long CountPeriodSegments() const;                // up to max_cycle_map_segments + 1
+  void JumpOutcome(TrainStepperSummary& s) const;  // the reason when no period start was tried
 
   const TrainTables& t_;
   TrainStepperOptions options_;
@@ -179,6 +232,12 @@ class TrainStepper {
   long events_this_segment_ = 0;
   TrainStepperSummary summary_;
   TrainTangentPropagator* tangent_ = nullptr;
+  // Jumps: whole cycles of each mesh per common period, the map of the last contact
+  // combination tried, and the events (and grazings) counted at the last period start.
+  std::vector<long> period_cycles_;
+  std::unique_ptr<TrainCycleMap> cycle_map_;
+  long period_segments_ = 0;  // grid segments per common period (0: not counted yet)
+  long events_at_period_ = 0;
 };
 
 }  // namespace gearnvh
