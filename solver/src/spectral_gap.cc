@@ -38,15 +38,21 @@ int SelectNearZero(const double* wr, const double* wi) {
 constexpr double kSeriesCut = 1e-18;
 constexpr int kMaxSeriesTerms = 64;
 
-// cos(omega_k t) and sin(omega_k t), k < 8.
-void VectorSinCos(const double* omega, double t, double* c, double* s) {
+// cos(omega_k t) and sin(omega_k t) for k < 8; entries from `live` on (when < 8) are padding.
+// Vector calls cost about as much as two scalar ones, so a chunk of 1-3 live terms (tier 1) stays
+// scalar.
+void VectorSinCos(const double* omega, double t, int live, double* c, double* s) {
+  live = std::min(live, 8);
 #ifdef GEARNVH_VECTOR_SINCOS
-  const __m512d phase = _mm512_mul_pd(_mm512_loadu_pd(omega), _mm512_set1_pd(t));
-  _mm512_storeu_pd(c, _ZGVeN8v_cos(phase));
-  _mm512_storeu_pd(s, _ZGVeN8v_sin(phase));
-#else
-  for (int k = 0; k < 8; ++k) sincos(omega[k] * t, &s[k], &c[k]);
+  if (live > 3) {
+    const __m512d phase = _mm512_mul_pd(_mm512_loadu_pd(omega), _mm512_set1_pd(t));
+    _mm512_storeu_pd(c, _ZGVeN8v_cos(phase));
+    _mm512_storeu_pd(s, _ZGVeN8v_sin(phase));
+    return;
+  }
 #endif
+  for (int k = 0; k < live; ++k) sincos(omega[k] * t, &s[k], &c[k]);
+  for (int k = live; k < 8; ++k) c[k] = 1.0, s[k] = 0.0;
 }
 
 }  // namespace
@@ -213,7 +219,7 @@ void PropagateDecoupled(const SpectralDecomposition& d, const Eigen::VectorXd& w
     using Eight = Eigen::Array<double, 8, 1>;
     Eight grow, c, s;
     grow = (Eigen::Map<const Eight>(&d.block_sigma[first]) * t).exp();
-    VectorSinCos(&d.block_omega[first], t, c.data(), s.data());
+    VectorSinCos(&d.block_omega[first], t, count - first, c.data(), s.data());
     for (int i = 0; i < std::min(8, count - first); ++i) {
       const auto& b = d.blocks[first + i];
       if (b.size == 1) {
@@ -346,7 +352,8 @@ double ClosedFormGap::StartValue() const {
 void ClosedFormGap::EvaluateTerms(double t) const {
   grow_ = (sigma_ * t).exp();
   // The arrays are padded to whole vectors (the padding's omega is 0).
-  for (int k = 0; k < omega_.size(); k += 8) VectorSinCos(&omega_[k], t, &cos_[k], &sin_[k]);
+  for (int k = 0; k < omega_.size(); k += 8)
+    VectorSinCos(&omega_[k], t, terms_ - k, &cos_[k], &sin_[k]);
 }
 
 double ClosedFormGap::Evaluate(double t, int order) const {
