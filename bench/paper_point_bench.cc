@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cstdlib>
 #include <cstring>
 #include <ctime>
@@ -252,7 +253,10 @@ int main(int argc, char** argv) {
   };
   nlohmann::json rows = nlohmann::json::array();
   for (const Case& c : cases) {
-    if (std::string(c.label).find(only) == std::string::npos) continue;
+    // --case S: the cases whose label contains S, or the one case whose label is S.
+    const bool exact = std::any_of(std::begin(cases), std::end(cases),
+                                   [&](const Case& k) { return only == k.label; });
+    if (exact ? only != c.label : std::string(c.label).find(only) == std::string::npos) continue;
     const long cycles = std::max(s.cycles, s.quick ? c.min_cycles / 5 : c.min_cycles);
     const Figures f =
         Measure(c.spec, c.tier, c.method, c.record, c.carry_max_error, c.cycle_rows, s, cycles);

@@ -42,6 +42,9 @@ struct SpectralDecomposition {
     Eigen::Matrix2d B = Eigen::Matrix2d::Zero();
   };
   std::vector<Block> blocks;
+  // sigma and omega of the blocks (omega = 0 for a 1x1 block), padded with zeros to a multiple of
+  // 8 entries: PropagateDecoupled evaluates exp, cos and sin of 8 blocks at a time.
+  Eigen::ArrayXd block_sigma, block_omega;
   double condition = 0.0;  // |S|_1 |S^-1|_1 of the balanced transformation
   int series_terms = 0;    // powers of B0 kept for e^{B0 t}, t <= horizon
 };
@@ -64,10 +67,13 @@ void PropagateDecoupled(const SpectralDecomposition& d, const Eigen::VectorXd& w
 
 // The closed form of one gap row on one decomposition. Construction precomputes rows and each
 // term's rate |sigma + i omega|; Load() takes the decoupled state of a segment start (and each
-// term's amplitude); the rest is scalar work without allocation. The search evaluates value and
-// rate together (one exp and one sincos per term and point) and reuses every point it has
-// evaluated, and its derivative bounds cost one division per damped term: e^{sigma a} <=
-// 1 / (1 - sigma a) for sigma <= 0 (equal at a = 0, within 1 + (sigma a)^2 / 2 for small sigma a).
+// term's amplitude); the rest is scalar work without allocation. The terms are stored as arrays
+// (a real eigenvalue is a term with omega = 0 and beta = 0), so the per-term work of Load() and of
+// every evaluation (exp(sigma t) included) runs over contiguous arrays in vector instructions.
+// The search evaluates value and rate together (one exp and one sincos per term and point) and
+// reuses every point it has evaluated, and its derivative bounds cost one division per damped
+// term: e^{sigma a} <= 1 / (1 - sigma a) for sigma <= 0 (equal at a = 0, within
+// 1 + (sigma a)^2 / 2 for small sigma a).
 class ClosedFormGap {
  public:
   ClosedFormGap() = default;
@@ -105,21 +111,34 @@ class ClosedFormGap {
     double value = 0.0, rate = 0.0;
   };
   double Evaluate(double t, int order) const;
+  // grow_ = e^{sigma t}, cos_ = cos(omega t), sin_ = sin(omega t) for every term.
+  void EvaluateTerms(double t) const;
   Jet SearchJet(double t) const;
   double Search(double a, Jet at_a, double b, std::optional<Jet> at_b, int depth) const;
 
   // p_k = poly_rows_.row(k) . w0, with w0 the B0 part of w.
   Eigen::MatrixXd poly_rows_;
-  struct Term {
-    int start = 0, size = 1;
-    double sigma = 0.0, omega = 0.0;
-    double rate = 0.0;  // |sigma + i omega|: the factor each derivative adds to the amplitude
-    Eigen::RowVector2d r1 = Eigen::RowVector2d::Zero(), r2 = Eigen::RowVector2d::Zero();
-    double alpha = 0.0, beta = 0.0;  // loaded coefficients
-    // Loaded amplitude sqrt(alpha^2 + beta^2) times rate^order, order 1 and 2.
-    double bound1 = 0.0, bound2 = 0.0;
-  };
-  std::vector<Term> terms_;
+  // One entry per block of the decomposition: a 2x2 block's term
+  //   e^{sigma t}(alpha cos omega t + beta sin omega t),
+  //   alpha = r1a w[index_a] + r1b w[index_b], beta = r2a w[index_a] + r2b w[index_b];
+  // a 1x1 block's term alpha e^{sigma t} with omega = 0, index_b = index_a and r1b = r2a = r2b = 0.
+  // Padded to a multiple of 8 entries with zero terms; terms_ are real.
+  int terms_ = 0;
+  Eigen::ArrayXi index_a_, index_b_;
+  Eigen::ArrayXd sigma_, omega_;
+  Eigen::ArrayXd rate_;          // |sigma + i omega|: the factor each derivative adds
+  Eigen::ArrayXd damped_sigma_;  // min(sigma, 0), for the bound 1 / (1 - sigma a)
+  std::vector<int> growing_;     // the terms with sigma > 0 (bounded by e^{sigma b})
+  Eigen::ArrayXd r1a_, r1b_, r2a_, r2b_;
+  // Loaded: the coefficients, and amplitude sqrt(alpha^2 + beta^2) times rate (bound1_; the
+  // bound of |g''| has one more factor rate) with the sums of both.
+  Eigen::ArrayXd alpha_, beta_, bound1_;
+  double bound1_sum_ = 0.0, bound2_sum_ = 0.0;
+  // The coefficients of g': d/dt [e^{st}(a cos wt + b sin wt)] = e^{st}(A cos wt + B sin wt).
+  auto RateAlpha() const { return sigma_ * alpha_ + omega_ * beta_; }
+  auto RateBeta() const { return sigma_ * beta_ - omega_ * alpha_; }
+  // Scratch of the evaluations (no allocation after construction).
+  mutable Eigen::ArrayXd grow_, cos_, sin_;
   Eigen::VectorXd poly_;  // loaded polynomial coefficients
   int zero_size_ = 0;
   // The segment end H (< 0: none) and g(H), g'(H) of the loaded state.
