@@ -80,7 +80,22 @@ CycleOutputRows::CycleOutputRows(const SegmentTables& t, const ConstantContactCy
     }
     orbit_.head(e) += lu_b.solve(residual);
   }
+  // In balanced coordinates (velocities over w_ref, as BalancedExpm): see the Schur basis below.
+  const double w_ref = ReferenceFrequency(t.systems[0][static_cast<int>(cycle.state())].A, n);
+  Eigen::VectorXd balance = Eigen::VectorXd::Ones(e);
+  balance.tail(n).setConstant(1.0 / w_ref);
   // Amplitudes (Enter only): a_i = rows of V^-1, a complex pair as one mode.
+  // The moduli |lambda_i| (EigenSolver on Pq) and those of the Schur blocks (dgees on the balanced
+  // Pq) are two computations of one spectrum: each is exact for a matrix within ~e eps |Pq| of
+  // Pq, so an eigenvalue moves by at most its condition number kappa_i (|left| |right| / |left^H
+  // right|, here |V^-1 row| |V col|) times that (first order; LAPACK's error bound
+  // eps |A| / s_i). Eigenvalues at that level (the mesh modes of a slow mesh cycle, ~1e-30) are
+  // rounding: the two computations give unrelated values (4e-30 against 8e-31 and 2e-31 on
+  // the quasi-static pair), so a mode belongs to a tail, and decays, within that tolerance.
+  const double eigen_error = std::numeric_limits<double>::epsilon() * e;
+  const double norm = Pq.topLeftCorner(e, e).norm();
+  const double balanced_norm =
+      (balance.asDiagonal() * Pq.topLeftCorner(e, e) * balance.cwiseInverse().asDiagonal()).norm();
   std::vector<int> order;
   for (int i = 0; i < e; ++i) {
     if (lambda[i].imag() >= 0.0) order.push_back(i);
@@ -92,6 +107,10 @@ CycleOutputRows::CycleOutputRows(const SegmentTables& t, const ConstantContactCy
     if (lambda[i].imag() > 0.0) rows_e.row(row++) = Vinv.row(i).imag();
     amplitude_end_.push_back(row);
     mode_decay_.push_back(std::abs(lambda[i]));
+    const double kappa = Vinv.row(i).norm() * V.col(i).norm();
+    const double balanced_kappa = (Vinv.row(i) * balance.cwiseInverse().asDiagonal()).norm() *
+                                  (balance.asDiagonal() * V.col(i)).norm();
+    mode_tolerance_.push_back(eigen_error * (kappa * norm + balanced_kappa * balanced_norm));
   }
   modal_rows_ = rows_e.topRows(row) * L.topRows(e);
   // The columns: an ordered real Schur basis of the quotient map, Pq_e = U T U^T with the diagonal
@@ -102,9 +121,6 @@ CycleOutputRows::CycleOutputRows(const SegmentTables& t, const ConstantContactCy
   // the rounding times cond(V), 1e5..1e7 here, which cancels only when every column is kept.)
   // In balanced coordinates (velocities over w_ref, as BalancedExpm): unbalanced, |Pq| ~ w_ref and
   // the computed invariant subspaces leak ~eps |Pq| / sep of the slow modes into the tail.
-  const double w_ref = ReferenceFrequency(t.systems[0][static_cast<int>(cycle.state())].A, n);
-  Eigen::VectorXd balance = Eigen::VectorXd::Ones(e);
-  balance.tail(n).setConstant(1.0 / w_ref);
   Eigen::MatrixXd T =
       balance.asDiagonal() * Pq.topLeftCorner(e, e) * balance.cwiseInverse().asDiagonal();
   Eigen::MatrixXd U(e, e);
@@ -305,14 +321,19 @@ void CycleOutputRows::Enter(long cycle, const Eigen::VectorXd& z) {
   // the blocks before i); each contributes at most |a_j| |lambda_j|^k W_i to an output.
   const size_t blocks = block_start_.size();
   tail_last_.assign(blocks + 1, cycle - 1);
+  // A mode counts in the tail when its modulus may be the block's (both known to the mode's
+  // tolerance, constructor), and decays at its modulus plus that tolerance.
+  auto in_tail = [&](size_t j, size_t i) {
+    return mode_decay_[j] <= block_decay_[i] * (1.0 + 1e-9) + mode_tolerance_[j];
+  };
   for (size_t i = blocks; i-- > 0;) {
-    const double bound = block_decay_[i] * (1.0 + 1e-9);
     int count = 0;
-    for (double decay : mode_decay_) count += decay <= bound ? 1 : 0;
+    for (size_t j = 0; j < mode_decay_.size(); ++j) count += in_tail(j, i) ? 1 : 0;
     long last = tail_last_[i + 1];
     for (size_t j = 0; j < mode_decay_.size(); ++j) {
-      if (mode_decay_[j] > bound) continue;
-      last = std::max(last, last_live(amplitude[j] * count * tail_weight_[i], mode_decay_[j]));
+      if (!in_tail(j, i)) continue;
+      last = std::max(last, last_live(amplitude[j] * count * tail_weight_[i],
+                                      mode_decay_[j] + mode_tolerance_[j]));
     }
     tail_last_[i] = last;
   }

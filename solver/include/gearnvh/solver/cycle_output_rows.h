@@ -90,13 +90,14 @@ class CycleOutputRows {
   Eigen::VectorXd orbit_;       // y*, refined (see the constructor)
   Eigen::MatrixXd modal_rows_;  // (K_max - 3) x m: q = V^-1 L (z - y*) (amplitudes at Enter)
   Eigen::MatrixXd projection_;  // Q^T L (V = Q R): the live coordinates y_K = (Q^T L)_K (z - y*)
-  std::vector<int> amplitude_end_;   // per eigenvalue (a pair once): one past its rows
-  std::vector<double> mode_decay_;   // its |lambda|
-  std::vector<int> block_start_;     // per Schur block: its first column
-  std::vector<double> block_decay_;  // its |lambda|
-  std::vector<double> tail_weight_;  // W_i of the columns from block i on
-  std::vector<long> tail_last_;      // last cycle in which the tail from block i is alive
-  size_t tail_block_ = 0;            // the first dead tail (block count: none)
+  std::vector<int> amplitude_end_;      // per eigenvalue (a pair once): one past its rows
+  std::vector<double> mode_decay_;      // its |lambda|
+  std::vector<double> mode_tolerance_;  // how far |lambda| may be from the Schur block's modulus
+  std::vector<int> block_start_;        // per Schur block: its first column
+  std::vector<double> block_decay_;     // its |lambda|
+  std::vector<double> tail_weight_;     // W_i of the columns from block i on
+  std::vector<long> tail_last_;         // last cycle in which the tail from block i is alive
+  size_t tail_block_ = 0;               // the first dead tail (block count: none)
   int live_ = 0;
   std::vector<Chunk> chunks_;
   std::vector<int> sample_chunk_;   // per sample of a cycle
