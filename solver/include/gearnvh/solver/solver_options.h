@@ -64,7 +64,7 @@ struct SolverOptions {
   // kFused, certified permanent contact: each mesh cycle in one cycle-map matvec, and recorded
   // cycles by output rows on the cycle's start state (cycle_output_rows.h); equal to the
   // piece-by-piece recording to rounding. false: one matvec per segment, recorded piece by piece.
-  bool cycle_rows = false;  // on, `gearnvh validate`'s fusion check (1e-12) reads 1.15e-12
+  bool cycle_rows = true;
   // Cancellation (an interactive caller's Ctrl-C): polled at the start of every mesh cycle by
   // ExactStepper::Run, which throws RunCancelled once it is set. Not owned; null: never cancelled.
   const std::atomic<bool>* cancel = nullptr;
