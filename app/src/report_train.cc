@@ -83,7 +83,7 @@ std::string TrainPage(const TrainPageInput& in) {
   h << "<h2>Operating point</h2>\n<table>\n"
     << Row("input shaft", in.spec.operating.input_shaft)
     << Row("input speed (rpm)", Number(in.spec.operating.speed * kRpm))
-    << Row("bodies / meshes", fmt::format("{} / {}", op.tables.n, op.tables.meshes.size()))
+    << Row("bodies / meshes", fmt::format("{} / {}", op.tables.bodies(), op.tables.meshes.size()))
     << Row("common period (s)", op.tables.common_period > 0.0
                                     ? Number(op.tables.common_period)
                                     : std::string("none within 1000 input revolutions"))

@@ -36,6 +36,7 @@ struct TrainRunOptions {
   bool spectra = true;                        // keep the TE samples and compute per-mesh sidebands
   long max_spectrum_samples = long{1} << 21;  // TE samples kept per mesh for spectra, >= 1
   EventMethod events = EventMethod::kSpectral;  // V3; V2 and V1 to validate
+  Tier tier = Tier::kTier1;  // the train's tier (docs/gear-trains.md, "Tiers of a train")
   void Validate() const;
 };
 
@@ -65,7 +66,8 @@ struct TrainCommandSettings {
   EventMethod events = EventMethod::kSpectral;
 };
 
-// What `simulate` and `sweep` accept on a train: tier 1 (`--tier` or analysis.tier), an event
+// What `simulate` and `sweep` accept on a train: a tier the train has (`--tier` or
+// analysis.tier; tiers 4, 5 and N20 need an elastic shaft), an event
 // method v1, v2 or v3 (the default "fused" means v3: fusion is not built for trains), no UFF file.
 // Throws InputError naming the option or key otherwise.
 TrainCommandSettings CheckTrainCommandOptions(const std::optional<std::string>& tier_option,

@@ -29,6 +29,7 @@ TrainSweepPoint RunPoint(const TrainSpec& base, const TrainSweepOptions& options
   run.transient = options.transient;
   run.spectra = false;
   run.events = options.events;
+  run.tier = options.tier;
   const TrainOperatingPoint op = RunTrainOperatingPoint(spec, run);
   p.ok = op.ok();
   if (!p.ok) p.message = "more than 1000 events in a grid segment: the run stopped";
