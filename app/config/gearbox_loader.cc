@@ -107,8 +107,8 @@ GearboxSpec LoadGearboxFromString(const std::string& text, const std::string& so
       [](Reader& r, const YAML::Node& n) {
         if (SchemaOf(r, n) == 2) {
           r.Fail("schema", n["schema"], "'gearnvh/2'",
-                 "gear trains run in `gearnvh check`, `simulate`, `sweep`, `report` and `validate` "
-                 "(tier 1) so far; "
+                 "gear trains run in `gearnvh check`, `simulate`, `sweep`, `report`, `validate` "
+                 "and `tiers` so far; "
                  "this command reads gearnvh/1");
         }
         return ReadDocument(r, n);

@@ -175,14 +175,14 @@ std::string TrainPage(const TrainPageInput& in) {
 nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
                                 const ReportCommandOptions& o, int threads,
                                 const StageProgress& stage, const TrainSpec& spec) {
-  if (spec.analysis.tier != Tier::kTier1) {
-    throw InputError("analysis.tier", 0, TierName(spec.analysis.tier),
-                     "gear trains run on tier 1 (one torsional DOF per body) for now");
-  }
+  // analysis.tier must be a tier the train has (tiers 4, 5 and N20 need an elastic shaft).
+  const TrainCommandSettings settings =
+      CheckTrainCommandOptions(std::nullopt, spec, "v3", std::nullopt);
   if (stage) stage("train model, modes and Campbell data");
   const TrainCheck check = BuildTrainCheck(spec);
   if (stage) stage("operating point");
   TrainRunOptions run;
+  run.tier = settings.tier;
   run.cycles = spec.analysis.cycles;
   run.transient = spec.analysis.transient_cycles;
   const TrainOperatingPoint op = RunTrainOperatingPoint(spec, run);
