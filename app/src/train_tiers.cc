@@ -24,7 +24,7 @@ TrainTierRow RunTier(const TrainSpec& spec, TrainRunOptions run, Tier tier) {
   run.tier = tier;
   const TrainOperatingPoint op = RunTrainOperatingPoint(spec, run);
   if (!op.ok()) {
-    throw std::runtime_error(TierName(tier) +
+    throw std::runtime_error(std::string(TierName(tier)) +
                              ": more than 1000 events in a grid segment: the run stopped");
   }
   TrainTierRow row;
