@@ -327,8 +327,12 @@ TrainSystem TrainSystemCache::Build(const std::vector<int>& segments,
   // C's skew part (gyroscopic, reduced tiers) makes the pencil non-symmetric: with u^*Mu = 1,
   // lambda^2 + (c + i gamma) lambda + k = 0 has |lambda| <= |c + i gamma| + sqrt(k), |gamma|
   // bounded by the skew part's norm (2-norm <= Frobenius).
-  const Eigen::MatrixXd skew = 0.5 * (C - C.transpose());
-  const double rho = skew.isZero(0.0)
+  // Only the structure's C_0 + w G can be skew (the mesh terms are symmetric up to rounding of
+  // c v_i v_j, which must not switch tier 1 to the looser bound).
+  const Eigen::MatrixXd& c0 = t_.structural_damping;
+  const Eigen::MatrixXd skew =
+      c0.size() > 0 ? Eigen::MatrixXd(0.5 * (c0 - c0.transpose())) : Eigen::MatrixXd();
+  const double rho = skew.size() == 0 || skew.isZero(0.0)
                          ? std::max(w_stiff, largest(C))
                          : w_stiff + largest(0.5 * (C + C.transpose())) +
                                (root_inv_j.asDiagonal() * skew * root_inv_j.asDiagonal()).norm();
