@@ -132,9 +132,8 @@ GearboxSpec LoadGearboxFromString(const std::string& text, const std::string& so
       [](Reader& r, const YAML::Node& n) {
         if (SchemaOf(r, n) == 2) {
           r.Fail("schema", n["schema"], "'gearnvh/2'",
-                 "gear trains run in `gearnvh check`, `simulate`, `sweep`, `report`, `validate`, "
-                 "`atlas` and `orbits` (tier 1) so far; "
-                 "this command reads gearnvh/1");
+                 "this loader reads one pair (gearnvh/1); a gear train is read by the loader of "
+                 "either schema (LoadAnyGearboxFromString)");
         }
         return ReadDocument(r, n);
       },

@@ -83,7 +83,7 @@ std::string TrainPage(const TrainPageInput& in) {
   h << "<h2>Operating point</h2>\n<table>\n"
     << Row("input shaft", in.spec.operating.input_shaft)
     << Row("input speed (rpm)", Number(in.spec.operating.speed * kRpm))
-    << Row("bodies / meshes", fmt::format("{} / {}", op.tables.n, op.tables.meshes.size()))
+    << Row("bodies / meshes", fmt::format("{} / {}", op.tables.bodies(), op.tables.meshes.size()))
     << Row("common period (s)", op.tables.common_period > 0.0
                                     ? Number(op.tables.common_period)
                                     : std::string("none within 1000 input revolutions"))
@@ -175,14 +175,14 @@ std::string TrainPage(const TrainPageInput& in) {
 nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
                                 const ReportCommandOptions& o, int threads,
                                 const StageProgress& stage, const TrainSpec& spec) {
-  if (spec.analysis.tier != Tier::kTier1) {
-    throw InputError("analysis.tier", 0, TierName(spec.analysis.tier),
-                     "gear trains run on tier 1 (one torsional DOF per body) for now");
-  }
+  // analysis.tier must be a tier the train has (tiers 4, 5 and N20 need an elastic shaft).
+  const TrainCommandSettings settings =
+      CheckTrainCommandOptions(std::nullopt, spec, "v3", std::nullopt);
   if (stage) stage("train model, modes and Campbell data");
   const TrainCheck check = BuildTrainCheck(spec);
   if (stage) stage("operating point");
   TrainRunOptions run;
+  run.tier = settings.tier;
   run.cycles = spec.analysis.cycles;
   run.transient = spec.analysis.transient_cycles;
   const TrainOperatingPoint op = RunTrainOperatingPoint(spec, run);

@@ -20,13 +20,13 @@
 #include "gearnvh/nvh/transmission_error.h"
 #include "gearnvh/reduction/reduced_model.h"
 #include "operating_point.h"
+#include "output_folder.h"
 #include "simulate_train.h"
 #include "uff_export.h"
-#include "output_folder.h"
 
 namespace gearnvh::app {
 
-Tier ParseTier(const std::string& text) {
+Tier ParseTier(const std::string& text, const std::string& field) {
   if (text == "1") return Tier::kTier1;
   if (text == "2") return Tier::kTier2;
   if (text == "3") return Tier::kTier3;
@@ -34,7 +34,7 @@ Tier ParseTier(const std::string& text) {
   if (text == "5" || text == "N40 full") return Tier::kTier5;
   if (text == "N20 simple") return Tier::kN20Simple;
   if (text == "N20 MTA") return Tier::kN20Mta;
-  throw InputError("--tier", 0, text, "must be 1..5, \"N40 full\", \"N20 simple\" or \"N20 MTA\"");
+  throw InputError(field, 0, text, "must be 1..5, \"N40 full\", \"N20 simple\" or \"N20 MTA\"");
 }
 
 namespace {

@@ -29,6 +29,6 @@ struct SimulateOptions {
 int RunSimulate(const SimulateOptions& options);
 
 // --tier: 1..5, "N40 full", "N20 simple", "N20 MTA"; InputError otherwise.
-Tier ParseTier(const std::string& text);
+Tier ParseTier(const std::string& text, const std::string& field = "--tier");
 
 }  // namespace gearnvh::app

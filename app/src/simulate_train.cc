@@ -265,6 +265,7 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
   run.transient = transient;
   run.samples_per_cycle = kSamplesPerCycle;
   run.events = settings.events;
+  run.tier = tier;
   const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
   const TrainOperatingPoint op = RunTrainOperatingPoint(spec, run, [&](double time, double end) {
     if (!on_terminal) return;
@@ -294,8 +295,9 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
   if (options.json) {
     std::cout << doc.dump(2) << "\n";
   } else {
-    fmt::print("{}  ({}), gear train, {}: {} bodies, {} meshes, state dimension {}\n", spec.name,
-               options.file, TierName(tier), tables.n, tables.meshes.size(), tables.m);
+    fmt::print("{}  ({}), gear train, {}: {} bodies, {} DOF, {} meshes, state dimension {}\n",
+               spec.name, options.file, TierName(tier), tables.bodies(), tables.n,
+               tables.meshes.size(), tables.m);
     fmt::print("  operating point     input shaft {} at {:.4g} rpm\n", spec.operating.input_shaft,
                spec.operating.speed * kRpm);
     fmt::print("  status              {}\n", StatusName(s.info));

@@ -79,6 +79,7 @@ int SweepTrain(const SweepOptions& options, const TrainSpec& spec) {
   sweep.transient = options.transient.value_or(sweep.transient);
   sweep.threads = options.jobs;
   sweep.events = settings.events;
+  sweep.tier = tier;
   sweep.Validate();
   const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
   TrainSweepProgress progress;

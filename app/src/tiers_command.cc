@@ -18,6 +18,7 @@
 #include "gearnvh/nvh/lyapunov.h"
 #include "operating_point.h"
 #include "output_folder.h"
+#include "train_tiers.h"
 #ifdef GEARNVH_HAVE_RENDER
 #include "gearnvh/render/plots.h"
 #include "report_sweep_figures.h"
@@ -141,8 +142,10 @@ TiersComparison CompareTiers(const GearboxSpec& spec, const SolverOptions& solve
 
 int RunTiers(const TiersCommandOptions& options) {
   return RunReportingErrors(options.file, [&]() -> int {
+    const config::LoadedGearbox loaded = config::LoadAnyGearboxFile(options.file);
+    if (loaded.schema == 2) return RunTrainTiers(options, loaded.train);
     const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
-    const GearboxSpec spec = config::LoadGearboxFile(options.file);
+    const GearboxSpec& spec = *loaded.pair;
     SolverOptions solver;
     ApplyMethodName("v3", solver);
     solver.cycles = options.cycles.value_or(std::min(spec.analysis.cycles, 400));

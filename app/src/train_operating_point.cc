@@ -8,6 +8,9 @@
 #include <numbers>
 
 #include "gearnvh/model/input_error.h"
+#include "gearnvh/model/train_structure.h"
+#include "gearnvh/reduction/train_reduction.h"
+#include "gearnvh/solver/train_reduced_tables.h"
 #include "simulate_command.h"
 
 namespace gearnvh::app {
@@ -85,15 +88,17 @@ SpectrumWindow PlanWindow(const TrainTables& t, double dt, double start, double 
 
 TrainCommandSettings CheckTrainCommandOptions(const std::optional<std::string>& tier_option,
                                               const TrainSpec& spec, const std::string& method,
-                                              const std::optional<std::string>& uff) {
-  const Tier tier = tier_option ? ParseTier(*tier_option) : spec.analysis.tier;
-  if (tier != Tier::kTier1) {
-    throw InputError(tier_option ? "--tier" : "analysis.tier", 0,
+                                              const std::optional<std::string>& uff,
+                                              const TrainOptionNames& option_names) {
+  const Tier tier = tier_option ? ParseTier(*tier_option, option_names.tier) : spec.analysis.tier;
+  if (tier != Tier::kTier1 &&
+      !TrainTierAvailable(AssembleTrainStructure(spec, BuildGearTrain(spec)), tier)) {
+    throw InputError(tier_option ? option_names.tier : "analysis.tier", 0,
                      tier_option ? *tier_option : TierName(tier),
-                     "gear trains run on tier 1 (one torsional DOF per body) for now");
+                     "tiers 4, 5, N20 simple and N20 MTA need an elastic shaft in the train");
   }
   SolverOptions parsed;
-  ApplyMethodName(method, parsed, "--method");
+  ApplyMethodName(method, parsed, option_names.method);
   if (uff) throw InputError("--uff", 0, *uff, "UFF export is not available for gear trains yet");
   return {tier, parsed.events};
 }
@@ -119,7 +124,7 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, const TrainRun
   options.Validate();
   TrainOperatingPoint op;
   op.train = BuildGearTrain(spec);
-  op.tables = BuildTrainTables(spec, op.train);
+  op.tables = BuildTrainTablesAtTier(spec, op.train, options.tier);
   op.warnings = TrainWarnings(spec, op.train);
   const TrainTables& tables = op.tables;
   // cycles and transient count cycles of the first mesh in the file.

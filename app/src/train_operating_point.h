@@ -37,6 +37,7 @@ struct TrainRunOptions {
   bool spectra = true;                        // keep the TE samples and compute per-mesh sidebands
   long max_spectrum_samples = long{1} << 21;  // TE samples kept per mesh for spectra, >= 1
   EventMethod events = EventMethod::kSpectral;  // V3; V2 and V1 to validate
+  Tier tier = Tier::kTier1;  // the train's tier (docs/gear-trains.md, "Tiers of a train")
   // Checked before each 1 % of the run: RunCancelled once set. Not owned; null: never cancelled.
   const std::atomic<bool>* cancel = nullptr;
   void Validate() const;
@@ -68,12 +69,18 @@ struct TrainCommandSettings {
   EventMethod events = EventMethod::kSpectral;
 };
 
-// What `simulate` and `sweep` accept on a train: tier 1 (`--tier` or analysis.tier), an event
+// What `simulate` and `sweep` accept on a train: a tier the train has (`--tier` or
+// analysis.tier; tiers 4, 5 and N20 need an elastic shaft), an event
 // method v1, v2 or v3 (the default "fused" means v3: fusion is not built for trains), no UFF file.
 // Throws InputError naming the option or key otherwise.
+// `option_names`: how the caller names the tier and method options in messages.
+struct TrainOptionNames {
+  std::string tier = "--tier", method = "--method";
+};
 TrainCommandSettings CheckTrainCommandOptions(const std::optional<std::string>& tier_option,
                                               const TrainSpec& spec, const std::string& method,
-                                              const std::optional<std::string>& uff);
+                                              const std::optional<std::string>& uff,
+                                              const TrainOptionNames& option_names = {});
 
 // Called about 100 times during the run with the simulated time reached (s) and the end time.
 using TrainProgress = std::function<void(double time, double end)>;

@@ -30,6 +30,7 @@ TrainSweepPoint RunPoint(const TrainSpec& base, const TrainSweepOptions& options
   run.spectra = false;
   run.events = options.events;
   run.cancel = options.cancel;
+  run.tier = options.tier;
   const TrainOperatingPoint op = RunTrainOperatingPoint(spec, run);
   p.ok = op.ok();
   if (!p.ok) p.message = "more than 1000 events in a grid segment: the run stopped";

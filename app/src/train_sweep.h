@@ -21,6 +21,7 @@ struct TrainSweepOptions {
   long transient = 200;                         // cycles of the first mesh before recording, >= 0
   int threads = 0;                              // 0: all hardware threads
   EventMethod events = EventMethod::kSpectral;  // V3; V2 and V1 to validate
+  Tier tier = Tier::kTier1;                     // the train's tier (TrainRunOptions::tier)
   // Passed to every speed's run (TrainRunOptions::cancel); a cancelled speed fails with its
   // message. Not owned; null: never cancelled.
   const std::atomic<bool>* cancel = nullptr;

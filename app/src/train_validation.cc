@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "gearnvh/model/gear_train.h"
+#include "gearnvh/solver/train_reduced_tables.h"
 #include "gearnvh/solver/train_reference.h"
 #include "gearnvh/solver/train_stepper.h"
 
@@ -71,7 +72,7 @@ double RelativeDifference(const std::vector<double>& a, const std::vector<double
 std::vector<ValidationRow> RunTrainValidationLadder(const TrainSpec& spec) {
   std::vector<ValidationRow> rows;
   const GearTrain train = BuildGearTrain(spec);
-  const TrainTables tables = BuildTrainTables(spec, train);
+  const TrainTables tables = BuildTrainTablesAtTier(spec, train, spec.analysis.tier);
   const auto [z0, states0] = TrainStaticState(tables);
   const double period = tables.meshes.front().period;
   const int cycles = WindowCycles(tables, z0, states0);

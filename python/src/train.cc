@@ -60,9 +60,11 @@ std::shared_ptr<TrainSimulation> SimulateTrain(const Train& train, const py::obj
   const TrainSpec spec = train.spec();
   const std::string source = train.source();
   const app::TrainCommandSettings settings = NamingSource(source, [&] {
-    return app::CheckTrainCommandOptions(TierText(tier), spec, method, std::nullopt);
+    return app::CheckTrainCommandOptions(TierText(tier), spec, method, std::nullopt,
+                                         {"tier", "method"});
   });
   app::TrainRunOptions run;
+  run.tier = settings.tier;
   run.cycles = cycles.value_or(spec.analysis.cycles);
   run.transient = transient.value_or(spec.analysis.transient_cycles);
   run.events = settings.events;
@@ -83,19 +85,22 @@ std::shared_ptr<TrainSimulation> SimulateTrain(const Train& train, const py::obj
       progress);
 }
 
-std::shared_ptr<TrainSweep> SweepTrain(const Train& train, std::optional<long> cycles,
-                                       std::optional<long> transient, int jobs,
-                                       const std::string& method, const py::object& progress) {
+std::shared_ptr<TrainSweep> SweepTrain(const Train& train, const py::object& tier,
+                                       std::optional<long> cycles, std::optional<long> transient,
+                                       int jobs, const std::string& method,
+                                       const py::object& progress) {
   const TrainSpec spec = train.spec();
   const std::string source = train.source();
   const app::TrainCommandSettings settings = NamingSource(source, [&] {
-    return app::CheckTrainCommandOptions(std::nullopt, spec, method, std::nullopt);
+    return app::CheckTrainCommandOptions(TierText(tier), spec, method, std::nullopt,
+                                         {"tier", "method"});
   });
   app::TrainSweepOptions options;
   options.cycles = cycles.value_or(options.cycles);
   options.transient = transient.value_or(options.transient);
   options.threads = jobs;
   options.events = settings.events;
+  options.tier = settings.tier;
   NamingSource(source, [&] { options.Validate(); });
   return RunInterruptible(
       [&](CallControl& control) {
@@ -306,9 +311,9 @@ void BindTrain(py::module_& m) {
         "A gear train's operating point, as `gearnvh simulate TRAIN.yaml`: cycles and transient "
         "count cycles of the first mesh (default analysis.cycles, analysis.transient_cycles); "
         "method: v1, v2, v3 (fused means v3 on trains).");
-  m.def("sweep", &SweepTrain, py::arg("gearbox"), py::kw_only(), py::arg("cycles") = py::none(),
-        py::arg("transient") = py::none(), py::arg("jobs") = 0, py::arg("method") = "v3",
-        py::arg("progress") = py::none(),
+  m.def("sweep", &SweepTrain, py::arg("gearbox"), py::kw_only(), py::arg("tier") = py::none(),
+        py::arg("cycles") = py::none(), py::arg("transient") = py::none(), py::arg("jobs") = 0,
+        py::arg("method") = "v3", py::arg("progress") = py::none(),
         "A gear train's speed sweep over analysis.speed_sweep, as `gearnvh sweep TRAIN.yaml`.");
 }
 

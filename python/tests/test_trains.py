@@ -86,8 +86,15 @@ def test_train_option_errors_name_the_option_and_the_progress_callback_can_stop_
         transmission):
     with pytest.raises(gearnvh.InputError):
         gearnvh.simulate(transmission, cycles=0)
-    with pytest.raises(gearnvh.InputError):
+    with pytest.raises(gearnvh.InputError) as method:
         gearnvh.simulate(transmission, method="v7")
+    assert method.value.path == "method"
+    with pytest.raises(gearnvh.InputError) as tier:
+        gearnvh.simulate(transmission, tier=7)
+    assert tier.value.path == "tier"
+    with pytest.raises(gearnvh.InputError) as flexible:  # tier 4 needs an elastic shaft
+        gearnvh.sweep(transmission, tier=4)
+    assert flexible.value.path == "tier"
 
     class Stop(Exception):
         pass

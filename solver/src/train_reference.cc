@@ -36,6 +36,11 @@ Eigen::MatrixXd AssembleTrainGenerator(const TrainTables& t, const std::vector<i
     A(n + r, t.constant_slot()) = t.force[r] / t.inertia[r];
     A(n + r, t.input_slot()) = t.excitation_direction[r] / t.inertia[r];
   }
+  const Eigen::VectorXd inv_j = t.inertia.cwiseInverse();
+  if (t.structural_stiffness.size() > 0)
+    A.block(n, 0, n, n) -= inv_j.asDiagonal() * t.structural_stiffness;
+  if (t.structural_damping.size() > 0)
+    A.block(n, n, n, n) -= inv_j.asDiagonal() * t.structural_damping;
   for (size_t i = 0; i < t.meshes.size(); ++i) {
     if (states[i] == ContactState::kFree) continue;
     const TrainMeshTable& mt = t.meshes[i];
@@ -43,14 +48,15 @@ Eigen::MatrixXd AssembleTrainGenerator(const TrainTables& t, const std::vector<i
     const bool drive = states[i] == ContactState::kDrive;
     const double k = drive ? mt.k_drive[j] : mt.k_back[j];
     const double wall = drive ? mt.error[j] + mt.half_backlash : mt.error[j] - mt.half_backlash;
-    // Mesh torque on body r: -v_r (k (v^T x - wall) + c v^T x').
+    // Mesh torque on coordinate r: -v_r (k (v^T x - wall) + c v^T x'), v the flank's vector.
+    const Eigen::VectorXd& v = mt.Vector(drive);
     for (int r = 0; r < n; ++r) {
-      if (mt.v[r] == 0.0) continue;
+      if (v[r] == 0.0) continue;
       for (int s = 0; s < n; ++s) {
-        A(n + r, s) -= mt.v[r] * k * mt.v[s] / t.inertia[r];
-        A(n + r, n + s) -= mt.v[r] * mt.damping * mt.v[s] / t.inertia[r];
+        A(n + r, s) -= v[r] * k * v[s] / t.inertia[r];
+        A(n + r, n + s) -= v[r] * mt.damping * v[s] / t.inertia[r];
       }
-      A(n + r, t.constant_slot()) += mt.v[r] * k * wall / t.inertia[r];
+      A(n + r, t.constant_slot()) += v[r] * k * wall / t.inertia[r];
     }
   }
   return A;
@@ -86,8 +92,9 @@ int Jac(sunrealtype, N_Vector, N_Vector, SUNMatrix J, void* data, N_Vector, N_Ve
 // Gaps of mesh i: g+ (index 2i) and g- (2i + 1).
 double Gap(const Problem& p, size_t i, bool drive, const double* z) {
   const TrainMeshTable& mt = p.t->meshes[i];
+  const Eigen::VectorXd& v = mt.Vector(drive);
   double delta = 0.0;
-  for (int r = 0; r < p.t->n; ++r) delta += mt.v[r] * z[r];
+  for (int r = 0; r < p.t->n; ++r) delta += v[r] * z[r];
   const double e = mt.error[static_cast<size_t>(p.segments[i])];
   return drive ? delta - e - mt.half_backlash : delta - e + mt.half_backlash;
 }

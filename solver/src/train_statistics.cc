@@ -16,7 +16,7 @@ TrainRecorder::TrainRecorder(const TrainTables& tables, int samples_per_cycle, d
   const size_t meshes = tables.meshes.size();
   te_.resize(meshes);
   force_.resize(meshes);
-  acceleration_.resize(static_cast<size_t>(tables.n));
+  acceleration_.resize(static_cast<size_t>(tables.bodies()));
   taylor_.resize(tables.m, kTerms + 1);
   chunk_z_.resize(tables.m);
   free_time_.assign(meshes, 0.0);
@@ -111,6 +111,10 @@ void TrainRecorder::Chunk(double start, double length, const std::vector<int>& s
     const size_t j = static_cast<size_t>(segments[i]);
     const double k_mesh = drive ? mt.k_drive[j] : mt.k_back[j];
     const double wall = t_.Wall(static_cast<int>(i), segments[i], drive);
+    // The back flank's own row from tier 2 on (its lateral terms differ from the TE row's).
+    if (!drive && mt.distinct_back) {
+      for (int k = 0; k <= kTerms; ++k) te[k] = mt.v_back.dot(taylor_.col(k).head(n));
+    }
     for (int k = 0; k <= kTerms; ++k) {
       rate[k] = k < kTerms ? (k + 1) * te[k + 1] : 0.0;
       force[k] = k_mesh * te[k] + mt.damping * rate[k];
@@ -121,10 +125,12 @@ void TrainRecorder::Chunk(double start, double length, const std::vector<int>& s
     ps::UpdateExtrema(f, length, start, force_[i], false);
   }
   double accel[kTerms + 1];
-  for (int b = 0; b < n; ++b) {
+  for (int b = 0; b < t_.bodies(); ++b) {
     if (!t_.loose[static_cast<size_t>(b)]) continue;
-    // The acceleration is the velocity's derivative: (k + 1) times its next coefficient.
-    for (int k = 0; k < kTerms; ++k) accel[k] = (k + 1) * taylor_(n + b, k + 1);
+    // The acceleration is the velocity's derivative: (k + 1) times its next coefficient; the
+    // body's angle is its row of body_angles (tier 1: its own coordinate).
+    const auto row = t_.body_angles.row(b);
+    for (int k = 0; k < kTerms; ++k) accel[k] = (k + 1) * row.dot(taylor_.col(k + 1).segment(n, n));
     ps::Accumulate(acceleration_[static_cast<size_t>(b)], ps::Trimmed(accel, kTerms - 1, length),
                    length);
   }
@@ -182,7 +188,7 @@ TrainStatistics TrainRecorder::Result() const {
         impacts > 0 ? std::sqrt(impact_sum2_[i] / static_cast<double>(impacts)) : 0.0;
     out.meshes.push_back(s);
   }
-  for (int b = 0; b < t_.n; ++b) {
+  for (int b = 0; b < t_.bodies(); ++b) {
     if (!t_.loose[static_cast<size_t>(b)]) continue;
     TrainLooseGearStatistics g;
     g.name = t_.body_names[static_cast<size_t>(b)];

@@ -81,6 +81,7 @@ std::pair<Eigen::VectorXd, std::vector<ContactState>> TrainStaticState(const Tra
   // twice (drive -> back -> free).
   for (size_t pass = 0; pass <= 2 * t.meshes.size(); ++pass) {
     Eigen::MatrixXd B = Eigen::MatrixXd::Zero(n + 1, n);
+    if (t.structural_stiffness.size() > 0) B.topRows(n) = t.structural_stiffness;
     Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n + 1);
     rhs.head(n) = t.force;
     for (size_t i = 0; i < t.meshes.size(); ++i) {
@@ -88,9 +89,10 @@ std::pair<Eigen::VectorXd, std::vector<ContactState>> TrainStaticState(const Tra
       if (states[i] == ContactState::kFree) continue;
       const bool drive = states[i] == ContactState::kDrive;
       const double k = drive ? mt.k_drive[0] : mt.k_back[0];
-      B.topRows(n) += k * mt.v * mt.v.transpose();
+      const Eigen::VectorXd& v = mt.Vector(drive);
+      B.topRows(n) += k * v * v.transpose();
       rhs.head(n) +=
-          k * (drive ? mt.error[0] + mt.half_backlash : mt.error[0] - mt.half_backlash) * mt.v;
+          k * (drive ? mt.error[0] + mt.half_backlash : mt.error[0] - mt.half_backlash) * v;
     }
     // K x = f is singular along the free rotation (and more so with a free loose gear): the
     // least-squares solution with r~ x = 0 is the centred one.
@@ -101,10 +103,11 @@ std::pair<Eigen::VectorXd, std::vector<ContactState>> TrainStaticState(const Tra
     for (size_t i = 0; i < t.meshes.size(); ++i) {
       const TrainMeshTable& mt = t.meshes[i];
       const double delta = mt.v.dot(z.head(n)) - mt.error[0];
+      const double delta_back = mt.v_back.dot(z.head(n)) - mt.error[0];
       ContactState want = ContactState::kFree;
       if (delta > mt.half_backlash)
         want = ContactState::kDrive;
-      else if (delta < -mt.half_backlash)
+      else if (delta_back < -mt.half_backlash)
         want = ContactState::kBack;
       if (states[i] != ContactState::kFree && want != states[i]) {
         states[i] = states[i] == ContactState::kDrive ? ContactState::kBack : ContactState::kFree;
@@ -324,15 +327,17 @@ double TrainStepper::AdvanceSpectral(const TrainSystem& sys, double remaining, T
     const int segment = grid_.segments()[i];
     Wall walls[2];
     const int count = Walls(static_cast<int>(i), walls);
-    ClosedFormGap& gap = sys.delta[i];
-    double loaded = 0.0;  // the wall whose constant the closed form holds
+    const ClosedFormGap* held = nullptr;  // the closed form last loaded, and its wall
+    double loaded = 0.0;
     for (int k = 0; k < count; ++k) {
       const double wall = t_.Wall(static_cast<int>(i), segment, walls[k].drive);
-      if (k == 0) {
+      ClosedFormGap& gap = sys.Gap(i, walls[k].drive);
+      if (&gap != held) {
         gap.Load(w_, -wall);
       } else {
         gap.ShiftConstant(loaded - wall);
       }
+      held = &gap;
       loaded = wall;
       const double root = gap.FirstRise(walls[k].sign, remaining);
       if (root >= 0.0 && (roots_[i] < 0.0 || root < roots_[i])) {
@@ -353,7 +358,7 @@ double TrainStepper::AdvanceSpectral(const TrainSystem& sys, double remaining, T
     const size_t i = static_cast<size_t>(best_mesh);
     const Wall& wall = root_walls_[i];
     // Rate and curvature do not depend on which wall's constant the closed form holds.
-    const ClosedFormGap& gap = sys.delta[i];
+    const ClosedFormGap& gap = sys.Gap(i, wall.drive);
     touch = best > 0.0 && std::abs(gap.Rate(best)) <= options_.grazing_rate_tolerance &&
             wall.sign * gap.Curvature(best) < 0.0;
     if (touch) advance = std::min(remaining, best + 1e-12 * t_.longest_segment);

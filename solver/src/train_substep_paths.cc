@@ -44,9 +44,11 @@ double TrainStepper::AdvanceDense(const TrainSystem& sys, double remaining, Trai
   int best_mesh = -1;
   Wall best_wall;
   double delta[kTaylorTerms + 1], coeff[kTaylorTerms + 1];
-  // delta_i's Taylor coefficients; a wall's gap differs only in the constant term.
-  const auto load_delta = [&](size_t i) {
-    for (int p = 0; p <= kTaylorTerms; ++p) delta[p] = t_.meshes[i].v.dot(taylor_.col(p).head(n));
+  // The Taylor coefficients of the wall's flank row (v_i, or v_back,i for g-); a wall's gap
+  // differs from it only in the constant term.
+  const auto load_delta = [&](size_t i, bool drive) {
+    const Eigen::VectorXd& v = t_.meshes[i].Vector(drive);
+    for (int p = 0; p <= kTaylorTerms; ++p) delta[p] = v.dot(taylor_.col(p).head(n));
   };
   // sign * (gap of `wall` of mesh i) as a polynomial in the time into the sub-step.
   const auto load_wall = [&](size_t i, const Wall& wall) {
@@ -55,13 +57,16 @@ double TrainStepper::AdvanceDense(const TrainSystem& sys, double remaining, Trai
     coeff[0] -= wall.sign * at * z_[t_.constant_slot()];
   };
   for (size_t i = 0; i < t_.meshes.size(); ++i) {
-    load_delta(i);
     double reach = 0.0;  // sum_{p >= 1} |delta_p| d^p bounds |delta(t) - delta(0)| on [0, d]
-    double power = 1.0;
-    for (int p = 1; p <= kTaylorTerms; ++p) power *= d, reach += std::abs(delta[p]) * power;
     Wall walls[2];
     const int count = Walls(static_cast<int>(i), walls);
     for (int k = 0; k < count; ++k) {
+      if (k == 0 || t_.meshes[i].distinct_back) {
+        load_delta(i, walls[k].drive);
+        reach = 0.0;
+        double power = 1.0;
+        for (int p = 1; p <= kTaylorTerms; ++p) power *= d, reach += std::abs(delta[p]) * power;
+      }
       load_wall(i, walls[k]);
       // We start inside: rounding right after a located event counts as inside (a start outside
       // beyond the wall tolerance was switched at the grid segment's start).
@@ -77,7 +82,7 @@ double TrainStepper::AdvanceDense(const TrainSystem& sys, double remaining, Trai
   bool touch = false;
   if (best > 0.0) {
     // Grazing, as V3: |g'| ~ 0 at the root and the gap curves back inside.
-    load_delta(static_cast<size_t>(best_mesh));
+    load_delta(static_cast<size_t>(best_mesh), best_wall.drive);
     load_wall(static_cast<size_t>(best_mesh), best_wall);
     touch = std::abs(taylor_root::PolyDerivative(coeff, kTaylorTerms, best)) <=
                 options_.grazing_rate_tolerance &&
@@ -114,7 +119,8 @@ TrainStepper::WallHit TrainStepper::Suspect(const Eigen::VectorXd& z, const Eige
     for (int k = 0; k < count; ++k) {
       const Wall& w = walls[k];
       const double outside = w.sign * t_.GapValue(static_cast<int>(i), segment, w.drive, z1);
-      const double rate1 = w.sign * mt.v.dot(z1.segment(n, n));
+      const Eigen::VectorXd& v = mt.Vector(w.drive);
+      const double rate1 = w.sign * v.dot(z1.segment(n, n));
       // Outside at the end, unless only by the gap's rounding floor while moving inward (as the
       // pair's V1: right after a slow separation the state sits on the wall within rounding).
       if (hit.mesh < 0 && outside > 0.0 &&
@@ -123,7 +129,7 @@ TrainStepper::WallHit TrainStepper::Suspect(const Eigen::VectorXd& z, const Eige
       }
       // Turned towards the wall and back: an interior extremum to look at (in the walk, only one
       // that can reach the wall).
-      const double rate0 = w.sign * mt.v.dot(z.segment(n, n));
+      const double rate0 = w.sign * v.dot(z.segment(n, n));
       if (rate0 > 0.0 && rate1 < 0.0 &&
           (walk_cell == 0.0 || w.sign * t_.GapValue(static_cast<int>(i), segment, w.drive, z) +
                                        2.0 * walk_cell * rate0 >
@@ -141,7 +147,7 @@ bool TrainStepper::BelowGapRounding(const WallHit& hit, const Eigen::VectorXd& z
   const ContactState now = states_[i];
   const bool drive =
       now == ContactState::kFree ? hit.target == ContactState::kDrive : now == ContactState::kDrive;
-  const double rate = std::abs(t_.meshes[i].v.dot(z.segment(t_.n, t_.n)));
+  const double rate = std::abs(t_.meshes[i].Vector(drive).dot(z.segment(t_.n, t_.n)));
   return rate * step <=
          kResolvableRounding * t_.GapTolerance(hit.mesh, grid_.segments()[i], drive, z);
 }

@@ -56,7 +56,7 @@ double TrainTables::Wall(int mesh, int segment, bool drive) const {
 double TrainTables::GapValue(int mesh, int segment, bool drive, const Eigen::VectorXd& z) const {
   const TrainMeshTable& mt = meshes[static_cast<size_t>(mesh)];
   const double e = mt.error[static_cast<size_t>(segment)];
-  return mt.v.dot(z.head(n)) - e + (drive ? -mt.half_backlash : mt.half_backlash);
+  return mt.Vector(drive).dot(z.head(n)) - e + (drive ? -mt.half_backlash : mt.half_backlash);
 }
 
 double TrainTables::GapTolerance(int mesh, int segment, bool drive,
@@ -64,7 +64,8 @@ double TrainTables::GapTolerance(int mesh, int segment, bool drive,
   const TrainMeshTable& mt = meshes[static_cast<size_t>(mesh)];
   const double e = mt.error[static_cast<size_t>(segment)];
   double magnitude = std::abs(e + (drive ? mt.half_backlash : -mt.half_backlash));
-  for (int j = 0; j < n; ++j) magnitude += std::abs(mt.v[j] * z[j]);
+  const Eigen::VectorXd& v = mt.Vector(drive);
+  for (int j = 0; j < n; ++j) magnitude += std::abs(v[j] * z[j]);
   return 1e-12 * mt.half_backlash + 64.0 * std::numeric_limits<double>::epsilon() * magnitude;
 }
 
@@ -106,6 +107,7 @@ TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
     t.body_names.push_back(b.name);
     t.loose.push_back(b.kind == BodyKind::kLooseGear);
   }
+  t.body_angles = Eigen::MatrixXd::Identity(n, n);
   t.force = Eigen::VectorXd::Zero(n);
   for (const TrainLoad& load : spec.operating.loads) {
     const int shaft = spec.ShaftIndex(load.on);
@@ -135,6 +137,7 @@ TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
     mt.v = Eigen::VectorXd::Zero(n);
     mt.v[mm.body_a] += ra;
     mt.v[mm.body_b] -= rb;
+    mt.v_back = mt.v;
     const int teeth = spec.gears[static_cast<size_t>(mm.gear_a)].gear.teeth;
     const double speed_a = std::abs(topo.bodies[static_cast<size_t>(mm.body_a)].speed);
     mt.period = 2.0 * std::numbers::pi / (teeth * speed_a);
@@ -193,11 +196,11 @@ size_t SystemBytes(const TrainSystem& s, size_t key_words) {
     doubles += static_cast<size_t>(d.S.size() + d.S_inv.size() + d.B0.size());
     const size_t terms = static_cast<size_t>(std::max(d.series_terms, 1));
     const size_t zero = static_cast<size_t>(d.zero_size);
-    doubles += s.delta.size() * terms * (zero + 1);
+    doubles += (s.delta.size() + s.delta_back.size()) * terms * (zero + 1);
   }
   return doubles * sizeof(double) +
          s.decomposition.blocks.size() * sizeof(SpectralDecomposition::Block) +
-         s.delta.size() *
+         (s.delta.size() + s.delta_back.size()) *
              (sizeof(ClosedFormGap) + 16 * sizeof(double) * s.decomposition.blocks.size()) +
          sizeof(TrainSystem) + 2 * key_words * sizeof(uint64_t) + 128;
 }
@@ -286,6 +289,8 @@ TrainSystem TrainSystemCache::Build(const std::vector<int>& segments,
                                     const std::vector<ContactState>& states) const {
   const int n = t_.n, m = t_.m;
   Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n, n), C = Eigen::MatrixXd::Zero(n, n);
+  if (t_.structural_stiffness.size() > 0) K = t_.structural_stiffness;
+  if (t_.structural_damping.size() > 0) C = t_.structural_damping;
   Eigen::VectorXd f = t_.force;
   TrainSystem s;
   for (size_t i = 0; i < t_.meshes.size(); ++i) {
@@ -296,9 +301,10 @@ TrainSystem TrainSystemCache::Build(const std::vector<int>& segments,
       const bool drive = states[i] == ContactState::kDrive;
       const double k =
           drive ? mt.k_drive[static_cast<size_t>(j)] : mt.k_back[static_cast<size_t>(j)];
-      K += k * mt.v * mt.v.transpose();
-      C += mt.damping * mt.v * mt.v.transpose();
-      f += k * (drive ? e + b : e - b) * mt.v;
+      const Eigen::VectorXd& v = mt.Vector(drive);
+      K += k * v * v.transpose();
+      C += mt.damping * v * v.transpose();
+      f += k * (drive ? e + b : e - b) * v;
     }
   }
   const Eigen::VectorXd inv_j = t_.inertia.cwiseInverse();
@@ -318,7 +324,18 @@ TrainSystem TrainSystemCache::Build(const std::vector<int>& segments,
         .maxCoeff();
   };
   const double w_stiff = std::sqrt(largest(K));
-  const double rho = std::max(w_stiff, largest(C));
+  // C's skew part (gyroscopic, reduced tiers) makes the pencil non-symmetric: with u^*Mu = 1,
+  // lambda^2 + (c + i gamma) lambda + k = 0 has |lambda| <= |c + i gamma| + sqrt(k), |gamma|
+  // bounded by the skew part's norm (2-norm <= Frobenius).
+  // Only the structure's C_0 + w G can be skew (the mesh terms are symmetric up to rounding of
+  // c v_i v_j, which must not switch tier 1 to the looser bound).
+  const Eigen::MatrixXd& c0 = t_.structural_damping;
+  const Eigen::MatrixXd skew =
+      c0.size() > 0 ? Eigen::MatrixXd(0.5 * (c0 - c0.transpose())) : Eigen::MatrixXd();
+  const double rho = skew.size() == 0 || skew.isZero(0.0)
+                         ? std::max(w_stiff, largest(C))
+                         : w_stiff + largest(0.5 * (C + C.transpose())) +
+                               (root_inv_j.asDiagonal() * skew * root_inv_j.asDiagonal()).norm();
   s.substep = rho > 0.0 ? 0.5 / rho : t_.longest_segment;
   s.w_ref = std::max(1.0, w_stiff);  // as ReferenceFrequency(A, n)
   s.bytes = SystemBytes(s, static_cast<size_t>(key_words_));
@@ -338,9 +355,17 @@ void TrainSystemCache::Decompose(TrainSystem& s) const {
   TrimSeries(s.decomposition, t_.longest_segment);
   Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(m);
   s.delta.reserve(t_.meshes.size());
+  bool distinct = false;
   for (const TrainMeshTable& mt : t_.meshes) {
     row.head(n) = mt.v.transpose();
     s.delta.emplace_back(s.decomposition, row);
+    distinct = distinct || mt.distinct_back;
+  }
+  if (!distinct) return;
+  s.delta_back.reserve(t_.meshes.size());
+  for (const TrainMeshTable& mt : t_.meshes) {
+    row.head(n) = mt.v_back.transpose();
+    s.delta_back.emplace_back(s.decomposition, row);
   }
 }
 

@@ -51,19 +51,21 @@ double TrainTangentPropagator::MeshForce(int mesh, int segment, ContactState sta
   const size_t j = static_cast<size_t>(segment);
   const double k = drive ? mt.k_drive[j] : mt.k_back[j];
   const double gap = t_.GapValue(mesh, segment, drive, z);
-  return k * gap + mt.damping * mt.v.dot(z.segment(t_.n, t_.n));
+  return k * gap + mt.damping * mt.Vector(drive).dot(z.segment(t_.n, t_.n));
 }
 
 void TrainTangentPropagator::Saltation(int mesh, int segment, ContactState from, ContactState to,
                                        const Eigen::VectorXd& z) {
   const TrainMeshTable& mt = t_.meshes[static_cast<size_t>(mesh)];
   const int n = t_.n;
-  const double rate = mt.v.dot(z.segment(n, n));  // n^T f-
+  // The gap that switched and the flank whose force jumps: drive unless the back flank is in it.
+  const Eigen::VectorXd& v = mt.Vector(from == ContactState::kDrive || to == ContactState::kDrive);
+  const double rate = v.dot(z.segment(n, n));  // n^T f-
   const double jump = MeshForce(mesh, segment, from, z) - MeshForce(mesh, segment, to, z);
   // V <- V + [0; M^-1 v_i jump] (v_i^T V.x) / rate.
   for (Eigen::Index c = 0; c < v_->cols(); ++c) {
-    const double along = mt.v.dot(v_->col(c).head(n)) * jump / rate;
-    v_->col(c).segment(n, n) += along * mt.v.cwiseQuotient(t_.inertia);
+    const double along = v.dot(v_->col(c).head(n)) * jump / rate;
+    v_->col(c).segment(n, n) += along * v.cwiseQuotient(t_.inertia);
   }
   ++saltations_;
 }

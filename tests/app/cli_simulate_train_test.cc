@@ -1,4 +1,4 @@
-// `gearnvh simulate` on gear trains (schema gearnvh/2): the tier-1 train solver end to end.
+// `gearnvh simulate` on gear trains (schema gearnvh/2): the train solver end to end.
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <nlohmann/json.hpp>
@@ -62,12 +62,31 @@ TEST_CASE("simulate on a train prints the per-mesh table", "[cli][train]") {
   CHECK(r.err.empty());  // quiet when piped
 }
 
-TEST_CASE("simulate on a train refuses a tier other than 1", "[cli][train]") {
-  const auto r =
-      RunCommand(kExe + " simulate --tier 3 " + kExamples + "/manual_transmission_idle.yaml");
-  CHECK(r.exit_code == 2);  // a command-line option: usage error
-  CHECK(r.err.find("--tier") != std::string::npos);
-  CHECK(r.err.find("tier 1") != std::string::npos);
+TEST_CASE("simulate --tier 3 on a train runs the reduced model", "[cli][train][tiers]") {
+  const auto r = RunCommand(kExe + " simulate --json --tier 3 --cycles 20 --transient 5 " +
+                            kExamples + "/two_stage_helical_reducer.yaml");
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const auto doc = nlohmann::json::parse(r.out);
+  CHECK(doc["tier"] == "tier 3");
+  // Tier 3 keeps 6 DOF at each of the 4 gears: more than tier 1's 3 bodies (state 2n + 2).
+  CHECK(doc["state_dim"].get<int>() > 2 * 3 + 2);
+  REQUIRE(doc["meshes"].size() == 2);
+  for (const auto& m : doc["meshes"]) CHECK(m["te"]["rms"].get<double>() > 0.0);
+}
+
+TEST_CASE("simulate on a train refuses a bad tier and a tier the train does not have",
+          "[cli][train][tiers]") {
+  const auto bad =
+      RunCommand(kExe + " simulate --tier 7 " + kExamples + "/two_stage_helical_reducer.yaml");
+  CHECK(bad.exit_code == 2);  // a command-line option: usage error
+  CHECK(bad.err.find("--tier") != std::string::npos);
+  // The manual transmission has no elastic shaft: no Craig-Bampton modes for tier 4.
+  const auto missing = RunCommand(kExe + " simulate --tier 4 --cycles 1 --transient 0 " +
+                                  kExamples + "/manual_transmission_idle.yaml");
+  CHECK(missing.exit_code != 0);
+  CHECK(missing.err.find("--tier") != std::string::npos);
+  CHECK(missing.err.find("elastic shaft") != std::string::npos);
 }
 
 TEST_CASE("simulate on a train: per-mesh TE spectrum lines over whole common periods",

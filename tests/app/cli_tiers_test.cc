@@ -53,5 +53,39 @@ TEST_CASE("tiers compares every modal tier of a flexible gearbox with the full F
   }
 }
 
+TEST_CASE("tiers on a gear train runs every tier it has side by side", "[cli][tiers][train]") {
+  // The manual transmission has no elastic shaft: tiers 1, 2 and 3 (tiers 4, 5 and N20 need one).
+  const TempDir dir;
+  const auto run =
+      RunCommand(kExe + " tiers --json --cycles 8 --transient 2 --out " + dir.path().string() +
+                 " " + kExamples + "/manual_transmission_idle.yaml");
+  INFO(run.err);
+  REQUIRE(run.exit_code == 0);
+  const auto r = nlohmann::json::parse(run.out);
+  CHECK(r["schema"] == "gearnvh/2");
+  REQUIRE(r["tiers"].size() == 3);
+  CHECK(r["tiers"][0]["name"] == "tier 1");
+  CHECK(r["tiers"][2]["name"] == "tier 3");
+  CHECK(r["finest_tier"] == "tier 3");
+  int previous = 0;
+  for (const auto& t : r["tiers"]) {
+    CHECK(t["dof"].get<int>() > previous);  // tier 1: 7 bodies; each tier keeps more
+    previous = t["dof"].get<int>();
+    CHECK(t["state_dim"] == 2 * t["dof"].get<int>() + 2);
+    REQUIRE(t["meshes"].size() == 6);
+    REQUIRE(t["loose_gears"].size() == 4);
+    for (const auto& m : t["meshes"]) CHECK(m["te_rms_m"].get<double>() > 0.0);
+    for (const auto& g : t["loose_gears"]) CHECK(g["rattle_index"].get<double>() > 0.0);
+    CHECK(t["us_per_cycle"].get<double>() > 0.0);
+  }
+  CHECK(r["tiers"][0]["dof"] == 7);
+  // The finest tier's differences to itself are zero.
+  for (const auto& m : r["tiers"][2]["meshes"]) CHECK(m["te_rms_difference_to_finest"] == 0.0);
+  for (const char* file : {"tiers.json", "tiers.csv"}) {
+    INFO(file);
+    CHECK(std::filesystem::file_size(dir.path() / file) > 100);
+  }
+}
+
 }  // namespace
 }  // namespace gearnvh

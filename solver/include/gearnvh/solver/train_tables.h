@@ -52,7 +52,12 @@ namespace gearnvh {
 struct TrainMeshTable {
   std::string name;  // "g1-g2"
   int body_a = 0, body_b = 0;
-  Eigen::VectorXd v;             // mesh vector on the n body angles
+  Eigen::VectorXd v;  // drive-flank mesh vector on the n coordinates (the TE row)
+  // The back flank's gap vector: g-_i = v_back^T x - e_ij + b_i. Tier 1: v (the torsional parts
+  // are equal); from tier 2 on the lateral terms of the back line of action differ.
+  Eigen::VectorXd v_back;
+  bool distinct_back = false;  // v_back != v
+  const Eigen::VectorXd& Vector(bool drive) const { return drive ? v : v_back; }
   double period = 0.0;           // T_i, s
   std::vector<double> boundary;  // segment starts within [0, T_i), plus T_i (size S_i + 1), s
   std::vector<double> k_drive, k_back, error;  // per segment: N/m, N/m, m
@@ -64,14 +69,20 @@ struct TrainMeshTable {
 };
 
 struct TrainTables {
-  int n = 0;  // bodies
+  Tier tier = Tier::kTier1;
+  int n = 0;  // coordinates: tier 1 one per body; else the reduced model's (train_reduced_tables.h)
   int m = 0;  // 2n + 2
   std::vector<std::string> body_names;
-  std::vector<bool> loose;               // per body: a loose gear
-  Eigen::VectorXd inertia;               // J per body, kg m^2
+  std::vector<bool> loose;  // per body: a loose gear
+  // Per body (rows) its angle in its own direction of rotation as a row on x (tier 1: identity).
+  Eigen::MatrixXd body_angles;
+  Eigen::VectorXd inertia;               // diagonal of M: J per body, kg m^2 (reduced: ones)
   Eigen::VectorXd force;                 // f: constant torques, N m
   Eigen::VectorXd excitation_direction;  // d = J_in e_in
-  double input_speed = 0.0;              // rad/s
+  // Structural K_0 and C_0 (+ input speed x gyroscopic G) of a reduced tier, added to every
+  // tuple's mesh terms; empty at tier 1 (the bodies are coupled by the meshes only).
+  Eigen::MatrixXd structural_stiffness, structural_damping;
+  double input_speed = 0.0;  // rad/s
   std::vector<ExcitationOrder> excitation;
   std::vector<TrainMeshTable> meshes;
   // The free rotation r (th_j ~ |w_j|, M-normalised; K_s r = 0 and v_i^T r = 0 for every tuple)
@@ -81,6 +92,7 @@ struct TrainTables {
   double common_period = 0.0;    // s; 0 when none within the limit
   double longest_segment = 0.0;  // the longest segment of any mesh, s (bounds every grid segment)
 
+  int bodies() const { return static_cast<int>(body_names.size()); }
   int constant_slot() const { return 2 * n; }
   // The wall of gap g+ (drive) or g- of mesh i in segment j: g = delta_i - Wall; and g at z.
   double Wall(int mesh, int segment, bool drive) const;
@@ -130,6 +142,12 @@ struct TrainSystem {
   double w_ref = 1.0;  // sqrt(lambda_max(M^-1 K)): the decomposition's velocity balance, rad/s
   // Per mesh, the closed form of delta_i (spectral only); mutable: Load() keeps its coefficients.
   mutable std::vector<ClosedFormGap> delta;
+  // Per mesh, the closed form of v_back^T x when some mesh's back vector differs (else empty).
+  mutable std::vector<ClosedFormGap> delta_back;
+  // The closed form whose constant gives the drive (g+) or back (g-) gap of `mesh`.
+  ClosedFormGap& Gap(size_t mesh, bool drive) const {
+    return !drive && !delta_back.empty() ? delta_back[mesh] : delta[mesh];
+  }
   size_t bytes = 0;
 };
 

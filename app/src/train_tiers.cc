@@ -1,0 +1,190 @@
+#include "train_tiers.h"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <sstream>
+
+#include "finite_results.h"
+#include "gearnvh/model/train_structure.h"
+#include "gearnvh/reduction/train_reduction.h"
+#include "output_folder.h"
+
+namespace gearnvh::app {
+namespace {
+
+double RelativeDifference(double a, double b) {
+  return b != 0.0 ? std::abs(a - b) / std::abs(b) : std::abs(a);
+}
+
+TrainTierRow RunTier(const TrainSpec& spec, TrainRunOptions run, Tier tier) {
+  run.tier = tier;
+  const TrainOperatingPoint op = RunTrainOperatingPoint(spec, run);
+  if (!op.ok()) {
+    throw std::runtime_error(std::string(TierName(tier)) +
+                             ": more than 1000 events in a grid segment: the run stopped");
+  }
+  TrainTierRow row;
+  row.name = TierName(tier);
+  row.dof = op.tables.n;
+  row.state_dim = op.tables.m;
+  for (const TrainMeshStatistics& m : op.stats.meshes) row.te_rms.push_back(m.te_rms);
+  // Loose gears in body order (the statistics are ranked).
+  for (int b = 0; b < op.tables.bodies(); ++b) {
+    if (!op.tables.loose[static_cast<size_t>(b)]) continue;
+    for (const TrainLooseGearStatistics& g : op.stats.loose_gears) {
+      if (g.name == op.tables.body_names[static_cast<size_t>(b)])
+        row.rattle_index.push_back(g.rattle_index);
+    }
+  }
+  const long cycles = run.transient + run.cycles;
+  row.us_per_cycle = 1e6 * op.wall_s / static_cast<double>(std::max(1L, cycles));
+  row.real_time_ratio = op.wall_s > 0.0 ? op.summary.simulated_time / op.wall_s : 0.0;
+  row.table_bytes = op.summary.cache.peak_bytes;
+  return row;
+}
+
+}  // namespace
+
+TrainTiersComparison CompareTrainTiers(const TrainSpec& spec, TrainRunOptions run,
+                                       const TiersProgress& progress) {
+  run.Validate();
+  run.spectra = false;
+  const GearTrain train = BuildGearTrain(spec);
+  const TrainStructure structure = AssembleTrainStructure(spec, train);
+  std::vector<Tier> tiers;
+  for (Tier t : {Tier::kTier1, Tier::kTier2, Tier::kTier3, Tier::kTier4, Tier::kTier5,
+                 Tier::kN20Simple, Tier::kN20Mta}) {
+    if (t == Tier::kTier1 || TrainTierAvailable(structure, t)) tiers.push_back(t);
+  }
+  TrainTiersComparison out;
+  for (const TrainMeshModel& m : train.meshes) out.meshes.push_back(m.name);
+  for (const TrainBody& b : train.topology.bodies) {
+    if (b.kind == BodyKind::kLooseGear) out.loose_gears.push_back(b.name);
+  }
+  for (Tier t : tiers) {
+    if (progress) progress(out.rows.size() + 1, tiers.size(), TierName(t));
+    out.rows.push_back(RunTier(spec, run, t));
+  }
+  std::vector<TrainTierRow>& rows = out.rows;
+  for (size_t i = 0; i < rows.size(); ++i) {
+    if (rows[i].dof > rows[out.finest].dof) out.finest = i;
+  }
+  const TrainTierRow& finest = rows[out.finest];
+  nlohmann::json list = nlohmann::json::array();
+  for (TrainTierRow& r : rows) {
+    for (size_t i = 0; i < r.te_rms.size(); ++i)
+      r.te_rms_difference.push_back(RelativeDifference(r.te_rms[i], finest.te_rms[i]));
+    for (size_t i = 0; i < r.rattle_index.size(); ++i) {
+      r.rattle_index_difference.push_back(
+          RelativeDifference(r.rattle_index[i], finest.rattle_index[i]));
+    }
+    nlohmann::json meshes = nlohmann::json::array(), loose = nlohmann::json::array();
+    for (size_t i = 0; i < r.te_rms.size(); ++i) {
+      meshes.push_back({{"name", out.meshes[i]},
+                        {"te_rms_m", r.te_rms[i]},
+                        {"te_rms_difference_to_finest", r.te_rms_difference[i]}});
+    }
+    for (size_t i = 0; i < r.rattle_index.size(); ++i) {
+      loose.push_back({{"name", out.loose_gears[i]},
+                       {"rattle_index", r.rattle_index[i]},
+                       {"rattle_index_difference_to_finest", r.rattle_index_difference[i]}});
+    }
+    list.push_back({{"name", r.name},
+                    {"dof", r.dof},
+                    {"state_dim", r.state_dim},
+                    {"meshes", meshes},
+                    {"loose_gears", loose},
+                    {"us_per_cycle", r.us_per_cycle},
+                    {"real_time_ratio", r.real_time_ratio},
+                    {"table_bytes", r.table_bytes}});
+  }
+  out.doc = {{"schema", "gearnvh/2"},
+             {"finest_tier", finest.name},
+             {"cycles", run.cycles},
+             {"transient_cycles", run.transient},
+             {"tiers", list}};
+  return out;
+}
+
+int RunTrainTiers(const TiersCommandOptions& options, const TrainSpec& spec) {
+  const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
+  TrainRunOptions run;
+  run.cycles = options.cycles.value_or(std::min(spec.analysis.cycles, 400));
+  run.transient = options.transient.value_or(std::min(spec.analysis.transient_cycles, 200));
+  const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
+  TiersProgress progress;
+  if (on_terminal) {
+    progress = [](size_t done, size_t total, const std::string& name) {
+      fmt::print(stderr, "\rtiers: {}/{} ({})        ", done, total, name);
+    };
+  }
+  const TrainTiersComparison c = CompareTrainTiers(spec, run, progress);
+  if (on_terminal) fmt::print(stderr, "\n");
+  nlohmann::json doc = c.doc;
+  doc["name"] = spec.name;
+  doc["file"] = options.file;
+  RequireFinite(doc, "tiers");
+  if (out) {
+    // One row per tier and mesh or loose gear (long format: any number of each).
+    std::ostringstream csv;
+    csv.precision(10);
+    csv << "tier,dof,state_dim,item,name,value,difference_to_finest,us_per_cycle,real_time_ratio,"
+           "table_bytes\n";
+    for (const TrainTierRow& r : c.rows) {
+      const auto line = [&](const char* item, const std::string& name, double value,
+                            double difference) {
+        csv << r.name << ',' << r.dof << ',' << r.state_dim << ',' << item << ',' << name << ','
+            << value << ',' << difference << ',' << r.us_per_cycle << ',' << r.real_time_ratio
+            << ',' << r.table_bytes << '\n';
+      };
+      for (size_t i = 0; i < r.te_rms.size(); ++i)
+        line("te_rms_m", c.meshes[i], r.te_rms[i], r.te_rms_difference[i]);
+      for (size_t i = 0; i < r.rattle_index.size(); ++i) {
+        line("rattle_index", c.loose_gears[i], r.rattle_index[i], r.rattle_index_difference[i]);
+      }
+    }
+    out->Write("tiers.csv", csv.str());
+    out->Write("tiers.json", doc.dump(1) + "\n");
+    out->Commit();
+  }
+  if (options.json) {
+    std::cout << doc.dump(1) << "\n";
+    return 0;
+  }
+  fmt::print("{}  ({}): the train's tiers side by side, {} + {} cycles of {} each\n", spec.name,
+             options.file, run.transient, run.cycles, c.meshes.front());
+  fmt::print("  {:<12} {:>5} {:>6} {:>10} {:>10} {:>12}\n", "tier", "DOF", "state", "µs/cycle",
+             "x real", "cache MiB");
+  for (const TrainTierRow& r : c.rows) {
+    fmt::print("  {:<12} {:>5} {:>6} {:>10.1f} {:>10.3f} {:>12.2f}\n", r.name, r.dof, r.state_dim,
+               r.us_per_cycle, r.real_time_ratio, static_cast<double>(r.table_bytes) / (1 << 20));
+  }
+  fmt::print("\n  TE RMS µm (relative difference to {})\n  {:<12}", c.rows[c.finest].name, "tier");
+  for (const std::string& m : c.meshes) fmt::print(" {:>22}", m);
+  fmt::print("\n");
+  for (const TrainTierRow& r : c.rows) {
+    fmt::print("  {:<12}", r.name);
+    for (size_t i = 0; i < r.te_rms.size(); ++i)
+      fmt::print(" {:>11.4f} ({:>8.1e})", 1e6 * r.te_rms[i], r.te_rms_difference[i]);
+    fmt::print("\n");
+  }
+  if (!c.loose_gears.empty()) {
+    fmt::print("\n  rattle index rad/s² (relative difference to {})\n  {:<12}",
+               c.rows[c.finest].name, "tier");
+    for (const std::string& g : c.loose_gears) fmt::print(" {:>22}", g);
+    fmt::print("\n");
+    for (const TrainTierRow& r : c.rows) {
+      fmt::print("  {:<12}", r.name);
+      for (size_t i = 0; i < r.rattle_index.size(); ++i)
+        fmt::print(" {:>11.4g} ({:>8.1e})", r.rattle_index[i], r.rattle_index_difference[i]);
+      fmt::print("\n");
+    }
+  }
+  return 0;
+}
+
+}  // namespace gearnvh::app

@@ -1,0 +1,85 @@
+#include "gearnvh/solver/train_reduced_tables.h"
+
+#include <string>
+
+#include "gearnvh/model/input_error.h"
+
+namespace gearnvh {
+
+TrainTables BuildReducedTrainTables(const TrainSpec& spec, const GearTrain& train,
+                                    const TrainStructure& structure,
+                                    const TrainReducedModel& reduced,
+                                    const TrainTableOptions& options) {
+  // Per mesh segmentation, periods, damping and the common period are tier 1's.
+  TrainTables t = BuildTrainTables(spec, train, options);
+  const TrainTopology& topo = train.topology;
+  const int n = reduced.dof;
+  const Eigen::LLT<Eigen::MatrixXd> llt(0.5 * (reduced.M + reduced.M.transpose()));
+  if (llt.info() != Eigen::Success) {
+    throw InputError("TrainReducedModel.M", 0, reduced.name, "must be positive definite");
+  }
+  if (structure.free_rotations.cols() != 1) {
+    throw InputError("TrainStructure.free_rotations", 0,
+                     std::to_string(structure.free_rotations.cols()),
+                     "must be 1 (a connected train with every mesh engaged)");
+  }
+  const Eigen::MatrixXd L = llt.matrixL();
+  // L^-1 X for a matrix or vector X.
+  const auto left = [&](const Eigen::MatrixXd& X) -> Eigen::MatrixXd {
+    return L.triangularView<Eigen::Lower>().solve(X);
+  };
+  const auto congruent = [&](const Eigen::MatrixXd& X) -> Eigen::MatrixXd {
+    return left(left(X).transpose()).transpose();  // L^-1 X L^-T
+  };
+  const Eigen::MatrixXd& T = reduced.recovery;
+  const auto sense = [&](int body) {
+    return topo.bodies[static_cast<size_t>(body)].speed > 0.0 ? 1.0 : -1.0;
+  };
+  const auto first_thz = [&](int body) {
+    const int gear = topo.bodies[static_cast<size_t>(body)].gears.front();
+    return TrainStructure::Dof(structure.gear_node[static_cast<size_t>(gear)], kThz);
+  };
+
+  t.tier = reduced.tier;
+  t.n = n;
+  t.m = 2 * n + 2;
+  const double input_inertia = t.inertia[topo.input_body];
+  t.inertia = Eigen::VectorXd::Ones(n);
+  t.structural_stiffness = congruent(reduced.K);
+  t.structural_damping = congruent(reduced.C + t.input_speed * reduced.G);
+  t.force = left(reduced.static_force);
+  t.excitation_direction =
+      left(input_inertia * sense(topo.input_body) * T.row(first_thz(topo.input_body)).transpose());
+  const int bodies = t.bodies();
+  Eigen::MatrixXd angles(n, bodies);  // columns: s_b T(th_z, :)^T
+  for (int b = 0; b < bodies; ++b) angles.col(b) = sense(b) * T.row(first_thz(b)).transpose();
+  t.body_angles = left(angles).transpose();
+  for (size_t i = 0; i < t.meshes.size(); ++i) {
+    TrainMeshTable& mt = t.meshes[i];
+    mt.v = left(reduced.v_drive[i]);
+    mt.v_back = left(reduced.v_back[i]);
+    mt.distinct_back = mt.v_back != mt.v;
+  }
+  // The free rotation: x_r = M^-1 T^T M_full R, y_r = L^T x_r, unit length (M-normalised).
+  const Eigen::VectorXd mr = structure.M * structure.free_rotations.col(0);
+  const Eigen::VectorXd x_r = llt.solve(T.transpose() * mr);
+  Eigen::VectorXd y_r = L.transpose() * x_r;
+  y_r.normalize();
+  t.rigid_rotation = y_r;
+  t.recenter_row = y_r.transpose();
+  return t;
+}
+
+}  // namespace gearnvh
+
+namespace gearnvh {
+
+TrainTables BuildTrainTablesAtTier(const TrainSpec& spec, const GearTrain& train, Tier tier,
+                                   const TrainTableOptions& options) {
+  if (tier == Tier::kTier1) return BuildTrainTables(spec, train, options);
+  const TrainStructure structure = AssembleTrainStructure(spec, train);
+  const TrainReducedModel reduced = ReduceTrain(structure, tier);
+  return BuildReducedTrainTables(spec, train, structure, reduced, options);
+}
+
+}  // namespace gearnvh
