@@ -35,10 +35,10 @@ void MakeBlock(YAML::Node node) {
   }
 }
 
-// The `schema` key as written ("" when absent or not a scalar).
+// The `schema` key as written; "gearnvh/1" when absent (the loader's default) or not a scalar.
 std::string SchemaText(const YAML::Node& root) {
   const YAML::Node schema = root["schema"];
-  return schema && schema.IsScalar() ? schema.Scalar() : "";
+  return schema && schema.IsScalar() ? schema.Scalar() : "gearnvh/1";
 }
 
 // "operating.excitation[0].amplitude" -> operating, excitation, 0, amplitude. A step of digits

@@ -66,19 +66,19 @@ CLI::Validator AxisValidator(const std::string& flag) {
 
 int Main(int argc, char** argv) {
   CLI::App app{
-      "gearnvh: gearbox NVH from a YAML gearbox definition (schema gearnvh/1).\n"
+      "gearnvh: gearbox NVH from a YAML gearbox definition (schema gearnvh/1, one pair, or\n"
+      "gearnvh/2, a gear train).\n"
       "Mesh stiffness, flexible shafts, modal tiers, exact gear-rattle dynamics, NVH reports."};
   app.require_subcommand(1);
-  app.set_version_flag(
-      "--version", std::string("gearnvh ") + GEARNVH_VERSION + " (git " + GEARNVH_GIT_REVISION + ")");
+  app.set_version_flag("--version", std::string("gearnvh ") + GEARNVH_VERSION + " (git " +
+                                        GEARNVH_GIT_REVISION + ")");
 
   gearnvh::app::CheckOptions check;
   CLI::App* check_cmd = app.add_subcommand(
       "check",
       "Load and validate gearbox files; print derived geometry (radii, centre distance, "
       "contact ratio, mesh frequency).");
-  check_cmd->add_option("FILE", check.files, "Gearbox YAML files")
-      ->required();
+  check_cmd->add_option("FILE", check.files, "Gearbox YAML files")->required();
   check_cmd->add_flag("--json", check.json,
                       "Print one JSON document (a list of documents for several files)");
 
@@ -87,11 +87,11 @@ int Main(int argc, char** argv) {
       "simulate",
       "Run one operating point through the exact piecewise-LTI solver; print the solver summary, "
       "TE and mesh-force statistics.");
-  simulate_cmd->add_option("FILE", simulate.file, "Gearbox YAML file")
-      ->required();
-  simulate_cmd->add_option("--tier", simulate.tier,
-                           "Modal tier: 1..5, \"N40 full\", \"N20 simple\", \"N20 MTA\" "
-                           "(default: analysis.tier)")
+  simulate_cmd->add_option("FILE", simulate.file, "Gearbox YAML file")->required();
+  simulate_cmd
+      ->add_option("--tier", simulate.tier,
+                   "Modal tier: 1..5, \"N40 full\", \"N20 simple\", \"N20 MTA\" "
+                   "(default: analysis.tier)")
       ->check(TierValidator());
   simulate_cmd
       ->add_option("--cycles", simulate.cycles,
@@ -102,9 +102,11 @@ int Main(int argc, char** argv) {
                    "Unrecorded mesh cycles first (default: analysis.transient_cycles)")
       ->check(CLI::Range(0L, 100000000L));
   simulate_cmd->add_option("--out", simulate.out,
-                           "Write trajectory.csv, events.csv and results.json into this directory");
-  simulate_cmd->add_option("--uff", simulate.uff,
-                           "Write TE and mesh force histories and the TE spectrum as UFF dataset 58");
+                           "Write trajectory.csv, events.csv and results.json into this directory "
+                           "(a gear train: results.json)");
+  simulate_cmd->add_option(
+      "--uff", simulate.uff,
+      "Write TE and mesh force histories and the TE spectrum as UFF dataset 58");
   simulate_cmd->add_flag("--json", simulate.json, "Print the results as one JSON document");
   simulate_cmd
       ->add_option("--method", simulate.method,
@@ -126,10 +128,10 @@ int Main(int argc, char** argv) {
       "Run the validation ladder on a gearbox: fused vs stepped propagation, exact vs CVODE "
       "reference, closed forms, segment convergence, MTA compliance, ISO 6336 stiffness. "
       "Exit 1 if any check fails.");
-  validate_cmd->add_option("FILE", validate.file, "Gearbox YAML file")
-      ->required();
-  validate_cmd->add_flag("--json", validate.json,
-                         "Print {checks: [{name, value, threshold, pass}]}");
+  validate_cmd->add_option("FILE", validate.file, "Gearbox YAML file")->required();
+  validate_cmd->add_flag(
+      "--json", validate.json,
+      "Print {name, file, pass, checks: [{name, value, threshold, pass, skipped, detail}]}");
 
   gearnvh::app::SweepOptions sweep;
   CLI::App* sweep_cmd = app.add_subcommand(
@@ -137,8 +139,7 @@ int Main(int argc, char** argv) {
       "Speed sweep over analysis.speed_sweep: Campbell data of the linearised tier (modes tracked "
       "by MAC, order lines, critical speeds) and a waterfall of steady-state TE spectra (one exact "
       "run per speed, speeds in parallel).");
-  sweep_cmd->add_option("FILE", sweep.file, "Gearbox YAML file")
-      ->required();
+  sweep_cmd->add_option("FILE", sweep.file, "Gearbox YAML file")->required();
   sweep_cmd->add_option("--tier", sweep.tier, "Modal tier (default: analysis.tier)")
       ->check(TierValidator());
   sweep_cmd->add_option("--cycles", sweep.cycles, "Recorded mesh cycles per speed (default 512)")
@@ -150,7 +151,8 @@ int Main(int argc, char** argv) {
   sweep_cmd->add_option("--method", sweep.method, "v1, v2, v3 or fused (default)")
       ->check(CLI::IsMember({"v1", "v2", "v3", "fused"}));
   sweep_cmd->add_option("--out", sweep.out,
-                        "Write campbell.csv, critical_speeds.csv, waterfall.csv and sweep.json");
+                        "Write campbell.csv, critical_speeds.csv, waterfall.csv and sweep.json (a "
+                        "gear train: sweep.json, meshes.csv and loose_gears.csv)");
   sweep_cmd->add_option("--uff", sweep.uff, "Write the TE order tracks as UFF dataset 58");
   sweep_cmd->add_flag("--json", sweep.json, "Print the results as one JSON document");
 
@@ -159,10 +161,10 @@ int Main(int argc, char** argv) {
       "atlas",
       "Chaos atlas over two schema parameters (default: analysis.atlas): per cell the largest "
       "Lyapunov exponent, impacts per cycle, rattle index and regime; cells in parallel.");
-  atlas_cmd->add_option("FILE", atlas.file, "Gearbox YAML file")
-      ->required();
-  atlas_cmd->add_option("--x", atlas.x,
-                        "x axis PARAMETER=FROM:TO:POINTS, e.g. operating.speed=600rpm:3000rpm:24")
+  atlas_cmd->add_option("FILE", atlas.file, "Gearbox YAML file")->required();
+  atlas_cmd
+      ->add_option("--x", atlas.x,
+                   "x axis PARAMETER=FROM:TO:POINTS, e.g. operating.speed=600rpm:3000rpm:24")
       ->check(AxisValidator("--x"));
   atlas_cmd->add_option("--y", atlas.y, "y axis, e.g. operating.torque=0.05Nm:5Nm:24")
       ->check(AxisValidator("--y"));
@@ -188,15 +190,15 @@ int Main(int argc, char** argv) {
       "Periodic orbits by Newton shooting on the exact cycle map: Floquet multipliers, stability "
       "and the nearest stability boundary (fold, flip, Neimark-Sacker, grazing), at the file's "
       "operating point or continued along one parameter.");
-  orbits_cmd->add_option("FILE", orbits.file, "Gearbox YAML file")
-      ->required();
+  orbits_cmd->add_option("FILE", orbits.file, "Gearbox YAML file")->required();
   orbits_cmd
       ->add_option("--period", orbits.period,
                    "Period in base periods (mesh and excitation both repeat), default 1")
       ->check(CLI::Range(1, 64));
-  orbits_cmd->add_option("--sweep", orbits.sweep,
-                         "Continue along PARAMETER=FROM:TO:POINTS, e.g. "
-                         "operating.torque=0.1Nm:1Nm:10")
+  orbits_cmd
+      ->add_option("--sweep", orbits.sweep,
+                   "Continue along PARAMETER=FROM:TO:POINTS, e.g. "
+                   "operating.torque=0.1Nm:1Nm:10")
       ->check(AxisValidator("--sweep"));
   orbits_cmd->add_option("--tier", orbits.tier, "Modal tier (default: analysis.tier)")
       ->check(TierValidator());
@@ -215,8 +217,7 @@ int Main(int argc, char** argv) {
       "Compare the modal truncation levels side by side: DOF, state dimension, natural frequency "
       "and static compliance errors against the full FE model, TE RMS and rattle index against "
       "the finest tier, and cost (matvec and µs per cycle, real-time ratio).");
-  tiers_cmd->add_option("FILE", tiers.file, "Gearbox YAML file")
-      ->required();
+  tiers_cmd->add_option("FILE", tiers.file, "Gearbox YAML file")->required();
   tiers_cmd
       ->add_option("--cycles", tiers.cycles,
                    "Recorded mesh cycles per tier (default min(analysis.cycles, 400))")

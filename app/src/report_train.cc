@@ -74,8 +74,9 @@ std::string TrainPage(const TrainPageInput& in) {
   h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>"
     << Html(in.spec.name) << " - gearnvh report</title>\n"
     << kReportStyle << "\n</head><body>\n";
-  h << "<h1>" << Html(in.spec.name) << "</h1>\n<p>" << Html(in.file)
-    << " &middot; gear train, tier 1 &middot; <a href=\"results.json\">results.json</a> &middot; "
+  h << "<h1>" << Html(in.spec.name) << "</h1>\n<p>" << Html(in.file) << " &middot; gear train, "
+    << TierName(op.tier)
+    << " &middot; <a href=\"results.json\">results.json</a> &middot; "
        "<a href=\"../index.html\">batch</a></p>\n";
   for (const std::string& w : op.warnings) {
     h << "<p class=\"warning\">warning: " << Html(w) << "</p>\n";
@@ -92,8 +93,9 @@ std::string TrainPage(const TrainPageInput& in) {
     << Row("contact events", std::to_string(op.summary.events))
     << Row("real-time ratio", Number(op.wall_s > 0.0 ? op.summary.simulated_time / op.wall_s : 0.0))
     << "</table>\n";
-  h << "<h2>Meshes at the operating point</h2>\n<p>TE, force and rattle index from exact uniform "
-       "samples, impacts and separation from the exact events (docs/results.md, \"Gear "
+  h << "<h2>Meshes at the operating point</h2>\n<p>TE, force and rattle index exact (closed-form "
+       "integrals and certified extrema of the recorded trajectory), impacts and separation from "
+       "the exact events (docs/results.md, \"Gear "
        "trains\"); the TE mean includes the half backlash b.</p>\n<table>\n<tr><th>mesh</th>"
        "<th>mesh frequency (Hz)</th><th>b (µm)</th><th>TE mean / RMS / p-p (µm)</th><th>mesh "
        "force mean / max (N)</th><th>impacts / mesh cycle (drive / back)</th><th>separated</th>"
@@ -193,6 +195,7 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
   sweep_options.cycles = 256;
   sweep_options.transient = 100;
   sweep_options.threads = threads;
+  sweep_options.tier = settings.tier;
   const TrainSweepResult sweep =
       RunTrainSweep(spec, sweep_options,
                     stage ? TrainSweepProgress([&stage](int done, int total) {
@@ -230,7 +233,7 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
                sweep, sweep.mesh_names, "Impacts per mesh cycle", "impacts per mesh cycle (-)",
                [](const TrainSweepPoint& p, size_t i) { return p.ImpactsPerCycle(i); }, scale),
            image, (folder / "mesh_impacts.png").string()));
-  draw("mesh_te.png", "Dynamic TE RMS per mesh against the input speed (sampled; meshes.csv).",
+  draw("mesh_te.png", "Dynamic TE RMS per mesh against the input speed (exact; meshes.csv).",
        render::RenderLinePlot(
            OverSpeed(
                sweep, sweep.mesh_names, "Dynamic TE RMS per mesh", "TE RMS (µm)",
@@ -278,7 +281,7 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
     if (!std::isfinite(first_critical) || c.speed_rpm < first_critical)
       first_critical = c.speed_rpm;
   }
-  return {{"tier", "tier 1 (gear train)"},
+  return {{"tier", std::string(TierName(op.tier)) + " (gear train)"},
           {"speed",
            fmt::format("{:.4g} rpm ({})", spec.operating.speed * kRpm, spec.operating.input_shaft)},
           {"speed_rpm", spec.operating.speed * kRpm},

@@ -1,6 +1,6 @@
 // `gearnvh simulate FILE [--tier T] [--cycles N] [--out DIR] [--json]`: one operating point through
 // the exact solver; prints the summary (text or JSON); --out writes trajectory.csv, events.csv and
-// results.json atomically. A schema-2 file (gear train) runs the tier-1 train solver instead
+// results.json atomically. A schema-2 file (gear train) runs the train solver instead
 // (simulate_train.h).
 #pragma once
 

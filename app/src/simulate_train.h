@@ -1,4 +1,4 @@
-// `gearnvh simulate` on a gear train (schema gearnvh/2): the tier-1 train solver
+// `gearnvh simulate` on a gear train (schema gearnvh/2): the train solver
 // (solver/train_stepper.h), per-mesh and per-loose-gear results in text or JSON (docs/cli.md,
 // docs/results.md "Gear trains").
 #pragma once

@@ -66,7 +66,7 @@ SpeedPoint PointFromJson(const nlohmann::json& j) {
   return p;
 }
 
-// `sweep` on a gear train: the tier-1 train solver per speed (train_sweep.h). Under mpirun rank 0
+// `sweep` on a gear train: the train solver per speed (train_sweep.h). Under mpirun rank 0
 // runs every speed (trains are not split across ranks yet).
 int SweepTrain(const SweepOptions& options, const TrainSpec& spec) {
   const TrainCommandSettings settings =
@@ -90,12 +90,7 @@ int SweepTrain(const SweepOptions& options, const TrainSpec& spec) {
   }
   const TrainSweepResult result = RunTrainSweep(spec, sweep, progress);
   if (on_terminal) fmt::print(stderr, "\n");
-  nlohmann::json doc = TrainSweepJson(result);
-  doc["name"] = spec.name;
-  doc["file"] = options.file;
-  doc["tier"] = TierName(tier);
-  doc["cycles_per_speed"] = sweep.cycles;
-  doc["transient_cycles"] = sweep.transient;
+  nlohmann::json doc = TrainSweepDocument(result, spec, options.file, sweep);
   RequireFinite(doc, "sweep");
   if (out) {
     out->Write("meshes.csv", TrainMeshesCsv(result));

@@ -233,6 +233,7 @@ int AtlasTrain(const AtlasCommandOptions& options, const TrainSpec& spec) {
   atlas.cycles = options.cycles.value_or(atlas.cycles);
   atlas.transient_cycles = options.transient.value_or(atlas.transient_cycles);
   atlas.events = settings.events;
+  atlas.tier = settings.tier;
   if (atlas.cycles < 8)
     throw InputError("--cycles", 0, std::to_string(atlas.cycles), "must be >= 8");
   if (atlas.transient_cycles < 0) {
@@ -260,6 +261,7 @@ int AtlasTrain(const AtlasCommandOptions& options, const TrainSpec& spec) {
   nlohmann::json doc = TrainAtlasJson(result, atlas);
   doc["name"] = spec.name;
   doc["file"] = options.file;
+  doc["tier"] = TierName(settings.tier);
   RequireFinite(doc, "atlas");
   if (out) {
     out->Write("atlas.csv", TrainAtlasCsv(result));

@@ -123,6 +123,7 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, const TrainRun
                                            const TrainProgress& progress) {
   options.Validate();
   TrainOperatingPoint op;
+  op.tier = options.tier;
   op.train = BuildGearTrain(spec);
   op.tables = BuildTrainTablesAtTier(spec, op.train, options.tier);
   op.warnings = TrainWarnings(spec, op.train);
@@ -134,6 +135,7 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, const TrainRun
 
   const auto [z0, states0] = TrainStaticState(tables);
   op.solver.events = options.events;
+  op.solver.jumps = options.jumps;
   TrainStepper stepper(tables, op.solver, z0, states0);
   TrainRecorder recorder(tables, options.samples_per_cycle, start);
   SpectrumWindow window;

@@ -1,4 +1,4 @@
-// One operating point of a gear train (schema gearnvh/2) through the tier-1 train solver
+// One operating point of a gear train (schema gearnvh/2) through the train solver
 // (solver/train_stepper.h) and its per-mesh NVH: what `gearnvh simulate` prints for a train and
 // what each point of a train's `sweep` holds.
 //
@@ -38,6 +38,7 @@ struct TrainRunOptions {
   long max_spectrum_samples = long{1} << 21;  // TE samples kept per mesh for spectra, >= 1
   EventMethod events = EventMethod::kSpectral;  // V3; V2 and V1 to validate
   Tier tier = Tier::kTier1;  // the train's tier (docs/gear-trains.md, "Tiers of a train")
+  bool jumps = true;         // certified jumps of the transient (TrainStepperOptions::jumps)
   // Checked before each 1 % of the run: RunCancelled once set. Not owned; null: never cancelled.
   const std::atomic<bool>* cancel = nullptr;
   void Validate() const;
@@ -49,6 +50,7 @@ struct TrainMeshSidebands {
 };
 
 struct TrainOperatingPoint {
+  Tier tier = Tier::kTier1;
   GearTrain train;
   TrainTables tables;
   TrainStepperOptions solver;

@@ -88,6 +88,7 @@ int OrbitsTrain(const OrbitsCommandOptions& options, const TrainSpec& spec) {
   scan.periods = options.period;
   scan.transient_cycles = options.transient.value_or(spec.analysis.transient_cycles);
   scan.events = settings.events;
+  scan.tier = settings.tier;
   if (scan.transient_cycles < 0) {
     throw InputError("--transient", 0, std::to_string(scan.transient_cycles), "must be >= 0");
   }
@@ -125,6 +126,7 @@ int OrbitsTrain(const OrbitsCommandOptions& options, const TrainSpec& spec) {
       {"schema", "gearnvh/2"},
       {"name", spec.name},
       {"file", options.file},
+      {"tier", TierName(settings.tier)},
       {"period", options.period},
       {"common_period_s", common_period},
       {"period_s", options.period * common_period},
@@ -144,11 +146,11 @@ int OrbitsTrain(const OrbitsCommandOptions& options, const TrainSpec& spec) {
     std::cout << doc.dump(1) << "\n";
   } else {
     fmt::print(
-        "{}  ({}): gear train, period-{} orbits ({} common period{} of {:.4g} s), tier 1\n"
+        "{}  ({}): gear train, period-{} orbits ({} common period{} of {:.4g} s), {}\n"
         "  multipliers on the quotient by the free rotation (its two neutral directions, "
         "multiplier 1 and its Jordan partner, removed)\n",
         spec.name, options.file, options.period, options.period, options.period > 1 ? "s" : "",
-        common_period);
+        common_period, TierName(settings.tier));
     const TrainDisplayAxis d = sweep ? TrainDisplayAxisFor(parameter) : TrainDisplayAxis{};
     for (size_t i = 0; i < points.size(); ++i) {
       const std::string where =

@@ -181,4 +181,15 @@ void PrintTrainSweep(const TrainSweepResult& r) {
   }
 }
 
+nlohmann::json TrainSweepDocument(const TrainSweepResult& r, const TrainSpec& spec,
+                                  const std::string& file, const TrainSweepOptions& options) {
+  nlohmann::json doc = TrainSweepJson(r);
+  doc["name"] = spec.name;
+  doc["file"] = file;
+  doc["tier"] = TierName(options.tier);
+  doc["cycles_per_speed"] = options.cycles;
+  doc["transient_cycles"] = options.transient;
+  return doc;
+}
+
 }  // namespace gearnvh::app

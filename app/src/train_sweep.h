@@ -1,5 +1,5 @@
 // The speed sweep of a gear train (schema gearnvh/2) behind `gearnvh sweep` and the train report:
-// one tier-1 train run per input speed of analysis.speed_sweep (RunTrainOperatingPoint), speeds in
+// one train run per input speed of analysis.speed_sweep (RunTrainOperatingPoint), speeds in
 // parallel, and per speed each mesh's TE, mesh force and rattle and each loose gear's rattle index
 // (docs/cli.md, "`sweep` on a gear train").
 #pragma once
@@ -56,6 +56,10 @@ TrainSweepResult RunTrainSweep(const TrainSpec& spec, const TrainSweepOptions& o
 
 // The sweep's documents: JSON (SI units) and CSV, one row per speed and mesh / loose gear.
 nlohmann::json TrainSweepJson(const TrainSweepResult& r);
+// `sweep --json` on a train: TrainSweepJson with the train's name, the file, the tier, and the
+// cycles and transient per speed.
+nlohmann::json TrainSweepDocument(const TrainSweepResult& r, const TrainSpec& spec,
+                                  const std::string& file, const TrainSweepOptions& options);
 std::string TrainMeshesCsv(const TrainSweepResult& r);
 std::string TrainLooseGearsCsv(const TrainSweepResult& r);
 

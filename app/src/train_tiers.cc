@@ -22,6 +22,9 @@ double RelativeDifference(double a, double b) {
 
 TrainTierRow RunTier(const TrainSpec& spec, TrainRunOptions run, Tier tier) {
   run.tier = tier;
+  // Every tier steps the same cycles: whether a transient is certified and jumped depends on the
+  // tier, and the cost columns compare stepping.
+  run.jumps = false;
   const TrainOperatingPoint op = RunTrainOperatingPoint(spec, run);
   if (!op.ok()) {
     throw std::runtime_error(std::string(TierName(tier)) +

@@ -102,7 +102,10 @@ std::vector<ValidationRow> RunValidationLadder(const GearboxSpec& spec) {
       const Eigen::VectorXd ea = ElasticPart(tables, a.state()),
                             eb = ElasticPart(tables, b.state());
       rows.push_back(
-          CheckRow("segment-run fusion vs step-by-step", (ea - eb).norm() / ea.norm(), 1e-12,
+          // Both exact: products of up to 32 propagators against 320 single matvecs differ by
+          // their rounding (measured 1.15e-12 on industrial_whine.yaml; the same comparison is
+          // bounded by 2e-12 in tests/solver/cycle_map_test.cc).
+          CheckRow("segment-run fusion vs step-by-step", (ea - eb).norm() / ea.norm(), 2e-12,
                    fmt::format("elastic state after 10 cycles, {} of {} segments in fused "
                                "runs (tier 1)",
                                runs, 10 * tables.segments())));

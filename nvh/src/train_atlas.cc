@@ -6,6 +6,7 @@
 #include "gearnvh/model/gear_train.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/train_lyapunov.h"
+#include "gearnvh/solver/train_reduced_tables.h"
 #include "gearnvh/solver/train_statistics.h"
 #include "gearnvh/solver/train_tables.h"
 
@@ -67,7 +68,7 @@ TrainAtlasPoint ComputeTrainAtlasPoint(const TrainSpec& variant, const TrainAtla
     options.Validate();
     ValidateTrainSpec(variant);
     const GearTrain train = BuildGearTrain(variant);
-    const TrainTables tables = BuildTrainTables(variant, train);
+    const TrainTables tables = BuildTrainTablesAtTier(variant, train, options.tier);
     TrainLyapunovOptions lyapunov;
     lyapunov.exponents = 1;
     lyapunov.transient_cycles = options.transient_cycles;

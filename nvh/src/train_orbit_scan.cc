@@ -5,6 +5,7 @@
 
 #include "gearnvh/model/gear_train.h"
 #include "gearnvh/model/input_error.h"
+#include "gearnvh/solver/train_reduced_tables.h"
 #include "gearnvh/solver/train_tables.h"
 
 namespace gearnvh {
@@ -94,7 +95,7 @@ std::vector<TrainOrbitScanPoint> ScanTrainPeriodicOrbits(int count, const TrainV
       const TrainSpec spec = variant(i);
       ValidateTrainSpec(spec);
       const GearTrain train = BuildGearTrain(spec);
-      const TrainTables tables = BuildTrainTables(spec, train);
+      const TrainTables tables = BuildTrainTablesAtTier(spec, train, options.tier);
       p.common_period = tables.common_period;
       p.ok = true;
       TrainOrbitOptions orbit_options;

@@ -109,9 +109,7 @@ std::shared_ptr<TrainSweep> SweepTrain(const Train& train, const py::object& tie
           auto out = std::make_shared<TrainSweep>();
           out->result =
               app::RunTrainSweep(spec, options, [&](int d, int t) { control.Progress(d, t); });
-          out->doc = app::TrainSweepJson(out->result);
-          out->doc["name"] = spec.name;
-          out->doc["file"] = source;
+          out->doc = app::TrainSweepDocument(out->result, spec, source, options);
           return out;
         });
       },

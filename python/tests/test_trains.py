@@ -80,6 +80,8 @@ def test_sweep_arrays_are_the_runs_at_each_speed(transmission):
     assert list(sweep.rattle_index[1]) == [by_name[n] for n in sweep.loose_gear_names]
     doc = sweep.to_dict()
     assert doc["schema"] == "gearnvh/2" and doc["name"] == train.name
+    assert doc["tier"] == "tier 1" and doc["cycles_per_speed"] == RUN["cycles"]
+    assert doc["transient_cycles"] == RUN["transient"]
 
 
 def test_train_option_errors_name_the_option_and_the_progress_callback_can_stop_a_run(

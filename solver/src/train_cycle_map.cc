@@ -204,7 +204,9 @@ const TrainCycleMap::Tuple& TrainCycleMap::Lookup(TupleMemo& memo,
   for (size_t j = 0; j < t_.meshes.size(); ++j) {
     const Eigen::Index r = static_cast<Eigen::Index>(j) * terms;
     tuple.gap_powers.row(r).setZero();
-    tuple.gap_powers.row(r).head(n) = t_.meshes[j].v.transpose();
+    // The gap of the flank in contact: g+ on v, g- on v_back (they differ from tier 2 on).
+    tuple.gap_powers.row(r).head(n) =
+        t_.meshes[j].Vector(states_[j] == ContactState::kDrive).transpose();
     for (int p = 1; p < terms; ++p)
       tuple.gap_powers.row(r + p) = tuple.gap_powers.row(r + p - 1) * tuple.A;
   }

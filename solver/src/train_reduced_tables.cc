@@ -70,10 +70,6 @@ TrainTables BuildReducedTrainTables(const TrainSpec& spec, const GearTrain& trai
   return t;
 }
 
-}  // namespace gearnvh
-
-namespace gearnvh {
-
 TrainTables BuildTrainTablesAtTier(const TrainSpec& spec, const GearTrain& train, Tier tier,
                                    const TrainTableOptions& options) {
   if (tier == Tier::kTier1) return BuildTrainTables(spec, train, options);

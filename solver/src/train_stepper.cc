@@ -224,7 +224,9 @@ int TrainStepper::Walls(int mesh, Wall walls[2]) const {
 void TrainStepper::Switch(int mesh, ContactState to, double time, TrainRecorder* rec) {
   const size_t i = static_cast<size_t>(mesh);
   if (rec != nullptr) {
-    const double rate = t_.meshes[i].v.dot(z_.segment(t_.n, t_.n));
+    // The rate of the wall's gap: the back flank's vector for a back contact or separation.
+    const bool drive = to == ContactState::kDrive || states_[i] == ContactState::kDrive;
+    const double rate = t_.meshes[i].Vector(drive).dot(z_.segment(t_.n, t_.n));
     rec->Event(mesh, states_[i], to, time, rate);
   }
   states_[i] = to;

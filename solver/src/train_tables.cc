@@ -75,12 +75,16 @@ namespace {
 
 // Smallest whole number L of input revolutions after which every mesh (L z_a |w_a| / w_in mesh
 // cycles) and every excitation order (L * order periods) is whole; 0 when none up to `limit`.
+// "Whole" to the rounding of the speed ratios (products and quotients of tooth counts, a few
+// roundings each): 64 eps relative. A looser test took 277 revolutions of a train of large
+// coprime tooth counts for its period, with a mesh 0.0015 cycles out of phase there.
 long CommonPeriodRevolutions(const std::vector<double>& cycles_per_revolution, long limit) {
+  constexpr double kWhole = 64.0 * std::numeric_limits<double>::epsilon();
   for (long l = 1; l <= limit; ++l) {
     bool whole = true;
     for (double c : cycles_per_revolution) {
       const double x = static_cast<double>(l) * c;
-      if (std::abs(x - std::round(x)) > 1e-9 * std::max(1.0, x)) {
+      if (std::abs(x - std::round(x)) > kWhole * std::max(1.0, x)) {
         whole = false;
         break;
       }

@@ -59,6 +59,13 @@ TEST_CASE("a train document edits by schema path and keeps its schema", "[docume
     CHECK(std::string(e.what()).find("cannot change the schema") != std::string::npos);
   }
   CHECK(doc.Text() == before);
+  // A pair without a schema line is gearnvh/1: writing that line changes nothing.
+  std::string text = ReadGearboxText(kExample);
+  const size_t line = text.find("schema: gearnvh/1\n");
+  REQUIRE(line != std::string::npos);
+  text.erase(line, std::string("schema: gearnvh/1\n").size());
+  GearboxDocument pair = GearboxDocument::FromText(text, "pair.yaml");
+  CHECK(pair.SetScalar("schema", "gearnvh/1").schema == 1);
 }
 
 TEST_CASE("a bad edit names the path and rule and leaves the document unchanged", "[document]") {

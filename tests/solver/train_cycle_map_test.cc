@@ -92,21 +92,8 @@ TEST_CASE("train jumps: the jumped state is the linear periodic steady state", "
   // cycle map uses): the free rotation's position is its one null direction and moves no TE.
   const Model s = Loaded();
   const TrainTables& t = s.tables;
-  const int n = t.n, m = t.m;
-  const std::vector<ContactState> drive(t.meshes.size(), ContactState::kDrive);
-  Eigen::MatrixXd P = Eigen::MatrixXd::Identity(m, m);
-  for (TrainGrid grid(t); grid.start() < t.common_period * (1.0 - 1e-12); grid.Next()) {
-    const double h = grid.end() - grid.start();
-    Eigen::MatrixXd R = Eigen::MatrixXd::Identity(m, m);
-    R(t.input_slot(), t.input_slot()) = 0.0;
-    R(t.input_slot(), t.constant_slot()) = t.MeanExcitation(grid.start(), h);
-    const Eigen::MatrixXd A = AssembleTrainGenerator(t, grid.segments(), drive);
-    P = BalancedExpm(A, h, n, ReferenceFrequency(A, n)) * R * P;
-  }
-  const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(2 * n, 2 * n);
-  const Eigen::VectorXd y = (I - P.topLeftCorner(2 * n, 2 * n))
-                                .completeOrthogonalDecomposition()
-                                .solve(P.block(0, t.constant_slot(), 2 * n, 1));
+  const int n = t.n;
+  const Eigen::VectorXd y = testing::DriveContactPeriodicState(t).z;
 
   const auto [z0, states0] = TrainStaticState(t);
   TrainStepper stepper(t, {}, z0, states0);

@@ -75,6 +75,34 @@ TEST_CASE("train tables: the cache's generator equals an independent assembly fo
     CHECK(std::abs(mt.v.dot(s.tables.rigid_rotation)) <= 1e-14 * mt.v.norm());
 }
 
+TEST_CASE("train: the common period is whole for every mesh, or reported as none",
+          "[solver][train]") {
+  // 20 -> 40, 20 -> 40 with engine order 2: every mesh is whole after one input revolution
+  // (20 and 10 cycles), the order after one.
+  const Model small(TwoStage(100.0, 0.0, 1000.0));
+  CHECK(small.tables.common_period == Approx(small.tables.InputRevolution()).epsilon(1e-15));
+  // 23 -> 41, 19 -> 37: the second mesh does 19 * 23/41 cycles per input revolution, whole
+  // after 41 revolutions (the first is whole after one).
+  TrainSpec coprime = TwoStage(100.0, 0.0, 1000.0);
+  coprime.gears[0].gear.teeth = 23;
+  coprime.gears[1].gear.teeth = 41;
+  coprime.gears[2].gear.teeth = 19;
+  coprime.gears[3].gear.teeth = 37;
+  const Model m(coprime);
+  CHECK(m.tables.common_period == Approx(41.0 * m.tables.InputRevolution()).epsilon(1e-15));
+  // Large coprime counts (9973 -> 9967, 9949 -> 9941): whole only after 9967 revolutions, beyond
+  // the 1000 searched, so none (a 1e-9 relative test once took 277 revolutions, where the
+  // second mesh is 0.0015 cycles out of phase).
+  TrainSpec large = coprime;
+  large.gears[0].gear.teeth = 9973;
+  large.gears[1].gear.teeth = 9967;
+  large.gears[2].gear.teeth = 9949;
+  large.gears[3].gear.teeth = 9941;
+  for (TrainGear& g : large.gears) g.gear.module = 0.5e-3;
+  const Model l(large);
+  CHECK(l.tables.common_period == 0.0);
+}
+
 TEST_CASE("train: a free loose gear under constant drag follows its parabola until it hits",
           "[solver][train]") {
   // No excitation, every mesh free at t = 0: every body moves on its own parabola
@@ -154,43 +182,18 @@ TEST_CASE("train: permanent contact equals the linear periodic steady state", "[
   // free rotation's position is the one null direction; it moves no TE).
   const Model s(TwoStage(300.0, 100.0, 300.0));
   const TrainTables& t = s.tables;
-  const int n = t.n, m = t.m;
+  const int n = t.n;
   REQUIRE(t.common_period > 0.0);
-  struct Piece {
-    std::vector<int> segments;
-    double start, h, u;
-  };
-  std::vector<Piece> pieces;
-  for (TrainGrid grid(t); grid.start() < t.common_period * (1.0 - 1e-12); grid.Next()) {
-    const double h = grid.end() - grid.start();
-    pieces.push_back({grid.segments(), grid.start(), h, t.MeanExcitation(grid.start(), h)});
-  }
+  const testing::LinearPeriodicState orbit = testing::DriveContactPeriodicState(t);
   const std::vector<ContactState> drive(2, ContactState::kDrive);
-  std::vector<Eigen::MatrixXd> maps;
-  Eigen::MatrixXd P = Eigen::MatrixXd::Identity(m, m);
-  for (const Piece& p : pieces) {
-    const Eigen::MatrixXd A = AssembleTrainGenerator(t, p.segments, drive);
-    Eigen::MatrixXd R = Eigen::MatrixXd::Identity(m, m);  // input slot <- u (z_c = 1)
-    R(t.input_slot(), t.input_slot()) = 0.0;
-    R(t.input_slot(), t.constant_slot()) = p.u;
-    maps.push_back(BalancedExpm(A, p.h, n, ReferenceFrequency(A, n)) * R);
-    P = maps.back() * P;
-  }
-  const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(2 * n, 2 * n);
-  const Eigen::VectorXd y = (I - P.topLeftCorner(2 * n, 2 * n))
-                                .completeOrthogonalDecomposition()
-                                .solve(P.block(0, t.constant_slot(), 2 * n, 1));
-  Eigen::VectorXd z = Eigen::VectorXd::Zero(m);
-  z.head(2 * n) = y;
-  z[t.constant_slot()] = 1.0;
-
+  const Eigen::VectorXd& z = orbit.z;
   TrainStepper stepper(t, {}, z, drive);
   double te_scale = 0.0;
   double worst = 0.0;
   Eigen::VectorXd reference = z;
-  for (size_t k = 0; k < pieces.size(); ++k) {
-    reference = maps[k] * reference;
-    REQUIRE(stepper.Run(pieces[k].start + pieces[k].h));
+  for (const testing::LinearPeriodicState::Piece& piece : orbit.pieces) {
+    reference = piece.map * reference;
+    REQUIRE(stepper.Run(piece.start + piece.h));
     for (const TrainMeshTable& mt : t.meshes) {
       const double expected = mt.v.dot(reference.head(n));
       te_scale = std::max(te_scale, std::abs(expected));

@@ -13,6 +13,7 @@
 #include "gearnvh/solver/train_statistics.h"
 #include "gearnvh/solver/train_stepper.h"
 #include "model/test_trains.h"
+#include "solver/train_model.h"
 
 namespace gearnvh {
 namespace {
@@ -199,41 +200,17 @@ TEST_CASE("train tiers: permanent contact at tier 3 equals the linear periodic s
   // direction).
   const TierModel s(FlexibleTwoStage(300.0, 100.0, 300.0), Tier::kTier3);
   const TrainTables& t = s.tables;
-  const int n = t.n, m = t.m;
+  const int n = t.n;
   REQUIRE(t.common_period > 0.0);
-  struct Piece {
-    std::vector<int> segments;
-    double start, h, u;
-  };
-  std::vector<Piece> pieces;
-  for (TrainGrid grid(t); grid.start() < t.common_period * (1.0 - 1e-12); grid.Next()) {
-    const double h = grid.end() - grid.start();
-    pieces.push_back({grid.segments(), grid.start(), h, t.MeanExcitation(grid.start(), h)});
-  }
+  const testing::LinearPeriodicState orbit = testing::DriveContactPeriodicState(t);
   const std::vector<ContactState> drive(2, ContactState::kDrive);
-  std::vector<Eigen::MatrixXd> maps;
-  Eigen::MatrixXd P = Eigen::MatrixXd::Identity(m, m);
-  for (const Piece& p : pieces) {
-    const Eigen::MatrixXd A = AssembleTrainGenerator(t, p.segments, drive);
-    Eigen::MatrixXd R = Eigen::MatrixXd::Identity(m, m);
-    R(t.input_slot(), t.input_slot()) = 0.0;
-    R(t.input_slot(), t.constant_slot()) = p.u;
-    maps.push_back(BalancedExpm(A, p.h, n, ReferenceFrequency(A, n)) * R);
-    P = maps.back() * P;
-  }
-  const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(2 * n, 2 * n);
-  const Eigen::VectorXd y = (I - P.topLeftCorner(2 * n, 2 * n))
-                                .completeOrthogonalDecomposition()
-                                .solve(P.block(0, t.constant_slot(), 2 * n, 1));
-  Eigen::VectorXd z = Eigen::VectorXd::Zero(m);
-  z.head(2 * n) = y;
-  z[t.constant_slot()] = 1.0;
+  const Eigen::VectorXd& z = orbit.z;
   TrainStepper stepper(t, {}, z, drive);
   double te_scale = 0.0, worst = 0.0;
   Eigen::VectorXd reference = z;
-  for (size_t k = 0; k < pieces.size(); ++k) {
-    reference = maps[k] * reference;
-    REQUIRE(stepper.Run(pieces[k].start + pieces[k].h));
+  for (const testing::LinearPeriodicState::Piece& piece : orbit.pieces) {
+    reference = piece.map * reference;
+    REQUIRE(stepper.Run(piece.start + piece.h));
     for (const TrainMeshTable& mt : t.meshes) {
       const double expected = mt.v.dot(reference.head(n));
       te_scale = std::max(te_scale, std::abs(expected));

@@ -27,7 +27,8 @@ struct TrainAtlasOptions {
   long cycles = 1080;             // cycles of the first mesh averaged; >= 8
   double chaos_threshold = 0.01;  // lambda T_f above which a cell is chaotic (the pair's); > 0
   EventMethod events = EventMethod::kSpectral;
-  void Validate() const;  // throws InputError naming the field
+  Tier tier = Tier::kTier1;  // the train solver's tier (BuildTrainTablesAtTier)
+  void Validate() const;     // throws InputError naming the field
 };
 
 struct TrainAtlasMesh {

@@ -22,7 +22,8 @@ struct TrainOrbitScanOptions {
   long transient_cycles = 300;  // cycles of the first mesh settled before the first guess; >= 0
   int settled_starts = 4;       // settled guesses tried when continuation fails; >= 1
   EventMethod events = EventMethod::kSpectral;
-  void Validate() const;  // throws InputError naming the field
+  Tier tier = Tier::kTier1;  // the train solver's tier (BuildTrainTablesAtTier)
+  void Validate() const;     // throws InputError naming the field
 };
 
 struct TrainOrbitScanPoint {

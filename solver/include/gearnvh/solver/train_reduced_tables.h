@@ -34,13 +34,9 @@ TrainTables BuildReducedTrainTables(const TrainSpec& spec, const GearTrain& trai
                                     const TrainReducedModel& reduced,
                                     const TrainTableOptions& options = {});
 
-}  // namespace gearnvh
-
-namespace gearnvh {
-
 // The tables of `tier`: tier 1 by BuildTrainTables (one torsional DOF per body, the bodies' own
 // polar inertias), any other by AssembleTrainStructure, ReduceTrain and BuildReducedTrainTables.
-// Throws InputError (analysis.tier) when the tier is not available (TrainTierAvailable).
+// Throws InputError when the tier is not available (TrainTierAvailable).
 TrainTables BuildTrainTablesAtTier(const TrainSpec& spec, const GearTrain& train, Tier tier,
                                    const TrainTableOptions& options = {});
 
