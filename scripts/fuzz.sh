@@ -13,6 +13,8 @@ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 cmake --build build-fuzz --target loader_fuzzer -j "$(nproc)"
 mkdir -p fuzz-corpus
 cp -n examples/*.yaml tests/fuzz/regressions/* fuzz-corpus/ 2>/dev/null || true
+# -timeout: the manual-transmission seed builds six meshes' stiffness in ~6 s under ASan on a busy
+# 2-core machine (a hang still shows within 30 s).
 ASAN_OPTIONS=detect_leaks=1 ./build-fuzz/tests/fuzz/loader_fuzzer fuzz-corpus \
-  -max_total_time="$SECONDS_TO_RUN" -max_len=8192 -timeout=10 -rss_limit_mb=2048 \
+  -max_total_time="$SECONDS_TO_RUN" -max_len=8192 -timeout=30 -rss_limit_mb=2048 \
   -print_final_stats=1
