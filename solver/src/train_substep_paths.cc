@@ -24,13 +24,17 @@ void TrainStepper::TaylorColumns(const TrainSystem& sys) {
     double* next = taylor_.col(k).data();
     for (int r = 0; r < n; ++r) next[r] = prev[n + r] * inv_k;
     for (int r = n; r < m; ++r) next[r] = 0.0;
-    // The slots' columns only act on z itself (the later columns are zero there).
-    const int columns = k == 1 ? m : 2 * n;
-    for (int c = 0; c < columns; ++c) {
+    // Only the coupled bodies' columns act (the others are zero); the slots' columns only act on
+    // z itself (the later columns are zero there).
+    const auto add_column = [&](int c) {
       const double x = prev[c] * inv_k;
-      if (x == 0.0) continue;
+      if (x == 0.0) return;
       const double* column = a + static_cast<size_t>(c) * m + n;
       for (int r = 0; r < n; ++r) next[n + r] += column[r] * x;
+    };
+    for (int c : sys.coupled_columns) add_column(c);
+    if (k == 1) {
+      for (int c = 2 * n; c < m; ++c) add_column(c);
     }
   }
 }

@@ -202,7 +202,7 @@ size_t SystemBytes(const TrainSystem& s, size_t key_words) {
     const size_t zero = static_cast<size_t>(d.zero_size);
     doubles += (s.delta.size() + s.delta_back.size()) * terms * (zero + 1);
   }
-  return doubles * sizeof(double) +
+  return doubles * sizeof(double) + s.coupled_columns.size() * sizeof(int) +
          s.decomposition.blocks.size() * sizeof(SpectralDecomposition::Block) +
          (s.delta.size() + s.delta_back.size()) *
              (sizeof(ClosedFormGap) + 16 * sizeof(double) * s.decomposition.blocks.size()) +
@@ -228,6 +228,23 @@ void TrimSeries(SpectralDecomposition& d, double horizon) {
   int keep = d.series_terms;
   while (keep > 1 && size[static_cast<size_t>(keep) - 1] <= 1e-18 * largest) --keep;
   d.series_terms = keep;
+}
+
+// lambda_max(M^-1 X) from the symmetric M^-1/2 X M^-1/2 (same eigenvalues, cheaper).
+double LargestRate(const Eigen::VectorXd& inv_j, const Eigen::MatrixXd& X) {
+  const Eigen::VectorXd root_inv_j = inv_j.cwiseSqrt();
+  const Eigen::MatrixXd sym = root_inv_j.asDiagonal() * X * root_inv_j.asDiagonal();
+  return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(sym, Eigen::EigenvaluesOnly)
+      .eigenvalues()
+      .cwiseAbs()
+      .maxCoeff();
+}
+
+// Only the structure's C_0 + w G can be skew (the mesh terms are symmetric up to rounding of
+// c v_i v_j, which must not switch tier 1 to the looser bound).
+bool SkewDamping(const TrainTables& t) {
+  const Eigen::MatrixXd& c0 = t.structural_damping;
+  return c0.size() > 0 && !(0.5 * (c0 - c0.transpose())).isZero(0.0);
 }
 
 }  // namespace
@@ -289,6 +306,25 @@ void TrainSystemCache::Evict() {
   summary_.tuples = static_cast<long>(lru_.size());
 }
 
+double TrainSystemCache::DampingRate(const std::vector<ContactState>& states,
+                                     const Eigen::MatrixXd& C) const {
+  const Eigen::VectorXd inv_j = t_.inertia.cwiseInverse();
+  const auto rate = [&] {
+    if (!SkewDamping(t_)) return LargestRate(inv_j, C);
+    const Eigen::MatrixXd& c0 = t_.structural_damping;
+    const Eigen::MatrixXd skew = 0.5 * (c0 - c0.transpose());
+    const Eigen::VectorXd root_inv_j = inv_j.cwiseSqrt();
+    return LargestRate(inv_j, 0.5 * (C + C.transpose())) +
+           (root_inv_j.asDiagonal() * skew * root_inv_j.asDiagonal()).norm();
+  };
+  if (states.size() > 32) return rate();
+  uint64_t key = 0;
+  for (size_t i = 0; i < states.size(); ++i) key |= static_cast<uint64_t>(states[i]) << (2 * i);
+  const auto found = damping_rate_.find(key);
+  if (found != damping_rate_.end()) return found->second;
+  return damping_rate_.emplace(key, rate()).first->second;
+}
+
 TrainSystem TrainSystemCache::Build(const std::vector<int>& segments,
                                     const std::vector<ContactState>& states) const {
   const int n = t_.n, m = t_.m;
@@ -318,30 +354,17 @@ TrainSystem TrainSystemCache::Build(const std::vector<int>& segments,
   s.A.block(n, n, n, n) = -(inv_j.asDiagonal() * C);
   s.A.block(n, t_.constant_slot(), n, 1) = inv_j.cwiseProduct(f);
   s.A.block(n, t_.input_slot(), n, 1) = inv_j.cwiseProduct(t_.excitation_direction);
-  // lambda_max(M^-1 X) from the symmetric M^-1/2 X M^-1/2 (same eigenvalues, cheaper).
-  const Eigen::VectorXd root_inv_j = inv_j.cwiseSqrt();
-  const auto largest = [&](const Eigen::MatrixXd& X) {
-    const Eigen::MatrixXd sym = root_inv_j.asDiagonal() * X * root_inv_j.asDiagonal();
-    return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(sym, Eigen::EigenvaluesOnly)
-        .eigenvalues()
-        .cwiseAbs()
-        .maxCoeff();
-  };
-  const double w_stiff = std::sqrt(largest(K));
+  const double w_stiff = std::sqrt(LargestRate(inv_j, K));
   // C's skew part (gyroscopic, reduced tiers) makes the pencil non-symmetric: with u^*Mu = 1,
   // lambda^2 + (c + i gamma) lambda + k = 0 has |lambda| <= |c + i gamma| + sqrt(k), |gamma|
   // bounded by the skew part's norm (2-norm <= Frobenius).
-  // Only the structure's C_0 + w G can be skew (the mesh terms are symmetric up to rounding of
-  // c v_i v_j, which must not switch tier 1 to the looser bound).
-  const Eigen::MatrixXd& c0 = t_.structural_damping;
-  const Eigen::MatrixXd skew =
-      c0.size() > 0 ? Eigen::MatrixXd(0.5 * (c0 - c0.transpose())) : Eigen::MatrixXd();
-  const double rho = skew.size() == 0 || skew.isZero(0.0)
-                         ? std::max(w_stiff, largest(C))
-                         : w_stiff + largest(0.5 * (C + C.transpose())) +
-                               (root_inv_j.asDiagonal() * skew * root_inv_j.asDiagonal()).norm();
+  const double rho = SkewDamping(t_) ? w_stiff + DampingRate(states, C)
+                                     : std::max(w_stiff, DampingRate(states, C));
   s.substep = rho > 0.0 ? 0.5 / rho : t_.longest_segment;
   s.w_ref = std::max(1.0, w_stiff);  // as ReferenceFrequency(A, n)
+  for (int c = 0; c < 2 * n; ++c) {
+    if (!s.A.block(n, c, n, 1).isZero(0.0)) s.coupled_columns.push_back(c);
+  }
   s.bytes = SystemBytes(s, static_cast<size_t>(key_words_));
   return s;
 }

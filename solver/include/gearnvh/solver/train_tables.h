@@ -140,6 +140,10 @@ struct TrainSystem {
   // max(sqrt(lambda_max(M^-1 K)), lambda_max(M^-1 C)).
   double substep = 0.0;
   double w_ref = 1.0;  // sqrt(lambda_max(M^-1 K)): the decomposition's velocity balance, rad/s
+  // The columns c < 2n of A with a nonzero acceleration entry (the positions and velocities of
+  // the bodies a contact or the structure couples), ascending: the dense path's Taylor products
+  // skip the others, which are zero (a loose gear whose mesh is free is a free body).
+  std::vector<int> coupled_columns;
   // Per mesh, the closed form of delta_i (spectral only); mutable: Load() keeps its coefficients.
   mutable std::vector<ClosedFormGap> delta;
   // Per mesh, the closed form of v_back^T x when some mesh's back vector differs (else empty).
@@ -181,6 +185,10 @@ class TrainSystemCache {
  private:
   TrainSystem Build(const std::vector<int>& segments,
                     const std::vector<ContactState>& states) const;
+  // The damping's part of the dense path's rate bound (TrainSystem::substep): it depends on the
+  // contact states only (c_i is constant per mesh), so it is computed once per state
+  // combination (2 bits per mesh; trains of more than 32 meshes compute it per tuple).
+  double DampingRate(const std::vector<ContactState>& states, const Eigen::MatrixXd& C) const;
   void Decompose(TrainSystem& s) const;
   struct Entry;
   struct Slot {
@@ -201,6 +209,7 @@ class TrainSystemCache {
   int key_words_ = 1;
   std::list<Entry> lru_;  // most recent first
   std::unordered_map<TupleKey, Slot, TupleKeyHash> index_;
+  mutable std::unordered_map<uint64_t, double> damping_rate_;  // per state combination
   TrainCacheSummary summary_;
 };
 
