@@ -8,6 +8,7 @@
 
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/model/mesh_segmentation.h"
+#include "train_decomposition.h"
 
 namespace gearnvh {
 namespace {
@@ -372,7 +373,8 @@ TrainSystem TrainSystemCache::Build(const std::vector<int>& segments,
 void TrainSystemCache::Decompose(TrainSystem& s) const {
   const int n = t_.n, m = t_.m;
   s.decomposed = true;
-  s.decomposition = DecomposeGenerator(s.A, n, s.w_ref, t_.longest_segment, options_.max_condition);
+  s.decomposition =
+      DecomposeWithFreeBodies(s.A, n, s.w_ref, t_.longest_segment, options_.max_condition);
   s.spectral = s.decomposition.info == SpectralDecomposition::Info::kSuccess &&
                s.decomposition.zero_size > 0;
   if (!s.spectral) {
