@@ -43,7 +43,6 @@ double TrainStepper::AdvanceDense(const TrainSystem& sys, double remaining, Trai
   ++summary_.dense_pieces;
   const double d = std::min(remaining, sys.substep);
   TaylorColumns(sys);
-  const int n = t_.n;
   double best = -1.0;
   int best_mesh = -1;
   Wall best_wall;
@@ -51,8 +50,8 @@ double TrainStepper::AdvanceDense(const TrainSystem& sys, double remaining, Trai
   // The Taylor coefficients of the wall's flank row (v_i, or v_back,i for g-); a wall's gap
   // differs from it only in the constant term.
   const auto load_delta = [&](size_t i, bool drive) {
-    const Eigen::VectorXd& v = t_.meshes[i].Vector(drive);
-    for (int p = 0; p <= kTaylorTerms; ++p) delta[p] = v.dot(taylor_.col(p).head(n));
+    for (int p = 0; p <= kTaylorTerms; ++p)
+      delta[p] = t_.meshes[i].Dot(drive, taylor_.col(p).data());
   };
   // sign * (gap of `wall` of mesh i) as a polynomial in the time into the sub-step.
   const auto load_wall = [&](size_t i, const Wall& wall) {

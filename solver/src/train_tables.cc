@@ -48,6 +48,14 @@ double TrainTables::MeanExcitation(double t0, double h) const {
   return sum;
 }
 
+void TrainMeshTable::FindSupport() {
+  support.clear();
+  for (int j = 0; j < v.size(); ++j) {
+    if (v[j] != 0.0 || v_back[j] != 0.0) support.push_back(j);
+  }
+  if (support.size() == static_cast<size_t>(v.size())) support.clear();  // dense
+}
+
 double TrainTables::Wall(int mesh, int segment, bool drive) const {
   const TrainMeshTable& mt = meshes[static_cast<size_t>(mesh)];
   const double e = mt.error[static_cast<size_t>(segment)];
@@ -57,7 +65,7 @@ double TrainTables::Wall(int mesh, int segment, bool drive) const {
 double TrainTables::GapValue(int mesh, int segment, bool drive, const Eigen::VectorXd& z) const {
   const TrainMeshTable& mt = meshes[static_cast<size_t>(mesh)];
   const double e = mt.error[static_cast<size_t>(segment)];
-  return mt.Vector(drive).dot(z.head(n)) - e + (drive ? -mt.half_backlash : mt.half_backlash);
+  return mt.Dot(drive, z.data()) - e + (drive ? -mt.half_backlash : mt.half_backlash);
 }
 
 double TrainTables::GapTolerance(int mesh, int segment, bool drive,
@@ -66,7 +74,11 @@ double TrainTables::GapTolerance(int mesh, int segment, bool drive,
   const double e = mt.error[static_cast<size_t>(segment)];
   double magnitude = std::abs(e + (drive ? mt.half_backlash : -mt.half_backlash));
   const Eigen::VectorXd& v = mt.Vector(drive);
-  for (int j = 0; j < n; ++j) magnitude += std::abs(v[j] * z[j]);
+  if (mt.support.empty()) {
+    for (int j = 0; j < n; ++j) magnitude += std::abs(v[j] * z[j]);
+  } else {
+    for (int j : mt.support) magnitude += std::abs(v[j] * z[j]);
+  }
   return 1e-12 * mt.half_backlash + 64.0 * std::numeric_limits<double>::epsilon() * magnitude;
 }
 
@@ -143,6 +155,7 @@ TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
     mt.v[mm.body_a] += ra;
     mt.v[mm.body_b] -= rb;
     mt.v_back = mt.v;
+    mt.FindSupport();
     const int teeth = spec.gears[static_cast<size_t>(mm.gear_a)].gear.teeth;
     const double speed_a = std::abs(topo.bodies[static_cast<size_t>(mm.body_a)].speed);
     mt.period = 2.0 * std::numbers::pi / (teeth * speed_a);

@@ -58,6 +58,18 @@ struct TrainMeshTable {
   Eigen::VectorXd v_back;
   bool distinct_back = false;  // v_back != v
   const Eigen::VectorXd& Vector(bool drive) const { return drive ? v : v_back; }
+  // The coordinates where v or v_back is nonzero, ascending (tier 1: the mesh's two bodies);
+  // empty: every coordinate. The gap rows are evaluated on these only.
+  std::vector<int> support;
+  void FindSupport();  // from v and v_back
+  // Vector(drive)^T x over the first n entries of x (on the support).
+  double Dot(bool drive, const double* x) const {
+    const Eigen::VectorXd& u = Vector(drive);
+    if (support.empty()) return u.dot(Eigen::Map<const Eigen::VectorXd>(x, u.size()));
+    double sum = 0.0;
+    for (int j : support) sum += u[j] * x[j];
+    return sum;
+  }
   double period = 0.0;           // T_i, s
   std::vector<double> boundary;  // segment starts within [0, T_i), plus T_i (size S_i + 1), s
   std::vector<double> k_drive, k_back, error;  // per segment: N/m, N/m, m
