@@ -244,10 +244,22 @@ void TrimSeries(SpectralDecomposition& d, double horizon) {
   d.series_terms = keep;
 }
 
-// lambda_max(M^-1 X) from the symmetric M^-1/2 X M^-1/2 (same eigenvalues, cheaper).
+// lambda_max(M^-1 X) from the symmetric M^-1/2 X M^-1/2 (same eigenvalues, cheaper), on the
+// coordinates whose row of X is nonzero (the others add zero eigenvalues: at tier 1 the bodies no
+// contact couples).
 double LargestRate(const Eigen::VectorXd& inv_j, const Eigen::MatrixXd& X) {
   const Eigen::VectorXd root_inv_j = inv_j.cwiseSqrt();
-  const Eigen::MatrixXd sym = root_inv_j.asDiagonal() * X * root_inv_j.asDiagonal();
+  std::vector<int> rows;
+  for (int j = 0; j < X.rows(); ++j) {
+    if (!X.row(j).isZero(0.0)) rows.push_back(j);
+  }
+  if (rows.empty()) return 0.0;
+  Eigen::MatrixXd sym;
+  if (rows.size() == static_cast<size_t>(X.rows())) {
+    sym = root_inv_j.asDiagonal() * X * root_inv_j.asDiagonal();
+  } else {
+    sym = root_inv_j(rows).asDiagonal() * X(rows, rows) * root_inv_j(rows).asDiagonal();
+  }
   return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(sym, Eigen::EigenvaluesOnly)
       .eigenvalues()
       .cwiseAbs()
