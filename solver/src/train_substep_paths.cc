@@ -11,6 +11,14 @@
 #include "taylor_root.h"
 
 namespace gearnvh {
+namespace {
+
+// acc += x column over n entries (distinct arrays: the loop vectorises).
+void AddScaled(double* __restrict acc, const double* __restrict column, double x, int n) {
+  for (int r = 0; r < n; ++r) acc[r] += column[r] * x;
+}
+
+}  // namespace
 
 void TrainStepper::TaylorColumns(const TrainSystem& sys) {
   // z_k = A z_{k-1} / k. A = [[0, I, 0, 0], [A_x, A_v, f, d], [0 ...]]: positions take the
@@ -28,9 +36,7 @@ void TrainStepper::TaylorColumns(const TrainSystem& sys) {
     // z itself (the later columns are zero there).
     const auto add_column = [&](int c) {
       const double x = prev[c] * inv_k;
-      if (x == 0.0) return;
-      const double* column = a + static_cast<size_t>(c) * m + n;
-      for (int r = 0; r < n; ++r) next[n + r] += column[r] * x;
+      if (x != 0.0) AddScaled(next + n, a + static_cast<size_t>(c) * m + n, x, n);
     };
     for (int c : sys.coupled_columns) add_column(c);
     if (k == 1) {
