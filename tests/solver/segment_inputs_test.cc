@@ -1,5 +1,6 @@
 // The segment-mean inputs of the exact solver: the engine excitation's mean over a segment
-// against an independent quadrature, and the precomputed-window path against the general one.
+// against an independent quadrature, and the precomputed-window path and the per-cycle phase path
+// (one sincos per order and cycle) against the general one.
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
@@ -47,7 +48,10 @@ TEST_CASE(
   Eigen::VectorXd z = Eigen::VectorXd::Zero(t.m);
   SegmentTables by_hand = t;  // the same tables without the precomputed windows
   by_hand.excitation_windows.clear();
-  Eigen::VectorXd z_hand = z;
+  by_hand.excitation_midpoint_cos.clear();
+  by_hand.excitation_midpoint_sin.clear();
+  Eigen::VectorXd z_hand = z, z_phase = z;
+  SegmentTables::CyclePhase phase;
   for (long cycle : {0L, 1L, 977L}) {
     for (int j = 0; j < t.segments(); ++j) {
       const double t0 = static_cast<double>(cycle) * t.mesh_period + t.boundaries[j];
@@ -64,6 +68,11 @@ TEST_CASE(
       by_hand.SetInputs(cycle, j, z_hand);
       const int slot = t.input_slot(SegmentTables::kExcitationInput);
       CHECK(std::abs(z[slot] - z_hand[slot]) <= 1e-14 * amplitude);
+      // sin(theta + psi) = sin theta cos psi + cos theta sin psi with theta the cycle's phase
+      // and psi the midpoint's: against the quadrature, to the same rounding of the phases.
+      t.SetInputs(cycle, j, z_phase, phase);
+      CHECK(phase.cycle == cycle);
+      CHECK(std::abs(z_phase[slot] - QuadratureMean(t, t0, h)) <= tolerance);
     }
   }
   // A very short window: the mean tends to the value at the midpoint (the difference-of-cosines

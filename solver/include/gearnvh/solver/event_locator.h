@@ -303,7 +303,11 @@ class DyadicLocator final : public SubstepLocator {
 
 // V3: per whole segment, w = S^-1 z (one matvec); the gap of every wall is the closed form
 // p(t) + sum e^{sigma t}(alpha cos wt + beta sin wt) + sum gamma e^{lambda t} (ClosedFormGap);
-// its first rise is found with certified bounds and Newton. At an event z <- S e^{B t*} w and the
+// its first rise is found with certified bounds and Newton. A segment start is first screened
+// (ClosedFormGap::ClearOfWall: a few dot products with rows precomputed per segment, state and
+// wall); a wall it clears is not searched, so most segments skip Load() and the search, and
+// the result is the same (the screen is sufficient and keeps the search's rounding margin).
+// At an event z <- S e^{B t*} w and the
 // search restarts in the new state; after the last event of a segment z <- S e^{B(h - t)} w.
 // A segment without an event is left in one matvec:
 //   carried (state.allow_carry, the next segment's decomposition in the same state usable and
