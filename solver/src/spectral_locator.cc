@@ -22,9 +22,8 @@ SpectralLocator::SpectralLocator(const SegmentTables& tables, const SolverOption
   w_ref_.assign(tables.segments(), 0.0);
 }
 
-SpectralLocator::System& SpectralLocator::Prepared(int segment, ContactState state) {
+SpectralLocator::System& SpectralLocator::Build(int segment, ContactState state) {
   System& sp = systems_[segment][static_cast<int>(state)];
-  if (sp.built) return sp;
   sp.built = true;
   // One balancing frequency for all three states of a segment (the same scaling whichever state
   // is visited first).
@@ -50,9 +49,8 @@ SpectralLocator::System& SpectralLocator::Prepared(int segment, ContactState sta
   return sp;
 }
 
-const Eigen::MatrixXd* SpectralLocator::Carry(int segment, ContactState state) {
+const Eigen::MatrixXd* SpectralLocator::BuildCarry(int segment, ContactState state) {
   System& sp = systems_[segment][static_cast<int>(state)];
-  if (sp.carry_built) return sp.carry.size() > 0 ? &sp.carry : nullptr;
   sp.carry_built = true;
   if (max_carry_error_ <= 0.0) return nullptr;
   const int m = t_.m, p = t_.inputs;
