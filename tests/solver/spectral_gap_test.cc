@@ -13,6 +13,14 @@
 namespace gearnvh {
 namespace {
 
+// A light-load pair with one engine order: its gap moves across the backlash within a segment.
+GearboxSpec LightExcitedPair() {
+  GearboxSpec spec = testing::StandardPair(27, 43, 2e-3, 15e-3);
+  spec.operating.torque = 0.2;
+  spec.operating.excitation = {{2.0, 1500.0, 0.0}};
+  return spec;
+}
+
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 
 // z = [x; v; 1]: x'' = -w^2 (x - rest) + accel. n = 1, m = 3.
@@ -209,11 +217,8 @@ TEST_CASE("derivative bounds of the closed-form gap hold on every sub-interval",
           "[solver][spectral]") {
   // The search's certificates are only as good as these bounds: |g'| and |g''| sampled densely
   // on [a, b] must never exceed DerivativeBound(a, b, order).
-  GearboxSpec spec = testing::StandardPair(27, 43, 2e-3, 15e-3);
-  spec.operating.torque = 0.2;
-  spec.operating.excitation = {{2.0, 1500.0, 0.0}};
   const Tier tier = GENERATE(Tier::kTier1, Tier::kTier3);
-  const testing::SolverSetup s(spec, tier);
+  const testing::SolverSetup s(LightExcitedPair(), tier);
   const SegmentTables& t = s.tables;
   auto [z, state0] = StaticInitialState(t);
   z[t.m - 1] = 50.0;
@@ -251,11 +256,8 @@ TEST_CASE("the screen of a segment start clears far walls and never one the gap 
   // ClearOfWall must be sufficient (a cleared wall is not reached on [0, H]: FirstRise finds no
   // root) and useful. The wall is moved by a constant added to the gap row (the constant slot) so
   // that sign * g peaks at q times the spread of g over the segment (sampled densely).
-  GearboxSpec spec = testing::StandardPair(27, 43, 2e-3, 15e-3);
-  spec.operating.torque = 0.2;
-  spec.operating.excitation = {{2.0, 1500.0, 0.0}};
   const Tier tier = GENERATE(Tier::kTier1, Tier::kTier3);
-  const testing::SolverSetup s(spec, tier);
+  const testing::SolverSetup s(LightExcitedPair(), tier);
   const SegmentTables& t = s.tables;
   const double floor = 1e-12 * t.half_backlash;
   for (int j = 0; j < t.segments(); j += 7) {
