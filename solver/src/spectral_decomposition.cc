@@ -75,11 +75,22 @@ SpectralDecomposition DecomposeGenerator(const Eigen::MatrixXd& A, int n, double
   Eigen::VectorXd wr(m), wi(m);
   std::vector<int> bwork(m);
   int sdim = 0, info = 0, lwork = -1;
-  double query = 0.0;
-  dgees_("V", "S", SelectNearZero, &m, T.data(), &m, &sdim, wr.data(), wi.data(), Q.data(), &m,
-         &query, &lwork, bwork.data(), &info, 1, 1);
-  lwork = std::max(1, static_cast<int>(query));
-  std::vector<double> work(lwork);
+  // The optimal workspace depends on m only: queried once per size and thread, and the buffer
+  // kept (a train decomposes thousands of tuples of a few sizes).
+  thread_local std::vector<std::pair<int, int>> optimal_lwork;  // (m, lwork)
+  thread_local std::vector<double> work;
+  const auto known = std::find_if(optimal_lwork.begin(), optimal_lwork.end(),
+                                  [m](const std::pair<int, int>& e) { return e.first == m; });
+  if (known != optimal_lwork.end()) {
+    lwork = known->second;
+  } else {
+    double query = 0.0;
+    dgees_("V", "S", SelectNearZero, &m, T.data(), &m, &sdim, wr.data(), wi.data(), Q.data(), &m,
+           &query, &lwork, bwork.data(), &info, 1, 1);
+    lwork = std::max(1, static_cast<int>(query));
+    optimal_lwork.emplace_back(m, lwork);
+  }
+  if (work.size() < static_cast<size_t>(lwork)) work.resize(static_cast<size_t>(lwork));
   dgees_("V", "S", SelectNearZero, &m, T.data(), &m, &sdim, wr.data(), wi.data(), Q.data(), &m,
          work.data(), &lwork, bwork.data(), &info, 1, 1);
   if (info != 0) {

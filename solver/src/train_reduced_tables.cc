@@ -59,6 +59,7 @@ TrainTables BuildReducedTrainTables(const TrainSpec& spec, const GearTrain& trai
     mt.v = left(reduced.v_drive[i]);
     mt.v_back = left(reduced.v_back[i]);
     mt.distinct_back = mt.v_back != mt.v;
+    mt.FindSupport();
   }
   // The free rotation: x_r = M^-1 T^T M_full R, y_r = L^T x_r, unit length (M-normalised).
   const Eigen::VectorXd mr = structure.M * structure.free_rotations.col(0);

@@ -11,6 +11,14 @@
 #include "taylor_root.h"
 
 namespace gearnvh {
+namespace {
+
+// acc += x column over n entries (distinct arrays: the loop vectorises).
+void AddScaled(double* __restrict acc, const double* __restrict column, double x, int n) {
+  for (int r = 0; r < n; ++r) acc[r] += column[r] * x;
+}
+
+}  // namespace
 
 void TrainStepper::TaylorColumns(const TrainSystem& sys) {
   // z_k = A z_{k-1} / k. A = [[0, I, 0, 0], [A_x, A_v, f, d], [0 ...]]: positions take the
@@ -24,13 +32,15 @@ void TrainStepper::TaylorColumns(const TrainSystem& sys) {
     double* next = taylor_.col(k).data();
     for (int r = 0; r < n; ++r) next[r] = prev[n + r] * inv_k;
     for (int r = n; r < m; ++r) next[r] = 0.0;
-    // The slots' columns only act on z itself (the later columns are zero there).
-    const int columns = k == 1 ? m : 2 * n;
-    for (int c = 0; c < columns; ++c) {
+    // Only the coupled bodies' columns act (the others are zero); the slots' columns only act on
+    // z itself (the later columns are zero there).
+    const auto add_column = [&](int c) {
       const double x = prev[c] * inv_k;
-      if (x == 0.0) continue;
-      const double* column = a + static_cast<size_t>(c) * m + n;
-      for (int r = 0; r < n; ++r) next[n + r] += column[r] * x;
+      if (x != 0.0) AddScaled(next + n, a + static_cast<size_t>(c) * m + n, x, n);
+    };
+    for (int c : sys.coupled_columns) add_column(c);
+    if (k == 1) {
+      for (int c = 2 * n; c < m; ++c) add_column(c);
     }
   }
 }
@@ -39,7 +49,6 @@ double TrainStepper::AdvanceDense(const TrainSystem& sys, double remaining, Trai
   ++summary_.dense_pieces;
   const double d = std::min(remaining, sys.substep);
   TaylorColumns(sys);
-  const int n = t_.n;
   double best = -1.0;
   int best_mesh = -1;
   Wall best_wall;
@@ -47,8 +56,8 @@ double TrainStepper::AdvanceDense(const TrainSystem& sys, double remaining, Trai
   // The Taylor coefficients of the wall's flank row (v_i, or v_back,i for g-); a wall's gap
   // differs from it only in the constant term.
   const auto load_delta = [&](size_t i, bool drive) {
-    const Eigen::VectorXd& v = t_.meshes[i].Vector(drive);
-    for (int p = 0; p <= kTaylorTerms; ++p) delta[p] = v.dot(taylor_.col(p).head(n));
+    for (int p = 0; p <= kTaylorTerms; ++p)
+      delta[p] = t_.meshes[i].Dot(drive, taylor_.col(p).data());
   };
   // sign * (gap of `wall` of mesh i) as a polynomial in the time into the sub-step.
   const auto load_wall = [&](size_t i, const Wall& wall) {

@@ -47,6 +47,14 @@ double TrainTables::MeanExcitation(double t0, double h) const {
   return sum;
 }
 
+void TrainMeshTable::FindSupport() {
+  support.clear();
+  for (int j = 0; j < v.size(); ++j) {
+    if (v[j] != 0.0 || v_back[j] != 0.0) support.push_back(j);
+  }
+  if (support.size() == static_cast<size_t>(v.size())) support.clear();  // dense
+}
+
 double TrainTables::Wall(int mesh, int segment, bool drive) const {
   const TrainMeshTable& mt = meshes[static_cast<size_t>(mesh)];
   const double e = mt.error[static_cast<size_t>(segment)];
@@ -56,7 +64,7 @@ double TrainTables::Wall(int mesh, int segment, bool drive) const {
 double TrainTables::GapValue(int mesh, int segment, bool drive, const Eigen::VectorXd& z) const {
   const TrainMeshTable& mt = meshes[static_cast<size_t>(mesh)];
   const double e = mt.error[static_cast<size_t>(segment)];
-  return mt.Vector(drive).dot(z.head(n)) - e + (drive ? -mt.half_backlash : mt.half_backlash);
+  return mt.Dot(drive, z.data()) - e + (drive ? -mt.half_backlash : mt.half_backlash);
 }
 
 double TrainTables::GapTolerance(int mesh, int segment, bool drive,
@@ -65,7 +73,11 @@ double TrainTables::GapTolerance(int mesh, int segment, bool drive,
   const double e = mt.error[static_cast<size_t>(segment)];
   double magnitude = std::abs(e + (drive ? mt.half_backlash : -mt.half_backlash));
   const Eigen::VectorXd& v = mt.Vector(drive);
-  for (int j = 0; j < n; ++j) magnitude += std::abs(v[j] * z[j]);
+  if (mt.support.empty()) {
+    for (int j = 0; j < n; ++j) magnitude += std::abs(v[j] * z[j]);
+  } else {
+    for (int j : mt.support) magnitude += std::abs(v[j] * z[j]);
+  }
   return 1e-12 * mt.half_backlash + 64.0 * std::numeric_limits<double>::epsilon() * magnitude;
 }
 
@@ -142,6 +154,7 @@ TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
     mt.v[mm.body_a] += ra;
     mt.v[mm.body_b] -= rb;
     mt.v_back = mt.v;
+    mt.FindSupport();
     const int teeth = spec.gears[static_cast<size_t>(mm.gear_a)].gear.teeth;
     const double speed_a = std::abs(topo.bodies[static_cast<size_t>(mm.body_a)].speed);
     mt.period = 2.0 * std::numbers::pi / (teeth * speed_a);
@@ -202,32 +215,11 @@ size_t SystemBytes(const TrainSystem& s, size_t key_words) {
     const size_t zero = static_cast<size_t>(d.zero_size);
     doubles += (s.delta.size() + s.delta_back.size()) * terms * (zero + 1);
   }
-  return doubles * sizeof(double) +
+  return doubles * sizeof(double) + s.coupled_columns.size() * sizeof(int) +
          s.decomposition.blocks.size() * sizeof(SpectralDecomposition::Block) +
          (s.delta.size() + s.delta_back.size()) *
              (sizeof(ClosedFormGap) + 16 * sizeof(double) * s.decomposition.blocks.size()) +
          sizeof(TrainSystem) + 2 * key_words * sizeof(uint64_t) + 128;
-}
-
-// DecomposeGenerator keeps at least zero_size + 1 terms of e^{B0 t} (the nilpotency index can
-// be as large as the cluster). On a train the cluster is mostly free bodies (the rigid rotation
-// and every free loose gear: 2 each, plus the two slots) whose chains are short (slot -> velocity
-// -> angle), so B0^k vanishes to rounding from k = 3 on. Keeps the terms up to the last one that
-// is not below the decomposition's own cut (1e-18 of the largest term, t <= horizon): every term
-// dropped is below that cut, as the terms the decomposition drops after its last.
-void TrimSeries(SpectralDecomposition& d, double horizon) {
-  if (d.zero_size == 0 || d.series_terms <= 1) return;
-  std::vector<double> size(static_cast<size_t>(d.series_terms));
-  Eigen::MatrixXd power = Eigen::MatrixXd::Identity(d.zero_size, d.zero_size);
-  double largest = 1.0;
-  for (int k = 0; k < d.series_terms; ++k) {
-    size[static_cast<size_t>(k)] = power.cwiseAbs().maxCoeff() * std::pow(horizon, k);
-    largest = std::max(largest, size[static_cast<size_t>(k)]);
-    power = (d.B0 * power) / static_cast<double>(k + 1);
-  }
-  int keep = d.series_terms;
-  while (keep > 1 && size[static_cast<size_t>(keep) - 1] <= 1e-18 * largest) --keep;
-  d.series_terms = keep;
 }
 
 }  // namespace
@@ -257,6 +249,7 @@ const TrainSystem& TrainSystemCache::Get(const std::vector<int>& segments,
     summary_.index_bytes += kIndexNodeBytes + key.size() * sizeof(uint64_t);
   }
   lru_.push_front(Entry{key, Build(segments, states), &found->second});
+  lru_.front().system.bytes = SystemBytes(lru_.front().system, static_cast<size_t>(key_words_));
   found->second.entry = lru_.begin();
   found->second.held = true;
   summary_.bytes += lru_.front().system.bytes;
@@ -287,90 +280,6 @@ void TrainSystemCache::Evict() {
   }
   summary_.peak_bytes = std::max(summary_.peak_bytes, summary_.bytes);
   summary_.tuples = static_cast<long>(lru_.size());
-}
-
-TrainSystem TrainSystemCache::Build(const std::vector<int>& segments,
-                                    const std::vector<ContactState>& states) const {
-  const int n = t_.n, m = t_.m;
-  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n, n), C = Eigen::MatrixXd::Zero(n, n);
-  if (t_.structural_stiffness.size() > 0) K = t_.structural_stiffness;
-  if (t_.structural_damping.size() > 0) C = t_.structural_damping;
-  Eigen::VectorXd f = t_.force;
-  TrainSystem s;
-  for (size_t i = 0; i < t_.meshes.size(); ++i) {
-    const TrainMeshTable& mt = t_.meshes[i];
-    const int j = segments[i];
-    const double e = mt.error[static_cast<size_t>(j)], b = mt.half_backlash;
-    if (states[i] != ContactState::kFree) {
-      const bool drive = states[i] == ContactState::kDrive;
-      const double k =
-          drive ? mt.k_drive[static_cast<size_t>(j)] : mt.k_back[static_cast<size_t>(j)];
-      const Eigen::VectorXd& v = mt.Vector(drive);
-      K += k * v * v.transpose();
-      C += mt.damping * v * v.transpose();
-      f += k * (drive ? e + b : e - b) * v;
-    }
-  }
-  const Eigen::VectorXd inv_j = t_.inertia.cwiseInverse();
-  s.A = Eigen::MatrixXd::Zero(m, m);
-  s.A.block(0, n, n, n).setIdentity();
-  s.A.block(n, 0, n, n) = -(inv_j.asDiagonal() * K);
-  s.A.block(n, n, n, n) = -(inv_j.asDiagonal() * C);
-  s.A.block(n, t_.constant_slot(), n, 1) = inv_j.cwiseProduct(f);
-  s.A.block(n, t_.input_slot(), n, 1) = inv_j.cwiseProduct(t_.excitation_direction);
-  // lambda_max(M^-1 X) from the symmetric M^-1/2 X M^-1/2 (same eigenvalues, cheaper).
-  const Eigen::VectorXd root_inv_j = inv_j.cwiseSqrt();
-  const auto largest = [&](const Eigen::MatrixXd& X) {
-    const Eigen::MatrixXd sym = root_inv_j.asDiagonal() * X * root_inv_j.asDiagonal();
-    return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(sym, Eigen::EigenvaluesOnly)
-        .eigenvalues()
-        .cwiseAbs()
-        .maxCoeff();
-  };
-  const double w_stiff = std::sqrt(largest(K));
-  // C's skew part (gyroscopic, reduced tiers) makes the pencil non-symmetric: with u^*Mu = 1,
-  // lambda^2 + (c + i gamma) lambda + k = 0 has |lambda| <= |c + i gamma| + sqrt(k), |gamma|
-  // bounded by the skew part's norm (2-norm <= Frobenius).
-  // Only the structure's C_0 + w G can be skew (the mesh terms are symmetric up to rounding of
-  // c v_i v_j, which must not switch tier 1 to the looser bound).
-  const Eigen::MatrixXd& c0 = t_.structural_damping;
-  const Eigen::MatrixXd skew =
-      c0.size() > 0 ? Eigen::MatrixXd(0.5 * (c0 - c0.transpose())) : Eigen::MatrixXd();
-  const double rho = skew.size() == 0 || skew.isZero(0.0)
-                         ? std::max(w_stiff, largest(C))
-                         : w_stiff + largest(0.5 * (C + C.transpose())) +
-                               (root_inv_j.asDiagonal() * skew * root_inv_j.asDiagonal()).norm();
-  s.substep = rho > 0.0 ? 0.5 / rho : t_.longest_segment;
-  s.w_ref = std::max(1.0, w_stiff);  // as ReferenceFrequency(A, n)
-  s.bytes = SystemBytes(s, static_cast<size_t>(key_words_));
-  return s;
-}
-
-void TrainSystemCache::Decompose(TrainSystem& s) const {
-  const int n = t_.n, m = t_.m;
-  s.decomposed = true;
-  s.decomposition = DecomposeGenerator(s.A, n, s.w_ref, t_.longest_segment, options_.max_condition);
-  s.spectral = s.decomposition.info == SpectralDecomposition::Info::kSuccess &&
-               s.decomposition.zero_size > 0;
-  if (!s.spectral) {
-    s.decomposition = SpectralDecomposition{};  // drop the unusable factors
-    return;
-  }
-  TrimSeries(s.decomposition, t_.longest_segment);
-  Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(m);
-  s.delta.reserve(t_.meshes.size());
-  bool distinct = false;
-  for (const TrainMeshTable& mt : t_.meshes) {
-    row.head(n) = mt.v.transpose();
-    s.delta.emplace_back(s.decomposition, row);
-    distinct = distinct || mt.distinct_back;
-  }
-  if (!distinct) return;
-  s.delta_back.reserve(t_.meshes.size());
-  for (const TrainMeshTable& mt : t_.meshes) {
-    row.head(n) = mt.v_back.transpose();
-    s.delta_back.emplace_back(s.decomposition, row);
-  }
 }
 
 }  // namespace gearnvh

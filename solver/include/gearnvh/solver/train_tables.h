@@ -58,6 +58,18 @@ struct TrainMeshTable {
   Eigen::VectorXd v_back;
   bool distinct_back = false;  // v_back != v
   const Eigen::VectorXd& Vector(bool drive) const { return drive ? v : v_back; }
+  // The coordinates where v or v_back is nonzero, ascending (tier 1: the mesh's two bodies);
+  // empty: every coordinate. The gap rows are evaluated on these only.
+  std::vector<int> support;
+  void FindSupport();  // from v and v_back
+  // Vector(drive)^T x over the first n entries of x (on the support).
+  double Dot(bool drive, const double* x) const {
+    const Eigen::VectorXd& u = Vector(drive);
+    if (support.empty()) return u.dot(Eigen::Map<const Eigen::VectorXd>(x, u.size()));
+    double sum = 0.0;
+    for (int j : support) sum += u[j] * x[j];
+    return sum;
+  }
   double period = 0.0;           // T_i, s
   std::vector<double> boundary;  // segment starts within [0, T_i), plus T_i (size S_i + 1), s
   std::vector<double> k_drive, k_back, error;  // per segment: N/m, N/m, m
@@ -140,6 +152,10 @@ struct TrainSystem {
   // max(sqrt(lambda_max(M^-1 K)), lambda_max(M^-1 C)).
   double substep = 0.0;
   double w_ref = 1.0;  // sqrt(lambda_max(M^-1 K)): the decomposition's velocity balance, rad/s
+  // The columns c < 2n of A with a nonzero acceleration entry (the positions and velocities of
+  // the bodies a contact or the structure couples), ascending: the dense path's Taylor products
+  // skip the others, which are zero (a loose gear whose mesh is free is a free body).
+  std::vector<int> coupled_columns;
   // Per mesh, the closed form of delta_i (spectral only); mutable: Load() keeps its coefficients.
   mutable std::vector<ClosedFormGap> delta;
   // Per mesh, the closed form of v_back^T x when some mesh's back vector differs (else empty).
@@ -181,6 +197,10 @@ class TrainSystemCache {
  private:
   TrainSystem Build(const std::vector<int>& segments,
                     const std::vector<ContactState>& states) const;
+  // The damping's part of the dense path's rate bound (TrainSystem::substep): it depends on the
+  // contact states only (c_i is constant per mesh), so it is computed once per state
+  // combination (2 bits per mesh; trains of more than 32 meshes compute it per tuple).
+  double DampingRate(const std::vector<ContactState>& states, const Eigen::MatrixXd& C) const;
   void Decompose(TrainSystem& s) const;
   struct Entry;
   struct Slot {
@@ -201,6 +221,7 @@ class TrainSystemCache {
   int key_words_ = 1;
   std::list<Entry> lru_;  // most recent first
   std::unordered_map<TupleKey, Slot, TupleKeyHash> index_;
+  mutable std::unordered_map<uint64_t, double> damping_rate_;  // per state combination
   TrainCacheSummary summary_;
 };
 
