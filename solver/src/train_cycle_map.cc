@@ -25,13 +25,16 @@ void FlushSubnormals(Eigen::MatrixBase<Derived>& x) {
   }
 }
 
-// Every grid segment of one common period from t = 0: f(segments, start, length).
+// Every grid segment of one common period from t = 0: f(grid).
 template <typename F>
 void ForEachPeriodSegment(const TrainTables& t, F&& f) {
   const double until = t.common_period * (1.0 - 1e-12);
-  for (TrainGrid grid(t); grid.start() < until; grid.Next()) {
-    f(grid.segments(), grid.start(), grid.end() - grid.start());
-  }
+  for (TrainGrid grid(t); grid.start() < until; grid.Next()) f(grid);
+}
+
+// The input slots of the grid segment's start (the excitation's and the errors' means) into z.
+void SetGridInputs(const TrainTables& t, const TrainGrid& grid, Eigen::Ref<Eigen::VectorXd> z) {
+  t.SetInputs(grid.cycles(), grid.segments(), grid.start(), grid.end() - grid.start(), z);
 }
 
 }  // namespace
@@ -57,14 +60,18 @@ TrainCycleMap::TrainCycleMap(const TrainTables& tables, const std::vector<Contac
 void TrainCycleMap::BuildMap(TupleMemo& memo, std::vector<Eigen::MatrixXd>& propagators,
                              long grid_segments) {
   const int n = t_.n, m = t_.m, e = 2 * n;
-  const int c = t_.constant_slot(), u = t_.input_slot();
+  const int c = t_.constant_slot();
   phi_ = Eigen::MatrixXd::Identity(m, m);
+  Eigen::VectorXd inputs = Eigen::VectorXd::Zero(m);
   const bool keep = static_cast<double>(grid_segments) * m * m * sizeof(double) <= kKeepBytes;
   if (keep) propagators.reserve(static_cast<size_t>(grid_segments));
-  ForEachPeriodSegment(t_, [&](const std::vector<int>& segments, double start, double h) {
-    // R_g: the input slot is set to the segment's mean excitation (times the constant slot).
-    const double input = t_.excitation.empty() ? 0.0 : t_.MeanExcitation(start, h);
-    phi_.row(u) = input * phi_.row(c);
+  ForEachPeriodSegment(t_, [&](const TrainGrid& grid) {
+    const std::vector<int>& segments = grid.segments();
+    const double h = grid.end() - grid.start();
+    // R_g: the input slots are set to the segment's mean excitation and mean manufacturing
+    // errors (times the constant slot).
+    SetGridInputs(t_, grid, inputs);
+    for (int slot = t_.input_slot(); slot < m; ++slot) phi_.row(slot) = inputs[slot] * phi_.row(c);
     const Tuple& tuple = Lookup(memo, segments);
     const Eigen::MatrixXd full = BalancedExpm(tuple.A, h, n, tuple.w_ref);
     phi_ = (full * phi_).eval();
@@ -116,7 +123,6 @@ void TrainCycleMap::BuildMap(TupleMemo& memo, std::vector<Eigen::MatrixXd>& prop
 void TrainCycleMap::BuildCertificate(TupleMemo& memo,
                                      const std::vector<Eigen::MatrixXd>& propagators) {
   const int n = t_.n, m = t_.m, e = 2 * n;
-  const int c = t_.constant_slot(), u = t_.input_slot();
   const int meshes = static_cast<int>(t_.meshes.size());
   const int terms = kTaylorTerms + 1;
   Eigen::VectorXd z = orbit_;
@@ -131,8 +137,10 @@ void TrainCycleMap::BuildCertificate(TupleMemo& memo,
   Eigen::VectorXd f(meshes * terms), zn(m);
   Eigen::MatrixXd Yn(m, 2 * e);
   size_t index = 0;
-  ForEachPeriodSegment(t_, [&](const std::vector<int>& segments, double start, double h) {
-    z[u] = t_.excitation.empty() ? 0.0 : t_.MeanExcitation(start, h);
+  ForEachPeriodSegment(t_, [&](const TrainGrid& grid) {
+    const std::vector<int>& segments = grid.segments();
+    const double h = grid.end() - grid.start();
+    SetGridInputs(t_, grid, z);
     const Tuple& tuple = Lookup(memo, segments);
     const int substeps = std::max(1, static_cast<int>(std::ceil(tuple.rho * h)));
     const double d = h / substeps;
@@ -162,7 +170,7 @@ void TrainCycleMap::BuildCertificate(TupleMemo& memo,
       for (int j = 0; j < meshes; ++j) {
         const bool drive = states_[static_cast<size_t>(j)] == ContactState::kDrive;
         const double sign = drive ? 1.0 : -1.0;  // inside: g+ > 0 (drive), g- < 0 (back)
-        const double wall = t_.Wall(j, segments[static_cast<size_t>(j)], drive) * z[c];
+        const double wall = t_.Wall(j, segments[static_cast<size_t>(j)], drive, z);
         const auto fj = f.segment(j * terms, terms);
         double curvature = 0.0;
         for (int p = 2; p < terms; ++p) curvature += p * (p - 1) * std::abs(fj[p]);

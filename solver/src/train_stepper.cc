@@ -283,9 +283,10 @@ void TrainStepper::Record(const TrainSystem& sys, const Eigen::Ref<const Eigen::
 }
 
 bool TrainStepper::AdvanceGridSegment(double until, TrainRecorder* rec) {
-  // The input: the excitation's mean over the whole grid segment (independent of how runs split).
+  // The inputs: the excitation's and the manufacturing errors' means over the whole grid segment
+  // (independent of how runs split).
   const double h = grid_.end() - grid_.start();
-  z_[t_.input_slot()] = t_.excitation.empty() ? 0.0 : t_.MeanExcitation(grid_.start(), h);
+  t_.SetInputs(grid_.cycles(), grid_.segments(), grid_.start(), h, z_);
   events_this_segment_ = 0;
   // A state outside a wall at the grid segment's start (e_ij jumped) switches at once; at most
   // two switches per mesh (free -> contact -> never outside its own wall). Only at the start, as
@@ -332,7 +333,7 @@ double TrainStepper::AdvanceSpectral(const TrainSystem& sys, double remaining, T
     const ClosedFormGap* held = nullptr;  // the closed form last loaded, and its wall
     double loaded = 0.0;
     for (int k = 0; k < count; ++k) {
-      const double wall = t_.Wall(static_cast<int>(i), segment, walls[k].drive);
+      const double wall = t_.Wall(static_cast<int>(i), segment, walls[k].drive, z_);
       ClosedFormGap& gap = sys.Gap(i, walls[k].drive);
       if (&gap != held) {
         gap.Load(w_, -wall);

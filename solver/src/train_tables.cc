@@ -56,14 +56,16 @@ double TrainTables::Wall(int mesh, int segment, bool drive) const {
 double TrainTables::GapValue(int mesh, int segment, bool drive, const Eigen::VectorXd& z) const {
   const TrainMeshTable& mt = meshes[static_cast<size_t>(mesh)];
   const double e = mt.error[static_cast<size_t>(segment)];
-  return mt.Vector(drive).dot(z.head(n)) - e + (drive ? -mt.half_backlash : mt.half_backlash);
+  return mt.Vector(drive).dot(z.head(n)) - e - ErrorInput(mesh, z) +
+         (drive ? -mt.half_backlash : mt.half_backlash);
 }
 
 double TrainTables::GapTolerance(int mesh, int segment, bool drive,
                                  const Eigen::VectorXd& z) const {
   const TrainMeshTable& mt = meshes[static_cast<size_t>(mesh)];
   const double e = mt.error[static_cast<size_t>(segment)];
-  double magnitude = std::abs(e + (drive ? mt.half_backlash : -mt.half_backlash));
+  double magnitude =
+      std::abs(e + (drive ? mt.half_backlash : -mt.half_backlash) + ErrorInput(mesh, z));
   const Eigen::VectorXd& v = mt.Vector(drive);
   for (int j = 0; j < n; ++j) magnitude += std::abs(v[j] * z[j]);
   return 1e-12 * mt.half_backlash + 64.0 * std::numeric_limits<double>::epsilon() * magnitude;
@@ -157,6 +159,12 @@ TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
       t.longest_segment = std::max(t.longest_segment, (s.tau_end - s.tau_begin) * mt.period);
     }
     mt.boundary.push_back(mt.period);
+    // The errors repeat after whole revolutions of the gears that carry them.
+    mt.errors = MeshErrorExcitation(mm.pair, seg);
+    if (mt.errors.active()) {
+      cycles_per_revolution.push_back(teeth * speed_a / t.input_speed /
+                                      static_cast<double>(mt.errors.period_cycles()));
+    }
     mt.half_backlash = 0.5 * spec.meshes[i].mesh.backlash;
     const double ja = t.inertia[mm.body_a], jb = t.inertia[mm.body_b];
     mt.effective_mass = ja * jb / (ja * rb * rb + jb * ra * ra);
@@ -165,6 +173,7 @@ TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
     mt.transmitted_torque = mm.transmitted_torque;
     t.meshes.push_back(std::move(mt));
   }
+  AssignErrorInputs(t);
   const long revolutions =
       CommonPeriodRevolutions(cycles_per_revolution, options.max_common_period_revolutions);
   t.common_period = static_cast<double>(revolutions) * t.InputRevolution();
@@ -318,6 +327,7 @@ TrainSystem TrainSystemCache::Build(const std::vector<int>& segments,
   s.A.block(n, n, n, n) = -(inv_j.asDiagonal() * C);
   s.A.block(n, t_.constant_slot(), n, 1) = inv_j.cwiseProduct(f);
   s.A.block(n, t_.input_slot(), n, 1) = inv_j.cwiseProduct(t_.excitation_direction);
+  t_.AddErrorColumns(segments, states, s.A);
   // lambda_max(M^-1 X) from the symmetric M^-1/2 X M^-1/2 (same eigenvalues, cheaper).
   const Eigen::VectorXd root_inv_j = inv_j.cwiseSqrt();
   const auto largest = [&](const Eigen::MatrixXd& X) {
