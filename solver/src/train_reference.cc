@@ -96,8 +96,9 @@ double Gap(const Problem& p, size_t i, bool drive, const double* z) {
   const Eigen::VectorXd& v = mt.Vector(drive);
   double delta = 0.0;
   for (int r = 0; r < p.t->n; ++r) delta += v[r] * z[r];
-  const double e = mt.error[static_cast<size_t>(p.segments[i])] +
-                   p.t->ErrorInput(static_cast<int>(i), Eigen::Map<const Eigen::VectorXd>(z, p.t->m));
+  const double e =
+      mt.error[static_cast<size_t>(p.segments[i])] +
+      p.t->ErrorInput(static_cast<int>(i), Eigen::Map<const Eigen::VectorXd>(z, p.t->m));
   return drive ? delta - e - mt.half_backlash : delta - e + mt.half_backlash;
 }
 
