@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <string>
 
 #include "gearnvh/model/input_error.h"
@@ -232,12 +233,26 @@ void TrainStepper::Switch(int mesh, ContactState to, double time, TrainRecorder*
   states_[i] = to;
   ++summary_.events;
   ++events_this_segment_;
+  last_event_mesh_ = mesh;
 }
 
 void TrainStepper::Graze(int mesh, double time, TrainRecorder* rec) {
   ++summary_.grazing;
   ++events_this_segment_;
+  last_event_mesh_ = mesh;
   if (rec != nullptr) rec->Grazing(mesh, time);
+}
+
+std::string TrainStepper::TooManyEventsMessage() const {
+  std::ostringstream text;
+  text.precision(9);
+  text << "more than " << options_.max_events_per_segment
+       << " contact events (impacts and grazing touches) in the grid segment [" << grid_.start()
+       << ", " << grid_.end() << "] s, stopped at t = " << time_ << " s";
+  if (last_event_mesh_ >= 0) {
+    text << "; the last on mesh " << t_.meshes[static_cast<size_t>(last_event_mesh_)].name;
+  }
+  return text.str();
 }
 
 void TrainStepper::TaylorValue(double tau, Eigen::VectorXd& out) const {
@@ -314,6 +329,7 @@ bool TrainStepper::AdvanceGridSegment(double until, TrainRecorder* rec) {
     time_ += step;
     if (events_this_segment_ > options_.max_events_per_segment) {
       summary_.info = TrainStepperSummary::Info::kTooManyEvents;
+      summary_.message = TooManyEventsMessage();
       return false;
     }
   }
