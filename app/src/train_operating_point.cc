@@ -16,8 +16,10 @@
 namespace gearnvh::app {
 namespace {
 
-// What the train solver does not model yet, said once per run.
-std::vector<std::string> TrainWarnings(const TrainSpec& spec, const GearTrain& train) {
+// What the train solver does not model yet, and errors that may unload tooth pairs (the pair's
+// warning, per mesh), said once per run.
+std::vector<std::string> TrainWarnings(const TrainSpec& spec, const GearTrain& train,
+                                       const TrainTables& tables) {
   std::vector<std::string> out = train.warnings;
   for (size_t i = 0; i < spec.meshes.size(); ++i) {
     if (spec.meshes[i].mesh.friction_coefficient > 0.0) {
@@ -27,13 +29,46 @@ std::vector<std::string> TrainWarnings(const TrainSpec& spec, const GearTrain& t
           i, spec.meshes[i].mesh.friction_coefficient));
     }
   }
-  for (const TrainGear& g : spec.gears) {
-    if (g.gear.runout || !g.gear.pitch_errors.empty()) {
-      out.push_back("gears." + g.name +
-                    ": runout and pitch errors are not modelled by the train solver yet (ignored)");
+  for (size_t i = 0; i < tables.meshes.size(); ++i) {
+    const MeshErrorExcitation& errors = tables.meshes[i].errors;
+    const TrainMeshModel& mm = train.meshes[i];
+    if (!errors.active() || !(mm.stiffness.max > 0.0)) continue;
+    const double pair_deflection = mm.cycle.load / mm.stiffness.max;
+    if (errors.largest_pair_deviation() > pair_deflection) {
+      out.push_back(fmt::format(
+          "meshes[{}] ({}): pitch deviations differ by up to {:.3g} µm, more than the loaded "
+          "deflection of the mesh ({:.3g} µm at its transmitted torque): they can unload tooth "
+          "pairs, which the model does not follow (the loaded pairs of the error-free mesh carry "
+          "the errors' mean)",
+          i, mm.name, errors.largest_pair_deviation() * 1e6, pair_deflection * 1e6));
     }
   }
   return out;
+}
+
+// The shaft-order sources of the spectra: the input shaft ("fin") when the file has engine orders
+// or its gears carry errors, and every other body whose gears carry runout or pitch errors
+// ("f_<body>"), at its nominal rotation frequency.
+std::vector<ShaftOrderSource> ShaftOrderSources(const TrainSpec& spec, const GearTrain& train,
+                                                const TrainTables& tables) {
+  const TrainTopology& topo = train.topology;
+  std::vector<bool> carries(topo.bodies.size(), false);
+  for (size_t g = 0; g < spec.gears.size(); ++g) {
+    const GearSpec& gear = spec.gears[g].gear;
+    const bool runout = gear.runout && gear.runout->amplitude > 0.0;
+    const bool pitch = std::any_of(gear.pitch_errors.begin(), gear.pitch_errors.end(),
+                                   [](double f) { return f != 0.0; });
+    if (runout || pitch) carries[static_cast<size_t>(topo.gear_body[g])] = true;
+  }
+  const double to_hz = 1.0 / (2.0 * std::numbers::pi);
+  std::vector<ShaftOrderSource> sources;
+  if (!tables.excitation.empty() || carries[static_cast<size_t>(topo.input_body)])
+    sources.push_back({"fin", tables.input_speed * to_hz});
+  for (size_t b = 0; b < topo.bodies.size(); ++b) {
+    if (!carries[b] || static_cast<int>(b) == topo.input_body) continue;
+    sources.push_back({"f_" + topo.bodies[b].name, std::abs(topo.bodies[b].speed) * to_hz});
+  }
+  return sources;
 }
 
 // The spectrum window on the recorder's sample grid t_k = start + k dt: the last W whole common
@@ -126,7 +161,7 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, const TrainRun
   op.tier = options.tier;
   op.train = BuildGearTrain(spec);
   op.tables = BuildTrainTablesAtTier(spec, op.train, options.tier);
-  op.warnings = TrainWarnings(spec, op.train);
+  op.warnings = TrainWarnings(spec, op.train, op.tables);
   const TrainTables& tables = op.tables;
   // cycles and transient count cycles of the first mesh in the file.
   const double period = tables.meshes.front().period;
@@ -171,16 +206,16 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, const TrainRun
   op.stats = recorder.Result();
   if (!options.spectra) return op;
 
-  // Shaft-order content can only come from the engine orders on a train (no runout or pitch
-  // error), i.e. from orders of the input shaft: those are the shaft-order lines considered, up to
-  // the highest engine order. The common period holds whole input revolutions, so they sit on bins.
-  op.sideband_options.shaft_order_sources = !tables.excitation.empty();
+  // Shaft-order content comes from the engine orders (orders of the input shaft, up to the
+  // highest) and from the runout and pitch errors of gears (orders of the bodies that carry
+  // them). The common period holds whole revolutions of both, so their lines sit on bins.
+  const bool errors = tables.error_inputs > 0;
+  op.sideband_options.shaft_order_sources = !tables.excitation.empty() || errors;
   for (const ExcitationOrder& e : tables.excitation) {
     op.sideband_options.orders =
         std::max(op.sideband_options.orders, static_cast<int>(std::ceil(e.order)));
   }
-  const std::vector<ShaftOrderSource> sources = {
-      {"fin", tables.input_speed / (2.0 * std::numbers::pi)}};
+  const std::vector<ShaftOrderSource> sources = ShaftOrderSources(spec, op.train, tables);
   op.sideband_window_common_periods = window.periods;
   op.sidebands.resize(tables.meshes.size());
   const long window_samples = window.periods * window.samples_per_period;
@@ -204,12 +239,12 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, const TrainRun
     op.sideband_notes.push_back("no spectrum: the run stopped before the end of the record");
   }
   op.sideband_notes.push_back(
-      tables.excitation.empty()
-          ? "runout and pitch errors are not modelled on trains and the file has no engine order: "
-            "no shaft-order line or sideband can arise, so only each mesh's harmonics are listed"
-          : "runout and pitch errors are not modelled on trains: shaft-order lines and sidebands "
-            "come from the engine orders only, so the orders j fin of the input shaft are the "
-            "shaft-order lines considered");
+      !op.sideband_options.shaft_order_sources
+          ? "the train has no runout, pitch error or engine order: no shaft-order line or "
+            "sideband can arise, so only each mesh's harmonics are listed"
+          : "shaft-order lines and sidebands come from the engine orders (orders j fin of the "
+            "input shaft) and the gears' runout and pitch errors (orders of the bodies that carry "
+            "them, f_<body>); every mesh lists the lines of every source");
   op.sideband_notes.push_back(fmt::format(
       "lines are listed when {:g} dB above the median of the {} bins around them and above {:g} "
       "dB relative to the strongest bin (rounding of the exact solution lies near -300 dB)",

@@ -8,11 +8,11 @@
 // engine order back in phase, so every periodic line of every mesh sits on a bin). W is the number
 // of whole common periods in the record, bounded by the sample storage; 0 (no spectrum, a note
 // says what is needed) when the record is shorter than one common period or the train has none.
-// The lines are the pair's SidebandTable per mesh: its harmonics k fm_i and, with engine orders,
-// the input shaft's orders j fin and the sidebands k fm_i +- j fin, listed only when they stand out
-// of the local background and above the rounding floor. Runout and pitch errors are not modelled
-// on trains, so the engine excitation (orders of the input speed) is the only source of
-// shaft-order content; without it only mesh harmonics are considered (the pair's rule).
+// The lines are the pair's SidebandTable per mesh: its harmonics k fm_i, the shaft orders j f_s of
+// every source and the sidebands k fm_i +- j f_s, listed only when they stand out of the local
+// background and above the rounding floor. Sources: the input shaft (fin) with engine orders, and
+// every body whose gears carry runout or pitch errors (f_<body>; fin for the input shaft); without
+// any source only mesh harmonics are considered (the pair's rule).
 #pragma once
 
 #include <atomic>

@@ -25,16 +25,19 @@ void FlushSubnormals(Eigen::MatrixBase<Derived>& x) {
   }
 }
 
-// Every grid segment of one common period from t = 0: f(segments, start, length); stops after
-// `limit` segments. Returns the number walked.
+// Every grid segment of one common period from t = 0: f(grid); stops after `limit` segments.
+// Returns the number walked.
 template <typename F>
 long ForEachPeriodSegment(const TrainTables& t, long limit, F&& f) {
   const double until = t.common_period * (1.0 - 1e-12);
   long count = 0;
-  for (TrainGrid grid(t); grid.start() < until && count < limit; grid.Next(), ++count) {
-    f(grid.segments(), grid.start(), grid.end() - grid.start());
-  }
+  for (TrainGrid grid(t); grid.start() < until && count < limit; grid.Next(), ++count) f(grid);
   return count;
+}
+
+// The input slots of the grid segment's start (the excitation's and the errors' means) into z.
+void SetGridInputs(const TrainTables& t, const TrainGrid& grid, Eigen::Ref<Eigen::VectorXd> z) {
+  t.SetInputs(grid.cycles(), grid.segments(), grid.start(), grid.end() - grid.start(), z);
 }
 
 constexpr long kWholePeriod = std::numeric_limits<long>::max();
@@ -61,7 +64,7 @@ double TaylorTail(double q, int last_term) {
 }  // namespace
 
 long CountCommonPeriodSegments(const TrainTables& tables, long limit) {
-  return ForEachPeriodSegment(tables, limit, [](const std::vector<int>&, double, double) {});
+  return ForEachPeriodSegment(tables, limit, [](const TrainGrid&) {});
 }
 
 TrainCycleMap::TrainCycleMap(const TrainTables& tables, const std::vector<ContactState>& states,
@@ -85,20 +88,23 @@ TrainCycleMap::TrainCycleMap(const TrainTables& tables, const std::vector<Contac
 void TrainCycleMap::BuildMap(TupleMemo& memo, std::vector<Eigen::MatrixXd>& propagators,
                              long grid_segments) {
   const int n = t_.n, m = t_.m, e = 2 * n;
-  const int c = t_.constant_slot(), u = t_.input_slot();
+  const int c = t_.constant_slot();
   phi_ = Eigen::MatrixXd::Identity(m, m);
+  Eigen::VectorXd inputs = Eigen::VectorXd::Zero(m);
   const bool keep = static_cast<double>(grid_segments) * m * m * sizeof(double) <= kKeepBytes;
   if (keep) propagators.reserve(static_cast<size_t>(grid_segments));
-  ForEachPeriodSegment(
-      t_, kWholePeriod, [&](const std::vector<int>& segments, double start, double h) {
-        // R_g: the input slot is set to the segment's mean excitation (times the constant slot).
-        const double input = t_.excitation.empty() ? 0.0 : t_.MeanExcitation(start, h);
-        phi_.row(u) = input * phi_.row(c);
-        const Tuple& tuple = Lookup(memo, segments);
-        const Eigen::MatrixXd full = BalancedExpm(tuple.A, h, n, tuple.w_ref);
-        phi_ = (full * phi_).eval();
-        if (keep) propagators.push_back(full);
-      });
+  ForEachPeriodSegment(t_, kWholePeriod, [&](const TrainGrid& grid) {
+    const std::vector<int>& segments = grid.segments();
+    const double h = grid.end() - grid.start();
+    // R_g: the input slots are set to the segment's mean excitation and mean manufacturing
+    // errors (times the constant slot).
+    SetGridInputs(t_, grid, inputs);
+    for (int slot = t_.input_slot(); slot < m; ++slot) phi_.row(slot) = inputs[slot] * phi_.row(c);
+    const Tuple& tuple = Lookup(memo, segments);
+    const Eigen::MatrixXd full = BalancedExpm(tuple.A, h, n, tuple.w_ref);
+    phi_ = (full * phi_).eval();
+    if (keep) propagators.push_back(full);
+  });
   // The quotient by the free rotation (position and velocity).
   Eigen::VectorXd rp = Eigen::VectorXd::Zero(m), rv = Eigen::VectorXd::Zero(m);
   Eigen::RowVectorXd mp = Eigen::RowVectorXd::Zero(m), mv = Eigen::RowVectorXd::Zero(m);
@@ -145,7 +151,6 @@ void TrainCycleMap::BuildMap(TupleMemo& memo, std::vector<Eigen::MatrixXd>& prop
 void TrainCycleMap::BuildCertificate(TupleMemo& memo,
                                      const std::vector<Eigen::MatrixXd>& propagators) {
   const int n = t_.n, m = t_.m, e = 2 * n;
-  const int c = t_.constant_slot(), u = t_.input_slot();
   const int meshes = static_cast<int>(t_.meshes.size());
   const int terms = kTaylorTerms + 1;
   Eigen::VectorXd z = orbit_;
@@ -166,83 +171,82 @@ void TrainCycleMap::BuildCertificate(TupleMemo& memo,
                              y.tail(y.size() - e).cwiseAbs().maxCoeff()));
   };
   size_t index = 0;
-  ForEachPeriodSegment(
-      t_, kWholePeriod, [&](const std::vector<int>& segments, double start, double h) {
-        z[u] = t_.excitation.empty() ? 0.0 : t_.MeanExcitation(start, h);
-        const Tuple& tuple = Lookup(memo, segments);
-        // Tightness asks rho(A) d <= 1 (the chord bounds lose ~(rho d)^2 e^(rho d) / (8 K^2) of an
-        // oscillation); the Taylor tail asks q <= kMaxStepNorm.
-        const int substeps = std::max({1, static_cast<int>(std::ceil(tuple.rho * h)),
-                                       static_cast<int>(std::ceil(tuple.rate * h / kMaxStepNorm))});
-        const double d = h / substeps;
-        const double tail = TaylorTail(tuple.rate * d, kTaylorTerms);
-        if (substeps == 1 && index < propagators.size()) {
-          E = propagators[index];  // the map's own expm(A h)
-        } else {
-          // E = sum_p (A d)^p / p!, the sub-step's propagator (remainder below `tail` relative).
-          E.setIdentity();
-          term.setIdentity();
-          for (int p = 1; p <= kTaylorTerms; ++p) {
-            next.noalias() = tuple.A * term;
-            term = next * (d / p);
-            E += term;
+  ForEachPeriodSegment(t_, kWholePeriod, [&](const TrainGrid& grid) {
+    const std::vector<int>& segments = grid.segments();
+    const double h = grid.end() - grid.start();
+    SetGridInputs(t_, grid, z);
+    const Tuple& tuple = Lookup(memo, segments);
+    // Tightness asks rho(A) d <= 1 (the chord bounds lose ~(rho d)^2 e^(rho d) / (8 K^2) of an
+    // oscillation); the Taylor tail asks q <= kMaxStepNorm.
+    const int substeps = std::max({1, static_cast<int>(std::ceil(tuple.rho * h)),
+                                   static_cast<int>(std::ceil(tuple.rate * h / kMaxStepNorm))});
+    const double d = h / substeps;
+    const double tail = TaylorTail(tuple.rate * d, kTaylorTerms);
+    if (substeps == 1 && index < propagators.size()) {
+      E = propagators[index];  // the map's own expm(A h)
+    } else {
+      // E = sum_p (A d)^p / p!, the sub-step's propagator (remainder below `tail` relative).
+      E.setIdentity();
+      term.setIdentity();
+      for (int p = 1; p <= kTaylorTerms; ++p) {
+        next.noalias() = tuple.A * term;
+        term = next * (d / p);
+        E += term;
+      }
+    }
+    ++index;
+    // rows (mesh j, p) = c_j A^p d^p / p!: mesh j's gap as a polynomial in (tau / d).
+    double scale = 1.0;
+    for (int p = 0; p < terms; ++p) {
+      if (p > 0) scale *= d / p;
+      for (int j = 0; j < meshes; ++j)
+        rows.row(j * terms + p) = scale * tuple.gap_powers.row(j * terms + p);
+    }
+    for (int k = 0; k < substeps; ++k) {
+      f.noalias() = rows * z;
+      Q.noalias() = rows * Y;
+      const double z_scale = balanced_norm(z, tuple.w_ref);
+      for (int j = 0; j < meshes; ++j) {
+        // The polynomial's truncation: |c_j sum_{p > P} (A tau)^p / p! y| <= ||c_j||_1 tail ||S
+        // y||.
+        const double truncation = tuple.gap_norms[j] * tail;
+        const bool drive = states_[static_cast<size_t>(j)] == ContactState::kDrive;
+        const double sign = drive ? 1.0 : -1.0;  // inside: g+ > 0 (drive), g- < 0 (back)
+        const double wall = t_.Wall(j, segments[static_cast<size_t>(j)], drive, z);
+        const auto fj = f.segment(j * terms, terms);
+        double curvature = 0.0;
+        for (int p = 2; p < terms; ++p) curvature += p * (p - 1) * std::abs(fj[p]);
+        // The orbit's margin: between nodes s_k = k / K of [0, 1] (s = tau / d) a C^2 function
+        // is above its chord less sup|g''| / (8 K^2).
+        double lowest = std::numeric_limits<double>::infinity();
+        for (int k = 0; k <= kNodes; ++k)
+          lowest = std::min(lowest, sign * (Horner(fj, static_cast<double>(k) / kNodes) - wall));
+        margin_[j] = std::min(margin_[j], lowest - kChordLoss * curvature - truncation * z_scale);
+        // Each mode's gap: max |.| <= max over the nodes + sup|g''| / (8 K^2) (componentwise
+        // chord errors, summed by Minkowski into the modulus).
+        for (int i = 0; i < e; ++i) {
+          const auto re = Q.col(i).segment(j * terms, terms);
+          const auto im = Q.col(e + i).segment(j * terms, terms);
+          double mode_curvature = 0.0;
+          for (int p = 2; p < terms; ++p)
+            mode_curvature += p * (p - 1) * std::sqrt(re[p] * re[p] + im[p] * im[p]);
+          double largest = 0.0;
+          for (int k = 0; k <= kNodes; ++k) {
+            const double x = static_cast<double>(k) / kNodes;
+            largest = std::max(largest, std::hypot(Horner(re, x), Horner(im, x)));
           }
+          const double mode_scale = std::max(balanced_norm(Y.col(i), tuple.w_ref),
+                                             balanced_norm(Y.col(e + i), tuple.w_ref));
+          gain_(j, i) = std::max(
+              gain_(j, i), largest + kChordLoss * mode_curvature + 2.0 * truncation * mode_scale);
         }
-        ++index;
-        // rows (mesh j, p) = c_j A^p d^p / p!: mesh j's gap as a polynomial in (tau / d).
-        double scale = 1.0;
-        for (int p = 0; p < terms; ++p) {
-          if (p > 0) scale *= d / p;
-          for (int j = 0; j < meshes; ++j)
-            rows.row(j * terms + p) = scale * tuple.gap_powers.row(j * terms + p);
-        }
-        for (int k = 0; k < substeps; ++k) {
-          f.noalias() = rows * z;
-          Q.noalias() = rows * Y;
-          const double z_scale = balanced_norm(z, tuple.w_ref);
-          for (int j = 0; j < meshes; ++j) {
-            // The polynomial's truncation: |c_j sum_{p > P} (A tau)^p / p! y| <= ||c_j||_1 tail ||S
-            // y||.
-            const double truncation = tuple.gap_norms[j] * tail;
-            const bool drive = states_[static_cast<size_t>(j)] == ContactState::kDrive;
-            const double sign = drive ? 1.0 : -1.0;  // inside: g+ > 0 (drive), g- < 0 (back)
-            const double wall = t_.Wall(j, segments[static_cast<size_t>(j)], drive) * z[c];
-            const auto fj = f.segment(j * terms, terms);
-            double curvature = 0.0;
-            for (int p = 2; p < terms; ++p) curvature += p * (p - 1) * std::abs(fj[p]);
-            // The orbit's margin: between nodes s_k = k / K of [0, 1] (s = tau / d) a C^2 function
-            // is above its chord less sup|g''| / (8 K^2).
-            double lowest = std::numeric_limits<double>::infinity();
-            for (int k = 0; k <= kNodes; ++k)
-              lowest =
-                  std::min(lowest, sign * (Horner(fj, static_cast<double>(k) / kNodes) - wall));
-            margin_[j] =
-                std::min(margin_[j], lowest - kChordLoss * curvature - truncation * z_scale);
-            // Each mode's gap: max |.| <= max over the nodes + sup|g''| / (8 K^2) (componentwise
-            // chord errors, summed by Minkowski into the modulus).
-            for (int i = 0; i < e; ++i) {
-              const auto re = Q.col(i).segment(j * terms, terms);
-              const auto im = Q.col(e + i).segment(j * terms, terms);
-              double mode_curvature = 0.0;
-              for (int p = 2; p < terms; ++p)
-                mode_curvature += p * (p - 1) * std::sqrt(re[p] * re[p] + im[p] * im[p]);
-              double largest = 0.0;
-              for (int k = 0; k <= kNodes; ++k) {
-                const double x = static_cast<double>(k) / kNodes;
-                largest = std::max(largest, std::hypot(Horner(re, x), Horner(im, x)));
-              }
-              const double mode_scale = std::max(balanced_norm(Y.col(i), tuple.w_ref),
-                                                 balanced_norm(Y.col(e + i), tuple.w_ref));
-              gain_(j, i) = std::max(gain_(j, i), largest + kChordLoss * mode_curvature +
-                                                      2.0 * truncation * mode_scale);
-            }
-          }
-          zn.noalias() = E * z;
-          z = zn;
-          Yn.noalias() = E * Y;
-          Y = Yn;
-        }
-      });
+      }
+      zn.noalias() = E * z;
+      z = zn;
+      Yn.noalias() = E * Y;
+      Y = Yn;
+    }
+  });
   if (!(margin_.minCoeff() > 0.0)) info_ = Info::kNoMargin;
 }
 

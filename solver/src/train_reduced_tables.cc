@@ -42,7 +42,7 @@ TrainTables BuildReducedTrainTables(const TrainSpec& spec, const GearTrain& trai
 
   t.tier = reduced.tier;
   t.n = n;
-  t.m = 2 * n + 2;
+  AssignErrorInputs(t);  // m = 2n + 2 + error inputs at this tier's n
   const double input_inertia = t.inertia[topo.input_body];
   t.inertia = Eigen::VectorXd::Ones(n);
   t.structural_stiffness = congruent(reduced.K);

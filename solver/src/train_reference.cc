@@ -36,6 +36,7 @@ Eigen::MatrixXd AssembleTrainGenerator(const TrainTables& t, const std::vector<i
     A(n + r, t.constant_slot()) = t.force[r] / t.inertia[r];
     A(n + r, t.input_slot()) = t.excitation_direction[r] / t.inertia[r];
   }
+  t.AddErrorColumns(segments, states, A);
   const Eigen::VectorXd inv_j = t.inertia.cwiseInverse();
   if (t.structural_stiffness.size() > 0)
     A.block(n, 0, n, n) -= inv_j.asDiagonal() * t.structural_stiffness;
@@ -95,7 +96,9 @@ double Gap(const Problem& p, size_t i, bool drive, const double* z) {
   const Eigen::VectorXd& v = mt.Vector(drive);
   double delta = 0.0;
   for (int r = 0; r < p.t->n; ++r) delta += v[r] * z[r];
-  const double e = mt.error[static_cast<size_t>(p.segments[i])];
+  const double e =
+      mt.error[static_cast<size_t>(p.segments[i])] +
+      p.t->ErrorInput(static_cast<int>(i), Eigen::Map<const Eigen::VectorXd>(z, p.t->m));
   return drive ? delta - e - mt.half_backlash : delta - e + mt.half_backlash;
 }
 
@@ -158,7 +161,8 @@ TrainReferenceResult SimulateTrainReference(const TrainTables& t, const Eigen::V
   while (time < options.end_time && result.success) {
     const double seg_end = std::min(grid.end(), options.end_time);
     const double h = grid.end() - grid.start();
-    NV_Ith_S(y, t.input_slot()) = t.excitation.empty() ? 0.0 : t.MeanExcitation(grid.start(), h);
+    t.SetInputs(grid.cycles(), grid.segments(), grid.start(), h,
+                Eigen::Map<Eigen::VectorXd>(NV_DATA_S(y), t.m));
     p.segments = grid.segments();
     // Outside a wall at the boundary (e jumps): switch at once.
     for (size_t i = 0; i < meshes; ++i) {

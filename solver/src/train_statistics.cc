@@ -110,7 +110,7 @@ void TrainRecorder::Chunk(double start, double length, const std::vector<int>& s
     const bool drive = states[i] == ContactState::kDrive;
     const size_t j = static_cast<size_t>(segments[i]);
     const double k_mesh = drive ? mt.k_drive[j] : mt.k_back[j];
-    const double wall = t_.Wall(static_cast<int>(i), segments[i], drive);
+    const double wall = t_.Wall(static_cast<int>(i), segments[i], drive, taylor_.col(0));
     // The back flank's own row from tier 2 on (its lateral terms differ from the TE row's).
     if (!drive && mt.distinct_back) {
       for (int k = 0; k <= kTerms; ++k) te[k] = mt.v_back.dot(taylor_.col(k).head(n));

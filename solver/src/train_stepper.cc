@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <string>
 
 #include "gearnvh/model/input_error.h"
@@ -232,12 +233,26 @@ void TrainStepper::Switch(int mesh, ContactState to, double time, TrainRecorder*
   states_[i] = to;
   ++summary_.events;
   ++events_this_segment_;
+  last_event_mesh_ = mesh;
 }
 
 void TrainStepper::Graze(int mesh, double time, TrainRecorder* rec) {
   ++summary_.grazing;
   ++events_this_segment_;
+  last_event_mesh_ = mesh;
   if (rec != nullptr) rec->Grazing(mesh, time);
+}
+
+std::string TrainStepper::TooManyEventsMessage() const {
+  std::ostringstream text;
+  text.precision(9);
+  text << "more than " << options_.max_events_per_segment
+       << " contact events (impacts and grazing touches) in the grid segment [" << grid_.start()
+       << ", " << grid_.end() << "] s, stopped at t = " << time_ << " s";
+  if (last_event_mesh_ >= 0) {
+    text << "; the last on mesh " << t_.meshes[static_cast<size_t>(last_event_mesh_)].name;
+  }
+  return text.str();
 }
 
 void TrainStepper::TaylorValue(double tau, Eigen::VectorXd& out) const {
@@ -283,9 +298,10 @@ void TrainStepper::Record(const TrainSystem& sys, const Eigen::Ref<const Eigen::
 }
 
 bool TrainStepper::AdvanceGridSegment(double until, TrainRecorder* rec) {
-  // The input: the excitation's mean over the whole grid segment (independent of how runs split).
+  // The inputs: the excitation's and the manufacturing errors' means over the whole grid segment
+  // (independent of how runs split).
   const double h = grid_.end() - grid_.start();
-  z_[t_.input_slot()] = t_.excitation.empty() ? 0.0 : t_.MeanExcitation(grid_.start(), h);
+  t_.SetInputs(grid_.cycles(), grid_.segments(), grid_.start(), h, z_);
   events_this_segment_ = 0;
   // A state outside a wall at the grid segment's start (e_ij jumped) switches at once; at most
   // two switches per mesh (free -> contact -> never outside its own wall). Only at the start, as
@@ -313,6 +329,7 @@ bool TrainStepper::AdvanceGridSegment(double until, TrainRecorder* rec) {
     time_ += step;
     if (events_this_segment_ > options_.max_events_per_segment) {
       summary_.info = TrainStepperSummary::Info::kTooManyEvents;
+      summary_.message = TooManyEventsMessage();
       return false;
     }
   }
@@ -332,7 +349,7 @@ double TrainStepper::AdvanceSpectral(const TrainSystem& sys, double remaining, T
     const ClosedFormGap* held = nullptr;  // the closed form last loaded, and its wall
     double loaded = 0.0;
     for (int k = 0; k < count; ++k) {
-      const double wall = t_.Wall(static_cast<int>(i), segment, walls[k].drive);
+      const double wall = t_.Wall(static_cast<int>(i), segment, walls[k].drive, z_);
       ClosedFormGap& gap = sys.Gap(i, walls[k].drive);
       if (&gap != held) {
         gap.Load(w_, -wall);

@@ -63,7 +63,7 @@ double TrainStepper::AdvanceDense(const TrainSystem& sys, double remaining, Trai
   const auto load_wall = [&](size_t i, const Wall& wall) {
     const double at = t_.Wall(static_cast<int>(i), grid_.segments()[i], wall.drive);
     for (int p = 0; p <= kTaylorTerms; ++p) coeff[p] = wall.sign * delta[p];
-    coeff[0] -= wall.sign * at * z_[t_.constant_slot()];
+    coeff[0] -= wall.sign * (at * z_[t_.constant_slot()] + t_.ErrorInput(static_cast<int>(i), z_));
   };
   for (size_t i = 0; i < t_.meshes.size(); ++i) {
     double reach = 0.0;  // sum_{p >= 1} |delta_p| d^p bounds |delta(t) - delta(0)| on [0, d]

@@ -64,14 +64,16 @@ double TrainTables::Wall(int mesh, int segment, bool drive) const {
 double TrainTables::GapValue(int mesh, int segment, bool drive, const Eigen::VectorXd& z) const {
   const TrainMeshTable& mt = meshes[static_cast<size_t>(mesh)];
   const double e = mt.error[static_cast<size_t>(segment)];
-  return mt.Dot(drive, z.data()) - e + (drive ? -mt.half_backlash : mt.half_backlash);
+  return mt.Dot(drive, z.data()) - e - ErrorInput(mesh, z) +
+         (drive ? -mt.half_backlash : mt.half_backlash);
 }
 
 double TrainTables::GapTolerance(int mesh, int segment, bool drive,
                                  const Eigen::VectorXd& z) const {
   const TrainMeshTable& mt = meshes[static_cast<size_t>(mesh)];
   const double e = mt.error[static_cast<size_t>(segment)];
-  double magnitude = std::abs(e + (drive ? mt.half_backlash : -mt.half_backlash));
+  double magnitude =
+      std::abs(e + (drive ? mt.half_backlash : -mt.half_backlash) + ErrorInput(mesh, z));
   const Eigen::VectorXd& v = mt.Vector(drive);
   if (mt.support.empty()) {
     for (int j = 0; j < n; ++j) magnitude += std::abs(v[j] * z[j]);
@@ -170,6 +172,12 @@ TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
       t.longest_segment = std::max(t.longest_segment, (s.tau_end - s.tau_begin) * mt.period);
     }
     mt.boundary.push_back(mt.period);
+    // The errors repeat after whole revolutions of the gears that carry them.
+    mt.errors = MeshErrorExcitation(mm.pair, seg);
+    if (mt.errors.active()) {
+      cycles_per_revolution.push_back(teeth * speed_a / t.input_speed /
+                                      static_cast<double>(mt.errors.period_cycles()));
+    }
     mt.half_backlash = 0.5 * spec.meshes[i].mesh.backlash;
     const double ja = t.inertia[mm.body_a], jb = t.inertia[mm.body_b];
     mt.effective_mass = ja * jb / (ja * rb * rb + jb * ra * ra);
@@ -178,6 +186,7 @@ TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
     mt.transmitted_torque = mm.transmitted_torque;
     t.meshes.push_back(std::move(mt));
   }
+  AssignErrorInputs(t);
   const long revolutions =
       CommonPeriodRevolutions(cycles_per_revolution, options.max_common_period_revolutions);
   t.common_period = static_cast<double>(revolutions) * t.InputRevolution();

@@ -110,6 +110,7 @@ TrainSystem TrainSystemCache::Build(const std::vector<int>& segments,
   s.A.block(n, n, n, n) = -(inv_j.asDiagonal() * C);
   s.A.block(n, t_.constant_slot(), n, 1) = inv_j.cwiseProduct(f);
   s.A.block(n, t_.input_slot(), n, 1) = inv_j.cwiseProduct(t_.excitation_direction);
+  t_.AddErrorColumns(segments, states, s.A);
   const double w_stiff = std::sqrt(LargestRate(inv_j, K));
   // C's skew part (gyroscopic, reduced tiers) makes the pencil non-symmetric: with u^*Mu = 1,
   // lambda^2 + (c + i gamma) lambda + k = 0 has |lambda| <= |c + i gamma| + sqrt(k), |gamma|

@@ -123,7 +123,8 @@ TEST_CASE("train jumps: the jumped state is the linear periodic steady state", "
 
 // Samples every mesh's drive gap g = v_j x - Wall along `periods` common periods from z (at a
 // period start), `per_segment` points per grid segment, on dense Pade propagators of the
-// independent assembly (train_reference.h), the input held per grid segment as the map holds it.
+// independent assembly (train_reference.h), the inputs (excitation and error means) held per grid
+// segment as the map holds them.
 // Returns, per mesh, the gaps at every sample.
 std::vector<std::vector<double>> SampleGaps(const TrainTables& t,
                                             const std::vector<ContactState>& states,
@@ -133,7 +134,7 @@ std::vector<std::vector<double>> SampleGaps(const TrainTables& t,
   const double until = periods * t.common_period * (1.0 - 1e-12);
   for (TrainGrid grid(t); grid.start() < until; grid.Next()) {
     const double h = grid.end() - grid.start();
-    if (!t.excitation.empty()) z[t.input_slot()] = t.MeanExcitation(grid.start(), h);
+    t.SetInputs(grid.cycles(), grid.segments(), grid.start(), h, z);
     const Eigen::MatrixXd A = AssembleTrainGenerator(t, grid.segments(), states);
     const double w_ref = ReferenceFrequency(A, n);
     const Eigen::MatrixXd step = BalancedExpm(A, h / per_segment, n, w_ref);
@@ -141,7 +142,7 @@ std::vector<std::vector<double>> SampleGaps(const TrainTables& t,
       for (size_t j = 0; j < t.meshes.size(); ++j) {
         const int segment = grid.segments()[j];
         gaps[j].push_back(t.meshes[j].v.dot(z.head(n)) -
-                          t.Wall(static_cast<int>(j), segment, true));
+                          t.Wall(static_cast<int>(j), segment, true, z));
       }
       if (k < per_segment) z = (step * z).eval();
     }

@@ -280,6 +280,30 @@ TEST_CASE("train: a tiny cache limit forces evictions and changes nothing", "[so
   CHECK((a.state() - b.state()).norm() <= 1e-15 * a.state().norm());
 }
 
+TEST_CASE("train: a run stopped by the event limit says where and on which mesh",
+          "[solver][train]") {
+  const Model s(Rattler(1500.0));
+  const auto [z0, states0] = TrainStaticState(s.tables);
+  TrainStepperOptions limited;
+  limited.max_events_per_segment = 1;  // the rattler has grid segments with two or more events
+  TrainStepper stepper(s.tables, limited, z0, states0);
+  CHECK(!stepper.Run(0.03));
+  const TrainStepperSummary summary = stepper.summary();
+  INFO(summary.message);
+  CHECK(summary.info == TrainStepperSummary::Info::kTooManyEvents);
+  CHECK(summary.message.find("more than 1 contact events") == 0);
+  CHECK(summary.message.find("grid segment [") != std::string::npos);
+  bool names_mesh = false;
+  for (const TrainMeshTable& mt : s.tables.meshes)
+    names_mesh =
+        names_mesh || summary.message.find("the last on mesh " + mt.name) != std::string::npos;
+  CHECK(names_mesh);
+  // A run within the limit carries no message.
+  TrainStepper full(s.tables, {}, z0, states0);
+  REQUIRE(full.Run(0.03));
+  CHECK(full.summary().message.empty());
+}
+
 TEST_CASE("train: the stepping loop does not allocate once the cache holds the tuples",
           "[solver][train][allocation]") {
   const Model s(Rattler(1500.0));

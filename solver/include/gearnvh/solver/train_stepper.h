@@ -46,6 +46,7 @@
 
 #include <Eigen/Dense>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "gearnvh/solver/solver_options.h"
@@ -112,6 +113,8 @@ struct TrainStepperSummary {
     kNotCertified,       // the transient's bound reached an orbit margin at every try
   };
   Info info = Info::kSuccess;
+  // Why the run stopped (empty on success): the limit, the grid segment and the last event's mesh.
+  std::string message;
   Jumps jumps = Jumps::kNoConstantContact;
   long jumped_periods = 0;      // common periods jumped
   double jumped_time = 0.0;     // s
@@ -201,6 +204,8 @@ class TrainStepper {
   void Switch(int mesh, ContactState to, double time, TrainRecorder* rec);
   // A grazing touch of `mesh` at `time`: counted (as an event of the segment), the state kept.
   void Graze(int mesh, double time, TrainRecorder* rec);
+  // The summary's message when a grid segment exceeded max_events_per_segment.
+  std::string TooManyEventsMessage() const;
   // out = sum_k taylor_.col(k) tau^k (Horner).
   void TaylorValue(double tau, Eigen::VectorXd& out) const;
   // Hands the piece from z_start (at piece_start, in the current tuple) to the recorder: its
@@ -229,6 +234,7 @@ class TrainStepper {
   double time_ = 0.0;
   double recenter_period_ = 0.0, next_recenter_ = 0.0;
   long events_this_segment_ = 0;
+  int last_event_mesh_ = -1;  // the mesh of the last event or grazing (the stop message names it)
   TrainStepperSummary summary_;
   TrainTangentPropagator* tangent_ = nullptr;
   // Jumps: whole cycles of each mesh per common period, the map of the last contact

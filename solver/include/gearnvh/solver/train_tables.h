@@ -15,8 +15,15 @@
 // f the constant torques (every load resists its body, the input body is driven by the torque that
 // balances them: the free rotation carries no mean torque), d = J_in e_in (the excitation acts on
 // the input body as J_in s). Gaps (rows on z): g+_i = v_i^T x - e_ij - b_i (drive while > 0),
-// g-_i = v_i^T x - e_ij + b_i (back while < 0). Tooth friction and manufacturing errors are not
-// modelled on trains yet (the pair has them).
+// g-_i = v_i^T x - e_ij + b_i (back while < 0). Tooth friction is not modelled on trains yet (the
+// pair has it).
+// Manufacturing errors (runout, pitch errors; model/manufacturing_errors.h): mesh i whose gears
+// carry errors has its own input slot u_i = e_err,i (m), held at its mean over each grid segment
+// (SetInputs), so z = [x; x'; 1; s; u_err] and m = 2n + 2 + error_inputs. The error adds to the
+// unloaded error e_ij exactly as on the pair: A gains the column M^-1 k_ij v_i for u_i while mesh
+// i is in contact (the force k (delta - e - u_i -+ b)), and both walls move by u_i (Wall(.., z)):
+// the closed forms of delta_i are unchanged, the wall is constant over a grid segment. A gear that
+// takes part in two meshes (an idler) brings its runout into both, at its own nominal angle.
 //
 // Time grid: mesh i is periodic in T_i with segment boundaries t_ij; the train's grid is the union
 // of every mesh's boundaries, generated on the fly from integer cycle counts (no drift, no table of
@@ -77,6 +84,10 @@ struct TrainMeshTable {
   double damping = 0.0;                        // c_i, N s/m
   double effective_mass = 0.0;                 // m_e,i, kg
   double transmitted_torque = 0.0;             // N m on gear b (static torque flow)
+  // Runout and pitch errors of the mesh's two gears, at their nominal speeds in this train, and
+  // the index of the mesh's error input among the error slots (-1: the gears carry none).
+  MeshErrorExcitation errors;
+  int error_input = -1;
   int segments() const { return static_cast<int>(error.size()); }
 };
 
@@ -112,6 +123,22 @@ struct TrainTables {
   // The rounding floor of that gap at z: 1e-12 b_i + 64 eps (sum_j |v_ij x_j| + |wall|).
   double GapTolerance(int mesh, int segment, bool drive, const Eigen::VectorXd& z) const;
   int input_slot() const { return 2 * n + 1; }
+  // Manufacturing errors (train_errors.cc): meshes with an error input, each its slot.
+  int error_inputs = 0;
+  int ErrorSlot(int mesh) const;  // 2n + 2 + k for the k-th error input, -1 without errors
+  // u_i, the error input of `mesh` in z (0 without errors), m.
+  double ErrorInput(int mesh, const Eigen::Ref<const Eigen::VectorXd>& z) const;
+  // The wall with the error input of z: Wall(mesh, segment, drive) z_c + u_i.
+  double Wall(int mesh, int segment, bool drive, const Eigen::Ref<const Eigen::VectorXd>& z) const;
+  // Sets the input slots of z for the grid segment [start, start + h], which lies in segment
+  // segments[i] of cycle cycles[i] of every mesh i: the excitation's mean and each mesh's error
+  // mean (the pitch part is constant per mesh segment, the runout's mean in closed form).
+  // Allocation-free.
+  void SetInputs(const std::vector<long>& cycles, const std::vector<int>& segments, double start,
+                 double h, Eigen::Ref<Eigen::VectorXd> z) const;
+  // Adds the error inputs' columns M^-1 k_ij v_i of the meshes in contact to a generator.
+  void AddErrorColumns(const std::vector<int>& segments, const std::vector<ContactState>& states,
+                       Eigen::Ref<Eigen::MatrixXd> A) const;
   // Mean of the excitation over [t0, t0 + h], rad/s^2 (closed form).
   double MeanExcitation(double t0, double h) const;
   double InputRevolution() const;  // 2 pi / input speed, s
@@ -137,6 +164,9 @@ struct TrainTableOptions {
 // `segments_per_cycle` as analysis.segments_per_cycle; `damping_ratio` per mesh from the spec.
 TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
                              const TrainTableOptions& options = {});
+// Numbers the error inputs of the meshes whose errors are active and sets m = 2n + 2 + that count
+// (the tier-1 build and the reduced tiers, whose n differs, call it).
+void AssignErrorInputs(TrainTables& tables);
 
 // Tables of one contact tuple. The generator depends on the segment of a mesh only while that
 // mesh is in contact, so a free mesh's segment is left out of the key. The gaps g+_i and g-_i

@@ -1,0 +1,57 @@
+// Manufacturing errors on a gear train: the meshes' error inputs (train_tables.h).
+#include <cmath>
+
+#include "gearnvh/solver/train_tables.h"
+
+namespace gearnvh {
+
+void AssignErrorInputs(TrainTables& t) {
+  t.error_inputs = 0;
+  for (TrainMeshTable& mt : t.meshes) mt.error_input = mt.errors.active() ? t.error_inputs++ : -1;
+  t.m = 2 * t.n + 2 + t.error_inputs;
+}
+
+int TrainTables::ErrorSlot(int mesh) const {
+  const int k = meshes[static_cast<size_t>(mesh)].error_input;
+  return k < 0 ? -1 : 2 * n + 2 + k;
+}
+
+double TrainTables::ErrorInput(int mesh, const Eigen::Ref<const Eigen::VectorXd>& z) const {
+  const int slot = ErrorSlot(mesh);
+  return slot < 0 ? 0.0 : z[slot];
+}
+
+double TrainTables::Wall(int mesh, int segment, bool drive,
+                         const Eigen::Ref<const Eigen::VectorXd>& z) const {
+  return Wall(mesh, segment, drive) * z[constant_slot()] + ErrorInput(mesh, z);
+}
+
+void TrainTables::SetInputs(const std::vector<long>& cycles, const std::vector<int>& segments,
+                            double start, double h, Eigen::Ref<Eigen::VectorXd> z) const {
+  z[input_slot()] = excitation.empty() ? 0.0 : MeanExcitation(start, h);
+  for (size_t i = 0; i < meshes.size(); ++i) {
+    const TrainMeshTable& mt = meshes[i];
+    if (mt.error_input < 0) continue;
+    // The mesh's own cycle count and segment select the pitch errors' teeth; runout is averaged
+    // over the grid segment itself (a part of the mesh segment on the union grid).
+    z[2 * n + 2 + mt.error_input] = mt.errors.SegmentMean(cycles[i], segments[i], start, h);
+  }
+}
+
+void TrainTables::AddErrorColumns(const std::vector<int>& segments,
+                                  const std::vector<ContactState>& states,
+                                  Eigen::Ref<Eigen::MatrixXd> A) const {
+  for (size_t i = 0; i < meshes.size(); ++i) {
+    const TrainMeshTable& mt = meshes[i];
+    if (mt.error_input < 0 || states[i] == ContactState::kFree) continue;
+    // The error moves the wall: force -v (k (v^T x - e - u -+ b) + ...), so u enters as +k v.
+    const bool drive = states[i] == ContactState::kDrive;
+    const size_t j = static_cast<size_t>(segments[i]);
+    const double k = drive ? mt.k_drive[j] : mt.k_back[j];
+    const Eigen::VectorXd& v = mt.Vector(drive);
+    const int slot = 2 * n + 2 + mt.error_input;
+    for (int r = 0; r < n; ++r) A(n + r, slot) += k * v[r] / inertia[r];
+  }
+}
+
+}  // namespace gearnvh
