@@ -185,11 +185,14 @@ class TrainStepper {
   WallHit Suspect(const Eigen::VectorXd& z, const Eigen::VectorXd& z1, double walk_cell,
                   bool& turned) const;
   // V1: the gap of `hit`'s mesh moves by less than kResolvableRounding times its rounding floor
-  // over `step` at z: a finer cell cannot place the crossing better (its state change is lost
-  // in rounding, and bisecting further would crawl through 2^34 cells that do not move z). The
-  // event goes at the cell's end, within that rounding-level time.
+  // from z to z1 (a step's ends): a finer cell cannot place the crossing better (its state change
+  // is lost in rounding, and bisecting further would crawl through 2^34 cells that do not move z).
+  // The event goes at the cell's end, within that rounding-level time. The gap's change, not its
+  // rate at one end: near the apex of a brief excursion beyond a wall the rate at z1 is ~0 while
+  // the step still holds the crossing.
   static constexpr double kResolvableRounding = 4.0;
-  bool BelowGapRounding(const WallHit& hit, const Eigen::VectorXd& z, double step) const;
+  bool BelowGapRounding(const WallHit& hit, const Eigen::VectorXd& z,
+                        const Eigen::VectorXd& z1) const;
   bool SwitchOutside(TrainRecorder* rec);
   // A wall of a mesh's state: gap g+ (drive) or g-; sign * g > 0 is outside; the state beyond.
   struct Wall {
