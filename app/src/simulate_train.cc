@@ -10,6 +10,7 @@
 #include <numbers>
 #include <optional>
 
+#include "display_units.h"
 #include "finite_results.h"
 #include "gearnvh/model/gear_train.h"
 #include "gearnvh/model/input_error.h"
@@ -266,6 +267,7 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
   run.samples_per_cycle = kSamplesPerCycle;
   run.events = settings.events;
   run.tier = tier;
+  run.before_run_warning = [](const std::string& w) { fmt::print(stderr, "warning: {}\n", w); };
   const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
   const TrainOperatingPoint op = RunTrainOperatingPoint(spec, run, [&](double time, double end) {
     if (!on_terminal) return;
@@ -298,8 +300,8 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
     fmt::print("{}  ({}), gear train, {}: {} bodies, {} DOF, {} meshes, state dimension {}\n",
                spec.name, options.file, TierName(tier), tables.bodies(), tables.n,
                tables.meshes.size(), tables.m);
-    fmt::print("  operating point     input shaft {} at {:.4g} rpm\n", spec.operating.input_shaft,
-               spec.operating.speed * kRpm);
+    fmt::print("  operating point     input shaft {} at {}, loads {}\n", spec.operating.input_shaft,
+               Format(spec.operating.speed, spec.operating.speed_unit), TrainLoadsText(spec));
     fmt::print("  status              {}\n", StatusName(s.info));
     fmt::print("  simulated           {:.4f} s ({} + {} cycles of {}), {:.4f} s recorded\n",
                s.simulated_time, transient, cycles, tables.meshes.front().name,

@@ -105,7 +105,7 @@ int SweepTrain(const SweepOptions& options, const TrainSpec& spec) {
                options.file, TierName(tier), spec.operating.input_shaft, result.points.size(),
                Count(sweep.cycles, "cycle of " + result.mesh_names.front(),
                      "cycles of " + result.mesh_names.front()));
-    PrintTrainSweep(result);
+    PrintTrainSweep(result, spec.operating.speed_unit);
   }
   if (result.failed() > 0) {
     std::cerr << "error: " << result.failed() << " of " << result.points.size()
