@@ -6,16 +6,8 @@
 #include <numeric>
 
 #include "gearnvh/solver/exact_recorder.h"
+#include "ordered_schur.h"
 #include "polynomial_statistics.h"
-
-extern "C" {
-// LAPACK (Fortran ABI; trailing hidden string lengths).
-void dgees_(const char* jobvs, const char* sort, int (*select)(const double*, const double*),
-            const int* n, double* a, const int* lda, int* sdim, double* wr, double* wi, double* vs,
-            const int* ldvs, double* work, const int* lwork, int* bwork, int* info, size_t, size_t);
-void dtrexc_(const char* compq, const int* n, double* t, const int* ldt, double* q, const int* ldq,
-             int* ifst, int* ilst, double* work, int* info, size_t);
-}
 
 namespace gearnvh {
 
@@ -121,43 +113,13 @@ CycleOutputRows::CycleOutputRows(const SegmentTables& t, const ConstantContactCy
   // the rounding times cond(V), 1e5..1e7 here, which cancels only when every column is kept.)
   // In balanced coordinates (velocities over w_ref, as BalancedExpm): unbalanced, |Pq| ~ w_ref and
   // the computed invariant subspaces leak ~eps |Pq| / sep of the slow modes into the tail.
-  Eigen::MatrixXd T =
-      balance.asDiagonal() * Pq.topLeftCorner(e, e) * balance.cwiseInverse().asDiagonal();
-  Eigen::MatrixXd U(e, e);
-  {
-    Eigen::VectorXd wr(e), wi(e);
-    std::vector<int> bwork(static_cast<size_t>(e));
-    int sdim = 0, info = 0, lwork = -1;
-    double query = 0.0;
-    dgees_("V", "N", nullptr, &e, T.data(), &e, &sdim, wr.data(), wi.data(), U.data(), &e, &query,
-           &lwork, bwork.data(), &info, 1, 1);
-    lwork = std::max(1, static_cast<int>(query));
-    std::vector<double> work(static_cast<size_t>(lwork));
-    dgees_("V", "N", nullptr, &e, T.data(), &e, &sdim, wr.data(), wi.data(), U.data(), &e,
-           work.data(), &lwork, bwork.data(), &info, 1, 1);
-    if (info != 0) return;
-    auto block_size = [&](int i) { return i + 1 < e && T(i + 1, i) != 0.0 ? 2 : 1; };
-    auto block_modulus = [&](int i) {
-      return block_size(i) == 1
-                 ? std::abs(T(i, i))
-                 : std::sqrt(std::abs(T(i, i) * T(i + 1, i + 1) - T(i, i + 1) * T(i + 1, i)));
-    };
-    std::vector<double> trexc_work(static_cast<size_t>(e));
-    for (int p = 0; p < e;) {
-      int best = p;
-      for (int i = p; i < e; i += block_size(i)) {
-        if (block_modulus(i) > block_modulus(best)) best = i;
-      }
-      if (best != p) {
-        int ifst = best + 1, ilst = p + 1;
-        dtrexc_("V", &e, T.data(), &e, U.data(), &e, &ifst, &ilst, trexc_work.data(), &info, 1);
-        if (info != 0) return;
-      }
-      const int size = block_size(p);
-      block_start_.push_back(3 + p);
-      block_decay_.push_back(block_modulus(p));
-      p += size;
-    }
+  const OrderedSchur schur = OrderedRealSchur(balance.asDiagonal() * Pq.topLeftCorner(e, e) *
+                                              balance.cwiseInverse().asDiagonal());
+  if (schur.info != OrderedSchur::Info::kSuccess) return;
+  const Eigen::MatrixXd& U = schur.U;
+  for (size_t b = 0; b < schur.block_start.size(); ++b) {
+    block_start_.push_back(3 + schur.block_start[b]);
+    block_decay_.push_back(schur.block_modulus[b]);
   }
   columns_ = 3 + e;
   Eigen::MatrixXd basis = Eigen::MatrixXd::Zero(m, columns_);
@@ -167,6 +129,22 @@ CycleOutputRows::CycleOutputRows(const SegmentTables& t, const ConstantContactCy
   basis.block(0, 3, e, e) = balance.cwiseInverse().asDiagonal() * U;
   projection_ = U.transpose() * balance.asDiagonal() * L.topRows(e);
 
+  if (!PropagateColumns(recorder, samples_per_cycle, basis)) return;
+  for (int j = 0; j < t.segments(); ++j) cycle_length_ += t.SegmentLength(j);
+  candidate_.assign(chunks_.size(), 0);
+  x_ = Eigen::VectorXd::Zero(columns_);
+  d_ = Eigen::VectorXd::Zero(m);
+  values_ = Eigen::VectorXd::Zero(samples_.rows());
+  poly_ = Eigen::VectorXd::Zero(K + 1);
+  usable_ = true;
+}
+
+// Propagates the basis columns through one cycle, chunk by chunk as the recorder cuts its pieces:
+// samples, integrals, extremum data and the tail weights. False when a sample falls in no chunk.
+bool CycleOutputRows::PropagateColumns(const ExactRecorder& recorder, int samples_per_cycle,
+                                       const Eigen::MatrixXd& basis) {
+  const SegmentTables& t = t_;
+  const ConstantContactCycle& cycle = cycle_;
   // Propagate the columns through one cycle, chunk by chunk as the recorder cuts its pieces.
   const ContactState state = cycle.state();
   const int s = static_cast<int>(state);
@@ -257,7 +235,7 @@ CycleOutputRows::CycleOutputRows(const SegmentTables& t, const ConstantContactCy
     }
     X = (sys.full * X).eval();
   }
-  if (next_sample < P) return;  // every sample must fall in a chunk
+  if (next_sample < P) return false;  // every sample must fall in a chunk
   // Per Schur block i, the largest output of the tail of columns from it, relative to each
   // output's scale: W_i = max_o (sum_{j >= start_i} g_{o,j}) / scale_o.
   for (int start : block_start_) {
@@ -281,13 +259,7 @@ CycleOutputRows::CycleOutputRows(const SegmentTables& t, const ConstantContactCy
     std::sort(st.by_min.begin(), st.by_min.end(),
               [&](int a, int b) { return st.orbit_min[a] < st.orbit_min[b]; });
   }
-  for (int j = 0; j < t.segments(); ++j) cycle_length_ += t.SegmentLength(j);
-  candidate_.assign(chunks_.size(), 0);
-  x_ = Eigen::VectorXd::Zero(columns_);
-  d_ = Eigen::VectorXd::Zero(m);
-  values_ = Eigen::VectorXd::Zero(samples_.rows());
-  poly_ = Eigen::VectorXd::Zero(K + 1);
-  usable_ = true;
+  return true;
 }
 
 size_t CycleOutputRows::bytes() const {

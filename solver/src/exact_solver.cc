@@ -94,6 +94,8 @@ ExactStepper::ExactStepper(const SegmentTables& tables, const SolverOptions& opt
       recording_(tables, options, reserve_samples, reserve_events) {
   state_.z = z0;
   state_.contact = state0;
+  phase_.sin.resize(tables.excitation.size());
+  phase_.cos.resize(tables.excitation.size());
   UpdateTableStatistics();
 }
 
@@ -139,7 +141,7 @@ void ExactStepper::StepWholeSegments(bool recorded) {
   // Certified permanent contact or the linear reference: no wall can be reached.
   const double cycle_start = static_cast<double>(cycle_) * t_.mesh_period;
   if (cycle_map_ != nullptr && !tangent_.active()) {
-    t_.SetInputs(cycle_, 0, state_.z);
+    t_.SetInputs(cycle_, 0, state_.z, phase_);
     if (!recorded || recording_.RowCycle(cycle_, cycle_start, state_.z)) {
       cycle_end_.noalias() = cycle_map_->map() * state_.z;
       state_.z.swap(cycle_end_);
@@ -151,7 +153,7 @@ void ExactStepper::StepWholeSegments(bool recorded) {
   }
   for (int j = 0; j < t_.segments(); ++j) {
     const double seg_start = cycle_start + t_.boundaries[j];
-    t_.SetInputs(cycle_, j, state_.z);
+    t_.SetInputs(cycle_, j, state_.z, phase_);
     if (recorded) recording_.BeginPiece(seg_start, state_.z, state_.contact);
     fusion_.AdvanceWhole(j, state_);
     time_ = seg_start + t_.SegmentLength(j);
@@ -191,7 +193,7 @@ bool ExactStepper::StepCycleWith(Locator& locator, bool recorded, bool try_runs)
       }
     }
     const double seg_start = cycle_start + t_.boundaries[j];
-    t_.SetInputs(cycle_, j, state_.z);
+    t_.SetInputs(cycle_, j, state_.z, phase_);
     if (recorded) recording_.BeginPiece(seg_start, state_.z, state_.contact);
     if (!locator.DoStep(j, seg_start, state_, *this)) return false;
     time_ = seg_start + t_.SegmentLength(j);

@@ -21,6 +21,8 @@ SegmentFusion::SegmentFusion(const SegmentTables& tables, const SolverOptions& o
   built_ = true;
   certify_scratch_.resize(tables.m);
   inputs_.resize(tables.m);
+  phase_.sin.resize(tables.excitation.size());
+  phase_.cos.resize(tables.excitation.size());
 }
 
 size_t SegmentFusion::bytes() const {
@@ -55,7 +57,7 @@ int SegmentFusion::Advance(long cycle, int segment, LocatorState& state) {
   start_.tail(t_.inputs).setZero();
   end_.noalias() = run->product * start_;
   for (int i = 0; i < run->length; ++i) {
-    t_.SetInputs(cycle, segment + i, inputs_);
+    t_.SetInputs(cycle, segment + i, inputs_, phase_);
     for (int q = 0; q < t_.inputs; ++q) {
       const double u = inputs_[t_.input_slot(q)];
       if (u != 0.0) end_ += u * run->inputs.col(i * t_.inputs + q);

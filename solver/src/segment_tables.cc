@@ -38,9 +38,48 @@ double SegmentTables::MeanExcitation(double t0, double h) const {
 
 void SegmentTables::PrepareExcitationWindows() {
   excitation_windows.clear();
+  excitation_midpoint_cos.clear();
+  excitation_midpoint_sin.clear();
   for (int j = 0; j < segments(); ++j) {
-    for (const ExcitationOrder& e : excitation)
-      excitation_windows.push_back(Sinc(0.5 * e.order * pinion_speed * SegmentLength(j)));
+    for (const ExcitationOrder& e : excitation) {
+      const double w = e.order * pinion_speed, h = SegmentLength(j);
+      const double window = Sinc(0.5 * w * h);
+      const double psi = w * (boundaries[j] + 0.5 * h);
+      excitation_windows.push_back(window);
+      excitation_midpoint_cos.push_back(e.amplitude * window * std::cos(psi));
+      excitation_midpoint_sin.push_back(e.amplitude * window * std::sin(psi));
+    }
+  }
+}
+
+void SegmentTables::SetInputs(long cycle, int segment, Eigen::Ref<Eigen::VectorXd> z,
+                              CyclePhase& phase) const {
+  const size_t orders = excitation.size();
+  const size_t entries = orders * static_cast<size_t>(segments());
+  if (excitation_midpoint_cos.size() != entries || excitation_midpoint_sin.size() != entries) {
+    SetInputs(cycle, segment, z);  // tables assembled by hand: no midpoint phases
+    return;
+  }
+  if (phase.cycle != cycle || phase.sin.size() != orders) {
+    phase.cycle = cycle;
+    phase.sin.resize(orders);
+    phase.cos.resize(orders);
+    const double cycle_start = static_cast<double>(cycle) * mesh_period;
+    for (size_t k = 0; k < orders; ++k) {
+      const ExcitationOrder& e = excitation[k];
+      sincos(e.order * pinion_speed * cycle_start + e.phase, &phase.sin[k], &phase.cos[k]);
+    }
+  }
+  const size_t first = static_cast<size_t>(segment) * orders;
+  double mean = 0.0;
+  for (size_t k = 0; k < orders; ++k) {
+    mean += phase.sin[k] * excitation_midpoint_cos[first + k] +
+            phase.cos[k] * excitation_midpoint_sin[first + k];
+  }
+  z[input_slot(kExcitationInput)] = mean;
+  if (inputs > kErrorInput) {
+    const double start = static_cast<double>(cycle) * mesh_period + boundaries[segment];
+    z[input_slot(kErrorInput)] = errors.SegmentMean(cycle, segment, start, SegmentLength(segment));
   }
 }
 

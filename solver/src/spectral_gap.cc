@@ -1,3 +1,5 @@
+// ClosedFormGap: the gap over a segment in closed form and its certified first rise
+// (spectral_gap.h).
 #include "gearnvh/solver/spectral_gap.h"
 
 #include <algorithm>
@@ -6,232 +8,9 @@
 #include <optional>
 
 #include "bracketed_newton.h"
-
-#if defined(GEARNVH_HAVE_LIBMVEC) && defined(__AVX512F__)
-#include <immintrin.h>
-// glibc libmvec (ABI of the OpenMP vector variants): 8 doubles at a time, at most 4 ulp.
-extern "C" __m512d _ZGVeN8v_sin(__m512d);
-extern "C" __m512d _ZGVeN8v_cos(__m512d);
-#define GEARNVH_VECTOR_SINCOS 1
-#endif
-
-extern "C" {
-// LAPACK (Fortran ABI; trailing hidden string lengths).
-void dgees_(const char* jobvs, const char* sort, int (*select)(const double*, const double*),
-            const int* n, double* a, const int* lda, int* sdim, double* wr, double* wi, double* vs,
-            const int* ldvs, double* work, const int* lwork, int* bwork, int* info, size_t, size_t);
-void dtrsyl_(const char* trana, const char* tranb, const int* isgn, const int* m, const int* n,
-             const double* a, const int* lda, const double* b, const int* ldb, double* c,
-             const int* ldc, double* scale, int* info, size_t, size_t);
-}
+#include "vector_sincos.h"
 
 namespace gearnvh {
-
-namespace {
-
-thread_local double zero_threshold = 0.0;
-int SelectNearZero(const double* wr, const double* wi) {
-  return std::hypot(*wr, *wi) <= zero_threshold ? 1 : 0;
-}
-
-// Relative size below which a power-series term of e^{B0 t} no longer changes the sum.
-constexpr double kSeriesCut = 1e-18;
-constexpr int kMaxSeriesTerms = 64;
-
-// cos(omega_k t) and sin(omega_k t) for k < 8; entries from `live` on (when < 8) are padding.
-// Vector calls cost about as much as two scalar ones, so a chunk of 1-3 live terms (tier 1) stays
-// scalar.
-void VectorSinCos(const double* omega, double t, int live, double* c, double* s) {
-  live = std::min(live, 8);
-#ifdef GEARNVH_VECTOR_SINCOS
-  if (live > 3) {
-    const __m512d phase = _mm512_mul_pd(_mm512_loadu_pd(omega), _mm512_set1_pd(t));
-    _mm512_storeu_pd(c, _ZGVeN8v_cos(phase));
-    _mm512_storeu_pd(s, _ZGVeN8v_sin(phase));
-    return;
-  }
-#endif
-  for (int k = 0; k < live; ++k) sincos(omega[k] * t, &s[k], &c[k]);
-  for (int k = live; k < 8; ++k) c[k] = 1.0, s[k] = 0.0;
-}
-
-}  // namespace
-
-const char* SpectralInfoName(SpectralDecomposition::Info info) {
-  switch (info) {
-    case SpectralDecomposition::Info::kSuccess:
-      return "success";
-    case SpectralDecomposition::Info::kSchurFailed:
-      return "schur_failed";
-    case SpectralDecomposition::Info::kIllConditioned:
-      return "ill_conditioned";
-    case SpectralDecomposition::Info::kSeriesDiverged:
-      return "series_diverged";
-  }
-  return "unknown";
-}
-
-Eigen::VectorXd BalancingScale(const Eigen::MatrixXd& A, int n, double w_ref) {
-  const int m = static_cast<int>(A.rows());
-  Eigen::VectorXd scale = Eigen::VectorXd::Ones(m);
-  scale.segment(n, n).setConstant(1.0 / w_ref);
-  // The constant and excitation slots (zero rows) carry the forcing columns, which are tiny next to
-  // the stiffness block: a backward error eps |A| would be a large relative error of the forcing,
-  // i.e. of the static deflection under it (seen as 1e-16 m in the gap). Scaling the slots so their
-  // columns have the norm w_ref makes the forcing as accurate as the rest.
-  for (int j = 2 * n; j < m; ++j) {
-    const double column = (scale.asDiagonal() * A.col(j)).norm();
-    if (column > 0.0) scale[j] = column / w_ref;
-  }
-  return scale;
-}
-
-SpectralDecomposition DecomposeGenerator(const Eigen::MatrixXd& A, int n, double w_ref,
-                                         double horizon, double max_condition) {
-  SpectralDecomposition d;
-  const int m = static_cast<int>(A.rows());
-  const Eigen::VectorXd scale = BalancingScale(A, n, w_ref);
-  Eigen::MatrixXd T = scale.asDiagonal() * A * scale.cwiseInverse().asDiagonal();
-
-  // Ordered real Schur form: eigenvalues with |lambda| <= 1e-4 w_ref first. A Jordan block of
-  // size k at 0 is perturbed to |lambda| ~ (eps)^(1/k) w_ref by rounding (6e-6 w_ref for k = 3),
-  // so the cut sits well above that and well below every elastic frequency of the model.
-  zero_threshold = 1e-4 * w_ref;
-  Eigen::MatrixXd Q(m, m);
-  Eigen::VectorXd wr(m), wi(m);
-  std::vector<int> bwork(m);
-  int sdim = 0, info = 0, lwork = -1;
-  double query = 0.0;
-  dgees_("V", "S", SelectNearZero, &m, T.data(), &m, &sdim, wr.data(), wi.data(), Q.data(), &m,
-         &query, &lwork, bwork.data(), &info, 1, 1);
-  lwork = std::max(1, static_cast<int>(query));
-  std::vector<double> work(lwork);
-  dgees_("V", "S", SelectNearZero, &m, T.data(), &m, &sdim, wr.data(), wi.data(), Q.data(), &m,
-         work.data(), &lwork, bwork.data(), &info, 1, 1);
-  if (info != 0) {
-    d.info = SpectralDecomposition::Info::kSchurFailed;
-    return d;
-  }
-  d.zero_size = sdim;
-
-  // Block boundaries after the zero cluster: 1x1 or 2x2 (standardised) diagonal blocks.
-  std::vector<std::pair<int, int>> parts;  // (start, size)
-  if (sdim > 0) parts.emplace_back(0, sdim);
-  for (int i = sdim; i < m;) {
-    const int size = (i + 1 < m && T(i + 1, i) != 0.0) ? 2 : 1;
-    parts.emplace_back(i, size);
-    i += size;
-  }
-  // Decouple each block from everything after it.
-  Eigen::MatrixXd S = Q, S_inv = Q.transpose();
-  for (const auto& [start, size] : parts) {
-    const int end = start + size, rest = m - end;
-    if (rest == 0) break;
-    Eigen::MatrixXd X = -T.block(start, end, size, rest);
-    double sylvester_scale = 1.0;
-    const int isgn = -1;
-    const Eigen::MatrixXd T11 = T.block(start, start, size, size);
-    const Eigen::MatrixXd T22 = T.block(end, end, rest, rest);
-    dtrsyl_("N", "N", &isgn, &size, &rest, T11.data(), &size, T22.data(), &rest, X.data(), &size,
-            &sylvester_scale, &info, 1, 1);
-    if (info != 0 || sylvester_scale != 1.0) {
-      d.info = SpectralDecomposition::Info::kIllConditioned;  // common or close eigenvalues
-      return d;
-    }
-    X /= sylvester_scale;
-    T.block(start, end, size, rest).setZero();
-    S.rightCols(rest).noalias() += S.middleCols(start, size) * X;
-    S_inv.middleRows(start, size).noalias() -= X * S_inv.bottomRows(rest);
-  }
-  d.condition =
-      S.cwiseAbs().colwise().sum().maxCoeff() * S_inv.cwiseAbs().colwise().sum().maxCoeff();
-  if (!(d.condition <= max_condition)) {
-    d.info = SpectralDecomposition::Info::kIllConditioned;
-    return d;
-  }
-  d.S = scale.cwiseInverse().asDiagonal() * S;
-  d.S_inv = S_inv * scale.asDiagonal();
-  d.B0 = T.topLeftCorner(sdim, sdim);
-  for (const auto& [start, size] : parts) {
-    if (start < sdim) continue;
-    SpectralDecomposition::Block b;
-    b.start = start;
-    b.size = size;
-    if (size == 1) {
-      b.sigma = T(start, start);
-    } else {
-      b.B = T.block<2, 2>(start, start);
-      b.sigma = 0.5 * b.B.trace();
-      const double disc =
-          -0.25 * (b.B(0, 0) - b.B(1, 1)) * (b.B(0, 0) - b.B(1, 1)) - b.B(0, 1) * b.B(1, 0);
-      b.omega = std::sqrt(std::max(disc, 0.0));
-      if (!(b.omega > 0.0)) {
-        d.info = SpectralDecomposition::Info::kIllConditioned;
-        return d;
-      }
-    }
-    d.blocks.push_back(b);
-  }
-  const int padded = (static_cast<int>(d.blocks.size()) + 7) / 8 * 8;
-  d.block_sigma.setZero(padded);
-  d.block_omega.setZero(padded);
-  for (size_t k = 0; k < d.blocks.size(); ++k) {
-    d.block_sigma[k] = d.blocks[k].sigma;
-    d.block_omega[k] = d.blocks[k].omega;
-  }
-  // e^{B0 t} = sum_k B0^k t^k / k!: keep terms until they no longer matter for t <= horizon.
-  d.series_terms = 0;
-  if (sdim > 0) {
-    Eigen::MatrixXd power = Eigen::MatrixXd::Identity(sdim, sdim);
-    double largest = 1.0;
-    for (int k = 0;; ++k) {
-      if (k >= kMaxSeriesTerms) {
-        d.info = SpectralDecomposition::Info::kSeriesDiverged;
-        return d;
-      }
-      d.series_terms = k + 1;
-      const double size = power.cwiseAbs().maxCoeff() * std::pow(horizon, k);
-      largest = std::max(largest, size);
-      if (k >= sdim && size <= kSeriesCut * largest) break;
-      power = (d.B0 * power) / static_cast<double>(k + 1);
-    }
-  }
-  d.info = SpectralDecomposition::Info::kSuccess;
-  return d;
-}
-
-void PropagateDecoupled(const SpectralDecomposition& d, const Eigen::VectorXd& w, double t,
-                        Eigen::VectorXd& out, Eigen::VectorXd& scratch) {
-  const int kz = d.zero_size;
-  if (kz > 0) {
-    // e^{B0 t} w0 = w0 + (t/1) B0 (w0 + (t/2) B0 (w0 + ...)), Horner from the highest term down.
-    auto head = out.head(kz);
-    auto tmp = scratch.head(kz);
-    head = w.head(kz);
-    for (int k = d.series_terms - 1; k >= 1; --k) {
-      tmp.noalias() = d.B0 * head;
-      head = w.head(kz) + (t / k) * tmp;
-    }
-  }
-  const int count = static_cast<int>(d.blocks.size());
-  for (int first = 0; first < count; first += 8) {
-    // exp(sigma t), cos(omega t), sin(omega t) of 8 blocks at a time.
-    using Eight = Eigen::Array<double, 8, 1>;
-    Eight grow, c, s;
-    grow = (Eigen::Map<const Eight>(&d.block_sigma[first]) * t).exp();
-    VectorSinCos(&d.block_omega[first], t, count - first, c.data(), s.data());
-    for (int i = 0; i < std::min(8, count - first); ++i) {
-      const auto& b = d.blocks[first + i];
-      if (b.size == 1) {
-        out[b.start] = grow[i] * w[b.start];
-      } else {
-        const Eigen::Vector2d wb = w.segment<2>(b.start);
-        const Eigen::Vector2d shifted = b.B * wb - b.sigma * wb;
-        out.segment<2>(b.start) = grow[i] * (c[i] * wb + (s[i] / b.omega) * shifted);
-      }
-    }
-  }
-}
 
 ClosedFormGap::ClosedFormGap(const SpectralDecomposition& d, const Eigen::RowVectorXd& row) {
   const Eigen::RowVectorXd u = row * d.S;
@@ -314,6 +93,65 @@ ClosedFormGap::ClosedFormGap(const SpectralDecomposition& d, const Eigen::RowVec
     end_value_row_.segment<2>(b.start) = ub * E;
     end_rate_row_.segment<2>(b.start) = ub * b.B * E;
   }
+  // The screen (ClearOfWall): per coordinate of w, the bound of its share of |g'| on [0, H]
+  // (slope) and of its terms' magnitude (size).
+  screen_start_ = u;
+  screen_rate_ = Eigen::RowVectorXd::Zero(m);
+  Eigen::RowVectorXd slope = Eigen::RowVectorXd::Zero(m), size = Eigen::RowVectorXd::Zero(m);
+  Eigen::RowVectorXd curve = Eigen::RowVectorXd::Zero(m);
+  if (zero_size_ > 0 && poly_rows_.rows() > 1) screen_rate_.head(zero_size_) = poly_rows_.row(1);
+  double power = 1.0;  // H^k
+  for (int k = 0; k < poly_rows_.rows() && zero_size_ > 0; ++k) {
+    size.head(zero_size_) += power * poly_rows_.row(k).cwiseAbs();
+    if (k + 1 < poly_rows_.rows())
+      slope.head(zero_size_) +=
+          static_cast<double>(k + 1) * power * poly_rows_.row(k + 1).cwiseAbs();
+    if (k + 2 < poly_rows_.rows())
+      curve.head(zero_size_) +=
+          static_cast<double>((k + 2) * (k + 1)) * power * poly_rows_.row(k + 2).cwiseAbs();
+    power *= horizon;
+  }
+  for (int k = 0; k < terms_; ++k) {
+    const double grow = std::exp(std::max(sigma_[k], 0.0) * horizon);
+    const double a = grow * std::hypot(r1a_[k], r2a_[k]), b = grow * std::hypot(r1b_[k], r2b_[k]);
+    size[index_a_[k]] += a;
+    slope[index_a_[k]] += rate_[k] * a;
+    curve[index_a_[k]] += rate_[k] * rate_[k] * a;
+    size[index_b_[k]] += b;
+    slope[index_b_[k]] += rate_[k] * b;
+    curve[index_b_[k]] += rate_[k] * rate_[k] * b;
+    // g'(0) of the term: sigma alpha + omega beta.
+    screen_rate_[index_a_[k]] += sigma_[k] * r1a_[k] + omega_[k] * r2a_[k];
+    screen_rate_[index_b_[k]] += sigma_[k] * r1b_[k] + omega_[k] * r2b_[k];
+  }
+  const double eps = std::numeric_limits<double>::epsilon();
+  // 1 + 1e-12: the rounding of the bounds' own evaluation (as in DerivativeBound).
+  screen_margin_ = (1.0 + 1e-12) * (4.0 * m + 64.0) * eps * size;
+  screen_reach_ = (1.0 + 1e-12) * horizon * slope + screen_margin_;
+  screen_curve_ = (1.0 + 1e-12) * curve;
+}
+
+bool ClosedFormGap::ClearOfWallCurved(const Eigen::VectorXd& w, double sign, double start,
+                                      double gap_floor) const {
+  const double h = end_;
+  const double end = sign * end_value_row_.dot(w);
+  const double margin = screen_margin_.dot(w.cwiseAbs());
+  if (!(end + margin + gap_floor < 0.0)) return false;
+  const double start_rate = sign * screen_rate_.dot(w), end_rate = sign * end_rate_row_.dot(w);
+  const double c = screen_curve_.dot(w.cwiseAbs());
+  // The rounding of the quantities below, relative to their size.
+  const double slack = 1e-12 * (std::abs(start) + std::abs(end) +
+                                (std::abs(start_rate) + std::abs(end_rate)) * h + c * h * h);
+  double bound = std::max(start, end);
+  // U0(t) - UH(t) = (f(0) - f(H) + f'(H) H - C H^2 / 2) + t (f'(0) - f'(H) + C H).
+  const double offset = start - end + end_rate * h - 0.5 * c * h * h;
+  const double slope = start_rate - end_rate + c * h;
+  if (slope != 0.0) {
+    const double cross = -offset / slope;
+    if (cross > 0.0 && cross < h)
+      bound = std::max(bound, start + start_rate * cross + 0.5 * c * cross * cross);
+  }
+  return bound + slack + margin + gap_floor <= 0.0;
 }
 
 void ClosedFormGap::Load(const Eigen::VectorXd& w) {
@@ -353,7 +191,7 @@ void ClosedFormGap::EvaluateTerms(double t) const {
   grow_ = (sigma_ * t).exp();
   // The arrays are padded to whole vectors (the padding's omega is 0).
   for (int k = 0; k < omega_.size(); k += 8)
-    VectorSinCos(&omega_[k], t, terms_ - k, &cos_[k], &sin_[k]);
+    internal::VectorSinCos(&omega_[k], t, terms_ - k, &cos_[k], &sin_[k]);
 }
 
 double ClosedFormGap::Evaluate(double t, int order) const {

@@ -22,9 +22,8 @@ SpectralLocator::SpectralLocator(const SegmentTables& tables, const SolverOption
   w_ref_.assign(tables.segments(), 0.0);
 }
 
-SpectralLocator::System& SpectralLocator::Prepared(int segment, ContactState state) {
+SpectralLocator::System& SpectralLocator::Build(int segment, ContactState state) {
   System& sp = systems_[segment][static_cast<int>(state)];
-  if (sp.built) return sp;
   sp.built = true;
   // One balancing frequency for all three states of a segment (the same scaling whichever state
   // is visited first).
@@ -50,9 +49,8 @@ SpectralLocator::System& SpectralLocator::Prepared(int segment, ContactState sta
   return sp;
 }
 
-const Eigen::MatrixXd* SpectralLocator::Carry(int segment, ContactState state) {
+const Eigen::MatrixXd* SpectralLocator::BuildCarry(int segment, ContactState state) {
   System& sp = systems_[segment][static_cast<int>(state)];
-  if (sp.carry_built) return sp.carry.size() > 0 ? &sp.carry : nullptr;
   sp.carry_built = true;
   if (max_carry_error_ <= 0.0) return nullptr;
   const int m = t_.m, p = t_.inputs;
@@ -114,10 +112,12 @@ bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
   bool carried = state.z_stale;
   if (carried) {
     const System& sp = systems_[segment][static_cast<int>(state.contact)];
-    w_ = carried_;
-    for (int q = 0; q < t_.inputs; ++q) {
+    // One pass for the first input (a copy followed by an update would re-read w_ just stored).
+    const Eigen::MatrixXd& S_inv = sp.decomposition.S_inv;
+    w_.noalias() = carried_ + state.z[t_.input_slot(0)] * S_inv.col(t_.input_slot(0));
+    for (int q = 1; q < t_.inputs; ++q) {
       const int slot = t_.input_slot(q);
-      if (state.z[slot] != 0.0) w_ += state.z[slot] * sp.decomposition.S_inv.col(slot);
+      if (state.z[slot] != 0.0) w_ += state.z[slot] * S_inv.col(slot);
     }
   } else if (!SwitchIfOutsideAtStart(segment, start, state, handler)) {
     return false;
@@ -136,24 +136,31 @@ bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
     }
     GapWall walls[kMaxWalls];
     const int count = ActiveWalls(sys, state.contact, walls);
-    bool near_wall = false;
-    for (int i = 0; i < count; ++i) {
-      ClosedFormGap& gap = sp.gaps[walls[i].gap];
-      gap.Load(w_);
-      // Carried: the time-triggered check on the closed form; near a wall it is decided on z.
-      if (carried && walls[i].sign * gap.StartValue() > 0.5 * gap_tolerance_) near_wall = true;
-    }
-    if (near_wall) {
-      Materialise(state);
-      carried = false;
-      if (!SwitchIfOutsideAtStart(segment, start, state, handler)) return false;
-      continue;
-    }
+    // A whole segment far from every wall (most of them) is settled by the screen: two dot
+    // products per wall instead of loading the closed form and searching it.
+    bool clear = !moved;
+    for (int i = 0; i < count && clear; ++i)
+      clear = sp.gaps[walls[i].gap].ClearOfWall(w_, walls[i].sign, gap_tolerance_);
     double best = -1.0;
     int best_wall = -1;
-    for (int i = 0; i < count; ++i) {
-      const double root = sp.gaps[walls[i].gap].FirstRise(walls[i].sign, remaining);
-      if (root >= 0.0 && (best < 0.0 || root < best)) best = root, best_wall = i;
+    if (!clear) {
+      bool near_wall = false;
+      for (int i = 0; i < count; ++i) {
+        ClosedFormGap& gap = sp.gaps[walls[i].gap];
+        gap.Load(w_);
+        // Carried: the time-triggered check on the closed form; near a wall it is decided on z.
+        if (carried && walls[i].sign * gap.StartValue() > 0.5 * gap_tolerance_) near_wall = true;
+      }
+      if (near_wall) {
+        Materialise(state);
+        carried = false;
+        if (!SwitchIfOutsideAtStart(segment, start, state, handler)) return false;
+        continue;
+      }
+      for (int i = 0; i < count; ++i) {
+        const double root = sp.gaps[walls[i].gap].FirstRise(walls[i].sign, remaining);
+        if (root >= 0.0 && (best < 0.0 || root < best)) best = root, best_wall = i;
+      }
     }
     if (best < 0.0) {
       const Eigen::MatrixXd* carry =

@@ -30,16 +30,6 @@ bool TrainStepper::AtPeriodStart() const {
   return true;
 }
 
-long TrainStepper::CountPeriodSegments() const {
-  const double until = t_.common_period * (1.0 - 1e-12);
-  long count = 0;
-  for (TrainGrid grid(t_); grid.start() < until && count <= options_.max_cycle_map_segments;
-       grid.Next()) {
-    ++count;
-  }
-  return count;
-}
-
 void TrainStepper::JumpOutcome(TrainStepperSummary& s) const {
   s.cycle_map_segments = period_segments_;
   s.cycle_map_bytes = cycle_map_ ? cycle_map_->bytes() : 0;
@@ -76,7 +66,8 @@ void TrainStepper::TryJump(double end_time, const TrainRecorder* rec) {
   if (periods < options_.min_jump_periods) return;
   ++summary_.period_starts;
   if (!quiet || !contact) return;
-  if (period_segments_ == 0) period_segments_ = CountPeriodSegments();
+  if (period_segments_ == 0)
+    period_segments_ = CountCommonPeriodSegments(t_, options_.max_cycle_map_segments + 1);
   if (period_segments_ > options_.max_cycle_map_segments) {
     outcome = Jumps::kPeriodTooLong;
     return;

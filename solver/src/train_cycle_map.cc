@@ -25,16 +25,44 @@ void FlushSubnormals(Eigen::MatrixBase<Derived>& x) {
   }
 }
 
-// Every grid segment of one common period from t = 0: f(segments, start, length).
+// Every grid segment of one common period from t = 0: f(segments, start, length); stops after
+// `limit` segments. Returns the number walked.
 template <typename F>
-void ForEachPeriodSegment(const TrainTables& t, F&& f) {
+long ForEachPeriodSegment(const TrainTables& t, long limit, F&& f) {
   const double until = t.common_period * (1.0 - 1e-12);
-  for (TrainGrid grid(t); grid.start() < until; grid.Next()) {
+  long count = 0;
+  for (TrainGrid grid(t); grid.start() < until && count < limit; grid.Next(), ++count) {
     f(grid.segments(), grid.start(), grid.end() - grid.start());
   }
+  return count;
+}
+
+constexpr long kWholePeriod = std::numeric_limits<long>::max();
+
+// Nodes per sub-step for the extrema of its gap polynomials, and the chord's loss 1 / (8 K^2).
+constexpr int kNodes = 16;
+constexpr double kChordLoss = 1.0 / (8.0 * kNodes * kNodes);
+
+// sum_p c_p x^p.
+template <typename V>
+double Horner(const V& c, double x) {
+  double value = 0.0;
+  for (Eigen::Index p = c.size() - 1; p >= 0; --p) value = value * x + c[p];
+  return value;
+}
+
+// sum_{p > P} q^p / p! <= e^q q^(P+1) / (P+1)!: the Taylor tail the certificate adds.
+double TaylorTail(double q, int last_term) {
+  double tail = std::exp(q);
+  for (int p = 1; p <= last_term + 1; ++p) tail *= q / p;
+  return tail;
 }
 
 }  // namespace
+
+long CountCommonPeriodSegments(const TrainTables& tables, long limit) {
+  return ForEachPeriodSegment(tables, limit, [](const std::vector<int>&, double, double) {});
+}
 
 TrainCycleMap::TrainCycleMap(const TrainTables& tables, const std::vector<ContactState>& states,
                              double margin_fraction, long grid_segments)
@@ -61,15 +89,16 @@ void TrainCycleMap::BuildMap(TupleMemo& memo, std::vector<Eigen::MatrixXd>& prop
   phi_ = Eigen::MatrixXd::Identity(m, m);
   const bool keep = static_cast<double>(grid_segments) * m * m * sizeof(double) <= kKeepBytes;
   if (keep) propagators.reserve(static_cast<size_t>(grid_segments));
-  ForEachPeriodSegment(t_, [&](const std::vector<int>& segments, double start, double h) {
-    // R_g: the input slot is set to the segment's mean excitation (times the constant slot).
-    const double input = t_.excitation.empty() ? 0.0 : t_.MeanExcitation(start, h);
-    phi_.row(u) = input * phi_.row(c);
-    const Tuple& tuple = Lookup(memo, segments);
-    const Eigen::MatrixXd full = BalancedExpm(tuple.A, h, n, tuple.w_ref);
-    phi_ = (full * phi_).eval();
-    if (keep) propagators.push_back(full);
-  });
+  ForEachPeriodSegment(
+      t_, kWholePeriod, [&](const std::vector<int>& segments, double start, double h) {
+        // R_g: the input slot is set to the segment's mean excitation (times the constant slot).
+        const double input = t_.excitation.empty() ? 0.0 : t_.MeanExcitation(start, h);
+        phi_.row(u) = input * phi_.row(c);
+        const Tuple& tuple = Lookup(memo, segments);
+        const Eigen::MatrixXd full = BalancedExpm(tuple.A, h, n, tuple.w_ref);
+        phi_ = (full * phi_).eval();
+        if (keep) propagators.push_back(full);
+      });
   // The quotient by the free rotation (position and velocity).
   Eigen::VectorXd rp = Eigen::VectorXd::Zero(m), rv = Eigen::VectorXd::Zero(m);
   Eigen::RowVectorXd mp = Eigen::RowVectorXd::Zero(m), mv = Eigen::RowVectorXd::Zero(m);
@@ -130,63 +159,90 @@ void TrainCycleMap::BuildCertificate(TupleMemo& memo,
       Q(meshes * terms, 2 * e);
   Eigen::VectorXd f(meshes * terms), zn(m);
   Eigen::MatrixXd Yn(m, 2 * e);
+  // ||S y||_inf of a state or mode: the velocities balanced by w_ref as in Lookup's norm.
+  const auto balanced_norm = [n, e](const auto& y, double w_ref) {
+    return std::max(y.head(n).cwiseAbs().maxCoeff(),
+                    std::max(y.segment(n, n).cwiseAbs().maxCoeff() / w_ref,
+                             y.tail(y.size() - e).cwiseAbs().maxCoeff()));
+  };
   size_t index = 0;
-  ForEachPeriodSegment(t_, [&](const std::vector<int>& segments, double start, double h) {
-    z[u] = t_.excitation.empty() ? 0.0 : t_.MeanExcitation(start, h);
-    const Tuple& tuple = Lookup(memo, segments);
-    const int substeps = std::max(1, static_cast<int>(std::ceil(tuple.rho * h)));
-    const double d = h / substeps;
-    if (substeps == 1 && index < propagators.size()) {
-      E = propagators[index];  // the map's own expm(A h)
-    } else {
-      // E = sum_p (A d)^p / p!, the sub-step's propagator (rho d <= 1: remainder ~ 1/21!).
-      E.setIdentity();
-      term.setIdentity();
-      for (int p = 1; p <= kTaylorTerms; ++p) {
-        next.noalias() = tuple.A * term;
-        term = next * (d / p);
-        E += term;
-      }
-    }
-    ++index;
-    // rows (mesh j, p) = c_j A^p d^p / p!: mesh j's gap as a polynomial in (tau / d).
-    double scale = 1.0;
-    for (int p = 0; p < terms; ++p) {
-      if (p > 0) scale *= d / p;
-      for (int j = 0; j < meshes; ++j)
-        rows.row(j * terms + p) = scale * tuple.gap_powers.row(j * terms + p);
-    }
-    for (int k = 0; k < substeps; ++k) {
-      f.noalias() = rows * z;
-      Q.noalias() = rows * Y;
-      for (int j = 0; j < meshes; ++j) {
-        const bool drive = states_[static_cast<size_t>(j)] == ContactState::kDrive;
-        const double sign = drive ? 1.0 : -1.0;  // inside: g+ > 0 (drive), g- < 0 (back)
-        const double wall = t_.Wall(j, segments[static_cast<size_t>(j)], drive) * z[c];
-        const auto fj = f.segment(j * terms, terms);
-        double curvature = 0.0;
-        for (int p = 2; p < terms; ++p) curvature += p * (p - 1) * std::abs(fj[p]);
-        // The orbit's margin: min over [0, d] >= min of the ends - sup|g''| d^2 / 8.
-        const double g0 = sign * (fj[0] - wall), g1 = sign * (fj.sum() - wall);
-        margin_[j] = std::min(margin_[j], std::min(g0, g1) - 0.125 * curvature);
-        // Each mode's gap: max |.| over [0, d] <= max of the ends + sup|g''| d^2 / 8.
-        for (int i = 0; i < e; ++i) {
-          const auto re = Q.col(i).segment(j * terms, terms);
-          const auto im = Q.col(e + i).segment(j * terms, terms);
-          double mode_curvature = 0.0;
-          for (int p = 2; p < terms; ++p)
-            mode_curvature += p * (p - 1) * std::sqrt(re[p] * re[p] + im[p] * im[p]);
-          const double r1 = re.sum(), i1 = im.sum();
-          const double ends = std::sqrt(std::max(re[0] * re[0] + im[0] * im[0], r1 * r1 + i1 * i1));
-          gain_(j, i) = std::max(gain_(j, i), ends + 0.125 * mode_curvature);
+  ForEachPeriodSegment(
+      t_, kWholePeriod, [&](const std::vector<int>& segments, double start, double h) {
+        z[u] = t_.excitation.empty() ? 0.0 : t_.MeanExcitation(start, h);
+        const Tuple& tuple = Lookup(memo, segments);
+        // Tightness asks rho(A) d <= 1 (the chord bounds lose ~(rho d)^2 e^(rho d) / (8 K^2) of an
+        // oscillation); the Taylor tail asks q <= kMaxStepNorm.
+        const int substeps = std::max({1, static_cast<int>(std::ceil(tuple.rho * h)),
+                                       static_cast<int>(std::ceil(tuple.rate * h / kMaxStepNorm))});
+        const double d = h / substeps;
+        const double tail = TaylorTail(tuple.rate * d, kTaylorTerms);
+        if (substeps == 1 && index < propagators.size()) {
+          E = propagators[index];  // the map's own expm(A h)
+        } else {
+          // E = sum_p (A d)^p / p!, the sub-step's propagator (remainder below `tail` relative).
+          E.setIdentity();
+          term.setIdentity();
+          for (int p = 1; p <= kTaylorTerms; ++p) {
+            next.noalias() = tuple.A * term;
+            term = next * (d / p);
+            E += term;
+          }
         }
-      }
-      zn.noalias() = E * z;
-      z = zn;
-      Yn.noalias() = E * Y;
-      Y = Yn;
-    }
-  });
+        ++index;
+        // rows (mesh j, p) = c_j A^p d^p / p!: mesh j's gap as a polynomial in (tau / d).
+        double scale = 1.0;
+        for (int p = 0; p < terms; ++p) {
+          if (p > 0) scale *= d / p;
+          for (int j = 0; j < meshes; ++j)
+            rows.row(j * terms + p) = scale * tuple.gap_powers.row(j * terms + p);
+        }
+        for (int k = 0; k < substeps; ++k) {
+          f.noalias() = rows * z;
+          Q.noalias() = rows * Y;
+          const double z_scale = balanced_norm(z, tuple.w_ref);
+          for (int j = 0; j < meshes; ++j) {
+            // The polynomial's truncation: |c_j sum_{p > P} (A tau)^p / p! y| <= ||c_j||_1 tail ||S
+            // y||.
+            const double truncation = tuple.gap_norms[j] * tail;
+            const bool drive = states_[static_cast<size_t>(j)] == ContactState::kDrive;
+            const double sign = drive ? 1.0 : -1.0;  // inside: g+ > 0 (drive), g- < 0 (back)
+            const double wall = t_.Wall(j, segments[static_cast<size_t>(j)], drive) * z[c];
+            const auto fj = f.segment(j * terms, terms);
+            double curvature = 0.0;
+            for (int p = 2; p < terms; ++p) curvature += p * (p - 1) * std::abs(fj[p]);
+            // The orbit's margin: between nodes s_k = k / K of [0, 1] (s = tau / d) a C^2 function
+            // is above its chord less sup|g''| / (8 K^2).
+            double lowest = std::numeric_limits<double>::infinity();
+            for (int k = 0; k <= kNodes; ++k)
+              lowest =
+                  std::min(lowest, sign * (Horner(fj, static_cast<double>(k) / kNodes) - wall));
+            margin_[j] =
+                std::min(margin_[j], lowest - kChordLoss * curvature - truncation * z_scale);
+            // Each mode's gap: max |.| <= max over the nodes + sup|g''| / (8 K^2) (componentwise
+            // chord errors, summed by Minkowski into the modulus).
+            for (int i = 0; i < e; ++i) {
+              const auto re = Q.col(i).segment(j * terms, terms);
+              const auto im = Q.col(e + i).segment(j * terms, terms);
+              double mode_curvature = 0.0;
+              for (int p = 2; p < terms; ++p)
+                mode_curvature += p * (p - 1) * std::sqrt(re[p] * re[p] + im[p] * im[p]);
+              double largest = 0.0;
+              for (int k = 0; k <= kNodes; ++k) {
+                const double x = static_cast<double>(k) / kNodes;
+                largest = std::max(largest, std::hypot(Horner(re, x), Horner(im, x)));
+              }
+              const double mode_scale = std::max(balanced_norm(Y.col(i), tuple.w_ref),
+                                                 balanced_norm(Y.col(e + i), tuple.w_ref));
+              gain_(j, i) = std::max(gain_(j, i), largest + kChordLoss * mode_curvature +
+                                                      2.0 * truncation * mode_scale);
+            }
+          }
+          zn.noalias() = E * z;
+          z = zn;
+          Yn.noalias() = E * Y;
+          Y = Yn;
+        }
+      });
   if (!(margin_.minCoeff() > 0.0)) info_ = Info::kNoMargin;
 }
 
@@ -200,6 +256,16 @@ const TrainCycleMap::Tuple& TrainCycleMap::Lookup(TupleMemo& memo,
   tuple.w_ref = ReferenceFrequency(tuple.A, n);
   tuple.rho =
       Eigen::EigenSolver<Eigen::MatrixXd>(tuple.A, false).eigenvalues().cwiseAbs().maxCoeff();
+  // The sub-step rate: the max-row-sum norm of the balanced generator S A S^-1 (velocities
+  // scaled by 1 / w_ref, as BalancedExpm), so ||S A S^-1|| d <= 1 bounds the Taylor tail.
+  Eigen::VectorXd scale = Eigen::VectorXd::Ones(m);
+  scale.segment(n, n).setConstant(1.0 / tuple.w_ref);
+  tuple.rate = (scale.asDiagonal() * tuple.A * scale.cwiseInverse().asDiagonal())
+                   .cwiseAbs()
+                   .rowwise()
+                   .sum()
+                   .maxCoeff();
+  tuple.gap_norms.resize(static_cast<Eigen::Index>(t_.meshes.size()));
   tuple.gap_powers.resize(static_cast<Eigen::Index>(t_.meshes.size()) * terms, m);
   for (size_t j = 0; j < t_.meshes.size(); ++j) {
     const Eigen::Index r = static_cast<Eigen::Index>(j) * terms;
@@ -207,6 +273,7 @@ const TrainCycleMap::Tuple& TrainCycleMap::Lookup(TupleMemo& memo,
     // The gap of the flank in contact: g+ on v, g- on v_back (they differ from tier 2 on).
     tuple.gap_powers.row(r).head(n) =
         t_.meshes[j].Vector(states_[j] == ContactState::kDrive).transpose();
+    tuple.gap_norms[static_cast<Eigen::Index>(j)] = tuple.gap_powers.row(r).cwiseAbs().sum();
     for (int p = 1; p < terms; ++p)
       tuple.gap_powers.row(r + p) = tuple.gap_powers.row(r + p - 1) * tuple.A;
   }

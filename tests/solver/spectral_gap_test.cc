@@ -1,8 +1,10 @@
 #include "gearnvh/solver/spectral_gap.h"
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "gearnvh/solver/exact_solver.h"
 #include "model/test_specs.h"
@@ -10,6 +12,14 @@
 
 namespace gearnvh {
 namespace {
+
+// A light-load pair with one engine order: its gap moves across the backlash within a segment.
+GearboxSpec LightExcitedPair() {
+  GearboxSpec spec = testing::StandardPair(27, 43, 2e-3, 15e-3);
+  spec.operating.torque = 0.2;
+  spec.operating.excitation = {{2.0, 1500.0, 0.0}};
+  return spec;
+}
 
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 
@@ -207,11 +217,8 @@ TEST_CASE("derivative bounds of the closed-form gap hold on every sub-interval",
           "[solver][spectral]") {
   // The search's certificates are only as good as these bounds: |g'| and |g''| sampled densely
   // on [a, b] must never exceed DerivativeBound(a, b, order).
-  GearboxSpec spec = testing::StandardPair(27, 43, 2e-3, 15e-3);
-  spec.operating.torque = 0.2;
-  spec.operating.excitation = {{2.0, 1500.0, 0.0}};
   const Tier tier = GENERATE(Tier::kTier1, Tier::kTier3);
-  const testing::SolverSetup s(spec, tier);
+  const testing::SolverSetup s(LightExcitedPair(), tier);
   const SegmentTables& t = s.tables;
   auto [z, state0] = StaticInitialState(t);
   z[t.m - 1] = 50.0;
@@ -242,6 +249,75 @@ TEST_CASE("derivative bounds of the closed-form gap hold on every sub-interval",
     // bisect to the bottom (the sum of amplitudes can exceed the maximum by the modes' count).
     CHECK(bound1 <= 50.0 * max1);
   }
+}
+
+TEST_CASE("the screen of a segment start clears far walls and never one the gap reaches",
+          "[solver][spectral]") {
+  // ClearOfWall must be sufficient (a cleared wall is not reached on [0, H]: FirstRise finds no
+  // root) and useful. The wall is moved by a constant added to the gap row (the constant slot) so
+  // that sign * g peaks at q times the spread of g over the segment (sampled densely).
+  const Tier tier = GENERATE(Tier::kTier1, Tier::kTier3);
+  const testing::SolverSetup s(LightExcitedPair(), tier);
+  const SegmentTables& t = s.tables;
+  const double floor = 1e-12 * t.half_backlash;
+  for (int j = 0; j < t.segments(); j += 7) {
+    const SegmentSystem& sys = t.systems[j][static_cast<int>(ContactState::kDrive)];
+    const double w_ref = ReferenceFrequency(sys.A, t.n), h = t.SegmentLength(j);
+    const SpectralDecomposition d = DecomposeGenerator(sys.A, t.n, w_ref, h, 1e6);
+    REQUIRE(d.info == SpectralDecomposition::Info::kSuccess);
+    for (double velocity : {0.0, 0.01, 1.0}) {
+      auto [z, state0] = StaticInitialState(t);
+      z[t.m - 1] = 50.0;
+      z.segment(t.n, t.n).setLinSpaced(-velocity, 2.0 * velocity);
+      const Eigen::VectorXd w = d.S_inv * z;
+      ClosedFormGap base(d, sys.gap_drive, h);
+      base.Load(w);
+      constexpr int kSamples = 2000;
+      std::vector<double> g(kSamples + 1);
+      for (int k = 0; k <= kSamples; ++k) g[k] = base.Value(h * k / kSamples);
+      const double low = *std::min_element(g.begin(), g.end());
+      const double high = *std::max_element(g.begin(), g.end());
+      const double spread = high - low + t.half_backlash * 1e-9;
+      for (double sign : {1.0, -1.0}) {
+        const double top = sign > 0.0 ? high : -low;  // max of sign * g
+        for (double q : {-20.0, -3.0, -0.3, 0.05, 0.5}) {
+          Eigen::RowVectorXd row = sys.gap_drive;
+          row[t.constant_slot()] += sign * (q * spread - top);
+          ClosedFormGap gap(d, row, h);
+          const bool clear = gap.ClearOfWall(w, sign, floor);
+          INFO("segment " << j << " velocity " << velocity << " sign " << sign << " q " << q);
+          if (q > 0.0) CHECK_FALSE(clear);  // the sampled gap is beyond the wall
+          // The linear bound reaches R H = sum amplitude x rate x H: up to ~4.3 spreads here, where
+          // the mesh mode turns ~6 rad per segment (R H ~ (w H / 2) spread); 20 spreads is clear.
+          if (q == -20.0) CHECK(clear);
+          if (clear) {
+            gap.Load(w);
+            CHECK(gap.FirstRise(sign, h) < 0.0);
+          }
+        }
+      }
+    }
+  }
+}
+
+TEST_CASE("the screen's curved bound clears a wall just above an oscillation's peak",
+          "[solver][spectral]") {
+  // x = A cos(w t) on [-H/2, H/2] around its peak, w H = 0.3: x(0) = x(H) = A cos 0.15 =
+  // 0.98877 A. The linear bound reaches x(0) + A w H = 1.289 A; the curved one, with C = A w^2,
+  // peaks where U0 and UH cross (t = H/2): x(0) + x'(0) H/2 + C H^2/8 = 1.0224 A. So a wall at
+  // 1.05 A is cleared (only by the curved bound), one at 0.999 A (crossed) is not.
+  const double w = 1000.0, amp = 1e-5, h = 0.3 / w;
+  const SpectralDecomposition d = DecomposeGenerator(Oscillator(w, 0.0, 0.0), 1, w, h, 1e6);
+  REQUIRE(d.info == SpectralDecomposition::Info::kSuccess);
+  const Eigen::Vector3d z(amp * std::cos(0.15), amp * w * std::sin(0.15), 1.0);
+  const Eigen::VectorXd wz = d.S_inv * z;
+  const double floor = 1e-12 * amp;
+  ClosedFormGap far(d, Eigen::RowVector3d(1.0, 0.0, -1.05 * amp), h);
+  CHECK(far.ClearOfWall(wz, 1.0, floor));
+  ClosedFormGap crossed(d, Eigen::RowVector3d(1.0, 0.0, -0.999 * amp), h);
+  CHECK_FALSE(crossed.ClearOfWall(wz, 1.0, floor));
+  crossed.Load(wz);
+  CHECK(crossed.FirstRise(1.0, h) > 0.0);  // and the search finds the crossing
 }
 
 }  // namespace

@@ -4,8 +4,10 @@
 // allocation.
 #include "gearnvh/solver/train_cycle_map.h"
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <vector>
 
 #include "gearnvh/solver/segment_tables.h"
 #include "gearnvh/solver/train_reference.h"
@@ -116,6 +118,83 @@ TEST_CASE("train jumps: the jumped state is the linear periodic steady state", "
     // Measured 2.6e-12 of the rate: the rate is the TE's difference quotient at the mesh
     // frequency, so its relative rounding is a little above the TE's.
     CHECK(std::abs(mt.v.dot(stepper.state().segment(n, n)) - rate) <= 1e-10 * std::abs(rate));
+  }
+}
+
+// Samples every mesh's drive gap g = v_j x - Wall along `periods` common periods from z (at a
+// period start), `per_segment` points per grid segment, on dense Pade propagators of the
+// independent assembly (train_reference.h), the input held per grid segment as the map holds it.
+// Returns, per mesh, the gaps at every sample.
+std::vector<std::vector<double>> SampleGaps(const TrainTables& t,
+                                            const std::vector<ContactState>& states,
+                                            Eigen::VectorXd z, int periods, int per_segment) {
+  const int n = t.n;
+  std::vector<std::vector<double>> gaps(t.meshes.size());
+  const double until = periods * t.common_period * (1.0 - 1e-12);
+  for (TrainGrid grid(t); grid.start() < until; grid.Next()) {
+    const double h = grid.end() - grid.start();
+    if (!t.excitation.empty()) z[t.input_slot()] = t.MeanExcitation(grid.start(), h);
+    const Eigen::MatrixXd A = AssembleTrainGenerator(t, grid.segments(), states);
+    const double w_ref = ReferenceFrequency(A, n);
+    const Eigen::MatrixXd step = BalancedExpm(A, h / per_segment, n, w_ref);
+    for (int k = 0; k <= per_segment; ++k) {
+      for (size_t j = 0; j < t.meshes.size(); ++j) {
+        const int segment = grid.segments()[j];
+        gaps[j].push_back(t.meshes[j].v.dot(z.head(n)) -
+                          t.Wall(static_cast<int>(j), segment, true));
+      }
+      if (k < per_segment) z = (step * z).eval();
+    }
+  }
+  return gaps;
+}
+
+TEST_CASE("train jumps: the certificate's margins and bounds hold along the orbit and a transient",
+          "[solver][train]") {
+  const Model s = Loaded();
+  const TrainTables& t = s.tables;
+  const std::vector<ContactState> drive(t.meshes.size(), ContactState::kDrive);
+  long segments = 0;
+  for (TrainGrid grid(t); grid.start() < t.common_period * (1.0 - 1e-12); grid.Next()) ++segments;
+  CHECK(CountCommonPeriodSegments(t, 1L << 40) == segments);
+  TrainCycleMap map(t, drive, 0.01, segments);
+  REQUIRE(map.info() == TrainCycleMap::Info::kSuccess);
+
+  // The margin M_j is a lower bound of the orbit's gap over the period (chords between nodes,
+  // the curvature and the Taylor tail subtracted) and a tight one: sampled at 128 points per grid
+  // segment (the fastest mode turns ~2 rad per grid segment here, so the samples miss the true
+  // minimum by < 1e-4 of its amplitude; 16 points missed 8 %), the margin is below the sampled
+  // minimum and within 2 % of it (measured 0.4 % on mesh 0, whose margin is smallest).
+  const std::vector<std::vector<double>> orbit = SampleGaps(t, drive, map.orbit(), 1, 128);
+  for (size_t j = 0; j < t.meshes.size(); ++j) {
+    const double sampled = *std::min_element(orbit[j].begin(), orbit[j].end());
+    INFO("mesh " << j << ": margin " << map.margins()[static_cast<Eigen::Index>(j)]
+                 << " m, sampled minimum " << sampled << " m");
+    CHECK(map.margins()[static_cast<Eigen::Index>(j)] <= sampled);
+    CHECK(map.margins()[static_cast<Eigen::Index>(j)] >= 0.98 * sampled);
+  }
+
+  // A transient: the orbit's elastic coordinates scaled by 1 +- 2e-3. Certify's bound B_j
+  // (sum over modes of |a_i| times the mode's largest gap) holds at every sample of the next three
+  // periods, |g_j(z) - g_j(orbit)| <= B_j, since it bounds every future period (measured: the
+  // deviation is 13 % of the bound on both meshes; the bound adds the modes' moduli).
+  Eigen::VectorXd z = map.orbit();
+  const int n = t.n;
+  for (int i = 0; i < 2 * n; ++i) z[i] *= 1.0 + 2e-3 * std::sin(1.0 + i);
+  const bool certified = map.Certify(z);
+  INFO("bounds " << map.deviation_bounds().transpose() << " m, margins "
+                 << map.margins().transpose() << " m");
+  REQUIRE(certified);
+  const std::vector<std::vector<double>> moved = SampleGaps(t, drive, z, 3, 4);
+  const std::vector<std::vector<double>> rest = SampleGaps(t, drive, map.orbit(), 3, 4);
+  for (size_t j = 0; j < t.meshes.size(); ++j) {
+    double deviation = 0.0;
+    for (size_t k = 0; k < moved[j].size(); ++k)
+      deviation = std::max(deviation, std::abs(moved[j][k] - rest[j][k]));
+    const double bound = map.deviation_bounds()[static_cast<Eigen::Index>(j)];
+    INFO("mesh " << j << ": deviation " << deviation << " m, bound " << bound << " m");
+    CHECK(deviation > 0.0);
+    CHECK(deviation <= bound);
   }
 }
 

@@ -80,6 +80,8 @@ class CycleOutputRows {
     std::vector<int> by_max, by_min;  // chunks by orbit_max descending / orbit_min ascending
     double scale = 0.0;
   };
+  bool PropagateColumns(const ExactRecorder& recorder, int samples_per_cycle,
+                        const Eigen::MatrixXd& basis);
   void Extrema(Statistic& st, OutputStatistics& out, double cycle_start, bool want_min, int live);
   void Accumulate(const Statistic& st, OutputStatistics& out, int live);
 

@@ -303,7 +303,11 @@ class DyadicLocator final : public SubstepLocator {
 
 // V3: per whole segment, w = S^-1 z (one matvec); the gap of every wall is the closed form
 // p(t) + sum e^{sigma t}(alpha cos wt + beta sin wt) + sum gamma e^{lambda t} (ClosedFormGap);
-// its first rise is found with certified bounds and Newton. At an event z <- S e^{B t*} w and the
+// its first rise is found with certified bounds and Newton. A segment start is first screened
+// (ClosedFormGap::ClearOfWall: a few dot products with rows precomputed per segment, state and
+// wall); a wall it clears is not searched, so most segments skip Load() and the search, and
+// the result is the same (the screen is sufficient and keeps the search's rounding margin).
+// At an event z <- S e^{B t*} w and the
 // search restarts in the new state; after the last event of a segment z <- S e^{B(h - t)} w.
 // A segment without an event is left in one matvec:
 //   carried (state.allow_carry, the next segment's decomposition in the same state usable and
@@ -338,13 +342,19 @@ class SpectralLocator final : public EventLocator {
     Eigen::MatrixXd carry;
     bool carry_built = false;
   };
-  // The system of (segment, state), decomposed on first use.
-  System& Prepared(int segment, ContactState state);
+  // The system of (segment, state), decomposed on first use (inline: called on every segment).
+  System& Prepared(int segment, ContactState state) {
+    System& sp = systems_[segment][static_cast<int>(state)];
+    return sp.built ? sp : Build(segment, state);
+  }
+  System& Build(int segment, ContactState state);
   // The carry matrix of (segment, state), built on first use; nullptr when it does not carry.
-  const Eigen::MatrixXd* Carry(int segment, ContactState state);
-  // w_ = the carried state plus the inputs the stepper set in z for `segment`; false when a wall
-  // is within half the wall tolerance at the start (then z is materialised instead).
-  bool ResumeCarried(int segment, LocatorState& state);
+  const Eigen::MatrixXd* Carry(int segment, ContactState state) {
+    const System& sp = systems_[segment][static_cast<int>(state)];
+    if (sp.carry_built) return sp.carry.size() > 0 ? &sp.carry : nullptr;
+    return BuildCarry(segment, state);
+  }
+  const Eigen::MatrixXd* BuildCarry(int segment, ContactState state);
   double max_condition_;
   // Largest first-order relative state error a carried step may add; pairs above it step through
   // z and Phi.

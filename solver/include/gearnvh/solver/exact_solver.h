@@ -155,7 +155,8 @@ class ExactStepper : private EventHandler {
   TangentPropagator tangent_;
   SegmentFusion fusion_;
   RunRecording recording_;
-  LocatorState state_;  // z, contact state, tangent, matvec count
+  LocatorState state_;               // z, contact state, tangent, matvec count
+  SegmentTables::CyclePhase phase_;  // the excitation's phases of the current cycle (SetInputs)
   const ConstantContactCycle* cycle_map_ = nullptr;
   Eigen::VectorXd cycle_end_;
   double time_ = 0.0;

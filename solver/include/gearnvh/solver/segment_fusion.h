@@ -63,6 +63,7 @@ class SegmentFusion {
   // Per (state, segment): visits still to skip, and the current back-off length.
   std::vector<int> skip_, backoff_;
   Eigen::VectorXd start_, end_, certify_scratch_, inputs_;
+  SegmentTables::CyclePhase phase_;  // the excitation's phases of the current cycle
 };
 
 }  // namespace gearnvh

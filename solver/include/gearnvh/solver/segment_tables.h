@@ -91,7 +91,23 @@ struct SegmentTables {
   // SetInputs evaluates one sine per order (BuildSegmentTables fills it; tables assembled by
   // hand without it fall back to MeanExcitation).
   std::vector<double> excitation_windows;
+  // Per segment and order, a_k sinc(w_k h_j / 2) cos(psi_kj) and ... sin(psi_kj), psi_kj =
+  // w_k (t_j + h_j / 2) the phase of the segment's midpoint within a cycle (filled with the
+  // windows). With theta_k(c) = w_k c T + phi_k the mean over segment j of cycle c is
+  //   sum_k sin(theta_k) midpoint_cos_kj + cos(theta_k) midpoint_sin_kj,
+  // so a stepper that keeps theta's sine and cosine per cycle (CyclePhase) needs no trigonometry
+  // per segment.
+  std::vector<double> excitation_midpoint_cos, excitation_midpoint_sin;
   void PrepareExcitationWindows();
+  // sin and cos of every order's phase theta_k(cycle) at the start of `cycle` (cycle -1: none yet).
+  struct CyclePhase {
+    long cycle = -1;
+    std::vector<double> sin, cos;
+  };
+  // SetInputs with the cycle's phases kept in `phase` (recomputed when the cycle changes): one
+  // sincos per order and cycle instead of a sine per order and segment. Equal to SetInputs to
+  // rounding (sin(theta + psi) = sin theta cos psi + cos theta sin psi).
+  void SetInputs(long cycle, int segment, Eigen::Ref<Eigen::VectorXd> z, CyclePhase& phase) const;
   size_t TableBytes() const;
 };
 

@@ -99,6 +99,24 @@ class ClosedFormGap {
   double EndRate() const { return end_rate_; }
   double Rate(double t) const { return Evaluate(t, 1); }
   double Curvature(double t) const { return Evaluate(t, 2); }
+  // The screen of a segment start (constructed with a horizon H), without Load(): true when
+  // sign * g(t) <= -gap_floor for every t in [0, H], so FirstRise(sign, H) finds no root. It
+  // costs two dot products of length m:
+  //   sign g(t) <= sign g(0) + t max|g'| <= sign g(0) + reach . |w| - margin . |w|,
+  // with max|g'| on [0, H] bounded by sum_k k H^(k-1) |P_k . w0| (the polynomial part) plus, per
+  // term, e^{max(sigma, 0) H} |sigma + i omega| |(alpha, beta)|, and |(alpha, beta)| <= |w_a|
+  // |(r1a, r2a)| + |w_b| |(r1b, r2b)| (triangle inequality), so reach_i = H (those weights of
+  // w_i) + margin_i, where margin_i = (4 m + 64) eps (the largest magnitude of w_i's terms on
+  // [0, H]) keeps the evaluated closed form of the search below 0 as well (its rounding).
+  // When that linear bound fails (a wall within reach), the curved one decides: with C >=
+  // max|g''| on [0, H] (weights of |w| as above, rate^2 per term), f = sign g lies below both
+  //   U0(t) = f(0) + f'(0) t + C t^2 / 2  and  UH(t) = f(H) - f'(H)(H - t) + C (H - t)^2 / 2;
+  // U0 - UH is linear in t, so max of min(U0, UH) on [0, H] is at 0, H or where they cross.
+  bool ClearOfWall(const Eigen::VectorXd& w, double sign, double gap_floor) const {
+    const double start = sign * screen_start_.dot(w);
+    if (start + screen_reach_.dot(w.cwiseAbs()) + gap_floor <= 0.0) return true;
+    return start < -gap_floor && ClearOfWallCurved(w, sign, start, gap_floor);
+  }
   // An upper bound of |d^order g / dt^order| on [a, b], 0 <= a <= b, order 1 or 2.
   double DerivativeBound(double a, double b, int order) const;
   // First t in (0, horizon] where sign * g(t) - offset > 0, or -1; offset = max(0, sign g(0)) so
@@ -114,6 +132,9 @@ class ClosedFormGap {
   // grow_ = e^{sigma t}, cos_ = cos(omega t), sin_ = sin(omega t) for every term.
   void EvaluateTerms(double t) const;
   Jet SearchJet(double t) const;
+  // ClearOfWall's second test, given start = sign g(0).
+  bool ClearOfWallCurved(const Eigen::VectorXd& w, double sign, double start,
+                         double gap_floor) const;
   double Search(double a, Jet at_a, double b, std::optional<Jet> at_b, int depth) const;
 
   // p_k = poly_rows_.row(k) . w0, with w0 the B0 part of w.
@@ -145,6 +166,11 @@ class ClosedFormGap {
   double end_ = -1.0;
   Eigen::RowVectorXd end_value_row_, end_rate_row_;
   double end_value_ = 0.0, end_rate_ = 0.0;
+  // The screen's rows (ClearOfWall): g(0) = screen_start_ . w, and the reach weights.
+  Eigen::RowVectorXd screen_start_, screen_reach_;
+  // The curved test's rows: g'(0) = screen_rate_ . w, the weights of max|g''| on [0, H], and the
+  // rounding margin alone (margin_i above).
+  Eigen::RowVectorXd screen_rate_, screen_curve_, screen_margin_;
   // Search state (set by FirstRise).
   mutable double sign_ = 1.0, offset_ = 0.0, horizon_ = 0.0;
 };

@@ -21,15 +21,16 @@
 // eigenvectors of Pq, the gap of mesh j at time t of period k moves from the orbit's by
 // sum_i a_i lambda_i^k c_j Phi(t) phi_i, at most B_j = sum_i |a_i| G_ji, G_ji = sup_t |c_j Phi(t)
 // phi_i|. The orbit's margin M_j = inf_t sign_j g_j(t). Both are bounded over every sub-step of
-// every grid segment (rho(A_g) d <= 1, the Taylor polynomial of the sub-step, 20 terms, remainder
-// ~1/21! of the gap's scale; the sub-step propagator is the map's own expm when d = h): on
-// [0, d] a C^2 function's minimum is >= min(f(0), f(d)) - d^2 sup|f''| / 8 and the modulus of a
-// complex one's maximum <= max(|f(0)|, |f(d)|) + d^2 sup|f''| / 8, sup|f''| from the polynomial's
-// coefficients (sum p (p-1) |f_p| d^(p-2)). Certified when B_j < (1 - margin_fraction) M_j for
-// every mesh j. A jump of K periods: powers Pq^(2^l) (binary, subnormals flushed to zero).
-// Cost: G expm and G sub-step walks once per contact combination (the period's distinct tuples
-// assembled once each; its propagators kept during the build up to kKeepBytes); memory held
-// (40 + 4) m^2 doubles plus the meshes' gains; built only when G <=
+// every grid segment (rho(A_g) d <= 1 and q = ||S A_g S^-1||_inf d <= 3 with S the balancing of
+// BalancedExpm, the Taylor polynomial of the sub-step, 30 terms, its remainder bounded by ||c_j||_1
+// ||S y||_inf e^q q^31 / 31! and added to every bound; the sub-step propagator is the map's own
+// expm when d = h): on [0, d] with nodes tau_k = k d / 16, a C^2 function's minimum is >= min_k
+// f(tau_k) - (d/16)^2 sup|f''| / 8 and the modulus of a complex one's maximum <= max_k |f(tau_k)| +
+// the same, sup|f''| from the polynomial's coefficients (sum p (p-1) |f_p| d^(p-2)). Certified when
+// B_j < (1 - margin_fraction) M_j for every mesh j. A jump of K periods: powers Pq^(2^l) (binary,
+// subnormals flushed to zero). Cost: G expm and G sub-step walks once per contact combination (the
+// period's distinct tuples assembled once each; its propagators kept during the build up to
+// kKeepBytes); memory held (40 + 4) m^2 doubles plus the meshes' gains; built only when G <=
 // TrainStepperOptions::max_cycle_map_segments.
 #pragma once
 
@@ -41,6 +42,9 @@
 
 namespace gearnvh {
 
+// The grid segments of one common period, counted up to `limit`.
+long CountCommonPeriodSegments(const TrainTables& tables, long limit);
+
 class TrainCycleMap {
  public:
   enum class Info {
@@ -51,7 +55,9 @@ class TrainCycleMap {
     kDefectiveBasis,  // the eigenvectors of Pq are not a usable basis
   };
   static constexpr int kMaxJumpLog2 = 40;  // jumps of up to 2^40 - 1 periods
-  static constexpr int kTaylorTerms = 20;  // (rho d)^21 / 21! with rho d <= 1: ~2e-20
+  // Sub-steps d with q = ||S A S^-1|| d <= kMaxStepNorm; the Taylor tail e^q q^31 / 31! <= 2e-18.
+  static constexpr int kTaylorTerms = 30;
+  static constexpr double kMaxStepNorm = 3.0;
 
   // The map of one common period with every mesh in `states` (each kDrive or kBack);
   // margin_fraction in [0, 1) is the share of each orbit margin kept free of the transient;
@@ -79,7 +85,9 @@ class TrainCycleMap {
   // w_ref, spectral radius, and the gap rows c_j A^p, p = 0..kTaylorTerms (mesh-major).
   struct Tuple {
     Eigen::MatrixXd A, gap_powers;
-    double w_ref = 1.0, rho = 0.0;
+    Eigen::VectorXd gap_norms;      // per mesh ||c_j||_1 (position rows: unchanged by balancing)
+    double w_ref = 1.0, rho = 0.0;  // rho: spectral radius of A
+    double rate = 0.0;              // ||S A S^-1||_inf, S = diag(1, 1 / w_ref, 1)
   };
   using TupleMemo = std::map<std::vector<int>, Tuple>;
   const Tuple& Lookup(TupleMemo& memo, const std::vector<int>& segments) const;

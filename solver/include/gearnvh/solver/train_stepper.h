@@ -214,7 +214,6 @@ class TrainStepper {
   // At a common period's start: certifies permanent contact and jumps (train_cycle_jump.cc).
   bool AtPeriodStart() const;
   void TryJump(double end_time, const TrainRecorder* rec);
-  long CountPeriodSegments() const;                // up to max_cycle_map_segments + 1
   void JumpOutcome(TrainStepperSummary& s) const;  // the reason when no period start was tried
 
   const TrainTables& t_;
