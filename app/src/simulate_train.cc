@@ -46,10 +46,6 @@ void PrintTrainSidebands(const TrainOperatingPoint& op) {
   for (const std::string& note : op.sideband_notes) fmt::print("  (spectrum: {})\n", note);
 }
 
-const char* StatusName(TrainStepperSummary::Info info) {
-  return info == TrainStepperSummary::Info::kSuccess ? "success" : "too many events";
-}
-
 const char* JumpsName(TrainStepperSummary::Jumps jumps) {
   using J = TrainStepperSummary::Jumps;
   switch (jumps) {
@@ -201,7 +197,8 @@ nlohmann::json TrainSimulationJson(const TrainOperatingPoint& op, const TrainSpe
   doc["input_speed"] = {{"rad_s", spec.operating.speed}, {"rpm", spec.operating.speed * kRpm}};
   doc["common_period_s"] = tables.common_period;
   doc["warnings"] = op.warnings;
-  doc["summary"] = {{"status", StatusName(s.info)},
+  doc["summary"] = {{"status", TrainStepperInfoName(s.info)},
+                    {"message", TrainStepperMessage(s)},
                     {"simulated_s", s.simulated_time},
                     {"recorded_s", stats.recorded_time},
                     {"wall_s", wall},
@@ -302,7 +299,9 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
                tables.meshes.size(), tables.m);
     fmt::print("  operating point     input shaft {} at {}, loads {}\n", spec.operating.input_shaft,
                Format(spec.operating.speed, spec.operating.speed_unit), TrainLoadsText(spec));
-    fmt::print("  status              {}\n", StatusName(s.info));
+    const std::string why = TrainStepperMessage(s);
+    fmt::print("  status              {}{}\n", TrainStepperInfoName(s.info),
+               why.empty() ? "" : ": " + why);
     fmt::print("  simulated           {:.4f} s ({} + {} cycles of {}), {:.4f} s recorded\n",
                s.simulated_time, transient, cycles, tables.meshes.front().name,
                stats.recorded_time);

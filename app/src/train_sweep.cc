@@ -33,7 +33,7 @@ TrainSweepPoint RunPoint(const TrainSpec& base, const TrainSweepOptions& options
   run.tier = options.tier;
   const TrainOperatingPoint op = RunTrainOperatingPoint(spec, run);
   p.ok = op.ok();
-  if (!p.ok) p.message = "more than 1000 events in a grid segment: the run stopped";
+  if (!p.ok) p.message = "the run stopped: " + TrainStepperMessage(op.summary);
   p.real_time_ratio = op.wall_s > 0.0 ? op.summary.simulated_time / op.wall_s : 0.0;
   p.recorded_s = op.stats.recorded_time;
   for (const TrainMeshTable& mt : op.tables.meshes) p.mesh_periods.push_back(mt.period);

@@ -313,6 +313,9 @@ bool TrainStepper::AdvanceGridSegment(double until, TrainRecorder* rec) {
     time_ += step;
     if (events_this_segment_ > options_.max_events_per_segment) {
       summary_.info = TrainStepperSummary::Info::kTooManyEvents;
+      summary_.stopped_from = grid_.start();
+      summary_.stopped_to = grid_.end();
+      summary_.event_limit = options_.max_events_per_segment;
       return false;
     }
   }

@@ -46,6 +46,7 @@
 
 #include <Eigen/Dense>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "gearnvh/solver/solver_options.h"
@@ -112,6 +113,10 @@ struct TrainStepperSummary {
     kNotCertified,       // the transient's bound reached an orbit margin at every try
   };
   Info info = Info::kSuccess;
+  // kTooManyEvents: the grid segment [stopped_from, stopped_to] (s) where the run stopped, and the
+  // limit its events passed (TrainStepperOptions::max_events_per_segment).
+  double stopped_from = 0.0, stopped_to = 0.0;
+  long event_limit = 0;
   Jumps jumps = Jumps::kNoConstantContact;
   long jumped_periods = 0;      // common periods jumped
   double jumped_time = 0.0;     // s
@@ -131,6 +136,12 @@ struct TrainStepperSummary {
   double simulated_time = 0.0;  // s
   TrainCacheSummary cache;
 };
+
+// "success" | "too many events".
+const char* TrainStepperInfoName(TrainStepperSummary::Info info);
+// Why a run stopped, in words (empty on kSuccess): the reason and where, e.g. "more than 1000
+// contact events in the 2.31e-05 s grid segment starting at t = 0.01234567891 s".
+std::string TrainStepperMessage(const TrainStepperSummary& summary);
 
 // Static equilibrium at t = 0 with each mesh on the flank its load presses (drive first, a mesh
 // whose static gap says otherwise on the back flank, else free), centred (r~ x = 0).
