@@ -87,10 +87,13 @@ TrainSpec ReadTrainDocument(Reader& r, const YAML::Node& root) {
   r.ExpectMap(speed, "operating.speed", {"shaft", "value"});
   spec.operating.input_shaft = r.String(speed, "operating.speed", "shaft");
   spec.operating.speed = r.Quantity(speed, "operating.speed", "value", Dimension::kAngularSpeed);
+  spec.operating.speed_unit =
+      DisplayUnitOf(r.Find("operating.speed.value").raw, Dimension::kAngularSpeed);
   r.ForEachItem(op, "operating", "loads", false, [&](const YAML::Node& item, const std::string& p) {
     r.ExpectMap(item, p, {"on", "torque"});
-    spec.operating.loads.push_back(
-        {r.String(item, p, "on"), r.Quantity(item, p, "torque", Dimension::kTorque)});
+    spec.operating.loads.push_back({r.String(item, p, "on"),
+                                    r.Quantity(item, p, "torque", Dimension::kTorque),
+                                    DisplayUnitOf(r.Find(p + ".torque").raw, Dimension::kTorque)});
   });
   spec.operating.excitation = ReadExcitation(r, op);
   spec.analysis = ReadAnalysis(r, root);

@@ -54,7 +54,7 @@ nlohmann::json CellJson(const AtlasCell& c) {
           {"rattle_index_j", c.rattle_index},
           {"impact_velocity_rms", c.impact_velocity_rms},
           {"separation_fraction", c.separation_fraction},
-          {"regime", c.regime},
+          {"regime", c.ok ? RattleRegimeName(c.regime) : ""},
           {"wall_s", c.wall_s}};
 }
 
@@ -77,7 +77,8 @@ std::string AtlasCsv(const AtlasResult& r, const GearboxSpec& spec) {
        << (c.ok ? 1 : 0) << ',' << c.lyapunov_per_s << ',' << c.lyapunov_per_forcing_cycle << ','
        << c.lyapunov_standard_error << ',' << c.drive_impacts_per_cycle << ','
        << c.back_impacts_per_cycle << ',' << c.rattle_index << ',' << c.impact_velocity_rms << ','
-       << c.separation_fraction << ',' << c.regime << ',' << CsvQuoted(c.message) << '\n';
+       << c.separation_fraction << ',' << (c.ok ? RattleRegimeName(c.regime) : "") << ','
+       << CsvQuoted(c.message) << '\n';
   }
   return os.str();
 }
@@ -89,12 +90,26 @@ std::string CsvQuoted(std::string text) {
   return '"' + text + '"';
 }
 
-char RegimeLetter(bool ok, const std::string& regime) {
+char RegimeLetter(bool ok, RattleRegime regime) {
   if (!ok) return 'X';
-  if (regime == RattleRegimeName(RattleRegime::kChaotic)) return 'C';
-  if (regime == RattleRegimeName(RattleRegime::kDoubleSided)) return 'D';
-  if (regime == RattleRegimeName(RattleRegime::kSingleSided)) return 'S';
-  return '.';
+  switch (regime) {
+    case RattleRegime::kNoImpact:
+      return '.';
+    case RattleRegime::kSingleSided:
+      return 'S';
+    case RattleRegime::kDoubleSided:
+      return 'D';
+    case RattleRegime::kChaotic:
+      return 'C';
+  }
+  return '?';
+}
+
+RattleRegime RegimeFromJson(const nlohmann::json& regime) {
+  const std::string name = regime.get<std::string>();
+  const std::optional<RattleRegime> r = RattleRegimeFromName(name);
+  if (!r) throw std::runtime_error("unknown rattle regime \"" + name + "\"");
+  return *r;
 }
 
 void PrintRegimeMap(int nx, int ny, const std::function<char(int)>& letter, bool legend) {
@@ -126,7 +141,7 @@ nlohmann::json AtlasJson(const AtlasResult& r, const AtlasOptions& o) {
   std::map<std::string, int> regimes;
   for (const AtlasCell& c : r.cells) {
     cells.push_back(CellJson(c));
-    ++regimes[c.ok ? c.regime : "failed"];
+    ++regimes[c.ok ? RattleRegimeName(c.regime) : "failed"];
   }
   return {{"x", AtlasAxisJson(r.x)},
           {"y", AtlasAxisJson(r.y)},
@@ -159,7 +174,7 @@ AtlasCell CellFromJson(const nlohmann::json& j) {
   c.rattle_index = j.at("rattle_index_j").get<double>();
   c.impact_velocity_rms = j.at("impact_velocity_rms").get<double>();
   c.separation_fraction = j.at("separation_fraction").get<double>();
-  c.regime = j.at("regime").get<std::string>();
+  if (c.ok) c.regime = RegimeFromJson(j.at("regime"));
   c.wall_s = j.at("wall_s").get<double>();
   return c;
 }

@@ -35,7 +35,9 @@ nlohmann::json AtlasJson(const AtlasResult& r, const AtlasOptions& o);
 // Shared with the train's atlas (train_atlas_command.h):
 nlohmann::json AtlasAxisJson(const AtlasAxis& a);
 // '.' no impact, 'S' single-sided, 'D' double-sided, 'C' chaotic, 'X' failed.
-char RegimeLetter(bool ok, const std::string& regime);
+char RegimeLetter(bool ok, RattleRegime regime);
+// The regime a results document names (RattleRegimeName); throws on a name that is none.
+RattleRegime RegimeFromJson(const nlohmann::json& regime);
 // The legend (when asked) and the map, rows from the last y value down; letter(k) of cell
 // k = iy * nx + ix.
 void PrintRegimeMap(int nx, int ny, const std::function<char(int)>& letter, bool legend = true);

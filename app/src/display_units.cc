@@ -8,6 +8,15 @@ std::string Format(double si_value, const DisplayUnit& unit) {
   return fmt::format("{:.4g} {}", si_value * unit.per_si, unit.symbol);
 }
 
+std::string TrainLoadsText(const TrainSpec& spec) {
+  std::string text;
+  for (const TrainLoad& load : spec.operating.loads) {
+    if (!text.empty()) text += ", ";
+    text += Format(load.torque, load.torque_unit) + " on " + load.on;
+  }
+  return text.empty() ? "none" : text;
+}
+
 std::string TorqueText(const GearboxSpec& spec) {
   return Format(spec.operating.torque, spec.operating.torque_unit) + " on the " +
          TorqueOnName(spec.operating.torque_on);

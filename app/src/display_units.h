@@ -5,6 +5,7 @@
 #include <string>
 
 #include "gearnvh/model/gearbox_spec.h"
+#include "gearnvh/model/train_spec.h"
 
 namespace gearnvh::app {
 
@@ -13,6 +14,9 @@ std::string Format(double si_value, const DisplayUnit& unit);
 
 // The operating torque as given: "0.5 N m on the wheel", "20 N m on the pinion".
 std::string TorqueText(const GearboxSpec& spec);
+
+// A train's loads as given: "20 N m on layshaft, 0.05 N m on g4" ("none" without loads).
+std::string TrainLoadsText(const TrainSpec& spec);
 
 // "1 gearbox", "3 gearboxes": `count` and the singular or plural noun.
 std::string Count(long count, const std::string& singular, const std::string& plural);

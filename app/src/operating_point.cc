@@ -144,7 +144,7 @@ OperatingPointAnalysis AnalyseOperatingPoint(const GearboxSpec& spec, const Comp
                {"peak_to_peak", te.peak_to_peak},
                {"max", te.max},
                {"min", te.min}};
-  doc["rattle"] = {{"regime", rattle.regime},
+  doc["rattle"] = {{"regime", RattleRegimeName(rattle.regime)},
                    {"drive_impacts_per_cycle", rattle.drive_impacts_per_cycle},
                    {"back_impacts_per_cycle", rattle.back_impacts_per_cycle},
                    {"drive_impacts_per_excitation_cycle", rattle.drive_impacts_per_excitation},

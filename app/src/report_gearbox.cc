@@ -318,7 +318,8 @@ GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::
     }
     int chaotic = 0;
     if (atlas) {
-      for (const AtlasCell& c : atlas->cells) chaotic += c.regime == "chaotic" ? 1 : 0;
+      for (const AtlasCell& c : atlas->cells)
+        chaotic += c.ok && c.regime == RattleRegime::kChaotic ? 1 : 0;
     }
     entry.summary = {
         {"tier", op.tier_name},
@@ -329,7 +330,7 @@ GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::
         {"torque", TorqueText(spec)},
         {"te_rms_um", op.te.rms * 1e6},
         {"te_peak_to_peak_um", op.te.peak_to_peak * 1e6},
-        {"regime", r.regime},
+        {"regime", RattleRegimeName(r.regime)},
         {"impacts_per_cycle", r.drive_impacts_per_cycle + r.back_impacts_per_cycle},
         {"acceleration_ratio", r.acceleration_ratio},
         {"first_critical_speed_rpm",

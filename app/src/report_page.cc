@@ -52,7 +52,7 @@ std::string GearboxPage(const GearboxPageInput& in) {
            Number(op.te.mean * 1e6) + " (" + TeMeanNote(op.te, model.half_backlash) + ")")
     << Row("dynamic factor",
            Number(op.te.dynamic_factor) + (factor_note.empty() ? "" : " (" + factor_note + ")"))
-    << Row("rattle regime", r.regime)
+    << Row("rattle regime", RattleRegimeName(r.regime))
     << Row("impacts per mesh cycle (drive / back)",
            fmt::format("{} / {}", Number(r.drive_impacts_per_cycle),
                        Number(r.back_impacts_per_cycle)))
@@ -111,7 +111,7 @@ std::string GearboxPage(const GearboxPageInput& in) {
   h << "</table>\n</details>\n";
   if (const AtlasResult* atlas = in.atlas) {
     std::map<std::string, int> regimes;
-    for (const AtlasCell& c : atlas->cells) ++regimes[c.ok ? c.regime : "failed"];
+    for (const AtlasCell& c : atlas->cells) ++regimes[c.ok ? RattleRegimeName(c.regime) : "failed"];
     h << "<h2>Chaos atlas</h2>\n<p>" << atlas->x.range.points << " x " << atlas->y.range.points
       << " cells (" << Html(atlas->x.parameter) << " x " << Html(atlas->y.parameter) << "), "
       << in.atlas_cycles << " mesh cycles each: ";

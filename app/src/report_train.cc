@@ -189,7 +189,7 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
   run.transient = spec.analysis.transient_cycles;
   const TrainOperatingPoint op = RunTrainOperatingPoint(spec, run);
   if (!op.ok()) {
-    throw std::runtime_error("operating point: " + op.summary.message);
+    throw std::runtime_error("operating point: " + TrainStepperMessage(op.summary));
   }
   TrainSweepOptions sweep_options;
   sweep_options.cycles = 256;

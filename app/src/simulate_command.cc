@@ -145,8 +145,9 @@ int RunSimulate(const SimulateOptions& options) {
       fmt::print(
           "  rattle              {}: {:.3f} drive / {:.3f} back impacts per mesh cycle, "
           "impact velocity RMS {:.4f} m/s, separated {:.1f} % of the time\n",
-          rattle.regime, rattle.drive_impacts_per_cycle, rattle.back_impacts_per_cycle,
-          rattle.impact_velocity_rms, 100.0 * rattle.separation_fraction);
+          RattleRegimeName(rattle.regime), rattle.drive_impacts_per_cycle,
+          rattle.back_impacts_per_cycle, rattle.impact_velocity_rms,
+          100.0 * rattle.separation_fraction);
       fmt::print(
           "  wheel acceleration  RMS {:.1f} rad/s², {:.2f}x the same gearbox without backlash\n",
           rattle.wheel_acceleration_rms, rattle.acceleration_ratio);

@@ -10,6 +10,7 @@
 #include <numbers>
 #include <optional>
 
+#include "display_units.h"
 #include "finite_results.h"
 #include "gearnvh/model/gear_train.h"
 #include "gearnvh/model/input_error.h"
@@ -43,10 +44,6 @@ void PrintTrainSidebands(const TrainOperatingPoint& op) {
     }
   }
   for (const std::string& note : op.sideband_notes) fmt::print("  (spectrum: {})\n", note);
-}
-
-const char* StatusName(TrainStepperSummary::Info info) {
-  return info == TrainStepperSummary::Info::kSuccess ? "success" : "too many events";
 }
 
 const char* JumpsName(TrainStepperSummary::Jumps jumps) {
@@ -200,7 +197,8 @@ nlohmann::json TrainSimulationJson(const TrainOperatingPoint& op, const TrainSpe
   doc["input_speed"] = {{"rad_s", spec.operating.speed}, {"rpm", spec.operating.speed * kRpm}};
   doc["common_period_s"] = tables.common_period;
   doc["warnings"] = op.warnings;
-  doc["summary"] = {{"status", StatusName(s.info)},
+  doc["summary"] = {{"status", TrainStepperInfoName(s.info)},
+                    {"message", TrainStepperMessage(s)},
                     {"simulated_s", s.simulated_time},
                     {"recorded_s", stats.recorded_time},
                     {"wall_s", wall},
@@ -266,6 +264,7 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
   run.samples_per_cycle = kSamplesPerCycle;
   run.events = settings.events;
   run.tier = tier;
+  run.before_run_warning = [](const std::string& w) { fmt::print(stderr, "warning: {}\n", w); };
   const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
   const TrainOperatingPoint op = RunTrainOperatingPoint(spec, run, [&](double time, double end) {
     if (!on_terminal) return;
@@ -298,9 +297,11 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
     fmt::print("{}  ({}), gear train, {}: {} bodies, {} DOF, {} meshes, state dimension {}\n",
                spec.name, options.file, TierName(tier), tables.bodies(), tables.n,
                tables.meshes.size(), tables.m);
-    fmt::print("  operating point     input shaft {} at {:.4g} rpm\n", spec.operating.input_shaft,
-               spec.operating.speed * kRpm);
-    fmt::print("  status              {}\n", StatusName(s.info));
+    fmt::print("  operating point     input shaft {} at {}, loads {}\n", spec.operating.input_shaft,
+               Format(spec.operating.speed, spec.operating.speed_unit), TrainLoadsText(spec));
+    const std::string why = TrainStepperMessage(s);
+    fmt::print("  status              {}{}\n", TrainStepperInfoName(s.info),
+               why.empty() ? "" : ": " + why);
     fmt::print("  simulated           {:.4f} s ({} + {} cycles of {}), {:.4f} s recorded\n",
                s.simulated_time, transient, cycles, tables.meshes.front().name,
                stats.recorded_time);

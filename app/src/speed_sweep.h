@@ -9,16 +9,17 @@
 
 #include "gearnvh/model/gearbox_spec.h"
 #include "gearnvh/nvh/campbell.h"
+#include "gearnvh/nvh/rattle.h"
 #include "gearnvh/reduction/reduced_model.h"
 
 namespace gearnvh::app {
 
 struct SpeedSweepOptions {
-  long cycles = 512;            // recorded mesh cycles per speed; >= 2
-  long transient_cycles = 200;  // unrecorded cycles first; >= 0
-  long waterfall_cycles = 256;  // the last cycles of each run in the spectrum (<= cycles)
-  double max_order = 0.0;       // waterfall up to this pinion order (0: 3.5 mesh orders)
-  int threads = 0;              // 0: all hardware threads
+  long cycles = 512;             // recorded mesh cycles per speed; >= 2
+  long transient_cycles = 200;   // unrecorded cycles first; >= 0
+  long waterfall_cycles = 256;   // the last cycles of each run in the spectrum (<= cycles)
+  double max_order = 0.0;        // waterfall up to this pinion order (0: 3.5 mesh orders)
+  int threads = 0;               // 0: all hardware threads
   std::string method = "fused";  // v1 | v2 | v3 | fused
   // Cancellation (SolverOptions::cancel): once set, the runs in flight and the speeds not yet
   // started fail with the message "cancelled". Not owned; may be null.
@@ -31,7 +32,7 @@ struct SpeedPoint {
   std::string message;  // why the run failed (ok = false) or a solver note
   double te_rms = 0.0, te_peak_to_peak = 0.0;
   double events_per_cycle = 0.0, drive_impacts_per_cycle = 0.0, back_impacts_per_cycle = 0.0;
-  std::string regime;
+  RattleRegime regime = RattleRegime::kNoImpact;  // of a point that is ok
   double matvec_per_cycle = 0.0, real_time_ratio = 0.0;
   std::vector<double> amplitude_m;  // waterfall row on the common order axis
 };

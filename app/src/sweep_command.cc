@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "atlas_command.h"
 #include "atomic_file.h"
 #include "command_errors.h"
 #include "config/gearbox_loader.h"
@@ -42,7 +43,7 @@ nlohmann::json PointJson(size_t index, const SpeedPoint& p) {
           {"events_per_cycle", p.events_per_cycle},
           {"drive", p.drive_impacts_per_cycle},
           {"back", p.back_impacts_per_cycle},
-          {"regime", p.regime},
+          {"regime", p.ok ? RattleRegimeName(p.regime) : ""},
           {"matvec_per_cycle", p.matvec_per_cycle},
           {"real_time_ratio", p.real_time_ratio},
           {"amplitude_m", p.amplitude_m}};
@@ -59,7 +60,7 @@ SpeedPoint PointFromJson(const nlohmann::json& j) {
   p.events_per_cycle = j.at("events_per_cycle").get<double>();
   p.drive_impacts_per_cycle = j.at("drive").get<double>();
   p.back_impacts_per_cycle = j.at("back").get<double>();
-  p.regime = j.at("regime").get<std::string>();
+  if (p.ok) p.regime = RegimeFromJson(j.at("regime"));
   p.matvec_per_cycle = j.at("matvec_per_cycle").get<double>();
   p.real_time_ratio = j.at("real_time_ratio").get<double>();
   p.amplitude_m = j.at("amplitude_m").get<std::vector<double>>();
@@ -105,7 +106,7 @@ int SweepTrain(const SweepOptions& options, const TrainSpec& spec) {
                options.file, TierName(tier), spec.operating.input_shaft, result.points.size(),
                Count(sweep.cycles, "cycle of " + result.mesh_names.front(),
                      "cycles of " + result.mesh_names.front()));
-    PrintTrainSweep(result);
+    PrintTrainSweep(result, spec.operating.speed_unit);
   }
   if (result.failed() > 0) {
     std::cerr << "error: " << result.failed() << " of " << result.points.size()
@@ -163,7 +164,7 @@ nlohmann::json SweepJson(const SpeedSweepResult& r, double mesh_order) {
                       {"events_per_cycle", p.events_per_cycle},
                       {"drive_impacts_per_cycle", p.drive_impacts_per_cycle},
                       {"back_impacts_per_cycle", p.back_impacts_per_cycle},
-                      {"regime", p.regime},
+                      {"regime", p.ok ? RattleRegimeName(p.regime) : ""},
                       {"matvec_per_cycle", p.matvec_per_cycle},
                       {"real_time_ratio", p.real_time_ratio}});
     amplitude.push_back(p.amplitude_m);
@@ -304,7 +305,7 @@ int RunSweep(const SweepOptions& options) {
         }
         const double mesh = mesh_bin < p.amplitude_m.size() ? p.amplitude_m[mesh_bin] : 0.0;
         fmt::print("  {:8.0f}  {:10.4f}  {:12.3f}  {:14.4f}  {}\n", p.speed_rpm, p.te_rms * 1e6,
-                   p.events_per_cycle, mesh * 1e6, p.regime);
+                   p.events_per_cycle, mesh * 1e6, RattleRegimeName(p.regime));
       }
       fmt::print("  critical speeds (order line x tracked mode):\n");
       for (const CriticalSpeed& c : result.campbell.critical_speeds) {

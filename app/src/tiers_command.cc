@@ -124,7 +124,7 @@ TiersComparison CompareTiers(const GearboxSpec& spec, const SolverOptions& solve
                     {"te_rms_difference_to_finest", r.te_rms_difference},
                     {"rattle_index_j", r.rattle_index},
                     {"rattle_index_difference_to_finest", r.rattle_index_difference},
-                    {"regime", r.regime},
+                    {"regime", RattleRegimeName(r.regime)},
                     {"matvec_per_cycle", r.matvec_per_cycle},
                     {"us_per_cycle", r.us_per_cycle},
                     {"real_time_ratio", r.real_time_ratio},

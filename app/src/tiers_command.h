@@ -15,6 +15,7 @@
 
 #include "gearnvh/model/component_model.h"
 #include "gearnvh/model/gearbox_spec.h"
+#include "gearnvh/nvh/rattle.h"
 #include "gearnvh/reduction/reduced_model.h"
 #include "gearnvh/solver/exact_solver.h"
 
@@ -43,7 +44,7 @@ struct TierRow {
   double compliance_error = 0.0;
   double te_rms = 0.0, rattle_index = 0.0;
   double te_rms_difference = 0.0, rattle_index_difference = 0.0;  // relative to the finest tier
-  std::string regime;
+  RattleRegime regime = RattleRegime::kNoImpact;
   double matvec_per_cycle = 0.0, us_per_cycle = 0.0, real_time_ratio = 0.0;
   size_t table_bytes = 0;
 };

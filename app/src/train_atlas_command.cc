@@ -94,7 +94,7 @@ void PrintTrainAtlas(const TrainAtlasResult& r, const std::string& name, const s
       "mesh):\n");
   PrintRegimeMap(nx, ny, [&](int k) {
     const TrainAtlasPoint& p = r.cells[static_cast<size_t>(k)].point;
-    return RegimeLetter(p.ok, RattleRegimeName(p.regime));
+    return RegimeLetter(p.ok, p.regime);
   });
   for (size_t i = 0; i < r.mesh_names.size(); ++i) {
     fmt::print("  mesh {}:\n", r.mesh_names[i]);
@@ -102,7 +102,7 @@ void PrintTrainAtlas(const TrainAtlasResult& r, const std::string& name, const s
         nx, ny,
         [&](int k) {
           const TrainAtlasPoint& p = r.cells[static_cast<size_t>(k)].point;
-          return RegimeLetter(p.ok, p.ok ? RattleRegimeName(p.meshes[i].regime) : "");
+          return RegimeLetter(p.ok, p.meshes[i].regime);
         },
         false);
   }

@@ -121,6 +121,41 @@ SpectrumWindow PlanWindow(const TrainTables& t, double dt, double start, double 
 
 }  // namespace
 
+std::string SlowRunWarning(const TrainTables& t, double simulated_s) {
+  const int n = t.n;
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n, n);
+  if (t.structural_stiffness.size() > 0) K = t.structural_stiffness;
+  double fastest_mesh_hz = 0.0;
+  for (const TrainMeshTable& mt : t.meshes) {
+    double k = 0.0;
+    for (double kj : mt.k_drive) k += kj / static_cast<double>(mt.k_drive.size());
+    K += k * mt.v * mt.v.transpose();
+    fastest_mesh_hz = std::max(fastest_mesh_hz, 1.0 / mt.period);
+  }
+  // M^-1/2 K M^-1/2 is symmetric with the eigenvalues of M^-1 K.
+  const Eigen::VectorXd scale = t.inertia.cwiseSqrt().cwiseInverse();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(scale.asDiagonal() * K *
+                                                           scale.asDiagonal());
+  if (eig.info() != Eigen::Success || n == 0) return {};
+  const double omega = std::sqrt(std::max(0.0, eig.eigenvalues()[n - 1]));
+  const double hz = omega / (2.0 * std::numbers::pi);
+  if (hz < kSlowModeRatio * fastest_mesh_hz) return {};
+  // The body that moves most in the mode (angles per body from the coordinates).
+  const Eigen::VectorXd x = scale.asDiagonal() * eig.eigenvectors().col(n - 1);
+  Eigen::Index body = 0;
+  (t.body_angles * x).cwiseAbs().maxCoeff(&body);
+  const double substeps = 2.0 * omega * simulated_s;
+  const std::string inertia =
+      t.tier == Tier::kTier1 ? fmt::format(", inertia {:.3g} kg m²", t.inertia[body]) : "";
+  return fmt::format(
+      "the highest mode of the train is {:.4g} Hz, {:.0f}x the fastest mesh frequency ({:.4g} "
+      "Hz), mostly body {}{} (a tiny inertia on stiff meshes makes a very high mode): a sub-step "
+      "is at most 1/(2 omega) = {:.3g} s, about {:.3g} sub-steps for the {:.4g} s simulated, so "
+      "the run will be very slow (a small fraction of real time); check the inertias",
+      hz, hz / fastest_mesh_hz, fastest_mesh_hz, t.body_names[static_cast<size_t>(body)], inertia,
+      0.5 / omega, substeps, simulated_s);
+}
+
 TrainCommandSettings CheckTrainCommandOptions(const std::optional<std::string>& tier_option,
                                               const TrainSpec& spec, const std::string& method,
                                               const std::optional<std::string>& uff,
@@ -168,6 +203,10 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, const TrainRun
   const double start = static_cast<double>(options.transient) * period;
   const double end = start + static_cast<double>(options.cycles) * period;
 
+  if (const std::string slow = SlowRunWarning(tables, end); !slow.empty()) {
+    op.warnings.push_back(slow);
+    if (options.before_run_warning) options.before_run_warning(slow);
+  }
   const auto [z0, states0] = TrainStaticState(tables);
   op.solver.events = options.events;
   op.solver.jumps = options.jumps;

@@ -41,8 +41,22 @@ struct TrainRunOptions {
   bool jumps = true;         // certified jumps of the transient (TrainStepperOptions::jumps)
   // Checked before each 1 % of the run: RunCancelled once set. Not owned; null: never cancelled.
   const std::atomic<bool>* cancel = nullptr;
+  // Called with each warning about the run's cost (SlowRunWarning) before the run starts, so a
+  // command can say it on stderr at once; empty: not called (the warning is in `warnings` too).
+  std::function<void(const std::string&)> before_run_warning;
   void Validate() const;
 };
+
+// A highest mode this many times the fastest mesh frequency or more makes a run slow: every
+// sub-step of the dense path (and of V1, V2) is at most 1 / (2 omega_max) long.
+constexpr double kSlowModeRatio = 1000.0;
+
+// The warning before a very slow run, or empty: the highest mode of the train with every mesh in
+// drive contact, sqrt(lambda_max(M^-1 K)) with the meshes' mean stiffness, at or above
+// kSlowModeRatio times the fastest mesh frequency. It names the mode, the body that moves most in
+// it (the cause: usually a tiny inertia) and the cost, 2 omega_max sub-steps per simulated second
+// for `simulated_s` seconds.
+std::string SlowRunWarning(const TrainTables& tables, double simulated_s);
 
 struct TrainMeshSidebands {
   long window_cycles = 0;  // cycles of this mesh in the spectrum window

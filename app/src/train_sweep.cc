@@ -33,7 +33,7 @@ TrainSweepPoint RunPoint(const TrainSpec& base, const TrainSweepOptions& options
   run.tier = options.tier;
   const TrainOperatingPoint op = RunTrainOperatingPoint(spec, run);
   p.ok = op.ok();
-  if (!p.ok) p.message = "the run stopped: " + op.summary.message;
+  if (!p.ok) p.message = "the run stopped: " + TrainStepperMessage(op.summary);
   p.real_time_ratio = op.wall_s > 0.0 ? op.summary.simulated_time / op.wall_s : 0.0;
   p.recorded_s = op.stats.recorded_time;
   for (const TrainMeshTable& mt : op.tables.meshes) p.mesh_periods.push_back(mt.period);
@@ -152,29 +152,30 @@ std::string TrainLooseGearsCsv(const TrainSweepResult& r) {
   return os.str();
 }
 
-void PrintTrainSweep(const TrainSweepResult& r) {
+void PrintTrainSweep(const TrainSweepResult& r, const DisplayUnit& speed_unit) {
+  const std::string unit = speed_unit.symbol;
   for (size_t i = 0; i < r.mesh_names.size(); ++i) {
-    fmt::print("\n  mesh {}\n  {:>8}{:>12}{:>12}{:>14}{:>16}{:>11}\n", r.mesh_names[i], "rpm",
+    fmt::print("\n  mesh {}\n  {:>8}{:>12}{:>12}{:>14}{:>16}{:>11}\n", r.mesh_names[i], unit,
                "TE RMS µm", "TE p-p µm", "force max N", "impacts/cycle", "separated");
     for (const TrainSweepPoint& p : r.points) {
       if (!p.ok) {
-        fmt::print("  {:8.0f}  failed: {}\n", p.speed_rpm, p.message);
+        fmt::print("  {:8.4g}  failed: {}\n", p.speed_rad_s * speed_unit.per_si, p.message);
         continue;
       }
       const TrainMeshStatistics& m = p.meshes[i];
-      fmt::print("  {:8.0f}{:12.4f}{:12.4f}{:14.2f}{:16.4f}{:10.1f}%\n", p.speed_rpm,
-                 m.te_rms * 1e6, m.te_peak_to_peak * 1e6, m.force_max, p.ImpactsPerCycle(i),
-                 100.0 * m.free_time_fraction);
+      fmt::print("  {:8.4g}{:12.4f}{:12.4f}{:14.2f}{:16.4f}{:10.1f}%\n",
+                 p.speed_rad_s * speed_unit.per_si, m.te_rms * 1e6, m.te_peak_to_peak * 1e6,
+                 m.force_max, p.ImpactsPerCycle(i), 100.0 * m.free_time_fraction);
     }
   }
   if (r.loose_gear_names.empty()) return;
   fmt::print("\n  loose gears: rattle index (RMS angular acceleration, rad/s²) and rank\n  {:>8}",
-             "rpm");
+             unit);
   for (const std::string& name : r.loose_gear_names) fmt::print("{:>16}", name);
   fmt::print("\n");
   for (const TrainSweepPoint& p : r.points) {
     if (!p.ok) continue;
-    fmt::print("  {:8.0f}", p.speed_rpm);
+    fmt::print("  {:8.4g}", p.speed_rad_s * speed_unit.per_si);
     for (const TrainLooseGearStatistics& g : p.loose_gears)
       fmt::print("{:>16}", fmt::format("{:.1f} ({})", g.rattle_index, g.rank));
     fmt::print("\n");

@@ -64,6 +64,7 @@ std::string TrainMeshesCsv(const TrainSweepResult& r);
 std::string TrainLooseGearsCsv(const TrainSweepResult& r);
 
 // Prints the sweep's text tables (per mesh, then the loose gears' rattle index per speed).
-void PrintTrainSweep(const TrainSweepResult& r);
+// The tables of a sweep on a terminal, speeds in `speed_unit` (the unit the file wrote).
+void PrintTrainSweep(const TrainSweepResult& r, const DisplayUnit& speed_unit);
 
 }  // namespace gearnvh::app

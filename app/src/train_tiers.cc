@@ -28,7 +28,7 @@ TrainTierRow RunTier(const TrainSpec& spec, TrainRunOptions run, Tier tier) {
   const TrainOperatingPoint op = RunTrainOperatingPoint(spec, run);
   if (!op.ok()) {
     throw std::runtime_error(std::string(TierName(tier)) +
-                             ": the run stopped: " + op.summary.message);
+                             ": the run stopped: " + TrainStepperMessage(op.summary));
   }
   TrainTierRow row;
   row.name = TierName(tier);

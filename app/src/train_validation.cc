@@ -86,7 +86,7 @@ std::vector<ValidationRow> RunTrainValidationLadder(const TrainSpec& spec) {
   const Checkpoints v3 = RunMethod(tables, EventMethod::kSpectral, z0, states0, times);
   if (!v3.ok) {
     rows.push_back({"train: exact solver (V3) run", 1.0, 0.0, false, false,
-                    "the run stopped: " + v3.summary.message});
+                    "the run stopped: " + TrainStepperMessage(v3.summary)});
     return rows;
   }
 

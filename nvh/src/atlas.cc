@@ -84,7 +84,7 @@ AtlasCell ComputeAtlasCell(const GearboxSpec& base, const AtlasAxis& x, const At
       cell.separation_fraction = rattle.separation_fraction;
       const bool chaotic = IsChaotic(est.per_forcing_cycle, est.exponent, est.standard_error,
                                      options.chaos_threshold);
-      cell.regime = chaotic ? RattleRegimeName(RattleRegime::kChaotic) : rattle.regime;
+      cell.regime = chaotic ? RattleRegime::kChaotic : rattle.regime;
       cell.ok = true;
     }
   } catch (const std::exception& e) {

@@ -18,6 +18,14 @@ const char* RattleRegimeName(RattleRegime regime) {
   return "?";
 }
 
+std::optional<RattleRegime> RattleRegimeFromName(std::string_view name) {
+  for (RattleRegime r : {RattleRegime::kNoImpact, RattleRegime::kSingleSided,
+                         RattleRegime::kDoubleSided, RattleRegime::kChaotic}) {
+    if (name == RattleRegimeName(r)) return r;
+  }
+  return std::nullopt;
+}
+
 RattleRegime ImpactRegime(long drive_impacts, long back_impacts) {
   if (drive_impacts + back_impacts == 0) return RattleRegime::kNoImpact;
   return back_impacts == 0 ? RattleRegime::kSingleSided : RattleRegime::kDoubleSided;
@@ -60,7 +68,7 @@ RattleIndices ComputeRattleIndices(const SolverResult& run, double effective_mas
                                ? r.wheel_acceleration_rms / r.no_backlash_acceleration_rms
                                : 0.0;
   }
-  r.regime = RattleRegimeName(ImpactRegime(s.drive_impacts, s.back_impacts));
+  r.regime = ImpactRegime(s.drive_impacts, s.back_impacts);
   return r;
 }
 

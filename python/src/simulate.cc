@@ -135,7 +135,8 @@ void BindSimulate(py::module_& m) {
                     "max mesh force / static mesh force");
 
   py::class_<RattleIndices>(m, "Rattle", "Rattle indices of a run (docs/results.md).")
-      .def_readonly("regime", &RattleIndices::regime)
+      .def_property_readonly("regime",
+                             [](const RattleIndices& r) { return RattleRegimeName(r.regime); })
       .def_readonly("drive_impacts_per_cycle", &RattleIndices::drive_impacts_per_cycle)
       .def_readonly("back_impacts_per_cycle", &RattleIndices::back_impacts_per_cycle)
       .def_readonly("impact_velocity_rms", &RattleIndices::impact_velocity_rms, "m/s")
@@ -207,7 +208,8 @@ void BindSimulate(py::module_& m) {
           "The document `gearnvh simulate --json` prints.")
       .def("__repr__", [](const Simulation& s) {
         return "<gearnvh.Simulation " + s.op.tier_name + ", TE RMS " +
-               std::to_string(s.op.te.rms * 1e6) + " um, " + s.op.rattle.regime + ">";
+               std::to_string(s.op.te.rms * 1e6) + " um, " + RattleRegimeName(s.op.rattle.regime) +
+               ">";
       });
 
   m.def("simulate", &Simulate, py::arg("gearbox"), py::kw_only(), py::arg("tier") = py::none(),

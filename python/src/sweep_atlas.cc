@@ -153,7 +153,8 @@ void BindSweepAtlas(py::module_& m) {
       .def_property_readonly("regimes",
                              [](const Sweep& s) {
                                std::vector<std::string> r;
-                               for (const auto& p : s.result.points) r.push_back(p.regime);
+                               for (const auto& p : s.result.points)
+                                 r.push_back(p.ok ? RattleRegimeName(p.regime) : "");
                                return r;
                              })
       .def_property_readonly(
@@ -220,16 +221,16 @@ void BindSweepAtlas(py::module_& m) {
                              "impact energy per forcing cycle, J")
       .def_property_readonly("impact_velocity_rms", CellGrid(&AtlasCell::impact_velocity_rms))
       .def_property_readonly("separation_fraction", CellGrid(&AtlasCell::separation_fraction))
-      .def_property_readonly(
-          "regime",
-          [](const Atlas& a) {
-            std::vector<std::vector<std::string>> grid(
-                static_cast<size_t>(a.result.y.range.points));
-            for (const AtlasCell& c : a.result.cells) {
-              grid[static_cast<size_t>(c.iy)].push_back(c.ok ? c.regime : "failed");
-            }
-            return grid;
-          })
+      .def_property_readonly("regime",
+                             [](const Atlas& a) {
+                               std::vector<std::vector<std::string>> grid(
+                                   static_cast<size_t>(a.result.y.range.points));
+                               for (const AtlasCell& c : a.result.cells) {
+                                 grid[static_cast<size_t>(c.iy)].push_back(
+                                     c.ok ? RattleRegimeName(c.regime) : "failed");
+                               }
+                               return grid;
+                             })
       .def_property_readonly("failed", [](const Atlas& a) { return a.result.Failed(); })
       .def(
           "to_dict", [](const Atlas& a) { return ToPython(a.doc); },

@@ -35,6 +35,12 @@ void TrainRecorder::KeepTeSeries(double from_time, long max_samples) {
   for (std::vector<double>& series : te_series_) series.reserve(static_cast<size_t>(keep_max_));
 }
 
+void TrainRecorder::KeepEvents(long max_events) {
+  keep_events_ = std::max(0L, max_events);
+  events_.clear();
+  events_.reserve(static_cast<size_t>(keep_events_));
+}
+
 void TrainRecorder::Sample(double time, const Eigen::VectorXd& z) {
   // Half a sample interval of slack: sample times are start + k dt, rounded.
   if (keep_max_ > 0 && time >= keep_from_ - 0.5 * dt_) {
@@ -147,6 +153,8 @@ void TrainRecorder::Interval(double start, double length, const std::vector<Cont
 
 void TrainRecorder::Event(int mesh, ContactState from, ContactState to, double time, double rate) {
   if (time < start_) return;
+  if (static_cast<long>(events_.size()) < keep_events_)
+    events_.push_back({mesh, {time, from, to, rate}});
   const size_t i = static_cast<size_t>(mesh);
   if (to == ContactState::kFree) {
     ++separations_[i];

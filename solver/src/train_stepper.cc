@@ -243,18 +243,6 @@ void TrainStepper::Graze(int mesh, double time, TrainRecorder* rec) {
   if (rec != nullptr) rec->Grazing(mesh, time);
 }
 
-std::string TrainStepper::TooManyEventsMessage() const {
-  std::ostringstream text;
-  text.precision(9);
-  text << "more than " << options_.max_events_per_segment
-       << " contact events (impacts and grazing touches) in the grid segment [" << grid_.start()
-       << ", " << grid_.end() << "] s, stopped at t = " << time_ << " s";
-  if (last_event_mesh_ >= 0) {
-    text << "; the last on mesh " << t_.meshes[static_cast<size_t>(last_event_mesh_)].name;
-  }
-  return text.str();
-}
-
 void TrainStepper::TaylorValue(double tau, Eigen::VectorXd& out) const {
   out = taylor_.col(kTaylorTerms);
   for (int k = kTaylorTerms - 1; k >= 0; --k) {
@@ -329,7 +317,11 @@ bool TrainStepper::AdvanceGridSegment(double until, TrainRecorder* rec) {
     time_ += step;
     if (events_this_segment_ > options_.max_events_per_segment) {
       summary_.info = TrainStepperSummary::Info::kTooManyEvents;
-      summary_.message = TooManyEventsMessage();
+      summary_.stopped_from = grid_.start();
+      summary_.stopped_to = grid_.end();
+      summary_.event_limit = options_.max_events_per_segment;
+      if (last_event_mesh_ >= 0)
+        summary_.stopped_on_mesh = t_.meshes[static_cast<size_t>(last_event_mesh_)].name;
       return false;
     }
   }

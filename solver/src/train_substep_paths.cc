@@ -151,14 +151,15 @@ TrainStepper::WallHit TrainStepper::Suspect(const Eigen::VectorXd& z, const Eige
 }
 
 bool TrainStepper::BelowGapRounding(const WallHit& hit, const Eigen::VectorXd& z,
-                                    double step) const {
+                                    const Eigen::VectorXd& z1) const {
   const size_t i = static_cast<size_t>(hit.mesh);
   const ContactState now = states_[i];
   const bool drive =
       now == ContactState::kFree ? hit.target == ContactState::kDrive : now == ContactState::kDrive;
-  const double rate = std::abs(t_.meshes[i].Vector(drive).dot(z.segment(t_.n, t_.n)));
-  return rate * step <=
-         kResolvableRounding * t_.GapTolerance(hit.mesh, grid_.segments()[i], drive, z);
+  const int segment = grid_.segments()[i];
+  const double change = std::abs(t_.GapValue(hit.mesh, segment, drive, z1) -
+                                 t_.GapValue(hit.mesh, segment, drive, z));
+  return change <= kResolvableRounding * t_.GapTolerance(hit.mesh, segment, drive, z1);
 }
 
 double TrainStepper::AdvanceDyadic(const TrainSystem& sys, double remaining, TrainRecorder* rec) {
@@ -196,7 +197,7 @@ double TrainStepper::AdvanceDyadic(const TrainSystem& sys, double remaining, Tra
       const double step = cell * static_cast<double>(1LL << k);
       const WallHit hit = Suspect(z_, z1_, step, turned);
       if (hit.mesh < 0 && !(k > 0 && turned)) break;
-      if (k == 0 || (hit.mesh >= 0 && BelowGapRounding(hit, z1_, step))) {
+      if (k == 0 || (hit.mesh >= 0 && BelowGapRounding(hit, z_, z1_))) {
         crossed = true;
         break;
       }

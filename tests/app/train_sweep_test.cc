@@ -161,9 +161,9 @@ TEST_CASE("train report runs: the manual transmission's operating point and swee
   run.cycles = 210;
   run.transient = 50;
   const app::TrainOperatingPoint op = app::RunTrainOperatingPoint(spec, run);
-  INFO(op.summary.message);
+  INFO(TrainStepperMessage(op.summary));
   REQUIRE(op.ok());
-  CHECK(op.summary.message.empty());
+  CHECK(TrainStepperMessage(op.summary).empty());
   CHECK(op.summary.events > 0);  // the loose gears rattle at idle
   spec.analysis.speed_sweep = {700.0 * kRpm, 1300.0 * kRpm, 3};
   app::TrainSweepOptions options;

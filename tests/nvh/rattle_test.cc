@@ -2,6 +2,7 @@
 
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <string>
 
 namespace gearnvh {
 namespace {
@@ -44,11 +45,25 @@ TEST_CASE("rattle indices of a constructed run with known impacts", "[nvh][rattl
   CHECK(r.separation_fraction == Approx(0.4).epsilon(1e-15));
   CHECK(r.wheel_acceleration_rms == Approx(100.0 / std::sqrt(2.0)).epsilon(1e-12));
   CHECK(r.acceleration_ratio == Approx(4.0).epsilon(1e-12));
-  CHECK(r.regime == "double-sided");
+  CHECK(r.regime == RattleRegime::kDoubleSided);
   run.summary.back_impacts = 0;
-  CHECK(ComputeRattleIndices(run, me, 0, nullptr).regime == "single-sided");
+  CHECK(ComputeRattleIndices(run, me, 0, nullptr).regime == RattleRegime::kSingleSided);
   run.summary.drive_impacts = 0;
-  CHECK(ComputeRattleIndices(run, me, 0, nullptr).regime == "no impact");
+  CHECK(ComputeRattleIndices(run, me, 0, nullptr).regime == RattleRegime::kNoImpact);
+}
+
+TEST_CASE("rattle regimes: the names results show, and back from them", "[nvh][rattle]") {
+  // The names are the results' contract (docs/results.md, docs/cli.md, tests of the JSON).
+  CHECK(std::string(RattleRegimeName(RattleRegime::kNoImpact)) == "no impact");
+  CHECK(std::string(RattleRegimeName(RattleRegime::kSingleSided)) == "single-sided");
+  CHECK(std::string(RattleRegimeName(RattleRegime::kDoubleSided)) == "double-sided");
+  CHECK(std::string(RattleRegimeName(RattleRegime::kChaotic)) == "chaotic");
+  for (RattleRegime r : {RattleRegime::kNoImpact, RattleRegime::kSingleSided,
+                         RattleRegime::kDoubleSided, RattleRegime::kChaotic}) {
+    CHECK(RattleRegimeFromName(RattleRegimeName(r)) == r);
+  }
+  CHECK_FALSE(RattleRegimeFromName("").has_value());
+  CHECK_FALSE(RattleRegimeFromName("Chaotic").has_value());
 }
 
 }  // namespace

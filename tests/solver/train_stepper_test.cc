@@ -2,10 +2,13 @@
 // an independent linear periodic solution, the CVODE reference, the cache bound, allocations.
 #include "gearnvh/solver/train_stepper.h"
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <iostream>
 #include <numbers>
+#include <string>
+#include <utility>
 
 #include "gearnvh/model/gear_train.h"
 #include "gearnvh/solver/train_reference.h"
@@ -289,19 +292,15 @@ TEST_CASE("train: a run stopped by the event limit says where and on which mesh"
   TrainStepper stepper(s.tables, limited, z0, states0);
   CHECK(!stepper.Run(0.03));
   const TrainStepperSummary summary = stepper.summary();
-  INFO(summary.message);
+  const std::string message = TrainStepperMessage(summary);
+  INFO(message);
   CHECK(summary.info == TrainStepperSummary::Info::kTooManyEvents);
-  CHECK(summary.message.find("more than 1 contact events") == 0);
-  CHECK(summary.message.find("grid segment [") != std::string::npos);
+  CHECK(message.find("more than 1 contact events") == 0);
   bool names_mesh = false;
   for (const TrainMeshTable& mt : s.tables.meshes)
-    names_mesh =
-        names_mesh || summary.message.find("the last on mesh " + mt.name) != std::string::npos;
+    names_mesh = names_mesh || message.find("the last on mesh " + mt.name) != std::string::npos;
   CHECK(names_mesh);
-  // A run within the limit carries no message.
-  TrainStepper full(s.tables, {}, z0, states0);
-  REQUIRE(full.Run(0.03));
-  CHECK(full.summary().message.empty());
+  CHECK(summary.stopped_on_mesh.size() > 0);
 }
 
 TEST_CASE("train: the stepping loop does not allocate once the cache holds the tuples",
@@ -793,6 +792,58 @@ TEST_CASE("train tables: a decomposition with the free bodies split off reproduc
   }
   CHECK(spectral >= 8);
   CHECK(split >= 5);  // a free mesh frees the loose gear (five of the nine states)
+}
+
+TEST_CASE("train: a run past the events limit stops in the grid segment that passed it and says so",
+          "[solver][train]") {
+  const Model s(Rattler(1500.0));
+  const TrainTables& t = s.tables;
+  const double end = 0.008;  // 15+ events (see the CVODE test)
+  const auto [z0, states0] = TrainStaticState(t);
+  TrainStepperOptions options;
+  options.jumps = false;
+  TrainStepper full(t, options, z0, states0);
+  TrainRecorder recorder(t, 8, 0.0);
+  recorder.KeepEvents(4096);
+  REQUIRE(full.Run(end, &recorder));
+  const TrainStepperSummary done = full.summary();
+  CHECK(done.info == TrainStepperSummary::Info::kSuccess);
+  CHECK(TrainStepperMessage(done).empty());
+  CHECK(std::string(TrainStepperInfoName(done.info)) == "success");
+  // An independent count of the located events per grid segment, from the event log and a walk
+  // of the grid (grazing touches count towards the limit too; none here).
+  REQUIRE(done.grazing == 0);
+  REQUIRE(static_cast<long>(recorder.events().size()) == done.events);
+  std::vector<std::pair<double, double>> segments;
+  std::vector<long> counts;
+  for (TrainGrid grid(t); grid.start() < end; grid.Next()) {
+    segments.emplace_back(grid.start(), grid.end());
+    counts.push_back(0);
+  }
+  for (const TrainEventRecord& e : recorder.events()) {
+    size_t k = 0;
+    while (k + 1 < segments.size() && e.event.time >= segments[k + 1].first) ++k;
+    ++counts[k];
+  }
+  const long busiest = *std::max_element(counts.begin(), counts.end());
+  INFO("most events in one grid segment: " << busiest);
+  REQUIRE(busiest >= 2);  // a limit of busiest - 1 >= 1 is then passed
+  options.max_events_per_segment = busiest - 1;
+  size_t first = 0;
+  while (counts[first] < busiest) ++first;
+  TrainStepper limited(t, options, z0, states0);
+  CHECK_FALSE(limited.Run(end));
+  const TrainStepperSummary stopped = limited.summary();
+  CHECK(stopped.info == TrainStepperSummary::Info::kTooManyEvents);
+  CHECK(std::string(TrainStepperInfoName(stopped.info)) == "too many events");
+  CHECK(stopped.event_limit == busiest - 1);
+  // The same grid walk: the segment's ends to rounding of the time (a few ulps of 8 ms).
+  CHECK(stopped.stopped_from == Approx(segments[first].first).epsilon(0).margin(1e-15));
+  CHECK(stopped.stopped_to == Approx(segments[first].second).epsilon(0).margin(1e-15));
+  const std::string message = TrainStepperMessage(stopped);
+  INFO(message);
+  CHECK(message.find("more than " + std::to_string(busiest - 1) + " contact events in the ") == 0);
+  CHECK(message.find("grid segment starting at t = ") != std::string::npos);
 }
 
 }  // namespace

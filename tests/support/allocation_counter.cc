@@ -10,9 +10,35 @@ std::atomic<bool> g_counting{false};
 
 // Global replacements of every operator new/delete form (plain, array, nothrow, aligned), so that
 // no allocation made by one implementation is released by another (ASan checks that).
+// Eigen's heap (MatrixXd temporaries, resizing) calls std::malloc directly, not operator new: the
+// test binary interposes malloc, calloc and realloc (glibc's own entry points do the work) so those
+// are counted too. Not under a sanitizer, whose runtime interposes them itself.
+#if defined(__GLIBC__) && !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
+#define GEARNVH_COUNT_MALLOC 1
+extern "C" {
+void* __libc_malloc(std::size_t size);
+void* __libc_calloc(std::size_t count, std::size_t size);
+void* __libc_realloc(void* p, std::size_t size);
+void* malloc(std::size_t size) {
+  if (gearnvh::testing::g_counting) ++gearnvh::testing::g_allocations;
+  return __libc_malloc(size);
+}
+void* calloc(std::size_t count, std::size_t size) {
+  if (gearnvh::testing::g_counting) ++gearnvh::testing::g_allocations;
+  return __libc_calloc(count, size);
+}
+void* realloc(void* p, std::size_t size) {
+  if (gearnvh::testing::g_counting) ++gearnvh::testing::g_allocations;
+  return __libc_realloc(p, size);
+}
+}
+#endif
+
 namespace {
 void* Allocate(std::size_t size, std::size_t alignment) {
+#ifndef GEARNVH_COUNT_MALLOC
   if (gearnvh::testing::g_counting) ++gearnvh::testing::g_allocations;
+#endif
   if (size == 0) size = 1;
   if (alignment <= alignof(std::max_align_t)) return std::malloc(size);
   const std::size_t rounded = (size + alignment - 1) / alignment * alignment;

@@ -47,13 +47,15 @@ struct TrainMesh {
 };
 
 struct TrainLoad {
-  std::string on;       // a shaft name or a loose gear's name
-  double torque = 0.0;  // N m, >= 0: mean torque resisting its rotation
+  std::string on;                       // a shaft name or a loose gear's name
+  double torque = 0.0;                  // N m, >= 0: mean torque resisting its rotation
+  DisplayUnit torque_unit{"N m", 1.0};  // the unit the input wrote it in, for output
 };
 
 struct TrainOperating {
-  std::string input_shaft;  // the shaft whose mean speed is given
-  double speed = 0.0;       // rad/s, > 0
+  std::string input_shaft;               // the shaft whose mean speed is given
+  double speed = 0.0;                    // rad/s, > 0
+  DisplayUnit speed_unit{"rad/s", 1.0};  // the unit the input wrote it in, for output
   std::vector<TrainLoad> loads;
   std::vector<ExcitationOrder> excitation;  // orders of the input shaft's speed
 };

@@ -5,8 +5,8 @@
 // Rattle index: the impact energy per forcing (rattle) cycle, sum of (1/2) m_e g'^2 over impacts
 // per forcing period, J — the energy the flanks take per firing pulse. (The acceleration ratio
 // needs a second, backlash-free run per cell and is left to `simulate`.)
-// Regime: "no impact" | "single-sided" | "double-sided" from the impacts (rattle.h), replaced by
-// "chaotic" when lambda T_f > chaos_threshold and lambda exceeds three standard errors.
+// Regime: kNoImpact | kSingleSided | kDoubleSided from the impacts (rattle.h), replaced by
+// kChaotic when lambda T_f > chaos_threshold and lambda exceeds three standard errors.
 // Cells are independent and deterministic: they run in parallel (OpenMP, dynamic schedule) and
 // give bitwise the same numbers for any thread count.
 #pragma once
@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "gearnvh/model/gearbox_spec.h"
+#include "gearnvh/nvh/rattle.h"
 
 namespace gearnvh {
 
@@ -30,7 +31,7 @@ struct AtlasOptions {
   // Cancellation (SolverOptions::cancel): once set, cells in flight and cells not yet started
   // fail with the message "cancelled". Not owned; may be null.
   const std::atomic<bool>* cancel = nullptr;
-  void Validate() const;          // throws InputError naming the field
+  void Validate() const;  // throws InputError naming the field
 };
 
 struct AtlasCell {
@@ -43,7 +44,7 @@ struct AtlasCell {
   double rattle_index = 0.0;                                           // J per forcing cycle
   double impact_velocity_rms = 0.0;                                    // m/s
   double separation_fraction = 0.0;
-  std::string regime;
+  RattleRegime regime = RattleRegime::kNoImpact;  // of a cell that is ok
   double wall_s = 0.0;
 };
 

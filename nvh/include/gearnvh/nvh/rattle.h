@@ -12,12 +12,15 @@
 //                                   piecewise-exact solution, solver/exact_recorder.h)
 //   acceleration ratio              that RMS divided by the same quantity for the same gearbox with
 //                                   the backlash removed (a second run; 0 when not supplied)
-//   regime                          "no impact" | "single-sided" (drive impacts only) |
-//                                   "double-sided" (both flanks); "chaotic" needs the Lyapunov
-//                                   exponent (issue 7) and is not assigned here.
+//   regime                          kNoImpact | kSingleSided (drive impacts only) |
+//                                   kDoubleSided (both flanks); kChaotic needs the Lyapunov
+//                                   exponent and is not assigned here (RattleRegimeName: the
+//                                   names "no impact", "single-sided", ... that results show).
 #pragma once
 
+#include <optional>
 #include <string>
+#include <string_view>
 
 #include "gearnvh/solver/exact_solver.h"
 
@@ -26,8 +29,11 @@ namespace gearnvh {
 // The rattle regime of a mesh, shared by the pair and the train: from its impacts (ImpactRegime),
 // replaced by kChaotic when the largest Lyapunov exponent says so (IsChaotic; atlases only).
 enum class RattleRegime { kNoImpact, kSingleSided, kDoubleSided, kChaotic };
-// "no impact" | "single-sided" | "double-sided" | "chaotic".
+// "no impact" | "single-sided" | "double-sided" | "chaotic": the one name of each regime in
+// results (JSON, CSV, text, HTML).
 const char* RattleRegimeName(RattleRegime regime);
+// The regime whose RattleRegimeName is `name` (reading results back), or nullopt.
+std::optional<RattleRegime> RattleRegimeFromName(std::string_view name);
 // kNoImpact without impacts, kSingleSided with drive-flank impacts only, else kDoubleSided.
 RattleRegime ImpactRegime(long drive_impacts, long back_impacts);
 // Chaotic: lambda T_f above `threshold` (per forcing cycle) and lambda above three standard errors.
@@ -43,7 +49,7 @@ struct RattleIndices {
   double wheel_acceleration_rms = 0.0;  // rad/s^2
   double no_backlash_acceleration_rms = 0.0;
   double acceleration_ratio = 0.0;
-  std::string regime;
+  RattleRegime regime = RattleRegime::kNoImpact;
 };
 
 // `mesh_cycles_per_excitation` = z1 / order (0 without excitation); `no_backlash` may be null.

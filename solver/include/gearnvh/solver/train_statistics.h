@@ -41,6 +41,13 @@ struct TrainLooseGearStatistics {
   int rank = 0;               // 1 = rattles most
 };
 
+// One located contact change of a train run: the mesh, and the pair's record of it (the time, the
+// states before and after, the rate of the gap crossing its wall).
+struct TrainEventRecord {
+  int mesh = 0;
+  EventRecord event;
+};
+
 struct TrainStatistics {
   double recorded_time = 0.0;  // s
   long samples = 0;
@@ -61,6 +68,10 @@ class TrainRecorder {
   void KeepTeSeries(double from_time, long max_samples);
   // Per mesh (file order) the kept TE samples, m.
   const std::vector<std::vector<double>>& te_series() const { return te_series_; }
+  // Keeps the first `max_events` contact changes of the recorded window, in the order they are
+  // located (storage reserved here, so recording allocates nothing).
+  void KeepEvents(long max_events);
+  const std::vector<TrainEventRecord>& events() const { return events_; }
   // The trajectory from z (at `start`, in `system`, the tuple of `segments` and `states`) for
   // `length` seconds: the exact statistics of its part inside the recorded window.
   void Piece(const TrainSystem& system, const Eigen::Ref<const Eigen::VectorXd>& z, double start,
@@ -93,6 +104,8 @@ class TrainRecorder {
   double keep_from_ = 0.0;
   long keep_max_ = 0;
   std::vector<std::vector<double>> te_series_;
+  long keep_events_ = 0;
+  std::vector<TrainEventRecord> events_;
 };
 
 }  // namespace gearnvh

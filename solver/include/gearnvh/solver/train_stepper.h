@@ -113,8 +113,11 @@ struct TrainStepperSummary {
     kNotCertified,       // the transient's bound reached an orbit margin at every try
   };
   Info info = Info::kSuccess;
-  // Why the run stopped (empty on success): the limit, the grid segment and the last event's mesh.
-  std::string message;
+  // kTooManyEvents: the grid segment [stopped_from, stopped_to] (s) where the run stopped, and the
+  // limit its events passed (TrainStepperOptions::max_events_per_segment).
+  double stopped_from = 0.0, stopped_to = 0.0;
+  long event_limit = 0;
+  std::string stopped_on_mesh;  // the mesh of the last event or grazing before the stop
   Jumps jumps = Jumps::kNoConstantContact;
   long jumped_periods = 0;      // common periods jumped
   double jumped_time = 0.0;     // s
@@ -134,6 +137,12 @@ struct TrainStepperSummary {
   double simulated_time = 0.0;  // s
   TrainCacheSummary cache;
 };
+
+// "success" | "too many events".
+const char* TrainStepperInfoName(TrainStepperSummary::Info info);
+// Why a run stopped, in words (empty on kSuccess): the reason and where, e.g. "more than 1000
+// contact events in the 2.31e-05 s grid segment starting at t = 0.01234567891 s".
+std::string TrainStepperMessage(const TrainStepperSummary& summary);
 
 // Static equilibrium at t = 0 with each mesh on the flank its load presses (drive first, a mesh
 // whose static gap says otherwise on the back flank, else free), centred (r~ x = 0).
@@ -188,11 +197,14 @@ class TrainStepper {
   WallHit Suspect(const Eigen::VectorXd& z, const Eigen::VectorXd& z1, double walk_cell,
                   bool& turned) const;
   // V1: the gap of `hit`'s mesh moves by less than kResolvableRounding times its rounding floor
-  // over `step` at z: a finer cell cannot place the crossing better (its state change is lost
-  // in rounding, and bisecting further would crawl through 2^34 cells that do not move z). The
-  // event goes at the cell's end, within that rounding-level time.
+  // from z to z1 (a step's ends): a finer cell cannot place the crossing better (its state change
+  // is lost in rounding, and bisecting further would crawl through 2^34 cells that do not move z).
+  // The event goes at the cell's end, within that rounding-level time. The gap's change, not its
+  // rate at one end: near the apex of a brief excursion beyond a wall the rate at z1 is ~0 while
+  // the step still holds the crossing.
   static constexpr double kResolvableRounding = 4.0;
-  bool BelowGapRounding(const WallHit& hit, const Eigen::VectorXd& z, double step) const;
+  bool BelowGapRounding(const WallHit& hit, const Eigen::VectorXd& z,
+                        const Eigen::VectorXd& z1) const;
   bool SwitchOutside(TrainRecorder* rec);
   // A wall of a mesh's state: gap g+ (drive) or g-; sign * g > 0 is outside; the state beyond.
   struct Wall {
@@ -205,7 +217,6 @@ class TrainStepper {
   // A grazing touch of `mesh` at `time`: counted (as an event of the segment), the state kept.
   void Graze(int mesh, double time, TrainRecorder* rec);
   // The summary's message when a grid segment exceeded max_events_per_segment.
-  std::string TooManyEventsMessage() const;
   // out = sum_k taylor_.col(k) tau^k (Horner).
   void TaylorValue(double tau, Eigen::VectorXd& out) const;
   // Hands the piece from z_start (at piece_start, in the current tuple) to the recorder: its

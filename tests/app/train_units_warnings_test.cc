@@ -1,0 +1,125 @@
+// Train outputs in the units the file wrote (as the pair: text in them, JSON keys in fixed units),
+// and the warning before a very slow run (app/src/train_operating_point.h, SlowRunWarning).
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <sstream>
+#include <string>
+
+#include "gearnvh/model/gear_train.h"
+#include "gearnvh/solver/train_tables.h"
+#include "model/test_trains.h"
+#include "support/run_command.h"
+#include "train_operating_point.h"
+
+namespace gearnvh {
+namespace {
+
+using testing::RunCommand;
+using testing::TempDir;
+
+const std::string kExe = GEARNVH_EXE;
+const std::string kExamples = GEARNVH_EXAMPLES_DIR;
+
+std::string ReadFile(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// The reducer example with its speed and load rewritten in other units.
+std::string ReducerIn(const std::string& speed, const std::string& load) {
+  std::string text = ReadFile(kExamples + "/two_stage_helical_reducer.yaml");
+  const std::string old_speed = "value: 1480 rpm", old_load = "torque: 900 N*m";
+  REQUIRE(text.find(old_speed) != std::string::npos);
+  REQUIRE(text.find(old_load) != std::string::npos);
+  text.replace(text.find(old_speed), old_speed.size(), "value: " + speed);
+  text.replace(text.find(old_load), old_load.size(), "torque: " + load);
+  return text;
+}
+
+TEST_CASE("simulate on a train prints speed and loads in the units the file wrote",
+          "[cli][train][units]") {
+  const TempDir dir;
+  // 1480 rpm = 24.67 rev/s; 900 N m = 0.9 kN m.
+  const auto file = dir.Write("reducer.yaml", ReducerIn("24.6667 rev/s", "0.9 kN*m"));
+  const auto r = RunCommand(kExe + " simulate --cycles 4 --transient 0 " + file.string());
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  INFO(r.out);
+  CHECK(r.out.find("input shaft input at 24.67 rev/s") != std::string::npos);
+  CHECK(r.out.find("loads 0.9 kN m on output") != std::string::npos);
+  CHECK(r.out.find("rpm") == std::string::npos);
+  // The example as written: rpm and N m.
+  const auto as_written = RunCommand(kExe + " simulate --cycles 4 --transient 0 " + kExamples +
+                                     "/two_stage_helical_reducer.yaml");
+  REQUIRE(as_written.exit_code == 0);
+  CHECK(as_written.out.find("input shaft input at 1480 rpm, loads 900 N m on output") !=
+        std::string::npos);
+  // JSON keeps its keys in fixed units, whatever the file wrote (as the pair's).
+  const auto json = RunCommand(kExe + " simulate --json --cycles 4 --transient 0 " + file.string());
+  REQUIRE(json.exit_code == 0);
+  const auto doc = nlohmann::json::parse(json.out);
+  CHECK(doc["input_speed"]["rpm"].get<double>() == Approx(1480.0).epsilon(1e-5));
+}
+
+TEST_CASE("sweep on a train prints its speeds in the unit the file wrote", "[cli][train][units]") {
+  const TempDir dir;
+  std::string text = ReducerIn("155 rad/s", "900 N*m");
+  text += "  speed_sweep: {from: 100 rad/s, to: 150 rad/s, points: 2}\n";
+  const auto file = dir.Write("reducer.yaml", text);
+  const auto r = RunCommand(kExe + " sweep --cycles 4 --transient 0 " + file.string());
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  INFO(r.out);
+  CHECK(r.out.find("rad/s") != std::string::npos);
+  CHECK(r.out.find("     100") != std::string::npos);  // the rows: 100 and 150 rad/s
+  CHECK(r.out.find("     150") != std::string::npos);
+  CHECK(r.out.find("rpm") == std::string::npos);
+}
+
+TEST_CASE("a train with a tiny loose gear is warned about before its slow run",
+          "[train][warnings]") {
+  // The rattler (test_trains.h) with the loose gear g4 at 1e-9 kg m^2: against the much heavier
+  // layshaft (1e-3 kg m^2) its mode is sqrt(k r_b^2 / J) to 1e-6 (the heavy side barely moves),
+  // k the mesh's mean stiffness and r_b = |v| on the gear's coordinate.
+  TrainSpec spec = testing::RattlerTrain(1500.0);
+  const TrainTables normal = BuildTrainTables(spec, BuildGearTrain(spec));
+  CHECK(app::SlowRunWarning(normal, 0.1).empty());
+  spec.gears[3].gear.inertia = 1e-9;
+  const TrainTables tiny = BuildTrainTables(spec, BuildGearTrain(spec));
+  const int loose = 2;  // bodies: input, layshaft, g4
+  REQUIRE(tiny.loose[loose]);
+  REQUIRE(tiny.inertia[loose] == 1e-9);
+  const TrainMeshTable& mt = tiny.meshes[1];
+  double k = 0.0;
+  for (double kj : mt.k_drive) k += kj / static_cast<double>(mt.k_drive.size());
+  const double hz = std::sqrt(k * mt.v[loose] * mt.v[loose] / 1e-9) / (2.0 * std::numbers::pi);
+  const std::string w = app::SlowRunWarning(tiny, 0.1);
+  INFO(w << "\nexpected " << hz << " Hz");
+  REQUIRE(!w.empty());
+  CHECK(w.find(fmt::format("{:.4g} Hz", hz)) != std::string::npos);
+  CHECK(w.find("body g4, inertia 1e-09 kg m²") != std::string::npos);
+  CHECK(w.find("sub-steps for the 0.1 s simulated") != std::string::npos);
+
+  // The run says it before it starts, and keeps it in its warnings (JSON `warnings`).
+  app::TrainRunOptions run;
+  run.cycles = 1;
+  run.transient = 0;
+  run.spectra = false;
+  std::vector<std::string> said;
+  run.before_run_warning = [&](const std::string& text) { said.push_back(text); };
+  const app::TrainOperatingPoint op = app::RunTrainOperatingPoint(spec, run);
+  REQUIRE(said.size() == 1);
+  CHECK(said[0].find("the highest mode of the train") != std::string::npos);
+  CHECK(std::find(op.warnings.begin(), op.warnings.end(), said[0]) != op.warnings.end());
+}
+
+}  // namespace
+}  // namespace gearnvh
