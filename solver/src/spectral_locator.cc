@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "gearnvh/solver/event_locator.h"
 #include "gearnvh/solver/tangent_propagator.h"
@@ -105,20 +106,67 @@ void SpectralLocator::Materialise(LocatorState& state) {
   state.z_stale = false;
 }
 
+template <int M>
+SpectralLocator::Entry SpectralLocator::EnterCarriedSized(int segment, LocatorState& state) {
+  using Vector = Eigen::Matrix<double, M, 1>;
+  const int m = t_.m;
+  // Entered carried: w = C_{j-1} w_{j-1} + sum_q u_q S_j^-1 e_q (the stepper has set the slots).
+  // The previous segment's carry decomposed this (segment, state) and found it usable.
+  const System& sp = systems_[segment][static_cast<int>(state.contact)];
+  const Eigen::MatrixXd& S_inv = sp.decomposition.S_inv;
+  Eigen::Map<Vector> w(w_.data(), m);
+  auto column = [&](int slot) { return Eigen::Map<const Vector>(S_inv.col(slot).data(), m); };
+  // One pass for the first input (a copy followed by an update would re-read w_ just stored).
+  const int first = t_.input_slot(0);
+  w.noalias() = Eigen::Map<const Vector>(carried_.data(), m) + state.z[first] * column(first);
+  for (int q = 1; q < t_.inputs; ++q) {
+    const int slot = t_.input_slot(q);
+    if (state.z[slot] != 0.0) w += state.z[slot] * column(slot);
+  }
+  const SegmentSystem& sys = t_.systems[segment][static_cast<int>(state.contact)];
+  GapWall walls[kMaxWalls];
+  const int count = ActiveWalls(sys, state.contact, walls);
+  for (int i = 0; i < count; ++i) {
+    if (!sp.gaps[walls[i].gap].ClearOfWall(w, walls[i].sign, gap_tolerance_))
+      return Entry::kNearWall;
+  }
+  const Eigen::MatrixXd* carry = state.allow_carry ? Carry(segment, state.contact) : nullptr;
+  if (carry == nullptr) return Entry::kClear;
+  const Eigen::Map<const Eigen::Matrix<double, M, M>> C(carry->data(), m, m);
+  if (segment + 1 < t_.segments()) {
+    Eigen::Map<Vector>(carried_.data(), m).noalias() = C * w;
+    carry_segment_ = segment + 1;
+    carry_state_ = state.contact;
+  } else {
+    const int live = m - t_.inputs;
+    state.z.head(live).noalias() = C.topRows(live) * w;
+    state.z_stale = false;
+  }
+  ++state.matvecs;
+  return Entry::kSettled;
+}
+
+SpectralLocator::Entry SpectralLocator::EnterCarried(int segment, LocatorState& state) {
+  switch (t_.m) {
+    case 6:
+      return EnterCarriedSized<6>(segment, state);
+    case 7:
+      return EnterCarriedSized<7>(segment, state);
+    default:
+      return EnterCarriedSized<Eigen::Dynamic>(segment, state);
+  }
+}
+
 bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
                              EventHandler& handler) {
   const double h = t_.SegmentLength(segment);
-  // Entered carried: w = C_{j-1} w_{j-1} + sum_q u_q S_j^-1 e_q (the stepper has set the slots).
   bool carried = state.z_stale;
+  // The screen's verdict on the entry state when EnterCarried has taken it (first pass only).
+  std::optional<bool> entry_clear;
   if (carried) {
-    const System& sp = systems_[segment][static_cast<int>(state.contact)];
-    // One pass for the first input (a copy followed by an update would re-read w_ just stored).
-    const Eigen::MatrixXd& S_inv = sp.decomposition.S_inv;
-    w_.noalias() = carried_ + state.z[t_.input_slot(0)] * S_inv.col(t_.input_slot(0));
-    for (int q = 1; q < t_.inputs; ++q) {
-      const int slot = t_.input_slot(q);
-      if (state.z[slot] != 0.0) w_ += state.z[slot] * S_inv.col(slot);
-    }
+    const Entry entry = EnterCarried(segment, state);
+    if (entry == Entry::kSettled) return true;
+    entry_clear = entry == Entry::kClear;
   } else if (!SwitchIfOutsideAtStart(segment, start, state, handler)) {
     return false;
   }
@@ -139,8 +187,13 @@ bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
     // A whole segment far from every wall (most of them) is settled by the screen: two dot
     // products per wall instead of loading the closed form and searching it.
     bool clear = !moved;
-    for (int i = 0; i < count && clear; ++i)
-      clear = sp.gaps[walls[i].gap].ClearOfWall(w_, walls[i].sign, gap_tolerance_);
+    if (entry_clear) {
+      clear = *entry_clear;
+      entry_clear.reset();
+    } else {
+      for (int i = 0; i < count && clear; ++i)
+        clear = sp.gaps[walls[i].gap].ClearOfWall(w_, walls[i].sign, gap_tolerance_);
+    }
     double best = -1.0;
     int best_wall = -1;
     if (!clear) {

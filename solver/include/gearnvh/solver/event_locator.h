@@ -355,6 +355,18 @@ class SpectralLocator final : public EventLocator {
     return BuildCarry(segment, state);
   }
   const Eigen::MatrixXd* BuildCarry(int segment, ContactState state);
+  // The start of a segment entered carried (state.z_stale): w_ = carried_ + sum_q u_q S_j^-1 e_q,
+  // the screen of every active wall and, when every wall is clear and (segment, state) carries,
+  // the carry itself (w_{j+1} = C_j w_, or z at the cycle end): the whole work of ~31 of 32
+  // segments of a strong-rattle cycle. kClear / kNearWall: not settled, w_ holds the entry state
+  // and the screen's verdict is returned. M is the state dimension when it is known at compile
+  // time (tier 1: m = 6, or 7 with manufacturing errors; fixed-size products and dot products,
+  // unrolled), otherwise Eigen::Dynamic; EnterCarried() picks the instance (a branch on m that
+  // never changes during a run).
+  enum class Entry { kSettled, kClear, kNearWall };
+  template <int M>
+  Entry EnterCarriedSized(int segment, LocatorState& state);
+  Entry EnterCarried(int segment, LocatorState& state);
   double max_condition_;
   // Largest first-order relative state error a carried step may add; pairs above it step through
   // z and Phi.
