@@ -9,6 +9,33 @@
 
 namespace gearnvh {
 
+namespace {
+
+// y = the top y.size() rows of a x for a square a; M: its size when known at compile time.
+template <int M>
+void MultiplySized(const Eigen::MatrixXd& a, const Eigen::VectorXd& x,
+                   Eigen::Ref<Eigen::VectorXd> y) {
+  const int m = static_cast<int>(a.rows());
+  const Eigen::Map<const Eigen::Matrix<double, M, M>> fixed(a.data(), m, m);
+  y.noalias() =
+      fixed.topRows(y.size()) * Eigen::Map<const Eigen::Matrix<double, M, 1>>(x.data(), m);
+}
+
+// The products of a segment with an event, through fixed-size kernels at tier 1 (m = 6, 7; the
+// same sizes as EnterCarriedSized).
+void Multiply(const Eigen::MatrixXd& a, const Eigen::VectorXd& x, Eigen::Ref<Eigen::VectorXd> y) {
+  switch (a.rows()) {
+    case 6:
+      return MultiplySized<6>(a, x, y);
+    case 7:
+      return MultiplySized<7>(a, x, y);
+    default:
+      y.noalias() = a.topRows(y.size()) * x;
+  }
+}
+
+}  // namespace
+
 SpectralLocator::SpectralLocator(const SegmentTables& tables, const SolverOptions& options)
     : EventLocator(tables, options),
       max_condition_(options.spectral_max_condition),
@@ -101,7 +128,7 @@ void SpectralLocator::Materialise(LocatorState& state) {
   if (!state.z_stale) return;
   const int live = t_.m - t_.inputs;  // the input slots of z are the stepper's
   const System& sp = systems_[carry_segment_][static_cast<int>(carry_state_)];
-  state.z.head(live).noalias() = sp.decomposition.S.topRows(live) * carried_;
+  Multiply(sp.decomposition.S, carried_, state.z.head(live));
   ++state.matvecs;
   state.z_stale = false;
 }
@@ -179,7 +206,7 @@ bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
     if (!sp.ok) return fallback_.AdvanceFrom(segment, start, done, state, handler);
     const double remaining = h - done;
     if (!carried) {
-      w_.noalias() = sp.decomposition.S_inv * z;
+      Multiply(sp.decomposition.S_inv, z, w_);
       ++state.matvecs;
     }
     GapWall walls[kMaxWalls];
@@ -227,12 +254,12 @@ bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
         z.head(t_.m - t_.inputs).noalias() = carry->topRows(t_.m - t_.inputs) * w_;
         state.z_stale = false;
       } else if (!moved && !state.z_stale) {
-        z1_.noalias() = sys.full * z;  // the dense propagator: exact to rounding, cond-free
+        Multiply(sys.full, z, z1_);  // the dense propagator: exact to rounding, cond-free
         if (state.tangent != nullptr) state.tangent->Propagate(sys.full);
         z.swap(z1_);
       } else {
         PropagateDecoupled(sp.decomposition, w_, remaining, wt_, scratch_);
-        z.noalias() = sp.decomposition.S * wt_;
+        Multiply(sp.decomposition.S, wt_, z);
         state.z_stale = false;
         if (state.tangent != nullptr)
           state.tangent->PropagateDecoupled(sp.decomposition, remaining);
@@ -250,7 +277,7 @@ bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
     // A grazing touch keeps the state; the search resumes just past it.
     if (touch) step = std::min(remaining, best + 1e-12 * h);
     PropagateDecoupled(sp.decomposition, w_, step, wt_, scratch_);
-    z.noalias() = sp.decomposition.S * wt_;
+    Multiply(sp.decomposition.S, wt_, z);
     state.z_stale = false;
     if (state.tangent != nullptr) state.tangent->PropagateDecoupled(sp.decomposition, step);
     ++state.matvecs;
