@@ -184,6 +184,29 @@ SpectralLocator::Entry SpectralLocator::EnterCarried(int segment, LocatorState& 
   }
 }
 
+template <int M>
+int SpectralLocator::CarryThroughSized(int segment, long cycle, SegmentTables::CyclePhase& phase,
+                                       LocatorState& state) {
+  const int segments = t_.segments();
+  for (int j = segment; j < segments; ++j) {
+    t_.SetInputs(cycle, j, state.z, phase);
+    if (EnterCarriedSized<M>(j, state) != Entry::kSettled) return j;
+  }
+  return segments;
+}
+
+int SpectralLocator::CarryThrough(int segment, long cycle, SegmentTables::CyclePhase& phase,
+                                  LocatorState& state) {
+  switch (t_.m) {
+    case 6:
+      return CarryThroughSized<6>(segment, cycle, phase, state);
+    case 7:
+      return CarryThroughSized<7>(segment, cycle, phase, state);
+    default:
+      return CarryThroughSized<Eigen::Dynamic>(segment, cycle, phase, state);
+  }
+}
+
 bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
                              EventHandler& handler) {
   const double h = t_.SegmentLength(segment);

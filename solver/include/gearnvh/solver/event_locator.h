@@ -330,6 +330,12 @@ class SpectralLocator final : public EventLocator {
   EventMethod method() const override { return kMethod; }
   bool DoStep(int segment, double start, LocatorState& state, EventHandler& handler) override;
   void Materialise(LocatorState& state) override;
+  // Entered carried (state.z_stale) at `segment` of mesh cycle `cycle`: sets each segment's inputs
+  // (SegmentTables::SetInputs with the cycle's phases) and carries the state through every
+  // segment the screen clears, as DoStep would, without a call per segment. Returns the first
+  // segment not settled (its inputs set, state still carried) or segments() when the cycle's
+  // last segment was carried out (z written). No event can happen in the segments it settles.
+  int CarryThrough(int segment, long cycle, SegmentTables::CyclePhase& phase, LocatorState& state);
 
  private:
   struct System {
@@ -367,6 +373,9 @@ class SpectralLocator final : public EventLocator {
   template <int M>
   Entry EnterCarriedSized(int segment, LocatorState& state);
   Entry EnterCarried(int segment, LocatorState& state);
+  template <int M>
+  int CarryThroughSized(int segment, long cycle, SegmentTables::CyclePhase& phase,
+                        LocatorState& state);
   double max_condition_;
   // Largest first-order relative state error a carried step may add; pairs above it step through
   // z and Phi.
