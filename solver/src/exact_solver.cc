@@ -183,6 +183,17 @@ template <class Locator>
 bool ExactStepper::StepCycleWith(Locator& locator, bool recorded, bool try_runs) {
   const double cycle_start = static_cast<double>(cycle_) * t_.mesh_period;
   for (int j = 0; j < t_.segments(); ++j) {
+    // V3 carrying (never while recording or with a tangent): the segments the screen clears are
+    // stepped inside the locator, without the per-segment bookkeeping below.
+    if constexpr (requires { locator.CarryThrough(j, cycle_, phase_, state_); }) {
+      if (state_.z_stale && !try_runs) {
+        j = locator.CarryThrough(j, cycle_, phase_, state_);
+        if (j == t_.segments()) {
+          time_ = cycle_start + t_.boundaries[j - 1] + t_.SegmentLength(j - 1);
+          break;
+        }
+      }
+    }
     if (try_runs) {
       const int run = fusion_.TryRun(cycle_, j, state_, locator);
       if (run > 0) {

@@ -185,18 +185,41 @@ SpectralDecomposition DecomposeGenerator(const Eigen::MatrixXd& A, int n, double
   return d;
 }
 
+namespace {
+
+// e^{B0 t} w0 = w0 + (t/1) B0 (w0 + (t/2) B0 (w0 + ...)), Horner from the highest term down, into
+// out.head(kz). K: kz when it is known at compile time (the cluster of a pair's free rotation,
+// the constant and one or two input slots: 4 or 5 on every tier), else Eigen::Dynamic.
+template <int K>
+void PropagateZeroCluster(const SpectralDecomposition& d, const Eigen::VectorXd& w, double t,
+                          Eigen::VectorXd& out, Eigen::VectorXd& scratch) {
+  using Vector = Eigen::Matrix<double, K, 1>;
+  const int kz = d.zero_size;
+  const Eigen::Map<const Eigen::Matrix<double, K, K>> b0(d.B0.data(), kz, kz);
+  const Eigen::Map<const Vector> w0(w.data(), kz);
+  Eigen::Map<Vector> head(out.data(), kz), tmp(scratch.data(), kz);
+  head = w0;
+  for (int k = d.series_terms - 1; k >= 1; --k) {
+    tmp.noalias() = b0 * head;
+    head = w0 + (t / k) * tmp;
+  }
+}
+
+}  // namespace
+
 void PropagateDecoupled(const SpectralDecomposition& d, const Eigen::VectorXd& w, double t,
                         Eigen::VectorXd& out, Eigen::VectorXd& scratch) {
-  const int kz = d.zero_size;
-  if (kz > 0) {
-    // e^{B0 t} w0 = w0 + (t/1) B0 (w0 + (t/2) B0 (w0 + ...)), Horner from the highest term down.
-    auto head = out.head(kz);
-    auto tmp = scratch.head(kz);
-    head = w.head(kz);
-    for (int k = d.series_terms - 1; k >= 1; --k) {
-      tmp.noalias() = d.B0 * head;
-      head = w.head(kz) + (t / k) * tmp;
-    }
+  switch (d.zero_size) {
+    case 0:
+      break;
+    case 4:
+      PropagateZeroCluster<4>(d, w, t, out, scratch);
+      break;
+    case 5:
+      PropagateZeroCluster<5>(d, w, t, out, scratch);
+      break;
+    default:
+      PropagateZeroCluster<Eigen::Dynamic>(d, w, t, out, scratch);
   }
   const int count = static_cast<int>(d.blocks.size());
   for (int first = 0; first < count; first += 8) {

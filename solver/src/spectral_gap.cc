@@ -131,29 +131,6 @@ ClosedFormGap::ClosedFormGap(const SpectralDecomposition& d, const Eigen::RowVec
   screen_curve_ = (1.0 + 1e-12) * curve;
 }
 
-bool ClosedFormGap::ClearOfWallCurved(const Eigen::VectorXd& w, double sign, double start,
-                                      double gap_floor) const {
-  const double h = end_;
-  const double end = sign * end_value_row_.dot(w);
-  const double margin = screen_margin_.dot(w.cwiseAbs());
-  if (!(end + margin + gap_floor < 0.0)) return false;
-  const double start_rate = sign * screen_rate_.dot(w), end_rate = sign * end_rate_row_.dot(w);
-  const double c = screen_curve_.dot(w.cwiseAbs());
-  // The rounding of the quantities below, relative to their size.
-  const double slack = 1e-12 * (std::abs(start) + std::abs(end) +
-                                (std::abs(start_rate) + std::abs(end_rate)) * h + c * h * h);
-  double bound = std::max(start, end);
-  // U0(t) - UH(t) = (f(0) - f(H) + f'(H) H - C H^2 / 2) + t (f'(0) - f'(H) + C H).
-  const double offset = start - end + end_rate * h - 0.5 * c * h * h;
-  const double slope = start_rate - end_rate + c * h;
-  if (slope != 0.0) {
-    const double cross = -offset / slope;
-    if (cross > 0.0 && cross < h)
-      bound = std::max(bound, start + start_rate * cross + 0.5 * c * cross * cross);
-  }
-  return bound + slack + margin + gap_floor <= 0.0;
-}
-
 void ClosedFormGap::Load(const Eigen::VectorXd& w) {
   if (end_ >= 0.0) {
     end_value_ = end_value_row_.dot(w);

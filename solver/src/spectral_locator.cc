@@ -2,11 +2,39 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "gearnvh/solver/event_locator.h"
 #include "gearnvh/solver/tangent_propagator.h"
 
 namespace gearnvh {
+
+namespace {
+
+// y = the top y.size() rows of a x for a square a; M: its size when known at compile time.
+template <int M>
+void MultiplySized(const Eigen::MatrixXd& a, const Eigen::VectorXd& x,
+                   Eigen::Ref<Eigen::VectorXd> y) {
+  const int m = static_cast<int>(a.rows());
+  const Eigen::Map<const Eigen::Matrix<double, M, M>> fixed(a.data(), m, m);
+  y.noalias() =
+      fixed.topRows(y.size()) * Eigen::Map<const Eigen::Matrix<double, M, 1>>(x.data(), m);
+}
+
+// The products of a segment with an event, through fixed-size kernels at tier 1 (m = 6, 7; the
+// same sizes as EnterCarriedSized).
+void Multiply(const Eigen::MatrixXd& a, const Eigen::VectorXd& x, Eigen::Ref<Eigen::VectorXd> y) {
+  switch (a.rows()) {
+    case 6:
+      return MultiplySized<6>(a, x, y);
+    case 7:
+      return MultiplySized<7>(a, x, y);
+    default:
+      y.noalias() = a.topRows(y.size()) * x;
+  }
+}
+
+}  // namespace
 
 SpectralLocator::SpectralLocator(const SegmentTables& tables, const SolverOptions& options)
     : EventLocator(tables, options),
@@ -100,25 +128,95 @@ void SpectralLocator::Materialise(LocatorState& state) {
   if (!state.z_stale) return;
   const int live = t_.m - t_.inputs;  // the input slots of z are the stepper's
   const System& sp = systems_[carry_segment_][static_cast<int>(carry_state_)];
-  state.z.head(live).noalias() = sp.decomposition.S.topRows(live) * carried_;
+  Multiply(sp.decomposition.S, carried_, state.z.head(live));
   ++state.matvecs;
   state.z_stale = false;
+}
+
+template <int M>
+SpectralLocator::Entry SpectralLocator::EnterCarriedSized(int segment, LocatorState& state) {
+  using Vector = Eigen::Matrix<double, M, 1>;
+  const int m = t_.m;
+  // Entered carried: w = C_{j-1} w_{j-1} + sum_q u_q S_j^-1 e_q (the stepper has set the slots).
+  // The previous segment's carry decomposed this (segment, state) and found it usable.
+  const System& sp = systems_[segment][static_cast<int>(state.contact)];
+  const Eigen::MatrixXd& S_inv = sp.decomposition.S_inv;
+  Eigen::Map<Vector> w(w_.data(), m);
+  auto column = [&](int slot) { return Eigen::Map<const Vector>(S_inv.col(slot).data(), m); };
+  // One pass for the first input (a copy followed by an update would re-read w_ just stored).
+  const int first = t_.input_slot(0);
+  w.noalias() = Eigen::Map<const Vector>(carried_.data(), m) + state.z[first] * column(first);
+  for (int q = 1; q < t_.inputs; ++q) {
+    const int slot = t_.input_slot(q);
+    if (state.z[slot] != 0.0) w += state.z[slot] * column(slot);
+  }
+  const SegmentSystem& sys = t_.systems[segment][static_cast<int>(state.contact)];
+  GapWall walls[kMaxWalls];
+  const int count = ActiveWalls(sys, state.contact, walls);
+  for (int i = 0; i < count; ++i) {
+    if (!sp.gaps[walls[i].gap].ClearOfWall(w, walls[i].sign, gap_tolerance_))
+      return Entry::kNearWall;
+  }
+  const Eigen::MatrixXd* carry = state.allow_carry ? Carry(segment, state.contact) : nullptr;
+  if (carry == nullptr) return Entry::kClear;
+  const Eigen::Map<const Eigen::Matrix<double, M, M>> C(carry->data(), m, m);
+  if (segment + 1 < t_.segments()) {
+    Eigen::Map<Vector>(carried_.data(), m).noalias() = C * w;
+    carry_segment_ = segment + 1;
+    carry_state_ = state.contact;
+  } else {
+    const int live = m - t_.inputs;
+    state.z.head(live).noalias() = C.topRows(live) * w;
+    state.z_stale = false;
+  }
+  ++state.matvecs;
+  return Entry::kSettled;
+}
+
+SpectralLocator::Entry SpectralLocator::EnterCarried(int segment, LocatorState& state) {
+  switch (t_.m) {
+    case 6:
+      return EnterCarriedSized<6>(segment, state);
+    case 7:
+      return EnterCarriedSized<7>(segment, state);
+    default:
+      return EnterCarriedSized<Eigen::Dynamic>(segment, state);
+  }
+}
+
+template <int M>
+int SpectralLocator::CarryThroughSized(int segment, long cycle, SegmentTables::CyclePhase& phase,
+                                       LocatorState& state) {
+  const int segments = t_.segments();
+  for (int j = segment; j < segments; ++j) {
+    t_.SetInputs(cycle, j, state.z, phase);
+    if (EnterCarriedSized<M>(j, state) != Entry::kSettled) return j;
+  }
+  return segments;
+}
+
+int SpectralLocator::CarryThrough(int segment, long cycle, SegmentTables::CyclePhase& phase,
+                                  LocatorState& state) {
+  switch (t_.m) {
+    case 6:
+      return CarryThroughSized<6>(segment, cycle, phase, state);
+    case 7:
+      return CarryThroughSized<7>(segment, cycle, phase, state);
+    default:
+      return CarryThroughSized<Eigen::Dynamic>(segment, cycle, phase, state);
+  }
 }
 
 bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
                              EventHandler& handler) {
   const double h = t_.SegmentLength(segment);
-  // Entered carried: w = C_{j-1} w_{j-1} + sum_q u_q S_j^-1 e_q (the stepper has set the slots).
   bool carried = state.z_stale;
+  // The screen's verdict on the entry state when EnterCarried has taken it (first pass only).
+  std::optional<bool> entry_clear;
   if (carried) {
-    const System& sp = systems_[segment][static_cast<int>(state.contact)];
-    // One pass for the first input (a copy followed by an update would re-read w_ just stored).
-    const Eigen::MatrixXd& S_inv = sp.decomposition.S_inv;
-    w_.noalias() = carried_ + state.z[t_.input_slot(0)] * S_inv.col(t_.input_slot(0));
-    for (int q = 1; q < t_.inputs; ++q) {
-      const int slot = t_.input_slot(q);
-      if (state.z[slot] != 0.0) w_ += state.z[slot] * S_inv.col(slot);
-    }
+    const Entry entry = EnterCarried(segment, state);
+    if (entry == Entry::kSettled) return true;
+    entry_clear = entry == Entry::kClear;
   } else if (!SwitchIfOutsideAtStart(segment, start, state, handler)) {
     return false;
   }
@@ -131,7 +229,7 @@ bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
     if (!sp.ok) return fallback_.AdvanceFrom(segment, start, done, state, handler);
     const double remaining = h - done;
     if (!carried) {
-      w_.noalias() = sp.decomposition.S_inv * z;
+      Multiply(sp.decomposition.S_inv, z, w_);
       ++state.matvecs;
     }
     GapWall walls[kMaxWalls];
@@ -139,8 +237,13 @@ bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
     // A whole segment far from every wall (most of them) is settled by the screen: two dot
     // products per wall instead of loading the closed form and searching it.
     bool clear = !moved;
-    for (int i = 0; i < count && clear; ++i)
-      clear = sp.gaps[walls[i].gap].ClearOfWall(w_, walls[i].sign, gap_tolerance_);
+    if (entry_clear) {
+      clear = *entry_clear;
+      entry_clear.reset();
+    } else {
+      for (int i = 0; i < count && clear; ++i)
+        clear = sp.gaps[walls[i].gap].ClearOfWall(w_, walls[i].sign, gap_tolerance_);
+    }
     double best = -1.0;
     int best_wall = -1;
     if (!clear) {
@@ -174,12 +277,12 @@ bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
         z.head(t_.m - t_.inputs).noalias() = carry->topRows(t_.m - t_.inputs) * w_;
         state.z_stale = false;
       } else if (!moved && !state.z_stale) {
-        z1_.noalias() = sys.full * z;  // the dense propagator: exact to rounding, cond-free
+        Multiply(sys.full, z, z1_);  // the dense propagator: exact to rounding, cond-free
         if (state.tangent != nullptr) state.tangent->Propagate(sys.full);
         z.swap(z1_);
       } else {
         PropagateDecoupled(sp.decomposition, w_, remaining, wt_, scratch_);
-        z.noalias() = sp.decomposition.S * wt_;
+        Multiply(sp.decomposition.S, wt_, z);
         state.z_stale = false;
         if (state.tangent != nullptr)
           state.tangent->PropagateDecoupled(sp.decomposition, remaining);
@@ -197,7 +300,7 @@ bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
     // A grazing touch keeps the state; the search resumes just past it.
     if (touch) step = std::min(remaining, best + 1e-12 * h);
     PropagateDecoupled(sp.decomposition, w_, step, wt_, scratch_);
-    z.noalias() = sp.decomposition.S * wt_;
+    Multiply(sp.decomposition.S, wt_, z);
     state.z_stale = false;
     if (state.tangent != nullptr) state.tangent->PropagateDecoupled(sp.decomposition, step);
     ++state.matvecs;

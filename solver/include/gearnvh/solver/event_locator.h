@@ -330,6 +330,12 @@ class SpectralLocator final : public EventLocator {
   EventMethod method() const override { return kMethod; }
   bool DoStep(int segment, double start, LocatorState& state, EventHandler& handler) override;
   void Materialise(LocatorState& state) override;
+  // Entered carried (state.z_stale) at `segment` of mesh cycle `cycle`: sets each segment's inputs
+  // (SegmentTables::SetInputs with the cycle's phases) and carries the state through every
+  // segment the screen clears, as DoStep would, without a call per segment. Returns the first
+  // segment not settled (its inputs set, state still carried) or segments() when the cycle's
+  // last segment was carried out (z written). No event can happen in the segments it settles.
+  int CarryThrough(int segment, long cycle, SegmentTables::CyclePhase& phase, LocatorState& state);
 
  private:
   struct System {
@@ -355,6 +361,21 @@ class SpectralLocator final : public EventLocator {
     return BuildCarry(segment, state);
   }
   const Eigen::MatrixXd* BuildCarry(int segment, ContactState state);
+  // The start of a segment entered carried (state.z_stale): w_ = carried_ + sum_q u_q S_j^-1 e_q,
+  // the screen of every active wall and, when every wall is clear and (segment, state) carries,
+  // the carry itself (w_{j+1} = C_j w_, or z at the cycle end): the whole work of ~31 of 32
+  // segments of a strong-rattle cycle. kClear / kNearWall: not settled, w_ holds the entry state
+  // and the screen's verdict is returned. M is the state dimension when it is known at compile
+  // time (tier 1: m = 6, or 7 with manufacturing errors; fixed-size products and dot products,
+  // unrolled), otherwise Eigen::Dynamic; EnterCarried() picks the instance (a branch on m that
+  // never changes during a run).
+  enum class Entry { kSettled, kClear, kNearWall };
+  template <int M>
+  Entry EnterCarriedSized(int segment, LocatorState& state);
+  Entry EnterCarried(int segment, LocatorState& state);
+  template <int M>
+  int CarryThroughSized(int segment, long cycle, SegmentTables::CyclePhase& phase,
+                        LocatorState& state);
   double max_condition_;
   // Largest first-order relative state error a carried step may add; pairs above it step through
   // z and Phi.

@@ -24,6 +24,8 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
 #include <optional>
 #include <vector>
 
@@ -112,9 +114,13 @@ class ClosedFormGap {
   // max|g''| on [0, H] (weights of |w| as above, rate^2 per term), f = sign g lies below both
   //   U0(t) = f(0) + f'(0) t + C t^2 / 2  and  UH(t) = f(H) - f'(H)(H - t) + C (H - t)^2 / 2;
   // U0 - UH is linear in t, so max of min(U0, UH) on [0, H] is at 0, H or where they cross.
-  bool ClearOfWall(const Eigen::VectorXd& w, double sign, double gap_floor) const {
-    const double start = sign * screen_start_.dot(w);
-    if (start + screen_reach_.dot(w.cwiseAbs()) + gap_floor <= 0.0) return true;
+  // A template over the vector type: a caller that knows m at compile time (a fixed-size vector
+  // or map, SpectralLocator at tier 1) gets unrolled dot products (w is the left operand: Eigen
+  // takes an expression's compile-time size from it).
+  template <class Vector>
+  bool ClearOfWall(const Eigen::MatrixBase<Vector>& w, double sign, double gap_floor) const {
+    const double start = sign * w.dot(screen_start_);
+    if (start + w.cwiseAbs().dot(screen_reach_) + gap_floor <= 0.0) return true;
     return start < -gap_floor && ClearOfWallCurved(w, sign, start, gap_floor);
   }
   // An upper bound of |d^order g / dt^order| on [a, b], 0 <= a <= b, order 1 or 2.
@@ -133,7 +139,8 @@ class ClosedFormGap {
   void EvaluateTerms(double t) const;
   Jet SearchJet(double t) const;
   // ClearOfWall's second test, given start = sign g(0).
-  bool ClearOfWallCurved(const Eigen::VectorXd& w, double sign, double start,
+  template <class Vector>
+  bool ClearOfWallCurved(const Eigen::MatrixBase<Vector>& w, double sign, double start,
                          double gap_floor) const;
   double Search(double a, Jet at_a, double b, std::optional<Jet> at_b, int depth) const;
 
@@ -174,5 +181,29 @@ class ClosedFormGap {
   // Search state (set by FirstRise).
   mutable double sign_ = 1.0, offset_ = 0.0, horizon_ = 0.0;
 };
+
+template <class Vector>
+bool ClosedFormGap::ClearOfWallCurved(const Eigen::MatrixBase<Vector>& w, double sign, double start,
+                                      double gap_floor) const {
+  const double h = end_;
+  const double end = sign * w.dot(end_value_row_);
+  const double margin = w.cwiseAbs().dot(screen_margin_);
+  if (!(end + margin + gap_floor < 0.0)) return false;
+  const double start_rate = sign * w.dot(screen_rate_), end_rate = sign * w.dot(end_rate_row_);
+  const double c = w.cwiseAbs().dot(screen_curve_);
+  // The rounding of the quantities below, relative to their size.
+  const double slack = 1e-12 * (std::abs(start) + std::abs(end) +
+                                (std::abs(start_rate) + std::abs(end_rate)) * h + c * h * h);
+  double bound = std::max(start, end);
+  // U0(t) - UH(t) = (f(0) - f(H) + f'(H) H - C H^2 / 2) + t (f'(0) - f'(H) + C H).
+  const double offset = start - end + end_rate * h - 0.5 * c * h * h;
+  const double slope = start_rate - end_rate + c * h;
+  if (slope != 0.0) {
+    const double cross = -offset / slope;
+    if (cross > 0.0 && cross < h)
+      bound = std::max(bound, start + start_rate * cross + 0.5 * c * cross * cross);
+  }
+  return bound + slack + margin + gap_floor <= 0.0;
+}
 
 }  // namespace gearnvh
