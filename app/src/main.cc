@@ -20,7 +20,7 @@
 #endif
 #include "simulate_command.h"
 #include "sweep_command.h"
-#include "train_parameters.h"
+#include "config/train_parameters.h"
 #include "validate_command.h"
 
 namespace {

@@ -82,5 +82,40 @@ TEST_CASE("a body inertia above 1e9 kg m^2 is refused as written", "[loader][tra
   CHECK(g.value() == "'1e300 kg*m^2'");
 }
 
+
+TEST_CASE("analysis.atlas of a train names train parameters", "[loader][train]") {
+  const std::string atlas =
+      "  atlas:\n"
+      "    x: {parameter: 'meshes[2].backlash', from: 50 um, to: 150 um, points: 3}\n"
+      "    y: {parameter: 'operating.loads[1].torque', from: 0.05 N*m, to: 0.5 N*m, points: 2, "
+      "scale: log}\n";
+  const std::string text = kBase + atlas;
+  const LoadedGearbox loaded = LoadAnyGearboxFromString(text);
+  REQUIRE(loaded.train.analysis.atlas_x);
+  REQUIRE(loaded.train.analysis.atlas_y);
+  CHECK(loaded.train.analysis.atlas_x->parameter == "meshes[2].backlash");
+  // Units as the train parameter's dimension: 50 um = 5e-5 m, 0.5 N*m (exact conversions, 1e-15).
+  CHECK(loaded.train.analysis.atlas_x->range.from == Approx(5e-5).epsilon(1e-15));
+  CHECK(loaded.train.analysis.atlas_y->range.to == Approx(0.5).epsilon(1e-15));
+  CHECK(loaded.train.analysis.atlas_y->range.scale == AxisScale::kLog);
+
+  // A schema-1 name is refused with the train's forms, at its line (analysis.atlas.x is line 32).
+  const InputError pair = ErrorOf(Replace(text, "'meshes[2].backlash'", "mesh.backlash"));
+  CHECK(pair.path() == "analysis.atlas.x.parameter");
+  CHECK(pair.line() == 32);
+  CHECK(pair.value() == "'mesh.backlash'");
+  CHECK(pair.rule().find("meshes[i].backlash") != std::string::npos);
+  // An index beyond the file's list names what the list has.
+  const InputError index = ErrorOf(Replace(text, "'operating.loads[1].torque'",
+                                           "'operating.loads[2].torque'"));
+  CHECK(index.path() == "analysis.atlas.y.parameter");
+  CHECK(index.line() == 33);
+  CHECK(index.value() == "'operating.loads[2].torque'");
+  CHECK(index.rule().find("0: on c, 1: on g5") != std::string::npos);
+  // A value in the wrong dimension for the parameter.
+  const InputError unit = ErrorOf(Replace(text, "from: 50 um", "from: 50 rpm"));
+  CHECK(unit.path() == "analysis.atlas.x.from");
+}
+
 }  // namespace
 }  // namespace gearnvh::config
