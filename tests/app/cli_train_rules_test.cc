@@ -71,5 +71,32 @@ TEST_CASE("check and simulate refuse too few segments per cycle alike, at its li
   CHECK(check.err.find("in meshes[0] (a-b), got '4'") != std::string::npos);
 }
 
+TEST_CASE("a tier the train cannot have is refused at the line of analysis.tier", "[cli][train]") {
+  TempDir dir;
+  const auto file =
+      dir.Write("tier4.yaml", Replace(kTrain, "analysis:\n", "analysis:\n  tier: 4\n"));
+  const auto check = RunCommand(kExe + " check " + file.string());
+  const auto simulate = RunCommand(kExe + " simulate " + file.string());
+  INFO("check: " << check.err << "simulate: " << simulate.err);
+  CHECK(check.exit_code == 1);
+  CHECK(simulate.exit_code == 1);
+  CHECK(check.err == simulate.err);
+  CHECK(check.err.find("tier4.yaml:28: analysis.tier: tiers 4, 5, N20 simple and N20 MTA need an "
+                       "elastic shaft in the train, got '4'") != std::string::npos);
+}
+
+TEST_CASE("a bad option value names the option once", "[cli][train]") {
+  TempDir dir;
+  const auto file = dir.Write("t.yaml", kTrain);
+  const auto tier = RunCommand(kExe + " simulate " + file.string() + " --tier 9");
+  CHECK(tier.exit_code == 2);
+  CHECK(tier.err.find("--tier: must be 1..5") != std::string::npos);
+  CHECK(tier.err.find("--tier: --tier") == std::string::npos);
+  const auto axis = RunCommand(kExe + " atlas " + file.string() + " --x foo=1:2:3");
+  CHECK(axis.exit_code == 2);
+  CHECK(axis.err.find("--x: is not a parameter") != std::string::npos);
+  CHECK(axis.err.find("--x: --x") == std::string::npos);
+}
+
 }  // namespace
 }  // namespace gearnvh
