@@ -98,5 +98,30 @@ TEST_CASE("a bad option value names the option once", "[cli][train]") {
   CHECK(axis.err.find("--x: --x") == std::string::npos);
 }
 
+TEST_CASE("--transient and --cycles obey the file's 3600 s run-length limit", "[cli][train]") {
+  TempDir dir;
+  const auto file = dir.Write("t.yaml", kTrain);
+  // meshes[0] meshes at 21 x 1000 / 60 = 350 Hz: 1e8 + 200 cycles last 2.86e5 s > 3600 s.
+  const auto train = RunCommand(kExe + " simulate " + file.string() + " --transient 100000000");
+  CHECK(train.exit_code == 2);
+  CHECK(train.err.find("--transient: makes the 100000200 cycles of the first mesh") !=
+        std::string::npos);
+  CHECK(train.err.find("2.86e+05 s") != std::string::npos);
+  CHECK(train.err.find("the limit is 3600 s") != std::string::npos);
+  // A schema-1 pair: the same rule through the same function.
+  const auto pair = RunCommand(kExe + " simulate " + std::string(GEARNVH_EXAMPLES_DIR) +
+                               "/idle_rattle.yaml --transient 100000000");
+  CHECK(pair.exit_code == 2);
+  CHECK(pair.err.find("--transient: makes the") != std::string::npos);
+}
+
+TEST_CASE("check --json of a train names its tier (docs/results.md)", "[cli][train][json]") {
+  TempDir dir;
+  const auto file = dir.Write("t.yaml", Replace(kTrain, "analysis:\n", "analysis:\n  tier: 2\n"));
+  const auto train = RunCommand(kExe + " check --json " + file.string());
+  REQUIRE(train.exit_code == 0);
+  CHECK(nlohmann::json::parse(train.out).at("tier") == "tier 2");
+}
+
 }  // namespace
 }  // namespace gearnvh
