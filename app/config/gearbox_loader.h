@@ -12,6 +12,7 @@
 
 #include "config/units.h"
 #include "gearnvh/model/gearbox_spec.h"
+#include "gearnvh/model/input_error.h"
 #include "gearnvh/model/train_spec.h"
 
 namespace gearnvh::config {
@@ -47,6 +48,13 @@ AtlasAxis ParseAxisOption(
     const std::string& text, const std::string& field,
     const std::function<std::optional<Dimension>(const std::string&)>& dimension_of,
     const std::function<std::string(const std::string&)>& rejection);
+
+// An InputError raised after a file was loaded (by the model, the solver or a command, e.g. a tier
+// the model cannot have) located in that file as it was last loaded from `source`: the line of its
+// YAML path (or of the closest enclosing key written) and, when the path itself was written, the
+// value as written. An error that already has a line, names a command-line option ("--tier") or
+// comes from a source never loaded is returned unchanged (attributed to `source`).
+InputError LocatedInSource(const InputError& e, const std::string& source);
 
 // The closest of `candidates` to `word` by edit distance, or "" when none is close.
 std::string ClosestMatch(const std::string& word, const std::vector<std::string>& candidates);

@@ -1,6 +1,9 @@
 #include "spec_sections.h"
 
 #include <cmath>
+#include <optional>
+
+#include "train_parameters.h"
 
 namespace gearnvh::config {
 
@@ -34,8 +37,7 @@ GearSpec ReadGear(Reader& r, const YAML::Node& n, const std::string& path,
   GearSpec g;
   g.teeth = r.Integer(n, path, "teeth");
   g.module = r.Quantity(n, path, "module", Dimension::kLength);
-  g.pressure_angle =
-      r.Quantity(n, path, "pressure_angle", Dimension::kAngle, g.pressure_angle);
+  g.pressure_angle = r.Quantity(n, path, "pressure_angle", Dimension::kAngle, g.pressure_angle);
   g.face_width = r.Quantity(n, path, "face_width", Dimension::kLength);
   g.bore_diameter = r.Quantity(n, path, "bore_diameter", Dimension::kLength);
   g.material = r.String(n, path, "material");
@@ -48,11 +50,12 @@ GearSpec ReadGear(Reader& r, const YAML::Node& n, const std::string& path,
     if (!close.empty()) rule += " (did you mean '" + close + "'?)";
     r.Fail(Join(path, "material"), n["material"], "'" + g.material + "'", rule);
   }
-  g.addendum_coefficient =
-      r.Quantity(n, path, "addendum_coefficient", Dimension::kDimensionless, g.addendum_coefficient);
-  g.dedendum_coefficient =
-      r.Quantity(n, path, "dedendum_coefficient", Dimension::kDimensionless, g.dedendum_coefficient);
-  g.profile_shift = r.Quantity(n, path, "profile_shift", Dimension::kDimensionless, g.profile_shift);
+  g.addendum_coefficient = r.Quantity(n, path, "addendum_coefficient", Dimension::kDimensionless,
+                                      g.addendum_coefficient);
+  g.dedendum_coefficient = r.Quantity(n, path, "dedendum_coefficient", Dimension::kDimensionless,
+                                      g.dedendum_coefficient);
+  g.profile_shift =
+      r.Quantity(n, path, "profile_shift", Dimension::kDimensionless, g.profile_shift);
   g.inertia = r.OptionalQuantity(n, path, "inertia", Dimension::kInertia);
   g.mass = r.OptionalQuantity(n, path, "mass", Dimension::kMass);
   if (const YAML::Node t = r.Child(n, path, "tip_relief", false); t.IsDefined()) {
@@ -124,12 +127,11 @@ std::vector<BearingSpec> ReadBearings(Reader& r, const YAML::Node& n, const std:
   r.ForEachItem(n, path, "bearings", required, [&](const YAML::Node& item, const std::string& p) {
     r.ExpectMap(item, p,
                 {"at", "radial_stiffness", "axial_stiffness", "tilt_stiffness", "damping"});
-    bearings.push_back(
-        {r.Quantity(item, p, "at", Dimension::kLength),
-         r.Quantity(item, p, "radial_stiffness", Dimension::kStiffness, 0.0),
-         r.Quantity(item, p, "axial_stiffness", Dimension::kStiffness, 0.0),
-         r.Quantity(item, p, "tilt_stiffness", Dimension::kRotationalStiffness, 0.0),
-         r.Quantity(item, p, "damping", Dimension::kDamping, 0.0)});
+    bearings.push_back({r.Quantity(item, p, "at", Dimension::kLength),
+                        r.Quantity(item, p, "radial_stiffness", Dimension::kStiffness, 0.0),
+                        r.Quantity(item, p, "axial_stiffness", Dimension::kStiffness, 0.0),
+                        r.Quantity(item, p, "tilt_stiffness", Dimension::kRotationalStiffness, 0.0),
+                        r.Quantity(item, p, "damping", Dimension::kDamping, 0.0)});
   });
   return bearings;
 }
@@ -202,22 +204,30 @@ SweepRange ReadRange(Reader& r, const YAML::Node& n, const std::string& path, Di
   return range;
 }
 
-AtlasAxis ReadAtlasAxis(Reader& r, const YAML::Node& n, const std::string& path) {
+AtlasAxis ReadAtlasAxis(Reader& r, const YAML::Node& n, const std::string& path, int schema) {
   r.ExpectMap(n, path, {"parameter", "from", "to", "points", "scale"});
   AtlasAxis axis;
   axis.parameter = r.String(n, path, "parameter");
-  const auto& params = AtlasParameters();
-  const auto it = params.find(axis.parameter);
-  if (it == params.end()) {
-    std::vector<std::string> names;
-    names.reserve(params.size());
-    for (const auto& kv : params) names.push_back(kv.first);
-    std::string rule = "is not a parameter an atlas can vary";
-    const std::string close = ClosestMatch(axis.parameter, names);
-    if (!close.empty()) rule += " (did you mean '" + close + "'?)";
-    r.Fail(Join(path, "parameter"), n["parameter"], "'" + axis.parameter + "'", rule);
+  std::optional<Dimension> dimension;
+  std::string rule;
+  if (schema == 2) {
+    dimension = app::TrainParameterDimension(axis.parameter);
+    if (!dimension) rule = app::TrainParameterRejection(axis.parameter);
+  } else {
+    const auto& params = AtlasParameters();
+    if (const auto it = params.find(axis.parameter); it != params.end()) {
+      dimension = it->second;
+    } else {
+      std::vector<std::string> names;
+      names.reserve(params.size());
+      for (const auto& kv : params) names.push_back(kv.first);
+      rule = "is not a parameter an atlas can vary";
+      const std::string close = ClosestMatch(axis.parameter, names);
+      if (!close.empty()) rule += " (did you mean '" + close + "'?)";
+    }
   }
-  axis.range = ReadRange(r, n, path, it->second);
+  if (!dimension) r.Fail(Join(path, "parameter"), n["parameter"], "'" + axis.parameter + "'", rule);
+  axis.range = ReadRange(r, n, path, *dimension);
   return axis;
 }
 
@@ -259,23 +269,21 @@ std::map<std::string, Material> ReadMaterials(Reader& r, const YAML::Node& root)
 
 MeshSpec ReadMesh(Reader& r, const YAML::Node& mesh, const std::string& path,
                   const std::vector<std::string>& extra_keys) {
-  std::vector<std::string> keys{"backlash",  "damping_ratio", "friction_coefficient",
-                                "center_distance", "stiffness", "static_transmission_error"};
+  std::vector<std::string> keys{"backlash",        "damping_ratio", "friction_coefficient",
+                                "center_distance", "stiffness",     "static_transmission_error"};
   keys.insert(keys.end(), extra_keys.begin(), extra_keys.end());
   r.ExpectMap(mesh, path, keys);
   MeshSpec out;
   out.backlash = r.Quantity(mesh, path, "backlash", Dimension::kLength);
   out.damping_ratio =
       r.Quantity(mesh, path, "damping_ratio", Dimension::kDimensionless, out.damping_ratio);
-  out.friction_coefficient =
-      r.Quantity(mesh, path, "friction_coefficient", Dimension::kDimensionless,
-                 out.friction_coefficient);
+  out.friction_coefficient = r.Quantity(mesh, path, "friction_coefficient",
+                                        Dimension::kDimensionless, out.friction_coefficient);
   out.center_distance = r.OptionalQuantity(mesh, path, "center_distance", Dimension::kLength);
   if (const YAML::Node s = r.Child(mesh, path, "stiffness", false); s.IsDefined()) {
     out.stiffness = ReadStiffness(r, s, Join(path, "stiffness"));
   }
-  if (const YAML::Node s = r.Child(mesh, path, "static_transmission_error", false);
-      s.IsDefined()) {
+  if (const YAML::Node s = r.Child(mesh, path, "static_transmission_error", false); s.IsDefined()) {
     const std::string p = Join(path, "static_transmission_error");
     r.ExpectMap(s, p, {"amplitudes", "phases"});
     out.static_transmission_error.amplitudes =
@@ -297,7 +305,7 @@ std::vector<ExcitationOrder> ReadExcitation(Reader& r, const YAML::Node& op) {
   return out;
 }
 
-AnalysisSpec ReadAnalysis(Reader& r, const YAML::Node& root) {
+AnalysisSpec ReadAnalysis(Reader& r, const YAML::Node& root, int schema) {
   AnalysisSpec an;
   const YAML::Node a = r.Child(root, "", "analysis", false);
   if (!a.IsDefined()) return an;
@@ -313,8 +321,10 @@ AnalysisSpec ReadAnalysis(Reader& r, const YAML::Node& root) {
   }
   if (const YAML::Node at = r.Child(a, "analysis", "atlas", false); at.IsDefined()) {
     r.ExpectMap(at, "analysis.atlas", {"x", "y"});
-    an.atlas_x = ReadAtlasAxis(r, r.Child(at, "analysis.atlas", "x", true), "analysis.atlas.x");
-    an.atlas_y = ReadAtlasAxis(r, r.Child(at, "analysis.atlas", "y", true), "analysis.atlas.y");
+    an.atlas_x =
+        ReadAtlasAxis(r, r.Child(at, "analysis.atlas", "x", true), "analysis.atlas.x", schema);
+    an.atlas_y =
+        ReadAtlasAxis(r, r.Child(at, "analysis.atlas", "y", true), "analysis.atlas.y", schema);
   }
   return an;
 }

@@ -25,14 +25,17 @@ ShaftSpec ReadShaft(Reader& r, const YAML::Node& n, const std::string& path,
 // Parameters an atlas axis may vary, with their dimension.
 const std::map<std::string, Dimension>& AtlasParameters();
 SweepRange ReadRange(Reader& r, const YAML::Node& n, const std::string& path, Dimension d);
-AtlasAxis ReadAtlasAxis(Reader& r, const YAML::Node& n, const std::string& path);
+// An atlas axis of a schema-`schema` document: schema 1 names AtlasParameters(), schema 2 the
+// train parameters of config/train_parameters.h (operating.loads[i].torque, meshes[i].backlash
+// ...).
+AtlasAxis ReadAtlasAxis(Reader& r, const YAML::Node& n, const std::string& path, int schema = 1);
 Tier ReadTier(Reader& r, const YAML::Node& map, const std::string& path);
 std::map<std::string, Material> ReadMaterials(Reader& r, const YAML::Node& root);
 // A mesh's keys plus `extra_keys` (schema 2: gears).
 MeshSpec ReadMesh(Reader& r, const YAML::Node& mesh, const std::string& path,
                   const std::vector<std::string>& extra_keys = {});
 std::vector<ExcitationOrder> ReadExcitation(Reader& r, const YAML::Node& op);
-AnalysisSpec ReadAnalysis(Reader& r, const YAML::Node& root);
+AnalysisSpec ReadAnalysis(Reader& r, const YAML::Node& root, int schema = 1);
 // The schema version a document declares (1 when absent): 1 or 2, else InputError.
 int SchemaOf(Reader& r, const YAML::Node& root);
 

@@ -4,6 +4,7 @@
 #include "gearbox_loader.h"
 #include "gearnvh/model/train_spec.h"
 #include "spec_sections.h"
+#include "train_parameters.h"
 #include "yaml_reader.h"
 
 namespace gearnvh::config {
@@ -96,8 +97,24 @@ TrainSpec ReadTrainDocument(Reader& r, const YAML::Node& root) {
                                     DisplayUnitOf(r.Find(p + ".torque").raw, Dimension::kTorque)});
   });
   spec.operating.excitation = ReadExcitation(r, op);
-  spec.analysis = ReadAnalysis(r, root);
+  spec.analysis = ReadAnalysis(r, root, 2);
   return spec;
+}
+
+// analysis.atlas names entries of the file's lists (operating.loads[i], meshes[i] ...): an index
+// beyond the list is refused here, at the axis's line, rather than when an atlas starts.
+void ValidateTrainAtlasAxes(const TrainSpec& spec) {
+  const AnalysisSpec& an = spec.analysis;
+  for (const auto& [axis, path] : {std::pair{&an.atlas_x, "analysis.atlas.x.parameter"},
+                                   std::pair{&an.atlas_y, "analysis.atlas.y.parameter"}}) {
+    if (!*axis) continue;
+    TrainSpec variant = spec;
+    app::SetTrainParameter(variant, (*axis)->parameter, (*axis)->range.from, path);
+  }
+  if (an.atlas_x && an.atlas_y && an.atlas_x->parameter == an.atlas_y->parameter) {
+    throw InputError("analysis.atlas.y.parameter", 0, an.atlas_y->parameter,
+                     "must differ from the x parameter");
+  }
 }
 
 }  // namespace
@@ -118,8 +135,10 @@ LoadedGearbox LoadAnyGearboxFromString(const std::string& text, const std::strin
     out.train = TrainOf(*out.pair);
     return out;
   }
-  out.train = ReadAndValidate(root, source, ReadTrainDocument,
-                              [](const TrainSpec& spec) { ValidateTrainSpec(spec); });
+  out.train = ReadAndValidate(root, source, ReadTrainDocument, [](const TrainSpec& spec) {
+    ValidateTrainSpec(spec);
+    ValidateTrainAtlasAxes(spec);
+  });
   return out;
 }
 

@@ -193,6 +193,9 @@ class Reader {
   std::map<std::string, Location> locations_;
 };
 
+// Keeps the locations of the document last loaded from `source` (LocatedInSource reads them).
+void RememberSourceLocations(const std::string& source, const Reader& reader);
+
 // Parses YAML text (valid UTF-8 required); InputError naming `source` and the line otherwise.
 YAML::Node ParseYaml(const std::string& text, const std::string& source);
 
@@ -212,6 +215,7 @@ auto ReadAndValidate(const YAML::Node& root, const std::string& source, Read&& r
           reader.Exact(e.path()) && !loc.raw.empty() ? "'" + loc.raw + "'" : e.value();
       throw InputError(e.path(), loc.line, value, e.rule(), source);
     }
+    RememberSourceLocations(source, reader);
     return spec;
   } catch (const InputError& e) {
     if (!e.source().empty()) throw;

@@ -158,6 +158,7 @@ int RunCheck(const CheckOptions& options) {
       if (loaded.schema == 2) {
         const TrainCheck check = BuildTrainCheck(loaded.train);
         nlohmann::json doc = TrainCheckReport(loaded.train, check);
+        doc["tier"] = TierName(loaded.train.analysis.tier);  // as the pair's document
         RequireFinite(doc, "check");
         if (options.json) {
           doc["file"] = file;

@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "config/gearbox_loader.h"
 #include "gearnvh/model/input_error.h"
 
 namespace gearnvh::app {
@@ -29,9 +30,10 @@ class NonFiniteResult : public std::logic_error {
 };
 
 // The message of an input error, naming `file` when the error was raised below the loader (range
-// rules of the model, solver options) and so carries no source.
+// rules of the model, solver options) and so carries no source, with the line and the value as
+// written of its YAML path in that file (config::LocatedInSource).
 inline std::string InputErrorMessage(const InputError& e, const std::string& file) {
-  return e.source().empty() ? e.WithSource(file).what() : e.what();
+  return config::LocatedInSource(e, file).what();
 }
 
 // An input error about a command-line option ("--resume needs --out") is a usage error.

@@ -18,12 +18,18 @@
 #ifdef GEARNVH_HAVE_RENDER
 #include "report_command.h"
 #endif
+#include "config/train_parameters.h"
 #include "simulate_command.h"
 #include "sweep_command.h"
-#include "train_parameters.h"
 #include "validate_command.h"
 
 namespace {
+
+// CLI11 prefixes a validator's message with the option's name: the message without the error's
+// own path ("--tier: ...") so that the name is not printed twice.
+std::string RuleAndValue(const gearnvh::InputError& e) {
+  return e.rule() + (e.value().empty() ? "" : ", got " + e.value());
+}
 
 // Option values checked while the command line is parsed, so a bad one is a usage error (2).
 CLI::Validator TierValidator() {
@@ -33,7 +39,7 @@ CLI::Validator TierValidator() {
           (void)gearnvh::app::ParseTier(text);
           return {};
         } catch (const gearnvh::InputError& e) {
-          return e.what();
+          return RuleAndValue(e);
         }
       },
       "TIER");
@@ -52,12 +58,12 @@ CLI::Validator AxisValidator(const std::string& flag) {
           const bool train_form = gearnvh::app::TrainParameterDimension(name).has_value() ||
                                   name.rfind("meshes", 0) == 0 ||
                                   name.rfind("operating.loads", 0) == 0;
-          if (!train_form) return pair_error.what();
+          if (!train_form) return RuleAndValue(pair_error);
           try {
             (void)gearnvh::app::ParseTrainAxisOption(text, flag);
             return {};
           } catch (const gearnvh::InputError& train_error) {
-            return train_error.what();
+            return RuleAndValue(train_error);
           }
         }
       },

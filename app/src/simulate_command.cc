@@ -22,6 +22,7 @@
 #include "operating_point.h"
 #include "output_folder.h"
 #include "simulate_train.h"
+#include "train_operating_point.h"
 #include "uff_export.h"
 
 namespace gearnvh::app {
@@ -80,6 +81,8 @@ int RunSimulate(const SimulateOptions& options) {
     solver.transient_cycles = options.transient.value_or(spec.analysis.transient_cycles);
     ApplyMethodName(options.method, solver);
     solver.Validate();
+    RequireRunLengthOfOptions(loaded.train, spec.operating.speed, solver.cycles,
+                              solver.transient_cycles, options.cycles, options.transient);
     const ComponentModel model = BuildComponentModel(spec);
     // Progress on a terminal only; quiet when stderr is piped.
     const bool on_terminal = ::isatty(STDERR_FILENO) != 0;

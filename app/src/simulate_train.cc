@@ -238,6 +238,8 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
   const long transient = options.transient.value_or(spec.analysis.transient_cycles);
   if (cycles < 1) throw InputError("--cycles", 0, std::to_string(cycles), "must be >= 1");
   if (transient < 0) throw InputError("--transient", 0, std::to_string(transient), "must be >= 0");
+  RequireRunLengthOfOptions(spec, spec.operating.speed, cycles, transient, options.cycles,
+                            options.transient);
   const TrainLyapunovOptions lyapunov_defaults;
   if (options.lyapunov && cycles < lyapunov_defaults.blocks) {
     throw InputError("--cycles", 0, std::to_string(cycles),

@@ -82,6 +82,8 @@ int SweepTrain(const SweepOptions& options, const TrainSpec& spec) {
   sweep.events = settings.events;
   sweep.tier = tier;
   sweep.Validate();
+  RequireRunLengthOfOptions(spec, spec.analysis.speed_sweep.from, sweep.cycles, sweep.transient,
+                            options.cycles, options.transient);
   const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
   TrainSweepProgress progress;
   if (on_terminal) {
@@ -230,6 +232,8 @@ int RunSweep(const SweepOptions& options) {
     sweep.cycles = options.cycles.value_or(sweep.cycles);
     sweep.transient_cycles = options.transient.value_or(sweep.transient_cycles);
     sweep.waterfall_cycles = std::min(sweep.waterfall_cycles, sweep.cycles - 1);
+    RequireRunLengthOfOptions(loaded.train, spec.analysis.speed_sweep.from, sweep.cycles,
+                              sweep.transient_cycles, options.cycles, options.transient);
     sweep.threads = options.jobs;
     sweep.method = options.method;
     const ComponentModel model = BuildComponentModel(spec);

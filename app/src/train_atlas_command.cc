@@ -17,7 +17,7 @@
 #include "output_folder.h"
 #include "parallel_for.h"
 #include "train_operating_point.h"
-#include "train_parameters.h"
+#include "config/train_parameters.h"
 
 namespace gearnvh::app {
 

@@ -1,5 +1,5 @@
 // `gearnvh atlas` on a gear train (schema gearnvh/2): per cell of two train parameters
-// (train_parameters.h) one ComputeTrainAtlasPoint (nvh/train_atlas.h) — the largest Lyapunov
+// (config/train_parameters.h) one ComputeTrainAtlasPoint (nvh/train_atlas.h) — the largest Lyapunov
 // exponent, each mesh's impacts and regime, each loose gear's rattle index — cells in parallel
 // (ParallelFor), a failed cell kept with its message. A regime map per train and per mesh on the
 // terminal, atlas.csv and atlas.json (docs/cli.md, docs/results.md). One process: MPI and

@@ -103,7 +103,7 @@ TrainCheck BuildTrainCheck(const TrainSpec& spec) {
   c.campbell_tier = spec.analysis.tier;
   if (!TrainTierAvailable(c.structure, c.campbell_tier)) {
     throw InputError("analysis.tier", 0, TierName(c.campbell_tier),
-                     "needs at least one elastic shaft (with segments) in the train");
+                     "tiers 4, 5, N20 simple and N20 MTA need an elastic shaft in the train");
   }
   c.fe = FullTrainModes(c.structure, kReportedModes);
   const TrainReducedModel* analysis = nullptr;

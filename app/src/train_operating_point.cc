@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "gearnvh/model/gearbox_spec_limits.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/model/train_structure.h"
 #include "gearnvh/reduction/train_reduction.h"
@@ -154,6 +155,25 @@ std::string SlowRunWarning(const TrainTables& t, double simulated_s) {
       "the run will be very slow (a small fraction of real time); check the inertias",
       hz, hz / fastest_mesh_hz, fastest_mesh_hz, t.body_names[static_cast<size_t>(body)], inertia,
       0.5 / omega, substeps, simulated_s);
+}
+
+void RequireRunLengthOfOptions(const TrainSpec& spec, double lowest_speed, long cycles,
+                               long transient, const std::optional<long>& cycles_option,
+                               const std::optional<long>& transient_option) {
+  if (!cycles_option && !transient_option) return;
+  const double hz = FirstMeshFrequency(spec, AnalyseTrainTopology(spec), lowest_speed);
+  const double seconds = static_cast<double>(cycles + transient) / hz;
+  if (seconds <= GearboxLimits::kMaxSimulatedSeconds) return;
+  const bool transient_named = transient_option.has_value();
+  throw InputError(
+      transient_named ? "--transient" : "--cycles", 0,
+      std::to_string(transient_named ? *transient_option : *cycles_option),
+      fmt::format("makes the {} cycles of the first mesh ({}, {}, --cycles + --transient) last "
+                  "{:.3g} s of simulated time at {:.6g} rpm (mesh frequency {:.3g} Hz); the "
+                  "limit is {} s, as for analysis.cycles + transient_cycles",
+                  cycles + transient, "meshes[0]", spec.meshes.front().Name(), seconds,
+                  lowest_speed * 60.0 / (2.0 * std::numbers::pi), hz,
+                  GearboxLimits::kMaxSimulatedSeconds));
 }
 
 TrainCommandSettings CheckTrainCommandOptions(const std::optional<std::string>& tier_option,

@@ -98,6 +98,15 @@ TrainCommandSettings CheckTrainCommandOptions(const std::optional<std::string>& 
                                               const std::optional<std::string>& uff,
                                               const TrainOptionNames& option_names = {});
 
+// The run-length limit of the file (GearboxLimits::kMaxSimulatedSeconds of simulated time) on the
+// counts a command runs when --cycles or --transient overrides analysis: `cycles` + `transient`
+// cycles of the first mesh at input speed `lowest_speed` (rad/s; a sweep's lowest) must last at
+// most that long. InputError naming --transient when it was given, else --cycles; nothing to check
+// when neither was given (ValidateTrainSpec has checked the file's counts).
+void RequireRunLengthOfOptions(const TrainSpec& spec, double lowest_speed, long cycles,
+                               long transient, const std::optional<long>& cycles_option,
+                               const std::optional<long>& transient_option);
+
 // Called about 100 times during the run with the simulated time reached (s) and the end time.
 using TrainProgress = std::function<void(double time, double end)>;
 

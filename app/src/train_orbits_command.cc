@@ -14,7 +14,7 @@
 #include "gearnvh/nvh/train_orbit_scan.h"
 #include "output_folder.h"
 #include "train_operating_point.h"
-#include "train_parameters.h"
+#include "config/train_parameters.h"
 
 namespace gearnvh::app {
 namespace {

@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "gearnvh/model/component_model.h"
+#include "gearnvh/model/input_error.h"
 
 namespace gearnvh {
 namespace {
@@ -69,6 +70,13 @@ GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& opti
     mesh.geometry = ComputePairGeometry(mesh.pair);
     mesh.cycle = ComputeMeshCycle(mesh.pair, mesh.geometry, options);
     mesh.stiffness = SummarizeMeshCycle(mesh.cycle, mesh.geometry);
+    try {
+      mesh.segmentation = SegmentMeshCycle(mesh.pair, MeshEvaluator(mesh.pair, mesh.geometry),
+                                           spec.analysis.segments_per_cycle);
+    } catch (const InputError& e) {  // the rule names "this pair": say which mesh it is
+      throw InputError(e.path(), e.line(), e.value(),
+                       e.rule() + " in " + mesh.pair.path_mesh + " (" + mesh.name + ")");
+    }
     for (const std::string& w : mesh.cycle.warnings) train.warnings.push_back(w);
     if (mesh.back_flank_loaded) {
       train.warnings.push_back(mesh.pair.path_mesh + " (" + mesh.name + "): power flows from " +

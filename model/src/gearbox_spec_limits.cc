@@ -81,6 +81,15 @@ double ToothUnitLoad(const GearSpec& a, const GearSpec& b, double torque_on_b) {
   return torque_on_b / pitch_radius_b / std::min(a.face_width, b.face_width);
 }
 
+void RequireInertiaWithinLimit(const std::string& path, double inertia) {
+  if (inertia <= L::kMaxInertia) return;
+  throw InputError(path, 0, Num(inertia),
+                   fmt::format("must be <= {:g} kg m^2: heavier than any rotating machine (a "
+                               "15 MW wind-turbine rotor is about 3e8 kg m^2), and the modal "
+                               "analysis loses its precision (1e300 overflowed to NaN)",
+                               L::kMaxInertia));
+}
+
 void ValidateGearboxLimits(const GearboxSpec& spec, OperatingLimits operating) {
   GearLimits(spec.pinion, "gears.pinion");
   GearLimits(spec.wheel, "gears.wheel");

@@ -64,7 +64,10 @@ void ValidateGear(const GearboxSpec& spec, const GearSpec& g, const std::string&
                          "): the root clearance c* cannot be negative");
   }
   InRange(p + ".profile_shift", g.profile_shift, -1.0, 1.5, false, false);
-  if (g.inertia) Positive(p + ".inertia", *g.inertia);
+  if (g.inertia) {
+    Positive(p + ".inertia", *g.inertia);
+    RequireInertiaWithinLimit(p + ".inertia", *g.inertia);
+  }
   if (g.mass) Positive(p + ".mass", *g.mass);
   if (g.tip_relief) {
     NonNegative(p + ".tip_relief.amount", g.tip_relief->amount);
@@ -152,6 +155,8 @@ void ValidateShaft(const GearboxSpec& spec, const ShaftSpec& s, const std::strin
     within(q + ".at", s.inertias[i].at);
     NonNegative(q + ".polar", s.inertias[i].polar);
     NonNegative(q + ".diametral", s.inertias[i].diametral);
+    RequireInertiaWithinLimit(q + ".polar", s.inertias[i].polar);
+    RequireInertiaWithinLimit(q + ".diametral", s.inertias[i].diametral);
     NonNegative(q + ".mass", s.inertias[i].mass);
   }
   if (s.element_length) {

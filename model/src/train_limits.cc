@@ -66,6 +66,15 @@ TrainTorqueFlow StaticTorqueFlow(const TrainSpec& spec, const TrainTopology& top
   return flow;
 }
 
+double FirstMeshFrequency(const TrainSpec& spec, const TrainTopology& topology,
+                          double input_speed) {
+  const TrainMesh& first = spec.meshes.front();
+  const int teeth_a = spec.FindGear(first.gear_a)->gear.teeth;
+  const int body_a = topology.gear_body[static_cast<size_t>(spec.GearIndex(first.gear_a))];
+  const double speed_ratio = BodySpeed(topology, body_a) / spec.operating.speed;
+  return teeth_a * speed_ratio * input_speed / (2.0 * std::numbers::pi);
+}
+
 void ValidateTrainLimits(const TrainSpec& spec, const TrainTopology& topology) {
   const TrainOperating& op = spec.operating;
   const double omega_in = op.speed;
@@ -107,13 +116,9 @@ void ValidateTrainLimits(const TrainSpec& spec, const TrainTopology& topology) {
   // Run length: analysis.cycles and transient_cycles count cycles of the first mesh, whose mesh
   // frequency is z_a |w_a| / 2 pi with |w_a| in proportion to the input speed.
   const AnalysisSpec& an = spec.analysis;
-  const TrainMesh& first = spec.meshes.front();
-  const int teeth_a = spec.FindGear(first.gear_a)->gear.teeth;
-  const int body_a = topology.gear_body[static_cast<size_t>(spec.GearIndex(first.gear_a))];
-  const double speed_ratio = BodySpeed(topology, body_a) / omega_in;
   for (const auto& [speed, path] : {std::pair{omega_in, "operating.speed.value"},
                                     std::pair{an.speed_sweep.from, "analysis.speed_sweep.from"}}) {
-    const double hz = teeth_a * speed_ratio * speed / (2.0 * std::numbers::pi);
+    const double hz = FirstMeshFrequency(spec, topology, speed);
     const double seconds = static_cast<double>(an.cycles + an.transient_cycles) / hz;
     if (!(seconds <= L::kMaxSimulatedSeconds)) {
       throw InputError(

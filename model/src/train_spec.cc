@@ -4,6 +4,7 @@
 #include <deque>
 #include <set>
 
+#include "gearnvh/model/gearbox_spec_limits.h"
 #include "gearnvh/model/gearbox_spec_validation.h"
 #include "gearnvh/model/input_error.h"
 
@@ -234,6 +235,7 @@ void ValidateTrainSpec(const TrainSpec& spec) {
     if (s.inertia && !(*s.inertia >= 0.0 && std::isfinite(*s.inertia))) {
       throw InputError(p + ".inertia", 0, Num(*s.inertia), "must be >= 0");
     }
+    if (s.inertia) RequireInertiaWithinLimit(p + ".inertia", *s.inertia);
     if (!s.inertia && !s.elastic) {
       throw InputError(p, 0, "", "needs inertia (a rigid shaft) or segments (an elastic shaft)");
     }

@@ -1,5 +1,5 @@
-// GearTrain: the component model of a gear train (schema gearnvh/2, docs/gear-trains.md): its bodies with
-// their nominal speeds and polar inertias, and per mesh the mesh-level model (geometry,
+// GearTrain: the component model of a gear train (schema gearnvh/2, docs/gear-trains.md): its
+// bodies with their nominal speeds and polar inertias, and per mesh the mesh-level model (geometry,
 // deformation-compatible stiffness over the cycle, load sharing, LSTE) at the torque that mesh
 // transmits. A schema-1 gearbox is the train TrainOf(spec).
 //
@@ -19,6 +19,7 @@
 
 #include "gearnvh/model/gear_geometry.h"
 #include "gearnvh/model/mesh_pair.h"
+#include "gearnvh/model/mesh_segmentation.h"
 #include "gearnvh/model/mesh_stiffness.h"
 #include "gearnvh/model/train_spec.h"
 
@@ -33,6 +34,9 @@ struct TrainMeshModel {
   PairGeometry geometry;  // at the nominal speed of gear a
   MeshCycle cycle;
   MeshStiffnessSummary stiffness;
+  // The cycle's segments at analysis.segments_per_cycle: built here so that every command (check as
+  // well as simulate) applies SegmentMeshCycle's rule on the mandatory breaks.
+  MeshSegmentation segmentation;
   double transmitted_torque = 0.0;  // N m on gear b (>= 0)
   bool back_flank_loaded = false;   // the second gear drives (power flows from b to a)
   bool in_loop = false;             // closes a kinematic loop: analysed unloaded

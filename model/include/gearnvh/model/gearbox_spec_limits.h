@@ -3,6 +3,8 @@
 // protects). Called by ValidateGearboxSpec, so every command applies them.
 #pragma once
 
+#include <string>
+
 #include "gearnvh/model/gearbox_spec.h"
 
 namespace gearnvh {
@@ -15,6 +17,9 @@ struct GearboxLimits {
   static constexpr double kMaxSimulatedSeconds = 3600.0;
   static constexpr long kMaxRecordedCycles = 1000000;  // 32 samples each
   static constexpr double kMaxModalBytes = 2e9;        // dense modal analysis of the full FE model
+  // kg m^2: any body's polar or diametral inertia. Above the largest rotating machines (a 15 MW
+  // wind-turbine rotor is about 3e8 kg m^2); 1e300 overflowed the modal analysis to NaN.
+  static constexpr double kMaxInertia = 1e9;
 };
 
 // Which limits apply. A schema-1 gearbox owns its operating point (kChecked). A train's mesh
@@ -31,5 +36,8 @@ void ValidateGearboxLimits(const GearboxSpec& spec,
 // Tooth load per unit face width, N/m: the torque on gear `b` over its pitch radius and the
 // narrower face, w = T_b / (r_b b_min). Limited to GearboxLimits::kMaxUnitLoad.
 double ToothUnitLoad(const GearSpec& a, const GearSpec& b, double torque_on_b);
+
+// InputError at `path` unless 0 <= inertia <= GearboxLimits::kMaxInertia (kg m^2, finite).
+void RequireInertiaWithinLimit(const std::string& path, double inertia);
 
 }  // namespace gearnvh

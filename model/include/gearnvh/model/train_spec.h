@@ -134,6 +134,11 @@ TrainSpec TrainOf(const GearboxSpec& spec);
 // count the first mesh). Throws InputError.
 void ValidateTrainSpec(const TrainSpec& spec);
 
+// The frequency (Hz) of the first mesh in the file (meshes[0]), whose cycles analysis.cycles,
+// transient_cycles and the commands' --cycles and --transient count, at input speed `input_speed`
+// (rad/s): z_a |w_a| / 2 pi with |w_a| in proportion to the input speed.
+double FirstMeshFrequency(const TrainSpec& spec, const TrainTopology& topology, double input_speed);
+
 // The operating limits of ValidateTrainSpec alone (tooth load per mesh, excitation on the input
 // shaft, run length), for a spec whose names, speed and topology are already valid.
 void ValidateTrainLimits(const TrainSpec& spec, const TrainTopology& topology);

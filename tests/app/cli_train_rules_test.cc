@@ -1,0 +1,127 @@
+// The command line on gear trains (schema gearnvh/2) against the input rules: one rule applied by
+// check and simulate alike, errors with the file's line and the value as written, option limits
+// equal to the YAML limits, and option errors named once.
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "support/run_command.h"
+
+namespace gearnvh {
+namespace {
+
+using testing::RunCommand;
+using testing::TempDir;
+
+const std::string kExe = GEARNVH_EXE;
+
+// An ordinary rattling 3-mesh train: a-b, c-d loaded, e-f with f loose on the output.
+const std::string kTrain = R"(schema: gearnvh/2
+name: rules train
+materials:
+  steel: {youngs_modulus: 206 GPa, poisson_ratio: 0.3, density: 7850 kg/m^3}
+shafts:
+  input: {inertia: 5e-3 kg*m^2}
+  layshaft: {inertia: 1.5e-3 kg*m^2}
+  output: {inertia: 0.5 kg*m^2}
+gears:
+  a: {shaft: input, teeth: 21, module: 2 mm, face_width: 18 mm, bore_diameter: 20 mm, material: steel}
+  b: {shaft: layshaft, teeth: 35, module: 2 mm, face_width: 18 mm, bore_diameter: 20 mm, material: steel}
+  c: {shaft: layshaft, teeth: 19, module: 2 mm, face_width: 18 mm, bore_diameter: 20 mm, material: steel}
+  d: {shaft: output, teeth: 37, module: 2 mm, face_width: 18 mm, bore_diameter: 20 mm, material: steel}
+  e: {shaft: layshaft, teeth: 25, module: 2 mm, face_width: 15 mm, bore_diameter: 20 mm, material: steel}
+  f: {shaft: output, mounting: loose, teeth: 31, module: 2 mm, face_width: 15 mm, bore_diameter: 30 mm, material: steel}
+meshes:
+  - {gears: [a, b], backlash: 80 um}
+  - {gears: [c, d], backlash: 100 um}
+  - {gears: [e, f], backlash: 100 um}
+operating:
+  speed: {shaft: input, value: 1000 rpm}
+  loads:
+    - {on: output, torque: 20 N*m}
+    - {on: f, torque: 0.2 N*m}
+  excitation:
+    - {order: 2, amplitude: 1000 rad/s^2}
+analysis:
+  segments_per_cycle: 32
+  cycles: 200
+  transient_cycles: 50
+  speed_sweep: {from: 800 rpm, to: 1600 rpm, points: 3}
+)";
+
+std::string Replace(std::string text, const std::string& from, const std::string& to) {
+  const size_t at = text.find(from);
+  REQUIRE(at != std::string::npos);
+  return text.replace(at, from.size(), to);
+}
+
+TEST_CASE("check and simulate refuse too few segments per cycle alike, at its line",
+          "[cli][train]") {
+  TempDir dir;
+  const auto file =
+      dir.Write("seg4.yaml", Replace(kTrain, "segments_per_cycle: 32", "segments_per_cycle: 4"));
+  const auto check = RunCommand(kExe + " check " + file.string());
+  const auto simulate = RunCommand(kExe + " simulate " + file.string());
+  INFO("check: " << check.err << "simulate: " << simulate.err);
+  CHECK(check.exit_code == 1);
+  CHECK(simulate.exit_code == 1);
+  CHECK(check.err == simulate.err);
+  CHECK(check.err.find("seg4.yaml:28: analysis.segments_per_cycle: must be >= ") !=
+        std::string::npos);
+  CHECK(check.err.find("in meshes[0] (a-b), got '4'") != std::string::npos);
+}
+
+TEST_CASE("a tier the train cannot have is refused at the line of analysis.tier", "[cli][train]") {
+  TempDir dir;
+  const auto file =
+      dir.Write("tier4.yaml", Replace(kTrain, "analysis:\n", "analysis:\n  tier: 4\n"));
+  const auto check = RunCommand(kExe + " check " + file.string());
+  const auto simulate = RunCommand(kExe + " simulate " + file.string());
+  INFO("check: " << check.err << "simulate: " << simulate.err);
+  CHECK(check.exit_code == 1);
+  CHECK(simulate.exit_code == 1);
+  CHECK(check.err == simulate.err);
+  CHECK(check.err.find("tier4.yaml:28: analysis.tier: tiers 4, 5, N20 simple and N20 MTA need an "
+                       "elastic shaft in the train, got '4'") != std::string::npos);
+}
+
+TEST_CASE("a bad option value names the option once", "[cli][train]") {
+  TempDir dir;
+  const auto file = dir.Write("t.yaml", kTrain);
+  const auto tier = RunCommand(kExe + " simulate " + file.string() + " --tier 9");
+  CHECK(tier.exit_code == 2);
+  CHECK(tier.err.find("--tier: must be 1..5") != std::string::npos);
+  CHECK(tier.err.find("--tier: --tier") == std::string::npos);
+  const auto axis = RunCommand(kExe + " atlas " + file.string() + " --x foo=1:2:3");
+  CHECK(axis.exit_code == 2);
+  CHECK(axis.err.find("--x: is not a parameter") != std::string::npos);
+  CHECK(axis.err.find("--x: --x") == std::string::npos);
+}
+
+TEST_CASE("--transient and --cycles obey the file's 3600 s run-length limit", "[cli][train]") {
+  TempDir dir;
+  const auto file = dir.Write("t.yaml", kTrain);
+  // meshes[0] meshes at 21 x 1000 / 60 = 350 Hz: 1e8 + 200 cycles last 2.86e5 s > 3600 s.
+  const auto train = RunCommand(kExe + " simulate " + file.string() + " --transient 100000000");
+  CHECK(train.exit_code == 2);
+  CHECK(train.err.find("--transient: makes the 100000200 cycles of the first mesh") !=
+        std::string::npos);
+  CHECK(train.err.find("2.86e+05 s") != std::string::npos);
+  CHECK(train.err.find("the limit is 3600 s") != std::string::npos);
+  // A schema-1 pair: the same rule through the same function.
+  const auto pair = RunCommand(kExe + " simulate " + std::string(GEARNVH_EXAMPLES_DIR) +
+                               "/idle_rattle.yaml --transient 100000000");
+  CHECK(pair.exit_code == 2);
+  CHECK(pair.err.find("--transient: makes the") != std::string::npos);
+}
+
+TEST_CASE("check --json of a train names its tier (docs/results.md)", "[cli][train][json]") {
+  TempDir dir;
+  const auto file = dir.Write("t.yaml", Replace(kTrain, "analysis:\n", "analysis:\n  tier: 2\n"));
+  const auto train = RunCommand(kExe + " check --json " + file.string());
+  REQUIRE(train.exit_code == 0);
+  CHECK(nlohmann::json::parse(train.out).at("tier") == "tier 2");
+}
+
+}  // namespace
+}  // namespace gearnvh
