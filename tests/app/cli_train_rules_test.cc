@@ -98,7 +98,8 @@ TEST_CASE("a bad option value names the option once", "[cli][train]") {
   CHECK(axis.err.find("--x: --x") == std::string::npos);
 }
 
-TEST_CASE("--transient and --cycles obey the file's 3600 s run-length limit", "[cli][train]") {
+TEST_CASE("simulate and sweep: --transient and --cycles obey the file's 3600 s run-length limit",
+          "[cli][train]") {
   TempDir dir;
   const auto file = dir.Write("t.yaml", kTrain);
   // meshes[0] meshes at 21 x 1000 / 60 = 350 Hz: 1e8 + 200 cycles last 2.86e5 s > 3600 s.
