@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "app/loose_gear_train_yaml.h"
 #include "support/run_command.h"
 
 namespace gearnvh {
@@ -16,33 +17,7 @@ using testing::TempDir;
 const std::string kExe = GEARNVH_EXE;
 
 // An ordinary rattling 3-mesh train: a-b, c-d loaded, e-f with f loose on the output.
-const std::string kTrain = R"(schema: gearnvh/2
-name: rules train
-materials:
-  steel: {youngs_modulus: 206 GPa, poisson_ratio: 0.3, density: 7850 kg/m^3}
-shafts:
-  input: {inertia: 5e-3 kg*m^2}
-  layshaft: {inertia: 1.5e-3 kg*m^2}
-  output: {inertia: 0.5 kg*m^2}
-gears:
-  a: {shaft: input, teeth: 21, module: 2 mm, face_width: 18 mm, bore_diameter: 20 mm, material: steel}
-  b: {shaft: layshaft, teeth: 35, module: 2 mm, face_width: 18 mm, bore_diameter: 20 mm, material: steel}
-  c: {shaft: layshaft, teeth: 19, module: 2 mm, face_width: 18 mm, bore_diameter: 20 mm, material: steel}
-  d: {shaft: output, teeth: 37, module: 2 mm, face_width: 18 mm, bore_diameter: 20 mm, material: steel}
-  e: {shaft: layshaft, teeth: 25, module: 2 mm, face_width: 15 mm, bore_diameter: 20 mm, material: steel}
-  f: {shaft: output, mounting: loose, teeth: 31, module: 2 mm, face_width: 15 mm, bore_diameter: 30 mm, material: steel}
-meshes:
-  - {gears: [a, b], backlash: 80 um}
-  - {gears: [c, d], backlash: 100 um}
-  - {gears: [e, f], backlash: 100 um}
-operating:
-  speed: {shaft: input, value: 1000 rpm}
-  loads:
-    - {on: output, torque: 20 N*m}
-    - {on: f, torque: 0.2 N*m}
-  excitation:
-    - {order: 2, amplitude: 1000 rad/s^2}
-analysis:
+const std::string kTrain = testing::kLooseGearTrainYaml + R"(analysis:
   segments_per_cycle: 32
   cycles: 200
   transient_cycles: 50

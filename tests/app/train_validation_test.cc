@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 #include <string>
 
+#include "app/loose_gear_train_yaml.h"
 #include "config/gearbox_loader.h"
 #include "gearnvh/model/gear_train.h"
 #include "gearnvh/solver/train_reduced_tables.h"
@@ -19,36 +20,9 @@ namespace {
 // per cycle of the first mesh (measured against a quad-precision integration). Before the trusted
 // window, validate compared CVODE over three cycles, where CVODE itself is off by 4.3e-7 of the
 // TE, and failed on a correct solution.
-const char* kLooseGearTrain = R"(schema: gearnvh/2
-name: Loose gear rattle
-materials:
-  steel: {youngs_modulus: 206 GPa, poisson_ratio: 0.3, density: 7850 kg/m^3}
-shafts:
-  input: {inertia: 5e-3 kg*m^2}
-  layshaft: {inertia: 1.5e-3 kg*m^2}
-  output: {inertia: 0.5 kg*m^2}
-gears:
-  a: {shaft: input, teeth: 21, module: 2 mm, face_width: 18 mm, bore_diameter: 20 mm, material: steel}
-  b: {shaft: layshaft, teeth: 35, module: 2 mm, face_width: 18 mm, bore_diameter: 20 mm, material: steel}
-  c: {shaft: layshaft, teeth: 19, module: 2 mm, face_width: 18 mm, bore_diameter: 20 mm, material: steel}
-  d: {shaft: output, teeth: 37, module: 2 mm, face_width: 18 mm, bore_diameter: 20 mm, material: steel}
-  e: {shaft: layshaft, teeth: 25, module: 2 mm, face_width: 15 mm, bore_diameter: 20 mm, material: steel}
-  f: {shaft: output, mounting: loose, teeth: 31, module: 2 mm, face_width: 15 mm, bore_diameter: 30 mm, material: steel}
-meshes:
-  - {gears: [a, b], backlash: 80 um}
-  - {gears: [c, d], backlash: 100 um}
-  - {gears: [e, f], backlash: 100 um}
-operating:
-  speed: {shaft: input, value: 1000 rpm}
-  loads:
-    - {on: output, torque: 20 N*m}
-    - {on: f, torque: 0.2 N*m}
-  excitation:
-    - {order: 2, amplitude: 1000 rad/s^2}
-)";
 
 struct Fixture {
-  TrainSpec spec = config::LoadAnyGearboxFromString(kLooseGearTrain).train;
+  TrainSpec spec = config::LoadAnyGearboxFromString(testing::kLooseGearTrainYaml).train;
   GearTrain train = BuildGearTrain(spec);
   TrainTables tables = BuildTrainTablesAtTier(spec, train, spec.analysis.tier);
   Eigen::VectorXd z0;
