@@ -340,8 +340,11 @@ TrainSystem TrainSystemCache::Build(const std::vector<int>& segments,
                          ? std::max(w_stiff, largest(C))
                          : w_stiff + largest(0.5 * (C + C.transpose())) +
                                (root_inv_j.asDiagonal() * skew * root_inv_j.asDiagonal()).norm();
-  s.substep = rho > 0.0 ? 0.5 / rho : t_.longest_segment;
   s.w_ref = std::max(1.0, w_stiff);  // as ReferenceFrequency(A, n)
+  s.balance = BalancingScale(s.A, n, s.w_ref);
+  s.rate = ScaledRowNorm(s.A, s.balance);
+  s.substep = std::min(rho > 0.0 ? 0.5 / rho : t_.longest_segment,
+                       s.rate > 0.0 ? TrainSystem::kMaxDenseStepNorm / s.rate : t_.longest_segment);
   s.bytes = SystemBytes(s, static_cast<size_t>(key_words_));
   return s;
 }
