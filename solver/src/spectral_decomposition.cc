@@ -60,14 +60,6 @@ Eigen::VectorXd BalancingScale(const Eigen::MatrixXd& A, int n, double w_ref) {
   return scale;
 }
 
-double ScaledRowNorm(const Eigen::MatrixXd& A, const Eigen::VectorXd& scale) {
-  return (scale.asDiagonal() * A * scale.cwiseInverse().asDiagonal())
-      .cwiseAbs()
-      .rowwise()
-      .sum()
-      .maxCoeff();
-}
-
 SpectralDecomposition DecomposeGenerator(const Eigen::MatrixXd& A, int n, double w_ref,
                                          double horizon, double max_condition) {
   SpectralDecomposition d;
