@@ -60,6 +60,19 @@ Eigen::VectorXd BalancingScale(const Eigen::MatrixXd& A, int n, double w_ref) {
   return scale;
 }
 
+int ZeroClusterSeriesTerms(const Eigen::MatrixXd& B0, double horizon, int min_terms) {
+  const int size = static_cast<int>(B0.rows());
+  Eigen::MatrixXd power = Eigen::MatrixXd::Identity(size, size);
+  double largest = 1.0;
+  for (int k = 0; k < kMaxSeriesTerms; ++k) {
+    const double term = power.cwiseAbs().maxCoeff() * std::pow(horizon, k);
+    largest = std::max(largest, term);
+    if (k + 1 >= min_terms && term <= kSeriesCut * largest) return k + 1;
+    power = (B0 * power) / static_cast<double>(k + 1);
+  }
+  return 0;
+}
+
 SpectralDecomposition DecomposeGenerator(const Eigen::MatrixXd& A, int n, double w_ref,
                                          double horizon, double max_condition) {
   SpectralDecomposition d;
@@ -164,24 +177,10 @@ SpectralDecomposition DecomposeGenerator(const Eigen::MatrixXd& A, int n, double
     d.block_sigma[k] = d.blocks[k].sigma;
     d.block_omega[k] = d.blocks[k].omega;
   }
-  // e^{B0 t} = sum_k B0^k t^k / k!: keep terms until they no longer matter for t <= horizon.
-  d.series_terms = 0;
-  if (sdim > 0) {
-    Eigen::MatrixXd power = Eigen::MatrixXd::Identity(sdim, sdim);
-    double largest = 1.0;
-    for (int k = 0;; ++k) {
-      if (k >= kMaxSeriesTerms) {
-        d.info = SpectralDecomposition::Info::kSeriesDiverged;
-        return d;
-      }
-      d.series_terms = k + 1;
-      const double size = power.cwiseAbs().maxCoeff() * std::pow(horizon, k);
-      largest = std::max(largest, size);
-      if (k >= sdim && size <= kSeriesCut * largest) break;
-      power = (d.B0 * power) / static_cast<double>(k + 1);
-    }
-  }
-  d.info = SpectralDecomposition::Info::kSuccess;
+  // e^{B0 t}: a nilpotent cluster of size sdim needs at least sdim + 1 terms.
+  d.series_terms = sdim > 0 ? ZeroClusterSeriesTerms(d.B0, horizon, sdim + 1) : 0;
+  d.info = sdim > 0 && d.series_terms == 0 ? SpectralDecomposition::Info::kSeriesDiverged
+                                           : SpectralDecomposition::Info::kSuccess;
   return d;
 }
 

@@ -7,11 +7,6 @@
 namespace gearnvh {
 namespace {
 
-// Relative size below which a power-series term of e^{B0 t} no longer changes the sum, and the
-// most terms tried (as DecomposeGenerator).
-constexpr double kSeriesCut = 1e-18;
-constexpr int kMaxSeriesTerms = 64;
-
 // Coordinate j < n is free: its acceleration row and its position and velocity columns are zero
 // on the 2n coordinate columns and rows (the slots may drive it).
 bool FreeCoordinate(const Eigen::MatrixXd& A, int n, int j) {
@@ -76,22 +71,11 @@ SpectralDecomposition DecomposeWithFreeBodies(const Eigen::MatrixXd& A, int n, d
   d.block_omega = dc.block_omega;
   d.condition =
       d.S.cwiseAbs().colwise().sum().maxCoeff() * d.S_inv.cwiseAbs().colwise().sum().maxCoeff();
-  // e^{B0 t}: as DecomposeGenerator, the free chains (slot -> v -> x) add at most two powers to
+  // e^{B0 t}: as DecomposeGenerator; the free chains (slot -> v -> x) add at most two powers to
   // the core cluster's nilpotency index (<= k0).
-  Eigen::MatrixXd power = Eigen::MatrixXd::Identity(cluster, cluster);
-  double largest = 1.0;
-  for (int k = 0;; ++k) {
-    if (k >= kMaxSeriesTerms) {
-      d.info = SpectralDecomposition::Info::kSeriesDiverged;
-      return d;
-    }
-    d.series_terms = k + 1;
-    const double size = power.cwiseAbs().maxCoeff() * std::pow(horizon, k);
-    largest = std::max(largest, size);
-    if (k >= k0 + 2 && size <= kSeriesCut * largest) break;
-    power = (d.B0 * power) / static_cast<double>(k + 1);
-  }
-  d.info = SpectralDecomposition::Info::kSuccess;
+  d.series_terms = ZeroClusterSeriesTerms(d.B0, horizon, k0 + 3);
+  d.info = d.series_terms == 0 ? SpectralDecomposition::Info::kSeriesDiverged
+                               : SpectralDecomposition::Info::kSuccess;
   return d;
 }
 

@@ -34,7 +34,7 @@ void TrainTables::SetInputs(const std::vector<long>& cycles, const std::vector<i
     if (mt.error_input < 0) continue;
     // The mesh's own cycle count and segment select the pitch errors' teeth; runout is averaged
     // over the grid segment itself (a part of the mesh segment on the union grid).
-    z[2 * n + 2 + mt.error_input] = mt.errors.SegmentMean(cycles[i], segments[i], start, h);
+    z[ErrorSlot(static_cast<int>(i))] = mt.errors.SegmentMean(cycles[i], segments[i], start, h);
   }
 }
 
@@ -49,7 +49,7 @@ void TrainTables::AddErrorColumns(const std::vector<int>& segments,
     const size_t j = static_cast<size_t>(segments[i]);
     const double k = drive ? mt.k_drive[j] : mt.k_back[j];
     const Eigen::VectorXd& v = mt.Vector(drive);
-    const int slot = 2 * n + 2 + mt.error_input;
+    const int slot = ErrorSlot(static_cast<int>(i));
     for (int r = 0; r < n; ++r) A(n + r, slot) += k * v[r] / inertia[r];
   }
 }

@@ -2,6 +2,7 @@
 // check and simulate alike, errors with the file's line and the value as written, option limits
 // equal to the YAML limits, and option errors named once.
 #include <catch2/catch.hpp>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -30,34 +31,34 @@ std::string Replace(std::string text, const std::string& from, const std::string
   return text.replace(at, from.size(), to);
 }
 
-TEST_CASE("check and simulate refuse too few segments per cycle alike, at its line",
-          "[cli][train]") {
-  TempDir dir;
-  const auto file =
-      dir.Write("seg4.yaml", Replace(kTrain, "segments_per_cycle: 32", "segments_per_cycle: 4"));
+// check and simulate refuse `file` with the same message (exit 1); the message.
+std::string RefusedAlike(const std::filesystem::path& file) {
   const auto check = RunCommand(kExe + " check " + file.string());
   const auto simulate = RunCommand(kExe + " simulate " + file.string());
   INFO("check: " << check.err << "simulate: " << simulate.err);
   CHECK(check.exit_code == 1);
   CHECK(simulate.exit_code == 1);
   CHECK(check.err == simulate.err);
-  CHECK(check.err.find("seg4.yaml:28: analysis.segments_per_cycle: must be >= ") !=
-        std::string::npos);
-  CHECK(check.err.find("in meshes[0] (a-b), got '4'") != std::string::npos);
+  return check.err;
+}
+
+TEST_CASE("check and simulate refuse too few segments per cycle alike, at its line",
+          "[cli][train]") {
+  TempDir dir;
+  const auto file =
+      dir.Write("seg4.yaml", Replace(kTrain, "segments_per_cycle: 32", "segments_per_cycle: 4"));
+  const std::string err = RefusedAlike(file);
+  CHECK(err.find("seg4.yaml:28: analysis.segments_per_cycle: must be >= ") != std::string::npos);
+  CHECK(err.find("in meshes[0] (a-b), got '4'") != std::string::npos);
 }
 
 TEST_CASE("a tier the train cannot have is refused at the line of analysis.tier", "[cli][train]") {
   TempDir dir;
   const auto file =
       dir.Write("tier4.yaml", Replace(kTrain, "analysis:\n", "analysis:\n  tier: 4\n"));
-  const auto check = RunCommand(kExe + " check " + file.string());
-  const auto simulate = RunCommand(kExe + " simulate " + file.string());
-  INFO("check: " << check.err << "simulate: " << simulate.err);
-  CHECK(check.exit_code == 1);
-  CHECK(simulate.exit_code == 1);
-  CHECK(check.err == simulate.err);
-  CHECK(check.err.find("tier4.yaml:28: analysis.tier: tiers 4, 5, N20 simple and N20 MTA need an "
-                       "elastic shaft in the train, got '4'") != std::string::npos);
+  const std::string err = RefusedAlike(file);
+  CHECK(err.find("tier4.yaml:28: analysis.tier: tiers 4, 5, N20 simple and N20 MTA need an "
+                 "elastic shaft in the train, got '4'") != std::string::npos);
 }
 
 TEST_CASE("a bad option value names the option once", "[cli][train]") {

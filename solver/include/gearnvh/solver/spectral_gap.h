@@ -62,6 +62,10 @@ Eigen::VectorXd BalancingScale(const Eigen::MatrixXd& A, int n, double w_ref);
 SpectralDecomposition DecomposeGenerator(const Eigen::MatrixXd& A, int n, double w_ref,
                                          double horizon, double max_condition);
 
+// The terms of e^{B0 t} = sum_k B0^k t^k / k! that matter for t <= horizon: at least
+// `min_terms`, then until a term is below 1e-18 of the largest; 0 when 64 terms do not get there.
+int ZeroClusterSeriesTerms(const Eigen::MatrixXd& B0, double horizon, int min_terms);
+
 // e^{Dt} w for the block-diagonal D of `d`. No allocation: `out` has the size of w and `scratch`
 // at least zero_size entries.
 void PropagateDecoupled(const SpectralDecomposition& d, const Eigen::VectorXd& w, double t,
