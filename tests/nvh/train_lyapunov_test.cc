@@ -338,5 +338,27 @@ TEST_CASE("a rattling train's periodic orbit closes on the independent dense pat
   }
 }
 
+TEST_CASE("a stopped train run says why in the solver's own words", "[nvh][train][lyapunov]") {
+  // The rattler has grid segments with two or more events (train_stepper_test.cc), so a limit of
+  // one event per segment stops the exponents' transient and the orbit's first shot.
+  const Model s(testing::RattlerTrain(1500.0));
+  const auto [z0, states0] = TrainStaticState(s.tables);
+  TrainLyapunovOptions lyapunov;
+  lyapunov.stepper.max_events_per_segment = 1;
+  const TrainLyapunovSummary l = EstimateTrainLyapunov(s.tables, z0, states0, lyapunov);
+  INFO(l.message);
+  REQUIRE(l.info == TrainLyapunovSummary::Info::kSolverFailed);
+  REQUIRE(l.run.info == TrainStepperSummary::Info::kTooManyEvents);
+  CHECK(l.message == "the train stepper stopped: " + TrainStepperMessage(l.run));
+  CHECK(l.message.find("more than 1 contact events in the") != std::string::npos);
+
+  TrainOrbitOptions orbit_options;
+  orbit_options.stepper.max_events_per_segment = 1;
+  const TrainOrbit orbit = FindTrainPeriodicOrbit(s.tables, z0, states0, orbit_options);
+  INFO(orbit.stop_reason);
+  REQUIRE(orbit.info == TrainOrbit::Info::kSolverFailed);
+  CHECK(orbit.stop_reason.find("more than 1 contact events in the") == 0);
+}
+
 }  // namespace
 }  // namespace gearnvh
