@@ -93,10 +93,10 @@ struct RunFigures {
 
 // The per-cycle cost is the median paired difference of runs of C and 2C cycles (same start), so
 // the set-up each SimulateExact call pays (decompositions, dyadic tables) is reported apart.
-RunFigures TimeRun(const Built& b, const std::string& method, const Settings& s) {
+RunFigures TimeRun(const Built& b, LadderMethod method, const Settings& s) {
   const auto [z0, s0] = StaticInitialState(b.tables);
   SolverOptions o;
-  ApplyMethodName(method, o);
+  ApplyLadderMethod(method, o);
   o.transient_cycles = s.transient;
   o.record_trajectory = true;
   RunFigures f;
@@ -190,11 +190,11 @@ int main(int argc, char** argv) {
                                                 {"tier 5 (N40 full)", Tier::kTier5}};
   for (const auto& [label, tier] : tiers) {
     const Built b(FlexibleRattle(), tier);
-    add("step_cost", std::string("flexible rattle, ") + label, b, TimeRun(b, "v3", s));
+    add("step_cost", std::string("flexible rattle, ") + label, b, TimeRun(b, LadderMethod::kV3, s));
   }
   for (const auto& [label, tier] : tiers) {
     const Built b(Loaded(), tier);
-    add("step_cost", std::string("loaded, ") + label, b, TimeRun(b, "v3", s));
+    add("step_cost", std::string("loaded, ") + label, b, TimeRun(b, LadderMethod::kV3, s));
   }
 
   // 2. Constant contact: one fused cycle and a certified jump of 10^6 cycles.
@@ -236,19 +236,19 @@ int main(int argc, char** argv) {
        {std::pair<const char*, GearboxSpec>{"strong rattle", StrongRattle()},
         {"sparse contact", SparseContact()}}) {
     const Built b(spec, Tier::kTier1);
-    for (const char* method : {"v1", "v2", "v3", "fused"}) {
-      add("events", std::string(label) + ", " + method, b, TimeRun(b, method, s));
+    for (const LadderMethod method : kLadderMethods) {
+      add("events", std::string(label) + ", " + LadderMethodName(method), b, TimeRun(b, method, s));
     }
   }
 
   // 4. Flexible tier (loaded).
   Header("4. Flexible tiers, loaded example at 3.9 kHz");
   for (const auto& [label, tier, method] :
-       {std::tuple<const char*, Tier, const char*>{"N40 full", Tier::kTier5, "v3"},
-        {"N20 simple", Tier::kN20Simple, "v3"},
-        {"N20 MTA", Tier::kN20Mta, "v3"},
-        {"N20 MTA + fusion", Tier::kN20Mta, "fused"},
-        {"N40 full + fusion", Tier::kTier5, "fused"}}) {
+       {std::tuple<const char*, Tier, LadderMethod>{"N40 full", Tier::kTier5, LadderMethod::kV3},
+        {"N20 simple", Tier::kN20Simple, LadderMethod::kV3},
+        {"N20 MTA", Tier::kN20Mta, LadderMethod::kV3},
+        {"N20 MTA + fusion", Tier::kN20Mta, LadderMethod::kFused},
+        {"N40 full + fusion", Tier::kTier5, LadderMethod::kFused}}) {
     const Built b(Loaded(), tier);
     add("flexible", label, b, TimeRun(b, method, s));
   }
@@ -265,7 +265,7 @@ int main(int argc, char** argv) {
     const auto [z0, s0] = StaticInitialState(b.tables);
     const long cycles = s.quick ? 20 : 60;
     SolverOptions o;
-    ApplyMethodName("v3", o);
+    ApplyLadderMethod(LadderMethod::kV3, o);
     o.cycles = cycles;
     SolverResult exact;
     const double exact_s = Seconds([&] { exact = SimulateExact(b.tables, z0, s0, o); }, s.repeats);

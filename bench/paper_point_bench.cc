@@ -115,14 +115,14 @@ struct Figures {
   double build_ms = 0.0;  // spec -> component model -> reduced model -> tables
 };
 
-Figures Measure(const GearboxSpec& spec, Tier tier, const char* method, bool record,
+Figures Measure(const GearboxSpec& spec, Tier tier, LadderMethod method, bool record,
                 double carry_max_error, bool cycle_rows, const Settings& s, long cycles) {
   Figures f;
   OperatingPointModel op;
   f.build_ms = 1e3 * Seconds([&] { op = BuildOperatingPointModel(spec, tier); });
   const auto [z0, s0] = StaticInitialState(op.tables);
   SolverOptions o;
-  ApplyMethodName(method, o);
+  ApplyLadderMethod(method, o);
   o.carry_max_error = carry_max_error;
   o.cycle_rows = cycle_rows;
   o.transient_cycles = s.transient;
@@ -149,7 +149,7 @@ void CompareCarriedEvents(const GearboxSpec& spec, Tier tier, long transient, lo
   const OperatingPointModel op = BuildOperatingPointModel(spec, tier);
   const auto [z0, s0] = StaticInitialState(op.tables);
   SolverOptions o;
-  ApplyMethodName("v3", o);
+  ApplyLadderMethod(LadderMethod::kV3, o);
   o.record_trajectory = false;
   ExactStepper settle(op.tables, o, z0, s0, 0, 0);
   settle.Run(transient, false);
@@ -223,7 +223,7 @@ int main(int argc, char** argv) {
     const char* label;
     GearboxSpec spec;
     Tier tier;
-    const char* method;
+    LadderMethod method;
     bool record;
     double paper_us;  // 0: the preprint has no figure for it
     // V3's carry in decoupled coordinates (SolverOptions::carry_max_error; 0: off, as before).
@@ -235,21 +235,24 @@ int main(int argc, char** argv) {
   };
   const GearboxSpec paper = PaperPoint();
   const Case cases[] = {
-      {"tier 1, v3 uncarried", paper, Tier::kTier1, "v3", false, 0.0, 0.0},
-      {"tier 1, v3", paper, Tier::kTier1, "v3", false, 0.0},
-      {"tier 1, fused", paper, Tier::kTier1, "fused", false, 0.0},
-      {"N20 MTA, v3 uncarried", paper, Tier::kN20Mta, "v3", false, kPaperN20MtaUs, 0.0},
-      {"N20 MTA, v3", paper, Tier::kN20Mta, "v3", false, kPaperN20MtaUs},
-      {"N20 MTA, fused", paper, Tier::kN20Mta, "fused", false, kPaperN20MtaUs},
-      {"N40 full, v3 uncarried", paper, Tier::kTier5, "v3", false, kPaperN40FullUs, 0.0},
-      {"N40 full, v3", paper, Tier::kTier5, "v3", false, kPaperN40FullUs},
-      {"N40 full, fused", paper, Tier::kTier5, "fused", false, kPaperN40FullUs},
-      {"N40 full, fused, recorded", paper, Tier::kTier5, "fused", true, kPaperN40FullUs},
-      {"loaded N40 full, recorded", LoadedPoint(), Tier::kTier5, "fused", true, 0.0,
+      {"tier 1, v3 uncarried", paper, Tier::kTier1, LadderMethod::kV3, false, 0.0, 0.0},
+      {"tier 1, v3", paper, Tier::kTier1, LadderMethod::kV3, false, 0.0},
+      {"tier 1, fused", paper, Tier::kTier1, LadderMethod::kFused, false, 0.0},
+      {"N20 MTA, v3 uncarried", paper, Tier::kN20Mta, LadderMethod::kV3, false, kPaperN20MtaUs,
+       0.0},
+      {"N20 MTA, v3", paper, Tier::kN20Mta, LadderMethod::kV3, false, kPaperN20MtaUs},
+      {"N20 MTA, fused", paper, Tier::kN20Mta, LadderMethod::kFused, false, kPaperN20MtaUs},
+      {"N40 full, v3 uncarried", paper, Tier::kTier5, LadderMethod::kV3, false, kPaperN40FullUs,
+       0.0},
+      {"N40 full, v3", paper, Tier::kTier5, LadderMethod::kV3, false, kPaperN40FullUs},
+      {"N40 full, fused", paper, Tier::kTier5, LadderMethod::kFused, false, kPaperN40FullUs},
+      {"N40 full, fused, recorded", paper, Tier::kTier5, LadderMethod::kFused, true,
+       kPaperN40FullUs},
+      {"loaded N40 full, recorded", LoadedPoint(), Tier::kTier5, LadderMethod::kFused, true, 0.0,
        SolverOptions{}.carry_max_error, true, 50000},
       // The same run recorded one matvec per segment and piece by piece (before output rows).
-      {"loaded N40 full, recorded, per segment", LoadedPoint(), Tier::kTier5, "fused", true, 0.0,
-       SolverOptions{}.carry_max_error, false},
+      {"loaded N40 full, recorded, per segment", LoadedPoint(), Tier::kTier5, LadderMethod::kFused,
+       true, 0.0, SolverOptions{}.carry_max_error, false},
   };
   nlohmann::json rows = nlohmann::json::array();
   for (const Case& c : cases) {
@@ -292,7 +295,7 @@ int main(int argc, char** argv) {
                     {"carried_systems", f.summary.carried_systems},
                     {"carry_error_bound", f.summary.carry_error_bound},
                     {"spectral_max_condition", f.summary.spectral_max_condition}});
-    if (event_cycles > 0 && std::strcmp(c.method, "v3") == 0 && c.carry_max_error > 0.0)
+    if (event_cycles > 0 && c.method == LadderMethod::kV3 && c.carry_max_error > 0.0)
       CompareCarriedEvents(c.spec, c.tier, s.transient, event_cycles);
     fmt::print("    carried pairs {}, carry error bound {:.2g}, max cond(S) {:.3g}\n",
                f.summary.carried_systems, f.summary.carry_error_bound,

@@ -151,7 +151,7 @@ nlohmann::json AtlasJson(const AtlasResult& r, const AtlasOptions& o) {
           {"cycles_per_cell", o.cycles},
           {"transient_cycles", o.transient_cycles},
           {"chaos_threshold_per_forcing_cycle", o.chaos_threshold},
-          {"method", o.method},
+          {"method", EventMethodName(o.events)},
           {"threads", r.threads},
           {"wall_s", r.wall_s}};
 }
@@ -194,7 +194,7 @@ std::string SettingsKey(const std::string& file_text, const AtlasAxis& x, const 
                             {"y", AtlasAxisJson(y)},
                             {"cycles", o.cycles},
                             {"transient", o.transient_cycles},
-                            {"method", o.method},
+                            {"method", EventMethodName(o.events)},
                             {"tier", static_cast<int>(o.tier)},
                             {"chaos_threshold", o.chaos_threshold}};
   return j.dump();
@@ -250,7 +250,7 @@ int RunAtlas(const AtlasCommandOptions& options) {
     atlas.cycles = options.cycles.value_or(atlas.cycles);
     atlas.transient_cycles = options.transient.value_or(atlas.transient_cycles);
     atlas.threads = options.jobs;
-    atlas.method = options.method == "fused" ? "v3" : options.method;
+    atlas.events = EventMethodOf(options.method);
     std::optional<AtlasAxis> x = spec.analysis.atlas_x, y = spec.analysis.atlas_y;
     if (options.x) x = config::ParseAxisOption(*options.x, "--x");
     if (options.y) y = config::ParseAxisOption(*options.y, "--y");

@@ -17,10 +17,10 @@ struct AtlasCommandOptions {
   std::string file;
   std::optional<std::string> x, y;  // PARAMETER=FROM:TO:POINTS
   std::optional<std::string> tier;
-  std::optional<long> cycles;     // averaged mesh cycles per cell
-  std::optional<long> transient;  // settling cycles per cell
-  int jobs = 0;                   // threads; 0 = all cores
-  std::string method = "v3";
+  std::optional<long> cycles;               // averaged mesh cycles per cell
+  std::optional<long> transient;            // settling cycles per cell
+  int jobs = 0;                             // threads; 0 = all cores
+  LadderMethod method = LadderMethod::kV3;  // kFused locates events as kV3
   std::optional<std::string> out;
   bool json = false;
   bool resume = false;  // skip the cells already in DIR's checkpoint (needs --out)

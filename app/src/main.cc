@@ -31,18 +31,35 @@ std::string RuleAndValue(const gearnvh::InputError& e) {
   return e.rule() + (e.value().empty() ? "" : ", got " + e.value());
 }
 
-// Option values checked while the command line is parsed, so a bad one is a usage error (2).
-CLI::Validator TierValidator() {
+// Option values checked while the command line is parsed, so a bad one is a usage error (2):
+// `parse` throws InputError on a bad value.
+template <typename Parse>
+CLI::Validator ParsedBy(Parse parse, const std::string& name) {
   return CLI::Validator(
-      [](std::string& text) -> std::string {
+      [parse](std::string& text) -> std::string {
         try {
-          (void)gearnvh::app::ParseTier(text);
+          (void)parse(text);
           return {};
         } catch (const gearnvh::InputError& e) {
           return RuleAndValue(e);
         }
       },
-      "TIER");
+      name);
+}
+
+CLI::Validator TierValidator() {
+  return ParsedBy([](const std::string& text) { return gearnvh::app::ParseTier(text); }, "TIER");
+}
+
+// --method, read into `method` by ParseMethod while the command line is parsed.
+CLI::Option* AddMethodOption(CLI::App* command, gearnvh::LadderMethod& method,
+                             const std::string& help) {
+  return command
+      ->add_option_function<std::string>(
+          "--method",
+          [&method](const std::string& text) { method = gearnvh::app::ParseMethod(text); }, help)
+      ->check(ParsedBy([](const std::string& text) { return gearnvh::app::ParseMethod(text); },
+                       "METHOD"));
 }
 
 // An axis of either schema's parameters (the file, read later, decides which apply; the command
@@ -114,13 +131,11 @@ int Main(int argc, char** argv) {
       "--uff", simulate.uff,
       "Write TE and mesh force histories and the TE spectrum as UFF dataset 58");
   simulate_cmd->add_flag("--json", simulate.json, "Print the results as one JSON document");
-  simulate_cmd
-      ->add_option("--method", simulate.method,
-                   "Event location and fusion: v1 (dyadic bisection on dense propagators, a "
-                   "baseline), v2 (sub-step certificate + Taylor-polynomial search), v3 "
-                   "(closed-form spectral location per segment), fused (default: v3 plus "
-                   "segment-run fusion, certified constant-contact cycles and O(1) jumps)")
-      ->check(CLI::IsMember({"v1", "v2", "v3", "fused"}));
+  AddMethodOption(simulate_cmd, simulate.method,
+                  "Event location and fusion: v1 (dyadic bisection on dense propagators, a "
+                  "baseline), v2 (sub-step certificate + Taylor-polynomial search), v3 "
+                  "(closed-form spectral location per segment), fused (default: v3 plus "
+                  "segment-run fusion, certified constant-contact cycles and O(1) jumps)");
   simulate_cmd
       ->add_option("--lyapunov", simulate.lyapunov,
                    "Gear trains: also estimate the K largest Lyapunov exponents (exact tangents "
@@ -154,8 +169,7 @@ int Main(int argc, char** argv) {
       ->check(CLI::Range(0L, 100000000L));
   sweep_cmd->add_option("--jobs", sweep.jobs, "Threads (default: all cores)")
       ->check(CLI::Range(1, 1024));
-  sweep_cmd->add_option("--method", sweep.method, "v1, v2, v3 or fused (default)")
-      ->check(CLI::IsMember({"v1", "v2", "v3", "fused"}));
+  AddMethodOption(sweep_cmd, sweep.method, "v1, v2, v3 or fused (default)");
   sweep_cmd->add_option("--out", sweep.out,
                         "Write campbell.csv, critical_speeds.csv, waterfall.csv and sweep.json (a "
                         "gear train: sweep.json, meshes.csv and loose_gears.csv)");
@@ -182,8 +196,7 @@ int Main(int argc, char** argv) {
       ->check(CLI::Range(0L, 100000000L));
   atlas_cmd->add_option("--jobs", atlas.jobs, "Threads (default: all cores)")
       ->check(CLI::Range(1, 1024));
-  atlas_cmd->add_option("--method", atlas.method, "Event location v1, v2 or v3 (default)")
-      ->check(CLI::IsMember({"v1", "v2", "v3", "fused"}));
+  AddMethodOption(atlas_cmd, atlas.method, "Event location v1, v2 or v3 (default; fused means v3)");
   atlas_cmd->add_option("--out", atlas.out, "Write atlas.csv and atlas.json");
   atlas_cmd->add_flag("--json", atlas.json, "Print the atlas as one JSON document");
   atlas_cmd->add_flag("--resume", atlas.resume,
@@ -212,8 +225,8 @@ int Main(int argc, char** argv) {
       ->add_option("--transient", orbits.transient,
                    "Settling cycles before the first guess (default: analysis.transient_cycles)")
       ->check(CLI::Range(0L, 100000000L));
-  orbits_cmd->add_option("--method", orbits.method, "Event location v1, v2 or v3 (default)")
-      ->check(CLI::IsMember({"v1", "v2", "v3", "fused"}));
+  AddMethodOption(orbits_cmd, orbits.method,
+                  "Event location v1, v2 or v3 (default; fused means v3)");
   orbits_cmd->add_option("--out", orbits.out, "Write orbits.csv and orbits.json");
   orbits_cmd->add_flag("--json", orbits.json, "Print the orbits as one JSON document");
 

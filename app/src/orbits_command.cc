@@ -106,7 +106,7 @@ int RunOrbits(const OrbitsCommandOptions& options) {
     scan.tier = options.tier ? ParseTier(*options.tier) : spec.analysis.tier;
     scan.period = options.period;
     scan.transient_cycles = options.transient.value_or(spec.analysis.transient_cycles);
-    scan.method = options.method == "fused" ? "v3" : options.method;
+    scan.events = EventMethodOf(options.method);
     std::optional<AtlasAxis> sweep;
     if (options.sweep) sweep = config::ParseAxisOption(*options.sweep, "--sweep");
     scan.Validate();

@@ -10,6 +10,8 @@
 #include <optional>
 #include <string>
 
+#include "gearnvh/solver/solver_options.h"
+
 namespace gearnvh::app {
 
 struct OrbitsCommandOptions {
@@ -18,7 +20,7 @@ struct OrbitsCommandOptions {
   std::optional<std::string> sweep;  // PARAMETER=FROM:TO:POINTS
   std::optional<std::string> tier;
   std::optional<long> transient;
-  std::string method = "v3";
+  LadderMethod method = LadderMethod::kV3;  // kFused locates events as kV3
   std::optional<std::string> out;
   bool json = false;
 };

@@ -38,6 +38,15 @@ Tier ParseTier(const std::string& text, const std::string& field) {
   throw InputError(field, 0, text, "must be 1..5, \"N40 full\", \"N20 simple\" or \"N20 MTA\"");
 }
 
+LadderMethod ParseMethod(const std::string& text, const std::string& field) {
+  std::string choices;
+  for (const LadderMethod m : kLadderMethods) {
+    if (text == LadderMethodName(m)) return m;
+    choices += std::string(choices.empty() ? "" : ", ") + LadderMethodName(m);
+  }
+  throw InputError(field, 0, text, "must be one of " + choices);
+}
+
 namespace {
 
 std::string TrajectoryCsv(const Trajectory& t) {
@@ -79,7 +88,7 @@ int RunSimulate(const SimulateOptions& options) {
     SolverOptions solver;
     solver.cycles = options.cycles.value_or(spec.analysis.cycles);
     solver.transient_cycles = options.transient.value_or(spec.analysis.transient_cycles);
-    ApplyMethodName(options.method, solver);
+    ApplyLadderMethod(options.method, solver);
     solver.Validate();
     RequireRunLengthOfOptions(loaded.train, spec.operating.speed, solver.cycles,
                               solver.transient_cycles, options.cycles, options.transient);

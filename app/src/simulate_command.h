@@ -20,7 +20,7 @@ struct SimulateOptions {
   std::optional<long> transient;   // overrides analysis.transient_cycles
   std::optional<std::string> out;  // output directory
   std::optional<std::string> uff;  // UFF dataset-58 file (TE, mesh force, TE spectrum)
-  std::string method = "fused";    // "v1" | "v2" | "v3" | "fused"
+  LadderMethod method = LadderMethod::kFused;
   bool json = false;
   // Gear trains: the K largest Lyapunov exponents (tangents with saltation, a second run).
   std::optional<int> lyapunov;
@@ -30,5 +30,8 @@ int RunSimulate(const SimulateOptions& options);
 
 // --tier: 1..5, "N40 full", "N20 simple", "N20 MTA"; InputError otherwise.
 Tier ParseTier(const std::string& text, const std::string& field = "--tier");
+// --method: v1, v2, v3 or fused (LadderMethodName); InputError naming `field`, the value and the
+// choices otherwise. The one place a method's name becomes a LadderMethod.
+LadderMethod ParseMethod(const std::string& text, const std::string& field = "--method");
 
 }  // namespace gearnvh::app

@@ -32,7 +32,7 @@ SpeedPoint RunPoint(const GearboxSpec& base, const ComponentModel& model,
   const SegmentTables tables = BuildSegmentTables(model, reduced, spec);
   const auto [z0, state0] = StaticInitialState(tables);
   SolverOptions solver;
-  ApplyMethodName(options.method, solver);
+  ApplyLadderMethod(options.method, solver);
   solver.cycles = options.cycles;
   solver.transient_cycles = options.transient_cycles;
   solver.cancel = options.cancel;

@@ -11,16 +11,17 @@
 #include "gearnvh/nvh/campbell.h"
 #include "gearnvh/nvh/rattle.h"
 #include "gearnvh/reduction/reduced_model.h"
+#include "gearnvh/solver/solver_options.h"
 
 namespace gearnvh::app {
 
 struct SpeedSweepOptions {
-  long cycles = 512;             // recorded mesh cycles per speed; >= 2
-  long transient_cycles = 200;   // unrecorded cycles first; >= 0
-  long waterfall_cycles = 256;   // the last cycles of each run in the spectrum (<= cycles)
-  double max_order = 0.0;        // waterfall up to this pinion order (0: 3.5 mesh orders)
-  int threads = 0;               // 0: all hardware threads
-  std::string method = "fused";  // v1 | v2 | v3 | fused
+  long cycles = 512;            // recorded mesh cycles per speed; >= 2
+  long transient_cycles = 200;  // unrecorded cycles first; >= 0
+  long waterfall_cycles = 256;  // the last cycles of each run in the spectrum (<= cycles)
+  double max_order = 0.0;       // waterfall up to this pinion order (0: 3.5 mesh orders)
+  int threads = 0;              // 0: all hardware threads
+  LadderMethod method = LadderMethod::kFused;
   // Cancellation (SolverOptions::cancel): once set, the runs in flight and the speeds not yet
   // started fail with the message "cancelled". Not owned; may be null.
   const std::atomic<bool>* cancel = nullptr;

@@ -17,7 +17,7 @@ struct SweepOptions {
   std::optional<long> cycles;     // recorded cycles per speed (default 512)
   std::optional<long> transient;  // default 200
   int jobs = 0;                   // threads; 0 = all cores
-  std::string method = "fused";
+  LadderMethod method = LadderMethod::kFused;
   std::optional<std::string> out;
   std::optional<std::string> uff;  // UFF dataset-58 file (order tracks)
   bool json = false;

@@ -38,7 +38,7 @@ TierRow RunTier(const GearboxSpec& spec, const ComponentModel& model, const Redu
                 const ModalSummary& full, const SolverOptions& solver, const std::string& label) {
   TierRow row;
   row.name = label;
-  row.method = SolverMethodName(solver.method);
+  row.method = solver.method;
   row.dof = reduced.dof;
   row.compliance_error = reduced.compliance_error_vs_full;
   for (size_t k = 0; k < reduced.natural_frequencies_hz.size() && k < 6; ++k) {
@@ -94,7 +94,7 @@ TiersComparison CompareTiers(const GearboxSpec& spec, const SolverOptions& solve
     rows.push_back(RunTier(spec, model, r, full, solver, r.name));
     if (r.tier == Tier::kN20Mta) {
       SolverOptions fused = solver;
-      ApplyMethodName("fused", fused);
+      ApplyLadderMethod(LadderMethod::kFused, fused);
       rows.push_back(RunTier(spec, model, r, full, fused, r.name + " + fusion"));
     }
   }
@@ -113,7 +113,7 @@ TiersComparison CompareTiers(const GearboxSpec& spec, const SolverOptions& solve
   nlohmann::json list = nlohmann::json::array();
   for (const TierRow& r : rows) {
     list.push_back({{"name", r.name},
-                    {"method", r.method},
+                    {"method", SolverMethodName(r.method)},
                     {"dof", r.dof},
                     {"state_dim", r.state_dim},
                     {"frequencies_hz", r.frequencies_hz},
@@ -147,7 +147,7 @@ int RunTiers(const TiersCommandOptions& options) {
     const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
     const GearboxSpec& spec = *loaded.pair;
     SolverOptions solver;
-    ApplyMethodName("v3", solver);
+    ApplyLadderMethod(LadderMethod::kV3, solver);
     solver.cycles = options.cycles.value_or(std::min(spec.analysis.cycles, 400));
     solver.transient_cycles =
         options.transient.value_or(std::min(spec.analysis.transient_cycles, 200));
@@ -174,8 +174,8 @@ int RunTiers(const TiersCommandOptions& options) {
              "te_rms_difference,rattle_index_j,rattle_index_difference,matvec_per_cycle,"
              "us_per_cycle,real_time_ratio,table_bytes\n";
       for (const TierRow& r : rows) {
-        csv << r.name << ',' << r.method << ',' << r.dof << ',' << r.state_dim << ','
-            << r.max_frequency_error << ',' << r.compliance_error << ',' << r.te_rms << ','
+        csv << r.name << ',' << SolverMethodName(r.method) << ',' << r.dof << ',' << r.state_dim
+            << ',' << r.max_frequency_error << ',' << r.compliance_error << ',' << r.te_rms << ','
             << r.te_rms_difference << ',' << r.rattle_index << ',' << r.rattle_index_difference
             << ',' << r.matvec_per_cycle << ',' << r.us_per_cycle << ',' << r.real_time_ratio << ','
             << r.table_bytes << '\n';

@@ -36,7 +36,7 @@ int RunTiers(const TiersCommandOptions& options);
 // One row of the comparison: a tier (and N20 MTA once more with fusion).
 struct TierRow {
   std::string name;
-  std::string method;  // solver method of the run
+  SolverMethod method = SolverMethod::kStepped;  // of the run
   int dof = 0, state_dim = 0;
   std::vector<double> frequencies_hz;    // lowest (up to 6)
   std::vector<double> frequency_errors;  // relative, against the closest full-FE frequency

@@ -177,7 +177,7 @@ void RequireRunLengthOfOptions(const TrainSpec& spec, double lowest_speed, long 
 }
 
 TrainCommandSettings CheckTrainCommandOptions(const std::optional<std::string>& tier_option,
-                                              const TrainSpec& spec, const std::string& method,
+                                              const TrainSpec& spec, LadderMethod method,
                                               const std::optional<std::string>& uff,
                                               const TrainOptionNames& option_names) {
   const Tier tier = tier_option ? ParseTier(*tier_option, option_names.tier) : spec.analysis.tier;
@@ -187,10 +187,8 @@ TrainCommandSettings CheckTrainCommandOptions(const std::optional<std::string>& 
                      tier_option ? *tier_option : TierName(tier),
                      "tiers 4, 5, N20 simple and N20 MTA need an elastic shaft in the train");
   }
-  SolverOptions parsed;
-  ApplyMethodName(method, parsed, option_names.method);
   if (uff) throw InputError("--uff", 0, *uff, "UFF export is not available for gear trains yet");
-  return {tier, parsed.events};
+  return {tier, EventMethodOf(method)};
 }
 
 void TrainRunOptions::Validate() const {

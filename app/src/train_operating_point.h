@@ -86,15 +86,15 @@ struct TrainCommandSettings {
 };
 
 // What `simulate` and `sweep` accept on a train: a tier the train has (`--tier` or
-// analysis.tier; tiers 4, 5 and N20 need an elastic shaft), an event
-// method v1, v2 or v3 (the default "fused" means v3: fusion is not built for trains), no UFF file.
+// analysis.tier; tiers 4, 5 and N20 need an elastic shaft) and no UFF file; the event method is
+// EventMethodOf(method) (kFused means kV3: fusion is not built for trains).
 // Throws InputError naming the option or key otherwise.
-// `option_names`: how the caller names the tier and method options in messages.
+// `option_names`: how the caller names the tier option in messages.
 struct TrainOptionNames {
-  std::string tier = "--tier", method = "--method";
+  std::string tier = "--tier";
 };
 TrainCommandSettings CheckTrainCommandOptions(const std::optional<std::string>& tier_option,
-                                              const TrainSpec& spec, const std::string& method,
+                                              const TrainSpec& spec, LadderMethod method,
                                               const std::optional<std::string>& uff,
                                               const TrainOptionNames& option_names = {});
 

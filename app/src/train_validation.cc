@@ -21,20 +21,12 @@ constexpr int kMinCycles = 2;
 constexpr int kMaxCycles = 200;
 constexpr int kSamplesPerCycle = 64;
 
-// Tolerance of every TE row: 1e-8 of the TE (the issue's).
-constexpr double kTeTolerance = 1e-8;
 // The reference: CVODE at rtol 1e-13. Its error is estimated by a run at rtol 1e-12 (measured on
 // a rattling loose gear against a quad-precision integration: 4.3e-7 of the TE after three
 // cycles at 1e-13, 1.5e-6 at 1e-12, 2.0e-7 at 1e-14, its floor), so the difference of the two
-// bounds the reference's error from above. The reference is trusted while that difference stays
-// below a tenth of the tolerance.
+// bounds the reference's error from above (TrustedSamples).
 constexpr double kReferenceRtol = 1e-13;
 constexpr double kEstimateRtol = 1e-12;
-constexpr double kTrustedError = 0.1 * kTeTolerance;
-// An event matches a CVODE event within this fraction of the first mesh's period (CVODE's root
-// moves with its error by about the TE's relative error times the period: <= 1e-9 of a period in
-// the trusted window).
-constexpr double kEventMatch = 1e-7;
 
 // The window in cycles of the first mesh (see above).
 int WindowCycles(const TrainTables& t, const Eigen::VectorXd& z0,
@@ -92,18 +84,17 @@ std::vector<double> ReferenceTe(const TrainReferenceResult& ref, size_t samples)
   return te;
 }
 
-// The leading samples over which |reference - estimate| <= kTrustedError max |reference| (both
-// over the samples so far), ended before the first sample within 2 kEventMatch periods of a
-// reference event (so every event is on one side of the window's end for both methods).
-size_t TrustedSamples(const std::vector<double>& ref, const std::vector<double>& estimate,
+}  // namespace
+
+size_t TrustedSamples(const std::vector<double>& reference, const std::vector<double>& estimate,
                       size_t meshes, const std::vector<TrainReferenceEvent>& events,
                       const std::vector<double>& times, double period) {
   double diff = 0.0, scale = 0.0;
   size_t trusted = 0;
-  for (size_t k = 0; k < std::min(ref.size(), estimate.size()) / meshes; ++k) {
+  for (size_t k = 0; k < std::min(reference.size(), estimate.size()) / meshes; ++k) {
     for (size_t i = k * meshes; i < (k + 1) * meshes; ++i) {
-      diff = std::max(diff, std::abs(ref[i] - estimate[i]));
-      scale = std::max(scale, std::abs(ref[i]));
+      diff = std::max(diff, std::abs(reference[i] - estimate[i]));
+      scale = std::max(scale, std::abs(reference[i]));
     }
     if (diff > kTrustedError * scale) break;
     trusted = k + 1;
@@ -116,8 +107,6 @@ size_t TrustedSamples(const std::vector<double>& ref, const std::vector<double>&
   while (trusted > 0 && near_event(trusted)) --trusted;
   return trusted;
 }
-
-}  // namespace
 
 TrainReferenceComparison CompareTrainWithReference(const TrainTables& reference,
                                                    const TrainTables& candidate,

@@ -14,12 +14,31 @@
 #include <vector>
 
 #include "gearnvh/model/train_spec.h"
+#include "gearnvh/solver/train_reference.h"
 #include "gearnvh/solver/train_tables.h"
 #include "validation_ladder.h"
 
 namespace gearnvh::app {
 
 std::vector<ValidationRow> RunTrainValidationLadder(const TrainSpec& spec);
+
+// Tolerance of every TE row: 1e-8 of the TE (the issue's).
+inline constexpr double kTeTolerance = 1e-8;
+// The reference is trusted while it and its estimate differ by at most this relative to the TE.
+inline constexpr double kTrustedError = 0.1 * kTeTolerance;
+// An event matches a CVODE event within this fraction of the first mesh's period (CVODE's root
+// moves with its error by about the TE's relative error times the period: <= 1e-9 of a period in
+// the trusted window).
+inline constexpr double kEventMatch = 1e-7;
+
+// The trusted window: the count of leading samples over which |reference - estimate| <=
+// kTrustedError max |reference| (both maxima over the samples so far; the series sample-major,
+// mesh-minor, `meshes` values a sample, at `times`), then shortened while its last sample lies
+// within 2 kEventMatch `period` (s) of a reference event (so every event is on one side of the
+// window's end for both methods). 0: the two never agree.
+size_t TrustedSamples(const std::vector<double>& reference, const std::vector<double>& estimate,
+                      size_t meshes, const std::vector<TrainReferenceEvent>& events,
+                      const std::vector<double>& times, double period);
 
 // The rows "exact TE vs CVODE" and "events vs CVODE": the exact solver (V3) on `candidate` from
 // z_candidate against CVODE on `reference` from z_reference, both in states0, at `times` (uniform,

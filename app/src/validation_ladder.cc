@@ -83,8 +83,8 @@ std::vector<ValidationRow> RunValidationLadder(const GearboxSpec& spec) {
   // 1b. Segment-run fusion against V3 stepping: 10 unrecorded cycles from the static state.
   {
     SolverOptions stepped, fused;
-    ApplyMethodName("v3", stepped);
-    ApplyMethodName("fused", fused);
+    ApplyLadderMethod(LadderMethod::kV3, stepped);
+    ApplyLadderMethod(LadderMethod::kFused, fused);
     // Runs reproduce the dense propagators' products: both sides step through z and Phi (V3's
     // carry in decoupled coordinates differs from them by its own, separately bounded rounding).
     stepped.carry_max_error = 0.0;
@@ -170,9 +170,9 @@ std::vector<ValidationRow> RunValidationLadder(const GearboxSpec& spec) {
   //     2^-34 of a sub-step, V2 and V3 are exact to rounding.
   {
     std::vector<SolverResult> runs;
-    for (const char* name : {"v1", "v2", "v3"}) {
+    for (const LadderMethod method : {LadderMethod::kV1, LadderMethod::kV2, LadderMethod::kV3}) {
       SolverOptions opt;
-      ApplyMethodName(name, opt);
+      ApplyLadderMethod(method, opt);
       opt.cycles = 10;
       runs.push_back(SimulateExact(tables, z0, state0, opt));
     }

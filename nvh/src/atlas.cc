@@ -20,16 +20,19 @@ namespace gearnvh {
 
 void AtlasOptions::Validate() const {
   if (transient_cycles < 0) {
-    throw InputError("--transient", 0, std::to_string(transient_cycles), "must be >= 0");
+    throw InputError("AtlasOptions.transient_cycles", 0, std::to_string(transient_cycles),
+                     "must be >= 0");
   }
-  if (cycles < 8) throw InputError("--cycles", 0, std::to_string(cycles), "must be >= 8");
-  if (threads < 0) throw InputError("--jobs", 0, std::to_string(threads), "must be >= 0");
+  if (cycles < 8) {
+    throw InputError("AtlasOptions.cycles", 0, std::to_string(cycles), "must be >= 8");
+  }
+  if (threads < 0) {
+    throw InputError("AtlasOptions.threads", 0, std::to_string(threads), "must be >= 0");
+  }
   if (!(chaos_threshold > 0.0)) {
     throw InputError("AtlasOptions.chaos_threshold", 0, std::to_string(chaos_threshold),
                      "must be > 0");
   }
-  SolverOptions solver;
-  ApplyMethodName(method, solver);
 }
 
 int AtlasResult::Failed() const {
@@ -57,7 +60,7 @@ AtlasCell ComputeAtlasCell(const GearboxSpec& base, const AtlasAxis& x, const At
     const SegmentTables& tables = op.tables;
     const auto [z0, state0] = StaticInitialState(tables);
     LyapunovOptions lyapunov;
-    ApplyMethodName(options.method, lyapunov.solver);
+    lyapunov.solver.events = options.events;
     lyapunov.solver.cancel = options.cancel;
     lyapunov.transient_cycles = options.transient_cycles;
     lyapunov.cycles = options.cycles;

@@ -11,16 +11,17 @@
 namespace gearnvh {
 
 void OrbitScanOptions::Validate() const {
-  if (period < 1) throw InputError("--period", 0, std::to_string(period), "must be >= 1");
+  if (period < 1) {
+    throw InputError("OrbitScanOptions.period", 0, std::to_string(period), "must be >= 1");
+  }
   if (transient_cycles < 0) {
-    throw InputError("--transient", 0, std::to_string(transient_cycles), "must be >= 0");
+    throw InputError("OrbitScanOptions.transient_cycles", 0, std::to_string(transient_cycles),
+                     "must be >= 0");
   }
   if (settled_starts < 1) {
     throw InputError("OrbitScanOptions.settled_starts", 0, std::to_string(settled_starts),
                      "must be >= 1");
   }
-  SolverOptions solver;
-  ApplyMethodName(method, solver);
 }
 
 std::vector<OrbitScanPoint> ScanPeriodicOrbits(const GearboxSpec& base,
@@ -45,7 +46,7 @@ std::vector<OrbitScanPoint> ScanPeriodicOrbits(const GearboxSpec& base,
       const SegmentTables& tables = op.tables;
       PeriodicOrbitOptions orbit_options;
       orbit_options.period = options.period;
-      ApplyMethodName(options.method, orbit_options.solver);
+      orbit_options.solver.events = options.events;
       orbit_options.solver.method = SolverMethod::kStepped;
       orbit_options.solver.cancel = options.cancel;
       p.ok = true;

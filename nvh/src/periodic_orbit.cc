@@ -65,7 +65,7 @@ CycleMapEvaluation ExactCycleMap::Evaluate(const Eigen::VectorXd& z0,
 
 void PeriodicOrbitOptions::Validate() const {
   if (period < 1) {
-    throw InputError("--period", 0, std::to_string(period), "must be >= 1");
+    throw InputError("PeriodicOrbitOptions.period", 0, std::to_string(period), "must be >= 1");
   }
   if (max_iterations < 1) {
     throw InputError("PeriodicOrbitOptions.max_iterations", 0, std::to_string(max_iterations),

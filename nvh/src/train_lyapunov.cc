@@ -112,7 +112,7 @@ TrainLyapunovSummary EstimateTrainLyapunov(const TrainTables& tables, const Eige
   TrainStepper stepper(tables, options.stepper, z0, states0);
   const auto fail = [&]() {
     out.info = TrainLyapunovSummary::Info::kSolverFailed;
-    out.message = "the train stepper stopped: too many events in one grid segment";
+    out.message = "the train stepper stopped: " + TrainStepperMessage(stepper.summary());
     out.run = stepper.summary();
     return out;
   };

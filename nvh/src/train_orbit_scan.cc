@@ -45,7 +45,7 @@ struct Guess {
 
 std::string NotFoundText(const TrainOrbit& o, int tries) {
   if (o.info == TrainOrbit::Info::kSolverFailed) {
-    return "the train stepper stopped (too many events in one grid segment) while shooting";
+    return "the train stepper stopped while shooting: " + o.stop_reason;
   }
   return "Newton shooting did not converge from " + std::to_string(tries) +
          " settled start(s) (last scaled residual " + std::to_string(o.residual) + ")";
@@ -62,7 +62,8 @@ void TrySettledStarts(const TrainTables& tables, const TrainOrbitOptions& orbit_
   TrainStepper stepper(tables, orbit_options.stepper, z0, states0);
   if (settle > 0.0 && !stepper.Run(settle)) {
     p.ok = false;
-    p.message = "the train stepper stopped (too many events in one grid segment) while settling";
+    p.message =
+        "the train stepper stopped while settling: " + TrainStepperMessage(stepper.summary());
     return;
   }
   int k = 0;

@@ -49,6 +49,7 @@ struct Shot {
   std::vector<ContactState> states;
   Eigen::MatrixXd J;  // 2n x 2n
   long events = 0;
+  std::string stop_reason;  // !ok: TrainStepperMessage of the stopped run
 };
 
 Shot Shoot(const TrainTables& t, const TrainStepperOptions& options, const Eigen::VectorXd& y,
@@ -66,6 +67,7 @@ Shot Shoot(const TrainTables& t, const TrainStepperOptions& options, const Eigen
   shot.states = stepper.states();
   shot.J = V.topRows(e);
   shot.events = stepper.summary().events;
+  if (!shot.ok) shot.stop_reason = TrainStepperMessage(stepper.summary());
   return shot;
 }
 
@@ -107,6 +109,7 @@ TrainOrbit FindTrainPeriodicOrbit(const TrainTables& t, const Eigen::VectorXd& z
   Shot shot = Shoot(t, options.stepper, y, states, out.period);
   if (!shot.ok) {
     out.info = TrainOrbit::Info::kSolverFailed;
+    out.stop_reason = shot.stop_reason;
     return out;
   }
   double residual = residual_of(y, shot);

@@ -10,6 +10,7 @@
 #include "config/gearbox_loader.h"
 #include "gearbox.h"
 #include "gearnvh/nvh/orbit_scan.h"
+#include "simulate_command.h"
 #include "tiers_command.h"
 
 namespace gearnvh::python {
@@ -36,7 +37,8 @@ std::shared_ptr<Orbits> RunOrbits(const Gearbox& gb, int period,
   options.tier = TierArgument(tier, spec.analysis.tier);
   options.period = period;
   options.transient_cycles = transient.value_or(spec.analysis.transient_cycles);
-  options.method = method == "fused" ? "v3" : method;
+  options.events =
+      EventMethodOf(NamingSource(source, [&] { return app::ParseMethod(method, "method"); }));
   std::optional<AtlasAxis> axis;
   if (sweep) axis = config::ParseAxisOption(*sweep, "sweep");
   NamingSource(source, [&] { options.Validate(); });
@@ -57,7 +59,7 @@ std::shared_ptr<Tiers> RunTiers(const Gearbox& gb, std::optional<long> cycles,
   const GearboxSpec spec = gb.spec();
   const std::string source = gb.source();
   SolverOptions solver;
-  ApplyMethodName("v3", solver);
+  ApplyLadderMethod(LadderMethod::kV3, solver);
   solver.cycles = cycles.value_or(std::min(spec.analysis.cycles, 400));
   solver.transient_cycles = transient.value_or(std::min(spec.analysis.transient_cycles, 200));
   return RunInterruptible(

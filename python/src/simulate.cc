@@ -11,6 +11,7 @@
 #include "gearnvh/model/component_model.h"
 #include "gearnvh/nvh/lyapunov.h"
 #include "operating_point.h"
+#include "simulate_command.h"
 
 namespace gearnvh::python {
 
@@ -31,7 +32,8 @@ std::shared_ptr<Simulation> Simulate(const Gearbox& gb, const py::object& tier,
   SolverOptions solver;
   solver.cycles = cycles.value_or(spec.analysis.cycles);
   solver.transient_cycles = transient.value_or(spec.analysis.transient_cycles);
-  ApplyMethodName(method, solver, "method");
+  ApplyLadderMethod(NamingSource(source, [&] { return app::ParseMethod(method, "method"); }),
+                    solver);
   NamingSource(source, [&] { solver.Validate(); });
   return RunInterruptible(
       [&](CallControl& control) {

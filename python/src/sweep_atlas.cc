@@ -14,6 +14,7 @@
 #include "gearnvh/nvh/atlas.h"
 #include "gearnvh/reduction/reduced_model.h"
 #include "gearnvh/solver/exact_solver.h"
+#include "simulate_command.h"
 #include "speed_sweep.h"
 #include "sweep_command.h"
 
@@ -42,11 +43,7 @@ std::shared_ptr<Sweep> RunSweep(const Gearbox& gb, const py::object& tier,
   options.transient_cycles = transient.value_or(options.transient_cycles);
   options.waterfall_cycles = std::min(options.waterfall_cycles, options.cycles - 1);
   options.threads = jobs;
-  options.method = method;
-  {
-    SolverOptions probe;
-    ApplyMethodName(method, probe, "method");
-  }
+  options.method = NamingSource(source, [&] { return app::ParseMethod(method, "method"); });
   return RunInterruptible(
       [&](CallControl& control) {
         return NamingSource(source, [&] {
@@ -82,7 +79,8 @@ std::shared_ptr<Atlas> RunAtlas(const Gearbox& gb, const std::optional<std::stri
   options.cycles = cycles.value_or(options.cycles);
   options.transient_cycles = transient.value_or(options.transient_cycles);
   options.threads = jobs;
-  options.method = method == "fused" ? "v3" : method;
+  options.events =
+      EventMethodOf(NamingSource(source, [&] { return app::ParseMethod(method, "method"); }));
   std::optional<AtlasAxis> ax = spec.analysis.atlas_x, ay = spec.analysis.atlas_y;
   if (x) ax = config::ParseAxisOption(*x, "x");
   if (y) ay = config::ParseAxisOption(*y, "y");

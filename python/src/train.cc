@@ -11,6 +11,7 @@
 
 #include "binding_support.h"
 #include "gearbox.h"
+#include "simulate_command.h"
 #include "simulate_train.h"
 #include "train_check.h"
 #include "train_operating_point.h"
@@ -60,8 +61,8 @@ std::shared_ptr<TrainSimulation> SimulateTrain(const Train& train, const py::obj
   const TrainSpec spec = train.spec();
   const std::string source = train.source();
   const app::TrainCommandSettings settings = NamingSource(source, [&] {
-    return app::CheckTrainCommandOptions(TierText(tier), spec, method, std::nullopt,
-                                         {"tier", "method"});
+    return app::CheckTrainCommandOptions(TierText(tier), spec, app::ParseMethod(method, "method"),
+                                         std::nullopt, {"tier"});
   });
   app::TrainRunOptions run;
   run.tier = settings.tier;
@@ -92,8 +93,8 @@ std::shared_ptr<TrainSweep> SweepTrain(const Train& train, const py::object& tie
   const TrainSpec spec = train.spec();
   const std::string source = train.source();
   const app::TrainCommandSettings settings = NamingSource(source, [&] {
-    return app::CheckTrainCommandOptions(TierText(tier), spec, method, std::nullopt,
-                                         {"tier", "method"});
+    return app::CheckTrainCommandOptions(TierText(tier), spec, app::ParseMethod(method, "method"),
+                                         std::nullopt, {"tier"});
   });
   app::TrainSweepOptions options;
   options.cycles = cycles.value_or(options.cycles);

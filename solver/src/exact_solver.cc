@@ -59,20 +59,36 @@ const char* EventMethodName(EventMethod m) {
   return "unknown";
 }
 
-void ApplyMethodName(const std::string& name, SolverOptions& options, const std::string& field) {
-  options.method = SolverMethod::kStepped;
-  if (name == "v1") {
-    options.events = EventMethod::kDyadic;
-  } else if (name == "v2") {
-    options.events = EventMethod::kTaylor;
-  } else if (name == "v3") {
-    options.events = EventMethod::kSpectral;
-  } else if (name == "fused") {
-    options.events = EventMethod::kSpectral;
-    options.method = SolverMethod::kFused;
-  } else {
-    throw InputError(field, 0, name, "must be one of v1, v2, v3, fused");
+const char* LadderMethodName(LadderMethod m) {
+  switch (m) {
+    case LadderMethod::kV1:
+      return "v1";
+    case LadderMethod::kV2:
+      return "v2";
+    case LadderMethod::kV3:
+      return "v3";
+    case LadderMethod::kFused:
+      return "fused";
   }
+  return "unknown";
+}
+
+EventMethod EventMethodOf(LadderMethod m) {
+  switch (m) {
+    case LadderMethod::kV1:
+      return EventMethod::kDyadic;
+    case LadderMethod::kV2:
+      return EventMethod::kTaylor;
+    case LadderMethod::kV3:
+    case LadderMethod::kFused:
+      return EventMethod::kSpectral;
+  }
+  return EventMethod::kSpectral;
+}
+
+void ApplyLadderMethod(LadderMethod m, SolverOptions& options) {
+  options.events = EventMethodOf(m);
+  options.method = m == LadderMethod::kFused ? SolverMethod::kFused : SolverMethod::kStepped;
 }
 
 const char* SolverMethodName(SolverMethod m) {

@@ -165,6 +165,13 @@ TEST_CASE("exit codes: missing files are input errors naming the path, usage err
   CHECK(tier.err.find("--tier") != std::string::npos);
   const auto axis = RunCommand(kExe + " atlas " + kWhine + " --x bogus");
   CHECK(axis.exit_code == 2);
+  for (const char* command : {"simulate", "sweep", "atlas", "orbits"}) {
+    INFO(command);
+    const auto method = RunCommand(kExe + " " + command + " " + kWhine + " --method v4");
+    CHECK(method.exit_code == 2);
+    CHECK(method.err.find("--method") != std::string::npos);
+    CHECK(method.err.find("must be one of v1, v2, v3, fused, got v4") != std::string::npos);
+  }
   CHECK(RunCommand(kExe + " simulate " + kWhine + " --no-such-flag").exit_code == 2);
   CHECK(RunCommand(kExe + " simulate " + kWhine + " --cycles 0").exit_code == 2);
 

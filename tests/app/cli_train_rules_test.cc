@@ -7,6 +7,7 @@
 #include <string>
 
 #include "app/loose_gear_train_yaml.h"
+#include "app/three_shaft_train_yaml.h"
 #include "support/run_command.h"
 
 namespace gearnvh {
@@ -25,11 +26,7 @@ const std::string kTrain = testing::kLooseGearTrainYaml + R"(analysis:
   speed_sweep: {from: 800 rpm, to: 1600 rpm, points: 3}
 )";
 
-std::string Replace(std::string text, const std::string& from, const std::string& to) {
-  const size_t at = text.find(from);
-  REQUIRE(at != std::string::npos);
-  return text.replace(at, from.size(), to);
-}
+using testing::Replace;
 
 // check and simulate refuse `file` with the same message (exit 1); the message.
 std::string RefusedAlike(const std::filesystem::path& file) {

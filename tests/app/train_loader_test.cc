@@ -7,6 +7,7 @@
 #include <numbers>
 #include <string>
 
+#include "app/three_shaft_train_yaml.h"
 #include "config/gearbox_loader.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/model/train_spec.h"
@@ -14,55 +15,14 @@
 namespace gearnvh::config {
 namespace {
 
-// Three rigid shafts a -> b -> c: g1 (23) drives g2 (41) on b, g3 (19) on b drives g4 (37) on c.
-const std::string kBase = R"(schema: gearnvh/2
-name: base train
-materials:
-  steel: {youngs_modulus: 206 GPa, poisson_ratio: 0.3, density: 7850 kg/m^3}
-shafts:
-  a: {inertia: 2e-3 kg*m^2}
-  b: {inertia: 3e-3 kg*m^2}
-  c: {inertia: 1e-3 kg*m^2}
-gears:
-  g1: {shaft: a, teeth: 23, module: 2 mm, face_width: 15 mm, bore_diameter: 20 mm, material: steel}
-  g2: {shaft: b, teeth: 41, module: 2 mm, face_width: 15 mm, bore_diameter: 20 mm, material: steel}
-  g3: {shaft: b, teeth: 19, module: 2 mm, face_width: 15 mm, bore_diameter: 20 mm, material: steel}
-  g4: {shaft: c, teeth: 37, module: 2 mm, face_width: 15 mm, bore_diameter: 20 mm, material: steel}
-meshes:
-  - {gears: [g1, g2], backlash: 100 um}
-  - {gears: [g3, g4], backlash: 100 um}
-operating:
-  speed: {shaft: a, value: 1000 rpm}
-  loads:
-    - {on: c, torque: 1 N*m}
-  excitation:
-    - {order: 2, amplitude: 500 rad/s^2}
-analysis:
-  cycles: 50
-  transient_cycles: 10
-  speed_sweep: {from: 800 rpm, to: 1200 rpm, points: 2}
-)";
+const std::string& kBase = testing::kThreeShaftTrainYaml;
+using testing::Replace;
 
-std::string Replace(std::string text, const std::string& from, const std::string& to) {
-  const size_t at = text.find(from);
-  REQUIRE(at != std::string::npos);
-  return text.replace(at, from.size(), to);
-}
+using testing::LoaderErrorOf;
 
 std::string ReadExample(const std::string& name) {
   std::ifstream in(std::string(GEARNVH_EXAMPLES_DIR) + "/" + name);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-// The error the loader throws for `text`; fails the test when it accepts it.
-InputError ErrorOf(const std::string& text) {
-  try {
-    LoadAnyGearboxFromString(text, "t.yaml");
-  } catch (const InputError& e) {
-    return e;
-  }
-  FAIL("accepted");
-  throw std::logic_error("unreachable");
 }
 
 TEST_CASE("the engine excitation limit is stated on the input shaft", "[loader][train]") {
@@ -76,7 +36,8 @@ TEST_CASE("the engine excitation limit is stated on the input shaft", "[loader][
   // The limit a / (k w) <= w is a <= k w^2 = 2 x 62.83^2 = 7895.7 rad/s^2 (closed form).
   CHECK_NOTHROW(
       LoadAnyGearboxFromString(Replace(mt, "amplitude: 1500 rad/s^2", "amplitude: 7850 rad/s^2")));
-  const InputError e = ErrorOf(Replace(mt, "amplitude: 1500 rad/s^2", "amplitude: 7950 rad/s^2"));
+  const InputError e =
+      LoaderErrorOf(Replace(mt, "amplitude: 1500 rad/s^2", "amplitude: 7950 rad/s^2"));
   CHECK(e.path() == "operating.excitation[0].amplitude");
   CHECK(e.value() == "'7950 rad/s^2'");
   CHECK(e.rule().find("input shaft 'input'") != std::string::npos);
@@ -86,7 +47,7 @@ TEST_CASE("the engine excitation limit is stated on the input shaft", "[loader][
 TEST_CASE("the input speed must be > 0, reported as written", "[loader][train]") {
   for (const std::string speed : {"0 rpm", "-1000 rpm"}) {
     INFO(speed);
-    const InputError e = ErrorOf(Replace(kBase, "value: 1000 rpm", "value: " + speed));
+    const InputError e = LoaderErrorOf(Replace(kBase, "value: 1000 rpm", "value: " + speed));
     CHECK(e.path() == "operating.speed.value");
     CHECK(e.value() == "'" + speed + "'");
     CHECK(e.rule().find("must be > 0") != std::string::npos);
@@ -96,7 +57,7 @@ TEST_CASE("the input speed must be > 0, reported as written", "[loader][train]")
   // 60 / (23 x 1e-3 / 60) s = 156522 s, above 3600 s. Named at the input speed as written.
   std::string slow = Replace(kBase, "value: 1000 rpm", "value: 1e-3 rpm");
   slow = Replace(slow, "  excitation:\n    - {order: 2, amplitude: 500 rad/s^2}\n", "");
-  const InputError e = ErrorOf(slow);
+  const InputError e = LoaderErrorOf(slow);
   CHECK(e.path() == "operating.speed.value");
   CHECK(e.value() == "'1e-3 rpm'");
   CHECK(e.rule().find("1.57e+05 s") != std::string::npos);
@@ -108,7 +69,7 @@ TEST_CASE("the run-length limit counts cycles of the first mesh", "[loader][trai
   // teeth at 23/41 of the input speed) would take 6758 s; it is not the one the run counts.
   const std::string text = Replace(kBase, "from: 800 rpm", "from: 0.05 rpm");
   CHECK_NOTHROW(LoadAnyGearboxFromString(text));
-  const InputError e = ErrorOf(Replace(kBase, "from: 800 rpm", "from: 0.04 rpm"));
+  const InputError e = LoaderErrorOf(Replace(kBase, "from: 800 rpm", "from: 0.04 rpm"));
   CHECK(e.path() == "analysis.speed_sweep.from");
   CHECK(e.value() == "'0.04 rpm'");
 }
@@ -118,12 +79,12 @@ TEST_CASE("the tooth-load limit holds per mesh at its transmitted torque", "[loa
   // through meshes[0] as T 19/37 on g2 (41 mm): meshes[1] reaches 20 N/um first, at
   // T = 2e7 N/m x 0.037 m x 0.015 m = 11100 N m (closed form; 1 % either side).
   CHECK_NOTHROW(LoadAnyGearboxFromString(Replace(kBase, "torque: 1 N*m", "torque: 10990 N*m")));
-  const InputError e = ErrorOf(Replace(kBase, "torque: 1 N*m", "torque: 11210 N*m"));
+  const InputError e = LoaderErrorOf(Replace(kBase, "torque: 1 N*m", "torque: 11210 N*m"));
   CHECK(e.path() == "operating.loads[0].torque");
   CHECK(e.value() == "'11210 N*m'");
   CHECK(e.rule().find("meshes[1] (g3-g4)") != std::string::npos);
   CHECK(e.rule().find("20 N/um") != std::string::npos);
-  const InputError huge = ErrorOf(Replace(kBase, "torque: 1 N*m", "torque: 1e6 N*m"));
+  const InputError huge = LoaderErrorOf(Replace(kBase, "torque: 1 N*m", "torque: 1e6 N*m"));
   CHECK(huge.path() == "operating.loads[0].torque");
 }
 
@@ -144,7 +105,7 @@ TEST_CASE("the static torque flow follows the power through the tree", "[loader]
 TEST_CASE("a pair of gears meshes once", "[loader][train]") {
   for (const std::string pair : {"[g3, g4]", "[g4, g3]"}) {
     INFO(pair);
-    const InputError e = ErrorOf(Replace(
+    const InputError e = LoaderErrorOf(Replace(
         kBase, "  - {gears: [g3, g4], backlash: 100 um}\n",
         "  - {gears: [g3, g4], backlash: 100 um}\n  - {gears: " + pair + ", backlash: 120 um}\n"));
     CHECK(e.path() == "meshes[2].gears");
@@ -153,34 +114,35 @@ TEST_CASE("a pair of gears meshes once", "[loader][train]") {
 }
 
 TEST_CASE("train messages name the train's gears and the values", "[loader][train]") {
-  const InputError module = ErrorOf(Replace(kBase, "g4: {shaft: c, teeth: 37, module: 2 mm",
-                                            "g4: {shaft: c, teeth: 37, module: 2.5 mm"));
+  const InputError module = LoaderErrorOf(Replace(kBase, "g4: {shaft: c, teeth: 37, module: 2 mm",
+                                                  "g4: {shaft: c, teeth: 37, module: 2.5 mm"));
   CHECK(module.path() == "gears.g4.module");
   CHECK(module.rule().find("module of gears.g3") != std::string::npos);
   CHECK(module.rule().find("pinion") == std::string::npos);
 
   const InputError angle =
-      ErrorOf(Replace(kBase, "g4: {shaft: c,", "g4: {pressure_angle: 25 deg, shaft: c,"));
+      LoaderErrorOf(Replace(kBase, "g4: {shaft: c,", "g4: {pressure_angle: 25 deg, shaft: c,"));
   CHECK(angle.path() == "gears.g4.pressure_angle");
   CHECK(angle.value() == "'25 deg'");
   CHECK(angle.rule().find("pressure angle of gears.g3 (20 deg)") != std::string::npos);
 
-  const InputError article = ErrorOf(Replace(kBase, "amplitude: 500 rad/s^2", "amplitude: 500 mm"));
+  const InputError article =
+      LoaderErrorOf(Replace(kBase, "amplitude: 500 rad/s^2", "amplitude: 500 mm"));
   CHECK(article.rule().find("for an angular acceleration") != std::string::npos);
-  const InputError article2 = ErrorOf(Replace(kBase, "backlash: 100 um}\n  - {gears: [g3",
-                                              "backlash: 100 um, center_line_angle: x}\n  - "
-                                              "{gears: [g3"));
+  const InputError article2 = LoaderErrorOf(Replace(kBase, "backlash: 100 um}\n  - {gears: [g3",
+                                                    "backlash: 100 um, center_line_angle: x}\n  - "
+                                                    "{gears: [g3"));
   CHECK(article2.rule().find("must be an angle") != std::string::npos);
 
   for (const std::string list : {"[g1]", "[g1, g2, g3]"}) {
-    const InputError e = ErrorOf(Replace(kBase, "gears: [g1, g2]", "gears: " + list));
+    const InputError e = LoaderErrorOf(Replace(kBase, "gears: [g1, g2]", "gears: " + list));
     CHECK(e.path() == "meshes[0].gears");
     CHECK(e.value() == list);
   }
 
   // Standard centre distance of meshes[0]: (23 + 41) x 2 mm / 2 = 64 mm.
-  const InputError cd = ErrorOf(Replace(kBase, "[g1, g2], backlash: 100 um",
-                                        "[g1, g2], backlash: 100 um, center_distance: 100 mm"));
+  const InputError cd = LoaderErrorOf(Replace(
+      kBase, "[g1, g2], backlash: 100 um", "[g1, g2], backlash: 100 um, center_distance: 100 mm"));
   CHECK(cd.path() == "meshes[0].center_distance");
   CHECK(cd.value() == "'100 mm'");
   CHECK(cd.rule().find("contact ratio of -") != std::string::npos);
@@ -189,11 +151,11 @@ TEST_CASE("train messages name the train's gears and the values", "[loader][trai
 
 TEST_CASE("a train without a schema line is told to write one", "[loader][train]") {
   const std::string no_schema = Replace(kBase, "schema: gearnvh/2\n", "");
-  const InputError e = ErrorOf(no_schema);
+  const InputError e = LoaderErrorOf(no_schema);
   CHECK(e.path() == "meshes");
   CHECK(e.rule().find("write `schema: gearnvh/2`") != std::string::npos);
   // Without meshes, a shaft other than schema 1's input and output gives the train away.
-  const InputError s = ErrorOf(Replace(no_schema, "meshes:", "meshes_off:"));
+  const InputError s = LoaderErrorOf(Replace(no_schema, "meshes:", "meshes_off:"));
   CHECK(s.path() == "shafts.a");
   CHECK(s.rule().find("write `schema: gearnvh/2`") != std::string::npos);
 }

@@ -4,6 +4,8 @@
 #include "train_validation.h"
 
 #include <catch2/catch.hpp>
+#include <cmath>
+#include <functional>
 #include <string>
 
 #include "app/loose_gear_train_yaml.h"
@@ -20,6 +22,40 @@ namespace {
 // per cycle of the first mesh (measured against a quad-precision integration). Before the trusted
 // window, validate compared CVODE over three cycles, where CVODE itself is off by 4.3e-7 of the
 // TE, and failed on a correct solution.
+
+// Synthetic series for the trusted window alone: two meshes, ten samples at t = 1..10 s (period
+// 1 s), the reference O(1) and the estimate off by `error(k)` at sample k. The window is a count
+// of samples, so the expected counts are exact.
+size_t WindowOf(const std::function<double(int)>& error,
+                const std::vector<TrainReferenceEvent>& events = {}) {
+  std::vector<double> reference, estimate, times;
+  for (int k = 0; k < 10; ++k) {
+    times.push_back(k + 1.0);
+    for (int mesh = 0; mesh < 2; ++mesh) {
+      reference.push_back(std::cos(0.7 * k + mesh));
+      estimate.push_back(reference.back() + error(k));
+    }
+  }
+  return app::TrustedSamples(reference, estimate, 2, events, times, 1.0);
+}
+
+TEST_CASE("the trusted window: the leading samples where the two references agree",
+          "[app][validate][train]") {
+  // Agreement means a difference <= kTrustedError (1e-9) of the largest |reference| so far (>= 1
+  // here): 1e-12 agrees, 1e-6 does not.
+  CHECK(WindowOf([](int) { return 1e-12; }) == 10);                // always agreeing
+  CHECK(WindowOf([](int) { return 1e-6; }) == 0);                  // never agreeing
+  CHECK(WindowOf([](int k) { return k < 6 ? 0.0 : 1e-6; }) == 6);  // agreeing, then diverging
+  // Once diverged the window stays ended, even where the series agree again.
+  CHECK(WindowOf([](int k) { return k == 3 ? 1e-6 : 0.0; }) == 3);
+  // The window's last sample is kept clear of a reference event: an event at t = 6 s (sample 6)
+  // ends it at sample 5; one at 6 + 1e-7 s (within 2 kEventMatch periods) too; one at 6.5 s not.
+  const auto diverging = [](int k) { return k < 6 ? 0.0 : 1e-6; };
+  CHECK(WindowOf(diverging, {{0, 6.0}}) == 5);
+  CHECK(WindowOf(diverging, {{0, 6.0 + 1e-7}}) == 5);
+  CHECK(WindowOf(diverging, {{0, 6.5}}) == 6);
+  CHECK(WindowOf([](int) { return 0.0; }, {{1, 10.0}, {0, 9.0}}) == 8);
+}
 
 struct Fixture {
   TrainSpec spec = config::LoadAnyGearboxFromString(testing::kLooseGearTrainYaml).train;

@@ -130,4 +130,30 @@ inline TrainSpec TwoStageTrain(double load, double excitation, double rpm) {
   return t;
 }
 
+// TwoStageTrain(150 N m, no excitation, 600 rpm) with the layshaft's inertia set (`which` 0), or
+// one of its stages alone as a one-mesh train with the same transmitted torque: 1 input ->
+// layshaft carrying the output's power (75 N m: the same power at half the output ratio), 2 the
+// layshaft as the input at its nominal speed. A massive layshaft decouples the two meshes. No
+// engine excitation: it is held at its mean over each grid segment, and the train's grid (the union
+// of both meshes' boundaries) is finer than a stage's own, a legitimate difference of the
+// piecewise model (first order in the segment length) the decoupling tests are not about.
+inline TrainSpec TwoStageAlone(int which, double layshaft_inertia) {
+  TrainSpec t = TwoStageTrain(150.0, 0.0, 600.0);
+  t.operating.excitation.clear();
+  t.shafts[1].inertia = layshaft_inertia;
+  if (which == 1) {
+    t.shafts = {t.shafts[0], t.shafts[1]};
+    t.gears = {t.gears[0], t.gears[1]};
+    t.meshes = {t.meshes[0]};
+    t.operating.loads = {{"layshaft", 75.0}};
+  } else if (which == 2) {
+    t.shafts = {t.shafts[1], t.shafts[2]};
+    t.gears = {t.gears[2], t.gears[3]};
+    t.meshes = {t.meshes[1]};
+    t.operating.input_shaft = "layshaft";
+    t.operating.speed *= 0.5;
+  }
+  return t;
+}
+
 }  // namespace gearnvh::testing

@@ -165,24 +165,10 @@ namespace {
 // of its stages alone as a one-mesh train with the same transmitted torque (as the train solver's
 // decoupling test).
 TrainSpec Stage(int which) {
-  TrainSpec t = testing::TwoStageTrain(150.0, 0.0, 600.0);
-  t.operating.excitation.clear();
-  t.shafts[1].inertia = 1e8;
+  TrainSpec t = testing::TwoStageAlone(which, 1e8);
   // Light damping keeps the multipliers over the common period (0.1 s, 0.2 s for the second
   // stage alone) far above rounding (see FloquetExponents).
   for (TrainMesh& m : t.meshes) m.mesh.damping_ratio = 0.01;
-  if (which == 1) {
-    t.shafts = {t.shafts[0], t.shafts[1]};
-    t.gears = {t.gears[0], t.gears[1]};
-    t.meshes = {t.meshes[0]};
-    t.operating.loads = {{"layshaft", 75.0}};
-  } else if (which == 2) {
-    t.shafts = {t.shafts[1], t.shafts[2]};
-    t.gears = {t.gears[2], t.gears[3]};
-    t.meshes = {t.meshes[1]};
-    t.operating.input_shaft = "layshaft";
-    t.operating.speed *= 0.5;
-  }
   return t;
 }
 
@@ -350,6 +336,28 @@ TEST_CASE("a rattling train's periodic orbit closes on the independent dense pat
     const double start = mt.v.dot(orbit.z.head(n));
     CHECK(std::abs(mt.v.dot(cvode.final_state.head(n)) - start) <= 1e-6 * scale);
   }
+}
+
+TEST_CASE("a stopped train run says why in the solver's own words", "[nvh][train][lyapunov]") {
+  // The rattler has grid segments with two or more events (train_stepper_test.cc), so a limit of
+  // one event per segment stops the exponents' transient and the orbit's first shot.
+  const Model s(testing::RattlerTrain(1500.0));
+  const auto [z0, states0] = TrainStaticState(s.tables);
+  TrainLyapunovOptions lyapunov;
+  lyapunov.stepper.max_events_per_segment = 1;
+  const TrainLyapunovSummary l = EstimateTrainLyapunov(s.tables, z0, states0, lyapunov);
+  INFO(l.message);
+  REQUIRE(l.info == TrainLyapunovSummary::Info::kSolverFailed);
+  REQUIRE(l.run.info == TrainStepperSummary::Info::kTooManyEvents);
+  CHECK(l.message == "the train stepper stopped: " + TrainStepperMessage(l.run));
+  CHECK(l.message.find("more than 1 contact events in the") != std::string::npos);
+
+  TrainOrbitOptions orbit_options;
+  orbit_options.stepper.max_events_per_segment = 1;
+  const TrainOrbit orbit = FindTrainPeriodicOrbit(s.tables, z0, states0, orbit_options);
+  INFO(orbit.stop_reason);
+  REQUIRE(orbit.info == TrainOrbit::Info::kSolverFailed);
+  CHECK(orbit.stop_reason.find("more than 1 contact events in the") == 0);
 }
 
 }  // namespace

@@ -34,7 +34,8 @@ TEST_CASE("every event method agrees with a tight CVODE reference on a strong-ra
   const Setup s(RattleSpec(), Tier::kTier1);
   const auto [z0, state0] = StaticInitialState(s.tables);
   SolverOptions opt;
-  ApplyMethodName(GENERATE("v1", "v2", "v3", "fused"), opt);
+  ApplyLadderMethod(GENERATE(from_range(std::begin(kLadderMethods), std::end(kLadderMethods))),
+                    opt);
   INFO("events " << EventMethodName(opt.events) << ", " << SolverMethodName(opt.method));
   opt.cycles = 50;
   const SolverResult exact = SimulateExact(s.tables, z0, state0, opt);
@@ -189,10 +190,11 @@ TEST_CASE("permanent contact with constant stiffness settles on the static close
 TEST_CASE("the stepping loop does not allocate, for every locator", "[solver][allocation]") {
   const Setup s(RattleSpec(), Tier::kTier1);
   const auto [z0, state0] = StaticInitialState(s.tables);
-  const char* method = GENERATE("v1", "v2", "v3", "fused");
-  INFO(method);
+  const LadderMethod method =
+      GENERATE(from_range(std::begin(kLadderMethods), std::end(kLadderMethods)));
+  INFO(LadderMethodName(method));
   SolverOptions opt;
-  ApplyMethodName(method, opt);
+  ApplyLadderMethod(method, opt);
   ExactStepper stepper(s.tables, opt, z0, state0, /*reserve_samples=*/100 * 32,
                        /*reserve_events=*/1000);
   // Warm-up outside the counted region: the counted run once, so that the V3 decompositions and
@@ -214,10 +216,10 @@ TEST_CASE("the stepping loop with a tangent attached does not allocate, for ever
           "[solver][allocation]") {
   const Setup s(RattleSpec(), Tier::kTier1);
   const auto [z0, state0] = StaticInitialState(s.tables);
-  const char* method = GENERATE("v1", "v2", "v3");
-  INFO(method);
+  const LadderMethod method = GENERATE(LadderMethod::kV1, LadderMethod::kV2, LadderMethod::kV3);
+  INFO(LadderMethodName(method));
   SolverOptions opt;
-  ApplyMethodName(method, opt);
+  ApplyLadderMethod(method, opt);
   ExactStepper stepper(s.tables, opt, z0, state0, 100 * 32, 1000);
   Eigen::MatrixXd tangent = Eigen::MatrixXd::Zero(s.tables.m, 2 * s.tables.n);
   tangent.topRows(2 * s.tables.n).setIdentity();
@@ -241,12 +243,13 @@ TEST_CASE("V1, V2 and V3 agree on every event time of a strong-rattle run", "[so
   // (which flank, in order) is compared, with times within 1e-6 of a segment up to cycle 30.
   const testing::SolverSetup s(RattleSpec(), Tier::kTier1);
   const auto [z0, state0] = StaticInitialState(s.tables);
-  const auto pair =
-      GENERATE(std::make_pair("v1", "v2"), std::make_pair("v2", "v3"), std::make_pair("v1", "v3"));
-  INFO(pair.first << " vs " << pair.second);
+  const auto pair = GENERATE(std::make_pair(LadderMethod::kV1, LadderMethod::kV2),
+                             std::make_pair(LadderMethod::kV2, LadderMethod::kV3),
+                             std::make_pair(LadderMethod::kV1, LadderMethod::kV3));
+  INFO(LadderMethodName(pair.first) << " vs " << LadderMethodName(pair.second));
   SolverOptions first, second;
-  ApplyMethodName(pair.first, first);
-  ApplyMethodName(pair.second, second);
+  ApplyLadderMethod(pair.first, first);
+  ApplyLadderMethod(pair.second, second);
   first.cycles = second.cycles = 50;
   const SolverResult a = SimulateExact(s.tables, z0, state0, first);
   const SolverResult b = SimulateExact(s.tables, z0, state0, second);

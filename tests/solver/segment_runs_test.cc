@@ -17,8 +17,8 @@ struct Pair {
 void CompareFusedRuns(const SegmentTables& t, long cycles, double tolerance, long* fused_segments) {
   const auto [z0, s0] = StaticInitialState(t);
   SolverOptions stepped, fused;
-  ApplyMethodName("v3", stepped);
-  ApplyMethodName("fused", fused);
+  ApplyLadderMethod(LadderMethod::kV3, stepped);
+  ApplyLadderMethod(LadderMethod::kFused, fused);
   // Runs reproduce the dense propagators' products: compared with dense stepping on both sides
   // (V3's carry in decoupled coordinates has its own test, event_locator_test.cc).
   stepped.carry_max_error = 0.0;
@@ -62,7 +62,7 @@ TEST_CASE("segment runs: recorded cycles keep every segment-boundary sample", "[
   const SolverSetup s(testing::IdleRattleSpec(), Tier::kTier1);
   const auto [z0, s0] = StaticInitialState(s.tables);
   SolverOptions fused;
-  ApplyMethodName("fused", fused);
+  ApplyLadderMethod(LadderMethod::kFused, fused);
   fused.transient_cycles = 20;
   fused.cycles = 10;
   const SolverResult r = SimulateExact(s.tables, z0, s0, fused);

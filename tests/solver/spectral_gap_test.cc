@@ -178,8 +178,8 @@ TEST_CASE("V3 with every decomposition refused falls back to V2 and gives its ev
   const testing::SolverSetup s(spec, Tier::kTier1);
   const auto [z0, state0] = StaticInitialState(s.tables);
   SolverOptions v2, refused;
-  ApplyMethodName("v2", v2);
-  ApplyMethodName("v3", refused);
+  ApplyLadderMethod(LadderMethod::kV2, v2);
+  ApplyLadderMethod(LadderMethod::kV3, refused);
   v2.cycles = refused.cycles = 15;
   refused.spectral_max_condition = 1.0;  // no real decomposition has cond(S) <= 1
   const SolverResult a = SimulateExact(s.tables, z0, state0, v2);
@@ -200,8 +200,8 @@ TEST_CASE("V3 with partial fallback (tier 3) gives V2's events", "[solver][spect
   const testing::SolverSetup s(spec, Tier::kTier3);
   const auto [z0, state0] = StaticInitialState(s.tables);
   SolverOptions v2, v3;
-  ApplyMethodName("v2", v2);
-  ApplyMethodName("v3", v3);
+  ApplyLadderMethod(LadderMethod::kV2, v2);
+  ApplyLadderMethod(LadderMethod::kV3, v3);
   v2.cycles = v3.cycles = 12;
   const SolverResult a = SimulateExact(s.tables, z0, state0, v2);
   const SolverResult b = SimulateExact(s.tables, z0, state0, v3);

@@ -26,29 +26,16 @@ using Jumps = TrainStepperSummary::Jumps;
 // Large load, small engine order: every mesh stays in drive contact (a loaded two-stage reducer).
 Model Loaded() { return Model(testing::TwoStageTrain(300.0, 100.0, 300.0)); }
 
-struct Run {
-  TrainStepperSummary summary;
-  TrainStatistics stats;
-  Eigen::VectorXd state;
-};
-
-Run RunTrain(const TrainTables& t, bool jumps, double record_start, double end) {
-  const auto [z0, states0] = TrainStaticState(t);
-  TrainStepperOptions options;
-  options.jumps = jumps;
-  TrainStepper stepper(t, options, z0, states0);
-  TrainRecorder recorder(t, 32, record_start);
-  REQUIRE(stepper.Run(end, &recorder));
-  return {stepper.summary(), recorder.Result(), stepper.state()};
-}
+using Run = testing::RecordedTrainRun;
+using testing::RunTrainFromStatic;
 
 TEST_CASE("train jumps: a loaded two-stage reducer jumped equals it stepped", "[solver][train]") {
   const Model s = Loaded();
   const TrainTables& t = s.tables;
   REQUIRE(t.common_period > 0.0);
   const double start = 20.0 * t.common_period, end = start + 2.0 * t.common_period;
-  const Run stepped = RunTrain(t, false, start, end);
-  const Run jumped = RunTrain(t, true, start, end);
+  const Run stepped = RunTrainFromStatic(t, false, start, end);
+  const Run jumped = RunTrainFromStatic(t, true, start, end);
   CHECK(stepped.summary.jumps == Jumps::kDisabled);
   CHECK(stepped.summary.events == 0);
   REQUIRE(jumped.summary.jumps == Jumps::kJumped);
@@ -204,8 +191,8 @@ TEST_CASE("train jumps: a rattling train is never certified", "[solver][train]")
   const TrainTables& t = s.tables;
   REQUIRE(t.common_period > 0.0);
   const double end = 12.0 * t.common_period;
-  const Run jumped = RunTrain(t, true, end, end);
-  const Run stepped = RunTrain(t, false, end, end);
+  const Run jumped = RunTrainFromStatic(t, true, end, end);
+  const Run stepped = RunTrainFromStatic(t, false, end, end);
   CHECK(jumped.summary.events > 10);
   CHECK(jumped.summary.jumped_periods == 0);
   CHECK(jumped.summary.jumps != Jumps::kJumped);
@@ -247,7 +234,7 @@ TEST_CASE("train jumps: a transient shorter than min_jump_periods is not mapped"
   const Model s = Loaded();
   const TrainTables& t = s.tables;
   const double start = 5.0 * t.common_period;  // 4 periods left after the first: below 8
-  const Run run = RunTrain(t, true, start, start + t.common_period);
+  const Run run = RunTrainFromStatic(t, true, start, start + t.common_period);
   CHECK(run.summary.jumps == Jumps::kTransientTooShort);
   CHECK(run.summary.cycle_map_builds == 0);
   CHECK(run.summary.jumped_periods == 0);

@@ -95,27 +95,6 @@ TEST_CASE("train errors: a one-mesh train with runout or pitch errors has the pa
   CHECK(worst <= 1e-6 * effect);
 }
 
-// Input (g1, 20) -> layshaft (g2, 40; g3, 20) -> output (g4, 40) with a massive layshaft, or one
-// of its stages alone (the tests of train_stepper_test.cc, "massive layshaft").
-TrainSpec Stage(int which, double layshaft_inertia) {
-  TrainSpec t = testing::TwoStageTrain(150.0, 0.0, 600.0);
-  t.operating.excitation.clear();
-  t.shafts[1].inertia = layshaft_inertia;
-  if (which == 1) {
-    t.shafts = {t.shafts[0], t.shafts[1]};
-    t.gears = {t.gears[0], t.gears[1]};
-    t.meshes = {t.meshes[0]};
-    t.operating.loads = {{"layshaft", 75.0}};
-  } else if (which == 2) {
-    t.shafts = {t.shafts[1], t.shafts[2]};
-    t.gears = {t.gears[2], t.gears[3]};
-    t.meshes = {t.meshes[1]};
-    t.operating.input_shaft = "layshaft";
-    t.operating.speed *= 0.5;
-  }
-  return t;
-}
-
 TrainGear& Gear(TrainSpec& t, const std::string& name) {
   for (TrainGear& g : t.gears) {
     if (g.name == name) return g;
@@ -136,11 +115,13 @@ TEST_CASE("train errors: an error of one stage's gear shows in that mesh only",
   // length, 7e-8 m here), a legitimate difference of the piecewise model this test is not about
   // (runout is compared on one grid in the one-mesh test above).
   const double j_lay = 1e8, a = 3e-6;
-  TrainSpec full_spec = Stage(0, j_lay), second_spec = Stage(2, j_lay);
+  TrainSpec full_spec = testing::TwoStageAlone(0, j_lay),
+            second_spec = testing::TwoStageAlone(2, j_lay);
   for (TrainSpec* t : {&full_spec, &second_spec}) {
     Gear(*t, "g3").gear.pitch_errors = PitchPattern(20, a, 0.29);
   }
-  const Model full(full_spec), first(Stage(1, j_lay)), second(second_spec), clean(Stage(0, j_lay));
+  const Model full(full_spec), first(testing::TwoStageAlone(1, j_lay)), second(second_spec),
+      clean(testing::TwoStageAlone(0, j_lay));
   REQUIRE(full.tables.error_inputs == 1);
   REQUIRE(full.tables.meshes[0].error_input == -1);
   REQUIRE(full.tables.meshes[1].error_input == 0);
@@ -374,24 +355,15 @@ TEST_CASE("train errors: certified jumps carry the error inputs (jumped equals s
   REQUIRE(t.error_inputs == 2);
   REQUIRE(t.common_period > 0.0);
   const double start = 20.0 * t.common_period, end = start + t.common_period;
-  const auto run = [&](bool jumps) {
-    const auto [z0, states0] = TrainStaticState(t);
-    TrainStepperOptions options;
-    options.jumps = jumps;
-    TrainStepper stepper(t, options, z0, states0);
-    TrainRecorder recorder(t, 32, start);
-    REQUIRE(stepper.Run(end, &recorder));
-    return std::pair{stepper.summary(), recorder.Result()};
-  };
-  const auto [stepped, stepped_stats] = run(false);
-  const auto [jumped, jumped_stats] = run(true);
-  CHECK(stepped.events == 0);
-  INFO("cycle map info " << static_cast<int>(jumped.cycle_map_info));
-  REQUIRE(jumped.jumps == TrainStepperSummary::Jumps::kJumped);
-  CHECK(jumped.jumped_periods >= 18);
+  const testing::RecordedTrainRun stepped = testing::RunTrainFromStatic(t, false, start, end);
+  const testing::RecordedTrainRun jumped = testing::RunTrainFromStatic(t, true, start, end);
+  CHECK(stepped.summary.events == 0);
+  INFO("cycle map info " << static_cast<int>(jumped.summary.cycle_map_info));
+  REQUIRE(jumped.summary.jumps == TrainStepperSummary::Jumps::kJumped);
+  CHECK(jumped.summary.jumped_periods >= 18);
   for (size_t i = 0; i < t.meshes.size(); ++i) {
-    const TrainMeshStatistics& a = stepped_stats.meshes[i];
-    const TrainMeshStatistics& b = jumped_stats.meshes[i];
+    const TrainMeshStatistics& a = stepped.stats.meshes[i];
+    const TrainMeshStatistics& b = jumped.stats.meshes[i];
     const double pp = a.te_peak_to_peak;
     INFO("mesh " << i << ": TE mean " << a.te_mean << " / " << b.te_mean << ", p-p " << pp << " / "
                  << b.te_peak_to_peak);

@@ -2,12 +2,15 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <catch2/catch.hpp>
 #include <utility>
 #include <vector>
 
 #include "gearnvh/model/gear_train.h"
 #include "gearnvh/solver/segment_tables.h"
 #include "gearnvh/solver/train_reference.h"
+#include "gearnvh/solver/train_statistics.h"
+#include "gearnvh/solver/train_stepper.h"
 #include "gearnvh/solver/train_tables.h"
 
 namespace gearnvh::testing {
@@ -60,6 +63,25 @@ inline LinearPeriodicState DriveContactPeriodicState(const TrainTables& t) {
                           .solve(P.block(0, t.constant_slot(), 2 * n, 1));
   out.z[t.constant_slot()] = 1.0;
   return out;
+}
+
+// A run from the static state to `end` (s) with certified jumps on or off, recorded (32 samples
+// per cycle) from `record_start`: its summary, statistics and final state.
+struct RecordedTrainRun {
+  TrainStepperSummary summary;
+  TrainStatistics stats;
+  Eigen::VectorXd state;
+};
+
+inline RecordedTrainRun RunTrainFromStatic(const TrainTables& t, bool jumps, double record_start,
+                                           double end) {
+  const auto [z0, states0] = TrainStaticState(t);
+  TrainStepperOptions options;
+  options.jumps = jumps;
+  TrainStepper stepper(t, options, z0, states0);
+  TrainRecorder recorder(t, 32, record_start);
+  REQUIRE(stepper.Run(end, &recorder));
+  return {stepper.summary(), recorder.Result(), stepper.state()};
 }
 
 }  // namespace gearnvh::testing

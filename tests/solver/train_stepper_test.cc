@@ -337,31 +337,6 @@ TEST_CASE("train: the stepping loop does not allocate once the cache holds the t
 namespace gearnvh {
 namespace {
 
-// Input (g1, 20) -> layshaft (g2, 40; g3, 20) -> output (g4, 40) with the layshaft `inertia`; or
-// one of its stages alone as a one-mesh train with the same transmitted torque.
-TrainSpec Stage(int which, double layshaft_inertia) {
-  // No engine excitation: it is held at its mean over each grid segment, and the train's grid (the
-  // union of both meshes' boundaries) is finer than a stage's own, a legitimate difference of the
-  // piecewise model (first order in the segment length) this test is not about.
-  TrainSpec t = TwoStage(150.0, 0.0, 600.0);
-  t.operating.excitation.clear();
-  t.shafts[1].inertia = layshaft_inertia;
-  if (which == 1) {  // input -> layshaft, the output load carried by the layshaft
-    t.shafts = {t.shafts[0], t.shafts[1]};
-    t.gears = {t.gears[0], t.gears[1]};
-    t.meshes = {t.meshes[0]};
-    t.operating.loads = {{"layshaft", 75.0}};  // the same power at half the output ratio
-  } else if (which == 2) {  // the layshaft as the input, turning at its nominal speed
-    t.shafts = {t.shafts[1], t.shafts[2]};
-    t.gears = {t.gears[2], t.gears[3]};
-    t.meshes = {t.meshes[1]};
-    t.operating.input_shaft = "layshaft";
-    t.operating.speed *= 0.5;
-    t.operating.excitation.clear();
-  }
-  return t;
-}
-
 TEST_CASE("train: two meshes decoupled by a massive layshaft reproduce one-mesh trains",
           "[solver][train]") {
   // With a massive layshaft the first stage is the input turning against a layshaft at nominal
@@ -370,7 +345,8 @@ TEST_CASE("train: two meshes decoupled by a massive layshaft reproduce one-mesh 
   // r_b dT t^2 / (2 J_lay) < 0.04 m * 10 N m * (0.05 s)^2 / 2e8 kg m^2 = 5e-12 m with
   // J_lay = 1e8 kg m^2. Both stages run in permanent contact (no chaos amplifies differences).
   const double j_lay = 1e8;
-  const Model full(Stage(0, j_lay)), first(Stage(1, j_lay)), second(Stage(2, j_lay));
+  const Model full(testing::TwoStageAlone(0, j_lay)), first(testing::TwoStageAlone(1, j_lay)),
+      second(testing::TwoStageAlone(2, j_lay));
   REQUIRE(first.tables.meshes[0].transmitted_torque ==
           Approx(full.tables.meshes[0].transmitted_torque).epsilon(1e-12));
   REQUIRE(second.tables.meshes[0].transmitted_torque ==

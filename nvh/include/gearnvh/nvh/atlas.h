@@ -18,16 +18,17 @@
 
 #include "gearnvh/model/gearbox_spec.h"
 #include "gearnvh/nvh/rattle.h"
+#include "gearnvh/solver/solver_options.h"
 
 namespace gearnvh {
 
 struct AtlasOptions {
   Tier tier = Tier::kTier1;
-  long transient_cycles = 300;    // mesh cycles settled before measuring; >= 0
-  long cycles = 1080;             // mesh cycles averaged per cell; >= 8
-  int threads = 0;                // 0: all hardware threads
-  double chaos_threshold = 0.01;  // lambda T_f above which a cell is chaotic; > 0
-  std::string method = "v3";      // event method: v1 | v2 | v3 (fused falls back to v3)
+  long transient_cycles = 300;                  // mesh cycles settled before measuring; >= 0
+  long cycles = 1080;                           // mesh cycles averaged per cell; >= 8
+  int threads = 0;                              // 0: all hardware threads
+  double chaos_threshold = 0.01;                // lambda T_f above which a cell is chaotic; > 0
+  EventMethod events = EventMethod::kSpectral;  // V3; V2 and V1 to validate
   // Cancellation (SolverOptions::cancel): once set, cells in flight and cells not yet started
   // fail with the message "cancelled". Not owned; may be null.
   const std::atomic<bool>* cancel = nullptr;

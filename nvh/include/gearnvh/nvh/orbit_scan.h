@@ -21,7 +21,7 @@ struct OrbitScanOptions {
   int period = 1;               // multiples of the base period; >= 1
   long transient_cycles = 300;  // settling before the first guess; >= 0
   int settled_starts = 4;       // settled guesses tried when continuation fails; >= 1
-  std::string method = "v3";    // event method v1 | v2 | v3
+  EventMethod events = EventMethod::kSpectral;  // V3; V2 and V1 to validate
   // Cancellation (SolverOptions::cancel): once set, the point in flight and the rest fail with
   // the message "cancelled". Not owned; may be null.
   const std::atomic<bool>* cancel = nullptr;

@@ -17,6 +17,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <string>
 #include <vector>
 
 #include "gearnvh/solver/train_stepper.h"
@@ -42,6 +43,7 @@ struct TrainOrbit {
   Eigen::VectorXcd multipliers;  // on the quotient, 2n - 2, by decreasing modulus
   bool stable = false;           // every |mu| < 1
   long events_per_period = 0;    // contact events of the last run over one orbit period
+  std::string stop_reason;       // kSolverFailed: why the shot stopped (TrainStepperMessage)
 };
 const char* TrainOrbitInfoName(TrainOrbit::Info info);
 

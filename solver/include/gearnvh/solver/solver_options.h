@@ -78,10 +78,17 @@ class RunCancelled : public std::runtime_error {
   RunCancelled() : std::runtime_error("cancelled") {}
 };
 
-// The method names of the CLI: v1, v2, v3 (stepped with that event path) and fused (v3 + fusion).
-// Throws InputError naming `field` for anything else.
-void ApplyMethodName(const std::string& name, SolverOptions& options,
-                     const std::string& field = "--method");
+// The rungs of the validation ladder as one choice: kV1, kV2, kV3 step (kStepped) with the
+// kDyadic, kTaylor, kSpectral event path; kFused is kSpectral events plus kFused. Callers that
+// only locate events (Lyapunov exponents, orbits, the atlas, every train run) take EventMethodOf.
+enum class LadderMethod { kV1, kV2, kV3, kFused };
+inline constexpr LadderMethod kLadderMethods[] = {LadderMethod::kV1, LadderMethod::kV2,
+                                                  LadderMethod::kV3, LadderMethod::kFused};
+// "v1", "v2", "v3", "fused": the names results documents and tables print.
+const char* LadderMethodName(LadderMethod m);
+EventMethod EventMethodOf(LadderMethod m);
+// Sets options.method and options.events to the rung's.
+void ApplyLadderMethod(LadderMethod m, SolverOptions& options);
 
 enum class SolverStatus { kSuccess, kTooManyEvents };
 const char* SolverStatusName(SolverStatus s);
