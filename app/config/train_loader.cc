@@ -131,14 +131,17 @@ LoadedGearbox LoadAnyGearboxFromString(const std::string& text, const std::strin
     }
   }
   if (out.schema == 1) {
-    out.pair = LoadGearboxFromString(text, source);
+    out.pair = LoadPairFromString(text, source, out.locations);
     out.train = TrainOf(*out.pair);
     return out;
   }
-  out.train = ReadAndValidate(root, source, ReadTrainDocument, [](const TrainSpec& spec) {
-    ValidateTrainSpec(spec);
-    ValidateTrainAtlasAxes(spec);
-  });
+  out.train = ReadAndValidate(
+      root, source, ReadTrainDocument,
+      [](const TrainSpec& spec) {
+        ValidateTrainSpec(spec);
+        ValidateTrainAtlasAxes(spec);
+      },
+      out.locations);
   return out;
 }
 

@@ -240,8 +240,9 @@ std::vector<AtlasCell> PrepareCheckpoint(const Checkpoint& cp, bool resume, int 
 
 int RunAtlas(const AtlasCommandOptions& options) {
   const int rank = MpiContext::Rank(), ranks = MpiContext::Size();
-  int code = RunReportingErrors(options.file, [&]() -> int {
+  int code = RunReportingErrors(options.file, [&](config::SourceLocations& where) -> int {
     const config::LoadedGearbox loaded = config::LoadAnyGearboxFile(options.file);
+    where = loaded.locations;
     if (loaded.schema == 2) return AtlasTrain(options, loaded.train);
     const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", true);
     const GearboxSpec& spec = *loaded.pair;

@@ -97,8 +97,9 @@ int ReportFailedOrbitPoints(int failed, size_t total) {
 }
 
 int RunOrbits(const OrbitsCommandOptions& options) {
-  return RunReportingErrors(options.file, [&]() -> int {
+  return RunReportingErrors(options.file, [&](config::SourceLocations& where) -> int {
     const config::LoadedGearbox loaded = config::LoadAnyGearboxFile(options.file);
+    where = loaded.locations;
     if (loaded.schema == 2) return OrbitsTrain(options, loaded.train);
     const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
     const GearboxSpec& spec = *loaded.pair;

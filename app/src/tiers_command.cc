@@ -141,8 +141,9 @@ TiersComparison CompareTiers(const GearboxSpec& spec, const SolverOptions& solve
 }
 
 int RunTiers(const TiersCommandOptions& options) {
-  return RunReportingErrors(options.file, [&]() -> int {
+  return RunReportingErrors(options.file, [&](config::SourceLocations& where) -> int {
     const config::LoadedGearbox loaded = config::LoadAnyGearboxFile(options.file);
+    where = loaded.locations;
     if (loaded.schema == 2) return RunTrainTiers(options, loaded.train);
     const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
     const GearboxSpec& spec = *loaded.pair;
