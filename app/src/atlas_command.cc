@@ -23,6 +23,7 @@
 #include "output_folder.h"
 #include "simulate_command.h"
 #include "train_atlas_command.h"
+#include "train_operating_point.h"
 
 namespace gearnvh::app {
 
@@ -260,6 +261,8 @@ int RunAtlas(const AtlasCommandOptions& options) {
                        "an atlas needs two axes: analysis.atlas.x and .y in the file, or --x "
                        "and --y");
     }
+    RequireRunLengthOfOptions(loaded.train, LowestInputSpeed(loaded.train, x, y), atlas.cycles,
+                              atlas.transient_cycles, options.cycles, options.transient);
     if (x->parameter == y->parameter) {
       throw InputError("--y", 0, y->parameter, "must differ from the x parameter");
     }

@@ -17,6 +17,7 @@
 #include "gearnvh/nvh/orbit_scan.h"
 #include "output_folder.h"
 #include "simulate_command.h"
+#include "train_operating_point.h"
 #include "train_orbits_command.h"
 
 namespace gearnvh::app {
@@ -110,6 +111,9 @@ int RunOrbits(const OrbitsCommandOptions& options) {
     scan.method = options.method == "fused" ? "v3" : options.method;
     std::optional<AtlasAxis> sweep;
     if (options.sweep) sweep = config::ParseAxisOption(*options.sweep, "--sweep");
+    // The transient, then at least one cycle per base period of the --period searched.
+    RequireRunLengthOfOptions(loaded.train, LowestInputSpeed(loaded.train, sweep), options.period,
+                              scan.transient_cycles, std::nullopt, options.transient);
     scan.Validate();
     const OrbitScanProgress progress = OrbitsTerminalProgress(sweep.has_value());
     const std::vector<OrbitScanPoint> points = ScanPeriodicOrbits(spec, sweep, scan, progress);
