@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "gearnvh/model/gearbox_spec_limits.h"
 #include "gearnvh/model/gearbox_spec_validation.h"
 #include "gearnvh/model/input_error.h"
 #include "spec_sections.h"
@@ -143,7 +144,12 @@ GearboxSpec LoadPairFromString(const std::string& text, const std::string& sourc
         }
         return ReadDocument(r, n);
       },
-      [](const GearboxSpec& spec) { ValidateGearboxSpec(spec); }, where);
+      [&where](const GearboxSpec& spec) {
+        ValidateGearboxSpec(spec);
+        RequireSweepWithinPitchLineLimit(spec.analysis.speed_sweep, where, PitchRadius(spec.pinion),
+                                         "the mesh");
+      },
+      where);
 }
 
 AtlasAxis ParseAxisOption(const std::string& text, const std::string& field) {

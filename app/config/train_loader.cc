@@ -2,6 +2,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "gearbox_loader.h"
+#include "gearnvh/model/gearbox_spec_limits.h"
 #include "gearnvh/model/train_spec.h"
 #include "spec_sections.h"
 #include "train_parameters.h"
@@ -137,9 +138,12 @@ LoadedGearbox LoadAnyGearboxFromString(const std::string& text, const std::strin
   }
   out.train = ReadAndValidate(
       root, source, ReadTrainDocument,
-      [](const TrainSpec& spec) {
+      [&out](const TrainSpec& spec) {
         ValidateTrainSpec(spec);
         ValidateTrainAtlasAxes(spec);
+        const FastestMesh fastest = FastestPitchLine(spec, AnalyseTrainTopology(spec));
+        RequireSweepWithinPitchLineLimit(spec.analysis.speed_sweep, out.locations,
+                                         fastest.velocity_per_speed, fastest.name);
       },
       out.locations);
   return out;
