@@ -7,9 +7,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <map>
-#include <mutex>
 
+#include "gearnvh/model/gearbox_spec_limits.h"
 #include "gearnvh/model/gearbox_spec_validation.h"
 #include "gearnvh/model/input_error.h"
 #include "spec_sections.h"
@@ -102,35 +101,7 @@ size_t EditDistance(const std::string& a, const std::string& b) {
   return prev[b.size()];
 }
 
-// The locations of the documents loaded, by source (one entry per file: a reload replaces it).
-struct SourceLocations {
-  std::mutex mutex;
-  std::map<std::string, Reader> by_source;
-};
-SourceLocations& Loaded() {
-  static SourceLocations loaded;
-  return loaded;
-}
-
 }  // namespace
-
-void RememberSourceLocations(const std::string& source, const Reader& reader) {
-  SourceLocations& loaded = Loaded();
-  const std::lock_guard<std::mutex> lock(loaded.mutex);
-  loaded.by_source[source] = reader;
-}
-
-InputError LocatedInSource(const InputError& e, const std::string& source) {
-  const std::string& from = e.source().empty() ? source : e.source();
-  if (e.line() > 0 || e.path().empty() || e.path().rfind("--", 0) == 0) return e.WithSource(from);
-  SourceLocations& loaded = Loaded();
-  const std::lock_guard<std::mutex> lock(loaded.mutex);
-  const auto it = loaded.by_source.find(from);
-  if (it == loaded.by_source.end()) return e.WithSource(from);
-  const Reader::Location loc = it->second.Find(e.path());
-  const bool exact = it->second.Exact(e.path()) && !loc.raw.empty();
-  return InputError(e.path(), loc.line, exact ? "'" + loc.raw + "'" : e.value(), e.rule(), from);
-}
 
 std::string ClosestMatch(const std::string& word, const std::vector<std::string>& candidates) {
   std::string best;
@@ -156,6 +127,12 @@ YAML::Node ParseYaml(const std::string& text, const std::string& source) {
 }
 
 GearboxSpec LoadGearboxFromString(const std::string& text, const std::string& source) {
+  SourceLocations where;
+  return LoadPairFromString(text, source, where);
+}
+
+GearboxSpec LoadPairFromString(const std::string& text, const std::string& source,
+                               SourceLocations& where) {
   const YAML::Node root = ParseYaml(text, source);
   return ReadAndValidate(
       root, source,
@@ -167,7 +144,12 @@ GearboxSpec LoadGearboxFromString(const std::string& text, const std::string& so
         }
         return ReadDocument(r, n);
       },
-      [](const GearboxSpec& spec) { ValidateGearboxSpec(spec); });
+      [&where](const GearboxSpec& spec) {
+        ValidateGearboxSpec(spec);
+        RequireSweepWithinPitchLineLimit(spec.analysis.speed_sweep, where, PitchRadius(spec.pinion),
+                                         "the mesh");
+      },
+      where);
 }
 
 AtlasAxis ParseAxisOption(const std::string& text, const std::string& field) {

@@ -10,6 +10,7 @@
 #include <optional>
 #include <string>
 
+#include "config/source_locations.h"
 #include "config/units.h"
 #include "gearnvh/model/gearbox_spec.h"
 #include "gearnvh/model/input_error.h"
@@ -27,11 +28,14 @@ GearboxSpec LoadGearboxFile(const std::string& path);
 std::string ReadGearboxText(const std::string& path);
 
 // Either schema: a gearnvh/1 file gives its GearboxSpec and the train it means (TrainOf), a
-// gearnvh/2 file its TrainSpec.
+// gearnvh/2 file its TrainSpec. `locations` says where each YAML path was written, so an error
+// raised after loading (by the model, the solver or a command) can name the line and the value as
+// written (LocatedIn).
 struct LoadedGearbox {
   int schema = 1;
   std::optional<GearboxSpec> pair;  // schema 1
   TrainSpec train;
+  SourceLocations locations;
 };
 LoadedGearbox LoadAnyGearboxFromString(const std::string& text,
                                        const std::string& source = "<string>");
@@ -48,13 +52,6 @@ AtlasAxis ParseAxisOption(
     const std::string& text, const std::string& field,
     const std::function<std::optional<Dimension>(const std::string&)>& dimension_of,
     const std::function<std::string(const std::string&)>& rejection);
-
-// An InputError raised after a file was loaded (by the model, the solver or a command, e.g. a tier
-// the model cannot have) located in that file as it was last loaded from `source`: the line of its
-// YAML path (or of the closest enclosing key written) and, when the path itself was written, the
-// value as written. An error that already has a line, names a command-line option ("--tier") or
-// comes from a source never loaded is returned unchanged (attributed to `source`).
-InputError LocatedInSource(const InputError& e, const std::string& source);
 
 // The closest of `candidates` to `word` by edit distance, or "" when none is close.
 std::string ClosestMatch(const std::string& word, const std::vector<std::string>& candidates);

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <optional>
 
+#include "gearnvh/model/gearbox_spec_limits.h"
 #include "train_parameters.h"
 
 namespace gearnvh::config {
@@ -303,6 +304,17 @@ std::vector<ExcitationOrder> ReadExcitation(Reader& r, const YAML::Node& op) {
                                  r.Quantity(item, p, "phase", Dimension::kAngle, 0.0)});
                 });
   return out;
+}
+
+void RequireSweepWithinPitchLineLimit(const SweepRange& sweep, const SourceLocations& where,
+                                      double velocity_per_speed, const std::string& mesh) {
+  if (!where.Exact("analysis.speed_sweep.to")) return;
+  const DisplayUnit unit =
+      DisplayUnitOf(where.Find("analysis.speed_sweep.to").raw, Dimension::kAngularSpeed);
+  for (const auto& [speed, path] : {std::pair{sweep.from, "analysis.speed_sweep.from"},
+                                    std::pair{sweep.to, "analysis.speed_sweep.to"}}) {
+    RequirePitchLineVelocity(path, speed, unit, velocity_per_speed, mesh);
+  }
 }
 
 AnalysisSpec ReadAnalysis(Reader& r, const YAML::Node& root, int schema) {

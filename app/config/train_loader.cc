@@ -2,6 +2,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "gearbox_loader.h"
+#include "gearnvh/model/gearbox_spec_limits.h"
 #include "gearnvh/model/train_spec.h"
 #include "spec_sections.h"
 #include "train_parameters.h"
@@ -131,14 +132,20 @@ LoadedGearbox LoadAnyGearboxFromString(const std::string& text, const std::strin
     }
   }
   if (out.schema == 1) {
-    out.pair = LoadGearboxFromString(text, source);
+    out.pair = LoadPairFromString(text, source, out.locations);
     out.train = TrainOf(*out.pair);
     return out;
   }
-  out.train = ReadAndValidate(root, source, ReadTrainDocument, [](const TrainSpec& spec) {
-    ValidateTrainSpec(spec);
-    ValidateTrainAtlasAxes(spec);
-  });
+  out.train = ReadAndValidate(
+      root, source, ReadTrainDocument,
+      [&out](const TrainSpec& spec) {
+        ValidateTrainSpec(spec);
+        ValidateTrainAtlasAxes(spec);
+        const FastestMesh fastest = FastestPitchLine(spec, AnalyseTrainTopology(spec));
+        RequireSweepWithinPitchLineLimit(spec.analysis.speed_sweep, out.locations,
+                                         fastest.velocity_per_speed, fastest.name);
+      },
+      out.locations);
   return out;
 }
 

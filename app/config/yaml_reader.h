@@ -13,6 +13,7 @@
 
 #include "gearbox_loader.h"
 #include "gearnvh/model/input_error.h"
+#include "source_locations.h"
 #include "units.h"
 
 namespace gearnvh::config {
@@ -45,10 +46,7 @@ inline std::string Describe(const YAML::Node& n) {
 // errors found later (ValidateGearboxSpec) can point back at the source.
 class Reader {
  public:
-  struct Location {
-    int line = 0;
-    std::string raw;
-  };
+  using Location = SourceLocations::Location;
 
   [[noreturn]] void Fail(const std::string& path, const YAML::Node& n, const std::string& value,
                          const std::string& rule) const {
@@ -169,20 +167,15 @@ class Reader {
   }
 
   void Remember(const std::string& path, const YAML::Node& n, const std::string& raw) {
-    locations_[path] = Location{LineOf(n), raw};
+    locations_.Remember(path, LineOf(n), raw);
   }
 
   // The location of `path`, or of its longest known prefix.
-  Location Find(std::string path) const {
-    while (true) {
-      if (auto it = locations_.find(path); it != locations_.end()) return it->second;
-      const auto cut = path.find_last_of(".[");
-      if (cut == std::string::npos) return {};
-      path = path.substr(0, cut);
-    }
-  }
+  Location Find(const std::string& path) const { return locations_.Find(path); }
+  bool Exact(const std::string& path) const { return locations_.Exact(path); }
 
-  bool Exact(const std::string& path) const { return locations_.count(path) > 0; }
+  // Everything read so far (moved out once the document is loaded).
+  SourceLocations TakeLocations() { return std::move(locations_); }
 
  private:
   static std::string JoinList(const std::vector<std::string>& v) {
@@ -190,32 +183,31 @@ class Reader {
     for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
     return s;
   }
-  std::map<std::string, Location> locations_;
+  SourceLocations locations_;
 };
 
-// Keeps the locations of the document last loaded from `source` (LocatedInSource reads them).
-void RememberSourceLocations(const std::string& source, const Reader& reader);
+// LoadGearboxFromString, also giving the locations of what was read.
+GearboxSpec LoadPairFromString(const std::string& text, const std::string& source,
+                               SourceLocations& where);
 
 // Parses YAML text (valid UTF-8 required); InputError naming `source` and the line otherwise.
 YAML::Node ParseYaml(const std::string& text, const std::string& source);
 
 // Reads the document with `read`, validates it with `validate`, and attributes every error to
-// `source`, with range errors pointed back at the line and the value as the user wrote it.
+// `source`, with range errors pointed back at the line and the value as the user wrote it. The
+// locations of what was read go to `where` (for errors raised after loading).
 template <typename Read, typename Validate>
 auto ReadAndValidate(const YAML::Node& root, const std::string& source, Read&& read,
-                     Validate&& validate) {
+                     Validate&& validate, SourceLocations& where) {
   Reader reader;
   try {
     auto spec = read(reader, root);
+    where = reader.TakeLocations();
     try {
       validate(spec);
     } catch (const InputError& e) {
-      const Reader::Location loc = reader.Find(e.path());
-      const std::string value =
-          reader.Exact(e.path()) && !loc.raw.empty() ? "'" + loc.raw + "'" : e.value();
-      throw InputError(e.path(), loc.line, value, e.rule(), source);
+      throw LocatedIn(e, where, source);
     }
-    RememberSourceLocations(source, reader);
     return spec;
   } catch (const InputError& e) {
     if (!e.source().empty()) throw;

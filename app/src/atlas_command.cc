@@ -23,6 +23,7 @@
 #include "output_folder.h"
 #include "simulate_command.h"
 #include "train_atlas_command.h"
+#include "train_operating_point.h"
 
 namespace gearnvh::app {
 
@@ -240,8 +241,9 @@ std::vector<AtlasCell> PrepareCheckpoint(const Checkpoint& cp, bool resume, int 
 
 int RunAtlas(const AtlasCommandOptions& options) {
   const int rank = MpiContext::Rank(), ranks = MpiContext::Size();
-  int code = RunReportingErrors(options.file, [&]() -> int {
+  int code = RunReportingErrors(options.file, [&](config::SourceLocations& where) -> int {
     const config::LoadedGearbox loaded = config::LoadAnyGearboxFile(options.file);
+    where = loaded.locations;
     if (loaded.schema == 2) return AtlasTrain(options, loaded.train);
     const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", true);
     const GearboxSpec& spec = *loaded.pair;
@@ -259,6 +261,8 @@ int RunAtlas(const AtlasCommandOptions& options) {
                        "an atlas needs two axes: analysis.atlas.x and .y in the file, or --x "
                        "and --y");
     }
+    RequireRunLengthOfOptions(loaded.train, LowestInputSpeed(loaded.train, x, y), atlas.cycles,
+                              atlas.transient_cycles, options.cycles, options.transient);
     if (x->parameter == y->parameter) {
       throw InputError("--y", 0, y->parameter, "must differ from the x parameter");
     }

@@ -153,8 +153,10 @@ int RunCheck(const CheckOptions& options) {
   int exit_code = 0;
   nlohmann::json documents = nlohmann::json::array();
   for (const std::string& file : options.files) {
+    config::SourceLocations where;
     try {
       const config::LoadedGearbox loaded = config::LoadAnyGearboxFile(file);
+      where = loaded.locations;
       if (loaded.schema == 2) {
         const TrainCheck check = BuildTrainCheck(loaded.train);
         nlohmann::json doc = TrainCheckReport(loaded.train, check);
@@ -183,7 +185,7 @@ int RunCheck(const CheckOptions& options) {
       }
     } catch (const InputError& e) {
       // Errors raised below the loader (e.g. segments_per_cycle too small) carry no file name.
-      const std::string message = InputErrorMessage(e, file);
+      const std::string message = InputErrorMessage(e, file, where);
       std::cerr << "error: " << message << "\n";
       exit_code = std::max(exit_code, static_cast<int>(kExitInput));
       if (options.json) documents.push_back({{"file", file}, {"error", message}});

@@ -31,9 +31,11 @@ class NonFiniteResult : public std::logic_error {
 
 // The message of an input error, naming `file` when the error was raised below the loader (range
 // rules of the model, solver options) and so carries no source, with the line and the value as
-// written of its YAML path in that file (config::LocatedInSource).
-inline std::string InputErrorMessage(const InputError& e, const std::string& file) {
-  return config::LocatedInSource(e, file).what();
+// written of its YAML path in that file when `where` holds the file's locations (the
+// LoadedGearbox::locations of its load; empty when the file was not loaded).
+inline std::string InputErrorMessage(const InputError& e, const std::string& file,
+                                     const config::SourceLocations& where = {}) {
+  return config::LocatedIn(e, where, file).what();
 }
 
 // An input error about a command-line option ("--resume needs --out") is a usage error.
@@ -42,13 +44,16 @@ inline int ExitCodeOf(const InputError& e) {
 }
 
 // Runs `body` (returning the exit code) and maps what it throws onto the exit-code table. Anything
-// not listed here reaches main(), which reports an internal error (3).
+// not listed here reaches main(), which reports an internal error (3). The body stores the loaded
+// file's locations in its config::SourceLocations& argument (`where = loaded.locations`), so input
+// errors raised after loading name their line.
 template <typename Body>
 int RunReportingErrors(const std::string& file, Body&& body) {
+  config::SourceLocations where;
   try {
-    return body();
+    return body(where);
   } catch (const InputError& e) {
-    std::cerr << "error: " << InputErrorMessage(e, file) << "\n";
+    std::cerr << "error: " << InputErrorMessage(e, file, where) << "\n";
     return ExitCodeOf(e);
   } catch (const IoError& e) {
     std::cerr << "error: " << e.what() << "\n";

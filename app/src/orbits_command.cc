@@ -17,6 +17,7 @@
 #include "gearnvh/nvh/orbit_scan.h"
 #include "output_folder.h"
 #include "simulate_command.h"
+#include "train_operating_point.h"
 #include "train_orbits_command.h"
 
 namespace gearnvh::app {
@@ -97,8 +98,9 @@ int ReportFailedOrbitPoints(int failed, size_t total) {
 }
 
 int RunOrbits(const OrbitsCommandOptions& options) {
-  return RunReportingErrors(options.file, [&]() -> int {
+  return RunReportingErrors(options.file, [&](config::SourceLocations& where) -> int {
     const config::LoadedGearbox loaded = config::LoadAnyGearboxFile(options.file);
+    where = loaded.locations;
     if (loaded.schema == 2) return OrbitsTrain(options, loaded.train);
     const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
     const GearboxSpec& spec = *loaded.pair;
@@ -109,6 +111,9 @@ int RunOrbits(const OrbitsCommandOptions& options) {
     scan.events = EventMethodOf(options.method);
     std::optional<AtlasAxis> sweep;
     if (options.sweep) sweep = config::ParseAxisOption(*options.sweep, "--sweep");
+    // The transient, then at least one cycle per base period of the --period searched.
+    RequireRunLengthOfOptions(loaded.train, LowestInputSpeed(loaded.train, sweep), options.period,
+                              scan.transient_cycles, std::nullopt, options.transient);
     scan.Validate();
     const OrbitScanProgress progress = OrbitsTerminalProgress(sweep.has_value());
     const std::vector<OrbitScanPoint> points = ScanPeriodicOrbits(spec, sweep, scan, progress);

@@ -125,8 +125,10 @@ GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::
   GearboxEntry entry;
   entry.file = file;
   entry.folder = folder.filename().string();
+  config::SourceLocations where;
   try {
     config::LoadedGearbox loaded = config::LoadAnyGearboxFile(file);
+    where = loaded.locations;
     if (loaded.schema == 2) {
       entry.name = loaded.train.name;
       fs::create_directories(folder);
@@ -343,7 +345,7 @@ GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::
                                      atlas ? &*atlas : nullptr, atlas_options.cycles, figures}));
     entry.ok = true;
   } catch (const InputError& e) {
-    entry.error = InputErrorMessage(e, file);
+    entry.error = InputErrorMessage(e, file, where);
   } catch (const NonFiniteResult& e) {
     entry.error = file + ": internal error: " + e.what();
     entry.internal = true;

@@ -74,8 +74,9 @@ std::string EventsCsv(const Trajectory& t) {
 }  // namespace
 
 int RunSimulate(const SimulateOptions& options) {
-  return RunReportingErrors(options.file, [&]() -> int {
+  return RunReportingErrors(options.file, [&](config::SourceLocations& where) -> int {
     config::LoadedGearbox loaded = config::LoadAnyGearboxFile(options.file);
+    where = loaded.locations;
     if (loaded.schema == 2) return SimulateTrain(options, loaded.train);
     if (options.lyapunov) {
       throw InputError("--lyapunov", 0, std::to_string(*options.lyapunov),

@@ -222,8 +222,9 @@ std::string WaterfallCsv(const SpeedSweepResult& r) {
 }
 
 int RunSweep(const SweepOptions& options) {
-  const int code = RunReportingErrors(options.file, [&]() -> int {
+  const int code = RunReportingErrors(options.file, [&](config::SourceLocations& where) -> int {
     config::LoadedGearbox loaded = config::LoadAnyGearboxFile(options.file);
+    where = loaded.locations;
     if (loaded.schema == 2) return SweepTrain(options, loaded.train);
     const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", true);
     const GearboxSpec spec = std::move(*loaded.pair);

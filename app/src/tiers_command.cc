@@ -22,6 +22,7 @@
 #ifdef GEARNVH_HAVE_RENDER
 #include "gearnvh/render/plots.h"
 #include "report_sweep_figures.h"
+#include "train_operating_point.h"
 #endif
 
 namespace gearnvh::app {
@@ -141,8 +142,9 @@ TiersComparison CompareTiers(const GearboxSpec& spec, const SolverOptions& solve
 }
 
 int RunTiers(const TiersCommandOptions& options) {
-  return RunReportingErrors(options.file, [&]() -> int {
+  return RunReportingErrors(options.file, [&](config::SourceLocations& where) -> int {
     const config::LoadedGearbox loaded = config::LoadAnyGearboxFile(options.file);
+    where = loaded.locations;
     if (loaded.schema == 2) return RunTrainTiers(options, loaded.train);
     const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
     const GearboxSpec& spec = *loaded.pair;
@@ -151,6 +153,8 @@ int RunTiers(const TiersCommandOptions& options) {
     solver.cycles = options.cycles.value_or(std::min(spec.analysis.cycles, 400));
     solver.transient_cycles =
         options.transient.value_or(std::min(spec.analysis.transient_cycles, 200));
+    RequireRunLengthOfOptions(loaded.train, spec.operating.speed, solver.cycles,
+                              solver.transient_cycles, options.cycles, options.transient);
     const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
     TiersProgress progress;
     if (on_terminal) {

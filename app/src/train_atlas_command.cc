@@ -254,6 +254,8 @@ int AtlasTrain(const AtlasCommandOptions& options, const TrainSpec& spec) {
   (void)CellVariant(spec, *x, *y, x->range.from, y->range.from,
                     options.x ? "--x" : "analysis.atlas.x.parameter",
                     options.y ? "--y" : "analysis.atlas.y.parameter");
+  RequireRunLengthOfOptions(spec, LowestInputSpeed(spec, x, y), atlas.cycles,
+                            atlas.transient_cycles, options.cycles, options.transient);
   const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", true);
   const AtlasProgress progress = AtlasTerminalProgress(0, 1);
   const TrainAtlasResult result = RunTrainAtlas(spec, *x, *y, atlas, options.jobs, progress);

@@ -157,6 +157,19 @@ std::string SlowRunWarning(const TrainTables& t, double simulated_s) {
       0.5 / omega, substeps, simulated_s);
 }
 
+double LowestInputSpeed(const TrainSpec& spec, const std::optional<AtlasAxis>& x,
+                        const std::optional<AtlasAxis>& y) {
+  double lowest = spec.operating.speed;
+  bool varied = false;
+  for (const std::optional<AtlasAxis>* axis : {&x, &y}) {
+    if (!*axis || (*axis)->parameter != "operating.speed") continue;
+    const double low = std::min((*axis)->range.from, (*axis)->range.to);
+    lowest = varied ? std::min(lowest, low) : low;
+    varied = true;
+  }
+  return lowest;
+}
+
 void RequireRunLengthOfOptions(const TrainSpec& spec, double lowest_speed, long cycles,
                                long transient, const std::optional<long>& cycles_option,
                                const std::optional<long>& transient_option) {
@@ -168,11 +181,11 @@ void RequireRunLengthOfOptions(const TrainSpec& spec, double lowest_speed, long 
   throw InputError(
       transient_named ? "--transient" : "--cycles", 0,
       std::to_string(transient_named ? *transient_option : *cycles_option),
-      fmt::format("makes the {} cycles of the first mesh ({}, {}, --cycles + --transient) last "
-                  "{:.3g} s of simulated time at {:.6g} rpm (mesh frequency {:.3g} Hz); the "
-                  "limit is {} s, as for analysis.cycles + transient_cycles",
+      fmt::format("makes the {} cycles of the first mesh ({}, {}, cycles + transient) last "
+                  "{:.3g} s of simulated time at {} (mesh frequency {:.3g} Hz); the limit is {} "
+                  "s, as for analysis.cycles + transient_cycles",
                   cycles + transient, "meshes[0]", spec.meshes.front().Name(), seconds,
-                  lowest_speed * 60.0 / (2.0 * std::numbers::pi), hz,
+                  InUnit(lowest_speed, spec.operating.speed_unit), hz,
                   GearboxLimits::kMaxSimulatedSeconds));
 }
 

@@ -107,6 +107,11 @@ void RequireRunLengthOfOptions(const TrainSpec& spec, double lowest_speed, long 
                                long transient, const std::optional<long>& cycles_option,
                                const std::optional<long>& transient_option);
 
+// The lowest input speed a command runs at, rad/s: the operating speed, or the lower end of an
+// axis (atlas --x/--y, orbits --sweep) that varies operating.speed. For RequireRunLengthOfOptions.
+double LowestInputSpeed(const TrainSpec& spec, const std::optional<AtlasAxis>& x,
+                        const std::optional<AtlasAxis>& y = std::nullopt);
+
 // Called about 100 times during the run with the simulated time reached (s) and the end time.
 using TrainProgress = std::function<void(double time, double end)>;
 

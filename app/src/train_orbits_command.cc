@@ -98,6 +98,9 @@ int OrbitsTrain(const OrbitsCommandOptions& options, const TrainSpec& spec) {
     TrainSpec probe = spec;  // the name's index is checked once, as a usage error
     SetTrainParameter(probe, sweep->parameter, sweep->range.from, "--sweep");
   }
+  // The transient, then at least one cycle per base period of the --period searched.
+  RequireRunLengthOfOptions(spec, LowestInputSpeed(spec, sweep), options.period,
+                            scan.transient_cycles, std::nullopt, options.transient);
   const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
   const int count = sweep ? sweep->range.points : 1;
   std::vector<double> values(static_cast<size_t>(count), 0.0);

@@ -12,6 +12,7 @@
 #include "gearnvh/model/train_structure.h"
 #include "gearnvh/reduction/train_reduction.h"
 #include "output_folder.h"
+#include "train_operating_point.h"
 
 namespace gearnvh::app {
 namespace {
@@ -118,6 +119,8 @@ int RunTrainTiers(const TiersCommandOptions& options, const TrainSpec& spec) {
   TrainRunOptions run;
   run.cycles = options.cycles.value_or(std::min(spec.analysis.cycles, 400));
   run.transient = options.transient.value_or(std::min(spec.analysis.transient_cycles, 200));
+  RequireRunLengthOfOptions(spec, spec.operating.speed, run.cycles, run.transient, options.cycles,
+                            options.transient);
   const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
   TiersProgress progress;
   if (on_terminal) {

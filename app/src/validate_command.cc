@@ -14,8 +14,10 @@
 namespace gearnvh::app {
 
 int RunValidate(const ValidateOptions& options) {
+  config::SourceLocations where;
   try {
     const config::LoadedGearbox loaded = config::LoadAnyGearboxFile(options.file);
+    where = loaded.locations;
     const std::string name = loaded.schema == 2 ? loaded.train.name : loaded.pair->name;
     const std::vector<ValidationRow> rows = loaded.schema == 2
                                                 ? RunTrainValidationLadder(loaded.train)
@@ -50,7 +52,7 @@ int RunValidate(const ValidateOptions& options) {
     }
     return all ? 0 : 1;
   } catch (const InputError& e) {
-    std::cerr << "error: " << InputErrorMessage(e, options.file) << "\n";
+    std::cerr << "error: " << InputErrorMessage(e, options.file, where) << "\n";
     return 1;
   }
 }

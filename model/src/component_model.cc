@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <numbers>
 
+#include "gearnvh/model/gearbox_spec_limits.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/model/modal_analysis.h"
 #include "structure_assembly.h"
@@ -88,6 +89,10 @@ ComponentModel BuildComponentModel(const GearboxSpec& spec, const ComponentModel
   m.cycle = ComputeMeshCycle(pair, g, options.mesh);
   m.mesh_summary = SummarizeMeshCycle(m.cycle, g);
   m.segmentation = SegmentMeshCycle(pair, evaluator, spec.analysis.segments_per_cycle);
+  // Engine orders are multiples of the pinion speed: z1 mesh cycles per pinion revolution.
+  RequireExcitationResolved(spec.operating.excitation, spec.pinion.teeth,
+                            LongestSegment(m.segmentation), spec.analysis.segments_per_cycle,
+                            "the mesh");
   m.warnings = m.cycle.warnings;
   m.errors = MeshErrorExcitation(pair, m.segmentation);
   if (m.errors.active() && m.mesh_summary.max > 0.0) {

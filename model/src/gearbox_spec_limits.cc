@@ -11,6 +11,7 @@
 #include "gearnvh/model/gear_geometry.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/model/mesh_pair.h"
+#include "gearnvh/model/mesh_segmentation.h"
 
 namespace gearnvh {
 
@@ -76,9 +77,63 @@ long ShaftElements(const ShaftSpec& s) {
 
 }  // namespace
 
+double PitchRadius(const GearSpec& gear) {
+  return 0.5 * gear.module / std::cos(gear.helix_angle) * gear.teeth;
+}
+
 double ToothUnitLoad(const GearSpec& a, const GearSpec& b, double torque_on_b) {
-  const double pitch_radius_b = 0.5 * b.module / std::cos(b.helix_angle) * b.teeth;
-  return torque_on_b / pitch_radius_b / std::min(a.face_width, b.face_width);
+  return torque_on_b / PitchRadius(b) / std::min(a.face_width, b.face_width);
+}
+
+double LongestSegment(const MeshSegmentation& segmentation) {
+  double longest = 0.0;
+  for (const MeshSegment& s : segmentation.segments) {
+    longest = std::max(longest, s.tau_end - s.tau_begin);
+  }
+  return longest;
+}
+
+std::string InUnit(double si_value, const DisplayUnit& unit) {
+  return fmt::format("{:.6g} {}", si_value * unit.per_si, unit.symbol);
+}
+
+void RequirePitchLineVelocity(const std::string& path, double speed, const DisplayUnit& unit,
+                              double velocity_per_speed, const std::string& mesh) {
+  const double velocity = speed * velocity_per_speed;
+  if (velocity <= L::kMaxPitchLineVelocity) return;
+  throw InputError(
+      path, 0, InUnit(speed, unit),
+      fmt::format("gives {} a pitch-line velocity of {:.4g} m/s, above the limit of {} m/s (a "
+                  "speed of {} here): faster than any gear in service (high-speed turbo gear "
+                  "units run at up to about 150-200 m/s), where centrifugal, windage and "
+                  "oil-trapping effects the quasi-static mesh model leaves out dominate",
+                  mesh, velocity, L::kMaxPitchLineVelocity,
+                  InUnit(L::kMaxPitchLineVelocity / velocity_per_speed, unit)));
+}
+
+void RequireExcitationResolved(const std::vector<ExcitationOrder>& orders,
+                               double cycles_per_revolution, double longest_segment_fraction,
+                               int segments_per_cycle, const std::string& mesh) {
+  for (size_t i = 0; i < orders.size(); ++i) {
+    const double order = orders[i].order;
+    const double per_period = cycles_per_revolution / (order * longest_segment_fraction);
+    if (per_period >= L::kMinSegmentsPerExcitationPeriod) continue;
+    const double x = std::numbers::pi / per_period;  // the kept fraction sinc^2(pi / N)
+    const double kept = std::pow(std::sin(x) / x, 2);
+    // The longest segment shrinks about as 1 / segments_per_cycle.
+    const double needed =
+        std::ceil(segments_per_cycle * L::kMinSegmentsPerExcitationPeriod / per_period);
+    throw InputError(
+        "operating.excitation[" + std::to_string(i) + "].order", 0, Num(order),
+        fmt::format("is too high for the segment grid: one period of this order spans {:.3g} "
+                    "segments of {} (its longest segment is {:.3g} of a mesh cycle, {:.6g} mesh "
+                    "cycles per revolution), fewer than {}; the solver holds the excitation at "
+                    "its mean over each segment, which would keep only {:.0f} % of this order "
+                    "(sinc^2(pi / N)) and alias it: raise analysis.segments_per_cycle (now {}) "
+                    "to about {:.0f} or more, or leave the order out",
+                    per_period, mesh, longest_segment_fraction, cycles_per_revolution,
+                    L::kMinSegmentsPerExcitationPeriod, 100.0 * kept, segments_per_cycle, needed));
+  }
 }
 
 void RequireInertiaWithinLimit(const std::string& path, double inertia) {
@@ -145,18 +200,24 @@ void ValidateGearboxLimits(const GearboxSpec& spec, OperatingLimits operating) {
   // Excitation: the model runs about a steady mean speed; an acceleration whose speed
   // fluctuation a / (k Omega) reaches the mean speed Omega would turn the pinion backwards.
   const double omega = spec.operating.speed;
+  const DisplayUnit& speed_unit = spec.operating.speed_unit;
   for (size_t i = 0; i < spec.operating.excitation.size(); ++i) {
     const ExcitationOrder& e = spec.operating.excitation[i];
     const double fluctuation = e.amplitude / (e.order * omega);
     if (!(fluctuation <= omega)) {
       throw InputError(
           "operating.excitation[" + std::to_string(i) + "].amplitude", 0, Num(e.amplitude),
-          fmt::format("makes the speed fluctuation a / (order x speed) = {:.3g} rad/s exceed the "
-                      "mean speed {:.3g} rad/s: the shaft would turn backwards, and the model "
-                      "assumes a steady mean speed",
-                      fluctuation, omega));
+          fmt::format("makes the speed fluctuation a / (order x speed) = {} exceed the mean "
+                      "speed {}: the shaft would turn backwards, and the model assumes a steady "
+                      "mean speed",
+                      InUnit(fluctuation, speed_unit), InUnit(omega, speed_unit)));
     }
   }
+
+  // Speed: the pitch-line velocity (equal on both gears) at the operating speed. A written speed
+  // sweep is held to it by the loader, which knows the sweep's unit and whether it was written.
+  RequirePitchLineVelocity("operating.speed", omega, speed_unit, PitchRadius(spec.pinion),
+                           "the mesh");
 
   // Run length.
   for (const auto& [speed, path] : {std::pair{omega, "operating.speed"},

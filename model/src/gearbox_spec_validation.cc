@@ -27,6 +27,8 @@ std::string Num(double v) {
   return os.str();
 }
 
+constexpr double kDeg = 180.0 / std::numbers::pi;
+
 // Small rule helpers: each throws InputError(path, value, rule) when the rule is broken.
 void Positive(const std::string& path, double v) {
   if (!(v > 0.0) || !std::isfinite(v)) throw InputError(path, 0, Num(v), "must be > 0");
@@ -99,7 +101,7 @@ void ValidateGear(const GearboxSpec& spec, const GearSpec& g, const std::string&
   }
   if (!(g.bore_diameter < 2.0 * r.root)) {
     throw InputError(p + ".bore_diameter", 0, Num(g.bore_diameter),
-                     "must be smaller than the root diameter (" + Num(2.0 * r.root) + " m)");
+                     "must be smaller than the root diameter (" + Num(2e3 * r.root) + " mm)");
   }
 }
 
@@ -197,9 +199,9 @@ void ValidateGearboxSpec(const GearboxSpec& spec, OperatingLimits operating) {
   ValidateGear(spec, spec.wheel, "gears.wheel");
   // An external helical pair: equal helix angles, opposite hands.
   if (spec.pinion.helix_angle != spec.wheel.helix_angle) {
-    throw InputError("gears.wheel.helix_angle", 0, Num(spec.wheel.helix_angle) + " rad",
-                     "must equal the pinion's helix angle (" + Num(spec.pinion.helix_angle) +
-                         " rad): gears in mesh share it");
+    throw InputError("gears.wheel.helix_angle", 0, Num(spec.wheel.helix_angle * kDeg) + " deg",
+                     "must equal the pinion's helix angle (" + Num(spec.pinion.helix_angle * kDeg) +
+                         " deg): gears in mesh share it");
   }
   if (spec.pinion.helix_angle > 0.0 && spec.pinion.hand == spec.wheel.hand) {
     throw InputError("gears.wheel.hand", 0, spec.wheel.hand == Hand::kRight ? "right" : "left",

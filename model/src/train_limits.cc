@@ -75,6 +75,21 @@ double FirstMeshFrequency(const TrainSpec& spec, const TrainTopology& topology,
   return teeth_a * speed_ratio * input_speed / (2.0 * std::numbers::pi);
 }
 
+FastestMesh FastestPitchLine(const TrainSpec& spec, const TrainTopology& topology) {
+  FastestMesh fastest;
+  for (size_t m = 0; m < spec.meshes.size(); ++m) {
+    const TrainMesh& mesh = spec.meshes[m];
+    const int body_a = topology.gear_body[static_cast<size_t>(spec.GearIndex(mesh.gear_a))];
+    const double v = BodySpeed(topology, body_a) / spec.operating.speed *
+                     PitchRadius(spec.FindGear(mesh.gear_a)->gear);
+    if (v > fastest.velocity_per_speed) {
+      fastest.velocity_per_speed = v;
+      fastest.name = "meshes[" + std::to_string(m) + "] (" + mesh.Name() + ")";
+    }
+  }
+  return fastest;
+}
+
 void ValidateTrainLimits(const TrainSpec& spec, const TrainTopology& topology) {
   const TrainOperating& op = spec.operating;
   const double omega_in = op.speed;
@@ -106,12 +121,18 @@ void ValidateTrainLimits(const TrainSpec& spec, const TrainTopology& topology) {
     if (!(fluctuation <= omega_in)) {
       throw InputError(
           "operating.excitation[" + std::to_string(i) + "].amplitude", 0, Num(e.amplitude),
-          fmt::format("makes the speed fluctuation a / (order x speed) = {:.3g} rad/s of the "
-                      "input shaft '{}' exceed its mean speed {:.3g} rad/s: the shaft would turn "
-                      "backwards, and the model assumes a steady mean speed",
-                      fluctuation, op.input_shaft, omega_in));
+          fmt::format("makes the speed fluctuation a / (order x speed) = {} of the input shaft "
+                      "'{}' exceed its mean speed {}: the shaft would turn backwards, and the "
+                      "model assumes a steady mean speed",
+                      InUnit(fluctuation, op.speed_unit), op.input_shaft,
+                      InUnit(omega_in, op.speed_unit)));
     }
   }
+
+  // Speed: the pitch-line velocity of every mesh (a written speed sweep: checked by the loader).
+  const FastestMesh fastest = FastestPitchLine(spec, topology);
+  RequirePitchLineVelocity("operating.speed.value", omega_in, op.speed_unit,
+                           fastest.velocity_per_speed, fastest.name);
 
   // Run length: analysis.cycles and transient_cycles count cycles of the first mesh, whose mesh
   // frequency is z_a |w_a| / 2 pi with |w_a| in proportion to the input speed.

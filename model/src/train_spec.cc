@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <deque>
+#include <numbers>
 #include <set>
 
 #include "gearnvh/model/gearbox_spec_limits.h"
@@ -143,8 +144,9 @@ TrainTopology AnalyseTrainTopology(const TrainSpec& spec) {
           throw InputError(MeshPath(static_cast<int>(m)) + ".gears", 0,
                            "[" + mesh.gear_a + ", " + mesh.gear_b + "]",
                            "closes a kinematic loop whose ratios disagree: it would turn '" +
-                               target.name + "' at " + Num(speed) + " rad/s, the other path at " +
-                               Num(target.speed) + " rad/s");
+                               target.name + "' at " + InUnit(speed, spec.operating.speed_unit) +
+                               ", the other path at " +
+                               InUnit(target.speed, spec.operating.speed_unit));
         }
       }
     }
@@ -216,6 +218,7 @@ TrainSpec TrainOf(const GearboxSpec& spec) {
   t.meshes.push_back({"pinion", "wheel", spec.mesh});
   t.operating.input_shaft = "input";
   t.operating.speed = spec.operating.speed;
+  t.operating.speed_unit = spec.operating.speed_unit;
   t.operating.loads.push_back({"output", spec.operating.torque});
   t.operating.excitation = spec.operating.excitation;
   t.analysis = spec.analysis;
@@ -267,10 +270,11 @@ void ValidateTrainSpec(const TrainSpec& spec) {
                        "the two gears sit on the same shaft '" + a.shaft + "' and cannot mesh");
     }
     if (a.gear.helix_angle != b.gear.helix_angle) {
-      throw InputError("gears." + b.name + ".helix_angle", 0, Num(b.gear.helix_angle) + " rad",
-                       "must equal the helix angle of '" + a.name + "' (" +
-                           Num(a.gear.helix_angle) + " rad), the gear it meshes with in " +
-                           MeshPath(static_cast<int>(m)));
+      constexpr double kDeg = 180.0 / std::numbers::pi;
+      throw InputError(
+          "gears." + b.name + ".helix_angle", 0, Num(b.gear.helix_angle * kDeg) + " deg",
+          "must equal the helix angle of '" + a.name + "' (" + Num(a.gear.helix_angle * kDeg) +
+              " deg), the gear it meshes with in " + MeshPath(static_cast<int>(m)));
     }
     if (a.gear.helix_angle > 0.0 && a.gear.hand == b.gear.hand) {
       throw InputError("gears." + b.name + ".hand", 0,

@@ -49,6 +49,19 @@ TEST_CASE("check and simulate refuse too few segments per cycle alike, at its li
   CHECK(err.find("in meshes[0] (a-b), got '4'") != std::string::npos);
 }
 
+TEST_CASE("a batch locates each file's post-load error in that file", "[cli][train]") {
+  // The same rule broken in two files at different lines, checked in one process.
+  TempDir dir;
+  const std::string seg4 = Replace(kTrain, "segments_per_cycle: 32", "segments_per_cycle: 4");
+  const auto a = dir.Write("a.yaml", seg4);
+  const auto b = dir.Write("b.yaml", "# shifted\n# down\n" + seg4);
+  const auto run = RunCommand(kExe + " check " + a.string() + " " + b.string());
+  INFO(run.err);
+  CHECK(run.exit_code == 1);
+  CHECK(run.err.find("a.yaml:28: analysis.segments_per_cycle: must be >= ") != std::string::npos);
+  CHECK(run.err.find("b.yaml:30: analysis.segments_per_cycle: must be >= ") != std::string::npos);
+}
+
 TEST_CASE("a tier the train cannot have is refused at the line of analysis.tier", "[cli][train]") {
   TempDir dir;
   const auto file =

@@ -94,6 +94,34 @@ TEST_CASE("closest-key suggestions", "[loader]") {
   CHECK(ClosestMatch("zzzzzz", {"module", "teeth"}).empty());
 }
 
+TEST_CASE("each loaded document keeps its own source locations", "[loader]") {
+  std::ifstream in(std::string(GEARNVH_EXAMPLES_DIR) + "/idle_rattle.yaml");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // The same text under the same source name, the second shifted down by three comment lines: an
+  // error raised after both loads is located by the locations of the load it came from.
+  const LoadedGearbox first = LoadAnyGearboxFromString(text, "same.yaml");
+  const LoadedGearbox second = LoadAnyGearboxFromString("#\n#\n#\n" + text, "same.yaml");
+  const SourceLocations::Location at = first.locations.Find("analysis.tier");
+  REQUIRE(at.line > 0);
+  CHECK(at.raw == "1");
+  CHECK(second.locations.Find("analysis.tier").line == at.line + 3);
+  const InputError late("analysis.tier", 0, "", "a rule checked after loading");
+  const InputError in_first = LocatedIn(late, first.locations, "same.yaml");
+  const InputError in_second = LocatedIn(late, second.locations, "same.yaml");
+  CHECK(in_first.line() == at.line);
+  CHECK(in_second.line() == at.line + 3);
+  CHECK(in_first.value() == "'1'");
+  CHECK(std::string(in_second.what()) ==
+        "same.yaml:" + std::to_string(at.line + 3) +
+            ": analysis.tier: a rule checked after loading, got '1'");
+  // A path under a written key takes that key's line; nothing loaded: no line.
+  CHECK(LocatedIn(InputError("analysis.tier.x", 0, "", "r"), first.locations, "same.yaml").line() ==
+        at.line);
+  CHECK(LocatedIn(late, SourceLocations{}, "same.yaml").line() == 0);
+  // An error of another source is not located with these locations.
+  CHECK(LocatedIn(late.WithSource("other.yaml"), first.locations, "same.yaml").line() == 0);
+}
+
 }  // namespace
 }  // namespace gearnvh::config
 

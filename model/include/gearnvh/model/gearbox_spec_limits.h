@@ -20,6 +20,14 @@ struct GearboxLimits {
   // kg m^2: any body's polar or diametral inertia. Above the largest rotating machines (a 15 MW
   // wind-turbine rotor is about 3e8 kg m^2); 1e300 overflowed the modal analysis to NaN.
   static constexpr double kMaxInertia = 1e9;
+  // m/s: the pitch-line velocity of every mesh. Above the fastest gears in service (high-speed
+  // turbo gear units run at up to about 150-200 m/s, API 613); there centrifugal tooth loads,
+  // windage and oil trapping, which the quasi-static mesh-stiffness model leaves out, dominate.
+  static constexpr double kMaxPitchLineVelocity = 200.0;
+  // The solver holds the engine excitation at its mean over each segment (docs/solver.md), which
+  // keeps sinc^2(pi / N) of an order spanning N segments per period: >= 0.95 for N >= 8, and the
+  // staircase's first image lies at (N - 1) times the order's frequency or above.
+  static constexpr double kMinSegmentsPerExcitationPeriod = 8.0;
 };
 
 // Which limits apply. A schema-1 gearbox owns its operating point (kChecked). A train's mesh
@@ -39,5 +47,42 @@ double ToothUnitLoad(const GearSpec& a, const GearSpec& b, double torque_on_b);
 
 // InputError at `path` unless 0 <= inertia <= GearboxLimits::kMaxInertia (kg m^2, finite).
 void RequireInertiaWithinLimit(const std::string& path, double inertia);
+
+struct MeshSegmentation;
+struct TrainSpec;
+struct TrainTopology;
+
+// The longest segment of a mesh cycle's segmentation, as a fraction of the cycle.
+double LongestSegment(const MeshSegmentation& segmentation);
+
+// An SI value shown in `unit` with 6 significant digits: "1500 rpm".
+std::string InUnit(double si_value, const DisplayUnit& unit);
+
+// Pitch radius of a gear, m: r = m_n z / (2 cos beta).
+double PitchRadius(const GearSpec& gear);
+
+// The pitch-line velocity rule: v = speed * velocity_per_speed <= kMaxPitchLineVelocity, where
+// `velocity_per_speed` (m/s per rad/s of `speed`) is that of the fastest mesh, named `mesh`.
+// InputError at `path` (the speed, written in `unit`) naming v, the limit and the largest speed
+// allowed in `unit`.
+void RequirePitchLineVelocity(const std::string& path, double speed, const DisplayUnit& unit,
+                              double velocity_per_speed, const std::string& mesh);
+
+// The mesh of a train with the highest pitch-line velocity per unit input speed (m/s per rad/s:
+// |w_a / w_in| r_a over the meshes), and its name "meshes[i] (a-b)".
+struct FastestMesh {
+  double velocity_per_speed = 0.0;
+  std::string name;
+};
+FastestMesh FastestPitchLine(const TrainSpec& spec, const TrainTopology& topology);
+
+// The excitation-resolution rule: one period of order k of a shaft spans
+// N = c / (k f_max) segments of a mesh whose cycle repeats c times per revolution of that shaft
+// and whose longest segment is the fraction f_max of its cycle; N must be >=
+// kMinSegmentsPerExcitationPeriod. InputError at operating.excitation[i].order naming N, the
+// mesh and the segments_per_cycle (`segments_per_cycle` now) that would resolve it.
+void RequireExcitationResolved(const std::vector<ExcitationOrder>& orders,
+                               double cycles_per_revolution, double longest_segment_fraction,
+                               int segments_per_cycle, const std::string& mesh);
 
 }  // namespace gearnvh
