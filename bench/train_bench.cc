@@ -89,6 +89,11 @@ void BM_ManualTransmissionIdleEager(benchmark::State& state) {
 void BM_ManualTransmissionIdleWarm(benchmark::State& state) {
   RunTrain(state, true, size_t{4} << 30, 1);
 }
+// The lazy policy's threshold (TrainTableOptions::decompose_after_visits) swept: the argument is
+// the entry at which a tuple is decomposed (the default is 3).
+void BM_ManualTransmissionIdleVisits(benchmark::State& state) {
+  RunTrain(state, false, kDefaults.cache_limit_bytes, static_cast<int>(state.range(0)));
+}
 // A train with few tuples (two meshes in permanent contact): the lazy policy must not cost there.
 void BM_TwoStageReducer(benchmark::State& state) {
   RunTrain(state, false, kDefaults.cache_limit_bytes, kDefaults.decompose_after_visits,
@@ -134,6 +139,13 @@ void BM_TwoStageReducerTransient(benchmark::State& state) {
 BENCHMARK(BM_ManualTransmissionIdle)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_ManualTransmissionIdleEager)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_ManualTransmissionIdleWarm)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_ManualTransmissionIdleVisits)
+    ->Arg(2)
+    ->Arg(4)
+    ->Arg(6)
+    ->Arg(10)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
 BENCHMARK(BM_TwoStageReducer)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_TwoStageReducerEager)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_TwoStageReducerTransient)

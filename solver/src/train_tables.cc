@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <numbers>
 #include <string>
@@ -14,8 +15,14 @@ namespace {
 
 constexpr int kBitsPerMesh = 16;
 constexpr int kMeshesPerWord = 64 / kBitsPerMesh;
-// An index node of the entry counts: hash node, its key's vector and heap header, the slot.
-constexpr size_t kIndexNodeBytes = 96;
+constexpr int kInitialIndexBits = 10;
+
+size_t HashWords(const uint64_t* words, size_t count) {
+  size_t h = 0x9e3779b97f4a7c15ull;
+  for (size_t i = 0; i < count; ++i)
+    h ^= std::hash<uint64_t>()(words[i]) + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
+  return h;
+}
 
 }  // namespace
 
@@ -193,11 +200,7 @@ TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
   return t;
 }
 
-size_t TupleKeyHash::operator()(const TupleKey& k) const {
-  size_t h = 0x9e3779b97f4a7c15ull;
-  for (uint64_t w : k) h ^= std::hash<uint64_t>()(w) + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
-  return h;
-}
+size_t TupleKeyHash::operator()(const TupleKey& k) const { return HashWords(k.data(), k.size()); }
 
 TrainSystemCache::TrainSystemCache(const TrainTables& tables, const TrainTableOptions& options)
     : t_(tables), options_(options) {
@@ -210,6 +213,39 @@ TrainSystemCache::TrainSystemCache(const TrainTables& tables, const TrainTableOp
                        "must be < 21845 per mesh (tuple key width)");
     }
   }
+  index_bits_ = kInitialIndexBits;
+  index_.resize(size_t{1} << index_bits_);
+  index_keys_.resize(index_.size() * static_cast<size_t>(key_words_));
+  summary_.index_bytes = index_.size() * sizeof(Slot) + index_keys_.size() * sizeof(uint64_t);
+}
+
+size_t TrainSystemCache::Probe(const uint64_t* key) const {
+  const size_t words = static_cast<size_t>(key_words_);
+  // Fibonacci hashing: the top bits of the product mix every bit of the hash.
+  size_t slot =
+      (HashWords(key, words) * 0x9e3779b97f4a7c15ull) >> (64 - static_cast<unsigned>(index_bits_));
+  const size_t mask = index_.size() - 1;
+  while (index_[slot].used && !std::equal(key, key + words, &index_keys_[slot * words]))
+    slot = (slot + 1) & mask;
+  return slot;
+}
+
+void TrainSystemCache::GrowIndex() {
+  const size_t words = static_cast<size_t>(key_words_);
+  std::vector<Slot> old = std::move(index_);
+  std::vector<uint64_t> old_keys = std::move(index_keys_);
+  ++index_bits_;
+  index_.assign(size_t{1} << index_bits_, Slot{});
+  index_keys_.assign(index_.size() * words, 0);
+  for (size_t i = 0; i < old.size(); ++i) {
+    if (!old[i].used) continue;
+    const uint64_t* key = &old_keys[i * words];
+    const size_t slot = Probe(key);
+    index_[slot] = old[i];
+    std::copy(key, key + words, &index_keys_[slot * words]);
+    if (old[i].held) old[i].entry->slot = slot;
+  }
+  summary_.index_bytes = index_.size() * sizeof(Slot) + index_keys_.size() * sizeof(uint64_t);
 }
 
 namespace {
@@ -246,29 +282,34 @@ const TrainSystem& TrainSystemCache::Get(const std::vector<int>& segments,
     ++summary_.hits;
     return lru_.front().system;
   }
-  auto found = index_.find(key);
-  if (found != index_.end() && found->second.held) {
+  size_t slot = Probe(key.data());
+  if (index_[slot].held) {
     ++summary_.hits;
-    lru_.splice(lru_.begin(), lru_, found->second.entry);
+    lru_.splice(lru_.begin(), lru_, index_[slot].entry);
     return Enter(lru_.front());
   }
   ++summary_.misses;
-  if (found == index_.end()) {
-    found = index_.emplace(key, Slot{}).first;
-    summary_.index_bytes += kIndexNodeBytes + key.size() * sizeof(uint64_t);
+  if (!index_[slot].used) {
+    if (4 * (index_used_ + 1) > 3 * index_.size()) {
+      GrowIndex();
+      slot = Probe(key.data());
+    }
+    index_[slot].used = true;
+    std::copy(key.begin(), key.end(), &index_keys_[slot * key.size()]);
+    ++index_used_;
   }
-  lru_.push_front(Entry{key, Build(segments, states), &found->second});
+  lru_.push_front(Entry{key, Build(segments, states), slot});
   lru_.front().system.bytes = SystemBytes(lru_.front().system, static_cast<size_t>(key_words_));
-  found->second.entry = lru_.begin();
-  found->second.held = true;
+  index_[slot].entry = lru_.begin();
+  index_[slot].held = true;
   summary_.bytes += lru_.front().system.bytes;
   summary_.tuples = static_cast<long>(lru_.size());
   return Enter(lru_.front());
 }
 
 const TrainSystem& TrainSystemCache::Enter(Entry& e) {
-  ++e.slot->visits;
-  if (!e.system.decomposed && e.slot->visits >= options_.decompose_after_visits) {
+  const long visits = ++index_[e.slot].visits;
+  if (!e.system.decomposed && visits >= options_.decompose_after_visits) {
     summary_.bytes -= e.system.bytes;
     Decompose(e.system);
     e.system.bytes = SystemBytes(e.system, static_cast<size_t>(key_words_));
@@ -283,7 +324,7 @@ const TrainSystem& TrainSystemCache::Enter(Entry& e) {
 void TrainSystemCache::Evict() {
   while (summary_.bytes > options_.cache_limit_bytes && lru_.size() > 1) {
     summary_.bytes -= lru_.back().system.bytes;
-    lru_.back().slot->held = false;
+    index_[lru_.back().slot].held = false;
     lru_.pop_back();
     ++summary_.evictions;
   }

@@ -208,8 +208,8 @@ struct TrainCacheSummary {
   long ill_conditioned = 0;  // decompositions that failed (those tuples keep the dense path)
   long decompositions = 0;   // decompositions attempted
   size_t bytes = 0, peak_bytes = 0;  // tuples held (bounded by cache_limit_bytes)
-  // The entry count kept for every tuple key seen (never evicted, ~100 bytes per key; not part
-  // of `bytes`).
+  // The index of every tuple key seen with its entry count (never evicted, an open-addressing
+  // table at most 3/4 full: 24 + 8 * key words bytes per slot; not part of `bytes`).
   size_t index_bytes = 0;
   long tuples = 0;  // held now
 };
@@ -235,14 +235,19 @@ class TrainSystemCache {
   struct Entry;
   struct Slot {
     std::list<Entry>::iterator entry;
-    bool held = false;  // false once evicted (the visit count stays)
     long visits = 0;
+    bool used = false;  // a key is stored here
+    bool held = false;  // its tables are in the cache (false once evicted: the visit count stays)
   };
   struct Entry {
     TupleKey key;
     TrainSystem system;
-    Slot* slot = nullptr;  // its index entry (unordered_map nodes are stable)
+    size_t slot = 0;  // its index slot (updated when the index grows)
   };
+  // The index slot of `key`: where it is stored, else the empty slot where it belongs.
+  size_t Probe(const uint64_t* key) const;
+  // Doubles the index and re-inserts every key (only when a new key is stored).
+  void GrowIndex();
   // Counts an entry of `e`'s tuple, decomposes it when due, evicts beyond the limit.
   const TrainSystem& Enter(Entry& e);
   void Evict();
@@ -250,7 +255,13 @@ class TrainSystemCache {
   TrainTableOptions options_;
   int key_words_ = 1;
   std::list<Entry> lru_;  // most recent first
-  std::unordered_map<TupleKey, Slot, TupleKeyHash> index_;
+  // The index of every tuple key seen: open addressing with linear probing, at most 3/4 full,
+  // the keys inline (index_keys_[slot * key_words_ ...]) so a lookup touches two arrays and no
+  // per-key heap block.
+  std::vector<uint64_t> index_keys_;
+  std::vector<Slot> index_;
+  size_t index_used_ = 0;
+  int index_bits_ = 0;                                         // index_.size() == 2^index_bits_
   mutable std::unordered_map<uint64_t, double> damping_rate_;  // per state combination
   TrainCacheSummary summary_;
 };
