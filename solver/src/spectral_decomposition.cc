@@ -73,6 +73,14 @@ int ZeroClusterSeriesTerms(const Eigen::MatrixXd& B0, double horizon, int min_te
   return 0;
 }
 
+double ScaledRowNorm(const Eigen::MatrixXd& A, const Eigen::VectorXd& scale) {
+  return (scale.asDiagonal() * A * scale.cwiseInverse().asDiagonal())
+      .cwiseAbs()
+      .rowwise()
+      .sum()
+      .maxCoeff();
+}
+
 SpectralDecomposition DecomposeGenerator(const Eigen::MatrixXd& A, int n, double w_ref,
                                          double horizon, double max_condition) {
   SpectralDecomposition d;

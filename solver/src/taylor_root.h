@@ -2,9 +2,19 @@
 // gear trains (TrainStepper): the gap of a Taylor sub-step is p(tau) = sum_k c_k tau^k.
 #pragma once
 
+#include <cmath>
+
 #include "bracketed_newton.h"
 
 namespace gearnvh::taylor_root {
+
+// sum_{p > P} q^p / p! <= e^q q^(P+1) / (P+1)!: with ||S A S^-1|| d <= q, the remainder of the
+// degree-P Taylor polynomial of e^{A tau} S^-1 (S y) for tau <= d, relative to ||S y||.
+inline double Tail(double q, int last_term) {
+  double tail = std::exp(q);
+  for (int p = 1; p <= last_term + 1; ++p) tail *= q / p;
+  return tail;
+}
 
 // p(tau) and its first two derivatives (Horner).
 inline double Poly(const double* c, int degree, double tau) {

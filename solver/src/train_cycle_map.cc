@@ -9,6 +9,7 @@
 #include "gearnvh/solver/segment_tables.h"
 #include "gearnvh/solver/train_reference.h"
 #include "gearnvh/solver/train_stepper.h"
+#include "taylor_root.h"
 
 namespace gearnvh {
 namespace {
@@ -52,13 +53,6 @@ double Horner(const V& c, double x) {
   double value = 0.0;
   for (Eigen::Index p = c.size() - 1; p >= 0; --p) value = value * x + c[p];
   return value;
-}
-
-// sum_{p > P} q^p / p! <= e^q q^(P+1) / (P+1)!: the Taylor tail the certificate adds.
-double TaylorTail(double q, int last_term) {
-  double tail = std::exp(q);
-  for (int p = 1; p <= last_term + 1; ++p) tail *= q / p;
-  return tail;
 }
 
 }  // namespace
@@ -181,7 +175,7 @@ void TrainCycleMap::BuildCertificate(TupleMemo& memo,
     const int substeps = std::max({1, static_cast<int>(std::ceil(tuple.rho * h)),
                                    static_cast<int>(std::ceil(tuple.rate * h / kMaxStepNorm))});
     const double d = h / substeps;
-    const double tail = TaylorTail(tuple.rate * d, kTaylorTerms);
+    const double tail = taylor_root::Tail(tuple.rate * d, kTaylorTerms);
     if (substeps == 1 && index < propagators.size()) {
       E = propagators[index];  // the map's own expm(A h)
     } else {
@@ -260,15 +254,11 @@ const TrainCycleMap::Tuple& TrainCycleMap::Lookup(TupleMemo& memo,
   tuple.w_ref = ReferenceFrequency(tuple.A, n);
   tuple.rho =
       Eigen::EigenSolver<Eigen::MatrixXd>(tuple.A, false).eigenvalues().cwiseAbs().maxCoeff();
-  // The sub-step rate: the max-row-sum norm of the balanced generator S A S^-1 (velocities
-  // scaled by 1 / w_ref, as BalancedExpm), so ||S A S^-1|| d <= 1 bounds the Taylor tail.
+  // The sub-step rate: ||S A S^-1||_inf with the velocities scaled by 1 / w_ref (BalancedExpm's
+  // balance), so rate d <= q bounds the Taylor tail.
   Eigen::VectorXd scale = Eigen::VectorXd::Ones(m);
   scale.segment(n, n).setConstant(1.0 / tuple.w_ref);
-  tuple.rate = (scale.asDiagonal() * tuple.A * scale.cwiseInverse().asDiagonal())
-                   .cwiseAbs()
-                   .rowwise()
-                   .sum()
-                   .maxCoeff();
+  tuple.rate = ScaledRowNorm(tuple.A, scale);
   tuple.gap_norms.resize(static_cast<Eigen::Index>(t_.meshes.size()));
   tuple.gap_powers.resize(static_cast<Eigen::Index>(t_.meshes.size()) * terms, m);
   for (size_t j = 0; j < t_.meshes.size(); ++j) {

@@ -65,8 +65,12 @@ double TrainStepper::AdvanceDense(const TrainSystem& sys, double remaining, Trai
     for (int p = 0; p <= kTaylorTerms; ++p) coeff[p] = wall.sign * delta[p];
     coeff[0] -= wall.sign * (at * z_[t_.constant_slot()] + t_.ErrorInput(static_cast<int>(i), z_));
   };
+  // The polynomial's remainder relative to ||S z|| (balanced max-norm; rate d <= 1.5: < 4.4e-16).
+  const double tail = taylor_root::Tail(sys.rate * d, kTaylorTerms) *
+                      sys.balance.cwiseProduct(z_).cwiseAbs().maxCoeff();
   for (size_t i = 0; i < t_.meshes.size(); ++i) {
-    double reach = 0.0;  // sum_{p >= 1} |delta_p| d^p bounds |delta(t) - delta(0)| on [0, d]
+    // sum_{p >= 1} |delta_p| d^p + ||v||_1 tail bounds |delta(t) - delta(0)| on [0, d]
+    double reach = 0.0;
     Wall walls[2];
     const int count = Walls(static_cast<int>(i), walls);
     for (int k = 0; k < count; ++k) {
@@ -75,6 +79,7 @@ double TrainStepper::AdvanceDense(const TrainSystem& sys, double remaining, Trai
         reach = 0.0;
         double power = 1.0;
         for (int p = 1; p <= kTaylorTerms; ++p) power *= d, reach += std::abs(delta[p]) * power;
+        reach += t_.meshes[i].Vector(walls[k].drive).lpNorm<1>() * tail;
       }
       load_wall(i, walls[k]);
       // We start inside: rounding right after a located event counts as inside (a start outside

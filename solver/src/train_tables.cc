@@ -252,7 +252,7 @@ namespace {
 
 // Bytes a held tuple occupies: its matrices, closed forms, key and list/index nodes.
 size_t SystemBytes(const TrainSystem& s, size_t key_words) {
-  size_t doubles = static_cast<size_t>(s.A.size());
+  size_t doubles = static_cast<size_t>(s.A.size() + s.balance.size());
   if (s.spectral) {
     const SpectralDecomposition& d = s.decomposition;
     doubles += static_cast<size_t>(d.S.size() + d.S_inv.size() + d.B0.size());

@@ -117,8 +117,11 @@ TrainSystem TrainSystemCache::Build(const std::vector<int>& segments,
   // bounded by the skew part's norm (2-norm <= Frobenius).
   const double rho = SkewDamping(t_) ? w_stiff + DampingRate(states, C)
                                      : std::max(w_stiff, DampingRate(states, C));
-  s.substep = rho > 0.0 ? 0.5 / rho : t_.longest_segment;
   s.w_ref = std::max(1.0, w_stiff);  // as ReferenceFrequency(A, n)
+  s.balance = BalancingScale(s.A, n, s.w_ref);
+  s.rate = ScaledRowNorm(s.A, s.balance);
+  s.substep = std::min(rho > 0.0 ? 0.5 / rho : t_.longest_segment,
+                       s.rate > 0.0 ? TrainSystem::kMaxDenseStepNorm / s.rate : t_.longest_segment);
   for (int c = 0; c < 2 * n; ++c) {
     if (!s.A.block(n, c, n, 1).isZero(0.0)) s.coupled_columns.push_back(c);
   }

@@ -715,8 +715,43 @@ TEST_CASE("train: a tuple's sub-step bound covers its spectral radius", "[solver
       // Tolerance: the general eigensolver's error in |lambda| is ~ eps |A| / |lambda| (|A| ~
       // |M^-1 K| ~ 1e9 s^-2, |lambda| ~ 4e4 s^-1: ~1e-11 relative); 1e-9 leaves room for that.
       CHECK(rho <= bound * (1.0 + 1e-9));
-      const double damping = (-sys.A.block(n, n, n, n)).eigenvalues().cwiseAbs().maxCoeff();
-      CHECK(bound <= rho + damping + 1e-9 * bound);
+      CHECK(sys.rate == ScaledRowNorm(sys.A, BalancingScale(sys.A, n, sys.w_ref)));
+      CHECK(sys.rate * sys.substep <= TrainSystem::kMaxDenseStepNorm * (1.0 + 1e-15));
+      if (sys.rate * sys.substep < 0.999 * TrainSystem::kMaxDenseStepNorm) {
+        // Set by the Rayleigh bound: not loose by more than the damping term.
+        const double damping = (-sys.A.block(n, n, n, n)).eigenvalues().cwiseAbs().maxCoeff();
+        CHECK(bound <= rho + damping + 1e-9 * bound);
+      }
+    }
+  }
+}
+
+TEST_CASE("train: the dense path's 20-term Taylor polynomial is within its remainder bound",
+          "[solver][train]") {
+  // ||S (T_20(A d) - e^{A d}) S^-1||_inf <= e^q q^21 / 21! with q = ||S A S^-1|| d <= 1.5
+  // (below 4.4e-16), so the difference is the rounding of the two evaluations: 1e-13 bounds it (the
+  // balanced Pade's rounding, ~1e3 eps at these norms).
+  const Model s(Rattler(1500.0));
+  TrainSystemCache cache(s.tables, {});
+  TupleKey key(static_cast<size_t>(cache.KeyWords()));
+  const ContactState all[3] = {ContactState::kBack, ContactState::kFree, ContactState::kDrive};
+  const int n = s.tables.n, m = s.tables.m;
+  for (int a = 0; a < 3; ++a) {
+    for (int b = 0; b < 3; ++b) {
+      const TrainSystem& sys = cache.Get({5, 2}, {all[a], all[b]}, key);
+      const Eigen::VectorXd& scale = sys.balance;
+      const double d = sys.substep;
+      Eigen::MatrixXd taylor = Eigen::MatrixXd::Identity(m, m), term = taylor;
+      for (int p = 1; p <= TrainStepper::kTaylorTerms; ++p) {
+        term = (sys.A * term * (d / p)).eval();
+        taylor += term;
+      }
+      const Eigen::MatrixXd error = scale.asDiagonal() *
+                                    (taylor - BalancedExpm(sys.A, d, n, sys.w_ref)) *
+                                    scale.cwiseInverse().asDiagonal();
+      const double worst = error.cwiseAbs().rowwise().sum().maxCoeff();
+      INFO("states " << a << ", " << b << ": q = " << sys.rate * d << ", error " << worst);
+      CHECK(worst <= 1e-13);
     }
   }
 }

@@ -56,6 +56,10 @@ const char* SpectralInfoName(SpectralDecomposition::Info info);
 // velocities, and on each constant or input slot the scale that gives its forcing column the norm
 // w_ref. Norms of D z weigh positions, velocities and forcing alike.
 Eigen::VectorXd BalancingScale(const Eigen::MatrixXd& A, int n, double w_ref);
+// ||D A D^-1||_inf for a diagonal scale D (e.g. BalancingScale): with q = this norm times d, the
+// degree-P Taylor polynomial of e^{A tau} y, 0 <= tau <= d, is within e^q q^(P+1) / (P+1)!
+// ||D y||_inf of it in the norm ||D .||_inf.
+double ScaledRowNorm(const Eigen::MatrixXd& A, const Eigen::VectorXd& scale);
 
 // Decomposes the augmented generator A (n reduced DOF, velocities balanced by w_ref as in
 // BalancedExpm) for times up to `horizon`.

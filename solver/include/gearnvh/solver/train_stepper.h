@@ -15,12 +15,13 @@
 // start of a grid segment (the unloaded error e_ij jumps at boundaries) by more than the wall
 // tolerance 1e-12 b_i + 64 eps sum |c z| switches at once.
 // Dense path (a tuple not decomposed yet, TrainTableOptions::decompose_after_visits, or whose
-// decomposition is ill-conditioned): sub-steps with rho(A) D <= 1/2 (rho bounded as
+// decomposition is ill-conditioned): sub-steps with rho(A) D <= 1/2 and ||S A S^-1|| D <= 1.5 (as
 // TrainSystem::substep says) on the Taylor polynomial of the state (20 terms: the remainder is
-// below 2^-20 / 20!, rounding); each gap of a sub-step is a scalar polynomial; a wall it cannot
-// reach (|g(0)| against sum_{p>=1} |g_p| D^p) is skipped, else its first crossing is the pair's
-// V2 polynomial search (taylor_root.h: samples plus every interior maximum between them, so a
-// brief excursion is not missed), with the same grazing rule as V3. Never silently wrong: a tuple
+// below e^1.5 1.5^21 / 21! ||S z|| < 4.4e-16 ||S z||); each gap of a sub-step is a scalar polynomial; a wall it
+// cannot reach (|g(0)| against sum_{p>=1} |g_p| D^p plus ||v||_1 times the remainder) is skipped,
+// else its first crossing is the pair's V2 polynomial search (taylor_root.h: samples plus every
+// interior maximum between them, so a brief excursion is not missed), with the same grazing rule
+// as V3. Never silently wrong: a tuple
 // either decomposes within the condition limit or takes this path.
 // Event methods (TrainStepperOptions::events), as the pair's locators (event_locator.h):
 //   V3 (kSpectral, default): the closed form above, the dense path for the other tuples.
@@ -151,7 +152,8 @@ std::pair<Eigen::VectorXd, std::vector<ContactState>> TrainStaticState(const Tra
 class TrainStepper {
  public:
   static constexpr double kSimultaneous = 1e-12;  // relative to the grid segment length
-  // The dense path's Taylor polynomial: (rho d)^21 / 21! with rho d <= 1/2 is below rounding.
+  // The dense path's Taylor polynomial: its remainder, e^q q^21 / 21! ||S z|| with q = ||S A S^-1|| d
+  // <= 1.5 (TrainSystem::substep), is below 4.4e-16 ||S z||: rounding.
   static constexpr int kTaylorTerms = 20;
   static constexpr int kRootSamples = 16;  // samples per sub-step of the V2 root search
   static constexpr int kDyadicLevels = 34;

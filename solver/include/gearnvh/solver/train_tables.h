@@ -179,13 +179,17 @@ struct TrainSystem {
   bool spectral = false;    // decomposition usable (else the dense Taylor path)
   // Dense path: sub-step length with rho(A) substep <= 1/2, rho bounded by the Rayleigh quotients
   // of the pencil (lambda^2 M + lambda C + K, symmetric, M > 0, C, K >= 0): |lambda| <=
-  // max(sqrt(lambda_max(M^-1 K)), lambda_max(M^-1 C)).
+  // max(sqrt(lambda_max(M^-1 K)), lambda_max(M^-1 C)); and rate * substep <= kMaxDenseStepNorm,
+  // which bounds the Taylor remainder (taylor_root::Tail) whatever A's non-normality.
   double substep = 0.0;
   double w_ref = 1.0;  // sqrt(lambda_max(M^-1 K)): the decomposition's velocity balance, rad/s
   // The columns c < 2n of A with a nonzero acceleration entry (the positions and velocities of
   // the bodies a contact or the structure couples), ascending: the dense path's Taylor products
   // skip the others, which are zero (a loose gear whose mesh is free is a free body).
   std::vector<int> coupled_columns;
+  Eigen::VectorXd balance;  // S = BalancingScale(A, n, w_ref)
+  double rate = 0.0;        // ||S A S^-1||_inf (ScaledRowNorm), 1/s
+  static constexpr double kMaxDenseStepNorm = 1.5;
   // Per mesh, the closed form of delta_i (spectral only); mutable: Load() keeps its coefficients.
   mutable std::vector<ClosedFormGap> delta;
   // Per mesh, the closed form of v_back^T x when some mesh's back vector differs (else empty).
