@@ -190,7 +190,13 @@ int SpectralLocator::CarryThroughSized(int segment, long cycle, SegmentTables::C
   const int segments = t_.segments();
   for (int j = segment; j < segments; ++j) {
     t_.SetInputs(cycle, j, state.z, phase);
-    if (EnterCarriedSized<M>(j, state) != Entry::kSettled) return j;
+    const Entry entry = EnterCarriedSized<M>(j, state);
+    if (entry != Entry::kSettled) {
+      // DoStep(j) takes this verdict and w_ instead of entering again.
+      entered_segment_ = j;
+      entered_clear_ = entry == Entry::kClear;
+      return j;
+    }
   }
   return segments;
 }
@@ -211,9 +217,13 @@ bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
                              EventHandler& handler) {
   const double h = t_.SegmentLength(segment);
   bool carried = state.z_stale;
+  const int entered = entered_segment_;
+  entered_segment_ = -1;
   // The screen's verdict on the entry state when EnterCarried has taken it (first pass only).
   std::optional<bool> entry_clear;
-  if (carried) {
+  if (carried && entered == segment) {
+    entry_clear = entered_clear_;  // CarryThrough entered this segment and left w_ set
+  } else if (carried) {
     const Entry entry = EnterCarried(segment, state);
     if (entry == Entry::kSettled) return true;
     entry_clear = entry == Entry::kClear;
