@@ -52,6 +52,8 @@ void SegmentTables::PrepareExcitationWindows() {
   }
 }
 
+// The stepper and the segment fusion size phase.excitation when constructed, so the resize below
+// allocates nothing in their stepping loops.
 void SegmentTables::PrepareCycleInputs(long cycle, CyclePhase& phase) const {
   const size_t orders = excitation.size();
   const size_t count = static_cast<size_t>(segments());

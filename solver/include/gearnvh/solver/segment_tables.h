@@ -122,8 +122,7 @@ struct SegmentTables {
   // Fills `phase` for `cycle`: the phases and, per segment, sum_k sin(theta_k) midpoint_cos_kj +
   // cos(theta_k) midpoint_sin_kj (the same sums, in the same order, as per segment); tables
   // assembled by hand without the midpoint phases take SetInputs(cycle, j, z)'s sine per segment.
-  // Allocates only when phase.excitation is not yet segments() long: the stepper and the segment
-  // fusion size it when constructed, so their stepping loops do not allocate.
+  // Allocates only when the segment count changes (the first cycle).
   void PrepareCycleInputs(long cycle, CyclePhase& phase) const;
   // The error input slot of segment `segment` of `cycle` (inputs > kErrorInput).
   void SetErrorInput(long cycle, int segment, Eigen::Ref<Eigen::VectorXd> z) const;
