@@ -279,12 +279,12 @@ bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
       const Eigen::MatrixXd* carry =
           !moved && state.allow_carry ? Carry(segment, state.contact) : nullptr;
       if (carry != nullptr && segment + 1 < t_.segments()) {
-        carried_.noalias() = *carry * w_;
+        Multiply(*carry, w_, carried_);
         carry_segment_ = segment + 1;
         carry_state_ = state.contact;
         state.z_stale = true;
       } else if (carry != nullptr) {
-        z.head(t_.m - t_.inputs).noalias() = carry->topRows(t_.m - t_.inputs) * w_;
+        Multiply(*carry, w_, z.head(t_.m - t_.inputs));
         state.z_stale = false;
       } else if (!moved && !state.z_stale) {
         Multiply(sys.full, z, z1_);  // the dense propagator: exact to rounding, cond-free
