@@ -112,6 +112,7 @@ ExactStepper::ExactStepper(const SegmentTables& tables, const SolverOptions& opt
   state_.contact = state0;
   phase_.sin.resize(tables.excitation.size());
   phase_.cos.resize(tables.excitation.size());
+  phase_.excitation.resize(static_cast<size_t>(tables.segments()));
   UpdateTableStatistics();
 }
 

@@ -23,6 +23,7 @@ SegmentFusion::SegmentFusion(const SegmentTables& tables, const SolverOptions& o
   inputs_.resize(tables.m);
   phase_.sin.resize(tables.excitation.size());
   phase_.cos.resize(tables.excitation.size());
+  phase_.excitation.resize(static_cast<size_t>(tables.segments()));
 }
 
 size_t SegmentFusion::bytes() const {

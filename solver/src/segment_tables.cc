@@ -52,55 +52,62 @@ void SegmentTables::PrepareExcitationWindows() {
   }
 }
 
-void SegmentTables::SetInputs(long cycle, int segment, Eigen::Ref<Eigen::VectorXd> z,
-                              CyclePhase& phase) const {
+// The stepper and the segment fusion size phase.excitation when constructed, so the resize below
+// allocates nothing in their stepping loops.
+void SegmentTables::PrepareCycleInputs(long cycle, CyclePhase& phase) const {
   const size_t orders = excitation.size();
-  const size_t entries = orders * static_cast<size_t>(segments());
+  const size_t count = static_cast<size_t>(segments());
+  phase.cycle = cycle;
+  phase.excitation.resize(count);
+  const size_t entries = orders * count;
   if (excitation_midpoint_cos.size() != entries || excitation_midpoint_sin.size() != entries) {
-    SetInputs(cycle, segment, z);  // tables assembled by hand: no midpoint phases
+    // Tables assembled by hand: no midpoint phases, one sine per order and segment.
+    for (size_t j = 0; j < count; ++j)
+      phase.excitation[j] = SegmentExcitationMean(cycle, static_cast<int>(j));
     return;
   }
-  if (phase.cycle != cycle || phase.sin.size() != orders) {
-    phase.cycle = cycle;
-    phase.sin.resize(orders);
-    phase.cos.resize(orders);
-    const double cycle_start = static_cast<double>(cycle) * mesh_period;
-    for (size_t k = 0; k < orders; ++k) {
-      const ExcitationOrder& e = excitation[k];
-      sincos(e.order * pinion_speed * cycle_start + e.phase, &phase.sin[k], &phase.cos[k]);
-    }
-  }
-  const size_t first = static_cast<size_t>(segment) * orders;
-  double mean = 0.0;
+  phase.sin.resize(orders);
+  phase.cos.resize(orders);
+  const double cycle_start = static_cast<double>(cycle) * mesh_period;
   for (size_t k = 0; k < orders; ++k) {
-    mean += phase.sin[k] * excitation_midpoint_cos[first + k] +
-            phase.cos[k] * excitation_midpoint_sin[first + k];
+    const ExcitationOrder& e = excitation[k];
+    sincos(e.order * pinion_speed * cycle_start + e.phase, &phase.sin[k], &phase.cos[k]);
   }
-  z[input_slot(kExcitationInput)] = mean;
-  if (inputs > kErrorInput) {
-    const double start = static_cast<double>(cycle) * mesh_period + boundaries[segment];
-    z[input_slot(kErrorInput)] = errors.SegmentMean(cycle, segment, start, SegmentLength(segment));
+  for (size_t j = 0; j < count; ++j) {
+    const size_t first = j * orders;
+    double mean = 0.0;
+    for (size_t k = 0; k < orders; ++k) {
+      mean += phase.sin[k] * excitation_midpoint_cos[first + k] +
+              phase.cos[k] * excitation_midpoint_sin[first + k];
+    }
+    phase.excitation[j] = mean;
   }
 }
 
-void SegmentTables::SetInputs(long cycle, int segment, Eigen::Ref<Eigen::VectorXd> z) const {
+void SegmentTables::SetErrorInput(long cycle, int segment, Eigen::Ref<Eigen::VectorXd> z) const {
+  const double start = static_cast<double>(cycle) * mesh_period + boundaries[segment];
+  z[input_slot(kErrorInput)] = errors.SegmentMean(cycle, segment, start, SegmentLength(segment));
+}
+
+double SegmentTables::SegmentExcitationMean(long cycle, int segment) const {
   const double start = static_cast<double>(cycle) * mesh_period + boundaries[segment];
   const double h = SegmentLength(segment);
-  double mean = 0.0;
   const size_t orders = excitation.size();
-  if (excitation_windows.size() == orders * static_cast<size_t>(segments())) {
-    const double* window = excitation_windows.data() + static_cast<size_t>(segment) * orders;
-    for (size_t k = 0; k < orders; ++k) {
-      const ExcitationOrder& e = excitation[k];
-      const double w = e.order * pinion_speed;
-      mean += e.amplitude * window[k] * std::sin(w * (start + 0.5 * h) + e.phase);
-    }
-  } else {
-    mean = MeanExcitation(start, h);
+  if (excitation_windows.size() != orders * static_cast<size_t>(segments()))
+    return MeanExcitation(start, h);
+  const double* window = excitation_windows.data() + static_cast<size_t>(segment) * orders;
+  double mean = 0.0;
+  for (size_t k = 0; k < orders; ++k) {
+    const ExcitationOrder& e = excitation[k];
+    const double w = e.order * pinion_speed;
+    mean += e.amplitude * window[k] * std::sin(w * (start + 0.5 * h) + e.phase);
   }
-  z[input_slot(kExcitationInput)] = mean;
-  if (inputs > kErrorInput)
-    z[input_slot(kErrorInput)] = errors.SegmentMean(cycle, segment, start, h);
+  return mean;
+}
+
+void SegmentTables::SetInputs(long cycle, int segment, Eigen::Ref<Eigen::VectorXd> z) const {
+  z[input_slot(kExcitationInput)] = SegmentExcitationMean(cycle, segment);
+  if (inputs > kErrorInput) SetErrorInput(cycle, segment, z);
 }
 
 double SegmentTables::InputBound(int input) const {

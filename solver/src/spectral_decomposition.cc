@@ -196,7 +196,8 @@ namespace {
 
 // e^{B0 t} w0 = w0 + (t/1) B0 (w0 + (t/2) B0 (w0 + ...)), Horner from the highest term down, into
 // out.head(kz). K: kz when it is known at compile time (the cluster of a pair's free rotation,
-// the constant and one or two input slots: 4 or 5 on every tier), else Eigen::Dynamic.
+// the constant and one or two input slots: 4 or 5 on every tier; tier 1's free flight, where every
+// eigenvalue is zero: 6 or 7, the whole state), else Eigen::Dynamic.
 template <int K>
 void PropagateZeroCluster(const SpectralDecomposition& d, const Eigen::VectorXd& w, double t,
                           Eigen::VectorXd& out, Eigen::VectorXd& scratch) {
@@ -224,6 +225,12 @@ void PropagateDecoupled(const SpectralDecomposition& d, const Eigen::VectorXd& w
       break;
     case 5:
       PropagateZeroCluster<5>(d, w, t, out, scratch);
+      break;
+    case 6:
+      PropagateZeroCluster<6>(d, w, t, out, scratch);
+      break;
+    case 7:
+      PropagateZeroCluster<7>(d, w, t, out, scratch);
       break;
     default:
       PropagateZeroCluster<Eigen::Dynamic>(d, w, t, out, scratch);

@@ -203,7 +203,11 @@ ClosedFormGap::Jet ClosedFormGap::SearchJet(double t) const {
     rate += RateAlpha().sum();
     return {sign_ * value - offset_, sign_ * rate};
   }
-  if (t == end_) return {sign_ * end_value_ - offset_, sign_ * end_rate_};  // two dot products
+  if (t == end_) {  // two dot products
+    last_time_ = t;
+    last_rate_ = end_rate_;
+    return {sign_ * end_value_ - offset_, sign_ * end_rate_};
+  }
   const int degree = static_cast<int>(poly_.size()) - 1;
   if (zero_size_ > 0) {
     for (int k = degree; k >= 0; --k) value = value * t + poly_[k];
@@ -212,6 +216,8 @@ ClosedFormGap::Jet ClosedFormGap::SearchJet(double t) const {
   EvaluateTerms(t);
   value += (grow_ * (alpha_ * cos_ + beta_ * sin_)).sum();
   rate += (grow_ * (RateAlpha() * cos_ + RateBeta() * sin_)).sum();
+  last_time_ = t;
+  last_rate_ = rate;
   return {sign_ * value - offset_, sign_ * rate};
 }
 
@@ -244,6 +250,7 @@ double ClosedFormGap::FirstRise(double sign, double horizon) const {
   sign_ = sign;
   horizon_ = horizon;
   offset_ = 0.0;
+  last_time_ = -1.0;
   Jet start = SearchJet(0.0);
   offset_ = std::max(start.value, 0.0);
   start.value -= offset_;

@@ -190,7 +190,13 @@ int SpectralLocator::CarryThroughSized(int segment, long cycle, SegmentTables::C
   const int segments = t_.segments();
   for (int j = segment; j < segments; ++j) {
     t_.SetInputs(cycle, j, state.z, phase);
-    if (EnterCarriedSized<M>(j, state) != Entry::kSettled) return j;
+    const Entry entry = EnterCarriedSized<M>(j, state);
+    if (entry != Entry::kSettled) {
+      // DoStep(j) takes this verdict and w_ instead of entering again.
+      entered_segment_ = j;
+      entered_clear_ = entry == Entry::kClear;
+      return j;
+    }
   }
   return segments;
 }
@@ -211,9 +217,13 @@ bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
                              EventHandler& handler) {
   const double h = t_.SegmentLength(segment);
   bool carried = state.z_stale;
+  const int entered = entered_segment_;
+  entered_segment_ = -1;
   // The screen's verdict on the entry state when EnterCarried has taken it (first pass only).
   std::optional<bool> entry_clear;
-  if (carried) {
+  if (carried && entered == segment) {
+    entry_clear = entered_clear_;  // CarryThrough entered this segment and left w_ set
+  } else if (carried) {
     const Entry entry = EnterCarried(segment, state);
     if (entry == Entry::kSettled) return true;
     entry_clear = entry == Entry::kClear;
@@ -269,12 +279,12 @@ bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
       const Eigen::MatrixXd* carry =
           !moved && state.allow_carry ? Carry(segment, state.contact) : nullptr;
       if (carry != nullptr && segment + 1 < t_.segments()) {
-        carried_.noalias() = *carry * w_;
+        Multiply(*carry, w_, carried_);
         carry_segment_ = segment + 1;
         carry_state_ = state.contact;
         state.z_stale = true;
       } else if (carry != nullptr) {
-        z.head(t_.m - t_.inputs).noalias() = carry->topRows(t_.m - t_.inputs) * w_;
+        Multiply(*carry, w_, z.head(t_.m - t_.inputs));
         state.z_stale = false;
       } else if (!moved && !state.z_stale) {
         Multiply(sys.full, z, z1_);  // the dense propagator: exact to rounding, cond-free
@@ -294,7 +304,7 @@ bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
     const GapWall& w = walls[best_wall];
     ClosedFormGap& gap = sp.gaps[w.gap];
     double step = best;
-    const double rate = gap.Rate(best);
+    const double rate = gap.RateAtRoot(best);
     const bool touch = best > 0.0 && std::abs(rate) <= grazing_rate_tolerance_ &&
                        w.sign * gap.Curvature(best) < 0.0;
     // A grazing touch keeps the state; the search resumes just past it.

@@ -248,11 +248,12 @@ TEMPLATE_LIST_TEST_CASE("locator conformance: DoStep alone reproduces the steppe
   opt.record_trajectory = false;
   TestType locator(t, opt);
   CHECK(locator.method() == TestType::kMethod);
-  // The stepper's inputs: the excitation from the cycle's phases (sized here, as the stepper's
+  // The stepper's inputs: the excitation from the cycle's input table (sized here, as the stepper's
   // constructor does, so the walk allocates nothing).
   SegmentTables::CyclePhase phase;
   phase.sin.resize(t.excitation.size());
   phase.cos.resize(t.excitation.size());
+  phase.excitation.resize(static_cast<size_t>(t.segments()));
   auto walk = [&](LocatorState& state, LoggingHandler& handler) {
     for (long k = 0; k < start.cycles; ++k) {
       for (int j = 0; j < t.segments(); ++j) {

@@ -389,6 +389,10 @@ class SpectralLocator final : public EventLocator {
   Eigen::VectorXd carried_;
   int carry_segment_ = -1;
   ContactState carry_state_ = ContactState::kFree;
+  // The segment CarryThrough stopped at (-1: none) and its screen's verdict: w_ holds its entry
+  // state and the stepper's next call is DoStep on it, which takes both instead of entering again.
+  int entered_segment_ = -1;
+  bool entered_clear_ = false;
 };
 
 // The locator of `options.events`.

@@ -87,6 +87,9 @@ struct SegmentTables {
   double SegmentLength(int j) const { return boundaries[j + 1] - boundaries[j]; }
   // Mean of sum_k a_k sin(k Omega1 t + phi_k) over [t0, t0 + h], rad/s^2 (closed form).
   double MeanExcitation(double t0, double h) const;
+  // The excitation input of segment `segment` of `cycle` (SetInputs without phases: one sine per
+  // order through the windows, or MeanExcitation when the tables have none).
+  double SegmentExcitationMean(long cycle, int segment) const;
   // Per segment and order, the averaging window sinc(w_k h_j / 2) of MeanExcitation, so that
   // SetInputs evaluates one sine per order (BuildSegmentTables fills it; tables assembled by
   // hand without it fall back to MeanExcitation).
@@ -99,15 +102,30 @@ struct SegmentTables {
   // per segment.
   std::vector<double> excitation_midpoint_cos, excitation_midpoint_sin;
   void PrepareExcitationWindows();
-  // sin and cos of every order's phase theta_k(cycle) at the start of `cycle` (cycle -1: none yet).
+  // sin and cos of every order's phase theta_k(cycle) at the start of `cycle` (cycle -1: none yet)
+  // and the excitation input of every segment of that cycle (excitation[j]).
   struct CyclePhase {
     long cycle = -1;
     std::vector<double> sin, cos;
+    std::vector<double> excitation;
   };
-  // SetInputs with the cycle's phases kept in `phase` (recomputed when the cycle changes): one
-  // sincos per order and cycle instead of a sine per order and segment. Equal to SetInputs to
-  // rounding (sin(theta + psi) = sin theta cos psi + cos theta sin psi).
-  void SetInputs(long cycle, int segment, Eigen::Ref<Eigen::VectorXd> z, CyclePhase& phase) const;
+  // SetInputs with the cycle's inputs kept in `phase` (filled by PrepareCycleInputs when the cycle
+  // changes): one sincos per order and cycle instead of a sine per order and segment, and per
+  // segment one load. Equal to SetInputs to rounding (sin(theta + psi) = sin theta cos psi +
+  // cos theta sin psi). Inline: the carried V3 path calls it on every segment.
+  void SetInputs(long cycle, int segment, Eigen::Ref<Eigen::VectorXd> z, CyclePhase& phase) const {
+    if (phase.cycle != cycle || phase.excitation.size() != systems.size())
+      PrepareCycleInputs(cycle, phase);
+    z[input_slot(kExcitationInput)] = phase.excitation[static_cast<size_t>(segment)];
+    if (inputs > kErrorInput) SetErrorInput(cycle, segment, z);
+  }
+  // Fills `phase` for `cycle`: the phases and, per segment, sum_k sin(theta_k) midpoint_cos_kj +
+  // cos(theta_k) midpoint_sin_kj (the same sums, in the same order, as per segment); tables
+  // assembled by hand without the midpoint phases take SetInputs(cycle, j, z)'s sine per segment.
+  // Allocates only when the segment count changes (the first cycle).
+  void PrepareCycleInputs(long cycle, CyclePhase& phase) const;
+  // The error input slot of segment `segment` of `cycle` (inputs > kErrorInput).
+  void SetErrorInput(long cycle, int segment, Eigen::Ref<Eigen::VectorXd> z) const;
   size_t TableBytes() const;
 };
 
