@@ -200,7 +200,6 @@ TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
   return t;
 }
 
-size_t TupleKeyHash::operator()(const TupleKey& k) const { return HashWords(k.data(), k.size()); }
 
 TrainSystemCache::TrainSystemCache(const TrainTables& tables, const TrainTableOptions& options)
     : t_(tables), options_(options) {

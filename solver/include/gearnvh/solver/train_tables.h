@@ -203,9 +203,6 @@ struct TrainSystem {
 
 // The key of a tuple: per mesh segment * 3 + state (a free mesh: segment 0), 16 bits per mesh.
 using TupleKey = std::vector<uint64_t>;
-struct TupleKeyHash {
-  size_t operator()(const TupleKey& k) const;
-};
 
 struct TrainCacheSummary {
   long hits = 0, misses = 0, evictions = 0;
