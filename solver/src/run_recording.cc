@@ -1,11 +1,39 @@
 #include "gearnvh/solver/run_recording.h"
 
+#include <cstdint>
+
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
+
 namespace gearnvh {
+namespace {
+
+// A long recorded run writes its samples into fresh memory, one first-touch page fault per 4 KiB
+// (64 samples: two mesh cycles at 32 samples). Asking for transparent huge pages makes that one
+// fault per 2 MiB, where the system allows it (THP "madvise" or "always"); only a hint, so a
+// refusal changes nothing but the speed.
+void PreferHugePages(const void* data, size_t bytes) {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+  constexpr uintptr_t kHugePage = uintptr_t{2} << 20;
+  const auto begin = reinterpret_cast<uintptr_t>(data);
+  const uintptr_t first = (begin + kHugePage - 1) & ~(kHugePage - 1);
+  const uintptr_t last = (begin + bytes) & ~(kHugePage - 1);
+  if (last > first) madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+#else
+  (void)data;
+  (void)bytes;
+#endif
+}
+
+}  // namespace
 
 RunRecording::RunRecording(const SegmentTables& tables, const SolverOptions& options,
                            size_t reserve_samples, size_t reserve_events)
     : tables_(tables), samples_per_cycle_(options.samples_per_cycle) {
   trajectory_.samples.reserve(reserve_samples);
+  PreferHugePages(trajectory_.samples.data(),
+                  trajectory_.samples.capacity() * sizeof(TrajectorySample));
   trajectory_.events.reserve(reserve_events);
   if (options.record_trajectory) {
     recorder_.emplace(tables, options.samples_per_cycle, &trajectory_);
