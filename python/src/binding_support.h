@@ -16,6 +16,8 @@
 #include <vector>
 
 #include "gearnvh/model/gearbox_spec.h"
+#include "gearnvh/nvh/atlas.h"
+#include "train_operating_point.h"
 
 namespace gearnvh::python {
 
@@ -134,7 +136,16 @@ py::array_t<double> Matrix(const std::vector<std::vector<double>>& rows);
 // command line prints with --json).
 py::object ToPython(const nlohmann::json& doc);
 
+// An atlas axis's values, SI.
+py::array_t<double> AxisValues(const AtlasAxis& a);
+
 // tier= : None (the file's analysis.tier), 1..5, or "N40 full", "N20 simple", "N20 MTA".
 Tier TierArgument(const py::object& tier, Tier fallback);
+
+// tier= on a train: None (analysis.tier) or the text `--tier` takes (the app checks it).
+std::optional<std::string> TierText(const py::object& tier);
+
+// Errors name the module's keywords ("cycles"), not the command line's options ("--cycles").
+inline const app::TrainOptionNames kKeywordNames{""};
 
 }  // namespace gearnvh::python
