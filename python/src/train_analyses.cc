@@ -13,6 +13,7 @@
 
 #include "binding_support.h"
 #include "gearbox.h"
+#include "simulate_command.h"
 #include "train_atlas_command.h"
 #include "train_orbits_command.h"
 #include "train_tiers.h"
