@@ -58,12 +58,9 @@ std::shared_ptr<TrainSimulation> SimulateTrain(const Train& train, const py::obj
   const TrainSpec spec = train.spec();
   const std::string source = train.source();
   app::TrainSimulatePlan plan = NamingSource(source, [&] {
-    app::SimulateOptions options;
-    options.file = source;
-    options.tier = TierText(tier);
+    auto options = TrainCommandOptions<app::SimulateOptions>(source, tier, method);
     options.cycles = cycles;
     options.transient = transient;
-    options.method = app::ParseMethod(method, "method");
     options.lyapunov = lyapunov;
     return app::PlanTrainSimulate(options, spec, kKeywordNames);
   });
@@ -99,13 +96,10 @@ std::shared_ptr<TrainSweep> SweepTrain(const Train& train, const py::object& tie
   const TrainSpec spec = train.spec();
   const std::string source = train.source();
   app::TrainSweepOptions options = NamingSource(source, [&] {
-    app::SweepOptions sweep;
-    sweep.file = source;
-    sweep.tier = TierText(tier);
+    auto sweep = TrainCommandOptions<app::SweepOptions>(source, tier, method);
     sweep.cycles = cycles;
     sweep.transient = transient;
     sweep.jobs = jobs;
-    sweep.method = app::ParseMethod(method, "method");
     return app::PlanTrainSweep(sweep, spec, kKeywordNames);
   });
   return RunInterruptible(

@@ -60,15 +60,12 @@ std::shared_ptr<TrainAtlas> AtlasTrain(const Train& train, const std::optional<s
   const TrainSpec spec = train.spec();
   const std::string source = train.source();
   app::TrainAtlasPlan plan = NamingSource(source, [&] {
-    app::AtlasCommandOptions options;
-    options.file = source;
+    auto options = TrainCommandOptions<app::AtlasCommandOptions>(source, tier, method);
     options.x = x;
     options.y = y;
-    options.tier = TierText(tier);
     options.cycles = cycles;
     options.transient = transient;
     options.jobs = jobs;
-    options.method = app::ParseMethod(method, "method");
     return app::PlanTrainAtlas(options, spec, kKeywordNames);
   });
   return RunInterruptible(
@@ -92,13 +89,10 @@ std::shared_ptr<TrainOrbits> OrbitsTrain(const Train& train, int period,
   const TrainSpec spec = train.spec();
   const std::string source = train.source();
   app::TrainOrbitsPlan plan = NamingSource(source, [&] {
-    app::OrbitsCommandOptions options;
-    options.file = source;
+    auto options = TrainCommandOptions<app::OrbitsCommandOptions>(source, tier, method);
     options.period = period;
     options.sweep = sweep;
-    options.tier = TierText(tier);
     options.transient = transient;
-    options.method = app::ParseMethod(method, "method");
     return app::PlanTrainOrbits(options, spec, kKeywordNames);
   });
   return RunInterruptible(
