@@ -128,40 +128,8 @@ void PrintJumps(const TrainTables& tables, const TrainStepperOptions& solver,
   }
 }
 
-// The K largest exponents over the same transient and cycles as the run (a second run).
-TrainLyapunovSummary RunLyapunov(const TrainTables& tables, const Eigen::VectorXd& z0,
-                                 const std::vector<ContactState>& states0, int exponents,
-                                 long transient, long cycles, bool on_terminal) {
-  TrainLyapunovOptions options;
-  options.exponents = exponents;
-  options.transient_cycles = transient;
-  options.alignment_cycles = std::min<long>(options.alignment_cycles, cycles / 4);
-  options.cycles = cycles;
-  if (on_terminal) {
-    options.progress = [](double fraction) {
-      fmt::print(stderr, "\rlyapunov: {:3.0f}%", 100.0 * fraction);
-    };
-  }
-  TrainLyapunovSummary out = EstimateTrainLyapunov(tables, z0, states0, options);
-  if (on_terminal) fmt::print(stderr, "\n");
-  return out;
-}
-
 // Infinity (no positive exponent: no horizon) as null.
 nlohmann::json FiniteOrNull(double x) { return std::isfinite(x) ? nlohmann::json(x) : nullptr; }
-
-nlohmann::json LyapunovJson(const TrainLyapunovSummary& l) {
-  return {{"status", TrainLyapunovInfoName(l.info)},
-          {"exponents_per_s", l.exponents},
-          {"per_forcing_cycle", l.per_forcing_cycle},
-          {"per_mesh_cycle", l.per_mesh_cycle},
-          {"standard_errors_per_s", l.standard_errors},
-          {"forcing_period_s", l.forcing_period},
-          {"averaged_s", l.averaged_s},
-          {"saltations", l.saltations},
-          {"predictability_horizon_s", FiniteOrNull(l.predictability_horizon_s)},
-          {"predictability_horizon_cycles", FiniteOrNull(l.predictability_horizon_cycles)}};
-}
 
 void PrintLyapunov(const TrainLyapunovSummary& l) {
   fmt::print("\n  Lyapunov exponents  ({}; free rotation removed; {} saltations over {:.4f} s)\n",
@@ -179,6 +147,32 @@ void PrintLyapunov(const TrainLyapunovSummary& l) {
 }
 
 }  // namespace
+
+TrainLyapunovSummary RunTrainLyapunov(const TrainOperatingPoint& op, const TrainRunOptions& run,
+                                      int exponents, const std::function<void(double)>& progress) {
+  TrainLyapunovOptions options;
+  options.exponents = exponents;
+  options.transient_cycles = run.transient;
+  options.alignment_cycles = std::min<long>(options.alignment_cycles, run.cycles / 4);
+  options.cycles = run.cycles;
+  options.stepper.cancel = run.cancel;
+  options.progress = progress;
+  const auto [z0, states0] = TrainStaticState(op.tables);
+  return EstimateTrainLyapunov(op.tables, z0, states0, options);
+}
+
+nlohmann::json TrainLyapunovJson(const TrainLyapunovSummary& l) {
+  return {{"status", TrainLyapunovInfoName(l.info)},
+          {"exponents_per_s", l.exponents},
+          {"per_forcing_cycle", l.per_forcing_cycle},
+          {"per_mesh_cycle", l.per_mesh_cycle},
+          {"standard_errors_per_s", l.standard_errors},
+          {"forcing_period_s", l.forcing_period},
+          {"averaged_s", l.averaged_s},
+          {"saltations", l.saltations},
+          {"predictability_horizon_s", FiniteOrNull(l.predictability_horizon_s)},
+          {"predictability_horizon_cycles", FiniteOrNull(l.predictability_horizon_cycles)}};
+}
 
 nlohmann::json TrainSimulationJson(const TrainOperatingPoint& op, const TrainSpec& spec,
                                    const std::string& file, Tier tier) {
@@ -230,42 +224,49 @@ nlohmann::json TrainSimulationJson(const TrainOperatingPoint& op, const TrainSpe
   return doc;
 }
 
-int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
+TrainSimulatePlan PlanTrainSimulate(const SimulateOptions& options, const TrainSpec& spec,
+                                    const TrainOptionNames& names) {
   const TrainCommandSettings settings =
-      CheckTrainCommandOptions(options.tier, spec, options.method, options.uff);
-  const Tier tier = settings.tier;
-  const long cycles = options.cycles.value_or(spec.analysis.cycles);
-  const long transient = options.transient.value_or(spec.analysis.transient_cycles);
-  if (cycles < 1) throw InputError("--cycles", 0, std::to_string(cycles), "must be >= 1");
-  if (transient < 0) throw InputError("--transient", 0, std::to_string(transient), "must be >= 0");
-  RequireRunLengthOfOptions(spec, spec.operating.speed, cycles, transient, options.cycles,
-                            options.transient);
+      CheckTrainCommandOptions(options.tier, spec, options.method, options.uff, names);
+  TrainSimulatePlan plan;
+  TrainRunOptions& run = plan.run;
+  run.cycles = options.cycles.value_or(spec.analysis.cycles);
+  run.transient = options.transient.value_or(spec.analysis.transient_cycles);
+  run.samples_per_cycle = kSamplesPerCycle;
+  run.events = settings.events;
+  run.tier = settings.tier;
+  RequireCycleCounts(run.cycles, 1, run.transient, names);
+  RequireRunLengthOfOptions(spec, spec.operating.speed, run.cycles, run.transient, options.cycles,
+                            options.transient, names);
+  plan.lyapunov = options.lyapunov;
+  if (!plan.lyapunov) return plan;
   const TrainLyapunovOptions lyapunov_defaults;
-  if (options.lyapunov && cycles < lyapunov_defaults.blocks) {
-    throw InputError("--cycles", 0, std::to_string(cycles),
-                     "must be >= " + std::to_string(lyapunov_defaults.blocks) +
-                         " with --lyapunov (one block per standard-error block)");
+  if (run.cycles < lyapunov_defaults.blocks) {
+    throw InputError(names("cycles"), 0, std::to_string(run.cycles),
+                     "must be >= " + std::to_string(lyapunov_defaults.blocks) + " with " +
+                         names("lyapunov") + " (one block per standard-error block)");
   }
-  const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
-
   // Tier 1: one body per shaft and per loose gear.
   const int bodies =
       static_cast<int>(spec.shafts.size() +
                        std::count_if(spec.gears.begin(), spec.gears.end(), [](const TrainGear& g) {
                          return g.mounting == Mounting::kLoose;
                        }));
-  if (options.lyapunov && *options.lyapunov > 2 * bodies - 2) {
-    throw InputError("--lyapunov", 0, std::to_string(*options.lyapunov),
-                     "must be <= 2n - 2 = " + std::to_string(2 * bodies - 2) + " for this train (" +
-                         std::to_string(bodies) +
+  if (*plan.lyapunov < 1 || *plan.lyapunov > 2 * bodies - 2) {
+    throw InputError(names("lyapunov"), 0, std::to_string(*plan.lyapunov),
+                     "must be in 1 .. 2n - 2 = " + std::to_string(2 * bodies - 2) +
+                         " for this train (" + std::to_string(bodies) +
                          " bodies; the free rotation's two neutral directions are removed)");
   }
-  TrainRunOptions run;
-  run.cycles = cycles;
-  run.transient = transient;
-  run.samples_per_cycle = kSamplesPerCycle;
-  run.events = settings.events;
-  run.tier = tier;
+  return plan;
+}
+
+int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
+  TrainSimulatePlan plan = PlanTrainSimulate(options, spec);
+  TrainRunOptions& run = plan.run;
+  const Tier tier = run.tier;
+  const long cycles = run.cycles, transient = run.transient;
+  const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
   run.before_run_warning = [](const std::string& w) { fmt::print(stderr, "warning: {}\n", w); };
   const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
   const TrainOperatingPoint op = RunTrainOperatingPoint(spec, run, [&](double time, double end) {
@@ -282,12 +283,18 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
   const std::vector<std::string>& warnings = op.warnings;
   const double wall = op.wall_s;
   std::optional<TrainLyapunovSummary> lyapunov;
-  if (options.lyapunov && op.ok()) {
-    const auto [z0, states0] = TrainStaticState(tables);
-    lyapunov = RunLyapunov(tables, z0, states0, *options.lyapunov, transient, cycles, on_terminal);
+  if (plan.lyapunov && op.ok()) {
+    std::function<void(double)> progress;
+    if (on_terminal) {
+      progress = [](double fraction) {
+        fmt::print(stderr, "\rlyapunov: {:3.0f}%", 100.0 * fraction);
+      };
+    }
+    lyapunov = RunTrainLyapunov(op, run, *plan.lyapunov, progress);
+    if (on_terminal) fmt::print(stderr, "\n");
   }
   nlohmann::json doc = TrainSimulationJson(op, spec, options.file, tier);
-  if (lyapunov) doc["lyapunov"] = LyapunovJson(*lyapunov);
+  if (lyapunov) doc["lyapunov"] = TrainLyapunovJson(*lyapunov);
   RequireFinite(doc, "simulate");
   if (out) {
     out->Write("results.json", doc.dump(2) + "\n");

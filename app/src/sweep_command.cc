@@ -70,20 +70,10 @@ SpeedPoint PointFromJson(const nlohmann::json& j) {
 // `sweep` on a gear train: the train solver per speed (train_sweep.h). Under mpirun rank 0
 // runs every speed (trains are not split across ranks yet).
 int SweepTrain(const SweepOptions& options, const TrainSpec& spec) {
-  const TrainCommandSettings settings =
-      CheckTrainCommandOptions(options.tier, spec, options.method, options.uff);
-  const Tier tier = settings.tier;
+  const TrainSweepOptions sweep = PlanTrainSweep(options, spec);
+  const Tier tier = sweep.tier;
   if (MpiContext::Rank() != 0) return 0;
   const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", true);
-  TrainSweepOptions sweep;
-  sweep.cycles = options.cycles.value_or(sweep.cycles);
-  sweep.transient = options.transient.value_or(sweep.transient);
-  sweep.threads = options.jobs;
-  sweep.events = settings.events;
-  sweep.tier = tier;
-  sweep.Validate();
-  RequireRunLengthOfOptions(spec, spec.analysis.speed_sweep.from, sweep.cycles, sweep.transient,
-                            options.cycles, options.transient);
   const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
   TrainSweepProgress progress;
   if (on_terminal) {

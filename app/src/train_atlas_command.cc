@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "command_errors.h"
+#include "config/train_parameters.h"
 #include "display_units.h"
 #include "finite_results.h"
 #include "gearnvh/model/input_error.h"
@@ -17,7 +18,6 @@
 #include "output_folder.h"
 #include "parallel_for.h"
 #include "train_operating_point.h"
-#include "config/train_parameters.h"
 
 namespace gearnvh::app {
 
@@ -144,6 +144,11 @@ TrainAtlasResult RunTrainAtlas(const TrainSpec& base, const AtlasAxis& x, const 
     c.iy = static_cast<int>(k) / nx;
     c.x = AxisValue(x, c.ix);
     c.y = AxisValue(y, c.iy);
+    if (options.cancel != nullptr && options.cancel->load()) {
+      c.point.message = "cancelled";
+      counter.Tick();
+      return;
+    }
     try {
       c.point = ComputeTrainAtlasPoint(CellVariant(base, x, y, c.x, c.y), options);
     } catch (const std::exception& e) {  // the variant itself (ComputeTrainAtlasPoint never throws)
@@ -218,9 +223,53 @@ std::string TrainAtlasCsv(const TrainAtlasResult& r) {
   return os.str();
 }
 
-int AtlasTrain(const AtlasCommandOptions& options, const TrainSpec& spec) {
+nlohmann::json TrainAtlasDocument(const TrainAtlasResult& r, const TrainAtlasOptions& o,
+                                  const TrainSpec& spec, const std::string& file) {
+  nlohmann::json doc = TrainAtlasJson(r, o);
+  doc["name"] = spec.name;
+  doc["file"] = file;
+  doc["tier"] = TierName(o.tier);
+  return doc;
+}
+
+TrainAtlasPlan PlanTrainAtlas(const AtlasCommandOptions& options, const TrainSpec& spec,
+                              const TrainOptionNames& names) {
   const TrainCommandSettings settings =
-      CheckTrainCommandOptions(options.tier, spec, options.method, std::nullopt);
+      CheckTrainCommandOptions(options.tier, spec, options.method, std::nullopt, names);
+  TrainAtlasPlan plan;
+  TrainAtlasOptions& atlas = plan.atlas;
+  atlas.cycles = options.cycles.value_or(atlas.cycles);
+  atlas.transient_cycles = options.transient.value_or(atlas.transient_cycles);
+  atlas.events = settings.events;
+  atlas.tier = settings.tier;
+  RequireCycleCounts(atlas.cycles, 8, atlas.transient_cycles, names);
+  if (options.jobs < 0)
+    throw InputError(names("jobs"), 0, std::to_string(options.jobs), "must be >= 0");
+  plan.jobs = options.jobs;
+  std::optional<AtlasAxis> x = spec.analysis.atlas_x, y = spec.analysis.atlas_y;
+  if (options.x) x = ParseTrainAxisOption(*options.x, names("x"));
+  if (options.y) y = ParseTrainAxisOption(*options.y, names("y"));
+  if (!x || !y) {
+    throw InputError("analysis.atlas", 0, "(missing)",
+                     "an atlas needs two axes: " + names("x") + " and " + names("y") +
+                         " (or analysis.atlas.x and .y)");
+  }
+  if (x->parameter == y->parameter) {
+    throw InputError(names("y"), 0, y->parameter, "must differ from the x parameter");
+  }
+  // Names and indices are checked once here (a bad name is a usage error, not a failed cell).
+  (void)CellVariant(spec, *x, *y, x->range.from, y->range.from,
+                    options.x ? names("x") : "analysis.atlas.x.parameter",
+                    options.y ? names("y") : "analysis.atlas.y.parameter");
+  RequireRunLengthOfOptions(spec, LowestInputSpeed(spec, x, y), atlas.cycles,
+                            atlas.transient_cycles, options.cycles, options.transient, names);
+  plan.x = *x;
+  plan.y = *y;
+  return plan;
+}
+
+int AtlasTrain(const AtlasCommandOptions& options, const TrainSpec& spec) {
+  const TrainAtlasPlan plan = PlanTrainAtlas(options, spec);
   if (options.resume) {
     throw InputError("--resume", 0, "", "checkpoints are not available for gear trains yet");
   }
@@ -229,41 +278,12 @@ int AtlasTrain(const AtlasCommandOptions& options, const TrainSpec& spec) {
                      "the atlas of a gear train runs in one process (threads, --jobs); MPI is "
                      "not available for gear trains yet");
   }
-  TrainAtlasOptions atlas;
-  atlas.cycles = options.cycles.value_or(atlas.cycles);
-  atlas.transient_cycles = options.transient.value_or(atlas.transient_cycles);
-  atlas.events = settings.events;
-  atlas.tier = settings.tier;
-  if (atlas.cycles < 8)
-    throw InputError("--cycles", 0, std::to_string(atlas.cycles), "must be >= 8");
-  if (atlas.transient_cycles < 0) {
-    throw InputError("--transient", 0, std::to_string(atlas.transient_cycles), "must be >= 0");
-  }
-  if (options.jobs < 0) throw InputError("--jobs", 0, std::to_string(options.jobs), "must be >= 0");
-  std::optional<AtlasAxis> x = spec.analysis.atlas_x, y = spec.analysis.atlas_y;
-  if (options.x) x = ParseTrainAxisOption(*options.x, "--x");
-  if (options.y) y = ParseTrainAxisOption(*options.y, "--y");
-  if (!x || !y) {
-    throw InputError("analysis.atlas", 0, "(missing)",
-                     "an atlas needs two axes: --x and --y (or analysis.atlas.x and .y)");
-  }
-  if (x->parameter == y->parameter) {
-    throw InputError("--y", 0, y->parameter, "must differ from the x parameter");
-  }
-  // Names and indices are checked once here (a bad name is a usage error, not a failed cell).
-  (void)CellVariant(spec, *x, *y, x->range.from, y->range.from,
-                    options.x ? "--x" : "analysis.atlas.x.parameter",
-                    options.y ? "--y" : "analysis.atlas.y.parameter");
-  RequireRunLengthOfOptions(spec, LowestInputSpeed(spec, x, y), atlas.cycles,
-                            atlas.transient_cycles, options.cycles, options.transient);
   const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", true);
   const AtlasProgress progress = AtlasTerminalProgress(0, 1);
-  const TrainAtlasResult result = RunTrainAtlas(spec, *x, *y, atlas, options.jobs, progress);
+  const TrainAtlasResult result =
+      RunTrainAtlas(spec, plan.x, plan.y, plan.atlas, plan.jobs, progress);
   if (progress) fmt::print(stderr, "\n");
-  nlohmann::json doc = TrainAtlasJson(result, atlas);
-  doc["name"] = spec.name;
-  doc["file"] = options.file;
-  doc["tier"] = TierName(settings.tier);
+  nlohmann::json doc = TrainAtlasDocument(result, plan.atlas, spec, options.file);
   RequireFinite(doc, "atlas");
   if (out) {
     out->Write("atlas.csv", TrainAtlasCsv(result));
@@ -273,7 +293,7 @@ int AtlasTrain(const AtlasCommandOptions& options, const TrainSpec& spec) {
   if (options.json) {
     std::cout << doc.dump(1) << "\n";
   } else {
-    PrintTrainAtlas(result, spec.name, options.file, atlas.cycles);
+    PrintTrainAtlas(result, spec.name, options.file, plan.atlas.cycles);
   }
   return ReportFailedAtlasCells(result.Failed(), result.cells.size());
 }

@@ -13,6 +13,7 @@
 #include "atlas_command.h"
 #include "gearnvh/model/train_spec.h"
 #include "gearnvh/nvh/train_atlas.h"
+#include "train_operating_point.h"
 
 namespace gearnvh::app {
 
@@ -38,6 +39,21 @@ TrainAtlasResult RunTrainAtlas(const TrainSpec& base, const AtlasAxis& x, const 
 
 nlohmann::json TrainAtlasJson(const TrainAtlasResult& r, const TrainAtlasOptions& o);
 std::string TrainAtlasCsv(const TrainAtlasResult& r);
+
+// What `atlas` runs on a train, from its options (the command line's or the Python module's,
+// `names` saying how they are named in errors): the cells' options (--cycles default 1080,
+// --transient 300, tier, event method), the two axes (--x/--y or analysis.atlas; names and indices
+// checked once) and the threads (--jobs). Throws InputError naming the option or key.
+struct TrainAtlasPlan {
+  TrainAtlasOptions atlas;
+  AtlasAxis x, y;
+  int jobs = 0;
+};
+TrainAtlasPlan PlanTrainAtlas(const AtlasCommandOptions& options, const TrainSpec& spec,
+                              const TrainOptionNames& names = {});
+// `atlas --json` on a train: TrainAtlasJson with the train's name, `file` and the tier.
+nlohmann::json TrainAtlasDocument(const TrainAtlasResult& r, const TrainAtlasOptions& o,
+                                  const TrainSpec& spec, const std::string& file);
 
 int AtlasTrain(const AtlasCommandOptions& options, const TrainSpec& spec);
 

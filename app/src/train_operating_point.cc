@@ -170,16 +170,28 @@ double LowestInputSpeed(const TrainSpec& spec, const std::optional<AtlasAxis>& x
   return lowest;
 }
 
+void RequireCycleCounts(long cycles, long min_cycles, long transient,
+                        const TrainOptionNames& names) {
+  if (cycles < min_cycles) {
+    throw InputError(names("cycles"), 0, std::to_string(cycles),
+                     "must be >= " + std::to_string(min_cycles));
+  }
+  if (transient < 0) {
+    throw InputError(names("transient"), 0, std::to_string(transient), "must be >= 0");
+  }
+}
+
 void RequireRunLengthOfOptions(const TrainSpec& spec, double lowest_speed, long cycles,
                                long transient, const std::optional<long>& cycles_option,
-                               const std::optional<long>& transient_option) {
+                               const std::optional<long>& transient_option,
+                               const TrainOptionNames& names) {
   if (!cycles_option && !transient_option) return;
   const double hz = FirstMeshFrequency(spec, AnalyseTrainTopology(spec), lowest_speed);
   const double seconds = static_cast<double>(cycles + transient) / hz;
   if (seconds <= GearboxLimits::kMaxSimulatedSeconds) return;
   const bool transient_named = transient_option.has_value();
   throw InputError(
-      transient_named ? "--transient" : "--cycles", 0,
+      names(transient_named ? "transient" : "cycles"), 0,
       std::to_string(transient_named ? *transient_option : *cycles_option),
       fmt::format("makes the {} cycles of the first mesh ({}, {}, cycles + transient) last "
                   "{:.3g} s of simulated time at {} (mesh frequency {:.3g} Hz); the limit is {} "
@@ -192,15 +204,16 @@ void RequireRunLengthOfOptions(const TrainSpec& spec, double lowest_speed, long 
 TrainCommandSettings CheckTrainCommandOptions(const std::optional<std::string>& tier_option,
                                               const TrainSpec& spec, LadderMethod method,
                                               const std::optional<std::string>& uff,
-                                              const TrainOptionNames& option_names) {
-  const Tier tier = tier_option ? ParseTier(*tier_option, option_names.tier) : spec.analysis.tier;
+                                              const TrainOptionNames& names) {
+  const Tier tier = tier_option ? ParseTier(*tier_option, names("tier")) : spec.analysis.tier;
   if (tier != Tier::kTier1 &&
       !TrainTierAvailable(AssembleTrainStructure(spec, BuildGearTrain(spec)), tier)) {
-    throw InputError(tier_option ? option_names.tier : "analysis.tier", 0,
+    throw InputError(tier_option ? names("tier") : "analysis.tier", 0,
                      tier_option ? *tier_option : TierName(tier),
                      "tiers 4, 5, N20 simple and N20 MTA need an elastic shaft in the train");
   }
-  if (uff) throw InputError("--uff", 0, *uff, "UFF export is not available for gear trains yet");
+  if (uff)
+    throw InputError(names("uff"), 0, *uff, "UFF export is not available for gear trains yet");
   return {tier, EventMethodOf(method)};
 }
 

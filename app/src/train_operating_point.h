@@ -85,18 +85,26 @@ struct TrainCommandSettings {
   EventMethod events = EventMethod::kSpectral;
 };
 
+// How the caller names its options in messages: "--cycles" on the command line, "cycles" for
+// the Python module's keyword (TrainOptionNames{""}).
+struct TrainOptionNames {
+  std::string prefix = "--";
+  std::string operator()(const std::string& option) const { return prefix + option; }
+};
+
 // What `simulate` and `sweep` accept on a train: a tier the train has (`--tier` or
 // analysis.tier; tiers 4, 5 and N20 need an elastic shaft) and no UFF file; the event method is
 // EventMethodOf(method) (kFused means kV3: fusion is not built for trains).
 // Throws InputError naming the option or key otherwise.
-// `option_names`: how the caller names the tier option in messages.
-struct TrainOptionNames {
-  std::string tier = "--tier";
-};
 TrainCommandSettings CheckTrainCommandOptions(const std::optional<std::string>& tier_option,
                                               const TrainSpec& spec, LadderMethod method,
                                               const std::optional<std::string>& uff,
-                                              const TrainOptionNames& option_names = {});
+                                              const TrainOptionNames& names = {});
+
+// `cycles` >= `min_cycles` and `transient` >= 0 (the counts a command runs), else InputError
+// naming names("cycles") or names("transient").
+void RequireCycleCounts(long cycles, long min_cycles, long transient,
+                        const TrainOptionNames& names = {});
 
 // The run-length limit of the file (GearboxLimits::kMaxSimulatedSeconds of simulated time) on the
 // counts a command runs when --cycles or --transient overrides analysis: `cycles` + `transient`
@@ -105,7 +113,8 @@ TrainCommandSettings CheckTrainCommandOptions(const std::optional<std::string>& 
 // when neither was given (ValidateTrainSpec has checked the file's counts).
 void RequireRunLengthOfOptions(const TrainSpec& spec, double lowest_speed, long cycles,
                                long transient, const std::optional<long>& cycles_option,
-                               const std::optional<long>& transient_option);
+                               const std::optional<long>& transient_option,
+                               const TrainOptionNames& names = {});
 
 // The lowest input speed a command runs at, rad/s: the operating speed, or the lower end of an
 // axis (atlas --x/--y, orbits --sweep) that varies operating.speed. For RequireRunLengthOfOptions.

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "config/train_parameters.h"
 #include "display_units.h"
 #include "finite_results.h"
 #include "gearnvh/model/input_error.h"
@@ -14,7 +15,6 @@
 #include "gearnvh/nvh/train_orbit_scan.h"
 #include "output_folder.h"
 #include "train_operating_point.h"
-#include "config/train_parameters.h"
 
 namespace gearnvh::app {
 namespace {
@@ -78,68 +78,93 @@ void PrintPoint(const TrainOrbitScanPoint& p, const std::string& where) {
 
 }  // namespace
 
-int OrbitsTrain(const OrbitsCommandOptions& options, const TrainSpec& spec) {
+TrainOrbitsPlan PlanTrainOrbits(const OrbitsCommandOptions& options, const TrainSpec& spec,
+                                const TrainOptionNames& names) {
   const TrainCommandSettings settings =
-      CheckTrainCommandOptions(options.tier, spec, options.method, std::nullopt);
+      CheckTrainCommandOptions(options.tier, spec, options.method, std::nullopt, names);
   if (options.period < 1) {
-    throw InputError("--period", 0, std::to_string(options.period), "must be >= 1");
+    throw InputError(names("period"), 0, std::to_string(options.period), "must be >= 1");
   }
-  TrainOrbitScanOptions scan;
+  TrainOrbitsPlan plan;
+  TrainOrbitScanOptions& scan = plan.scan;
   scan.periods = options.period;
   scan.transient_cycles = options.transient.value_or(spec.analysis.transient_cycles);
   scan.events = settings.events;
   scan.tier = settings.tier;
   if (scan.transient_cycles < 0) {
-    throw InputError("--transient", 0, std::to_string(scan.transient_cycles), "must be >= 0");
+    throw InputError(names("transient"), 0, std::to_string(scan.transient_cycles), "must be >= 0");
   }
-  std::optional<AtlasAxis> sweep;
+  plan.sweep_option = names("sweep");
   if (options.sweep) {
-    sweep = ParseTrainAxisOption(*options.sweep, "--sweep");
+    plan.sweep = ParseTrainAxisOption(*options.sweep, plan.sweep_option);
     TrainSpec probe = spec;  // the name's index is checked once, as a usage error
-    SetTrainParameter(probe, sweep->parameter, sweep->range.from, "--sweep");
+    SetTrainParameter(probe, plan.sweep->parameter, plan.sweep->range.from, plan.sweep_option);
   }
   // The transient, then at least one cycle per base period of the --period searched.
-  RequireRunLengthOfOptions(spec, LowestInputSpeed(spec, sweep), options.period,
-                            scan.transient_cycles, std::nullopt, options.transient);
-  const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
-  const int count = sweep ? sweep->range.points : 1;
-  std::vector<double> values(static_cast<size_t>(count), 0.0);
-  for (int i = 0; sweep && i < count; ++i) values[static_cast<size_t>(i)] = AxisValue(*sweep, i);
-  const TrainOrbitScanProgress progress = OrbitsTerminalProgress(sweep.has_value());
-  const std::vector<TrainOrbitScanPoint> points = ScanTrainPeriodicOrbits(
-      count,
+  RequireRunLengthOfOptions(spec, LowestInputSpeed(spec, plan.sweep), options.period,
+                            scan.transient_cycles, std::nullopt, options.transient, names);
+  const int count = plan.sweep ? plan.sweep->range.points : 1;
+  plan.values.assign(static_cast<size_t>(count), 0.0);
+  for (int i = 0; plan.sweep && i < count; ++i)
+    plan.values[static_cast<size_t>(i)] = AxisValue(*plan.sweep, i);
+  return plan;
+}
+
+std::vector<TrainOrbitScanPoint> RunTrainOrbits(const TrainSpec& spec, const TrainOrbitsPlan& plan,
+                                                const TrainOrbitScanProgress& progress) {
+  return ScanTrainPeriodicOrbits(
+      static_cast<int>(plan.values.size()),
       [&](int i) {
         TrainSpec variant = spec;
-        if (sweep)
-          SetTrainParameter(variant, sweep->parameter, values[static_cast<size_t>(i)], "--sweep");
+        if (plan.sweep) {
+          SetTrainParameter(variant, plan.sweep->parameter, plan.values[static_cast<size_t>(i)],
+                            plan.sweep_option);
+        }
         return variant;
       },
-      scan, progress);
-  if (progress) fmt::print(stderr, "\n");
-  const std::string parameter = sweep ? sweep->parameter : "operating point";
+      plan.scan, progress);
+}
+
+nlohmann::json TrainOrbitsDocument(const std::vector<TrainOrbitScanPoint>& points,
+                                   const TrainOrbitsPlan& plan, const TrainSpec& spec,
+                                   const std::string& file) {
   nlohmann::json list = nlohmann::json::array();
   int stable = 0, failed = 0;
   for (size_t i = 0; i < points.size(); ++i) {
-    list.push_back(PointJson(points[i], values[i]));
+    list.push_back(PointJson(points[i], plan.values[i]));
     stable += points[i].found() && points[i].orbit.stable ? 1 : 0;
     failed += points[i].ok ? 0 : 1;
   }
   const double common_period = points.front().common_period;
-  nlohmann::json doc = {
-      {"schema", "gearnvh/2"},
-      {"name", spec.name},
-      {"file", options.file},
-      {"tier", TierName(settings.tier)},
-      {"period", options.period},
-      {"common_period_s", common_period},
-      {"period_s", options.period * common_period},
-      {"method", EventMethodName(scan.events)},
-      {"multipliers_on", "quotient by the free rotation (its two neutral directions removed)"},
-      {"parameter", parameter},
-      {"points", list},
-      {"stable_points", stable},
-      {"failed_points", failed}};
+  const int period = plan.scan.periods;
+  return {{"schema", "gearnvh/2"},
+          {"name", spec.name},
+          {"file", file},
+          {"tier", TierName(plan.scan.tier)},
+          {"period", period},
+          {"common_period_s", common_period},
+          {"period_s", period * common_period},
+          {"method", EventMethodName(plan.scan.events)},
+          {"multipliers_on", "quotient by the free rotation (its two neutral directions removed)"},
+          {"parameter", plan.sweep ? plan.sweep->parameter : "operating point"},
+          {"points", list},
+          {"stable_points", stable},
+          {"failed_points", failed}};
+}
+
+int OrbitsTrain(const OrbitsCommandOptions& options, const TrainSpec& spec) {
+  const TrainOrbitsPlan plan = PlanTrainOrbits(options, spec);
+  const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
+  const std::optional<AtlasAxis>& sweep = plan.sweep;
+  const std::vector<double>& values = plan.values;
+  const TrainOrbitScanProgress progress = OrbitsTerminalProgress(sweep.has_value());
+  const std::vector<TrainOrbitScanPoint> points = RunTrainOrbits(spec, plan, progress);
+  if (progress) fmt::print(stderr, "\n");
+  const nlohmann::json doc = TrainOrbitsDocument(points, plan, spec, options.file);
   RequireFinite(doc, "orbits");
+  const auto parameter = doc["parameter"].get<std::string>();
+  const auto common_period = doc["common_period_s"].get<double>();
+  const auto stable = doc["stable_points"].get<int>(), failed = doc["failed_points"].get<int>();
   if (out) {
     out->Write("orbits.csv", OrbitsCsv(points, values, parameter));
     out->Write("orbits.json", doc.dump(1) + "\n");
@@ -153,7 +178,7 @@ int OrbitsTrain(const OrbitsCommandOptions& options, const TrainSpec& spec) {
         "  multipliers on the quotient by the free rotation (its two neutral directions, "
         "multiplier 1 and its Jordan partner, removed)\n",
         spec.name, options.file, options.period, options.period, options.period > 1 ? "s" : "",
-        common_period, TierName(settings.tier));
+        common_period, TierName(plan.scan.tier));
     const TrainDisplayAxis d = sweep ? TrainDisplayAxisFor(parameter) : TrainDisplayAxis{};
     for (size_t i = 0; i < points.size(); ++i) {
       const std::string where =

@@ -51,6 +51,24 @@ void TrainSweepOptions::Validate() const {
   if (transient < 0) throw InputError("--transient", 0, std::to_string(transient), "must be >= 0");
 }
 
+TrainSweepOptions PlanTrainSweep(const SweepOptions& options, const TrainSpec& spec,
+                                 const TrainOptionNames& names) {
+  const TrainCommandSettings settings =
+      CheckTrainCommandOptions(options.tier, spec, options.method, options.uff, names);
+  TrainSweepOptions sweep;
+  sweep.cycles = options.cycles.value_or(sweep.cycles);
+  sweep.transient = options.transient.value_or(sweep.transient);
+  sweep.threads = options.jobs;
+  sweep.events = settings.events;
+  sweep.tier = settings.tier;
+  RequireCycleCounts(sweep.cycles, 1, sweep.transient, names);
+  if (sweep.threads < 0)
+    throw InputError(names("jobs"), 0, std::to_string(sweep.threads), "must be >= 0");
+  RequireRunLengthOfOptions(spec, spec.analysis.speed_sweep.from, sweep.cycles, sweep.transient,
+                            options.cycles, options.transient, names);
+  return sweep;
+}
+
 double TrainSweepPoint::ImpactsPerCycle(size_t mesh) const {
   const double cycles = recorded_s / mesh_periods[mesh];
   const TrainMeshStatistics& m = meshes[mesh];

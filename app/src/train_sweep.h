@@ -13,6 +13,8 @@
 #include "gearnvh/model/train_spec.h"
 #include "gearnvh/solver/solver_options.h"
 #include "gearnvh/solver/train_statistics.h"
+#include "sweep_command.h"
+#include "train_operating_point.h"
 
 namespace gearnvh::app {
 
@@ -46,6 +48,12 @@ struct TrainSweepResult {
   std::vector<TrainSweepPoint> points;  // ascending input speed
   int failed() const;
 };
+
+// What `sweep` runs on a train, from its options (the command line's or the Python module's,
+// `names` saying how they are named in errors): --cycles (default 512), --transient (200),
+// --jobs, tier and event method, held to the run-length limit at the sweep's lowest speed.
+TrainSweepOptions PlanTrainSweep(const SweepOptions& options, const TrainSpec& spec,
+                                 const TrainOptionNames& names = {});
 
 using TrainSweepProgress = std::function<void(int done, int total)>;
 

@@ -114,13 +114,28 @@ TrainTiersComparison CompareTrainTiers(const TrainSpec& spec, TrainRunOptions ru
   return out;
 }
 
-int RunTrainTiers(const TiersCommandOptions& options, const TrainSpec& spec) {
-  const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
+TrainRunOptions PlanTrainTiers(const TiersCommandOptions& options, const TrainSpec& spec,
+                               const TrainOptionNames& names) {
   TrainRunOptions run;
   run.cycles = options.cycles.value_or(std::min(spec.analysis.cycles, 400));
   run.transient = options.transient.value_or(std::min(spec.analysis.transient_cycles, 200));
+  RequireCycleCounts(run.cycles, 1, run.transient, names);
   RequireRunLengthOfOptions(spec, spec.operating.speed, run.cycles, run.transient, options.cycles,
-                            options.transient);
+                            options.transient, names);
+  return run;
+}
+
+nlohmann::json TrainTiersDocument(const TrainTiersComparison& c, const TrainSpec& spec,
+                                  const std::string& file) {
+  nlohmann::json doc = c.doc;
+  doc["name"] = spec.name;
+  doc["file"] = file;
+  return doc;
+}
+
+int RunTrainTiers(const TiersCommandOptions& options, const TrainSpec& spec) {
+  const TrainRunOptions run = PlanTrainTiers(options, spec);
+  const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
   const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
   TiersProgress progress;
   if (on_terminal) {
@@ -130,9 +145,7 @@ int RunTrainTiers(const TiersCommandOptions& options, const TrainSpec& spec) {
   }
   const TrainTiersComparison c = CompareTrainTiers(spec, run, progress);
   if (on_terminal) fmt::print(stderr, "\n");
-  nlohmann::json doc = c.doc;
-  doc["name"] = spec.name;
-  doc["file"] = options.file;
+  const nlohmann::json doc = TrainTiersDocument(c, spec, options.file);
   RequireFinite(doc, "tiers");
   if (out) {
     // One row per tier and mesh or loose gear (long format: any number of each).

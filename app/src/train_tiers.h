@@ -36,6 +36,15 @@ struct TrainTiersComparison {
 TrainTiersComparison CompareTrainTiers(const TrainSpec& spec, TrainRunOptions run,
                                        const TiersProgress& progress = {});
 
+// What `tiers` runs on a train, from its options (the command line's or the Python module's,
+// `names` saying how they are named in errors): --cycles (default min(analysis.cycles, 400)) and
+// --transient (default min(analysis.transient_cycles, 200)) held to the run-length limit.
+TrainRunOptions PlanTrainTiers(const TiersCommandOptions& options, const TrainSpec& spec,
+                               const TrainOptionNames& names = {});
+// `tiers --json` on a train: the comparison's document with the train's name and `file`.
+nlohmann::json TrainTiersDocument(const TrainTiersComparison& c, const TrainSpec& spec,
+                                  const std::string& file);
+
 // The `tiers` command on a loaded schema-2 file (text, JSON, --out tiers.json and tiers.csv).
 int RunTrainTiers(const TiersCommandOptions& options, const TrainSpec& spec);
 

@@ -30,8 +30,10 @@ constexpr double kEstimateRtol = 1e-12;
 
 // The window in cycles of the first mesh (see above).
 int WindowCycles(const TrainTables& t, const Eigen::VectorXd& z0,
-                 const std::vector<ContactState>& states0) {
-  TrainStepper stepper(t, {}, z0, states0);
+                 const std::vector<ContactState>& states0, const std::atomic<bool>* cancel) {
+  TrainStepperOptions options;
+  options.cancel = cancel;
+  TrainStepper stepper(t, options, z0, states0);
   const double period = t.meshes.front().period;
   for (int c = 1; c <= kMaxCycles; ++c) {
     if (!stepper.Run(c * period)) return std::max(c, kMinCycles);
@@ -50,9 +52,11 @@ struct Checkpoints {
 };
 
 Checkpoints RunMethod(const TrainTables& t, EventMethod method, const Eigen::VectorXd& z0,
-                      const std::vector<ContactState>& states0, const std::vector<double>& times) {
+                      const std::vector<ContactState>& states0, const std::vector<double>& times,
+                      const std::atomic<bool>* cancel) {
   TrainStepperOptions options;
   options.events = method;
+  options.cancel = cancel;
   TrainStepper stepper(t, options, z0, states0);
   Checkpoints out;
   for (const double time : times) {
@@ -108,12 +112,10 @@ size_t TrustedSamples(const std::vector<double>& reference, const std::vector<do
   return trusted;
 }
 
-TrainReferenceComparison CompareTrainWithReference(const TrainTables& reference,
-                                                   const TrainTables& candidate,
-                                                   const Eigen::VectorXd& z_reference,
-                                                   const Eigen::VectorXd& z_candidate,
-                                                   const std::vector<ContactState>& states0,
-                                                   const std::vector<double>& times) {
+TrainReferenceComparison CompareTrainWithReference(
+    const TrainTables& reference, const TrainTables& candidate, const Eigen::VectorXd& z_reference,
+    const Eigen::VectorXd& z_candidate, const std::vector<ContactState>& states0,
+    const std::vector<double>& times, const std::atomic<bool>* cancel) {
   TrainReferenceComparison out;
   const char* te_row = "train: exact TE vs CVODE reference";
   const char* events_row = "train: events vs CVODE reference";
@@ -121,7 +123,7 @@ TrainReferenceComparison CompareTrainWithReference(const TrainTables& reference,
   const double period = reference.meshes.front().period;
   const double window = times.back();
   const Checkpoints exact =
-      RunMethod(candidate, EventMethod::kSpectral, z_candidate, states0, times);
+      RunMethod(candidate, EventMethod::kSpectral, z_candidate, states0, times, cancel);
   if (!exact.ok) {
     out.exact_ran = false;
     out.rows.push_back({"train: exact solver (V3) run", 1.0, 0.0, false, false,
@@ -178,7 +180,9 @@ TrainReferenceComparison CompareTrainWithReference(const TrainTables& reference,
                            trusted, where)));
   // Every CVODE event in the window: the same mesh switches from the same state to the same
   // state within +-kEventMatch of a mesh period of CVODE's root; and as many exact events.
-  TrainStepper stepper(candidate, {}, z_candidate, states0);
+  TrainStepperOptions stepper_options;
+  stepper_options.cancel = cancel;
+  TrainStepper stepper(candidate, stepper_options, z_candidate, states0);
   long mismatched = 0, compared = 0;
   for (const TrainReferenceEvent& e : ref.events) {
     if (e.time > end) break;
@@ -202,12 +206,19 @@ TrainReferenceComparison CompareTrainWithReference(const TrainTables& reference,
   return out;
 }
 
-std::vector<ValidationRow> RunTrainValidationLadder(const TrainSpec& spec) {
+std::vector<ValidationRow> RunTrainValidationLadder(
+    const TrainSpec& spec, const std::atomic<bool>* cancel,
+    const std::function<void(int done, int total)>& progress) {
+  constexpr int kStages = 4;
+  const auto done = [&](int stage) {
+    if (progress) progress(stage, kStages);
+  };
   const GearTrain train = BuildGearTrain(spec);
   const TrainTables tables = BuildTrainTablesAtTier(spec, train, spec.analysis.tier);
   const auto [z0, states0] = TrainStaticState(tables);
   const double period = tables.meshes.front().period;
-  const int cycles = WindowCycles(tables, z0, states0);
+  const int cycles = WindowCycles(tables, z0, states0, cancel);
+  done(1);
   const double window = cycles * period;
   std::vector<double> times;
   for (int k = 1; k <= cycles * kSamplesPerCycle; ++k)
@@ -215,7 +226,8 @@ std::vector<ValidationRow> RunTrainValidationLadder(const TrainSpec& spec) {
 
   // 1-2. CVODE (BDF, its own assembly of every tuple): TE at the samples and every event.
   TrainReferenceComparison cvode =
-      CompareTrainWithReference(tables, tables, z0, z0, states0, times);
+      CompareTrainWithReference(tables, tables, z0, z0, states0, times, cancel);
+  done(2);
   std::vector<ValidationRow> rows = std::move(cvode.rows);
   if (!cvode.exact_ran) return rows;
 
@@ -228,9 +240,10 @@ std::vector<ValidationRow> RunTrainValidationLadder(const TrainSpec& spec) {
   const size_t meshes = tables.meshes.size();
   const std::string where = fmt::format("the first {:.3g} cycles of mesh {} from the static state",
                                         times[samples - 1] / period, tables.meshes.front().name);
-  const Checkpoints v3 = RunMethod(tables, EventMethod::kSpectral, z0, states0, times);
+  const Checkpoints v3 = RunMethod(tables, EventMethod::kSpectral, z0, states0, times, cancel);
+  int stage = 2;
   for (const EventMethod method : {EventMethod::kTaylor, EventMethod::kDyadic}) {
-    const Checkpoints other = RunMethod(tables, method, z0, states0, times);
+    const Checkpoints other = RunMethod(tables, method, z0, states0, times, cancel);
     const size_t entries = samples * meshes;
     const bool same =
         other.ok &&
@@ -249,6 +262,7 @@ std::vector<ValidationRow> RunTrainValidationLadder(const TrainSpec& spec) {
       row.detail += "; the contact states differ at some sample";
     }
     rows.push_back(row);
+    done(++stage);
   }
   return rows;
 }

@@ -11,6 +11,8 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <atomic>
+#include <functional>
 #include <vector>
 
 #include "gearnvh/model/train_spec.h"
@@ -20,7 +22,11 @@
 
 namespace gearnvh::app {
 
-std::vector<ValidationRow> RunTrainValidationLadder(const TrainSpec& spec);
+// progress(done, 4) after each stage (the window run, the CVODE comparison, V2, V1); `cancel` is
+// passed to the exact runs (TrainStepperOptions::cancel: RunCancelled), CVODE's runs finish first.
+std::vector<ValidationRow> RunTrainValidationLadder(
+    const TrainSpec& spec, const std::atomic<bool>* cancel = nullptr,
+    const std::function<void(int done, int total)>& progress = {});
 
 // Tolerance of every TE row: 1e-8 of the TE (the issue's).
 inline constexpr double kTeTolerance = 1e-8;
@@ -50,11 +56,9 @@ struct TrainReferenceComparison {
   double trusted_cycles = 0.0;  // the window they span, in cycles of the first mesh
   bool exact_ran = true;        // false: the exact run stopped (its row says why), nothing compared
 };
-TrainReferenceComparison CompareTrainWithReference(const TrainTables& reference,
-                                                   const TrainTables& candidate,
-                                                   const Eigen::VectorXd& z_reference,
-                                                   const Eigen::VectorXd& z_candidate,
-                                                   const std::vector<ContactState>& states0,
-                                                   const std::vector<double>& times);
+TrainReferenceComparison CompareTrainWithReference(
+    const TrainTables& reference, const TrainTables& candidate, const Eigen::VectorXd& z_reference,
+    const Eigen::VectorXd& z_candidate, const std::vector<ContactState>& states0,
+    const std::vector<double>& times, const std::atomic<bool>* cancel = nullptr);
 
 }  // namespace gearnvh::app

@@ -13,6 +13,22 @@
 
 namespace gearnvh::app {
 
+nlohmann::json ValidationDocument(const std::vector<ValidationRow>& rows, const std::string& name,
+                                  const std::string& file) {
+  bool all = true;
+  nlohmann::json checks = nlohmann::json::array();
+  for (const ValidationRow& r : rows) {
+    all = all && r.pass;
+    checks.push_back({{"name", r.name},
+                      {"value", r.value},
+                      {"threshold", r.threshold},
+                      {"pass", r.pass},
+                      {"skipped", r.skipped},
+                      {"detail", r.detail}});
+  }
+  return {{"name", name}, {"file", file}, {"checks", checks}, {"pass", all}};
+}
+
 int RunValidate(const ValidateOptions& options) {
   config::SourceLocations where;
   try {
@@ -22,24 +38,10 @@ int RunValidate(const ValidateOptions& options) {
     const std::vector<ValidationRow> rows = loaded.schema == 2
                                                 ? RunTrainValidationLadder(loaded.train)
                                                 : RunValidationLadder(*loaded.pair);
-    bool all = true;
-    nlohmann::json checks = nlohmann::json::array();
-    for (const ValidationRow& r : rows) {
-      all = all && r.pass;
-      checks.push_back({{"name", r.name},
-                        {"value", r.value},
-                        {"threshold", r.threshold},
-                        {"pass", r.pass},
-                        {"skipped", r.skipped},
-                        {"detail", r.detail}});
-    }
+    const nlohmann::json doc = ValidationDocument(rows, name, options.file);
+    const bool all = doc["pass"].get<bool>();
     if (options.json) {
-      std::cout << nlohmann::json{{"name", name},
-                                  {"file", options.file},
-                                  {"checks", checks},
-                                  {"pass", all}}
-                       .dump(2)
-                << "\n";
+      std::cout << doc.dump(2) << "\n";
     } else {
       fmt::print("{}  ({}): validation ladder\n", name, options.file);
       fmt::print("  {:<50}{:>12}{:>12}  {}\n", "check", "value", "threshold", "result");

@@ -75,6 +75,7 @@ TrainAtlasPoint ComputeTrainAtlasPoint(const TrainSpec& variant, const TrainAtla
     lyapunov.cycles = options.cycles;
     lyapunov.alignment_cycles = std::min<long>(lyapunov.alignment_cycles, options.cycles / 4);
     lyapunov.stepper.events = options.events;
+    lyapunov.stepper.cancel = options.cancel;
     const double recorded_from =
         static_cast<double>(options.transient_cycles) * tables.meshes.front().period;
     TrainRecorder recorder(tables, kSamplesPerCycle, recorded_from);

@@ -91,6 +91,7 @@ std::vector<TrainOrbitScanPoint> ScanTrainPeriodicOrbits(int count, const TrainV
   std::vector<TrainOrbitScanPoint> out(static_cast<size_t>(count));
   std::optional<Guess> previous;
   for (int i = 0; i < count; ++i) {
+    if (options.cancel != nullptr && options.cancel->load()) throw RunCancelled();
     TrainOrbitScanPoint& p = out[static_cast<size_t>(i)];
     try {
       const TrainSpec spec = variant(i);
@@ -102,6 +103,7 @@ std::vector<TrainOrbitScanPoint> ScanTrainPeriodicOrbits(int count, const TrainV
       TrainOrbitOptions orbit_options;
       orbit_options.periods = options.periods;
       orbit_options.stepper.events = options.events;
+      orbit_options.stepper.cancel = options.cancel;
       if (!(tables.common_period > 0.0)) {
         p.message =
             "the meshes and engine orders have no common period within 1000 input revolutions: "

@@ -21,6 +21,12 @@ py::array_t<double> Matrix(const std::vector<std::vector<double>>& rows) {
   return out;
 }
 
+py::array_t<double> AxisValues(const AtlasAxis& a) {
+  py::array_t<double> v(a.range.points);
+  for (int i = 0; i < a.range.points; ++i) v.mutable_at(i) = AxisValue(a, i);
+  return v;
+}
+
 py::object ToPython(const nlohmann::json& doc) {
   return py::module_::import("json").attr("loads")(doc.dump());
 }
@@ -33,6 +39,11 @@ Tier TierArgument(const py::object& tier, Tier fallback) {
   } catch (const InputError& e) {
     throw InputError("tier", 0, "'" + text + "'", e.rule());
   }
+}
+
+std::optional<std::string> TierText(const py::object& tier) {
+  if (tier.is_none()) return std::nullopt;
+  return std::string(py::str(tier));
 }
 
 }  // namespace gearnvh::python

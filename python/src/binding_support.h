@@ -16,6 +16,9 @@
 #include <vector>
 
 #include "gearnvh/model/gearbox_spec.h"
+#include "gearnvh/nvh/atlas.h"
+#include "simulate_command.h"
+#include "train_operating_point.h"
 
 namespace gearnvh::python {
 
@@ -134,7 +137,28 @@ py::array_t<double> Matrix(const std::vector<std::vector<double>>& rows);
 // command line prints with --json).
 py::object ToPython(const nlohmann::json& doc);
 
+// An atlas axis's values, SI.
+py::array_t<double> AxisValues(const AtlasAxis& a);
+
 // tier= : None (the file's analysis.tier), 1..5, or "N40 full", "N20 simple", "N20 MTA".
 Tier TierArgument(const py::object& tier, Tier fallback);
+
+// tier= on a train: None (analysis.tier) or the text `--tier` takes (the app checks it).
+std::optional<std::string> TierText(const py::object& tier);
+
+// A train command's options with the fields every one shares: the file (`source`), tier= and
+// method= (ParseMethod: InputError naming `method`).
+template <typename Options>
+Options TrainCommandOptions(const std::string& source, const py::object& tier,
+                            const std::string& method) {
+  Options options;
+  options.file = source;
+  options.tier = TierText(tier);
+  options.method = app::ParseMethod(method, "method");
+  return options;
+}
+
+// Errors name the module's keywords ("cycles"), not the command line's options ("--cycles").
+inline const app::TrainOptionNames kKeywordNames{""};
 
 }  // namespace gearnvh::python

@@ -79,5 +79,6 @@ void BindSimulate(py::module_& m);
 void BindSweepAtlas(py::module_& m);
 void BindOrbitsTiers(py::module_& m);
 void BindTrain(py::module_& m);
+void BindTrainAnalyses(py::module_& m);
 
 }  // namespace gearnvh::python

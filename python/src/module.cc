@@ -141,7 +141,8 @@ void BindGearbox(py::module_& m) {
 PYBIND11_MODULE(gearnvh, m) {
   m.doc() =
       "gearnvh: gearbox NVH from Python. load() a gearbox, set() parameters by schema path, run "
-      "check, simulate, sweep, atlas, orbits and tiers. Results carry NumPy views of the C++ "
+      "check, simulate, sweep, atlas, orbits, tiers and (gear trains) validate. Results carry "
+      "NumPy views of the C++ "
       "arrays. Ctrl-C interrupts long calls. See docs/python.md.";
   m.attr("__version__") = "0.1.0";
   gearnvh::python::RegisterInputError(m);
@@ -150,4 +151,5 @@ PYBIND11_MODULE(gearnvh, m) {
   gearnvh::python::BindSimulate(m);
   gearnvh::python::BindSweepAtlas(m);
   gearnvh::python::BindOrbitsTiers(m);
+  gearnvh::python::BindTrainAnalyses(m);
 }

@@ -124,12 +124,6 @@ py::cpp_function CellGrid(Field AtlasCell::*member) {
   });
 }
 
-py::array_t<double> AxisValues(const AtlasAxis& a) {
-  py::array_t<double> v(a.range.points);
-  for (int i = 0; i < a.range.points; ++i) v.mutable_at(i) = AxisValue(a, i);
-  return v;
-}
-
 }  // namespace
 
 void BindSweepAtlas(py::module_& m) {

@@ -1,6 +1,7 @@
-// gearnvh.Train (schema gearnvh/2) and check, simulate and sweep on it: the library calls behind
-// `gearnvh check|simulate|sweep TRAIN.yaml`, per-mesh and per-loose-gear results as objects and
-// NumPy arrays (speeds x meshes), and to_dict() giving the command line's JSON.
+// gearnvh.Train (schema gearnvh/2) and check, simulate (with its Lyapunov exponents) and sweep on
+// it: the library calls behind `gearnvh check|simulate|sweep TRAIN.yaml`, per-mesh and
+// per-loose-gear results as objects and NumPy arrays (speeds x meshes), and to_dict() giving the
+// command line's JSON.
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
@@ -11,6 +12,7 @@
 
 #include "binding_support.h"
 #include "gearbox.h"
+#include "gearnvh/nvh/train_lyapunov.h"
 #include "simulate_command.h"
 #include "simulate_train.h"
 #include "train_check.h"
@@ -23,20 +25,14 @@ namespace {
 
 struct TrainSimulation {
   app::TrainOperatingPoint op;
-  nlohmann::json doc;  // the `simulate --json` document
+  std::optional<TrainLyapunovSummary> lyapunov;  // lyapunov=K
+  nlohmann::json doc;                            // the `simulate --json` document
 };
 
 struct TrainSweep {
   app::TrainSweepResult result;
   nlohmann::json doc;  // the `sweep --json` document
 };
-
-// tier= on a train: None (analysis.tier) or what `--tier` takes; CheckTrainCommandOptions says
-// which tiers the train solver runs.
-std::optional<std::string> TierText(const py::object& tier) {
-  if (tier.is_none()) return std::nullopt;
-  return std::string(py::str(tier));
-}
 
 py::object CheckTrain(const Train& train) {
   const TrainSpec spec = train.spec();
@@ -57,29 +53,36 @@ std::shared_ptr<TrainSimulation> SimulateTrain(const Train& train, const py::obj
                                                std::optional<long> cycles,
                                                std::optional<long> transient,
                                                const std::string& method,
+                                               std::optional<int> lyapunov,
                                                const py::object& progress) {
   const TrainSpec spec = train.spec();
   const std::string source = train.source();
-  const app::TrainCommandSettings settings = NamingSource(source, [&] {
-    return app::CheckTrainCommandOptions(TierText(tier), spec, app::ParseMethod(method, "method"),
-                                         std::nullopt, {"tier"});
+  app::TrainSimulatePlan plan = NamingSource(source, [&] {
+    auto options = TrainCommandOptions<app::SimulateOptions>(source, tier, method);
+    options.cycles = cycles;
+    options.transient = transient;
+    options.lyapunov = lyapunov;
+    return app::PlanTrainSimulate(options, spec, kKeywordNames);
   });
-  app::TrainRunOptions run;
-  run.tier = settings.tier;
-  run.cycles = cycles.value_or(spec.analysis.cycles);
-  run.transient = transient.value_or(spec.analysis.transient_cycles);
-  run.events = settings.events;
-  NamingSource(source, [&] { run.Validate(); });
   return RunInterruptible(
       [&](CallControl& control) {
         return NamingSource(source, [&] {
-          run.cancel = &control.cancel;
-          constexpr long kSteps = 1000;  // progress in thousandths of the run
+          plan.run.cancel = &control.cancel;
+          // Progress in thousandths of each run: the operating point, then the Lyapunov run.
+          constexpr long kSteps = 1000;
+          const long total = plan.lyapunov ? 2 * kSteps : kSteps;
           auto out = std::make_shared<TrainSimulation>();
-          out->op = app::RunTrainOperatingPoint(spec, run, [&](double time, double end) {
-            control.Progress(std::lround(kSteps * time / end), kSteps);
+          out->op = app::RunTrainOperatingPoint(spec, plan.run, [&](double time, double end) {
+            control.Progress(std::lround(kSteps * time / end), total);
           });
-          out->doc = app::TrainSimulationJson(out->op, spec, source, settings.tier);
+          out->doc = app::TrainSimulationJson(out->op, spec, source, plan.run.tier);
+          if (plan.lyapunov && out->op.ok()) {
+            out->lyapunov =
+                app::RunTrainLyapunov(out->op, plan.run, *plan.lyapunov, [&](double fraction) {
+                  control.Progress(kSteps + std::lround(kSteps * fraction), total);
+                });
+            out->doc["lyapunov"] = app::TrainLyapunovJson(*out->lyapunov);
+          }
           return out;
         });
       },
@@ -92,17 +95,13 @@ std::shared_ptr<TrainSweep> SweepTrain(const Train& train, const py::object& tie
                                        const py::object& progress) {
   const TrainSpec spec = train.spec();
   const std::string source = train.source();
-  const app::TrainCommandSettings settings = NamingSource(source, [&] {
-    return app::CheckTrainCommandOptions(TierText(tier), spec, app::ParseMethod(method, "method"),
-                                         std::nullopt, {"tier"});
+  app::TrainSweepOptions options = NamingSource(source, [&] {
+    auto sweep = TrainCommandOptions<app::SweepOptions>(source, tier, method);
+    sweep.cycles = cycles;
+    sweep.transient = transient;
+    sweep.jobs = jobs;
+    return app::PlanTrainSweep(sweep, spec, kKeywordNames);
   });
-  app::TrainSweepOptions options;
-  options.cycles = cycles.value_or(options.cycles);
-  options.transient = transient.value_or(options.transient);
-  options.threads = jobs;
-  options.events = settings.events;
-  options.tier = settings.tier;
-  NamingSource(source, [&] { options.Validate(); });
   return RunInterruptible(
       [&](CallControl& control) {
         return NamingSource(source, [&] {
@@ -129,6 +128,13 @@ py::array_t<double> PerSpeed(const app::TrainSweepResult& r, size_t columns, Val
     rows.push_back(std::move(row));
   }
   return Matrix(rows);
+}
+
+// A read-only view of one of the summary's per-exponent lists.
+py::cpp_function LyapunovVector(std::vector<double> TrainLyapunovSummary::*member) {
+  return py::cpp_function([member](py::object self) {
+    return VectorView(self.cast<const TrainLyapunovSummary&>().*member, self);
+  });
 }
 
 }  // namespace
@@ -201,6 +207,42 @@ void BindTrain(py::module_& m) {
                std::to_string(g.rattle_index) + " rad/s^2>";
       });
 
+  py::class_<TrainLyapunovSummary>(
+      m, "TrainLyapunov",
+      "The largest Lyapunov exponents of a train run (simulate(train, lyapunov=K)): exact "
+      "tangents with a saltation per gap event, the free rotation projected out.")
+      .def_property_readonly(
+          "status", [](const TrainLyapunovSummary& l) { return TrainLyapunovInfoName(l.info); })
+      .def_property_readonly("ok",
+                             [](const TrainLyapunovSummary& l) {
+                               return l.info == TrainLyapunovSummary::Info::kSuccess;
+                             })
+      .def_readonly("message", &TrainLyapunovSummary::message)
+      .def_property_readonly("exponents", LyapunovVector(&TrainLyapunovSummary::exponents),
+                             "1/s, largest first")
+      .def_property_readonly("standard_errors",
+                             LyapunovVector(&TrainLyapunovSummary::standard_errors),
+                             "1/s, block standard error of each exponent")
+      .def_property_readonly("per_forcing_cycle",
+                             LyapunovVector(&TrainLyapunovSummary::per_forcing_cycle), "lambda T_f")
+      .def_property_readonly("per_mesh_cycle",
+                             LyapunovVector(&TrainLyapunovSummary::per_mesh_cycle),
+                             "lambda T_1 (the first mesh)")
+      .def_readonly("forcing_period_s", &TrainLyapunovSummary::forcing_period)
+      .def_readonly("mesh_period_s", &TrainLyapunovSummary::mesh_period)
+      .def_readonly("averaged_s", &TrainLyapunovSummary::averaged_s, "time averaged, s")
+      .def_readonly("saltations", &TrainLyapunovSummary::saltations)
+      .def_readonly("predictability_horizon_s", &TrainLyapunovSummary::predictability_horizon_s,
+                    "52 ln 2 / lambda_1; inf when lambda_1 <= 0")
+      .def_readonly("predictability_horizon_cycles",
+                    &TrainLyapunovSummary::predictability_horizon_cycles, "forcing cycles")
+      .def("__repr__", [](const TrainLyapunovSummary& l) {
+        return "<gearnvh.TrainLyapunov " + std::to_string(l.exponents.size()) +
+               " exponents, largest " +
+               (l.exponents.empty() ? std::string("-") : std::to_string(l.exponents.front())) +
+               " 1/s>";
+      });
+
   py::class_<TrainSimulation, std::shared_ptr<TrainSimulation>>(
       m, "TrainSimulation", "One operating point of a gear train (gearnvh simulate TRAIN.yaml).")
       .def_property_readonly(
@@ -227,7 +269,20 @@ void BindTrain(py::module_& m) {
                                return s.op.wall_s > 0.0 ? s.op.summary.simulated_time / s.op.wall_s
                                                         : 0.0;
                              })
-      .def_property_readonly("ok", [](const TrainSimulation& s) { return s.op.ok(); })
+      .def_property_readonly(
+          "lyapunov",
+          [](py::object self) -> py::object {
+            const TrainSimulation& s = self.cast<const TrainSimulation&>();
+            if (!s.lyapunov) return py::none();
+            return py::cast(*s.lyapunov, py::return_value_policy::reference_internal, self);
+          },
+          "TrainLyapunov with lyapunov=K, else None")
+      .def_property_readonly(
+          "ok",
+          [](const TrainSimulation& s) {
+            return s.op.ok() &&
+                   (!s.lyapunov || s.lyapunov->info == TrainLyapunovSummary::Info::kSuccess);
+          })
       .def(
           "to_dict", [](const TrainSimulation& s) { return ToPython(s.doc); },
           "The document `gearnvh simulate --json TRAIN.yaml` prints.")
@@ -306,10 +361,11 @@ void BindTrain(py::module_& m) {
         "(bodies, meshes, modes, tiers, Campbell data; SI units).");
   m.def("simulate", &SimulateTrain, py::arg("gearbox"), py::kw_only(), py::arg("tier") = py::none(),
         py::arg("cycles") = py::none(), py::arg("transient") = py::none(), py::arg("method") = "v3",
-        py::arg("progress") = py::none(),
+        py::arg("lyapunov") = py::none(), py::arg("progress") = py::none(),
         "A gear train's operating point, as `gearnvh simulate TRAIN.yaml`: cycles and transient "
         "count cycles of the first mesh (default analysis.cycles, analysis.transient_cycles); "
-        "method: v1, v2, v3 (fused means v3 on trains).");
+        "method: v1, v2, v3 (fused means v3 on trains); lyapunov=K: also the K largest Lyapunov "
+        "exponents (a second run, as --lyapunov K).");
   m.def("sweep", &SweepTrain, py::arg("gearbox"), py::kw_only(), py::arg("tier") = py::none(),
         py::arg("cycles") = py::none(), py::arg("transient") = py::none(), py::arg("jobs") = 0,
         py::arg("method") = "v3", py::arg("progress") = py::none(),

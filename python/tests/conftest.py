@@ -1,6 +1,9 @@
 """Shared fixtures: the source tree, the command-line binary and the bundled examples."""
+import contextlib
 import os
 import pathlib
+import signal
+import threading
 
 import pytest
 
@@ -16,3 +19,18 @@ def gearnvh_exe():
     if not os.path.exists(exe):
         pytest.fail(f"the gearnvh command is not built: {exe}")
     return exe
+
+
+@contextlib.contextmanager
+def interrupted_after(seconds):
+    """Sends this process SIGINT (Ctrl-C) after `seconds` and expects KeyboardInterrupt from the
+    body; skips when not on the main thread (signals reach only it)."""
+    if threading.current_thread() is not threading.main_thread():
+        pytest.skip("signals reach the main thread only")
+    timer = threading.Timer(seconds, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            yield
+    finally:
+        timer.cancel()

@@ -182,6 +182,9 @@ TrainStepperSummary TrainStepper::summary() const {
 
 bool TrainStepper::Run(double end_time, TrainRecorder* recorder) {
   while (time_ < end_time) {
+    if (options_.cancel != nullptr && options_.cancel->load(std::memory_order_relaxed)) {
+      throw RunCancelled();
+    }
     const double until = std::min(end_time, grid_.end());
     if (!AdvanceGridSegment(until, recorder)) return false;
     if (until >= grid_.end()) {

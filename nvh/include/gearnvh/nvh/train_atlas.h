@@ -13,6 +13,7 @@
 // Which parameter a cell varies is the caller's business: the cell takes the variant itself.
 #pragma once
 
+#include <atomic>
 #include <string>
 #include <vector>
 
@@ -28,7 +29,10 @@ struct TrainAtlasOptions {
   double chaos_threshold = 0.01;  // lambda T_f above which a cell is chaotic (the pair's); > 0
   EventMethod events = EventMethod::kSpectral;
   Tier tier = Tier::kTier1;  // the train solver's tier (BuildTrainTablesAtTier)
-  void Validate() const;     // throws InputError naming the field
+  // Passed to the run (TrainStepperOptions::cancel): a cancelled cell fails with "cancelled".
+  // Not owned; null: never cancelled.
+  const std::atomic<bool>* cancel = nullptr;
+  void Validate() const;  // throws InputError naming the field
 };
 
 struct TrainAtlasMesh {

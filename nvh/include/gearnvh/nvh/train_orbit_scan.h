@@ -8,6 +8,7 @@
 // 2n - 2 of them, by decreasing modulus.
 #pragma once
 
+#include <atomic>
 #include <functional>
 #include <string>
 #include <vector>
@@ -23,7 +24,10 @@ struct TrainOrbitScanOptions {
   int settled_starts = 4;       // settled guesses tried when continuation fails; >= 1
   EventMethod events = EventMethod::kSpectral;
   Tier tier = Tier::kTier1;  // the train solver's tier (BuildTrainTablesAtTier)
-  void Validate() const;     // throws InputError naming the field
+  // Checked before each variant (ScanTrainPeriodicOrbits throws RunCancelled) and passed to its
+  // runs (TrainStepperOptions::cancel). Not owned; null: never cancelled.
+  const std::atomic<bool>* cancel = nullptr;
+  void Validate() const;  // throws InputError naming the field
 };
 
 struct TrainOrbitScanPoint {

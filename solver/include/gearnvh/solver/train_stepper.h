@@ -46,6 +46,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <atomic>
 #include <memory>
 #include <string>
 #include <vector>
@@ -97,6 +98,9 @@ struct TrainStepperOptions {
   // Share of each mesh's orbit margin kept free of the transient's bound. In [0, 1).
   double jump_margin_fraction = 0.01;
   TrainTableOptions tables;
+  // Checked at every grid segment: Run() throws RunCancelled once set (a caller's Ctrl-C). Not
+  // owned; null: never cancelled.
+  const std::atomic<bool>* cancel = nullptr;
   void Validate() const;
 };
 
