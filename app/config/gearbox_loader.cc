@@ -11,6 +11,7 @@
 #include "gearnvh/model/gearbox_spec_limits.h"
 #include "gearnvh/model/gearbox_spec_validation.h"
 #include "gearnvh/model/input_error.h"
+#include "gearnvh/model/spec_parameters.h"
 #include "spec_sections.h"
 #include "units.h"
 #include "utf8_check.h"
@@ -128,11 +129,12 @@ YAML::Node ParseYaml(const std::string& text, const std::string& source) {
 
 GearboxSpec LoadGearboxFromString(const std::string& text, const std::string& source) {
   SourceLocations where;
-  return LoadPairFromString(text, source, where);
+  std::string sweep_note;
+  return LoadPairFromString(text, source, where, sweep_note);
 }
 
 GearboxSpec LoadPairFromString(const std::string& text, const std::string& source,
-                               SourceLocations& where) {
+                               SourceLocations& where, std::string& sweep_note) {
   const YAML::Node root = ParseYaml(text, source);
   return ReadAndValidate(
       root, source,
@@ -144,10 +146,15 @@ GearboxSpec LoadPairFromString(const std::string& text, const std::string& sourc
         }
         return ReadDocument(r, n);
       },
-      [&where](const GearboxSpec& spec) {
+      [&where, &sweep_note](GearboxSpec& spec) {
         ValidateGearboxSpec(spec);
-        RequireSweepWithinPitchLineLimit(spec.analysis.speed_sweep, where, PitchRadius(spec.pinion),
-                                         "the mesh");
+        for (const auto& [axis, path] :
+             {std::pair{&spec.analysis.atlas_x, "analysis.atlas.x.parameter"},
+              std::pair{&spec.analysis.atlas_y, "analysis.atlas.y.parameter"}}) {
+          if (*axis) RequireVariableParameter(spec, (*axis)->parameter, path);
+        }
+        sweep_note = HoldSpeedsToPitchLineLimit(spec.analysis, where, spec.operating.speed_unit,
+                                                PitchRadius(spec.pinion), "the mesh");
       },
       where);
 }
@@ -198,7 +205,18 @@ AtlasAxis ParseAxisOption(
                      "POINTS must be a whole number in 1..100000");
   }
   axis.range = {from.si_value, to.si_value, static_cast<int>(*points)};
+  axis.unit = DisplayUnitOf(rest.substr(c1 + 1, c2 - c1 - 1), *dimension);
   return axis;
+}
+
+void RequireVariableParameter(const GearboxSpec& spec, const std::string& parameter,
+                              const std::string& field) {
+  GearboxSpec probe = spec;
+  try {
+    SetParameter(probe, parameter, 0.0);
+  } catch (const ParameterNotVariable& e) {
+    throw InputError(field, 0, "'" + parameter + "'", e.reason());
+  }
 }
 
 std::string ReadGearboxText(const std::string& path) {

@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "command_errors.h"
+#include "config/train_parameters.h"
 #include "display_units.h"
 #include "finite_results.h"
 #include "gearnvh/model/input_error.h"
@@ -17,7 +18,6 @@
 #include "output_folder.h"
 #include "parallel_for.h"
 #include "train_operating_point.h"
-#include "config/train_parameters.h"
 
 namespace gearnvh::app {
 
@@ -254,6 +254,8 @@ int AtlasTrain(const AtlasCommandOptions& options, const TrainSpec& spec) {
   (void)CellVariant(spec, *x, *y, x->range.from, y->range.from,
                     options.x ? "--x" : "analysis.atlas.x.parameter",
                     options.y ? "--y" : "analysis.atlas.y.parameter");
+  if (options.x) RequireAxisWithinPitchLineLimit(spec, x, "--x");
+  if (options.y) RequireAxisWithinPitchLineLimit(spec, y, "--y");
   RequireRunLengthOfOptions(spec, LowestInputSpeed(spec, x, y), atlas.cycles,
                             atlas.transient_cycles, options.cycles, options.transient);
   const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", true);

@@ -170,6 +170,15 @@ double LowestInputSpeed(const TrainSpec& spec, const std::optional<AtlasAxis>& x
   return lowest;
 }
 
+void RequireAxisWithinPitchLineLimit(const TrainSpec& spec, const std::optional<AtlasAxis>& axis,
+                                     const std::string& field, const std::string& mesh) {
+  if (!axis || axis->parameter != "operating.speed") return;
+  const FastestMesh fastest = FastestPitchLine(spec, AnalyseTrainTopology(spec));
+  const double speed = std::max(std::abs(axis->range.from), std::abs(axis->range.to));
+  RequirePitchLineVelocity(field, speed, axis->unit, fastest.velocity_per_speed,
+                           mesh.empty() ? fastest.name : mesh);
+}
+
 void RequireRunLengthOfOptions(const TrainSpec& spec, double lowest_speed, long cycles,
                                long transient, const std::optional<long>& cycles_option,
                                const std::optional<long>& transient_option) {

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "config/train_parameters.h"
 #include "display_units.h"
 #include "finite_results.h"
 #include "gearnvh/model/input_error.h"
@@ -14,7 +15,6 @@
 #include "gearnvh/nvh/train_orbit_scan.h"
 #include "output_folder.h"
 #include "train_operating_point.h"
-#include "config/train_parameters.h"
 
 namespace gearnvh::app {
 namespace {
@@ -97,6 +97,7 @@ int OrbitsTrain(const OrbitsCommandOptions& options, const TrainSpec& spec) {
     sweep = ParseTrainAxisOption(*options.sweep, "--sweep");
     TrainSpec probe = spec;  // the name's index is checked once, as a usage error
     SetTrainParameter(probe, sweep->parameter, sweep->range.from, "--sweep");
+    RequireAxisWithinPitchLineLimit(spec, sweep, "--sweep");
   }
   // The transient, then at least one cycle per base period of the --period searched.
   RequireRunLengthOfOptions(spec, LowestInputSpeed(spec, sweep), options.period,
