@@ -205,8 +205,13 @@ AtlasAxis ParseAxisOption(
                      "POINTS must be a whole number in 1..100000");
   }
   axis.range = {from.si_value, to.si_value, static_cast<int>(*points)};
-  axis.unit = DisplayUnitOf(rest.substr(c1 + 1, c2 - c1 - 1), *dimension);
   return axis;
+}
+
+DisplayUnit SpeedUnitOfAxisOption(const std::string& text) {
+  const size_t eq = text.find('='), c1 = text.find(':', eq), c2 = text.find(':', c1 + 1);
+  const std::string to = c1 == std::string::npos ? std::string() : text.substr(c1 + 1, c2 - c1 - 1);
+  return DisplayUnitOf(to, Dimension::kAngularSpeed);
 }
 
 void RequireVariableParameter(const GearboxSpec& spec, const std::string& parameter,

@@ -56,6 +56,10 @@ AtlasAxis ParseAxisOption(
     const std::function<std::optional<Dimension>(const std::string&)>& dimension_of,
     const std::function<std::string(const std::string&)>& rejection);
 
+// The unit the upper end of an axis option "PARAMETER=FROM:TO:POINTS" was written in, as a speed
+// (rpm, rev/s, rad/s; for messages about an axis varying operating.speed).
+DisplayUnit SpeedUnitOfAxisOption(const std::string& text);
+
 // A parameter of a pair's atlas axis or orbit sweep that SetParameter can set on `spec` (the
 // file has the excitation order it varies), else InputError naming `field` (the option or the
 // YAML path the name came from).

@@ -231,7 +231,6 @@ AtlasAxis ReadAtlasAxis(Reader& r, const YAML::Node& n, const std::string& path,
   }
   if (!dimension) r.Fail(Join(path, "parameter"), n["parameter"], "'" + axis.parameter + "'", rule);
   axis.range = ReadRange(r, n, path, *dimension);
-  axis.unit = DisplayUnitOf(r.Find(Join(path, "to")).raw, *dimension);
   return axis;
 }
 
@@ -329,7 +328,7 @@ std::string HoldSpeedsToPitchLineLimit(AnalysisSpec& analysis, const SourceLocat
   // A hair below the limit, so rounding cannot put the last speed above it.
   const double highest = GearboxLimits::kMaxPitchLineVelocity / velocity_per_speed * (1.0 - 1e-9);
   if (sweep.to <= highest) return "";
-  const SweepRange written_by_default = sweep;
+  const SweepRange default_sweep = sweep;
   // Keep the default's span ratio when even its lowest speed is too fast.
   if (sweep.from >= highest) sweep.from = highest * sweep.from / sweep.to;
   sweep.to = highest;
@@ -337,8 +336,8 @@ std::string HoldSpeedsToPitchLineLimit(AnalysisSpec& analysis, const SourceLocat
       "analysis.speed_sweep is not written, and the default sweep {} to {} would run {} above the "
       "pitch-line velocity limit of {} m/s (at {:.4g} m/s): sweeping {} to {} instead, the "
       "largest speed allowed (write analysis.speed_sweep to choose the range)",
-      InUnit(written_by_default.from, speed_unit), InUnit(written_by_default.to, speed_unit), mesh,
-      GearboxLimits::kMaxPitchLineVelocity, written_by_default.to * velocity_per_speed,
+      InUnit(default_sweep.from, speed_unit), InUnit(default_sweep.to, speed_unit), mesh,
+      GearboxLimits::kMaxPitchLineVelocity, default_sweep.to * velocity_per_speed,
       InUnit(sweep.from, speed_unit), InUnit(sweep.to, speed_unit));
 }
 

@@ -42,9 +42,8 @@ struct ParsedQuantity {
 // Parses "<number> [unit]" into SI. A bare number is taken as SI.
 ParsedQuantity ParseQuantity(std::string_view text, Dimension d);
 
-// The unit a quantity written as `text` is best shown in: a speed in rpm for rpm and rev/min,
-// rev/s, rad/s (also for a plain number); a torque in N m, N mm, kN m; any other quantity in the
-// unit written ("0.0034 m" in m, "0.1 in" in in), in SI for a plain number.
+// The unit a speed or torque written as `text` is best shown in: rpm for rpm and rev/min, rev/s,
+// rad/s (also for a plain number); N m, N mm, kN m.
 DisplayUnit DisplayUnitOf(std::string_view text, Dimension d);
 
 // Strict full-string number parse (no trailing junk, finite).

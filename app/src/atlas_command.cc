@@ -239,10 +239,10 @@ std::vector<AtlasCell> PrepareCheckpoint(const Checkpoint& cp, bool resume, int 
 
 }  // namespace
 
-void RequirePairAxisOption(const GearboxSpec& spec, const AtlasAxis& axis,
+void RequirePairAxisOption(const GearboxSpec& spec, const AtlasAxis& axis, const std::string& text,
                            const std::string& field) {
   config::RequireVariableParameter(spec, axis.parameter, field);
-  RequireAxisWithinPitchLineLimit(TrainOf(spec), axis, field, "the mesh");
+  RequireAxisWithinPitchLineLimit(TrainOf(spec), axis, text, field, "the mesh");
 }
 
 int RunAtlas(const AtlasCommandOptions& options) {
@@ -268,8 +268,8 @@ int RunAtlas(const AtlasCommandOptions& options) {
                        "and --y");
     }
     // The file's axes were checked by the loader; the options' are checked here (usage errors).
-    if (options.x) RequirePairAxisOption(spec, *x, "--x");
-    if (options.y) RequirePairAxisOption(spec, *y, "--y");
+    if (options.x) RequirePairAxisOption(spec, *x, *options.x, "--x");
+    if (options.y) RequirePairAxisOption(spec, *y, *options.y, "--y");
     RequireRunLengthOfOptions(loaded.train, LowestInputSpeed(loaded.train, x, y), atlas.cycles,
                               atlas.transient_cycles, options.cycles, options.transient);
     if (x->parameter == y->parameter) {

@@ -113,7 +113,7 @@ int RunOrbits(const OrbitsCommandOptions& options) {
     std::optional<AtlasAxis> sweep;
     if (options.sweep) {
       sweep = config::ParseAxisOption(*options.sweep, "--sweep");
-      RequirePairAxisOption(spec, *sweep, "--sweep");
+      RequirePairAxisOption(spec, *sweep, *options.sweep, "--sweep");
     }
     // The transient, then at least one cycle per base period of the --period searched.
     RequireRunLengthOfOptions(loaded.train, LowestInputSpeed(loaded.train, sweep), options.period,

@@ -254,8 +254,8 @@ int AtlasTrain(const AtlasCommandOptions& options, const TrainSpec& spec) {
   (void)CellVariant(spec, *x, *y, x->range.from, y->range.from,
                     options.x ? "--x" : "analysis.atlas.x.parameter",
                     options.y ? "--y" : "analysis.atlas.y.parameter");
-  if (options.x) RequireAxisWithinPitchLineLimit(spec, x, "--x");
-  if (options.y) RequireAxisWithinPitchLineLimit(spec, y, "--y");
+  if (options.x) RequireAxisWithinPitchLineLimit(spec, *x, *options.x, "--x");
+  if (options.y) RequireAxisWithinPitchLineLimit(spec, *y, *options.y, "--y");
   RequireRunLengthOfOptions(spec, LowestInputSpeed(spec, x, y), atlas.cycles,
                             atlas.transient_cycles, options.cycles, options.transient);
   const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", true);

@@ -97,7 +97,7 @@ int OrbitsTrain(const OrbitsCommandOptions& options, const TrainSpec& spec) {
     sweep = ParseTrainAxisOption(*options.sweep, "--sweep");
     TrainSpec probe = spec;  // the name's index is checked once, as a usage error
     SetTrainParameter(probe, sweep->parameter, sweep->range.from, "--sweep");
-    RequireAxisWithinPitchLineLimit(spec, sweep, "--sweep");
+    RequireAxisWithinPitchLineLimit(spec, *sweep, *options.sweep, "--sweep");
   }
   // The transient, then at least one cycle per base period of the --period searched.
   RequireRunLengthOfOptions(spec, LowestInputSpeed(spec, sweep), options.period,

@@ -33,6 +33,7 @@ InputError::InputError(std::string path, int line, Text value, Text rule, std::s
 InputError InputError::Located(int line, const std::string& written_value,
                                const std::string& source, const UnitOf& unit_of) const {
   auto resolve = [&](Text text) {
+    if (!unit_of) return text;
     for (Quantity& q : text.quantities) {
       if (!q.shown_in) q.shown_in = unit_of(q.unit_path.empty() ? path_ : q.unit_path, q.dimension);
     }

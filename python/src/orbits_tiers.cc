@@ -43,7 +43,7 @@ std::shared_ptr<Orbits> RunOrbits(const Gearbox& gb, int period,
   std::optional<AtlasAxis> axis;
   if (sweep) {
     axis = config::ParseAxisOption(*sweep, "sweep");
-    NamingSource(source, [&] { app::RequirePairAxisOption(spec, *axis, "sweep"); });
+    NamingSource(source, [&] { app::RequirePairAxisOption(spec, *axis, *sweep, "sweep"); });
   }
   NamingSource(source, [&] { options.Validate(); });
   return RunInterruptible(

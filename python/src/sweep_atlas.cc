@@ -91,8 +91,8 @@ std::shared_ptr<Atlas> RunAtlas(const Gearbox& gb, const std::optional<std::stri
                      source);
   }
   NamingSource(source, [&] {
-    if (x) app::RequirePairAxisOption(spec, *ax, "x");
-    if (y) app::RequirePairAxisOption(spec, *ay, "y");
+    if (x) app::RequirePairAxisOption(spec, *ax, *x, "x");
+    if (y) app::RequirePairAxisOption(spec, *ay, *y, "y");
   });
   if (ax->parameter == ay->parameter) {
     throw InputError("y", 0, ay->parameter, "must differ from the x parameter", source);

@@ -15,8 +15,6 @@
 #include <variant>
 #include <vector>
 
-#include "gearnvh/model/display_unit.h"
-
 namespace gearnvh {
 
 struct Material {
@@ -141,6 +139,12 @@ struct ExcitationOrder {
 // transmits (converted to the wheel by the tooth ratio, so the mesh carries the same force).
 enum class TorqueOn { kWheel, kPinion };
 
+// A unit a quantity is shown in: shown value = SI value * per_si.
+struct DisplayUnit {
+  std::string symbol;
+  double per_si = 1.0;
+};
+
 struct OperatingSpec {
   double speed = 0.0;   // rad/s, > 0: mean pinion speed
   double torque = 0.0;  // N m, >= 0: mean torque on the gear `torque_on` names
@@ -177,7 +181,6 @@ struct SweepRange {
 struct AtlasAxis {
   std::string parameter;  // dotted schema path, e.g. "operating.speed"
   SweepRange range;
-  DisplayUnit unit;  // the unit its ends were written in (SI for plain numbers), for messages
 };
 
 struct AnalysisSpec {

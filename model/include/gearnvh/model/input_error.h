@@ -16,7 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "gearnvh/model/display_unit.h"
+// DisplayUnit (the unit a quantity is shown in to the user) lives with the spec for now.
+#include "gearnvh/model/gearbox_spec.h"
 
 namespace gearnvh {
 
@@ -35,10 +36,10 @@ class InputError : public std::runtime_error {
     std::optional<DisplayUnit> shown_in;
   };
   static Quantity Length(double m, std::string unit_path = {}, int digits = 6) {
-    return {m, Dimension::kLength, std::move(unit_path), digits};
+    return Of(m, Dimension::kLength, std::move(unit_path), digits);
   }
   static Quantity Angle(double rad, std::string unit_path = {}, int digits = 6) {
-    return {rad, Dimension::kAngle, std::move(unit_path), digits};
+    return Of(rad, Dimension::kAngle, std::move(unit_path), digits);
   }
 
   // A message part: `form` as it is, or, when `quantities` are given, `form` with "{}" replaced by
@@ -87,6 +88,14 @@ class InputError : public std::runtime_error {
   InputError(std::string path, int line, Text value, Text rule, std::string source,
              std::string written_value);
 
+  static Quantity Of(double si, Dimension dimension, std::string unit_path, int digits) {
+    Quantity q;
+    q.si = si;
+    q.dimension = dimension;
+    q.unit_path = std::move(unit_path);
+    q.digits = digits;
+    return q;
+  }
   // `text` with its quantities in their units.
   static std::string Render(const Text& text);
   static std::string Format(const std::string& source, int line, const std::string& path,
