@@ -3,9 +3,9 @@
 // (InputError::Quantity, config::LocatedIn). Numbers: idle_rattle.yaml's pair of 27 and 43 teeth
 // of module 2 mm at 20 deg, whose base radii sum to 70 mm x cos 20 deg = 65.7785 mm.
 #include <catch2/catch.hpp>
-#include <fstream>
 #include <string>
 
+#include "app/load_error.h"
 #include "app/loose_gear_train_yaml.h"
 #include "config/gearbox_loader.h"
 #include "gearnvh/model/input_error.h"
@@ -13,30 +13,10 @@
 namespace gearnvh {
 namespace {
 
-std::string Example(const std::string& name) {
-  std::ifstream in(std::string(GEARNVH_EXAMPLES_DIR) + "/" + name);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-std::string Replace(std::string text, const std::string& from, const std::string& to) {
-  const size_t at = text.find(from);
-  REQUIRE(at != std::string::npos);
-  return text.replace(at, from.size(), to);
-}
-
-// The message of the InputError loading `text` throws ("" when it loads).
-std::string LoadError(const std::string& text) {
-  try {
-    (void)config::LoadAnyGearboxFromString(text, "t.yaml");
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-
-bool Contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+using testing::Contains;
+using testing::Example;
+using testing::LoadError;
+using testing::Replace;
 
 const std::string kPair = Example("idle_rattle.yaml");
 

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "app/load_error.h"
 #include "app/loose_gear_train_yaml.h"
 #include "config/gearbox_loader.h"
 #include "gearnvh/model/component_model.h"
@@ -25,30 +26,10 @@ using testing::TempDir;
 const std::string kExe = GEARNVH_EXE;
 constexpr double kRpm = 60.0 / (2.0 * std::numbers::pi);
 
-std::string Example(const std::string& name) {
-  std::ifstream in(std::string(GEARNVH_EXAMPLES_DIR) + "/" + name);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-std::string Replace(std::string text, const std::string& from, const std::string& to) {
-  const size_t at = text.find(from);
-  REQUIRE(at != std::string::npos);
-  return text.replace(at, from.size(), to);
-}
-
-// The message of the InputError loading `text` throws ("" when it loads).
-std::string LoadError(const std::string& text) {
-  try {
-    (void)config::LoadAnyGearboxFromString(text, "t.yaml");
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-
-bool Contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+using testing::Contains;
+using testing::Example;
+using testing::LoadError;
+using testing::Replace;
 
 // idle_rattle.yaml: spur pinion, 27 teeth of module 2 mm, so its pitch radius is 27 mm and the
 // 200 m/s pitch-line limit is 200 / 0.027 rad/s = 7407.4 rad/s = 70735.5 rpm.
