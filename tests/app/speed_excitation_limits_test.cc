@@ -172,9 +172,9 @@ TEST_CASE("an axis the gearbox cannot vary is refused where it was named", "[cli
   std::string text = Example("idle_rattle.yaml");
   text =
       Replace(text, "  excitation:\n    - {order: 2, amplitude: 1500 rad/s^2, phase: 0 deg}", "");
-  const std::string file_axis =
-      Replace(text, "x: {parameter: operating.speed,  from: 600 rpm,  to: 3000 rpm",
-              "x: {parameter: operating.excitation[0].amplitude, from: 1 rad/s^2, to: 2 rad/s^2");
+  const std::string file_axis = Replace(
+      text, "x: {parameter: operating.speed,  from: 600 rpm,  to: 3000 rpm",
+      "x: {parameter: \"operating.excitation[0].amplitude\", from: 1 rad/s^2, to: 2 rad/s^2");
   const std::string err = LoadError(file_axis);
   INFO(err);
   CHECK(Contains(err,
