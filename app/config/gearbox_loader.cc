@@ -11,6 +11,7 @@
 #include "gearnvh/model/gearbox_spec_limits.h"
 #include "gearnvh/model/gearbox_spec_validation.h"
 #include "gearnvh/model/input_error.h"
+#include "gearnvh/model/spec_parameters.h"
 #include "spec_sections.h"
 #include "units.h"
 #include "utf8_check.h"
@@ -128,11 +129,12 @@ YAML::Node ParseYaml(const std::string& text, const std::string& source) {
 
 GearboxSpec LoadGearboxFromString(const std::string& text, const std::string& source) {
   SourceLocations where;
-  return LoadPairFromString(text, source, where);
+  std::string sweep_note;
+  return LoadPairFromString(text, source, where, sweep_note);
 }
 
 GearboxSpec LoadPairFromString(const std::string& text, const std::string& source,
-                               SourceLocations& where) {
+                               SourceLocations& where, std::string& sweep_note) {
   const YAML::Node root = ParseYaml(text, source);
   return ReadAndValidate(
       root, source,
@@ -144,10 +146,15 @@ GearboxSpec LoadPairFromString(const std::string& text, const std::string& sourc
         }
         return ReadDocument(r, n);
       },
-      [&where](const GearboxSpec& spec) {
+      [&where, &sweep_note](GearboxSpec& spec) {
         ValidateGearboxSpec(spec);
-        RequireSweepWithinPitchLineLimit(spec.analysis.speed_sweep, where, PitchRadius(spec.pinion),
-                                         "the mesh");
+        for (const auto& [axis, path] :
+             {std::pair{&spec.analysis.atlas_x, "analysis.atlas.x.parameter"},
+              std::pair{&spec.analysis.atlas_y, "analysis.atlas.y.parameter"}}) {
+          if (*axis) RequireVariableParameter(spec, (*axis)->parameter, path);
+        }
+        sweep_note = HoldSpeedsToPitchLineLimit(spec.analysis, where, spec.operating.speed_unit,
+                                                PitchRadius(spec.pinion), "the mesh");
       },
       where);
 }
@@ -199,6 +206,22 @@ AtlasAxis ParseAxisOption(
   }
   axis.range = {from.si_value, to.si_value, static_cast<int>(*points)};
   return axis;
+}
+
+DisplayUnit SpeedUnitOfAxisOption(const std::string& text) {
+  const size_t eq = text.find('='), c1 = text.find(':', eq), c2 = text.find(':', c1 + 1);
+  const std::string to = c1 == std::string::npos ? std::string() : text.substr(c1 + 1, c2 - c1 - 1);
+  return DisplayUnitOf(to, Dimension::kAngularSpeed);
+}
+
+void RequireVariableParameter(const GearboxSpec& spec, const std::string& parameter,
+                              const std::string& field) {
+  GearboxSpec probe = spec;
+  try {
+    SetParameter(probe, parameter, 0.0);
+  } catch (const ParameterNotVariable& e) {
+    throw InputError(field, 0, "'" + parameter + "'", e.reason());
+  }
 }
 
 std::string ReadGearboxText(const std::string& path) {

@@ -36,6 +36,9 @@ struct LoadedGearbox {
   std::optional<GearboxSpec> pair;  // schema 1
   TrainSpec train;
   SourceLocations locations;
+  // Set when analysis.speed_sweep was not written and the default sweep was clipped to the
+  // pitch-line velocity limit (the commands that run the sweep print it as a note).
+  std::string sweep_note;
 };
 LoadedGearbox LoadAnyGearboxFromString(const std::string& text,
                                        const std::string& source = "<string>");
@@ -52,6 +55,16 @@ AtlasAxis ParseAxisOption(
     const std::string& text, const std::string& field,
     const std::function<std::optional<Dimension>(const std::string&)>& dimension_of,
     const std::function<std::string(const std::string&)>& rejection);
+
+// The unit the upper end of an axis option "PARAMETER=FROM:TO:POINTS" was written in, as a speed
+// (rpm, rev/s, rad/s; for messages about an axis varying operating.speed).
+DisplayUnit SpeedUnitOfAxisOption(const std::string& text);
+
+// A parameter of a pair's atlas axis or orbit sweep that SetParameter can set on `spec` (the
+// file has the excitation order it varies), else InputError naming `field` (the option or the
+// YAML path the name came from).
+void RequireVariableParameter(const GearboxSpec& spec, const std::string& parameter,
+                              const std::string& field);
 
 // The closest of `candidates` to `word` by edit distance, or "" when none is close.
 std::string ClosestMatch(const std::string& word, const std::vector<std::string>& candidates);

@@ -4,8 +4,10 @@
 #pragma once
 
 #include <map>
+#include <optional>
 #include <string>
 
+#include "config/units.h"
 #include "gearnvh/model/input_error.h"
 
 namespace gearnvh::config {
@@ -39,7 +41,8 @@ class SourceLocations {
 };
 
 // `e` located in `source` through `where`: the line of its YAML path (or of the closest enclosing
-// key written) and, when the path itself was written, the value as written. An error that already
+// key written), the value as written when the path itself was written, and its lengths and angles
+// in the units written at their paths (mm and deg for a path not written). An error that already
 // has a line, names a command-line option ("--tier") or names another source is only attributed
 // (to its own source when it has one).
 inline InputError LocatedIn(const InputError& e, const SourceLocations& where,
@@ -50,7 +53,14 @@ inline InputError LocatedIn(const InputError& e, const SourceLocations& where,
   }
   const SourceLocations::Location loc = where.Find(e.path());
   const bool exact = where.Exact(e.path()) && !loc.raw.empty();
-  return InputError(e.path(), loc.line, exact ? "'" + loc.raw + "'" : e.value(), e.rule(), from);
+  const auto written_unit = [&where](const std::string& path, InputError::Dimension dimension) {
+    const SourceLocations::Location at = where.Find(path);
+    if (!where.Exact(path) || at.raw.empty()) return std::optional<DisplayUnit>();
+    return std::optional<DisplayUnit>(
+        DisplayUnitOf(at.raw, dimension == InputError::Dimension::kLength ? Dimension::kLength
+                                                                          : Dimension::kAngle));
+  };
+  return e.Located(loc.line, exact ? "'" + loc.raw + "'" : "", from, written_unit);
 }
 
 }  // namespace gearnvh::config

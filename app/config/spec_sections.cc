@@ -1,5 +1,7 @@
 #include "spec_sections.h"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <optional>
 
@@ -306,15 +308,37 @@ std::vector<ExcitationOrder> ReadExcitation(Reader& r, const YAML::Node& op) {
   return out;
 }
 
-void RequireSweepWithinPitchLineLimit(const SweepRange& sweep, const SourceLocations& where,
-                                      double velocity_per_speed, const std::string& mesh) {
-  if (!where.Exact("analysis.speed_sweep.to")) return;
-  const DisplayUnit unit =
-      DisplayUnitOf(where.Find("analysis.speed_sweep.to").raw, Dimension::kAngularSpeed);
-  for (const auto& [speed, path] : {std::pair{sweep.from, "analysis.speed_sweep.from"},
-                                    std::pair{sweep.to, "analysis.speed_sweep.to"}}) {
-    RequirePitchLineVelocity(path, speed, unit, velocity_per_speed, mesh);
+std::string HoldSpeedsToPitchLineLimit(AnalysisSpec& analysis, const SourceLocations& where,
+                                       const DisplayUnit& speed_unit, double velocity_per_speed,
+                                       const std::string& mesh) {
+  const auto require = [&](const SweepRange& range, const std::string& path) {
+    const DisplayUnit unit = DisplayUnitOf(where.Find(path + ".to").raw, Dimension::kAngularSpeed);
+    RequirePitchLineVelocity(path + ".from", range.from, unit, velocity_per_speed, mesh);
+    RequirePitchLineVelocity(path + ".to", range.to, unit, velocity_per_speed, mesh);
+  };
+  for (const auto& [axis, path] : {std::pair{&analysis.atlas_x, "analysis.atlas.x"},
+                                   std::pair{&analysis.atlas_y, "analysis.atlas.y"}}) {
+    if (*axis && (*axis)->parameter == "operating.speed") require((*axis)->range, path);
   }
+  SweepRange& sweep = analysis.speed_sweep;
+  if (where.Exact("analysis.speed_sweep.to")) {
+    require(sweep, "analysis.speed_sweep");
+    return "";
+  }
+  // A hair below the limit, so rounding cannot put the last speed above it.
+  const double highest = GearboxLimits::kMaxPitchLineVelocity / velocity_per_speed * (1.0 - 1e-9);
+  if (sweep.to <= highest) return "";
+  const SweepRange default_sweep = sweep;
+  // Keep the default's span ratio when even its lowest speed is too fast.
+  if (sweep.from >= highest) sweep.from = highest * sweep.from / sweep.to;
+  sweep.to = highest;
+  return fmt::format(
+      "analysis.speed_sweep is not written, and the default sweep {} to {} would run {} above the "
+      "pitch-line velocity limit of {} m/s (at {:.4g} m/s): sweeping {} to {} instead, the "
+      "largest speed allowed (write analysis.speed_sweep to choose the range)",
+      InUnit(default_sweep.from, speed_unit), InUnit(default_sweep.to, speed_unit), mesh,
+      GearboxLimits::kMaxPitchLineVelocity, default_sweep.to * velocity_per_speed,
+      InUnit(sweep.from, speed_unit), InUnit(sweep.to, speed_unit));
 }
 
 AnalysisSpec ReadAnalysis(Reader& r, const YAML::Node& root, int schema) {

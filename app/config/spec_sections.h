@@ -35,11 +35,15 @@ std::map<std::string, Material> ReadMaterials(Reader& r, const YAML::Node& root)
 MeshSpec ReadMesh(Reader& r, const YAML::Node& mesh, const std::string& path,
                   const std::vector<std::string>& extra_keys = {});
 std::vector<ExcitationOrder> ReadExcitation(Reader& r, const YAML::Node& op);
-// A written analysis.speed_sweep held to the pitch-line velocity limit at both ends
-// (RequirePitchLineVelocity, in the unit the sweep was written in); a default sweep is not the
-// user's claim and is not checked. `velocity_per_speed` and `mesh`: the fastest mesh's.
-void RequireSweepWithinPitchLineLimit(const SweepRange& sweep, const SourceLocations& where,
-                                      double velocity_per_speed, const std::string& mesh);
+// The pitch-line velocity limit on the file's speeds beyond operating.speed: a written
+// analysis.speed_sweep and an analysis.atlas axis that varies operating.speed are held to it at
+// both ends (RequirePitchLineVelocity, in the unit they were written in). The default sweep is not
+// the user's claim: it is clipped to the largest speed allowed instead, and the returned note says
+// so ("" when it was within). `speed_unit`: the operating speed's; `velocity_per_speed` and
+// `mesh`: the fastest mesh's.
+std::string HoldSpeedsToPitchLineLimit(AnalysisSpec& analysis, const SourceLocations& where,
+                                       const DisplayUnit& speed_unit, double velocity_per_speed,
+                                       const std::string& mesh);
 
 AnalysisSpec ReadAnalysis(Reader& r, const YAML::Node& root, int schema = 1);
 // The schema version a document declares (1 when absent): 1 or 2, else InputError.

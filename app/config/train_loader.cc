@@ -132,18 +132,19 @@ LoadedGearbox LoadAnyGearboxFromString(const std::string& text, const std::strin
     }
   }
   if (out.schema == 1) {
-    out.pair = LoadPairFromString(text, source, out.locations);
+    out.pair = LoadPairFromString(text, source, out.locations, out.sweep_note);
     out.train = TrainOf(*out.pair);
     return out;
   }
   out.train = ReadAndValidate(
       root, source, ReadTrainDocument,
-      [&out](const TrainSpec& spec) {
+      [&out](TrainSpec& spec) {
         ValidateTrainSpec(spec);
         ValidateTrainAtlasAxes(spec);
         const FastestMesh fastest = FastestPitchLine(spec, AnalyseTrainTopology(spec));
-        RequireSweepWithinPitchLineLimit(spec.analysis.speed_sweep, out.locations,
-                                         fastest.velocity_per_speed, fastest.name);
+        out.sweep_note =
+            HoldSpeedsToPitchLineLimit(spec.analysis, out.locations, spec.operating.speed_unit,
+                                       fastest.velocity_per_speed, fastest.name);
       },
       out.locations);
   return out;

@@ -146,7 +146,13 @@ DisplayUnit DisplayUnitOf(std::string_view text, Dimension d) {
     if (unit == "kN*m") return {"kN m", 1e-3};
     return {"N m", 1.0};
   }
-  return {unit, 1.0};
+  // Any other dimension: the unit as written, SI (the table's first unit) for a plain number.
+  const std::vector<UnitEntry>& table = Table(d);
+  if (table.empty()) return {"", 1.0};
+  for (const UnitEntry& u : table) {
+    if (unit == u.symbol) return {u.symbol, 1.0 / u.to_si};
+  }
+  return {table.front().symbol, 1.0};
 }
 
 ParsedQuantity ParseQuantity(std::string_view text, Dimension d) {

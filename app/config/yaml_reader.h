@@ -186,16 +186,17 @@ class Reader {
   SourceLocations locations_;
 };
 
-// LoadGearboxFromString, also giving the locations of what was read.
+// LoadGearboxFromString, also giving the locations of what was read and the note on a default
+// speed sweep clipped to the pitch-line velocity limit (LoadedGearbox::sweep_note).
 GearboxSpec LoadPairFromString(const std::string& text, const std::string& source,
-                               SourceLocations& where);
+                               SourceLocations& where, std::string& sweep_note);
 
 // Parses YAML text (valid UTF-8 required); InputError naming `source` and the line otherwise.
 YAML::Node ParseYaml(const std::string& text, const std::string& source);
 
-// Reads the document with `read`, validates it with `validate`, and attributes every error to
-// `source`, with range errors pointed back at the line and the value as the user wrote it. The
-// locations of what was read go to `where` (for errors raised after loading).
+// Reads the document with `read`, validates (and completes) it with `validate`, and attributes
+// every error to `source`, with range errors pointed back at the line and the value as the user
+// wrote it. The locations of what was read go to `where` (for errors raised after loading).
 template <typename Read, typename Validate>
 auto ReadAndValidate(const YAML::Node& root, const std::string& source, Read&& read,
                      Validate&& validate, SourceLocations& where) {

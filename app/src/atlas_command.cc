@@ -239,6 +239,12 @@ std::vector<AtlasCell> PrepareCheckpoint(const Checkpoint& cp, bool resume, int 
 
 }  // namespace
 
+void RequirePairAxisOption(const GearboxSpec& spec, const AtlasAxis& axis, const std::string& text,
+                           const std::string& field) {
+  config::RequireVariableParameter(spec, axis.parameter, field);
+  RequireAxisWithinPitchLineLimit(TrainOf(spec), axis, text, field, "the mesh");
+}
+
 int RunAtlas(const AtlasCommandOptions& options) {
   const int rank = MpiContext::Rank(), ranks = MpiContext::Size();
   int code = RunReportingErrors(options.file, [&](config::SourceLocations& where) -> int {
@@ -261,6 +267,9 @@ int RunAtlas(const AtlasCommandOptions& options) {
                        "an atlas needs two axes: analysis.atlas.x and .y in the file, or --x "
                        "and --y");
     }
+    // The file's axes were checked by the loader; the options' are checked here (usage errors).
+    if (options.x) RequirePairAxisOption(spec, *x, *options.x, "--x");
+    if (options.y) RequirePairAxisOption(spec, *y, *options.y, "--y");
     RequireRunLengthOfOptions(loaded.train, LowestInputSpeed(loaded.train, x, y), atlas.cycles,
                               atlas.transient_cycles, options.cycles, options.transient);
     if (x->parameter == y->parameter) {

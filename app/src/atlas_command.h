@@ -30,6 +30,13 @@ struct AtlasCommandOptions {
 // threads, and rank 0 gathers them and alone writes the outputs and shows progress.
 int RunAtlas(const AtlasCommandOptions& options);
 
+// An axis given to a pair's atlas or orbit sweep outside its file (a command-line option, a Python
+// argument; the loader checks the file's): a parameter SetParameter can set on `spec`, and a speed
+// axis within the pitch-line velocity limit at its fastest end. InputError naming `field`.
+// `text`: the axis as given.
+void RequirePairAxisOption(const GearboxSpec& spec, const AtlasAxis& axis, const std::string& text,
+                           const std::string& field);
+
 // The atlas documents (also used by reports).
 nlohmann::json AtlasJson(const AtlasResult& r, const AtlasOptions& o);
 // Shared with the train's atlas (train_atlas_command.h):

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "atlas_command.h"
 #include "command_errors.h"
 #include "config/gearbox_loader.h"
 #include "display_units.h"
@@ -110,7 +111,10 @@ int RunOrbits(const OrbitsCommandOptions& options) {
     scan.transient_cycles = options.transient.value_or(spec.analysis.transient_cycles);
     scan.events = EventMethodOf(options.method);
     std::optional<AtlasAxis> sweep;
-    if (options.sweep) sweep = config::ParseAxisOption(*options.sweep, "--sweep");
+    if (options.sweep) {
+      sweep = config::ParseAxisOption(*options.sweep, "--sweep");
+      RequirePairAxisOption(spec, *sweep, *options.sweep, "--sweep");
+    }
     // The transient, then at least one cycle per base period of the --period searched.
     RequireRunLengthOfOptions(loaded.train, LowestInputSpeed(loaded.train, sweep), options.period,
                               scan.transient_cycles, std::nullopt, options.transient);

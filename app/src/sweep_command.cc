@@ -215,6 +215,9 @@ int RunSweep(const SweepOptions& options) {
   const int code = RunReportingErrors(options.file, [&](config::SourceLocations& where) -> int {
     config::LoadedGearbox loaded = config::LoadAnyGearboxFile(options.file);
     where = loaded.locations;
+    if (!loaded.sweep_note.empty() && MpiContext::Rank() == 0) {
+      std::cerr << "note: " << loaded.sweep_note << "\n";
+    }
     if (loaded.schema == 2) return SweepTrain(options, loaded.train);
     const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", true);
     const GearboxSpec spec = std::move(*loaded.pair);

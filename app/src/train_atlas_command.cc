@@ -261,6 +261,8 @@ TrainAtlasPlan PlanTrainAtlas(const AtlasCommandOptions& options, const TrainSpe
   (void)CellVariant(spec, *x, *y, x->range.from, y->range.from,
                     options.x ? names("x") : "analysis.atlas.x.parameter",
                     options.y ? names("y") : "analysis.atlas.y.parameter");
+  if (options.x) RequireAxisWithinPitchLineLimit(spec, *x, *options.x, names("x"));
+  if (options.y) RequireAxisWithinPitchLineLimit(spec, *y, *options.y, names("y"));
   RequireRunLengthOfOptions(spec, LowestInputSpeed(spec, x, y), atlas.cycles,
                             atlas.transient_cycles, options.cycles, options.transient, names);
   plan.x = *x;

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "config/gearbox_loader.h"
 #include "gearnvh/model/gearbox_spec_limits.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/model/train_structure.h"
@@ -168,6 +169,16 @@ double LowestInputSpeed(const TrainSpec& spec, const std::optional<AtlasAxis>& x
     varied = true;
   }
   return lowest;
+}
+
+void RequireAxisWithinPitchLineLimit(const TrainSpec& spec, const AtlasAxis& axis,
+                                     const std::string& text, const std::string& field,
+                                     const std::string& mesh) {
+  if (axis.parameter != "operating.speed") return;
+  const FastestMesh fastest = FastestPitchLine(spec, AnalyseTrainTopology(spec));
+  const double speed = std::max(std::abs(axis.range.from), std::abs(axis.range.to));
+  RequirePitchLineVelocity(field, speed, config::SpeedUnitOfAxisOption(text),
+                           fastest.velocity_per_speed, mesh.empty() ? fastest.name : mesh);
 }
 
 void RequireCycleCounts(long cycles, long min_cycles, long transient,

@@ -121,6 +121,14 @@ void RequireRunLengthOfOptions(const TrainSpec& spec, double lowest_speed, long 
 double LowestInputSpeed(const TrainSpec& spec, const std::optional<AtlasAxis>& x,
                         const std::optional<AtlasAxis>& y = std::nullopt);
 
+// An axis a command runs (atlas --x/--y, orbits --sweep, given as `text`) that varies
+// operating.speed, held at its fastest end to the pitch-line velocity limit of the fastest mesh
+// (RequirePitchLineVelocity, in the unit the axis was written in): InputError naming `field`.
+// `mesh` names that mesh for a pair ("the mesh"); "" names a train's ("meshes[1] (c-d)").
+void RequireAxisWithinPitchLineLimit(const TrainSpec& spec, const AtlasAxis& axis,
+                                     const std::string& text, const std::string& field,
+                                     const std::string& mesh = "");
+
 // Called about 100 times during the run with the simulated time reached (s) and the end time.
 using TrainProgress = std::function<void(double time, double end)>;
 

@@ -99,6 +99,7 @@ TrainOrbitsPlan PlanTrainOrbits(const OrbitsCommandOptions& options, const Train
     plan.sweep = ParseTrainAxisOption(*options.sweep, plan.sweep_option);
     TrainSpec probe = spec;  // the name's index is checked once, as a usage error
     SetTrainParameter(probe, plan.sweep->parameter, plan.sweep->range.from, plan.sweep_option);
+    RequireAxisWithinPitchLineLimit(spec, *plan.sweep, *options.sweep, plan.sweep_option);
   }
   // The transient, then at least one cycle per base period of the --period searched.
   RequireRunLengthOfOptions(spec, LowestInputSpeed(spec, plan.sweep), options.period,

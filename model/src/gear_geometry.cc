@@ -45,15 +45,17 @@ PairGeometry ComputePairGeometry(const MeshPair& pair) {
   const GearSpec& p = pair.a;
   const GearSpec& w = pair.b;
   if (std::abs(p.module - w.module) > 1e-12 * p.module) {
-    throw InputError(pair.path_b + ".module", 0, Num(w.module),
-                     "must equal the module of " + pair.path_a + " (" + Num(p.module * 1e3) +
-                         " mm): gears in mesh share the module");
+    throw InputError(
+        pair.path_b + ".module", 0, {"{}", {InputError::Length(w.module)}},
+        {"must equal the module of " + pair.path_a + " ({}): gears in mesh share the module",
+         {InputError::Length(p.module)}});
   }
   if (std::abs(p.pressure_angle - w.pressure_angle) > 1e-12) {
-    throw InputError(pair.path_b + ".pressure_angle", 0, Num(w.pressure_angle) + " rad",
-                     "must equal the pressure angle of " + pair.path_a + " (" +
-                         Num(p.pressure_angle * 180.0 / std::numbers::pi) +
-                         " deg): gears in mesh share the pressure angle");
+    throw InputError(pair.path_b + ".pressure_angle", 0,
+                     {"{}", {InputError::Angle(w.pressure_angle)}},
+                     {"must equal the pressure angle of " + pair.path_a +
+                          " ({}): gears in mesh share the pressure angle",
+                      {InputError::Angle(p.pressure_angle)}});
   }
   PairGeometry g;
   g.pinion = ComputeGearRadii(p);
@@ -70,9 +72,10 @@ PairGeometry ComputePairGeometry(const MeshPair& pair) {
   }
   const double cos_w = (g.pinion.base + g.wheel.base) / g.center_distance;
   if (!(cos_w < 1.0)) {
-    throw InputError(
-        pair.path_mesh + ".center_distance", 0, Num(g.center_distance * 1e3) + " mm",
-        "must exceed the sum of base radii (" + Num((g.pinion.base + g.wheel.base) * 1e3) + " mm)");
+    throw InputError(pair.path_mesh + ".center_distance", 0,
+                     {"{}", {InputError::Length(g.center_distance)}},
+                     {"must exceed the sum of base radii ({})",
+                      {InputError::Length(g.pinion.base + g.wheel.base)}});
   }
   g.working_pressure_angle = std::acos(cos_w);
   g.base_pitch = std::numbers::pi * p.module * std::cos(alpha0);
@@ -91,11 +94,12 @@ PairGeometry ComputePairGeometry(const MeshPair& pair) {
   if (g.contact_ratio < 1.0) {
     // A given centre distance is the likely cause: name it and what it gives.
     if (pair.mesh.center_distance) {
-      throw InputError(pair.path_mesh + ".center_distance", 0, Num(g.center_distance * 1e3) + " mm",
-                       "gives a transverse contact ratio of " + Num(g.contact_ratio) +
-                           ", must give >= 1 for continuous contact (the standard centre distance "
-                           "r_p,a + r_p,b is " +
-                           Num(a0 * 1e3) + " mm)");
+      throw InputError(pair.path_mesh + ".center_distance", 0,
+                       {"{}", {InputError::Length(g.center_distance)}},
+                       {"gives a transverse contact ratio of " + Num(g.contact_ratio) +
+                            ", must give >= 1 for continuous contact (the standard centre "
+                            "distance r_p,a + r_p,b is {})",
+                        {InputError::Length(a0)}});
     }
     throw InputError(pair.path_mesh, 0, Num(g.contact_ratio),
                      "contact ratio must be >= 1 for continuous contact");

@@ -82,8 +82,10 @@ GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& opti
       mesh.segmentation = SegmentMeshCycle(mesh.pair, MeshEvaluator(mesh.pair, mesh.geometry),
                                            spec.analysis.segments_per_cycle);
     } catch (const InputError& e) {  // the rule names "this pair": say which mesh it is
-      throw InputError(e.path(), e.line(), e.value(),
-                       e.rule() + " in " + mesh.pair.path_mesh + " (" + mesh.name + ")");
+      throw e.Renamed([](const std::string& path) { return path; },
+                      [&](const std::string& rule) {
+                        return rule + " in " + mesh.pair.path_mesh + " (" + mesh.name + ")";
+                      });
     }
     for (const std::string& w : mesh.cycle.warnings) train.warnings.push_back(w);
     // The solver's grid cuts at every mesh's segment boundaries, so its segments are no longer

@@ -25,10 +25,10 @@ double Involute(double a) { return std::tan(a) - a; }
 
 void GearLimits(const GearSpec& gear, const std::string& p) {
   if (!(gear.module >= L::kMinModule && gear.module <= L::kMaxModule)) {
-    throw InputError(p + ".module", 0, Num(gear.module),
-                     fmt::format("must be in [{}, {}] mm: the tooth stiffness and FE models are "
-                                 "for gears of that size",
-                                 L::kMinModule * 1e3, L::kMaxModule * 1e3));
+    throw InputError(p + ".module", 0, {"{}", {InputError::Length(gear.module)}},
+                     {"must be in [{#}, {#}] {unit}: the tooth stiffness and FE models are for "
+                      "gears of that size",
+                      {InputError::Length(L::kMinModule), InputError::Length(L::kMaxModule)}});
   }
   // A helical gear's teeth are generated on its transverse section (m_t, alpha_t, and h_a*, x
   // scaled by cos beta), so undercut (z_min = 2 h_a* cos(beta) / sin^2 alpha_t, ISO 21771) and the
@@ -42,10 +42,11 @@ void GearLimits(const GearSpec& gear, const std::string& p) {
   const double z_min = 2.0 * (g.addendum_coefficient - g.profile_shift) / std::pow(std::sin(a), 2);
   if (z < z_min - 1e-9) {
     throw InputError(p + ".teeth", 0, std::to_string(g.teeth),
-                     fmt::format("is undercut at a {:.4g} deg pressure angle with profile shift "
-                                 "{:.4g}: needs at least {:.3g} teeth (z >= 2 (h_a* - x) / "
-                                 "sin^2 alpha), or more profile shift",
-                                 a * 180.0 / std::numbers::pi, g.profile_shift, z_min));
+                     {fmt::format("is undercut at a {{}} pressure angle with profile shift "
+                                  "{:.4g}: needs at least {:.3g} teeth (z >= 2 (h_a* - x) / "
+                                  "sin^2 alpha), or more profile shift",
+                                  g.profile_shift, z_min),
+                      {InputError::Angle(a, p + ".pressure_angle", 4)}});
   }
   // Pointed teeth: the tooth thickness at the tip circle,
   // s_a = d_a ((pi/2 + 2 x tan alpha) / z + inv alpha - inv alpha_a), cos alpha_a = d_b / d_a.
@@ -55,12 +56,13 @@ void GearLimits(const GearSpec& gear, const std::string& p) {
   const double s_a = d_a * ((std::numbers::pi / 2.0 + 2.0 * g.profile_shift * std::tan(a)) / z +
                             Involute(a) - Involute(alpha_a));
   if (!(s_a >= L::kMinTipThickness * m)) {
-    throw InputError(
-        p + ".pressure_angle", 0, Num(a),
-        fmt::format("gives pointed teeth: the tip thickness is {:.3g} mm, below {} x "
-                    "module = {:.3g} mm (lower the pressure angle, the addendum or the "
-                    "profile shift)",
-                    s_a * 1e3, L::kMinTipThickness, L::kMinTipThickness * m * 1e3));
+    throw InputError(p + ".pressure_angle", 0, {"{}", {InputError::Angle(a)}},
+                     {fmt::format("gives pointed teeth: the tip thickness is {{}}, below {} x "
+                                  "module = {{}} (lower the pressure angle, the addendum or the "
+                                  "profile shift)",
+                                  L::kMinTipThickness),
+                      {InputError::Length(s_a, p + ".module", 3),
+                       InputError::Length(L::kMinTipThickness * m, p + ".module", 3)}});
   }
 }
 

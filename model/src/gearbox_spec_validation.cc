@@ -27,8 +27,6 @@ std::string Num(double v) {
   return os.str();
 }
 
-constexpr double kDeg = 180.0 / std::numbers::pi;
-
 // Small rule helpers: each throws InputError(path, value, rule) when the rule is broken.
 void Positive(const std::string& path, double v) {
   if (!(v > 0.0) || !std::isfinite(v)) throw InputError(path, 0, Num(v), "must be > 0");
@@ -36,14 +34,29 @@ void Positive(const std::string& path, double v) {
 void NonNegative(const std::string& path, double v) {
   if (!(v >= 0.0) || !std::isfinite(v)) throw InputError(path, 0, Num(v), "must be >= 0");
 }
-void InRange(const std::string& path, double v, double lo, double hi, bool lo_open, bool hi_open) {
+bool Within(double v, double lo, double hi, bool lo_open, bool hi_open) {
   const bool ok_lo = lo_open ? v > lo : v >= lo;
   const bool ok_hi = hi_open ? v < hi : v <= hi;
-  if (!(ok_lo && ok_hi) || !std::isfinite(v)) {
-    throw InputError(path, 0, Num(v),
-                     std::string("must be in ") + (lo_open ? "(" : "[") + Num(lo) + ", " + Num(hi) +
-                         (hi_open ? ")" : "]"));
+  return ok_lo && ok_hi && std::isfinite(v);
+}
+std::string Interval(bool lo_open, bool hi_open, const std::string& lo, const std::string& hi) {
+  return std::string("must be in ") + (lo_open ? "(" : "[") + lo + ", " + hi +
+         (hi_open ? ")" : "]");
+}
+void InRange(const std::string& path, double v, double lo, double hi, bool lo_open, bool hi_open) {
+  if (!Within(v, lo, hi, lo_open, hi_open)) {
+    throw InputError(path, 0, Num(v), Interval(lo_open, hi_open, Num(lo), Num(hi)));
   }
+}
+// The same for a length or an angle: the value and the bounds in the unit the file wrote.
+void InRange(const std::string& path, InputError::Quantity v, double lo, double hi, bool lo_open,
+             bool hi_open) {
+  if (Within(v.si, lo, hi, lo_open, hi_open)) return;
+  InputError::Quantity low = v, high = v;
+  low.si = lo;
+  high.si = hi;
+  throw InputError(path, 0, {"{}", {v}},
+                   {Interval(lo_open, hi_open, "{#}", "{#}") + " {unit}", {low, high}});
 }
 
 void ValidateGear(const GearboxSpec& spec, const GearSpec& g, const std::string& p) {
@@ -51,9 +64,11 @@ void ValidateGear(const GearboxSpec& spec, const GearSpec& g, const std::string&
   if (g.teeth > 10000)
     throw InputError(p + ".teeth", 0, std::to_string(g.teeth), "must be <= 10000");
   Positive(p + ".module", g.module);
-  InRange(p + ".pressure_angle", g.pressure_angle, 0.0, std::numbers::pi / 4.0, true, true);
+  InRange(p + ".pressure_angle", InputError::Angle(g.pressure_angle), 0.0, std::numbers::pi / 4.0,
+          true, true);
   Positive(p + ".face_width", g.face_width);
-  InRange(p + ".helix_angle", g.helix_angle, 0.0, std::numbers::pi / 4.0, false, true);
+  InRange(p + ".helix_angle", InputError::Angle(g.helix_angle), 0.0, std::numbers::pi / 4.0, false,
+          true);
   NonNegative(p + ".bore_diameter", g.bore_diameter);
   if (spec.materials.find(g.material) == spec.materials.end()) {
     throw InputError(p + ".material", 0, g.material, "must name a key of materials");
@@ -82,7 +97,8 @@ void ValidateGear(const GearboxSpec& spec, const GearSpec& g, const std::string&
   // Manufacturing errors are small deviations of the geometry: beyond a module they describe a
   // different gear, not an error of this one.
   if (g.runout) {
-    InRange(p + ".runout.amplitude", g.runout->amplitude, 0.0, g.module, false, false);
+    InRange(p + ".runout.amplitude", InputError::Length(g.runout->amplitude), 0.0, g.module, false,
+            false);
     if (!std::isfinite(g.runout->phase)) {
       throw InputError(p + ".runout.phase", 0, Num(g.runout->phase), "must be a finite angle");
     }
@@ -92,7 +108,8 @@ void ValidateGear(const GearboxSpec& spec, const GearSpec& g, const std::string&
                      "must list one deviation per tooth (" + std::to_string(g.teeth) + ")");
   }
   for (size_t i = 0; i < g.pitch_errors.size(); ++i) {
-    InRange(Indexed(p + ".pitch_errors", i), g.pitch_errors[i], -g.module, g.module, false, false);
+    InRange(Indexed(p + ".pitch_errors", i), InputError::Length(g.pitch_errors[i]), -g.module,
+            g.module, false, false);
   }
   const GearRadii r = ComputeGearRadii(g);
   if (!(r.root > 0.0)) {
@@ -100,8 +117,9 @@ void ValidateGear(const GearboxSpec& spec, const GearSpec& g, const std::string&
                      "gives a root radius <= 0");
   }
   if (!(g.bore_diameter < 2.0 * r.root)) {
-    throw InputError(p + ".bore_diameter", 0, Num(g.bore_diameter),
-                     "must be smaller than the root diameter (" + Num(2e3 * r.root) + " mm)");
+    throw InputError(
+        p + ".bore_diameter", 0, {"{}", {InputError::Length(g.bore_diameter)}},
+        {"must be smaller than the root diameter ({})", {InputError::Length(2.0 * r.root)}});
   }
 }
 
@@ -123,7 +141,8 @@ void ValidateShaft(const GearboxSpec& spec, const ShaftSpec& s, const std::strin
   const double len = s.Length();
   auto within = [&](const std::string& path, double x) {
     if (!(x >= 0.0 && x <= len * (1.0 + 1e-12))) {
-      throw InputError(path, 0, Num(x), "must lie on the shaft, in [0, " + Num(len) + "] m");
+      throw InputError(path, 0, {"{}", {InputError::Length(x)}},
+                       {"must lie on the shaft, in [0, {#}] {unit}", {InputError::Length(len)}});
     }
   };
   within(p + ".gear_at", s.gear_at);
@@ -199,9 +218,10 @@ void ValidateGearboxSpec(const GearboxSpec& spec, OperatingLimits operating) {
   ValidateGear(spec, spec.wheel, "gears.wheel");
   // An external helical pair: equal helix angles, opposite hands.
   if (spec.pinion.helix_angle != spec.wheel.helix_angle) {
-    throw InputError("gears.wheel.helix_angle", 0, Num(spec.wheel.helix_angle * kDeg) + " deg",
-                     "must equal the pinion's helix angle (" + Num(spec.pinion.helix_angle * kDeg) +
-                         " deg): gears in mesh share it");
+    throw InputError("gears.wheel.helix_angle", 0,
+                     {"{}", {InputError::Angle(spec.wheel.helix_angle)}},
+                     {"must equal the pinion's helix angle ({}): gears in mesh share it",
+                      {InputError::Angle(spec.pinion.helix_angle)}});
   }
   if (spec.pinion.helix_angle > 0.0 && spec.pinion.hand == spec.wheel.hand) {
     throw InputError("gears.wheel.hand", 0, spec.wheel.hand == Hand::kRight ? "right" : "left",

@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <deque>
-#include <numbers>
 #include <set>
 
 #include "gearnvh/model/gearbox_spec_limits.h"
@@ -270,11 +269,11 @@ void ValidateTrainSpec(const TrainSpec& spec) {
                        "the two gears sit on the same shaft '" + a.shaft + "' and cannot mesh");
     }
     if (a.gear.helix_angle != b.gear.helix_angle) {
-      constexpr double kDeg = 180.0 / std::numbers::pi;
-      throw InputError(
-          "gears." + b.name + ".helix_angle", 0, Num(b.gear.helix_angle * kDeg) + " deg",
-          "must equal the helix angle of '" + a.name + "' (" + Num(a.gear.helix_angle * kDeg) +
-              " deg), the gear it meshes with in " + MeshPath(static_cast<int>(m)));
+      throw InputError("gears." + b.name + ".helix_angle", 0,
+                       {"{}", {InputError::Angle(b.gear.helix_angle)}},
+                       {"must equal the helix angle of '" + a.name +
+                            "' ({}), the gear it meshes with in " + MeshPath(static_cast<int>(m)),
+                        {InputError::Angle(a.gear.helix_angle)}});
     }
     if (a.gear.helix_angle > 0.0 && a.gear.hand == b.gear.hand) {
       throw InputError("gears." + b.name + ".hand", 0,
@@ -330,8 +329,9 @@ void ValidateTrainSpec(const TrainSpec& spec) {
     try {
       ValidateGearboxSpec(pair, OperatingLimits::kLeftToTheTrain);
     } catch (const InputError& e) {
-      throw InputError(TrainPath(e.path(), spec, static_cast<int>(m)), e.line(), e.value(),
-                       TrainRule(e.rule(), spec, static_cast<int>(m)));
+      throw e.Renamed(
+          [&](const std::string& path) { return TrainPath(path, spec, static_cast<int>(m)); },
+          [&](const std::string& rule) { return TrainRule(rule, spec, static_cast<int>(m)); });
     }
   }
   ValidateTrainLimits(spec, topology);

@@ -53,8 +53,8 @@ AtlasCell ComputeAtlasCell(const GearboxSpec& base, const AtlasAxis& x, const At
   cell.y = AxisValue(y, iy);
   try {
     GearboxSpec spec = base;
-    SetParameter(spec, x.parameter, cell.x, "analysis.atlas.x.parameter");
-    SetParameter(spec, y.parameter, cell.y, "analysis.atlas.y.parameter");
+    SetParameter(spec, x.parameter, cell.x);
+    SetParameter(spec, y.parameter, cell.y);
     ValidateGearboxSpec(spec);
     const OperatingPointModel op = BuildOperatingPointModel(spec, options.tier);
     const SegmentTables& tables = op.tables;

@@ -39,7 +39,7 @@ std::vector<OrbitScanPoint> ScanPeriodicOrbits(const GearboxSpec& base,
       GearboxSpec spec = base;
       if (sweep) {
         p.value = AxisValue(*sweep, i);
-        SetParameter(spec, sweep->parameter, p.value, "--sweep");
+        SetParameter(spec, sweep->parameter, p.value);
         ValidateGearboxSpec(spec);
       }
       const OperatingPointModel op = BuildOperatingPointModel(spec, options.tier);

@@ -6,6 +6,7 @@
 #include <memory>
 #include <optional>
 
+#include "atlas_command.h"
 #include "binding_support.h"
 #include "config/gearbox_loader.h"
 #include "gearbox.h"
@@ -40,7 +41,10 @@ std::shared_ptr<Orbits> RunOrbits(const Gearbox& gb, int period,
   options.events =
       EventMethodOf(NamingSource(source, [&] { return app::ParseMethod(method, "method"); }));
   std::optional<AtlasAxis> axis;
-  if (sweep) axis = config::ParseAxisOption(*sweep, "sweep");
+  if (sweep) {
+    axis = config::ParseAxisOption(*sweep, "sweep");
+    NamingSource(source, [&] { app::RequirePairAxisOption(spec, *axis, *sweep, "sweep"); });
+  }
   NamingSource(source, [&] { options.Validate(); });
   return RunInterruptible(
       [&](CallControl& control) {

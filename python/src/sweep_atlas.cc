@@ -90,6 +90,10 @@ std::shared_ptr<Atlas> RunAtlas(const Gearbox& gb, const std::optional<std::stri
                      "y= ('operating.speed=600rpm:3000rpm:24')",
                      source);
   }
+  NamingSource(source, [&] {
+    if (x) app::RequirePairAxisOption(spec, *ax, *x, "x");
+    if (y) app::RequirePairAxisOption(spec, *ay, *y, "y");
+  });
   if (ax->parameter == ay->parameter) {
     throw InputError("y", 0, ay->parameter, "must differ from the x parameter", source);
   }

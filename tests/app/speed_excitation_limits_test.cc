@@ -6,7 +6,9 @@
 #include <fstream>
 #include <numbers>
 #include <string>
+#include <vector>
 
+#include "app/load_error.h"
 #include "app/loose_gear_train_yaml.h"
 #include "config/gearbox_loader.h"
 #include "gearnvh/model/component_model.h"
@@ -24,30 +26,10 @@ using testing::TempDir;
 const std::string kExe = GEARNVH_EXE;
 constexpr double kRpm = 60.0 / (2.0 * std::numbers::pi);
 
-std::string Example(const std::string& name) {
-  std::ifstream in(std::string(GEARNVH_EXAMPLES_DIR) + "/" + name);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-std::string Replace(std::string text, const std::string& from, const std::string& to) {
-  const size_t at = text.find(from);
-  REQUIRE(at != std::string::npos);
-  return text.replace(at, from.size(), to);
-}
-
-// The message of the InputError loading `text` throws ("" when it loads).
-std::string LoadError(const std::string& text) {
-  try {
-    (void)config::LoadAnyGearboxFromString(text, "t.yaml");
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-
-bool Contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+using testing::Contains;
+using testing::Example;
+using testing::LoadError;
+using testing::Replace;
 
 // idle_rattle.yaml: spur pinion, 27 teeth of module 2 mm, so its pitch radius is 27 mm and the
 // 200 m/s pitch-line limit is 200 / 0.027 rad/s = 7407.4 rad/s = 70735.5 rpm.
@@ -96,6 +78,120 @@ TEST_CASE("a train's input speed is limited by its fastest mesh's pitch-line vel
   CHECK(Contains(err, "got '1e30 rpm'"));
   CHECK(LoadError(Replace(testing::kLooseGearTrainYaml, "value: 1000 rpm", "value: 90000 rpm"))
             .empty());
+}
+
+TEST_CASE("a file's atlas axis over operating.speed is held to the pitch-line limit",
+          "[loader][limits]") {
+  const std::string err = LoadError(Replace(
+      Example("idle_rattle.yaml"), "x: {parameter: operating.speed,  from: 600 rpm,  to: 3000 rpm",
+      "x: {parameter: operating.speed,  from: 600 rpm,  to: 1e6 rpm"));
+  INFO(err);
+  CHECK(Contains(err, "t.yaml:52: analysis.atlas.x.to: gives the mesh a pitch-line velocity of"));
+  CHECK(Contains(err, "(a speed of 70735.5 rpm here)"));
+  CHECK(Contains(err, "got '1e6 rpm'"));
+}
+
+// idle_rattle.yaml with a 400-tooth pinion (r = 0.4 m): the limit is 200 / 0.4 = 500 rad/s =
+// 4774.65 rpm, below the default sweep's 6000 rpm (at which the pitch line runs at 251.3 m/s).
+TEST_CASE("the default speed sweep is clipped to the pitch-line limit, with a note",
+          "[loader][limits]") {
+  std::string text = Replace(Example("idle_rattle.yaml"), "teeth: 27", "teeth: 400");
+  text = Replace(text, "teeth: 43", "teeth: 430");
+  // Written sweep and atlas removed: the defaults apply.
+  text = text.substr(0, text.find("  speed_sweep:"));
+  const config::LoadedGearbox loaded = config::LoadAnyGearboxFromString(text, "t.yaml");
+  const SweepRange& sweep = loaded.pair->analysis.speed_sweep;
+  // The clipped top sits a relative 1e-9 below the limit (so rounding cannot cross it).
+  CHECK(sweep.to == Approx(500.0).epsilon(1e-8));
+  CHECK(sweep.to <= 500.0);
+  CHECK(sweep.from == Approx(500.0 / kRpm).epsilon(1e-12));  // the default's 500 rpm stays
+  CHECK(sweep.points == 56);
+  INFO(loaded.sweep_note);
+  CHECK(Contains(loaded.sweep_note,
+                 "analysis.speed_sweep is not written, and the default sweep 500 rpm to 6000 rpm "
+                 "would run the mesh above the pitch-line velocity limit of 200 m/s (at 251.3 "
+                 "m/s): sweeping 500 rpm to 4774.65 rpm instead"));
+  // The train of the same pair carries the clipped sweep too.
+  CHECK(loaded.train.analysis.speed_sweep.to == sweep.to);
+  // Within the limit (the example's 27 teeth): the default sweep is left alone, without a note.
+  const std::string small = Example("idle_rattle.yaml");
+  const config::LoadedGearbox unclipped =
+      config::LoadAnyGearboxFromString(small.substr(0, small.find("  speed_sweep:")), "t.yaml");
+  CHECK(unclipped.sweep_note.empty());
+  CHECK(unclipped.pair->analysis.speed_sweep.to == Approx(6000.0 / kRpm).epsilon(1e-12));
+}
+
+// The loose-gear train with a 400-tooth input gear a (r = 0.4 m; its mesh a-b is then the
+// fastest, b-side c-d runs at 400/35 x 0.019 = 0.217 m/s per rad/s): the limit is 500 rad/s.
+TEST_CASE("a train's default speed sweep is clipped to its fastest mesh's limit",
+          "[loader][limits][train]") {
+  const std::string text = Replace(testing::kLooseGearTrainYaml, "a: {shaft: input, teeth: 21",
+                                   "a: {shaft: input, teeth: 400");
+  const config::LoadedGearbox loaded = config::LoadAnyGearboxFromString(text, "t.yaml");
+  CHECK(loaded.train.analysis.speed_sweep.to == Approx(500.0).epsilon(1e-8));
+  INFO(loaded.sweep_note);
+  CHECK(Contains(loaded.sweep_note,
+                 "would run meshes[0] (a-b) above the pitch-line velocity "
+                 "limit of 200 m/s"));
+  CHECK(Contains(loaded.sweep_note, "sweeping 500 rpm to 4774.65 rpm instead"));
+}
+
+TEST_CASE("atlas and orbits hold a speed axis of the command line to the pitch-line limit",
+          "[cli][limits]") {
+  TempDir dir;
+  const std::string pair = std::string(GEARNVH_EXAMPLES_DIR) + "/idle_rattle.yaml";
+  const std::string train = dir.Write("train.yaml", testing::kLooseGearTrainYaml).string();
+  struct Case {
+    std::string file, args, message;
+  };
+  const std::string fast = "operating.speed=600rpm:1e30rpm:2";
+  for (const Case& c : std::vector<Case>{
+           {pair, " atlas --x " + fast + " --y mesh.backlash=50um:100um:2",
+            "--x: gives the mesh a pitch-line velocity of"},
+           {pair, " atlas --y " + fast + " --x mesh.backlash=50um:100um:2",
+            "--y: gives the mesh a pitch-line velocity of"},
+           {pair, " orbits --sweep " + fast, "--sweep: gives the mesh a pitch-line velocity of"},
+           {train, " atlas --x " + fast + " --y meshes[0].backlash=50um:100um:2",
+            "--x: gives meshes[0] (a-b) a pitch-line velocity of"},
+           {train, " orbits --sweep " + fast,
+            "--sweep: gives meshes[0] (a-b) a pitch-line velocity of"}}) {
+    const auto out = dir.path() / "out";
+    const auto run = RunCommand(kExe + c.args + " --out " + out.string() + " " + c.file);
+    INFO(c.args << " " << c.file << "\n" << run.err);
+    CHECK(run.exit_code == 2);
+    CHECK(Contains(run.err, c.message));
+    CHECK(Contains(run.err, "got 1e+30 rpm"));
+    CHECK(Contains(run.err, c.file == pair ? "(a speed of 70735.5 rpm here)"
+                                           : "(a speed of 90945.7 rpm here)"));
+    CHECK((!std::filesystem::exists(out) || std::filesystem::is_empty(out)));
+  }
+}
+
+TEST_CASE("an axis the gearbox cannot vary is refused where it was named", "[cli][loader]") {
+  // No excitation order: operating.excitation[0].amplitude has nothing to vary.
+  std::string text = Example("idle_rattle.yaml");
+  text =
+      Replace(text, "  excitation:\n    - {order: 2, amplitude: 1500 rad/s^2, phase: 0 deg}", "");
+  const std::string file_axis = Replace(
+      text, "x: {parameter: operating.speed,  from: 600 rpm,  to: 3000 rpm",
+      "x: {parameter: \"operating.excitation[0].amplitude\", from: 1 rad/s^2, to: 2 rad/s^2");
+  const std::string err = LoadError(file_axis);
+  INFO(err);
+  CHECK(Contains(err,
+                 "t.yaml:51: analysis.atlas.x.parameter: the gearbox has no "
+                 "operating.excitation order to vary, got 'operating.excitation[0].amplitude'"));
+  TempDir dir;
+  const auto file = dir.Write("quiet.yaml", text);
+  for (const std::string& args :
+       {std::string(" atlas --x operating.excitation[0].amplitude=1rad/s^2:2rad/s^2:2 --y "
+                    "mesh.backlash=50um:100um:2 "),
+        std::string(" orbits --sweep operating.excitation[0].amplitude=1rad/s^2:2rad/s^2:2 ")}) {
+    const auto run = RunCommand(kExe + args + file.string());
+    INFO(args << run.err);
+    CHECK(run.exit_code == 2);
+    CHECK(Contains(run.err, "the gearbox has no operating.excitation order to vary"));
+    CHECK(Contains(run.err, args.find("atlas") != std::string::npos ? "--x: " : "--sweep: "));
+  }
 }
 
 TEST_CASE("speeds in the excitation rule's message are in the unit the speed was written in",
