@@ -255,18 +255,15 @@ namespace {
 // Bytes a held tuple occupies: its matrices, closed forms, key and index entry.
 size_t SystemBytes(const TrainSystem& s, size_t key_words) {
   size_t doubles = static_cast<size_t>(s.A.size() + s.balance.size());
-  if (s.spectral) {
-    const SpectralDecomposition& d = s.decomposition;
-    doubles += static_cast<size_t>(d.S.size() + d.S_inv.size() + d.B0.size());
-    const size_t terms = static_cast<size_t>(std::max(d.series_terms, 1));
-    const size_t zero = static_cast<size_t>(d.zero_size);
-    doubles += (s.delta.size() + s.delta_back.size()) * terms * (zero + 1);
-  }
-  return doubles * sizeof(double) + s.coupled_columns.size() * sizeof(int) +
-         s.decomposition.blocks.size() * sizeof(SpectralDecomposition::Block) +
-         (s.delta.size() + s.delta_back.size()) *
-             (sizeof(ClosedFormGap) + 16 * sizeof(double) * s.decomposition.blocks.size()) +
-         sizeof(TrainSystem) + 2 * key_words * sizeof(uint64_t) + 128;
+  const SpectralDecomposition& d = s.decomposition;
+  doubles += static_cast<size_t>(d.S.size() + d.S_inv.size() + d.B0.size() + d.block_sigma.size() +
+                                 d.block_omega.size());
+  size_t bytes = doubles * sizeof(double) + s.coupled_columns.size() * sizeof(int) +
+                 d.blocks.size() * sizeof(SpectralDecomposition::Block) + sizeof(TrainSystem) +
+                 2 * key_words * sizeof(uint64_t) + sizeof(uint64_t);
+  for (const ClosedFormGap& gap : s.delta) bytes += gap.bytes();
+  for (const ClosedFormGap& gap : s.delta_back) bytes += gap.bytes();
+  return bytes;
 }
 
 }  // namespace
