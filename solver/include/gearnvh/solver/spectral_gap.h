@@ -222,8 +222,8 @@ class ClosedFormGap {
     void operator()(double* p) const;
   };
   using ArrayMap = Eigen::Map<Eigen::ArrayXd, Eigen::AlignedMax>;
-  // The storage is written through const accessors only where the members were mutable before
-  // (the evaluation scratch and the search state's loaded coefficients stay private).
+  // Writable maps also from const methods: the evaluation scratch (kGrow, kCosines, kSines) is
+  // written by the const search, as the mutable members it replaces were.
   double* Data(Part part) const { return storage_.get() + part_offset_[part]; }
   ArrayMap Terms(Part part) const { return ArrayMap(Data(part), padded_); }
   const int* index_a() const { return reinterpret_cast<const int*>(Data(kIndex)); }
