@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <new>
 #include <optional>
 
 #include "bracketed_newton.h"
@@ -12,76 +13,138 @@
 
 namespace gearnvh {
 
+namespace {
+
+constexpr size_t kAlignBytes = 64;  // EIGEN_MAX_ALIGN_BYTES with AVX-512; a cache line
+constexpr int kAlignDoubles = static_cast<int>(kAlignBytes / sizeof(double));
+static_assert(kAlignBytes % EIGEN_MAX_ALIGN_BYTES == 0);
+
+int RoundUp(int doubles) { return (doubles + kAlignDoubles - 1) / kAlignDoubles * kAlignDoubles; }
+
+double* AllocateAligned(size_t doubles) {
+  return static_cast<double*>(::operator new (std::max<size_t>(doubles, 1) * sizeof(double),
+                                              std::align_val_t{kAlignBytes}));
+}
+
+}  // namespace
+
+void ClosedFormGap::FreeAligned::operator()(double* p) const {
+  ::operator delete (p, std::align_val_t{kAlignBytes});
+}
+
 ClosedFormGap::ClosedFormGap(const SpectralDecomposition& d, const Eigen::RowVectorXd& row) {
+  Build(d, row, -1.0);
+}
+
+ClosedFormGap::ClosedFormGap(const SpectralDecomposition& d, const Eigen::RowVectorXd& row,
+                             double horizon) {
+  Build(d, row, horizon);
+}
+
+ClosedFormGap::ClosedFormGap(const ClosedFormGap& other) { *this = other; }
+
+ClosedFormGap& ClosedFormGap::operator=(const ClosedFormGap& other) {
+  if (this == &other) return *this;
+  storage_.reset(other.storage_ ? AllocateAligned(other.storage_doubles_) : nullptr);
+  if (other.storage_) std::copy_n(other.storage_.get(), other.storage_doubles_, storage_.get());
+  storage_doubles_ = other.storage_doubles_;
+  part_offset_ = other.part_offset_;
+  terms_ = other.terms_;
+  padded_ = other.padded_;
+  poly_terms_ = other.poly_terms_;
+  row_size_ = other.row_size_;
+  growing_ = other.growing_;
+  bound1_sum_ = other.bound1_sum_;
+  bound2_sum_ = other.bound2_sum_;
+  zero_size_ = other.zero_size_;
+  end_ = other.end_;
+  end_value_ = other.end_value_;
+  end_rate_ = other.end_rate_;
+  sign_ = other.sign_;
+  offset_ = other.offset_;
+  horizon_ = other.horizon_;
+  last_time_ = other.last_time_;
+  last_rate_ = other.last_rate_;
+  return *this;
+}
+
+void ClosedFormGap::Build(const SpectralDecomposition& d, const Eigen::RowVectorXd& row,
+                          double horizon) {
   const Eigen::RowVectorXd u = row * d.S;
+  const int m = static_cast<int>(u.size());
   zero_size_ = d.zero_size;
-  poly_rows_.resize(std::max(d.series_terms, 1), zero_size_);
-  poly_rows_.setZero();
-  if (zero_size_ > 0) {
-    Eigen::RowVectorXd r = u.head(zero_size_);
-    for (int k = 0; k < d.series_terms; ++k) {
-      poly_rows_.row(k) = r;
-      r = (r * d.B0) / static_cast<double>(k + 1);
-    }
-  }
-  poly_ = Eigen::VectorXd::Zero(poly_rows_.rows());
+  poly_terms_ = std::max(d.series_terms, 1);
   const int count = static_cast<int>(d.blocks.size());
   // Padded with zero terms (sigma = omega = 0, coefficients 0: they add exactly 0 everywhere) to
   // whole 8-double vectors.
   terms_ = count;
-  const int padded = (count + 7) / 8 * 8;
-  index_a_.setZero(padded);
-  index_b_.setZero(padded);
-  for (auto* a : {&sigma_, &omega_, &rate_, &damped_sigma_, &r1a_, &r1b_, &r2a_, &r2b_, &alpha_,
-                  &beta_, &bound1_, &grow_, &cos_, &sin_})
-    a->setZero(padded);
-  for (int k = 0; k < count; ++k) {
-    const SpectralDecomposition::Block& b = d.blocks[k];
-    sigma_[k] = b.sigma;
-    omega_[k] = b.omega;
-    rate_[k] = std::hypot(b.sigma, b.omega);
-    damped_sigma_[k] = std::min(b.sigma, 0.0);
-    if (b.sigma > 0.0) growing_.push_back(k);
-    index_a_[k] = b.start;
-    if (b.size == 1) {
-      index_b_[k] = b.start;
-      r1a_[k] = u[b.start];
-    } else {
-      index_b_[k] = b.start + 1;
-      const Eigen::RowVector2d ub = u.segment<2>(b.start);
-      const Eigen::RowVector2d r2 = (ub * b.B - b.sigma * ub) / b.omega;
-      r1a_[k] = ub[0];
-      r1b_[k] = ub[1];
-      r2a_[k] = r2[0];
-      r2b_[k] = r2[1];
+  padded_ = (count + 7) / 8 * 8;
+  row_size_ = horizon >= 0.0 ? m : 0;
+  int next = 0;
+  for (int part = 0; part < kParts; ++part) {
+    part_offset_[static_cast<size_t>(part)] = next;
+    int size = padded_;  // kIndex: 2 padded_ ints
+    if (part == kPolyRows) size = poly_terms_ * zero_size_;
+    if (part == kPoly) size = poly_terms_;
+    if (part >= kEndValueRow) size = row_size_;
+    next += RoundUp(size);
+  }
+  storage_doubles_ = static_cast<size_t>(next);
+  storage_.reset(AllocateAligned(storage_doubles_));
+  std::fill_n(storage_.get(), storage_doubles_, 0.0);
+  std::fill_n(reinterpret_cast<int*>(Data(kIndex)), 2 * padded_, 0);
+
+  if (zero_size_ > 0) {
+    Eigen::RowVectorXd r = u.head(zero_size_);
+    for (int k = 0; k < d.series_terms; ++k) {
+      poly_rows().row(k) = r;
+      r = (r * d.B0) / static_cast<double>(k + 1);
     }
   }
-}
+  int* index = reinterpret_cast<int*>(Data(kIndex));
+  for (int k = 0; k < count; ++k) {
+    const SpectralDecomposition::Block& b = d.blocks[k];
+    sigma()[k] = b.sigma;
+    omega()[k] = b.omega;
+    rates()[k] = std::hypot(b.sigma, b.omega);
+    damped_sigma()[k] = std::min(b.sigma, 0.0);
+    if (b.sigma > 0.0) growing_.push_back(k);
+    index[k] = b.start;
+    if (b.size == 1) {
+      index[padded_ + k] = b.start;
+      r1a()[k] = u[b.start];
+    } else {
+      index[padded_ + k] = b.start + 1;
+      const Eigen::RowVector2d ub = u.segment<2>(b.start);
+      const Eigen::RowVector2d r2 = (ub * b.B - b.sigma * ub) / b.omega;
+      r1a()[k] = ub[0];
+      r1b()[k] = ub[1];
+      r2a()[k] = r2[0];
+      r2b()[k] = r2[1];
+    }
+  }
+  if (horizon < 0.0) return;
 
-ClosedFormGap::ClosedFormGap(const SpectralDecomposition& d, const Eigen::RowVectorXd& row,
-                             double horizon)
-    : ClosedFormGap(d, row) {
-  const Eigen::RowVectorXd u = row * d.S;
-  const int m = static_cast<int>(u.size());
+  // With the rows of g(H) and g'(H) in w for the segment length H (u e^{DH} and u D e^{DH}).
   end_ = horizon;
-  end_value_row_ = Eigen::RowVectorXd::Zero(m);
-  end_rate_row_ = Eigen::RowVectorXd::Zero(m);
+  auto end_value_row = Row(kEndValueRow);
+  auto end_rate_row = Row(kEndRateRow);
+  const auto poly_rows = this->poly_rows();
   // Polynomial part: p(H) = sum_k poly_rows_k H^k w0, p'(H) = sum_k k poly_rows_k H^(k-1) w0.
   if (zero_size_ > 0) {
     double power = 1.0;  // H^k
-    for (int k = 0; k < poly_rows_.rows(); ++k) {
-      end_value_row_.head(zero_size_) += power * poly_rows_.row(k);
-      if (k + 1 < poly_rows_.rows())
-        end_rate_row_.head(zero_size_) +=
-            static_cast<double>(k + 1) * power * poly_rows_.row(k + 1);
+    for (int k = 0; k < poly_rows.rows(); ++k) {
+      end_value_row.head(zero_size_) += power * poly_rows.row(k);
+      if (k + 1 < poly_rows.rows())
+        end_rate_row.head(zero_size_) += static_cast<double>(k + 1) * power * poly_rows.row(k + 1);
       power *= horizon;
     }
   }
   for (const auto& b : d.blocks) {
     const double grow = std::exp(b.sigma * horizon);
     if (b.size == 1) {
-      end_value_row_[b.start] = u[b.start] * grow;
-      end_rate_row_[b.start] = u[b.start] * b.sigma * grow;
+      end_value_row[b.start] = u[b.start] * grow;
+      end_rate_row[b.start] = u[b.start] * b.sigma * grow;
       continue;
     }
     // e^{B H} = e^{sigma H}(cos(omega H) I + sin(omega H) / omega (B - sigma I)); the rate row
@@ -90,68 +153,77 @@ ClosedFormGap::ClosedFormGap(const SpectralDecomposition& d, const Eigen::RowVec
                                       std::sin(b.omega * horizon) / b.omega *
                                           (b.B - b.sigma * Eigen::Matrix2d::Identity()));
     const Eigen::RowVector2d ub = u.segment<2>(b.start);
-    end_value_row_.segment<2>(b.start) = ub * E;
-    end_rate_row_.segment<2>(b.start) = ub * b.B * E;
+    end_value_row.segment<2>(b.start) = ub * E;
+    end_rate_row.segment<2>(b.start) = ub * b.B * E;
   }
   // The screen (ClearOfWall): per coordinate of w, the bound of its share of |g'| on [0, H]
   // (slope) and of its terms' magnitude (size).
-  screen_start_ = u;
-  screen_rate_ = Eigen::RowVectorXd::Zero(m);
+  Row(kScreenStart) = u;
+  auto screen_rate = Row(kScreenRate);
   Eigen::RowVectorXd slope = Eigen::RowVectorXd::Zero(m), size = Eigen::RowVectorXd::Zero(m);
   Eigen::RowVectorXd curve = Eigen::RowVectorXd::Zero(m);
-  if (zero_size_ > 0 && poly_rows_.rows() > 1) screen_rate_.head(zero_size_) = poly_rows_.row(1);
+  if (zero_size_ > 0 && poly_rows.rows() > 1) screen_rate.head(zero_size_) = poly_rows.row(1);
   double power = 1.0;  // H^k
-  for (int k = 0; k < poly_rows_.rows() && zero_size_ > 0; ++k) {
-    size.head(zero_size_) += power * poly_rows_.row(k).cwiseAbs();
-    if (k + 1 < poly_rows_.rows())
+  for (int k = 0; k < poly_rows.rows() && zero_size_ > 0; ++k) {
+    size.head(zero_size_) += power * poly_rows.row(k).cwiseAbs();
+    if (k + 1 < poly_rows.rows())
       slope.head(zero_size_) +=
-          static_cast<double>(k + 1) * power * poly_rows_.row(k + 1).cwiseAbs();
-    if (k + 2 < poly_rows_.rows())
+          static_cast<double>(k + 1) * power * poly_rows.row(k + 1).cwiseAbs();
+    if (k + 2 < poly_rows.rows())
       curve.head(zero_size_) +=
-          static_cast<double>((k + 2) * (k + 1)) * power * poly_rows_.row(k + 2).cwiseAbs();
+          static_cast<double>((k + 2) * (k + 1)) * power * poly_rows.row(k + 2).cwiseAbs();
     power *= horizon;
   }
+  const int* index_a = this->index_a();
+  const int* index_b = this->index_b();
   for (int k = 0; k < terms_; ++k) {
-    const double grow = std::exp(std::max(sigma_[k], 0.0) * horizon);
-    const double a = grow * std::hypot(r1a_[k], r2a_[k]), b = grow * std::hypot(r1b_[k], r2b_[k]);
-    size[index_a_[k]] += a;
-    slope[index_a_[k]] += rate_[k] * a;
-    curve[index_a_[k]] += rate_[k] * rate_[k] * a;
-    size[index_b_[k]] += b;
-    slope[index_b_[k]] += rate_[k] * b;
-    curve[index_b_[k]] += rate_[k] * rate_[k] * b;
+    const double grow = std::exp(std::max(sigma()[k], 0.0) * horizon);
+    const double a = grow * std::hypot(r1a()[k], r2a()[k]),
+                 b = grow * std::hypot(r1b()[k], r2b()[k]);
+    const double rate = rates()[k];
+    size[index_a[k]] += a;
+    slope[index_a[k]] += rate * a;
+    curve[index_a[k]] += rate * rate * a;
+    size[index_b[k]] += b;
+    slope[index_b[k]] += rate * b;
+    curve[index_b[k]] += rate * rate * b;
     // g'(0) of the term: sigma alpha + omega beta.
-    screen_rate_[index_a_[k]] += sigma_[k] * r1a_[k] + omega_[k] * r2a_[k];
-    screen_rate_[index_b_[k]] += sigma_[k] * r1b_[k] + omega_[k] * r2b_[k];
+    screen_rate[index_a[k]] += sigma()[k] * r1a()[k] + omega()[k] * r2a()[k];
+    screen_rate[index_b[k]] += sigma()[k] * r1b()[k] + omega()[k] * r2b()[k];
   }
   const double eps = std::numeric_limits<double>::epsilon();
   // 1 + 1e-12: the rounding of the bounds' own evaluation (as in DerivativeBound).
-  screen_margin_ = (1.0 + 1e-12) * (4.0 * m + 64.0) * eps * size;
-  screen_reach_ = (1.0 + 1e-12) * horizon * slope + screen_margin_;
-  screen_curve_ = (1.0 + 1e-12) * curve;
+  Row(kScreenMargin) = (1.0 + 1e-12) * (4.0 * m + 64.0) * eps * size;
+  Row(kScreenReach) = (1.0 + 1e-12) * horizon * slope + Row(kScreenMargin);
+  Row(kScreenCurve) = (1.0 + 1e-12) * curve;
 }
 
 void ClosedFormGap::Load(const Eigen::VectorXd& w) {
   if (end_ >= 0.0) {
-    end_value_ = end_value_row_.dot(w);
-    end_rate_ = end_rate_row_.dot(w);
+    end_value_ = Row(kEndValueRow).dot(w);
+    end_rate_ = Row(kEndRateRow).dot(w);
   }
   // Eigen's product: a plain loop (a little faster on trains) sums in another order, which moved
   // the pair's settled idle-rattle trajectory to a window where the saltation test's finite
   // difference disagrees with the tangent (cause not established; kept as it was).
-  if (zero_size_ > 0) poly_.noalias() = poly_rows_ * w.head(zero_size_);
+  if (zero_size_ > 0) poly().noalias() = poly_rows() * w.head(zero_size_);
   // One scalar pass: a vector pass over values just stored one by one would wait for the stores
   // (no store-to-load forwarding from narrow stores into a wide load).
+  const int* index_a = this->index_a();
+  const int* index_b = this->index_b();
+  const double *r1a = Data(kR1a), *r1b = Data(kR1b), *r2a = Data(kR2a), *r2b = Data(kR2b);
+  const double* rates = Data(kRates);
+  double *alpha = Data(kAlpha), *beta = Data(kBeta), *bound1 = Data(kBound1);
   double sum1 = 0.0, sum2 = 0.0;
   for (int k = 0; k < terms_; ++k) {
-    const double wa = w[index_a_[k]], wb = w[index_b_[k]];
-    const double alpha = r1a_[k] * wa + r1b_[k] * wb, beta = r2a_[k] * wa + r2b_[k] * wb;
-    alpha_[k] = alpha;
-    beta_[k] = beta;
-    const double bound = std::sqrt(alpha * alpha + beta * beta) * rate_[k];
-    bound1_[k] = bound;
+    const double wa = w[index_a[k]], wb = w[index_b[k]];
+    const double a = r1a[k] * wa + r1b[k] * wb, b = r2a[k] * wa + r2b[k] * wb;
+    alpha[k] = a;
+    beta[k] = b;
+    const double bound = std::sqrt(a * a + b * b) * rates[k];
+    bound1[k] = bound;
     sum1 += bound;
-    sum2 += bound * rate_[k];
+    sum2 += bound * rates[k];
   }
   bound1_sum_ = sum1;
   bound2_sum_ = sum2;
@@ -159,38 +231,38 @@ void ClosedFormGap::Load(const Eigen::VectorXd& w) {
 
 void ClosedFormGap::Load(const Eigen::VectorXd& w, double constant) {
   Load(w);
-  poly_[0] += constant;
+  poly()[0] += constant;
   end_value_ += constant;
 }
 
 double ClosedFormGap::StartValue() const {
-  return (zero_size_ > 0 ? poly_[0] : 0.0) + alpha_.sum();
+  return (zero_size_ > 0 ? poly()[0] : 0.0) + alpha().sum();
 }
 
 void ClosedFormGap::EvaluateTerms(double t) const {
-  grow_ = (sigma_ * t).exp();
+  grow() = (sigma() * t).exp();
   // The arrays are padded to whole vectors (the padding's omega is 0).
-  for (int k = 0; k < omega_.size(); k += 8)
-    internal::VectorSinCos(&omega_[k], t, terms_ - k, &cos_[k], &sin_[k]);
+  for (int k = 0; k < padded_; k += 8)
+    internal::VectorSinCos(&omega()[k], t, terms_ - k, &cosines()[k], &sines()[k]);
 }
 
 double ClosedFormGap::Evaluate(double t, int order) const {
   // Polynomial part (Horner on the order-th derivative).
   double value = 0.0;
-  const int degree = static_cast<int>(poly_.size()) - 1;
+  const int degree = poly_terms_ - 1;
   if (zero_size_ > 0) {
     for (int k = degree; k >= order; --k) {
       double factor = 1.0;
       for (int i = 0; i < order; ++i) factor *= static_cast<double>(k - i);
-      value = value * t + factor * poly_[k];
+      value = value * t + factor * poly()[k];
     }
   }
   EvaluateTerms(t);
-  if (order == 0) return value + (grow_ * (alpha_ * cos_ + beta_ * sin_)).sum();
+  if (order == 0) return value + (grow() * (alpha() * cosines() + beta() * sines())).sum();
   // d/dt [e^{st}(a cos wt + b sin wt)] = e^{st}((s a + w b) cos wt + (s b - w a) sin wt).
-  if (order == 1) return value + (grow_ * (RateAlpha() * cos_ + RateBeta() * sin_)).sum();
-  return value + (grow_ * ((sigma_ * RateAlpha() + omega_ * RateBeta()) * cos_ +
-                           (sigma_ * RateBeta() - omega_ * RateAlpha()) * sin_))
+  if (order == 1) return value + (grow() * (RateAlpha() * cosines() + RateBeta() * sines())).sum();
+  return value + (grow() * ((sigma() * RateAlpha() + omega() * RateBeta()) * cosines() +
+                            (sigma() * RateBeta() - omega() * RateAlpha()) * sines()))
                      .sum();
 }
 
@@ -198,8 +270,8 @@ ClosedFormGap::Jet ClosedFormGap::SearchJet(double t) const {
   // The same sums as Evaluate(t, 0) and Evaluate(t, 1), sharing each term's exp and sincos.
   double value = 0.0, rate = 0.0;
   if (t == 0.0) {  // every segment's search starts here: no exp, no sincos
-    if (zero_size_ > 0) value = poly_[0], rate = poly_.size() > 1 ? poly_[1] : 0.0;
-    value += alpha_.sum();
+    if (zero_size_ > 0) value = poly()[0], rate = poly_terms_ > 1 ? poly()[1] : 0.0;
+    value += alpha().sum();
     rate += RateAlpha().sum();
     return {sign_ * value - offset_, sign_ * rate};
   }
@@ -208,14 +280,14 @@ ClosedFormGap::Jet ClosedFormGap::SearchJet(double t) const {
     last_rate_ = end_rate_;
     return {sign_ * end_value_ - offset_, sign_ * end_rate_};
   }
-  const int degree = static_cast<int>(poly_.size()) - 1;
+  const int degree = poly_terms_ - 1;
   if (zero_size_ > 0) {
-    for (int k = degree; k >= 0; --k) value = value * t + poly_[k];
-    for (int k = degree; k >= 1; --k) rate = rate * t + static_cast<double>(k) * poly_[k];
+    for (int k = degree; k >= 0; --k) value = value * t + poly()[k];
+    for (int k = degree; k >= 1; --k) rate = rate * t + static_cast<double>(k) * poly()[k];
   }
   EvaluateTerms(t);
-  value += (grow_ * (alpha_ * cos_ + beta_ * sin_)).sum();
-  rate += (grow_ * (RateAlpha() * cos_ + RateBeta() * sin_)).sum();
+  value += (grow() * (alpha() * cosines() + beta() * sines())).sum();
+  rate += (grow() * (RateAlpha() * cosines() + RateBeta() * sines())).sum();
   last_time_ = t;
   last_rate_ = rate;
   return {sign_ * value - offset_, sign_ * rate};
@@ -223,12 +295,12 @@ ClosedFormGap::Jet ClosedFormGap::SearchJet(double t) const {
 
 double ClosedFormGap::DerivativeBound(double a, double b, int order) const {
   double bound = 0.0;
-  const int degree = static_cast<int>(poly_.size()) - 1;
+  const int degree = poly_terms_ - 1;
   if (zero_size_ > 0) {
     for (int k = degree; k >= order; --k) {
       double factor = 1.0;
       for (int i = 0; i < order; ++i) factor *= static_cast<double>(k - i);
-      bound = bound * b + factor * std::abs(poly_[k]);
+      bound = bound * b + factor * std::abs(poly()[k]);
     }
   }
   // max over [a, b] of e^{sigma t} is e^{sigma a} (sigma <= 0), bounded by 1 / (1 - sigma a) since
@@ -237,11 +309,11 @@ double ClosedFormGap::DerivativeBound(double a, double b, int order) const {
   if (a == 0.0)
     bound += order == 1 ? bound1_sum_ : bound2_sum_;
   else if (order == 1)
-    bound += (bound1_ / (1.0 - damped_sigma_ * a)).sum();
+    bound += (bound1() / (1.0 - damped_sigma() * a)).sum();
   else
-    bound += (bound1_ * rate_ / (1.0 - damped_sigma_ * a)).sum();
+    bound += (bound1() * rates() / (1.0 - damped_sigma() * a)).sum();
   for (const int k : growing_)
-    bound += bound1_[k] * (order == 1 ? 1.0 : rate_[k]) * std::expm1(sigma_[k] * b);
+    bound += bound1()[k] * (order == 1 ? 1.0 : rates()[k]) * std::expm1(sigma()[k] * b);
   // Rounding of the evaluated bound itself: a hair of slack keeps the certificate conservative.
   return bound * (1.0 + 1e-12);
 }

@@ -200,7 +200,6 @@ TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
   return t;
 }
 
-
 TrainSystemCache::TrainSystemCache(const TrainTables& tables, const TrainTableOptions& options)
     : t_(tables), options_(options) {
   options.Validate();
@@ -215,7 +214,11 @@ TrainSystemCache::TrainSystemCache(const TrainTables& tables, const TrainTableOp
   index_bits_ = kInitialIndexBits;
   index_.resize(size_t{1} << index_bits_);
   index_keys_.resize(index_.size() * static_cast<size_t>(key_words_));
-  summary_.index_bytes = index_.size() * sizeof(Slot) + index_keys_.size() * sizeof(uint64_t);
+  summary_.index_bytes = IndexBytes();
+}
+
+size_t TrainSystemCache::IndexBytes() const {
+  return index_.size() * sizeof(Slot) + index_keys_.size() * sizeof(uint64_t);
 }
 
 size_t TrainSystemCache::Probe(const uint64_t* key) const {
@@ -242,28 +245,25 @@ void TrainSystemCache::GrowIndex() {
     const size_t slot = Probe(key);
     index_[slot] = old[i];
     std::copy(key, key + words, &index_keys_[slot * words]);
-    if (old[i].held) old[i].entry->slot = slot;
+    if (old[i].held) entries_[old[i].entry].slot = slot;
   }
-  summary_.index_bytes = index_.size() * sizeof(Slot) + index_keys_.size() * sizeof(uint64_t);
+  summary_.index_bytes = IndexBytes();
 }
 
 namespace {
 
-// Bytes a held tuple occupies: its matrices, closed forms, key and list/index nodes.
+// Bytes a held tuple occupies: its matrices, closed forms, key and index entry.
 size_t SystemBytes(const TrainSystem& s, size_t key_words) {
   size_t doubles = static_cast<size_t>(s.A.size() + s.balance.size());
-  if (s.spectral) {
-    const SpectralDecomposition& d = s.decomposition;
-    doubles += static_cast<size_t>(d.S.size() + d.S_inv.size() + d.B0.size());
-    const size_t terms = static_cast<size_t>(std::max(d.series_terms, 1));
-    const size_t zero = static_cast<size_t>(d.zero_size);
-    doubles += (s.delta.size() + s.delta_back.size()) * terms * (zero + 1);
-  }
-  return doubles * sizeof(double) + s.coupled_columns.size() * sizeof(int) +
-         s.decomposition.blocks.size() * sizeof(SpectralDecomposition::Block) +
-         (s.delta.size() + s.delta_back.size()) *
-             (sizeof(ClosedFormGap) + 16 * sizeof(double) * s.decomposition.blocks.size()) +
-         sizeof(TrainSystem) + 2 * key_words * sizeof(uint64_t) + 128;
+  const SpectralDecomposition& d = s.decomposition;
+  doubles += static_cast<size_t>(d.S.size() + d.S_inv.size() + d.B0.size() + d.block_sigma.size() +
+                                 d.block_omega.size());
+  size_t bytes = doubles * sizeof(double) + s.coupled_columns.size() * sizeof(int) +
+                 d.blocks.size() * sizeof(SpectralDecomposition::Block) + sizeof(TrainSystem) +
+                 2 * key_words * sizeof(uint64_t) + sizeof(uint64_t);
+  for (const ClosedFormGap& gap : s.delta) bytes += gap.bytes();
+  for (const ClosedFormGap& gap : s.delta_back) bytes += gap.bytes();
+  return bytes;
 }
 
 }  // namespace
@@ -276,16 +276,22 @@ const TrainSystem& TrainSystemCache::Get(const std::vector<int>& segments,
     const uint64_t code = static_cast<uint64_t>(3 * segment + static_cast<int>(states[i]));
     key[i / kMeshesPerWord] |= code << (kBitsPerMesh * (i % kMeshesPerWord));
   }
-  // Consecutive pieces mostly stay on one tuple (the front of the LRU list): the same entry.
-  if (!lru_.empty() && lru_.front().key == key) {
-    ++summary_.hits;
-    return lru_.front().system;
+  const size_t words = static_cast<size_t>(key_words_);
+  // Consecutive pieces mostly stay on one tuple (the last one fetched): the same entry.
+  if (recent_ != kNone) {
+    Entry& e = entries_[recent_];
+    if (std::equal(key.begin(), key.end(), &index_keys_[e.slot * words])) {
+      ++summary_.hits;
+      return e.system;
+    }
   }
   size_t slot = Probe(key.data());
   if (index_[slot].held) {
     ++summary_.hits;
-    lru_.splice(lru_.begin(), lru_, index_[slot].entry);
-    return Enter(lru_.front());
+    recent_ = index_[slot].entry;
+    Entry& e = entries_[recent_];
+    e.used = ++tick_;
+    return Enter(e);
   }
   ++summary_.misses;
   if (!index_[slot].used) {
@@ -294,16 +300,27 @@ const TrainSystem& TrainSystemCache::Get(const std::vector<int>& segments,
       slot = Probe(key.data());
     }
     index_[slot].used = true;
-    std::copy(key.begin(), key.end(), &index_keys_[slot * key.size()]);
+    std::copy(key.begin(), key.end(), &index_keys_[slot * words]);
     ++index_used_;
   }
-  lru_.push_front(Entry{key, Build(segments, states), slot});
-  lru_.front().system.bytes = SystemBytes(lru_.front().system, static_cast<size_t>(key_words_));
-  index_[slot].entry = lru_.begin();
+  if (free_entries_.empty()) {
+    recent_ = entries_.size();
+    entries_.emplace_back();
+  } else {
+    recent_ = free_entries_.back();
+    free_entries_.pop_back();
+  }
+  Entry& e = entries_[recent_];
+  e.system = Build(segments, states);
+  e.system.bytes = SystemBytes(e.system, words);
+  e.slot = slot;
+  e.used = ++tick_;
+  e.held = true;
+  index_[slot].entry = recent_;
   index_[slot].held = true;
-  summary_.bytes += lru_.front().system.bytes;
-  summary_.tuples = static_cast<long>(lru_.size());
-  return Enter(lru_.front());
+  summary_.bytes += e.system.bytes;
+  ++summary_.tuples;
+  return Enter(e);
 }
 
 const TrainSystem& TrainSystemCache::Enter(Entry& e) {
@@ -321,14 +338,29 @@ const TrainSystem& TrainSystemCache::Enter(Entry& e) {
 }
 
 void TrainSystemCache::Evict() {
-  while (summary_.bytes > options_.cache_limit_bytes && lru_.size() > 1) {
-    summary_.bytes -= lru_.back().system.bytes;
-    index_[lru_.back().slot].held = false;
-    lru_.pop_back();
+  if (summary_.bytes > options_.cache_limit_bytes && summary_.tuples > 1) EvictOldest();
+  summary_.peak_bytes = std::max(summary_.peak_bytes, summary_.bytes);
+}
+
+void TrainSystemCache::EvictOldest() {
+  const size_t low_water = options_.cache_limit_bytes - options_.cache_limit_bytes / 8;
+  eviction_order_.clear();
+  for (size_t i = 0; i < entries_.size(); ++i) {
+    if (entries_[i].held && i != recent_) eviction_order_.emplace_back(entries_[i].used, i);
+  }
+  std::sort(eviction_order_.begin(), eviction_order_.end());
+  for (const auto& [used, i] : eviction_order_) {
+    if (summary_.bytes <= low_water) break;
+    Entry& e = entries_[i];
+    summary_.bytes -= e.system.bytes;
+    index_[e.slot].held = false;
+    index_[e.slot].entry = kNone;
+    e.system = TrainSystem{};  // frees its tables
+    e.held = false;
+    free_entries_.push_back(i);
+    --summary_.tuples;
     ++summary_.evictions;
   }
-  summary_.peak_bytes = std::max(summary_.peak_bytes, summary_.bytes);
-  summary_.tuples = static_cast<long>(lru_.size());
 }
 
 }  // namespace gearnvh

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <memory>
 #include <numbers>
 #include <vector>
 
@@ -80,6 +81,40 @@ TEST_CASE("the precomputed segment end: g(H) and g'(H) equal the closed form's, 
   // The end rows themselves, against the dense exponential: g(H) = row expm(A H) z.
   const Eigen::Vector3d zH = BalancedExpm(A, horizon, 1, w) * z;
   CHECK(std::abs(with_end.EndValue() - row.dot(zH)) <= 1e-12 * scale);
+}
+
+TEST_CASE("a copied closed form is the same function with its own arrays", "[solver][spectral]") {
+  // The closed form keeps its arrays in one aligned block: a copy (constructed or assigned) must
+  // hold the same numbers in a block of its own. Same operations on the same numbers: equal bit
+  // for bit, also after the original is gone.
+  const double w = 1000.0, rest = 2e-5, horizon = 3e-3;
+  Eigen::MatrixXd A = Oscillator(w, rest, 0.0);
+  A(1, 1) = -0.1 * w;
+  const SpectralDecomposition d = DecomposeGenerator(A, 1, w, horizon, 1e6);
+  REQUIRE(d.info == SpectralDecomposition::Info::kSuccess);
+  const Eigen::RowVector3d row(1.0, 0.0, -1e-5);
+  const Eigen::Vector3d z(-3e-5, 0.02, 1.0);
+  ClosedFormGap reference(d, row, horizon);
+  reference.Load(d.S_inv * z);
+  auto original = std::make_unique<ClosedFormGap>(d, row, horizon);
+  ClosedFormGap constructed(*original);
+  ClosedFormGap assigned(d, Eigen::RowVector3d(0.0, 1.0, 0.0));  // another shape first
+  assigned = *original;
+  original.reset();
+  for (ClosedFormGap* copy : {&constructed, &assigned}) {
+    copy->Load(d.S_inv * z);
+    CHECK(copy->EndValue() == reference.EndValue());
+    CHECK(copy->EndRate() == reference.EndRate());
+    for (double t : {0.0, 1e-4, 1e-3, horizon}) {
+      CHECK(copy->Value(t) == reference.Value(t));
+      CHECK(copy->Rate(t) == reference.Rate(t));
+    }
+    const double root = reference.FirstRise(1.0, horizon);
+    REQUIRE(root > 0.0);
+    CHECK(copy->FirstRise(1.0, horizon) == root);
+    CHECK(copy->ClearOfWall(d.S_inv * z, -1.0, 0.0) ==
+          reference.ClearOfWall(d.S_inv * z, -1.0, 0.0));
+  }
 }
 
 TEST_CASE("oscillator: a brief excursion across the wall is found, a near miss is not",

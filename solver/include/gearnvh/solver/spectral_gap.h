@@ -25,8 +25,10 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -93,6 +95,10 @@ class ClosedFormGap {
   // (u e^{DH} and u D e^{DH}, u = row S): Load() then takes both at the segment end with two dot
   // products, and a search over the whole segment evaluates its end point without exp or sincos.
   ClosedFormGap(const SpectralDecomposition& d, const Eigen::RowVectorXd& row, double horizon);
+  ClosedFormGap(const ClosedFormGap& other);
+  ClosedFormGap& operator=(const ClosedFormGap& other);
+  ClosedFormGap(ClosedFormGap&&) noexcept = default;
+  ClosedFormGap& operator=(ClosedFormGap&&) noexcept = default;
 
   void Load(const Eigen::VectorXd& w);
   // As Load(w) for the gap g(t) + constant: one closed form serves every wall that differs from
@@ -101,7 +107,7 @@ class ClosedFormGap {
   void Load(const Eigen::VectorXd& w, double constant);
   // Adds `delta` to the loaded constant (the other wall of the same loaded state, without a
   // reload: the rates and bounds do not depend on the constant).
-  void ShiftConstant(double delta) { poly_[0] += delta; }
+  void ShiftConstant(double delta) { poly()[0] += delta; }
   double Value(double t) const { return Evaluate(t, 0); }
   // g(0) of the loaded state, without exp or sincos.
   double StartValue() const;
@@ -136,9 +142,13 @@ class ClosedFormGap {
   // takes an expression's compile-time size from it).
   template <class Vector>
   bool ClearOfWall(const Eigen::MatrixBase<Vector>& w, double sign, double gap_floor) const {
-    const double start = sign * w.dot(screen_start_);
-    if (start + w.cwiseAbs().dot(screen_reach_) + gap_floor <= 0.0) return true;
+    const double start = sign * w.dot(Row(kScreenStart));
+    if (start + w.cwiseAbs().dot(Row(kScreenReach)) + gap_floor <= 0.0) return true;
     return start < -gap_floor && ClearOfWallCurved(w, sign, start, gap_floor);
+  }
+  // The bytes it occupies (the object and its arrays).
+  size_t bytes() const {
+    return sizeof(*this) + storage_doubles_ * sizeof(double) + growing_.capacity() * sizeof(int);
   }
   // An upper bound of |d^order g / dt^order| on [a, b], 0 <= a <= b, order 1 or 2.
   double DerivativeBound(double a, double b, int order) const;
@@ -151,8 +161,10 @@ class ClosedFormGap {
   struct Jet {
     double value = 0.0, rate = 0.0;
   };
+  // Builds the arrays (horizon < 0: without the end and screen rows).
+  void Build(const SpectralDecomposition& d, const Eigen::RowVectorXd& row, double horizon);
   double Evaluate(double t, int order) const;
-  // grow_ = e^{sigma t}, cos_ = cos(omega t), sin_ = sin(omega t) for every term.
+  // grow = e^{sigma t}, cosines = cos(omega t), sines = sin(omega t) for every term.
   void EvaluateTerms(double t) const;
   Jet SearchJet(double t) const;
   // ClearOfWall's second test, given start = sign g(0).
@@ -161,40 +173,98 @@ class ClosedFormGap {
                          double gap_floor) const;
   double Search(double a, Jet at_a, double b, std::optional<Jet> at_b, int depth) const;
 
-  // p_k = poly_rows_.row(k) . w0, with w0 the B0 part of w.
-  Eigen::MatrixXd poly_rows_;
-  // One entry per block of the decomposition: a 2x2 block's term
-  //   e^{sigma t}(alpha cos omega t + beta sin omega t),
-  //   alpha = r1a w[index_a] + r1b w[index_b], beta = r2a w[index_a] + r2b w[index_b];
-  // a 1x1 block's term alpha e^{sigma t} with omega = 0, index_b = index_a and r1b = r2a = r2b = 0.
-  // Padded to a multiple of 8 entries with zero terms; terms_ are real.
-  int terms_ = 0;
-  Eigen::ArrayXi index_a_, index_b_;
-  Eigen::ArrayXd sigma_, omega_;
-  Eigen::ArrayXd rate_;          // |sigma + i omega|: the factor each derivative adds
-  Eigen::ArrayXd damped_sigma_;  // min(sigma, 0), for the bound 1 / (1 - sigma a)
-  std::vector<int> growing_;     // the terms with sigma > 0 (bounded by e^{sigma b})
-  Eigen::ArrayXd r1a_, r1b_, r2a_, r2b_;
-  // Loaded: the coefficients, and amplitude sqrt(alpha^2 + beta^2) times rate (bound1_; the
-  // bound of |g''| has one more factor rate) with the sums of both.
-  Eigen::ArrayXd alpha_, beta_, bound1_;
+  // Every array of the closed form lives in one block (storage_), each part at a 64-byte aligned
+  // offset as Eigen's own arrays are (so the vectorised sums add in the same order), in the order
+  // Load() and the search read them: a piece touches consecutive cache lines, not ~20 heap
+  // blocks. The parts:
+  //   kIndex: index_a (padded ints) then index_b. One entry per block of the decomposition: a 2x2
+  //     block's term e^{sigma t}(alpha cos omega t + beta sin omega t), alpha = r1a w[index_a] +
+  //     r1b w[index_b], beta = r2a w[index_a] + r2b w[index_b]; a 1x1 block's term alpha
+  //     e^{sigma t} with omega = 0, index_b = index_a and r1b = r2a = r2b = 0. Padded to a
+  //     multiple of 8 entries with zero terms; terms_ are real.
+  //   kRates: |sigma + i omega|, the factor each derivative adds.
+  //   kAlpha, kBeta, kBound1 (loaded): the coefficients, and amplitude sqrt(alpha^2 + beta^2)
+  //     times rate (the bound of |g''| has one more factor rate), with the sums of both.
+  //   kPolyRows: p_k = poly_rows.row(k) . w0, with w0 the B0 part of w; kPoly the loaded p_k.
+  //   kDampedSigma: min(sigma, 0), for the bound 1 / (1 - sigma a).
+  //   kGrow, kCosines, kSines: scratch of the evaluations (no allocation after construction).
+  //   With a horizon H: the rows of g(H) and g'(H) (kEndValueRow, kEndRateRow); the screen's rows
+  //     (ClearOfWall): g(0) = start . w and the reach weights; the curved test's rows: g'(0) =
+  //     rate . w, the weights of max|g''| on [0, H], and the rounding margin alone (margin_i).
+  enum Part {
+    kIndex,
+    kR1a,
+    kR1b,
+    kR2a,
+    kR2b,
+    kRates,
+    kAlpha,
+    kBeta,
+    kBound1,
+    kPolyRows,
+    kPoly,
+    kSigma,
+    kOmega,
+    kDampedSigma,
+    kGrow,
+    kCosines,
+    kSines,
+    kEndValueRow,
+    kEndRateRow,
+    kScreenStart,
+    kScreenReach,
+    kScreenRate,
+    kScreenCurve,
+    kScreenMargin,
+    kParts
+  };
+  struct FreeAligned {
+    void operator()(double* p) const;
+  };
+  using ArrayMap = Eigen::Map<Eigen::ArrayXd, Eigen::AlignedMax>;
+  // Writable maps also from const methods: the evaluation scratch (kGrow, kCosines, kSines) is
+  // written by the const search, as the mutable members it replaces were.
+  double* Data(Part part) const { return storage_.get() + part_offset_[part]; }
+  ArrayMap Terms(Part part) const { return ArrayMap(Data(part), padded_); }
+  const int* index_a() const { return reinterpret_cast<const int*>(Data(kIndex)); }
+  const int* index_b() const { return index_a() + padded_; }
+  ArrayMap sigma() const { return Terms(kSigma); }
+  ArrayMap omega() const { return Terms(kOmega); }
+  ArrayMap rates() const { return Terms(kRates); }
+  ArrayMap damped_sigma() const { return Terms(kDampedSigma); }
+  ArrayMap r1a() const { return Terms(kR1a); }
+  ArrayMap r1b() const { return Terms(kR1b); }
+  ArrayMap r2a() const { return Terms(kR2a); }
+  ArrayMap r2b() const { return Terms(kR2b); }
+  ArrayMap alpha() const { return Terms(kAlpha); }
+  ArrayMap beta() const { return Terms(kBeta); }
+  ArrayMap bound1() const { return Terms(kBound1); }
+  ArrayMap grow() const { return Terms(kGrow); }
+  ArrayMap cosines() const { return Terms(kCosines); }
+  ArrayMap sines() const { return Terms(kSines); }
+  Eigen::Map<Eigen::MatrixXd, Eigen::AlignedMax> poly_rows() const {
+    return {Data(kPolyRows), poly_terms_, zero_size_};
+  }
+  Eigen::Map<Eigen::VectorXd, Eigen::AlignedMax> poly() const { return {Data(kPoly), poly_terms_}; }
+  Eigen::Map<Eigen::RowVectorXd, Eigen::AlignedMax> Row(Part part) const {
+    return {Data(part), row_size_};
+  }
+  std::unique_ptr<double[], FreeAligned> storage_;
+  size_t storage_doubles_ = 0;
+  std::array<int, kParts> part_offset_{};  // in storage_, doubles
+  int terms_ = 0;                          // live terms (blocks of the decomposition)
+  int padded_ = 0;                         // terms padded to a multiple of 8
+  int poly_terms_ = 0;                     // rows of poly_rows (at least 1)
+  int row_size_ = 0;                       // m with a horizon, else 0
+  std::vector<int> growing_;               // the terms with sigma > 0 (bounded by e^{sigma b})
   double bound1_sum_ = 0.0, bound2_sum_ = 0.0;
   // The coefficients of g': d/dt [e^{st}(a cos wt + b sin wt)] = e^{st}(A cos wt + B sin wt).
-  auto RateAlpha() const { return sigma_ * alpha_ + omega_ * beta_; }
-  auto RateBeta() const { return sigma_ * beta_ - omega_ * alpha_; }
-  // Scratch of the evaluations (no allocation after construction).
-  mutable Eigen::ArrayXd grow_, cos_, sin_;
-  Eigen::VectorXd poly_;  // loaded polynomial coefficients
+  auto RateAlpha() const { return sigma() * alpha() + omega() * beta(); }
+  auto RateBeta() const { return sigma() * beta() - omega() * alpha(); }
   int zero_size_ = 0;
   // The segment end H (< 0: none) and g(H), g'(H) of the loaded state.
   double end_ = -1.0;
-  Eigen::RowVectorXd end_value_row_, end_rate_row_;
   double end_value_ = 0.0, end_rate_ = 0.0;
-  // The screen's rows (ClearOfWall): g(0) = screen_start_ . w, and the reach weights.
-  Eigen::RowVectorXd screen_start_, screen_reach_;
-  // The curved test's rows: g'(0) = screen_rate_ . w, the weights of max|g''| on [0, H], and the
-  // rounding margin alone (margin_i above).
-  Eigen::RowVectorXd screen_rate_, screen_curve_, screen_margin_;
   // Search state (set by FirstRise).
   mutable double sign_ = 1.0, offset_ = 0.0, horizon_ = 0.0;
   // The search's last evaluated time and g' there (RateAtRoot; last_time_ < 0: none yet).
@@ -205,11 +275,12 @@ template <class Vector>
 bool ClosedFormGap::ClearOfWallCurved(const Eigen::MatrixBase<Vector>& w, double sign, double start,
                                       double gap_floor) const {
   const double h = end_;
-  const double end = sign * w.dot(end_value_row_);
-  const double margin = w.cwiseAbs().dot(screen_margin_);
+  const double end = sign * w.dot(Row(kEndValueRow));
+  const double margin = w.cwiseAbs().dot(Row(kScreenMargin));
   if (!(end + margin + gap_floor < 0.0)) return false;
-  const double start_rate = sign * w.dot(screen_rate_), end_rate = sign * w.dot(end_rate_row_);
-  const double c = w.cwiseAbs().dot(screen_curve_);
+  const double start_rate = sign * w.dot(Row(kScreenRate)),
+               end_rate = sign * w.dot(Row(kEndRateRow));
+  const double c = w.cwiseAbs().dot(Row(kScreenCurve));
   // The rounding of the quantities below, relative to their size.
   const double slack = 1e-12 * (std::abs(start) + std::abs(end) +
                                 (std::abs(start_rate) + std::abs(end_rate)) * h + c * h * h);

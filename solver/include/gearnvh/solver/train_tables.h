@@ -44,9 +44,10 @@
 
 #include <Eigen/Dense>
 #include <cstdint>
-#include <list>
+#include <deque>
 #include <string>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "gearnvh/model/gear_train.h"
@@ -146,8 +147,8 @@ struct TrainTables {
 
 // Options of the table build and of the cache.
 struct TrainTableOptions {
-  // Upper bound of the cached tables' bytes; the least recently used tuple is evicted beyond it
-  // (at least the tuple in use is always kept). >= 1.
+  // Upper bound of the cached tables' bytes; beyond it the least recently used tuples are
+  // evicted, down to 7/8 of it (at least the tuple in use is always kept). >= 1.
   size_t cache_limit_bytes = size_t{160} << 20;
   // A tuple is decomposed (V3 closed forms) when it is entered for this many times (consecutive
   // pieces on one tuple are one entry); before that it takes the dense path. 1: at the first
@@ -233,29 +234,42 @@ class TrainSystemCache {
   // combination (2 bits per mesh; trains of more than 32 meshes compute it per tuple).
   double DampingRate(const std::vector<ContactState>& states, const Eigen::MatrixXd& C) const;
   void Decompose(TrainSystem& s) const;
-  struct Entry;
+  static constexpr size_t kNone = ~size_t{0};
   struct Slot {
-    std::list<Entry>::iterator entry;
+    size_t entry = kNone;  // its entry in entries_ while held
     long visits = 0;
     bool used = false;  // a key is stored here
     bool held = false;  // its tables are in the cache (false once evicted: the visit count stays)
   };
   struct Entry {
-    TupleKey key;
     TrainSystem system;
-    size_t slot = 0;  // its index slot (updated when the index grows)
+    size_t slot = 0;    // its index slot (updated when the index grows); the key is stored there
+    uint64_t used = 0;  // the tick of its last Get: the least recent is evicted first
+    bool held = false;  // false: free for the next tuple built
   };
   // The index slot of `key`: where it is stored, else the empty slot where it belongs.
   size_t Probe(const uint64_t* key) const;
   // Doubles the index and re-inserts every key (only when a new key is stored).
   void GrowIndex();
+  size_t IndexBytes() const;
   // Counts an entry of `e`'s tuple, decomposes it when due, evicts beyond the limit.
   const TrainSystem& Enter(Entry& e);
+  // Beyond the limit: the least recently used tuples go (one scan and sort of the held ticks),
+  // down to 7/8 of the limit so that the next tuples built do not each scan again. Which tuples
+  // are held changes no result (the visit counts survive, a rebuilt tuple is the same).
   void Evict();
+  void EvictOldest();
   const TrainTables& t_;
   TrainTableOptions options_;
   int key_words_ = 1;
-  std::list<Entry> lru_;  // most recent first
+  // The held tuples (a deque: their addresses stay while others are added); an evicted entry's
+  // place is reused (free_entries_). No list to splice on every Get: each entry keeps the tick of
+  // its last use.
+  std::deque<Entry> entries_;
+  std::vector<size_t> free_entries_;
+  size_t recent_ = kNone;  // the entry of the last Get (consecutive pieces mostly stay on it)
+  uint64_t tick_ = 0;
+  std::vector<std::pair<uint64_t, size_t>> eviction_order_;  // Evict()'s scratch
   // The index of every tuple key seen: open addressing with linear probing, at most 3/4 full,
   // the keys inline (index_keys_[slot * key_words_ ...]) so a lookup touches two arrays and no
   // per-key heap block.
