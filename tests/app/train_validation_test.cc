@@ -130,5 +130,28 @@ TEST_CASE("train validate fails on a perturbed state and on a wrong model",
   }
 }
 
+TEST_CASE("train validate passes with tooth friction and fails when the solver drops it",
+          "[app][train][validate][friction]") {
+  // The same rattling train with mu = 0.05 on every mesh: CVODE and V1/V2/V3 all run the
+  // friction model (train_reference.cc assembles its own generator from the tables' force
+  // directions), so the ladder passes; a solver model without friction against the reference
+  // with it fails.
+  Fixture f;
+  for (TrainMesh& m : f.spec.meshes) m.mesh.friction_coefficient = 0.05;
+  const TrainTables rough = BuildTrainTablesAtTier(f.spec, f.train, f.spec.analysis.tier);
+  const std::vector<app::ValidationRow> rows = app::RunTrainValidationLadder(f.spec);
+  REQUIRE(rows.size() == 4);
+  for (const app::ValidationRow& r : rows) {
+    INFO(r.name << ": " << r.value << " (" << r.detail << ")");
+    CHECK(r.pass);
+    CHECK_FALSE(r.skipped);
+  }
+  const auto [z0, states0] = TrainStaticState(rough);
+  const app::TrainReferenceComparison c =
+      app::CompareTrainWithReference(rough, f.tables, z0, z0, states0, f.times);
+  REQUIRE(c.rows.size() == 2);
+  CHECK_FALSE(c.rows[0].pass);
+}
+
 }  // namespace
 }  // namespace gearnvh
