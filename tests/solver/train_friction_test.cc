@@ -31,7 +31,7 @@ TrainSpec WithFriction(TrainSpec spec, double mu) {
 
 // The pair's state z (tier 1: pinion and wheel th_z about +z) as the one-mesh train's (running
 // angles: theta_a = th_z pinion, theta_b = -th_z wheel), at rest in the rigid rotation's frame.
-Eigen::VectorXd TrainStateOf(const SolverSetup& pair, const TrainTables& t,
+Eigen::VectorXd TrainStateOf(const testing::SolverSetup& pair, const TrainTables& t,
                              const Eigen::VectorXd& z) {
   const int n = pair.tables.n;
   const TrainMeshTable& mt = t.meshes[0];
@@ -63,7 +63,7 @@ TEST_CASE("train friction: a one-mesh train with friction has the pair's TE and 
   options.cycles = 120;
   options.transient_cycles = 0;
   options.samples_per_cycle = 8;
-  const SolverSetup with_setup(pair, Tier::kTier1), clean_setup(clean, Tier::kTier1);
+  const testing::SolverSetup with_setup(pair, Tier::kTier1), clean_setup(clean, Tier::kTier1);
   REQUIRE(with_setup.tables.n == 2);
   const Eigen::VectorXd z0 = DriveEquilibrium(with_setup.tables);
   const SolverResult with = SimulateExact(with_setup.tables, z0, ContactState::kDrive, options);
@@ -152,17 +152,17 @@ TEST_CASE("train friction: the input supplies the loads and the friction loss (p
   // its speed to a few per cent of the drift the loss would cause if the input did not supply it
   // (the residual: the dynamic normal force differs from the static F_i by O(mu) and its
   // fluctuation correlates with the arms, as on the pair).
-  const auto [z0, states0] = TrainStaticState(t);
+  const auto start = TrainStaticState(t);
   TrainTables unbalanced = t;
   unbalanced.force[input] -= t.friction_loss_torque;
   const double end = 40.0 * t.meshes[0].period;
   const auto rigid_speed = [&](const TrainTables& tables) {
-    TrainStepper stepper(tables, {}, z0, states0);
+    TrainStepper stepper(tables, {}, start.first, start.second);
     REQUIRE(stepper.Run(end));
     CHECK(stepper.summary().events == 0);
     return tables.recenter_row.dot(stepper.state().segment(tables.n, tables.n));
   };
-  const double start_speed = t.recenter_row.dot(z0.segment(t.n, t.n));
+  const double start_speed = t.recenter_row.dot(start.first.segment(t.n, t.n));
   const double balanced = rigid_speed(t) - start_speed;
   const double drift = rigid_speed(unbalanced) - start_speed;
   INFO("free rotation's speed change: " << balanced << " with the loss supplied, " << drift
