@@ -84,4 +84,43 @@ inline RecordedTrainRun RunTrainFromStatic(const TrainTables& t, bool jumps, dou
   return {stepper.summary(), recorder.Result(), stepper.state()};
 }
 
+// V3 (with `v3_options`) and V2 from the static state against the CVODE reference (rtol 1e-13)
+// up to `end` (s): every mesh's TE at 16 samples per cycle of the first mesh, the largest
+// differences and the largest |TE| of the reference.
+struct ReferenceAgreement {
+  double worst_reference = 0.0, worst_v2 = 0.0, scale = 0.0;  // m
+  size_t reference_events = 0;
+  long v3_events = 0, v2_events = 0;
+};
+
+inline ReferenceAgreement AgreeWithReference(const TrainTables& t, double end,
+                                             const TrainStepperOptions& v3_options = {}) {
+  const auto [z0, states0] = TrainStaticState(t);
+  TrainReferenceOptions ro;
+  ro.end_time = end;
+  ro.rtol = 1e-13;
+  ro.sample_interval = t.meshes[0].period / 16.0;
+  const TrainReferenceResult ref = SimulateTrainReference(t, z0, states0, ro);
+  REQUIRE(ref.success);
+  TrainStepperOptions v2_options;
+  v2_options.events = EventMethod::kTaylor;
+  TrainStepper v3(t, v3_options, z0, states0), v2(t, v2_options, z0, states0);
+  ReferenceAgreement out;
+  out.reference_events = ref.events.size();
+  for (size_t k = 0; k < ref.sample_times.size(); ++k) {
+    REQUIRE(v3.Run(ref.sample_times[k]));
+    REQUIRE(v2.Run(ref.sample_times[k]));
+    for (size_t i = 0; i < t.meshes.size(); ++i) {
+      const double te = t.meshes[i].v.dot(v3.state().head(t.n));
+      const double r = ref.te(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(i));
+      out.scale = std::max(out.scale, std::abs(r));
+      out.worst_reference = std::max(out.worst_reference, std::abs(te - r));
+      out.worst_v2 = std::max(out.worst_v2, std::abs(te - t.meshes[i].v.dot(v2.state().head(t.n))));
+    }
+  }
+  out.v3_events = v3.summary().events;
+  out.v2_events = v2.summary().events;
+  return out;
+}
+
 }  // namespace gearnvh::testing
