@@ -187,8 +187,12 @@ TEST_CASE("train friction: the CVODE reference and V2 agree with V3 on a rattlin
   const testing::ReferenceAgreement a = testing::AgreeWithReference(s.tables, 0.006, eager);
   REQUIRE(a.reference_events >= 4);
   CHECK(a.v2_events == a.v3_events);
-  INFO("worst TE difference: CVODE " << a.worst_reference << " m, V2 " << a.worst_v2 << " m over "
-                                     << a.reference_events << " events");
+  INFO("worst TE difference: CVODE "
+       << a.worst_reference << " m, V2 " << a.worst_v2 << " m over " << a.reference_events
+       << " events; V3 " << a.v3_summary.cache.decompositions << " decompositions ("
+       << a.v3_summary.cache.ill_conditioned << " ill-conditioned), " << a.v3_summary.dense_pieces
+       << " dense pieces");
+  CHECK(a.v3_summary.cache.decompositions > a.v3_summary.cache.ill_conditioned);
   // Tolerance: 1e-8 of the TE, as the frictionless rattling train (CVODE at rtol 1e-13, the
   // horizon where rattle's amplification keeps the reference trusted).
   CHECK(a.worst_reference <= 1e-8 * a.scale);

@@ -91,6 +91,7 @@ struct ReferenceAgreement {
   double worst_reference = 0.0, worst_v2 = 0.0, scale = 0.0;  // m
   size_t reference_events = 0;
   long v3_events = 0, v2_events = 0;
+  TrainStepperSummary v3_summary;  // its cache: decompositions, dense pieces
 };
 
 inline ReferenceAgreement AgreeWithReference(const TrainTables& t, double end,
@@ -119,6 +120,7 @@ inline ReferenceAgreement AgreeWithReference(const TrainTables& t, double end,
     }
   }
   out.v3_events = v3.summary().events;
+  out.v3_summary = v3.summary();
   out.v2_events = v2.summary().events;
   return out;
 }
