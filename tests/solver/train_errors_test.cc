@@ -39,10 +39,7 @@ TEST_CASE("train errors: a one-mesh train with runout or pitch errors has the pa
   // The schema-1 pair and TrainOf(pair) are one model (two torsional bodies, one mesh, the error
   // held at its mean over each segment) stepped by two independent solvers (ExactStepper and
   // TrainStepper). Loaded, dynamic (1500 rpm: mesh at 500 Hz), errors on both gears.
-  GearboxSpec pair = testing::StandardPair(20, 30, 3e-3, 20e-3);
-  pair.operating.speed = 1500.0 * kRpm;
-  pair.operating.torque = 100.0;
-  pair.operating.excitation.clear();
+  GearboxSpec pair = testing::LoadedTestPair();
   const int kind = GENERATE(0, 1, 2);
   const double a = 5e-6;
   if (kind == 0) {
@@ -60,10 +57,7 @@ TEST_CASE("train errors: a one-mesh train with runout or pitch errors has the pa
   clean.wheel.runout.reset();
   clean.pinion.pitch_errors.clear();
   clean.wheel.pitch_errors.clear();
-  SolverOptions options;
-  options.cycles = 120;  // two revolutions of the wheel, three of the pinion
-  options.transient_cycles = 0;
-  options.samples_per_cycle = 8;
+  const SolverOptions options = testing::LoadedTestPairRun();
   const auto run_pair = [&](const GearboxSpec& spec) {
     const testing::SolverSetup s(spec, Tier::kTier1);
     return SimulateExact(s.tables, DriveEquilibrium(s.tables), ContactState::kDrive, options);

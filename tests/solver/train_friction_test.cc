@@ -16,8 +16,6 @@
 namespace gearnvh {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-constexpr double kRpm = 2.0 * kPi / 60.0;
 using Model = testing::TrainModel;
 
 double MeshTe(const TrainTables& t, const TrainStepper& s, int mesh) {
@@ -52,17 +50,11 @@ TEST_CASE("train friction: a one-mesh train with friction has the pair's TE and 
   // stepped by two independent solvers (ExactStepper and TrainStepper) from the same state (the
   // pair's static equilibrium: the least-squares states of the two differ with friction, whose
   // loss is balanced in the cycle mean only). Loaded (permanent contact), dynamic (mesh 500 Hz).
-  GearboxSpec pair = testing::StandardPair(20, 30, 3e-3, 20e-3);
-  pair.operating.speed = 1500.0 * kRpm;
-  pair.operating.torque = 100.0;
-  pair.operating.excitation.clear();
+  GearboxSpec pair = testing::LoadedTestPair();
   pair.mesh.friction_coefficient = 0.08;
   GearboxSpec clean = pair;
   clean.mesh.friction_coefficient = 0.0;
-  SolverOptions options;
-  options.cycles = 120;
-  options.transient_cycles = 0;
-  options.samples_per_cycle = 8;
+  const SolverOptions options = testing::LoadedTestPairRun();
   const testing::SolverSetup with_setup(pair, Tier::kTier1), clean_setup(clean, Tier::kTier1);
   REQUIRE(with_setup.tables.n == 2);
   const Eigen::VectorXd z0 = DriveEquilibrium(with_setup.tables);

@@ -3,15 +3,18 @@
 
 #include <Eigen/Dense>
 #include <catch2/catch.hpp>
+#include <numbers>
 #include <utility>
 #include <vector>
 
 #include "gearnvh/model/gear_train.h"
 #include "gearnvh/solver/segment_tables.h"
+#include "gearnvh/solver/solver_options.h"
 #include "gearnvh/solver/train_reference.h"
 #include "gearnvh/solver/train_statistics.h"
 #include "gearnvh/solver/train_stepper.h"
 #include "gearnvh/solver/train_tables.h"
+#include "model/test_specs.h"
 
 namespace gearnvh::testing {
 
@@ -24,6 +27,25 @@ struct TrainModel {
         train(BuildGearTrain(spec)),
         tables(BuildTrainTables(spec, train, options)) {}
 };
+
+// The loaded, dynamic pair of the one-mesh-train tests: 20/30 teeth, 1500 rpm (mesh at 500 Hz),
+// 100 N m, no engine orders; and its recorded run: 120 cycles (two revolutions of the wheel,
+// three of the pinion), 8 samples per cycle, no transient.
+inline GearboxSpec LoadedTestPair() {
+  GearboxSpec pair = StandardPair(20, 30, 3e-3, 20e-3);
+  pair.operating.speed = 1500.0 * 2.0 * std::numbers::pi / 60.0;
+  pair.operating.torque = 100.0;
+  pair.operating.excitation.clear();
+  return pair;
+}
+
+inline SolverOptions LoadedTestPairRun() {
+  SolverOptions options;
+  options.cycles = 120;
+  options.transient_cycles = 0;
+  options.samples_per_cycle = 8;
+  return options;
+}
 
 // The linear periodic steady state of a train held in drive contact on every mesh, the reference
 // of the permanent-contact tests: the grid segments of one common period, their propagators
