@@ -31,10 +31,14 @@ double ThreadCpuSeconds() {
 
 // `visits`: TrainTableOptions::decompose_after_visits (1: every tuple decomposed at its first
 // entry, the solver before lazy decomposition).
+// `frictionless`: every mesh's friction_coefficient set to 0 (the cost of tooth friction).
 void RunTrain(benchmark::State& state, bool warm, size_t cache_limit, int visits,
-              const char* file = "manual_transmission_idle.yaml") {
-  const config::LoadedGearbox loaded =
+              const char* file = "manual_transmission_idle.yaml", bool frictionless = false) {
+  config::LoadedGearbox loaded =
       config::LoadAnyGearboxFile(std::string(GEARNVH_EXAMPLES_DIR) + "/" + file);
+  if (frictionless) {
+    for (TrainMesh& m : loaded.train.meshes) m.mesh.friction_coefficient = 0.0;
+  }
   const GearTrain train = BuildGearTrain(loaded.train);
   const TrainTables tables = BuildTrainTables(loaded.train, train);
   const auto [z0, s0] = TrainStaticState(tables);
@@ -99,6 +103,11 @@ void BM_TwoStageReducer(benchmark::State& state) {
   RunTrain(state, false, kDefaults.cache_limit_bytes, kDefaults.decompose_after_visits,
            "two_stage_helical_reducer.yaml");
 }
+// The reducer's meshes carry mu = 0.05: the same run without friction.
+void BM_TwoStageReducerFrictionless(benchmark::State& state) {
+  RunTrain(state, false, kDefaults.cache_limit_bytes, kDefaults.decompose_after_visits,
+           "two_stage_helical_reducer.yaml", true);
+}
 void BM_TwoStageReducerEager(benchmark::State& state) {
   RunTrain(state, false, kDefaults.cache_limit_bytes, 1, "two_stage_helical_reducer.yaml");
 }
@@ -147,6 +156,7 @@ BENCHMARK(BM_ManualTransmissionIdleVisits)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);
 BENCHMARK(BM_TwoStageReducer)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_TwoStageReducerFrictionless)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_TwoStageReducerEager)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_TwoStageReducerTransient)
     ->Arg(0)

@@ -18,19 +18,10 @@
 namespace gearnvh::app {
 namespace {
 
-// What the train solver does not model yet, and errors that may unload tooth pairs (the pair's
-// warning, per mesh), said once per run.
-std::vector<std::string> TrainWarnings(const TrainSpec& spec, const GearTrain& train,
-                                       const TrainTables& tables) {
+// The train's model warnings and errors that may unload tooth pairs (the pair's warning, per
+// mesh), said once per run.
+std::vector<std::string> TrainWarnings(const GearTrain& train, const TrainTables& tables) {
   std::vector<std::string> out = train.warnings;
-  for (size_t i = 0; i < spec.meshes.size(); ++i) {
-    if (spec.meshes[i].mesh.friction_coefficient > 0.0) {
-      out.push_back(fmt::format(
-          "meshes[{}].friction_coefficient = {:g}: tooth friction is not modelled by the train "
-          "solver yet (ignored)",
-          i, spec.meshes[i].mesh.friction_coefficient));
-    }
-  }
   for (size_t i = 0; i < tables.meshes.size(); ++i) {
     const MeshErrorExcitation& errors = tables.meshes[i].errors;
     const TrainMeshModel& mm = train.meshes[i];
@@ -251,7 +242,7 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, const TrainRun
   op.tier = options.tier;
   op.train = BuildGearTrain(spec);
   op.tables = BuildTrainTablesAtTier(spec, op.train, options.tier);
-  op.warnings = TrainWarnings(spec, op.train, op.tables);
+  op.warnings = TrainWarnings(op.train, op.tables);
   const TrainTables& tables = op.tables;
   // cycles and transient count cycles of the first mesh in the file.
   const double period = tables.meshes.front().period;

@@ -44,11 +44,12 @@ void TrainTables::AddErrorColumns(const std::vector<int>& segments,
   for (size_t i = 0; i < meshes.size(); ++i) {
     const TrainMeshTable& mt = meshes[i];
     if (mt.error_input < 0 || states[i] == ContactState::kFree) continue;
-    // The error moves the wall: force -v (k (v^T x - e - u -+ b) + ...), so u enters as +k v.
+    // The error moves the wall: force -u_ij (k (v^T x - e - u -+ b) + ...), so u enters as
+    // +k u_ij (u_ij = v without friction).
     const bool drive = states[i] == ContactState::kDrive;
     const size_t j = static_cast<size_t>(segments[i]);
     const double k = drive ? mt.k_drive[j] : mt.k_back[j];
-    const Eigen::VectorXd& v = mt.Vector(drive);
+    const Eigen::VectorXd& v = mt.ForceVector(segments[i], drive);
     const int slot = ErrorSlot(static_cast<int>(i));
     for (int r = 0; r < n; ++r) A(n + r, slot) += k * v[r] / inertia[r];
   }

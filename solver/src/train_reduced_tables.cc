@@ -47,7 +47,9 @@ TrainTables BuildReducedTrainTables(const TrainSpec& spec, const GearTrain& trai
   t.inertia = Eigen::VectorXd::Ones(n);
   t.structural_stiffness = congruent(reduced.K);
   t.structural_damping = congruent(reduced.C + t.input_speed * reduced.G);
-  t.force = left(reduced.static_force);
+  // The structure's static force holds the input torque without the friction loss (tier 1's dT).
+  t.force = left(reduced.static_force + t.friction_loss_torque * sense(topo.input_body) *
+                                            T.row(first_thz(topo.input_body)).transpose());
   t.excitation_direction =
       left(input_inertia * sense(topo.input_body) * T.row(first_thz(topo.input_body)).transpose());
   const int bodies = t.bodies();
@@ -60,6 +62,16 @@ TrainTables BuildReducedTrainTables(const TrainSpec& spec, const GearTrain& trai
     mt.v_back = left(reduced.v_back[i]);
     mt.distinct_back = mt.v_back != mt.v;
     mt.FindSupport();
+    // Friction: the flanks' sliding translations and the arms on s_a th_z of both gears
+    // (train_structure.h), in these coordinates.
+    const TrainMeshVectors& vectors = structure.meshes[i];
+    const auto arm = [&](int gear) -> Eigen::VectorXd {
+      const int dof = TrainStructure::Dof(structure.gear_node[static_cast<size_t>(gear)], kThz);
+      return left(vectors.sense * T.row(dof).transpose());
+    };
+    SetFrictionForces(mt, {left(T.transpose() * vectors.friction_drive),
+                           left(T.transpose() * vectors.friction_back), arm(train.meshes[i].gear_a),
+                           arm(train.meshes[i].gear_b)});
   }
   // The free rotation: x_r = M^-1 T^T M_full R, y_r = L^T x_r, unit length (M-normalised).
   const Eigen::VectorXd mr = structure.M * structure.free_rotations.col(0);

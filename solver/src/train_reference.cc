@@ -49,15 +49,17 @@ Eigen::MatrixXd AssembleTrainGenerator(const TrainTables& t, const std::vector<i
     const bool drive = states[i] == ContactState::kDrive;
     const double k = drive ? mt.k_drive[j] : mt.k_back[j];
     const double wall = drive ? mt.error[j] + mt.half_backlash : mt.error[j] - mt.half_backlash;
-    // Mesh torque on coordinate r: -v_r (k (v^T x - wall) + c v^T x'), v the flank's vector.
+    // Mesh torque on coordinate r: -u_r (k (v^T x - wall) + c v^T x'), v the flank's vector, u
+    // its force direction (v + mu w or v_back - mu w with friction, else v).
     const Eigen::VectorXd& v = mt.Vector(drive);
+    const Eigen::VectorXd& u = mt.ForceVector(segments[i], drive);
     for (int r = 0; r < n; ++r) {
-      if (v[r] == 0.0) continue;
+      if (u[r] == 0.0) continue;
       for (int s = 0; s < n; ++s) {
-        A(n + r, s) -= v[r] * k * v[s] / t.inertia[r];
-        A(n + r, n + s) -= v[r] * mt.damping * v[s] / t.inertia[r];
+        A(n + r, s) -= u[r] * k * v[s] / t.inertia[r];
+        A(n + r, n + s) -= u[r] * mt.damping * v[s] / t.inertia[r];
       }
-      A(n + r, t.constant_slot()) += v[r] * k * wall / t.inertia[r];
+      A(n + r, t.constant_slot()) += u[r] * k * wall / t.inertia[r];
     }
   }
   return A;

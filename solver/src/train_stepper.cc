@@ -90,11 +90,13 @@ std::pair<Eigen::VectorXd, std::vector<ContactState>> TrainStaticState(const Tra
       const bool drive = states[i] == ContactState::kDrive;
       const double k = drive ? mt.k_drive[0] : mt.k_back[0];
       const Eigen::VectorXd& v = mt.Vector(drive);
-      B.topRows(n) += k * v * v.transpose();
+      const Eigen::VectorXd& u = mt.ForceVector(0, drive);  // v without friction
+      B.topRows(n) += k * u * v.transpose();
       rhs.head(n) +=
-          k * (drive ? mt.error[0] + mt.half_backlash : mt.error[0] - mt.half_backlash) * v;
+          k * (drive ? mt.error[0] + mt.half_backlash : mt.error[0] - mt.half_backlash) * u;
     }
-    // K x = f is singular along the free rotation (and more so with a free loose gear): the
+    // K x = f is singular along the free rotation (and more so with a free loose gear; with
+    // friction also inconsistent along it, the loss balanced only in the cycle mean): the
     // least-squares solution with r~ x = 0 is the centred one.
     const double scale = std::max(B.topRows(n).norm(), 1.0) / t.recenter_row.norm();
     B.row(n) = scale * t.recenter_row;

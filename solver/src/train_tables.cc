@@ -151,6 +151,7 @@ TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
   t.recenter_row = t.inertia.cwiseProduct(rigid).transpose();
 
   std::vector<double> cycles_per_revolution;
+  std::vector<bool> back_loaded;
   for (const ExcitationOrder& e : t.excitation) cycles_per_revolution.push_back(e.order);
   for (size_t i = 0; i < train.meshes.size(); ++i) {
     const TrainMeshModel& mm = train.meshes[i];
@@ -176,6 +177,8 @@ TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
       mt.k_drive.push_back(s.drive.stiffness);
       mt.k_back.push_back(s.back.stiffness);
       mt.error.push_back(s.unloaded_error);
+      mt.drive_flank.push_back(s.drive);
+      mt.back_flank.push_back(s.back);
       t.longest_segment = std::max(t.longest_segment, (s.tau_end - s.tau_begin) * mt.period);
     }
     mt.boundary.push_back(mt.period);
@@ -191,8 +194,17 @@ TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
     mt.damping =
         2.0 * spec.meshes[i].mesh.damping_ratio * std::sqrt(mm.stiffness.mean * mt.effective_mass);
     mt.transmitted_torque = mm.transmitted_torque;
+    mt.friction = spec.meshes[i].mesh.friction_coefficient;
+    FrictionBasis basis{Eigen::VectorXd::Zero(n), Eigen::VectorXd::Zero(n),
+                        Eigen::VectorXd::Zero(n), Eigen::VectorXd::Zero(n)};
+    basis.arm_a[mm.body_a] = 1.0;
+    basis.arm_b[mm.body_b] = -1.0;
+    SetFrictionForces(mt, basis);
+    back_loaded.push_back(mm.back_flank_loaded);
     t.meshes.push_back(std::move(mt));
   }
+  t.friction_loss_torque = FrictionLossTorque(t, back_loaded, topo.input_body);
+  t.force[topo.input_body] += t.friction_loss_torque;
   AssignErrorInputs(t);
   const long revolutions =
       CommonPeriodRevolutions(cycles_per_revolution, options.max_common_period_revolutions);

@@ -59,13 +59,15 @@ void TrainTangentPropagator::Saltation(int mesh, int segment, ContactState from,
   const TrainMeshTable& mt = t_.meshes[static_cast<size_t>(mesh)];
   const int n = t_.n;
   // The gap that switched and the flank whose force jumps: drive unless the back flank is in it.
-  const Eigen::VectorXd& v = mt.Vector(from == ContactState::kDrive || to == ContactState::kDrive);
-  const double rate = v.dot(z.segment(n, n));  // n^T f-
+  const bool drive = from == ContactState::kDrive || to == ContactState::kDrive;
+  const Eigen::VectorXd& v = mt.Vector(drive);
+  const Eigen::VectorXd& u = mt.ForceVector(segment, drive);  // the force's direction (friction)
+  const double rate = v.dot(z.segment(n, n));                 // n^T f-
   const double jump = MeshForce(mesh, segment, from, z) - MeshForce(mesh, segment, to, z);
-  // V <- V + [0; M^-1 v_i jump] (v_i^T V.x) / rate.
+  // V <- V + [0; M^-1 u_ij jump] (v_i^T V.x) / rate.
   for (Eigen::Index c = 0; c < v_->cols(); ++c) {
     const double along = v.dot(v_->col(c).head(n)) * jump / rate;
-    v_->col(c).segment(n, n) += along * v.cwiseQuotient(t_.inertia);
+    v_->col(c).segment(n, n) += along * u.cwiseQuotient(t_.inertia);
   }
   ++saltations_;
 }

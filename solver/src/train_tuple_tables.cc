@@ -88,6 +88,12 @@ TrainSystem TrainSystemCache::Build(const std::vector<int>& segments,
   if (t_.structural_stiffness.size() > 0) K = t_.structural_stiffness;
   if (t_.structural_damping.size() > 0) C = t_.structural_damping;
   Eigen::VectorXd f = t_.force;
+  const Eigen::VectorXd inv_j = t_.inertia.cwiseInverse();
+  const Eigen::VectorXd root_inv_j = inv_j.cwiseSqrt();
+  // Friction's rank-one parts k (u - v) v^T and c (u - v) v^T, kept apart from the symmetric K, C
+  // (see the bound below), and the norms |M^-1/2 (u - v)| |M^-1/2 v| summed per unit k and c.
+  Eigen::MatrixXd friction_k, friction_c;
+  double friction_k_norm = 0.0, friction_c_norm = 0.0;
   TrainSystem s;
   for (size_t i = 0; i < t_.meshes.size(); ++i) {
     const TrainMeshTable& mt = t_.meshes[i];
@@ -98,25 +104,53 @@ TrainSystem TrainSystemCache::Build(const std::vector<int>& segments,
       const double k =
           drive ? mt.k_drive[static_cast<size_t>(j)] : mt.k_back[static_cast<size_t>(j)];
       const Eigen::VectorXd& v = mt.Vector(drive);
+      const Eigen::VectorXd& u = mt.ForceVector(j, drive);
       K += k * v * v.transpose();
       C += mt.damping * v * v.transpose();
-      f += k * (drive ? e + b : e - b) * v;
+      f += k * (drive ? e + b : e - b) * u;
+      if (mt.has_friction()) {
+        if (friction_k.size() == 0) {
+          friction_k = friction_c = Eigen::MatrixXd::Zero(n, n);
+        }
+        const Eigen::VectorXd slide = u - v;
+        friction_k += k * slide * v.transpose();
+        friction_c += mt.damping * slide * v.transpose();
+        const double norms =
+            root_inv_j.cwiseProduct(slide).norm() * root_inv_j.cwiseProduct(v).norm();
+        friction_k_norm += k * norms;
+        friction_c_norm += mt.damping * norms;
+      }
     }
   }
-  const Eigen::VectorXd inv_j = t_.inertia.cwiseInverse();
   s.A = Eigen::MatrixXd::Zero(m, m);
   s.A.block(0, n, n, n).setIdentity();
   s.A.block(n, 0, n, n) = -(inv_j.asDiagonal() * K);
   s.A.block(n, n, n, n) = -(inv_j.asDiagonal() * C);
+  if (friction_k.size() > 0) {
+    s.A.block(n, 0, n, n) -= inv_j.asDiagonal() * friction_k;
+    s.A.block(n, n, n, n) -= inv_j.asDiagonal() * friction_c;
+  }
   s.A.block(n, t_.constant_slot(), n, 1) = inv_j.cwiseProduct(f);
   s.A.block(n, t_.input_slot(), n, 1) = inv_j.cwiseProduct(t_.excitation_direction);
   t_.AddErrorColumns(segments, states, s.A);
   const double w_stiff = std::sqrt(LargestRate(inv_j, K));
-  // C's skew part (gyroscopic, reduced tiers) makes the pencil non-symmetric: with u^*Mu = 1,
-  // lambda^2 + (c + i gamma) lambda + k = 0 has |lambda| <= |c + i gamma| + sqrt(k), |gamma|
-  // bounded by the skew part's norm (2-norm <= Frobenius).
-  const double rho = SkewDamping(t_) ? w_stiff + DampingRate(states, C)
-                                     : std::max(w_stiff, DampingRate(states, C));
+  // An eigenvalue lambda of A (eigenvector [u; lambda u], y = M^1/2 u, |y| = 1) solves
+  // lambda^2 + c lambda + k = 0 with c = y^* M^-1/2 C M^-1/2 y and k likewise: real in
+  // [0, lambda_max] for symmetric C, K >= 0, so |lambda| <= max(sqrt(k_max), c_max). C's skew
+  // part (gyroscopic, reduced tiers) and friction's rank-one terms make c and k complex; then
+  // |lambda| <= |c| + sqrt(|k|) (|lambda| = R > |c| + sqrt|k| gives R^2 - |c| R > |k|, which
+  // |lambda^2| = |c lambda + k| forbids), with |c| bounded by the symmetric part's lambda_max plus
+  // the skew part's norm (DampingRate) plus sum mu c_i |M^-1/2 w| |M^-1/2 v| (each friction term
+  // is c (y^* M^-1/2 mu w)(v^T M^-1/2 y)), and |k| likewise.
+  double rho = 0.0;
+  if (friction_k.size() > 0) {
+    rho = std::sqrt(w_stiff * w_stiff + friction_k_norm) + DampingRate(states, C) + friction_c_norm;
+  } else {
+    rho = SkewDamping(t_) ? w_stiff + DampingRate(states, C)
+                          : std::max(w_stiff, DampingRate(states, C));
+  }
+  // The balance is a scale, not a bound: the symmetric part's frequency (friction moves it by
+  // O(mu)).
   s.w_ref = std::max(1.0, w_stiff);  // as ReferenceFrequency(A, n)
   s.balance = BalancingScale(s.A, n, s.w_ref);
   s.rate = ScaledRowNorm(s.A, s.balance);

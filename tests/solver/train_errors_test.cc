@@ -39,10 +39,7 @@ TEST_CASE("train errors: a one-mesh train with runout or pitch errors has the pa
   // The schema-1 pair and TrainOf(pair) are one model (two torsional bodies, one mesh, the error
   // held at its mean over each segment) stepped by two independent solvers (ExactStepper and
   // TrainStepper). Loaded, dynamic (1500 rpm: mesh at 500 Hz), errors on both gears.
-  GearboxSpec pair = testing::StandardPair(20, 30, 3e-3, 20e-3);
-  pair.operating.speed = 1500.0 * kRpm;
-  pair.operating.torque = 100.0;
-  pair.operating.excitation.clear();
+  GearboxSpec pair = testing::LoadedTestPair();
   const int kind = GENERATE(0, 1, 2);
   const double a = 5e-6;
   if (kind == 0) {
@@ -60,10 +57,7 @@ TEST_CASE("train errors: a one-mesh train with runout or pitch errors has the pa
   clean.wheel.runout.reset();
   clean.pinion.pitch_errors.clear();
   clean.wheel.pitch_errors.clear();
-  SolverOptions options;
-  options.cycles = 120;  // two revolutions of the wheel, three of the pinion
-  options.transient_cycles = 0;
-  options.samples_per_cycle = 8;
+  const SolverOptions options = testing::LoadedTestPairRun();
   const auto run_pair = [&](const GearboxSpec& spec) {
     const testing::SolverSetup s(spec, Tier::kTier1);
     return SimulateExact(s.tables, DriveEquilibrium(s.tables), ContactState::kDrive, options);
@@ -304,40 +298,18 @@ TEST_CASE("train errors: the CVODE reference and V2 agree with V3 on a rattling 
   Gear(spec, "g4").gear.runout = Runout{10e-6, 1.3};
   Gear(spec, "g1").gear.pitch_errors = PitchPattern(20, 5e-6, 0.61);
   const Model s(spec);
-  const TrainTables& t = s.tables;
-  REQUIRE(t.error_inputs == 2);
-  const auto [z0, states0] = TrainStaticState(t);
-  TrainReferenceOptions ro;
-  ro.end_time = 0.006;
-  ro.rtol = 1e-13;
-  ro.sample_interval = t.meshes[0].period / 16.0;
-  const TrainReferenceResult ref = SimulateTrainReference(t, z0, states0, ro);
-  REQUIRE(ref.success);
-  REQUIRE(ref.events.size() >= 4);  // the loose gear rattles (5 events here)
-  TrainStepperOptions v2_options;
-  v2_options.events = EventMethod::kTaylor;
-  TrainStepper v3(t, {}, z0, states0), v2(t, v2_options, z0, states0);
-  double worst_ref = 0.0, worst_v2 = 0.0, scale = 0.0;
-  for (size_t k = 0; k < ref.sample_times.size(); ++k) {
-    REQUIRE(v3.Run(ref.sample_times[k]));
-    REQUIRE(v2.Run(ref.sample_times[k]));
-    for (size_t i = 0; i < t.meshes.size(); ++i) {
-      const double te = MeshTe(t, v3, static_cast<int>(i));
-      const double r = ref.te(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(i));
-      scale = std::max(scale, std::abs(r));
-      worst_ref = std::max(worst_ref, std::abs(te - r));
-      worst_v2 = std::max(worst_v2, std::abs(te - MeshTe(t, v2, static_cast<int>(i))));
-    }
-  }
-  CHECK(v2.summary().events == v3.summary().events);
-  INFO("worst TE difference: CVODE " << worst_ref << " m, V2 " << worst_v2 << " m over "
-                                     << ref.events.size() << " events");
+  REQUIRE(s.tables.error_inputs == 2);
+  const testing::ReferenceAgreement a = testing::AgreeWithReference(s.tables, 0.006);
+  REQUIRE(a.reference_events >= 4);  // the loose gear rattles (5 events here)
+  CHECK(a.v2_events == a.v3_events);
+  INFO("worst TE difference: CVODE " << a.worst_reference << " m, V2 " << a.worst_v2 << " m over "
+                                     << a.reference_events << " events");
   // Tolerance: 1e-8 of the TE, as the error-free rattling train (train_stepper_test.cc: CVODE at
   // rtol 1e-13). The errors make this train rattle harder: differences grow ~100-fold per 3.75 ms
   // (measured 1e-14 m at 3.75 ms, 1e-12 m at 7.5 ms), so the horizon is 6 ms. An error input
   // missing from one side, or set at the wrong time, moves the TE by ~1e-6 m (the errors' size).
-  CHECK(worst_ref <= 1e-8 * scale);
-  CHECK(worst_v2 <= 1e-8 * scale);
+  CHECK(a.worst_reference <= 1e-8 * a.scale);
+  CHECK(a.worst_v2 <= 1e-8 * a.scale);
 }
 
 TEST_CASE("train errors: certified jumps carry the error inputs (jumped equals stepped)",

@@ -3,15 +3,18 @@
 
 #include <Eigen/Dense>
 #include <catch2/catch.hpp>
+#include <numbers>
 #include <utility>
 #include <vector>
 
 #include "gearnvh/model/gear_train.h"
 #include "gearnvh/solver/segment_tables.h"
+#include "gearnvh/solver/solver_options.h"
 #include "gearnvh/solver/train_reference.h"
 #include "gearnvh/solver/train_statistics.h"
 #include "gearnvh/solver/train_stepper.h"
 #include "gearnvh/solver/train_tables.h"
+#include "model/test_specs.h"
 
 namespace gearnvh::testing {
 
@@ -24,6 +27,25 @@ struct TrainModel {
         train(BuildGearTrain(spec)),
         tables(BuildTrainTables(spec, train, options)) {}
 };
+
+// The loaded, dynamic pair of the one-mesh-train tests: 20/30 teeth, 1500 rpm (mesh at 500 Hz),
+// 100 N m, no engine orders; and its recorded run: 120 cycles (two revolutions of the wheel,
+// three of the pinion), 8 samples per cycle, no transient.
+inline GearboxSpec LoadedTestPair() {
+  GearboxSpec pair = StandardPair(20, 30, 3e-3, 20e-3);
+  pair.operating.speed = 1500.0 * 2.0 * std::numbers::pi / 60.0;
+  pair.operating.torque = 100.0;
+  pair.operating.excitation.clear();
+  return pair;
+}
+
+inline SolverOptions LoadedTestPairRun() {
+  SolverOptions options;
+  options.cycles = 120;
+  options.transient_cycles = 0;
+  options.samples_per_cycle = 8;
+  return options;
+}
 
 // The linear periodic steady state of a train held in drive contact on every mesh, the reference
 // of the permanent-contact tests: the grid segments of one common period, their propagators
@@ -82,6 +104,47 @@ inline RecordedTrainRun RunTrainFromStatic(const TrainTables& t, bool jumps, dou
   TrainRecorder recorder(t, 32, record_start);
   REQUIRE(stepper.Run(end, &recorder));
   return {stepper.summary(), recorder.Result(), stepper.state()};
+}
+
+// V3 (with `v3_options`) and V2 from the static state against the CVODE reference (rtol 1e-13)
+// up to `end` (s): every mesh's TE at 16 samples per cycle of the first mesh, the largest
+// differences and the largest |TE| of the reference.
+struct ReferenceAgreement {
+  double worst_reference = 0.0, worst_v2 = 0.0, scale = 0.0;  // m
+  size_t reference_events = 0;
+  long v3_events = 0, v2_events = 0;
+  TrainStepperSummary v3_summary;  // its cache: decompositions, dense pieces
+};
+
+inline ReferenceAgreement AgreeWithReference(const TrainTables& t, double end,
+                                             const TrainStepperOptions& v3_options = {}) {
+  const auto [z0, states0] = TrainStaticState(t);
+  TrainReferenceOptions ro;
+  ro.end_time = end;
+  ro.rtol = 1e-13;
+  ro.sample_interval = t.meshes[0].period / 16.0;
+  const TrainReferenceResult ref = SimulateTrainReference(t, z0, states0, ro);
+  REQUIRE(ref.success);
+  TrainStepperOptions v2_options;
+  v2_options.events = EventMethod::kTaylor;
+  TrainStepper v3(t, v3_options, z0, states0), v2(t, v2_options, z0, states0);
+  ReferenceAgreement out;
+  out.reference_events = ref.events.size();
+  for (size_t k = 0; k < ref.sample_times.size(); ++k) {
+    REQUIRE(v3.Run(ref.sample_times[k]));
+    REQUIRE(v2.Run(ref.sample_times[k]));
+    for (size_t i = 0; i < t.meshes.size(); ++i) {
+      const double te = t.meshes[i].v.dot(v3.state().head(t.n));
+      const double r = ref.te(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(i));
+      out.scale = std::max(out.scale, std::abs(r));
+      out.worst_reference = std::max(out.worst_reference, std::abs(te - r));
+      out.worst_v2 = std::max(out.worst_v2, std::abs(te - t.meshes[i].v.dot(v2.state().head(t.n))));
+    }
+  }
+  out.v3_events = v3.summary().events;
+  out.v3_summary = v3.summary();
+  out.v2_events = v2.summary().events;
+  return out;
 }
 
 }  // namespace gearnvh::testing

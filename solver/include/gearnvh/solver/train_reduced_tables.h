@@ -11,7 +11,10 @@
 //   1),
 // and for every contact tuple K_s = K_y + sum_contact k v v^T, C_s = C_y + sum_contact c v v^T
 // with the flank's vector (v for drive, v_back for back: from tier 2 on their lateral terms
-// differ). The gyroscopic terms are those of the pair's reduced tiers (C_0 + Omega G). Per mesh
+// differ); with friction the force's direction is u = v +- mu w (train_tables.h), w_y = L^-1 T^T w
+// from the flank's sliding translation (TrainMeshVectors::friction_drive/back) and the arms on
+// s_a th_z of both gears, and the input gets tier 1's friction loss dT as a torque at its first
+// gear. The gyroscopic terms are those of the pair's reduced tiers (C_0 + Omega G). Per mesh
 // the segmentation, stiffness, errors, damping c_i and periods are tier 1's (BuildTrainTables).
 // Body angles (the loose gears' rattle index): body b's angle in its own direction is
 // s_b th_z at its first gear, the row s_b T(th_z, :) L^-T on y. The free rotation with every mesh

@@ -15,8 +15,19 @@
 // f the constant torques (every load resists its body, the input body is driven by the torque that
 // balances them: the free rotation carries no mean torque), d = J_in e_in (the excitation acts on
 // the input body as J_in s). Gaps (rows on z): g+_i = v_i^T x - e_ij - b_i (drive while > 0),
-// g-_i = v_i^T x - e_ij + b_i (back while < 0). Tooth friction is not modelled on trains yet (the
-// pair has it).
+// g-_i = v_i^T x - e_ij + b_i (back while < 0).
+// Tooth friction (mu_i = the mesh's friction_coefficient > 0), as the pair (component_model.h):
+// the normal force N = k g + c g' of a flank acts along u+_ij = v_i + mu_i w+_ij (drive) or
+// u-_ij = v_back,i - mu_i w-_ij (back), w_ij = sigma_ij t_i + a1_ij arm_a + a2_ij arm_b the
+// segment's friction vector (MeshSegment: sigma and arms per flank, the segmentation splits at the
+// pitch point, where friction reverses). Tier 1: t = 0, arm_a = e_a and arm_b = -e_b (the gears'
+// running angles; the pair's wheel angle about +z is -theta_b), so in contact the generator holds
+//   K_s = sum k_ij u_ij v_i^T,  C_s = sum c_i u_ij v_i^T,  f_s = f + sum k_ij (e_ij +- b_i) u_ij,
+// non-symmetric rank-one terms; the error column is M^-1 k_ij u_ij. Gaps stay on v_i. The free
+// rotation r still has K_s r = C_s r = 0 (v_i^T r = 0), but r^T u_ij = mu r^T w_ij != 0: friction
+// brakes it. The input body is driven by f_in + dT, dT = sum_i mu_i F_i <r^T w_i> / r_in, the mean
+// friction loss at the static torque flow (F_i = transmitted torque / r_b,b, <.> the cycle mean
+// over the loaded flank's segments): the free rotation carries no mean torque, as on the pair.
 // Manufacturing errors (runout, pitch errors; model/manufacturing_errors.h): mesh i whose gears
 // carry errors has its own input slot u_i = e_err,i (m), held at its mean over each grid segment
 // (SetInputs), so z = [x; x'; 1; s; u_err] and m = 2n + 2 + error_inputs. The error adds to the
@@ -52,6 +63,7 @@
 
 #include "gearnvh/model/gear_train.h"
 #include "gearnvh/model/gearbox_spec.h"
+#include "gearnvh/model/mesh_segmentation.h"
 #include "gearnvh/solver/segment_tables.h"
 #include "gearnvh/solver/spectral_gap.h"
 
@@ -85,6 +97,17 @@ struct TrainMeshTable {
   double damping = 0.0;                        // c_i, N s/m
   double effective_mass = 0.0;                 // m_e,i, kg
   double transmitted_torque = 0.0;             // N m on gear b (static torque flow)
+  // Tooth friction (see the header): mu, per segment each flank's sigma and arms, and the force
+  // directions u+_ij, u-_ij (SetFrictionForces); empty without friction.
+  double friction = 0.0;
+  std::vector<FlankSegment> drive_flank, back_flank;
+  std::vector<Eigen::VectorXd> force_drive, force_back;
+  bool has_friction() const { return !force_drive.empty(); }
+  // The direction of the flank's force in segment j: u_ij, or Vector(drive) without friction.
+  const Eigen::VectorXd& ForceVector(int segment, bool drive) const {
+    if (force_drive.empty()) return Vector(drive);
+    return (drive ? force_drive : force_back)[static_cast<size_t>(segment)];
+  }
   // Runout and pitch errors of the mesh's two gears, at their nominal speeds in this train, and
   // the index of the mesh's error input among the error slots (-1: the gears carry none).
   MeshErrorExcitation errors;
@@ -101,7 +124,8 @@ struct TrainTables {
   // Per body (rows) its angle in its own direction of rotation as a row on x (tier 1: identity).
   Eigen::MatrixXd body_angles;
   Eigen::VectorXd inertia;               // diagonal of M: J per body, kg m^2 (reduced: ones)
-  Eigen::VectorXd force;                 // f: constant torques, N m
+  Eigen::VectorXd force;                 // f: constant torques, N m (friction loss included)
+  double friction_loss_torque = 0.0;     // dT, the mean friction loss the input supplies, N m
   Eigen::VectorXd excitation_direction;  // d = J_in e_in
   // Structural K_0 and C_0 (+ input speed x gyroscopic G) of a reduced tier, added to every
   // tuple's mesh terms; empty at tier 1 (the bodies are coupled by the meshes only).
@@ -165,6 +189,17 @@ struct TrainTableOptions {
 // `segments_per_cycle` as analysis.segments_per_cycle; `damping_ratio` per mesh from the spec.
 TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
                              const TrainTableOptions& options = {});
+// The generalised directions of a mesh's friction on the solver's coordinates: each flank's
+// sliding translation (t at gear a, -t at gear b; zero at tier 1) and a unit arm on each gear's
+// rotation in the pair's sense (tier 1: e_a and -e_b).
+struct FrictionBasis {
+  Eigen::VectorXd slide_drive, slide_back, arm_a, arm_b;
+};
+// Sets mt.force_drive/back from its flanks' segments and the basis (nothing without friction).
+void SetFrictionForces(TrainMeshTable& mt, const FrictionBasis& basis);
+// dT (see the header) on the free rotation r (running angles, tier 1), input body `input`:
+// `back_loaded[i]` when mesh i transmits its torque on the back flank.
+double FrictionLossTorque(const TrainTables& t, const std::vector<bool>& back_loaded, int input);
 // Numbers the error inputs of the meshes whose errors are active and sets m = 2n + 2 + that count
 // (the tier-1 build and the reduced tiers, whose n differs, call it).
 void AssignErrorInputs(TrainTables& tables);
@@ -179,11 +214,16 @@ struct TrainSystem {
   bool decomposed = false;  // the decomposition was attempted (TrainTableOptions)
   bool spectral = false;    // decomposition usable (else the dense Taylor path)
   // Dense path: sub-step length with rho(A) substep <= 1/2, rho bounded by the Rayleigh quotients
-  // of the pencil (lambda^2 M + lambda C + K, symmetric, M > 0, C, K >= 0): |lambda| <=
-  // max(sqrt(lambda_max(M^-1 K)), lambda_max(M^-1 C)); and rate * substep <= kMaxDenseStepNorm,
+  // of the pencil lambda^2 M + lambda C + K: symmetric (M > 0, C, K >= 0) |lambda| <=
+  // max(sqrt(lambda_max(M^-1 K)), lambda_max(M^-1 C)); non-symmetric (friction in contact, a skew
+  // gyroscopic C) |lambda| <= |c| + sqrt(|k|), |k| <= lambda_max(M^-1 K_sym) + sum mu k_ij
+  // |M^-1/2 w_ij| |M^-1/2 v_i| and |c| likewise (train_tuple_tables.cc); and rate * substep <=
+  // kMaxDenseStepNorm,
   // which bounds the Taylor remainder (taylor_root::Tail) whatever A's non-normality.
   double substep = 0.0;
-  double w_ref = 1.0;  // sqrt(lambda_max(M^-1 K)): the decomposition's velocity balance, rad/s
+  // sqrt(lambda_max(M^-1 K_sym)), K_sym without friction's rank-one terms (a scale, not a bound):
+  // the decomposition's velocity balance, rad/s.
+  double w_ref = 1.0;
   // The columns c < 2n of A with a nonzero acceleration entry (the positions and velocities of
   // the bodies a contact or the structure couples), ascending: the dense path's Taylor products
   // skip the others, which are zero (a loose gear whose mesh is free is a free body).

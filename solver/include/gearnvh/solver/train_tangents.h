@@ -8,7 +8,8 @@
 //   <= 1/2 a state-triggered event of mesh i             V <- (I + (f+ - f-) n_i^T / (n_i^T f-)) V
 //     (saltation; n_i = [v_i; 0; 0; 0] the gap row of mesh i on z, f-/f+ the vector fields of the
 //      tuples before and after the switch at the event state; they differ only in mesh i's force
-//      F = k (v_i^T x - wall) + c v_i^T x' (0 when free): f+ - f- = [0; M^-1 v_i (F- - F+); 0; 0],
+//      F = k (v_i^T x - wall) + c v_i^T x' (0 when free): f+ - f- = [0; M^-1 u_ij (F- - F+); 0; 0]
+//      with u_ij the flank's force direction (v_i, or v_i +- mu w_ij with friction),
 //      and n_i^T f- = v_i^T x' is the gap rate, nonzero at a transversal crossing)
 //   simultaneous events                           the saltations in the order the meshes switch
 //     (they commute: n_j^T (f+ - f-)_i = 0, the jump is in the velocity rows only)
@@ -17,7 +18,9 @@
 //   a recentring of the free rotation             V.x <- V.x - r (r^T M V.x)  (its derivative)
 // The free rotation ([r; 0] with multiplier 1 and [0; r] -> [t r; r]) is neutral in every tuple:
 // K_s r = C_s r = 0 and v_i^T r = 0. RemoveFreeRotation() projects it out (position and velocity,
-// M-orthogonally); the complement is invariant under every map above.
+// M-orthogonally). The rotation's span is invariant under every map above, so projecting after
+// them gives the quotient's tangent; without friction the complement is invariant too (with
+// friction r^T u_ij != 0 feeds the rotation's velocity, which the next projection removes).
 // Attach() allocates the workspace; every other call is allocation-free.
 #pragma once
 
