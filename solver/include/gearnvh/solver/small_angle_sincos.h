@@ -17,34 +17,33 @@ namespace gearnvh {
 // Largest |x| the polynomials take.
 inline constexpr double kSmallAngleLimit = std::numbers::pi / 4.0;
 
+// Horner's scheme in z over coefficients from the highest power down.
+template <int N>
+constexpr double HornerInZ(const double (&coefficients)[N], double z) {
+  double sum = coefficients[0];
+  for (int k = 1; k < N; ++k) sum = sum * z + coefficients[k];
+  return sum;
+}
+
 inline void SmallAngleSinCos(double x, double* sin_x, double* cos_x) {
   if (!(std::abs(x) <= kSmallAngleLimit)) {
     sincos(x, sin_x, cos_x);
     return;
   }
-  const double z = x * x;
   // sin x = x + x z S(z), S(z) = -1/3! + z/5! - ... + z^7/17!.
-  double s = 1.0 / 355687428096000.0;  // 1/17!
-  s = s * z - 1.0 / 1307674368000.0;   // 1/15!
-  s = s * z + 1.0 / 6227020800.0;      // 1/13!
-  s = s * z - 1.0 / 39916800.0;        // 1/11!
-  s = s * z + 1.0 / 362880.0;          // 1/9!
-  s = s * z - 1.0 / 5040.0;            // 1/7!
-  s = s * z + 1.0 / 120.0;             // 1/5!
-  s = s * z - 1.0 / 6.0;               // 1/3!
-  *sin_x = x + x * z * s;
-  // cos x = (1 - z/2) + z^2 C(z), C(z) = 1/4! - z/6! + ... + z^7/18!; w = 1 - z/2 is rounded,
-  // (1 - w) - z/2 is its rounding error exactly (1 - w is exact for w in [1/2, 1]).
-  double c = -1.0 / 6402373705728000.0;  // 1/18!
-  c = c * z + 1.0 / 20922789888000.0;    // 1/16!
-  c = c * z - 1.0 / 87178291200.0;       // 1/14!
-  c = c * z + 1.0 / 479001600.0;         // 1/12!
-  c = c * z - 1.0 / 3628800.0;           // 1/10!
-  c = c * z + 1.0 / 40320.0;             // 1/8!
-  c = c * z - 1.0 / 720.0;               // 1/6!
-  c = c * z + 1.0 / 24.0;                // 1/4!
+  static constexpr double kSin[] = {
+      1.0 / 355687428096000.0, -1.0 / 1307674368000.0, 1.0 / 6227020800.0, -1.0 / 39916800.0,
+      1.0 / 362880.0,          -1.0 / 5040.0,          1.0 / 120.0,        -1.0 / 6.0};
+  // cos x = (1 - z/2) + z^2 C(z), C(z) = 1/4! - z/6! + ... - z^7/18!.
+  static constexpr double kCos[] = {
+      -1.0 / 6402373705728000.0, 1.0 / 20922789888000.0, -1.0 / 87178291200.0, 1.0 / 479001600.0,
+      -1.0 / 3628800.0,          1.0 / 40320.0,          -1.0 / 720.0,         1.0 / 24.0};
+  const double z = x * x;
+  *sin_x = x + x * z * HornerInZ(kSin, z);
+  // w = 1 - z/2 is rounded; (1 - w) - z/2 is its rounding error exactly (1 - w is exact for w in
+  // [1/2, 1]).
   const double half = 0.5 * z, w = 1.0 - half;
-  *cos_x = w + (((1.0 - w) - half) + z * z * c);
+  *cos_x = w + (((1.0 - w) - half) + z * z * HornerInZ(kCos, z));
 }
 
 }  // namespace gearnvh
