@@ -240,8 +240,8 @@ void PropagateDecoupled(const SpectralDecomposition& d, const Eigen::VectorXd& w
     // exp(sigma t), cos(omega t), sin(omega t) of 8 blocks at a time.
     using Eight = Eigen::Array<double, 8, 1>;
     Eight grow, c, s;
-    grow = (Eigen::Map<const Eight>(&d.block_sigma[first]) * t).exp();
-    internal::VectorSinCos(&d.block_omega[first], t, count - first, c.data(), s.data());
+    internal::VectorGrowSinCos(&d.block_sigma[first], &d.block_omega[first], t, count - first,
+                               grow.data(), c.data(), s.data());
     for (int i = 0; i < std::min(8, count - first); ++i) {
       const auto& b = d.blocks[first + i];
       if (b.size == 1) {

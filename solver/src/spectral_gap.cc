@@ -8,7 +8,6 @@
 #include <new>
 #include <optional>
 
-#include "bracketed_newton.h"
 #include "vector_sincos.h"
 
 namespace gearnvh {
@@ -65,6 +64,7 @@ ClosedFormGap& ClosedFormGap::operator=(const ClosedFormGap& other) {
   horizon_ = other.horizon_;
   last_time_ = other.last_time_;
   last_rate_ = other.last_rate_;
+  last_curvature_ = other.last_curvature_;
   return *this;
 }
 
@@ -240,10 +240,11 @@ double ClosedFormGap::StartValue() const {
 }
 
 void ClosedFormGap::EvaluateTerms(double t) const {
-  grow() = (sigma() * t).exp();
-  // The arrays are padded to whole vectors (the padding's omega is 0).
-  for (int k = 0; k < padded_; k += 8)
-    internal::VectorSinCos(&omega()[k], t, terms_ - k, &cosines()[k], &sines()[k]);
+  // The arrays are padded to whole vectors (the padding's coefficients are 0).
+  for (int k = 0; k < padded_; k += 8) {
+    internal::VectorGrowSinCos(&sigma()[k], &omega()[k], t, terms_ - k, &grow()[k], &cosines()[k],
+                               &sines()[k]);
+  }
 }
 
 double ClosedFormGap::Evaluate(double t, int order) const {
@@ -318,15 +319,77 @@ double ClosedFormGap::DerivativeBound(double a, double b, int order) const {
   return bound * (1.0 + 1e-12);
 }
 
+bool ClosedFormGap::RateWithin(double t, double limit) const {
+  const double near = 8.0 * std::numeric_limits<double>::epsilon() * horizon_;
+  const double distance = std::abs(t - last_time_);
+  if (last_time_ >= 0.0 && distance <= near) return std::abs(last_rate_) <= limit;
+  if (last_time_ >= 0.0 && last_curvature_ >= 0.0) {
+    // |g'(t) - g'(t_l)| <= C |t - t_l|: decided unless the limit lies within that spread.
+    const double spread = last_curvature_ * distance * (1.0 + 1e-12);
+    if (std::abs(last_rate_) - spread > limit) return false;
+    if (std::abs(last_rate_) + spread <= limit) return true;
+  }
+  return std::abs(Rate(t)) <= limit;
+}
+
 double ClosedFormGap::FirstRise(double sign, double horizon) const {
   sign_ = sign;
   horizon_ = horizon;
   offset_ = 0.0;
   last_time_ = -1.0;
+  last_curvature_ = -1.0;
   Jet start = SearchJet(0.0);
   offset_ = std::max(start.value, 0.0);
   start.value -= offset_;
   return Search(0.0, start, horizon, std::nullopt, 0);
+}
+
+double ClosedFormGap::Polish(double a, Jet at_a, double b, Jet at_b, double curvature) const {
+  // f rises monotonically on [a, b] from f(a) <= 0 to f(b) > 0, with f' >= slope > 0 there
+  // (certificate 2: f'(a) > C (b - a), |f''| <= C). A Newton step from x then leaves an error of
+  // at most q (r - x)^2, q = C / (2 slope), at the root r.
+  const double tolerance = 4.0 * std::numeric_limits<double>::epsilon() * horizon_;
+  const double slope = at_a.rate - curvature * (b - a);
+  const double q =
+      slope > 0.0 ? curvature / (2.0 * slope) : std::numeric_limits<double>::infinity();
+  double lo = a, hi = b;
+  // First iterate: the root of the quadratic through f(a), f'(a) and f(b) (error O((b - a)^3),
+  // the tangent's is O((b - a)^2)); p(s) = f(a) + f'(a) s + c s^2 has p(b - a) = f(b) > 0.
+  const double length = b - a;
+  const double c = (at_b.value - at_a.value - at_a.rate * length) / (length * length);
+  const double discriminant = at_a.rate * at_a.rate - 4.0 * c * at_a.value;
+  double x = discriminant >= 0.0 ? a - 2.0 * at_a.value / (at_a.rate + std::sqrt(discriminant))
+                                 : a - at_a.value / at_a.rate;
+  if (!(x > lo && x < hi)) x = 0.5 * (lo + hi);
+  for (int it = 0; it < 100; ++it) {
+    const Jet at = SearchJet(x);
+    if (at.value > 0.0)
+      hi = x;
+    else
+      lo = x;
+    if (hi - lo <= tolerance) return hi;
+    // Converged when Newton's step is within the tolerance, tested before the bracket's
+    // safeguard: a step below half an ulp of x (f(x) within rounding of 0) leaves next == x, on
+    // the bracket's end, and bisecting from there used to halve the bracket down to the
+    // tolerance (~20 evaluations) instead of stopping.
+    const double next = at.rate > 0.0 ? x - at.value / at.rate : 0.5 * (lo + hi);
+    const double step = std::abs(next - x);
+    if (step <= tolerance) return std::clamp(next, lo, hi);
+    if (!(next > lo && next < hi)) {
+      x = 0.5 * (lo + hi);
+      continue;
+    }
+    // The root r is in [lo, hi] and x is one of its ends, so e = |r - x| <= hi - lo; with
+    // q (hi - lo) <= 1/2, e <= step + q e^2 gives e <= 2 step, and next is within 4 q step^2 of
+    // r: when that is below the tolerance, next is the root without evaluating there
+    // (RateWithin bounds g' at it from this evaluation).
+    if (q * (hi - lo) <= 0.5 && 4.0 * q * step * step <= tolerance) {
+      last_curvature_ = curvature;
+      return next;
+    }
+    x = next;
+  }
+  return hi;
 }
 
 double ClosedFormGap::Search(double a, Jet at_a, double b, std::optional<Jet> at_b,
@@ -337,12 +400,11 @@ double ClosedFormGap::Search(double a, Jet at_a, double b, std::optional<Jet> at
   if (at_a.value + DerivativeBound(a, b, 1) * length <= 0.0) return -1.0;
   if (!at_b) at_b = SearchJet(b);
   // Certificate 2: f' keeps its sign on [a, b], so f is monotone there.
-  if (std::abs(at_a.rate) > DerivativeBound(a, b, 2) * length) {
+  const double curvature = DerivativeBound(a, b, 2);
+  if (std::abs(at_a.rate) > curvature * length) {
     if (!(at_b->value > 0.0)) return -1.0;
-    // Monotone with f(a) <= 0 < f(b): the root to ~eps H, Newton started from a's tangent.
-    return BracketedNewtonJet([this](double t) { return SearchJet(t); }, a, b,
-                              a - at_a.value / at_a.rate,
-                              4.0 * std::numeric_limits<double>::epsilon() * horizon_, 100);
+    // Monotone with f(a) <= 0 < f(b).
+    return Polish(a, at_a, b, *at_b, curvature);
   }
   // Neither certificate at rounding resolution: a grazing contact (f and f' both ~ 0).
   if (depth >= 60 || length <= 8.0 * std::numeric_limits<double>::epsilon() * horizon_) {

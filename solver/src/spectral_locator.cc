@@ -304,8 +304,7 @@ bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
     const GapWall& w = walls[best_wall];
     ClosedFormGap& gap = sp.gaps[w.gap];
     double step = best;
-    const double rate = gap.RateAtRoot(best);
-    const bool touch = best > 0.0 && std::abs(rate) <= grazing_rate_tolerance_ &&
+    const bool touch = best > 0.0 && gap.RateWithin(best, grazing_rate_tolerance_) &&
                        w.sign * gap.Curvature(best) < 0.0;
     // A grazing touch keeps the state; the search resumes just past it.
     if (touch) step = std::min(remaining, best + 1e-12 * h);

@@ -115,14 +115,14 @@ class ClosedFormGap {
   double EndValue() const { return end_value_; }
   double EndRate() const { return end_rate_; }
   double Rate(double t) const { return Evaluate(t, 1); }
-  // g'(t) at a root returned by FirstRise: the rate of the search's last evaluation when that was
-  // within 8 eps horizon of t (Newton's last iterate, which the root is within 4 eps horizon of;
-  // g' differs from Rate(t) by |g''| 8 eps horizon at most, far below the grazing tolerance it is
-  // compared with), otherwise Rate(t). Saves an exp and a sincos per term at every event.
-  double RateAtRoot(double t) const {
-    const double near = 8.0 * std::numeric_limits<double>::epsilon() * horizon_;
-    return std::abs(t - last_time_) <= near ? last_rate_ : Rate(t);
-  }
+  // Whether |g'(t)| <= limit at a root t returned by FirstRise, decided without exp or sincos
+  // where the search's last evaluation (time t_l, rate r_l) settles it: within 8 eps horizon of
+  // t (Newton's last iterate, which the root is within 4 eps horizon of) r_l is taken as g'(t)
+  // (they differ by |g''| 8 eps horizon at most, far below the grazing tolerance this is
+  // compared with); when the root was accepted from Newton's error bound one step from t_l,
+  // |g'(t) - r_l| <= C |t - t_l| with C the search's bound of |g''|, which decides unless the
+  // limit lies within that spread. Otherwise Rate(t).
+  bool RateWithin(double t, double limit) const;
   double Curvature(double t) const { return Evaluate(t, 2); }
   // The screen of a segment start (constructed with a horizon H), without Load(): true when
   // sign * g(t) <= -gap_floor for every t in [0, H], so FirstRise(sign, H) finds no root. It
@@ -172,6 +172,11 @@ class ClosedFormGap {
   bool ClearOfWallCurved(const Eigen::MatrixBase<Vector>& w, double sign, double start,
                          double gap_floor) const;
   double Search(double a, Jet at_a, double b, std::optional<Jet> at_b, int depth) const;
+  // The root on [a, b] where f rises monotonically from f(a) <= 0 to f(b) > 0 with |f''| <=
+  // curvature: safeguarded Newton to 4 eps horizon, from the root of the quadratic through f(a),
+  // f'(a), f(b), stopping without a last evaluation when Newton's error bound already places the
+  // next iterate within the tolerance.
+  double Polish(double a, Jet at_a, double b, Jet at_b, double curvature) const;
 
   // Every array of the closed form lives in one block (storage_), each part at a 64-byte aligned
   // offset as Eigen's own arrays are (so the vectorised sums add in the same order), in the order
@@ -267,8 +272,9 @@ class ClosedFormGap {
   double end_value_ = 0.0, end_rate_ = 0.0;
   // Search state (set by FirstRise).
   mutable double sign_ = 1.0, offset_ = 0.0, horizon_ = 0.0;
-  // The search's last evaluated time and g' there (RateAtRoot; last_time_ < 0: none yet).
-  mutable double last_time_ = -1.0, last_rate_ = 0.0;
+  // The search's last evaluated time and g' there (RateWithin; last_time_ < 0: none yet), and
+  // the bound of |g''| when Polish accepted its root one Newton step from there (< 0: not so).
+  mutable double last_time_ = -1.0, last_rate_ = 0.0, last_curvature_ = -1.0;
 };
 
 template <class Vector>
