@@ -1,5 +1,8 @@
 #include "gearnvh/solver/train_reference.h"
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <memory>
 
 #include "cvode_bdf.h"
@@ -69,6 +72,15 @@ namespace {
 
 // Pieces shorter than this fraction of their grid segment are stepped over.
 constexpr double kNegligiblePiece = 1e-12;
+
+// Whether the piece [time, end] (h its grid segment's length) is stepped over: shorter than
+// kNegligiblePiece h, or than CVODE can resolve at this absolute time (it refuses an interval under
+// 2 u max(|t0|, |tout|) with CV_TOO_CLOSE, which late in a long run exceeds 1e-12 h).
+bool NegligiblePiece(double time, double end, double h) {
+  const double resolvable =
+      4.0 * std::numeric_limits<double>::epsilon() * std::max(std::abs(time), std::abs(end));
+  return end - time <= std::max(kNegligiblePiece * h, resolvable);
+}
 
 struct Problem {
   const TrainTables* t = nullptr;
@@ -186,7 +198,7 @@ TrainReferenceResult SimulateTrainReference(const TrainTables& t, const Eigen::V
     p.A = AssembleTrainGenerator(t, p.segments, p.states);
     // A piece a few ulps long (the end time or another mesh's boundary within rounding of this
     // one): CVODE cannot start on it, and the motion over it is far below the reference's rtol.
-    if (seg_end - time <= kNegligiblePiece * h) time = seg_end;
+    if (NegligiblePiece(time, seg_end, h)) time = seg_end;
     result.steps += cvode.StepsSoFar();  // CVodeReInit resets CVODE's counter
     CVodeReInit(mem, time, y);
     CVodeSetStopTime(mem, seg_end);
@@ -219,7 +231,7 @@ TrainReferenceResult SimulateTrainReference(const TrainTables& t, const Eigen::V
       p.A = AssembleTrainGenerator(t, p.segments, p.states);
       result.steps += cvode.StepsSoFar();
       CVodeReInit(mem, time, y);
-      if (seg_end - time <= kNegligiblePiece * h) time = seg_end;
+      if (NegligiblePiece(time, seg_end, h)) time = seg_end;
       if (static_cast<long>(result.events.size()) > options.max_events) {
         result.success = false;
         result.message = "too many contact events";
