@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "gearnvh/model/gear_train.h"
 #include "gearnvh/solver/exact_solver.h"
@@ -109,6 +110,31 @@ double MeanSlidingSpeed(const TrainMeshModel& mm, double speed_a, double speed_b
   return sum / static_cast<double>(mm.cycle.drive.size());
 }
 
+// The static power balance of a two-stage train whose output gear g4 carries `load` N m: per mesh
+// the friction power mu F_i <sliding speed> of its loaded flank (F_i its normal force at the static
+// torque flow), W, and the input torque supplying the load's power and those losses, N m.
+struct StaticPowerBalance {
+  std::vector<double> mesh_loss;
+  double input_torque = 0.0;
+};
+
+StaticPowerBalance PowerBalance(const Model& s, double mu, double load) {
+  const TrainTopology& topo = s.train.topology;
+  const auto speed = [&](int body) {
+    return std::abs(topo.bodies[static_cast<size_t>(body)].speed);
+  };
+  StaticPowerBalance out;
+  double loss = 0.0;
+  for (const TrainMeshModel& mm : s.train.meshes) {
+    const double force = mm.transmitted_torque / mm.geometry.wheel.base;
+    out.mesh_loss.push_back(mu * force * MeanSlidingSpeed(mm, speed(mm.body_a), speed(mm.body_b)));
+    loss += out.mesh_loss.back();
+  }
+  const int output = topo.gear_body[static_cast<size_t>(s.spec.GearIndex("g4"))];
+  out.input_torque = (load * speed(output) + loss) / speed(topo.input_body);
+  return out;
+}
+
 TEST_CASE("train friction: the input supplies the loads and the friction loss (power balance)",
           "[solver][train][friction]") {
   // Two loaded stages, mu = 0.06: the input torque times its speed is the load's power plus each
@@ -117,19 +143,8 @@ TEST_CASE("train friction: the input supplies the loads and the friction loss (p
   const Model s(WithFriction(testing::TwoStageTrain(150.0, 0.0, 600.0), 0.06));
   const Model clean(testing::TwoStageTrain(150.0, 0.0, 600.0));
   const TrainTables& t = s.tables;
-  const TrainTopology& topo = s.train.topology;
-  double loss_power = 0.0;
-  for (const TrainMeshModel& mm : s.train.meshes) {
-    const double speed_a = std::abs(topo.bodies[static_cast<size_t>(mm.body_a)].speed);
-    const double speed_b = std::abs(topo.bodies[static_cast<size_t>(mm.body_b)].speed);
-    const double force = mm.transmitted_torque / mm.geometry.wheel.base;
-    loss_power += 0.06 * force * MeanSlidingSpeed(mm, speed_a, speed_b);
-  }
-  const int input = topo.input_body;
-  const double speed_in = std::abs(topo.bodies[static_cast<size_t>(input)].speed);
-  const int output = topo.gear_body[static_cast<size_t>(s.spec.GearIndex("g4"))];
-  const double output_speed = std::abs(topo.bodies[static_cast<size_t>(output)].speed);
-  const double expected = (150.0 * output_speed + loss_power) / speed_in;
+  const int input = s.train.topology.input_body;
+  const double expected = PowerBalance(s, 0.06, 150.0).input_torque;
   INFO("input torque " << t.force[input] << " N m, power balance " << expected
                        << " N m (difference " << t.force[input] - expected
                        << " N m), friction loss " << t.friction_loss_torque << " N m");
@@ -179,21 +194,11 @@ TEST_CASE("train friction: a back-loaded mesh brakes with its back flank (power 
   REQUIRE(!s.train.meshes[0].back_flank_loaded);
   REQUIRE(s.train.meshes[1].back_flank_loaded);
   const TrainTables& t = s.tables;
-  const TrainTopology& topo = s.train.topology;
-  double loss_power = 0.0, back_power = 0.0;
-  for (const TrainMeshModel& mm : s.train.meshes) {
-    const double speed_a = std::abs(topo.bodies[static_cast<size_t>(mm.body_a)].speed);
-    const double speed_b = std::abs(topo.bodies[static_cast<size_t>(mm.body_b)].speed);
-    const double force = mm.transmitted_torque / mm.geometry.wheel.base;
-    const double power = 0.06 * force * MeanSlidingSpeed(mm, speed_a, speed_b);
-    loss_power += power;
-    if (mm.back_flank_loaded) back_power = power;
-  }
-  const int input = topo.input_body;
-  const double speed_in = std::abs(topo.bodies[static_cast<size_t>(input)].speed);
-  const int output = topo.gear_body[static_cast<size_t>(s.spec.GearIndex("g4"))];
-  const double output_speed = std::abs(topo.bodies[static_cast<size_t>(output)].speed);
-  const double expected = (150.0 * output_speed + loss_power) / speed_in;
+  const int input = s.train.topology.input_body;
+  const StaticPowerBalance balance = PowerBalance(s, 0.06, 150.0);
+  const double expected = balance.input_torque;
+  const double back_power = balance.mesh_loss[1];
+  const double loss_power = balance.mesh_loss[0] + back_power;
   INFO("input torque " << t.force[input] << " N m, power balance " << expected
                        << " N m, friction loss " << t.friction_loss_torque << " N m");
   // The back-loaded mesh's share is a real part of the loss (a dropped or sign-flipped back flank
