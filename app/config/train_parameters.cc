@@ -1,5 +1,7 @@
 #include "train_parameters.h"
 
+#include <fmt/format.h>
+
 #include <numbers>
 #include <regex>
 
@@ -113,6 +115,21 @@ TrainDisplayAxis TrainDisplayAxisFor(const std::string& name) {
   if (p->key == "amplitude") return {1.0, "rad/s²"};
   if (p->key == "backlash") return {1e6, "µm"};
   return {};
+}
+
+void ValidateTrainVariant(const TrainSpec& variant, const std::vector<TrainParameterValue>& set) {
+  try {
+    ValidateTrainSpec(variant);
+  } catch (const InputError& e) {
+    for (const TrainParameterValue& p : set) {
+      // operating.speed is written at operating.speed.value.
+      if (e.path() != p.name && e.path() != p.name + ".value") continue;
+      const TrainDisplayAxis d = TrainDisplayAxisFor(p.name);
+      const std::string shown = fmt::format("{:.6g}", p.value * d.scale);
+      throw e.Located(0, d.unit.empty() ? shown : shown + " " + d.unit, "", nullptr);
+    }
+    throw;
+  }
 }
 
 }  // namespace gearnvh::app

@@ -150,7 +150,9 @@ TrainAtlasResult RunTrainAtlas(const TrainSpec& base, const AtlasAxis& x, const 
       return;
     }
     try {
-      c.point = ComputeTrainAtlasPoint(CellVariant(base, x, y, c.x, c.y), options);
+      const TrainSpec variant = CellVariant(base, x, y, c.x, c.y);
+      ValidateTrainVariant(variant, {{x.parameter, c.x}, {y.parameter, c.y}});
+      c.point = ComputeTrainAtlasPoint(variant, options);
     } catch (const std::exception& e) {  // the variant itself (ComputeTrainAtlasPoint never throws)
       c.point.ok = false;
       c.point.message = e.what();

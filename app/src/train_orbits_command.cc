@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -118,8 +119,9 @@ std::vector<TrainOrbitScanPoint> RunTrainOrbits(const TrainSpec& spec, const Tra
       [&](int i) {
         TrainSpec variant = spec;
         if (plan.sweep) {
-          SetTrainParameter(variant, plan.sweep->parameter, plan.values[static_cast<size_t>(i)],
-                            plan.sweep_option);
+          const double value = plan.values[static_cast<size_t>(i)];
+          SetTrainParameter(variant, plan.sweep->parameter, value, plan.sweep_option);
+          ValidateTrainVariant(variant, {{plan.sweep->parameter, value}});
         }
         return variant;
       },
@@ -136,7 +138,11 @@ nlohmann::json TrainOrbitsDocument(const std::vector<TrainOrbitScanPoint>& point
     stable += points[i].found() && points[i].orbit.stable ? 1 : 0;
     failed += points[i].ok ? 0 : 1;
   }
-  const double common_period = points.front().common_period;
+  // The train's common period: that of the first point that ran (a failed point has none; with
+  // an operating.speed sweep it is the first speed's).
+  const auto ran =
+      std::find_if(points.begin(), points.end(), [](const TrainOrbitScanPoint& p) { return p.ok; });
+  const double common_period = ran == points.end() ? 0.0 : ran->common_period;
   const int period = plan.scan.periods;
   return {{"schema", "gearnvh/2"},
           {"name", spec.name},

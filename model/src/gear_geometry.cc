@@ -44,18 +44,22 @@ GearRadii ComputeGearRadii(const GearSpec& gear) {
 PairGeometry ComputePairGeometry(const MeshPair& pair) {
   const GearSpec& p = pair.a;
   const GearSpec& w = pair.b;
+  // A mismatch is shown as written: a helical pair's normal module and pressure angle, not its
+  // sections' (equal helix angles: the sections match exactly when the normal values do).
+  const GearSpec& written_a = pair.helical() ? pair.normal_a : p;
+  const GearSpec& written_b = pair.helical() ? pair.normal_b : w;
   if (std::abs(p.module - w.module) > 1e-12 * p.module) {
     throw InputError(
-        pair.path_b + ".module", 0, {"{}", {InputError::Length(w.module)}},
+        pair.path_b + ".module", 0, {"{}", {InputError::Length(written_b.module)}},
         {"must equal the module of " + pair.path_a + " ({}): gears in mesh share the module",
-         {InputError::Length(p.module)}});
+         {InputError::Length(written_a.module)}});
   }
   if (std::abs(p.pressure_angle - w.pressure_angle) > 1e-12) {
     throw InputError(pair.path_b + ".pressure_angle", 0,
-                     {"{}", {InputError::Angle(w.pressure_angle)}},
+                     {"{}", {InputError::Angle(written_b.pressure_angle)}},
                      {"must equal the pressure angle of " + pair.path_a +
                           " ({}): gears in mesh share the pressure angle",
-                      {InputError::Angle(p.pressure_angle)}});
+                      {InputError::Angle(written_a.pressure_angle)}});
   }
   PairGeometry g;
   g.pinion = ComputeGearRadii(p);

@@ -148,6 +148,23 @@ void RequireInertiaWithinLimit(const std::string& path, double inertia) {
 }
 
 void ValidateGearboxLimits(const GearboxSpec& spec, OperatingLimits operating) {
+  for (const auto& [key, m] : spec.materials) {
+    const std::string p = "materials." + key;
+    if (!(m.youngs_modulus >= L::kMinYoungsModulus && m.youngs_modulus <= L::kMaxYoungsModulus)) {
+      throw InputError(p + ".youngs_modulus", 0, Num(m.youngs_modulus),
+                       fmt::format("must be in [{:g}, {:g}] GPa: gear and shaft materials span "
+                                   "gear plastics to tungsten carbide (steel: 206 GPa; is the "
+                                   "unit missing?)",
+                                   L::kMinYoungsModulus * 1e-9, L::kMaxYoungsModulus * 1e-9));
+    }
+    if (!(m.density >= L::kMinDensity && m.density <= L::kMaxDensity)) {
+      throw InputError(p + ".density", 0, Num(m.density),
+                       fmt::format("must be in [{:g}, {:g}] kg/m^3: gear and shaft materials span "
+                                   "gear plastics to the densest metals (steel: 7850 kg/m^3; is "
+                                   "the unit right?)",
+                                   L::kMinDensity, L::kMaxDensity));
+    }
+  }
   GearLimits(spec.pinion, "gears.pinion");
   GearLimits(spec.wheel, "gears.wheel");
 

@@ -44,10 +44,10 @@ struct PairStiffness::Impl {
   Impl(const MeshPair& pair, const PairGeometry& g)
       : pinion(Section(pair, pair.a, pair.normal_a), pair.material_a, VirtualTeeth(pair, pair.a)),
         wheel(Section(pair, pair.b, pair.normal_b), pair.material_b, VirtualTeeth(pair, pair.b)),
-        hertz_compliance(1.0 / HertzContactStiffness(
-                                   pair.material_a, pair.material_b,
-                                   pair.helical() ? 1.0 : std::min(pair.a.face_width,
-                                                                   pair.b.face_width))),
+        hertz_compliance(
+            1.0 / HertzContactStiffness(
+                      pair.material_a, pair.material_b,
+                      pair.helical() ? 1.0 : std::min(pair.a.face_width, pair.b.face_width))),
         line_length(g.line_of_action_length),
         start(g.contact_start),
         end(g.contact_end),
@@ -67,7 +67,8 @@ struct PairStiffness::Impl {
     }
   }
   // The normal section per unit width for a helical pair, the transverse section otherwise.
-  static GearSpec Section(const MeshPair& pair, const GearSpec& transverse, const GearSpec& normal) {
+  static GearSpec Section(const MeshPair& pair, const GearSpec& transverse,
+                          const GearSpec& normal) {
     if (!pair.helical()) return transverse;
     GearSpec v = normal;
     v.helix_angle = 0.0;
@@ -184,15 +185,13 @@ namespace {
 double ShareLoad(std::vector<ContactElement>& elements, double load) {
   const int n = static_cast<int>(elements.size());
   std::vector<int> order(static_cast<size_t>(n));
-  // Insertion sort by separation (stable: equal separations keep their order).
-  for (int m = 0; m < n; ++m) {
-    int k = m;
-    while (k > 0 && elements[order[k - 1]].separation > elements[m].separation) {
-      order[k] = order[k - 1];
-      --k;
-    }
-    order[k] = m;
-  }
+  std::iota(order.begin(), order.end(), 0);
+  // By separation, stable (equal separations keep their order). Not an insertion sort: a helical
+  // pair has ~200 elements (40 slices), whose quadratic sort dominated the mesh-cycle build.
+  std::stable_sort(order.begin(), order.end(), [&elements](int a, int b) {
+    return elements[static_cast<size_t>(a)].separation <
+           elements[static_cast<size_t>(b)].separation;
+  });
   double sum_k = 0.0, sum_ke = 0.0, delta = 0.0;
   int active = 0;
   for (int m = 0; m < n; ++m) {
@@ -317,7 +316,8 @@ FlankSample MeshEvaluator::Evaluate(double tau, Flank flank) const {
       // The tooth pair: cycles since it entered the path of contact at this slice (drive flank),
       // the same integer on every slice.
       const double s_pair = flank == Flank::kDrive ? s : mirror_ - s;
-      e.pair = static_cast<int>(std::lround((s_pair - g.contact_start) / g.base_pitch - tau - shift));
+      e.pair =
+          static_cast<int>(std::lround((s_pair - g.contact_start) / g.base_pitch - tau - shift));
       elements.push_back(e);
     }
   }

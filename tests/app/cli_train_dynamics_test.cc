@@ -197,9 +197,23 @@ TEST_CASE("atlas and orbits on a train refuse bad parameters naming the value an
   const auto doc = nlohmann::json::parse(r.out);
   CHECK(doc["failed_cells"] == 1);
   CHECK(doc["cells"][0]["ok"] == false);
-  CHECK(doc["cells"][0]["message"].get<std::string>().find("meshes[0].backlash") !=
-        std::string::npos);
+  CHECK(doc["cells"][0]["message"].get<std::string>().find(
+            "meshes[0].backlash: must be > 0, got 0 µm") != std::string::npos);
   CHECK(doc["cells"][1]["ok"] == true);
+
+  // orbits: a failed first point names its value as the axis shows it (-10 µm, not -1e-05), and the
+  // document keeps the train's common period, that of the points that ran: one input revolution,
+  // 0.02 s at 3000 rpm (20 and 30 teeth, engine order 2: whole cycles per revolution).
+  const auto o = RunCommand(kExe + " orbits --json --transient 8 --sweep " +
+                            "meshes[0].backlash=-10um:80um:2 " + file);
+  INFO(o.err);
+  CHECK(o.exit_code == 1);
+  const auto orbits = nlohmann::json::parse(o.out);
+  CHECK(orbits["points"][0]["ok"] == false);
+  CHECK(orbits["points"][0]["message"].get<std::string>() ==
+        "meshes[0].backlash: must be > 0, got -10 µm");
+  CHECK(orbits["points"][1]["ok"] == true);
+  CHECK(orbits["common_period_s"].get<double>() == Approx(0.02).epsilon(1e-12));
 }
 
 TEST_CASE(

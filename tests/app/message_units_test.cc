@@ -84,6 +84,23 @@ TEST_CASE("an angle rule shows the value and its bound in the unit the file wrot
   const std::string helix_deg = LoadError(
       Replace(helical, "teeth: 43\n", "teeth: 43\n    helix_angle: 10 deg\n    hand: left\n"));
   CHECK(Contains(helix_deg, "must equal the pinion's helix angle (15 deg)"));
+
+  // A helical pair's module and pressure angle are the normal ones as written (2 mm, 20 deg), not
+  // the transverse section's (2 / cos 15 deg = 2.07055 mm, 20.6469 deg).
+  const std::string wheel = "teeth: 43\n    helix_angle: 15 deg\n    hand: left\n";
+  const std::string normal_module =
+      LoadError(Replace(helical, "teeth: 43\n    module: 2 mm", wheel + "    module: 2.5 mm"));
+  INFO(normal_module);
+  CHECK(Contains(normal_module,
+                 "gears.wheel.module: must equal the module of gears.pinion (2 mm): gears in mesh "
+                 "share the module, got '2.5 mm'"));
+  const std::string normal_angle =
+      LoadError(Replace(helical, "teeth: 43\n    module: 2 mm\n    pressure_angle: 20 deg",
+                        wheel + "    module: 2 mm\n    pressure_angle: 22.5 deg"));
+  INFO(normal_angle);
+  CHECK(Contains(normal_angle,
+                 "gears.wheel.pressure_angle: must equal the pressure angle of gears.pinion (20 "
+                 "deg): gears in mesh share the pressure angle, got '22.5 deg'"));
 }
 
 TEST_CASE("a train's length and angle rules show the unit its file wrote",

@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "gearnvh/model/gear_train.h"
 #include "gearnvh/solver/exact_solver.h"
@@ -94,10 +95,12 @@ TEST_CASE("train friction: a one-mesh train with friction has the pair's TE and 
 // |rho_a w_a - rho_b w_b| (rho_a = roll, rho_b = |T1T2| - roll), m/s: the power balance's own
 // evaluation of the friction loss (the solver's is the segment means of the arms on the free
 // rotation).
+// On the back flank when the mesh's static torque flow loads it (its own line of action, roll
+// measured the same way).
 double MeanSlidingSpeed(const TrainMeshModel& mm, double speed_a, double speed_b) {
   const double length = mm.geometry.line_of_action_length;
   double sum = 0.0;
-  for (const FlankSample& s : mm.cycle.drive) {
+  for (const FlankSample& s : mm.back_flank_loaded ? mm.cycle.back : mm.cycle.drive) {
     for (int p = 0; p < s.pair_count; ++p) {
       const PairState& pair = s.pairs[static_cast<size_t>(p)];
       if (!pair.loaded) continue;
@@ -105,6 +108,31 @@ double MeanSlidingSpeed(const TrainMeshModel& mm, double speed_a, double speed_b
     }
   }
   return sum / static_cast<double>(mm.cycle.drive.size());
+}
+
+// The static power balance of a two-stage train whose output gear g4 carries `load` N m: per mesh
+// the friction power mu F_i <sliding speed> of its loaded flank (F_i its normal force at the static
+// torque flow), W, and the input torque supplying the load's power and those losses, N m.
+struct StaticPowerBalance {
+  std::vector<double> mesh_loss;
+  double input_torque = 0.0;
+};
+
+StaticPowerBalance PowerBalance(const Model& s, double mu, double load) {
+  const TrainTopology& topo = s.train.topology;
+  const auto speed = [&](int body) {
+    return std::abs(topo.bodies[static_cast<size_t>(body)].speed);
+  };
+  StaticPowerBalance out;
+  double loss = 0.0;
+  for (const TrainMeshModel& mm : s.train.meshes) {
+    const double force = mm.transmitted_torque / mm.geometry.wheel.base;
+    out.mesh_loss.push_back(mu * force * MeanSlidingSpeed(mm, speed(mm.body_a), speed(mm.body_b)));
+    loss += out.mesh_loss.back();
+  }
+  const int output = topo.gear_body[static_cast<size_t>(s.spec.GearIndex("g4"))];
+  out.input_torque = (load * speed(output) + loss) / speed(topo.input_body);
+  return out;
 }
 
 TEST_CASE("train friction: the input supplies the loads and the friction loss (power balance)",
@@ -115,19 +143,8 @@ TEST_CASE("train friction: the input supplies the loads and the friction loss (p
   const Model s(WithFriction(testing::TwoStageTrain(150.0, 0.0, 600.0), 0.06));
   const Model clean(testing::TwoStageTrain(150.0, 0.0, 600.0));
   const TrainTables& t = s.tables;
-  const TrainTopology& topo = s.train.topology;
-  double loss_power = 0.0;
-  for (const TrainMeshModel& mm : s.train.meshes) {
-    const double speed_a = std::abs(topo.bodies[static_cast<size_t>(mm.body_a)].speed);
-    const double speed_b = std::abs(topo.bodies[static_cast<size_t>(mm.body_b)].speed);
-    const double force = mm.transmitted_torque / mm.geometry.wheel.base;
-    loss_power += 0.06 * force * MeanSlidingSpeed(mm, speed_a, speed_b);
-  }
-  const int input = topo.input_body;
-  const double speed_in = std::abs(topo.bodies[static_cast<size_t>(input)].speed);
-  const int output = topo.gear_body[static_cast<size_t>(s.spec.GearIndex("g4"))];
-  const double output_speed = std::abs(topo.bodies[static_cast<size_t>(output)].speed);
-  const double expected = (150.0 * output_speed + loss_power) / speed_in;
+  const int input = s.train.topology.input_body;
+  const double expected = PowerBalance(s, 0.06, 150.0).input_torque;
   INFO("input torque " << t.force[input] << " N m, power balance " << expected
                        << " N m (difference " << t.force[input] - expected
                        << " N m), friction loss " << t.friction_loss_torque << " N m");
@@ -163,6 +180,33 @@ TEST_CASE("train friction: the input supplies the loads and the friction loss (p
   // Without it the rotation decelerates by dT r_in t (to O(mu) of the same residual).
   CHECK(drift == Approx(-t.friction_loss_torque * t.rigid_rotation[input] * end).epsilon(0.1));
   CHECK(std::abs(balanced) <= 0.05 * std::abs(drift));
+}
+
+TEST_CASE("train friction: a back-loaded mesh brakes with its back flank (power balance)",
+          "[solver][train][friction]") {
+  // The two-stage train with its second stage listed driven gear first: power flows from that
+  // mesh's gear b to its gear a, so the static torque flow loads its back flank, whose friction
+  // loss (sliding on the back line of action) the input supplies too. Tolerance as above.
+  TrainSpec spec = testing::TwoStageTrain(150.0, 0.0, 600.0);
+  spec.meshes[1] = testing::TrainMeshOf("g4", "g3");
+  const Model s(WithFriction(spec, 0.06));
+  const Model clean(spec);
+  REQUIRE(!s.train.meshes[0].back_flank_loaded);
+  REQUIRE(s.train.meshes[1].back_flank_loaded);
+  const TrainTables& t = s.tables;
+  const int input = s.train.topology.input_body;
+  const StaticPowerBalance balance = PowerBalance(s, 0.06, 150.0);
+  const double expected = balance.input_torque;
+  const double back_power = balance.mesh_loss[1];
+  const double loss_power = balance.mesh_loss[0] + back_power;
+  INFO("input torque " << t.force[input] << " N m, power balance " << expected
+                       << " N m, friction loss " << t.friction_loss_torque << " N m");
+  // The back-loaded mesh's share is a real part of the loss (a dropped or sign-flipped back flank
+  // term moves the input torque by 2 x that share).
+  CHECK(back_power > 0.2 * loss_power);
+  CHECK(t.force[input] ==
+        Approx(clean.tables.force[input] + t.friction_loss_torque).epsilon(1e-14));
+  CHECK(std::abs(t.force[input] - expected) <= 2e-3 * t.friction_loss_torque);
 }
 
 TEST_CASE("train friction: the CVODE reference and V2 agree with V3 on a rattling train",

@@ -28,6 +28,12 @@ struct GearboxLimits {
   // keeps sinc^2(pi / N) of an order spanning N segments per period: >= 0.95 for N >= 8, and the
   // staircase's first image lies at (N - 1) times the order's frequency or above.
   static constexpr double kMinSegmentsPerExcitationPeriod = 8.0;
+  // Pa: gear and shaft materials, from gear plastics (POM, PA: about 1-3 GPa; 0.5 leaves room for
+  // soft grades) to tungsten carbide (about 700 GPa). A unit left out (206 Pa for 206 GPa) gave a
+  // mesh stiffness of 1 N/m and an LSTE of kilometres.
+  static constexpr double kMinYoungsModulus = 0.5e9, kMaxYoungsModulus = 1.2e12;
+  // kg/m^3: from gear plastics (about 900-1400) to the densest metals (osmium, 22,590).
+  static constexpr double kMinDensity = 500.0, kMaxDensity = 25000.0;
 };
 
 // Which limits apply. A schema-1 gearbox owns its operating point (kChecked). A train's mesh
