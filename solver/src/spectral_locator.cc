@@ -190,8 +190,10 @@ void SpectralLocator::Materialise(LocatorState& state) {
   state.z_stale = false;
 }
 
+// Inlined into CarryThroughSized's loop: no call and no 64-byte aligned frame per segment.
 template <int M>
-SpectralLocator::Entry SpectralLocator::EnterCarriedSized(int segment, LocatorState& state) {
+[[gnu::always_inline]] inline SpectralLocator::Entry SpectralLocator::EnterCarriedSized(
+    int segment, LocatorState& state) {
   constexpr int P = kPadded<M>;
   using Column = Eigen::Map<const Eigen::Matrix<double, P, 1>, Eigen::Aligned64>;
   const int m = t_.m, padded = padded_;
