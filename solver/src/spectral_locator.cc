@@ -11,27 +11,44 @@ namespace gearnvh {
 
 namespace {
 
-// y = the top y.size() rows of a x for a square a; M: its size when known at compile time.
+// y = the top y.size() rows of a x for a square a (x: a.cols() entries); M: its size when known
+// at compile time.
 template <int M>
-void MultiplySized(const Eigen::MatrixXd& a, const Eigen::VectorXd& x,
-                   Eigen::Ref<Eigen::VectorXd> y) {
+void MultiplySized(const Eigen::MatrixXd& a, const double* x, Eigen::Ref<Eigen::VectorXd> y) {
   const int m = static_cast<int>(a.rows());
   const Eigen::Map<const Eigen::Matrix<double, M, M>> fixed(a.data(), m, m);
-  y.noalias() =
-      fixed.topRows(y.size()) * Eigen::Map<const Eigen::Matrix<double, M, 1>>(x.data(), m);
+  y.noalias() = fixed.topRows(y.size()) * Eigen::Map<const Eigen::Matrix<double, M, 1>>(x, m);
 }
 
 // The products of a segment with an event, through fixed-size kernels at tier 1 (m = 6, 7; the
 // same sizes as EnterCarriedSized).
-void Multiply(const Eigen::MatrixXd& a, const Eigen::VectorXd& x, Eigen::Ref<Eigen::VectorXd> y) {
+void Multiply(const Eigen::MatrixXd& a, const double* x, Eigen::Ref<Eigen::VectorXd> y) {
   switch (a.rows()) {
     case 6:
       return MultiplySized<6>(a, x, y);
     case 7:
       return MultiplySized<7>(a, x, y);
     default:
-      y.noalias() = a.topRows(y.size()) * x;
+      y.noalias() = a.topRows(y.size()) * Eigen::Map<const Eigen::VectorXd>(x, a.cols());
   }
+}
+
+// A carried segment's column length: m padded to whole 64-byte lines (8 doubles).
+constexpr int kLineDoubles = 8;
+int PaddedSize(int m) { return (m + kLineDoubles - 1) / kLineDoubles * kLineDoubles; }
+// The padded length at compile time: one line when m (M) is known and fits it.
+template <int M>
+constexpr int kPadded = M == Eigen::Dynamic ? Eigen::Dynamic : kLineDoubles;
+
+// out = C w for a carry matrix C stored by padded columns (padded rows, m columns; the pad rows
+// are 0): one vector FMA per column at tier 1, the columns in order as Eigen's fixed-size product.
+template <int M>
+void CarryProductSized(const double* carry, int padded, int m, const double* w, double* out) {
+  static_assert(M == Eigen::Dynamic || M <= kLineDoubles);
+  constexpr int P = kPadded<M>;
+  Eigen::Map<Eigen::Matrix<double, P, 1>, Eigen::Aligned64>(out, padded).noalias() =
+      Eigen::Map<const Eigen::Matrix<double, P, M>, Eigen::Aligned64>(carry, padded, m) *
+      Eigen::Map<const Eigen::Matrix<double, M, 1>>(w, m);
 }
 
 }  // namespace
@@ -40,14 +57,25 @@ SpectralLocator::SpectralLocator(const SegmentTables& tables, const SolverOption
     : EventLocator(tables, options),
       max_condition_(options.spectral_max_condition),
       max_carry_error_(options.carry_max_error),
+      padded_(PaddedSize(tables.m)),
+      block_doubles_(static_cast<size_t>(tables.inputs + 2 * kMaxWalls + tables.m) * padded_),
+      entry_(Eigen::VectorXd::Zero(padded_)),
       fallback_(tables, options),
       w_(tables.m),
       wt_(tables.m),
       scratch_(tables.m),
       z1_(tables.m),
-      carried_(tables.m) {
+      carried_(Eigen::VectorXd::Zero(padded_)) {
   systems_.resize(tables.segments());
   w_ref_.assign(tables.segments(), 0.0);
+  // Untouched until a pair is visited (a loaded run fills only its contact state's blocks).
+  const size_t doubles = 3 * block_doubles_ * static_cast<size_t>(tables.segments());
+  blocks_.reset(static_cast<double*>(
+      ::operator new (std::max<size_t>(doubles, 1) * sizeof(double), std::align_val_t{64})));
+}
+
+void SpectralLocator::FreeAligned::operator()(double* p) const {
+  ::operator delete (p, std::align_val_t{64});
 }
 
 SpectralLocator::System& SpectralLocator::Build(int segment, ContactState state) {
@@ -73,11 +101,28 @@ SpectralLocator::System& SpectralLocator::Build(int segment, ContactState state)
       std::max(statistics_.spectral_max_condition, sp.decomposition.condition);
   for (int g = 0; g < kGapRows; ++g)
     sp.gaps[g] = ClosedFormGap(sp.decomposition, GapRow(sys, g), t_.SegmentLength(segment));
-  statistics_.table_bytes += 2 * sizeof(double) * static_cast<size_t>(t_.m) * t_.m;
+  // The carried-segment block: input columns, the walls' linear screens (BuildCarry adds the
+  // carry).
+  sp.block =
+      blocks_.get() + (static_cast<size_t>(state) * t_.segments() + segment) * block_doubles_;
+  std::fill_n(sp.block, block_doubles_, 0.0);
+  const int m = t_.m;
+  Eigen::Map<Eigen::MatrixXd> columns(sp.block, padded_, t_.inputs + 2 * kMaxWalls);
+  for (int q = 0; q < t_.inputs; ++q)
+    columns.col(q).head(m) = sp.decomposition.S_inv.col(t_.input_slot(q));
+  GapWall walls[kMaxWalls];
+  sp.walls = ActiveWalls(sys, state, walls);
+  for (int i = 0; i < sp.walls; ++i) {
+    const ClosedFormGap& gap = sp.gaps[walls[i].gap];
+    columns.col(t_.inputs + 2 * i).head(m) = walls[i].sign * gap.ScreenStartRow().transpose();
+    columns.col(t_.inputs + 2 * i + 1).head(m) = gap.ScreenReachRow().transpose();
+  }
+  statistics_.table_bytes +=
+      2 * sizeof(double) * static_cast<size_t>(m) * m + sizeof(double) * block_doubles_;
   return sp;
 }
 
-const Eigen::MatrixXd* SpectralLocator::BuildCarry(int segment, ContactState state) {
+const double* SpectralLocator::BuildCarry(int segment, ContactState state) {
   System& sp = systems_[segment][static_cast<int>(state)];
   sp.carry_built = true;
   if (max_carry_error_ <= 0.0) return nullptr;
@@ -117,56 +162,79 @@ const Eigen::MatrixXd* SpectralLocator::BuildCarry(int segment, ContactState sta
   }
   const double bound = (m + 1) * std::numeric_limits<double>::epsilon() * kappa;
   if (!(bound <= max_carry_error_)) return nullptr;
-  sp.carry = std::move(carry);
+  double* data = CarryData(sp);
+  Eigen::Map<Eigen::MatrixXd>(data, padded_, m).topRows(m) = carry;
+  sp.carries = true;
   ++statistics_.carried_systems;
   statistics_.carry_error_bound = std::max(statistics_.carry_error_bound, bound);
-  statistics_.table_bytes += sizeof(double) * static_cast<size_t>(m) * m;
-  return &sp.carry;
+  return data;
+}
+
+void SpectralLocator::CarryProduct(const double* carry, const double* w) {
+  switch (t_.m) {
+    case 6:
+      return CarryProductSized<6>(carry, padded_, t_.m, w, carried_.data());
+    case 7:
+      return CarryProductSized<7>(carry, padded_, t_.m, w, carried_.data());
+    default:
+      return CarryProductSized<Eigen::Dynamic>(carry, padded_, t_.m, w, carried_.data());
+  }
 }
 
 void SpectralLocator::Materialise(LocatorState& state) {
   if (!state.z_stale) return;
   const int live = t_.m - t_.inputs;  // the input slots of z are the stepper's
   const System& sp = systems_[carry_segment_][static_cast<int>(carry_state_)];
-  Multiply(sp.decomposition.S, carried_, state.z.head(live));
+  Multiply(sp.decomposition.S, carried_.data(), state.z.head(live));
   ++state.matvecs;
   state.z_stale = false;
 }
 
+// Inlined into CarryThroughSized's loop: no call and no 64-byte aligned frame per segment.
 template <int M>
-SpectralLocator::Entry SpectralLocator::EnterCarriedSized(int segment, LocatorState& state) {
-  using Vector = Eigen::Matrix<double, M, 1>;
-  const int m = t_.m;
+[[gnu::always_inline]] inline SpectralLocator::Entry SpectralLocator::EnterCarriedSized(
+    int segment, LocatorState& state) {
+  constexpr int P = kPadded<M>;
+  using Column = Eigen::Map<const Eigen::Matrix<double, P, 1>, Eigen::Aligned64>;
+  const int m = t_.m, padded = padded_;
   // Entered carried: w = C_{j-1} w_{j-1} + sum_q u_q S_j^-1 e_q (the stepper has set the slots).
   // The previous segment's carry decomposed this (segment, state) and found it usable.
   const System& sp = systems_[segment][static_cast<int>(state.contact)];
-  const Eigen::MatrixXd& S_inv = sp.decomposition.S_inv;
-  Eigen::Map<Vector> w(w_.data(), m);
-  auto column = [&](int slot) { return Eigen::Map<const Vector>(S_inv.col(slot).data(), m); };
-  // One pass for the first input (a copy followed by an update would re-read w_ just stored).
-  const int first = t_.input_slot(0);
-  w.noalias() = Eigen::Map<const Vector>(carried_.data(), m) + state.z[first] * column(first);
+  const double* block = sp.block;
+  Eigen::Map<Eigen::Matrix<double, P, 1>, Eigen::Aligned64> w(entry_.data(), padded);
+  // One pass for the first input (a copy followed by an update would re-read w just stored).
+  w.noalias() = Column(carried_.data(), padded) + state.z[t_.input_slot(0)] * Column(block, padded);
   for (int q = 1; q < t_.inputs; ++q) {
-    const int slot = t_.input_slot(q);
-    if (state.z[slot] != 0.0) w += state.z[slot] * column(slot);
+    const double u = state.z[t_.input_slot(q)];
+    if (u != 0.0) w += u * Column(block + static_cast<size_t>(q) * padded, padded);
   }
-  const SegmentSystem& sys = t_.systems[segment][static_cast<int>(state.contact)];
-  GapWall walls[kMaxWalls];
-  const int count = ActiveWalls(sys, state.contact, walls);
-  for (int i = 0; i < count; ++i) {
-    if (!sp.gaps[walls[i].gap].ClearOfWall(w, walls[i].sign, gap_tolerance_))
-      return Entry::kNearWall;
+  // Not settled: DoStep takes the entry state from w_.
+  auto leave = [&](Entry entry) {
+    w_ = entry_.head(m);
+    return entry;
+  };
+  const double* screen = block + static_cast<size_t>(t_.inputs) * padded;
+  for (int i = 0; i < sp.walls; ++i, screen += 2 * padded) {
+    // ClosedFormGap::ClearOfWall's linear test on the block's rows (the pads are 0) ...
+    const double start = w.dot(Column(screen, padded));
+    if (start + w.cwiseAbs().dot(Column(screen + padded, padded)) + gap_tolerance_ <= 0.0) continue;
+    // ... and where it fails the whole screen on the closed form's own rows.
+    const SegmentSystem& sys = t_.systems[segment][static_cast<int>(state.contact)];
+    GapWall walls[kMaxWalls];
+    ActiveWalls(sys, state.contact, walls);
+    const Eigen::Map<const Eigen::Matrix<double, M, 1>> head(entry_.data(), m);
+    if (!sp.gaps[walls[i].gap].ClearOfWall(head, walls[i].sign, gap_tolerance_))
+      return leave(Entry::kNearWall);
   }
-  const Eigen::MatrixXd* carry = state.allow_carry ? Carry(segment, state.contact) : nullptr;
-  if (carry == nullptr) return Entry::kClear;
-  const Eigen::Map<const Eigen::Matrix<double, M, M>> C(carry->data(), m, m);
+  const double* carry = state.allow_carry ? Carry(segment, state.contact) : nullptr;
+  if (carry == nullptr) return leave(Entry::kClear);
+  CarryProductSized<M>(carry, padded, m, entry_.data(), carried_.data());
   if (segment + 1 < t_.segments()) {
-    Eigen::Map<Vector>(carried_.data(), m).noalias() = C * w;
     carry_segment_ = segment + 1;
     carry_state_ = state.contact;
   } else {
-    const int live = m - t_.inputs;
-    state.z.head(live).noalias() = C.topRows(live) * w;
+    const int live = m - t_.inputs;  // carried_ held z at the cycle end
+    state.z.head(live) = carried_.head(live);
     state.z_stale = false;
   }
   ++state.matvecs;
@@ -239,7 +307,7 @@ bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
     if (!sp.ok) return fallback_.AdvanceFrom(segment, start, done, state, handler);
     const double remaining = h - done;
     if (!carried) {
-      Multiply(sp.decomposition.S_inv, z, w_);
+      Multiply(sp.decomposition.S_inv, z.data(), w_);
       ++state.matvecs;
     }
     GapWall walls[kMaxWalls];
@@ -276,23 +344,23 @@ bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
       }
     }
     if (best < 0.0) {
-      const Eigen::MatrixXd* carry =
-          !moved && state.allow_carry ? Carry(segment, state.contact) : nullptr;
+      const double* carry = !moved && state.allow_carry ? Carry(segment, state.contact) : nullptr;
       if (carry != nullptr && segment + 1 < t_.segments()) {
-        Multiply(*carry, w_, carried_);
+        CarryProduct(carry, w_.data());
         carry_segment_ = segment + 1;
         carry_state_ = state.contact;
         state.z_stale = true;
       } else if (carry != nullptr) {
-        Multiply(*carry, w_, z.head(t_.m - t_.inputs));
+        CarryProduct(carry, w_.data());  // z at the cycle end, through carried_
+        z.head(t_.m - t_.inputs) = carried_.head(t_.m - t_.inputs);
         state.z_stale = false;
       } else if (!moved && !state.z_stale) {
-        Multiply(sys.full, z, z1_);  // the dense propagator: exact to rounding, cond-free
+        Multiply(sys.full, z.data(), z1_);  // the dense propagator: exact to rounding, cond-free
         if (state.tangent != nullptr) state.tangent->Propagate(sys.full);
         z.swap(z1_);
       } else {
         PropagateDecoupled(sp.decomposition, w_, remaining, wt_, scratch_);
-        Multiply(sp.decomposition.S, wt_, z);
+        Multiply(sp.decomposition.S, wt_.data(), z);
         state.z_stale = false;
         if (state.tangent != nullptr)
           state.tangent->PropagateDecoupled(sp.decomposition, remaining);
@@ -309,7 +377,7 @@ bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
     // A grazing touch keeps the state; the search resumes just past it.
     if (touch) step = std::min(remaining, best + 1e-12 * h);
     PropagateDecoupled(sp.decomposition, w_, step, wt_, scratch_);
-    Multiply(sp.decomposition.S, wt_, z);
+    Multiply(sp.decomposition.S, wt_.data(), z);
     state.z_stale = false;
     if (state.tangent != nullptr) state.tangent->PropagateDecoupled(sp.decomposition, step);
     ++state.matvecs;

@@ -343,9 +343,12 @@ class SpectralLocator final : public EventLocator {
     std::array<ClosedFormGap, kGapRows> gaps;  // indexed by GapWall::gap
     bool built = false;
     bool ok = false;
-    // C_j (to the next segment) or S_j e^{D_j h_j} (last segment of the cycle); empty when the
-    // pair does not carry. carry_built: decided on first use.
-    Eigen::MatrixXd carry;
+    // Its carried-segment block in blocks_ (filled by Build) and its active walls.
+    double* block = nullptr;
+    int walls = 0;
+    // Whether the block holds the carry matrix: C_j (to the next segment) or S_j e^{D_j h_j}
+    // (last segment of the cycle). carry_built: decided on first use.
+    bool carries = false;
     bool carry_built = false;
   };
   // The system of (segment, state), decomposed on first use (inline: called on every segment).
@@ -354,21 +357,28 @@ class SpectralLocator final : public EventLocator {
     return sp.built ? sp : Build(segment, state);
   }
   System& Build(int segment, ContactState state);
-  // The carry matrix of (segment, state), built on first use; nullptr when it does not carry.
-  const Eigen::MatrixXd* Carry(int segment, ContactState state) {
+  // The carry matrix of (segment, state) in its block (padded_ rows, m columns), built on first
+  // use; nullptr when it does not carry.
+  const double* Carry(int segment, ContactState state) {
     const System& sp = systems_[segment][static_cast<int>(state)];
-    if (sp.carry_built) return sp.carry.size() > 0 ? &sp.carry : nullptr;
+    if (sp.carry_built) return sp.carries ? CarryData(sp) : nullptr;
     return BuildCarry(segment, state);
   }
-  const Eigen::MatrixXd* BuildCarry(int segment, ContactState state);
-  // The start of a segment entered carried (state.z_stale): w_ = carried_ + sum_q u_q S_j^-1 e_q,
+  const double* BuildCarry(int segment, ContactState state);
+  double* CarryData(const System& sp) const {
+    return sp.block + static_cast<size_t>(t_.inputs + 2 * sp.walls) * padded_;
+  }
+  // carried_ = C w (a carry matrix from Carry(), w of length m): padded_ entries, the pads 0.
+  void CarryProduct(const double* carry, const double* w);
+  // The start of a segment entered carried (state.z_stale): w = carried_ + sum_q u_q S_j^-1 e_q,
   // the screen of every active wall and, when every wall is clear and (segment, state) carries,
-  // the carry itself (w_{j+1} = C_j w_, or z at the cycle end): the whole work of ~31 of 32
-  // segments of a strong-rattle cycle. kClear / kNearWall: not settled, w_ holds the entry state
-  // and the screen's verdict is returned. M is the state dimension when it is known at compile
-  // time (tier 1: m = 6, or 7 with manufacturing errors; fixed-size products and dot products,
-  // unrolled), otherwise Eigen::Dynamic; EnterCarried() picks the instance (a branch on m that
-  // never changes during a run).
+  // the carry itself (w_{j+1} = C_j w, or z at the cycle end): the whole work of ~31 of 32
+  // segments of a strong-rattle cycle, all of it read from the pair's block. kClear / kNearWall:
+  // not settled, w_ holds the entry state and the screen's verdict is returned. M is the state
+  // dimension when it is known at compile time and fits one padded column (tier 1: m = 6, or 7
+  // with manufacturing errors; every column one 8-double vector, so the carry is m vector FMAs),
+  // otherwise Eigen::Dynamic; EnterCarried() picks the instance (a branch on m that never changes
+  // during a run).
   enum class Entry { kSettled, kClear, kNearWall };
   template <int M>
   Entry EnterCarriedSized(int segment, LocatorState& state);
@@ -381,11 +391,24 @@ class SpectralLocator final : public EventLocator {
   // z and Phi.
   double max_carry_error_;
   std::vector<std::array<System, 3>> systems_;  // [segment][state]
-  std::vector<double> w_ref_;                   // per segment; 0 until its first visit
+  struct FreeAligned {
+    void operator()(double* p) const;
+  };
+  // The carried-segment blocks, one per (state, segment) in that order (a cycle in one state reads
+  // consecutive blocks), each 64-byte aligned, holding what a carried segment reads in the order
+  // it reads it: the input columns of S^-1, per active wall the screen's start row times the
+  // wall's sign and its reach row (ClosedFormGap::ClearOfWall's linear test), then the carry
+  // matrix by columns. Every column is padded with zeros to padded_ = m rounded up to 8 doubles
+  // (one AVX-512 register at tier 1). Allocated once, filled when a pair is first visited.
+  int padded_ = 0;
+  size_t block_doubles_ = 0;
+  std::unique_ptr<double[], FreeAligned> blocks_;
+  Eigen::VectorXd entry_;      // w of a carried entry, padded_ entries
+  std::vector<double> w_ref_;  // per segment; 0 until its first visit
   TaylorLocator fallback_;
   Eigen::VectorXd w_, wt_, scratch_, z1_;
   // The carried state: decoupled coordinates of (carry_segment_, carry_state_) at its start,
-  // input slots cleared.
+  // input slots cleared; padded_ entries, the pads 0.
   Eigen::VectorXd carried_;
   int carry_segment_ = -1;
   ContactState carry_state_ = ContactState::kFree;

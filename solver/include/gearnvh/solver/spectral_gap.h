@@ -146,6 +146,14 @@ class ClosedFormGap {
     if (start + w.cwiseAbs().dot(Row(kScreenReach)) + gap_floor <= 0.0) return true;
     return start < -gap_floor && ClearOfWallCurved(w, sign, start, gap_floor);
   }
+  // The rows of ClearOfWall's linear test, g(0) = start . w and the reach weights (constructed
+  // with a horizon): SpectralLocator keeps copies in its carried-segment blocks.
+  Eigen::Map<const Eigen::RowVectorXd> ScreenStartRow() const {
+    return {Data(kScreenStart), row_size_};
+  }
+  Eigen::Map<const Eigen::RowVectorXd> ScreenReachRow() const {
+    return {Data(kScreenReach), row_size_};
+  }
   // The bytes it occupies (the object and its arrays).
   size_t bytes() const {
     return sizeof(*this) + storage_doubles_ * sizeof(double) + growing_.capacity() * sizeof(int);
