@@ -216,7 +216,7 @@ void PropagateZeroCluster(const SpectralDecomposition& d, const Eigen::VectorXd&
 }  // namespace
 
 void PropagateDecoupled(const SpectralDecomposition& d, const Eigen::VectorXd& w, double t,
-                        Eigen::VectorXd& out, Eigen::VectorXd& scratch) {
+                        Eigen::VectorXd& out, Eigen::VectorXd& scratch, BlockPhases* phases) {
   switch (d.zero_size) {
     case 0:
       break;
@@ -242,6 +242,12 @@ void PropagateDecoupled(const SpectralDecomposition& d, const Eigen::VectorXd& w
     Eight grow, c, s;
     internal::VectorGrowSinCos(&d.block_sigma[first], &d.block_omega[first], t, count - first,
                                grow.data(), c.data(), s.data());
+    if (phases != nullptr) {
+      const int live = std::min(8, count - first);
+      phases->grow.segment(first, live) = grow.head(live);
+      phases->cosines.segment(first, live) = c.head(live);
+      phases->sines.segment(first, live) = s.head(live);
+    }
     for (int i = 0; i < std::min(8, count - first); ++i) {
       const auto& b = d.blocks[first + i];
       if (b.size == 1) {

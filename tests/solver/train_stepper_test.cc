@@ -805,6 +805,74 @@ TEST_CASE("train tables: a decomposition with the free bodies split off reproduc
   CHECK(split >= 5);  // a free mesh frees the loose gear (five of the nine states)
 }
 
+TEST_CASE("train tables: a free restart's closed forms equal a load of the propagated state",
+          "[solver][train]") {
+  // ClosedFormGap::Restart (rotated terms, shifted polynomial, the input's precomputed amplitudes)
+  // against Load() of e^{D tau} w + S^-1 dz (the input slot changed), the same function built
+  // the direct way, for every spectral contact state of the rattler, each mesh, at the start, the
+  // middle and the end of the next piece. Tolerance: both sides carry the decomposition's
+  // rounding, cond(S) eps (<= 2e-10) of the state's scale; 1e-9 of the gap's scale (|v|_1 max|x|
+  // plus the wall) leaves room for the two summation orders.
+  const Model s(Rattler(1500.0));
+  TrainTableOptions options;
+  options.decompose_after_visits = 1;
+  TrainSystemCache cache(s.tables, options);
+  TupleKey key(static_cast<size_t>(cache.KeyWords()));
+  const ContactState all[3] = {ContactState::kBack, ContactState::kFree, ContactState::kDrive};
+  const TrainTables& t = s.tables;
+  const int n = t.n, m = t.m;
+  Eigen::VectorXd z = Eigen::VectorXd::Zero(m);
+  for (int j = 0; j < n; ++j) {
+    z[j] = 1e-5 * (j + 1);
+    z[n + j] = 0.3 * (j % 2 == 0 ? 1.0 : -1.0) * (j + 1);
+  }
+  z[t.constant_slot()] = 1.0;
+  z[t.input_slot()] = 800.0;
+  const double h = t.longest_segment;
+  const Eigen::VectorXd change = Eigen::VectorXd::Constant(m - t.input_slot(), -350.0);
+  int compared = 0;
+  for (int a = 0; a < 3; ++a) {
+    for (int b = 0; b < 3; ++b) {
+      const TrainSystem& sys = cache.Get({4, 9}, {all[a], all[b]}, key);
+      if (!sys.spectral) continue;
+      const SpectralDecomposition& d = sys.decomposition;
+      const Eigen::VectorXd w = d.S_inv * z;
+      Eigen::VectorXd wt(m), scratch(m);
+      BlockPhases phases{Eigen::ArrayXd(m), Eigen::ArrayXd(m), Eigen::ArrayXd(m)};
+      const double tau = 0.6 * h;
+      PropagateDecoupled(d, w, tau, wt, scratch, &phases);
+      Eigen::VectorXd w_new = wt;
+      for (int k = 0; k < change.size(); ++k) w_new += change[k] * d.S_inv.col(t.input_slot() + k);
+      const double x_scale = std::max((d.S * w).head(n).cwiseAbs().maxCoeff(),
+                                      (d.S * wt).head(n).cwiseAbs().maxCoeff());
+      for (size_t i = 0; i < t.meshes.size(); ++i) {
+        const double wall_before = t.Wall(static_cast<int>(i), 4, true);
+        const double wall_after = t.Wall(static_cast<int>(i), 5, false);
+        ClosedFormGap restarted = sys.delta[i];
+        restarted.Load(w, -wall_before);
+        restarted.Restart(phases, tau, change.data(), -wall_after);
+        ClosedFormGap loaded = sys.delta[i];
+        loaded.Load(w_new, -wall_after);
+        const double scale = t.meshes[i].v.lpNorm<1>() * x_scale + std::abs(wall_after);
+        CHECK(std::abs(restarted.StartValue() - loaded.StartValue()) <= 1e-9 * scale);
+        for (double share : {0.0, 0.5, 1.0}) {
+          const double at = share * h;
+          CHECK(std::abs(restarted.Value(at) - loaded.Value(at)) <= 1e-9 * scale);
+          // Rates and curvatures: the scale per unit time of the fastest term (rho(A)).
+          const double rho = 1.0 / sys.substep;
+          CHECK(std::abs(restarted.Rate(at) - loaded.Rate(at)) <= 1e-9 * scale * rho);
+          CHECK(std::abs(restarted.Curvature(at) - loaded.Curvature(at)) <=
+                1e-9 * scale * rho * rho);
+          CHECK(std::abs(restarted.DerivativeBound(at, h, 1) - loaded.DerivativeBound(at, h, 1)) <=
+                1e-9 * scale * rho);
+        }
+        ++compared;
+      }
+    }
+  }
+  CHECK(compared >= 16);
+}
+
 TEST_CASE("train: a run past the events limit stops in the grid segment that passed it and says so",
           "[solver][train]") {
   const Model s(Rattler(1500.0));
