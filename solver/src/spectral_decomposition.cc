@@ -215,8 +215,16 @@ void PropagateZeroCluster(const SpectralDecomposition& d, const Eigen::VectorXd&
 
 }  // namespace
 
+void BlockPhasesAt(const SpectralDecomposition& d, double t, BlockPhases& phases) {
+  const int count = static_cast<int>(d.blocks.size());
+  for (int first = 0; first < count; first += 8) {
+    internal::VectorGrowSinCos(&d.block_sigma[first], &d.block_omega[first], t, count - first,
+                               &phases.grow[first], &phases.cosines[first], &phases.sines[first]);
+  }
+}
+
 void PropagateDecoupled(const SpectralDecomposition& d, const Eigen::VectorXd& w, double t,
-                        Eigen::VectorXd& out, Eigen::VectorXd& scratch, BlockPhases* phases) {
+                        Eigen::VectorXd& out, Eigen::VectorXd& scratch) {
   switch (d.zero_size) {
     case 0:
       break;
@@ -242,12 +250,6 @@ void PropagateDecoupled(const SpectralDecomposition& d, const Eigen::VectorXd& w
     Eight grow, c, s;
     internal::VectorGrowSinCos(&d.block_sigma[first], &d.block_omega[first], t, count - first,
                                grow.data(), c.data(), s.data());
-    if (phases != nullptr) {
-      const int live = std::min(8, count - first);
-      phases->grow.segment(first, live) = grow.head(live);
-      phases->cosines.segment(first, live) = c.head(live);
-      phases->sines.segment(first, live) = s.head(live);
-    }
     for (int i = 0; i < std::min(8, count - first); ++i) {
       const auto& b = d.blocks[first + i];
       if (b.size == 1) {

@@ -149,9 +149,10 @@ TrainStepper::TrainStepper(const TrainTables& tables, const TrainStepperOptions&
   zs_.resize(m);
   taylor_.resize(m, kTaylorTerms + 1);
   z1_.resize(m);
-  phases_.grow.resize(m);
-  phases_.cosines.resize(m);
-  phases_.sines.resize(m);
+  const int padded = (m + 7) / 8 * 8;  // VectorGrowSinCos writes 8 blocks at a time
+  phases_.grow.resize(padded);
+  phases_.cosines.resize(padded);
+  phases_.sines.resize(padded);
   inputs_ = z0.tail(m - tables.input_slot());
   input_change_.resize(inputs_.size());
   if (options.events == EventMethod::kDyadic) {
@@ -304,9 +305,11 @@ bool TrainStepper::AdvanceGridSegment(double until, TrainRecorder* rec) {
   // (independent of how runs split).
   const double h = grid_.end() - grid_.start();
   t_.SetInputs(grid_.cycles(), grid_.segments(), grid_.start(), h, z_);
-  const int slots = static_cast<int>(inputs_.size());
-  input_change_ = z_.tail(slots) - inputs_;
-  inputs_ = z_.tail(slots);
+  for (int k = 0; k < inputs_.size(); ++k) {
+    const double now = z_[t_.input_slot() + k];
+    input_change_[k] = now - inputs_[k];
+    inputs_[k] = now;
+  }
   events_this_segment_ = 0;
   // A state outside a wall at the grid segment's start (e_ij jumped) switches at once; at most
   // two switches per mesh (free -> contact -> never outside its own wall). Only at the start, as
@@ -374,6 +377,8 @@ double TrainStepper::AdvanceSpectral(const TrainSystem& sys, double remaining, T
   if (restart) {
     // z changed only in its input slots since the previous piece's end e^{D tau} w (wt_).
     ++summary_.free_restarts;
+    // The previous piece's phases at its length (computed here, not on every piece).
+    BlockPhasesAt(sys.decomposition, carry_length_, phases_);
     w_ = wt_;
     for (int k = 0; k < input_change_.size(); ++k) {
       if (input_change_[k] != 0.0)
@@ -428,7 +433,7 @@ double TrainStepper::AdvanceSpectral(const TrainSystem& sys, double remaining, T
     if (touch) advance = std::min(remaining, best + 1e-12 * t_.longest_segment);
   }
   Record(sys, z_, time_, advance, true, rec);
-  PropagateDecoupled(sys.decomposition, w_, advance, wt_, scratch_, &phases_);
+  PropagateDecoupled(sys.decomposition, w_, advance, wt_, scratch_);
   z_.noalias() = sys.decomposition.S * wt_;
   const bool tangent = tangent_ != nullptr && tangent_->active();
   if (tangent) tangent_->PropagateDecoupled(sys.decomposition, advance);

@@ -838,9 +838,11 @@ TEST_CASE("train tables: a free restart's closed forms equal a load of the propa
       const SpectralDecomposition& d = sys.decomposition;
       const Eigen::VectorXd w = d.S_inv * z;
       Eigen::VectorXd wt(m), scratch(m);
-      BlockPhases phases{Eigen::ArrayXd(m), Eigen::ArrayXd(m), Eigen::ArrayXd(m)};
+      const int padded = (m + 7) / 8 * 8;
+      BlockPhases phases{Eigen::ArrayXd(padded), Eigen::ArrayXd(padded), Eigen::ArrayXd(padded)};
       const double tau = 0.6 * h;
-      PropagateDecoupled(d, w, tau, wt, scratch, &phases);
+      PropagateDecoupled(d, w, tau, wt, scratch);
+      BlockPhasesAt(d, tau, phases);
       Eigen::VectorXd w_new = wt;
       for (int k = 0; k < change.size(); ++k) w_new += change[k] * d.S_inv.col(t.input_slot() + k);
       const double x_scale = std::max((d.S * w).head(n).cwiseAbs().maxCoeff(),

@@ -79,11 +79,14 @@ struct BlockPhases {
   Eigen::ArrayXd grow, cosines, sines;  // at least as many entries as blocks
 };
 
+// The phases of every block of `d` at t. No allocation: each array has at least the blocks'
+// count rounded up to a multiple of 8 entries (8 blocks are evaluated at a time).
+void BlockPhasesAt(const SpectralDecomposition& d, double t, BlockPhases& phases);
+
 // e^{Dt} w for the block-diagonal D of `d`. No allocation: `out` has the size of w and `scratch`
-// at least zero_size entries; `phases` (optional) receives each block's phases at t.
+// at least zero_size entries.
 void PropagateDecoupled(const SpectralDecomposition& d, const Eigen::VectorXd& w, double t,
-                        Eigen::VectorXd& out, Eigen::VectorXd& scratch,
-                        BlockPhases* phases = nullptr);
+                        Eigen::VectorXd& out, Eigen::VectorXd& scratch);
 
 // The closed form of one gap row on one decomposition. Construction precomputes rows and each
 // term's rate |sigma + i omega|; Load() takes the decoupled state of a segment start (and each

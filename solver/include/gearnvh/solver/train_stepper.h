@@ -251,9 +251,10 @@ class TrainStepper {
   TrainSystemCache cache_;
   TrainGrid grid_;
   Eigen::VectorXd z_, w_, wt_, scratch_, zs_;
-  // The free restart: the phases of the last spectral piece, the tuple it ended on (null: none
-  // to continue), the events and segments then, its length; the input slots of z (excitation,
-  // error inputs) as set for this grid segment and their change from the previous one.
+  // The free restart: the tuple the last grid segment ended on (null: none to continue), the
+  // events and segments then, its last piece's length and that piece's phases (computed at the
+  // restart); the input slots of z (excitation, error inputs) as set for this grid segment and
+  // their change from the previous one.
   BlockPhases phases_;
   const TrainSystem* carry_ = nullptr;
   const TrainSystem* clear_piece_ = nullptr;  // the last piece was spectral and met no wall
