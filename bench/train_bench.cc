@@ -71,7 +71,6 @@ void RunTrain(benchmark::State& state, bool warm, size_t cache_limit, int visits
   state.counters["decompositions"] = static_cast<double>(last.cache.decompositions);
   state.counters["dense_pieces"] = static_cast<double>(last.dense_pieces);
   state.counters["grid_segments"] = static_cast<double>(last.grid_segments);
-  state.counters["free_restarts"] = static_cast<double>(last.free_restarts);
   state.counters["cache_peak_MiB"] = last.cache.peak_bytes / 1048576.0;
   state.counters["index_MiB"] = last.cache.index_bytes / 1048576.0;
   state.counters["tuples_built"] = static_cast<double>(last.cache.misses);

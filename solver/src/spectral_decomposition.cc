@@ -215,14 +215,6 @@ void PropagateZeroCluster(const SpectralDecomposition& d, const Eigen::VectorXd&
 
 }  // namespace
 
-void BlockPhasesAt(const SpectralDecomposition& d, double t, BlockPhases& phases) {
-  const int count = static_cast<int>(d.blocks.size());
-  for (int first = 0; first < count; first += 8) {
-    internal::VectorGrowSinCos(&d.block_sigma[first], &d.block_omega[first], t, count - first,
-                               &phases.grow[first], &phases.cosines[first], &phases.sines[first]);
-  }
-}
-
 void PropagateDecoupled(const SpectralDecomposition& d, const Eigen::VectorXd& w, double t,
                         Eigen::VectorXd& out, Eigen::VectorXd& scratch) {
   switch (d.zero_size) {

@@ -40,11 +40,6 @@ ClosedFormGap::ClosedFormGap(const SpectralDecomposition& d, const Eigen::RowVec
   Build(d, row, horizon);
 }
 
-ClosedFormGap::ClosedFormGap(const SpectralDecomposition& d, const Eigen::RowVectorXd& row,
-                             Inputs inputs) {
-  Build(d, row, -1.0, inputs.first);
-}
-
 ClosedFormGap::ClosedFormGap(const ClosedFormGap& other) { *this = other; }
 
 ClosedFormGap& ClosedFormGap::operator=(const ClosedFormGap& other) {
@@ -57,8 +52,6 @@ ClosedFormGap& ClosedFormGap::operator=(const ClosedFormGap& other) {
   padded_ = other.padded_;
   poly_terms_ = other.poly_terms_;
   row_size_ = other.row_size_;
-  inputs_ = other.inputs_;
-  constant_ = other.constant_;
   growing_ = other.growing_;
   bound1_sum_ = other.bound1_sum_;
   bound2_sum_ = other.bound2_sum_;
@@ -76,7 +69,7 @@ ClosedFormGap& ClosedFormGap::operator=(const ClosedFormGap& other) {
 }
 
 void ClosedFormGap::Build(const SpectralDecomposition& d, const Eigen::RowVectorXd& row,
-                          double horizon, int first_input) {
+                          double horizon) {
   const Eigen::RowVectorXd u = row * d.S;
   const int m = static_cast<int>(u.size());
   zero_size_ = d.zero_size;
@@ -87,15 +80,12 @@ void ClosedFormGap::Build(const SpectralDecomposition& d, const Eigen::RowVector
   terms_ = count;
   padded_ = (count + 7) / 8 * 8;
   row_size_ = horizon >= 0.0 ? m : 0;
-  inputs_ = first_input >= 0 ? m - first_input : 0;
   int next = 0;
   for (int part = 0; part < kParts; ++part) {
     part_offset_[static_cast<size_t>(part)] = next;
     int size = padded_;  // kIndex: 2 padded_ ints
     if (part == kPolyRows) size = poly_terms_ * zero_size_;
     if (part == kPoly) size = poly_terms_;
-    if (part == kInputPoly) size = poly_terms_ * inputs_;
-    if (part == kInputAlpha || part == kInputBeta) size = padded_ * inputs_;
     if (part >= kEndValueRow) size = row_size_;
     next += RoundUp(size);
   }
@@ -131,21 +121,6 @@ void ClosedFormGap::Build(const SpectralDecomposition& d, const Eigen::RowVector
       r1b()[k] = ub[1];
       r2a()[k] = r2[0];
       r2b()[k] = r2[1];
-    }
-  }
-  // Each input's unit change: its column of S^-1, loaded (as Load() does).
-  for (int input = 0; input < inputs_; ++input) {
-    const Eigen::VectorXd c = d.S_inv.col(first_input + input);
-    double* poly = Data(kInputPoly) + input * poly_terms_;
-    if (zero_size_ > 0) {
-      for (int k = 0; k < d.series_terms; ++k) poly[k] = poly_rows().row(k).dot(c.head(zero_size_));
-    }
-    double* alpha = Data(kInputAlpha) + input * padded_;
-    double* beta = Data(kInputBeta) + input * padded_;
-    for (int k = 0; k < count; ++k) {
-      const double wa = c[index[k]], wb = c[index[padded_ + k]];
-      alpha[k] = r1a()[k] * wa + r1b()[k] * wb;
-      beta[k] = r2a()[k] * wa + r2b()[k] * wb;
     }
   }
   if (horizon < 0.0) return;
@@ -232,7 +207,6 @@ void ClosedFormGap::Load(const Eigen::VectorXd& w) {
   // the pair's settled idle-rattle trajectory to a window where the saltation test's finite
   // difference disagrees with the tangent (cause not established; kept as it was).
   if (zero_size_ > 0) poly().noalias() = poly_rows() * w.head(zero_size_);
-  constant_ = 0.0;
   // One scalar pass: a vector pass over values just stored one by one would wait for the stores
   // (no store-to-load forwarding from narrow stores into a wide load).
   const int* index_a = this->index_a();
@@ -259,49 +233,6 @@ void ClosedFormGap::Load(const Eigen::VectorXd& w, double constant) {
   Load(w);
   poly()[0] += constant;
   end_value_ += constant;
-  constant_ = constant;
-}
-
-void ClosedFormGap::Restart(const BlockPhases& phases, double tau, const double* input_change,
-                            double constant) {
-  // p(t + tau): repeated synthetic division (poly_terms_ is a handful).
-  double* poly = Data(kPoly);
-  const int terms = zero_size_ > 0 ? poly_terms_ : 0;
-  for (int i = 0; i + 1 < terms; ++i) {
-    for (int k = terms - 2; k >= i; --k) poly[k] += tau * poly[k + 1];
-  }
-  if (terms > 0) poly[0] += constant - constant_;
-  constant_ = constant;
-  double *alpha = Data(kAlpha), *beta = Data(kBeta), *bound1 = Data(kBound1);
-  const double *grow = phases.grow.data(), *cosines = phases.cosines.data(),
-               *sines = phases.sines.data();
-  for (int k = 0; k < terms_; ++k) {
-    const double a = alpha[k], b = beta[k];
-    alpha[k] = grow[k] * (a * cosines[k] + b * sines[k]);
-    beta[k] = grow[k] * (b * cosines[k] - a * sines[k]);
-  }
-  for (int input = 0; input < inputs_; ++input) {
-    const double change = input_change[input];
-    if (change == 0.0) continue;
-    const double* input_poly = Data(kInputPoly) + input * poly_terms_;
-    for (int k = 0; k < terms; ++k) poly[k] += change * input_poly[k];
-    const double* input_alpha = Data(kInputAlpha) + input * padded_;
-    const double* input_beta = Data(kInputBeta) + input * padded_;
-    for (int k = 0; k < terms_; ++k) {
-      alpha[k] += change * input_alpha[k];
-      beta[k] += change * input_beta[k];
-    }
-  }
-  const double* rates = Data(kRates);
-  double sum1 = 0.0, sum2 = 0.0;
-  for (int k = 0; k < terms_; ++k) {
-    const double bound = std::sqrt(alpha[k] * alpha[k] + beta[k] * beta[k]) * rates[k];
-    bound1[k] = bound;
-    sum1 += bound;
-    sum2 += bound * rates[k];
-  }
-  bound1_sum_ = sum1;
-  bound2_sum_ = sum2;
 }
 
 double ClosedFormGap::StartValue() const {

@@ -149,12 +149,6 @@ TrainStepper::TrainStepper(const TrainTables& tables, const TrainStepperOptions&
   zs_.resize(m);
   taylor_.resize(m, kTaylorTerms + 1);
   z1_.resize(m);
-  const int padded = (m + 7) / 8 * 8;  // VectorGrowSinCos writes 8 blocks at a time
-  phases_.grow.resize(padded);
-  phases_.cosines.resize(padded);
-  phases_.sines.resize(padded);
-  inputs_ = z0.tail(m - tables.input_slot());
-  input_change_.resize(inputs_.size());
   if (options.events == EventMethod::kDyadic) {
     substep_map_.resize(m, m);
     dyadic_levels_.assign(kDyadicLevels, Eigen::MatrixXd(m, m));
@@ -178,7 +172,6 @@ void TrainStepper::Reset(const Eigen::VectorXd& z0, const std::vector<ContactSta
   next_recenter_ = recenter_period_;
   events_at_period_ = 0;
   summary_ = TrainStepperSummary{};
-  carry_ = nullptr;
 }
 
 TrainStepperSummary TrainStepper::summary() const {
@@ -200,13 +193,9 @@ bool TrainStepper::Run(double end_time, TrainRecorder* recorder) {
       grid_.Next();
       ++summary_.grid_segments;
       time_ = grid_.start();
-      if (AtPeriodStart()) {
-        carry_ = nullptr;  // a jump moves z
-        TryJump(end_time, recorder);
-      }
+      if (AtPeriodStart()) TryJump(end_time, recorder);
     }
     if (time_ >= next_recenter_) {
-      carry_ = nullptr;  // z moves along the free rotation: w with it
       Recenter();
       next_recenter_ += recenter_period_;
     }
@@ -305,11 +294,6 @@ bool TrainStepper::AdvanceGridSegment(double until, TrainRecorder* rec) {
   // (independent of how runs split).
   const double h = grid_.end() - grid_.start();
   t_.SetInputs(grid_.cycles(), grid_.segments(), grid_.start(), h, z_);
-  for (int k = 0; k < inputs_.size(); ++k) {
-    const double now = z_[t_.input_slot() + k];
-    input_change_[k] = now - inputs_[k];
-    inputs_[k] = now;
-  }
   events_this_segment_ = 0;
   // A state outside a wall at the grid segment's start (e_ij jumped) switches at once; at most
   // two switches per mesh (free -> contact -> never outside its own wall). Only at the start, as
@@ -321,25 +305,16 @@ bool TrainStepper::AdvanceGridSegment(double until, TrainRecorder* rec) {
   }
   const TrainSystem* sys = nullptr;
   long entered_at = -1;  // the events count when `sys` was fetched: the tuple holds until the next
-  bool restart = FreeRestart();
-  if (restart) {
-    sys = carry_;  // the same key: the fetch would find it as the last tuple fetched
-    cache_.CountRepeat();
-    entered_at = summary_.events;
-  }
-  carry_ = nullptr;
   while (until - time_ > 1e-15 * h) {
     if (sys == nullptr || entered_at != summary_.events) {
       sys = &cache_.Get(grid_.segments(), states_, key_);
       entered_at = summary_.events;
     }
     double step = 0.0;
-    clear_piece_ = nullptr;
     if (options_.events == EventMethod::kDyadic) {
       step = AdvanceDyadic(*sys, until - time_, rec);
     } else if (sys->spectral && options_.events == EventMethod::kSpectral) {
-      step = AdvanceSpectral(*sys, until - time_, rec, restart);
-      restart = false;
+      step = AdvanceSpectral(*sys, until - time_, rec);
     } else {
       step = AdvanceDense(*sys, until - time_, rec);
     }
@@ -355,38 +330,11 @@ bool TrainStepper::AdvanceGridSegment(double until, TrainRecorder* rec) {
     }
   }
   time_ = until;
-  if (clear_piece_ != nullptr && until >= grid_.end()) {
-    carry_ = clear_piece_;
-    carry_events_ = summary_.events;
-    carry_segments_ = grid_.segments();
-  }
   return true;
 }
 
-bool TrainStepper::FreeRestart() const {
-  if (carry_ == nullptr || time_ != grid_.start() || summary_.events != carry_events_) return false;
-  for (size_t i = 0; i < states_.size(); ++i) {
-    if (states_[i] != ContactState::kFree && grid_.segments()[i] != carry_segments_[i])
-      return false;
-  }
-  return true;
-}
-
-double TrainStepper::AdvanceSpectral(const TrainSystem& sys, double remaining, TrainRecorder* rec,
-                                     bool restart) {
-  if (restart) {
-    // z changed only in its input slots since the previous piece's end e^{D tau} w (wt_).
-    ++summary_.free_restarts;
-    // The previous piece's phases at its length (computed here, not on every piece).
-    BlockPhasesAt(sys.decomposition, carry_length_, phases_);
-    w_ = wt_;
-    for (int k = 0; k < input_change_.size(); ++k) {
-      if (input_change_[k] != 0.0)
-        w_ += input_change_[k] * sys.decomposition.S_inv.col(t_.input_slot() + k);
-    }
-  } else {
-    w_.noalias() = sys.decomposition.S_inv * z_;
-  }
+double TrainStepper::AdvanceSpectral(const TrainSystem& sys, double remaining, TrainRecorder* rec) {
+  w_.noalias() = sys.decomposition.S_inv * z_;
   double best = -1.0;
   int best_mesh = -1;
   for (size_t i = 0; i < t_.meshes.size(); ++i) {
@@ -399,12 +347,10 @@ double TrainStepper::AdvanceSpectral(const TrainSystem& sys, double remaining, T
     for (int k = 0; k < count; ++k) {
       const double wall = t_.Wall(static_cast<int>(i), segment, walls[k].drive, z_);
       ClosedFormGap& gap = sys.Gap(i, walls[k].drive);
-      if (&gap == held) {
-        gap.ShiftConstant(loaded - wall);
-      } else if (restart) {
-        gap.Restart(phases_, carry_length_, input_change_.data(), -wall);
-      } else {
+      if (&gap != held) {
         gap.Load(w_, -wall);
+      } else {
+        gap.ShiftConstant(loaded - wall);
       }
       held = &gap;
       loaded = wall;
@@ -437,11 +383,7 @@ double TrainStepper::AdvanceSpectral(const TrainSystem& sys, double remaining, T
   z_.noalias() = sys.decomposition.S * wt_;
   const bool tangent = tangent_ != nullptr && tangent_->active();
   if (tangent) tangent_->PropagateDecoupled(sys.decomposition, advance);
-  if (best < 0.0) {
-    clear_piece_ = &sys;
-    carry_length_ = advance;
-    return advance;
-  }
+  if (best < 0.0) return advance;
   if (touch) {
     Graze(best_mesh, time_ + best, rec);
     return advance;

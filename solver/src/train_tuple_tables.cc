@@ -179,14 +179,14 @@ void TrainSystemCache::Decompose(TrainSystem& s) const {
   bool distinct = false;
   for (const TrainMeshTable& mt : t_.meshes) {
     row.head(n) = mt.v.transpose();
-    s.delta.emplace_back(s.decomposition, row, ClosedFormGap::Inputs{t_.input_slot()});
+    s.delta.emplace_back(s.decomposition, row);
     distinct = distinct || mt.distinct_back;
   }
   if (!distinct) return;
   s.delta_back.reserve(t_.meshes.size());
   for (const TrainMeshTable& mt : t_.meshes) {
     row.head(n) = mt.v_back.transpose();
-    s.delta_back.emplace_back(s.decomposition, row, ClosedFormGap::Inputs{t_.input_slot()});
+    s.delta_back.emplace_back(s.decomposition, row);
   }
 }
 

@@ -73,16 +73,6 @@ SpectralDecomposition DecomposeGenerator(const Eigen::MatrixXd& A, int n, double
 // `min_terms`, then until a term is below 1e-18 of the largest; 0 when 64 terms do not get there.
 int ZeroClusterSeriesTerms(const Eigen::MatrixXd& B0, double horizon, int min_terms);
 
-// e^{sigma t}, cos(omega t) and sin(omega t) of every block of a decomposition at one time t, in
-// the blocks' order (ClosedFormGap::Restart shifts its terms by t with them).
-struct BlockPhases {
-  Eigen::ArrayXd grow, cosines, sines;  // at least as many entries as blocks
-};
-
-// The phases of every block of `d` at t. No allocation: each array has at least the blocks'
-// count rounded up to a multiple of 8 entries (8 blocks are evaluated at a time).
-void BlockPhasesAt(const SpectralDecomposition& d, double t, BlockPhases& phases);
-
 // e^{Dt} w for the block-diagonal D of `d`. No allocation: `out` has the size of w and `scratch`
 // at least zero_size entries.
 void PropagateDecoupled(const SpectralDecomposition& d, const Eigen::VectorXd& w, double t,
@@ -105,13 +95,6 @@ class ClosedFormGap {
   // (u e^{DH} and u D e^{DH}, u = row S): Load() then takes both at the segment end with two dot
   // products, and a search over the whole segment evaluates its end point without exp or sincos.
   ClosedFormGap(const SpectralDecomposition& d, const Eigen::RowVectorXd& row, double horizon);
-  // As the first, able to Restart(): the coordinates first_input.. of z are inputs held constant
-  // over a piece (the train's excitation and error slots), and the amplitudes that a unit change
-  // of each contributes (its column of S^-1 on the row) are precomputed.
-  struct Inputs {
-    int first = 0;
-  };
-  ClosedFormGap(const SpectralDecomposition& d, const Eigen::RowVectorXd& row, Inputs inputs);
   ClosedFormGap(const ClosedFormGap& other);
   ClosedFormGap& operator=(const ClosedFormGap& other);
   ClosedFormGap(ClosedFormGap&&) noexcept = default;
@@ -124,19 +107,7 @@ class ClosedFormGap {
   void Load(const Eigen::VectorXd& w, double constant);
   // Adds `delta` to the loaded constant (the other wall of the same loaded state, without a
   // reload: the rates and bounds do not depend on the constant).
-  void ShiftConstant(double delta) {
-    poly()[0] += delta;
-    constant_ += delta;
-  }
-  // The load of the state the loaded one has propagated to after `tau` (without an event; the
-  // blocks' phases at tau from PropagateDecoupled) with the inputs changed by `input_change`
-  // (one entry per input) and the constant `constant`, without w: each term's amplitudes rotate
-  // (e^{sigma tau}(alpha cos omega tau + beta sin omega tau), e^{sigma tau}(beta cos omega tau -
-  // alpha sin omega tau)), the polynomial is shifted by tau (Taylor shift), and each input's
-  // precomputed amplitudes are added. Equal to Load(e^{D tau} w + S^-1 dz, constant) to
-  // rounding and the series' own cut (the shift drops the B0^k terms, k >= series_terms, that
-  // the series drops). Needs the Inputs constructor.
-  void Restart(const BlockPhases& phases, double tau, const double* input_change, double constant);
+  void ShiftConstant(double delta) { poly()[0] += delta; }
   double Value(double t) const { return Evaluate(t, 0); }
   // g(0) of the loaded state, without exp or sincos.
   double StartValue() const;
@@ -190,10 +161,8 @@ class ClosedFormGap {
   struct Jet {
     double value = 0.0, rate = 0.0;
   };
-  // Builds the arrays (horizon < 0: without the end and screen rows; inputs < 0: without the
-  // inputs' amplitudes).
-  void Build(const SpectralDecomposition& d, const Eigen::RowVectorXd& row, double horizon,
-             int first_input = -1);
+  // Builds the arrays (horizon < 0: without the end and screen rows).
+  void Build(const SpectralDecomposition& d, const Eigen::RowVectorXd& row, double horizon);
   double Evaluate(double t, int order) const;
   // grow = e^{sigma t}, cosines = cos(omega t), sines = sin(omega t) for every term.
   void EvaluateTerms(double t) const;
@@ -224,8 +193,6 @@ class ClosedFormGap {
   //   kPolyRows: p_k = poly_rows.row(k) . w0, with w0 the B0 part of w; kPoly the loaded p_k.
   //   kDampedSigma: min(sigma, 0), for the bound 1 / (1 - sigma a).
   //   kGrow, kCosines, kSines: scratch of the evaluations (no allocation after construction).
-  //   With inputs (Restart): per input, the loaded amplitudes of a unit change of it
-  //     (kInputPoly: poly_terms_ each, kInputAlpha and kInputBeta: padded_ each).
   //   With a horizon H: the rows of g(H) and g'(H) (kEndValueRow, kEndRateRow); the screen's rows
   //     (ClearOfWall): g(0) = start . w and the reach weights; the curved test's rows: g'(0) =
   //     rate . w, the weights of max|g''| on [0, H], and the rounding margin alone (margin_i).
@@ -247,9 +214,6 @@ class ClosedFormGap {
     kGrow,
     kCosines,
     kSines,
-    kInputPoly,
-    kInputAlpha,
-    kInputBeta,
     kEndValueRow,
     kEndRateRow,
     kScreenStart,
@@ -297,8 +261,6 @@ class ClosedFormGap {
   int padded_ = 0;                         // terms padded to a multiple of 8
   int poly_terms_ = 0;                     // rows of poly_rows (at least 1)
   int row_size_ = 0;                       // m with a horizon, else 0
-  int inputs_ = 0;                         // inputs of Restart (0: none)
-  double constant_ = 0.0;                  // the constant loaded (Load, ShiftConstant, Restart)
   std::vector<int> growing_;               // the terms with sigma > 0 (bounded by e^{sigma b})
   double bound1_sum_ = 0.0, bound2_sum_ = 0.0;
   // The coefficients of g': d/dt [e^{st}(a cos wt + b sin wt)] = e^{st}(A cos wt + B sin wt).

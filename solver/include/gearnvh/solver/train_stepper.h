@@ -17,13 +17,13 @@
 // Dense path (a tuple not decomposed yet, TrainTableOptions::decompose_after_visits, or whose
 // decomposition is ill-conditioned): sub-steps with rho(A) D <= 1/2 and ||S A S^-1|| D <= 1.5 (as
 // TrainSystem::substep says) on the Taylor polynomial of the state (20 terms: the remainder is
-// below e^1.5 1.5^21 / 21! ||S z|| < 4.4e-16 ||S z||); each gap of a sub-step is a scalar
-// polynomial; a wall it cannot reach (|g(0)| against sum_{p>=1} |g_p| D^p plus ||v||_1 times the
-// remainder) is skipped, else its first crossing is the pair's V2 polynomial search (taylor_root.h:
-// samples plus every interior maximum between them, so a brief excursion is not missed), with the
-// same grazing rule as V3. Never silently wrong: a tuple either decomposes within the condition
-// limit or takes this path. Event methods (TrainStepperOptions::events), as the pair's locators
-// (event_locator.h):
+// below e^1.5 1.5^21 / 21! ||S z|| < 4.4e-16 ||S z||); each gap of a sub-step is a scalar polynomial; a wall it
+// cannot reach (|g(0)| against sum_{p>=1} |g_p| D^p plus ||v||_1 times the remainder) is skipped,
+// else its first crossing is the pair's V2 polynomial search (taylor_root.h: samples plus every
+// interior maximum between them, so a brief excursion is not missed), with the same grazing rule
+// as V3. Never silently wrong: a tuple
+// either decomposes within the condition limit or takes this path.
+// Event methods (TrainStepperOptions::events), as the pair's locators (event_locator.h):
 //   V3 (kSpectral, default): the closed form above, the dense path for the other tuples.
 //   V2 (kTaylor): every tuple on the dense path.
 //   V1 (kDyadic, the baseline): sub-steps of length d <= D, one dense propagator expm(A d) each,
@@ -139,10 +139,6 @@ struct TrainStepperSummary {
   long dyadic_substeps = 0;  // V1: flagged sub-steps walked on the dyadic grid
   long dyadic_matvecs = 0;   // V1: cell maps applied in those walks (bisections included)
   long recenterings = 0;
-  // Pieces restarted at a grid boundary that only free meshes cross (the same tuple) from the
-  // previous piece's end: w and the closed forms updated by the inputs' change, without S^-1 z,
-  // the loads and the tuple's fetch.
-  long free_restarts = 0;
   double simulated_time = 0.0;  // s
   TrainCacheSummary cache;
 };
@@ -160,8 +156,8 @@ std::pair<Eigen::VectorXd, std::vector<ContactState>> TrainStaticState(const Tra
 class TrainStepper {
  public:
   static constexpr double kSimultaneous = 1e-12;  // relative to the grid segment length
-  // The dense path's Taylor polynomial: its remainder, e^q q^21 / 21! ||S z|| with
-  // q = ||S A S^-1|| d <= 1.5 (TrainSystem::substep), is below 4.4e-16 ||S z||: rounding.
+  // The dense path's Taylor polynomial: its remainder, e^q q^21 / 21! ||S z|| with q = ||S A S^-1|| d
+  // <= 1.5 (TrainSystem::substep), is below 4.4e-16 ||S z||: rounding.
   static constexpr int kTaylorTerms = 20;
   static constexpr int kRootSamples = 16;  // samples per sub-step of the V2 root search
   static constexpr int kDyadicLevels = 34;
@@ -188,14 +184,7 @@ class TrainStepper {
   bool AdvanceGridSegment(double until, TrainRecorder* recorder);
   // One piece on the current tuple, up to its first event (or grazing touch) or `remaining`:
   // returns the time advanced.
-  // `restart`: the piece continues the previous one on the same tuple across a grid boundary that
-  // only free meshes cross (FreeRestart): w and the closed forms follow from its end.
-  double AdvanceSpectral(const TrainSystem& sys, double remaining, TrainRecorder* rec,
-                         bool restart = false);
-  // At a grid segment's start: the previous grid segment ended on a spectral piece of `carry_`
-  // without an event, no state has switched since, and every mesh in contact is in the same
-  // segment (only free meshes crossed the boundary: the tuple, its key and S are the same).
-  bool FreeRestart() const;
+  double AdvanceSpectral(const TrainSystem& sys, double remaining, TrainRecorder* rec);
   double AdvanceDense(const TrainSystem& sys, double remaining, TrainRecorder* rec);
   double AdvanceDyadic(const TrainSystem& sys, double remaining, TrainRecorder* rec);
   // Fills taylor_ with A^k z / k!, k = 0..kTaylorTerms (the dense path's polynomial).
@@ -251,17 +240,6 @@ class TrainStepper {
   TrainSystemCache cache_;
   TrainGrid grid_;
   Eigen::VectorXd z_, w_, wt_, scratch_, zs_;
-  // The free restart: the tuple the last grid segment ended on (null: none to continue), the
-  // events and segments then, its last piece's length and that piece's phases (computed at the
-  // restart); the input slots of z (excitation, error inputs) as set for this grid segment and
-  // their change from the previous one.
-  BlockPhases phases_;
-  const TrainSystem* carry_ = nullptr;
-  const TrainSystem* clear_piece_ = nullptr;  // the last piece was spectral and met no wall
-  long carry_events_ = 0;
-  std::vector<int> carry_segments_;
-  double carry_length_ = 0.0;
-  Eigen::VectorXd inputs_, input_change_;
   Eigen::MatrixXd taylor_;
   Eigen::MatrixXd substep_map_;                 // V1: expm(A d) of the current sub-step
   std::vector<Eigen::MatrixXd> dyadic_levels_;  // V1: expm(A d 2^-(l+1)), l = 0..33

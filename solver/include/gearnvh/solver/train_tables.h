@@ -263,9 +263,6 @@ class TrainSystemCache {
   // segments[i], states[i] per mesh; `key` is scratch of KeyWords() words (filled here).
   const TrainSystem& Get(const std::vector<int>& segments, const std::vector<ContactState>& states,
                          TupleKey& key);
-  // Counts a hit on the last tuple fetched without fetching it (the caller knows the key is the
-  // same: Get() would return it at once).
-  void CountRepeat() { ++summary_.hits; }
   int KeyWords() const { return key_words_; }
   const TrainCacheSummary& summary() const { return summary_; }
 
