@@ -71,6 +71,7 @@ void RunTrain(benchmark::State& state, bool warm, size_t cache_limit, int visits
   state.counters["decompositions"] = static_cast<double>(last.cache.decompositions);
   state.counters["dense_pieces"] = static_cast<double>(last.dense_pieces);
   state.counters["grid_segments"] = static_cast<double>(last.grid_segments);
+  state.counters["fused_segments"] = static_cast<double>(last.fused_grid_segments);
   state.counters["cache_peak_MiB"] = last.cache.peak_bytes / 1048576.0;
   state.counters["index_MiB"] = last.cache.index_bytes / 1048576.0;
   state.counters["tuples_built"] = static_cast<double>(last.cache.misses);
@@ -143,6 +144,8 @@ void BM_TwoStageReducerTransient(benchmark::State& state) {
   state.counters["period_segments"] = static_cast<double>(last.cycle_map_segments);
   state.counters["map_KiB"] = last.cycle_map_bytes / 1024.0;
   state.counters["grid_segments"] = static_cast<double>(last.grid_segments);
+  state.counters["fused_segments"] = static_cast<double>(last.fused_grid_segments);
+  state.counters["fusion_KiB"] = last.fusion_bytes / 1024.0;
 }
 
 BENCHMARK(BM_ManualTransmissionIdle)->Unit(benchmark::kMillisecond)->Iterations(1);

@@ -7,6 +7,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/solver/train_cycle_map.h"
@@ -59,15 +60,32 @@ Difference Compare(const TrainTables& t, const Outcome& a, const Outcome& b) {
   return d;
 }
 
+// Stepped and fused from the static state to `end`, compared; `what` describes the comparison.
+struct Comparison {
+  Outcome stepped, fused;
+  Difference d;
+  std::string what;
+};
+Comparison FuseAndStep(const TrainTables& t, double end) {
+  Comparison c{RunTrain(t, 0, end), RunTrain(t, 5, end), {}, {}};
+  c.d = Compare(t, c.stepped, c.fused);
+  const TrainStepperSummary& f = c.fused.summary;
+  c.what = "fused " + std::to_string(f.fused_grid_segments) + " of " +
+           std::to_string(f.grid_segments) + " grid segments in " + std::to_string(f.fused_runs) +
+           " runs, " + std::to_string(f.fusion_refusals) + " refusals; TE " +
+           std::to_string(c.d.te) + ", velocity " + std::to_string(c.d.velocity);
+  return c;
+}
+
 TEST_CASE("train segment runs: a loaded two-stage reducer fused equals it stepped",
           "[solver][train]") {
   // Meshes in permanent drive contact, a small engine order (the reducer of the jump tests).
   const Model s(testing::TwoStageTrain(300.0, 100.0, 300.0));
   const TrainTables& t = s.tables;
   REQUIRE(t.common_period > 0.0);
-  const double end = 3.0 * t.common_period;
-  const Outcome stepped = RunTrain(t, 0, end);
-  const Outcome fused = RunTrain(t, 5, end);
+  const Comparison c = FuseAndStep(t, 3.0 * t.common_period);
+  const Outcome &stepped = c.stepped, &fused = c.fused;
+  INFO(c.what);
   CHECK(stepped.summary.fused_grid_segments == 0);
   CHECK(stepped.summary.events == 0);
   CHECK(fused.summary.events == 0);
@@ -76,10 +94,7 @@ TEST_CASE("train segment runs: a loaded two-stage reducer fused equals it steppe
   CHECK(fused.summary.fused_grid_segments > stepped.summary.grid_segments / 4);
   CHECK(fused.summary.fusion_tables > 0);
   CHECK(fused.summary.fusion_bytes > 0);
-  const Difference d = Compare(t, stepped, fused);
-  INFO("fused " << fused.summary.fused_grid_segments << " of " << fused.summary.grid_segments
-                << " grid segments in " << fused.summary.fused_runs << " runs; TE " << d.te
-                << ", velocity " << d.velocity);
+  const Difference& d = c.d;
   // Tolerance: both sides apply the same propagators, the fused one as products of up to 32
   // balanced-Pade expm against one closed-form piece per grid segment; each differs from the
   // exact map by ~cond(S) eps relative, summed over ~10^3 grid segments and damped. Measured
@@ -96,14 +111,11 @@ TEST_CASE("train segment runs: a strong engine order, fused and stepped, recorde
   const TrainTables& t = s.tables;
   REQUIRE(t.common_period > 0.0);
   const double end = 4.0 * t.common_period;
-  const Outcome stepped = RunTrain(t, 0, end);
-  const Outcome fused = RunTrain(t, 5, end);
-  CHECK(fused.summary.fused_grid_segments > 0);
-  CHECK(fused.summary.events == stepped.summary.events);
-  const Difference d = Compare(t, stepped, fused);
-  INFO("fused " << fused.summary.fused_grid_segments << " of " << fused.summary.grid_segments
-                << "; refusals " << fused.summary.fusion_refusals << "; TE " << d.te
-                << ", velocity " << d.velocity);
+  const Comparison c = FuseAndStep(t, end);
+  INFO(c.what);
+  CHECK(c.fused.summary.fused_grid_segments > 0);
+  CHECK(c.fused.summary.events == c.stepped.summary.events);
+  const Difference& d = c.d;
   // The strong order's pieces are closer to the condition limit: measured 7.6e-12, within the
   // spread of V3 and V2 stepping (see "every run certified under a strong engine order"); 3e-11.
   CHECK(d.te <= 3e-11);
