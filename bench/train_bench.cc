@@ -33,7 +33,8 @@ double ThreadCpuSeconds() {
 // entry, the solver before lazy decomposition).
 // `frictionless`: every mesh's friction_coefficient set to 0 (the cost of tooth friction).
 void RunTrain(benchmark::State& state, bool warm, size_t cache_limit, int visits,
-              const char* file = "manual_transmission_idle.yaml", bool frictionless = false) {
+              const char* file = "manual_transmission_idle.yaml", bool frictionless = false,
+              long fusion_min_periods = TrainStepperOptions{}.fusion_min_periods) {
   config::LoadedGearbox loaded =
       config::LoadAnyGearboxFile(std::string(GEARNVH_EXAMPLES_DIR) + "/" + file);
   if (frictionless) {
@@ -46,6 +47,7 @@ void RunTrain(benchmark::State& state, bool warm, size_t cache_limit, int visits
   TrainStepperOptions options;
   options.tables.cache_limit_bytes = cache_limit;
   options.tables.decompose_after_visits = visits;
+  options.fusion_min_periods = fusion_min_periods;
   TrainStepperSummary last;
   double ratio = 0.0, cpu_ratio = 0.0, cpu = 0.0;
   for (auto _ : state) {
@@ -109,12 +111,23 @@ void BM_TwoStageReducerFrictionless(benchmark::State& state) {
   RunTrain(state, false, kDefaults.cache_limit_bytes, kDefaults.decompose_after_visits,
            "two_stage_helical_reducer.yaml", true);
 }
+// Segment-run fusion with its tables held (a first run builds them, the timed one reuses them).
+void BM_TwoStageReducerFusedWarm(benchmark::State& state) {
+  RunTrain(state, true, kDefaults.cache_limit_bytes, kDefaults.decompose_after_visits,
+           "two_stage_helical_reducer.yaml", false, 1);
+}
+// The first run alone: every run table built (fusion_min_periods 1).
+void BM_TwoStageReducerFusedCold(benchmark::State& state) {
+  RunTrain(state, false, kDefaults.cache_limit_bytes, kDefaults.decompose_after_visits,
+           "two_stage_helical_reducer.yaml", false, 1);
+}
 void BM_TwoStageReducerEager(benchmark::State& state) {
   RunTrain(state, false, kDefaults.cache_limit_bytes, 1, "two_stage_helical_reducer.yaml");
 }
 // Certified jumps (TrainStepperOptions::jumps): the two-stage reducer (every mesh in permanent
 // drive contact) over a transient of 10 common periods (28.8 s) then 1000 recorded cycles of its
-// first mesh, jumps off (0) or on (1). The common period has ~2e4 grid segments, above the
+// first mesh, jumps off (0) or on (1); 2: jumps off, segment-run fusion building its tables
+// (fusion_min_periods 1; by default 64 periods would be needed). The common period has ~2e4 grid segments, above the
 // default max_cycle_map_segments, so the limit is raised here; the run's CPU time includes the
 // cycle map's build (one expm and one sub-step walk per grid segment of the period).
 void BM_TwoStageReducerTransient(benchmark::State& state) {
@@ -126,7 +139,8 @@ void BM_TwoStageReducerTransient(benchmark::State& state) {
   const double start = 10.0 * tables.common_period;
   const double end = start + 1000.0 * tables.meshes.front().period;
   TrainStepperOptions options;
-  options.jumps = state.range(0) != 0;
+  options.jumps = state.range(0) == 1;
+  if (state.range(0) == 2) options.fusion_min_periods = 1;  // fusion's tables built in 10 periods
   options.max_cycle_map_segments = 100000;
   TrainStepperSummary last;
   double cpu = 0.0;
@@ -160,10 +174,13 @@ BENCHMARK(BM_ManualTransmissionIdleVisits)
     ->Iterations(1);
 BENCHMARK(BM_TwoStageReducer)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_TwoStageReducerFrictionless)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_TwoStageReducerFusedWarm)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_TwoStageReducerFusedCold)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_TwoStageReducerEager)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_TwoStageReducerTransient)
     ->Arg(0)
     ->Arg(1)
+    ->Arg(2)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);
 

@@ -241,20 +241,23 @@ bool TrainSegmentRuns::Certify(const Run& run) const {
 }
 
 long TrainSegmentRuns::Advance(long position, const std::vector<ContactState>& states,
-                               double end_time, TrainGrid& grid, Eigen::VectorXd& z) {
+                               double end_time, bool build, TrainGrid& grid, Eigen::VectorXd& z) {
   if (!enabled_) return 0;
   if (period_segments_ == 0) {
     period_segments_ = CountCommonPeriodSegments(t_, max_period_segments_ + 1);
     if (period_segments_ > max_period_segments_) enabled_ = false;
   }
   if (!enabled_ || position % 2 != 0 || position + 2 > period_segments_) return 0;
+  if (!build && entries_.empty()) return 0;
   const Key key{CombinationCode(states), position};
   auto found = entries_.find(key);
   if (found == entries_.end()) {
+    if (!build) return 0;
     found = entries_.emplace(key, Entry{}).first;  // the first visit only
     found->second.levels.resize(static_cast<size_t>(max_level_));
   }
   Entry& entry = found->second;
+  if (!build && !entry.levels.front()) return 0;
   if (entry.skip > 0) {
     --entry.skip;
     return 0;
@@ -272,6 +275,7 @@ long TrainSegmentRuns::Advance(long position, const std::vector<ContactState>& s
     if (position % r != 0 || position + r > period_segments_ || !WalkTo(r, end_time)) break;
     std::unique_ptr<Run>& run = entry.levels[static_cast<size_t>(level - 1)];
     if (!run) {
+      if (!build) break;
       run = Build(r, states);
       if (!run) break;  // beyond the tables' limit
     } else {
@@ -309,7 +313,9 @@ long TrainStepper::FusedRun(double end_time, const TrainRecorder* rec) {
   if (!fusion_ || time_ != grid_.start() || (tangent_ != nullptr && tangent_->active())) return 0;
   // Only on unrecorded time: the run records nothing.
   const double horizon = rec != nullptr ? std::min(end_time, rec->start_time()) : end_time;
-  const long fused = fusion_->Advance(period_position_, states_, horizon, grid_, z_);
+  const bool build =
+      horizon - time_ >= static_cast<double>(options_.fusion_min_periods) * t_.common_period;
+  const long fused = fusion_->Advance(period_position_, states_, horizon, build, grid_, z_);
   if (fused > 0) {
     ++summary_.fused_runs;
     summary_.fused_grid_segments += fused;

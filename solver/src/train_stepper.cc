@@ -42,6 +42,10 @@ void TrainStepperOptions::Validate() const {
     throw InputError("TrainStepperOptions.fusion_levels", 0, std::to_string(fusion_levels),
                      "must be in [0, 16]");
   }
+  if (fusion_min_periods < 1) {
+    throw InputError("TrainStepperOptions.fusion_min_periods", 0,
+                     std::to_string(fusion_min_periods), "must be >= 1");
+  }
   if (fusion_limit_bytes < 1) {
     throw InputError("TrainStepperOptions.fusion_limit_bytes", 0,
                      std::to_string(fusion_limit_bytes), "must be >= 1");

@@ -35,6 +35,7 @@ Outcome RunTrain(const TrainTables& t, int levels, double end) {
   TrainStepperOptions options;
   options.jumps = false;
   options.fusion_levels = levels;
+  options.fusion_min_periods = 1;  // these runs are a few periods long
   TrainStepper stepper(t, options, z0, states0);
   REQUIRE(stepper.Run(end));
   return {stepper.summary(), stepper.state(), stepper.states()};
@@ -124,6 +125,7 @@ TEST_CASE("train segment runs: a strong engine order, fused and stepped, recorde
   const auto [z0, states0] = TrainStaticState(t);
   TrainStepperOptions on, off;
   on.jumps = off.jumps = false;
+  on.fusion_min_periods = 1;
   off.fusion_levels = 0;
   TrainStepper a(t, off, z0, states0), b(t, on, z0, states0);
   TrainRecorder ra(t, 32, 2.0 * t.common_period), rb(t, 32, 2.0 * t.common_period);
@@ -164,7 +166,7 @@ RunCheck CheckEveryRun(const TrainTables& t, long segments,
     Eigen::VectorXd z = stepper.state();
     TrainGrid fused_grid = grid;
     const long r = runs.Advance(k % period, stepper.states(),
-                                std::numeric_limits<double>::infinity(), fused_grid, z);
+                                std::numeric_limits<double>::infinity(), true, fused_grid, z);
     const long before = stepper.summary().events + stepper.summary().grazing;
     for (long i = 0; i < std::max(r, 1L); ++i, ++k) {
       REQUIRE(stepper.Run(grid.end()));
@@ -239,6 +241,7 @@ TEST_CASE("train segment runs: a fused run does not allocate once its tables are
   const auto [z0, states0] = TrainStaticState(t);
   TrainStepperOptions options;
   options.jumps = false;
+  options.fusion_min_periods = 1;
   TrainStepper stepper(t, options, z0, states0);
   const double end = 2.0 * t.common_period;
   REQUIRE(stepper.Run(end));  // builds the tuples and the runs
@@ -257,6 +260,9 @@ TEST_CASE("train segment runs: the options' rules", "[solver][train]") {
   CHECK_THROWS_AS(options.Validate(), InputError);
   options.fusion_levels = 0;
   options.fusion_limit_bytes = 0;
+  CHECK_THROWS_AS(options.Validate(), InputError);
+  options.fusion_limit_bytes = 1;
+  options.fusion_min_periods = 0;
   CHECK_THROWS_AS(options.Validate(), InputError);
 }
 

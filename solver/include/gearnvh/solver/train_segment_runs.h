@@ -68,8 +68,9 @@ class TrainSegmentRuns {
   ~TrainSegmentRuns();
   // At the start of the grid segment at `position` of the common period (`grid` there, z the
   // state there, every mesh held in `states`): the longest certified run that ends by `end_time`
-  // is applied to z and `grid` moved past it. Returns its grid segments (0: none, nothing changed).
-  long Advance(long position, const std::vector<ContactState>& states, double end_time,
+  // is applied to z and `grid` moved past it; tables not held yet are built only when `build`.
+  // Returns its grid segments (0: none, nothing changed).
+  long Advance(long position, const std::vector<ContactState>& states, double end_time, bool build,
                TrainGrid& grid, Eigen::VectorXd& z);
   // Forgets the refusals' back-off (a restarted run decides as a fresh one); keeps the tables.
   void ResetBackoff();
