@@ -242,13 +242,13 @@ bool TrainSegmentRuns::Certify(const Run& run) const {
 
 long TrainSegmentRuns::Advance(long position, const std::vector<ContactState>& states,
                                double end_time, bool build, TrainGrid& grid, Eigen::VectorXd& z) {
-  if (!enabled_) return 0;
+  // Nothing held and nothing to build: no cost (not even the period's count, a walk of it).
+  if (!enabled_ || (!build && entries_.empty())) return 0;
   if (period_segments_ == 0) {
     period_segments_ = CountCommonPeriodSegments(t_, max_period_segments_ + 1);
     if (period_segments_ > max_period_segments_) enabled_ = false;
   }
   if (!enabled_ || position % 2 != 0 || position + 2 > period_segments_) return 0;
-  if (!build && entries_.empty()) return 0;
   const Key key{CombinationCode(states), position};
   auto found = entries_.find(key);
   if (found == entries_.end()) {

@@ -110,8 +110,8 @@ struct TrainStepperOptions {
   // The runs' tables held (beyond it no further run is built; those held stay used). >= 1.
   size_t fusion_limit_bytes = size_t{64} << 20;
   // A run's table is built only when at least this many whole common periods of unrecorded time
-  // are left: the tables of one period cost about 50 stepped periods (docs/BENCHMARKS.md). Held
-  // tables are used whatever is left. >= 1.
+  // are left: the tables of one period cost ~23 stepped periods and save ~half of each fused one
+  // (two-stage reducer, docs/BENCHMARKS.md). Held tables are used whatever is left. >= 1.
   long fusion_min_periods = 64;
   TrainTableOptions tables;
   // Checked at every grid segment: Run() throws RunCancelled once set (a caller's Ctrl-C). Not
