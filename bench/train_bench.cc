@@ -33,7 +33,8 @@ double ThreadCpuSeconds() {
 // entry, the solver before lazy decomposition).
 // `frictionless`: every mesh's friction_coefficient set to 0 (the cost of tooth friction).
 void RunTrain(benchmark::State& state, bool warm, size_t cache_limit, int visits,
-              const char* file = "manual_transmission_idle.yaml", bool frictionless = false) {
+              const char* file = "manual_transmission_idle.yaml", bool frictionless = false,
+              long fusion_min_periods = TrainStepperOptions{}.fusion_min_periods) {
   config::LoadedGearbox loaded =
       config::LoadAnyGearboxFile(std::string(GEARNVH_EXAMPLES_DIR) + "/" + file);
   if (frictionless) {
@@ -46,6 +47,7 @@ void RunTrain(benchmark::State& state, bool warm, size_t cache_limit, int visits
   TrainStepperOptions options;
   options.tables.cache_limit_bytes = cache_limit;
   options.tables.decompose_after_visits = visits;
+  options.fusion_min_periods = fusion_min_periods;
   TrainStepperSummary last;
   double ratio = 0.0, cpu_ratio = 0.0, cpu = 0.0;
   for (auto _ : state) {
@@ -71,6 +73,7 @@ void RunTrain(benchmark::State& state, bool warm, size_t cache_limit, int visits
   state.counters["decompositions"] = static_cast<double>(last.cache.decompositions);
   state.counters["dense_pieces"] = static_cast<double>(last.dense_pieces);
   state.counters["grid_segments"] = static_cast<double>(last.grid_segments);
+  state.counters["fused_segments"] = static_cast<double>(last.fused_grid_segments);
   state.counters["cache_peak_MiB"] = last.cache.peak_bytes / 1048576.0;
   state.counters["index_MiB"] = last.cache.index_bytes / 1048576.0;
   state.counters["tuples_built"] = static_cast<double>(last.cache.misses);
@@ -108,14 +111,26 @@ void BM_TwoStageReducerFrictionless(benchmark::State& state) {
   RunTrain(state, false, kDefaults.cache_limit_bytes, kDefaults.decompose_after_visits,
            "two_stage_helical_reducer.yaml", true);
 }
+// Segment-run fusion with its tables held (a first run builds them, the timed one reuses them).
+void BM_TwoStageReducerFusedWarm(benchmark::State& state) {
+  RunTrain(state, true, kDefaults.cache_limit_bytes, kDefaults.decompose_after_visits,
+           "two_stage_helical_reducer.yaml", false, 1);
+}
+// The first run alone: every run table built (fusion_min_periods 1).
+void BM_TwoStageReducerFusedCold(benchmark::State& state) {
+  RunTrain(state, false, kDefaults.cache_limit_bytes, kDefaults.decompose_after_visits,
+           "two_stage_helical_reducer.yaml", false, 1);
+}
 void BM_TwoStageReducerEager(benchmark::State& state) {
   RunTrain(state, false, kDefaults.cache_limit_bytes, 1, "two_stage_helical_reducer.yaml");
 }
 // Certified jumps (TrainStepperOptions::jumps): the two-stage reducer (every mesh in permanent
 // drive contact) over a transient of 10 common periods (28.8 s) then 1000 recorded cycles of its
-// first mesh, jumps off (0) or on (1). The common period has ~2e4 grid segments, above the
-// default max_cycle_map_segments, so the limit is raised here; the run's CPU time includes the
-// cycle map's build (one expm and one sub-step walk per grid segment of the period).
+// first mesh, jumps off (0) or on (1); 2: jumps off, segment-run fusion building its tables
+// (fusion_min_periods 1; by default 64 periods would be needed); 3: as 2 with the tables held. The
+// common period has ~2e4 grid segments, above the default max_cycle_map_segments, so the limit is
+// raised here; the run's CPU time includes the cycle map's build (one expm and one sub-step walk
+// per grid segment of the period).
 void BM_TwoStageReducerTransient(benchmark::State& state) {
   const config::LoadedGearbox loaded = config::LoadAnyGearboxFile(
       std::string(GEARNVH_EXAMPLES_DIR) + "/two_stage_helical_reducer.yaml");
@@ -125,12 +140,19 @@ void BM_TwoStageReducerTransient(benchmark::State& state) {
   const double start = 10.0 * tables.common_period;
   const double end = start + 1000.0 * tables.meshes.front().period;
   TrainStepperOptions options;
-  options.jumps = state.range(0) != 0;
+  options.jumps = state.range(0) == 1;
+  // 2: fusion's tables built in the 10 periods; 3: the same with the tables held (a first run).
+  if (state.range(0) >= 2) options.fusion_min_periods = 1;
   options.max_cycle_map_segments = 100000;
   TrainStepperSummary last;
   double cpu = 0.0;
   for (auto _ : state) {
     TrainStepper stepper(tables, options, z0, s0);
+    if (state.range(0) == 3) {
+      TrainRecorder warm(tables, 32, start);
+      stepper.Run(end, &warm);
+      stepper.Reset(z0, s0);
+    }
     TrainRecorder recorder(tables, 32, start);
     const double cpu_start = ThreadCpuSeconds();
     stepper.Run(end, &recorder);
@@ -143,6 +165,8 @@ void BM_TwoStageReducerTransient(benchmark::State& state) {
   state.counters["period_segments"] = static_cast<double>(last.cycle_map_segments);
   state.counters["map_KiB"] = last.cycle_map_bytes / 1024.0;
   state.counters["grid_segments"] = static_cast<double>(last.grid_segments);
+  state.counters["fused_segments"] = static_cast<double>(last.fused_grid_segments);
+  state.counters["fusion_KiB"] = last.fusion_bytes / 1024.0;
 }
 
 BENCHMARK(BM_ManualTransmissionIdle)->Unit(benchmark::kMillisecond)->Iterations(1);
@@ -157,10 +181,14 @@ BENCHMARK(BM_ManualTransmissionIdleVisits)
     ->Iterations(1);
 BENCHMARK(BM_TwoStageReducer)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_TwoStageReducerFrictionless)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_TwoStageReducerFusedWarm)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_TwoStageReducerFusedCold)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_TwoStageReducerEager)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_TwoStageReducerTransient)
     ->Arg(0)
     ->Arg(1)
+    ->Arg(2)
+    ->Arg(3)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);
 

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "gearnvh/model/input_error.h"
+#include "gearnvh/solver/train_segment_runs.h"
 #include "gearnvh/solver/train_statistics.h"
 #include "gearnvh/solver/train_tangents.h"
 
@@ -36,6 +37,18 @@ void TrainStepperOptions::Validate() const {
   if (!(jump_margin_fraction >= 0.0 && jump_margin_fraction < 1.0)) {
     throw InputError("TrainStepperOptions.jump_margin_fraction", 0,
                      std::to_string(jump_margin_fraction), "must be in [0, 1)");
+  }
+  if (fusion_levels < 0 || fusion_levels > 16) {
+    throw InputError("TrainStepperOptions.fusion_levels", 0, std::to_string(fusion_levels),
+                     "must be in [0, 16]");
+  }
+  if (fusion_min_periods < 1) {
+    throw InputError("TrainStepperOptions.fusion_min_periods", 0,
+                     std::to_string(fusion_min_periods), "must be >= 1");
+  }
+  if (fusion_limit_bytes < 1) {
+    throw InputError("TrainStepperOptions.fusion_limit_bytes", 0,
+                     std::to_string(fusion_limit_bytes), "must be >= 1");
   }
   tables.Validate();
 }
@@ -158,6 +171,10 @@ TrainStepper::TrainStepper(const TrainTables& tables, const TrainStepperOptions&
   key_.resize(static_cast<size_t>(cache_.KeyWords()));
   recenter_period_ = tables.common_period > 0.0 ? tables.common_period : tables.InputRevolution();
   next_recenter_ = recenter_period_;
+  if (options.events == EventMethod::kSpectral && options.fusion_levels > 0) {
+    fusion_ = std::make_unique<TrainSegmentRuns>(
+        tables, options.fusion_levels, options.fusion_limit_bytes, options.max_cycle_map_segments);
+  }
   for (const TrainMeshTable& mt : tables.meshes)
     period_cycles_.push_back(std::lround(tables.common_period / mt.period));
 }
@@ -171,6 +188,8 @@ void TrainStepper::Reset(const Eigen::VectorXd& z0, const std::vector<ContactSta
   time_ = 0.0;
   next_recenter_ = recenter_period_;
   events_at_period_ = 0;
+  period_position_ = 0;
+  if (fusion_) fusion_->ResetBackoff();
   summary_ = TrainStepperSummary{};
 }
 
@@ -179,6 +198,7 @@ TrainStepperSummary TrainStepper::summary() const {
   s.cache = cache_.summary();
   s.simulated_time = time_;
   JumpOutcome(s);
+  FusionOutcome(s);
   return s;
 }
 
@@ -187,13 +207,21 @@ bool TrainStepper::Run(double end_time, TrainRecorder* recorder) {
     if (options_.cancel != nullptr && options_.cancel->load(std::memory_order_relaxed)) {
       throw RunCancelled();
     }
-    const double until = std::min(end_time, grid_.end());
-    if (!AdvanceGridSegment(until, recorder)) return false;
-    if (until >= grid_.end()) {
-      grid_.Next();
-      ++summary_.grid_segments;
+    long advanced = FusedRun(end_time, recorder);  // grid segments
+    if (advanced == 0) {
+      const double until = std::min(end_time, grid_.end());
+      if (!AdvanceGridSegment(until, recorder)) return false;
+      if (until >= grid_.end()) {
+        grid_.Next();
+        advanced = 1;
+      }
+    }
+    if (advanced > 0) {
+      summary_.grid_segments += advanced;
       time_ = grid_.start();
-      if (AtPeriodStart()) TryJump(end_time, recorder);
+      const bool period_start = AtPeriodStart();
+      period_position_ = period_start ? 0 : period_position_ + advanced;
+      if (period_start) TryJump(end_time, recorder);
     }
     if (time_ >= next_recenter_) {
       Recenter();

@@ -17,13 +17,13 @@
 // Dense path (a tuple not decomposed yet, TrainTableOptions::decompose_after_visits, or whose
 // decomposition is ill-conditioned): sub-steps with rho(A) D <= 1/2 and ||S A S^-1|| D <= 1.5 (as
 // TrainSystem::substep says) on the Taylor polynomial of the state (20 terms: the remainder is
-// below e^1.5 1.5^21 / 21! ||S z|| < 4.4e-16 ||S z||); each gap of a sub-step is a scalar polynomial; a wall it
-// cannot reach (|g(0)| against sum_{p>=1} |g_p| D^p plus ||v||_1 times the remainder) is skipped,
-// else its first crossing is the pair's V2 polynomial search (taylor_root.h: samples plus every
-// interior maximum between them, so a brief excursion is not missed), with the same grazing rule
-// as V3. Never silently wrong: a tuple
-// either decomposes within the condition limit or takes this path.
-// Event methods (TrainStepperOptions::events), as the pair's locators (event_locator.h):
+// below e^1.5 1.5^21 / 21! ||S z|| < 4.4e-16 ||S z||); each gap of a sub-step is a scalar
+// polynomial; a wall it cannot reach (|g(0)| against sum_{p>=1} |g_p| D^p plus ||v||_1 times the
+// remainder) is skipped, else its first crossing is the pair's V2 polynomial search (taylor_root.h:
+// samples plus every interior maximum between them, so a brief excursion is not missed), with the
+// same grazing rule as V3. Never silently wrong: a tuple either decomposes within the condition
+// limit or takes this path. Event methods (TrainStepperOptions::events), as the pair's locators
+// (event_locator.h):
 //   V3 (kSpectral, default): the closed form above, the dense path for the other tuples.
 //   V2 (kTaylor): every tuple on the dense path.
 //   V1 (kDyadic, the baseline): sub-steps of length d <= D, one dense propagator expm(A d) each,
@@ -41,8 +41,13 @@
 // max_cycle_map_segments grid segments) certifies that contact holds forever, and the state jumps
 // K whole periods, as far as the recording start allows (the pair's rule: jumped periods record
 // nothing). The certificate is retried at each following period start while it fails.
+// Segment-run fusion (TrainStepperOptions::fusion_levels, V3 only, never with a tangent attached,
+// only on unrecorded time): at a grid segment start at position p of the common period, the
+// longest certified aligned run of 2..2^L grid segments in the current contact combination is
+// applied as one affine map (train_segment_runs.h); refused runs are stepped.
 // Once the cache holds the visited tuples (and has decomposed those due), Run() allocates nothing;
-// nor does a certificate or a jump once the cycle map is built.
+// nor does a certificate or a jump once the cycle map is built, nor a fused run once its tables
+// are held.
 #pragma once
 
 #include <Eigen/Dense>
@@ -58,6 +63,7 @@
 namespace gearnvh {
 
 class TrainRecorder;
+class TrainSegmentRuns;
 class TrainTangentPropagator;
 
 // The union grid of the meshes' segment boundaries, from integer cycle counts.
@@ -97,6 +103,16 @@ struct TrainStepperOptions {
   long min_jump_periods = 8;
   // Share of each mesh's orbit margin kept free of the transient's bound. In [0, 1).
   double jump_margin_fraction = 0.01;
+  // Segment-run fusion on unrecorded time (V3 only; see above): runs of up to 2^fusion_levels
+  // grid segments of the common period (only when it has at most max_cycle_map_segments grid
+  // segments). 0 disables it. In [0, 16].
+  int fusion_levels = 5;
+  // The runs' tables held (beyond it no further run is built; those held stay used). >= 1.
+  size_t fusion_limit_bytes = size_t{64} << 20;
+  // A run's table is built only when at least this many whole common periods of unrecorded time
+  // are left: the tables of one period cost ~23 stepped periods and save ~half of each fused one
+  // (two-stage reducer, docs/BENCHMARKS.md). Held tables are used whatever is left. >= 1.
+  long fusion_min_periods = 64;
   TrainTableOptions tables;
   // Checked at every grid segment: Run() throws RunCancelled once set (a caller's Ctrl-C). Not
   // owned; null: never cancelled.
@@ -132,6 +148,10 @@ struct TrainStepperSummary {
   long cycle_map_segments = 0;  // grid segments per common period (0: not counted)
   size_t cycle_map_bytes = 0;   // the cycle map held
   TrainCycleMap::Info cycle_map_info = TrainCycleMap::Info::kSuccess;  // of the last map built
+  // Segment-run fusion: runs applied, the grid segments they covered (also in grid_segments),
+  // grid segment starts tried where no run was certified, run tables built and their bytes.
+  long fused_runs = 0, fused_grid_segments = 0, fusion_refusals = 0, fusion_tables = 0;
+  size_t fusion_bytes = 0;
   long grid_segments = 0;
   long events = 0, simultaneous_events = 0, grazing = 0;
   long start_switches = 0;   // states switched at once at a segment start
@@ -156,7 +176,8 @@ std::pair<Eigen::VectorXd, std::vector<ContactState>> TrainStaticState(const Tra
 class TrainStepper {
  public:
   static constexpr double kSimultaneous = 1e-12;  // relative to the grid segment length
-  // The dense path's Taylor polynomial: its remainder, e^q q^21 / 21! ||S z|| with q = ||S A S^-1|| d
+  // The dense path's Taylor polynomial: its remainder, e^q q^21 / 21! ||S z|| with q = ||S A S^-1||
+  // d
   // <= 1.5 (TrainSystem::substep), is below 4.4e-16 ||S z||: rounding.
   static constexpr int kTaylorTerms = 20;
   static constexpr int kRootSamples = 16;  // samples per sub-step of the V2 root search
@@ -234,6 +255,10 @@ class TrainStepper {
   bool AtPeriodStart() const;
   void TryJump(double end_time, const TrainRecorder* rec);
   void JumpOutcome(TrainStepperSummary& s) const;  // the reason when no period start was tried
+  // At a grid segment start: a certified segment run, applied (train_segment_runs.cc); returns
+  // the grid segments it covered (0: none).
+  long FusedRun(double end_time, const TrainRecorder* rec);
+  void FusionOutcome(TrainStepperSummary& s) const;
 
   const TrainTables& t_;
   TrainStepperOptions options_;
@@ -260,6 +285,8 @@ class TrainStepper {
   std::unique_ptr<TrainCycleMap> cycle_map_;
   long period_segments_ = 0;  // grid segments per common period (0: not counted yet)
   long events_at_period_ = 0;
+  std::unique_ptr<TrainSegmentRuns> fusion_;
+  long period_position_ = 0;  // the grid segment's index in the common period
 };
 
 }  // namespace gearnvh

@@ -1,0 +1,144 @@
+// Segment-run fusion on gear trains (docs/solver.md "Segment-run fusion", docs/gear-trains.md):
+// products of 2, 4, ..., 2^L consecutive grid segments of the common period, in one contact
+// combination, used when a certificate proves that no wall of any mesh is reached over the run.
+//
+// Run. At grid position p of the common period (p a multiple of r = 2^l, p + r <= G, G the
+// period's grid segments) the stepper sets the input slots to u_i (the excitation's and the
+// errors' means, SetInputs) at each grid segment start and applies expm(A_i h_i). With Pi = I on
+// every slot but the inputs' (cleared), that is affine in z and in the u_i:
+//   z_end = P Pi z + sum_i U_i u_i,   P = Phi_{r-1} Pi ... Phi_0 Pi,   Phi_i = expm(A_i h_i)
+// (balanced Pade, as the cycle map), U_i (m x p) the images of the slots set at grid segment i.
+// Built lazily per (contact combination, position, level) from the grid segments' tuples and
+// lengths at the first visit (later periods' lengths differ from those by the rounding of the
+// absolute time, |dh| <= 4 eps t), held while the tables' bytes stay within a limit.
+//
+// Certificate, per wall of every mesh (g = Vector(drive)^T x - Wall, sigma g > 0 outside;
+// sigma = -1 for drive's g+, +1 for back's g-; a free mesh has both walls): with c = sigma
+// Vector(drive)^T on the positions, f(t) = c x(t) and w(t) = f(t) - sigma Wall_static(t) over the
+// run [0, D] (Wall_static = e_ij +- b_i of the grid segment; the error input's part u_i of the
+// wall is added at the end),
+//   sup w <= max_k w(t_k) + max_k d_k^2 / 8 sup_{[t_k, t_k + d_k]} |f''|   (chord bound: f is C^2
+// on each sub-step t_k .. t_k + d_k of a grid segment and C^1 across grid boundaries; the static
+// wall is constant on a grid segment and the nodes include its ends),
+//   sup |f''| <= |f''(t_k)| + d_k sup |f'''|,
+//   f'''(t_k + s) = c A^3 e^{As} (z_k - e_g) + c A^2 e^{As} rho_g,
+// e_g the grid segment's static equilibrium (A e_g = rho_g, rounding and friction's inconsistency
+// along the free rotation; z_k - e_g has no constant part, which e^{As} keeps), so
+//   |f'''| <= e^q (||c A^3 S^-1||_1' ||S (z_k - e_g)||_inf + ||c A^2 S^-1||_1 ||S rho_g||_inf),
+// S = BalancingScale (positions 1, velocities 1 / w_ref, slots scaled to their forcing), ' the
+// constant column left out, q = ||S A S^-1||_inf d_k <= 1 (sub-steps d_k = h / ceil(rate h);
+// ||e^{Bs}||_inf <= e^{||B||_inf s}). Each node quantity is linear in the start state: with the
+// free rotation removed (c A^p annihilates it and every A_i keeps it invariant) and the slots
+// cleared, x = L Pi z = y + dev for the run's reference y = e_0 (constant slot 1), z_k = F_k y +
+// F_k dev + sum_iq G_iq(t_k) u_iq, so
+//   w(t_k) <= c F_k y - sigma Wall_static + |c F_k| . |dev| + sum |c G_iq(t_k)| |u_iq|
+// and |f''(t_k)| (rows c A^2 F_k, c A^2 G_iq) and ||S (z_k - e_g)||_inf (|S (F_k y - e_g)|, column
+// maxima of |S F_k|, |S G_iq|) alike: the run keeps, per wall, the maxima over its nodes of the
+// constants and (elementwise) of the weights, and
+//   sup_t sigma g(t) <= C + W . |dev| + W_u . |u| + max_i (-sigma u_i)
+// (the static part keeps its cancellation in C; only the chord loss, O(d^2), is taken in norms).
+// The run is certified when that is < -tol for every wall, tol = 1e-9 b_j + 64 eps max |Wall|. A
+// longer run's nodes include a shorter one's from the same start (the same reference), so runs
+// are certified shortest first and the first refusal ends the search; a position where none is
+// certified is skipped on its next 2^k - 1 visits after k refusals in a row (at most
+// kMaxBackoff), as the pair's fusion backs off. Checked independently in the tests: every run
+// certified along a rattling and an engine-excited trajectory steps without an event.
+// Once the tables of the visited (combination, position, level) are held, Advance() allocates
+// nothing.
+#pragma once
+
+#include <Eigen/Dense>
+#include <cstdint>
+#include <memory>
+#include <unordered_map>
+#include <vector>
+
+#include "gearnvh/solver/train_stepper.h"
+#include "gearnvh/solver/train_tables.h"
+
+namespace gearnvh {
+
+class TrainSegmentRuns {
+ public:
+  static constexpr int kMaxBackoff = 63;
+  // max_level: runs of up to 2^max_level grid segments (>= 1); limit_bytes: the tables held;
+  // max_period_segments: fusion is off when the common period has more grid segments.
+  TrainSegmentRuns(const TrainTables& tables, int max_level, size_t limit_bytes,
+                   long max_period_segments);
+  ~TrainSegmentRuns();
+  // At the start of the grid segment at `position` of the common period (`grid` there, z the
+  // state there, every mesh held in `states`): the longest certified run that ends by `end_time`
+  // is applied to z and `grid` moved past it; tables not held yet are built only when `build`.
+  // Returns its grid segments (0: none, nothing changed).
+  long Advance(long position, const std::vector<ContactState>& states, double end_time, bool build,
+               TrainGrid& grid, Eigen::VectorXd& z);
+  // Forgets the refusals' back-off (a restarted run decides as a fresh one); keeps the tables.
+  void ResetBackoff();
+  size_t bytes() const { return bytes_; }
+  long tables() const { return tables_; }      // runs built
+  long refusals() const { return refusals_; }  // positions tried where no run was certified
+  long period_segments() const { return period_segments_; }  // G (0: not counted yet)
+
+ private:
+  struct Wall {
+    int mesh = 0;
+    bool drive = true;
+    double sign = 1.0;
+  };
+  struct Run {
+    int length = 0;
+    Eigen::MatrixXd product;        // P, on Pi z
+    Eigen::MatrixXd inputs;         // m x (length p): column i p + q is input q set at segment i
+    std::vector<int> segments;      // meshes x length: each grid segment's mesh segments
+    Eigen::VectorXd lengths;        // h_i, s
+    Eigen::VectorXd reference;      // y
+    Eigen::VectorXd constant;       // per wall: C (the static walls' -sigma Wall included)
+    Eigen::VectorXd tolerance;      // per wall: tol
+    Eigen::MatrixXd weights;        // walls x m: W
+    Eigen::MatrixXd input_weights;  // walls x (length p): W_u
+  };
+  struct Entry {
+    std::vector<std::unique_ptr<Run>> levels;  // [l - 1]: the run of 2^l grid segments, or null
+    int skip = 0, backoff = 0;
+  };
+  struct Key {
+    uint64_t states = 0;
+    long position = 0;
+    bool operator==(const Key& o) const { return states == o.states && position == o.position; }
+  };
+  struct KeyHash {
+    size_t operator()(const Key& k) const {
+      return std::hash<uint64_t>()(k.states * 0x9e3779b97f4a7c15ULL ^
+                                   static_cast<uint64_t>(k.position));
+    }
+  };
+  // Walks walk_ on to `count` grid segments from the run's start, recording each one's mesh
+  // segments, length, inputs and wall terms; false when one would end after `end_time`.
+  bool WalkTo(int count, double end_time);
+  // The run of `length` grid segments from the walk's start in `states`, or null beyond the limit.
+  std::unique_ptr<Run> Build(int length, const std::vector<ContactState>& states);
+  bool Certify(const Run& run) const;
+  void WallsOf(const std::vector<ContactState>& states);
+
+  const TrainTables& t_;
+  int max_level_;
+  size_t limit_bytes_;
+  long max_period_segments_;
+  long period_segments_ = 0;
+  bool enabled_ = true;
+  std::unordered_map<Key, Entry, KeyHash> entries_;
+  size_t bytes_ = 0;
+  long tables_ = 0, refusals_ = 0;
+  // Scratch of one attempt (sized once: no allocation).
+  TrainGrid walk_;
+  int walked_ = 0;
+  std::vector<Wall> walls_;
+  std::vector<int> segments_;          // meshes x 2^L
+  Eigen::VectorXd lengths_;            // 2^L
+  Eigen::VectorXd inputs_;             // 2^L p: u_iq at i p + q
+  Eigen::VectorXd abs_inputs_;         // |u|
+  Eigen::MatrixXd wall_terms_;         // walls x 2^L: -sigma u_i (the error input's wall part)
+  Eigen::VectorXd slots_, dev_, end_;  // m
+};
+
+}  // namespace gearnvh
