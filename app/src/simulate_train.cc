@@ -102,6 +102,16 @@ nlohmann::json JumpsJson(const TrainTables& tables, const TrainStepperOptions& s
             {"bytes", s.cycle_map_bytes}}}};
 }
 
+nlohmann::json SegmentRunsJson(const TrainStepperOptions& solver, const TrainStepperSummary& s) {
+  return {{"runs", s.fused_runs},
+          {"grid_segments", s.fused_grid_segments},
+          {"refusals", s.fusion_refusals},
+          {"tables", s.fusion_tables},
+          {"bytes", s.fusion_bytes},
+          {"levels", solver.fusion_levels},
+          {"min_periods", solver.fusion_min_periods}};
+}
+
 void PrintJumps(const TrainTables& tables, const TrainStepperOptions& solver,
                 const TrainStepperSummary& s) {
   using J = TrainStepperSummary::Jumps;
@@ -206,6 +216,7 @@ nlohmann::json TrainSimulationJson(const TrainOperatingPoint& op, const TrainSpe
                     {"dyadic_substeps", s.dyadic_substeps},
                     {"dyadic_matvecs", s.dyadic_matvecs},
                     {"jumps", JumpsJson(tables, solver, s)},
+                    {"segment_runs", SegmentRunsJson(solver, s)},
                     {"samples", stats.samples},
                     {"cache",
                      {{"bytes", s.cache.bytes},
@@ -324,6 +335,12 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
         s.cache.bytes / 1048576.0, s.cache.peak_bytes / 1048576.0, s.cache.tuples, s.cache.misses,
         s.cache.decompositions, s.cache.ill_conditioned, s.cache.evictions);
     PrintJumps(tables, solver, s);
+    if (s.fused_runs > 0) {
+      fmt::print(
+          "  segment runs        {} grid segments of the transient in {} certified runs ({:.1f} "
+          "MiB of run tables)\n",
+          s.fused_grid_segments, s.fused_runs, s.fusion_bytes / 1048576.0);
+    }
     fmt::print("\n  {:<10}{:>12}{:>12}{:>12}{:>14}{:>9}{:>9}{:>11}\n", "mesh", "TE mean µm",
                "TE RMS µm", "TE p-p µm", "force max N", "drive", "back", "separated");
     for (const TrainMeshStatistics& m : stats.meshes) {

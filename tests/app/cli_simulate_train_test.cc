@@ -50,6 +50,13 @@ TEST_CASE("simulate --json on a train reports every mesh and ranks the loose gea
   CHECK(doc["summary"]["jumps"]["periods"].get<long>() == 0);
   CHECK(doc["summary"]["jumps"]["status"].get<std::string>() == "transient too short");
   CHECK(doc["summary"]["jumps"]["cycle_map"]["builds"].get<long>() == 0);
+  // Segment runs fuse unrecorded time only: with no transient nothing is fused or built.
+  const auto& runs = doc["summary"]["segment_runs"];
+  CHECK(runs["runs"].get<long>() == 0);
+  CHECK(runs["grid_segments"].get<long>() == 0);
+  CHECK(runs["tables"].get<long>() == 0);
+  CHECK(runs["levels"].get<int>() == 5);
+  CHECK(runs["min_periods"].get<long>() == 64);
 }
 
 TEST_CASE("simulate on a train prints the per-mesh table", "[cli][train]") {
