@@ -9,14 +9,9 @@
 
 extern "C" {
 // LAPACK (Fortran ABI; trailing hidden string lengths).
-void dlanv2_(double* a, double* b, double* c, double* d, double* rt1r, double* rt1i, double* rt2r,
-             double* rt2i, double* cs, double* sn);
-void drot_(const int* n, double* x, const int* incx, double* y, const int* incy, const double* c,
-           const double* s);
-void dtrsen_(const char* job, const char* compq, const int* select, const int* n, double* t,
-             const int* ldt, double* q, const int* ldq, double* wr, double* wi, int* m, double* s,
-             double* sep, double* work, const int* lwork, int* iwork, const int* liwork, int* info,
-             size_t, size_t);
+void dgees_(const char* jobvs, const char* sort, int (*select)(const double*, const double*),
+            const int* n, double* a, const int* lda, int* sdim, double* wr, double* wi, double* vs,
+            const int* ldvs, double* work, const int* lwork, int* bwork, int* info, size_t, size_t);
 void dtrsyl_(const char* trana, const char* tranb, const int* isgn, const int* m, const int* n,
              const double* a, const int* lda, const double* b, const int* ldb, double* c,
              const int* ldc, double* scale, int* info, size_t, size_t);
@@ -28,6 +23,11 @@ void dtrevc3_(const char* side, const char* howmny, int* select, const int* n, c
 namespace gearnvh {
 
 namespace {
+
+thread_local double zero_threshold = 0.0;
+int SelectNearZero(const double* wr, const double* wi) {
+  return std::hypot(*wr, *wi) <= zero_threshold ? 1 : 0;
+}
 
 // Relative size below which a power-series term of e^{B0 t} no longer changes the sum.
 constexpr double kSeriesCut = 1e-18;
@@ -85,52 +85,6 @@ double ScaledRowNorm(const Eigen::MatrixXd& A, const Eigen::VectorXd& scale) {
       .maxCoeff();
 }
 
-namespace {
-
-// T <- Q^T T Q in real Schur form with the eigenvalues |lambda| <= cut first (sdim of them), wr
-// and wi the eigenvalues along the diagonal. The Hessenberg reduction and QR sweeps are Eigen's
-// (RealSchur, compiled for this CPU: twice as fast at m = 82 as LAPACK dgees on the reference
-// BLAS); LAPACK then brings the 2x2 blocks to the standard form (dlanv2, as dhseqr does) and
-// moves the cluster to the front (dtrsen).
-bool OrderedRealSchur(Eigen::MatrixXd& T, Eigen::MatrixXd& Q, Eigen::VectorXd& wr,
-                      Eigen::VectorXd& wi, double cut, int& sdim) {
-  const int m = static_cast<int>(T.rows());
-  thread_local Eigen::RealSchur<Eigen::MatrixXd> schur;
-  schur.compute(T);
-  if (schur.info() != Eigen::Success) return false;
-  T = schur.matrixT();
-  Q = schur.matrixU();
-  for (int j = 0; j + 2 < m; ++j) T.col(j).tail(m - j - 2).setZero();
-  const int one = 1;
-  for (int i = 0; i < m;) {
-    if (i + 1 == m || T(i + 1, i) == 0.0) {
-      wr[i] = T(i, i);
-      wi[i] = 0.0;
-      ++i;
-      continue;
-    }
-    double cs = 1.0, sn = 0.0;
-    dlanv2_(&T(i, i), &T(i, i + 1), &T(i + 1, i), &T(i + 1, i + 1), &wr[i], &wi[i], &wr[i + 1],
-            &wi[i + 1], &cs, &sn);
-    const int right = m - i - 2, above = i;
-    if (right > 0) drot_(&right, &T(i, i + 2), &m, &T(i + 1, i + 2), &m, &cs, &sn);
-    if (above > 0) drot_(&above, &T(0, i), &one, &T(0, i + 1), &one, &cs, &sn);
-    drot_(&m, &Q(0, i), &one, &Q(0, i + 1), &one, &cs, &sn);
-    i += 2;
-  }
-  std::vector<int> select(static_cast<size_t>(m));
-  for (int i = 0; i < m; ++i) select[i] = std::hypot(wr[i], wi[i]) <= cut ? 1 : 0;
-  thread_local std::vector<double> work;
-  work.resize(static_cast<size_t>(m));
-  const int lwork = m, liwork = 1;
-  int iwork = 0, info = 0;
-  dtrsen_("N", "V", select.data(), &m, T.data(), &m, Q.data(), &m, wr.data(), wi.data(), &sdim,
-          nullptr, nullptr, work.data(), &lwork, &iwork, &liwork, &info, 1, 1);
-  return info == 0;
-}
-
-}  // namespace
-
 SpectralDecomposition DecomposeGenerator(const Eigen::MatrixXd& A, int n, double w_ref,
                                          double horizon, double max_condition) {
   SpectralDecomposition d;
@@ -141,14 +95,33 @@ SpectralDecomposition DecomposeGenerator(const Eigen::MatrixXd& A, int n, double
   // Ordered real Schur form: eigenvalues with |lambda| <= 1e-4 w_ref first. A Jordan block of
   // size k at 0 is perturbed to |lambda| ~ (eps)^(1/k) w_ref by rounding (6e-6 w_ref for k = 3),
   // so the cut sits well above that and well below every elastic frequency of the model.
+  zero_threshold = 1e-4 * w_ref;
   Eigen::MatrixXd Q(m, m);
   Eigen::VectorXd wr(m), wi(m);
-  int sdim = 0;
-  if (!OrderedRealSchur(T, Q, wr, wi, 1e-4 * w_ref, sdim)) {
+  std::vector<int> bwork(m);
+  int sdim = 0, info = 0, lwork = -1;
+  // The optimal workspace depends on m only: queried once per size and thread, and the buffer
+  // kept (a train decomposes thousands of tuples of a few sizes).
+  thread_local std::vector<std::pair<int, int>> optimal_lwork;  // (m, lwork)
+  thread_local std::vector<double> work;
+  const auto known = std::find_if(optimal_lwork.begin(), optimal_lwork.end(),
+                                  [m](const std::pair<int, int>& e) { return e.first == m; });
+  if (known != optimal_lwork.end()) {
+    lwork = known->second;
+  } else {
+    double query = 0.0;
+    dgees_("V", "S", SelectNearZero, &m, T.data(), &m, &sdim, wr.data(), wi.data(), Q.data(), &m,
+           &query, &lwork, bwork.data(), &info, 1, 1);
+    lwork = std::max(1, static_cast<int>(query));
+    optimal_lwork.emplace_back(m, lwork);
+  }
+  if (work.size() < static_cast<size_t>(lwork)) work.resize(static_cast<size_t>(lwork));
+  dgees_("V", "S", SelectNearZero, &m, T.data(), &m, &sdim, wr.data(), wi.data(), Q.data(), &m,
+         work.data(), &lwork, bwork.data(), &info, 1, 1);
+  if (info != 0) {
     d.info = SpectralDecomposition::Info::kSchurFailed;
     return d;
   }
-  int info = 0;
   d.zero_size = sdim;
 
   // Block boundaries after the zero cluster: 1x1 or 2x2 (standardised) diagonal blocks.
