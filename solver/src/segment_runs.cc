@@ -55,41 +55,62 @@ SegmentRunTable::SegmentRunTable(const SegmentTables& t, ContactState state, int
   const int S = t.segments(), p = t.inputs;
   input_bounds_.resize(p);
   for (int q = 0; q < p; ++q) input_bounds_[q] = t.InputBound(q);
-  for (int level = 1; level <= max_level && (1 << level) <= S; ++level) {
+  for (int level = 1; level <= max_level && (1 << level) <= S; ++level)
     runs_.emplace_back(static_cast<size_t>(S / (1 << level)));
-    built_.emplace_back(static_cast<size_t>(S / (1 << level)), false);
-  }
+  if (runs_.empty()) return;
   // Built up front: the stepping loop must not allocate (a lazy build on a run's first
-  // certificate would, at any cycle).
+  // certificate would, at any cycle). The sub-step grid's propagators E_n = substep^n of a
+  // segment are the same in every run that contains it: formed once here.
+  std::vector<std::vector<Eigen::MatrixXd>> grid(static_cast<size_t>(S));
+  for (int k = 0; k < S; ++k) {
+    const SegmentSystem& sys = t.systems[k][static_cast<int>(state)];
+    Eigen::MatrixXd E = Eigen::MatrixXd::Identity(t.m, t.m);
+    grid[static_cast<size_t>(k)].push_back(E);
+    for (int n = 0; n < t.substeps[k]; ++n) {
+      E = (sys.substep * E).eval();
+      grid[static_cast<size_t>(k)].push_back(E);
+    }
+  }
   for (int level = 1; level <= static_cast<int>(runs_.size()); ++level) {
     for (int index = 0; index < static_cast<int>(runs_[static_cast<size_t>(level - 1)].size());
          ++index)
-      Run(level, index);
+      Build(level, index, grid);
   }
 }
 
-const SegmentRun& SegmentRunTable::Run(int level, int index) {
+const SegmentRun& SegmentRunTable::Run(int level, int index) const {
+  return runs_[static_cast<size_t>(level - 1)][static_cast<size_t>(index)];
+}
+
+void SegmentRunTable::Build(int level, int index,
+                            const std::vector<std::vector<Eigen::MatrixXd>>& grid) {
   SegmentRun& run = runs_[static_cast<size_t>(level - 1)][static_cast<size_t>(index)];
-  if (built_[static_cast<size_t>(level - 1)][static_cast<size_t>(index)]) return run;
-  built_[static_cast<size_t>(level - 1)][static_cast<size_t>(index)] = true;
   const SegmentTables& t = *t_;
   const int m = t.m, st = static_cast<int>(state_), p = t.inputs;
   const int constant = t.constant_slot();
   const int r = 1 << level, start = index * r;
-  Eigen::MatrixXd clear = Eigen::MatrixXd::Identity(m, m);
-  for (int q = 0; q < p; ++q) clear(t.input_slot(q), t.input_slot(q)) = 0.0;
   const std::vector<WallSpec> walls = WallsOf(state_);
   run.start = start;
   run.length = r;
   run.duration = t.boundaries[start + r] - t.boundaries[start];
-  run.inputs = Eigen::MatrixXd::Zero(m, r * p);
   // F: the map of z (slots cleared) to the state at the current segment start (before its
   // slots are set); g[i p + q]: the state contribution of input q set at segment i there.
-  Eigen::MatrixXd F = Eigen::MatrixXd::Identity(m, m);
+  Eigen::MatrixXd F;
   std::vector<Eigen::VectorXd> g;
-  for (const WallSpec& w : walls) {
-    SegmentRun::Wall wall;
-    wall.sign = w.sign;
+  int from = start;
+  if (level > 1) {
+    // The first half is the run of the level below, from the same start: the same products in
+    // the same order, so its F, g and grid weights are continued over the second half only.
+    const SegmentRun& half = Run(level - 1, 2 * index);
+    F = half.product;
+    for (int i = 0; i < half.inputs.cols(); ++i) g.emplace_back(half.inputs.col(i));
+    run.walls = half.walls;
+    from = start + r / 2;
+  } else {
+    F = Eigen::MatrixXd::Identity(m, m);
+  }
+  for (size_t i = 0; i < walls.size(); ++i) {
+    const WallSpec& w = walls[i];
     Eigen::RowVectorXd c = *w.row(t.systems[start][st]);
     c[constant] = 0.0;
     // Input terms of the gap (the manufacturing error) change per segment like the constant:
@@ -99,30 +120,36 @@ const SegmentRun& SegmentRunTable::Run(int level, int index) {
       input_reach += std::abs(c[t.input_slot(q)]) * input_bounds_[q];
       c[t.input_slot(q)] = 0.0;
     }
-    wall.position_row = w.sign * c;
-    wall.rate_row = w.sign * c * t.systems[start][st].A;
-    wall.curvature_weights = Eigen::VectorXd::Zero(m);
-    wall.input_weights = Eigen::VectorXd::Zero(p);
-    wall.reference = Equilibrium(t, t.systems[start][st].A, state_);
+    if (level == 1) {
+      SegmentRun::Wall wall;
+      wall.sign = w.sign;
+      wall.position_row = w.sign * c;
+      wall.rate_row = w.sign * c * t.systems[start][st].A;
+      wall.curvature_weights = Eigen::VectorXd::Zero(m);
+      wall.input_weights = Eigen::VectorXd::Zero(p);
+      wall.reference = Equilibrium(t, t.systems[start][st].A, state_);
+      run.walls.push_back(std::move(wall));
+    }
+    SegmentRun::Wall& wall = run.walls[i];
     wall.constant_max = -1e300;
     for (int k = start; k < start + r; ++k) {
       wall.constant_max =
           std::max(wall.constant_max, w.sign * (*w.row(t.systems[k][st]))[constant]);
     }
     wall.constant_max += input_reach;
-    run.walls.push_back(std::move(wall));
   }
-  for (int k = start; k < start + r; ++k) {
+  for (int k = from; k < start + r; ++k) {
     const SegmentSystem& sys = t.systems[k][st];
-    // The slots are set at the segment start: clear them in F and in earlier contributions.
-    F = (clear * F).eval();
-    for (Eigen::VectorXd& v : g) v = clear * v;
+    // The slots are set at the segment start: clear them in F and in earlier contributions
+    // (Pi F, row by row).
+    for (int q = 0; q < p; ++q) {
+      F.row(t.input_slot(q)).setZero();
+      for (Eigen::VectorXd& v : g) v[t.input_slot(q)] = 0.0;
+    }
     for (int q = 0; q < p; ++q) g.push_back(Eigen::VectorXd::Unit(m, t.input_slot(q)));
     // Sample the curvature rows on the sub-step grid of this segment.
-    Eigen::MatrixXd E = Eigen::MatrixXd::Identity(m, m);
-    for (int n = 0; n <= t.substeps[k]; ++n) {
-      for (size_t w = 0; w < run.walls.size(); ++w) {
-        SegmentRun::Wall& wall = run.walls[w];
+    for (const Eigen::MatrixXd& E : grid[static_cast<size_t>(k)]) {
+      for (SegmentRun::Wall& wall : run.walls) {
         const Eigen::RowVectorXd curvature = wall.position_row * sys.A * sys.A * E;
         const Eigen::RowVectorXd on_start = curvature * F;
         wall.curvature_weights = wall.curvature_weights.cwiseMax(on_start.transpose().cwiseAbs());
@@ -134,16 +161,15 @@ const SegmentRun& SegmentRunTable::Run(int level, int index) {
         }
         wall.input_weights = wall.input_weights.cwiseMax(per_input);
       }
-      if (n < t.substeps[k]) E = (sys.substep * E).eval();
     }
     F = (sys.full * F).eval();
     for (Eigen::VectorXd& v : g) v = sys.full * v;
   }
-  run.product = F;
+  run.product = std::move(F);
+  run.inputs.resize(m, r * p);
   for (int i = 0; i < r * p; ++i) run.inputs.col(i) = g[static_cast<size_t>(i)];
   bytes_ += sizeof(double) *
             (static_cast<size_t>(run.product.size()) + static_cast<size_t>(run.inputs.size()));
-  return run;
 }
 
 const SegmentRun* SegmentRunTable::Certify(int segment, const Eigen::VectorXd& z,
@@ -156,7 +182,7 @@ const SegmentRun* SegmentRunTable::Certify(int segment, const Eigen::VectorXd& z
   RemoveFreeRotation(*t_, as_matrix);
   // Shortest first: a run's certificate implies that of every shorter run from the same start (the
   // same rows and reference, its weights and constant maxima over a subset of the grid, a shorter
-  // duration), so the first refusal ends the search and longer runs are built only when needed.
+  // duration), so the first refusal ends the search.
   const SegmentRun* longest = nullptr;
   for (int level = 1; level <= static_cast<int>(runs_.size()); ++level) {
     const int r = 1 << level;

@@ -139,6 +139,13 @@ double ReferenceFrequency(const Eigen::MatrixXd& A, int n) {
   return std::max(1.0, std::sqrt(stiffness.eigenvalues().cwiseAbs().maxCoeff()));
 }
 
+double SegmentTables::SegmentReferenceFrequency(int j) const {
+  if (reference_frequency.size() == systems.size()) return reference_frequency[j];
+  double w_ref = 1.0;
+  for (const auto& sys : systems[j]) w_ref = std::max(w_ref, ReferenceFrequency(sys.A, n));
+  return w_ref;
+}
+
 Eigen::MatrixXd BalancedExpm(const Eigen::MatrixXd& A, double t, int n, double w_ref) {
   Eigen::VectorXd scale = Eigen::VectorXd::Ones(A.rows());
   scale.segment(n, n).setConstant(1.0 / w_ref);
@@ -315,8 +322,8 @@ SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel
     // Balance before the Pade exponential: with velocities scaled by 1/w_ref the generator's blocks
     // are all O(w_ref) instead of O(w_ref^2) next to O(1); unbalanced, Eigen's expm loses up to
     // 1e-7 relative accuracy here, balanced it is at rounding (see the solver tests).
-    double w_ref = 1.0;
-    for (const auto& sys : t.systems[j]) w_ref = std::max(w_ref, ReferenceFrequency(sys.A, n));
+    const double w_ref = t.SegmentReferenceFrequency(static_cast<int>(j));
+    t.reference_frequency.push_back(w_ref);
     for (auto& sys : t.systems[j]) {
       sys.full = BalancedExpm(sys.A, h, n, w_ref);
       sys.substep = BalancedExpm(sys.A, h / substeps, n, w_ref);

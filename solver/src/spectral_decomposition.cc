@@ -1,6 +1,7 @@
 // SpectralDecomposition: the generator's block-diagonal form and its propagator (spectral_gap.h).
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "gearnvh/solver/spectral_gap.h"
@@ -14,6 +15,9 @@ void dgees_(const char* jobvs, const char* sort, int (*select)(const double*, co
 void dtrsyl_(const char* trana, const char* tranb, const int* isgn, const int* m, const int* n,
              const double* a, const int* lda, const double* b, const int* ldb, double* c,
              const int* ldc, double* scale, int* info, size_t, size_t);
+void dtrevc3_(const char* side, const char* howmny, int* select, const int* n, const double* t,
+              const int* ldt, double* vl, const int* ldvl, double* vr, const int* ldvr,
+              const int* mm, int* m, double* work, const int* lwork, int* info, size_t, size_t);
 }
 
 namespace gearnvh {
@@ -128,26 +132,64 @@ SpectralDecomposition DecomposeGenerator(const Eigen::MatrixXd& A, int n, double
     parts.emplace_back(i, size);
     i += size;
   }
-  // Decouple each block from everything after it.
   Eigen::MatrixXd S = Q, S_inv = Q.transpose();
-  for (const auto& [start, size] : parts) {
-    const int end = start + size, rest = m - end;
-    if (rest == 0) break;
-    Eigen::MatrixXd X = -T.block(start, end, size, rest);
+  const int rest = m - sdim;
+  // Decouple the zero cluster from the rest: T11 X - X T22 = -T12 (one Sylvester equation).
+  if (sdim > 0 && rest > 0) {
+    Eigen::MatrixXd X = -T.topRightCorner(sdim, rest);
     double sylvester_scale = 1.0;
     const int isgn = -1;
-    const Eigen::MatrixXd T11 = T.block(start, start, size, size);
-    const Eigen::MatrixXd T22 = T.block(end, end, rest, rest);
-    dtrsyl_("N", "N", &isgn, &size, &rest, T11.data(), &size, T22.data(), &rest, X.data(), &size,
+    const Eigen::MatrixXd T11 = T.topLeftCorner(sdim, sdim);
+    const Eigen::MatrixXd T22 = T.bottomRightCorner(rest, rest);
+    dtrsyl_("N", "N", &isgn, &sdim, &rest, T11.data(), &sdim, T22.data(), &rest, X.data(), &sdim,
             &sylvester_scale, &info, 1, 1);
     if (info != 0 || sylvester_scale != 1.0) {
       d.info = SpectralDecomposition::Info::kIllConditioned;  // common or close eigenvalues
       return d;
     }
-    X /= sylvester_scale;
-    T.block(start, end, size, rest).setZero();
-    S.rightCols(rest).noalias() += S.middleCols(start, size) * X;
-    S_inv.middleRows(start, size).noalias() -= X * S_inv.bottomRows(rest);
+    S.rightCols(rest).noalias() += S.leftCols(sdim) * X;
+    S_inv.topRows(sdim).noalias() -= X * S_inv.bottomRows(rest);
+  }
+  // The rest: T22 = V D V^-1 with D its diagonal blocks and V unit upper triangular (identity
+  // diagonal blocks), unique for distinct eigenvalues: the block columns of V are the (real)
+  // eigenvectors of T22 (LAPACK dtrevc3, back substitution), each taken so that its own block
+  // rows are the identity. In one pass where decoupling block by block (dtrsyl per block) costs
+  // a Sylvester solve, with norms of the whole trailing matrix, per block.
+  if (rest > 0) {
+    // Eigenvalues of different blocks closer than dtrsyl's perturbation threshold: ill-posed.
+    const double norm = T.bottomRightCorner(rest, rest).cwiseAbs().maxCoeff();
+    const double separation = std::numeric_limits<double>::epsilon() * norm;
+    for (size_t a = sdim > 0 ? 1 : 0; a < parts.size(); ++a) {
+      for (size_t b = a + 1; b < parts.size(); ++b) {
+        const int i = parts[a].first, j = parts[b].first;
+        if (std::hypot(wr[i] - wr[j], std::abs(wi[i]) - std::abs(wi[j])) <= separation) {
+          d.info = SpectralDecomposition::Info::kIllConditioned;
+          return d;
+        }
+      }
+    }
+    const Eigen::MatrixXd T22 = T.bottomRightCorner(rest, rest);
+    Eigen::MatrixXd vectors(rest, rest), V = Eigen::MatrixXd::Zero(rest, rest);
+    thread_local std::vector<double> vector_work;
+    vector_work.resize(3 * static_cast<size_t>(rest));
+    const int vector_lwork = static_cast<int>(vector_work.size());
+    int found = 0;
+    dtrevc3_("R", "A", nullptr, &rest, T22.data(), &rest, nullptr, &rest, vectors.data(), &rest,
+             &rest, &found, vector_work.data(), &vector_lwork, &info, 1, 1);
+    if (info != 0) {
+      d.info = SpectralDecomposition::Info::kIllConditioned;
+      return d;
+    }
+    for (const auto& [start, size] : parts) {
+      if (start < sdim) continue;
+      const int at = start - sdim, top = at + size;  // rows below `top` are zero
+      // A complex pair's two columns (real and imaginary part) span the block's invariant plane.
+      const Eigen::MatrixXd own = vectors.block(at, at, size, size);
+      V.block(0, at, top, size) = vectors.block(0, at, top, size) * own.inverse();
+      V.block(at, at, size, size).setIdentity();
+    }
+    S.rightCols(rest) = S.rightCols(rest) * V;
+    V.triangularView<Eigen::UnitUpper>().solveInPlace(S_inv.bottomRows(rest));
   }
   d.condition =
       S.cwiseAbs().colwise().sum().maxCoeff() * S_inv.cwiseAbs().colwise().sum().maxCoeff();

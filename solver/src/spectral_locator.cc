@@ -84,11 +84,7 @@ SpectralLocator::System& SpectralLocator::Build(int segment, ContactState state)
   // One balancing frequency for all three states of a segment (the same scaling whichever state
   // is visited first).
   double& w_ref = w_ref_[segment];
-  if (w_ref == 0.0) {
-    w_ref = 1.0;
-    for (const auto& sys : t_.systems[segment])
-      w_ref = std::max(w_ref, ReferenceFrequency(sys.A, t_.n));
-  }
+  if (w_ref == 0.0) w_ref = t_.SegmentReferenceFrequency(segment);
   const SegmentSystem& sys = t_.systems[segment][static_cast<int>(state)];
   sp.decomposition =
       DecomposeGenerator(sys.A, t_.n, w_ref, t_.SegmentLength(segment), max_condition_);

@@ -63,12 +63,13 @@ class SegmentRunTable {
 
  private:
   // The run of 2^level segments starting at segment index * 2^level (built by the constructor).
-  const SegmentRun& Run(int level, int index);
+  const SegmentRun& Run(int level, int index) const;
+  // Builds that run; the level below is built. grid[k]: the sub-step propagators of segment k.
+  void Build(int level, int index, const std::vector<std::vector<Eigen::MatrixXd>>& grid);
   const SegmentTables* t_ = nullptr;
   ContactState state_ = ContactState::kFree;
-  // runs_[level - 1][start / 2^level], built_ alike.
+  // runs_[level - 1][start / 2^level].
   std::vector<std::vector<SegmentRun>> runs_;
-  std::vector<std::vector<bool>> built_;
   size_t bytes_ = 0;
   double tolerance_ = 0.0;
   Eigen::VectorXd input_bounds_;  // u_q,max

@@ -53,6 +53,9 @@ struct SegmentTables {
   double pinion_speed = 0.0;       // rad/s
   std::vector<double> boundaries;  // segment start times within a cycle, s (size S + 1)
   std::vector<int> substeps;       // N_j
+  // Per segment: the largest ReferenceFrequency of its three generators (>= 1), the balancing of
+  // its exponentials and decompositions (BuildSegmentTables; empty in tables assembled by hand).
+  std::vector<double> reference_frequency;
   std::vector<std::array<SegmentSystem, 3>> systems;  // [segment][state]
   std::vector<ExcitationOrder> excitation;            // orders, amplitudes (rad/s^2), phases
   double half_backlash = 0.0;
@@ -85,6 +88,8 @@ struct SegmentTables {
   long CommonPeriodCycles(long max_cycles) const;
   int segments() const { return static_cast<int>(systems.size()); }
   double SegmentLength(int j) const { return boundaries[j + 1] - boundaries[j]; }
+  // reference_frequency[j], or computed from the systems when the tables have none.
+  double SegmentReferenceFrequency(int j) const;
   // Mean of sum_k a_k sin(k Omega1 t + phi_k) over [t0, t0 + h], rad/s^2 (closed form).
   double MeanExcitation(double t0, double h) const;
   // The excitation input of segment `segment` of `cycle` (SetInputs without phases: one sine per

@@ -1,10 +1,12 @@
 // Closed-form gaps over a segment: the V3 event path (docs/design.md §4.4).
 //
 // A generator A (balanced: velocities scaled by 1/w_ref) is brought to an ordered real Schur form
-// A = Q T Q^T (LAPACK dgees, the near-zero eigenvalues first) and T is block-diagonalised with
-// Sylvester equations (LAPACK dtrsyl, Bartels–Stewart), one diagonal block at a time:
+// A = Q T Q^T (LAPACK dgees, the near-zero eigenvalues first) and T is block-diagonalised: the
+// near-zero cluster T11 from the rest T22 by a Sylvester equation (LAPACK dtrsyl, Bartels–Stewart)
 //   T = [[T11, T12], [0, T22]],  T11 X - X T22 = -T12,  [[I, -X], [0, I]] T [[I, X], [0, I]]
-//     = diag(T11, T22).
+//     = diag(T11, T22),
+// then T22 = V diag(B1, ..., Bp) V^-1 with V unit upper triangular, its block columns the
+// eigenvectors of T22 (LAPACK dtrevc3) scaled to identity diagonal blocks.
 // The result is A = S diag(B0, B1, ..., Bp) S^-1 with B0 the cluster of eigenvalues |lambda| <=
 // zero_tolerance * rho (rigid-body rotations, the constant and excitation slots: nilpotent up to
 // rounding, so e^{B0 t} is a short power series) and B1..Bp single real eigenvalues (1x1) or
