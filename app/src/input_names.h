@@ -4,7 +4,9 @@
 // and the rule, so the message reads as the user wrote the input.
 #pragma once
 
+#include <functional>
 #include <string>
+#include <utility>
 
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/periodic_orbit.h"
@@ -38,6 +40,14 @@ inline InputError UserNamed(const InputError& e, const InputNames& names = {}) {
   }
   if (path == nullptr) return e;
   return InputError(*path, e.line(), e.value(), e.rule(), e.source());
+}
+
+// The wording of a failed atlas cell's or orbit point's input error (AtlasOptions::
+// input_error_message): the message of UserNamed.
+inline std::function<std::string(const InputError&)> UserWording(InputNames names = {}) {
+  return [names = std::move(names)](const InputError& e) {
+    return std::string(UserNamed(e, names).what());
+  };
 }
 
 }  // namespace gearnvh::app

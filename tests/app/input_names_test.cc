@@ -3,12 +3,15 @@
 #include "input_names.h"
 
 #include <catch2/catch.hpp>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include "gearnvh/model/component_model.h"
 #include "gearnvh/reduction/reduced_model.h"
 #include "gearnvh/solver/exact_solver.h"
 #include "model/test_specs.h"
+#include "support/run_command.h"
 
 namespace gearnvh {
 namespace {
@@ -78,6 +81,38 @@ TEST_CASE("forcing without a common period and an unreducible structure name the
   CHECK(structure.path() == "structure");
   CHECK(app::UserNamed(structure).path() == "shafts");
   CHECK(app::UserNamed(structure).rule() == "cannot be reduced: a direction no bearing holds");
+}
+
+TEST_CASE("failed atlas cells and orbit points name the YAML path the user set",
+          "[app][errors][cli]") {
+  // The cells and points keep their input errors as text; the commands word them as the error
+  // of a whole run is worded (app::UserWording), not at the library's names.
+  const std::string exe = GEARNVH_EXE;
+  const std::string rattle = std::string(GEARNVH_EXAMPLES_DIR) + "/idle_rattle.yaml";
+  const auto atlas = testing::RunCommand(
+      exe +
+      " atlas --tier 5 --cycles 8 --transient 0 --x operating.speed=700rpm:800rpm:2"
+      " --y operating.torque=0.1Nm:0.2Nm:1 " +
+      rattle);
+  INFO(atlas.out << atlas.err);
+  CHECK(atlas.exit_code == 1);
+  CHECK(atlas.out.find("failed: analysis.tier: needs flexible shafts") != std::string::npos);
+
+  // Engine order 2.0137 does not repeat with the mesh: no periodic orbit.
+  std::ifstream in(rattle);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string yaml = text.str();
+  const size_t at = yaml.find("order: 2,");
+  REQUIRE(at != std::string::npos);
+  yaml.replace(at, 9, "order: 2.0137,");
+  const testing::TempDir dir;
+  const auto orbits = testing::RunCommand(exe + " orbits --transient 10 " +
+                                          dir.Write("incommensurate.yaml", yaml).string());
+  INFO(orbits.out << orbits.err);
+  CHECK(orbits.exit_code == 1);
+  CHECK(orbits.out.find("failed: operating.excitation: orders must repeat with the mesh") !=
+        std::string::npos);
 }
 
 }  // namespace
