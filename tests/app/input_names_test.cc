@@ -30,7 +30,7 @@ InputError Raised(Throw&& raise) {
 }
 
 TEST_CASE("a tier the model cannot have is named where the user chose it", "[app][errors]") {
-  const ComponentModel rigid = BuildComponentModel(StandardPair(27, 43));
+  const ComponentModel rigid = BuildComponentModel(testing::StandardPair(27, 43));
   try {
     RequireTierAvailable(rigid, Tier::kTier5);
     FAIL("tier 5 of a rigid-shaft model is available");
