@@ -14,9 +14,10 @@
 
 namespace gearnvh::app {
 
-// Where the user set each input the library checks; the defaults are the CLI's: --cycles and
-// --transient are range-checked while the command line is parsed, so they never reach the library,
-// and a --tier the model cannot have is reported at analysis.tier (the tier the file asks for).
+// Where the user set each input the library checks; the defaults are the CLI's. --cycles and
+// --transient are range-checked while the command line is parsed, so they never reach the library;
+// a pair's --tier the model cannot have is reported at analysis.tier, located at its line with the
+// value written there (as before this mapping; the message's "got" is then the file's tier).
 struct InputNames {
   std::string tier = "analysis.tier";                   // TierNotAvailable
   std::string cycles = "analysis.cycles";               // SolverOptions.cycles
