@@ -11,6 +11,7 @@
 
 #include "config/gearbox_loader.h"
 #include "gearnvh/model/input_error.h"
+#include "input_names.h"
 
 namespace gearnvh::app {
 
@@ -29,13 +30,14 @@ class NonFiniteResult : public std::logic_error {
   using std::logic_error::logic_error;
 };
 
-// The message of an input error, naming `file` when the error was raised below the loader (range
-// rules of the model, solver options) and so carries no source, with the line and the value as
+// The message of an input error, at the YAML path the user wrote (UserNamed), naming `file` when
+// the error was raised below the loader (range rules of the model, solver options) and so carries
+// no source, with the line and the value as
 // written of its YAML path in that file when `where` holds the file's locations (the
 // LoadedGearbox::locations of its load; empty when the file was not loaded).
 inline std::string InputErrorMessage(const InputError& e, const std::string& file,
                                      const config::SourceLocations& where = {}) {
-  return config::LocatedIn(e, where, file).what();
+  return config::LocatedIn(UserNamed(e), where, file).what();
 }
 
 // An input error about a command-line option ("--resume needs --out") is a usage error.

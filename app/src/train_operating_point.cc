@@ -6,6 +6,8 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <optional>
+#include <utility>
 
 #include "config/gearbox_loader.h"
 #include "gearnvh/model/gearbox_spec_limits.h"
@@ -114,39 +116,77 @@ SpectrumWindow PlanWindow(const TrainTables& t, double dt, double start, double 
 
 }  // namespace
 
-std::string SlowRunWarning(const TrainTables& t, double simulated_s) {
+namespace {
+
+// lambda_max(M^-1/2 X M^-1/2) of a symmetric X and its eigenvector in M^1/2 coordinates; nullopt
+// when the eigenvalue problem failed.
+std::optional<std::pair<double, Eigen::VectorXd>> LargestScaled(const Eigen::VectorXd& scale,
+                                                                const Eigen::MatrixXd& x) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(scale.asDiagonal() * x *
+                                                           scale.asDiagonal());
+  if (eig.info() != Eigen::Success) return std::nullopt;
+  const Eigen::Index last = x.rows() - 1;
+  return std::make_pair(eig.eigenvalues()[last], Eigen::VectorXd(eig.eigenvectors().col(last)));
+}
+
+}  // namespace
+
+RunCostEstimate EstimateRunCost(const TrainTables& t) {
+  RunCostEstimate out;
   const int n = t.n;
-  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n, n);
+  if (n == 0) return out;
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n, n), C = Eigen::MatrixXd::Zero(n, n);
   if (t.structural_stiffness.size() > 0) K = t.structural_stiffness;
-  double fastest_mesh_hz = 0.0;
+  if (t.structural_damping.size() > 0) C = t.structural_damping;
+  // M^-1/2 X M^-1/2 is symmetric with the eigenvalues of M^-1 X.
+  const Eigen::VectorXd scale = t.inertia.cwiseSqrt().cwiseInverse();
+  double friction_k = 0.0, friction_c = 0.0;  // sum_i k_i n_i, sum_i c_i n_i
   for (const TrainMeshTable& mt : t.meshes) {
     double k = 0.0;
     for (double kj : mt.k_drive) k += kj / static_cast<double>(mt.k_drive.size());
     K += k * mt.v * mt.v.transpose();
-    fastest_mesh_hz = std::max(fastest_mesh_hz, 1.0 / mt.period);
+    C += mt.damping * mt.v * mt.v.transpose();
+    out.fastest_mesh_hz = std::max(out.fastest_mesh_hz, 1.0 / mt.period);
+    double norms = 0.0;  // n_i
+    for (int j = 0; mt.has_friction() && j < mt.segments(); ++j) {
+      norms = std::max(norms, scale.cwiseProduct(mt.ForceVector(j, true) - mt.v).norm() *
+                                  scale.cwiseProduct(mt.v).norm());
+    }
+    friction_k += k * norms;
+    friction_c += mt.damping * norms;
   }
-  // M^-1/2 K M^-1/2 is symmetric with the eigenvalues of M^-1 K.
-  const Eigen::VectorXd scale = t.inertia.cwiseSqrt().cwiseInverse();
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(scale.asDiagonal() * K *
-                                                           scale.asDiagonal());
-  if (eig.info() != Eigen::Success || n == 0) return {};
-  const double omega = std::sqrt(std::max(0.0, eig.eigenvalues()[n - 1]));
-  const double hz = omega / (2.0 * std::numbers::pi);
-  if (hz < kSlowModeRatio * fastest_mesh_hz) return {};
+  const auto stiff = LargestScaled(scale, K);
+  const auto damped = LargestScaled(scale, C);
+  if (!stiff || !damped) return out;
+  const double omega = std::sqrt(std::max(0.0, stiff->first));
+  const double damping_rate = std::max(0.0, damped->first);
+  out.mode_hz = omega / (2.0 * std::numbers::pi);
   // The body that moves most in the mode (angles per body from the coordinates).
-  const Eigen::VectorXd x = scale.asDiagonal() * eig.eigenvectors().col(n - 1);
+  const Eigen::VectorXd x = scale.asDiagonal() * stiff->second;
   Eigen::Index body = 0;
   (t.body_angles * x).cwiseAbs().maxCoeff(&body);
-  const double substeps = 2.0 * omega * simulated_s;
+  out.body = static_cast<int>(body);
+  const double rho = friction_k > 0.0 || friction_c > 0.0
+                         ? std::sqrt(omega * omega + friction_k) + damping_rate + friction_c
+                         : std::max(omega, damping_rate);
+  out.substep_s = rho > 0.0 ? 0.5 / rho : 0.0;
+  return out;
+}
+
+std::string SlowRunWarning(const TrainTables& t, double simulated_s) {
+  const RunCostEstimate cost = EstimateRunCost(t);
+  if (!(cost.substep_s > 0.0) || cost.mode_hz < kSlowModeRatio * cost.fastest_mesh_hz) return {};
   const std::string inertia =
-      t.tier == Tier::kTier1 ? fmt::format(", inertia {:.3g} kg m²", t.inertia[body]) : "";
+      t.tier == Tier::kTier1 ? fmt::format(", inertia {:.3g} kg m²", t.inertia[cost.body]) : "";
   return fmt::format(
       "the highest mode of the train is {:.4g} Hz, {:.0f}x the fastest mesh frequency ({:.4g} "
       "Hz), mostly body {}{} (a tiny inertia on stiff meshes makes a very high mode): a sub-step "
-      "is at most 1/(2 omega) = {:.3g} s, about {:.3g} sub-steps for the {:.4g} s simulated, so "
-      "the run will be very slow (a small fraction of real time); check the inertias",
-      hz, hz / fastest_mesh_hz, fastest_mesh_hz, t.body_names[static_cast<size_t>(body)], inertia,
-      0.5 / omega, substeps, simulated_s);
+      "is at most {:.3g} s (half the inverse of the bound on the generator's spectral radius, "
+      "damping and tooth friction included), about {:.3g} sub-steps for the {:.4g} s simulated, "
+      "so the run will be very slow (a small fraction of real time); check the inertias",
+      cost.mode_hz, cost.mode_hz / cost.fastest_mesh_hz, cost.fastest_mesh_hz,
+      t.body_names[static_cast<size_t>(cost.body)], inertia, cost.substep_s,
+      simulated_s / cost.substep_s, simulated_s);
 }
 
 double LowestInputSpeed(const TrainSpec& spec, const std::optional<AtlasAxis>& x,

@@ -51,11 +51,26 @@ struct TrainRunOptions {
 // sub-step of the dense path (and of V1, V2) is at most 1 / (2 omega_max) long.
 constexpr double kSlowModeRatio = 1000.0;
 
-// The warning before a very slow run, or empty: the highest mode of the train with every mesh in
-// drive contact, sqrt(lambda_max(M^-1 K)) with the meshes' mean stiffness, at or above
+// What a run costs per simulated second, estimated before it starts: the highest mode of the train
+// with every mesh in drive contact at its mean stiffness, omega = sqrt(lambda_max(M^-1 K)), the
+// body that moves most in it, and the dense path's sub-step at that stiffness, 1 / (2 rho) with
+// the solver's bound rho on the generator's spectral radius (docs/gear-trains.md, "Events"):
+// max(omega, lambda_max(M^-1 C)) without tooth friction; with it |c| + sqrt|k|, |k| <= omega^2 +
+// sum_i k_i n_i and |c| <= lambda_max(M^-1 C) + sum_i c_i n_i, n_i = max_j |M^-1/2 (u_ij - v_i)|
+// |M^-1/2 v_i| over the mesh's drive segments. Not in it: a reduced tier's skew (gyroscopic)
+// damping and the sub-steps' second bound (the balanced row norm), which the solver also applies.
+struct RunCostEstimate {
+  double mode_hz = 0.0;          // the highest mode, Hz (frictionless)
+  double fastest_mesh_hz = 0.0;  // the fastest mesh frequency, Hz
+  int body = 0;                  // the body that moves most in the highest mode
+  double substep_s = 0.0;        // 1 / (2 rho), s; 0 when the eigenvalue problem failed
+};
+RunCostEstimate EstimateRunCost(const TrainTables& tables);
+
+// The warning before a very slow run, or empty: the highest mode (EstimateRunCost) at or above
 // kSlowModeRatio times the fastest mesh frequency. It names the mode, the body that moves most in
-// it (the cause: usually a tiny inertia) and the cost, 2 omega_max sub-steps per simulated second
-// for `simulated_s` seconds.
+// it (the cause: usually a tiny inertia) and the cost, simulated_s / substep_s sub-steps for
+// `simulated_s` seconds.
 std::string SlowRunWarning(const TrainTables& tables, double simulated_s);
 
 struct TrainMeshSidebands {

@@ -90,6 +90,9 @@ AtlasCell ComputeAtlasCell(const GearboxSpec& base, const AtlasAxis& x, const At
       cell.regime = chaotic ? RattleRegime::kChaotic : rattle.regime;
       cell.ok = true;
     }
+  } catch (const InputError& e) {
+    cell.ok = false;
+    cell.message = options.input_error_message ? options.input_error_message(e) : e.what();
   } catch (const std::exception& e) {
     cell.ok = false;
     cell.message = e.what();

@@ -82,6 +82,10 @@ std::vector<OrbitScanPoint> ScanPeriodicOrbits(const GearboxSpec& base,
         previous = p.orbit.z;
         p.message = p.orbit.message;
       }
+    } catch (const InputError& e) {
+      p.ok = false;
+      p.message = options.input_error_message ? options.input_error_message(e) : e.what();
+      previous.reset();
     } catch (const std::exception& e) {
       p.ok = false;
       p.message = e.what();

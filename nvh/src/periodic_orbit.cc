@@ -14,11 +14,14 @@ long BasePeriodCycles(const SegmentTables& t) {
   constexpr long kMaxCycles = 100000;
   const long n = t.CommonPeriodCycles(kMaxCycles);
   if (n > 0) return n;
-  throw InputError("operating.excitation", 0, "",
-                   "orders must repeat with the mesh (and the gears' manufacturing errors, every "
-                   "revolution of the gears that carry them) within 100000 mesh cycles for a "
-                   "periodic orbit (order * N / teeth integer)");
+  throw NoCommonPeriod();
 }
+
+NoCommonPeriod::NoCommonPeriod()
+    : InputError("excitation", 0, "",
+                 "orders must repeat with the mesh (and the gears' manufacturing errors, every "
+                 "revolution of the gears that carry them) within 100000 mesh cycles for a "
+                 "periodic orbit (order * N / teeth integer)") {}
 
 ContactState ContactStateOf(const SegmentTables& t, const Eigen::VectorXd& z) {
   const SegmentSystem& free = t.systems[0][static_cast<int>(ContactState::kFree)];

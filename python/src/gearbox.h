@@ -11,6 +11,7 @@
 #include "gearnvh/model/gearbox_spec.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/model/train_spec.h"
+#include "input_names.h"
 
 namespace gearnvh::python {
 
@@ -62,15 +63,21 @@ class Train {
   TrainSpec spec_;
 };
 
+// The library's names for the keywords of the module's functions (tier=, cycles=, transient=);
+// the other inputs the library checks keep their YAML paths (app/src/input_names.h).
+inline const app::InputNames kKeywordInputNames{
+    .tier = "tier", .cycles = "cycles", .transient = "transient"};
+
 // Runs `body`; an InputError raised below the loader (range rules of the model, solver options)
-// carries no source and is given the gearbox's, as the command line does.
+// carries no source and is given the gearbox's, as the command line does, at the name the user
+// wrote (UserNamed: the copy with the source is a plain InputError).
 template <typename Body>
 auto NamingSource(const std::string& source, Body&& body) -> decltype(body()) {
   try {
     return body();
   } catch (const InputError& e) {
     if (!e.source().empty()) throw;
-    throw e.WithSource(source);
+    throw app::UserNamed(e, kKeywordInputNames).WithSource(source);
   }
 }
 

@@ -87,7 +87,8 @@ void RegisterInputError(py::module_& m) {
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
-    } catch (const InputError& e) {
+    } catch (const InputError& raised) {
+      const InputError e = app::UserNamed(raised, kKeywordInputNames);
       py::object error = type(e.what());
       error.attr("path") = e.path();
       error.attr("rule") = e.rule();

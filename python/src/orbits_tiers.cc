@@ -35,6 +35,7 @@ std::shared_ptr<Orbits> RunOrbits(const Gearbox& gb, int period,
   const GearboxSpec spec = gb.spec();
   const std::string source = gb.source();
   OrbitScanOptions options;
+  options.input_error_message = app::UserWording(kKeywordInputNames);
   options.tier = TierArgument(tier, spec.analysis.tier);
   options.period = period;
   options.transient_cycles = transient.value_or(spec.analysis.transient_cycles);

@@ -75,6 +75,7 @@ std::shared_ptr<Atlas> RunAtlas(const Gearbox& gb, const std::optional<std::stri
   const GearboxSpec spec = gb.spec();
   const std::string source = gb.source();
   AtlasOptions options;
+  options.input_error_message = app::UserWording(kKeywordInputNames);
   options.tier = TierArgument(tier, spec.analysis.tier);
   options.cycles = cycles.value_or(options.cycles);
   options.transient_cycles = transient.value_or(options.transient_cycles);

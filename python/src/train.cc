@@ -15,6 +15,7 @@
 #include "gearnvh/nvh/train_lyapunov.h"
 #include "simulate_command.h"
 #include "simulate_train.h"
+#include "train_call.h"
 #include "train_check.h"
 #include "train_operating_point.h"
 #include "train_sweep.h"
@@ -55,36 +56,34 @@ std::shared_ptr<TrainSimulation> SimulateTrain(const Train& train, const py::obj
                                                const std::string& method,
                                                std::optional<int> lyapunov,
                                                const py::object& progress) {
-  const TrainSpec spec = train.spec();
-  const std::string source = train.source();
-  app::TrainSimulatePlan plan = NamingSource(source, [&] {
-    auto options = TrainCommandOptions<app::SimulateOptions>(source, tier, method);
-    options.cycles = cycles;
-    options.transient = transient;
-    options.lyapunov = lyapunov;
-    return app::PlanTrainSimulate(options, spec, kKeywordNames);
-  });
-  return RunInterruptible(
-      [&](CallControl& control) {
-        return NamingSource(source, [&] {
-          plan.run.cancel = &control.cancel;
-          // Progress in thousandths of each run: the operating point, then the Lyapunov run.
-          constexpr long kSteps = 1000;
-          const long total = plan.lyapunov ? 2 * kSteps : kSteps;
-          auto out = std::make_shared<TrainSimulation>();
-          out->op = app::RunTrainOperatingPoint(spec, plan.run, [&](double time, double end) {
-            control.Progress(std::lround(kSteps * time / end), total);
-          });
-          out->doc = app::TrainSimulationJson(out->op, spec, source, plan.run.tier);
-          if (plan.lyapunov && out->op.ok()) {
-            out->lyapunov =
-                app::RunTrainLyapunov(out->op, plan.run, *plan.lyapunov, [&](double fraction) {
-                  control.Progress(kSteps + std::lround(kSteps * fraction), total);
-                });
-            out->doc["lyapunov"] = app::TrainLyapunovJson(*out->lyapunov);
-          }
-          return out;
+  return PlanAndRunOnTrain(
+      train,
+      [&](const TrainSpec& spec, const std::string& source) {
+        auto options = TrainCommandOptions<app::SimulateOptions>(source, tier, method);
+        options.cycles = cycles;
+        options.transient = transient;
+        options.lyapunov = lyapunov;
+        return app::PlanTrainSimulate(options, spec, kKeywordNames);
+      },
+      [&](app::TrainSimulatePlan& plan, const TrainSpec& spec, const std::string& source,
+          CallControl& control) {
+        plan.run.cancel = &control.cancel;
+        // Progress in thousandths of each run: the operating point, then the Lyapunov run.
+        constexpr long kSteps = 1000;
+        const long total = plan.lyapunov ? 2 * kSteps : kSteps;
+        auto out = std::make_shared<TrainSimulation>();
+        out->op = app::RunTrainOperatingPoint(spec, plan.run, [&](double time, double end) {
+          control.Progress(std::lround(kSteps * time / end), total);
         });
+        out->doc = app::TrainSimulationJson(out->op, spec, source, plan.run.tier);
+        if (plan.lyapunov && out->op.ok()) {
+          out->lyapunov =
+              app::RunTrainLyapunov(out->op, plan.run, *plan.lyapunov, [&](double fraction) {
+                control.Progress(kSteps + std::lround(kSteps * fraction), total);
+              });
+          out->doc["lyapunov"] = app::TrainLyapunovJson(*out->lyapunov);
+        }
+        return out;
       },
       progress);
 }
@@ -93,25 +92,23 @@ std::shared_ptr<TrainSweep> SweepTrain(const Train& train, const py::object& tie
                                        std::optional<long> cycles, std::optional<long> transient,
                                        int jobs, const std::string& method,
                                        const py::object& progress) {
-  const TrainSpec spec = train.spec();
-  const std::string source = train.source();
-  app::TrainSweepOptions options = NamingSource(source, [&] {
-    auto sweep = TrainCommandOptions<app::SweepOptions>(source, tier, method);
-    sweep.cycles = cycles;
-    sweep.transient = transient;
-    sweep.jobs = jobs;
-    return app::PlanTrainSweep(sweep, spec, kKeywordNames);
-  });
-  return RunInterruptible(
-      [&](CallControl& control) {
-        return NamingSource(source, [&] {
-          options.cancel = &control.cancel;
-          auto out = std::make_shared<TrainSweep>();
-          out->result =
-              app::RunTrainSweep(spec, options, [&](int d, int t) { control.Progress(d, t); });
-          out->doc = app::TrainSweepDocument(out->result, spec, source, options);
-          return out;
-        });
+  return PlanAndRunOnTrain(
+      train,
+      [&](const TrainSpec& spec, const std::string& source) {
+        auto sweep = TrainCommandOptions<app::SweepOptions>(source, tier, method);
+        sweep.cycles = cycles;
+        sweep.transient = transient;
+        sweep.jobs = jobs;
+        return app::PlanTrainSweep(sweep, spec, kKeywordNames);
+      },
+      [&](app::TrainSweepOptions& options, const TrainSpec& spec, const std::string& source,
+          CallControl& control) {
+        options.cancel = &control.cancel;
+        auto out = std::make_shared<TrainSweep>();
+        out->result =
+            app::RunTrainSweep(spec, options, [&](int d, int t) { control.Progress(d, t); });
+        out->doc = app::TrainSweepDocument(out->result, spec, source, options);
+        return out;
       },
       progress);
 }

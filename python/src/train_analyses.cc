@@ -15,10 +15,12 @@
 #include "gearbox.h"
 #include "simulate_command.h"
 #include "train_atlas_command.h"
+#include "train_call.h"
 #include "train_orbits_command.h"
 #include "train_tiers.h"
 #include "train_validation.h"
 #include "validate_command.h"
+#include "validation_ladder.h"
 
 namespace gearnvh::python {
 
@@ -57,27 +59,25 @@ std::shared_ptr<TrainAtlas> AtlasTrain(const Train& train, const std::optional<s
                                        std::optional<long> cycles, std::optional<long> transient,
                                        int jobs, const std::string& method,
                                        const py::object& progress) {
-  const TrainSpec spec = train.spec();
-  const std::string source = train.source();
-  app::TrainAtlasPlan plan = NamingSource(source, [&] {
-    auto options = TrainCommandOptions<app::AtlasCommandOptions>(source, tier, method);
-    options.x = x;
-    options.y = y;
-    options.cycles = cycles;
-    options.transient = transient;
-    options.jobs = jobs;
-    return app::PlanTrainAtlas(options, spec, kKeywordNames);
-  });
-  return RunInterruptible(
-      [&](CallControl& control) {
-        return NamingSource(source, [&] {
-          plan.atlas.cancel = &control.cancel;
-          auto out = std::make_shared<TrainAtlas>();
-          out->result = app::RunTrainAtlas(spec, plan.x, plan.y, plan.atlas, plan.jobs,
-                                           [&](int d, int t) { control.Progress(d, t); });
-          out->doc = app::TrainAtlasDocument(out->result, plan.atlas, spec, source);
-          return out;
-        });
+  return PlanAndRunOnTrain(
+      train,
+      [&](const TrainSpec& spec, const std::string& source) {
+        auto options = TrainCommandOptions<app::AtlasCommandOptions>(source, tier, method);
+        options.x = x;
+        options.y = y;
+        options.cycles = cycles;
+        options.transient = transient;
+        options.jobs = jobs;
+        return app::PlanTrainAtlas(options, spec, kKeywordNames);
+      },
+      [&](app::TrainAtlasPlan& plan, const TrainSpec& spec, const std::string& source,
+          CallControl& control) {
+        plan.atlas.cancel = &control.cancel;
+        auto out = std::make_shared<TrainAtlas>();
+        out->result = app::RunTrainAtlas(spec, plan.x, plan.y, plan.atlas, plan.jobs,
+                                         [&](int d, int t) { control.Progress(d, t); });
+        out->doc = app::TrainAtlasDocument(out->result, plan.atlas, spec, source);
+        return out;
       },
       progress);
 }
@@ -86,57 +86,53 @@ std::shared_ptr<TrainOrbits> OrbitsTrain(const Train& train, int period,
                                          const std::optional<std::string>& sweep,
                                          const py::object& tier, std::optional<long> transient,
                                          const std::string& method, const py::object& progress) {
-  const TrainSpec spec = train.spec();
-  const std::string source = train.source();
-  app::TrainOrbitsPlan plan = NamingSource(source, [&] {
-    auto options = TrainCommandOptions<app::OrbitsCommandOptions>(source, tier, method);
-    options.period = period;
-    options.sweep = sweep;
-    options.transient = transient;
-    return app::PlanTrainOrbits(options, spec, kKeywordNames);
-  });
-  return RunInterruptible(
-      [&](CallControl& control) {
-        return NamingSource(source, [&] {
-          plan.scan.cancel = &control.cancel;
-          const std::vector<TrainOrbitScanPoint> points =
-              app::RunTrainOrbits(spec, plan, [&](int d, int t) { control.Progress(d, t); });
-          auto out = std::make_shared<TrainOrbits>();
-          out->doc = app::TrainOrbitsDocument(points, plan, spec, source);
-          out->parameter = out->doc["parameter"].get<std::string>();
-          for (size_t i = 0; i < points.size(); ++i)
-            out->points.push_back({plan.values[i], points[i]});
-          return out;
-        });
+  return PlanAndRunOnTrain(
+      train,
+      [&](const TrainSpec& spec, const std::string& source) {
+        auto options = TrainCommandOptions<app::OrbitsCommandOptions>(source, tier, method);
+        options.period = period;
+        options.sweep = sweep;
+        options.transient = transient;
+        return app::PlanTrainOrbits(options, spec, kKeywordNames);
+      },
+      [&](app::TrainOrbitsPlan& plan, const TrainSpec& spec, const std::string& source,
+          CallControl& control) {
+        plan.scan.cancel = &control.cancel;
+        const std::vector<TrainOrbitScanPoint> points =
+            app::RunTrainOrbits(spec, plan, [&](int d, int t) { control.Progress(d, t); });
+        auto out = std::make_shared<TrainOrbits>();
+        out->doc = app::TrainOrbitsDocument(points, plan, spec, source);
+        out->parameter = out->doc["parameter"].get<std::string>();
+        for (size_t i = 0; i < points.size(); ++i)
+          out->points.push_back({plan.values[i], points[i]});
+        return out;
       },
       progress);
 }
 
 std::shared_ptr<TrainTiers> TiersTrain(const Train& train, std::optional<long> cycles,
                                        std::optional<long> transient, const py::object& progress) {
-  const TrainSpec spec = train.spec();
-  const std::string source = train.source();
-  app::TrainRunOptions run = NamingSource(source, [&] {
-    app::TiersCommandOptions options;
-    options.file = source;
-    options.cycles = cycles;
-    options.transient = transient;
-    return app::PlanTrainTiers(options, spec, kKeywordNames);
-  });
-  return RunInterruptible(
-      [&](CallControl& control) {
-        return NamingSource(source, [&] {
-          run.cancel = &control.cancel;
-          auto out = std::make_shared<TrainTiers>();
-          out->comparison =
-              app::CompareTrainTiers(spec, run, [&](size_t d, size_t t, const std::string&) {
-                control.Progress(static_cast<long>(d) - 1, static_cast<long>(t));
-              });
-          control.Progress(static_cast<long>(out->comparison.rows.size()),
-                           static_cast<long>(out->comparison.rows.size()));
-          out->doc = app::TrainTiersDocument(out->comparison, spec, source);
-          return out;
-        });
+  return PlanAndRunOnTrain(
+      train,
+      [&](const TrainSpec& spec, const std::string& source) {
+        app::TiersCommandOptions options;
+        options.file = source;
+        options.cycles = cycles;
+        options.transient = transient;
+        return app::PlanTrainTiers(options, spec, kKeywordNames);
+      },
+      [&](app::TrainRunOptions& run, const TrainSpec& spec, const std::string& source,
+          CallControl& control) {
+        run.cancel = &control.cancel;
+        auto out = std::make_shared<TrainTiers>();
+        out->comparison =
+            app::CompareTrainTiers(spec, run, [&](size_t d, size_t t, const std::string&) {
+              control.Progress(static_cast<long>(d) - 1, static_cast<long>(t));
+            });
+        control.Progress(static_cast<long>(out->comparison.rows.size()),
+                         static_cast<long>(out->comparison.rows.size()));
+        out->doc = app::TrainTiersDocument(out->comparison, spec, source);
+        return out;
       },
       progress);
 }
@@ -150,6 +146,23 @@ std::shared_ptr<Validation> ValidateTrain(const Train& train, const py::object& 
           auto out = std::make_shared<Validation>();
           out->rows = app::RunTrainValidationLadder(spec, &control.cancel,
                                                     [&](int d, int t) { control.Progress(d, t); });
+          out->doc = app::ValidationDocument(out->rows, spec.name, source);
+          return out;
+        });
+      },
+      progress);
+}
+
+// The pair's ladder (`gearnvh validate FILE` on a schema-1 file). It has no progress counts and
+// no cancellation point: Ctrl-C stops it when it ends (about a second on the examples).
+std::shared_ptr<Validation> ValidateGearbox(const Gearbox& gearbox, const py::object& progress) {
+  const GearboxSpec spec = gearbox.spec();
+  const std::string source = gearbox.source();
+  return RunInterruptible(
+      [&](CallControl&) {
+        return NamingSource(source, [&] {
+          auto out = std::make_shared<Validation>();
+          out->rows = app::RunValidationLadder(spec);
           out->doc = app::ValidationDocument(out->rows, spec.name, source);
           return out;
         });
@@ -472,6 +485,11 @@ void BindTrainAnalyses(py::module_& m) {
         py::arg("progress") = py::none(),
         "The validation ladder of a gear train, as `gearnvh validate TRAIN.yaml`: the exact "
         "solver against the CVODE reference and its V2 and V1 event methods.");
+  m.def("validate", &ValidateGearbox, py::arg("gearbox"), py::kw_only(),
+        py::arg("progress") = py::none(),
+        "The validation ladder of a gear pair, as `gearnvh validate FILE`: fused vs stepped "
+        "propagation, exact vs CVODE reference, closed forms, segment convergence, MTA "
+        "compliance, ISO 6336 stiffness. No progress counts; Ctrl-C stops it when it ends.");
 }
 
 }  // namespace gearnvh::python

@@ -65,6 +65,18 @@ def test_tiers_document(gb):
     assert t.finest == doc["finest_tier"]
 
 
+def test_validate_a_pair_as_the_command_line(gearnvh_exe):
+    v = gearnvh.validate(gearnvh.load(str(IDLE_RATTLE)))
+    cli = subprocess.run([gearnvh_exe, "validate", str(IDLE_RATTLE), "--json"],
+                         capture_output=True, text=True)
+    doc = json.loads(cli.stdout)
+    # The same RunValidationLadder on the same spec: every row equal bit for bit (tolerance 0).
+    assert v.passed == doc["pass"] == (cli.returncode == 0)
+    assert v.to_dict() == doc
+    assert [c.name for c in v.checks] == [c["name"] for c in doc["checks"]]
+    assert v.checks[0].name == "fused cycle vs step-by-step propagation"
+
+
 @pytest.mark.parametrize("analysis", ["atlas", "sweep"])
 def test_ctrl_c_interrupts_threaded_analyses(gb, analysis):
     # Runs of a million cycles per cell/speed on two threads would take hours; SIGINT sets the

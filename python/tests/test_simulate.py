@@ -81,6 +81,17 @@ def test_solver_option_errors_name_the_option():
     with pytest.raises(gearnvh.InputError) as cycles:
         gearnvh.simulate(gb, cycles=0)
     assert cycles.value.source == str(IDLE_RATTLE)
+    # The library checks the run length (SolverOptions); the module names its keyword.
+    assert (cycles.value.path, cycles.value.value, cycles.value.rule) == ("cycles", "0",
+                                                                          "must be >= 1")
+    with pytest.raises(gearnvh.InputError) as transient:
+        gearnvh.simulate(gb, transient=-1)
+    assert (transient.value.path, transient.value.value) == ("transient", "-1")
+    # A tier the model cannot have (idle_rattle has rigid shafts): the keyword, its tier, the rule.
+    with pytest.raises(gearnvh.InputError) as flexible:
+        gearnvh.simulate(gb, tier=5)
+    assert flexible.value.path == "tier" and flexible.value.value == "N40 full"
+    assert flexible.value.rule.startswith("needs flexible shafts")
 
 
 def test_progress_callback_sees_the_run_and_can_stop_it():

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import gearnvh
-from conftest import EXAMPLES, interrupted_after
+from conftest import EXAMPLES, SOURCE_DIR, interrupted_after
 
 REDUCER = EXAMPLES / "two_stage_helical_reducer.yaml"
 TRANSMISSION = EXAMPLES / "manual_transmission_idle.yaml"
@@ -118,39 +118,16 @@ def test_train_option_errors_name_the_option_and_the_progress_callback_can_stop_
 # inertias), the mode decays at the rate zeta * omega, omega = sqrt(k / m_e) (the mesh damping is
 # c = 2 zeta sqrt(k m_e)), and the engine order drives the TE, delta = r_a th_a + r_b th_b, as
 # m_e delta'' + c delta' + k delta = m_e r_a s(t), s the input's angular acceleration.
-LINEAR = """schema: gearnvh/2
-name: Linear two-shaft train
-materials:
-  steel: {youngs_modulus: 206 GPa, poisson_ratio: 0.3, density: 7850 kg/m^3}
-shafts:
-  input: {inertia: 2e-3 kg*m^2}
-  output: {inertia: 4e-3 kg*m^2}
-gears:
-  g1: {shaft: input, teeth: 20, module: 2 mm, face_width: 15 mm, bore_diameter: 20 mm, material: steel}
-  g2: {shaft: output, teeth: 40, module: 2 mm, face_width: 15 mm, bore_diameter: 20 mm, material: steel}
-meshes:
-  - {gears: [g1, g2], backlash: 80 um, damping_ratio: 0.02,
-     stiffness: {model: fourier, fourier: {mean: 2e8 N/m}}}
-operating:
-  speed: {shaft: input, value: 3000 rpm}
-  loads:
-    - {on: output, torque: 20 N*m}
-  excitation:
-    - {order: 2, amplitude: 200 rad/s^2, phase: 0 deg}
-analysis:
-  cycles: 400
-  transient_cycles: 300
-"""
+LINEAR_FILE = SOURCE_DIR / "tests" / "data" / "linear_train.yaml"  # shared with the C++ tests
+LINEAR = LINEAR_FILE.read_text()
 STIFFNESS = 2e8  # N/m
 ZETA = 0.02
 ORDER, ACCELERATION = 2.0, 200.0  # the engine order and its amplitude, rad/s^2
 
 
 @pytest.fixture(scope="module")
-def linear_file(tmp_path_factory):
-    path = tmp_path_factory.mktemp("linear") / "linear_train.yaml"
-    path.write_text(LINEAR)
-    return path
+def linear_file():
+    return LINEAR_FILE
 
 
 def linear_mode(train):

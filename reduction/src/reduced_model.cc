@@ -139,10 +139,9 @@ bool TierAvailable(const ComponentModel& model, Tier tier) {
 
 void RequireTierAvailable(const ComponentModel& model, Tier tier) {
   if (TierAvailable(model, tier)) return;
-  throw InputError("analysis.tier", 0, TierName(tier),
-                   "needs flexible shafts (`shafts:` with at least " +
-                       std::to_string(kTier5Modes) + " interior DOF); this model has " +
-                       std::to_string(model.dofs) + " DOF");
+  throw TierNotAvailable(tier, "needs flexible shafts (at least " + std::to_string(kTier5Modes) +
+                                   " interior DOF); this model has " + std::to_string(model.dofs) +
+                                   " DOF");
 }
 
 double FullStaticMeshCompliance(const ComponentModel& m) {
@@ -189,7 +188,7 @@ ReducedModel ReduceModel(const ComponentModel& m, Tier tier, const ReductionOpti
   const int modes = ModesOf(tier);
   const CraigBamptonBasis cb = CraigBampton(m.K, m.M, boundary, modes, options);
   if (cb.status != CraigBamptonStatus::kSuccess) {
-    throw InputError("shafts", 0, "", "cannot be reduced: " + cb.message);
+    throw StructureNotReducible("cannot be reduced: " + cb.message);
   }
   ReducedModel r = Project(m, cb.T);
   r.boundary_dof = static_cast<int>(boundary.size());

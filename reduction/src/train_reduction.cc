@@ -189,8 +189,7 @@ Eigen::MatrixXd FullStaticComplianceMatrix(const TrainStructure& s) {
   }
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(Kc);
   if (ldlt.info() != Eigen::Success) {
-    throw InputError("shafts", 0, "",
-                     "cannot be solved statically: a direction that no bearing holds");
+    throw StructureNotReducible("cannot be solved statically: a direction that no bearing holds");
   }
   return Symmetric(V.transpose() * ldlt.solve(V));
 }
@@ -228,7 +227,7 @@ TrainReducedModel CraigBamptonTier(const TrainStructure& s, Tier tier,
   const std::vector<int> boundary = Boundary(s, tier);
   const CraigBamptonBasis guyan = CraigBampton(s.K, s.M, boundary, 0, options);
   if (guyan.status != CraigBamptonStatus::kSuccess) {
-    throw InputError("shafts", 0, "", "cannot be reduced: " + guyan.message);
+    throw StructureNotReducible("cannot be reduced: " + guyan.message);
   }
   Eigen::MatrixXd T = guyan.T;
   std::vector<double> omega2;
@@ -248,7 +247,7 @@ TrainReducedModel CraigBamptonTier(const TrainStructure& s, Tier tier,
       const FixedInterfaceModeSet modes =
           FixedInterfaceModes(s.K, s.M, interior, per_shaft, options);
       if (modes.status != CraigBamptonStatus::kSuccess) {
-        throw InputError("shafts", 0, "", "cannot be reduced: " + modes.message);
+        throw StructureNotReducible("cannot be reduced: " + modes.message);
       }
       T.conservativeResize(Eigen::NoChange, T.cols() + modes.shapes.cols());
       T.rightCols(modes.shapes.cols()) = modes.shapes;
@@ -342,8 +341,7 @@ std::vector<TrainReducedModel> ReduceTrainTiers(const TrainStructure& s,
   options.Validate();
   for (Tier tier : tiers) {
     if (!TrainTierAvailable(s, tier)) {
-      throw InputError("analysis.tier", 0, TierName(tier),
-                       "needs at least one elastic shaft (with segments) in the train");
+      throw TierNotAvailable(tier, "needs at least one elastic shaft (with segments) in the train");
     }
   }
   const Eigen::MatrixXd full_compliance = FullStaticComplianceMatrix(s);

@@ -13,9 +13,10 @@
 namespace gearnvh {
 
 void SolverOptions::Validate() const {
-  if (cycles < 1) throw InputError("analysis.cycles", 0, std::to_string(cycles), "must be >= 1");
+  if (cycles < 1)
+    throw InputError("SolverOptions.cycles", 0, std::to_string(cycles), "must be >= 1");
   if (transient_cycles < 0) {
-    throw InputError("analysis.transient_cycles", 0, std::to_string(transient_cycles),
+    throw InputError("SolverOptions.transient_cycles", 0, std::to_string(transient_cycles),
                      "must be >= 0");
   }
   if (max_events_per_cycle < 1) {

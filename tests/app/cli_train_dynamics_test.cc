@@ -8,6 +8,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <complex>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -27,37 +28,28 @@ using testing::TempDir;
 
 const std::string kExe = GEARNVH_EXE;
 
-// Input shaft (g1, g3) drives the output shaft through g1-g2 (loads[0] on the output); g4 turns
-// loosely on the output shaft, driven by g3 against its drag (loads[1]). Engine order 2 on the
-// input.
+// The linear train of tests/data (shared with python/tests/test_trains.py: input shaft g1 drives
+// the output shaft through g1-g2, loads[0] on the output, engine order 2 on the input) with a loose
+// gear: g4 turns loosely on the output shaft, driven by g3 on the input against its drag
+// (loads[1]).
 std::string SmallTrain(const std::string& drag) {
-  return R"(schema: gearnvh/2
-name: Small rattling train
-materials:
-  steel: {youngs_modulus: 206 GPa, poisson_ratio: 0.3, density: 7850 kg/m^3}
-shafts:
-  input: {inertia: 2e-3 kg*m^2}
-  output: {inertia: 4e-3 kg*m^2}
-gears:
-  g1: {shaft: input, teeth: 20, module: 2 mm, face_width: 15 mm, bore_diameter: 20 mm, material: steel}
-  g2: {shaft: output, teeth: 40, module: 2 mm, face_width: 15 mm, bore_diameter: 20 mm, material: steel}
-  g3: {shaft: input, teeth: 30, module: 2 mm, face_width: 12 mm, bore_diameter: 20 mm, material: steel}
-  g4: {shaft: output, mounting: loose, teeth: 30, module: 2 mm, face_width: 12 mm,
-       bore_diameter: 20 mm, material: steel}
-meshes:
-  - {gears: [g1, g2], backlash: 80 um, damping_ratio: 0.02,
-     stiffness: {model: fourier, fourier: {mean: 2e8 N/m}}}
-  - {gears: [g3, g4], backlash: 80 um, damping_ratio: 0.02,
-     stiffness: {model: fourier, fourier: {mean: 1.5e8 N/m}}}
-operating:
-  speed: {shaft: input, value: 3000 rpm}
-  loads:
-    - {on: output, torque: 20 N*m}
-    - {on: g4, torque: )" +
-         drag + R"(}
-  excitation:
-    - {order: 2, amplitude: 200 rad/s^2, phase: 0 deg}
-)";
+  std::string yaml =
+      ReadWholeFile(std::filesystem::path(GEARNVH_TEST_DATA_DIR) / "linear_train.yaml");
+  const auto insert_before = [&yaml](const std::string& line, const std::string& text) {
+    const size_t at = yaml.find(line);
+    REQUIRE(at != std::string::npos);
+    yaml.insert(at, text);
+  };
+  insert_before("meshes:\n",
+                "  g3: {shaft: input, teeth: 30, module: 2 mm, face_width: 12 mm, bore_diameter: "
+                "20 mm, material: steel}\n"
+                "  g4: {shaft: output, mounting: loose, teeth: 30, module: 2 mm, face_width: 12 mm,"
+                "\n       bore_diameter: 20 mm, material: steel}\n");
+  insert_before("operating:\n",
+                "  - {gears: [g3, g4], backlash: 80 um, damping_ratio: 0.02,\n"
+                "     stiffness: {model: fourier, fourier: {mean: 1.5e8 N/m}}}\n");
+  insert_before("  excitation:\n", "    - {on: g4, torque: " + drag + "}\n");
+  return yaml;
 }
 
 // The eigenvalues of the tier-1 generator in drive contact on every mesh on the quotient by the

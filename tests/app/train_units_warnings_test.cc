@@ -121,5 +121,45 @@ TEST_CASE("a train with a tiny loose gear is warned about before its slow run",
   CHECK(std::find(op.warnings.begin(), op.warnings.end(), said[0]) != op.warnings.end());
 }
 
+TEST_CASE("the slow-run estimate's sub-step follows the solver's bound with tooth friction",
+          "[train][warnings]") {
+  // The tiny loose gear g4 (1e-9 kg m^2) of the test above dominates every bound: on its
+  // coordinate alone (the others are >= 1e-3 kg m^2, so they move the results by ~1e-6) the
+  // frictionless bound is omega = sqrt(k v^2 / J) (damping's c v^2 / J = 2 zeta omega is smaller)
+  // and with friction rho = sqrt(omega^2 + k n) + c v^2 / J + c n, n = max_j |u_j - v| |v| / J the
+  // solver's friction term (docs/gear-trains.md, "Events"). Tolerance 1e-4: the heavy bodies.
+  TrainSpec spec = testing::RattlerTrain(1500.0);
+  spec.gears[3].gear.inertia = 1e-9;
+  const TrainTables plain = BuildTrainTables(spec, BuildGearTrain(spec));
+  spec.meshes[1].mesh.friction_coefficient = 0.1;
+  const TrainTables rubbing = BuildTrainTables(spec, BuildGearTrain(spec));
+  const int loose = 2;  // bodies: input, layshaft, g4
+  const TrainMeshTable& mt = rubbing.meshes[1];
+  REQUIRE(mt.has_friction());
+  REQUIRE(!plain.meshes[1].has_friction());
+  double k = 0.0;
+  for (double kj : mt.k_drive) k += kj / static_cast<double>(mt.k_drive.size());
+  const double J = 1e-9, v = std::abs(mt.v[loose]);
+  double slide = 0.0;
+  for (int j = 0; j < mt.segments(); ++j) {
+    slide = std::max(slide, std::abs(mt.ForceVector(j, true)[loose] - mt.v[loose]));
+  }
+  REQUIRE(slide > 0.0);
+  const double omega = std::sqrt(k * v * v / J);
+  const double n = slide * v / J;
+  const double rho = std::sqrt(omega * omega + k * n) + mt.damping * (v * v / J + n);
+
+  const app::RunCostEstimate without = app::EstimateRunCost(plain);
+  const app::RunCostEstimate with = app::EstimateRunCost(rubbing);
+  CHECK(without.substep_s == Approx(0.5 / omega).epsilon(1e-4));
+  CHECK(with.substep_s == Approx(0.5 / rho).epsilon(1e-4));
+  CHECK(with.substep_s < without.substep_s);
+  // The mode (and so the body named) is the frictionless one either way.
+  CHECK(with.mode_hz == Approx(without.mode_hz).epsilon(1e-12));
+  CHECK(with.body == loose);
+  const std::string w = app::SlowRunWarning(rubbing, 0.1);
+  CHECK(w.find(fmt::format("about {:.3g} sub-steps", 0.1 / with.substep_s)) != std::string::npos);
+}
+
 }  // namespace
 }  // namespace gearnvh

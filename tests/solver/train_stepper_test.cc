@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <iostream>
+#include <limits>
 #include <numbers>
 #include <string>
 #include <utility>
@@ -263,6 +264,31 @@ TEST_CASE("train: the CVODE reference agrees on a rattling train", "[solver][tra
     ++k;
   }
   CHECK(k >= 10);
+}
+
+TEST_CASE("train: the CVODE reference steps over a piece too short for its absolute time",
+          "[solver][train][reference]") {
+  // CVODE refuses an interval under 2u max(|t0|, |tout|) (CV_TOO_CLOSE). Late in a long run one
+  // ulp of the time is more than 1e-12 of a grid segment (here after 12000 segments, t / h ~ 1e4
+  // > 1 / (1e-12 / 2.2e-16) ~ 4500), so a run ending one ulp after a grid boundary leaves a
+  // last piece that only the absolute-time guard (NegligiblePiece) steps over; without it the run
+  // fails (CV_TOO_CLOSE). The loaded two-stage train; rtol 1e-6 keeps it cheap (~1 s).
+  const Model s(TwoStage(100.0, 0.0, 1000.0));
+  const TrainTables& t = s.tables;
+  TrainGrid grid(t);
+  for (int k = 0; k < 12000; ++k) grid.Next();
+  const double boundary = grid.start();
+  const double h = grid.end() - grid.start();
+  const double piece = std::nextafter(boundary, 2.0 * boundary) - boundary;  // one ulp
+  REQUIRE(piece > 1e-12 * h);
+  REQUIRE(piece < std::numeric_limits<double>::epsilon() * boundary);  // 2u t, u = eps / 2
+  const auto [z0, states0] = TrainStaticState(t);
+  TrainReferenceOptions ro;
+  ro.end_time = boundary + piece;
+  ro.rtol = 1e-6;
+  const TrainReferenceResult ref = SimulateTrainReference(t, z0, states0, ro);
+  INFO(ref.message);
+  CHECK(ref.success);
 }
 
 TEST_CASE("train: a tiny cache limit forces evictions and changes nothing", "[solver][train]") {

@@ -25,6 +25,9 @@ struct OrbitScanOptions {
   // Cancellation (SolverOptions::cancel): once set, the point in flight and the rest fail with
   // the message "cancelled". Not owned; may be null.
   const std::atomic<bool>* cancel = nullptr;
+  // How an input error of a point is worded: the library's message names its own fields
+  // ("tier"); the app words it at the path or keyword the user set. Empty: what().
+  std::function<std::string(const InputError&)> input_error_message;
   void Validate() const;
 };
 

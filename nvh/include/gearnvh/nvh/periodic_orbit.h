@@ -26,11 +26,20 @@
 #include <string>
 #include <vector>
 
+#include "gearnvh/model/input_error.h"
 #include "gearnvh/solver/exact_solver.h"
 
 namespace gearnvh {
 
-// N_0 above; throws InputError when the orders are not commensurate with the mesh within 1e-9
+// Forcing with no common period of at most 100000 mesh cycles: an InputError at the library's
+// name "excitation" with the rule; the app names where the user wrote the orders
+// (operating.excitation).
+class NoCommonPeriod : public InputError {
+ public:
+  NoCommonPeriod();
+};
+
+// N_0 above; throws NoCommonPeriod when the orders are not commensurate with the mesh within 1e-9
 // (or N_0 would exceed 100000 mesh cycles).
 long BasePeriodCycles(const SegmentTables& tables);
 

@@ -1,6 +1,6 @@
-// ReducedModel: a component model reduced to one of the modal tiers of docs/design.md §3, ready for the
-// exact solver — dense M, C, K, G, gap and friction vectors and forcing in reduced coordinates, and
-// the recovery matrix back to the physical DOF (q_full = T x).
+// ReducedModel: a component model reduced to one of the modal tiers of docs/design.md §3, ready for
+// the exact solver — dense M, C, K, G, gap and friction vectors and forcing in reduced coordinates,
+// and the recovery matrix back to the physical DOF (q_full = T x).
 //
 // Tiers (boundary = gear-node DOF kept physically, so delta = v^T x stays exact):
 //   tier 1   2 DOF  pinion and wheel torsion (Guyan: the shafts rotate rigidly)
@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "gearnvh/model/component_model.h"
+#include "gearnvh/model/input_error.h"
 
 namespace gearnvh {
 
@@ -72,11 +73,33 @@ struct ReducedModel {
 // True when the component model can be reduced to `tier` (tiers 4, 5 and N20 need shaft interiors).
 bool TierAvailable(const ComponentModel& model, Tier tier);
 
-// Throws InputError (analysis.tier) when the tier is not available: the one rule `check` and the
-// solver commands share.
+// A tier the model cannot be reduced to. An InputError at the library's own name "tier" (the
+// argument), the tier's name and the rule; the app names where the user chose the tier
+// (analysis.tier, the Python keyword tier).
+class TierNotAvailable : public InputError {
+ public:
+  TierNotAvailable(Tier tier, std::string requirement)
+      : InputError("tier", 0, TierName(tier), std::move(requirement)), tier_(tier) {}
+  Tier tier() const { return tier_; }
+
+ private:
+  Tier tier_;
+};
+
+// A structure whose interior cannot be reduced or solved statically (a direction no bearing
+// holds). An InputError at the library's name "structure"; the app names the shafts: of the file.
+class StructureNotReducible : public InputError {
+ public:
+  explicit StructureNotReducible(std::string reason)
+      : InputError("structure", 0, "", std::move(reason)) {}
+};
+
+// Throws TierNotAvailable when the tier is not available: the one rule `check` and the solver
+// commands share.
 void RequireTierAvailable(const ComponentModel& model, Tier tier);
 
-// Reduces the model. Throws InputError (analysis.tier) when the tier is not available.
+// Reduces the model. Throws TierNotAvailable when the tier is not available and
+// StructureNotReducible when the interior cannot be reduced.
 ReducedModel ReduceModel(const ComponentModel& model, Tier tier,
                          const ReductionOptions& options = {});
 

@@ -52,8 +52,8 @@ struct TrainReducedModel {
 // Tiers 4, 5 and N20 need at least one elastic shaft.
 bool TrainTierAvailable(const TrainStructure& structure, Tier tier);
 
-// Throws InputError (analysis.tier) when the tier is not available, and (shafts) when the interior
-// cannot be reduced (a direction no bearing holds).
+// Throws TierNotAvailable when the tier is not available, and StructureNotReducible when the
+// interior cannot be reduced (a direction no bearing holds).
 TrainReducedModel ReduceTrain(const TrainStructure& structure, Tier tier,
                               const ReductionOptions& options = {});
 

@@ -39,7 +39,7 @@ TrainTables BuildReducedTrainTables(const TrainSpec& spec, const GearTrain& trai
 
 // The tables of `tier`: tier 1 by BuildTrainTables (one torsional DOF per body, the bodies' own
 // polar inertias), any other by AssembleTrainStructure, ReduceTrain and BuildReducedTrainTables.
-// Throws InputError when the tier is not available (TrainTierAvailable).
+// Throws TierNotAvailable when the tier is not available (TrainTierAvailable).
 TrainTables BuildTrainTablesAtTier(const TrainSpec& spec, const GearTrain& train, Tier tier,
                                    const TrainTableOptions& options = {});
 
