@@ -46,7 +46,7 @@ void TrainStepperOptions::Validate() const {
     throw InputError("TrainStepperOptions.fusion_min_periods", 0,
                      std::to_string(fusion_min_periods), "must be >= 1");
   }
-  if (fusion_limit_bytes < 1) {
+  if (fusion_limit_bytes == 0) {
     throw InputError("TrainStepperOptions.fusion_limit_bytes", 0,
                      std::to_string(fusion_limit_bytes), "must be >= 1");
   }
