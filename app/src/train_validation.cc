@@ -218,66 +218,37 @@ ValidationRow CompareFusionWithStepping(const TrainTables& t, const TrainTables&
     return SkippedRow(name,
                       "the meshes and engine orders have no common period: fusion does not apply");
   }
-  TrainStepperOptions stepped;
-  stepped.jumps = false;
-  stepped.fusion_levels = 0;
-  stepped.cancel = cancel;
-  const long limit = stepped.max_cycle_map_segments;
+  const long limit = TrainStepperOptions{}.max_cycle_map_segments;
   const long period = CountCommonPeriodSegments(t, limit + 1);
   if (period > limit) {
     return SkippedRow(name, fmt::format("the common period has more than {} grid segments: "
                                         "fusion does not apply",
                                         limit));
   }
-  const TrainStepperOptions defaults;
-  TrainSegmentRuns runs(fused_tables, defaults.fusion_levels, defaults.fusion_limit_bytes, limit);
-  TrainStepper stepper(t, stepped, z0, states0);
-  TrainGrid grid(t);
-  long fused_runs = 0, fused_segments = 0, runs_with_event = 0;
-  double worst = 0.0;
   const long segments = kFusionPeriods * period;
-  for (long k = 0; k < segments;) {
-    Eigen::VectorXd z = stepper.state();
-    TrainGrid fused_grid = grid;
-    const long r = runs.Advance(k % period, stepper.states(),
-                                std::numeric_limits<double>::infinity(), true, fused_grid, z);
-    const long before = stepper.summary().events + stepper.summary().grazing;
-    for (long i = 0; i < std::max(r, 1L); ++i, ++k) {
-      if (!stepper.Run(grid.end())) {
-        return {name,  1.0,   kFusionTolerance,
-                false, false, "the stepped run stopped: " + TrainStepperMessage(stepper.summary())};
-      }
-      grid.Next();
-    }
-    if (r == 0) continue;
-    ++fused_runs;
-    fused_segments += r;
-    if (stepper.summary().events + stepper.summary().grazing != before) ++runs_with_event;
-    double scale = 0.0, difference = 0.0;
-    for (const TrainMeshTable& mt : t.meshes) {
-      scale = std::max(scale, std::abs(mt.v.dot(stepper.state().head(t.n))));
-      difference =
-          std::max(difference, std::abs(mt.v.dot(stepper.state().head(t.n) - z.head(t.n))));
-    }
-    worst = std::max(worst, scale > 0.0 ? difference / scale : difference);
+  const SegmentRunCheck check =
+      CheckSegmentRuns(t, fused_tables, z0, states0, segments, EventMethod::kSpectral, cancel);
+  if (check.stopped) {
+    return {name,  1.0,   kFusionTolerance,
+            false, false, "the stepped run stopped: " + TrainStepperMessage(check.summary)};
   }
   const std::string where =
       fmt::format("{} common periods ({} grid segments) from the static state, stepped",
                   kFusionPeriods, segments);
-  if (fused_runs == 0) {
+  if (check.runs == 0) {
     return SkippedRow(
-        name, fmt::format("no run was certified along {} ({} refusals)", where, runs.refusals()));
+        name, fmt::format("no run was certified along {} ({} refusals)", where, check.refusals));
   }
   ValidationRow row = CheckRow(
-      name, runs_with_event == 0 ? worst : 1.0, kFusionTolerance,
+      name, check.runs_with_event == 0 ? check.worst_te : 1.0, kFusionTolerance,
       fmt::format("max over the runs of |TE difference| / |TE| at the run's end, each fused run "
                   "against the same grid segments stepped from the same state, along {}; {} runs "
                   "({} grid segments) certified, {} refusals",
-                  where, fused_runs, fused_segments, runs.refusals()));
-  if (runs_with_event > 0) {
+                  where, check.runs, check.fused, check.refusals));
+  if (check.runs_with_event > 0) {
     row.pass = false;
     row.detail +=
-        fmt::format("; {} certified runs had a contact event when stepped", runs_with_event);
+        fmt::format("; {} certified runs had a contact event when stepped", check.runs_with_event);
   }
   return row;
 }

@@ -59,6 +59,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <unordered_map>
@@ -155,5 +156,26 @@ class TrainSegmentRuns {
   Eigen::MatrixXd wall_terms_;         // walls x 2^L: -sigma u_i (the error input's wall part)
   Eigen::VectorXd slots_, dev_, end_;  // m
 };
+
+// Segment-run fusion checked against stepping, run by run (validate's row, the tests): a stepper
+// on `tables` (no jumps, no fusion, event method `method`) walks grid segment by grid segment
+// from z0 in states0 over `segments` grid segments; at every grid segment start its state is
+// offered to a TrainSegmentRuns on `fused_tables` (default levels and limit, tables built as it
+// goes) and each certified run is compared with the same grid segments stepped from the same
+// state. Each run from the stepped state, not end to end: a rattle amplifies any rounding
+// difference about tenfold per millisecond.
+struct SegmentRunCheck {
+  long runs = 0, fused = 0, refusals = 0;
+  long runs_with_event = 0;  // certified runs whose stepped grid segments had an event or grazing
+  long events = 0;           // of the stepped walk
+  double worst_te = 0.0;     // max over runs of max_i |TE_i difference| / max_i |TE_i|, run's end
+  bool stopped = false;      // the stepper stopped (summary says why); nothing after it checked
+  TrainStepperSummary summary;  // the stepper's
+};
+SegmentRunCheck CheckSegmentRuns(const TrainTables& tables, const TrainTables& fused_tables,
+                                 const Eigen::VectorXd& z0,
+                                 const std::vector<ContactState>& states0, long segments,
+                                 EventMethod method = EventMethod::kSpectral,
+                                 const std::atomic<bool>* cancel = nullptr);
 
 }  // namespace gearnvh
