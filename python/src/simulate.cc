@@ -34,7 +34,11 @@ std::shared_ptr<Simulation> Simulate(const Gearbox& gb, const py::object& tier,
   solver.transient_cycles = transient.value_or(spec.analysis.transient_cycles);
   ApplyLadderMethod(NamingSource(source, [&] { return app::ParseMethod(method, "method"); }),
                     solver);
-  NamingSource(source, [&] { solver.Validate(); });
+  NamingSource(source, [&] {
+    solver.Validate();
+    RequirePairRunLength(spec, spec.operating.speed, solver.cycles, solver.transient_cycles, cycles,
+                         transient, true);
+  });
   return RunInterruptible(
       [&](CallControl& control) {
         return NamingSource(source, [&] {
