@@ -285,7 +285,17 @@ int Main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
-    std::cerr << "error: " << e.what() << "\nRun with --help for more information.\n";
+    std::string message = e.what();
+    // A mistyped command: CLI11 only says that a subcommand is required.
+    if (app.get_subcommands().empty() && argc > 1 && argv[1][0] != '-') {
+      std::vector<std::string> commands;
+      for (const CLI::App* c : app.get_subcommands({})) commands.push_back(c->get_name());
+      const std::string close = gearnvh::config::ClosestMatch(argv[1], commands);
+      message = std::string("unknown command '") + argv[1] + "'" +
+                (close.empty() ? "" : " (did you mean " + close + "?)") + "; commands: ";
+      for (size_t i = 0; i < commands.size(); ++i) message += (i > 0 ? ", " : "") + commands[i];
+    }
+    std::cerr << "error: " << message << "\nRun with --help for more information.\n";
     return gearnvh::app::kExitUsage;
   }
   // Under mpirun only the commands that split their work across ranks run on every rank; for the

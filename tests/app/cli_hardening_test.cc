@@ -340,9 +340,21 @@ TEST_CASE("report: a signal mid-run removes the staging folder and keeps the ear
 
 #endif  // GEARNVH_HAVE_RENDER
 
-TEST_CASE("simulate: SIGINT or SIGTERM mid-run says on stderr that the run was stopped and the "
-          "earlier results kept",
+TEST_CASE("a mistyped command is named, with the closest command and the list",
           "[cli][hardening]") {
+  const auto typo = RunCommand(kExe + " simulat " + kWhine);
+  CHECK(typo.exit_code == 2);
+  CHECK(typo.err.find("error: unknown command 'simulat' (did you mean simulate?); commands: "
+                      "check, simulate, ") != std::string::npos);
+  const auto unknown = RunCommand(kExe + " bogus");
+  CHECK(unknown.exit_code == 2);
+  CHECK(unknown.err.find("error: unknown command 'bogus'; commands: check, ") != std::string::npos);
+}
+
+TEST_CASE(
+    "simulate: SIGINT or SIGTERM mid-run says on stderr that the run was stopped and the "
+    "earlier results kept",
+    "[cli][hardening]") {
   const TempDir dir;
   const fs::path out = dir.path() / "run";
   const auto first = RunCommand(kExe + " simulate " + kWhine +
