@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <exception>
 #include <iostream>
+#include <new>
 
 #include "atlas_command.h"
 #include "check_command.h"
@@ -322,6 +323,12 @@ int Main(int argc, char** argv) {
   } catch (const gearnvh::app::IoError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return gearnvh::app::kExitIo;
+  } catch (const std::bad_alloc&) {
+    // Not a bug: the run asked for more memory than the process may have (ulimit -v, the machine).
+    std::cerr << "error: out of memory: this run needs more memory than the process can get; "
+                 "fewer recorded --cycles (32 samples of each are kept), fewer --jobs or fewer "
+                 "atlas cells need less\n";
+    return gearnvh::app::kExitInput;
   } catch (const std::exception& e) {
     std::cerr << "internal error: " << e.what() << "\n";
     return gearnvh::app::kExitInternal;
