@@ -45,13 +45,13 @@ void RequirePairRunLength(const GearboxSpec& spec, double lowest_speed, long cyc
                                  transient_keyword, app::TrainOptionNames{""});
 }
 
-Tier TierArgument(const py::object& tier, Tier fallback) {
+Tier TierArgument(const py::object& tier, Tier fallback, const std::string& source) {
   if (tier.is_none()) return fallback;
   const std::string text = py::str(tier);
   try {
     return app::ParseTier(text);
   } catch (const InputError& e) {
-    throw InputError("tier", 0, "'" + text + "'", e.rule());
+    throw InputError("tier", 0, "'" + text + "'", e.rule(), source);
   }
 }
 

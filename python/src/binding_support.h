@@ -141,7 +141,8 @@ py::object ToPython(const nlohmann::json& doc);
 py::array_t<double> AxisValues(const AtlasAxis& a);
 
 // tier= : None (the file's analysis.tier), 1..5, or "N40 full", "N20 simple", "N20 MTA".
-Tier TierArgument(const py::object& tier, Tier fallback);
+// InputError naming `tier` and the gearbox's `source` otherwise.
+Tier TierArgument(const py::object& tier, Tier fallback, const std::string& source);
 
 // The command line's limits on a pair's counts given as keywords (named `cycles`, `transient`):
 // cycles + transient mesh cycles at `lowest_speed` (rad/s) last at most

@@ -36,7 +36,7 @@ std::shared_ptr<Orbits> RunOrbits(const Gearbox& gb, int period,
   const std::string source = gb.source();
   OrbitScanOptions options;
   options.input_error_message = app::UserWording(kKeywordInputNames);
-  options.tier = TierArgument(tier, spec.analysis.tier);
+  options.tier = TierArgument(tier, spec.analysis.tier, source);
   options.period = period;
   options.transient_cycles = transient.value_or(spec.analysis.transient_cycles);
   options.events =

@@ -28,7 +28,7 @@ std::shared_ptr<Simulation> Simulate(const Gearbox& gb, const py::object& tier,
                                      const std::string& method, const py::object& progress) {
   const GearboxSpec spec = gb.spec();
   const std::string source = gb.source();
-  const Tier chosen = TierArgument(tier, spec.analysis.tier);
+  const Tier chosen = TierArgument(tier, spec.analysis.tier, source);
   SolverOptions solver;
   solver.cycles = cycles.value_or(spec.analysis.cycles);
   solver.transient_cycles = transient.value_or(spec.analysis.transient_cycles);

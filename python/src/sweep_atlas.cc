@@ -37,7 +37,7 @@ std::shared_ptr<Sweep> RunSweep(const Gearbox& gb, const py::object& tier,
                                 const std::string& method, const py::object& progress) {
   const GearboxSpec spec = gb.spec();
   const std::string source = gb.source();
-  const Tier chosen = TierArgument(tier, spec.analysis.tier);
+  const Tier chosen = TierArgument(tier, spec.analysis.tier, source);
   app::SpeedSweepOptions options;
   options.cycles = cycles.value_or(options.cycles);
   options.transient_cycles = transient.value_or(options.transient_cycles);
@@ -80,7 +80,7 @@ std::shared_ptr<Atlas> RunAtlas(const Gearbox& gb, const std::optional<std::stri
   const std::string source = gb.source();
   AtlasOptions options;
   options.input_error_message = app::UserWording(kKeywordInputNames);
-  options.tier = TierArgument(tier, spec.analysis.tier);
+  options.tier = TierArgument(tier, spec.analysis.tier, source);
   options.cycles = cycles.value_or(options.cycles);
   options.transient_cycles = transient.value_or(options.transient_cycles);
   options.threads = jobs;
