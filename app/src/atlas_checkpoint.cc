@@ -24,7 +24,7 @@ std::string AtlasCheckpointSettings(const std::string& file_text, const AtlasAxi
   return j.dump();
 }
 
-std::vector<AtlasCell> PrepareAtlasCheckpoint(const AtlasCheckpoint& cp, bool resume, int total) {
+std::vector<AtlasCell> PrepareAtlasCheckpoint(const AtlasCheckpoint& cp, bool resume) {
   namespace fs = std::filesystem;
   std::vector<AtlasCell> done;
   const fs::path settings = cp.dir / "settings.json";
@@ -44,13 +44,12 @@ std::vector<AtlasCell> PrepareAtlasCheckpoint(const AtlasCheckpoint& cp, bool re
       while (std::getline(cells, line)) {
         try {
           const AtlasCell c = AtlasCellFromJson(nlohmann::json::parse(line));
-          if (c.ok && c.ix + 0 >= 0 && c.iy >= 0) done.push_back(c);
+          if (c.ok && c.ix >= 0 && c.iy >= 0) done.push_back(c);
         } catch (const std::exception&) {
           // A line cut short by the kill: that cell is computed again.
         }
       }
     }
-    (void)total;
     return done;
   }
   fs::remove_all(cp.dir);

@@ -22,6 +22,6 @@ std::string AtlasCheckpointSettings(const std::string& file_text, const AtlasAxi
                                     const AtlasAxis& y, const AtlasOptions& o);
 
 // Rank 0: prepares the checkpoint and returns the cells already computed (resume).
-std::vector<AtlasCell> PrepareAtlasCheckpoint(const AtlasCheckpoint& cp, bool resume, int total);
+std::vector<AtlasCell> PrepareAtlasCheckpoint(const AtlasCheckpoint& cp, bool resume);
 
 }  // namespace gearnvh::app

@@ -77,7 +77,7 @@ int RunAtlas(const AtlasCommandOptions& options) {
       text << in.rdbuf();
       checkpoint = AtlasCheckpoint{std::filesystem::path(*options.out) / ".atlas-checkpoint",
                                    AtlasCheckpointSettings(text.str(), *x, *y, atlas)};
-      if (rank == 0) restored = PrepareAtlasCheckpoint(*checkpoint, options.resume, total);
+      if (rank == 0) restored = PrepareAtlasCheckpoint(*checkpoint, options.resume);
     }
     std::string restored_text;
     if (rank == 0) {
