@@ -2,7 +2,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <optional>
 
 #include "gearnvh/solver/event_locator.h"
 #include "gearnvh/solver/tangent_propagator.h"
@@ -204,9 +203,10 @@ template <int M>
     const double u = state.z[t_.input_slot(q)];
     if (u != 0.0) w += u * Column(block + static_cast<size_t>(q) * padded, padded);
   }
-  // Not settled: DoStep takes the entry state from w_.
-  auto leave = [&](Entry entry) {
+  // Not settled: DoStep takes the entry state from w_ and the walls the screen cleared.
+  auto leave = [&](Entry entry, unsigned clear_walls) {
     w_ = entry_.head(m);
+    entered_clear_walls_ = clear_walls;
     return entry;
   };
   const double* screen = block + static_cast<size_t>(t_.inputs) * padded;
@@ -220,10 +220,10 @@ template <int M>
     ActiveWalls(sys, state.contact, walls);
     const Eigen::Map<const Eigen::Matrix<double, M, 1>> head(entry_.data(), m);
     if (!sp.gaps[walls[i].gap].ClearOfWall(head, walls[i].sign, gap_tolerance_))
-      return leave(Entry::kNearWall);
+      return leave(Entry::kNearWall, (1u << i) - 1);  // the walls before i are clear
   }
   const double* carry = state.allow_carry ? Carry(segment, state.contact) : nullptr;
-  if (carry == nullptr) return leave(Entry::kClear);
+  if (carry == nullptr) return leave(Entry::kClear, (1u << sp.walls) - 1);
   CarryProductSized<M>(carry, padded, m, entry_.data(), carried_.data());
   if (segment + 1 < t_.segments()) {
     carry_segment_ = segment + 1;
@@ -256,9 +256,8 @@ int SpectralLocator::CarryThroughSized(int segment, long cycle, SegmentTables::C
     t_.SetInputs(cycle, j, state.z, phase);
     const Entry entry = EnterCarriedSized<M>(j, state);
     if (entry != Entry::kSettled) {
-      // DoStep(j) takes this verdict and w_ instead of entering again.
+      // DoStep(j) takes w_ and the screen's verdict instead of entering again.
       entered_segment_ = j;
-      entered_clear_ = entry == Entry::kClear;
       return j;
     }
   }
@@ -283,14 +282,12 @@ bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
   bool carried = state.z_stale;
   const int entered = entered_segment_;
   entered_segment_ = -1;
-  // The screen's verdict on the entry state when EnterCarried has taken it (first pass only).
-  std::optional<bool> entry_clear;
-  if (carried && entered == segment) {
-    entry_clear = entered_clear_;  // CarryThrough entered this segment and left w_ set
-  } else if (carried) {
-    const Entry entry = EnterCarried(segment, state);
-    if (entry == Entry::kSettled) return true;
-    entry_clear = entry == Entry::kClear;
+  // The walls the screen cleared on the entry state when EnterCarried has taken it (first pass
+  // only; CarryThrough may have entered this segment and left w_ and the verdict set).
+  bool screened = false;
+  if (carried && entered != segment && EnterCarried(segment, state) == Entry::kSettled) return true;
+  if (carried) {
+    screened = true;
   } else if (!SwitchIfOutsideAtStart(segment, start, state, handler)) {
     return false;
   }
@@ -308,21 +305,25 @@ bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
     }
     GapWall walls[kMaxWalls];
     const int count = ActiveWalls(sys, state.contact, walls);
-    // A whole segment far from every wall (most of them) is settled by the screen: two dot
-    // products per wall instead of loading the closed form and searching it.
-    bool clear = !moved;
-    if (entry_clear) {
-      clear = *entry_clear;
-      entry_clear.reset();
-    } else {
-      for (int i = 0; i < count && clear; ++i)
-        clear = sp.gaps[walls[i].gap].ClearOfWall(w_, walls[i].sign, gap_tolerance_);
+    // A wall the screen clears for the whole segment (most segments: every wall) is not reached
+    // in it: two dot products instead of loading the closed form and searching it.
+    unsigned clear_walls = 0;
+    if (screened) {
+      clear_walls = entered_clear_walls_;
+      screened = false;
+    } else if (!moved) {
+      for (int i = 0; i < count; ++i) {
+        if (sp.gaps[walls[i].gap].ClearOfWall(w_, walls[i].sign, gap_tolerance_))
+          clear_walls |= 1u << i;
+      }
     }
+    const auto searched = [clear_walls](int i) { return (clear_walls >> i & 1u) == 0; };
     double best = -1.0;
     int best_wall = -1;
-    if (!clear) {
+    if (clear_walls != (1u << count) - 1) {
       bool near_wall = false;
       for (int i = 0; i < count; ++i) {
+        if (!searched(i)) continue;
         ClosedFormGap& gap = sp.gaps[walls[i].gap];
         gap.Load(w_);
         // Carried: the time-triggered check on the closed form; near a wall it is decided on z.
@@ -335,6 +336,7 @@ bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
         continue;
       }
       for (int i = 0; i < count; ++i) {
+        if (!searched(i)) continue;
         const double root = sp.gaps[walls[i].gap].FirstRise(walls[i].sign, remaining);
         if (root >= 0.0 && (best < 0.0 || root < best)) best = root, best_wall = i;
       }

@@ -305,7 +305,8 @@ class DyadicLocator final : public SubstepLocator {
 // p(t) + sum e^{sigma t}(alpha cos wt + beta sin wt) + sum gamma e^{lambda t} (ClosedFormGap);
 // its first rise is found with certified bounds and Newton. A segment start is first screened
 // (ClosedFormGap::ClearOfWall: a few dot products with rows precomputed per segment, state and
-// wall); a wall it clears is not searched, so most segments skip Load() and the search, and
+// wall); a wall it clears is not searched, so most segments skip Load() and the search (and a
+// segment with an event searches only the walls the screen did not clear), and
 // the result is the same (the screen is sufficient and keeps the search's rounding margin).
 // At an event z <- S e^{B t*} w and the
 // search restarts in the new state; after the last event of a segment z <- S e^{B(h - t)} w.
@@ -374,7 +375,8 @@ class SpectralLocator final : public EventLocator {
   // the screen of every active wall and, when every wall is clear and (segment, state) carries,
   // the carry itself (w_{j+1} = C_j w, or z at the cycle end): the whole work of ~31 of 32
   // segments of a strong-rattle cycle, all of it read from the pair's block. kClear / kNearWall:
-  // not settled, w_ holds the entry state and the screen's verdict is returned. M is the state
+  // not settled, w_ holds the entry state, the screen's verdict is returned and the walls it
+  // cleared are kept (entered_clear_walls_). M is the state
   // dimension when it is known at compile time and fits one padded column (tier 1: m = 6, or 7
   // with manufacturing errors; every column one 8-double vector, so the carry is m vector FMAs),
   // otherwise Eigen::Dynamic; EnterCarried() picks the instance (a branch on m that never changes
@@ -412,10 +414,11 @@ class SpectralLocator final : public EventLocator {
   Eigen::VectorXd carried_;
   int carry_segment_ = -1;
   ContactState carry_state_ = ContactState::kFree;
-  // The segment CarryThrough stopped at (-1: none) and its screen's verdict: w_ holds its entry
-  // state and the stepper's next call is DoStep on it, which takes both instead of entering again.
+  // The segment CarryThrough stopped at (-1: none); w_ holds its entry state and the stepper's next
+  // call is DoStep on it, which takes w_ and the screen's verdict instead of entering again.
   int entered_segment_ = -1;
-  bool entered_clear_ = false;
+  // The last carried entry's verdict: bit i set when active wall i is clear for the whole segment.
+  unsigned entered_clear_walls_ = 0;
 };
 
 // The locator of `options.events`.
