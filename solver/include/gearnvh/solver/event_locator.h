@@ -347,6 +347,9 @@ class SpectralLocator final : public EventLocator {
     // Its carried-segment block in blocks_ (filled by Build) and its active walls.
     double* block = nullptr;
     int walls = 0;
+    // Per active wall the closed form's curved-test rows (ClosedFormGap::CurvedScreenRow, the value
+    // and rate rows times the wall's sign) in curved_, padded as the block's columns.
+    double* curved = nullptr;
     // Whether the block holds the carry matrix: C_j (to the next segment) or S_j e^{D_j h_j}
     // (last segment of the cycle). carry_built: decided on first use.
     bool carries = false;
@@ -382,6 +385,11 @@ class SpectralLocator final : public EventLocator {
   // otherwise Eigen::Dynamic; EnterCarried() picks the instance (a branch on m that never changes
   // during a run).
   enum class Entry { kSettled, kClear, kNearWall };
+  // The walls the screen clears for the whole segment from w = entry_ (bit i: active wall i):
+  // ClosedFormGap::ClearOfWall on the copies of its rows in the block and in curved_.
+  template <int M>
+  unsigned ClearWallsSized(const System& sp, int segment) const;
+  unsigned ClearWalls(const System& sp, int segment) const;
   template <int M>
   Entry EnterCarriedSized(int segment, LocatorState& state);
   Entry EnterCarried(int segment, LocatorState& state);
@@ -403,8 +411,8 @@ class SpectralLocator final : public EventLocator {
   // matrix by columns. Every column is padded with zeros to padded_ = m rounded up to 8 doubles
   // (one AVX-512 register at tier 1). Allocated once, filled when a pair is first visited.
   int padded_ = 0;
-  size_t block_doubles_ = 0;
-  std::unique_ptr<double[], FreeAligned> blocks_;
+  size_t block_doubles_ = 0, curved_doubles_ = 0;
+  std::unique_ptr<double[], FreeAligned> blocks_, curved_;
   Eigen::VectorXd entry_;      // w of a carried entry, padded_ entries
   std::vector<double> w_ref_;  // per segment; 0 until its first visit
   TaylorLocator fallback_;
