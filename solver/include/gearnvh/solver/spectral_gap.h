@@ -71,8 +71,9 @@ double ScaledRowNorm(const Eigen::MatrixXd& A, const Eigen::VectorXd& scale);
 SpectralDecomposition DecomposeGenerator(const Eigen::MatrixXd& A, int n, double w_ref,
                                          double horizon, double max_condition);
 
-// The terms of e^{B0 t} = sum_k B0^k t^k / k! that matter for t <= horizon: at least
-// `min_terms`, then until a term is below 1e-18 of the largest; 0 when 64 terms do not get there.
+// The terms of e^{B0 t} = sum_k B0^k t^k / k! that matter for t <= horizon: examines at least
+// `min_terms`, then until a term is below 1e-18 of the largest, and keeps the terms up to the last
+// one not below that cut (every term dropped is below it); 0 when 64 terms do not get there.
 int ZeroClusterSeriesTerms(const Eigen::MatrixXd& B0, double horizon, int min_terms);
 
 // e^{Dt} w for the block-diagonal D of `d`. No allocation: `out` has the size of w and `scratch`
