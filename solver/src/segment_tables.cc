@@ -37,17 +37,20 @@ double SegmentTables::MeanExcitation(double t0, double h) const {
 }
 
 void SegmentTables::PrepareExcitationWindows() {
-  excitation_windows.clear();
-  excitation_midpoint_cos.clear();
-  excitation_midpoint_sin.clear();
-  for (int j = 0; j < segments(); ++j) {
-    for (const ExcitationOrder& e : excitation) {
-      const double w = e.order * pinion_speed, h = SegmentLength(j);
+  const size_t count = static_cast<size_t>(segments()), orders = excitation.size();
+  excitation_windows.assign(count * orders, 0.0);
+  excitation_midpoint_cos.assign(count * orders, 0.0);
+  excitation_midpoint_sin.assign(count * orders, 0.0);
+  for (size_t j = 0; j < count; ++j) {
+    for (size_t k = 0; k < orders; ++k) {
+      const ExcitationOrder& e = excitation[k];
+      const int segment = static_cast<int>(j);
+      const double w = e.order * pinion_speed, h = SegmentLength(segment);
       const double window = Sinc(0.5 * w * h);
-      const double psi = w * (boundaries[j] + 0.5 * h);
-      excitation_windows.push_back(window);
-      excitation_midpoint_cos.push_back(e.amplitude * window * std::cos(psi));
-      excitation_midpoint_sin.push_back(e.amplitude * window * std::sin(psi));
+      const double psi = w * (boundaries[segment] + 0.5 * h);
+      excitation_windows[j * orders + k] = window;
+      excitation_midpoint_cos[k * count + j] = e.amplitude * window * std::cos(psi);
+      excitation_midpoint_sin[k * count + j] = e.amplitude * window * std::sin(psi);
     }
   }
 }
@@ -73,14 +76,15 @@ void SegmentTables::PrepareCycleInputs(long cycle, CyclePhase& phase) const {
     const ExcitationOrder& e = excitation[k];
     sincos(e.order * pinion_speed * cycle_start + e.phase, &phase.sin[k], &phase.cos[k]);
   }
-  for (size_t j = 0; j < count; ++j) {
-    const size_t first = j * orders;
-    double mean = 0.0;
-    for (size_t k = 0; k < orders; ++k) {
-      mean += phase.sin[k] * excitation_midpoint_cos[first + k] +
-              phase.cos[k] * excitation_midpoint_sin[first + k];
-    }
-    phase.excitation[j] = mean;
+  // Order by order over all segments (the tables are order-major): the same sums per segment, in
+  // the same order, as a loop over orders per segment, in vector instructions over the segments.
+  double* mean = phase.excitation.data();
+  std::fill_n(mean, count, 0.0);
+  for (size_t k = 0; k < orders; ++k) {
+    const double s = phase.sin[k], c = phase.cos[k];
+    const double* midpoint_cos = excitation_midpoint_cos.data() + k * count;
+    const double* midpoint_sin = excitation_midpoint_sin.data() + k * count;
+    for (size_t j = 0; j < count; ++j) mean[j] += s * midpoint_cos[j] + c * midpoint_sin[j];
   }
 }
 

@@ -1,5 +1,6 @@
 // SpectralDecomposition: the generator's block-diagonal form and its propagator (spectral_gap.h).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -67,11 +68,18 @@ Eigen::VectorXd BalancingScale(const Eigen::MatrixXd& A, int n, double w_ref) {
 int ZeroClusterSeriesTerms(const Eigen::MatrixXd& B0, double horizon, int min_terms) {
   const int size = static_cast<int>(B0.rows());
   Eigen::MatrixXd power = Eigen::MatrixXd::Identity(size, size);
+  std::array<double, kMaxSeriesTerms> terms{};
   double largest = 1.0;
   for (int k = 0; k < kMaxSeriesTerms; ++k) {
-    const double term = power.cwiseAbs().maxCoeff() * std::pow(horizon, k);
-    largest = std::max(largest, term);
-    if (k + 1 >= min_terms && term <= kSeriesCut * largest) return k + 1;
+    terms[k] = power.cwiseAbs().maxCoeff() * std::pow(horizon, k);
+    largest = std::max(largest, terms[k]);
+    if (k + 1 >= min_terms && terms[k] <= kSeriesCut * largest) {
+      // The chains of a cluster are mostly short (slot -> velocity -> angle: B0^k vanishes to
+      // rounding from k = 3 on), so the terms before this one may be below the cut as well.
+      int keep = k + 1;
+      while (keep > 1 && terms[keep - 1] <= kSeriesCut * largest) --keep;
+      return keep;
+    }
     power = (B0 * power) / static_cast<double>(k + 1);
   }
   return 0;

@@ -2,7 +2,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <optional>
 
 #include "gearnvh/solver/event_locator.h"
 #include "gearnvh/solver/tangent_propagator.h"
@@ -59,6 +58,7 @@ SpectralLocator::SpectralLocator(const SegmentTables& tables, const SolverOption
       max_carry_error_(options.carry_max_error),
       padded_(PaddedSize(tables.m)),
       block_doubles_(static_cast<size_t>(tables.inputs + 2 * kMaxWalls + tables.m) * padded_),
+      curved_doubles_(static_cast<size_t>(ClosedFormGap::kCurvedRows * kMaxWalls) * padded_),
       entry_(Eigen::VectorXd::Zero(padded_)),
       fallback_(tables, options),
       w_(tables.m),
@@ -72,6 +72,9 @@ SpectralLocator::SpectralLocator(const SegmentTables& tables, const SolverOption
   const size_t doubles = 3 * block_doubles_ * static_cast<size_t>(tables.segments());
   blocks_.reset(static_cast<double*>(
       ::operator new (std::max<size_t>(doubles, 1) * sizeof(double), std::align_val_t{64})));
+  const size_t curved = 3 * curved_doubles_ * static_cast<size_t>(tables.segments());
+  curved_.reset(static_cast<double*>(
+      ::operator new (std::max<size_t>(curved, 1) * sizeof(double), std::align_val_t{64})));
 }
 
 void SpectralLocator::FreeAligned::operator()(double* p) const {
@@ -108,13 +111,23 @@ SpectralLocator::System& SpectralLocator::Build(int segment, ContactState state)
     columns.col(q).head(m) = sp.decomposition.S_inv.col(t_.input_slot(q));
   GapWall walls[kMaxWalls];
   sp.walls = ActiveWalls(sys, state, walls);
+  sp.curved =
+      curved_.get() + (static_cast<size_t>(state) * t_.segments() + segment) * curved_doubles_;
+  std::fill_n(sp.curved, curved_doubles_, 0.0);
+  Eigen::Map<Eigen::MatrixXd> curved(sp.curved, padded_, ClosedFormGap::kCurvedRows * kMaxWalls);
   for (int i = 0; i < sp.walls; ++i) {
     const ClosedFormGap& gap = sp.gaps[walls[i].gap];
     columns.col(t_.inputs + 2 * i).head(m) = walls[i].sign * gap.ScreenStartRow().transpose();
     columns.col(t_.inputs + 2 * i + 1).head(m) = gap.ScreenReachRow().transpose();
+    for (int k = 0; k < ClosedFormGap::kCurvedRows; ++k) {
+      // The value and rate rows times the wall's sign; the weights of |w| as they are.
+      const double sign = k < ClosedFormGap::kCurvedSignedRows ? walls[i].sign : 1.0;
+      curved.col(ClosedFormGap::kCurvedRows * i + k).head(m) =
+          sign * gap.CurvedScreenRow(k).transpose();
+    }
   }
-  statistics_.table_bytes +=
-      2 * sizeof(double) * static_cast<size_t>(m) * m + sizeof(double) * block_doubles_;
+  statistics_.table_bytes += 2 * sizeof(double) * static_cast<size_t>(m) * m +
+                             sizeof(double) * (block_doubles_ + curved_doubles_);
   return sp;
 }
 
@@ -186,6 +199,46 @@ void SpectralLocator::Materialise(LocatorState& state) {
   state.z_stale = false;
 }
 
+// Inlined into EnterCarriedSized (the carried path's loop).
+template <int M>
+[[gnu::always_inline]] inline unsigned SpectralLocator::ClearWallsSized(const System& sp,
+                                                                        int segment) const {
+  constexpr int P = kPadded<M>;
+  using Column = Eigen::Map<const Eigen::Matrix<double, P, 1>, Eigen::Aligned64>;
+  const int padded = padded_;
+  const Column w(entry_.data(), padded);
+  unsigned clear_walls = 0;
+  const double* screen = sp.block + static_cast<size_t>(t_.inputs) * padded;
+  for (int i = 0; i < sp.walls; ++i, screen += 2 * padded) {
+    // ClosedFormGap::ClearOfWall's linear test on the block's rows (the pads are 0) ...
+    const double start = w.dot(Column(screen, padded));
+    if (start + w.cwiseAbs().dot(Column(screen + padded, padded)) + gap_tolerance_ <= 0.0) {
+      clear_walls |= 1u << i;
+      continue;
+    }
+    // ... and where it fails its curved test on the copies of the closed form's rows.
+    const double* rows = sp.curved + static_cast<size_t>(ClosedFormGap::kCurvedRows * i) * padded;
+    auto row = [&](int k) { return Column(rows + static_cast<size_t>(k) * padded, padded); };
+    if (start < -gap_tolerance_ &&
+        ClosedFormGap::CurvedScreenClear(start, w.dot(row(0)), w.dot(row(1)), w.dot(row(2)),
+                                         w.cwiseAbs().dot(row(3)), w.cwiseAbs().dot(row(4)),
+                                         t_.SegmentLength(segment), gap_tolerance_))
+      clear_walls |= 1u << i;
+  }
+  return clear_walls;
+}
+
+unsigned SpectralLocator::ClearWalls(const System& sp, int segment) const {
+  switch (t_.m) {
+    case 6:
+      return ClearWallsSized<6>(sp, segment);
+    case 7:
+      return ClearWallsSized<7>(sp, segment);
+    default:
+      return ClearWallsSized<Eigen::Dynamic>(sp, segment);
+  }
+}
+
 // Inlined into CarryThroughSized's loop: no call and no 64-byte aligned frame per segment.
 template <int M>
 [[gnu::always_inline]] inline SpectralLocator::Entry SpectralLocator::EnterCarriedSized(
@@ -204,26 +257,16 @@ template <int M>
     const double u = state.z[t_.input_slot(q)];
     if (u != 0.0) w += u * Column(block + static_cast<size_t>(q) * padded, padded);
   }
-  // Not settled: DoStep takes the entry state from w_.
-  auto leave = [&](Entry entry) {
+  // Not settled: DoStep takes the entry state from w_ and the walls the screen cleared.
+  auto leave = [&](Entry entry, unsigned clear_walls) {
     w_ = entry_.head(m);
+    entered_clear_walls_ = clear_walls;
     return entry;
   };
-  const double* screen = block + static_cast<size_t>(t_.inputs) * padded;
-  for (int i = 0; i < sp.walls; ++i, screen += 2 * padded) {
-    // ClosedFormGap::ClearOfWall's linear test on the block's rows (the pads are 0) ...
-    const double start = w.dot(Column(screen, padded));
-    if (start + w.cwiseAbs().dot(Column(screen + padded, padded)) + gap_tolerance_ <= 0.0) continue;
-    // ... and where it fails the whole screen on the closed form's own rows.
-    const SegmentSystem& sys = t_.systems[segment][static_cast<int>(state.contact)];
-    GapWall walls[kMaxWalls];
-    ActiveWalls(sys, state.contact, walls);
-    const Eigen::Map<const Eigen::Matrix<double, M, 1>> head(entry_.data(), m);
-    if (!sp.gaps[walls[i].gap].ClearOfWall(head, walls[i].sign, gap_tolerance_))
-      return leave(Entry::kNearWall);
-  }
+  const unsigned clear_walls = ClearWallsSized<M>(sp, segment);
+  if (clear_walls != (1u << sp.walls) - 1) return leave(Entry::kNearWall, clear_walls);
   const double* carry = state.allow_carry ? Carry(segment, state.contact) : nullptr;
-  if (carry == nullptr) return leave(Entry::kClear);
+  if (carry == nullptr) return leave(Entry::kClear, (1u << sp.walls) - 1);
   CarryProductSized<M>(carry, padded, m, entry_.data(), carried_.data());
   if (segment + 1 < t_.segments()) {
     carry_segment_ = segment + 1;
@@ -256,9 +299,8 @@ int SpectralLocator::CarryThroughSized(int segment, long cycle, SegmentTables::C
     t_.SetInputs(cycle, j, state.z, phase);
     const Entry entry = EnterCarriedSized<M>(j, state);
     if (entry != Entry::kSettled) {
-      // DoStep(j) takes this verdict and w_ instead of entering again.
+      // DoStep(j) takes w_ and the screen's verdict instead of entering again.
       entered_segment_ = j;
-      entered_clear_ = entry == Entry::kClear;
       return j;
     }
   }
@@ -283,46 +325,66 @@ bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
   bool carried = state.z_stale;
   const int entered = entered_segment_;
   entered_segment_ = -1;
-  // The screen's verdict on the entry state when EnterCarried has taken it (first pass only).
-  std::optional<bool> entry_clear;
-  if (carried && entered == segment) {
-    entry_clear = entered_clear_;  // CarryThrough entered this segment and left w_ set
-  } else if (carried) {
-    const Entry entry = EnterCarried(segment, state);
-    if (entry == Entry::kSettled) return true;
-    entry_clear = entry == Entry::kClear;
-  } else if (!SwitchIfOutsideAtStart(segment, start, state, handler)) {
-    return false;
-  }
+  // The walls the screen cleared on the entry state when EnterCarried has taken it (first pass
+  // only; CarryThrough may have entered this segment and left w_ and the verdict set).
+  if (carried && entered != segment && EnterCarried(segment, state) == Entry::kSettled) return true;
+  bool screened = carried;
+  // Entered with z valid: the time-triggered switch of a start outside a wall is still to decide
+  // (carried: the closed form's start value decides it, below).
+  bool start_checked = carried;
+  enum class Start { kStopped, kSwitched, kKept };
+  const auto check_start = [&] {
+    start_checked = true;
+    const ContactState before = state.contact;
+    if (!SwitchIfOutsideAtStart(segment, start, state, handler)) return Start::kStopped;
+    return state.contact != before ? Start::kSwitched : Start::kKept;
+  };
   double done = 0.0;
   bool moved = false;  // z was advanced inside this segment (the full propagator no longer fits)
   Eigen::VectorXd& z = state.z;
   while (true) {
     const SegmentSystem& sys = t_.systems[segment][static_cast<int>(state.contact)];
     System& sp = Prepared(segment, state.contact);
-    if (!sp.ok) return fallback_.AdvanceFrom(segment, start, done, state, handler);
+    if (!sp.ok) {
+      if (!start_checked) {
+        const Start verdict = check_start();
+        if (verdict == Start::kStopped) return false;
+        if (verdict == Start::kSwitched) continue;
+      }
+      return fallback_.AdvanceFrom(segment, start, done, state, handler);
+    }
     const double remaining = h - done;
     if (!carried) {
-      Multiply(sp.decomposition.S_inv, z.data(), w_);
+      Multiply(sp.decomposition.S_inv, z.data(), entry_.head(t_.m));  // the pads stay 0
+      w_ = entry_.head(t_.m);
       ++state.matvecs;
     }
     GapWall walls[kMaxWalls];
     const int count = ActiveWalls(sys, state.contact, walls);
-    // A whole segment far from every wall (most of them) is settled by the screen: two dot
-    // products per wall instead of loading the closed form and searching it.
-    bool clear = !moved;
-    if (entry_clear) {
-      clear = *entry_clear;
-      entry_clear.reset();
-    } else {
-      for (int i = 0; i < count && clear; ++i)
-        clear = sp.gaps[walls[i].gap].ClearOfWall(w_, walls[i].sign, gap_tolerance_);
+    // A wall the screen clears for the whole segment (most segments: every wall) is not reached
+    // in it: two dot products instead of loading the closed form and searching it.
+    unsigned clear_walls = 0;
+    if (screened) {
+      clear_walls = entered_clear_walls_;
+      screened = false;
+    } else if (!moved) {
+      clear_walls = ClearWalls(sp, segment);  // on entry_, w_ padded
     }
+    const unsigned all_walls = (1u << count) - 1;
+    // A wall the screen clears has sign g(0) <= -gap_tolerance_: the start is not outside it.
+    if (!start_checked && clear_walls != all_walls) {
+      const Start verdict = check_start();
+      if (verdict == Start::kStopped) return false;
+      if (verdict == Start::kSwitched) continue;
+    }
+    start_checked = true;
+    const auto searched = [clear_walls](int i) { return (clear_walls >> i & 1u) == 0; };
     double best = -1.0;
     int best_wall = -1;
-    if (!clear) {
+    if (clear_walls != all_walls) {
       bool near_wall = false;
       for (int i = 0; i < count; ++i) {
+        if (!searched(i)) continue;
         ClosedFormGap& gap = sp.gaps[walls[i].gap];
         gap.Load(w_);
         // Carried: the time-triggered check on the closed form; near a wall it is decided on z.
@@ -335,6 +397,7 @@ bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
         continue;
       }
       for (int i = 0; i < count; ++i) {
+        if (!searched(i)) continue;
         const double root = sp.gaps[walls[i].gap].FirstRise(walls[i].sign, remaining);
         if (root >= 0.0 && (best < 0.0 || root < best)) best = root, best_wall = i;
       }

@@ -9,30 +9,6 @@
 #include "train_decomposition.h"
 
 namespace gearnvh {
-namespace {
-
-// DecomposeGenerator keeps at least zero_size + 1 terms of e^{B0 t} (the nilpotency index can
-// be as large as the cluster). On a train the cluster is mostly free bodies (the rigid rotation
-// and every free loose gear: 2 each, plus the two slots) whose chains are short (slot -> velocity
-// -> angle), so B0^k vanishes to rounding from k = 3 on. Keeps the terms up to the last one that
-// is not below the decomposition's own cut (1e-18 of the largest term, t <= horizon): every term
-// dropped is below that cut, as the terms the decomposition drops after its last.
-void TrimSeries(SpectralDecomposition& d, double horizon) {
-  if (d.zero_size == 0 || d.series_terms <= 1) return;
-  std::vector<double> size(static_cast<size_t>(d.series_terms));
-  Eigen::MatrixXd power = Eigen::MatrixXd::Identity(d.zero_size, d.zero_size);
-  double largest = 1.0;
-  for (int k = 0; k < d.series_terms; ++k) {
-    size[static_cast<size_t>(k)] = power.cwiseAbs().maxCoeff() * std::pow(horizon, k);
-    largest = std::max(largest, size[static_cast<size_t>(k)]);
-    power = (d.B0 * power) / static_cast<double>(k + 1);
-  }
-  int keep = d.series_terms;
-  while (keep > 1 && size[static_cast<size_t>(keep) - 1] <= 1e-18 * largest) --keep;
-  d.series_terms = keep;
-}
-
-}  // namespace
 
 double TrainSystemCache::DampingRate(const std::vector<ContactState>& states,
                                      const Eigen::MatrixXd& C) const {
@@ -87,7 +63,6 @@ void TrainSystemCache::Decompose(TrainSystem& s) const {
     s.decomposition = SpectralDecomposition{};  // drop the unusable factors
     return;
   }
-  TrimSeries(s.decomposition, t_.longest_segment);
   Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(m);
   s.delta.reserve(t_.meshes.size());
   bool distinct = false;

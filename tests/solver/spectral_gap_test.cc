@@ -194,6 +194,35 @@ TEST_CASE("closed-form gaps and rates equal dense propagation for every segment 
   }
 }
 
+TEST_CASE("the zero cluster's series keeps the terms that matter, not the cluster's size",
+          "[solver][spectral]") {
+  // A free body's chain slot -> velocity -> angle: B0^3 = 0 exactly, e^{B0 t} = I + t B0 +
+  // t^2 B0^2 / 2, so 3 terms, although the minimum examined is the cluster's size + 1 (5).
+  Eigen::MatrixXd b0 = Eigen::MatrixXd::Zero(4, 4);
+  b0(0, 1) = 1.0;  // angle' = velocity
+  b0(1, 2) = 3.0;  // velocity' = 3 slot
+  CHECK(ZeroClusterSeriesTerms(b0, 0.5, 5) == 3);
+  // The same chain perturbed at rounding level (as a Schur form leaves it): the 1e-17 entries'
+  // terms are below 1e-18 of the largest term only from k = 3 on (checked by hand: 1e-17 * 0.5^3
+  // / 6 ~ 2e-19 of a largest term 1.0), so still 3.
+  Eigen::MatrixXd rounded = b0;
+  rounded(2, 0) = 1e-17;
+  rounded(3, 1) = -1e-17;
+  CHECK(ZeroClusterSeriesTerms(rounded, 0.5, 5) == 3);
+  // A genuinely longer chain (B0^4 != 0, B0^5 = 0) keeps all five terms; terms beyond the
+  // minimum are kept while they matter: a rotation block with |B0| t = 1 needs ~20.
+  Eigen::MatrixXd chain = Eigen::MatrixXd::Zero(5, 5);
+  for (int i = 0; i < 4; ++i) chain(i, i + 1) = 1.0;
+  CHECK(ZeroClusterSeriesTerms(chain, 0.5, 6) == 5);
+  Eigen::MatrixXd rotation = Eigen::MatrixXd::Zero(2, 2);
+  rotation(0, 1) = 1.0;
+  rotation(1, 0) = -1.0;
+  const int rotation_terms = ZeroClusterSeriesTerms(rotation, 1.0, 3);
+  // Term k is 1 / k! (every power has entries of size 1): k = 0..19 are kept (1 / 19! = 8e-18
+  // is above the cut), k = 20 (4e-19) is the first below it.
+  CHECK(rotation_terms == 20);
+}
+
 TEST_CASE("nearly equal eigenvalues of different blocks are reported ill-conditioned",
           "[solver][spectral]") {
   // Two oscillators at 1000 and 1000 (1 + 1e-9) rad/s with a strong non-normal coupling: the

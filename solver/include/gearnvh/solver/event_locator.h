@@ -305,7 +305,8 @@ class DyadicLocator final : public SubstepLocator {
 // p(t) + sum e^{sigma t}(alpha cos wt + beta sin wt) + sum gamma e^{lambda t} (ClosedFormGap);
 // its first rise is found with certified bounds and Newton. A segment start is first screened
 // (ClosedFormGap::ClearOfWall: a few dot products with rows precomputed per segment, state and
-// wall); a wall it clears is not searched, so most segments skip Load() and the search, and
+// wall); a wall it clears is not searched, so most segments skip Load() and the search (and a
+// segment with an event searches only the walls the screen did not clear), and
 // the result is the same (the screen is sufficient and keeps the search's rounding margin).
 // At an event z <- S e^{B t*} w and the
 // search restarts in the new state; after the last event of a segment z <- S e^{B(h - t)} w.
@@ -346,6 +347,9 @@ class SpectralLocator final : public EventLocator {
     // Its carried-segment block in blocks_ (filled by Build) and its active walls.
     double* block = nullptr;
     int walls = 0;
+    // Per active wall the closed form's curved-test rows (ClosedFormGap::CurvedScreenRow, the value
+    // and rate rows times the wall's sign) in curved_, padded as the block's columns.
+    double* curved = nullptr;
     // Whether the block holds the carry matrix: C_j (to the next segment) or S_j e^{D_j h_j}
     // (last segment of the cycle). carry_built: decided on first use.
     bool carries = false;
@@ -374,12 +378,18 @@ class SpectralLocator final : public EventLocator {
   // the screen of every active wall and, when every wall is clear and (segment, state) carries,
   // the carry itself (w_{j+1} = C_j w, or z at the cycle end): the whole work of ~31 of 32
   // segments of a strong-rattle cycle, all of it read from the pair's block. kClear / kNearWall:
-  // not settled, w_ holds the entry state and the screen's verdict is returned. M is the state
+  // not settled, w_ holds the entry state, the screen's verdict is returned and the walls it
+  // cleared are kept (entered_clear_walls_). M is the state
   // dimension when it is known at compile time and fits one padded column (tier 1: m = 6, or 7
   // with manufacturing errors; every column one 8-double vector, so the carry is m vector FMAs),
   // otherwise Eigen::Dynamic; EnterCarried() picks the instance (a branch on m that never changes
   // during a run).
   enum class Entry { kSettled, kClear, kNearWall };
+  // The walls the screen clears for the whole segment from w = entry_ (bit i: active wall i):
+  // ClosedFormGap::ClearOfWall on the copies of its rows in the block and in curved_.
+  template <int M>
+  unsigned ClearWallsSized(const System& sp, int segment) const;
+  unsigned ClearWalls(const System& sp, int segment) const;
   template <int M>
   Entry EnterCarriedSized(int segment, LocatorState& state);
   Entry EnterCarried(int segment, LocatorState& state);
@@ -401,8 +411,8 @@ class SpectralLocator final : public EventLocator {
   // matrix by columns. Every column is padded with zeros to padded_ = m rounded up to 8 doubles
   // (one AVX-512 register at tier 1). Allocated once, filled when a pair is first visited.
   int padded_ = 0;
-  size_t block_doubles_ = 0;
-  std::unique_ptr<double[], FreeAligned> blocks_;
+  size_t block_doubles_ = 0, curved_doubles_ = 0;
+  std::unique_ptr<double[], FreeAligned> blocks_, curved_;
   Eigen::VectorXd entry_;      // w of a carried entry, padded_ entries
   std::vector<double> w_ref_;  // per segment; 0 until its first visit
   TaylorLocator fallback_;
@@ -412,10 +422,11 @@ class SpectralLocator final : public EventLocator {
   Eigen::VectorXd carried_;
   int carry_segment_ = -1;
   ContactState carry_state_ = ContactState::kFree;
-  // The segment CarryThrough stopped at (-1: none) and its screen's verdict: w_ holds its entry
-  // state and the stepper's next call is DoStep on it, which takes both instead of entering again.
+  // The segment CarryThrough stopped at (-1: none); w_ holds its entry state and the stepper's next
+  // call is DoStep on it, which takes w_ and the screen's verdict instead of entering again.
   int entered_segment_ = -1;
-  bool entered_clear_ = false;
+  // The last carried entry's verdict: bit i set when active wall i is clear for the whole segment.
+  unsigned entered_clear_walls_ = 0;
 };
 
 // The locator of `options.events`.

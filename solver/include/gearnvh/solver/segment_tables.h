@@ -99,7 +99,8 @@ struct SegmentTables {
   // SetInputs evaluates one sine per order (BuildSegmentTables fills it; tables assembled by
   // hand without it fall back to MeanExcitation).
   std::vector<double> excitation_windows;
-  // Per segment and order, a_k sinc(w_k h_j / 2) cos(psi_kj) and ... sin(psi_kj), psi_kj =
+  // Per order and segment (order-major: entry k * segments() + j), a_k sinc(w_k h_j / 2)
+  // cos(psi_kj) and ... sin(psi_kj), psi_kj =
   // w_k (t_j + h_j / 2) the phase of the segment's midpoint within a cycle (filled with the
   // windows). With theta_k(c) = w_k c T + phi_k the mean over segment j of cycle c is
   //   sum_k sin(theta_k) midpoint_cos_kj + cos(theta_k) midpoint_sin_kj,

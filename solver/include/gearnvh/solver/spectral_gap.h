@@ -71,8 +71,9 @@ double ScaledRowNorm(const Eigen::MatrixXd& A, const Eigen::VectorXd& scale);
 SpectralDecomposition DecomposeGenerator(const Eigen::MatrixXd& A, int n, double w_ref,
                                          double horizon, double max_condition);
 
-// The terms of e^{B0 t} = sum_k B0^k t^k / k! that matter for t <= horizon: at least
-// `min_terms`, then until a term is below 1e-18 of the largest; 0 when 64 terms do not get there.
+// The terms of e^{B0 t} = sum_k B0^k t^k / k! that matter for t <= horizon: examines at least
+// `min_terms`, then until a term is below 1e-18 of the largest, and keeps the terms up to the last
+// one not below that cut (every term dropped is below it); 0 when 64 terms do not get there.
 int ZeroClusterSeriesTerms(const Eigen::MatrixXd& B0, double horizon, int min_terms);
 
 // e^{Dt} w for the block-diagonal D of `d`. No allocation: `out` has the size of w and `scratch`
@@ -156,6 +157,21 @@ class ClosedFormGap {
   Eigen::Map<const Eigen::RowVectorXd> ScreenReachRow() const {
     return {Data(kScreenReach), row_size_};
   }
+  // The curved test's rows (constructed with a horizon): first the kCurvedSignedRows rows of
+  // g(H), g'(0) and g'(H) (their products with w times the wall's sign), then the weights of |w|:
+  // the rounding margin and the bound of max|g''| on [0, H]. SpectralLocator keeps copies
+  // beside its blocks.
+  static constexpr int kCurvedRows = 5, kCurvedSignedRows = 3;
+  Eigen::Map<const Eigen::RowVectorXd> CurvedScreenRow(int k) const {
+    constexpr Part kRows[kCurvedRows] = {kEndValueRow, kScreenRate, kEndRateRow, kScreenMargin,
+                                         kScreenCurve};
+    return {Data(kRows[k]), row_size_};
+  }
+  // ClearOfWall's curved test from its products with w (CurvedScreenRow order): start = sign g(0),
+  // end = sign g(H), start_rate = sign g'(0), end_rate = sign g'(H), the margin, curve >=
+  // max|g''| on [0, H = horizon].
+  static bool CurvedScreenClear(double start, double end, double start_rate, double end_rate,
+                                double margin, double curve, double horizon, double gap_floor);
   // The bytes it occupies (the object and its arrays).
   size_t bytes() const {
     return sizeof(*this) + storage_doubles_ * sizeof(double) + growing_.capacity() * sizeof(int);
@@ -290,13 +306,17 @@ class ClosedFormGap {
 template <class Vector>
 bool ClosedFormGap::ClearOfWallCurved(const Eigen::MatrixBase<Vector>& w, double sign, double start,
                                       double gap_floor) const {
-  const double h = end_;
-  const double end = sign * w.dot(Row(kEndValueRow));
-  const double margin = w.cwiseAbs().dot(Row(kScreenMargin));
+  return CurvedScreenClear(start, sign * w.dot(Row(kEndValueRow)), sign * w.dot(Row(kScreenRate)),
+                           sign * w.dot(Row(kEndRateRow)), w.cwiseAbs().dot(Row(kScreenMargin)),
+                           w.cwiseAbs().dot(Row(kScreenCurve)), end_, gap_floor);
+}
+
+// Inline: the carried path calls it on the segments that approach a wall.
+inline bool ClosedFormGap::CurvedScreenClear(double start, double end, double start_rate,
+                                             double end_rate, double margin, double curve,
+                                             double horizon, double gap_floor) {
+  const double h = horizon, c = curve;
   if (!(end + margin + gap_floor < 0.0)) return false;
-  const double start_rate = sign * w.dot(Row(kScreenRate)),
-               end_rate = sign * w.dot(Row(kEndRateRow));
-  const double c = w.cwiseAbs().dot(Row(kScreenCurve));
   // The rounding of the quantities below, relative to their size.
   const double slack = 1e-12 * (std::abs(start) + std::abs(end) +
                                 (std::abs(start_rate) + std::abs(end_rate)) * h + c * h * h);
