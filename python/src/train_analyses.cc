@@ -2,6 +2,7 @@
 // behind `gearnvh atlas|orbits|tiers|validate TRAIN.yaml` (one plan function per command checks
 // the options for both), per-mesh and per-loose-gear results as objects and NumPy arrays, and
 // to_dict() giving the command line's JSON.
+#include <fmt/format.h>
 #include <pybind11/complex.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -241,13 +242,20 @@ void BindTrainAnalyses(py::module_& m) {
       .def_readonly("separation_fraction", &TrainAtlasMesh::separation_fraction)
       .def_readonly("impact_velocity_rms", &TrainAtlasMesh::impact_velocity_rms, "m/s")
       .def_property_readonly("regime",
-                             [](const TrainAtlasMesh& g) { return RattleRegimeName(g.regime); });
+                             [](const TrainAtlasMesh& g) { return RattleRegimeName(g.regime); })
+      .def("__repr__", [](const TrainAtlasMesh& g) {
+        return fmt::format("<gearnvh.TrainAtlasMesh {} {}>", g.name, RattleRegimeName(g.regime));
+      });
   py::class_<TrainAtlasLooseGear>(m, "TrainAtlasLooseGear", "One loose gear in one atlas cell.")
       .def_readonly("name", &TrainAtlasLooseGear::name)
       .def_readonly("rattle_index", &TrainAtlasLooseGear::rattle_index,
                     "RMS angular acceleration about the mean, rad/s^2")
       .def_readonly("impacts", &TrainAtlasLooseGear::impacts)
-      .def_readonly("rank", &TrainAtlasLooseGear::rank, "1 = rattles most in this cell");
+      .def_readonly("rank", &TrainAtlasLooseGear::rank, "1 = rattles most in this cell")
+      .def("__repr__", [](const TrainAtlasLooseGear& g) {
+        return fmt::format("<gearnvh.TrainAtlasLooseGear {}. {}, {:.4g} rad/s^2>", g.rank, g.name,
+                           g.rattle_index);
+      });
   py::class_<TrainAtlasPoint>(m, "TrainAtlasCell", "One cell of a train's atlas.")
       .def_readonly("ok", &TrainAtlasPoint::ok)
       .def_readonly("message", &TrainAtlasPoint::message, "why the cell failed")
@@ -260,7 +268,12 @@ void BindTrainAnalyses(py::module_& m) {
       .def_readonly("meshes", &TrainAtlasPoint::meshes, "TrainAtlasMesh per mesh, file order")
       .def_readonly("loose_gears", &TrainAtlasPoint::loose_gears,
                     "TrainAtlasLooseGear by rank (1 = rattles most)")
-      .def_readonly("wall_s", &TrainAtlasPoint::wall_s);
+      .def_readonly("wall_s", &TrainAtlasPoint::wall_s)
+      .def("__repr__", [](const TrainAtlasPoint& p) {
+        if (!p.ok) return "<gearnvh.TrainAtlasCell failed: " + p.message + ">";
+        return fmt::format("<gearnvh.TrainAtlasCell {}, lambda {:.4g} per forcing cycle>",
+                           RattleRegimeName(p.regime), p.lyapunov_per_forcing_cycle);
+      });
 
   py::class_<TrainAtlas, std::shared_ptr<TrainAtlas>>(
       m, "TrainAtlas",
@@ -346,7 +359,12 @@ void BindTrainAnalyses(py::module_& m) {
       .def_property_readonly("failed", [](const TrainAtlas& a) { return a.result.Failed(); })
       .def(
           "to_dict", [](const TrainAtlas& a) { return ToPython(a.doc); },
-          "The document `gearnvh atlas --json TRAIN.yaml` prints.");
+          "The document `gearnvh atlas --json TRAIN.yaml` prints.")
+      .def("__repr__", [](const TrainAtlas& a) {
+        return fmt::format("<gearnvh.TrainAtlas {} x {}: {} x {} cells, {} failed>",
+                           a.result.x.parameter, a.result.y.parameter, a.result.x.range.points,
+                           a.result.y.range.points, a.result.Failed());
+      });
 
   // Orbits.
   py::class_<TrainOrbitsPoint>(m, "TrainOrbitPoint",
@@ -385,8 +403,20 @@ void BindTrainAnalyses(py::module_& m) {
           "the orbit's period, s (M common periods)")
       .def_property_readonly("common_period_s",
                              [](const TrainOrbitsPoint& p) { return p.point.common_period; })
-      .def_property_readonly("events_per_period", [](const TrainOrbitsPoint& p) {
-        return p.point.orbit.events_per_period;
+      .def_property_readonly(
+          "events_per_period",
+          [](const TrainOrbitsPoint& p) { return p.point.orbit.events_per_period; })
+      .def("__repr__", [](const TrainOrbitsPoint& p) {
+        if (!p.point.ok) {
+          return fmt::format("<gearnvh.TrainOrbitPoint {:.6g}: failed: {}>", p.value,
+                             p.point.message);
+        }
+        if (!p.point.found())
+          return fmt::format("<gearnvh.TrainOrbitPoint {:.6g}: not found>", p.value);
+        const Eigen::VectorXcd& mu = p.point.orbit.multipliers;
+        return fmt::format("<gearnvh.TrainOrbitPoint {:.6g}: {}, max |mu| {:.4g}>", p.value,
+                           p.point.orbit.stable ? "stable" : "unstable",
+                           mu.size() > 0 ? std::abs(mu[0]) : 0.0);
       });
 
   py::class_<TrainOrbits, std::shared_ptr<TrainOrbits>>(
@@ -403,7 +433,13 @@ void BindTrainAnalyses(py::module_& m) {
           })
       .def(
           "to_dict", [](const TrainOrbits& o) { return ToPython(o.doc); },
-          "The document `gearnvh orbits --json TRAIN.yaml` prints.");
+          "The document `gearnvh orbits --json TRAIN.yaml` prints.")
+      .def("__repr__", [](const TrainOrbits& o) {
+        long found = 0;
+        for (const TrainOrbitsPoint& p : o.points) found += p.point.found() ? 1 : 0;
+        return fmt::format("<gearnvh.TrainOrbits {} points{}, {} found>", o.points.size(),
+                           o.parameter.empty() ? std::string() : " along " + o.parameter, found);
+      });
 
   // Tiers.
   py::class_<TrainTiers, std::shared_ptr<TrainTiers>>(
@@ -441,7 +477,14 @@ void BindTrainAnalyses(py::module_& m) {
                              TrainTierRows(&app::TrainTierRow::rattle_index_difference))
       .def(
           "to_dict", [](const TrainTiers& t) { return ToPython(t.doc); },
-          "The document `gearnvh tiers --json TRAIN.yaml` prints.");
+          "The document `gearnvh tiers --json TRAIN.yaml` prints.")
+      .def("__repr__", [](const TrainTiers& t) {
+        std::string names;
+        for (const app::TrainTierRow& r : t.comparison.rows) {
+          names += (names.empty() ? "" : ", ") + r.name;
+        }
+        return "<gearnvh.TrainTiers " + names + ">";
+      });
 
   // Validation.
   py::class_<app::ValidationRow>(m, "ValidationCheck", "One row of the validation ladder.")
@@ -462,7 +505,17 @@ void BindTrainAnalyses(py::module_& m) {
                              [](const Validation& v) { return v.doc["pass"].get<bool>(); })
       .def(
           "to_dict", [](const Validation& v) { return ToPython(v.doc); },
-          "The document `gearnvh validate --json` prints.");
+          "The document `gearnvh validate --json` prints.")
+      .def("__repr__", [](const Validation& v) {
+        long passed = 0, skipped = 0;
+        for (const app::ValidationRow& r : v.rows) {
+          skipped += r.skipped ? 1 : 0;
+          passed += !r.skipped && r.pass ? 1 : 0;
+        }
+        return fmt::format("<gearnvh.Validation {}: {} of {} checks passed, {} skipped>",
+                           v.doc["pass"].get<bool>() ? "pass" : "FAIL", passed,
+                           v.rows.size() - static_cast<size_t>(skipped), skipped);
+      });
 
   m.def("atlas", &AtlasTrain, py::arg("gearbox"), py::kw_only(), py::arg("x") = py::none(),
         py::arg("y") = py::none(), py::arg("tier") = py::none(), py::arg("cycles") = py::none(),
