@@ -23,13 +23,13 @@ namespace gearnvh::app {
 // --transient are range-checked while the command line is parsed, so they never reach the library;
 // a --tier the model cannot have is named at the flag with the text given (PairTierNames).
 struct InputNames {
-  std::string tier = "analysis.tier";                   // TierNotAvailable
-  std::string tier_value;                               // as the user wrote it; "": the tier's name
-  std::string cycles = "analysis.cycles";               // SolverOptions.cycles
-  std::string transient = "analysis.transient_cycles";  // SolverOptions.transient_cycles
-  std::string excitation = "operating.excitation";      // NoCommonPeriod
-  std::string structure = "shafts";                     // StructureNotReducible
+  std::string tier = "analysis.tier";                              // TierNotAvailable
+  std::string cycles = "analysis.cycles";                          // SolverOptions.cycles
+  std::string transient = "analysis.transient_cycles";             // SolverOptions.transient_cycles
+  std::string excitation = "operating.excitation";                 // NoCommonPeriod
+  std::string structure = "shafts";                                // StructureNotReducible
   std::string segments_per_cycle = "analysis.segments_per_cycle";  // ExcitationOrderUnresolved
+  std::string tier_value = "";  // the tier as the user wrote it; "": the tier's name
 };
 
 // The names of a pair command whose tier is --tier when given, else analysis.tier.
@@ -52,16 +52,15 @@ inline InputError UserNamed(const InputError& e, const InputNames& names = {}) {
                       e.rule(), e.source());
   }
   const std::string* path = nullptr;
-  if
-    if (dynamic_cast<const StructureNotReducible*>(&e)) {
-      path = &names.structure;
-    } else if (dynamic_cast<const NoCommonPeriod*>(&e)) {
-      path = &names.excitation;
-    } else if (e.path() == "SolverOptions.cycles") {
-      path = &names.cycles;
-    } else if (e.path() == "SolverOptions.transient_cycles") {
-      path = &names.transient;
-    }
+  if (dynamic_cast<const StructureNotReducible*>(&e)) {
+    path = &names.structure;
+  } else if (dynamic_cast<const NoCommonPeriod*>(&e)) {
+    path = &names.excitation;
+  } else if (e.path() == "SolverOptions.cycles") {
+    path = &names.cycles;
+  } else if (e.path() == "SolverOptions.transient_cycles") {
+    path = &names.transient;
+  }
   if (path == nullptr) return e;
   return InputError(*path, e.line(), e.value(), e.rule(), e.source());
 }

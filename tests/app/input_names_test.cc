@@ -8,6 +8,7 @@
 #include <sstream>
 #include <string>
 
+#include "app/load_error.h"
 #include "gearnvh/model/component_model.h"
 #include "gearnvh/model/gearbox_spec_limits.h"
 #include "gearnvh/reduction/reduced_model.h"
@@ -99,15 +100,10 @@ TEST_CASE("a --tier the model cannot have names the flag and its text", "[app][e
     CHECK(run.err.find("analysis.tier") == std::string::npos);
   }
   // From the file: its line and the value written there.
-  std::ifstream in(rattle);
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string yaml = text.str();
-  const size_t at = yaml.find("tier: 1\n");
-  REQUIRE(at != std::string::npos);
-  yaml.replace(at, 8, "tier: 5\n");
   const testing::TempDir dir;
-  const auto file = dir.Write("tier5.yaml", yaml).string();
+  const auto file = dir.Write("tier5.yaml", testing::Replace(testing::Example("idle_rattle.yaml"),
+                                                             "tier: 1\n", "tier: 5\n"))
+                        .string();
   const auto run = testing::RunCommand(exe + " simulate " + file);
   INFO(run.err);
   CHECK(run.exit_code == 1);
