@@ -100,7 +100,6 @@ class ExcitationOrderUnresolved : public InputError {
   explicit ExcitationOrderUnresolved(Facts facts);
   // The rule with the setting called `setting` ("analysis.segments_per_cycle").
   std::string RuleNaming(const std::string& setting) const;
-  const Facts& facts() const { return facts_; }
 
  private:
   Facts facts_;
