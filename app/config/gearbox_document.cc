@@ -8,6 +8,7 @@
 
 #include "gearbox_loader.h"
 #include "gearnvh/model/input_error.h"
+#include "yaml_reader.h"
 
 namespace gearnvh::config {
 namespace {
@@ -17,7 +18,7 @@ YAML::Node Parse(const std::string& text, const std::string& source, const std::
     return YAML::Load(text);
   } catch (const YAML::Exception& e) {
     const int line = e.mark.line >= 0 ? e.mark.line + 1 : 0;
-    throw InputError(path, line, "", "not valid YAML: " + e.msg, source);
+    throw InputError(path, line, "", config::YamlSyntaxRule(e, text), source);
   }
 }
 

@@ -1,6 +1,7 @@
 #include "gearbox_loader.h"
 
 #include <fmt/format.h>
+#include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -8,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "gearnvh/model/gearbox_spec_limits.h"
 #include "gearnvh/model/gearbox_spec_validation.h"
@@ -133,13 +135,32 @@ std::string AxisValueText(double shown_value, const std::string& unit) {
   return unit.empty() ? number : number + " " + unit;
 }
 
+std::string YamlSyntaxRule(const YAML::Exception& e, const std::string& text) {
+  if (const auto* deep = dynamic_cast<const YAML::DeepRecursion*>(&e)) {
+    return "not valid YAML here: lists and mappings nested " + std::to_string(deep->depth()) +
+           " levels deep, more than the parser allows (a gearbox needs a few)";
+  }
+  std::string rule = "not valid YAML: " + e.msg;
+  // yaml-cpp reports a tab in the indentation as some other error at that line or the next.
+  std::istringstream lines(text);
+  std::string line;
+  for (int i = 0; std::getline(lines, line) && i <= e.mark.line; ++i) {
+    const std::string indent = line.substr(0, line.find_first_not_of(" \t"));
+    if (i + 1 >= e.mark.line && indent.find('\t') != std::string::npos) {
+      return rule + " (line " + std::to_string(i + 1) +
+             " is indented with a tab: YAML indents with spaces only)";
+    }
+  }
+  return rule;
+}
+
 YAML::Node ParseYaml(const std::string& text, const std::string& source) {
   RequireValidUtf8(text, source);
   try {
     return YAML::Load(text);
   } catch (const YAML::Exception& e) {
     const int line = e.mark.line >= 0 ? e.mark.line + 1 : 0;
-    throw InputError("", line, "", "not valid YAML: " + e.msg, source);
+    throw InputError("", line, "", YamlSyntaxRule(e, text), source);
   }
 }
 

@@ -51,6 +51,15 @@ void RequireValidUtf8(const std::string& text, const std::string& source) {
       throw InputError("", line, "\"" + bytes + "\" at column " + std::to_string(i - line_start + 1),
                        "the file must be UTF-8 text", source);
     }
+    // YAML's printable set has no other C0 control (nor DEL); yaml-cpp reads a leading NUL as a
+    // UTF-16 byte-order guess and a later one as the end of the text.
+    const auto c = static_cast<unsigned char>(text[i]);
+    if ((c < 0x20 && c != '\t' && c != '\n' && c != '\r') || c == 0x7F) {
+      throw InputError("", line, fmt::format("\"\\x{:02X}\" at column {}", c, i - line_start + 1),
+                       "the file must be text: YAML allows no control characters other than tab, "
+                       "line feed and carriage return",
+                       source);
+    }
     if (text[i] == '\n') {
       ++line;
       line_start = i + 1;

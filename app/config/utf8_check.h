@@ -7,7 +7,8 @@
 namespace gearnvh::config {
 
 // Throws InputError (line, byte offset, the offending bytes in hex) for the first byte sequence
-// that is not well-formed UTF-8 (overlong forms, surrogates and values above U+10FFFF included).
+// that is not well-formed UTF-8 (overlong forms, surrogates and values above U+10FFFF included),
+// and for a control character YAML does not allow (C0 other than tab, LF, CR; DEL).
 void RequireValidUtf8(const std::string& text, const std::string& source);
 
 }  // namespace gearnvh::config

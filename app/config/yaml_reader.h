@@ -123,8 +123,9 @@ class Reader {
     const std::string p = Join(path, key);
     if (!n.IsScalar()) Fail(p, n, Describe(n), "must be an integer");
     const auto v = ParseNumber(n.Scalar());
-    if (!v || std::floor(*v) != *v || std::abs(*v) > 2e9) {
-      Fail(p, n, "'" + n.Scalar() + "'", "must be an integer");
+    if (!v || std::floor(*v) != *v) Fail(p, n, "'" + n.Scalar() + "'", "must be an integer");
+    if (std::abs(*v) > 2e9) {
+      Fail(p, n, "'" + n.Scalar() + "'", "must be an integer between -2e9 and 2e9");
     }
     Remember(p, n, n.Scalar());
     return static_cast<int>(*v);
@@ -193,6 +194,10 @@ GearboxSpec LoadPairFromString(const std::string& text, const std::string& sourc
 
 // Parses YAML text (valid UTF-8 required); InputError naming `source` and the line otherwise.
 YAML::Node ParseYaml(const std::string& text, const std::string& source);
+
+// The rule a YAML syntax error `e` in `text` broke, in words ("not valid YAML: ..."): nesting too
+// deep and a tab in the indentation are named as such.
+std::string YamlSyntaxRule(const YAML::Exception& e, const std::string& text);
 
 // Reads the document with `read`, validates (and completes) it with `validate`, and attributes
 // every error to `source`, with range errors pointed back at the line and the value as the user

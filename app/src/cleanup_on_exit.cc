@@ -1,9 +1,12 @@
 #include "cleanup_on_exit.h"
 
+#include <fmt/core.h>
 #include <pthread.h>
 #include <signal.h>
+#include <unistd.h>
 
 #include <csignal>
+#include <cstdio>
 #include <mutex>
 #include <set>
 #include <thread>
@@ -27,17 +30,35 @@ sigset_t CleanupSignals() {
   return set;
 }
 
+const char* SignalName(int sig) {
+  switch (sig) {
+    case SIGINT:
+      return "SIGINT";
+    case SIGTERM:
+      return "SIGTERM";
+    default:
+      return "SIGHUP";
+  }
+}
+
 [[noreturn]] void WaitAndClean(sigset_t set) {
   int sig = 0;
   while (sigwait(&set, &sig) != 0) {
   }
+  bool removed = false;
   {
     const std::lock_guard<std::mutex> lock(g_mutex);
     for (const std::filesystem::path& p : Registered()) {
       std::error_code ec;
-      std::filesystem::remove_all(p, ec);
+      removed = std::filesystem::remove_all(p, ec) > 0 || removed;
     }
   }
+  // A user who pressed Ctrl-C (or whose job was killed) learns why the run ended and that no
+  // output was half-written; on a terminal the progress line is cleared first.
+  fmt::print(stderr, "{}gearnvh: stopped by {}{}\n", ::isatty(STDERR_FILENO) != 0 ? "\r\x1b[K" : "",
+             SignalName(sig),
+             removed ? ": the unfinished outputs were removed, earlier results are unchanged" : "");
+  std::fflush(stderr);
   // Die of the signal itself: default action, unblocked in this thread, sent to this thread.
   std::signal(sig, SIG_DFL);
   sigset_t one;

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <exception>
 #include <iostream>
+#include <new>
 
 #include "atlas_command.h"
 #include "check_command.h"
@@ -285,7 +286,17 @@ int Main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
-    std::cerr << "error: " << e.what() << "\nRun with --help for more information.\n";
+    std::string message = e.what();
+    // A mistyped command: CLI11 only says that a subcommand is required.
+    if (app.get_subcommands().empty() && argc > 1 && argv[1][0] != '-') {
+      std::vector<std::string> commands;
+      for (const CLI::App* c : app.get_subcommands({})) commands.push_back(c->get_name());
+      const std::string close = gearnvh::config::ClosestMatch(argv[1], commands);
+      message = std::string("unknown command '") + argv[1] + "'" +
+                (close.empty() ? "" : " (did you mean " + close + "?)") + "; commands: ";
+      for (size_t i = 0; i < commands.size(); ++i) message += (i > 0 ? ", " : "") + commands[i];
+    }
+    std::cerr << "error: " << message << "\nRun with --help for more information.\n";
     return gearnvh::app::kExitUsage;
   }
   // Under mpirun only the commands that split their work across ranks run on every rank; for the
@@ -312,6 +323,12 @@ int Main(int argc, char** argv) {
   } catch (const gearnvh::app::IoError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return gearnvh::app::kExitIo;
+  } catch (const std::bad_alloc&) {
+    // Not a bug: the run asked for more memory than the process may have (ulimit -v, the machine).
+    std::cerr << "error: out of memory: this run needs more memory than the process can get; "
+                 "fewer recorded --cycles (32 samples of each are kept), fewer --jobs or fewer "
+                 "atlas cells need less\n";
+    return gearnvh::app::kExitInput;
   } catch (const std::exception& e) {
     std::cerr << "internal error: " << e.what() << "\n";
     return gearnvh::app::kExitInternal;

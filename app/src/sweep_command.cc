@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <sstream>
 
 #include "atlas_command.h"
@@ -293,24 +294,29 @@ int RunSweep(const SweepOptions& options) {
       fmt::print("{}  ({}), {}: speed sweep, {} speeds, {} each\n", spec.name, options.file,
                  reduced.name, result.points.size(),
                  Count(sweep.cycles, "mesh cycle", "mesh cycles"));
-      fmt::print("  {:>8}  {:>10}  {:>12}  {:>14}  {}\n", "rpm", "TE RMS µm", "events/cycle",
+      // Speeds in the unit the file wrote operating.speed in (the JSON and CSV keep rpm).
+      const DisplayUnit& unit = spec.operating.speed_unit;
+      auto shown = [&unit](double rpm) {
+        return rpm * (2.0 * std::numbers::pi / 60.0) * unit.per_si;
+      };
+      fmt::print("  {:>8}  {:>10}  {:>12}  {:>14}  {}\n", unit.symbol, "TE RMS µm", "events/cycle",
                  "1x mesh TE µm", "regime");
       const size_t mesh_bin =
           static_cast<size_t>(std::lround(spec.pinion.teeth / result.order_step));
       for (const SpeedPoint& p : result.points) {
         if (!p.ok) {
-          fmt::print("  {:8.0f}  failed: {}\n", p.speed_rpm, p.message);
+          fmt::print("  {:8.6g}  failed: {}\n", shown(p.speed_rpm), p.message);
           continue;
         }
         const double mesh = mesh_bin < p.amplitude_m.size() ? p.amplitude_m[mesh_bin] : 0.0;
-        fmt::print("  {:8.0f}  {:10.4f}  {:12.3f}  {:14.4f}  {}\n", p.speed_rpm, p.te_rms * 1e6,
-                   p.events_per_cycle, mesh * 1e6, RattleRegimeName(p.regime));
+        fmt::print("  {:8.6g}  {:10.4f}  {:12.3f}  {:14.4f}  {}\n", shown(p.speed_rpm),
+                   p.te_rms * 1e6, p.events_per_cycle, mesh * 1e6, RattleRegimeName(p.regime));
       }
       fmt::print("  critical speeds (order line x tracked mode):\n");
       for (const CriticalSpeed& c : result.campbell.critical_speeds) {
-        fmt::print("    {:8.0f} rpm  {:>9}  mode {} ({})  {:.1f} Hz\n", c.speed_rpm, c.order,
-                   c.mode + 1, result.campbell.modes[static_cast<size_t>(c.mode)].Label(),
-                   c.frequency_hz);
+        fmt::print("    {:8.6g} {}  {:>9}  mode {} ({})  {:.1f} Hz\n", shown(c.speed_rpm),
+                   unit.symbol, c.order, c.mode + 1,
+                   result.campbell.modes[static_cast<size_t>(c.mode)].Label(), c.frequency_hz);
       }
       if (result.campbell.critical_speeds.empty()) fmt::print("    none in the sweep range\n");
     }

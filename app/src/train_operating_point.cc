@@ -14,6 +14,7 @@
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/model/train_structure.h"
 #include "gearnvh/reduction/train_reduction.h"
+#include "gearnvh/solver/train_rate_bound.h"
 #include "gearnvh/solver/train_reduced_tables.h"
 #include "simulate_command.h"
 
@@ -116,60 +117,27 @@ SpectrumWindow PlanWindow(const TrainTables& t, double dt, double start, double 
 
 }  // namespace
 
-namespace {
-
-// lambda_max(M^-1/2 X M^-1/2) of a symmetric X and its eigenvector in M^1/2 coordinates; nullopt
-// when the eigenvalue problem failed.
-std::optional<std::pair<double, Eigen::VectorXd>> LargestScaled(const Eigen::VectorXd& scale,
-                                                                const Eigen::MatrixXd& x) {
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(scale.asDiagonal() * x *
-                                                           scale.asDiagonal());
-  if (eig.info() != Eigen::Success) return std::nullopt;
-  const Eigen::Index last = x.rows() - 1;
-  return std::make_pair(eig.eigenvalues()[last], Eigen::VectorXd(eig.eigenvectors().col(last)));
-}
-
-}  // namespace
-
 RunCostEstimate EstimateRunCost(const TrainTables& t) {
   RunCostEstimate out;
-  const int n = t.n;
-  if (n == 0) return out;
-  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n, n), C = Eigen::MatrixXd::Zero(n, n);
-  if (t.structural_stiffness.size() > 0) K = t.structural_stiffness;
-  if (t.structural_damping.size() > 0) C = t.structural_damping;
-  // M^-1/2 X M^-1/2 is symmetric with the eigenvalues of M^-1 X.
-  const Eigen::VectorXd scale = t.inertia.cwiseSqrt().cwiseInverse();
-  double friction_k = 0.0, friction_c = 0.0;  // sum_i k_i n_i, sum_i c_i n_i
-  for (const TrainMeshTable& mt : t.meshes) {
-    double k = 0.0;
-    for (double kj : mt.k_drive) k += kj / static_cast<double>(mt.k_drive.size());
-    K += k * mt.v * mt.v.transpose();
-    C += mt.damping * mt.v * mt.v.transpose();
+  if (t.n == 0) return out;
+  for (const TrainMeshTable& mt : t.meshes)
     out.fastest_mesh_hz = std::max(out.fastest_mesh_hz, 1.0 / mt.period);
-    double norms = 0.0;  // n_i
-    for (int j = 0; mt.has_friction() && j < mt.segments(); ++j) {
-      norms = std::max(norms, scale.cwiseProduct(mt.ForceVector(j, true) - mt.v).norm() *
-                                  scale.cwiseProduct(mt.v).norm());
-    }
-    friction_k += k * norms;
-    friction_c += mt.damping * norms;
-  }
-  const auto stiff = LargestScaled(scale, K);
-  const auto damped = LargestScaled(scale, C);
-  if (!stiff || !damped) return out;
-  const double omega = std::sqrt(std::max(0.0, stiff->first));
-  const double damping_rate = std::max(0.0, damped->first);
-  out.mode_hz = omega / (2.0 * std::numbers::pi);
-  // The body that moves most in the mode (angles per body from the coordinates).
-  const Eigen::VectorXd x = scale.asDiagonal() * stiff->second;
+  // The tuple the run starts in with every mesh in drive: segment 0 of every mesh at t = 0.
+  const std::vector<int> segments(t.meshes.size(), 0);
+  const std::vector<ContactState> drive(t.meshes.size(), ContactState::kDrive);
+  const TuplePencil pencil = AssembleTuplePencil(t, segments, drive);
+  const TupleRateBound bound = BoundTupleRate(t, pencil, DampingRateBound(t, pencil.C));
+  out.mode_hz = bound.stiffness_frequency / (2.0 * std::numbers::pi);
+  out.substep_s = bound.rho > 0.0 ? 0.5 / bound.rho : 0.0;
+  // The body that moves most in that mode: its eigenvector of M^-1/2 K M^-1/2, back to angles.
+  const Eigen::VectorXd scale = t.inertia.cwiseSqrt().cwiseInverse();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(scale.asDiagonal() * pencil.K *
+                                                           scale.asDiagonal());
+  if (eig.info() != Eigen::Success) return RunCostEstimate{};
+  const Eigen::VectorXd x = scale.cwiseProduct(eig.eigenvectors().col(t.n - 1));
   Eigen::Index body = 0;
   (t.body_angles * x).cwiseAbs().maxCoeff(&body);
   out.body = static_cast<int>(body);
-  const double rho = friction_k > 0.0 || friction_c > 0.0
-                         ? std::sqrt(omega * omega + friction_k) + damping_rate + friction_c
-                         : std::max(omega, damping_rate);
-  out.substep_s = rho > 0.0 ? 0.5 / rho : 0.0;
   return out;
 }
 

@@ -51,19 +51,17 @@ struct TrainRunOptions {
 // sub-step of the dense path (and of V1, V2) is at most 1 / (2 omega_max) long.
 constexpr double kSlowModeRatio = 1000.0;
 
-// What a run costs per simulated second, estimated before it starts: the highest mode of the train
-// with every mesh in drive contact at its mean stiffness, omega = sqrt(lambda_max(M^-1 K)), the
-// body that moves most in it, and the dense path's sub-step at that stiffness, 1 / (2 rho) with
-// the solver's bound rho on the generator's spectral radius (docs/gear-trains.md, "Events"):
-// max(omega, lambda_max(M^-1 C)) without tooth friction; with it |c| + sqrt|k|, |k| <= omega^2 +
-// sum_i k_i n_i and |c| <= lambda_max(M^-1 C) + sum_i c_i n_i, n_i = max_j |M^-1/2 (u_ij - v_i)|
-// |M^-1/2 v_i| over the mesh's drive segments. Not in it: a reduced tier's skew (gyroscopic)
-// damping and the sub-steps' second bound (the balanced row norm), which the solver also applies.
+// What a run costs per simulated second, estimated before it starts, on the tuple the run starts
+// in with every mesh in drive contact (segment 0 of every mesh, t = 0): the solver's own bound rho
+// on that tuple's spectral radius (BoundTupleRate, solver/train_rate_bound.h: tooth friction and a
+// reduced tier's skew damping included), so the dense path's sub-step there is 1 / (2 rho) unless
+// its second bound (the balanced row norm) is shorter; the highest frictionless undamped mode
+// omega = sqrt(lambda_max(M^-1 K)) of that tuple and the body that moves most in it.
 struct RunCostEstimate {
   double mode_hz = 0.0;          // the highest mode, Hz (frictionless)
   double fastest_mesh_hz = 0.0;  // the fastest mesh frequency, Hz
   int body = 0;                  // the body that moves most in the highest mode
-  double substep_s = 0.0;        // 1 / (2 rho), s; 0 when the eigenvalue problem failed
+  double substep_s = 0.0;        // 1 / (2 rho), s; 0 when rho is 0 or an eigenproblem failed
 };
 RunCostEstimate EstimateRunCost(const TrainTables& tables);
 

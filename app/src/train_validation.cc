@@ -4,10 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "gearnvh/model/gear_train.h"
+#include "gearnvh/solver/train_cycle_map.h"
 #include "gearnvh/solver/train_reduced_tables.h"
 #include "gearnvh/solver/train_reference.h"
+#include "gearnvh/solver/train_segment_runs.h"
 #include "gearnvh/solver/train_stepper.h"
 
 namespace gearnvh::app {
@@ -206,10 +209,54 @@ TrainReferenceComparison CompareTrainWithReference(
   return out;
 }
 
+ValidationRow CompareFusionWithStepping(const TrainTables& t, const TrainTables& fused_tables,
+                                        const Eigen::VectorXd& z0,
+                                        const std::vector<ContactState>& states0,
+                                        const std::atomic<bool>* cancel) {
+  const char* name = "train: segment-run fusion vs step by step (V3), each run";
+  if (t.common_period <= 0.0) {
+    return SkippedRow(name,
+                      "the meshes and engine orders have no common period: fusion does not apply");
+  }
+  const long limit = TrainStepperOptions{}.max_cycle_map_segments;
+  const long period = CountCommonPeriodSegments(t, limit + 1);
+  if (period > limit) {
+    return SkippedRow(name, fmt::format("the common period has more than {} grid segments: "
+                                        "fusion does not apply",
+                                        limit));
+  }
+  const long segments = kFusionPeriods * period;
+  const SegmentRunCheck check =
+      CheckSegmentRuns(t, fused_tables, z0, states0, segments, EventMethod::kSpectral, cancel);
+  if (check.stopped) {
+    return {name,  1.0,   kFusionTolerance,
+            false, false, "the stepped run stopped: " + TrainStepperMessage(check.summary)};
+  }
+  const std::string where =
+      fmt::format("{} common periods ({} grid segments) from the static state, stepped",
+                  kFusionPeriods, segments);
+  if (check.runs == 0) {
+    return SkippedRow(
+        name, fmt::format("no run was certified along {} ({} refusals)", where, check.refusals));
+  }
+  ValidationRow row = CheckRow(
+      name, check.runs_with_event == 0 ? check.worst_te : 1.0, kFusionTolerance,
+      fmt::format("max over the runs of |TE difference| / |TE| at the run's end, each fused run "
+                  "against the same grid segments stepped from the same state, along {}; {} runs "
+                  "({} grid segments) certified, {} refusals",
+                  where, check.runs, check.fused, check.refusals));
+  if (check.runs_with_event > 0) {
+    row.pass = false;
+    row.detail +=
+        fmt::format("; {} certified runs had a contact event when stepped", check.runs_with_event);
+  }
+  return row;
+}
+
 std::vector<ValidationRow> RunTrainValidationLadder(
     const TrainSpec& spec, const std::atomic<bool>* cancel,
     const std::function<void(int done, int total)>& progress) {
-  constexpr int kStages = 4;
+  constexpr int kStages = 5;
   const auto done = [&](int stage) {
     if (progress) progress(stage, kStages);
   };
@@ -264,6 +311,9 @@ std::vector<ValidationRow> RunTrainValidationLadder(
     rows.push_back(row);
     done(++stage);
   }
+  // 5. Segment-run fusion against stepping (both V3).
+  rows.push_back(CompareFusionWithStepping(tables, tables, z0, states0, cancel));
+  done(++stage);
   return rows;
 }
 

@@ -1,6 +1,7 @@
 // The validation ladder of a gear train (schema gearnvh/2, docs/design.md §8 and §11): the exact
 // train solver at analysis.tier (V3) against the CVODE reference (TE and every event) and against
-// its V2 and V1 event methods, over the first cycles of the run from the static state.
+// its V2 and V1 event methods, over the first cycles of the run from the static state; and V3's
+// segment-run fusion against V3 step by step over the first common periods.
 //
 // A rattling train amplifies any error quickly (a light loose gear: ~10^3 per mesh cycle), so
 // CVODE, whose accuracy in double precision ends near rtol 1e-13, is itself accurate to 1e-8 of
@@ -22,14 +23,22 @@
 
 namespace gearnvh::app {
 
-// progress(done, 4) after each stage (the window run, the CVODE comparison, V2, V1); `cancel` is
-// passed to the exact runs (TrainStepperOptions::cancel: RunCancelled), CVODE's runs finish first.
+// progress(done, 5) after each stage (the window run, the CVODE comparison, V2, V1, fusion);
+// `cancel` is passed to the exact runs (TrainStepperOptions::cancel: RunCancelled), CVODE's runs
+// finish first.
 std::vector<ValidationRow> RunTrainValidationLadder(
     const TrainSpec& spec, const std::atomic<bool>* cancel = nullptr,
     const std::function<void(int done, int total)>& progress = {});
 
 // Tolerance of every TE row: 1e-8 of the TE (the issue's).
 inline constexpr double kTeTolerance = 1e-8;
+// Tolerance of the fusion row, relative to the TE at a run's end: a fused run and the same grid
+// segments stepped from the same state apply the same propagators, the fused one as a product of
+// up to 32 balanced-Pade expm against one closed-form piece per grid segment, each within about
+// cond(S) eps of the exact map (cond(S) <= 1e6); the unit tests measure 1.1e-12 (a rattling
+// train) and 1.3e-11 (a strong engine order) and allow 3e-11
+// (tests/solver/train_segment_runs_test.cc); a wrong input column or length moves the TE by > 1e-6.
+inline constexpr double kFusionTolerance = 3e-11;
 // The reference is trusted while it and its estimate differ by at most this relative to the TE.
 inline constexpr double kTrustedError = 0.1 * kTeTolerance;
 // An event matches a CVODE event within this fraction of the first mesh's period (CVODE's root
@@ -60,5 +69,22 @@ TrainReferenceComparison CompareTrainWithReference(
     const TrainTables& reference, const TrainTables& candidate, const Eigen::VectorXd& z_reference,
     const Eigen::VectorXd& z_candidate, const std::vector<ContactState>& states0,
     const std::vector<double>& times, const std::atomic<bool>* cancel = nullptr);
+
+// The row "segment-run fusion vs step by step": V3 steps `tables` grid segment by grid segment
+// (no jumps, no fusion) from z0 in states0 over the first kFusionPeriods common periods; at every
+// grid segment start its state is offered to segment-run fusion on `fused_tables` (its tables
+// built as it goes, so the second period uses held runs), and every certified run is compared
+// with the same grid segments stepped: no contact event or grazing in them, and the TE of every
+// mesh at the run's end within kFusionTolerance of the largest. Each run is compared from the
+// stepped state, not end to end: a rattle amplifies any rounding difference about tenfold per
+// millisecond, so two whole runs would part however exact each is. Skipped without a common
+// period, with more than max_cycle_map_segments grid segments in it, or when no run was
+// certified. The ladder passes the same tables twice; a test passes altered tables to see the row
+// fail.
+inline constexpr int kFusionPeriods = 2;
+ValidationRow CompareFusionWithStepping(const TrainTables& tables, const TrainTables& fused_tables,
+                                        const Eigen::VectorXd& z0,
+                                        const std::vector<ContactState>& states0,
+                                        const std::atomic<bool>* cancel = nullptr);
 
 }  // namespace gearnvh::app

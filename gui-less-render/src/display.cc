@@ -50,6 +50,25 @@ std::string FindOnPath(const std::string& program) {
   return {};
 }
 
+// Why an Xvfb that closed its -displayfd pipe is gone: its exit status or signal (reaped here, so
+// StopXvfb has nothing left to do), and how to see its own message, which gearnvh discards.
+std::string XvfbEndedMessage(const std::string& xvfb) {
+  int status = 0;
+  pid_t reaped = 0;
+  for (int i = 0; i < 20 && reaped == 0; ++i) {  // it is exiting: wait up to 1 s for the status
+    reaped = ::waitpid(g_xvfb, &status, WNOHANG);
+    if (reaped == 0) ::usleep(50000);
+  }
+  std::string how = "closed its display pipe";
+  if (reaped == g_xvfb) {
+    g_xvfb = -1;
+    if (WIFEXITED(status)) how = "exited with status " + std::to_string(WEXITSTATUS(status));
+    if (WIFSIGNALED(status)) how = "was killed by signal " + std::to_string(WTERMSIG(status));
+  }
+  return "Xvfb (" + xvfb + ") " + how + " before it was ready (run `" + xvfb +
+         " -displayfd 1` to see why), or set DISPLAY to a running X server";
+}
+
 DisplayStatus StartXvfb() {
   DisplayStatus s;
   const std::string xvfb = FindOnPath("Xvfb");
@@ -103,20 +122,24 @@ DisplayStatus StartXvfb() {
   std::atexit(StopXvfb);
   // Xvfb writes the display number and a newline once it accepts connections.
   std::string number;
+  bool closed = false;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
   while (std::chrono::steady_clock::now() < deadline) {
     pollfd p{fds[0], POLLIN, 0};
     if (::poll(&p, 1, 100) <= 0) continue;
     char c = 0;
-    if (::read(fds[0], &c, 1) != 1) break;  // closed: Xvfb died
+    if (::read(fds[0], &c, 1) != 1) {
+      closed = true;  // Xvfb died (or closed the descriptor) before naming its display
+      break;
+    }
     if (c == '\n') break;
     number += c;
   }
   ::close(fds[0]);
   if (number.empty()) {
-    StopXvfb();
     s.info = DisplayStatus::Info::kXvfbFailed;
-    s.message = "Xvfb (" + xvfb + ") did not start within 10 s";
+    s.message = closed ? XvfbEndedMessage(xvfb) : "Xvfb (" + xvfb + ") did not start within 10 s";
+    StopXvfb();
     return s;
   }
   s.display = ":" + number;

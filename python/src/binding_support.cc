@@ -2,7 +2,9 @@
 
 #include <limits>
 
+#include "gearnvh/model/gearbox_spec_limits.h"
 #include "gearnvh/model/input_error.h"
+#include "gearnvh/model/train_spec.h"
 #include "simulate_command.h"
 
 namespace gearnvh::python {
@@ -31,13 +33,25 @@ py::object ToPython(const nlohmann::json& doc) {
   return py::module_::import("json").attr("loads")(doc.dump());
 }
 
-Tier TierArgument(const py::object& tier, Tier fallback) {
+void RequirePairRunLength(const GearboxSpec& spec, double lowest_speed, long cycles, long transient,
+                          const std::optional<long>& cycles_keyword,
+                          const std::optional<long>& transient_keyword, bool recorded_in_memory) {
+  if (recorded_in_memory && cycles_keyword && *cycles_keyword > GearboxLimits::kMaxRecordedCycles) {
+    throw InputError("cycles", 0, std::to_string(*cycles_keyword),
+                     "must be <= " + std::to_string(GearboxLimits::kMaxRecordedCycles) +
+                         " (32 samples of every recorded cycle are kept in memory)");
+  }
+  app::RequireRunLengthOfOptions(TrainOf(spec), lowest_speed, cycles, transient, cycles_keyword,
+                                 transient_keyword, app::TrainOptionNames{""});
+}
+
+Tier TierArgument(const py::object& tier, Tier fallback, const std::string& source) {
   if (tier.is_none()) return fallback;
   const std::string text = py::str(tier);
   try {
     return app::ParseTier(text);
   } catch (const InputError& e) {
-    throw InputError("tier", 0, "'" + text + "'", e.rule());
+    throw InputError("tier", 0, "'" + text + "'", e.rule(), source);
   }
 }
 

@@ -141,7 +141,17 @@ py::object ToPython(const nlohmann::json& doc);
 py::array_t<double> AxisValues(const AtlasAxis& a);
 
 // tier= : None (the file's analysis.tier), 1..5, or "N40 full", "N20 simple", "N20 MTA".
-Tier TierArgument(const py::object& tier, Tier fallback);
+// InputError naming `tier` and the gearbox's `source` otherwise.
+Tier TierArgument(const py::object& tier, Tier fallback, const std::string& source);
+
+// The command line's limits on a pair's counts given as keywords (named `cycles`, `transient`):
+// cycles + transient mesh cycles at `lowest_speed` (rad/s) last at most
+// GearboxLimits::kMaxSimulatedSeconds of simulated time, and, when every recorded cycle is kept
+// in memory (`simulate`), at most GearboxLimits::kMaxRecordedCycles are recorded. InputError
+// otherwise (without a source: call it inside NamingSource).
+void RequirePairRunLength(const GearboxSpec& spec, double lowest_speed, long cycles, long transient,
+                          const std::optional<long>& cycles_keyword,
+                          const std::optional<long>& transient_keyword, bool recorded_in_memory);
 
 // tier= on a train: None (analysis.tier) or the text `--tier` takes (the app checks it).
 std::optional<std::string> TierText(const py::object& tier);

@@ -38,7 +38,7 @@ std::shared_ptr<Orbits> RunOrbits(const Gearbox& gb, int period,
   const std::string source = gb.source();
   OrbitScanOptions options;
   options.input_error_message = app::UserWording(kKeywordInputNames, app::PairAxisValueText(spec));
-  options.tier = TierArgument(tier, spec.analysis.tier);
+  options.tier = TierArgument(tier, spec.analysis.tier, source);
   options.period = period;
   options.transient_cycles = transient.value_or(spec.analysis.transient_cycles);
   options.events =
@@ -48,7 +48,12 @@ std::shared_ptr<Orbits> RunOrbits(const Gearbox& gb, int period,
     axis = config::ParseAxisOption(*sweep, "sweep");
     NamingSource(source, [&] { app::RequirePairAxisOption(spec, *axis, *sweep, "sweep"); });
   }
-  NamingSource(source, [&] { options.Validate(); });
+  NamingSource(source, [&] {
+    // The transient, then at least one cycle per base period of the period searched.
+    RequirePairRunLength(spec, app::LowestInputSpeed(TrainOf(spec), axis), period,
+                         options.transient_cycles, std::nullopt, transient, false);
+    options.Validate();
+  });
   return RunInterruptible(
       [&](CallControl& control) {
         options.cancel = &control.cancel;
@@ -69,6 +74,10 @@ std::shared_ptr<Tiers> RunTiers(const Gearbox& gb, std::optional<long> cycles,
   ApplyLadderMethod(LadderMethod::kV3, solver);
   solver.cycles = cycles.value_or(std::min(spec.analysis.cycles, 400));
   solver.transient_cycles = transient.value_or(std::min(spec.analysis.transient_cycles, 200));
+  NamingSource(source, [&] {
+    RequirePairRunLength(spec, spec.operating.speed, solver.cycles, solver.transient_cycles, cycles,
+                         transient, false);
+  });
   return RunInterruptible(
       [&](CallControl& control) {
         return NamingSource(source, [&] {

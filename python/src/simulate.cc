@@ -29,13 +29,17 @@ std::shared_ptr<Simulation> Simulate(const Gearbox& gb, const py::object& tier,
                                      const std::string& method, const py::object& progress) {
   const GearboxSpec spec = gb.spec();
   const std::string source = gb.source();
-  const Tier chosen = TierArgument(tier, spec.analysis.tier);
+  const Tier chosen = TierArgument(tier, spec.analysis.tier, source);
   SolverOptions solver;
   solver.cycles = cycles.value_or(spec.analysis.cycles);
   solver.transient_cycles = transient.value_or(spec.analysis.transient_cycles);
   ApplyLadderMethod(NamingSource(source, [&] { return app::ParseMethod(method, "method"); }),
                     solver);
-  NamingSource(source, [&] { solver.Validate(); });
+  NamingSource(source, [&] {
+    solver.Validate();
+    RequirePairRunLength(spec, spec.operating.speed, solver.cycles, solver.transient_cycles, cycles,
+                         transient, true);
+  });
   return RunInterruptible(
       [&](CallControl& control) {
         return NamingSource(source, [&] {

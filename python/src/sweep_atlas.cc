@@ -39,13 +39,17 @@ std::shared_ptr<Sweep> RunSweep(const Gearbox& gb, const py::object& tier,
                                 const std::string& method, const py::object& progress) {
   const GearboxSpec spec = gb.spec();
   const std::string source = gb.source();
-  const Tier chosen = TierArgument(tier, spec.analysis.tier);
+  const Tier chosen = TierArgument(tier, spec.analysis.tier, source);
   app::SpeedSweepOptions options;
   options.cycles = cycles.value_or(options.cycles);
   options.transient_cycles = transient.value_or(options.transient_cycles);
   options.waterfall_cycles = std::min(options.waterfall_cycles, options.cycles - 1);
   options.threads = jobs;
   options.method = NamingSource(source, [&] { return app::ParseMethod(method, "method"); });
+  NamingSource(source, [&] {
+    RequirePairRunLength(spec, spec.analysis.speed_sweep.from, options.cycles,
+                         options.transient_cycles, cycles, transient, false);
+  });
   return RunInterruptible(
       [&](CallControl& control) {
         return NamingSource(source, [&] {
@@ -78,7 +82,7 @@ std::shared_ptr<Atlas> RunAtlas(const Gearbox& gb, const std::optional<std::stri
   const std::string source = gb.source();
   AtlasOptions options;
   options.input_error_message = app::UserWording(kKeywordInputNames, app::PairAxisValueText(spec));
-  options.tier = TierArgument(tier, spec.analysis.tier);
+  options.tier = TierArgument(tier, spec.analysis.tier, source);
   options.cycles = cycles.value_or(options.cycles);
   options.transient_cycles = transient.value_or(options.transient_cycles);
   options.threads = jobs;
@@ -96,6 +100,8 @@ std::shared_ptr<Atlas> RunAtlas(const Gearbox& gb, const std::optional<std::stri
   NamingSource(source, [&] {
     if (x) app::RequirePairAxisOption(spec, *ax, *x, "x");
     if (y) app::RequirePairAxisOption(spec, *ay, *y, "y");
+    RequirePairRunLength(spec, app::LowestInputSpeed(TrainOf(spec), ax, ay), options.cycles,
+                         options.transient_cycles, cycles, transient, false);
   });
   if (ax->parameter == ay->parameter) {
     throw InputError("y", 0, ay->parameter, "must differ from the x parameter", source);

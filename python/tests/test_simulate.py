@@ -75,6 +75,7 @@ def test_solver_option_errors_name_the_option():
     with pytest.raises(gearnvh.InputError) as tier:
         gearnvh.simulate(gb, tier=9)
     assert tier.value.path == "tier"
+    assert tier.value.source == str(IDLE_RATTLE)  # as every other keyword's error
     with pytest.raises(gearnvh.InputError) as method:
         gearnvh.simulate(gb, method="v9")
     assert method.value.path == "method"
@@ -94,6 +95,34 @@ def test_solver_option_errors_name_the_option():
     assert flexible.value.rule.startswith("needs flexible shafts")
 
 
+def test_counts_beyond_the_command_lines_limits_are_refused_before_any_work():
+    # The command line refuses these (--cycles at most 1e6, cycles + transient at most 3600 s of
+    # simulated time); the module ran them: cycles=10**12 hung allocating 32 samples per cycle.
+    gb = gearnvh.load(str(IDLE_RATTLE))  # 27 teeth at 800 rpm: 360 mesh cycles per second
+    with pytest.raises(gearnvh.InputError) as recorded:
+        gearnvh.simulate(gb, cycles=10**12)
+    assert (recorded.value.path, recorded.value.value) == ("cycles", "1000000000000")
+    assert recorded.value.rule.startswith("must be <= 1000000")
+    assert recorded.value.source == str(IDLE_RATTLE)
+    calls = [
+        ("simulate", {"transient": 10**9}, "transient"),
+        ("sweep", {"cycles": 10**12}, "cycles"),
+        ("atlas", {"transient": 10**10, "x": "operating.speed=600rpm:3000rpm:2",
+                   "y": "operating.torque=0.1Nm:1Nm:2"}, "transient"),
+        ("orbits", {"transient": 10**10}, "transient"),
+        ("tiers", {"cycles": 10**9}, "cycles"),
+    ]
+    for name, kwargs, keyword in calls:
+        with pytest.raises(gearnvh.InputError) as length:
+            getattr(gearnvh, name)(gb, **kwargs)
+        assert length.value.path == keyword, name
+        assert "the limit is 3600 s" in length.value.rule, name
+    # 1300 s at 360 Hz is within the limit: only the recorded cycles' bound applies.
+    with pytest.raises(gearnvh.InputError) as within:
+        gearnvh.simulate(gb, cycles=1000001, transient=0)
+    assert within.value.rule.startswith("must be <= 1000000")
+
+
 def test_progress_callback_sees_the_run_and_can_stop_it():
     gb = gearnvh.load(str(IDLE_RATTLE))
     seen = []
@@ -110,8 +139,9 @@ def test_progress_callback_sees_the_run_and_can_stop_it():
     def stop(done, total):
         raise Stop()
 
-    with pytest.raises(Stop):  # ten million cycles would take minutes
-        gearnvh.simulate(gb, tier=1, cycles=10, transient=10_000_000, method="v3", progress=stop)
+    # 1.2 million cycles (3333 s simulated, under the 3600 s limit) would take minutes.
+    with pytest.raises(Stop):
+        gearnvh.simulate(gb, tier=1, cycles=10, transient=1_200_000, method="v3", progress=stop)
 
 
 def test_ctrl_c_interrupts_a_long_run():
@@ -121,8 +151,8 @@ def test_ctrl_c_interrupts_a_long_run():
     timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
     timer.start()
     try:
-        # Ten million mesh cycles would take minutes; SIGINT stops the run at the next cycle.
+        # 1.2 million mesh cycles would take minutes; SIGINT stops the run at the next cycle.
         with pytest.raises(KeyboardInterrupt):
-            gearnvh.simulate(gb, tier=1, cycles=10, transient=10_000_000, method="v3")
+            gearnvh.simulate(gb, tier=1, cycles=10, transient=1_200_000, method="v3")
     finally:
         timer.cancel()

@@ -304,6 +304,20 @@ def test_validate_a_train_as_the_command_line(gearnvh_exe, transmission):
     assert d == doc
 
 
+def test_validate_compares_fusion_with_stepping(gearnvh_exe, linear_file):
+    # The linear train stays in drive contact: segment-run fusion certifies its runs, each equal to
+    # the same grid segments stepped to within the row's 3e-11 of the TE (docs/cli.md).
+    v = gearnvh.validate(gearnvh.load(linear_file))
+    fusion = [c for c in v.checks if "segment-run fusion vs step by step" in c.name]
+    assert len(fusion) == 1
+    row = fusion[0]
+    assert not row.skipped and row.passed and row.threshold == 3e-11 and row.value <= 3e-11
+    cli = subprocess.run([gearnvh_exe, "validate", str(linear_file), "--json"],
+                         capture_output=True, text=True)
+    doc = json.loads(cli.stdout)
+    assert [c for c in doc["checks"] if c["name"] == row.name][0]["value"] == row.value
+
+
 def test_train_analyses_name_the_keyword_value_and_rule(transmission, linear_file):
     train = gearnvh.load(linear_file)
     with pytest.raises(gearnvh.InputError) as few:

@@ -227,6 +227,13 @@ std::unique_ptr<TrainSegmentRuns::Run> TrainSegmentRuns::Build(
   return run;
 }
 
+bool TrainSegmentRuns::Nested(const Run& shorter, const Run& run) {
+  const auto half = static_cast<std::ptrdiff_t>(shorter.segments.size());
+  return std::equal(shorter.segments.begin(), shorter.segments.end(), run.segments.begin(),
+                    run.segments.begin() + half) &&
+         shorter.lengths == run.lengths.head(shorter.length);
+}
+
 bool TrainSegmentRuns::Certify(const Run& run) const {
   const int lp = static_cast<int>(run.input_weights.cols());
   for (size_t w = 0; w < walls_.size(); ++w) {
@@ -278,12 +285,21 @@ long TrainSegmentRuns::Advance(long position, const std::vector<ContactState>& s
       if (!build) break;
       run = Build(r, states);
       if (!run) break;  // beyond the tables' limit
+      if (level > 1 && Nested(*entry.levels[static_cast<size_t>(level - 2)], *run))
+        entry.nested |= 1u << level;
     } else {
-      // The period's grid repeats: a held run is used only on the same segments and lengths.
-      const bool same =
-          std::equal(run->segments.begin(), run->segments.end(), segments_.begin()) &&
-          ((run->lengths - lengths_.head(r)).cwiseAbs().array() <= 1e-9 * run->lengths.array())
-              .all();
+      // The period's grid repeats only up to rounding: a held run is used only on the same
+      // segments and lengths. The shorter level passed this check on this walk, so a nested run's
+      // first half passes it too (see the header): only its second half is compared.
+      const int from = (entry.nested >> level & 1u) != 0 ? r / 2 : 0;
+      const size_t meshes = t_.meshes.size();
+      const auto offset = static_cast<std::ptrdiff_t>(meshes * static_cast<size_t>(from));
+      const bool same = std::equal(run->segments.begin() + offset, run->segments.end(),
+                                   segments_.begin() + offset) &&
+                        ((run->lengths.segment(from, r - from) - lengths_.segment(from, r - from))
+                             .cwiseAbs()
+                             .array() <= 1e-9 * run->lengths.segment(from, r - from).array())
+                            .all();
       if (!same) break;
     }
     dev_ = slots_;

@@ -356,6 +356,69 @@ TEST_CASE("report: a signal mid-run removes the staging folder and keeps the ear
 
 #endif  // GEARNVH_HAVE_RENDER
 
+TEST_CASE("a mistyped command is named, with the closest command and the list",
+          "[cli][hardening]") {
+  const auto typo = RunCommand(kExe + " simulat " + kWhine);
+  CHECK(typo.exit_code == 2);
+  CHECK(typo.err.find("error: unknown command 'simulat' (did you mean simulate?); commands: "
+                      "check, simulate, ") != std::string::npos);
+  const auto unknown = RunCommand(kExe + " bogus");
+  CHECK(unknown.exit_code == 2);
+  CHECK(unknown.err.find("error: unknown command 'bogus'; commands: check, ") != std::string::npos);
+}
+
+#if !defined(__SANITIZE_ADDRESS__)  // ASan reserves more address space than the cap below
+TEST_CASE("simulate: running out of memory is an error that says so, not an internal error",
+          "[cli][hardening]") {
+  const TempDir dir;
+  const fs::path out = dir.path() / "run";
+  // 200000 recorded cycles keep 6.4 million samples (measured 1.1 GB for 400000); the address
+  // space is capped at 400 MB.
+  const auto run = RunCommand("ulimit -v 400000 && " + kExe + " simulate " + kWhine +
+                              " --cycles 200000 --transient 0 --out " + out.string());
+  INFO(run.err);
+  CHECK(run.exit_code == 1);
+  CHECK(run.err.find("error: out of memory: ") != std::string::npos);
+  CHECK(run.err.find("internal error") == std::string::npos);
+  CHECK(!fs::exists(out));
+  CHECK(Debris(dir.path()).empty());
+}
+#endif
+
+TEST_CASE("simulate: SIGINT or SIGTERM mid-run says on stderr that the run was stopped and the "
+          "earlier results kept",
+          "[cli][hardening]") {
+  const TempDir dir;
+  const fs::path out = dir.path() / "run";
+  const auto first = RunCommand(kExe + " simulate " + kWhine +
+                                " --cycles 20 --transient 10 --out " + out.string());
+  REQUIRE(first.exit_code == 0);
+  const auto before = Snapshot(out);
+  for (const int sig : {SIGINT, SIGTERM}) {
+    const std::string name = sig == SIGINT ? "SIGINT" : "SIGTERM";
+    INFO(name);
+    // A million mesh cycles take minutes: the signal comes while it computes, its staging
+    // folder in place.
+    const pid_t pid =
+        Spawn({"simulate", kWhine, "--cycles", "1000000", "--out", out.string()}, dir.path());
+    REQUIRE(pid > 0);
+    REQUIRE(WaitFor([&] { return HasPartial(dir.path()); }, 30.0));
+    REQUIRE(::kill(pid, sig) == 0);
+    int status = 0;
+    REQUIRE(::waitpid(pid, &status, 0) == pid);
+    CHECK(WIFSIGNALED(status));
+    CHECK(WTERMSIG(status) == sig);
+    const std::string err = ReadWholeFile(dir.path() / "err.txt");
+    INFO(err);
+    CHECK(err.find("gearnvh: stopped by " + name +
+                   ": the unfinished outputs were removed, earlier results are unchanged\n") !=
+          std::string::npos);
+    CHECK(err.find('\x1b') == std::string::npos);  // not a terminal: no control sequences
+    CHECK(Snapshot(out) == before);
+    CHECK(Debris(dir.path()).empty());
+  }
+}
+
 TEST_CASE("output: a full disk while writing leaves the earlier results - a full or read-only "
           "disk is refused before the computation",
           "[cli][hardening]") {

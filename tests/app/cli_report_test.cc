@@ -202,6 +202,24 @@ TEST_CASE("report: without a display and without Xvfb the error says what to ins
   CHECK(!fs::exists(dir.path() / "r"));
 }
 
+TEST_CASE("report: an Xvfb that exits at once is reported with its exit status, not as slow",
+          "[cli][report]") {
+  const TempDir dir;
+  // An Xvfb that fails at start (a broken installation, a missing GL driver) exits at once.
+  const fs::path xvfb = dir.path() / "Xvfb";
+  std::ofstream(xvfb) << "#!/bin/sh\nexit 3\n";
+  fs::permissions(xvfb, fs::perms::owner_all);
+  const auto run =
+      RunCommand("env -u DISPLAY PATH=" + dir.path().string() + " " + kExe + " report " +
+                 kExamples + "/industrial_whine.yaml --out " + (dir.path() / "r").string());
+  INFO(run.err);
+  CHECK(run.exit_code == 1);
+  CHECK(run.err.find("(" + xvfb.string() + ") exited with status 3 before it was ready") !=
+        std::string::npos);
+  CHECK(run.err.find("within 10 s") == std::string::npos);
+  CHECK(!fs::exists(dir.path() / "r"));
+}
+
 TEST_CASE("report: a gear train gets its page and figures, next to a pair and past a bad file",
           "[cli][report][train]") {
   // The manual transmission, shortened (210 recorded cycles: two common periods; 3 sweep speeds).

@@ -110,6 +110,37 @@ TEST_CASE("sweep writes Campbell and waterfall data atomically and reports per s
   }
 }
 
+TEST_CASE("sweep text shows the speeds in the unit the file wrote, the JSON in rpm",
+          "[cli][sweep]") {
+  // The idle-rattle example with its speeds in rev/s (10, 30, 50 rev/s = 600, 1800, 3000 rpm).
+  std::ifstream in(kExamples + "/idle_rattle.yaml");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string sweep = "speed_sweep: {from: 600 rpm, to: 3000 rpm, points: 25}";
+  const std::string speed = "speed: 800 rpm";
+  REQUIRE(text.find(sweep) != std::string::npos);
+  REQUIRE(text.find(speed) != std::string::npos);
+  text.replace(text.find(sweep), sweep.size(),
+               "speed_sweep: {from: 10 rev/s, to: 50 rev/s, points: 3}");
+  text.replace(text.find(speed), speed.size(), "speed: 13.5 rev/s");
+  const TempDir dir;
+  const auto file = dir.path() / "revs.yaml";
+  std::ofstream(file) << text;
+  const std::string command = kExe + " sweep --cycles 16 --transient 4 " + file.string();
+  const auto run = RunCommand(command);
+  INFO(run.err);
+  REQUIRE(run.exit_code == 0);
+  CHECK(run.out.find("     rev/s   TE RMS µm") != std::string::npos);
+  for (const char* row : {"\n        10  ", "\n        30  ", "\n        50  "}) {
+    CHECK(run.out.find(row) != std::string::npos);
+  }
+  CHECK(run.out.find("rpm") == std::string::npos);
+  const auto json = RunCommand(command + " --json");
+  REQUIRE(json.exit_code == 0);
+  const auto speeds = nlohmann::json::parse(json.out)["speeds_rpm"];
+  REQUIRE(speeds.size() == 3);
+  CHECK(speeds[2].get<double>() == Approx(3000.0).epsilon(1e-12));  // 50 rev/s, rounding only
+}
+
 TEST_CASE("sweep: too few cycles is a usage error, a bad file a clear input error",
           "[cli][sweep]") {
   const auto run = RunCommand(kExe + " sweep --cycles 1 " + kExamples + "/idle_rattle.yaml");

@@ -14,14 +14,16 @@ using testing::RunCommand;
 const std::string kExe = GEARNVH_EXE;
 const std::string kExamples = GEARNVH_EXAMPLES_DIR;
 
-TEST_CASE("validate on a rattling train compares V3 with CVODE, V2 and V1", "[cli][train]") {
+TEST_CASE(
+    "validate on a rattling train compares V3 with CVODE, V2 and V1, and fusion with stepping",
+    "[cli][train]") {
   const auto r =
       RunCommand(kExe + " validate --json " + kExamples + "/manual_transmission_idle.yaml");
   INFO(r.out << r.err);
   REQUIRE(r.exit_code == 0);
   const auto doc = nlohmann::json::parse(r.out);
   CHECK(doc["pass"].get<bool>());
-  REQUIRE(doc["checks"].size() == 4);
+  REQUIRE(doc["checks"].size() == 5);
   for (const auto& c : doc["checks"]) {
     CHECK(c["pass"].get<bool>());
     CHECK_FALSE(c["skipped"].get<bool>());
@@ -34,6 +36,15 @@ TEST_CASE("validate on a rattling train compares V3 with CVODE, V2 and V1", "[cl
   CHECK(std::stoi(m[1]) >= 15);
   CHECK(m[1] == m[2]);
   CHECK(doc["checks"][1]["value"].get<double>() == 0.0);
+  // The fusion row: some runs certified between the rattle's impacts (28 when written), each
+  // equal to its stepped grid segments within the row's tolerance.
+  const auto& fusion = doc["checks"][4];
+  CHECK(fusion["name"].get<std::string>().find("segment-run fusion") != std::string::npos);
+  CHECK(fusion["threshold"].get<double>() == 3e-11);
+  CHECK(fusion["value"].get<double>() <= 3e-11);
+  const std::string runs = fusion["detail"].get<std::string>();
+  REQUIRE(std::regex_search(runs, m, std::regex("; ([0-9]+) runs")));
+  CHECK(std::stoi(m[1]) > 0);
 }
 
 TEST_CASE("simulate on a train runs every event method with the same events", "[cli][train]") {

@@ -8,6 +8,7 @@
 
 #include "gearnvh/model/component_model.h"
 #include "gearnvh/model/input_error.h"
+#include "load_error.h"
 
 namespace gearnvh::config {
 namespace {
@@ -86,6 +87,33 @@ operating: {speed: 1000 rpm, torque: 1 N*m}
     CHECK(e.line() == 7);
     CHECK(std::string(e.what()) == "x.yaml:7: mesh.backlash: must be > 0, got '-100 um'");
   }
+}
+
+TEST_CASE("syntax errors name deep nesting, a tab in the indentation and a too large integer",
+          "[loader]") {
+  using testing::Example;
+  using testing::LoadError;
+  using testing::Replace;
+  const std::string rattle = Example("idle_rattle.yaml");
+  // yaml-cpp stops at 500 levels with the message "bad file".
+  const std::string deep =
+      LoadError("name: " + std::string(1000, '[') + std::string(1000, ']') + "\n");
+  CHECK(deep.rfind("t.yaml:1: (document): not valid YAML here: lists and mappings nested ", 0) ==
+        0);
+  CHECK(deep.find("levels deep, more than the parser allows") != std::string::npos);
+  CHECK(deep.find("bad file") == std::string::npos);
+  // A tab before `teeth:` (line 27 of the example): yaml-cpp says "illegal map value".
+  const std::string tab = LoadError(Replace(rattle, "    teeth: 43", "\tteeth: 43"));
+  CHECK(tab.find("(line 27 is indented with a tab: YAML indents with spaces only)") !=
+        std::string::npos);
+  // An error without a tab nearby gets no such note.
+  CHECK(LoadError("a: [1, 2\n").find("tab") == std::string::npos);
+  // 1e12 is an integer: the rule broken is its size.
+  CHECK(LoadError(Replace(rattle, "cycles: 2000", "cycles: 1000000000000")) ==
+        "t.yaml:48: analysis.cycles: must be an integer between -2e9 and 2e9, got "
+        "'1000000000000'");
+  CHECK(LoadError(Replace(rattle, "cycles: 2000", "cycles: 20.5")) ==
+        "t.yaml:48: analysis.cycles: must be an integer, got '20.5'");
 }
 
 TEST_CASE("closest-key suggestions", "[loader]") {

@@ -1,6 +1,7 @@
 // Unit tests of the output-safety pieces: the output folder (lock, staging, commit), the finite
 // check of result documents and the UTF-8 check of input files.
 #include <catch2/catch.hpp>
+#include <fmt/format.h>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -132,6 +133,24 @@ TEST_CASE("RequireValidUtf8 accepts UTF-8 and names the line of anything else", 
     } catch (const InputError& e) {
       CHECK(e.line() == 2);
       CHECK(std::string(e.what()).find("UTF-8") != std::string::npos);
+    }
+  }
+}
+
+TEST_CASE("RequireValidUtf8 refuses the control characters YAML does not allow", "[app][input]") {
+  // Tab, line feed and carriage return (CRLF files) are YAML's only C0 controls.
+  CHECK_NOTHROW(config::RequireValidUtf8("name:\ta\r\nmesh: {}\r\n", "f"));
+  // Before this check a leading NUL made yaml-cpp guess UTF-16 ("must be a mapping, got 'Ã뼊'")
+  // and a later one ended the text ("materials: required key is missing").
+  for (const char c : {'\x00', '\x01', '\x1B', '\x7F'}) {
+    INFO(static_cast<int>(c));
+    try {
+      config::RequireValidUtf8("schema: gearnvh/1\nname: a" + std::string(1, c) + "b\n", "f.yaml");
+      FAIL("accepted");
+    } catch (const InputError& e) {
+      CHECK(e.line() == 2);
+      CHECK(e.value() == fmt::format("\"\\x{:02X}\" at column 8", static_cast<unsigned char>(c)));
+      CHECK(e.rule().find("YAML allows no control characters") != std::string::npos);
     }
   }
 }

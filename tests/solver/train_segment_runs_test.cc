@@ -145,52 +145,15 @@ TEST_CASE("train segment runs: a strong engine order, fused and stepped, recorde
   }
 }
 
-// Walks a V3 stepper (no fusion, no jumps) grid segment by grid segment from the static state
-// over `segments` grid segments; at every grid segment start offers its state to a
-// TrainSegmentRuns and, when that certifies a run, steps the same grid segments and compares: no
+// Every run certified along a stepped walk from the static state over `segments` grid segments,
+// checked against the same grid segments stepped (CheckSegmentRuns, train_segment_runs.h): no
 // event (or grazing) may occur in them, and the fused state must equal the stepped one.
-struct RunCheck {
-  long runs = 0, fused = 0, refusals = 0, runs_with_event = 0, events = 0;
-  double worst_te = 0.0;  // the largest TE difference over the TE scale
-};
-RunCheck CheckEveryRun(const TrainTables& t, long segments,
-                       EventMethod method = EventMethod::kSpectral) {
+SegmentRunCheck CheckEveryRun(const TrainTables& t, long segments,
+                              EventMethod method = EventMethod::kSpectral) {
   const auto [z0, states0] = TrainStaticState(t);
-  TrainStepperOptions off;
-  off.events = method;
-  off.jumps = false;
-  off.fusion_levels = 0;
-  TrainStepper stepper(t, off, z0, states0);
-  TrainSegmentRuns runs(t, 5, size_t{64} << 20, 100000);
-  const long period = CountCommonPeriodSegments(t, 100000);
-  TrainGrid grid(t);
-  RunCheck out;
-  for (long k = 0; k < segments;) {
-    Eigen::VectorXd z = stepper.state();
-    TrainGrid fused_grid = grid;
-    const long r = runs.Advance(k % period, stepper.states(),
-                                std::numeric_limits<double>::infinity(), true, fused_grid, z);
-    const long before = stepper.summary().events + stepper.summary().grazing;
-    for (long i = 0; i < std::max(r, 1L); ++i, ++k) {
-      REQUIRE(stepper.Run(grid.end()));
-      grid.Next();
-    }
-    if (r == 0) continue;
-    ++out.runs;
-    out.fused += r;
-    if (stepper.summary().events + stepper.summary().grazing != before) ++out.runs_with_event;
-    CHECK(fused_grid.start() == grid.start());
-    double scale = 0.0, difference = 0.0;
-    for (const TrainMeshTable& mt : t.meshes) {
-      scale = std::max(scale, std::abs(mt.v.dot(stepper.state().head(t.n))));
-      difference =
-          std::max(difference, std::abs(mt.v.dot(stepper.state().head(t.n) - z.head(t.n))));
-    }
-    out.worst_te = std::max(out.worst_te, difference / scale);
-  }
-  out.refusals = runs.refusals();
-  out.events = stepper.summary().events;
-  return out;
+  const SegmentRunCheck check = CheckSegmentRuns(t, t, z0, states0, segments, method);
+  REQUIRE_FALSE(check.stopped);
+  return check;
 }
 
 TEST_CASE("train segment runs: every run certified on a rattling train steps without an event",
@@ -201,7 +164,7 @@ TEST_CASE("train segment runs: every run certified on a rattling train steps wit
   const Model s(testing::RattlerTrain(1500.0));
   const TrainTables& t = s.tables;
   REQUIRE(t.common_period > 0.0);
-  const RunCheck check = CheckEveryRun(t, 3000);
+  const SegmentRunCheck check = CheckEveryRun(t, 3000);
   INFO("events " << check.events << "; runs " << check.runs << " (" << check.fused
                  << " grid segments); refusals " << check.refusals << "; TE " << check.worst_te);
   REQUIRE(check.events > 100);
@@ -220,8 +183,8 @@ TEST_CASE(
   const Model s(testing::TwoStageTrain(100.0, 20000.0, 600.0));
   const TrainTables& t = s.tables;
   REQUIRE(t.common_period > 0.0);
-  const RunCheck check = CheckEveryRun(t, 3000);
-  const RunCheck taylor = CheckEveryRun(t, 3000, EventMethod::kTaylor);
+  const SegmentRunCheck check = CheckEveryRun(t, 3000);
+  const SegmentRunCheck taylor = CheckEveryRun(t, 3000, EventMethod::kTaylor);
   INFO("events " << check.events << "; runs " << check.runs << " (" << check.fused
                  << " grid segments); refusals " << check.refusals << "; TE " << check.worst_te
                  << "; against V2 " << taylor.worst_te);

@@ -45,9 +45,21 @@
 // certified along a rattling and an engine-excited trajectory steps without an event.
 // Once the tables of the visited (combination, position, level) are held, Advance() allocates
 // nothing.
+// Held runs are re-checked at every use: the period's grid repeats only up to rounding (later
+// periods' lengths drift by the absolute time's rounding, and TrainGrid's merge tolerance grows
+// with 4 eps t, so a merge of two meshes' boundaries can change), so a held run is applied only
+// where the walk's mesh segments are the same and its lengths within 1e-9 relative. The levels of
+// a position are tried shortest first and the first failure ends the try, so when level l is
+// checked level l - 1 has passed the same check on the same walk. Per position a memo
+// (Entry::nested) records which levels start, bit for bit, with the previous level's segments and
+// lengths (true when both were built from one walk, the usual case); for those the first half
+// would compare the same values against the same bound and is skipped: only the second half is
+// compared. That is exact (the same accept/refuse decision as the full check); a level built on
+// another visit than the one below it keeps the full check.
 #pragma once
 
 #include <Eigen/Dense>
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <unordered_map>
@@ -100,6 +112,7 @@ class TrainSegmentRuns {
   struct Entry {
     std::vector<std::unique_ptr<Run>> levels;  // [l - 1]: the run of 2^l grid segments, or null
     int skip = 0, backoff = 0;
+    uint32_t nested = 0;  // bit l: level l's run starts with level l - 1's (see the header)
   };
   struct Key {
     uint64_t states = 0;
@@ -118,6 +131,9 @@ class TrainSegmentRuns {
   // The run of `length` grid segments from the walk's start in `states`, or null beyond the limit.
   std::unique_ptr<Run> Build(int length, const std::vector<ContactState>& states);
   bool Certify(const Run& run) const;
+  // Whether `run` (2^l grid segments) starts with `shorter`'s (2^(l-1)) segments and lengths, bit
+  // for bit.
+  static bool Nested(const Run& shorter, const Run& run);
   void WallsOf(const std::vector<ContactState>& states);
 
   const TrainTables& t_;
@@ -140,5 +156,26 @@ class TrainSegmentRuns {
   Eigen::MatrixXd wall_terms_;         // walls x 2^L: -sigma u_i (the error input's wall part)
   Eigen::VectorXd slots_, dev_, end_;  // m
 };
+
+// Segment-run fusion checked against stepping, run by run (validate's row, the tests): a stepper
+// on `tables` (no jumps, no fusion, event method `method`) walks grid segment by grid segment
+// from z0 in states0 over `segments` grid segments; at every grid segment start its state is
+// offered to a TrainSegmentRuns on `fused_tables` (default levels and limit, tables built as it
+// goes) and each certified run is compared with the same grid segments stepped from the same
+// state. Each run from the stepped state, not end to end: a rattle amplifies any rounding
+// difference about tenfold per millisecond.
+struct SegmentRunCheck {
+  long runs = 0, fused = 0, refusals = 0;
+  long runs_with_event = 0;  // certified runs whose stepped grid segments had an event or grazing
+  long events = 0;           // of the stepped walk
+  double worst_te = 0.0;     // max over runs of max_i |TE_i difference| / max_i |TE_i|, run's end
+  bool stopped = false;      // the stepper stopped (summary says why); nothing after it checked
+  TrainStepperSummary summary;  // the stepper's
+};
+SegmentRunCheck CheckSegmentRuns(const TrainTables& tables, const TrainTables& fused_tables,
+                                 const Eigen::VectorXd& z0,
+                                 const std::vector<ContactState>& states0, long segments,
+                                 EventMethod method = EventMethod::kSpectral,
+                                 const std::atomic<bool>* cancel = nullptr);
 
 }  // namespace gearnvh

@@ -213,14 +213,13 @@ struct TrainSystem {
   SpectralDecomposition decomposition;
   bool decomposed = false;  // the decomposition was attempted (TrainTableOptions)
   bool spectral = false;    // decomposition usable (else the dense Taylor path)
-  // Dense path: sub-step length with rho(A) substep <= 1/2, rho bounded by the Rayleigh quotients
-  // of the pencil lambda^2 M + lambda C + K: symmetric (M > 0, C, K >= 0) |lambda| <=
-  // max(sqrt(lambda_max(M^-1 K)), lambda_max(M^-1 C)); non-symmetric (friction in contact, a skew
-  // gyroscopic C) |lambda| <= |c| + sqrt(|k|), |k| <= lambda_max(M^-1 K_sym) + sum mu k_ij
-  // |M^-1/2 w_ij| |M^-1/2 v_i| and |c| likewise (train_tuple_tables.cc); and rate * substep <=
-  // kMaxDenseStepNorm,
-  // which bounds the Taylor remainder (taylor_root::Tail) whatever A's non-normality.
+  // Dense path: sub-step length, min(1/2 / rho, kMaxDenseStepNorm / rate): rho(A) substep <= 1/2,
+  // and rate * substep <= kMaxDenseStepNorm bounds the Taylor remainder (taylor_root::Tail)
+  // whatever A's non-normality.
   double substep = 0.0;
+  // The bound on A's spectral radius (BoundTupleRate, train_rate_bound.h: the Rayleigh quotients of
+  // the pencil lambda^2 M + lambda C + K, friction's and skew damping's terms bounded apart), 1/s.
+  double rho = 0.0;
   // sqrt(lambda_max(M^-1 K_sym)), K_sym without friction's rank-one terms (a scale, not a bound):
   // the decomposition's velocity balance, rad/s.
   double w_ref = 1.0;
@@ -269,9 +268,9 @@ class TrainSystemCache {
  private:
   TrainSystem Build(const std::vector<int>& segments,
                     const std::vector<ContactState>& states) const;
-  // The damping's part of the dense path's rate bound (TrainSystem::substep): it depends on the
-  // contact states only (c_i is constant per mesh), so it is computed once per state
-  // combination (2 bits per mesh; trains of more than 32 meshes compute it per tuple).
+  // DampingRateBound (train_rate_bound.h) of the tuple's damping C: it depends on the contact
+  // states only (c_i is constant per mesh), so it is computed once per state combination (2 bits
+  // per mesh; trains of more than 32 meshes compute it per tuple).
   double DampingRate(const std::vector<ContactState>& states, const Eigen::MatrixXd& C) const;
   void Decompose(TrainSystem& s) const;
   static constexpr size_t kNone = ~size_t{0};
