@@ -1,24 +1,22 @@
 #include "atlas_command.h"
 
 #include <fmt/format.h>
-#include <unistd.h>
 
-#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "atomic_file.h"
+#include "atlas_checkpoint.h"
+#include "atlas_documents.h"
+#include "atlas_terminal.h"
 #include "command_errors.h"
 #include "config/gearbox_loader.h"
 #include "display_units.h"
 #include "finite_results.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/atlas.h"
-#include "gearnvh/nvh/rattle.h"
 #include "mpi_context.h"
 #include "output_folder.h"
 #include "simulate_command.h"
@@ -26,218 +24,6 @@
 #include "train_operating_point.h"
 
 namespace gearnvh::app {
-
-nlohmann::json AtlasAxisJson(const AtlasAxis& a) {
-  nlohmann::json values = nlohmann::json::array();
-  for (int i = 0; i < a.range.points; ++i) values.push_back(AxisValue(a, i));
-  return {{"parameter", a.parameter},
-          {"from", a.range.from},
-          {"to", a.range.to},
-          {"points", a.range.points},
-          {"scale", a.range.scale == AxisScale::kLog ? "log" : "linear"},
-          {"values_si", values}};
-}
-
-namespace {
-
-nlohmann::json CellJson(const AtlasCell& c) {
-  return {{"ix", c.ix},
-          {"iy", c.iy},
-          {"x", c.x},
-          {"y", c.y},
-          {"ok", c.ok},
-          {"message", c.message},
-          {"lyapunov_per_s", c.lyapunov_per_s},
-          {"lyapunov_per_forcing_cycle", c.lyapunov_per_forcing_cycle},
-          {"lyapunov_standard_error", c.lyapunov_standard_error},
-          {"drive_impacts_per_cycle", c.drive_impacts_per_cycle},
-          {"back_impacts_per_cycle", c.back_impacts_per_cycle},
-          {"rattle_index_j", c.rattle_index},
-          {"impact_velocity_rms", c.impact_velocity_rms},
-          {"separation_fraction", c.separation_fraction},
-          {"regime", c.ok ? RattleRegimeName(c.regime) : ""},
-          {"wall_s", c.wall_s}};
-}
-
-}  // namespace
-
-std::string AtlasCsv(const AtlasResult& r, const GearboxSpec& spec) {
-  const DisplayAxis ax = DisplayAxisFor(r.x.parameter, spec);
-  const DisplayAxis ay = DisplayAxisFor(r.y.parameter, spec);
-  auto header = [](const std::string& parameter, const DisplayAxis& a) {
-    return a.unit.empty() ? parameter : parameter + " [" + a.unit + "]";
-  };
-  std::ostringstream os;
-  os.precision(12);
-  os << "ix,iy," << header(r.x.parameter, ax) << ',' << header(r.y.parameter, ay)
-     << ",ok,lyapunov_per_s,lyapunov_per_forcing_cycle,lyapunov_standard_error,"
-        "drive_impacts_per_cycle,back_impacts_per_cycle,rattle_index_j,impact_velocity_rms,"
-        "separation_fraction,regime,message\n";
-  for (const AtlasCell& c : r.cells) {
-    os << c.ix << ',' << c.iy << ',' << c.x * ax.scale << ',' << c.y * ay.scale << ','
-       << (c.ok ? 1 : 0) << ',' << c.lyapunov_per_s << ',' << c.lyapunov_per_forcing_cycle << ','
-       << c.lyapunov_standard_error << ',' << c.drive_impacts_per_cycle << ','
-       << c.back_impacts_per_cycle << ',' << c.rattle_index << ',' << c.impact_velocity_rms << ','
-       << c.separation_fraction << ',' << (c.ok ? RattleRegimeName(c.regime) : "") << ','
-       << CsvQuoted(c.message) << '\n';
-  }
-  return os.str();
-}
-
-std::string CsvQuoted(std::string text) {
-  for (char& ch : text) {
-    if (ch == '"' || ch == '\n') ch = '\'';
-  }
-  return '"' + text + '"';
-}
-
-char RegimeLetter(bool ok, RattleRegime regime) {
-  if (!ok) return 'X';
-  switch (regime) {
-    case RattleRegime::kNoImpact:
-      return '.';
-    case RattleRegime::kSingleSided:
-      return 'S';
-    case RattleRegime::kDoubleSided:
-      return 'D';
-    case RattleRegime::kChaotic:
-      return 'C';
-  }
-  return '?';
-}
-
-RattleRegime RegimeFromJson(const nlohmann::json& regime) {
-  const std::string name = regime.get<std::string>();
-  const std::optional<RattleRegime> r = RattleRegimeFromName(name);
-  if (!r) throw std::runtime_error("unknown rattle regime \"" + name + "\"");
-  return *r;
-}
-
-void PrintRegimeMap(int nx, int ny, const std::function<char(int)>& letter, bool legend) {
-  if (legend) fmt::print("  . no impact  S single-sided  D double-sided  C chaotic  X failed\n");
-  for (int iy = ny - 1; iy >= 0; --iy) {
-    std::string row;
-    for (int ix = 0; ix < nx; ++ix) row += letter(iy * nx + ix);
-    fmt::print("  {}\n", row);
-  }
-}
-
-int ReportFailedAtlasCells(int failed, size_t total) {
-  if (failed == 0) return 0;
-  std::cerr << "error: " << failed << " of " << total
-            << " atlas cells failed (listed in the output)\n";
-  return 1;
-}
-
-AtlasProgress AtlasTerminalProgress(int rank, int ranks) {
-  if (rank != 0 || ::isatty(STDERR_FILENO) == 0) return {};
-  return [ranks](int done, int todo) {
-    fmt::print(stderr, "\ratlas: {:3d}% ({}/{} cells{})", 100 * done / std::max(todo, 1), done,
-               todo, ranks > 1 ? fmt::format(" on rank 0 of {}", ranks) : "");
-  };
-}
-
-nlohmann::json AtlasJson(const AtlasResult& r, const AtlasOptions& o) {
-  nlohmann::json cells = nlohmann::json::array();
-  std::map<std::string, int> regimes;
-  for (const AtlasCell& c : r.cells) {
-    cells.push_back(CellJson(c));
-    ++regimes[c.ok ? RattleRegimeName(c.regime) : "failed"];
-  }
-  return {{"x", AtlasAxisJson(r.x)},
-          {"y", AtlasAxisJson(r.y)},
-          {"cells", cells},
-          {"regime_counts", regimes},
-          {"failed_cells", r.Failed()},
-          {"cycles_per_cell", o.cycles},
-          {"transient_cycles", o.transient_cycles},
-          {"chaos_threshold_per_forcing_cycle", o.chaos_threshold},
-          {"method", EventMethodName(o.events)},
-          {"threads", r.threads},
-          {"wall_s", r.wall_s}};
-}
-
-namespace {
-
-AtlasCell CellFromJson(const nlohmann::json& j) {
-  AtlasCell c;
-  c.ix = j.at("ix").get<int>();
-  c.iy = j.at("iy").get<int>();
-  c.x = j.at("x").get<double>();
-  c.y = j.at("y").get<double>();
-  c.ok = j.at("ok").get<bool>();
-  c.message = j.at("message").get<std::string>();
-  c.lyapunov_per_s = j.at("lyapunov_per_s").get<double>();
-  c.lyapunov_per_forcing_cycle = j.at("lyapunov_per_forcing_cycle").get<double>();
-  c.lyapunov_standard_error = j.at("lyapunov_standard_error").get<double>();
-  c.drive_impacts_per_cycle = j.at("drive_impacts_per_cycle").get<double>();
-  c.back_impacts_per_cycle = j.at("back_impacts_per_cycle").get<double>();
-  c.rattle_index = j.at("rattle_index_j").get<double>();
-  c.impact_velocity_rms = j.at("impact_velocity_rms").get<double>();
-  c.separation_fraction = j.at("separation_fraction").get<double>();
-  if (c.ok) c.regime = RegimeFromJson(j.at("regime"));
-  c.wall_s = j.at("wall_s").get<double>();
-  return c;
-}
-
-// The checkpoint of an atlas run: DIR/.atlas-checkpoint/settings.json (what was asked; a resume
-// with other settings is refused) and one cells-rank-R.jsonl per rank, one computed cell per line
-// (flushed as it completes, so a killed run loses only the cells in flight).
-struct Checkpoint {
-  std::filesystem::path dir;
-  std::string settings;
-};
-
-std::string SettingsKey(const std::string& file_text, const AtlasAxis& x, const AtlasAxis& y,
-                        const AtlasOptions& o) {
-  const nlohmann::json j = {{"file_hash", std::to_string(std::hash<std::string>{}(file_text))},
-                            {"x", AtlasAxisJson(x)},
-                            {"y", AtlasAxisJson(y)},
-                            {"cycles", o.cycles},
-                            {"transient", o.transient_cycles},
-                            {"method", EventMethodName(o.events)},
-                            {"tier", static_cast<int>(o.tier)},
-                            {"chaos_threshold", o.chaos_threshold}};
-  return j.dump();
-}
-
-// Rank 0: prepares the checkpoint and returns the cells already computed (resume).
-std::vector<AtlasCell> PrepareCheckpoint(const Checkpoint& cp, bool resume, int total) {
-  namespace fs = std::filesystem;
-  std::vector<AtlasCell> done;
-  const fs::path settings = cp.dir / "settings.json";
-  if (resume && fs::exists(settings)) {
-    std::ifstream in(settings);
-    std::stringstream buffer;
-    buffer << in.rdbuf();
-    if (buffer.str() != cp.settings + "\n") {
-      throw InputError("--resume", 0, cp.dir.string(),
-                       "the checkpoint was made with other settings (file, axes, cycles, method "
-                       "or tier); run without --resume to start over");
-    }
-    for (const auto& entry : fs::directory_iterator(cp.dir)) {
-      if (entry.path().extension() != ".jsonl") continue;
-      std::ifstream cells(entry.path());
-      std::string line;
-      while (std::getline(cells, line)) {
-        try {
-          const AtlasCell c = CellFromJson(nlohmann::json::parse(line));
-          if (c.ok && c.ix + 0 >= 0 && c.iy >= 0) done.push_back(c);
-        } catch (const std::exception&) {
-          // A line cut short by the kill: that cell is computed again.
-        }
-      }
-    }
-    (void)total;
-    return done;
-  }
-  fs::remove_all(cp.dir);
-  fs::create_directories(cp.dir);
-  WriteFileAtomically(settings.string(), cp.settings + "\n");
-  return done;
-}
-
-}  // namespace
 
 void RequirePairAxisOption(const GearboxSpec& spec, const AtlasAxis& axis, const std::string& text,
                            const std::string& field) {
@@ -283,15 +69,15 @@ int RunAtlas(const AtlasCommandOptions& options) {
     const int nx = x->range.points, ny = y->range.points, total = nx * ny;
 
     // Checkpoint (only with --out): rank 0 prepares it and tells every rank what is done.
-    std::optional<Checkpoint> checkpoint;
+    std::optional<AtlasCheckpoint> checkpoint;
     std::vector<AtlasCell> restored;
     if (options.out) {
       std::ifstream in(options.file);
       std::stringstream text;
       text << in.rdbuf();
-      checkpoint = Checkpoint{std::filesystem::path(*options.out) / ".atlas-checkpoint",
-                              SettingsKey(text.str(), *x, *y, atlas)};
-      if (rank == 0) restored = PrepareCheckpoint(*checkpoint, options.resume, total);
+      checkpoint = AtlasCheckpoint{std::filesystem::path(*options.out) / ".atlas-checkpoint",
+                                   AtlasCheckpointSettings(text.str(), *x, *y, atlas)};
+      if (rank == 0) restored = PrepareAtlasCheckpoint(*checkpoint, options.resume);
     }
     std::string restored_text;
     if (rank == 0) {
@@ -311,7 +97,7 @@ int RunAtlas(const AtlasCommandOptions& options) {
       log.open(checkpoint->dir / ("cells-rank-" + std::to_string(rank) + ".jsonl"), std::ios::app);
     }
     AtlasCellCallback on_cell = [&](const AtlasCell& c) {
-      if (log.is_open() && c.ok) log << CellJson(c).dump() << std::endl;  // flushed per cell
+      if (log.is_open() && c.ok) log << AtlasCellJson(c).dump() << std::endl;  // flushed per cell
     };
     // This rank's cells; a rank that fails outside a cell reports its cells as lost.
     nlohmann::json mine = nlohmann::json::array();
@@ -323,7 +109,7 @@ int RunAtlas(const AtlasCommandOptions& options) {
       threads = part.threads;
       for (int k = 0; k < total; ++k) {
         if (!skip[static_cast<size_t>(k)])
-          mine.push_back(CellJson(part.cells[static_cast<size_t>(k)]));
+          mine.push_back(AtlasCellJson(part.cells[static_cast<size_t>(k)]));
       }
     } catch (const std::exception& e) {
       for (int k = 0; k < total; ++k) {
@@ -334,7 +120,7 @@ int RunAtlas(const AtlasCommandOptions& options) {
         lost.x = AxisValue(*x, lost.ix);
         lost.y = AxisValue(*y, lost.iy);
         lost.message = "lost: rank " + std::to_string(rank) + " failed: " + e.what();
-        mine.push_back(CellJson(lost));
+        mine.push_back(AtlasCellJson(lost));
       }
     }
     if (on_terminal) fmt::print(stderr, "\n");
@@ -355,7 +141,7 @@ int RunAtlas(const AtlasCommandOptions& options) {
     };
     for (const AtlasCell& c : restored) place(c);
     for (const std::string& part : parts) {
-      for (const auto& j : nlohmann::json::parse(part)) place(CellFromJson(j));
+      for (const auto& j : nlohmann::json::parse(part)) place(AtlasCellFromJson(j));
     }
     for (int k = 0; k < total; ++k) {
       if (!filled[static_cast<size_t>(k)]) {

@@ -5,6 +5,8 @@
 #include <exception>
 #include <iostream>
 #include <new>
+#include <optional>
+#include <string>
 
 #include "atlas_command.h"
 #include "check_command.h"
@@ -48,8 +50,29 @@ CLI::Validator ParsedBy(Parse parse, const std::string& name) {
       name);
 }
 
-CLI::Validator TierValidator() {
-  return ParsedBy([](const std::string& text) { return gearnvh::app::ParseTier(text); }, "TIER");
+// --tier, checked by ParseTier while the command line is parsed.
+void AddTierOption(CLI::App* command, std::optional<std::string>& tier,
+                   const std::string& help = "Modal tier (default: analysis.tier)") {
+  command->add_option("--tier", tier, help)
+      ->check(
+          ParsedBy([](const std::string& text) { return gearnvh::app::ParseTier(text); }, "TIER"));
+}
+
+void AddJobsOption(CLI::App* command, int& jobs,
+                   const std::string& help = "Threads (default: all cores)") {
+  command->add_option("--jobs", jobs, help)->check(CLI::Range(1, 1024));
+}
+
+// --width, --height and --dpi of the images a command draws; `image` names them in the help
+// ("tiers.png").
+void AddImageSizeOptions(CLI::App* command, int& width, int& height, double& dpi,
+                         const std::string& image) {
+  command->add_option("--width", width, image + " width in pixels (default 1200)")
+      ->check(CLI::Range(200, 8000));
+  command->add_option("--height", height, image + " height in pixels (default 800)")
+      ->check(CLI::Range(150, 8000));
+  command->add_option("--dpi", dpi, image + " DPI, scales the fonts (default 100)")
+      ->check(CLI::Range(36.0, 600.0));
 }
 
 // --method, read into `method` by ParseMethod while the command line is parsed.
@@ -112,11 +135,9 @@ int Main(int argc, char** argv) {
       "Run one operating point through the exact piecewise-LTI solver; print the solver summary, "
       "TE and mesh-force statistics.");
   simulate_cmd->add_option("FILE", simulate.file, "Gearbox YAML file")->required();
-  simulate_cmd
-      ->add_option("--tier", simulate.tier,
-                   "Modal tier: 1..5, \"N40 full\", \"N20 simple\", \"N20 MTA\" "
-                   "(default: analysis.tier)")
-      ->check(TierValidator());
+  AddTierOption(simulate_cmd, simulate.tier,
+                "Modal tier: 1..5, \"N40 full\", \"N20 simple\", \"N20 MTA\" "
+                "(default: analysis.tier)");
   simulate_cmd
       ->add_option("--cycles", simulate.cycles,
                    "Recorded mesh cycles, at most 1000000 (default: analysis.cycles)")
@@ -162,14 +183,12 @@ int Main(int argc, char** argv) {
       "by MAC, order lines, critical speeds) and a waterfall of steady-state TE spectra (one exact "
       "run per speed, speeds in parallel).");
   sweep_cmd->add_option("FILE", sweep.file, "Gearbox YAML file")->required();
-  sweep_cmd->add_option("--tier", sweep.tier, "Modal tier (default: analysis.tier)")
-      ->check(TierValidator());
+  AddTierOption(sweep_cmd, sweep.tier);
   sweep_cmd->add_option("--cycles", sweep.cycles, "Recorded mesh cycles per speed (default 512)")
       ->check(CLI::Range(2L, 100000000L));
   sweep_cmd->add_option("--transient", sweep.transient, "Unrecorded cycles per speed (default 200)")
       ->check(CLI::Range(0L, 100000000L));
-  sweep_cmd->add_option("--jobs", sweep.jobs, "Threads (default: all cores)")
-      ->check(CLI::Range(1, 1024));
+  AddJobsOption(sweep_cmd, sweep.jobs);
   AddMethodOption(sweep_cmd, sweep.method, "v1, v2, v3 or fused (default)");
   sweep_cmd->add_option("--out", sweep.out,
                         "Write campbell.csv, critical_speeds.csv, waterfall.csv and sweep.json (a "
@@ -189,14 +208,12 @@ int Main(int argc, char** argv) {
       ->check(AxisValidator("--x"));
   atlas_cmd->add_option("--y", atlas.y, "y axis, e.g. operating.torque=0.05Nm:5Nm:24")
       ->check(AxisValidator("--y"));
-  atlas_cmd->add_option("--tier", atlas.tier, "Modal tier (default: analysis.tier)")
-      ->check(TierValidator());
+  AddTierOption(atlas_cmd, atlas.tier);
   atlas_cmd->add_option("--cycles", atlas.cycles, "Averaged mesh cycles per cell (default 1080)")
       ->check(CLI::Range(8L, 100000000L));
   atlas_cmd->add_option("--transient", atlas.transient, "Settling cycles per cell (default 300)")
       ->check(CLI::Range(0L, 100000000L));
-  atlas_cmd->add_option("--jobs", atlas.jobs, "Threads (default: all cores)")
-      ->check(CLI::Range(1, 1024));
+  AddJobsOption(atlas_cmd, atlas.jobs);
   AddMethodOption(atlas_cmd, atlas.method, "Event location v1, v2 or v3 (default; fused means v3)");
   atlas_cmd->add_option("--out", atlas.out, "Write atlas.csv and atlas.json");
   atlas_cmd->add_flag("--json", atlas.json, "Print the atlas as one JSON document");
@@ -220,8 +237,7 @@ int Main(int argc, char** argv) {
                    "Continue along PARAMETER=FROM:TO:POINTS, e.g. "
                    "operating.torque=0.1Nm:1Nm:10")
       ->check(AxisValidator("--sweep"));
-  orbits_cmd->add_option("--tier", orbits.tier, "Modal tier (default: analysis.tier)")
-      ->check(TierValidator());
+  AddTierOption(orbits_cmd, orbits.tier);
   orbits_cmd
       ->add_option("--transient", orbits.transient,
                    "Settling cycles before the first guess (default: analysis.transient_cycles)")
@@ -249,12 +265,7 @@ int Main(int argc, char** argv) {
   tiers_cmd->add_option("--out", tiers.out, "Write tiers.json, tiers.csv and tiers.png");
   tiers_cmd->add_flag("--json", tiers.json, "Print the comparison as one JSON document");
 #ifdef GEARNVH_HAVE_RENDER
-  tiers_cmd->add_option("--width", tiers.width, "tiers.png width in pixels (default 1200)")
-      ->check(CLI::Range(200, 8000));
-  tiers_cmd->add_option("--height", tiers.height, "tiers.png height in pixels (default 800)")
-      ->check(CLI::Range(150, 8000));
-  tiers_cmd->add_option("--dpi", tiers.dpi, "tiers.png DPI, scales the fonts (default 100)")
-      ->check(CLI::Range(36.0, 600.0));
+  AddImageSizeOptions(tiers_cmd, tiers.width, tiers.height, tiers.dpi, "tiers.png");
 #endif
 
 #ifdef GEARNVH_HAVE_RENDER
@@ -270,14 +281,8 @@ int Main(int argc, char** argv) {
                    "Report folder: new, empty or an earlier gearnvh report (its gearbox folders "
                    "are replaced one by one, only by gearboxes that succeed)")
       ->required();
-  report_cmd->add_option("--jobs", report.jobs, "Gearboxes in parallel (default: all cores)")
-      ->check(CLI::Range(1, 1024));
-  report_cmd->add_option("--width", report.width, "Image width in pixels (default 1200)")
-      ->check(CLI::Range(200, 8000));
-  report_cmd->add_option("--height", report.height, "Image height in pixels (default 800)")
-      ->check(CLI::Range(150, 8000));
-  report_cmd->add_option("--dpi", report.dpi, "Image DPI, scales the fonts (default 100)")
-      ->check(CLI::Range(36.0, 600.0));
+  AddJobsOption(report_cmd, report.jobs, "Gearboxes in parallel (default: all cores)");
+  AddImageSizeOptions(report_cmd, report.width, report.height, report.dpi, "Image");
   bool no_atlas = false;
   report_cmd->add_flag("--no-atlas", no_atlas, "Skip the coarse chaos atlas");
 #endif

@@ -8,7 +8,7 @@
 #include <optional>
 #include <sstream>
 
-#include "atlas_command.h"
+#include "atlas_documents.h"
 #include "atomic_file.h"
 #include "check_command.h"
 #include "command_errors.h"

@@ -10,7 +10,7 @@
 #include <numbers>
 #include <sstream>
 
-#include "atlas_command.h"
+#include "atlas_documents.h"
 #include "atomic_file.h"
 #include "command_errors.h"
 #include "config/gearbox_loader.h"

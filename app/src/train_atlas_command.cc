@@ -8,6 +8,8 @@
 #include <sstream>
 #include <thread>
 
+#include "atlas_documents.h"
+#include "atlas_terminal.h"
 #include "command_errors.h"
 #include "config/train_parameters.h"
 #include "display_units.h"
@@ -170,20 +172,14 @@ nlohmann::json TrainAtlasJson(const TrainAtlasResult& r, const TrainAtlasOptions
     cells.push_back(CellJson(c));
     ++regimes[c.point.ok ? RattleRegimeName(c.point.regime) : "failed"];
   }
-  return {{"schema", "gearnvh/2"},
-          {"x", AtlasAxisJson(r.x)},
-          {"y", AtlasAxisJson(r.y)},
-          {"meshes", r.mesh_names},
-          {"loose_gears", r.loose_gear_names},
-          {"cells", cells},
-          {"regime_counts", regimes},
-          {"failed_cells", r.Failed()},
-          {"cycles_per_cell", o.cycles},
-          {"transient_cycles", o.transient_cycles},
-          {"chaos_threshold_per_forcing_cycle", o.chaos_threshold},
-          {"method", EventMethodName(o.events)},
-          {"threads", r.threads},
-          {"wall_s", r.wall_s}};
+  nlohmann::json doc = AtlasRunJson(regimes, r.Failed(), o, r.threads, r.wall_s);
+  doc["schema"] = "gearnvh/2";
+  doc["x"] = AtlasAxisJson(r.x);
+  doc["y"] = AtlasAxisJson(r.y);
+  doc["meshes"] = r.mesh_names;
+  doc["loose_gears"] = r.loose_gear_names;
+  doc["cells"] = cells;
+  return doc;
 }
 
 std::string TrainAtlasCsv(const TrainAtlasResult& r) {

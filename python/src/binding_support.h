@@ -156,18 +156,6 @@ void RequirePairRunLength(const GearboxSpec& spec, double lowest_speed, long cyc
 // tier= on a train: None (analysis.tier) or the text `--tier` takes (the app checks it).
 std::optional<std::string> TierText(const py::object& tier);
 
-// A train command's options with the fields every one shares: the file (`source`), tier= and
-// method= (ParseMethod: InputError naming `method`).
-template <typename Options>
-Options TrainCommandOptions(const std::string& source, const py::object& tier,
-                            const std::string& method) {
-  Options options;
-  options.file = source;
-  options.tier = TierText(tier);
-  options.method = app::ParseMethod(method, "method");
-  return options;
-}
-
 // Errors name the module's keywords ("cycles"), not the command line's options ("--cycles").
 inline const app::TrainOptionNames kKeywordNames{""};
 

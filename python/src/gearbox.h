@@ -86,6 +86,8 @@ void BindSimulate(py::module_& m);
 void BindSweepAtlas(py::module_& m);
 void BindOrbitsTiers(py::module_& m);
 void BindTrain(py::module_& m);
-void BindTrainAnalyses(py::module_& m);
+void BindTrainAtlas(py::module_& m);
+void BindTrainOrbitsTiers(py::module_& m);
+void BindValidation(py::module_& m);
 
 }  // namespace gearnvh::python

@@ -9,6 +9,7 @@
 #include "gearbox.h"
 #include "gearnvh/model/component_model.h"
 #include "gearnvh/reduction/reduced_model.h"
+#include "train_call.h"
 
 namespace gearnvh::python {
 
@@ -60,18 +61,15 @@ py::object Load(const py::object& source) {
 }
 
 py::object Check(const Gearbox& gb) {
-  const GearboxSpec spec = gb.spec();
-  const std::string source = gb.source();
-  const nlohmann::json doc = RunInterruptible(
-      [&](CallControl&) {
-        return NamingSource(source, [&] {
-          const ComponentModel model = BuildComponentModel(spec);
-          const ModalSummary modes = FullModelFrequencies(model, app::kReportedModes);
-          const std::vector<ReducedModel> tiers = app::ReduceAvailableTiers(model);
-          nlohmann::json out = app::CheckReport(spec, model, modes, tiers);
-          out["file"] = source;
-          return out;
-        });
+  const nlohmann::json doc = RunOnModel(
+      gb,
+      [](const GearboxSpec& spec, const std::string& source, CallControl&) {
+        const ComponentModel model = BuildComponentModel(spec);
+        const ModalSummary modes = FullModelFrequencies(model, app::kReportedModes);
+        const std::vector<ReducedModel> tiers = app::ReduceAvailableTiers(model);
+        nlohmann::json out = app::CheckReport(spec, model, modes, tiers);
+        out["file"] = source;
+        return out;
       },
       py::none());
   return ToPython(doc);
@@ -152,5 +150,7 @@ PYBIND11_MODULE(gearnvh, m) {
   gearnvh::python::BindSimulate(m);
   gearnvh::python::BindSweepAtlas(m);
   gearnvh::python::BindOrbitsTiers(m);
-  gearnvh::python::BindTrainAnalyses(m);
+  gearnvh::python::BindTrainAtlas(m);
+  gearnvh::python::BindTrainOrbitsTiers(m);
+  gearnvh::python::BindValidation(m);
 }

@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "atlas_command.h"
+#include "atlas_documents.h"
 #include "binding_support.h"
 #include "config/gearbox_loader.h"
 #include "display_units.h"

@@ -37,15 +37,12 @@ struct TrainSweep {
 };
 
 py::object CheckTrain(const Train& train) {
-  const TrainSpec spec = train.spec();
-  const std::string source = train.source();
-  const nlohmann::json doc = RunInterruptible(
-      [&](CallControl&) {
-        return NamingSource(source, [&] {
-          nlohmann::json out = app::TrainCheckReport(spec, app::BuildTrainCheck(spec));
-          out["file"] = source;
-          return out;
-        });
+  const nlohmann::json doc = RunOnModel(
+      train,
+      [](const TrainSpec& spec, const std::string& source, CallControl&) {
+        nlohmann::json out = app::TrainCheckReport(spec, app::BuildTrainCheck(spec));
+        out["file"] = source;
+        return out;
       },
       py::none());
   return ToPython(doc);
@@ -60,9 +57,8 @@ std::shared_ptr<TrainSimulation> SimulateTrain(const Train& train, const py::obj
   return PlanAndRunOnTrain(
       train,
       [&](const TrainSpec& spec, const std::string& source) {
-        auto options = TrainCommandOptions<app::SimulateOptions>(source, tier, method);
-        options.cycles = cycles;
-        options.transient = transient;
+        auto options =
+            TrainCommandOptions<app::SimulateOptions>(source, tier, method, cycles, transient);
         options.lyapunov = lyapunov;
         return app::PlanTrainSimulate(options, spec, kKeywordNames);
       },
@@ -96,9 +92,8 @@ std::shared_ptr<TrainSweep> SweepTrain(const Train& train, const py::object& tie
   return PlanAndRunOnTrain(
       train,
       [&](const TrainSpec& spec, const std::string& source) {
-        auto sweep = TrainCommandOptions<app::SweepOptions>(source, tier, method);
-        sweep.cycles = cycles;
-        sweep.transient = transient;
+        auto sweep =
+            TrainCommandOptions<app::SweepOptions>(source, tier, method, cycles, transient);
         sweep.jobs = jobs;
         return app::PlanTrainSweep(sweep, spec, kKeywordNames);
       },
