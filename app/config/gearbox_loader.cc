@@ -1,5 +1,6 @@
 #include "gearbox_loader.h"
 
+#include <fmt/format.h>
 #include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/yaml.h>
 
@@ -117,6 +118,21 @@ std::string ClosestMatch(const std::string& word, const std::vector<std::string>
     }
   }
   return best;
+}
+
+InputError AtParameterValue(const InputError& e, const std::vector<ParameterValue>& set,
+                            const std::function<std::string(const ParameterValue&)>& shown) {
+  for (const ParameterValue& p : set) {
+    if (e.path() == p.name || e.path() == p.name + ".value") {
+      return e.Located(e.line(), shown(p), e.source(), nullptr);
+    }
+  }
+  return e;
+}
+
+std::string AxisValueText(double shown_value, const std::string& unit) {
+  const std::string number = fmt::format("{:.6g}", shown_value);
+  return unit.empty() ? number : number + " " + unit;
 }
 
 std::string YamlSyntaxRule(const YAML::Exception& e, const std::string& text) {
@@ -246,6 +262,9 @@ void RequireVariableParameter(const GearboxSpec& spec, const std::string& parame
 }
 
 std::string ReadGearboxText(const std::string& path) {
+  if (path.empty()) {
+    throw InputError("", 0, "", "the file name is empty (give a gearbox .yaml file)", "\"\"");
+  }
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
     throw InputError("", 0, "", "is a directory, not a gearbox file (give a .yaml file)", path);

@@ -14,6 +14,7 @@
 #include "config/units.h"
 #include "gearnvh/model/gearbox_spec.h"
 #include "gearnvh/model/input_error.h"
+#include "gearnvh/model/spec_parameters.h"
 #include "gearnvh/model/train_spec.h"
 
 namespace gearnvh::config {
@@ -68,5 +69,13 @@ void RequireVariableParameter(const GearboxSpec& spec, const std::string& parame
 
 // The closest of `candidates` to `word` by edit distance, or "" when none is close.
 std::string ClosestMatch(const std::string& word, const std::vector<std::string>& candidates);
+
+// An error at one of the parameters a variant was given (at the name, or at name.value:
+// operating.speed is written there in a train) with that value as `shown` words it ("-10 µm"),
+// not the SI number the variant holds; any other error as it is.
+InputError AtParameterValue(const InputError& e, const std::vector<ParameterValue>& set,
+                            const std::function<std::string(const ParameterValue&)>& shown);
+// An axis value in the unit it is shown in: "-10 µm", "0.02" (no unit).
+std::string AxisValueText(double shown_value, const std::string& unit);
 
 }  // namespace gearnvh::config

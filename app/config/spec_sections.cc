@@ -141,14 +141,16 @@ std::vector<BearingSpec> ReadBearings(Reader& r, const YAML::Node& n, const std:
 
 // An elastic shaft. Schema 1 places its one gear with `gear_at`; schema 2 places gears with their
 // own `at` and lets lumped bodies carry a mass.
+std::vector<std::string> ElasticShaftKeys(int schema) {
+  if (schema == 1) {
+    return {"material", "segments", "gear_at", "bearings", "inertias", "element_length"};
+  }
+  return {"material", "segments", "bearings", "inertias", "element_length"};
+}
+
 ShaftSpec ReadShaft(Reader& r, const YAML::Node& n, const std::string& path,
                     const std::map<std::string, Material>& materials, int schema) {
-  if (schema == 1) {
-    r.ExpectMap(n, path,
-                {"material", "segments", "gear_at", "bearings", "inertias", "element_length"});
-  } else {
-    r.ExpectMap(n, path, {"material", "segments", "bearings", "inertias", "element_length"});
-  }
+  r.ExpectMap(n, path, ElasticShaftKeys(schema));
   ShaftSpec s;
   s.material = r.String(n, path, "material");
   if (materials.find(s.material) == materials.end()) {

@@ -20,6 +20,7 @@ std::vector<BearingSpec> ReadBearings(Reader& r, const YAML::Node& n, const std:
                                       bool required);
 // An elastic shaft. Schema 1 places its one gear with `gear_at`; schema 2 places gears with their
 // own `at` and lets lumped bodies carry a mass.
+std::vector<std::string> ElasticShaftKeys(int schema);
 ShaftSpec ReadShaft(Reader& r, const YAML::Node& n, const std::string& path,
                     const std::map<std::string, Material>& materials, int schema = 1);
 // Parameters an atlas axis may vary, with their dimension.

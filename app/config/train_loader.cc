@@ -40,7 +40,19 @@ TrainSpec ReadTrainDocument(Reader& r, const YAML::Node& root) {
     if (kv.second["segments"].IsDefined()) {
       shaft.elastic = ReadShaft(r, kv.second, p, spec.materials, 2);
     } else {
-      r.ExpectMap(kv.second, p, {"inertia", "bearings"});
+      // Rigid, unless `segments` is misspelt: the keys of both forms are known here (the rigid
+      // ones first, so that a tie suggests them), so the misspelling gets its did-you-mean.
+      std::vector<std::string> either = {"inertia", "bearings"};
+      for (const std::string& key : ElasticShaftKeys(2)) {
+        if (key != "bearings") either.push_back(key);
+      }
+      r.ExpectMap(kv.second, p, either);
+      for (const std::string& key : ElasticShaftKeys(2)) {
+        if (key == "bearings" || !kv.second[key].IsDefined()) continue;
+        r.Fail(Join(p, key), kv.second[key], key,
+               "belongs to an elastic shaft, which needs segments: (a rigid shaft has inertia "
+               "and bearings)");
+      }
       shaft.inertia = r.Quantity(kv.second, p, "inertia", Dimension::kInertia);
       shaft.bearings = ReadBearings(r, kv.second, p, false);
     }

@@ -1,7 +1,5 @@
 #include "train_parameters.h"
 
-#include <fmt/format.h>
-
 #include <numbers>
 #include <regex>
 
@@ -117,18 +115,14 @@ TrainDisplayAxis TrainDisplayAxisFor(const std::string& name) {
   return {};
 }
 
-void ValidateTrainVariant(const TrainSpec& variant, const std::vector<TrainParameterValue>& set) {
+void ValidateTrainVariant(const TrainSpec& variant, const std::vector<ParameterValue>& set) {
   try {
     ValidateTrainSpec(variant);
   } catch (const InputError& e) {
-    for (const TrainParameterValue& p : set) {
-      // operating.speed is written at operating.speed.value.
-      if (e.path() != p.name && e.path() != p.name + ".value") continue;
+    throw config::AtParameterValue(e, set, [](const ParameterValue& p) {
       const TrainDisplayAxis d = TrainDisplayAxisFor(p.name);
-      const std::string shown = fmt::format("{:.6g}", p.value * d.scale);
-      throw e.Located(0, d.unit.empty() ? shown : shown + " " + d.unit, "", nullptr);
-    }
-    throw;
+      return config::AxisValueText(p.value * d.scale, d.unit);
+    });
   }
 }
 

@@ -39,13 +39,8 @@ struct TrainDisplayAxis {
 };
 TrainDisplayAxis TrainDisplayAxisFor(const std::string& name);
 
-// A parameter a variant was given: its name and value (SI).
-struct TrainParameterValue {
-  std::string name;
-  double value = 0.0;
-};
 // ValidateTrainSpec on a variant; an InputError at one of the parameters `set` shows its value as
 // the axis does (TrainDisplayAxisFor: "-10 µm"), not the SI number the variant holds.
-void ValidateTrainVariant(const TrainSpec& variant, const std::vector<TrainParameterValue>& set);
+void ValidateTrainVariant(const TrainSpec& variant, const std::vector<ParameterValue>& set);
 
 }  // namespace gearnvh::app

@@ -40,7 +40,7 @@ int RunAtlas(const AtlasCommandOptions& options) {
     const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", true);
     const GearboxSpec& spec = *loaded.pair;
     AtlasOptions atlas;
-    atlas.input_error_message = UserWording();
+    atlas.input_error_message = UserWording(PairTierNames(options.tier), PairAxisValueText(spec));
     atlas.tier = options.tier ? ParseTier(*options.tier) : spec.analysis.tier;
     atlas.cycles = options.cycles.value_or(atlas.cycles);
     atlas.transient_cycles = options.transient.value_or(atlas.transient_cycles);

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include "config/gearbox_loader.h"
+
 namespace gearnvh::app {
 
 std::string Format(double si_value, const DisplayUnit& unit) {
@@ -44,6 +46,17 @@ DisplayAxis DisplayAxisFor(const std::string& parameter, const GearboxSpec& spec
     return {"excitation amplitude (rad/s²)", 1.0, "rad/s²"};
   }
   return {parameter + " (SI)", 1.0, ""};
+}
+
+std::function<std::string(const ParameterValue&)> PairAxisValueText(const GearboxSpec& spec) {
+  GearboxSpec units;  // only the units DisplayAxisFor reads
+  units.operating.speed_unit = spec.operating.speed_unit;
+  units.operating.torque_unit = spec.operating.torque_unit;
+  units.operating.torque_on = spec.operating.torque_on;
+  return [units](const ParameterValue& p) {
+    const DisplayAxis d = DisplayAxisFor(p.name, units);
+    return config::AxisValueText(p.value * d.scale, d.unit);
+  };
 }
 
 }  // namespace gearnvh::app

@@ -2,9 +2,11 @@
 // (rpm, N m, ...), lengths of the TE in µm, and plural-aware counts.
 #pragma once
 
+#include <functional>
 #include <string>
 
 #include "gearnvh/model/gearbox_spec.h"
+#include "gearnvh/model/spec_parameters.h"
 #include "gearnvh/model/train_spec.h"
 
 namespace gearnvh::app {
@@ -29,5 +31,9 @@ struct DisplayAxis {
   std::string unit;
 };
 DisplayAxis DisplayAxisFor(const std::string& parameter, const GearboxSpec& spec);
+
+// A pair's axis value as the axis shows it ("-10 µm", "600 rpm"), for the messages of failed
+// atlas cells and orbit points (UserWording). Keeps a copy of `spec`'s units.
+std::function<std::string(const ParameterValue&)> PairAxisValueText(const GearboxSpec& spec);
 
 }  // namespace gearnvh::app

@@ -106,7 +106,7 @@ int RunOrbits(const OrbitsCommandOptions& options) {
     const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
     const GearboxSpec& spec = *loaded.pair;
     OrbitScanOptions scan;
-    scan.input_error_message = UserWording();
+    scan.input_error_message = UserWording(PairTierNames(options.tier), PairAxisValueText(spec));
     scan.tier = options.tier ? ParseTier(*options.tier) : spec.analysis.tier;
     scan.period = options.period;
     scan.transient_cycles = options.transient.value_or(spec.analysis.transient_cycles);

@@ -60,7 +60,7 @@ OutputFolder::OutputFolder(const fs::path& target, const std::string& flag) {
     RemoveStaleStaging();
     staging_ = Beside(".partial-" + std::to_string(::getpid()));
     if (::mkdir(staging_.c_str(), 0755) != 0) {
-      throw IoError("cannot write into " + work_dir_.string() + ": " + Errno());
+      throw IoError(named_ + ": cannot write into " + work_dir_.string() + ": " + Errno());
     }
     RemoveOnSignal(staging_);
     // Prove it: a file written, flushed and renamed (a full or read-only disk fails here).
@@ -87,7 +87,8 @@ OutputFolder::~OutputFolder() {
 }
 
 void OutputFolder::CheckTarget(const std::string& flag) {
-  const std::string named = flag + " " + target_.string();
+  named_ = flag + " " + target_.string();
+  const std::string& named = named_;
   std::error_code ec;
   if (Exists(target_) && !fs::is_directory(target_, ec)) {
     throw IoError(named + ": exists and is not a directory");
@@ -110,9 +111,14 @@ void OutputFolder::CheckTarget(const std::string& flag) {
   }
   struct statvfs fs_info {};
   if (::statvfs(work_dir_.c_str(), &fs_info) == 0) {
+    if ((fs_info.f_flag & ST_RDONLY) != 0) {
+      throw IoError(named + ": " + work_dir_.string() + " is on a read-only filesystem");
+    }
     const unsigned long long free_bytes =
         static_cast<unsigned long long>(fs_info.f_bavail) * fs_info.f_frsize;
-    if (free_bytes < kMinFreeBytes) {
+    // A filesystem without blocks (proc, sysfs) reports no free space and is not full: the lock
+    // and the staging folder below fail with the reason it refuses.
+    if (fs_info.f_blocks > 0 && free_bytes < kMinFreeBytes) {
       throw IoError(named + ": the disk is full (" + std::to_string(free_bytes / 1024) +
                     " kB free, at least " + std::to_string(kMinFreeBytes / 1024) +
                     " kB needed to start)");
@@ -128,7 +134,9 @@ void OutputFolder::Lock() {
   lock_path_ = Beside(".lock");
   for (;;) {
     const int fd = ::open(lock_path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-    if (fd < 0) throw IoError("cannot create the lock " + lock_path_.string() + ": " + Errno());
+    if (fd < 0) {
+      throw IoError(named_ + ": cannot create the lock " + lock_path_.string() + ": " + Errno());
+    }
     if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
       char pid[32] = {};
       const ssize_t n = ::pread(fd, pid, sizeof(pid) - 1, 0);

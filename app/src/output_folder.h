@@ -1,6 +1,7 @@
 // An output folder (--out DIR) that is never left half-written and never loses earlier results:
 //  - checked before any computation: DIR is a directory or absent, its filesystem is writable and
-//    not full (IoError, exit 4, otherwise);
+//    not full (IoError, exit 4, otherwise, naming the flag, DIR and the system's reason; "the disk
+//    is full" only when the filesystem has blocks and too few are free);
 //  - one writer at a time: an advisory lock (flock) on "<parent>/.<DIR>.lock"; a second run
 //    refuses at once, naming the process that holds it (lock and staging folder go inside an
 //    existing DIR, as .gearnvh.lock and .gearnvh.partial-<pid>, when its parent is not writable);
@@ -43,6 +44,7 @@ class OutputFolder {
   void RemoveStaleStaging() const;
   void Unlock();
 
+  std::string named_;  // "--out DIR", the head of every error
   std::filesystem::path target_, work_dir_, staging_, lock_path_;
   int lock_fd_ = -1;
   bool committed_ = false;

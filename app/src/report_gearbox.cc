@@ -167,7 +167,7 @@ GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::
                       stage ? SweepProgress(counted("speed sweep", "speeds")) : SweepProgress());
     std::optional<AtlasResult> atlas;
     AtlasOptions atlas_options;
-    atlas_options.input_error_message = UserWording();
+    atlas_options.input_error_message = UserWording({}, PairAxisValueText(spec));
     if (o.atlas && spec.analysis.atlas_x && spec.analysis.atlas_y) {
       AtlasAxis x = *spec.analysis.atlas_x, y = *spec.analysis.atlas_y;
       x.range.points = std::min(x.range.points, 12);

@@ -38,6 +38,15 @@ Tier ParseTier(const std::string& text, const std::string& field) {
   throw InputError(field, 0, text, "must be 1..5, \"N40 full\", \"N20 simple\" or \"N20 MTA\"");
 }
 
+void RequirePairTier(const ComponentModel& model, Tier tier,
+                     const std::optional<std::string>& tier_option) {
+  try {
+    RequireTierAvailable(model, tier);
+  } catch (const TierNotAvailable& e) {
+    throw UserNamed(e, PairTierNames(tier_option));
+  }
+}
+
 LadderMethod ParseMethod(const std::string& text, const std::string& field) {
   std::string choices;
   for (const LadderMethod m : kLadderMethods) {
@@ -94,6 +103,7 @@ int RunSimulate(const SimulateOptions& options) {
     RequireRunLengthOfOptions(loaded.train, spec.operating.speed, solver.cycles,
                               solver.transient_cycles, options.cycles, options.transient);
     const ComponentModel model = BuildComponentModel(spec);
+    RequirePairTier(model, tier, options.tier);
     // Progress on a terminal only; quiet when stderr is piped.
     const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
     ProgressCallback progress;

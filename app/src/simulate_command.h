@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 
+#include "gearnvh/model/component_model.h"
 #include "gearnvh/solver/exact_solver.h"
 
 namespace gearnvh::app {
@@ -30,6 +31,10 @@ int RunSimulate(const SimulateOptions& options);
 
 // --tier: 1..5, "N40 full", "N20 simple", "N20 MTA"; InputError otherwise.
 Tier ParseTier(const std::string& text, const std::string& field = "--tier");
+// A tier `model` cannot have, refused before any work at the name the user chose it by
+// (PairTierNames): --tier with the text given (a usage error), else analysis.tier.
+void RequirePairTier(const ComponentModel& model, Tier tier,
+                     const std::optional<std::string>& tier_option);
 // --method: v1, v2, v3 or fused (LadderMethodName); InputError naming `field`, the value and the
 // choices otherwise. The one place a method's name becomes a LadderMethod.
 LadderMethod ParseMethod(const std::string& text, const std::string& field = "--method");

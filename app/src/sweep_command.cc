@@ -232,6 +232,7 @@ int RunSweep(const SweepOptions& options) {
     sweep.threads = options.jobs;
     sweep.method = options.method;
     const ComponentModel model = BuildComponentModel(spec);
+    RequirePairTier(model, tier, options.tier);
     const ReducedModel reduced = ReduceModel(model, tier);
     const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
     SweepProgress progress;

@@ -113,6 +113,33 @@ void RequirePitchLineVelocity(const std::string& path, double speed, const Displ
                   InUnit(L::kMaxPitchLineVelocity / velocity_per_speed, unit)));
 }
 
+namespace {
+
+std::string UnresolvedRule(const ExcitationOrderUnresolved::Facts& f, const std::string& setting) {
+  const double x = std::numbers::pi / f.segments_per_period;  // the kept fraction sinc^2(pi / N)
+  const double kept = std::pow(std::sin(x) / x, 2);
+  return fmt::format(
+      "is too high for the segment grid: one period of this order spans {:.3g} segments of {} "
+      "(its longest segment is {:.3g} of a mesh cycle, {:.6g} mesh cycles per revolution), "
+      "fewer than {}; the solver holds the excitation at its mean over each segment, which would "
+      "keep only {:.0f} % of this order (sinc^2(pi / N)) and alias it: raise {} (now {}) to "
+      "about {:.0f} or more, or leave the order out",
+      f.segments_per_period, f.mesh, f.longest_segment_fraction, f.cycles_per_revolution,
+      L::kMinSegmentsPerExcitationPeriod, 100.0 * kept, setting, f.segments_per_cycle,
+      f.needed_segments_per_cycle);
+}
+
+}  // namespace
+
+ExcitationOrderUnresolved::ExcitationOrderUnresolved(Facts facts)
+    : InputError("operating.excitation[" + std::to_string(facts.index) + "].order", 0,
+                 Num(facts.order), UnresolvedRule(facts, "segments_per_cycle")),
+      facts_(std::move(facts)) {}
+
+std::string ExcitationOrderUnresolved::RuleNaming(const std::string& setting) const {
+  return UnresolvedRule(facts_, setting);
+}
+
 void RequireExcitationResolved(const std::vector<ExcitationOrder>& orders,
                                double cycles_per_revolution, double longest_segment_fraction,
                                int segments_per_cycle, const std::string& mesh) {
@@ -120,21 +147,11 @@ void RequireExcitationResolved(const std::vector<ExcitationOrder>& orders,
     const double order = orders[i].order;
     const double per_period = cycles_per_revolution / (order * longest_segment_fraction);
     if (per_period >= L::kMinSegmentsPerExcitationPeriod) continue;
-    const double x = std::numbers::pi / per_period;  // the kept fraction sinc^2(pi / N)
-    const double kept = std::pow(std::sin(x) / x, 2);
     // The longest segment shrinks about as 1 / segments_per_cycle.
     const double needed =
         std::ceil(segments_per_cycle * L::kMinSegmentsPerExcitationPeriod / per_period);
-    throw InputError(
-        "operating.excitation[" + std::to_string(i) + "].order", 0, Num(order),
-        fmt::format("is too high for the segment grid: one period of this order spans {:.3g} "
-                    "segments of {} (its longest segment is {:.3g} of a mesh cycle, {:.6g} mesh "
-                    "cycles per revolution), fewer than {}; the solver holds the excitation at "
-                    "its mean over each segment, which would keep only {:.0f} % of this order "
-                    "(sinc^2(pi / N)) and alias it: raise analysis.segments_per_cycle (now {}) "
-                    "to about {:.0f} or more, or leave the order out",
-                    per_period, mesh, longest_segment_fraction, cycles_per_revolution,
-                    L::kMinSegmentsPerExcitationPeriod, 100.0 * kept, segments_per_cycle, needed));
+    throw ExcitationOrderUnresolved({i, order, per_period, mesh, longest_segment_fraction,
+                                     cycles_per_revolution, segments_per_cycle, needed});
   }
 }
 

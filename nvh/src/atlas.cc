@@ -92,7 +92,10 @@ AtlasCell ComputeAtlasCell(const GearboxSpec& base, const AtlasAxis& x, const At
     }
   } catch (const InputError& e) {
     cell.ok = false;
-    cell.message = options.input_error_message ? options.input_error_message(e) : e.what();
+    cell.message =
+        options.input_error_message
+            ? options.input_error_message(e, {{x.parameter, cell.x}, {y.parameter, cell.y}})
+            : e.what();
   } catch (const std::exception& e) {
     cell.ok = false;
     cell.message = e.what();

@@ -84,7 +84,9 @@ std::vector<OrbitScanPoint> ScanPeriodicOrbits(const GearboxSpec& base,
       }
     } catch (const InputError& e) {
       p.ok = false;
-      p.message = options.input_error_message ? options.input_error_message(e) : e.what();
+      std::vector<ParameterValue> set;
+      if (sweep) set.push_back({sweep->parameter, p.value});
+      p.message = options.input_error_message ? options.input_error_message(e, set) : e.what();
       previous.reset();
     } catch (const std::exception& e) {
       p.ok = false;

@@ -1,4 +1,5 @@
 // gearnvh.orbits and gearnvh.tiers: the library calls behind `gearnvh orbits` and `gearnvh tiers`.
+#include <fmt/format.h>
 #include <pybind11/complex.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -9,6 +10,7 @@
 #include "atlas_command.h"
 #include "binding_support.h"
 #include "config/gearbox_loader.h"
+#include "display_units.h"
 #include "gearbox.h"
 #include "gearnvh/nvh/orbit_scan.h"
 #include "simulate_command.h"
@@ -35,7 +37,7 @@ std::shared_ptr<Orbits> RunOrbits(const Gearbox& gb, int period,
   const GearboxSpec spec = gb.spec();
   const std::string source = gb.source();
   OrbitScanOptions options;
-  options.input_error_message = app::UserWording(kKeywordInputNames);
+  options.input_error_message = app::UserWording(kKeywordInputNames, app::PairAxisValueText(spec));
   options.tier = TierArgument(tier, spec.analysis.tier, source);
   options.period = period;
   options.transient_cycles = transient.value_or(spec.analysis.transient_cycles);
@@ -126,16 +128,31 @@ void BindOrbitsTiers(py::module_& m) {
       .def_property_readonly("drive_impacts_per_period",
                              [](const OrbitScanPoint& p) { return p.orbit.drive_impacts; })
       .def_property_readonly("back_impacts_per_period",
-                             [](const OrbitScanPoint& p) { return p.orbit.back_impacts; });
+                             [](const OrbitScanPoint& p) { return p.orbit.back_impacts; })
+      .def("__repr__", [](const OrbitScanPoint& p) {
+        if (!p.ok)
+          return fmt::format("<gearnvh.OrbitPoint {:.6g}: failed: {}>", p.value, p.message);
+        if (p.start.empty()) return fmt::format("<gearnvh.OrbitPoint {:.6g}: not found>", p.value);
+        return fmt::format("<gearnvh.OrbitPoint {:.6g}: {}, max |mu| {:.4g}>", p.value,
+                           p.orbit.stable ? "stable" : "unstable", p.orbit.spectral_radius);
+      });
 
   py::class_<Orbits, std::shared_ptr<Orbits>>(m, "Orbits", "Periodic orbits (gearnvh orbits).")
       .def_readonly("parameter", &Orbits::parameter)
-      .def_property_readonly("points", [](py::object self) {
-        py::list out;
-        for (const OrbitScanPoint& p : self.cast<const Orbits&>().points) {
-          out.append(py::cast(p, py::return_value_policy::reference_internal, self));
-        }
-        return out;
+      .def_property_readonly(
+          "points",
+          [](py::object self) {
+            py::list out;
+            for (const OrbitScanPoint& p : self.cast<const Orbits&>().points) {
+              out.append(py::cast(p, py::return_value_policy::reference_internal, self));
+            }
+            return out;
+          })
+      .def("__repr__", [](const Orbits& o) {
+        long found = 0;
+        for (const OrbitScanPoint& p : o.points) found += p.start.empty() ? 0 : 1;
+        return fmt::format("<gearnvh.Orbits {} points{}, {} found>", o.points.size(),
+                           o.parameter.empty() ? std::string() : " along " + o.parameter, found);
       });
 
   py::class_<Tiers, std::shared_ptr<Tiers>>(
@@ -156,7 +173,13 @@ void BindOrbitsTiers(py::module_& m) {
           "finest", [](const Tiers& t) { return t.comparison.rows[t.comparison.finest].name; })
       .def(
           "to_dict", [](const Tiers& t) { return ToPython(t.doc); },
-          "The document `gearnvh tiers --json` prints.");
+          "The document `gearnvh tiers --json` prints.")
+      .def("__repr__", [](const Tiers& t) {
+        std::string names;
+        for (const app::TierRow& r : t.comparison.rows)
+          names += (names.empty() ? "" : ", ") + r.name;
+        return "<gearnvh.Tiers " + names + ">";
+      });
 
   m.def("orbits", &RunOrbits, py::arg("gearbox"), py::kw_only(), py::arg("period") = 1,
         py::arg("sweep") = py::none(), py::arg("tier") = py::none(),

@@ -1,5 +1,6 @@
 // gearnvh.simulate(): one operating point through the exact solver (the library call behind
 // `gearnvh simulate`), with the trajectory, events and spectrum as NumPy views.
+#include <fmt/format.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
@@ -102,7 +103,13 @@ void BindSimulate(py::module_& m) {
                              "state before the event (0 back, 1 free, 2 drive)")
       .def_property_readonly("event_to", EventField(&EventRecord::to), "state after the event")
       .def_property_readonly("event_gap_rate", EventField(&EventRecord::gap_rate),
-                             "m/s, rate of the gap crossing its wall");
+                             "m/s, rate of the gap crossing its wall")
+      .def("__repr__", [](const Trajectory& t) {
+        const double span =
+            t.samples.empty() ? 0.0 : t.samples.back().time - t.samples.front().time;
+        return fmt::format("<gearnvh.Trajectory {} samples over {:.4g} s, {} events>",
+                           t.samples.size(), span, t.events.size());
+      });
 
   py::class_<SolverSummary>(m, "SolverSummary", "The solver's account of a run (SI units).")
       .def_property_readonly("status",
@@ -125,7 +132,12 @@ void BindSimulate(py::module_& m) {
       .def_readonly("real_time_ratio", &SolverSummary::real_time_ratio,
                     "simulated time / wall time")
       .def_readonly("table_bytes", &SolverSummary::table_bytes)
-      .def_readonly("trajectory_truncated", &SolverSummary::trajectory_truncated);
+      .def_readonly("trajectory_truncated", &SolverSummary::trajectory_truncated)
+      .def("__repr__", [](const SolverSummary& s) {
+        return fmt::format(
+            "<gearnvh.SolverSummary {}, {} mesh cycles, {} events, {:.3g} x real time>",
+            SolverStatusName(s.status), s.mesh_cycles, s.events, s.real_time_ratio);
+      });
 
   py::class_<TransmissionErrorStats>(m, "TeStats", "TE statistics over the recorded window (SI).")
       .def_readonly("mean", &TransmissionErrorStats::mean, "m")
@@ -138,7 +150,11 @@ void BindSimulate(py::module_& m) {
       .def_readonly("mesh_force_mean", &TransmissionErrorStats::mesh_force_mean, "N")
       .def_readonly("mesh_force_max", &TransmissionErrorStats::mesh_force_max, "N")
       .def_readonly("dynamic_factor", &TransmissionErrorStats::dynamic_factor,
-                    "max mesh force / static mesh force");
+                    "max mesh force / static mesh force")
+      .def("__repr__", [](const TransmissionErrorStats& s) {
+        return fmt::format("<gearnvh.TeStats RMS {:.4g} um, p-p {:.4g} um, dynamic factor {:.4g}>",
+                           s.rms * 1e6, s.peak_to_peak * 1e6, s.dynamic_factor);
+      });
 
   py::class_<RattleIndices>(m, "Rattle", "Rattle indices of a run (docs/results.md).")
       .def_property_readonly("regime",
@@ -151,7 +167,12 @@ void BindSimulate(py::module_& m) {
       .def_readonly("separation_fraction", &RattleIndices::separation_fraction)
       .def_readonly("wheel_acceleration_rms", &RattleIndices::wheel_acceleration_rms, "rad/s^2")
       .def_readonly("acceleration_ratio", &RattleIndices::acceleration_ratio,
-                    "wheel acceleration RMS / the same gearbox without backlash");
+                    "wheel acceleration RMS / the same gearbox without backlash")
+      .def("__repr__", [](const RattleIndices& r) {
+        return fmt::format("<gearnvh.Rattle {}, {:.4g} drive / {:.4g} back impacts per cycle>",
+                           RattleRegimeName(r.regime), r.drive_impacts_per_cycle,
+                           r.back_impacts_per_cycle);
+      });
 
   py::class_<AmplitudeSpectrum>(m, "Spectrum", "Hann amplitude spectrum of the TE.")
       .def_readonly("bin_hz", &AmplitudeSpectrum::bin_hz)
@@ -168,7 +189,10 @@ void BindSimulate(py::module_& m) {
             for (py::ssize_t k = 0; k < f.size(); ++k) f.mutable_at(k) = k * s.bin_hz;
             return f;
           },
-          "Hz per bin");
+          "Hz per bin")
+      .def("__repr__", [](const AmplitudeSpectrum& s) {
+        return fmt::format("<gearnvh.Spectrum {} bins of {:.4g} Hz>", s.amplitude.size(), s.bin_hz);
+      });
 
   py::class_<SidebandRow>(m, "Sideband", "A mesh harmonic, shaft order or sideband of the TE.")
       .def_readonly("label", &SidebandRow::label)

@@ -1,5 +1,6 @@
 // gearnvh.sweep and gearnvh.atlas: the library calls behind `gearnvh sweep` and `gearnvh atlas`,
 // with per-speed series and atlas grids as NumPy views of the C++ results.
+#include <fmt/format.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
@@ -10,6 +11,7 @@
 #include "atlas_documents.h"
 #include "binding_support.h"
 #include "config/gearbox_loader.h"
+#include "display_units.h"
 #include "gearbox.h"
 #include "gearnvh/model/component_model.h"
 #include "gearnvh/nvh/atlas.h"
@@ -80,7 +82,7 @@ std::shared_ptr<Atlas> RunAtlas(const Gearbox& gb, const std::optional<std::stri
   const GearboxSpec spec = gb.spec();
   const std::string source = gb.source();
   AtlasOptions options;
-  options.input_error_message = app::UserWording(kKeywordInputNames);
+  options.input_error_message = app::UserWording(kKeywordInputNames, app::PairAxisValueText(spec));
   options.tier = TierArgument(tier, spec.analysis.tier, source);
   options.cycles = cycles.value_or(options.cycles);
   options.transient_cycles = transient.value_or(options.transient_cycles);
@@ -201,7 +203,17 @@ void BindSweepAtlas(py::module_& m) {
           "list of {order, mode, mode_label, speed_rpm, frequency_hz}")
       .def(
           "to_dict", [](const Sweep& s) { return ToPython(s.doc); },
-          "The document `gearnvh sweep --json` prints.");
+          "The document `gearnvh sweep --json` prints.")
+      .def("__repr__", [](const Sweep& s) {
+        const auto& p = s.result.points;
+        long failed = 0;
+        for (const auto& point : p) failed += point.ok ? 0 : 1;
+        return fmt::format(
+            "<gearnvh.Sweep {} speeds{}, {} tracked modes, {} failed>", p.size(),
+            p.empty() ? std::string()
+                      : fmt::format(" {:.4g}-{:.4g} rpm", p.front().speed_rpm, p.back().speed_rpm),
+            s.result.campbell.modes.size(), failed);
+      });
 
   py::class_<Atlas, std::shared_ptr<Atlas>>(
       m, "Atlas",
@@ -238,7 +250,12 @@ void BindSweepAtlas(py::module_& m) {
       .def_property_readonly("failed", [](const Atlas& a) { return a.result.Failed(); })
       .def(
           "to_dict", [](const Atlas& a) { return ToPython(a.doc); },
-          "The document `gearnvh atlas --json` prints.");
+          "The document `gearnvh atlas --json` prints.")
+      .def("__repr__", [](const Atlas& a) {
+        return fmt::format("<gearnvh.Atlas {} x {}: {} x {} cells, {} failed>",
+                           a.result.x.parameter, a.result.y.parameter, a.result.x.range.points,
+                           a.result.y.range.points, a.result.Failed());
+      });
 
   m.def("sweep", &RunSweep, py::arg("gearbox"), py::kw_only(), py::arg("tier") = py::none(),
         py::arg("cycles") = py::none(), py::arg("transient") = py::none(), py::arg("jobs") = 0,

@@ -2,6 +2,7 @@
 // it: the library calls behind `gearnvh check|simulate|sweep TRAIN.yaml`, per-mesh and
 // per-loose-gear results as objects and NumPy arrays (speeds x meshes), and to_dict() giving the
 // command line's JSON.
+#include <fmt/format.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
@@ -346,7 +347,15 @@ void BindTrain(py::module_& m) {
           "speeds x loose gears, rad/s^2 (RMS angular acceleration)")
       .def(
           "to_dict", [](const TrainSweep& s) { return ToPython(s.doc); },
-          "The document `gearnvh sweep --json TRAIN.yaml` prints.");
+          "The document `gearnvh sweep --json TRAIN.yaml` prints.")
+      .def("__repr__", [](const TrainSweep& s) {
+        const auto& p = s.result.points;
+        return fmt::format(
+            "<gearnvh.TrainSweep {} speeds{}, {} meshes, {} failed>", p.size(),
+            p.empty() ? std::string()
+                      : fmt::format(" {:.4g}-{:.4g} rpm", p.front().speed_rpm, p.back().speed_rpm),
+            s.result.mesh_names.size(), s.result.failed());
+      });
 
   m.def("check", &CheckTrain, py::arg("gearbox"),
         "Validate and describe a gear train: the document of `gearnvh check --json TRAIN.yaml` "

@@ -1,6 +1,7 @@
 // gearnvh.atlas on a gear train (schema gearnvh/2): the app functions behind `gearnvh atlas
 // TRAIN.yaml` (PlanTrainAtlas checks the options for both), per-cell, per-mesh and per-loose-gear
 // grids as NumPy arrays, and to_dict() giving the command line's JSON.
+#include <fmt/format.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
@@ -105,13 +106,20 @@ void BindTrainAtlas(py::module_& m) {
       .def_readonly("separation_fraction", &TrainAtlasMesh::separation_fraction)
       .def_readonly("impact_velocity_rms", &TrainAtlasMesh::impact_velocity_rms, "m/s")
       .def_property_readonly("regime",
-                             [](const TrainAtlasMesh& g) { return RattleRegimeName(g.regime); });
+                             [](const TrainAtlasMesh& g) { return RattleRegimeName(g.regime); })
+      .def("__repr__", [](const TrainAtlasMesh& g) {
+        return fmt::format("<gearnvh.TrainAtlasMesh {} {}>", g.name, RattleRegimeName(g.regime));
+      });
   py::class_<TrainAtlasLooseGear>(m, "TrainAtlasLooseGear", "One loose gear in one atlas cell.")
       .def_readonly("name", &TrainAtlasLooseGear::name)
       .def_readonly("rattle_index", &TrainAtlasLooseGear::rattle_index,
                     "RMS angular acceleration about the mean, rad/s^2")
       .def_readonly("impacts", &TrainAtlasLooseGear::impacts)
-      .def_readonly("rank", &TrainAtlasLooseGear::rank, "1 = rattles most in this cell");
+      .def_readonly("rank", &TrainAtlasLooseGear::rank, "1 = rattles most in this cell")
+      .def("__repr__", [](const TrainAtlasLooseGear& g) {
+        return fmt::format("<gearnvh.TrainAtlasLooseGear {}. {}, {:.4g} rad/s^2>", g.rank, g.name,
+                           g.rattle_index);
+      });
   py::class_<TrainAtlasPoint>(m, "TrainAtlasCell", "One cell of a train's atlas.")
       .def_readonly("ok", &TrainAtlasPoint::ok)
       .def_readonly("message", &TrainAtlasPoint::message, "why the cell failed")
@@ -124,7 +132,12 @@ void BindTrainAtlas(py::module_& m) {
       .def_readonly("meshes", &TrainAtlasPoint::meshes, "TrainAtlasMesh per mesh, file order")
       .def_readonly("loose_gears", &TrainAtlasPoint::loose_gears,
                     "TrainAtlasLooseGear by rank (1 = rattles most)")
-      .def_readonly("wall_s", &TrainAtlasPoint::wall_s);
+      .def_readonly("wall_s", &TrainAtlasPoint::wall_s)
+      .def("__repr__", [](const TrainAtlasPoint& p) {
+        if (!p.ok) return "<gearnvh.TrainAtlasCell failed: " + p.message + ">";
+        return fmt::format("<gearnvh.TrainAtlasCell {}, lambda {:.4g} per forcing cycle>",
+                           RattleRegimeName(p.regime), p.lyapunov_per_forcing_cycle);
+      });
 
   py::class_<TrainAtlas, std::shared_ptr<TrainAtlas>>(
       m, "TrainAtlas",
@@ -210,7 +223,12 @@ void BindTrainAtlas(py::module_& m) {
       .def_property_readonly("failed", [](const TrainAtlas& a) { return a.result.Failed(); })
       .def(
           "to_dict", [](const TrainAtlas& a) { return ToPython(a.doc); },
-          "The document `gearnvh atlas --json TRAIN.yaml` prints.");
+          "The document `gearnvh atlas --json TRAIN.yaml` prints.")
+      .def("__repr__", [](const TrainAtlas& a) {
+        return fmt::format("<gearnvh.TrainAtlas {} x {}: {} x {} cells, {} failed>",
+                           a.result.x.parameter, a.result.y.parameter, a.result.x.range.points,
+                           a.result.y.range.points, a.result.Failed());
+      });
 
   m.def("atlas", &AtlasTrain, py::arg("gearbox"), py::kw_only(), py::arg("x") = py::none(),
         py::arg("y") = py::none(), py::arg("tier") = py::none(), py::arg("cycles") = py::none(),

@@ -2,6 +2,7 @@
 // `gearnvh orbits|tiers TRAIN.yaml` (one plan function per command checks the options for both),
 // per-point and per-tier results as objects and NumPy arrays, and to_dict() giving the command
 // line's JSON.
+#include <fmt/format.h>
 #include <pybind11/complex.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -147,8 +148,21 @@ void BindTrainOrbitsTiers(py::module_& m) {
           "the orbit's period, s (M common periods)")
       .def_property_readonly("common_period_s",
                              [](const TrainOrbitsPoint& p) { return p.point.common_period; })
-      .def_property_readonly("events_per_period", [](const TrainOrbitsPoint& p) {
-        return p.point.orbit.events_per_period;
+      .def_property_readonly(
+          "events_per_period",
+          [](const TrainOrbitsPoint& p) { return p.point.orbit.events_per_period; })
+      .def("__repr__", [](const TrainOrbitsPoint& p) {
+        if (!p.point.ok) {
+          return fmt::format("<gearnvh.TrainOrbitPoint {:.6g}: failed: {}>", p.value,
+                             p.point.message);
+        }
+        if (!p.point.found()) {
+          return fmt::format("<gearnvh.TrainOrbitPoint {:.6g}: not found>", p.value);
+        }
+        const Eigen::VectorXcd& mu = p.point.orbit.multipliers;
+        return fmt::format("<gearnvh.TrainOrbitPoint {:.6g}: {}, max |mu| {:.4g}>", p.value,
+                           p.point.orbit.stable ? "stable" : "unstable",
+                           mu.size() > 0 ? std::abs(mu[0]) : 0.0);
       });
 
   py::class_<TrainOrbits, std::shared_ptr<TrainOrbits>>(
@@ -165,7 +179,13 @@ void BindTrainOrbitsTiers(py::module_& m) {
           })
       .def(
           "to_dict", [](const TrainOrbits& o) { return ToPython(o.doc); },
-          "The document `gearnvh orbits --json TRAIN.yaml` prints.");
+          "The document `gearnvh orbits --json TRAIN.yaml` prints.")
+      .def("__repr__", [](const TrainOrbits& o) {
+        long found = 0;
+        for (const TrainOrbitsPoint& p : o.points) found += p.point.found() ? 1 : 0;
+        return fmt::format("<gearnvh.TrainOrbits {} points{}, {} found>", o.points.size(),
+                           o.parameter.empty() ? std::string() : " along " + o.parameter, found);
+      });
 
   // Tiers.
   py::class_<TrainTiers, std::shared_ptr<TrainTiers>>(
@@ -203,7 +223,14 @@ void BindTrainOrbitsTiers(py::module_& m) {
                              TrainTierRows(&app::TrainTierRow::rattle_index_difference))
       .def(
           "to_dict", [](const TrainTiers& t) { return ToPython(t.doc); },
-          "The document `gearnvh tiers --json TRAIN.yaml` prints.");
+          "The document `gearnvh tiers --json TRAIN.yaml` prints.")
+      .def("__repr__", [](const TrainTiers& t) {
+        std::string names;
+        for (const app::TrainTierRow& r : t.comparison.rows) {
+          names += (names.empty() ? "" : ", ") + r.name;
+        }
+        return "<gearnvh.TrainTiers " + names + ">";
+      });
 
   m.def("orbits", &OrbitsTrain, py::arg("gearbox"), py::kw_only(), py::arg("period") = 1,
         py::arg("sweep") = py::none(), py::arg("tier") = py::none(),

@@ -1,5 +1,6 @@
 // gearnvh.validate on a gear train or a gear pair: the validation ladders behind `gearnvh validate
 // FILE`, their checks as objects and to_dict() giving the command line's JSON.
+#include <fmt/format.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
@@ -70,7 +71,17 @@ void BindValidation(py::module_& m) {
                              [](const Validation& v) { return v.doc["pass"].get<bool>(); })
       .def(
           "to_dict", [](const Validation& v) { return ToPython(v.doc); },
-          "The document `gearnvh validate --json` prints.");
+          "The document `gearnvh validate --json` prints.")
+      .def("__repr__", [](const Validation& v) {
+        long passed = 0, skipped = 0;
+        for (const app::ValidationRow& r : v.rows) {
+          skipped += r.skipped ? 1 : 0;
+          passed += !r.skipped && r.pass ? 1 : 0;
+        }
+        return fmt::format("<gearnvh.Validation {}: {} of {} checks passed, {} skipped>",
+                           v.doc["pass"].get<bool>() ? "pass" : "FAIL", passed,
+                           v.rows.size() - static_cast<size_t>(skipped), skipped);
+      });
 
   m.def("validate", &ValidateTrain, py::arg("gearbox"), py::kw_only(),
         py::arg("progress") = py::none(),

@@ -75,6 +75,24 @@ def test_validate_a_pair_as_the_command_line(gearnvh_exe):
     assert v.to_dict() == doc
     assert [c.name for c in v.checks] == [c["name"] for c in doc["checks"]]
     assert v.checks[0].name == "fused cycle vs step-by-step propagation"
+    skipped = sum(c.skipped for c in v.checks)
+    passed = sum(c.passed and not c.skipped for c in v.checks)
+    assert repr(v) == (f"<gearnvh.Validation {'pass' if v.passed else 'FAIL'}: {passed} of "
+                       f"{len(v.checks) - skipped} checks passed, {skipped} skipped>")
+    assert repr(v.checks[0]).startswith("<gearnvh.ValidationCheck fused cycle vs step-by-step")
+
+
+def test_a_failed_atlas_cell_shows_its_value_as_the_axis_does(gb):
+    a = gearnvh.atlas(gb, x="mesh.backlash=-10um:80um:2", y="operating.speed=800rpm:900rpm:1",
+                      cycles=8, transient=0, jobs=1)
+    cells = a.to_dict()["cells"]
+    assert cells[0]["message"] == "mesh.backlash: must be > 0, got -10 µm"
+    assert a.failed == 1
+    assert repr(a) == "<gearnvh.Atlas mesh.backlash x operating.speed: 2 x 1 cells, 1 failed>"
+    o = gearnvh.orbits(gb, sweep="mesh.backlash=-10um:80um:2", transient=8)
+    assert o.points[0].message == "mesh.backlash: must be > 0, got -10 µm"
+    assert repr(o.points[0]) == ("<gearnvh.OrbitPoint -1e-05: failed: mesh.backlash: must be > 0, "
+                                 "got -10 µm>")
 
 
 @pytest.mark.parametrize("analysis", ["atlas", "sweep"])

@@ -89,6 +89,25 @@ def test_load_errors_carry_path_line_and_source():
     assert isinstance(bad.value, ValueError)
 
 
+def test_load_names_an_empty_path_and_a_directory():
+    with pytest.raises(gearnvh.InputError) as empty:
+        gearnvh.load("")
+    assert "the file name is empty" in str(empty.value)
+    assert "cannot open" not in str(empty.value)
+    with pytest.raises(gearnvh.InputError) as folder:
+        gearnvh.load(str(IDLE_RATTLE.parent))
+    assert folder.value.source == str(IDLE_RATTLE.parent)
+    assert "is a directory, not a gearbox file" in str(folder.value)
+
+
+def test_every_class_of_the_module_has_its_own_repr():
+    classes = [c for c in vars(gearnvh).values()
+               if isinstance(c, type) and not issubclass(c, BaseException)]
+    assert len(classes) > 20
+    # pybind11's default is object.__repr__ ("<gearnvh.Validation object at 0x...>").
+    assert [c.__name__ for c in classes if "__repr__" not in vars(c)] == []
+
+
 def test_copies_are_independent():
     gb = gearnvh.load(str(IDLE_RATTLE))
     other = copy.deepcopy(gb)

@@ -154,6 +154,15 @@ TEST_CASE("exit codes: missing files are input errors naming the path, usage err
     CHECK(run.exit_code == 1);
     CHECK(run.err.find(missing) != std::string::npos);
   }
+  // An empty file name and a folder say so, not "cannot open file".
+  const auto empty = RunCommand(kExe + " check ''");
+  CHECK(empty.exit_code == 1);
+  CHECK(empty.err.find("the file name is empty") != std::string::npos);
+  CHECK(empty.err.find("cannot open") == std::string::npos);
+  const auto folder = RunCommand(kExe + " check " + dir.path().string());
+  CHECK(folder.exit_code == 1);
+  CHECK(folder.err.find("error: " + dir.path().string() + ": ") != std::string::npos);
+  CHECK(folder.err.find("is a directory, not a gearbox file") != std::string::npos);
   // Several files: each gets its verdict; the good one is still checked.
   const auto both = RunCommand(kExe + " check " + kWhine + " " + missing);
   CHECK(both.exit_code == 1);
@@ -196,6 +205,13 @@ TEST_CASE("output: --out is checked before the computation and an I/O failure is
   CHECK(seconds < 20.0);
   CHECK(ReadWholeFile(file) == "mine\n");
   CHECK(Debris(dir.path()).empty());
+  // A folder no file can be made in (/proc has no blocks, so no free space) is not a full disk:
+  // the error gives the system's reason.
+  const auto proc = RunCommand(kExe + " simulate " + kWhine + " --out /proc/gearnvh-out");
+  INFO(proc.err);
+  CHECK(proc.exit_code == 4);
+  CHECK(proc.err.find("error: --out /proc/gearnvh-out: ") != std::string::npos);
+  CHECK(proc.err.find("disk is full") == std::string::npos);
 }
 
 TEST_CASE("output: simulate writes all its files into a new folder, nothing else is left",
@@ -436,6 +452,8 @@ TEST_CASE("output: a full disk while writing leaves the earlier results - a full
                                    " --cycles 1000000 --out " + d + "/out; echo rc=$?'");
   INFO(readonly.out << readonly.err);
   CHECK(readonly.out.find("rc=4") != std::string::npos);
+  CHECK(readonly.err.find("ead-only") != std::string::npos);  // Read-only / read-only
+  CHECK(readonly.err.find("disk is full") == std::string::npos);
 }
 
 TEST_CASE("output: --out . works when the parent folder is not writable", "[cli][hardening]") {

@@ -88,8 +88,9 @@ TEST_CASE("simulate: bad options and unavailable tiers are clear errors", "[cli]
   CHECK(bad_tier.exit_code == 2);  // a usage error
   CHECK(bad_tier.err.find("--tier") != std::string::npos);
   const auto no_shafts = RunCommand(kExe + " simulate --tier 5 " + kExamples + "/idle_rattle.yaml");
-  CHECK(no_shafts.exit_code == 1);
-  CHECK(no_shafts.err.find("analysis.tier") != std::string::npos);
+  CHECK(no_shafts.exit_code == 2);  // the flag chose the tier: a usage error naming it
+  CHECK(no_shafts.err.find("--tier: needs flexible shafts") != std::string::npos);
+  CHECK(no_shafts.err.find("got 5") != std::string::npos);
   CHECK(no_shafts.err.find("idle_rattle.yaml") != std::string::npos);
   CHECK(RunCommand(kExe + " simulate --cycles 0 " + kExamples + "/idle_rattle.yaml").exit_code ==
         2);

@@ -4,10 +4,13 @@
 
 #include <catch2/catch.hpp>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 
+#include "app/load_error.h"
 #include "gearnvh/model/component_model.h"
+#include "gearnvh/model/gearbox_spec_limits.h"
 #include "gearnvh/reduction/reduced_model.h"
 #include "gearnvh/solver/exact_solver.h"
 #include "model/test_specs.h"
@@ -83,6 +86,54 @@ TEST_CASE("forcing without a common period and an unreducible structure name the
   CHECK(app::UserNamed(structure).rule() == "cannot be reduced: a direction no bearing holds");
 }
 
+TEST_CASE("a --tier the model cannot have names the flag and its text", "[app][errors][cli]") {
+  const std::string exe = GEARNVH_EXE;
+  const std::string rattle = std::string(GEARNVH_EXAMPLES_DIR) + "/idle_rattle.yaml";
+  for (const char* command : {"simulate", "sweep"}) {
+    INFO(command);
+    const auto run = testing::RunCommand(exe + " " + command + " --tier 'N40 full' " + rattle);
+    INFO(run.err);
+    CHECK(run.exit_code == 2);  // a usage error, as a train's
+    CHECK(run.err.find("error: " + rattle + ": --tier: needs flexible shafts") !=
+          std::string::npos);
+    CHECK(run.err.find("got N40 full") != std::string::npos);
+    CHECK(run.err.find("analysis.tier") == std::string::npos);
+  }
+  // From the file: its line and the value written there.
+  const testing::TempDir dir;
+  const auto file = dir.Write("tier5.yaml", testing::Replace(testing::Example("idle_rattle.yaml"),
+                                                             "tier: 1\n", "tier: 5\n"))
+                        .string();
+  const auto run = testing::RunCommand(exe + " simulate " + file);
+  INFO(run.err);
+  CHECK(run.exit_code == 1);
+  CHECK(run.err.find("tier5.yaml:46: analysis.tier: needs flexible shafts") != std::string::npos);
+  CHECK(run.err.find("got '5'") != std::string::npos);
+}
+
+TEST_CASE("the segment grid's setting is named by the app, not by the library", "[app][errors]") {
+  ExcitationOrderUnresolved::Facts facts;
+  facts.index = 1;
+  facts.order = 40.0;
+  facts.segments_per_period = 6.0;
+  facts.mesh = "the mesh";
+  facts.segments_per_cycle = 32;
+  facts.needed_segments_per_cycle = 43.0;
+  const ExcitationOrderUnresolved e(facts);
+  CHECK(e.path() == "operating.excitation[1].order");
+  CHECK(e.rule().find("raise segments_per_cycle (now 32) to about 43 or more") !=
+        std::string::npos);
+  CHECK(e.rule().find("analysis.") == std::string::npos);
+  const InputError named = app::UserNamed(e);
+  CHECK(named.path() == e.path());
+  CHECK(named.value() == "40");
+  CHECK(named.rule() == e.RuleNaming("analysis.segments_per_cycle"));
+  CHECK(named.rule().find("raise analysis.segments_per_cycle (now 32) to about 43 or more") !=
+        std::string::npos);
+  // Python users set it in the document too: the same path.
+  CHECK(app::UserNamed(e, kPython).rule() == named.rule());
+}
+
 TEST_CASE("failed atlas cells and orbit points name the YAML path the user set",
           "[app][errors][cli]") {
   // The cells and points keep their input errors as text; the commands word them as the error
@@ -96,7 +147,29 @@ TEST_CASE("failed atlas cells and orbit points name the YAML path the user set",
       rattle);
   INFO(atlas.out << atlas.err);
   CHECK(atlas.exit_code == 1);
-  CHECK(atlas.out.find("failed: analysis.tier: needs flexible shafts") != std::string::npos);
+  // The tier came from the flag: the flag and the text given, not the file's analysis.tier.
+  CHECK(atlas.out.find("failed: --tier: needs flexible shafts (at least 28 interior DOF); this "
+                       "model has 12 DOF, got 5") != std::string::npos);
+  CHECK(atlas.out.find("analysis.tier") == std::string::npos);
+
+  // A cell's value outside the schema's range is shown as the axis shows it (-10 µm, not the SI
+  // -1e-05 the variant holds), as a train's cells are.
+  const auto backlash =
+      testing::RunCommand(exe +
+                          " atlas --json --cycles 8 --transient 0 --x mesh.backlash=-10um:80um:2"
+                          " --y operating.speed=800rpm:900rpm:1 " +
+                          rattle);
+  INFO(backlash.err);
+  CHECK(backlash.exit_code == 1);
+  const auto cells = nlohmann::json::parse(backlash.out)["cells"];
+  CHECK(cells[0]["message"] == "mesh.backlash: must be > 0, got -10 µm");
+  CHECK(cells[1]["ok"] == true);
+  const auto swept = testing::RunCommand(
+      exe + " orbits --json --transient 8 --sweep mesh.backlash=-10um:80um:2 " + rattle);
+  INFO(swept.err);
+  CHECK(swept.exit_code == 1);
+  const auto points = nlohmann::json::parse(swept.out)["points"];
+  CHECK(points[0]["message"] == "mesh.backlash: must be > 0, got -10 µm");
 
   // Engine order 2.0137 does not repeat with the mesh: no periodic orbit.
   std::ifstream in(rattle);

@@ -66,6 +66,45 @@ TEST_CASE("OutputFolder: an uncommitted run leaves nothing and stale staging is 
   CHECK(ReadWholeFile(target) == "a file\n");
 }
 
+// The message of the IoError that opening `target` raises ("" when it opens).
+std::string RefusalOf(const fs::path& target) {
+  try {
+    app::OutputFolder out(target, "--out");
+  } catch (const app::IoError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST_CASE("OutputFolder: a folder that cannot be written is refused with the system's reason",
+          "[app][output]") {
+  // /proc has no blocks and so no free space: it is not a full disk, and the reason it refuses
+  // (no file can be created there) is the one reported.
+  const std::string proc = RefusalOf("/proc/gearnvh-out");
+  INFO(proc);
+  CHECK(proc.rfind("--out /proc/gearnvh-out: ", 0) == 0);
+  CHECK(proc.find("disk is full") == std::string::npos);
+  // root may enter /proc and fails to create there; anyone else may not write it at all.
+  CHECK((proc.find("/proc/.gearnvh-out.lock: No such file or directory") != std::string::npos ||
+         proc.find("/proc is not writable: Permission denied") != std::string::npos));
+  CHECK(!fs::exists("/proc/gearnvh-out"));
+  // A parent that is a file: the path, the parent and the system's reason; the file and the
+  // report folder beside it stay as they were.
+  const TempDir dir;
+  std::ofstream(dir.path() / "notes.txt") << "notes\n";
+  fs::create_directories(dir.path() / "report");
+  std::ofstream(dir.path() / "report" / "a.csv") << "old\n";
+  const std::string file_parent = RefusalOf(dir.path() / "notes.txt" / "report");
+  INFO(file_parent);
+  CHECK(file_parent.find("--out " + (dir.path() / "notes.txt" / "report").string() +
+                         ": cannot create " + (dir.path() / "notes.txt").string()) !=
+        std::string::npos);
+  CHECK(file_parent.find("Not a directory") != std::string::npos);
+  CHECK(file_parent.find("disk is full") == std::string::npos);
+  CHECK(ReadWholeFile(dir.path() / "notes.txt") == "notes\n");
+  CHECK(ReadWholeFile(dir.path() / "report" / "a.csv") == "old\n");
+}
+
 TEST_CASE("RequireFinite names the quantity that is not finite", "[app][output]") {
   nlohmann::json doc = {{"te", {{"rms", 1e-6}, {"max", 2e-6}}}, {"list", {1.0, 2.0}}};
   CHECK_NOTHROW(app::RequireFinite(doc, "simulate"));

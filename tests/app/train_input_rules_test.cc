@@ -38,6 +38,29 @@ TEST_CASE("a body inertia above 1e9 kg m^2 is refused as written", "[loader][tra
   CHECK(g.value() == "'1e300 kg*m^2'");
 }
 
+TEST_CASE("a misspelt key of a shaft gets its did-you-mean in either form", "[loader][train]") {
+  // A misspelt `segments` once made the shaft rigid, and the other elastic keys were then called
+  // unknown with the rigid keys as the only choices.
+  const std::string elastic =
+      Replace(kBase, "b: {inertia: 3e-3 kg*m^2}",
+              "b: {material: steel, segmnts: [{length: 100 mm, outer_diameter: 30 mm}],\n"
+              "     bearings: [{at: 10 mm, radial_stiffness: 1e8 N/m}]}");
+  const InputError typo = LoaderErrorOf(elastic);
+  CHECK(typo.path() == "shafts.b.segmnts");
+  CHECK(typo.rule() == "unknown key (did you mean 'segments'?)");
+  CHECK(typo.line() == 7);
+  // An elastic key on a shaft without segments says which form it belongs to.
+  const InputError rigid = LoaderErrorOf(
+      Replace(kBase, "b: {inertia: 3e-3 kg*m^2}", "b: {inertia: 3e-3 kg*m^2, material: steel}"));
+  CHECK(rigid.path() == "shafts.b.material");
+  CHECK(rigid.rule().find("belongs to an elastic shaft, which needs segments:") !=
+        std::string::npos);
+  // The rigid form's own keys keep theirs.
+  const InputError inertia =
+      LoaderErrorOf(Replace(kBase, "b: {inertia: 3e-3 kg*m^2}", "b: {inertai: 3e-3 kg*m^2}"));
+  CHECK(inertia.rule() == "unknown key (did you mean 'inertia'?)");
+}
+
 TEST_CASE("analysis.atlas of a train names train parameters", "[loader][train]") {
   const std::string atlas =
       "  atlas:\n"

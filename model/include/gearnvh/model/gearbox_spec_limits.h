@@ -6,6 +6,7 @@
 #include <string>
 
 #include "gearnvh/model/gearbox_spec.h"
+#include "gearnvh/model/input_error.h"
 
 namespace gearnvh {
 
@@ -82,11 +83,33 @@ struct FastestMesh {
 };
 FastestMesh FastestPitchLine(const TrainSpec& spec, const TrainTopology& topology);
 
+// An excitation order too high for the segment grid (RequireExcitationResolved): an InputError at
+// operating.excitation[i].order whose rule names the library's setting "segments_per_cycle"; the
+// app restates it at the name the user set it by (RuleNaming).
+class ExcitationOrderUnresolved : public InputError {
+ public:
+  struct Facts {
+    size_t index = 0;  // in the list of orders
+    double order = 0.0;
+    double segments_per_period = 0.0;  // N
+    std::string mesh;
+    double longest_segment_fraction = 0.0, cycles_per_revolution = 0.0;
+    int segments_per_cycle = 0;              // now
+    double needed_segments_per_cycle = 0.0;  // that would resolve the order
+  };
+  explicit ExcitationOrderUnresolved(Facts facts);
+  // The rule with the setting called `setting` ("analysis.segments_per_cycle").
+  std::string RuleNaming(const std::string& setting) const;
+
+ private:
+  Facts facts_;
+};
+
 // The excitation-resolution rule: one period of order k of a shaft spans
 // N = c / (k f_max) segments of a mesh whose cycle repeats c times per revolution of that shaft
 // and whose longest segment is the fraction f_max of its cycle; N must be >=
-// kMinSegmentsPerExcitationPeriod. InputError at operating.excitation[i].order naming N, the
-// mesh and the segments_per_cycle (`segments_per_cycle` now) that would resolve it.
+// kMinSegmentsPerExcitationPeriod. ExcitationOrderUnresolved naming N, the mesh and the
+// segments_per_cycle (`segments_per_cycle` now) that would resolve it.
 void RequireExcitationResolved(const std::vector<ExcitationOrder>& orders,
                                double cycles_per_revolution, double longest_segment_fraction,
                                int segments_per_cycle, const std::string& mesh);

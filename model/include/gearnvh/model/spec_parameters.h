@@ -28,6 +28,12 @@ class ParameterNotVariable : public std::invalid_argument {
   std::string reason_;
 };
 
+// A parameter a variant was given: its name and its value (SI).
+struct ParameterValue {
+  std::string name;
+  double value = 0.0;
+};
+
 // Sets one parameter; ParameterNotVariable when it cannot. The caller re-validates the spec
 // (ValidateGearboxSpec) before use.
 void SetParameter(GearboxSpec& spec, const std::string& name, double value);

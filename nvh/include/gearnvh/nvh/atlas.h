@@ -18,6 +18,7 @@
 
 #include "gearnvh/model/gearbox_spec.h"
 #include "gearnvh/model/input_error.h"
+#include "gearnvh/model/spec_parameters.h"
 #include "gearnvh/nvh/rattle.h"
 #include "gearnvh/solver/solver_options.h"
 
@@ -33,9 +34,11 @@ struct AtlasOptions {
   // Cancellation (SolverOptions::cancel): once set, cells in flight and cells not yet started
   // fail with the message "cancelled". Not owned; may be null.
   const std::atomic<bool>* cancel = nullptr;
-  // How an input error of a cell is worded: the library's message names its own fields
-  // ("tier"); the app words it at the path or keyword the user set. Empty: what().
-  std::function<std::string(const InputError&)> input_error_message;
+  // How an input error of a cell is worded, given the parameters the cell's variant was set to:
+  // the library's message names its own fields ("tier") and SI values; the app words it at the
+  // path or keyword the user set, with the axis's value in the unit it is shown in. Empty: what().
+  std::function<std::string(const InputError&, const std::vector<ParameterValue>&)>
+      input_error_message;
   void Validate() const;  // throws InputError naming the field
 };
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "gearnvh/model/gearbox_spec.h"
+#include "gearnvh/model/spec_parameters.h"
 #include "gearnvh/nvh/periodic_orbit.h"
 
 namespace gearnvh {
@@ -25,9 +26,11 @@ struct OrbitScanOptions {
   // Cancellation (SolverOptions::cancel): once set, the point in flight and the rest fail with
   // the message "cancelled". Not owned; may be null.
   const std::atomic<bool>* cancel = nullptr;
-  // How an input error of a point is worded: the library's message names its own fields
-  // ("tier"); the app words it at the path or keyword the user set. Empty: what().
-  std::function<std::string(const InputError&)> input_error_message;
+  // How an input error of a point is worded, given the parameters the point's variant was set to:
+  // the library's message names its own fields ("tier") and SI values; the app words it at the
+  // path or keyword the user set, with the axis's value in the unit it is shown in. Empty: what().
+  std::function<std::string(const InputError&, const std::vector<ParameterValue>&)>
+      input_error_message;
   void Validate() const;
 };
 
