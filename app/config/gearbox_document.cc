@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "gearbox_loader.h"
+#include "gearnvh/model/count_text.h"
 #include "gearnvh/model/input_error.h"
 #include "yaml_reader.h"
 
@@ -88,7 +89,7 @@ YAML::Node Walk(YAML::Node root, const std::vector<Step>& steps, const std::stri
       if (!node.IsSequence() || *index >= node.size()) {
         throw InputError(path, 0, "",
                          node.IsSequence() ? "list index out of range (the list has " +
-                                                 std::to_string(node.size()) + " entries)"
+                                                 Count(node.size(), "entry", "entries") + ")"
                                            : "indexes something that is not a list");
       }
       child.reset(node[*index]);

@@ -3,6 +3,7 @@
 #include <numbers>
 #include <regex>
 
+#include "gearnvh/model/count_text.h"
 #include "gearnvh/model/input_error.h"
 
 namespace gearnvh::app {
@@ -40,8 +41,8 @@ void RequireIndex(const TrainParameterName& p, size_t size, const std::string& n
   if (p.index < size) return;
   throw InputError(field, 0, name,
                    size == 0 ? "the file has no " + p.list + " entry to vary"
-                             : "the file's " + p.list + " has " + std::to_string(size) +
-                                   " entries (" + entries + ")");
+                             : "the file's " + p.list + " has " + Count(size, "entry", "entries") +
+                                   " (" + entries + ")");
 }
 
 }  // namespace

@@ -63,6 +63,11 @@ class Reader {
       if (!kv.first.IsScalar())
         Fail(path, kv.first, Describe(kv.first), "keys must be plain names");
       const std::string key = kv.first.Scalar();
+      // yaml-cpp reads a merge key as an ordinary key named "<<"; say what it is.
+      if (key == "<<") {
+        Fail(Join(path, key), kv.first, "",
+             "YAML merge keys (<<) are not supported; write the keys out");
+      }
       if (std::find(seen.begin(), seen.end(), key) != seen.end()) {
         Fail(Join(path, key), kv.first, key, "duplicate key");
       }

@@ -83,8 +83,9 @@ void PrintText(const std::string& file, const GearboxSpec& spec, const Component
   fmt::print("  {:<12}{:>5}{:>7}{:>14}{:>12}   lowest natural frequencies [Hz]\n", "modal tier",
              "DOF", "state", "g_mesh [m/N]", "vs full");
   for (const ReducedModel& r : tiers) {
-    fmt::print("  {:<12}{:>5}{:>7}{:>14.4e}{:>11.2e}  ", r.name, r.dof, StateDimension(model, r),
-               r.static_mesh_compliance, r.compliance_error_vs_full);
+    fmt::print("  {:<12}{:>5}{:>7}{:>14.4e}{:>11}  ", r.name, r.dof, StateDimension(model, r),
+               r.static_mesh_compliance,
+               ComplianceErrorText(ComplianceErrorVsFull(r.tier, r.compliance_error_vs_full)));
     for (size_t i = 0; i < std::min<size_t>(4, r.natural_frequencies_hz.size()); ++i) {
       fmt::print("{:>9.1f}", r.natural_frequencies_hz[i]);
     }
@@ -94,6 +95,18 @@ void PrintText(const std::string& file, const GearboxSpec& spec, const Component
 }
 
 }  // namespace
+
+std::optional<double> ComplianceErrorVsFull(Tier tier, double error) {
+  return tier == Tier::kTier1 ? std::nullopt : std::optional<double>(error);
+}
+
+nlohmann::json ComplianceErrorJson(std::optional<double> error) {
+  return error ? nlohmann::json(*error) : nlohmann::json();
+}
+
+std::string ComplianceErrorText(std::optional<double> error) {
+  return error ? fmt::format("{:.2e}", *error) : "n/a";
+}
 
 nlohmann::json CheckReport(const GearboxSpec& spec, const ComponentModel& model,
                            const ModalSummary& modes, const std::vector<ReducedModel>& tiers) {
@@ -140,7 +153,8 @@ nlohmann::json CheckReport(const GearboxSpec& spec, const ComponentModel& model,
                             {"state_dim", StateDimension(model, r)},
                             {"natural_frequencies_hz", r.natural_frequencies_hz},
                             {"static_mesh_compliance", r.static_mesh_compliance},
-                            {"compliance_error_vs_full", r.compliance_error_vs_full},
+                            {"compliance_error_vs_full", ComplianceErrorJson(ComplianceErrorVsFull(
+                                                             r.tier, r.compliance_error_vs_full))},
                             {"residual_compliance", r.residual_compliance}});
   }
   doc["tiers_unavailable"] = unavailable;

@@ -24,10 +24,6 @@ std::string TorqueText(const GearboxSpec& spec) {
          TorqueOnName(spec.operating.torque_on);
 }
 
-std::string Count(long count, const std::string& singular, const std::string& plural) {
-  return std::to_string(count) + " " + (count == 1 ? singular : plural);
-}
-
 DisplayAxis DisplayAxisFor(const std::string& parameter, const GearboxSpec& spec) {
   const OperatingSpec& op = spec.operating;
   if (parameter == "operating.speed") {

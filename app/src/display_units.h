@@ -1,10 +1,11 @@
 // How quantities are shown to the user: speed and torque in the units the gearbox file used
-// (rpm, N m, ...), lengths of the TE in µm, and plural-aware counts.
+// (rpm, N m, ...) and lengths of the TE in µm; plural-aware counts (Count) come with it.
 #pragma once
 
 #include <functional>
 #include <string>
 
+#include "gearnvh/model/count_text.h"
 #include "gearnvh/model/gearbox_spec.h"
 #include "gearnvh/model/spec_parameters.h"
 #include "gearnvh/model/train_spec.h"
@@ -19,9 +20,6 @@ std::string TorqueText(const GearboxSpec& spec);
 
 // A train's loads as given: "20 N m on layshaft, 0.05 N m on g4" ("none" without loads).
 std::string TrainLoadsText(const TrainSpec& spec);
-
-// "1 gearbox", "3 gearboxes": `count` and the singular or plural noun.
-std::string Count(long count, const std::string& singular, const std::string& plural);
 
 // How a schema parameter (an atlas or orbit-sweep axis) is shown: its label with the unit, the
 // factor from SI, the unit alone. Speed and torque use the units the gearbox file used.

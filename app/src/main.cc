@@ -1,12 +1,16 @@
 // gearnvh: the command line. Exit codes (command_errors.h, docs/cli.md): 0 ok, 1 invalid input,
 // 2 usage error, 3 internal error, 4 I/O error.
+#include <fmt/format.h>
+
 #include <CLI/CLI.hpp>
+#include <charconv>
 #include <cstdio>
 #include <exception>
 #include <iostream>
 #include <new>
 #include <optional>
 #include <string>
+#include <type_traits>
 
 #include "atlas_command.h"
 #include "check_command.h"
@@ -50,6 +54,25 @@ CLI::Validator ParsedBy(Parse parse, const std::string& name) {
       name);
 }
 
+// An option in [min, max] (an integer for integral T), its message in the user's terms ("must be
+// an integer from 1 to 1000000, got 1.5"): CLI11's Range says "Value 1.5 not in range 1 to
+// 1000000" and prints the bounds of a double as "36.000000".
+template <typename T>
+CLI::Validator InRange(T min, T max) {
+  constexpr bool kInteger = std::is_integral_v<T>;
+  const std::string rule =
+      fmt::format("must be {} from {} to {}", kInteger ? "an integer" : "a number", min, max);
+  return CLI::Validator(
+      [min, max, rule](std::string& text) -> std::string {
+        T value{};
+        const char* end = text.data() + text.size();
+        const auto [stop, error] = std::from_chars(text.data(), end, value);
+        const bool whole = error == std::errc() && stop == end;
+        return whole && value >= min && value <= max ? std::string() : rule + ", got " + text;
+      },
+      fmt::format("{} in [{}, {}]", kInteger ? "INT" : "NUMBER", min, max));
+}
+
 // --tier, checked by ParseTier while the command line is parsed.
 void AddTierOption(CLI::App* command, std::optional<std::string>& tier,
                    const std::string& help = "Modal tier (default: analysis.tier)") {
@@ -60,7 +83,7 @@ void AddTierOption(CLI::App* command, std::optional<std::string>& tier,
 
 void AddJobsOption(CLI::App* command, int& jobs,
                    const std::string& help = "Threads (default: all cores)") {
-  command->add_option("--jobs", jobs, help)->check(CLI::Range(1, 1024));
+  command->add_option("--jobs", jobs, help)->check(InRange(1, 1024));
 }
 
 // --width, --height and --dpi of the images a command draws; `image` names them in the help
@@ -68,11 +91,11 @@ void AddJobsOption(CLI::App* command, int& jobs,
 void AddImageSizeOptions(CLI::App* command, int& width, int& height, double& dpi,
                          const std::string& image) {
   command->add_option("--width", width, image + " width in pixels (default 1200)")
-      ->check(CLI::Range(200, 8000));
+      ->check(InRange(200, 8000));
   command->add_option("--height", height, image + " height in pixels (default 800)")
-      ->check(CLI::Range(150, 8000));
+      ->check(InRange(150, 8000));
   command->add_option("--dpi", dpi, image + " DPI, scales the fonts (default 100)")
-      ->check(CLI::Range(36.0, 600.0));
+      ->check(InRange(36.0, 600.0));
 }
 
 // --method, read into `method` by ParseMethod while the command line is parsed.
@@ -141,11 +164,11 @@ int Main(int argc, char** argv) {
   simulate_cmd
       ->add_option("--cycles", simulate.cycles,
                    "Recorded mesh cycles, at most 1000000 (default: analysis.cycles)")
-      ->check(CLI::Range(1L, gearnvh::GearboxLimits::kMaxRecordedCycles));
+      ->check(InRange(1L, gearnvh::GearboxLimits::kMaxRecordedCycles));
   simulate_cmd
       ->add_option("--transient", simulate.transient,
                    "Unrecorded mesh cycles first (default: analysis.transient_cycles)")
-      ->check(CLI::Range(0L, 100000000L));
+      ->check(InRange(0L, 100000000L));
   simulate_cmd->add_option("--out", simulate.out,
                            "Write trajectory.csv, events.csv and results.json into this directory "
                            "(a gear train: results.json)");
@@ -163,7 +186,7 @@ int Main(int argc, char** argv) {
                    "Gear trains: also estimate the K largest Lyapunov exponents (exact tangents "
                    "with saltation per gap, free rotation removed; a second run of the same "
                    "cycles)")
-      ->check(CLI::Range(1, 64));
+      ->check(InRange(1, 64));
 
   gearnvh::app::ValidateOptions validate;
   CLI::App* validate_cmd = app.add_subcommand(
@@ -185,9 +208,9 @@ int Main(int argc, char** argv) {
   sweep_cmd->add_option("FILE", sweep.file, "Gearbox YAML file")->required();
   AddTierOption(sweep_cmd, sweep.tier);
   sweep_cmd->add_option("--cycles", sweep.cycles, "Recorded mesh cycles per speed (default 512)")
-      ->check(CLI::Range(2L, 100000000L));
+      ->check(InRange(2L, 100000000L));
   sweep_cmd->add_option("--transient", sweep.transient, "Unrecorded cycles per speed (default 200)")
-      ->check(CLI::Range(0L, 100000000L));
+      ->check(InRange(0L, 100000000L));
   AddJobsOption(sweep_cmd, sweep.jobs);
   AddMethodOption(sweep_cmd, sweep.method, "v1, v2, v3 or fused (default)");
   sweep_cmd->add_option("--out", sweep.out,
@@ -210,9 +233,9 @@ int Main(int argc, char** argv) {
       ->check(AxisValidator("--y"));
   AddTierOption(atlas_cmd, atlas.tier);
   atlas_cmd->add_option("--cycles", atlas.cycles, "Averaged mesh cycles per cell (default 1080)")
-      ->check(CLI::Range(8L, 100000000L));
+      ->check(InRange(8L, 100000000L));
   atlas_cmd->add_option("--transient", atlas.transient, "Settling cycles per cell (default 300)")
-      ->check(CLI::Range(0L, 100000000L));
+      ->check(InRange(0L, 100000000L));
   AddJobsOption(atlas_cmd, atlas.jobs);
   AddMethodOption(atlas_cmd, atlas.method, "Event location v1, v2 or v3 (default; fused means v3)");
   atlas_cmd->add_option("--out", atlas.out, "Write atlas.csv and atlas.json");
@@ -231,7 +254,7 @@ int Main(int argc, char** argv) {
   orbits_cmd
       ->add_option("--period", orbits.period,
                    "Period in base periods (mesh and excitation both repeat), default 1")
-      ->check(CLI::Range(1, 64));
+      ->check(InRange(1, 64));
   orbits_cmd
       ->add_option("--sweep", orbits.sweep,
                    "Continue along PARAMETER=FROM:TO:POINTS, e.g. "
@@ -241,7 +264,7 @@ int Main(int argc, char** argv) {
   orbits_cmd
       ->add_option("--transient", orbits.transient,
                    "Settling cycles before the first guess (default: analysis.transient_cycles)")
-      ->check(CLI::Range(0L, 100000000L));
+      ->check(InRange(0L, 100000000L));
   AddMethodOption(orbits_cmd, orbits.method,
                   "Event location v1, v2 or v3 (default; fused means v3)");
   orbits_cmd->add_option("--out", orbits.out, "Write orbits.csv and orbits.json");
@@ -257,11 +280,11 @@ int Main(int argc, char** argv) {
   tiers_cmd
       ->add_option("--cycles", tiers.cycles,
                    "Recorded mesh cycles per tier (default min(analysis.cycles, 400))")
-      ->check(CLI::Range(1L, 100000000L));
+      ->check(InRange(1L, 100000000L));
   tiers_cmd
       ->add_option("--transient", tiers.transient,
                    "Unrecorded cycles per tier (default min(analysis.transient_cycles, 200))")
-      ->check(CLI::Range(0L, 100000000L));
+      ->check(InRange(0L, 100000000L));
   tiers_cmd->add_option("--out", tiers.out, "Write tiers.json, tiers.csv and tiers.png");
   tiers_cmd->add_flag("--json", tiers.json, "Print the comparison as one JSON document");
 #ifdef GEARNVH_HAVE_RENDER
@@ -292,13 +315,19 @@ int Main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
     std::string message = e.what();
-    // A mistyped command: CLI11 only says that a subcommand is required.
-    if (app.get_subcommands().empty() && argc > 1 && argv[1][0] != '-') {
+    // A mistyped command or an unknown option before any command: CLI11 only says that a
+    // subcommand is required.
+    if (app.get_subcommands().empty() && argc > 1) {
       std::vector<std::string> commands;
       for (const CLI::App* c : app.get_subcommands({})) commands.push_back(c->get_name());
-      const std::string close = gearnvh::config::ClosestMatch(argv[1], commands);
-      message = std::string("unknown command '") + argv[1] + "'" +
-                (close.empty() ? "" : " (did you mean " + close + "?)") + "; commands: ";
+      if (argv[1][0] == '-') {
+        message = std::string("unknown option '") + argv[1] +
+                  "' (before a command only --help and --version); commands: ";
+      } else {
+        const std::string close = gearnvh::config::ClosestMatch(argv[1], commands);
+        message = std::string("unknown command '") + argv[1] + "'" +
+                  (close.empty() ? "" : " (did you mean " + close + "?)") + "; commands: ";
+      }
       for (size_t i = 0; i < commands.size(); ++i) message += (i > 0 ? ", " : "") + commands[i];
     }
     std::cerr << "error: " << message << "\nRun with --help for more information.\n";

@@ -5,6 +5,8 @@
 #include <numbers>
 #include <numeric>
 
+#include "gearnvh/model/count_text.h"
+
 namespace gearnvh::app {
 
 nlohmann::json SummaryJson(const SolverSummary& s) {
@@ -50,9 +52,10 @@ std::string DynamicFactorNote(const TransmissionErrorStats& te) {
       te.mesh_force_mean, te.mesh_force_max);
 }
 
-OperatingPointAnalysis AnalyseOperatingPoint(const GearboxSpec& spec, const ComponentModel& model,
-                                             Tier tier, const SolverOptions& solver,
-                                             const ProgressCallback& progress) {
+OperatingPointAnalysis AnalyseOperatingPoint(
+    const GearboxSpec& spec, const ComponentModel& model, Tier tier, const SolverOptions& solver,
+    const ProgressCallback& progress,
+    const std::function<void(const std::string&)>& before_run_warning) {
   OperatingPointAnalysis op;
   op.solver = solver;
   const ReducedModel reduced = ReduceModel(model, tier);
@@ -85,6 +88,15 @@ OperatingPointAnalysis AnalyseOperatingPoint(const GearboxSpec& spec, const Comp
                        std::to_string(op.solver.cycles) + ": whole periods (" +
                        std::to_string(period) +
                        " cycles) of the engine orders and gear errors for the shaft-order lines";
+      if (rounded > kCyclesRoundingWarningFactor * op.solver.cycles) {
+        const std::string warning = fmt::format(
+            "recording {} mesh cycles, {:.0f}x the {} requested: the shaft-order lines need whole "
+            "periods ({}) of the engine orders and gear errors",
+            rounded, static_cast<double>(rounded) / static_cast<double>(op.solver.cycles),
+            op.solver.cycles, Count(period, "cycle", "cycles"));
+        op.warnings.push_back(warning);
+        if (before_run_warning) before_run_warning(warning);
+      }
       op.solver.cycles = rounded;
     } else {
       op.cycles_note = "shaft-order lines need a multiple of " + std::to_string(period) +

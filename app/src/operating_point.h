@@ -3,7 +3,9 @@
 // contact, acting in tension as well) is run too, for the rattle acceleration ratio.
 #pragma once
 
+#include <functional>
 #include <nlohmann/json.hpp>
+#include <string>
 #include <vector>
 
 #include "gearnvh/model/component_model.h"
@@ -20,7 +22,7 @@ namespace gearnvh::app {
 struct OperatingPointAnalysis {
   std::string tier_name;
   std::string cycles_note;  // set when the recorded cycles were rounded to whole revolutions
-  std::vector<std::string> warnings;  // the model's and the tier adequacy's
+  std::vector<std::string> warnings;  // the model's, the tier adequacy's, the cycles rounding's
   TierAdequacy adequacy;
   SegmentTables tables;
   SolverOptions solver;  // as run (cycles may be rounded up to whole revolutions of both gears)
@@ -33,9 +35,17 @@ struct OperatingPointAnalysis {
   nlohmann::json doc;  // the `simulate --json` document without name and file
 };
 
-OperatingPointAnalysis AnalyseOperatingPoint(const GearboxSpec& spec, const ComponentModel& model,
-                                             Tier tier, const SolverOptions& solver,
-                                             const ProgressCallback& progress = {});
+// Recording more than this many times the requested cycles (whole periods of the shaft-order
+// sources, `cycles_note`) is a warning: the run takes that much longer than asked for.
+constexpr long kCyclesRoundingWarningFactor = 2;
+
+// `before_run_warning` is called with each warning about the run's cost before the run starts,
+// so a command can say it on stderr at once (as TrainRunOptions::before_run_warning); empty: not
+// called (the warning is in `warnings` too).
+OperatingPointAnalysis AnalyseOperatingPoint(
+    const GearboxSpec& spec, const ComponentModel& model, Tier tier, const SolverOptions& solver,
+    const ProgressCallback& progress = {},
+    const std::function<void(const std::string&)>& before_run_warning = {});
 
 nlohmann::json SummaryJson(const SolverSummary& s);
 

@@ -77,8 +77,9 @@ std::string GearboxPage(const GearboxPageInput& in) {
   h << "</tr>\n";
   for (const ReducedModel& t : in.tiers) {
     h << "<tr><td>" << Html(t.name) << "</td><td>" << t.dof << "</td><td>"
-      << StateDimension(model, t) << "</td><td>" << Number(100.0 * t.compliance_error_vs_full, 3)
-      << " %</td>";
+      << StateDimension(model, t) << "</td><td>";
+    const std::optional<double> error = ComplianceErrorVsFull(t.tier, t.compliance_error_vs_full);
+    h << (error ? Number(100.0 * *error, 3) + " %" : "n/a") << "</td>";
     for (int k = 0; k < 6; ++k) {
       h << "<td>"
         << (k < static_cast<int>(t.natural_frequencies_hz.size())

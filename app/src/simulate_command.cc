@@ -113,7 +113,10 @@ int RunSimulate(const SimulateOptions& options) {
                    total);
       };
     }
-    const OperatingPointAnalysis op = AnalyseOperatingPoint(spec, model, tier, solver, progress);
+    // Warnings about the run's cost before it starts, as for a train (simulate_train.cc).
+    const OperatingPointAnalysis op =
+        AnalyseOperatingPoint(spec, model, tier, solver, progress,
+                              [](const std::string& w) { fmt::print(stderr, "warning: {}\n", w); });
     if (on_terminal) fmt::print(stderr, "\n");
     const SolverSummary& summary = op.result.summary;
     const Trajectory& trajectory = op.result.trajectory;

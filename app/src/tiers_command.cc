@@ -41,7 +41,7 @@ TierRow RunTier(const GearboxSpec& spec, const ComponentModel& model, const Redu
   row.name = label;
   row.method = solver.method;
   row.dof = reduced.dof;
-  row.compliance_error = reduced.compliance_error_vs_full;
+  row.compliance_error = ComplianceErrorVsFull(reduced.tier, reduced.compliance_error_vs_full);
   for (size_t k = 0; k < reduced.natural_frequencies_hz.size() && k < 6; ++k) {
     const double f = reduced.natural_frequencies_hz[k];
     row.frequencies_hz.push_back(f);
@@ -62,6 +62,14 @@ TierRow RunTier(const GearboxSpec& spec, const ComponentModel& model, const Redu
   row.real_time_ratio = s.real_time_ratio;
   row.table_bytes = s.table_bytes;
   return row;
+}
+
+// An empty CSV field for a tier without mesh compliance.
+std::string ComplianceErrorCsv(std::optional<double> error) {
+  std::ostringstream field;
+  field.precision(10);
+  if (error) field << *error;
+  return field.str();
 }
 
 double RelativeDifference(double a, double b) {
@@ -120,7 +128,7 @@ TiersComparison CompareTiers(const GearboxSpec& spec, const SolverOptions& solve
                     {"frequencies_hz", r.frequencies_hz},
                     {"frequency_errors", r.frequency_errors},
                     {"max_frequency_error", r.max_frequency_error},
-                    {"static_compliance_error", r.compliance_error},
+                    {"static_compliance_error", ComplianceErrorJson(r.compliance_error)},
                     {"te_rms_m", r.te_rms},
                     {"te_rms_difference_to_finest", r.te_rms_difference},
                     {"rattle_index_j", r.rattle_index},
@@ -179,10 +187,10 @@ int RunTiers(const TiersCommandOptions& options) {
              "us_per_cycle,real_time_ratio,table_bytes\n";
       for (const TierRow& r : rows) {
         csv << r.name << ',' << SolverMethodName(r.method) << ',' << r.dof << ',' << r.state_dim
-            << ',' << r.max_frequency_error << ',' << r.compliance_error << ',' << r.te_rms << ','
-            << r.te_rms_difference << ',' << r.rattle_index << ',' << r.rattle_index_difference
-            << ',' << r.matvec_per_cycle << ',' << r.us_per_cycle << ',' << r.real_time_ratio << ','
-            << r.table_bytes << '\n';
+            << ',' << r.max_frequency_error << ',' << ComplianceErrorCsv(r.compliance_error) << ','
+            << r.te_rms << ',' << r.te_rms_difference << ',' << r.rattle_index << ','
+            << r.rattle_index_difference << ',' << r.matvec_per_cycle << ',' << r.us_per_cycle
+            << ',' << r.real_time_ratio << ',' << r.table_bytes << '\n';
       }
       out->Write("tiers.csv", csv.str());
       out->Write("tiers.json", doc.dump(1) + "\n");
@@ -210,11 +218,12 @@ int RunTiers(const TiersCommandOptions& options) {
                  "vs finest", "matvec/c", "µs/cycle", "x real");
       for (const TierRow& r : rows) {
         fmt::print(
-            "  {:<20} {:>4} {:>5} {:>9.2e} {:>10.2e} {:>10.4f} {:>9.2e} {:>10.3e} {:>9.2e} "
+            "  {:<20} {:>4} {:>5} {:>9.2e} {:>10} {:>10.4f} {:>9.2e} {:>10.3e} {:>9.2e} "
             "{:>9.1f} {:>9.2f} {:>9.2f}\n",
-            r.name, r.dof, r.state_dim, r.max_frequency_error, r.compliance_error, r.te_rms * 1e6,
-            r.te_rms_difference, r.rattle_index, r.rattle_index_difference, r.matvec_per_cycle,
-            r.us_per_cycle, r.real_time_ratio);
+            r.name, r.dof, r.state_dim, r.max_frequency_error,
+            ComplianceErrorText(r.compliance_error), r.te_rms * 1e6, r.te_rms_difference,
+            r.rattle_index, r.rattle_index_difference, r.matvec_per_cycle, r.us_per_cycle,
+            r.real_time_ratio);
       }
       fmt::print(
           "  finest tier: {}; frequencies of each tier compared with the closest full-FE "

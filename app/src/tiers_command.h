@@ -41,7 +41,7 @@ struct TierRow {
   std::vector<double> frequencies_hz;    // lowest (up to 6)
   std::vector<double> frequency_errors;  // relative, against the closest full-FE frequency
   double max_frequency_error = 0.0;
-  double compliance_error = 0.0;
+  std::optional<double> compliance_error;  // none for tier 1 (ComplianceErrorVsFull)
   double te_rms = 0.0, rattle_index = 0.0;
   double te_rms_difference = 0.0, rattle_index_difference = 0.0;  // relative to the finest tier
   RattleRegime regime = RattleRegime::kNoImpact;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "check_command.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/train_campbell.h"
 
@@ -51,7 +52,6 @@ const char* KindName(BodyKind kind) { return kind == BodyKind::kShaft ? "shaft" 
 
 const std::vector<Tier> kAllTiers{Tier::kTier1, Tier::kTier2,     Tier::kTier3, Tier::kTier4,
                                   Tier::kTier5, Tier::kN20Simple, Tier::kN20Mta};
-constexpr int kReportedModes = 10;
 
 nlohmann::json MatrixJson(const Eigen::MatrixXd& m) {
   nlohmann::json rows = nlohmann::json::array();
@@ -201,12 +201,14 @@ nlohmann::json TrainCheckReport(const TrainSpec& spec, const TrainCheck& check) 
                {"natural_frequencies_hz", check.fe.frequencies_hz}};
   doc["tiers"] = nlohmann::json::array();
   for (const TrainReducedModel& r : check.tiers) {
-    doc["tiers"].push_back({{"name", r.name},
-                            {"dof", r.dof},
-                            {"free_rotations", r.rigid_body_modes},
-                            {"natural_frequencies_hz", r.natural_frequencies_hz},
-                            {"static_compliance", MatrixJson(r.static_compliance)},
-                            {"compliance_error_vs_full", r.compliance_error_vs_full}});
+    doc["tiers"].push_back(
+        {{"name", r.name},
+         {"dof", r.dof},
+         {"free_rotations", r.rigid_body_modes},
+         {"natural_frequencies_hz", r.natural_frequencies_hz},
+         {"static_compliance", MatrixJson(r.static_compliance)},
+         {"compliance_error_vs_full",
+          ComplianceErrorJson(ComplianceErrorVsFull(r.tier, r.compliance_error_vs_full))}});
   }
   nlohmann::json unavailable = nlohmann::json::array();
   for (Tier t : check.unavailable) unavailable.push_back(TierName(t));
@@ -271,8 +273,8 @@ void PrintTrainCheck(const std::string& file, const TrainSpec& spec, const Train
   fmt::print("\n  {:<12}{:>5}{:>6}{:>12}   lowest natural frequencies [Hz]\n", "modal tier", "DOF",
              "free", "G vs full");
   for (const TrainReducedModel& r : check.tiers) {
-    fmt::print("  {:<12}{:>5}{:>6}{:>12.2e}  ", r.name, r.dof, r.rigid_body_modes,
-               r.compliance_error_vs_full);
+    fmt::print("  {:<12}{:>5}{:>6}{:>12}  ", r.name, r.dof, r.rigid_body_modes,
+               ComplianceErrorText(ComplianceErrorVsFull(r.tier, r.compliance_error_vs_full)));
     for (size_t i = 0; i < std::min<size_t>(5, r.natural_frequencies_hz.size()); ++i) {
       fmt::print("{:>9.1f}", r.natural_frequencies_hz[i]);
     }

@@ -4,6 +4,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "gearnvh/model/count_text.h"
 #include "gearnvh/model/gear_geometry.h"
 #include "gearnvh/model/gearbox_spec_limits.h"
 #include "gearnvh/model/input_error.h"
@@ -104,7 +105,7 @@ void ValidateGear(const GearboxSpec& spec, const GearSpec& g, const std::string&
     }
   }
   if (!g.pitch_errors.empty() && static_cast<int>(g.pitch_errors.size()) != g.teeth) {
-    throw InputError(p + ".pitch_errors", 0, std::to_string(g.pitch_errors.size()) + " values",
+    throw InputError(p + ".pitch_errors", 0, Count(g.pitch_errors.size(), "value", "values"),
                      "must list one deviation per tooth (" + std::to_string(g.teeth) + ")");
   }
   for (size_t i = 0; i < g.pitch_errors.size(); ++i) {
@@ -239,12 +240,12 @@ void ValidateGearboxSpec(const GearboxSpec& spec, OperatingLimits operating) {
     InRange("mesh.stiffness.rectangular.contact_ratio", r->contact_ratio, 1.0, 2.0, false, false);
   } else if (const auto* t = std::get_if<TableStiffness>(&mesh.stiffness)) {
     if (t->phase.size() < 2) {
-      throw InputError("mesh.stiffness.table.phase", 0,
-                       std::to_string(t->phase.size()) + " entries", "needs at least 2 entries");
+      throw InputError("mesh.stiffness.table.phase", 0, Count(t->phase.size(), "entry", "entries"),
+                       "needs at least 2 entries");
     }
     if (t->phase.size() != t->stiffness.size()) {
       throw InputError(
-          "mesh.stiffness.table.stiffness", 0, std::to_string(t->stiffness.size()) + " entries",
+          "mesh.stiffness.table.stiffness", 0, Count(t->stiffness.size(), "entry", "entries"),
           "must have as many entries as phase (" + std::to_string(t->phase.size()) + ")");
     }
     for (size_t i = 0; i < t->phase.size(); ++i) {
@@ -269,7 +270,7 @@ void ValidateGearboxSpec(const GearboxSpec& spec, OperatingLimits operating) {
   const auto& ste = mesh.static_transmission_error;
   if (ste.amplitudes.size() != ste.phases.size()) {
     throw InputError(
-        "mesh.static_transmission_error.phases", 0, std::to_string(ste.phases.size()) + " entries",
+        "mesh.static_transmission_error.phases", 0, Count(ste.phases.size(), "entry", "entries"),
         "must have as many entries as amplitudes (" + std::to_string(ste.amplitudes.size()) + ")");
   }
   for (size_t i = 0; i < ste.amplitudes.size(); ++i) {

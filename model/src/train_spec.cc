@@ -4,6 +4,7 @@
 #include <deque>
 #include <set>
 
+#include "gearnvh/model/count_text.h"
 #include "gearnvh/model/gearbox_spec_limits.h"
 #include "gearnvh/model/gearbox_spec_validation.h"
 #include "gearnvh/model/input_error.h"
@@ -228,7 +229,7 @@ void ValidateTrainSpec(const TrainSpec& spec) {
   if (spec.name.empty()) throw InputError("name", 0, "\"\"", "must not be empty");
   if (spec.shafts.empty()) throw InputError("shafts", 0, "{}", "needs at least one shaft");
   if (spec.gears.size() < 2) {
-    throw InputError("gears", 0, std::to_string(spec.gears.size()) + " gears",
+    throw InputError("gears", 0, Count(spec.gears.size(), "gear", "gears"),
                      "needs at least two gears");
   }
   if (spec.meshes.empty()) throw InputError("meshes", 0, "[]", "needs at least one mesh");

@@ -1,6 +1,7 @@
 #include "gearnvh/nvh/orbit_scan.h"
 
 #include "gearnvh/model/component_model.h"
+#include "gearnvh/model/count_text.h"
 #include "gearnvh/model/gearbox_spec_validation.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/model/spec_parameters.h"
@@ -70,7 +71,7 @@ std::vector<OrbitScanPoint> ScanPeriodicOrbits(const GearboxSpec& base,
           const bool converged = trial.info == PeriodicOrbit::Info::kConverged;
           if (k == 0 || converged) p.orbit = std::move(trial);
           if (converged) {
-            p.start = "settled run + " + std::to_string(k) + " periods";
+            p.start = "settled run + " + Count(k, "period", "periods");
             break;
           }
         }

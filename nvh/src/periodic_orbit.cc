@@ -5,6 +5,7 @@
 #include <limits>
 #include <numbers>
 
+#include "gearnvh/model/count_text.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/lyapunov.h"
 
@@ -239,7 +240,7 @@ PeriodicOrbit FindPeriodicOrbit(const SegmentTables& t, const Eigen::VectorXd& g
                   "at +1: a fold or the neutral direction)";
   } else {
     out.message = "no " + period + " found from this guess: Newton stopped after " +
-                  std::to_string(out.iterations) + " iterations at scaled residual " +
+                  Count(out.iterations, "iteration", "iterations") + " at scaled residual " +
                   std::to_string(out.residual);
   }
   return out;

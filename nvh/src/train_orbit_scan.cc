@@ -3,6 +3,7 @@
 #include <cmath>
 #include <optional>
 
+#include "gearnvh/model/count_text.h"
 #include "gearnvh/model/gear_train.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/solver/train_reduced_tables.h"
@@ -29,7 +30,7 @@ std::string TrainOrbitStartText(const TrainOrbitScanPoint& p) {
     case TrainOrbitScanPoint::Start::kContinuation:
       return "continuation";
     case TrainOrbitScanPoint::Start::kSettled:
-      return "settled run + " + std::to_string(p.settled_periods) + " periods";
+      return "settled run + " + Count(p.settled_periods, "period", "periods");
     case TrainOrbitScanPoint::Start::kNone:
       break;
   }

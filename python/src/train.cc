@@ -13,6 +13,7 @@
 
 #include "binding_support.h"
 #include "gearbox.h"
+#include "gearnvh/model/count_text.h"
 #include "gearnvh/nvh/train_lyapunov.h"
 #include "simulate_command.h"
 #include "simulate_train.h"
@@ -162,7 +163,7 @@ void BindTrain(py::module_& m) {
           "Mesh names ('gear_a-gear_b'), file order.")
       .def("__repr__", [](const Train& t) {
         return "<gearnvh.Train '" + t.spec().name + "' from " + t.source() + ", " +
-               std::to_string(t.spec().meshes.size()) + " meshes" +
+               Count(t.spec().meshes.size(), "mesh", "meshes") +
                (t.document().Edited() ? ", edited>" : ">");
       });
 

@@ -124,3 +124,11 @@ def test_check_matches_the_command_line(gearnvh_exe):
                                     check=True, capture_output=True, text=True).stdout)
     # The same library calls on the same input: the same document, every number bit for bit.
     assert gearnvh.check(gearnvh.load(str(IDLE_RATTLE))) == cli
+
+
+def test_check_gives_tier_1_no_compliance_error():
+    # Tier 1 keeps only the held gear rotations: no mesh compliance, so None rather than -1.
+    tiers = gearnvh.check(gearnvh.load(str(IDLE_RATTLE)))["tiers"]
+    assert tiers[0]["name"] == "tier 1"
+    assert tiers[0]["compliance_error_vs_full"] is None
+    assert isinstance(tiers[1]["compliance_error_vs_full"], float)

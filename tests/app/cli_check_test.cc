@@ -311,6 +311,21 @@ TEST_CASE("check on a rigid-shaft example lists tiers 1-3 and says why not the o
   CHECK(doc["tiers_unavailable"].size() == 4);
   CHECK(doc["tiers"][0]["dof"] == 2);
   CHECK(doc["tiers"][0]["name"] == "tier 1");
+  // Tier 1 has no mesh compliance (rigid shafts, held rotations): no error, not -100 %.
+  CHECK(doc["tiers"][0]["compliance_error_vs_full"].is_null());
+  CHECK(doc["tiers"][1]["compliance_error_vs_full"].is_number());
+}
+
+TEST_CASE("check's text table shows n/a for tier 1's compliance error and not -1", "[cli]") {
+  const auto r = RunCommand(kExe + " check " + kExamples + "/idle_rattle.yaml");
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const size_t row = r.out.find("\n  tier 1 ");
+  REQUIRE(row != std::string::npos);
+  const std::string line = r.out.substr(row + 1, r.out.find('\n', row + 1) - row - 1);
+  INFO(line);
+  CHECK(line.find("n/a") != std::string::npos);
+  CHECK(line.find("-1.00e+00") == std::string::npos);
 }
 
 TEST_CASE("a batch with one bad file checks the others and exits 1", "[cli][json]") {

@@ -189,6 +189,32 @@ TEST_CASE("exit codes: missing files are input errors naming the path, usage err
   CHECK(version.out.find("gearnvh 0.1.0 (git ") != std::string::npos);
 }
 
+TEST_CASE("option ranges name the rule plainly and an unknown first option is named",
+          "[cli][hardening]") {
+  // CLI11's own wording was "Value 1.5 not in range 1 to 1000000" and "not in range 36.000000 to
+  // 600.000000": the rule (an integer) and the bounds as the user writes them instead.
+  const auto cycles = RunCommand(kExe + " simulate " + kWhine + " --cycles 1.5");
+  CHECK(cycles.exit_code == 2);
+  CHECK(cycles.err.find("--cycles: must be an integer from 1 to 1000000, got 1.5") !=
+        std::string::npos);
+  const auto zero = RunCommand(kExe + " simulate " + kWhine + " --cycles 0");
+  CHECK(zero.exit_code == 2);
+  CHECK(zero.err.find("--cycles: must be an integer from 1 to 1000000, got 0") !=
+        std::string::npos);
+  const auto dpi = RunCommand(kExe + " tiers " + kWhine + " --dpi 0");
+  CHECK(dpi.exit_code == 2);
+  CHECK(dpi.err.find("--dpi: must be a number from 36 to 600, got 0") != std::string::npos);
+  CHECK(dpi.err.find("36.000000") == std::string::npos);
+  const auto jobs = RunCommand(kExe + " atlas " + kWhine + " --jobs 2x");
+  CHECK(jobs.exit_code == 2);
+  CHECK(jobs.err.find("--jobs: must be an integer from 1 to 1024, got 2x") != std::string::npos);
+  // Before any command: the unknown option is named, not "A subcommand is required".
+  const auto bogus = RunCommand(kExe + " --bogus");
+  CHECK(bogus.exit_code == 2);
+  CHECK(bogus.err.find("unknown option '--bogus'") != std::string::npos);
+  CHECK(bogus.err.find("A subcommand is required") == std::string::npos);
+}
+
 TEST_CASE("output: --out is checked before the computation and an I/O failure is exit 4",
           "[cli][hardening]") {
   const TempDir dir;
@@ -196,8 +222,8 @@ TEST_CASE("output: --out is checked before the computation and an I/O failure is
   std::ofstream(file) << "mine\n";
   // A huge run that must not start: the answer comes at once.
   const auto start = std::chrono::steady_clock::now();
-  const auto run = RunCommand(kExe + " simulate " + kWhine + " --cycles 1000000 --out " +
-                              file.string());
+  const auto run =
+      RunCommand(kExe + " simulate " + kWhine + " --cycles 1000000 --out " + file.string());
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   CHECK(run.exit_code == 4);
@@ -230,9 +256,9 @@ TEST_CASE("output: simulate writes all its files into a new folder, nothing else
   // A second run into the same folder replaces the files and keeps what it does not write.
   std::ofstream(out / "notes.txt") << "mine\n";
   std::ofstream(out / "results.json") << "old\n";
-  REQUIRE(RunCommand(kExe + " simulate " + kWhine + " --cycles 20 --transient 5 --out " +
-                     out.string())
-              .exit_code == 0);
+  REQUIRE(
+      RunCommand(kExe + " simulate " + kWhine + " --cycles 20 --transient 5 --out " + out.string())
+          .exit_code == 0);
   CHECK(ReadWholeFile(out / "notes.txt") == "mine\n");
   CHECK(nlohmann::json::parse(ReadWholeFile(out / "results.json"))["summary"]["status"] ==
         "success");
@@ -253,9 +279,9 @@ TEST_CASE("output: a second writer into the same folder is refused at once", "[c
   CHECK(refused.err.find("another gearnvh run (pid 4242") != std::string::npos);
   CHECK(!fs::exists(out));
   ::close(fd);  // released: the next run goes ahead
-  CHECK(RunCommand(kExe + " simulate " + kWhine + " --cycles 20 --transient 5 --out " +
-                   out.string())
-            .exit_code == 0);
+  CHECK(
+      RunCommand(kExe + " simulate " + kWhine + " --cycles 20 --transient 5 --out " + out.string())
+          .exit_code == 0);
   CHECK(Debris(dir.path()).empty());
 }
 
@@ -266,8 +292,8 @@ TEST_CASE("report: a re-run whose gearboxes all fail leaves the earlier report i
   const fs::path out = dir.path() / "OLD";
   WriteEarlierReport(out);
   const auto before = Snapshot(out);
-  const auto run = RunCommand(kExe + " report " + (dir.path() / "typo.yaml").string() +
-                              " --out " + out.string());
+  const auto run = RunCommand(kExe + " report " + (dir.path() / "typo.yaml").string() + " --out " +
+                              out.string());
   CHECK(run.exit_code == 1);
   CHECK(run.err.find("typo.yaml") != std::string::npos);
   CHECK(run.err.find("is unchanged") != std::string::npos);
@@ -275,7 +301,8 @@ TEST_CASE("report: a re-run whose gearboxes all fail leaves the earlier report i
   CHECK(Debris(dir.path()).empty());
 }
 
-TEST_CASE("report: a batch replaces only the gearbox folders that succeeded", "[cli][hardening][report]") {
+TEST_CASE("report: a batch replaces only the gearbox folders that succeeded",
+          "[cli][hardening][report]") {
   const TempDir dir;
   const fs::path out = dir.path() / "OLD";
   WriteEarlierReport(out);
@@ -283,8 +310,11 @@ TEST_CASE("report: a batch replaces only the gearbox folders that succeeded", "[
   fs::create_directories(out / "broken");
   std::ofstream(out / "broken" / "index.html") << "<html>broken, as it was</html>\n";
   auto earlier = nlohmann::json::parse(ReadWholeFile(out / "report.json"));
-  earlier["gearboxes"].push_back({{"file", "broken.yaml"}, {"folder", "broken"},
-                                  {"name", "broken"}, {"ok", true}, {"error", ""},
+  earlier["gearboxes"].push_back({{"file", "broken.yaml"},
+                                  {"folder", "broken"},
+                                  {"name", "broken"},
+                                  {"ok", true},
+                                  {"error", ""},
                                   {"summary", {{"tier", "1"}, {"regime", "no impact"}}},
                                   {"wall_s", 1.0}});
   std::ofstream(out / "report.json") << earlier.dump(1);
@@ -306,9 +336,10 @@ TEST_CASE("report: a batch replaces only the gearbox folders that succeeded", "[
   CHECK(Debris(dir.path()).empty());
 }
 
-TEST_CASE("report: a signal mid-run removes the staging folder and keeps the earlier report and "
-          "stops Xvfb - after kill -9 the next run cleans up",
-          "[cli][hardening][report]") {
+TEST_CASE(
+    "report: a signal mid-run removes the staging folder and keeps the earlier report and "
+    "stops Xvfb - after kill -9 the next run cleans up",
+    "[cli][hardening][report]") {
   const TempDir dir;
   const fs::path out = dir.path() / "OLD";
   WriteEarlierReport(out);
@@ -385,9 +416,10 @@ TEST_CASE("simulate: running out of memory is an error that says so, not an inte
 }
 #endif
 
-TEST_CASE("simulate: SIGINT or SIGTERM mid-run says on stderr that the run was stopped and the "
-          "earlier results kept",
-          "[cli][hardening]") {
+TEST_CASE(
+    "simulate: SIGINT or SIGTERM mid-run says on stderr that the run was stopped and the "
+    "earlier results kept",
+    "[cli][hardening]") {
   const TempDir dir;
   const fs::path out = dir.path() / "run";
   const auto first = RunCommand(kExe + " simulate " + kWhine +
@@ -419,9 +451,10 @@ TEST_CASE("simulate: SIGINT or SIGTERM mid-run says on stderr that the run was s
   }
 }
 
-TEST_CASE("output: a full disk while writing leaves the earlier results - a full or read-only "
-          "disk is refused before the computation",
-          "[cli][hardening]") {
+TEST_CASE(
+    "output: a full disk while writing leaves the earlier results - a full or read-only "
+    "disk is refused before the computation",
+    "[cli][hardening]") {
   if (!NamespacesAvailable()) {
     WARN("user and mount namespaces unavailable: the full-disk test is not run here");
     return;
@@ -432,17 +465,17 @@ TEST_CASE("output: a full disk while writing leaves the earlier results - a full
   // 1.5 MB: enough to start (1 MB free needed), too small for 2000 cycles of trajectory (~6 MB).
   const auto full = RunCommand(
       "unshare -rm sh -c 'mount -t tmpfs -o size=1500k tmpfs " + d + " && mkdir " + d +
-      "/out && echo old > " + d + "/out/results.json && " + simulate + " --cycles 2000 --out " +
-      d + "/out; echo rc=$?; cat " + d + "/out/results.json; ls -a " + d + "'");
+      "/out && echo old > " + d + "/out/results.json && " + simulate + " --cycles 2000 --out " + d +
+      "/out; echo rc=$?; cat " + d + "/out/results.json; ls -a " + d + "'");
   INFO(full.out << full.err);
   CHECK(full.out.find("rc=4") != std::string::npos);
   CHECK(full.out.find("\nold\n") != std::string::npos);  // the earlier result
   CHECK(full.out.find(".partial-") == std::string::npos);
   CHECK(full.err.find("No space left") != std::string::npos);
 
-  const auto tiny = RunCommand("unshare -rm sh -c 'mount -t tmpfs -o size=512k tmpfs " + d +
-                               " && " + simulate + " --cycles 1000000 --out " + d +
-                               "/out; echo rc=$?'");
+  const auto tiny =
+      RunCommand("unshare -rm sh -c 'mount -t tmpfs -o size=512k tmpfs " + d + " && " + simulate +
+                 " --cycles 1000000 --out " + d + "/out; echo rc=$?'");
   INFO(tiny.out << tiny.err);
   CHECK(tiny.out.find("rc=4") != std::string::npos);
   CHECK(tiny.err.find("disk is full") != std::string::npos);
@@ -464,12 +497,11 @@ TEST_CASE("output: --out . works when the parent folder is not writable", "[cli]
   const TempDir dir;
   const std::string d = dir.path().string();
   // A read-only parent with a writable output folder mounted inside it.
-  const auto run = RunCommand("unshare -rm sh -c 'mount -t tmpfs -o size=8m tmpfs " + d +
-                              " && mkdir " + d + "/out && mount -t tmpfs -o size=8m tmpfs " + d +
-                              "/out && mount -o remount,ro " + d + " && cd " + d + "/out && " +
-                              kExe + " simulate " + kWhine +
-                              " --cycles 20 --transient 5 --out . ; echo rc=$?; ls -a " + d +
-                              "/out'");
+  const auto run =
+      RunCommand("unshare -rm sh -c 'mount -t tmpfs -o size=8m tmpfs " + d + " && mkdir " + d +
+                 "/out && mount -t tmpfs -o size=8m tmpfs " + d + "/out && mount -o remount,ro " +
+                 d + " && cd " + d + "/out && " + kExe + " simulate " + kWhine +
+                 " --cycles 20 --transient 5 --out . ; echo rc=$?; ls -a " + d + "/out'");
   INFO(run.out << run.err);
   CHECK(run.out.find("rc=0") != std::string::npos);
   CHECK(run.out.find("results.json") != std::string::npos);
@@ -546,14 +578,15 @@ TEST_CASE("malformed inputs: absurd values are input errors naming the path, val
        "linear-elastic"},
       {"idle_rattle.yaml", "amplitude: 1500 rad/s^2", "amplitude: 1e12 rad/s^2",
        "operating.excitation[0].amplitude", "turn backwards"},
-      {"flexible_shafts.yaml", "element_length: 10 mm", "element_length: 0.05 mm",
-       "element_length", "GB"},
+      {"flexible_shafts.yaml", "element_length: 10 mm", "element_length: 0.05 mm", "element_length",
+       "GB"},
       {"industrial_whine.yaml", "teeth: 25", "teeth: 16", "gears.pinion.teeth", "undercut"},
   };
   for (size_t i = 0; i < cases.size(); ++i) {
     const Case& c = cases[i];
     INFO(c.to);
-    const fs::path file = Variant(dir, c.example, c.from, c.to, "case" + std::to_string(i) + ".yaml");
+    const fs::path file =
+        Variant(dir, c.example, c.from, c.to, "case" + std::to_string(i) + ".yaml");
     const auto run = RunCommand(kExe + " check " + file.string());
     CHECK(run.exit_code == 1);
     CHECK(run.err.find(c.path) != std::string::npos);
@@ -561,10 +594,10 @@ TEST_CASE("malformed inputs: absurd values are input errors naming the path, val
     CHECK(run.out.find("nan") == std::string::npos);
   }
   // The same rules hold for simulate (it never starts the run).
-  const fs::path slow = Variant(dir, "industrial_whine.yaml", "speed: 1500 rpm", "speed: 1e-6 rpm",
-                                "slow.yaml");
-  const auto run = RunCommand(kExe + " simulate " + slow.string() + " --out " +
-                              (dir.path() / "out").string());
+  const fs::path slow =
+      Variant(dir, "industrial_whine.yaml", "speed: 1500 rpm", "speed: 1e-6 rpm", "slow.yaml");
+  const auto run =
+      RunCommand(kExe + " simulate " + slow.string() + " --out " + (dir.path() / "out").string());
   CHECK(run.exit_code == 1);
   CHECK(run.err.find("operating.speed") != std::string::npos);
   CHECK(!fs::exists(dir.path() / "out"));
@@ -574,14 +607,14 @@ TEST_CASE("malformed inputs: absurd values are input errors naming the path, val
 TEST_CASE("malformed inputs: invalid UTF-8 is an input error and leaves no staging folder",
           "[cli][hardening]") {
   const TempDir dir;
-  const fs::path file =
-      Variant(dir, "industrial_whine.yaml", "name: Industrial", "name: Indus\xFF\xFEtrial", "bad.yaml");
+  const fs::path file = Variant(dir, "industrial_whine.yaml", "name: Industrial",
+                                "name: Indus\xFF\xFEtrial", "bad.yaml");
   const auto check = RunCommand(kExe + " check --json " + file.string());
   CHECK(check.exit_code == 1);
   CHECK(check.err.find("UTF-8") != std::string::npos);
   CHECK(check.err.find("bad.yaml:") != std::string::npos);
-  const auto simulate = RunCommand(kExe + " simulate " + file.string() + " --out " +
-                                   (dir.path() / "out").string());
+  const auto simulate =
+      RunCommand(kExe + " simulate " + file.string() + " --out " + (dir.path() / "out").string());
   CHECK(simulate.exit_code == 1);
   CHECK(!fs::exists(dir.path() / "out"));
   CHECK(Debris(dir.path()).empty());

@@ -83,6 +83,25 @@ TEST_CASE("simulate --out writes the trajectory, events and results atomically",
   CHECK(doc["summary"]["mesh_cycles"] == 64);
 }
 
+TEST_CASE("simulate warns up front when whole engine-order periods more than double the cycles",
+          "[cli][simulate]") {
+  // idle_rattle: engine order 2 on a 27-tooth pinion, so whole periods are 27 mesh cycles.
+  // 10 requested -> 27 recorded (2.7x): a warning on stderr before the run, also with --json.
+  const auto rounded = RunCommand(kExe + " simulate --json --cycles 10 --transient 0 " + kExamples +
+                                  "/idle_rattle.yaml");
+  INFO(rounded.err);
+  REQUIRE(rounded.exit_code == 0);
+  CHECK(rounded.err.rfind("warning: recording 27 mesh cycles, 3x the 10 requested: ", 0) == 0);
+  const auto doc = nlohmann::json::parse(rounded.out);
+  CHECK(doc["summary"]["mesh_cycles"].get<long>() >= 27);
+  CHECK(doc["warnings"].dump().find("recording 27 mesh cycles") != std::string::npos);
+  // 20 requested -> 27 (1.35x): the note in the results, no warning.
+  const auto mild = RunCommand(kExe + " simulate --json --cycles 20 --transient 0 " + kExamples +
+                               "/idle_rattle.yaml");
+  REQUIRE(mild.exit_code == 0);
+  CHECK(mild.err.find("recording") == std::string::npos);
+}
+
 TEST_CASE("simulate: bad options and unavailable tiers are clear errors", "[cli][simulate]") {
   const auto bad_tier = RunCommand(kExe + " simulate --tier 9 " + kExamples + "/idle_rattle.yaml");
   CHECK(bad_tier.exit_code == 2);  // a usage error

@@ -40,6 +40,7 @@ TEST_CASE("tiers compares every modal tier of a flexible gearbox with the full F
   CHECK(by["N40 full"]["max_frequency_error"].get<double>() < 1e-3);
   CHECK(by["tier 2"]["max_frequency_error"].get<double>() >
         10.0 * by["N40 full"]["max_frequency_error"].get<double>());
+  CHECK(by["tier 1"]["static_compliance_error"].is_null());  // no mesh compliance: no error
   CHECK(std::abs(by["N20 MTA"]["static_compliance_error"].get<double>()) <= 1e-10);
   CHECK(std::abs(by["N20 simple"]["static_compliance_error"].get<double>()) > 1e-6);
   // Fusion is the same model and the same exact result with fewer matvecs.

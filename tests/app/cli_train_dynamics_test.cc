@@ -27,6 +27,7 @@ using testing::RunCommand;
 using testing::TempDir;
 
 const std::string kExe = GEARNVH_EXE;
+const std::string kExamples = GEARNVH_EXAMPLES_DIR;
 
 // The linear train of tests/data (shared with python/tests/test_trains.py: input shaft g1 drives
 // the output shaft through g1-g2, loads[0] on the output, engine order 2 on the input) with a loose
@@ -179,6 +180,15 @@ TEST_CASE("atlas and orbits on a train refuse bad parameters naming the value an
     CHECK(r.err.find(c.value) != std::string::npos);
     CHECK(r.err.find(c.rule) != std::string::npos);
   }
+  // One load: "has 1 entry", not "1 entries".
+  const auto one = RunCommand(kExe +
+                              " atlas --x operating.loads[3].torque=0Nm:1Nm:2"
+                              " --y operating.speed=1000rpm:2000rpm:2 " +
+                              kExamples + "/two_stage_helical_reducer.yaml");
+  INFO(one.err);
+  CHECK(one.exit_code == 2);
+  CHECK(one.err.find("the file's operating.loads has 1 entry (0: on output)") !=
+        std::string::npos);
   // A value outside the schema's range fails its cell with the schema path and rule.
   const auto r = RunCommand(kExe +
                             " atlas --json --cycles 8 --transient 0"

@@ -116,6 +116,18 @@ TEST_CASE("syntax errors name deep nesting, a tab in the indentation and a too l
         "t.yaml:48: analysis.cycles: must be an integer, got '20.5'");
 }
 
+TEST_CASE("a YAML merge key is named as such and not as an unknown key", "[loader]") {
+  using testing::Example;
+  using testing::LoadError;
+  using testing::Replace;
+  // An anchored pinion merged into the wheel: yaml-cpp hands the loader a key named "<<".
+  const std::string merged =
+      Replace(Replace(Example("idle_rattle.yaml"), "  pinion:\n", "  pinion: &p\n"), "  wheel:\n",
+              "  wheel:\n    <<: *p\n");
+  CHECK(LoadError(merged) ==
+        "t.yaml:27: gears.wheel.<<: YAML merge keys (<<) are not supported; write the keys out");
+}
+
 TEST_CASE("closest-key suggestions", "[loader]") {
   CHECK(ClosestMatch("backlsh", {"backlash", "damping_ratio"}) == "backlash");
   CHECK(ClosestMatch("modul", {"module", "teeth"}) == "module");
