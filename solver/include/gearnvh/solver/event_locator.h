@@ -308,6 +308,8 @@ class DyadicLocator final : public SubstepLocator {
 // wall); a wall it clears is not searched, so most segments skip Load() and the search (and a
 // segment with an event searches only the walls the screen did not clear), and
 // the result is the same (the screen is sufficient and keeps the search's rounding margin).
+// A start entered with z valid is checked for the time-triggered switch on z only where the
+// screen does not clear every wall (a cleared wall has sign g(0) <= -floor on w = S^-1 z).
 // At an event z <- S e^{B t*} w and the
 // search restarts in the new state; after the last event of a segment z <- S e^{B(h - t)} w.
 // A segment without an event is left in one matvec:

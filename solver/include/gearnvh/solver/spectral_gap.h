@@ -73,7 +73,7 @@ SpectralDecomposition DecomposeGenerator(const Eigen::MatrixXd& A, int n, double
 
 // The terms of e^{B0 t} = sum_k B0^k t^k / k! that matter for t <= horizon: examines at least
 // `min_terms`, then until a term is below 1e-18 of the largest, and keeps the terms up to the last
-// one not below that cut (every term dropped is below it); 0 when 64 terms do not get there.
+// one above that cut (every term dropped is at or below it); 0 when 64 terms do not get there.
 int ZeroClusterSeriesTerms(const Eigen::MatrixXd& B0, double horizon, int min_terms);
 
 // e^{Dt} w for the block-diagonal D of `d`. No allocation: `out` has the size of w and `scratch`
