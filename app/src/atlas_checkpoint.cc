@@ -44,9 +44,9 @@ std::vector<AtlasCell> PrepareAtlasCheckpoint(const AtlasCheckpoint& cp, bool re
       while (std::getline(cells, line)) {
         try {
           const AtlasCell c = AtlasCellFromJson(nlohmann::json::parse(line));
-          if (c.ok && c.ix >= 0 && c.iy >= 0) done.push_back(c);
+          if (c.ok && c.ix >= 0 && c.iy >= 0 && c.ix < cp.nx && c.iy < cp.ny) done.push_back(c);
         } catch (const std::exception&) {
-          // A line cut short by the kill: that cell is computed again.
+          // A line cut short by the kill (or damaged): that cell is computed again.
         }
       }
     }

@@ -15,6 +15,7 @@ namespace gearnvh::app {
 struct AtlasCheckpoint {
   std::filesystem::path dir;
   std::string settings;  // AtlasCheckpointSettings
+  int nx = 0, ny = 0;    // the grid: a restored cell outside it (a damaged line) is recomputed
 };
 
 // What a resume must match: the file's hash, the axes, cycles, method, tier and chaos threshold.

@@ -76,7 +76,7 @@ int RunAtlas(const AtlasCommandOptions& options) {
       std::stringstream text;
       text << in.rdbuf();
       checkpoint = AtlasCheckpoint{std::filesystem::path(*options.out) / ".atlas-checkpoint",
-                                   AtlasCheckpointSettings(text.str(), *x, *y, atlas)};
+                                   AtlasCheckpointSettings(text.str(), *x, *y, atlas), nx, ny};
       if (rank == 0) restored = PrepareAtlasCheckpoint(*checkpoint, options.resume);
     }
     std::string restored_text;
