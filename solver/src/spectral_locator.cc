@@ -32,6 +32,8 @@ void Multiply(const Eigen::MatrixXd& a, const double* x, Eigen::Ref<Eigen::Vecto
   }
 }
 
+static_assert(kMaxWalls < 32, "the screen's verdicts are bit sets in an unsigned");
+
 // A carried segment's column length: m padded to whole 64-byte lines (8 doubles).
 constexpr int kLineDoubles = 8;
 int PaddedSize(int m) { return (m + kLineDoubles - 1) / kLineDoubles * kLineDoubles; }
@@ -325,9 +327,9 @@ bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
   bool carried = state.z_stale;
   const int entered = entered_segment_;
   entered_segment_ = -1;
-  // The walls the screen cleared on the entry state when EnterCarried has taken it (first pass
-  // only; CarryThrough may have entered this segment and left w_ and the verdict set).
   if (carried && entered != segment && EnterCarried(segment, state) == Entry::kSettled) return true;
+  // Carried: the walls the screen cleared on the entry state are in entered_clear_walls_ (first
+  // pass only; CarryThrough may have entered this segment and left w_ and the verdict set).
   bool screened = carried;
   // Entered with z valid: the time-triggered switch of a start outside a wall is still to decide
   // (carried: the closed form's start value decides it, below).
