@@ -44,12 +44,27 @@ constexpr int kPadded = M == Eigen::Dynamic ? Eigen::Dynamic : kLineDoubles;
 // out = C w for a carry matrix C stored by padded columns (padded rows, m columns; the pad rows
 // are 0): one vector FMA per column at tier 1, the columns in order as Eigen's fixed-size product.
 template <int M>
-void CarryProductSized(const double* carry, int padded, int m, const double* w, double* out) {
+[[gnu::always_inline]] inline void CarryProductSized(const double* carry, int padded, int m,
+                                                     const double* w, double* out) {
   static_assert(M == Eigen::Dynamic || M <= kLineDoubles);
   constexpr int P = kPadded<M>;
-  Eigen::Map<Eigen::Matrix<double, P, 1>, Eigen::Aligned64>(out, padded).noalias() =
-      Eigen::Map<const Eigen::Matrix<double, P, M>, Eigen::Aligned64>(carry, padded, m) *
-      Eigen::Map<const Eigen::Matrix<double, M, 1>>(w, m);
+  using Out = Eigen::Map<Eigen::Matrix<double, P, 1>, Eigen::Aligned64>;
+  if constexpr (M == Eigen::Dynamic) {
+    Out(out, padded).noalias() =
+        Eigen::Map<const Eigen::Matrix<double, P, M>, Eigen::Aligned64>(carry, padded, m) *
+        Eigen::Map<const Eigen::Matrix<double, M, 1>>(w, m);
+  } else {
+    // Two chains of M/2 vector FMAs instead of one of M: the carry is the carried path's
+    // critical path (the next segment's entry waits for it).
+    constexpr int H = M / 2;
+    using Low = Eigen::Map<const Eigen::Matrix<double, P, H>, Eigen::Aligned64>;
+    using High = Eigen::Map<const Eigen::Matrix<double, P, M - H>, Eigen::Aligned64>;
+    const Eigen::Matrix<double, P, 1> low =
+        Low(carry) * Eigen::Map<const Eigen::Matrix<double, H, 1>>(w);
+    const Eigen::Matrix<double, P, 1> high =
+        High(carry + H * P) * Eigen::Map<const Eigen::Matrix<double, M - H, 1>>(w + H);
+    Out(out, padded) = low + high;
+  }
 }
 
 }  // namespace
