@@ -111,9 +111,7 @@ ExactStepper::ExactStepper(const SegmentTables& tables, const SolverOptions& opt
       recording_(tables, options, reserve_samples, reserve_events) {
   state_.z = z0;
   state_.contact = state0;
-  phase_.sin.resize(tables.excitation.size());
-  phase_.cos.resize(tables.excitation.size());
-  phase_.excitation.resize(static_cast<size_t>(tables.segments()));
+  phase_ = tables.MakeCyclePhase();
   UpdateTableStatistics();
 }
 

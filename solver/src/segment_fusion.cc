@@ -21,9 +21,7 @@ SegmentFusion::SegmentFusion(const SegmentTables& tables, const SolverOptions& o
   built_ = true;
   certify_scratch_.resize(tables.m);
   inputs_.resize(tables.m);
-  phase_.sin.resize(tables.excitation.size());
-  phase_.cos.resize(tables.excitation.size());
-  phase_.excitation.resize(static_cast<size_t>(tables.segments()));
+  phase_ = tables.MakeCyclePhase();
 }
 
 size_t SegmentFusion::bytes() const {

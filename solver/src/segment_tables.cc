@@ -55,13 +55,29 @@ void SegmentTables::PrepareExcitationWindows() {
   }
 }
 
-// The stepper and the segment fusion size phase.excitation when constructed, so the resize below
-// allocates nothing in their stepping loops.
+SegmentTables::CyclePhase SegmentTables::MakeCyclePhase() const {
+  CyclePhase phase;
+  phase.sin.resize(excitation.size());
+  phase.cos.resize(excitation.size());
+  phase.excitation.resize(static_cast<size_t>(segments()));
+  if (inputs > kErrorInput) phase.error.resize(static_cast<size_t>(segments()));
+  return phase;
+}
+
+// A phase from MakeCyclePhase is sized: the resizes below allocate nothing in a stepping loop.
 void SegmentTables::PrepareCycleInputs(long cycle, CyclePhase& phase) const {
   const size_t orders = excitation.size();
   const size_t count = static_cast<size_t>(segments());
   phase.cycle = cycle;
   phase.excitation.resize(count);
+  if (inputs > kErrorInput) {
+    phase.error.resize(count);
+    for (size_t j = 0; j < count; ++j) {
+      const int segment = static_cast<int>(j);
+      const double start = static_cast<double>(cycle) * mesh_period + boundaries[segment];
+      phase.error[j] = errors.SegmentMean(cycle, segment, start, SegmentLength(segment));
+    }
+  }
   const size_t entries = orders * count;
   if (excitation_midpoint_cos.size() != entries || excitation_midpoint_sin.size() != entries) {
     // Tables assembled by hand: no midpoint phases, one sine per order and segment.
@@ -88,11 +104,6 @@ void SegmentTables::PrepareCycleInputs(long cycle, CyclePhase& phase) const {
   }
 }
 
-void SegmentTables::SetErrorInput(long cycle, int segment, Eigen::Ref<Eigen::VectorXd> z) const {
-  const double start = static_cast<double>(cycle) * mesh_period + boundaries[segment];
-  z[input_slot(kErrorInput)] = errors.SegmentMean(cycle, segment, start, SegmentLength(segment));
-}
-
 double SegmentTables::SegmentExcitationMean(long cycle, int segment) const {
   const double start = static_cast<double>(cycle) * mesh_period + boundaries[segment];
   const double h = SegmentLength(segment);
@@ -111,7 +122,10 @@ double SegmentTables::SegmentExcitationMean(long cycle, int segment) const {
 
 void SegmentTables::SetInputs(long cycle, int segment, Eigen::Ref<Eigen::VectorXd> z) const {
   z[input_slot(kExcitationInput)] = SegmentExcitationMean(cycle, segment);
-  if (inputs > kErrorInput) SetErrorInput(cycle, segment, z);
+  if (inputs > kErrorInput) {
+    const double start = static_cast<double>(cycle) * mesh_period + boundaries[segment];
+    z[input_slot(kErrorInput)] = errors.SegmentMean(cycle, segment, start, SegmentLength(segment));
+  }
 }
 
 double SegmentTables::InputBound(int input) const {

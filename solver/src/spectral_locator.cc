@@ -35,35 +35,43 @@ void Multiply(const Eigen::MatrixXd& a, const double* x, Eigen::Ref<Eigen::Vecto
 static_assert(kMaxWalls < 32, "the screen's verdicts are bit sets in an unsigned");
 
 // A carried segment's column length: m padded to whole 64-byte lines (8 doubles).
-constexpr int kLineDoubles = 8;
+constexpr int kLineDoubles = SpectralLocator::kLineDoubles;
 int PaddedSize(int m) { return (m + kLineDoubles - 1) / kLineDoubles * kLineDoubles; }
 // The padded length at compile time: one line when m (M) is known and fits it.
 template <int M>
 constexpr int kPadded = M == Eigen::Dynamic ? Eigen::Dynamic : kLineDoubles;
 
 // out = C w for a carry matrix C stored by padded columns (padded rows, m columns; the pad rows
-// are 0): one vector FMA per column at tier 1, the columns in order as Eigen's fixed-size product.
-template <int M>
+// are 0) and w of length >= m (its first m entries are used). At tier 1 two chains of M/2 vector
+// FMAs (one per column) instead of one of M: the carry is the carried path's critical path (the
+// next segment's entry waits for it).
+template <int M, class In, class Out>
 [[gnu::always_inline]] inline void CarryProductSized(const double* carry, int padded, int m,
-                                                     const double* w, double* out) {
+                                                     const In& w, Out&& out) {
   static_assert(M == Eigen::Dynamic || M <= kLineDoubles);
   constexpr int P = kPadded<M>;
-  using Out = Eigen::Map<Eigen::Matrix<double, P, 1>, Eigen::Aligned64>;
   if constexpr (M == Eigen::Dynamic) {
-    Out(out, padded).noalias() =
-        Eigen::Map<const Eigen::Matrix<double, P, M>, Eigen::Aligned64>(carry, padded, m) *
-        Eigen::Map<const Eigen::Matrix<double, M, 1>>(w, m);
+    out.noalias() =
+        Eigen::Map<const Eigen::MatrixXd, Eigen::Aligned64>(carry, padded, m) * w.head(m);
   } else {
-    // Two chains of M/2 vector FMAs instead of one of M: the carry is the carried path's
-    // critical path (the next segment's entry waits for it).
     constexpr int H = M / 2;
     using Low = Eigen::Map<const Eigen::Matrix<double, P, H>, Eigen::Aligned64>;
     using High = Eigen::Map<const Eigen::Matrix<double, P, M - H>, Eigen::Aligned64>;
-    const Eigen::Matrix<double, P, 1> low =
-        Low(carry) * Eigen::Map<const Eigen::Matrix<double, H, 1>>(w);
-    const Eigen::Matrix<double, P, 1> high =
-        High(carry + H * P) * Eigen::Map<const Eigen::Matrix<double, M - H, 1>>(w + H);
-    Out(out, padded) = low + high;
+    const Eigen::Matrix<double, P, 1> low = Low(carry) * w.template head<H>();
+    const Eigen::Matrix<double, P, 1> high = High(carry + H * P) * w.template segment<M - H>(H);
+    out = low + high;
+  }
+}
+
+// out[0, count) = v[0, count) without a call to memcpy (which would keep v in memory, not in
+// registers, on the carried path).
+template <int M, class Vector>
+[[gnu::always_inline]] inline void CopyHead(const Vector& v, int count, double* out) {
+  if constexpr (M == Eigen::Dynamic) {
+    Eigen::Map<Eigen::VectorXd>(out, count) = v.head(count);
+  } else {
+    for (int k = 0; k < M; ++k)
+      if (k < count) out[k] = v[k];
   }
 }
 
@@ -197,14 +205,32 @@ const double* SpectralLocator::BuildCarry(int segment, ContactState state) {
 }
 
 void SpectralLocator::CarryProduct(const double* carry, const double* w) {
+  const Eigen::Map<const Eigen::VectorXd> in(w, t_.m);
+  Eigen::Map<Eigen::VectorXd, Eigen::Aligned64> out(carried_.data(), padded_);
   switch (t_.m) {
     case 6:
-      return CarryProductSized<6>(carry, padded_, t_.m, w, carried_.data());
+      return CarryProductSized<6>(carry, padded_, t_.m, in, out);
     case 7:
-      return CarryProductSized<7>(carry, padded_, t_.m, w, carried_.data());
+      return CarryProductSized<7>(carry, padded_, t_.m, in, out);
     default:
-      return CarryProductSized<Eigen::Dynamic>(carry, padded_, t_.m, w, carried_.data());
+      return CarryProductSized<Eigen::Dynamic>(carry, padded_, t_.m, in, out);
   }
+}
+
+template <int M>
+SpectralLocator::CarriedVector<M> SpectralLocator::CarriedView(Eigen::VectorXd& buffer) const {
+  if constexpr (M == Eigen::Dynamic)
+    return {buffer.data(), padded_};
+  else
+    return Eigen::Map<const CarriedVector<M>, Eigen::Aligned64>(buffer.data());
+}
+
+template <int M>
+[[gnu::always_inline]] inline void SpectralLocator::StoreCarried(const CarriedVector<M>& v,
+                                                                 Eigen::VectorXd& buffer) {
+  // A map already is the buffer.
+  if constexpr (M != Eigen::Dynamic)
+    Eigen::Map<CarriedVector<M>, Eigen::Aligned64>(buffer.data()) = v;
 }
 
 void SpectralLocator::Materialise(LocatorState& state) {
@@ -217,13 +243,12 @@ void SpectralLocator::Materialise(LocatorState& state) {
 }
 
 // Inlined into EnterCarriedSized (the carried path's loop).
-template <int M>
-[[gnu::always_inline]] inline unsigned SpectralLocator::ClearWallsSized(const System& sp,
-                                                                        int segment) const {
+template <int M, class Vector>
+[[gnu::always_inline]] inline unsigned SpectralLocator::ClearWallsOf(const System& sp, int segment,
+                                                                     const Vector& w) const {
   constexpr int P = kPadded<M>;
   using Column = Eigen::Map<const Eigen::Matrix<double, P, 1>, Eigen::Aligned64>;
   const int padded = padded_;
-  const Column w(entry_.data(), padded);
   unsigned clear_walls = 0;
   const double* screen = sp.block + static_cast<size_t>(t_.inputs) * padded;
   for (int i = 0; i < sp.walls; ++i, screen += 2 * padded) {
@@ -248,18 +273,21 @@ template <int M>
 unsigned SpectralLocator::ClearWalls(const System& sp, int segment) const {
   switch (t_.m) {
     case 6:
-      return ClearWallsSized<6>(sp, segment);
+      return ClearWallsOf<6>(sp, segment,
+                             Eigen::Map<const CarriedVector<6>, Eigen::Aligned64>(entry_.data()));
     case 7:
-      return ClearWallsSized<7>(sp, segment);
+      return ClearWallsOf<7>(sp, segment,
+                             Eigen::Map<const CarriedVector<7>, Eigen::Aligned64>(entry_.data()));
     default:
-      return ClearWallsSized<Eigen::Dynamic>(sp, segment);
+      return ClearWallsOf<Eigen::Dynamic>(
+          sp, segment, Eigen::Map<const Eigen::VectorXd, Eigen::Aligned64>(entry_.data(), padded_));
   }
 }
 
 // Inlined into CarryThroughSized's loop: no call and no 64-byte aligned frame per segment.
 template <int M>
 [[gnu::always_inline]] inline SpectralLocator::Entry SpectralLocator::EnterCarriedSized(
-    int segment, LocatorState& state) {
+    int segment, LocatorState& state, CarriedVector<M>& carried) {
   constexpr int P = kPadded<M>;
   using Column = Eigen::Map<const Eigen::Matrix<double, P, 1>, Eigen::Aligned64>;
   const int m = t_.m, padded = padded_;
@@ -267,60 +295,78 @@ template <int M>
   // The previous segment's carry decomposed this (segment, state) and found it usable.
   const System& sp = systems_[segment][static_cast<int>(state.contact)];
   const double* block = sp.block;
-  Eigen::Map<Eigen::Matrix<double, P, 1>, Eigen::Aligned64> w(entry_.data(), padded);
+  CarriedVector<M> w = EntryVector<M>();
   // One pass for the first input (a copy followed by an update would re-read w just stored).
-  w.noalias() = Column(carried_.data(), padded) + state.z[t_.input_slot(0)] * Column(block, padded);
+  w = carried + state.z[t_.input_slot(0)] * Column(block, padded);
   for (int q = 1; q < t_.inputs; ++q) {
     const double u = state.z[t_.input_slot(q)];
     if (u != 0.0) w += u * Column(block + static_cast<size_t>(q) * padded, padded);
   }
-  // Not settled: DoStep takes the entry state from w_ and the walls the screen cleared.
-  auto leave = [&](Entry entry, unsigned clear_walls) {
-    w_ = entry_.head(m);
+  const unsigned clear_walls = ClearWallsOf<M>(sp, segment, w);
+  const unsigned all_walls = (1u << sp.walls) - 1;
+  const double* carry =
+      clear_walls == all_walls && state.allow_carry ? Carry(segment, state.contact) : nullptr;
+  if (carry == nullptr) {
+    // Not settled: DoStep takes the entry state from w_ and the walls the screen cleared.
+    StoreCarried<M>(w, entry_);
+    CopyHead<M>(w, m, w_.data());
     entered_clear_walls_ = clear_walls;
-    return entry;
-  };
-  const unsigned clear_walls = ClearWallsSized<M>(sp, segment);
-  if (clear_walls != (1u << sp.walls) - 1) return leave(Entry::kNearWall, clear_walls);
-  const double* carry = state.allow_carry ? Carry(segment, state.contact) : nullptr;
-  if (carry == nullptr) return leave(Entry::kClear, (1u << sp.walls) - 1);
-  CarryProductSized<M>(carry, padded, m, entry_.data(), carried_.data());
-  if (segment + 1 < t_.segments()) {
-    carry_segment_ = segment + 1;
-    carry_state_ = state.contact;
-  } else {
-    const int live = m - t_.inputs;  // carried_ held z at the cycle end
-    state.z.head(live) = carried_.head(live);
-    state.z_stale = false;
+    return clear_walls == all_walls ? Entry::kClear : Entry::kNearWall;
   }
+  CarryProductSized<M>(carry, padded, m, w, carried);
   ++state.matvecs;
+  // (After the cycle's last segment carried holds z: the caller writes it, EndCarriedCycle.)
+  carry_segment_ = segment + 1;
+  carry_state_ = state.contact;
   return Entry::kSettled;
+}
+
+template <int M>
+[[gnu::always_inline]] inline void SpectralLocator::EndCarriedCycle(const CarriedVector<M>& carried,
+                                                                    LocatorState& state) {
+  const int live = t_.m - t_.inputs;
+  CopyHead<M>(carried, live, state.z.data());
+  state.z_stale = false;
+}
+
+template <int M>
+SpectralLocator::Entry SpectralLocator::EnterCarriedOnce(int segment, LocatorState& state) {
+  CarriedVector<M> carried = CarriedView<M>(carried_);
+  const Entry entry = EnterCarriedSized<M>(segment, state, carried);
+  StoreCarried<M>(carried, carried_);
+  if (entry == Entry::kSettled && segment + 1 == t_.segments()) EndCarriedCycle<M>(carried, state);
+  return entry;
 }
 
 SpectralLocator::Entry SpectralLocator::EnterCarried(int segment, LocatorState& state) {
   switch (t_.m) {
     case 6:
-      return EnterCarriedSized<6>(segment, state);
+      return EnterCarriedOnce<6>(segment, state);
     case 7:
-      return EnterCarriedSized<7>(segment, state);
+      return EnterCarriedOnce<7>(segment, state);
     default:
-      return EnterCarriedSized<Eigen::Dynamic>(segment, state);
+      return EnterCarriedOnce<Eigen::Dynamic>(segment, state);
   }
 }
 
 template <int M>
 int SpectralLocator::CarryThroughSized(int segment, long cycle, SegmentTables::CyclePhase& phase,
                                        LocatorState& state) {
+  // At tier 1 the carried state stays in registers from segment to segment.
+  CarriedVector<M> carried = CarriedView<M>(carried_);
   const int segments = t_.segments();
+  t_.PrepareCycle(cycle, phase);
   for (int j = segment; j < segments; ++j) {
-    t_.SetInputs(cycle, j, state.z, phase);
-    const Entry entry = EnterCarriedSized<M>(j, state);
-    if (entry != Entry::kSettled) {
+    t_.SetPreparedInputs(j, state.z, phase);
+    if (EnterCarriedSized<M>(j, state, carried) != Entry::kSettled) {
       // DoStep(j) takes w_ and the screen's verdict instead of entering again.
       entered_segment_ = j;
+      StoreCarried<M>(carried, carried_);
       return j;
     }
   }
+  StoreCarried<M>(carried, carried_);
+  EndCarriedCycle<M>(carried, state);
   return segments;
 }
 

@@ -44,6 +44,7 @@
 #include <cstddef>
 #include <limits>
 #include <memory>
+#include <type_traits>
 #include <vector>
 
 #include "gearnvh/solver/segment_tables.h"
@@ -329,6 +330,7 @@ class DyadicLocator final : public SubstepLocator {
 class SpectralLocator final : public EventLocator {
  public:
   static constexpr EventMethod kMethod = EventMethod::kSpectral;
+  static constexpr int kLineDoubles = 8;  // a carried column's padding unit: one 64-byte line
   SpectralLocator(const SegmentTables& tables, const SolverOptions& options);
   EventMethod method() const override { return kMethod; }
   bool DoStep(int segment, double start, LocatorState& state, EventHandler& handler) override;
@@ -376,7 +378,29 @@ class SpectralLocator final : public EventLocator {
   }
   // carried_ = C w (a carry matrix from Carry(), w of length m): padded_ entries, the pads 0.
   void CarryProduct(const double* carry, const double* w);
-  // The start of a segment entered carried (state.z_stale): w = carried_ + sum_q u_q S_j^-1 e_q,
+  // The carried path's padded vectors: at tier 1 (m known at compile time and at most one line)
+  // fixed-size values, kept in registers across a run of carried segments (through the buffers,
+  // every segment waited twice for a store to be forwarded to a load); otherwise maps of the
+  // buffers (entry_, carried_).
+  template <int M>
+  using CarriedVector =
+      std::conditional_t<M == Eigen::Dynamic, Eigen::Map<Eigen::VectorXd, Eigen::Aligned64>,
+                         Eigen::Matrix<double, kLineDoubles, 1>>;
+  // A buffer (entry_ or carried_) as a CarriedVector: a copy at tier 1, a map otherwise.
+  template <int M>
+  CarriedVector<M> CarriedView(Eigen::VectorXd& buffer) const;
+  // Writes a copy back to its buffer (nothing for a map).
+  template <int M>
+  static void StoreCarried(const CarriedVector<M>& v, Eigen::VectorXd& buffer);
+  // The entry state's vector: uninitialised at tier 1, the map of entry_ otherwise.
+  template <int M>
+  CarriedVector<M> EntryVector() {
+    if constexpr (M == Eigen::Dynamic)
+      return CarriedView<M>(entry_);
+    else
+      return {};
+  }
+  // The start of a segment entered carried (state.z_stale): w = carried + sum_q u_q S_j^-1 e_q,
   // the screen of every active wall and, when every wall is clear and (segment, state) carries,
   // the carry itself (w_{j+1} = C_j w, or z at the cycle end): the whole work of ~31 of 32
   // segments of a strong-rattle cycle, all of it read from the pair's block. kClear / kNearWall:
@@ -387,13 +411,21 @@ class SpectralLocator final : public EventLocator {
   // otherwise Eigen::Dynamic; EnterCarried() picks the instance (a branch on m that never changes
   // during a run).
   enum class Entry { kSettled, kClear, kNearWall };
-  // The walls the screen clears for the whole segment from w = entry_ (bit i: active wall i):
+  // The walls the screen clears for the whole segment from w (padded; bit i: active wall i):
   // ClosedFormGap::ClearOfWall on the copies of its rows in the block and in curved_.
-  template <int M>
-  unsigned ClearWallsSized(const System& sp, int segment) const;
+  // ClearWalls: from w = entry_.
+  template <int M, class Vector>
+  unsigned ClearWallsOf(const System& sp, int segment, const Vector& w) const;
   unsigned ClearWalls(const System& sp, int segment) const;
+  // `carried`: the carried state (C_{j-1} w_{j-1}); a settled segment replaces it with its carry.
   template <int M>
-  Entry EnterCarriedSized(int segment, LocatorState& state);
+  Entry EnterCarriedSized(int segment, LocatorState& state, CarriedVector<M>& carried);
+  // z = carried after the cycle's last segment was carried (its carry gives z, not w).
+  template <int M>
+  void EndCarriedCycle(const CarriedVector<M>& carried, LocatorState& state);
+  // One segment from carried_ (DoStep's entry).
+  template <int M>
+  Entry EnterCarriedOnce(int segment, LocatorState& state);
   Entry EnterCarried(int segment, LocatorState& state);
   template <int M>
   int CarryThroughSized(int segment, long cycle, SegmentTables::CyclePhase& phase,

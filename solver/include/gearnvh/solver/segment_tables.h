@@ -114,24 +114,35 @@ struct SegmentTables {
     long cycle = -1;
     std::vector<double> sin, cos;
     std::vector<double> excitation;
+    std::vector<double> error;  // the error input of every segment (inputs > kErrorInput)
   };
   // SetInputs with the cycle's inputs kept in `phase` (filled by PrepareCycleInputs when the cycle
   // changes): one sincos per order and cycle instead of a sine per order and segment, and per
   // segment one load. Equal to SetInputs to rounding (sin(theta + psi) = sin theta cos psi +
   // cos theta sin psi). Inline: the carried V3 path calls it on every segment.
   void SetInputs(long cycle, int segment, Eigen::Ref<Eigen::VectorXd> z, CyclePhase& phase) const {
-    if (phase.cycle != cycle || phase.excitation.size() != systems.size())
+    PrepareCycle(cycle, phase);
+    SetPreparedInputs(segment, z, phase);
+  }
+  // SetInputs in two steps for a loop over the segments of one cycle: the cycle's inputs, then
+  // per segment the slots (no call in the loop).
+  void PrepareCycle(long cycle, CyclePhase& phase) const {
+    if (phase.cycle != cycle || phase.excitation.size() != systems.size()) [[unlikely]]
       PrepareCycleInputs(cycle, phase);
+  }
+  void SetPreparedInputs(int segment, Eigen::Ref<Eigen::VectorXd> z,
+                         const CyclePhase& phase) const {
     z[input_slot(kExcitationInput)] = phase.excitation[static_cast<size_t>(segment)];
-    if (inputs > kErrorInput) SetErrorInput(cycle, segment, z);
+    if (inputs > kErrorInput)
+      z[input_slot(kErrorInput)] = phase.error[static_cast<size_t>(segment)];
   }
   // Fills `phase` for `cycle`: the phases and, per segment, sum_k sin(theta_k) midpoint_cos_kj +
   // cos(theta_k) midpoint_sin_kj (the same sums, in the same order, as per segment); tables
   // assembled by hand without the midpoint phases take SetInputs(cycle, j, z)'s sine per segment.
   // Allocates only when the segment count changes (the first cycle).
   void PrepareCycleInputs(long cycle, CyclePhase& phase) const;
-  // The error input slot of segment `segment` of `cycle` (inputs > kErrorInput).
-  void SetErrorInput(long cycle, int segment, Eigen::Ref<Eigen::VectorXd> z) const;
+  // A CyclePhase sized for these tables (PrepareCycleInputs then allocates nothing).
+  CyclePhase MakeCyclePhase() const;
   size_t TableBytes() const;
 };
 
