@@ -203,9 +203,9 @@ void ClosedFormGap::Load(const Eigen::VectorXd& w) {
     end_value_ = Row(kEndValueRow).dot(w);
     end_rate_ = Row(kEndRateRow).dot(w);
   }
-  // Eigen's product: a plain loop (a little faster on trains) sums in another order, which moved
-  // the pair's settled idle-rattle trajectory to a window where the saltation test's finite
-  // difference disagrees with the tangent (cause not established; kept as it was).
+  // Eigen's product (a plain loop, a little faster on trains, sums in another order: equal to
+  // rounding; it once moved the saltation test to a window where its finite difference had not
+  // converged, which that test now checks).
   if (zero_size_ > 0) poly().noalias() = poly_rows() * w.head(zero_size_);
   // One scalar pass: a vector pass over values just stored one by one would wait for the stores
   // (no store-to-load forwarding from narrow stores into a wide load).

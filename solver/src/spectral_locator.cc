@@ -226,8 +226,8 @@ SpectralLocator::CarriedVector<M> SpectralLocator::CarriedView(Eigen::VectorXd& 
 }
 
 template <int M>
-[[gnu::always_inline]] inline void SpectralLocator::StoreCarried(const CarriedVector<M>& v,
-                                                                 Eigen::VectorXd& buffer) {
+[[gnu::always_inline]] inline void SpectralLocator::WriteBack(const CarriedVector<M>& v,
+                                                              Eigen::VectorXd& buffer) {
   // A map already is the buffer.
   if constexpr (M != Eigen::Dynamic)
     Eigen::Map<CarriedVector<M>, Eigen::Aligned64>(buffer.data()) = v;
@@ -308,7 +308,7 @@ template <int M>
       clear_walls == all_walls && state.allow_carry ? Carry(segment, state.contact) : nullptr;
   if (carry == nullptr) {
     // Not settled: DoStep takes the entry state from w_ and the walls the screen cleared.
-    StoreCarried<M>(w, entry_);
+    WriteBack<M>(w, entry_);
     CopyHead<M>(w, m, w_.data());
     entered_clear_walls_ = clear_walls;
     return clear_walls == all_walls ? Entry::kClear : Entry::kNearWall;
@@ -333,7 +333,7 @@ template <int M>
 SpectralLocator::Entry SpectralLocator::EnterCarriedOnce(int segment, LocatorState& state) {
   CarriedVector<M> carried = CarriedView<M>(carried_);
   const Entry entry = EnterCarriedSized<M>(segment, state, carried);
-  StoreCarried<M>(carried, carried_);
+  WriteBack<M>(carried, carried_);
   if (entry == Entry::kSettled && segment + 1 == t_.segments()) EndCarriedCycle<M>(carried, state);
   return entry;
 }
@@ -361,11 +361,11 @@ int SpectralLocator::CarryThroughSized(int segment, long cycle, SegmentTables::C
     if (EnterCarriedSized<M>(j, state, carried) != Entry::kSettled) {
       // DoStep(j) takes w_ and the screen's verdict instead of entering again.
       entered_segment_ = j;
-      StoreCarried<M>(carried, carried_);
+      WriteBack<M>(carried, carried_);
       return j;
     }
   }
-  StoreCarried<M>(carried, carried_);
+  WriteBack<M>(carried, carried_);
   EndCarriedCycle<M>(carried, state);
   return segments;
 }

@@ -391,7 +391,7 @@ class SpectralLocator final : public EventLocator {
   CarriedVector<M> CarriedView(Eigen::VectorXd& buffer) const;
   // Writes a copy back to its buffer (nothing for a map).
   template <int M>
-  static void StoreCarried(const CarriedVector<M>& v, Eigen::VectorXd& buffer);
+  static void WriteBack(const CarriedVector<M>& v, Eigen::VectorXd& buffer);
   // The entry state's vector: uninitialised at tier 1, the map of entry_ otherwise.
   template <int M>
   CarriedVector<M> EntryVector() {
