@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <numbers>
@@ -113,10 +114,14 @@ int RunSimulate(const SimulateOptions& options) {
                    total);
       };
     }
-    // Warnings about the run's cost before it starts, as for a train (simulate_train.cc).
+    // Warnings about the run's cost before it starts, as for a train (simulate_train.cc); the
+    // text's warning lines at the end leave them out (the JSON keeps every warning).
+    std::vector<std::string> said_before_run;
     const OperatingPointAnalysis op =
-        AnalyseOperatingPoint(spec, model, tier, solver, progress,
-                              [](const std::string& w) { fmt::print(stderr, "warning: {}\n", w); });
+        AnalyseOperatingPoint(spec, model, tier, solver, progress, [&](const std::string& w) {
+          fmt::print(stderr, "warning: {}\n", w);
+          said_before_run.push_back(w);
+        });
     if (on_terminal) fmt::print(stderr, "\n");
     const SolverSummary& summary = op.result.summary;
     const Trajectory& trajectory = op.result.trajectory;
@@ -187,7 +192,11 @@ int RunSimulate(const SimulateOptions& options) {
         fmt::print("(sidebands in --json, over {})\n", Count(window, "mesh cycle", "mesh cycles"));
       }
       if (!op.cycles_note.empty()) fmt::print("  note: {}\n", op.cycles_note);
-      for (const std::string& w : op.warnings) fmt::print("  warning: {}\n", w);
+      for (const std::string& w : op.warnings) {
+        if (std::ranges::find(said_before_run, w) == said_before_run.end()) {
+          fmt::print("  warning: {}\n", w);
+        }
+      }
       if (!s.message.empty()) fmt::print("  note: {}\n", s.message);
       if (s.trajectory_truncated) {
         fmt::print(

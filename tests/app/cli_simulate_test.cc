@@ -100,6 +100,49 @@ TEST_CASE("simulate warns up front when whole engine-order periods more than dou
                                "/idle_rattle.yaml");
   REQUIRE(mild.exit_code == 0);
   CHECK(mild.err.find("recording") == std::string::npos);
+  // The text run shows the warning once: on stderr before the run, not again among the text's
+  // warning lines at the end.
+  const auto text =
+      RunCommand(kExe + " simulate --cycles 10 --transient 0 " + kExamples + "/idle_rattle.yaml");
+  REQUIRE(text.exit_code == 0);
+  const std::string shown = text.err + text.out;
+  INFO(shown);
+  const std::string warning = "recording 27 mesh cycles, 3x the 10 requested";
+  const size_t first = shown.find(warning);
+  REQUIRE(first != std::string::npos);
+  CHECK(shown.find(warning, first + 1) == std::string::npos);
+  CHECK(text.out.find("note: recorded 27 mesh cycles instead of 10") != std::string::npos);
+}
+
+TEST_CASE("--help shows what an option takes without CLI11's type-name prefix", "[cli][simulate]") {
+  // CLI11 prints the type name and then each validator's description after a colon
+  // ("--cycles INT:INT in [1, 1000000]"); the options name their range once.
+  const auto help = RunCommand(kExe + " simulate --help");
+  REQUIRE(help.exit_code == 0);
+  INFO(help.out);
+  CHECK(help.out.find("--cycles INT in [1, 1000000]") != std::string::npos);
+  CHECK(help.out.find("--transient INT in [0, 100000000]") != std::string::npos);
+  CHECK(help.out.find("--lyapunov INT in [1, 64]") != std::string::npos);
+  CHECK(help.out.find("--tier TIER ") != std::string::npos);
+  CHECK(help.out.find("--method METHOD ") != std::string::npos);
+  // No type name glued to a description anywhere ("INT:INT", "TEXT:TIER", "FLOAT:NUMBER").
+  for (const char* glued : {"INT:", "TEXT:", "FLOAT:"}) {
+    INFO(glued);
+    CHECK(help.out.find(glued) == std::string::npos);
+  }
+  const auto atlas = RunCommand(kExe + " atlas --help");
+  REQUIRE(atlas.exit_code == 0);
+  INFO(atlas.out);
+  CHECK(atlas.out.find("--x PARAMETER=FROM:TO:N ") != std::string::npos);
+  CHECK(atlas.out.find("--jobs INT in [1, 1024] ") != std::string::npos);
+  CHECK(atlas.out.find("TEXT:") == std::string::npos);
+#ifdef GEARNVH_HAVE_RENDER
+  const auto tiers = RunCommand(kExe + " tiers --help");
+  REQUIRE(tiers.exit_code == 0);
+  INFO(tiers.out);
+  CHECK(tiers.out.find("--dpi NUMBER in [36, 600]") != std::string::npos);
+  CHECK(tiers.out.find("FLOAT:") == std::string::npos);
+#endif
 }
 
 TEST_CASE("simulate: bad options and unavailable tiers are clear errors", "[cli][simulate]") {
