@@ -295,7 +295,7 @@ GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::
     for (UffFunction& f : SweepOrderTracksUff(spec, sweep, static_cast<int>(uff.size()) + 1)) {
       uff.push_back(std::move(f));
     }
-    WriteFileAtomically((folder / "results.uff").string(), UffFile(uff));
+    WriteUffFile((folder / "results.uff").string(), uff);
 
     nlohmann::json results = {{"name", spec.name},
                               {"file", file},

@@ -201,6 +201,7 @@ nlohmann::json TrainSimulationJson(const TrainOperatingPoint& op, const TrainSpe
   doc["input_speed"] = {{"rad_s", spec.operating.speed}, {"rpm", spec.operating.speed * kRpm}};
   doc["common_period_s"] = tables.common_period;
   doc["warnings"] = op.warnings;
+  doc["memory_estimate"] = MemoryJson(op.memory);
   doc["summary"] = {{"status", TrainStepperInfoName(s.info)},
                     {"message", TrainStepperMessage(s)},
                     {"simulated_s", s.simulated_time},
@@ -277,8 +278,13 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
   TrainRunOptions& run = plan.run;
   const Tier tier = run.tier;
   const long cycles = run.cycles, transient = run.transient;
+  const std::optional<MemoryLimit> memory_limit = AvailableMemory();
   const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
   run.before_run_warning = [](const std::string& w) { fmt::print(stderr, "warning: {}\n", w); };
+  run.before_run_memory = [&](RunMemory& need) {
+    return CheckRunMemory(need, memory_limit, options.cycles ? "--cycles" : "analysis.cycles",
+                          std::to_string(cycles));
+  };
   const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
   const TrainOperatingPoint op = RunTrainOperatingPoint(spec, run, [&](double time, double end) {
     if (!on_terminal) return;

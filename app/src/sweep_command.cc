@@ -286,7 +286,7 @@ int RunSweep(const SweepOptions& options) {
       out->Commit();
     }
     if (options.uff) {
-      WriteFileAtomically(*options.uff, UffFile(SweepOrderTracksUff(spec, result)));
+      WriteUffFile(*options.uff, SweepOrderTracksUff(spec, result));
     }
     if (options.json) {
       std::cout << doc.dump(1) << "\n";

@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "gearnvh/solver/trajectory.h"
 #include "support/run_command.h"
 
 namespace gearnvh {
@@ -143,6 +144,80 @@ TEST_CASE("--help shows what an option takes without CLI11's type-name prefix", 
   CHECK(tiers.out.find("--dpi NUMBER in [36, 600]") != std::string::npos);
   CHECK(tiers.out.find("FLOAT:") == std::string::npos);
 #endif
+}
+
+TEST_CASE("simulate estimates its memory before the run, refuses above the limit and warns near it",
+          "[cli][simulate][memory]") {
+  const std::string file = kExamples + "/idle_rattle.yaml";
+  const std::string run = " simulate --cycles 100 --transient 0 ";
+  TempDir dir;
+  // The estimate, from the results of a run with room to spare; 100 cycles are rounded up to 108
+  // (whole periods of the order-2 engine excitation, 27 cycles).
+  const auto probe =
+      RunCommand(kExe + run + "--json --out " + (dir.path() / "probe").string() + " " + file);
+  REQUIRE(probe.exit_code == 0);
+  const auto doc = nlohmann::json::parse(probe.out);
+  const nlohmann::json& memory = doc["memory_estimate"];
+  const auto estimate = memory["bytes"].get<size_t>();
+  size_t sum = 0;
+  for (const auto& [name, bytes] : memory["parts"].items()) sum += bytes.get<size_t>();
+  CHECK(estimate == sum);
+  // The recorded samples are what trajectory.csv holds (one line each after the header): counts,
+  // so exactly 108 x 32 samples of sizeof(TrajectorySample).
+  const std::string csv = testing::ReadWholeFile(dir.path() / "probe" / "trajectory.csv");
+  const auto lines = static_cast<size_t>(std::count(csv.begin(), csv.end(), '\n'));
+  CHECK(lines - 1 == 108 * 32);
+  CHECK(memory["parts"]["recorded samples"].get<size_t>() ==
+        (lines - 1) * sizeof(TrajectorySample));
+  CHECK(memory["parts"]["backlash-free reference"] == 0);  // statistics only
+  CHECK(doc["warnings"].dump().find("will hold") == std::string::npos);
+
+  // One byte short of the estimate: refused before the run, naming the option, the value, the
+  // estimate and the limit; --out is not written.
+  const auto limit = [](size_t bytes) { return "GEARNVH_MEMORY_LIMIT=" + std::to_string(bytes); };
+  const auto out = dir.path() / "refused";
+  const auto refused =
+      RunCommand(limit(estimate - 1) + " " + kExe + run + "--out " + out.string() + " " + file);
+  INFO(refused.err);
+  CHECK(refused.exit_code == 2);
+  CHECK(refused.err.find("--cycles: the run would hold about ") != std::string::npos);
+  CHECK(refused.err.find("(GEARNVH_MEMORY_LIMIT); fewer recorded cycles need less, got 100") !=
+        std::string::npos);
+  CHECK(refused.err.find("recorded samples 216 KiB") != std::string::npos);  // 221184 B
+  CHECK(refused.out.empty());
+  CHECK_FALSE(std::filesystem::exists(out));
+  for (const auto& e : std::filesystem::directory_iterator(dir.path())) {
+    INFO(e.path());
+    CHECK(e.path().filename() == "probe");  // no staging folder or lock left behind
+  }
+  // The file's analysis.cycles: an input error at its line.
+  const auto from_file = RunCommand(limit(1000) + " " + kExe + " simulate " + file);
+  CHECK(from_file.exit_code == 1);
+  CHECK(from_file.err.find("idle_rattle.yaml:") != std::string::npos);
+  CHECK(from_file.err.find(": analysis.cycles: the run would hold about ") != std::string::npos);
+
+  // At the limit: the run goes ahead with a warning (above half the limit), said once before the
+  // run and kept in the JSON's warnings.
+  const auto near = RunCommand(limit(estimate) + " " + kExe + run + "--json " + file);
+  INFO(near.err);
+  REQUIRE(near.exit_code == 0);
+  CHECK(near.err.find("warning: --cycles 100: the run will hold about ") != std::string::npos);
+  CHECK(nlohmann::json::parse(near.out)["warnings"].dump().find("the run will hold about") !=
+        std::string::npos);
+  const auto text = RunCommand(limit(estimate) + " " + kExe + run + file);
+  const std::string shown = text.err + text.out;
+  const size_t first = shown.find("the run will hold about");
+  REQUIRE(first != std::string::npos);
+  CHECK(shown.find("the run will hold about", first + 1) == std::string::npos);
+  // With room (the estimate below half the limit): no warning.
+  const auto roomy = RunCommand(limit(3 * estimate) + " " + kExe + run + file);
+  CHECK(roomy.exit_code == 0);
+  CHECK(roomy.err.find("will hold") == std::string::npos);
+  // A malformed limit is named.
+  const auto bad = RunCommand("GEARNVH_MEMORY_LIMIT=1GB " + kExe + run + file);
+  CHECK(bad.exit_code == 1);
+  CHECK(bad.err.find("GEARNVH_MEMORY_LIMIT: must be a whole number of bytes, got 1GB") !=
+        std::string::npos);
 }
 
 TEST_CASE("simulate: bad options and unavailable tiers are clear errors", "[cli][simulate]") {

@@ -1,0 +1,100 @@
+#include "run_memory.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "gearnvh/model/input_error.h"
+
+namespace gearnvh::app {
+
+size_t RunMemory::bytes() const {
+  size_t total = 0;
+  for (const MemoryPart& p : parts) total += p.bytes;
+  return total;
+}
+
+std::string RunMemory::Describe() const {
+  std::string listed;
+  for (const MemoryPart& p : parts) {
+    if (p.bytes == 0) continue;
+    listed += (listed.empty() ? "" : ", ") + p.name + " " + BytesText(p.bytes);
+  }
+  return BytesText(bytes()) + (listed.empty() ? "" : " (" + listed + ")");
+}
+
+nlohmann::json MemoryJson(const RunMemory& memory) {
+  nlohmann::json parts = nlohmann::json::object();
+  for (const MemoryPart& p : memory.parts) parts[p.name] = p.bytes;
+  return {{"bytes", memory.bytes()}, {"parts", parts}};
+}
+
+std::string BytesText(size_t bytes) {
+  constexpr const char* kUnits[] = {"B", "KiB", "MiB", "GiB", "TiB"};
+  auto value = static_cast<double>(bytes);
+  size_t unit = 0;
+  while (value >= 1024.0 && unit + 1 < std::size(kUnits)) {
+    value /= 1024.0;
+    ++unit;
+  }
+  return unit == 0 || value >= 100.0 ? fmt::format("{:.0f} {}", value, kUnits[unit])
+                                     : fmt::format("{:.3g} {}", value, kUnits[unit]);
+}
+
+namespace {
+
+// MemAvailable of /proc/meminfo ("MemAvailable:   12345678 kB"); nullopt where there is none.
+std::optional<size_t> MemAvailable() {
+  std::ifstream meminfo("/proc/meminfo");
+  std::string line;
+  while (std::getline(meminfo, line)) {
+    if (line.rfind("MemAvailable:", 0) != 0) continue;
+    std::istringstream fields(line.substr(13));
+    size_t kib = 0;
+    if (fields >> kib) return kib * 1024;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<MemoryLimit> AvailableMemory() {
+  constexpr const char* kVariable = "GEARNVH_MEMORY_LIMIT";
+  if (const char* text = std::getenv(kVariable); text != nullptr) {
+    const std::string s = text;
+    size_t bytes = 0;
+    const auto [stop, error] = std::from_chars(s.data(), s.data() + s.size(), bytes);
+    if (s.empty() || error != std::errc() || stop != s.data() + s.size()) {
+      throw InputError(kVariable, 0, s, "must be a whole number of bytes");
+    }
+    return MemoryLimit{bytes, kVariable};
+  }
+  if (const std::optional<size_t> available = MemAvailable()) {
+    return MemoryLimit{*available, "MemAvailable in /proc/meminfo"};
+  }
+  return std::nullopt;
+}
+
+std::string CheckRunMemory(const RunMemory& need, const std::optional<MemoryLimit>& limit,
+                           const std::string& option, const std::string& value) {
+  const size_t bytes = need.bytes();
+  if (limit && bytes > limit->bytes) {
+    throw InputError(option, 0, value,
+                     fmt::format("the run would hold about {}, more than the {} of memory "
+                                 "available ({}); fewer recorded cycles need less",
+                                 need.Describe(), BytesText(limit->bytes), limit->source));
+  }
+  const size_t warn_above =
+      limit ? std::min(kMemoryWarningBytes, limit->bytes / 2) : kMemoryWarningBytes;
+  if (bytes <= warn_above) return "";
+  return fmt::format(
+      "{} {}: the run will hold about {}{}", option, value, need.Describe(),
+      limit ? fmt::format(" of the {} available ({})", BytesText(limit->bytes), limit->source)
+            : "");
+}
+
+}  // namespace gearnvh::app
