@@ -80,13 +80,14 @@ std::optional<MemoryLimit> AvailableMemory() {
 }
 
 std::string CheckRunMemory(const RunMemory& need, const std::optional<MemoryLimit>& limit,
-                           const std::string& option, const std::string& value) {
+                           const std::string& option, const std::string& value,
+                           const std::string& remedy) {
   const size_t bytes = need.bytes();
   if (limit && bytes > limit->bytes) {
     throw InputError(option, 0, value,
                      fmt::format("the run would hold about {}, more than the {} of memory "
-                                 "available ({}); fewer recorded cycles need less",
-                                 need.Describe(), BytesText(limit->bytes), limit->source));
+                                 "available ({}); {}",
+                                 need.Describe(), BytesText(limit->bytes), limit->source, remedy));
   }
   const size_t warn_above =
       limit ? std::min(kMemoryWarningBytes, limit->bytes / 2) : kMemoryWarningBytes;

@@ -47,9 +47,10 @@ std::optional<MemoryLimit> AvailableMemory();
 
 // Refuses a run whose estimate exceeds `limit`: InputError at `option` (where the user set the
 // recorded cycles: --cycles or analysis.cycles) with `value`, naming the estimate by part and the
-// limit. Returns the one-line warning for an estimate above kMemoryWarningBytes or half the
-// limit, else "".
+// limit, and `remedy`. Returns the one-line warning for an estimate above kMemoryWarningBytes or
+// half the limit, else "".
 std::string CheckRunMemory(const RunMemory& need, const std::optional<MemoryLimit>& limit,
-                           const std::string& option, const std::string& value);
+                           const std::string& option, const std::string& value,
+                           const std::string& remedy = "fewer recorded cycles need less");
 
 }  // namespace gearnvh::app

@@ -46,8 +46,8 @@ struct TrainRunOptions {
   // command can say it on stderr at once; empty: not called (the warning is in `warnings` too).
   std::function<void(const std::string&)> before_run_warning;
   // Called with the memory estimate before the run starts (TrainOperatingPoint::memory): may add
-  // the command's own parts, throw to refuse the run, or return a warning (kept in `warnings` and passed to
-  // before_run_warning); empty: no check.
+  // the command's own parts, throw to refuse the run, or return a warning (kept in `warnings` and
+  // passed to before_run_warning); empty: no check.
   std::function<std::string(RunMemory&)> before_run_memory;
   void Validate() const;
 };
