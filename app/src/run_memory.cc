@@ -1,6 +1,7 @@
 #include "run_memory.h"
 
 #include <fmt/format.h>
+#include <sys/resource.h>
 
 #include <algorithm>
 #include <charconv>
@@ -60,6 +61,24 @@ std::optional<size_t> MemAvailable() {
   return std::nullopt;
 }
 
+// The address space left under the process's limit (ulimit -v): RLIMIT_AS less VmSize of
+// /proc/self/status; nullopt when there is no limit.
+std::optional<size_t> AddressSpaceLeft() {
+  rlimit limit{};
+  if (::getrlimit(RLIMIT_AS, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY) return std::nullopt;
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  size_t used = 0;
+  while (std::getline(status, line)) {
+    if (line.rfind("VmSize:", 0) != 0) continue;
+    std::istringstream fields(line.substr(7));
+    size_t kib = 0;
+    if (fields >> kib) used = kib * 1024;
+  }
+  const auto cap = static_cast<size_t>(limit.rlim_cur);
+  return cap > used ? cap - used : 0;
+}
+
 }  // namespace
 
 std::optional<MemoryLimit> AvailableMemory() {
@@ -73,10 +92,14 @@ std::optional<MemoryLimit> AvailableMemory() {
     }
     return MemoryLimit{bytes, kVariable};
   }
+  std::optional<MemoryLimit> out;
   if (const std::optional<size_t> available = MemAvailable()) {
-    return MemoryLimit{*available, "MemAvailable in /proc/meminfo"};
+    out = MemoryLimit{*available, "MemAvailable in /proc/meminfo"};
   }
-  return std::nullopt;
+  if (const std::optional<size_t> left = AddressSpaceLeft(); left && (!out || *left < out->bytes)) {
+    out = MemoryLimit{*left, "the address space left under ulimit -v"};
+  }
+  return out;
 }
 
 std::string CheckRunMemory(const RunMemory& need, const std::optional<MemoryLimit>& limit,

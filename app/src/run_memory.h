@@ -36,13 +36,14 @@ constexpr size_t kMemoryWarningBytes = size_t{1} << 30;
 
 struct MemoryLimit {
   size_t bytes = 0;
-  std::string source;  // "MemAvailable in /proc/meminfo" or "GEARNVH_MEMORY_LIMIT"
+  std::string source;  // "MemAvailable in /proc/meminfo", "GEARNVH_MEMORY_LIMIT", ...
 };
 
 // The memory a run may take: the environment variable GEARNVH_MEMORY_LIMIT (a whole number of
-// bytes; to hold gearnvh below what the machine has, and for tests) when set, else MemAvailable
-// of /proc/meminfo; nullopt when neither exists. A malformed GEARNVH_MEMORY_LIMIT is an
-// InputError naming it.
+// bytes; to hold gearnvh below what the machine has, and for tests) when set, else the smaller of
+// MemAvailable of /proc/meminfo and the address space left under ulimit -v (RLIMIT_AS less the
+// process's VmSize); nullopt when none exists. A malformed GEARNVH_MEMORY_LIMIT is an InputError
+// naming it.
 std::optional<MemoryLimit> AvailableMemory();
 
 // Refuses a run whose estimate exceeds `limit`: InputError at `option` (where the user set the

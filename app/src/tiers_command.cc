@@ -179,8 +179,7 @@ int RunTiers(const TiersCommandOptions& options) {
     const TiersComparison comparison =
         CompareTiers(spec, solver, progress, [&](RunMemory& need) -> std::string {
           const std::string warning =
-              CheckRunMemory(need, memory_limit, options.cycles ? "--cycles" : "analysis.cycles",
-                             std::to_string(solver.cycles));
+              CheckRunMemory(need, memory_limit, "--cycles", std::to_string(solver.cycles));
           if (!warning.empty() && !memory_said) fmt::print(stderr, "warning: {}\n", warning);
           memory_said = memory_said || !warning.empty();
           return {};
