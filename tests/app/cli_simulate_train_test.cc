@@ -265,6 +265,21 @@ TEST_CASE("simulate on a train refuses a run above the memory limit and reports 
   CHECK(refused.err.find("--cycles: the run would hold about ") != std::string::npos);
   CHECK(refused.err.find("got 1400") != std::string::npos);
   CHECK(refused.out.empty());
+  // At the limit: a warning before the run (above half the limit), in the JSON's warnings, and
+  // shown once in the text.
+  const std::string at_limit = "GEARNVH_MEMORY_LIMIT=" + std::to_string(estimate) + " " + kExe;
+  const auto json = RunCommand(at_limit + run + " --json");
+  REQUIRE(json.exit_code == 0);
+  CHECK(json.err.find("warning: --cycles 1400: the run will hold about ") != std::string::npos);
+  CHECK(nlohmann::json::parse(json.out)["warnings"].dump().find("the run will hold about") !=
+        std::string::npos);
+  const auto text = RunCommand(at_limit + run);
+  REQUIRE(text.exit_code == 0);
+  const std::string shown = text.err + text.out;
+  INFO(shown);
+  const size_t first = shown.find("the run will hold about");
+  REQUIRE(first != std::string::npos);
+  CHECK(shown.find("the run will hold about", first + 1) == std::string::npos);
 }
 
 }  // namespace
