@@ -115,7 +115,8 @@ TEST_CASE("simulate warns up front when whole engine-order periods more than dou
   CHECK(text.out.find("note: recorded 27 mesh cycles instead of 10") != std::string::npos);
 }
 
-TEST_CASE("--help shows what an option takes without CLI11's type-name prefix", "[cli][simulate]") {
+TEST_CASE("simulate, atlas, tiers --help show what an option takes, without a type-name prefix",
+          "[cli][simulate]") {
   // CLI11 prints the type name and then each validator's description after a colon
   // ("--cycles INT:INT in [1, 1000000]"); the options name their range once.
   const auto help = RunCommand(kExe + " simulate --help");
