@@ -115,7 +115,7 @@ TEST_CASE("simulate warns up front when whole engine-order periods more than dou
   CHECK(text.out.find("note: recorded 27 mesh cycles instead of 10") != std::string::npos);
 }
 
-TEST_CASE("simulate, atlas, tiers --help show what an option takes, without a type-name prefix",
+TEST_CASE("simulate and atlas --help show what an option takes without a type-name prefix",
           "[cli][simulate]") {
   // CLI11 prints the type name and then each validator's description after a colon
   // ("--cycles INT:INT in [1, 1000000]"); the options name their range once.
@@ -147,8 +147,9 @@ TEST_CASE("simulate, atlas, tiers --help show what an option takes, without a ty
 #endif
 }
 
-TEST_CASE("simulate estimates its memory before the run, refuses above the limit and warns near it",
-          "[cli][simulate][memory]") {
+TEST_CASE(
+    "simulate estimates its memory before the run: refused above the limit and warned near it",
+    "[cli][simulate][memory]") {
   const std::string file = kExamples + "/idle_rattle.yaml";
   const std::string run = " simulate --cycles 100 --transient 0 ";
   TempDir dir;

@@ -9,7 +9,7 @@
 namespace gearnvh {
 namespace {
 
-TEST_CASE("PlanRecording is what a run records: every sample, and the events it logs",
+TEST_CASE("PlanRecording is what a run records: every sample and the events it logs",
           "[solver][recorder][memory]") {
   // Idle rattle: impacts on both flanks, so the event log is used too.
   const testing::SolverSetup s(testing::IdleRattleSpec(), Tier::kTier1);
