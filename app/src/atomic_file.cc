@@ -7,17 +7,23 @@
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
+#include <system_error>
 
 #include "command_errors.h"
 
 namespace gearnvh::app {
 
-void WriteFileAtomically(const std::string& path, const std::string& content) {
+void WriteFileAtomically(const std::string& path, const std::function<void(std::FILE*)>& write) {
   const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
   std::FILE* f = std::fopen(tmp.c_str(), "wb");
   if (!f) throw IoError("cannot write " + path + ": " + std::strerror(errno));
-  const bool ok = std::fwrite(content.data(), 1, content.size(), f) == content.size() &&
-                  std::fflush(f) == 0 && ::fsync(::fileno(f)) == 0;
+  bool wrote = true;
+  try {
+    write(f);
+  } catch (const std::system_error&) {  // fmt::print's report of a failed write
+    wrote = false;
+  }
+  const bool ok = wrote && std::ferror(f) == 0 && std::fflush(f) == 0 && ::fsync(::fileno(f)) == 0;
   const bool closed = std::fclose(f) == 0;
   if (!ok || !closed || std::rename(tmp.c_str(), path.c_str()) != 0) {
     const std::string reason = std::strerror(errno);
@@ -25,6 +31,11 @@ void WriteFileAtomically(const std::string& path, const std::string& content) {
     std::filesystem::remove(tmp, ec);
     throw IoError("cannot write " + path + ": " + reason);
   }
+}
+
+void WriteFileAtomically(const std::string& path, const std::string& content) {
+  WriteFileAtomically(
+      path, [&content](std::FILE* f) { std::fwrite(content.data(), 1, content.size(), f); });
 }
 
 }  // namespace gearnvh::app

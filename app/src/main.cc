@@ -38,10 +38,17 @@ std::string RuleAndValue(const gearnvh::InputError& e) {
   return e.rule() + (e.value().empty() ? "" : ", got " + e.value());
 }
 
+// CLI11's help shows an option's type name followed by each validator's description after a
+// colon ("INT:INT in [1, 64]"). The validators here have no description; the option's type name
+// alone says what it takes ("INT in [1, 64]", "TIER").
+CLI::Option* Checked(CLI::Option* option, CLI::Validator check, const std::string& shown) {
+  return option->check(std::move(check))->type_name(shown);
+}
+
 // Option values checked while the command line is parsed, so a bad one is a usage error (2):
 // `parse` throws InputError on a bad value.
 template <typename Parse>
-CLI::Validator ParsedBy(Parse parse, const std::string& name) {
+CLI::Validator ParsedBy(Parse parse) {
   return CLI::Validator(
       [parse](std::string& text) -> std::string {
         try {
@@ -51,68 +58,69 @@ CLI::Validator ParsedBy(Parse parse, const std::string& name) {
           return RuleAndValue(e);
         }
       },
-      name);
+      "");
 }
 
 // An option in [min, max] (an integer for integral T), its message in the user's terms ("must be
 // an integer from 1 to 1000000, got 1.5"): CLI11's Range says "Value 1.5 not in range 1 to
-// 1000000" and prints the bounds of a double as "36.000000".
+// 1000000" and prints the bounds of a double as "36.000000". Help: "INT in [1, 1000000]".
 template <typename T>
-CLI::Validator InRange(T min, T max) {
+CLI::Option* CheckRange(CLI::Option* option, T min, T max) {
   constexpr bool kInteger = std::is_integral_v<T>;
   const std::string rule =
       fmt::format("must be {} from {} to {}", kInteger ? "an integer" : "a number", min, max);
-  return CLI::Validator(
-      [min, max, rule](std::string& text) -> std::string {
-        T value{};
-        const char* end = text.data() + text.size();
-        const auto [stop, error] = std::from_chars(text.data(), end, value);
-        const bool whole = error == std::errc() && stop == end;
-        return whole && value >= min && value <= max ? std::string() : rule + ", got " + text;
-      },
-      fmt::format("{} in [{}, {}]", kInteger ? "INT" : "NUMBER", min, max));
+  return Checked(option,
+                 CLI::Validator(
+                     [min, max, rule](std::string& text) -> std::string {
+                       T value{};
+                       const char* end = text.data() + text.size();
+                       const auto [stop, error] = std::from_chars(text.data(), end, value);
+                       const bool whole = error == std::errc() && stop == end;
+                       return whole && value >= min && value <= max ? std::string()
+                                                                    : rule + ", got " + text;
+                     },
+                     ""),
+                 fmt::format("{} in [{}, {}]", kInteger ? "INT" : "NUMBER", min, max));
 }
 
 // --tier, checked by ParseTier while the command line is parsed.
 void AddTierOption(CLI::App* command, std::optional<std::string>& tier,
                    const std::string& help = "Modal tier (default: analysis.tier)") {
-  command->add_option("--tier", tier, help)
-      ->check(
-          ParsedBy([](const std::string& text) { return gearnvh::app::ParseTier(text); }, "TIER"));
+  Checked(command->add_option("--tier", tier, help),
+          ParsedBy([](const std::string& text) { return gearnvh::app::ParseTier(text); }), "TIER");
 }
 
 void AddJobsOption(CLI::App* command, int& jobs,
                    const std::string& help = "Threads (default: all cores)") {
-  command->add_option("--jobs", jobs, help)->check(InRange(1, 1024));
+  CheckRange(command->add_option("--jobs", jobs, help), 1, 1024);
 }
 
 // --width, --height and --dpi of the images a command draws; `image` names them in the help
 // ("tiers.png").
 void AddImageSizeOptions(CLI::App* command, int& width, int& height, double& dpi,
                          const std::string& image) {
-  command->add_option("--width", width, image + " width in pixels (default 1200)")
-      ->check(InRange(200, 8000));
-  command->add_option("--height", height, image + " height in pixels (default 800)")
-      ->check(InRange(150, 8000));
-  command->add_option("--dpi", dpi, image + " DPI, scales the fonts (default 100)")
-      ->check(InRange(36.0, 600.0));
+  CheckRange(command->add_option("--width", width, image + " width in pixels (default 1200)"), 200,
+             8000);
+  CheckRange(command->add_option("--height", height, image + " height in pixels (default 800)"),
+             150, 8000);
+  CheckRange(command->add_option("--dpi", dpi, image + " DPI, scales the fonts (default 100)"),
+             36.0, 600.0);
 }
 
 // --method, read into `method` by ParseMethod while the command line is parsed.
 CLI::Option* AddMethodOption(CLI::App* command, gearnvh::LadderMethod& method,
                              const std::string& help) {
-  return command
-      ->add_option_function<std::string>(
+  return Checked(
+      command->add_option_function<std::string>(
           "--method",
-          [&method](const std::string& text) { method = gearnvh::app::ParseMethod(text); }, help)
-      ->check(ParsedBy([](const std::string& text) { return gearnvh::app::ParseMethod(text); },
-                       "METHOD"));
+          [&method](const std::string& text) { method = gearnvh::app::ParseMethod(text); }, help),
+      ParsedBy([](const std::string& text) { return gearnvh::app::ParseMethod(text); }), "METHOD");
 }
 
 // An axis of either schema's parameters (the file, read later, decides which apply; the command
 // then refuses a parameter of the other schema with its own message).
-CLI::Validator AxisValidator(const std::string& flag) {
-  return CLI::Validator(
+CLI::Option* CheckAxis(CLI::Option* option, const std::string& flag) {
+  const CLI::Validator axis(
       [flag](std::string& text) -> std::string {
         try {
           (void)gearnvh::config::ParseAxisOption(text, flag);
@@ -131,7 +139,8 @@ CLI::Validator AxisValidator(const std::string& flag) {
           }
         }
       },
-      "PARAMETER=FROM:TO:N");
+      "");
+  return Checked(option, axis, "PARAMETER=FROM:TO:N");
 }
 
 int Main(int argc, char** argv) {
@@ -161,14 +170,14 @@ int Main(int argc, char** argv) {
   AddTierOption(simulate_cmd, simulate.tier,
                 "Modal tier: 1..5, \"N40 full\", \"N20 simple\", \"N20 MTA\" "
                 "(default: analysis.tier)");
-  simulate_cmd
-      ->add_option("--cycles", simulate.cycles,
-                   "Recorded mesh cycles, at most 1000000 (default: analysis.cycles)")
-      ->check(InRange(1L, gearnvh::GearboxLimits::kMaxRecordedCycles));
-  simulate_cmd
-      ->add_option("--transient", simulate.transient,
-                   "Unrecorded mesh cycles first (default: analysis.transient_cycles)")
-      ->check(InRange(0L, 100000000L));
+  CheckRange(
+      simulate_cmd->add_option("--cycles", simulate.cycles,
+                               "Recorded mesh cycles, at most 1000000 (default: analysis.cycles)"),
+      1L, gearnvh::GearboxLimits::kMaxRecordedCycles);
+  CheckRange(
+      simulate_cmd->add_option("--transient", simulate.transient,
+                               "Unrecorded mesh cycles first (default: analysis.transient_cycles)"),
+      0L, 100000000L);
   simulate_cmd->add_option("--out", simulate.out,
                            "Write trajectory.csv, events.csv and results.json into this directory "
                            "(a gear train: results.json)");
@@ -181,12 +190,12 @@ int Main(int argc, char** argv) {
                   "baseline), v2 (sub-step certificate + Taylor-polynomial search), v3 "
                   "(closed-form spectral location per segment), fused (default: v3 plus "
                   "segment-run fusion, certified constant-contact cycles and O(1) jumps)");
-  simulate_cmd
-      ->add_option("--lyapunov", simulate.lyapunov,
-                   "Gear trains: also estimate the K largest Lyapunov exponents (exact tangents "
-                   "with saltation per gap, free rotation removed; a second run of the same "
-                   "cycles)")
-      ->check(InRange(1, 64));
+  CheckRange(simulate_cmd->add_option(
+                 "--lyapunov", simulate.lyapunov,
+                 "Gear trains: also estimate the K largest Lyapunov exponents (exact tangents "
+                 "with saltation per gap, free rotation removed; a second run of the same "
+                 "cycles)"),
+             1, 64);
 
   gearnvh::app::ValidateOptions validate;
   CLI::App* validate_cmd = app.add_subcommand(
@@ -207,10 +216,12 @@ int Main(int argc, char** argv) {
       "run per speed, speeds in parallel).");
   sweep_cmd->add_option("FILE", sweep.file, "Gearbox YAML file")->required();
   AddTierOption(sweep_cmd, sweep.tier);
-  sweep_cmd->add_option("--cycles", sweep.cycles, "Recorded mesh cycles per speed (default 512)")
-      ->check(InRange(2L, 100000000L));
-  sweep_cmd->add_option("--transient", sweep.transient, "Unrecorded cycles per speed (default 200)")
-      ->check(InRange(0L, 100000000L));
+  CheckRange(sweep_cmd->add_option("--cycles", sweep.cycles,
+                                   "Recorded mesh cycles per speed (default 512)"),
+             2L, 100000000L);
+  CheckRange(sweep_cmd->add_option("--transient", sweep.transient,
+                                   "Unrecorded cycles per speed (default 200)"),
+             0L, 100000000L);
   AddJobsOption(sweep_cmd, sweep.jobs);
   AddMethodOption(sweep_cmd, sweep.method, "v1, v2, v3 or fused (default)");
   sweep_cmd->add_option("--out", sweep.out,
@@ -225,17 +236,19 @@ int Main(int argc, char** argv) {
       "Chaos atlas over two schema parameters (default: analysis.atlas): per cell the largest "
       "Lyapunov exponent, impacts per cycle, rattle index and regime; cells in parallel.");
   atlas_cmd->add_option("FILE", atlas.file, "Gearbox YAML file")->required();
-  atlas_cmd
-      ->add_option("--x", atlas.x,
-                   "x axis PARAMETER=FROM:TO:POINTS, e.g. operating.speed=600rpm:3000rpm:24")
-      ->check(AxisValidator("--x"));
-  atlas_cmd->add_option("--y", atlas.y, "y axis, e.g. operating.torque=0.05Nm:5Nm:24")
-      ->check(AxisValidator("--y"));
+  CheckAxis(atlas_cmd->add_option(
+                "--x", atlas.x,
+                "x axis PARAMETER=FROM:TO:POINTS, e.g. operating.speed=600rpm:3000rpm:24"),
+            "--x");
+  CheckAxis(atlas_cmd->add_option("--y", atlas.y, "y axis, e.g. operating.torque=0.05Nm:5Nm:24"),
+            "--y");
   AddTierOption(atlas_cmd, atlas.tier);
-  atlas_cmd->add_option("--cycles", atlas.cycles, "Averaged mesh cycles per cell (default 1080)")
-      ->check(InRange(8L, 100000000L));
-  atlas_cmd->add_option("--transient", atlas.transient, "Settling cycles per cell (default 300)")
-      ->check(InRange(0L, 100000000L));
+  CheckRange(atlas_cmd->add_option("--cycles", atlas.cycles,
+                                   "Averaged mesh cycles per cell (default 1080)"),
+             8L, 100000000L);
+  CheckRange(atlas_cmd->add_option("--transient", atlas.transient,
+                                   "Settling cycles per cell (default 300)"),
+             0L, 100000000L);
   AddJobsOption(atlas_cmd, atlas.jobs);
   AddMethodOption(atlas_cmd, atlas.method, "Event location v1, v2 or v3 (default; fused means v3)");
   atlas_cmd->add_option("--out", atlas.out, "Write atlas.csv and atlas.json");
@@ -251,20 +264,19 @@ int Main(int argc, char** argv) {
       "and the nearest stability boundary (fold, flip, Neimark-Sacker, grazing), at the file's "
       "operating point or continued along one parameter.");
   orbits_cmd->add_option("FILE", orbits.file, "Gearbox YAML file")->required();
-  orbits_cmd
-      ->add_option("--period", orbits.period,
-                   "Period in base periods (mesh and excitation both repeat), default 1")
-      ->check(InRange(1, 64));
-  orbits_cmd
-      ->add_option("--sweep", orbits.sweep,
-                   "Continue along PARAMETER=FROM:TO:POINTS, e.g. "
-                   "operating.torque=0.1Nm:1Nm:10")
-      ->check(AxisValidator("--sweep"));
+  CheckRange(
+      orbits_cmd->add_option("--period", orbits.period,
+                             "Period in base periods (mesh and excitation both repeat), default 1"),
+      1, 64);
+  CheckAxis(orbits_cmd->add_option("--sweep", orbits.sweep,
+                                   "Continue along PARAMETER=FROM:TO:POINTS, e.g. "
+                                   "operating.torque=0.1Nm:1Nm:10"),
+            "--sweep");
   AddTierOption(orbits_cmd, orbits.tier);
-  orbits_cmd
-      ->add_option("--transient", orbits.transient,
-                   "Settling cycles before the first guess (default: analysis.transient_cycles)")
-      ->check(InRange(0L, 100000000L));
+  CheckRange(orbits_cmd->add_option(
+                 "--transient", orbits.transient,
+                 "Settling cycles before the first guess (default: analysis.transient_cycles)"),
+             0L, 100000000L);
   AddMethodOption(orbits_cmd, orbits.method,
                   "Event location v1, v2 or v3 (default; fused means v3)");
   orbits_cmd->add_option("--out", orbits.out, "Write orbits.csv and orbits.json");
@@ -277,14 +289,14 @@ int Main(int argc, char** argv) {
       "and static compliance errors against the full FE model, TE RMS and rattle index against "
       "the finest tier, and cost (matvec and µs per cycle, real-time ratio).");
   tiers_cmd->add_option("FILE", tiers.file, "Gearbox YAML file")->required();
-  tiers_cmd
-      ->add_option("--cycles", tiers.cycles,
-                   "Recorded mesh cycles per tier (default min(analysis.cycles, 400))")
-      ->check(InRange(1L, 100000000L));
-  tiers_cmd
-      ->add_option("--transient", tiers.transient,
-                   "Unrecorded cycles per tier (default min(analysis.transient_cycles, 200))")
-      ->check(InRange(0L, 100000000L));
+  CheckRange(
+      tiers_cmd->add_option("--cycles", tiers.cycles,
+                            "Recorded mesh cycles per tier (default min(analysis.cycles, 400))"),
+      1L, 100000000L);
+  CheckRange(tiers_cmd->add_option(
+                 "--transient", tiers.transient,
+                 "Unrecorded cycles per tier (default min(analysis.transient_cycles, 200))"),
+             0L, 100000000L);
   tiers_cmd->add_option("--out", tiers.out, "Write tiers.json, tiers.csv and tiers.png");
   tiers_cmd->add_flag("--json", tiers.json, "Print the comparison as one JSON document");
 #ifdef GEARNVH_HAVE_RENDER

@@ -52,10 +52,21 @@ std::string DynamicFactorNote(const TransmissionErrorStats& te) {
       te.mesh_force_mean, te.mesh_force_max);
 }
 
+RunMemory OperatingPointMemory(const SolverOptions& run, const SolverOptions& reference,
+                               long spectrum_cycles) {
+  const RecordingReserve recorded = PlanRecording(run);
+  return {{{"recorded samples", recorded.sample_bytes()},
+           {"event log", recorded.event_bytes()},
+           {"backlash-free reference", PlanRecording(reference).bytes()},
+           {"TE spectrum", SpectrumBytes(spectrum_cycles * run.samples_per_cycle)}},
+          recorded.samples};
+}
+
 OperatingPointAnalysis AnalyseOperatingPoint(
     const GearboxSpec& spec, const ComponentModel& model, Tier tier, const SolverOptions& solver,
     const ProgressCallback& progress,
-    const std::function<void(const std::string&)>& before_run_warning) {
+    const std::function<void(const std::string&)>& before_run_warning,
+    const std::function<std::string(RunMemory&)>& before_run_memory) {
   OperatingPointAnalysis op;
   op.solver = solver;
   const ReducedModel reduced = ReduceModel(model, tier);
@@ -103,17 +114,30 @@ OperatingPointAnalysis AnalyseOperatingPoint(
                        " recorded mesh cycles, more than the sample storage holds";
     }
   }
+  // The same gearbox without backlash, for the acceleration ratio: the same tables in permanent
+  // drive contact, the mesh spring acting in tension as well (a tiny but non-zero backlash would
+  // chatter at contact-loss resonances instead). Only its statistics are used: no samples or
+  // event log are kept.
+  SolverOptions linear = op.solver;
+  linear.ignore_walls = true;
+  linear.max_trajectory_samples = 0;
+  linear.max_logged_events = 0;
+  const bool samples_fit =
+      op.solver.cycles * op.solver.samples_per_cycle <= op.solver.max_trajectory_samples;
+  op.memory = OperatingPointMemory(
+      op.solver, linear, period > 0 && samples_fit ? op.solver.cycles / period * period : 0);
+  if (before_run_memory) {
+    if (const std::string warning = before_run_memory(op.memory); !warning.empty()) {
+      op.warnings.push_back(warning);
+      if (before_run_warning) before_run_warning(warning);
+    }
+  }
   const auto [z0, state0] = StaticInitialState(tables);
 
   op.result = SimulateExact(tables, z0, state0, op.solver, progress);
   const SolverResult& result = op.result;
   const SolverSummary& summary = result.summary;
   const Trajectory& trajectory = result.trajectory;
-  // The same gearbox without backlash, for the acceleration ratio: the same tables in permanent
-  // drive contact, the mesh spring acting in tension as well (a tiny but non-zero backlash would
-  // chatter at contact-loss resonances instead).
-  SolverOptions linear = op.solver;
-  linear.ignore_walls = true;
   const SolverResult reference =
       SimulateExact(tables, DriveEquilibrium(tables), ContactState::kDrive, linear);
   const double cycles_per_excitation = spec.operating.excitation.empty()
@@ -148,6 +172,7 @@ OperatingPointAnalysis AnalyseOperatingPoint(
   doc["events_method"] = EventMethodName(solver.events);
   doc["state_dim"] = tables.m;
   doc["summary"] = SummaryJson(summary);
+  doc["memory_estimate"] = MemoryJson(op.memory);
   doc["te_rms"] = te.rms;
   doc["te"] = {{"mean", te.mean},
                {"mean_from_contact", te.mean_from_contact},

@@ -16,6 +16,7 @@
 #include "gearnvh/reduction/tier_adequacy.h"
 #include "gearnvh/solver/exact_solver.h"
 #include "gearnvh/solver/segment_tables.h"
+#include "run_memory.h"
 
 namespace gearnvh::app {
 
@@ -26,6 +27,7 @@ struct OperatingPointAnalysis {
   TierAdequacy adequacy;
   SegmentTables tables;
   SolverOptions solver;  // as run (cycles may be rounded up to whole revolutions of both gears)
+  RunMemory memory;      // estimated before the run (OperatingPointMemory)
   SolverResult result;
   RattleIndices rattle;
   TransmissionErrorStats te;
@@ -39,13 +41,22 @@ struct OperatingPointAnalysis {
 // sources, `cycles_note`) is a warning: the run takes that much longer than asked for.
 constexpr long kCyclesRoundingWarningFactor = 2;
 
+// The memory AnalyseOperatingPoint holds for the parts that grow with the recorded cycles: the
+// recording of `run` (the cycles as run) and of the backlash-free `reference` (PlanRecording), and
+// the TE spectrum over `spectrum_cycles` (0: none).
+RunMemory OperatingPointMemory(const SolverOptions& run, const SolverOptions& reference,
+                               long spectrum_cycles);
+
 // `before_run_warning` is called with each warning about the run's cost before the run starts,
 // so a command can say it on stderr at once (as TrainRunOptions::before_run_warning); empty: not
-// called (the warning is in `warnings` too).
+// called (the warning is in `warnings` too). `before_run_memory` gets the memory estimate before
+// the run (the cycles rounded): it may add the command's own parts, throw to refuse the run, or
+// return a warning (kept in `warnings` and passed to `before_run_warning`); empty: no check.
 OperatingPointAnalysis AnalyseOperatingPoint(
     const GearboxSpec& spec, const ComponentModel& model, Tier tier, const SolverOptions& solver,
     const ProgressCallback& progress = {},
-    const std::function<void(const std::string&)>& before_run_warning = {});
+    const std::function<void(const std::string&)>& before_run_warning = {},
+    const std::function<std::string(RunMemory&)>& before_run_memory = {});
 
 nlohmann::json SummaryJson(const SolverSummary& s);
 

@@ -148,7 +148,8 @@ void OutputFolder::Lock() {
     }
     // The holder before us may have removed the lock file after we opened it: then our lock is
     // on a deleted file and means nothing; take the lock again on the current file.
-    struct stat held {}, current {};
+    struct stat held {
+    }, current{};
     if (::fstat(fd, &held) == 0 && ::stat(lock_path_.c_str(), &current) == 0 &&
         held.st_ino == current.st_ino && held.st_dev == current.st_dev) {
       lock_fd_ = fd;
@@ -194,6 +195,11 @@ void OutputFolder::RemoveStaleStaging() const {
 
 void OutputFolder::Write(const std::string& name, const std::string& content) const {
   WriteFileAtomically((staging_ / name).string(), content);
+}
+
+void OutputFolder::Write(const std::string& name,
+                         const std::function<void(std::FILE*)>& write) const {
+  WriteFileAtomically((staging_ / name).string(), write);
 }
 
 void OutputFolder::Commit() {
@@ -262,8 +268,8 @@ void OutputFolder::Commit() {
   if (::rename(staging_.c_str(), visible.c_str()) == 0) kept = visible;
   committed_ = true;
   ForgetOnSignal(staging_);
-  throw IoError(failure + "; " + target_.string() + " is unchanged; the complete new results are in " +
-                kept.string());
+  throw IoError(failure + "; " + target_.string() +
+                " is unchanged; the complete new results are in " + kept.string());
 }
 
 std::unique_ptr<OutputFolder> OpenOutputFolder(const std::optional<std::string>& out,

@@ -17,7 +17,9 @@
 // SIGTERM / SIGHUP through cleanup_on_exit.h).
 #pragma once
 
+#include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -35,6 +37,8 @@ class OutputFolder {
   const std::filesystem::path& staging() const { return staging_; }
   // Writes one file into the staging folder (whole or not at all).
   void Write(const std::string& name, const std::string& content) const;
+  // The same, the content written by `write` as it goes (WriteFileAtomically).
+  void Write(const std::string& name, const std::function<void(std::FILE*)>& write) const;
   void Commit();
 
  private:

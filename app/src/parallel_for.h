@@ -14,11 +14,16 @@
 
 namespace gearnvh::app {
 
+// The threads ParallelFor(count, threads, ...) runs on: at most one per index.
+inline int ParallelWorkers(size_t count, int threads) {
+  const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  return std::min<int>(threads > 0 ? threads : hardware,
+                       static_cast<int>(std::max<size_t>(count, 1)));
+}
+
 template <typename Body>
 void ParallelFor(size_t count, int threads, Body&& body) {
-  const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  const int used =
-      std::min<int>(threads > 0 ? threads : hardware, static_cast<int>(std::max<size_t>(count, 1)));
+  const int used = ParallelWorkers(count, threads);
   std::atomic<size_t> next{0};
   auto worker = [&]() {
     for (size_t i = next++; i < count; i = next++) body(i);

@@ -92,6 +92,12 @@ int RunReport(const ReportCommandOptions& o) {
     const int jobs =
         std::max(1, std::min<int>(o.jobs > 0 ? o.jobs : hardware, static_cast<int>(mine.size())));
     const int inner = std::max(1, hardware / jobs);
+    // Each gearbox in flight gets its share of the memory limit (docs/cli.md, "Memory").
+    std::optional<MemoryLimit> memory_share = AvailableMemory();
+    if (memory_share && jobs > 1) {
+      memory_share->bytes /= static_cast<size_t>(jobs);
+      memory_share->source += fmt::format(", shared by {} gearboxes in parallel", jobs);
+    }
     std::vector<GearboxEntry> entries(o.files.size());
     std::atomic<size_t> next{0};
     std::mutex progress_mutex;
@@ -109,7 +115,8 @@ int RunReport(const ReportCommandOptions& o) {
       for (size_t k = next++; k < mine.size(); k = next++) {
         const size_t i = mine[k];
         if (display.ok()) {
-          entries[i] = BuildGearboxReport(o.files[i], staging / folders[i], o, inner, stage);
+          entries[i] =
+              BuildGearboxReport(o.files[i], staging / folders[i], o, inner, stage, memory_share);
         } else {
           entries[i].file = o.files[i];
           entries[i].folder = folders[i];

@@ -115,7 +115,8 @@ std::string OrderTracksCsv(const std::vector<OrderTrack>& mesh,
 
 GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::path& folder,
                                 const ReportCommandOptions& o, int threads,
-                                const StageProgress& stage) {
+                                const StageProgress& stage,
+                                const std::optional<MemoryLimit>& memory) {
   auto counted = [&stage](const char* what, const char* unit) {
     return [&stage, what, unit](long done, long total) {
       stage(fmt::format("{} {}/{} {}", what, done, total, unit));
@@ -152,7 +153,10 @@ GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::
     solver.transient_cycles = spec.analysis.transient_cycles;
     const OperatingPointAnalysis op = AnalyseOperatingPoint(
         spec, model, tier, solver,
-        stage ? ProgressCallback(counted("operating point", "mesh cycles")) : ProgressCallback());
+        stage ? ProgressCallback(counted("operating point", "mesh cycles")) : ProgressCallback(),
+        {}, [&](RunMemory& need) {
+          return CheckRunMemory(need, memory, "analysis.cycles", std::to_string(solver.cycles));
+        });
     if (op.result.summary.status != SolverStatus::kSuccess) {
       throw std::runtime_error("operating point: " + op.result.summary.message);
     }
@@ -295,7 +299,7 @@ GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::
     for (UffFunction& f : SweepOrderTracksUff(spec, sweep, static_cast<int>(uff.size()) + 1)) {
       uff.push_back(std::move(f));
     }
-    WriteFileAtomically((folder / "results.uff").string(), UffFile(uff));
+    WriteUffFile((folder / "results.uff").string(), uff);
 
     nlohmann::json results = {{"name", spec.name},
                               {"file", file},

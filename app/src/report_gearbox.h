@@ -6,9 +6,11 @@
 #include <filesystem>
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
 #include "report_command.h"
+#include "run_memory.h"
 
 namespace gearnvh::app {
 
@@ -27,9 +29,12 @@ struct GearboxEntry {
 using StageProgress = std::function<void(const std::string&)>;
 
 // Everything for one gearbox, written into `folder` with `threads` threads. Never throws: a
-// failure is reported in the entry (ok = false, error; internal for a bug).
+// failure is reported in the entry (ok = false, error; internal for a bug). A pair's operating
+// point is refused (a failed gearbox naming analysis.cycles) when its memory estimate exceeds
+// `memory` (this gearbox's share of the limit; nullopt: not checked), and warned about near it.
 GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::path& folder,
                                 const ReportCommandOptions& options, int threads,
-                                const StageProgress& stage);
+                                const StageProgress& stage,
+                                const std::optional<MemoryLimit>& memory = std::nullopt);
 
 }  // namespace gearnvh::app

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <numbers>
@@ -21,6 +22,7 @@
 #include "gearnvh/reduction/reduced_model.h"
 #include "operating_point.h"
 #include "output_folder.h"
+#include "run_memory.h"
 #include "simulate_train.h"
 #include "train_operating_point.h"
 #include "uff_export.h"
@@ -58,15 +60,13 @@ LadderMethod ParseMethod(const std::string& text, const std::string& field) {
 
 namespace {
 
-std::string TrajectoryCsv(const Trajectory& t) {
-  std::ostringstream os;
-  os.precision(17);
-  os << "time_s,te_m,mesh_force_n,pinion_speed_rad_s,wheel_speed_rad_s,contact\n";
+// Streamed: at the sample storage bound (4e6 samples) the text is ~0.4 GB.
+void WriteTrajectoryCsv(const Trajectory& t, std::FILE* f) {
+  fmt::print(f, "time_s,te_m,mesh_force_n,pinion_speed_rad_s,wheel_speed_rad_s,contact\n");
   for (const TrajectorySample& s : t.samples) {
-    os << s.time << ',' << s.te << ',' << s.mesh_force << ',' << s.pinion_speed << ','
-       << s.wheel_speed << ',' << ContactStateName(s.state) << '\n';
+    fmt::print(f, "{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{}\n", s.time, s.te, s.mesh_force,
+               s.pinion_speed, s.wheel_speed, ContactStateName(s.state));
   }
-  return os.str();
 }
 
 std::string EventsCsv(const Trajectory& t) {
@@ -92,6 +92,7 @@ int RunSimulate(const SimulateOptions& options) {
                        "is available on gear trains (schema gearnvh/2); a single pair's exponent "
                        "is in `gearnvh atlas`");
     }
+    const std::optional<MemoryLimit> memory_limit = AvailableMemory();
     const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
     const GearboxSpec spec = std::move(*loaded.pair);
     const Tier tier = options.tier ? ParseTier(*options.tier) : spec.analysis.tier;
@@ -113,10 +114,25 @@ int RunSimulate(const SimulateOptions& options) {
                    total);
       };
     }
-    // Warnings about the run's cost before it starts, as for a train (simulate_train.cc).
-    const OperatingPointAnalysis op =
-        AnalyseOperatingPoint(spec, model, tier, solver, progress,
-                              [](const std::string& w) { fmt::print(stderr, "warning: {}\n", w); });
+    // Warnings about the run's cost before it starts, as for a train (simulate_train.cc); the
+    // text's warning lines at the end leave them out (the JSON keeps every warning).
+    std::vector<std::string> said_before_run;
+    const OperatingPointAnalysis op = AnalyseOperatingPoint(
+        spec, model, tier, solver, progress,
+        [&](const std::string& w) {
+          fmt::print(stderr, "warning: {}\n", w);
+          said_before_run.push_back(w);
+        },
+        [&](RunMemory& need) {
+          if (options.uff) {
+            // The TE and mesh force histories as UFF values, one dataset's text at a time.
+            const long n = need.recorded_samples;
+            need.parts.push_back(
+                {"UFF export", 2 * static_cast<size_t>(n) * sizeof(double) + UffValueTextBytes(n)});
+          }
+          return CheckRunMemory(need, memory_limit, options.cycles ? "--cycles" : "analysis.cycles",
+                                std::to_string(solver.cycles));
+        });
     if (on_terminal) fmt::print(stderr, "\n");
     const SolverSummary& summary = op.result.summary;
     const Trajectory& trajectory = op.result.trajectory;
@@ -129,12 +145,13 @@ int RunSimulate(const SimulateOptions& options) {
     doc["file"] = options.file;
     RequireFinite(doc, "simulate");
     if (out) {
-      out->Write("trajectory.csv", TrajectoryCsv(trajectory));
+      out->Write("trajectory.csv",
+                 [&trajectory](std::FILE* f) { WriteTrajectoryCsv(trajectory, f); });
       out->Write("events.csv", EventsCsv(trajectory));
       out->Write("results.json", doc.dump(2) + "\n");
       out->Commit();
     }
-    if (options.uff) WriteFileAtomically(*options.uff, UffFile(OperatingPointUff(spec, op)));
+    if (options.uff) WriteUffFile(*options.uff, OperatingPointUff(spec, op));
     if (options.json) {
       std::cout << doc.dump(2) << "\n";
     } else {
@@ -187,7 +204,11 @@ int RunSimulate(const SimulateOptions& options) {
         fmt::print("(sidebands in --json, over {})\n", Count(window, "mesh cycle", "mesh cycles"));
       }
       if (!op.cycles_note.empty()) fmt::print("  note: {}\n", op.cycles_note);
-      for (const std::string& w : op.warnings) fmt::print("  warning: {}\n", w);
+      for (const std::string& w : op.warnings) {
+        if (std::ranges::find(said_before_run, w) == said_before_run.end()) {
+          fmt::print("  warning: {}\n", w);
+        }
+      }
       if (!s.message.empty()) fmt::print("  note: {}\n", s.message);
       if (s.trajectory_truncated) {
         fmt::print(

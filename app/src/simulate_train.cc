@@ -201,6 +201,7 @@ nlohmann::json TrainSimulationJson(const TrainOperatingPoint& op, const TrainSpe
   doc["input_speed"] = {{"rad_s", spec.operating.speed}, {"rpm", spec.operating.speed * kRpm}};
   doc["common_period_s"] = tables.common_period;
   doc["warnings"] = op.warnings;
+  doc["memory_estimate"] = MemoryJson(op.memory);
   doc["summary"] = {{"status", TrainStepperInfoName(s.info)},
                     {"message", TrainStepperMessage(s)},
                     {"simulated_s", s.simulated_time},
@@ -277,8 +278,19 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
   TrainRunOptions& run = plan.run;
   const Tier tier = run.tier;
   const long cycles = run.cycles, transient = run.transient;
+  const std::optional<MemoryLimit> memory_limit = AvailableMemory();
   const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
-  run.before_run_warning = [](const std::string& w) { fmt::print(stderr, "warning: {}\n", w); };
+  // Said on stderr before the run; the text's warning lines at the end leave them out (the JSON
+  // keeps every warning), as for a pair.
+  std::vector<std::string> said_before_run;
+  run.before_run_warning = [&](const std::string& w) {
+    fmt::print(stderr, "warning: {}\n", w);
+    said_before_run.push_back(w);
+  };
+  run.before_run_memory = [&](RunMemory& need) {
+    return CheckRunMemory(need, memory_limit, options.cycles ? "--cycles" : "analysis.cycles",
+                          std::to_string(cycles));
+  };
   const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
   const TrainOperatingPoint op = RunTrainOperatingPoint(spec, run, [&](double time, double end) {
     if (!on_terminal) return;
@@ -366,7 +378,11 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
         "  (TE, force and rattle index exact: closed-form integrals and extrema of the recorded "
         "trajectory;\n   impacts and separation from the exact events)\n");
     if (lyapunov) PrintLyapunov(*lyapunov);
-    for (const std::string& w : warnings) fmt::print("  warning: {}\n", w);
+    for (const std::string& w : warnings) {
+      if (std::ranges::find(said_before_run, w) == said_before_run.end()) {
+        fmt::print("  warning: {}\n", w);
+      }
+    }
   }
   const bool lyapunov_ok = !lyapunov || lyapunov->info == TrainLyapunovSummary::Info::kSuccess;
   return s.info == TrainStepperSummary::Info::kSuccess && lyapunov_ok ? 0 : 1;

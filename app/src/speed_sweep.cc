@@ -21,6 +21,15 @@ namespace {
 
 constexpr double kRpm = 60.0 / (2.0 * std::numbers::pi);
 
+SolverOptions PointSolverOptions(const SpeedSweepOptions& options) {
+  SolverOptions solver;
+  ApplyLadderMethod(options.method, solver);
+  solver.cycles = options.cycles;
+  solver.transient_cycles = options.transient_cycles;
+  solver.cancel = options.cancel;
+  return solver;
+}
+
 SpeedPoint RunPoint(const GearboxSpec& base, const ComponentModel& model,
                     const ReducedModel& reduced, const SpeedSweepOptions& options, double speed,
                     int order_bins) {
@@ -31,11 +40,7 @@ SpeedPoint RunPoint(const GearboxSpec& base, const ComponentModel& model,
   spec.operating.speed = speed;
   const SegmentTables tables = BuildSegmentTables(model, reduced, spec);
   const auto [z0, state0] = StaticInitialState(tables);
-  SolverOptions solver;
-  ApplyLadderMethod(options.method, solver);
-  solver.cycles = options.cycles;
-  solver.transient_cycles = options.transient_cycles;
-  solver.cancel = options.cancel;
+  const SolverOptions solver = PointSolverOptions(options);
   if (solver.Cancelled()) throw RunCancelled();
   const SolverResult run = SimulateExact(tables, z0, state0, solver);
   p.matvec_per_cycle = run.summary.matvec_per_cycle;
@@ -67,6 +72,17 @@ SpeedPoint RunPoint(const GearboxSpec& base, const ComponentModel& model,
 }
 
 }  // namespace
+
+RunMemory SpeedSweepMemory(const SpeedSweepOptions& options, size_t speeds) {
+  const SolverOptions solver = PointSolverOptions(options);
+  const RecordingReserve recorded = PlanRecording(solver);
+  const auto at_once = static_cast<size_t>(ParallelWorkers(speeds, options.threads));
+  return {{{"recorded samples", at_once * recorded.sample_bytes()},
+           {"event log", at_once * recorded.event_bytes()},
+           {"waterfall spectra",
+            at_once * SpectrumBytes(options.waterfall_cycles * solver.samples_per_cycle)}},
+          recorded.samples};
+}
 
 SpeedSweepResult RunSpeedSweep(const GearboxSpec& spec, const ComponentModel& model,
                                const ReducedModel& reduced, const SpeedSweepOptions& options,

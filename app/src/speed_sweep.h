@@ -12,6 +12,7 @@
 #include "gearnvh/nvh/rattle.h"
 #include "gearnvh/reduction/reduced_model.h"
 #include "gearnvh/solver/solver_options.h"
+#include "run_memory.h"
 
 namespace gearnvh::app {
 
@@ -48,6 +49,10 @@ struct SpeedSweepResult {
 
 // (speeds done, total): called from worker threads, one call at a time (under a lock).
 using SweepProgress = std::function<void(int, int)>;
+
+// The memory RunSpeedSweep holds for the parts that grow with the cycles: every speed in flight
+// (min(threads, speeds) at once) keeps its recording (PlanRecording) and its waterfall spectrum.
+RunMemory SpeedSweepMemory(const SpeedSweepOptions& options, size_t speeds);
 
 // Speeds whose `skip` entry is true are not run (ok = false, message "skipped"; MPI ranks fill
 // them in); skip may be empty.

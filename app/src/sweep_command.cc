@@ -19,6 +19,7 @@
 #include "gearnvh/model/input_error.h"
 #include "mpi_context.h"
 #include "output_folder.h"
+#include "run_memory.h"
 #include "simulate_command.h"
 #include "speed_sweep.h"
 #include "train_operating_point.h"
@@ -220,6 +221,7 @@ int RunSweep(const SweepOptions& options) {
       std::cerr << "note: " << loaded.sweep_note << "\n";
     }
     if (loaded.schema == 2) return SweepTrain(options, loaded.train);
+    const std::optional<MemoryLimit> memory_limit = AvailableMemory();
     const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", true);
     const GearboxSpec spec = std::move(*loaded.pair);
     const Tier tier = options.tier ? ParseTier(*options.tier) : spec.analysis.tier;
@@ -231,6 +233,16 @@ int RunSweep(const SweepOptions& options) {
                               sweep.transient_cycles, options.cycles, options.transient);
     sweep.threads = options.jobs;
     sweep.method = options.method;
+    // Before any work: the speeds in flight at once each hold their recording.
+    const int rank = MpiContext::Rank(), ranks = MpiContext::Size();
+    const auto my_speeds =
+        static_cast<size_t>((spec.analysis.speed_sweep.points + ranks - 1 - rank) / ranks);
+    const std::string memory_warning =
+        CheckRunMemory(SpeedSweepMemory(sweep, my_speeds), memory_limit, "--cycles",
+                       std::to_string(sweep.cycles), "fewer recorded cycles or --jobs need less");
+    if (!memory_warning.empty() && rank == 0) {
+      fmt::print(stderr, "warning: {}\n", memory_warning);
+    }
     const ComponentModel model = BuildComponentModel(spec);
     RequirePairTier(model, tier, options.tier);
     const ReducedModel reduced = ReduceModel(model, tier);
@@ -242,7 +254,6 @@ int RunSweep(const SweepOptions& options) {
       };
     }
     // Under mpirun the speeds are split across ranks (round robin) and rank 0 gathers them.
-    const int rank = MpiContext::Rank(), ranks = MpiContext::Size();
     std::vector<bool> skip(static_cast<size_t>(spec.analysis.speed_sweep.points), false);
     for (size_t i = 0; i < skip.size(); ++i) skip[i] = static_cast<int>(i % ranks) != rank;
     SpeedSweepResult result =
@@ -286,7 +297,7 @@ int RunSweep(const SweepOptions& options) {
       out->Commit();
     }
     if (options.uff) {
-      WriteFileAtomically(*options.uff, UffFile(SweepOrderTracksUff(spec, result)));
+      WriteUffFile(*options.uff, SweepOrderTracksUff(spec, result));
     }
     if (options.json) {
       std::cout << doc.dump(1) << "\n";

@@ -36,7 +36,8 @@ double ClosestRelativeError(double f, const std::vector<double>& reference) {
 }
 
 TierRow RunTier(const GearboxSpec& spec, const ComponentModel& model, const ReducedModel& reduced,
-                const ModalSummary& full, const SolverOptions& solver, const std::string& label) {
+                const ModalSummary& full, const SolverOptions& solver, const std::string& label,
+                const std::function<std::string(RunMemory&)>& before_run_memory) {
   TierRow row;
   row.name = label;
   row.method = solver.method;
@@ -48,7 +49,8 @@ TierRow RunTier(const GearboxSpec& spec, const ComponentModel& model, const Redu
     row.frequency_errors.push_back(ClosestRelativeError(f, full.frequencies_hz));
   }
   row.max_frequency_error = TierFrequencyError(reduced, full);
-  const OperatingPointAnalysis op = AnalyseOperatingPoint(spec, model, reduced.tier, solver);
+  const OperatingPointAnalysis op =
+      AnalyseOperatingPoint(spec, model, reduced.tier, solver, {}, {}, before_run_memory);
   const SolverSummary& s = op.result.summary;
   if (s.status != SolverStatus::kSuccess) throw std::runtime_error(label + ": " + s.message);
   row.state_dim = op.tables.m;
@@ -89,7 +91,8 @@ double TierFrequencyError(const ReducedModel& reduced, const ModalSummary& full)
 }
 
 TiersComparison CompareTiers(const GearboxSpec& spec, const SolverOptions& solver,
-                             const TiersProgress& progress) {
+                             const TiersProgress& progress,
+                             const std::function<std::string(RunMemory&)>& before_run_memory) {
   solver.Validate();
   const ComponentModel model = BuildComponentModel(spec);
   // Enough full-FE modes that every tier frequency has its counterpart.
@@ -100,11 +103,11 @@ TiersComparison CompareTiers(const GearboxSpec& spec, const SolverOptions& solve
   const size_t total = tiers.size() + 1;
   for (const ReducedModel& r : tiers) {
     if (progress) progress(rows.size() + 1, total, r.name);
-    rows.push_back(RunTier(spec, model, r, full, solver, r.name));
+    rows.push_back(RunTier(spec, model, r, full, solver, r.name, before_run_memory));
     if (r.tier == Tier::kN20Mta) {
       SolverOptions fused = solver;
       ApplyLadderMethod(LadderMethod::kFused, fused);
-      rows.push_back(RunTier(spec, model, r, full, fused, r.name + " + fusion"));
+      rows.push_back(RunTier(spec, model, r, full, fused, r.name + " + fusion", before_run_memory));
     }
   }
   // The finest tier: the one with most DOF (N40 full on flexible gearboxes, tier 3 otherwise).
@@ -154,6 +157,7 @@ int RunTiers(const TiersCommandOptions& options) {
     const config::LoadedGearbox loaded = config::LoadAnyGearboxFile(options.file);
     where = loaded.locations;
     if (loaded.schema == 2) return RunTrainTiers(options, loaded.train);
+    const std::optional<MemoryLimit> memory_limit = AvailableMemory();
     const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
     const GearboxSpec& spec = *loaded.pair;
     SolverOptions solver;
@@ -170,7 +174,16 @@ int RunTiers(const TiersCommandOptions& options) {
         fmt::print(stderr, "\rtiers: {}/{} ({})        ", done, total, name);
       };
     }
-    const TiersComparison comparison = CompareTiers(spec, solver, progress);
+    // Every tier records the same cycles: checked before each run, said once.
+    bool memory_said = false;
+    const TiersComparison comparison =
+        CompareTiers(spec, solver, progress, [&](RunMemory& need) -> std::string {
+          const std::string warning =
+              CheckRunMemory(need, memory_limit, "--cycles", std::to_string(solver.cycles));
+          if (!warning.empty() && !memory_said) fmt::print(stderr, "warning: {}\n", warning);
+          memory_said = memory_said || !warning.empty();
+          return {};
+        });
     if (on_terminal) fmt::print(stderr, "\n");
     const std::vector<TierRow>& rows = comparison.rows;
     const size_t finest = comparison.finest;

@@ -18,6 +18,7 @@
 #include "gearnvh/nvh/rattle.h"
 #include "gearnvh/reduction/reduced_model.h"
 #include "gearnvh/solver/exact_solver.h"
+#include "run_memory.h"
 
 namespace gearnvh::app {
 
@@ -63,8 +64,10 @@ double TierFrequencyError(const ReducedModel& reduced, const ModalSummary& full)
 // (tier being run, tiers in all, its name)
 using TiersProgress = std::function<void(size_t, size_t, const std::string&)>;
 
-// Every available tier at the operating point with `solver`'s cycles (also N20 MTA with fusion).
+// Every available tier at the operating point with `solver`'s cycles (also N20 MTA with fusion),
+// one after the other. `before_run_memory` is AnalyseOperatingPoint's, for every tier's run.
 TiersComparison CompareTiers(const GearboxSpec& spec, const SolverOptions& solver,
-                             const TiersProgress& progress = {});
+                             const TiersProgress& progress = {},
+                             const std::function<std::string(RunMemory&)>& before_run_memory = {});
 
 }  // namespace gearnvh::app

@@ -270,10 +270,18 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, const TrainRun
   if (options.spectra) {
     window = PlanWindow(tables, recorder.sample_interval(), start, end,
                         options.max_spectrum_samples, options.cycles);
-    if (window.periods > 0) {
-      recorder.KeepTeSeries(window.from_time, window.periods * window.samples_per_period);
+  }
+  const long kept = window.periods * window.samples_per_period;
+  op.memory = {{{"TE samples", TrainRecorder::TeSeriesBytes(tables.meshes.size(), kept)},
+                {"TE spectrum", SpectrumBytes(kept)}},
+               kept};
+  if (options.before_run_memory) {
+    if (const std::string warning = options.before_run_memory(op.memory); !warning.empty()) {
+      op.warnings.push_back(warning);
+      if (options.before_run_warning) options.before_run_warning(warning);
     }
   }
+  if (kept > 0) recorder.KeepTeSeries(window.from_time, kept);
   const auto wall_start = std::chrono::steady_clock::now();
   // The run goes in chunks of at most 1 % and kCancelCycles cycles: cancellation is seen within
   // that, progress is reported at every 1 %.

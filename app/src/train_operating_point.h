@@ -27,6 +27,7 @@
 #include "gearnvh/nvh/spectrum.h"
 #include "gearnvh/solver/train_statistics.h"
 #include "gearnvh/solver/train_stepper.h"
+#include "run_memory.h"
 
 namespace gearnvh::app {
 
@@ -44,6 +45,10 @@ struct TrainRunOptions {
   // Called with each warning about the run's cost (SlowRunWarning) before the run starts, so a
   // command can say it on stderr at once; empty: not called (the warning is in `warnings` too).
   std::function<void(const std::string&)> before_run_warning;
+  // Called with the memory estimate before the run starts (TrainOperatingPoint::memory): may add
+  // the command's own parts, throw to refuse the run, or return a warning (kept in `warnings` and
+  // passed to before_run_warning); empty: no check.
+  std::function<std::string(RunMemory&)> before_run_memory;
   void Validate() const;
 };
 
@@ -85,6 +90,9 @@ struct TrainOperatingPoint {
   TrainStatistics stats;
   std::vector<std::string> warnings;  // what the train solver does not model, said once
   double wall_s = 0.0;
+  // The parts that grow with the recorded cycles, estimated before the run: the TE samples kept
+  // for spectra (TrainRecorder::KeepTeSeries) and the spectrum of one mesh at a time.
+  RunMemory memory;
   // Spectra (empty `sidebands` when TrainRunOptions::spectra is false).
   long sideband_window_common_periods = 0;
   SidebandOptions sideband_options;

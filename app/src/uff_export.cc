@@ -2,9 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <ctime>
 
+#include "atomic_file.h"
 #include "order_tracks.h"
 
 namespace gearnvh::app {
@@ -152,10 +154,18 @@ std::vector<UffFunction> SweepOrderTracksUff(const GearboxSpec& spec, const Spee
   return out;
 }
 
-std::string UffFile(const std::vector<UffFunction>& functions) {
-  std::string out;
-  for (const UffFunction& f : functions) out += UffDataset58(f);
-  return out;
+void WriteUffFile(const std::string& path, const std::vector<UffFunction>& functions) {
+  WriteFileAtomically(path, [&functions](std::FILE* f) {
+    for (const UffFunction& function : functions) {
+      const std::string dataset = UffDataset58(function);
+      std::fwrite(dataset.data(), 1, dataset.size(), f);
+    }
+  });
+}
+
+size_t UffValueTextBytes(long values) {
+  const auto n = static_cast<size_t>(std::max(values, 0L));
+  return 20 * n + (n + 3) / 4;
 }
 
 }  // namespace gearnvh::app

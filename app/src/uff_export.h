@@ -1,8 +1,8 @@
 // Universal File Format (UFF / UNV) dataset 58, ASCII: the function records NVH tools (LMS
 // Test.Lab, Simcenter, ME'scope, pyuff, MATLAB readuff) read. gearnvh writes real, double
-// precision, evenly spaced functions (record 7 ordinate type 4, spacing 1; data as 4E20.12 per line,
-// 13 significant digits). The abscissa start and step are E13.5 fields (6 significant digits), as
-// the format defines them.
+// precision, evenly spaced functions (record 7 ordinate type 4, spacing 1; data as 4E20.12 per
+// line, 13 significant digits). The abscissa start and step are E13.5 fields (6 significant
+// digits), as the format defines them.
 //
 // What a report or `--uff` file holds (docs/reports.md):
 //   operating point: TE time history (m over s), mesh force time history (N over s), TE amplitude
@@ -30,7 +30,7 @@ struct UffAxis {
 
 struct UffFunction {
   std::string id1, id2, id3, id4, id5;  // ID lines (80 characters at most)
-  int function_type = 0;  // 1 time response, 12 spectrum
+  int function_type = 0;                // 1 time response, 12 spectrum
   int function_id = 0;
   std::string response_name = "NONE";
   int response_node = 1, response_direction = 0;
@@ -50,10 +50,15 @@ std::vector<UffFunction> OperatingPointUff(const GearboxSpec& spec,
 
 // Order tracks of the sweep's waterfall at mesh orders 1..3 (order_tracks.h); none when a speed
 // failed or the sweep is log-spaced (the dataset's abscissa is even).
-std::vector<UffFunction> SweepOrderTracksUff(const GearboxSpec& spec,
-                                             const SpeedSweepResult& sweep, int first_id = 1);
+std::vector<UffFunction> SweepOrderTracksUff(const GearboxSpec& spec, const SpeedSweepResult& sweep,
+                                             int first_id = 1);
 
-// The concatenated datasets.
-std::string UffFile(const std::vector<UffFunction>& functions);
+// Writes the datasets one after the other into `path` (WriteFileAtomically), one dataset's text
+// in memory at a time.
+void WriteUffFile(const std::string& path, const std::vector<UffFunction>& functions);
+
+// The text of `values` data values in a dataset 58 (4E20.12: 20 characters each, a line end per
+// 4), the part of a dataset that grows with its length.
+size_t UffValueTextBytes(long values);
 
 }  // namespace gearnvh::app

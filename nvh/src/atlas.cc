@@ -65,7 +65,9 @@ AtlasCell ComputeAtlasCell(const GearboxSpec& base, const AtlasAxis& x, const At
     lyapunov.transient_cycles = options.transient_cycles;
     lyapunov.cycles = options.cycles;
     lyapunov.alignment_cycles = std::min<long>(100, options.cycles / 4);
+    // The rattle indices need the exact statistics and the logged impacts, not the samples.
     lyapunov.record = true;
+    lyapunov.solver.max_trajectory_samples = 0;
     const LyapunovEstimate est = EstimateLyapunov(tables, z0, state0, lyapunov);
     if (est.info != LyapunovEstimate::Info::kSuccess) {
       cell.message = est.message;

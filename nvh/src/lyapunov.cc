@@ -64,13 +64,9 @@ LyapunovEstimate EstimateLyapunov(const SegmentTables& tables, const Eigen::Vect
   solver.cycles = options.cycles;
   solver.transient_cycles = options.transient_cycles;
   solver.record_trajectory = options.record;
-  const long wanted_samples = options.record ? options.cycles * solver.samples_per_cycle : 0;
-  const size_t samples =
-      static_cast<size_t>(std::min(wanted_samples, solver.max_trajectory_samples));
-  const size_t events =
-      options.record ? static_cast<size_t>(std::min(options.cycles * 16, solver.max_logged_events))
-                     : 0;
-  ExactStepper stepper(tables, solver, z0, state0, samples, events);
+  const RecordingReserve reserve = options.record ? PlanRecording(solver) : RecordingReserve{};
+  ExactStepper stepper(tables, solver, z0, state0, static_cast<size_t>(reserve.samples),
+                       static_cast<size_t>(reserve.events));
   auto fail = [&]() {
     out.info = LyapunovEstimate::Info::kSolverFailed;
     out.message = stepper.summary().message;

@@ -49,6 +49,12 @@ SpectrumAnalyzer::~SpectrumAnalyzer() {
   fftw_free(plan_->out);
 }
 
+size_t SpectrumBytes(long length) {
+  if (length <= 0) return 0;
+  const auto n = static_cast<size_t>(length);
+  return 3 * n * sizeof(double) + (n / 2 + 1) * (sizeof(fftw_complex) + sizeof(double));
+}
+
 AmplitudeSpectrum SpectrumAnalyzer::Analyze(const std::vector<double>& samples, double rate) {
   if (static_cast<int>(samples.size()) != n_) {
     throw std::invalid_argument("SpectrumAnalyzer: expected " + std::to_string(n_) + " samples");

@@ -337,11 +337,9 @@ SolverResult SimulateExact(const SegmentTables& tables, const Eigen::VectorXd& z
   const auto start = std::chrono::steady_clock::now();
   const long wanted_samples =
       options.record_trajectory ? options.cycles * options.samples_per_cycle : 0;
-  const size_t samples =
-      static_cast<size_t>(std::min(wanted_samples, options.max_trajectory_samples));
-  const size_t events =
-      static_cast<size_t>(std::min(options.cycles * 16, options.max_logged_events));
-  ExactStepper stepper(tables, options, z0, state0, samples, events);
+  const RecordingReserve reserve = PlanRecording(options);
+  ExactStepper stepper(tables, options, z0, state0, static_cast<size_t>(reserve.samples),
+                       static_cast<size_t>(reserve.events));
   bool ok = true;
   // Fusion needs contact without excitation or manufacturing errors (both make one mesh cycle's
   // map differ from the next's); the certificate is retried after every chunk of

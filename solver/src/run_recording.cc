@@ -1,5 +1,6 @@
 #include "gearnvh/solver/run_recording.h"
 
+#include <algorithm>
 #include <cstdint>
 
 #if defined(__linux__)
@@ -27,6 +28,17 @@ void PreferHugePages(const void* data, size_t bytes) {
 }
 
 }  // namespace
+
+RecordingReserve PlanRecording(const SolverOptions& options) {
+  constexpr long kLoggedEventsPerCycle = 16;
+  RecordingReserve r;
+  if (options.record_trajectory) {
+    r.samples =
+        std::min(options.cycles * options.samples_per_cycle, options.max_trajectory_samples);
+  }
+  r.events = std::min(options.cycles * kLoggedEventsPerCycle, options.max_logged_events);
+  return r;
+}
 
 RunRecording::RunRecording(const SegmentTables& tables, const SolverOptions& options,
                            size_t reserve_samples, size_t reserve_events)

@@ -403,14 +403,24 @@ TEST_CASE("simulate: running out of memory is an error that says so, not an inte
           "[cli][hardening]") {
   const TempDir dir;
   const fs::path out = dir.path() / "run";
-  // 200000 recorded cycles keep 6.4 million samples (measured 1.1 GB for 400000); the address
-  // space is capped at 400 MB.
-  const auto run = RunCommand("ulimit -v 400000 && " + kExe + " simulate " + kWhine +
-                              " --cycles 200000 --transient 0 --out " + out.string());
-  INFO(run.err);
-  CHECK(run.exit_code == 1);
-  CHECK(run.err.find("error: out of memory: ") != std::string::npos);
-  CHECK(run.err.find("internal error") == std::string::npos);
+  // 200000 recorded cycles keep 4 million samples (the bound), 244 MiB, and 22.9 MiB of event
+  // log; the address space is capped at 300 MB, ~100 MB of it mapped at the start.
+  const std::string run = "ulimit -v 300000 && " + kExe + " simulate " + kWhine +
+                          " --cycles 200000 --transient 0 --out " + out.string();
+  // The estimate sees the cap: refused before the run.
+  const auto refused = RunCommand(run);
+  INFO(refused.err);
+  CHECK(refused.exit_code == 2);
+  CHECK(refused.err.find("--cycles: the run would hold about 267 MiB") != std::string::npos);
+  CHECK(refused.err.find("(the address space left under ulimit -v)") != std::string::npos);
+  CHECK(!fs::exists(out));
+  CHECK(Debris(dir.path()).empty());
+  // With the check told there is room, the allocation itself fails: an error that says so.
+  const auto failed = RunCommand("export GEARNVH_MEMORY_LIMIT=1000000000000 && " + run);
+  INFO(failed.err);
+  CHECK(failed.exit_code == 1);
+  CHECK(failed.err.find("error: out of memory: ") != std::string::npos);
+  CHECK(failed.err.find("internal error") == std::string::npos);
   CHECK(!fs::exists(out));
   CHECK(Debris(dir.path()).empty());
 }

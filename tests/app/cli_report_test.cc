@@ -276,5 +276,20 @@ TEST_CASE("report: a gear train gets its page and figures, next to a pair and pa
   CHECK(batch.find("broken_train.yaml") != std::string::npos);
 }
 
+TEST_CASE("report fails a gearbox whose operating point would hold more than the memory limit",
+          "[cli][report][memory]") {
+  TempDir dir;
+  const fs::path out = dir.path() / "report";
+  const auto r = RunCommand("GEARNVH_MEMORY_LIMIT=1 " + kExe + " report --no-atlas --out " +
+                            out.string() + " " + kExamples + "/idle_rattle.yaml");
+  INFO(r.err);
+  CHECK(r.exit_code == 1);
+  // The file's analysis.cycles at its line, the estimate by part and the limit.
+  CHECK(r.err.find("idle_rattle.yaml:48: analysis.cycles: the run would hold about ") !=
+        std::string::npos);
+  CHECK(r.err.find("(GEARNVH_MEMORY_LIMIT)") != std::string::npos);
+  CHECK(!fs::exists(out));
+}
+
 }  // namespace
 }  // namespace gearnvh

@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "gearnvh/solver/trajectory.h"
 #include "support/run_command.h"
 
 namespace gearnvh {
@@ -100,6 +101,125 @@ TEST_CASE("simulate warns up front when whole engine-order periods more than dou
                                "/idle_rattle.yaml");
   REQUIRE(mild.exit_code == 0);
   CHECK(mild.err.find("recording") == std::string::npos);
+  // The text run shows the warning once: on stderr before the run, not again among the text's
+  // warning lines at the end.
+  const auto text =
+      RunCommand(kExe + " simulate --cycles 10 --transient 0 " + kExamples + "/idle_rattle.yaml");
+  REQUIRE(text.exit_code == 0);
+  const std::string shown = text.err + text.out;
+  INFO(shown);
+  const std::string warning = "recording 27 mesh cycles, 3x the 10 requested";
+  const size_t first = shown.find(warning);
+  REQUIRE(first != std::string::npos);
+  CHECK(shown.find(warning, first + 1) == std::string::npos);
+  CHECK(text.out.find("note: recorded 27 mesh cycles instead of 10") != std::string::npos);
+}
+
+TEST_CASE("simulate and atlas --help show what an option takes without a type-name prefix",
+          "[cli][simulate]") {
+  // CLI11 prints the type name and then each validator's description after a colon
+  // ("--cycles INT:INT in [1, 1000000]"); the options name their range once.
+  const auto help = RunCommand(kExe + " simulate --help");
+  REQUIRE(help.exit_code == 0);
+  INFO(help.out);
+  CHECK(help.out.find("--cycles INT in [1, 1000000]") != std::string::npos);
+  CHECK(help.out.find("--transient INT in [0, 100000000]") != std::string::npos);
+  CHECK(help.out.find("--lyapunov INT in [1, 64]") != std::string::npos);
+  CHECK(help.out.find("--tier TIER ") != std::string::npos);
+  CHECK(help.out.find("--method METHOD ") != std::string::npos);
+  // No type name glued to a description anywhere ("INT:INT", "TEXT:TIER", "FLOAT:NUMBER").
+  for (const char* glued : {"INT:", "TEXT:", "FLOAT:"}) {
+    INFO(glued);
+    CHECK(help.out.find(glued) == std::string::npos);
+  }
+  const auto atlas = RunCommand(kExe + " atlas --help");
+  REQUIRE(atlas.exit_code == 0);
+  INFO(atlas.out);
+  CHECK(atlas.out.find("--x PARAMETER=FROM:TO:N ") != std::string::npos);
+  CHECK(atlas.out.find("--jobs INT in [1, 1024] ") != std::string::npos);
+  CHECK(atlas.out.find("TEXT:") == std::string::npos);
+#ifdef GEARNVH_HAVE_RENDER
+  const auto tiers = RunCommand(kExe + " tiers --help");
+  REQUIRE(tiers.exit_code == 0);
+  INFO(tiers.out);
+  CHECK(tiers.out.find("--dpi NUMBER in [36, 600]") != std::string::npos);
+  CHECK(tiers.out.find("FLOAT:") == std::string::npos);
+#endif
+}
+
+TEST_CASE(
+    "simulate estimates its memory before the run: refused above the limit and warned near it",
+    "[cli][simulate][memory]") {
+  const std::string file = kExamples + "/idle_rattle.yaml";
+  const std::string run = " simulate --cycles 100 --transient 0 ";
+  TempDir dir;
+  // The estimate, from the results of a run with room to spare; 100 cycles are rounded up to 108
+  // (whole periods of the order-2 engine excitation, 27 cycles).
+  const auto probe =
+      RunCommand(kExe + run + "--json --out " + (dir.path() / "probe").string() + " " + file);
+  REQUIRE(probe.exit_code == 0);
+  const auto doc = nlohmann::json::parse(probe.out);
+  const nlohmann::json& memory = doc["memory_estimate"];
+  const auto estimate = memory["bytes"].get<size_t>();
+  size_t sum = 0;
+  for (const auto& [name, bytes] : memory["parts"].items()) sum += bytes.get<size_t>();
+  CHECK(estimate == sum);
+  // The recorded samples are what trajectory.csv holds (one line each after the header): counts,
+  // so exactly 108 x 32 samples of sizeof(TrajectorySample).
+  const std::string csv = testing::ReadWholeFile(dir.path() / "probe" / "trajectory.csv");
+  const auto lines = static_cast<size_t>(std::count(csv.begin(), csv.end(), '\n'));
+  CHECK(lines - 1 == 108 * 32);
+  CHECK(memory["parts"]["recorded samples"].get<size_t>() ==
+        (lines - 1) * sizeof(TrajectorySample));
+  CHECK(memory["parts"]["backlash-free reference"] == 0);  // statistics only
+  CHECK(doc["warnings"].dump().find("will hold") == std::string::npos);
+
+  // One byte short of the estimate: refused before the run, naming the option, the value, the
+  // estimate and the limit; --out is not written.
+  const auto limit = [](size_t bytes) { return "GEARNVH_MEMORY_LIMIT=" + std::to_string(bytes); };
+  const auto out = dir.path() / "refused";
+  const auto refused =
+      RunCommand(limit(estimate - 1) + " " + kExe + run + "--out " + out.string() + " " + file);
+  INFO(refused.err);
+  CHECK(refused.exit_code == 2);
+  CHECK(refused.err.find("--cycles: the run would hold about ") != std::string::npos);
+  CHECK(refused.err.find("(GEARNVH_MEMORY_LIMIT); fewer recorded cycles need less, got 100") !=
+        std::string::npos);
+  CHECK(refused.err.find("recorded samples 216 KiB") != std::string::npos);  // 221184 B
+  CHECK(refused.out.empty());
+  CHECK_FALSE(std::filesystem::exists(out));
+  for (const auto& e : std::filesystem::directory_iterator(dir.path())) {
+    INFO(e.path());
+    CHECK(e.path().filename() == "probe");  // no staging folder or lock left behind
+  }
+  // The file's analysis.cycles: an input error at its line.
+  const auto from_file = RunCommand(limit(1000) + " " + kExe + " simulate " + file);
+  CHECK(from_file.exit_code == 1);
+  CHECK(from_file.err.find("idle_rattle.yaml:") != std::string::npos);
+  CHECK(from_file.err.find(": analysis.cycles: the run would hold about ") != std::string::npos);
+
+  // At the limit: the run goes ahead with a warning (above half the limit), said once before the
+  // run and kept in the JSON's warnings.
+  const auto near = RunCommand(limit(estimate) + " " + kExe + run + "--json " + file);
+  INFO(near.err);
+  REQUIRE(near.exit_code == 0);
+  CHECK(near.err.find("warning: --cycles 100: the run will hold about ") != std::string::npos);
+  CHECK(nlohmann::json::parse(near.out)["warnings"].dump().find("the run will hold about") !=
+        std::string::npos);
+  const auto text = RunCommand(limit(estimate) + " " + kExe + run + file);
+  const std::string shown = text.err + text.out;
+  const size_t first = shown.find("the run will hold about");
+  REQUIRE(first != std::string::npos);
+  CHECK(shown.find("the run will hold about", first + 1) == std::string::npos);
+  // With room (the estimate below half the limit): no warning.
+  const auto roomy = RunCommand(limit(3 * estimate) + " " + kExe + run + file);
+  CHECK(roomy.exit_code == 0);
+  CHECK(roomy.err.find("will hold") == std::string::npos);
+  // A malformed limit is named.
+  const auto bad = RunCommand("GEARNVH_MEMORY_LIMIT=1GB " + kExe + run + file);
+  CHECK(bad.exit_code == 1);
+  CHECK(bad.err.find("GEARNVH_MEMORY_LIMIT: must be a whole number of bytes, got 1GB") !=
+        std::string::npos);
 }
 
 TEST_CASE("simulate: bad options and unavailable tiers are clear errors", "[cli][simulate]") {

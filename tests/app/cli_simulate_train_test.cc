@@ -240,3 +240,47 @@ TEST_CASE("simulate --lyapunov refuses more exponents than the train has and a s
 
 }  // namespace
 }  // namespace gearnvh
+
+namespace gearnvh {
+namespace {
+
+TEST_CASE("simulate on a train refuses a run above the memory limit and reports its estimate",
+          "[cli][simulate][train][memory]") {
+  // 1400 cycles of g1-g2 hold one common period (1349 cycles): the TE of both meshes is kept.
+  const std::string run =
+      " simulate --cycles 1400 --transient 0 " + kExamples + "/two_stage_helical_reducer.yaml";
+  const auto probe = RunCommand(kExe + run + " --json");
+  REQUIRE(probe.exit_code == 0);
+  const auto doc = nlohmann::json::parse(probe.out);
+  const auto estimate = doc["memory_estimate"]["bytes"].get<size_t>();
+  const auto te = doc["memory_estimate"]["parts"]["TE samples"].get<size_t>();
+  // The kept TE samples: one common period of both meshes at 32 samples per cycle of the fastest.
+  CHECK(te > 0);
+  CHECK(te % (2 * sizeof(double)) == 0);
+  CHECK(estimate >= te);
+  const auto refused =
+      RunCommand("GEARNVH_MEMORY_LIMIT=" + std::to_string(estimate - 1) + " " + kExe + run);
+  INFO(refused.err);
+  CHECK(refused.exit_code == 2);
+  CHECK(refused.err.find("--cycles: the run would hold about ") != std::string::npos);
+  CHECK(refused.err.find("got 1400") != std::string::npos);
+  CHECK(refused.out.empty());
+  // At the limit: a warning before the run (above half the limit), in the JSON's warnings, and
+  // shown once in the text.
+  const std::string at_limit = "GEARNVH_MEMORY_LIMIT=" + std::to_string(estimate) + " " + kExe;
+  const auto json = RunCommand(at_limit + run + " --json");
+  REQUIRE(json.exit_code == 0);
+  CHECK(json.err.find("warning: --cycles 1400: the run will hold about ") != std::string::npos);
+  CHECK(nlohmann::json::parse(json.out)["warnings"].dump().find("the run will hold about") !=
+        std::string::npos);
+  const auto text = RunCommand(at_limit + run);
+  REQUIRE(text.exit_code == 0);
+  const std::string shown = text.err + text.out;
+  INFO(shown);
+  const size_t first = shown.find("the run will hold about");
+  REQUIRE(first != std::string::npos);
+  CHECK(shown.find("the run will hold about", first + 1) == std::string::npos);
+}
+
+}  // namespace
+}  // namespace gearnvh

@@ -157,5 +157,25 @@ TEST_CASE("sweep: too few cycles is a usage error, a bad file a clear input erro
   CHECK(!std::filesystem::exists(out.path() / "sweep"));  // nothing written
 }
 
+TEST_CASE("sweep refuses a sweep whose speeds in flight would hold more than the memory limit",
+          "[cli][sweep][memory]") {
+  // Each speed in flight keeps its recording: 100 cycles x 32 samples x sizeof(TrajectorySample)
+  // (64 B) = 200 KiB, twice with two speeds at once.
+  TempDir out;
+  const std::string sweep = " sweep --cycles 100 --transient 0 --out " +
+                            (out.path() / "sweep").string() + " " + kExamples + "/idle_rattle.yaml";
+  const auto one = RunCommand("GEARNVH_MEMORY_LIMIT=1 " + kExe + sweep + " --jobs 1");
+  INFO(one.err);
+  CHECK(one.exit_code == 2);
+  CHECK(one.err.find("--cycles: the run would hold about ") != std::string::npos);
+  CHECK(one.err.find("recorded samples 200 KiB") != std::string::npos);
+  CHECK(one.err.find("fewer recorded cycles or --jobs need less, got 100") != std::string::npos);
+  const auto two = RunCommand("GEARNVH_MEMORY_LIMIT=1 " + kExe + sweep + " --jobs 2");
+  INFO(two.err);
+  CHECK(two.exit_code == 2);
+  CHECK(two.err.find("recorded samples 400 KiB") != std::string::npos);
+  CHECK(!std::filesystem::exists(out.path() / "sweep"));  // nothing written
+}
+
 }  // namespace
 }  // namespace gearnvh

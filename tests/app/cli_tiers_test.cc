@@ -88,5 +88,19 @@ TEST_CASE("tiers on a gear train runs every tier it has side by side", "[cli][ti
   }
 }
 
+TEST_CASE("tiers refuses runs whose memory estimate exceeds the limit", "[cli][tiers][memory]") {
+  TempDir out;
+  const auto r =
+      RunCommand("GEARNVH_MEMORY_LIMIT=1 " + kExe + " tiers --cycles 54 --out " +
+                 (out.path() / "tiers").string() + " " + kExamples + "/idle_rattle.yaml");
+  INFO(r.err);
+  CHECK(r.exit_code == 2);
+  // 54 cycles (two periods of the engine order) x 32 samples x 64 B.
+  CHECK(r.err.find("--cycles: the run would hold about ") != std::string::npos);
+  CHECK(r.err.find("recorded samples 108 KiB") != std::string::npos);
+  CHECK(r.err.find("got 54") != std::string::npos);
+  CHECK(!std::filesystem::exists(out.path() / "tiers"));
+}
+
 }  // namespace
 }  // namespace gearnvh

@@ -9,6 +9,7 @@
 // caller supplies whole mesh cycles so the periodic content sits on bins.
 #pragma once
 
+#include <cstddef>
 #include <memory>
 #include <string>
 #include <vector>
@@ -39,6 +40,10 @@ class SpectrumAnalyzer {
   std::vector<double> window_;
   double window_sum_ = 0.0;
 };
+
+// The memory one spectrum of `length` samples holds at its peak: the caller's samples, the
+// analyzer's FFT input and window, FFTW's complex output and the amplitudes (length / 2 + 1 each).
+size_t SpectrumBytes(long length);
 
 // A peak near `frequency_hz` (searched within +-search_bins), refined by Hann interpolation.
 struct SpectralLine {

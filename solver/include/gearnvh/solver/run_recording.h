@@ -24,6 +24,19 @@
 
 namespace gearnvh {
 
+// What a run's recording reserves before it starts (SimulateExact; nothing grows during the
+// run): uniform samples, samples_per_cycle per recorded cycle, at most max_trajectory_samples
+// (none without record_trajectory), and the event log, 16 per recorded cycle, at most
+// max_logged_events. The part of a run's memory that grows with SolverOptions::cycles.
+struct RecordingReserve {
+  long samples = 0;  // TrajectorySample slots
+  long events = 0;   // EventRecord slots
+  size_t sample_bytes() const { return static_cast<size_t>(samples) * sizeof(TrajectorySample); }
+  size_t event_bytes() const { return static_cast<size_t>(events) * sizeof(EventRecord); }
+  size_t bytes() const { return sample_bytes() + event_bytes(); }
+};
+RecordingReserve PlanRecording(const SolverOptions& options);
+
 class RunRecording {
  public:
   // Reserves `reserve_samples` uniform samples and `reserve_events` logged events; the exact

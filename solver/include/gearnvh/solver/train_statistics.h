@@ -16,6 +16,8 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <algorithm>
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -66,6 +68,10 @@ class TrainRecorder {
   // Keeps the TE of every mesh at the samples at or after `from_time` (s), at most `max_samples`
   // per mesh (storage reserved here, so recording allocates nothing).
   void KeepTeSeries(double from_time, long max_samples);
+  // What KeepTeSeries(_, max_samples) reserves on a train of `meshes` meshes.
+  static size_t TeSeriesBytes(size_t meshes, long max_samples) {
+    return meshes * static_cast<size_t>(std::max(0L, max_samples)) * sizeof(double);
+  }
   // Per mesh (file order) the kept TE samples, m.
   const std::vector<std::vector<double>>& te_series() const { return te_series_; }
   // Keeps the first `max_events` contact changes of the recorded window, in the order they are

@@ -1,0 +1,124 @@
+#include "run_memory.h"
+
+#include <fmt/format.h>
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "gearnvh/model/input_error.h"
+
+namespace gearnvh::app {
+
+size_t RunMemory::bytes() const {
+  size_t total = 0;
+  for (const MemoryPart& p : parts) total += p.bytes;
+  return total;
+}
+
+std::string RunMemory::Describe() const {
+  std::string listed;
+  for (const MemoryPart& p : parts) {
+    if (p.bytes == 0) continue;
+    listed += (listed.empty() ? "" : ", ") + p.name + " " + BytesText(p.bytes);
+  }
+  return BytesText(bytes()) + (listed.empty() ? "" : " (" + listed + ")");
+}
+
+nlohmann::json MemoryJson(const RunMemory& memory) {
+  nlohmann::json parts = nlohmann::json::object();
+  for (const MemoryPart& p : memory.parts) parts[p.name] = p.bytes;
+  return {{"bytes", memory.bytes()}, {"parts", parts}};
+}
+
+std::string BytesText(size_t bytes) {
+  constexpr const char* kUnits[] = {"B", "KiB", "MiB", "GiB", "TiB"};
+  auto value = static_cast<double>(bytes);
+  size_t unit = 0;
+  while (value >= 1024.0 && unit + 1 < std::size(kUnits)) {
+    value /= 1024.0;
+    ++unit;
+  }
+  return unit == 0 || value >= 100.0 ? fmt::format("{:.0f} {}", value, kUnits[unit])
+                                     : fmt::format("{:.3g} {}", value, kUnits[unit]);
+}
+
+namespace {
+
+// MemAvailable of /proc/meminfo ("MemAvailable:   12345678 kB"); nullopt where there is none.
+std::optional<size_t> MemAvailable() {
+  std::ifstream meminfo("/proc/meminfo");
+  std::string line;
+  while (std::getline(meminfo, line)) {
+    if (line.rfind("MemAvailable:", 0) != 0) continue;
+    std::istringstream fields(line.substr(13));
+    size_t kib = 0;
+    if (fields >> kib) return kib * 1024;
+  }
+  return std::nullopt;
+}
+
+// The address space left under the process's limit (ulimit -v): RLIMIT_AS less VmSize of
+// /proc/self/status; nullopt when there is no limit.
+std::optional<size_t> AddressSpaceLeft() {
+  rlimit limit{};
+  if (::getrlimit(RLIMIT_AS, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY) return std::nullopt;
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  size_t used = 0;
+  while (std::getline(status, line)) {
+    if (line.rfind("VmSize:", 0) != 0) continue;
+    std::istringstream fields(line.substr(7));
+    size_t kib = 0;
+    if (fields >> kib) used = kib * 1024;
+  }
+  const auto cap = static_cast<size_t>(limit.rlim_cur);
+  return cap > used ? cap - used : 0;
+}
+
+}  // namespace
+
+std::optional<MemoryLimit> AvailableMemory() {
+  constexpr const char* kVariable = "GEARNVH_MEMORY_LIMIT";
+  if (const char* text = std::getenv(kVariable); text != nullptr) {
+    const std::string s = text;
+    size_t bytes = 0;
+    const auto [stop, error] = std::from_chars(s.data(), s.data() + s.size(), bytes);
+    if (s.empty() || error != std::errc() || stop != s.data() + s.size()) {
+      throw InputError(kVariable, 0, s, "must be a whole number of bytes");
+    }
+    return MemoryLimit{bytes, kVariable};
+  }
+  std::optional<MemoryLimit> out;
+  if (const std::optional<size_t> available = MemAvailable()) {
+    out = MemoryLimit{*available, "MemAvailable in /proc/meminfo"};
+  }
+  if (const std::optional<size_t> left = AddressSpaceLeft(); left && (!out || *left < out->bytes)) {
+    out = MemoryLimit{*left, "the address space left under ulimit -v"};
+  }
+  return out;
+}
+
+std::string CheckRunMemory(const RunMemory& need, const std::optional<MemoryLimit>& limit,
+                           const std::string& option, const std::string& value,
+                           const std::string& remedy) {
+  const size_t bytes = need.bytes();
+  if (limit && bytes > limit->bytes) {
+    throw InputError(option, 0, value,
+                     fmt::format("the run would hold about {}, more than the {} of memory "
+                                 "available ({}); {}",
+                                 need.Describe(), BytesText(limit->bytes), limit->source, remedy));
+  }
+  const size_t warn_above =
+      limit ? std::min(kMemoryWarningBytes, limit->bytes / 2) : kMemoryWarningBytes;
+  if (bytes <= warn_above) return "";
+  return fmt::format(
+      "{} {}: the run will hold about {}{}", option, value, need.Describe(),
+      limit ? fmt::format(" of the {} available ({})", BytesText(limit->bytes), limit->source)
+            : "");
+}
+
+}  // namespace gearnvh::app

@@ -1,0 +1,57 @@
+// The memory a run will hold, estimated before it starts from the same numbers the recording
+// reserves (solver/run_recording.h, PlanRecording), and checked against what the machine has
+// (docs/cli.md, "Memory"): refused above the limit, a warning above kMemoryWarningBytes or half
+// the limit.
+#pragma once
+
+#include <cstddef>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace gearnvh::app {
+
+struct MemoryPart {
+  std::string name;  // "recorded samples", "event log", "TE spectrum", ...
+  size_t bytes = 0;
+};
+
+struct RunMemory {
+  std::vector<MemoryPart> parts;  // the parts that grow with the recorded cycles
+  long recorded_samples = 0;      // uniform samples kept, for a command's own copies of them
+  size_t bytes() const;
+  // "1.3 GiB (recorded samples 256 MiB, event log 24 MiB, TE spectrum 144 MiB)"
+  std::string Describe() const;
+};
+
+// {"bytes": total, "parts": {name: bytes}}: the `memory_estimate` of a results document.
+nlohmann::json MemoryJson(const RunMemory& memory);
+
+// "512 MiB", "1.3 GiB", "12 KiB", "100 B".
+std::string BytesText(size_t bytes);
+
+// A run estimated above this is warned about (as is one above half the limit).
+constexpr size_t kMemoryWarningBytes = size_t{1} << 30;
+
+struct MemoryLimit {
+  size_t bytes = 0;
+  std::string source;  // "MemAvailable in /proc/meminfo", "GEARNVH_MEMORY_LIMIT", ...
+};
+
+// The memory a run may take: the environment variable GEARNVH_MEMORY_LIMIT (a whole number of
+// bytes; to hold gearnvh below what the machine has, and for tests) when set, else the smaller of
+// MemAvailable of /proc/meminfo and the address space left under ulimit -v (RLIMIT_AS less the
+// process's VmSize); nullopt when none exists. A malformed GEARNVH_MEMORY_LIMIT is an InputError
+// naming it.
+std::optional<MemoryLimit> AvailableMemory();
+
+// Refuses a run whose estimate exceeds `limit`: InputError at `option` (where the user set the
+// recorded cycles: --cycles or analysis.cycles) with `value`, naming the estimate by part and the
+// limit, and `remedy`. Returns the one-line warning for an estimate above kMemoryWarningBytes or
+// half the limit, else "".
+std::string CheckRunMemory(const RunMemory& need, const std::optional<MemoryLimit>& limit,
+                           const std::string& option, const std::string& value,
+                           const std::string& remedy = "fewer recorded cycles need less");
+
+}  // namespace gearnvh::app
