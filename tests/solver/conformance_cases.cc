@@ -43,6 +43,14 @@ GearboxSpec GrazingSpec() {
 }
 constexpr double kPairGrazingDepth = 1e-6;  // eta
 
+// Idle rattle with a pinion runout of a fifth of the half backlash: the state carries the
+// manufacturing-error input (tier 1: m = 7), which the carried V3 path sets per segment.
+GearboxSpec IdleRattleRunoutSpec() {
+  GearboxSpec spec = IdleRattleSpec();
+  spec.pinion.runout = Runout{0.2 * spec.mesh.backlash / 2.0, 0.4};
+  return spec;
+}
+
 // The gap's constant acceleration in free flight of the grazing case (see GrazingSpec).
 double PairGrazingAcceleration(const SolverSetup& s) {
   const double rb1 = s.model.geometry.pinion.base, rb2 = s.model.geometry.wheel.base;
@@ -54,6 +62,8 @@ const char* PairName(ConformanceCaseId id) {
   switch (id) {
     case ConformanceCaseId::kPairTier1:
       return "pair, tier 1 rattle";
+    case ConformanceCaseId::kPairTier1Runout:
+      return "pair, tier 1 rattle with runout";
     case ConformanceCaseId::kPairTier3:
       return "pair, tier 3 rattle";
     case ConformanceCaseId::kPairTier5:
@@ -464,12 +474,15 @@ class TrainCase final : public ConformanceCase {
 
 const SolverSetup& PairSetup(ConformanceCaseId id) {
   static const SolverSetup tier1(IdleRattleSpec(), Tier::kTier1);
+  static const SolverSetup tier1_runout(IdleRattleRunoutSpec(), Tier::kTier1);
   static const SolverSetup tier3(IdleRattleSpec(), Tier::kTier3);
   static const SolverSetup tier5(FlexibleRattleSpec(), Tier::kTier5);
   static const SolverSetup grazing(GrazingSpec(), Tier::kTier1);
   switch (id) {
     case ConformanceCaseId::kPairTier1:
       return tier1;
+    case ConformanceCaseId::kPairTier1Runout:
+      return tier1_runout;
     case ConformanceCaseId::kPairTier3:
       return tier3;
     case ConformanceCaseId::kPairTier5:
@@ -524,12 +537,15 @@ PairRun RunPair(EventMethod method, ConformanceCaseId id, double carry_max_error
 
 const ConformanceCase& GetConformanceCase(ConformanceCaseId id) {
   static const PairCase tier1(ConformanceCaseId::kPairTier1);
+  static const PairCase tier1_runout(ConformanceCaseId::kPairTier1Runout);
   static const PairCase tier3(ConformanceCaseId::kPairTier3);
   static const PairCase tier5(ConformanceCaseId::kPairTier5);
   static const PairCase grazing(ConformanceCaseId::kPairGrazing);
   switch (id) {
     case ConformanceCaseId::kPairTier1:
       return tier1;
+    case ConformanceCaseId::kPairTier1Runout:
+      return tier1_runout;
     case ConformanceCaseId::kPairTier3:
       return tier3;
     case ConformanceCaseId::kPairTier5:

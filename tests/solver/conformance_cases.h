@@ -20,6 +20,7 @@ namespace gearnvh::testing {
 
 enum class ConformanceCaseId {
   kPairTier1,
+  kPairTier1Runout,  // tier 1 rattle with the manufacturing-error input (m = 7)
   kPairTier3,
   kPairTier5,
   kPairGrazing,

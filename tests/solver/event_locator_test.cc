@@ -63,10 +63,10 @@ using Locators = std::tuple<SpectralLocator, TaylorLocator, DyadicLocator>;
 
 TEMPLATE_LIST_TEST_CASE("locator conformance: events, counts and cycle-end states",
                         "[solver][locator][train]", Locators) {
-  const ConformanceCaseId id =
-      GENERATE(ConformanceCaseId::kPairTier1, ConformanceCaseId::kPairTier3,
-               ConformanceCaseId::kPairTier5, ConformanceCaseId::kPairGrazing,
-               ConformanceCaseId::kTrainRattle, ConformanceCaseId::kTrainGrazing);
+  const ConformanceCaseId id = GENERATE(
+      ConformanceCaseId::kPairTier1, ConformanceCaseId::kPairTier1Runout,
+      ConformanceCaseId::kPairTier3, ConformanceCaseId::kPairTier5, ConformanceCaseId::kPairGrazing,
+      ConformanceCaseId::kTrainRattle, ConformanceCaseId::kTrainGrazing);
   const EventMethod other =
       GENERATE(EventMethod::kSpectral, EventMethod::kTaylor, EventMethod::kDyadic);
   if (other == TestType::kMethod) return;
@@ -173,8 +173,9 @@ TEST_CASE("V3 carried in decoupled coordinates equals V3 stepped through z and P
   // instead of Phi z followed by S^-1 z. Both are exact propagations; they differ by rounding
   // amplified by the decompositions' conditioning (the carry's first-order bound is reported).
   const ConformanceCaseId c =
-      GENERATE(ConformanceCaseId::kPairTier1, ConformanceCaseId::kPairTier3,
-               ConformanceCaseId::kPairTier5, ConformanceCaseId::kPairGrazing);
+      GENERATE(ConformanceCaseId::kPairTier1, ConformanceCaseId::kPairTier1Runout,
+               ConformanceCaseId::kPairTier3, ConformanceCaseId::kPairTier5,
+               ConformanceCaseId::kPairGrazing);
   INFO(testing::GetConformanceCase(c).name());
   const testing::SolverSetup& s = testing::PairSetup(c);
   const testing::PairRun carried = testing::RunPair(EventMethod::kSpectral, c);
@@ -236,8 +237,9 @@ TEMPLATE_LIST_TEST_CASE("locator conformance: DoStep alone reproduces the steppe
   // segment start, the free rotation recentred at each cycle end, as ExactStepper does). The
   // stepper adds no arithmetic of its own to a stepped run, so the event times are the stepper's
   // bit for bit, and DoStep allocates nothing once the locator is built.
-  const ConformanceCaseId c = GENERATE(ConformanceCaseId::kPairTier1, ConformanceCaseId::kPairTier3,
-                                       ConformanceCaseId::kPairTier5);
+  const ConformanceCaseId c =
+      GENERATE(ConformanceCaseId::kPairTier1, ConformanceCaseId::kPairTier1Runout,
+               ConformanceCaseId::kPairTier3, ConformanceCaseId::kPairTier5);
   INFO(testing::GetConformanceCase(c).name());
   const testing::SolverSetup& s = testing::PairSetup(c);
   const SegmentTables& t = s.tables;

@@ -452,7 +452,8 @@ class SpectralLocator final : public EventLocator {
   TaylorLocator fallback_;
   Eigen::VectorXd w_, wt_, scratch_, z1_;
   // The carried state: decoupled coordinates of (carry_segment_, carry_state_) at its start,
-  // input slots cleared; padded_ entries, the pads 0.
+  // input slots cleared; padded_ entries, the pads 0. Meaningful while state.z_stale (after a
+  // cycle's last segment carry_segment_ is segments() and z holds the state).
   Eigen::VectorXd carried_;
   int carry_segment_ = -1;
   ContactState carry_state_ = ContactState::kFree;

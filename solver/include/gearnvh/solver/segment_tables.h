@@ -127,7 +127,8 @@ struct SegmentTables {
   // SetInputs in two steps for a loop over the segments of one cycle: the cycle's inputs, then
   // per segment the slots (no call in the loop).
   void PrepareCycle(long cycle, CyclePhase& phase) const {
-    if (phase.cycle != cycle || phase.excitation.size() != systems.size()) [[unlikely]]
+    if (phase.cycle != cycle || phase.excitation.size() != systems.size() ||
+        (inputs > kErrorInput && phase.error.size() != systems.size())) [[unlikely]]
       PrepareCycleInputs(cycle, phase);
   }
   void SetPreparedInputs(int segment, Eigen::Ref<Eigen::VectorXd> z,
