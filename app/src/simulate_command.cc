@@ -124,12 +124,7 @@ int RunSimulate(const SimulateOptions& options) {
           said_before_run.push_back(w);
         },
         [&](RunMemory& need) {
-          if (options.uff) {
-            // The TE and mesh force histories as UFF values, one dataset's text at a time.
-            const long n = need.recorded_samples;
-            need.parts.push_back(
-                {"UFF export", 2 * static_cast<size_t>(n) * sizeof(double) + UffValueTextBytes(n)});
-          }
+          if (options.uff) need.parts.push_back(OperatingPointUffMemory(need.recorded_samples));
           return CheckRunMemory(need, memory_limit, options.cycles ? "--cycles" : "analysis.cycles",
                                 std::to_string(solver.cycles));
         });

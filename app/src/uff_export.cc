@@ -163,9 +163,9 @@ void WriteUffFile(const std::string& path, const std::vector<UffFunction>& funct
   });
 }
 
-size_t UffValueTextBytes(long values) {
-  const auto n = static_cast<size_t>(std::max(values, 0L));
-  return 20 * n + (n + 3) / 4;
+MemoryPart OperatingPointUffMemory(long recorded_samples) {
+  const auto n = static_cast<size_t>(std::max(recorded_samples, 0L));
+  return {"UFF export", 2 * n * sizeof(double) + 20 * n + (n + 3) / 4};
 }
 
 }  // namespace gearnvh::app
