@@ -92,7 +92,6 @@ int RunSimulate(const SimulateOptions& options) {
                        "is available on gear trains (schema gearnvh/2); a single pair's exponent "
                        "is in `gearnvh atlas`");
     }
-    const std::optional<MemoryLimit> memory_limit = AvailableMemory();
     const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
     const GearboxSpec spec = std::move(*loaded.pair);
     const Tier tier = options.tier ? ParseTier(*options.tier) : spec.analysis.tier;
@@ -125,7 +124,8 @@ int RunSimulate(const SimulateOptions& options) {
         },
         [&](RunMemory& need) {
           if (options.uff) need.parts.push_back(OperatingPointUffMemory(need.recorded_samples));
-          return CheckRunMemory(need, memory_limit, options.cycles ? "--cycles" : "analysis.cycles",
+          return CheckRunMemory(need, AvailableMemory(),
+                                options.cycles ? "--cycles" : "analysis.cycles",
                                 std::to_string(solver.cycles));
         });
     if (on_terminal) fmt::print(stderr, "\n");
