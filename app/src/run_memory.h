@@ -31,6 +31,7 @@ nlohmann::json MemoryJson(const RunMemory& memory);
 // "512 MiB", "1.3 GiB", "12 KiB", "100 B".
 std::string BytesText(size_t bytes);
 
+// The remedy a refusal names unless the command has its own ("or --jobs", ...).
 inline constexpr const char* kFewerCycles = "fewer recorded cycles need less";
 
 // A run estimated above this is warned about (as is one above half the limit).
