@@ -17,18 +17,25 @@ void WriteFileAtomically(const std::string& path, const std::function<void(std::
   const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
   std::FILE* f = std::fopen(tmp.c_str(), "wb");
   if (!f) throw IoError("cannot write " + path + ": " + std::strerror(errno));
+  auto discard = [&tmp] {
+    std::error_code ec;
+    std::filesystem::remove(tmp, ec);
+  };
   bool wrote = true;
   try {
     write(f);
   } catch (const std::system_error&) {  // fmt::print's report of a failed write
     wrote = false;
+  } catch (...) {  // anything else (std::bad_alloc while formatting): no file, the error as it is
+    std::fclose(f);
+    discard();
+    throw;
   }
   const bool ok = wrote && std::ferror(f) == 0 && std::fflush(f) == 0 && ::fsync(::fileno(f)) == 0;
   const bool closed = std::fclose(f) == 0;
   if (!ok || !closed || std::rename(tmp.c_str(), path.c_str()) != 0) {
     const std::string reason = std::strerror(errno);
-    std::error_code ec;
-    std::filesystem::remove(tmp, ec);
+    discard();
     throw IoError("cannot write " + path + ": " + reason);
   }
 }

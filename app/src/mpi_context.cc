@@ -12,7 +12,7 @@
 namespace gearnvh::app {
 
 namespace {
-int g_rank = 0, g_size = 1;
+int g_rank = 0, g_size = 1, g_node_size = 1;
 bool g_initialized = false;
 
 bool LaunchedByMpi() {
@@ -32,6 +32,10 @@ void MpiContext::Initialize(int* argc, char*** argv) {
   g_initialized = true;
   MPI_Comm_rank(MPI_COMM_WORLD, &g_rank);
   MPI_Comm_size(MPI_COMM_WORLD, &g_size);
+  MPI_Comm node;  // the ranks that can share memory with this one: its node's
+  MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, g_rank, MPI_INFO_NULL, &node);
+  MPI_Comm_size(node, &g_node_size);
+  MPI_Comm_free(&node);
 #else
   (void)argc;
   (void)argv;
@@ -47,6 +51,7 @@ void MpiContext::Finalize() {
 
 int MpiContext::Rank() { return g_rank; }
 int MpiContext::Size() { return g_size; }
+int MpiContext::RanksOnNode() { return g_node_size; }
 
 std::vector<std::string> MpiContext::GatherToRoot(const std::string& mine) {
 #ifdef GEARNVH_HAVE_MPI
@@ -95,6 +100,14 @@ std::string MpiContext::BroadcastString(const std::string& value) {
   }
 #endif
   return value;
+}
+
+std::string MpiContext::FirstNonEmpty(const std::string& mine) {
+  std::string first;
+  for (const std::string& s : GatherToRoot(mine)) {
+    if (first.empty()) first = s;
+  }
+  return BroadcastString(first);
 }
 
 }  // namespace gearnvh::app

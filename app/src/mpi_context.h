@@ -18,11 +18,15 @@ class MpiContext {
   static int Rank();
   static int Size();
   static bool Active() { return Size() > 1; }
+  // The ranks on this rank's node (sharing its memory), this one included; 1 without MPI.
+  static int RanksOnNode();
   // Rank 0 receives every rank's string, in rank order; other ranks receive an empty vector.
   static std::vector<std::string> GatherToRoot(const std::string& mine);
   // Rank 0's value on every rank.
   static int BroadcastInt(int value);
   static std::string BroadcastString(const std::string& value);
+  // The first non-empty of the ranks' strings, in rank order, on every rank ("" when all are).
+  static std::string FirstNonEmpty(const std::string& mine);
 };
 
 }  // namespace gearnvh::app

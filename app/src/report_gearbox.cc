@@ -155,6 +155,7 @@ GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::
         spec, model, tier, solver,
         stage ? ProgressCallback(counted("operating point", "mesh cycles")) : ProgressCallback(),
         {}, [&](RunMemory& need) {
+          need.parts.push_back(OperatingPointUffMemory(need.recorded_samples));  // results.uff
           return CheckRunMemory(need, memory, "analysis.cycles", std::to_string(solver.cycles));
         });
     if (op.result.summary.status != SolverStatus::kSuccess) {

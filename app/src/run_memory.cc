@@ -7,7 +7,9 @@
 #include <charconv>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <sstream>
+#include <stdexcept>
 
 #include "gearnvh/model/input_error.h"
 
@@ -79,39 +81,66 @@ std::optional<size_t> AddressSpaceLeft() {
   return cap > used ? cap - used : 0;
 }
 
+size_t Less(size_t bytes, size_t reserved) { return bytes > reserved ? bytes - reserved : 0; }
+
+// ", shared by 2 processes on this node", "" for one.
+std::string SharedBy(int sharing) {
+  return sharing > 1 ? fmt::format(", shared by {} processes on this node", sharing) : "";
+}
+
 }  // namespace
 
-std::optional<MemoryLimit> AvailableMemory() {
+std::optional<MemoryLimit> AvailableMemory(int threads, int sharing) {
   constexpr const char* kVariable = "GEARNVH_MEMORY_LIMIT";
+  const auto share = static_cast<size_t>(std::max(sharing, 1));
   if (const char* text = std::getenv(kVariable); text != nullptr) {
     const std::string s = text;
     size_t bytes = 0;
     const auto [stop, error] = std::from_chars(s.data(), s.data() + s.size(), bytes);
-    if (s.empty() || error != std::errc() || stop != s.data() + s.size()) {
-      throw InputError(kVariable, 0, s, "must be a whole number of bytes");
+    const bool whole = !s.empty() && stop == s.data() + s.size();
+    if (whole && error == std::errc::result_out_of_range) {
+      throw std::runtime_error(
+          fmt::format("the environment variable {} is {}: too large, at most {} bytes", kVariable,
+                      s, std::numeric_limits<size_t>::max()));
     }
-    return MemoryLimit{bytes, kVariable};
+    if (!whole || error != std::errc()) {
+      throw std::runtime_error(fmt::format(
+          "the environment variable {} is '{}': it must be a whole number of bytes", kVariable, s));
+    }
+    return MemoryLimit{bytes / share, kVariable + SharedBy(sharing)};
   }
   std::optional<MemoryLimit> out;
   if (const std::optional<size_t> available = MemAvailable()) {
-    out = MemoryLimit{*available, "MemAvailable in /proc/meminfo"};
+    out = MemoryLimit{Less(*available / share, kUnestimatedBytes),
+                      "MemAvailable in /proc/meminfo" + SharedBy(sharing) + ", less " +
+                          BytesText(kUnestimatedBytes) + " kept back"};
   }
-  if (const std::optional<size_t> left = AddressSpaceLeft(); left && (!out || *left < out->bytes)) {
-    out = MemoryLimit{*left, "the address space left under ulimit -v"};
+  if (std::optional<size_t> left = AddressSpaceLeft()) {
+    const size_t reserved =
+        kUnestimatedBytes + static_cast<size_t>(std::max(threads, 0)) * kThreadAddressSpaceBytes;
+    *left = Less(*left, reserved);
+    if (!out || *left < out->bytes) {
+      out = MemoryLimit{*left, "the address space left under ulimit -v, less " +
+                                   BytesText(reserved) + " kept back"};
+    }
   }
   return out;
+}
+
+std::string MemoryRefusal(const RunMemory& need, const std::optional<MemoryLimit>& limit,
+                          const std::string& remedy) {
+  if (!limit || need.bytes() <= limit->bytes) return "";
+  return fmt::format("the run would hold about {}, more than the {} of memory available ({}); {}",
+                     need.Describe(), BytesText(limit->bytes), limit->source, remedy);
 }
 
 std::string CheckRunMemory(const RunMemory& need, const std::optional<MemoryLimit>& limit,
                            const std::string& option, const std::string& value,
                            const std::string& remedy) {
-  const size_t bytes = need.bytes();
-  if (limit && bytes > limit->bytes) {
-    throw InputError(option, 0, value,
-                     fmt::format("the run would hold about {}, more than the {} of memory "
-                                 "available ({}); {}",
-                                 need.Describe(), BytesText(limit->bytes), limit->source, remedy));
+  if (std::string rule = MemoryRefusal(need, limit, remedy); !rule.empty()) {
+    throw InputError(option, 0, value, std::move(rule));
   }
+  const size_t bytes = need.bytes();
   const size_t warn_above =
       limit ? std::min(kMemoryWarningBytes, limit->bytes / 2) : kMemoryWarningBytes;
   if (bytes <= warn_above) return "";

@@ -92,7 +92,6 @@ int RunSimulate(const SimulateOptions& options) {
                        "is available on gear trains (schema gearnvh/2); a single pair's exponent "
                        "is in `gearnvh atlas`");
     }
-    const std::optional<MemoryLimit> memory_limit = AvailableMemory();
     const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
     const GearboxSpec spec = std::move(*loaded.pair);
     const Tier tier = options.tier ? ParseTier(*options.tier) : spec.analysis.tier;
@@ -124,13 +123,9 @@ int RunSimulate(const SimulateOptions& options) {
           said_before_run.push_back(w);
         },
         [&](RunMemory& need) {
-          if (options.uff) {
-            // The TE and mesh force histories as UFF values, one dataset's text at a time.
-            const long n = need.recorded_samples;
-            need.parts.push_back(
-                {"UFF export", 2 * static_cast<size_t>(n) * sizeof(double) + UffValueTextBytes(n)});
-          }
-          return CheckRunMemory(need, memory_limit, options.cycles ? "--cycles" : "analysis.cycles",
+          if (options.uff) need.parts.push_back(OperatingPointUffMemory(need.recorded_samples));
+          return CheckRunMemory(need, AvailableMemory(),
+                                options.cycles ? "--cycles" : "analysis.cycles",
                                 std::to_string(solver.cycles));
         });
     if (on_terminal) fmt::print(stderr, "\n");

@@ -278,7 +278,6 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
   TrainRunOptions& run = plan.run;
   const Tier tier = run.tier;
   const long cycles = run.cycles, transient = run.transient;
-  const std::optional<MemoryLimit> memory_limit = AvailableMemory();
   const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
   // Said on stderr before the run; the text's warning lines at the end leave them out (the JSON
   // keeps every warning), as for a pair.
@@ -288,7 +287,7 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
     said_before_run.push_back(w);
   };
   run.before_run_memory = [&](RunMemory& need) {
-    return CheckRunMemory(need, memory_limit, options.cycles ? "--cycles" : "analysis.cycles",
+    return CheckRunMemory(need, AvailableMemory(), options.cycles ? "--cycles" : "analysis.cycles",
                           std::to_string(cycles));
   };
   const bool on_terminal = ::isatty(STDERR_FILENO) != 0;

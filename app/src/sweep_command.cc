@@ -19,6 +19,7 @@
 #include "gearnvh/model/input_error.h"
 #include "mpi_context.h"
 #include "output_folder.h"
+#include "parallel_for.h"
 #include "run_memory.h"
 #include "simulate_command.h"
 #include "speed_sweep.h"
@@ -213,6 +214,31 @@ std::string WaterfallCsv(const SpeedSweepResult& r) {
   return os.str();
 }
 
+namespace {
+
+// Before the run: the speeds a rank has in flight at once each hold their recording. Under mpirun
+// every rank checks its own speeds against its node's memory, shared by the ranks there, and all
+// refuse together with the first rank's refusal (rank 0 alone prints); the warning is rank 0's.
+std::string CheckSweepMemory(const SweepOptions& options, const SpeedSweepOptions& sweep,
+                             const GearboxSpec& spec, int rank, int ranks) {
+  const auto my_speeds =
+      static_cast<size_t>((spec.analysis.speed_sweep.points + ranks - 1 - rank) / ranks);
+  const RunMemory need = SpeedSweepMemory(sweep, my_speeds);
+  const std::optional<MemoryLimit> limit =
+      AvailableMemory(ParallelWorkers(my_speeds, sweep.threads) - 1, MpiContext::RanksOnNode());
+  const std::string option =
+      options.cycles ? "--cycles" : "the default cycles per speed (set by --cycles)";
+  const std::string value = std::to_string(sweep.cycles);
+  const std::string remedy = "fewer recorded cycles or --jobs need less";
+  std::string refusal = MemoryRefusal(need, limit, remedy);
+  if (!refusal.empty() && ranks > 1) refusal = fmt::format("on rank {}, {}", rank, refusal);
+  refusal = MpiContext::FirstNonEmpty(refusal);
+  if (!refusal.empty()) throw InputError(option, 0, value, refusal);
+  return CheckRunMemory(need, limit, option, value, remedy);
+}
+
+}  // namespace
+
 int RunSweep(const SweepOptions& options) {
   const int code = RunReportingErrors(options.file, [&](config::SourceLocations& where) -> int {
     config::LoadedGearbox loaded = config::LoadAnyGearboxFile(options.file);
@@ -221,7 +247,6 @@ int RunSweep(const SweepOptions& options) {
       std::cerr << "note: " << loaded.sweep_note << "\n";
     }
     if (loaded.schema == 2) return SweepTrain(options, loaded.train);
-    const std::optional<MemoryLimit> memory_limit = AvailableMemory();
     const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", true);
     const GearboxSpec spec = std::move(*loaded.pair);
     const Tier tier = options.tier ? ParseTier(*options.tier) : spec.analysis.tier;
@@ -233,19 +258,14 @@ int RunSweep(const SweepOptions& options) {
                               sweep.transient_cycles, options.cycles, options.transient);
     sweep.threads = options.jobs;
     sweep.method = options.method;
-    // Before any work: the speeds in flight at once each hold their recording.
-    const int rank = MpiContext::Rank(), ranks = MpiContext::Size();
-    const auto my_speeds =
-        static_cast<size_t>((spec.analysis.speed_sweep.points + ranks - 1 - rank) / ranks);
-    const std::string memory_warning =
-        CheckRunMemory(SpeedSweepMemory(sweep, my_speeds), memory_limit, "--cycles",
-                       std::to_string(sweep.cycles), "fewer recorded cycles or --jobs need less");
-    if (!memory_warning.empty() && rank == 0) {
-      fmt::print(stderr, "warning: {}\n", memory_warning);
-    }
     const ComponentModel model = BuildComponentModel(spec);
     RequirePairTier(model, tier, options.tier);
     const ReducedModel reduced = ReduceModel(model, tier);
+    const int rank = MpiContext::Rank(), ranks = MpiContext::Size();
+    const std::string memory_warning = CheckSweepMemory(options, sweep, spec, rank, ranks);
+    if (!memory_warning.empty() && rank == 0) {
+      fmt::print(stderr, "warning: {}\n", memory_warning);
+    }
     const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
     SweepProgress progress;
     if (on_terminal) {

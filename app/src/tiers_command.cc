@@ -157,7 +157,6 @@ int RunTiers(const TiersCommandOptions& options) {
     const config::LoadedGearbox loaded = config::LoadAnyGearboxFile(options.file);
     where = loaded.locations;
     if (loaded.schema == 2) return RunTrainTiers(options, loaded.train);
-    const std::optional<MemoryLimit> memory_limit = AvailableMemory();
     const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
     const GearboxSpec& spec = *loaded.pair;
     SolverOptions solver;
@@ -179,7 +178,14 @@ int RunTiers(const TiersCommandOptions& options) {
     const TiersComparison comparison =
         CompareTiers(spec, solver, progress, [&](RunMemory& need) -> std::string {
           const std::string warning =
-              CheckRunMemory(need, memory_limit, "--cycles", std::to_string(solver.cycles));
+              options.cycles
+                  ? CheckRunMemory(need, AvailableMemory(), "--cycles",
+                                   std::to_string(solver.cycles))
+                  : CheckRunMemory(need, AvailableMemory(), "analysis.cycles",
+                                   std::to_string(solver.cycles),
+                                   fmt::format("tiers records {} of them (at most 400); fewer "
+                                               "recorded cycles (--cycles) need less",
+                                               solver.cycles));
           if (!warning.empty() && !memory_said) fmt::print(stderr, "warning: {}\n", warning);
           memory_said = memory_said || !warning.empty();
           return {};

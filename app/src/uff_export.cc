@@ -59,7 +59,11 @@ UffFunction Base(const GearboxSpec& spec, const std::string& what, int id) {
 }  // namespace
 
 std::string UffDataset58(const UffFunction& f) {
-  std::string out = "    -1\n    58\n";
+  std::string out;
+  // Its whole length at once (20 characters per value, a line end per 4, ~1 KB of records): a
+  // growing string would hold up to twice that while it reallocates.
+  out.reserve(1024 + 20 * f.values.size() + (f.values.size() + 3) / 4);
+  out = "    -1\n    58\n";
   for (const std::string* id : {&f.id1, &f.id2, &f.id3, &f.id4, &f.id5}) {
     out += Ascii(*id, 80) + "\n";
   }
@@ -96,6 +100,8 @@ std::vector<UffFunction> OperatingPointUff(const GearboxSpec& spec,
     force.function_id = first_id++;
     force.response_name = "MESH";
     force.ordinate = {9, 0, 1, 0, "mesh force", "N"};
+    te.values.reserve(samples.size());
+    force.values.reserve(samples.size());
     for (const TrajectorySample& s : samples) {
       te.values.push_back(s.te);
       force.values.push_back(s.mesh_force);
@@ -163,9 +169,9 @@ void WriteUffFile(const std::string& path, const std::vector<UffFunction>& funct
   });
 }
 
-size_t UffValueTextBytes(long values) {
-  const auto n = static_cast<size_t>(std::max(values, 0L));
-  return 20 * n + (n + 3) / 4;
+MemoryPart OperatingPointUffMemory(long recorded_samples) {
+  const auto n = static_cast<size_t>(std::max(recorded_samples, 0L));
+  return {"UFF export", 2 * n * sizeof(double) + 20 * n + (n + 3) / 4};
 }
 
 }  // namespace gearnvh::app

@@ -16,6 +16,7 @@
 
 #include "gearnvh/model/gearbox_spec.h"
 #include "operating_point.h"
+#include "run_memory.h"
 #include "speed_sweep.h"
 
 namespace gearnvh::app {
@@ -57,8 +58,9 @@ std::vector<UffFunction> SweepOrderTracksUff(const GearboxSpec& spec, const Spee
 // in memory at a time.
 void WriteUffFile(const std::string& path, const std::vector<UffFunction>& functions);
 
-// The text of `values` data values in a dataset 58 (4E20.12: 20 characters each, a line end per
-// 4), the part of a dataset that grows with its length.
-size_t UffValueTextBytes(long values);
+// What writing OperatingPointUff of `recorded_samples` samples holds, for the memory estimate of
+// a run that exports it (simulate --uff, report): the TE and mesh force values it copies and one
+// dataset's text of data values (4E20.12: 20 characters each, a line end per 4).
+MemoryPart OperatingPointUffMemory(long recorded_samples);
 
 }  // namespace gearnvh::app

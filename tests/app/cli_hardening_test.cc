@@ -412,7 +412,8 @@ TEST_CASE("simulate: running out of memory is an error that says so, not an inte
   INFO(refused.err);
   CHECK(refused.exit_code == 2);
   CHECK(refused.err.find("--cycles: the run would hold about 267 MiB") != std::string::npos);
-  CHECK(refused.err.find("(the address space left under ulimit -v)") != std::string::npos);
+  CHECK(refused.err.find("(the address space left under ulimit -v, less 16 MiB kept back)") !=
+        std::string::npos);
   CHECK(!fs::exists(out));
   CHECK(Debris(dir.path()).empty());
   // With the check told there is room, the allocation itself fails: an error that says so.
@@ -421,6 +422,19 @@ TEST_CASE("simulate: running out of memory is an error that says so, not an inte
   CHECK(failed.exit_code == 1);
   CHECK(failed.err.find("error: out of memory: ") != std::string::npos);
   CHECK(failed.err.find("internal error") == std::string::npos);
+  CHECK(!fs::exists(out));
+  CHECK(Debris(dir.path()).empty());
+  // 100000 cycles under 440000 KiB: the address space is read at the check (the model built) and
+  // the estimate counts FFTW's plan (TE spectrum 134 MiB, 352 MiB in all), so the run that used
+  // to pass the check (estimate 328 MiB, ~330 MiB left at the start) and then ran out of memory
+  // after the whole run is refused up front.
+  const auto at_the_check = RunCommand("ulimit -v 440000 && " + kExe + " simulate " + kWhine +
+                                       " --cycles 100000 --out " + out.string());
+  INFO(at_the_check.err);
+  CHECK(at_the_check.exit_code == 2);
+  CHECK(at_the_check.err.find("--cycles: the run would hold about 352 MiB (recorded samples 195 "
+                              "MiB, event log 22.9 MiB, TE spectrum 134 MiB), more than the ") !=
+        std::string::npos);
   CHECK(!fs::exists(out));
   CHECK(Debris(dir.path()).empty());
 }

@@ -28,9 +28,10 @@ const std::string kExe = GEARNVH_EXE;
 // mpirun on loopback (as root OpenMPI also needs --allow-run-as-root). OpenMPI itself is not
 // LeakSanitizer-clean (its dlopen'ed components leak at MPI_Finalize), so the sanitizer run checks
 // leaks of these processes off; the code they run is the single-process code, leak-checked there.
-const std::string kMpirun =
+const std::string kMpirunOptions =
     "env ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 mpirun --allow-run-as-root --oversubscribe "
-    "--mca btl self,tcp --mca btl_tcp_if_include lo --mca oob_tcp_if_include lo -np 2 ";
+    "--mca btl self,tcp --mca btl_tcp_if_include lo --mca oob_tcp_if_include lo ";
+const std::string kMpirun = kMpirunOptions + "-np 2 ";
 const std::string kExamples = GEARNVH_EXAMPLES_DIR;
 const std::string kAtlas = " atlas " + kExamples +
                            "/idle_rattle.yaml --x operating.speed=700rpm:1100rpm:3"
@@ -83,6 +84,29 @@ TEST_CASE("mpi: mpirun -np 2 gives the single-process speed sweep", "[cli][mpi]"
   };
   CHECK(comparable(dir.path() / "one" / "sweep.json") ==
         comparable(dir.path() / "two" / "sweep.json"));
+}
+
+TEST_CASE("mpi: a sweep that one rank cannot hold is refused by every rank, said by rank 0",
+          "[cli][mpi][memory]") {
+  // Rank 0 has room, rank 1 (its own limit, MPMD) has none: before, rank 1 refused alone (its
+  // stderr is /dev/null) and rank 0 waited for it in the gather for ever; the timeout turns such
+  // a hang into a failure.
+  const TempDir dir;
+  const std::string sweep = kExe + " sweep " + kExamples +
+                            "/idle_rattle.yaml --cycles 100 --transient 0 --jobs 1 --out " +
+                            (dir.path() / "sweep").string();
+  const auto r =
+      RunCommand("timeout 120 " + kMpirunOptions + "-np 1 env GEARNVH_MEMORY_LIMIT=100000000000 " +
+                 sweep + " : -np 1 env GEARNVH_MEMORY_LIMIT=1 " + sweep);
+  INFO(r.out << r.err);
+  CHECK(r.exit_code == 2);
+  // The limit is shared by the 2 ranks on this node: rank 1's 1 B is 0 B each.
+  CHECK(r.err.find("--cycles: on rank 1, the run would hold about 374 KiB (recorded samples 200 "
+                   "KiB, event log 37.5 KiB, waterfall spectra 136 KiB), more than the 0 B of "
+                   "memory available (GEARNVH_MEMORY_LIMIT, shared by 2 processes on this node)") !=
+        std::string::npos);
+  CHECK(r.out.empty());
+  CHECK(!fs::exists(dir.path() / "sweep"));
 }
 
 TEST_CASE("mpi: a report batch split over 2 ranks equals the single-process report", "[cli][mpi]") {

@@ -280,8 +280,23 @@ TEST_CASE("report fails a gearbox whose operating point would hold more than the
           "[cli][report][memory]") {
   TempDir dir;
   const fs::path out = dir.path() / "report";
+  const std::string file = kExamples + "/idle_rattle.yaml";
+  // report writes results.uff with the TE and force histories, as simulate --uff does: the same
+  // estimate, UFF export included, so one byte less than simulate --uff's is refused.
+  const auto probe =
+      RunCommand(kExe + " simulate --json --uff " + (dir.path() / "x.uff").string() + " " + file);
+  REQUIRE(probe.exit_code == 0);
+  const nlohmann::json estimate = nlohmann::json::parse(probe.out)["memory_estimate"];
+  REQUIRE(estimate["parts"]["UFF export"].get<size_t>() > 0);
+  const auto short_by_one =
+      RunCommand("GEARNVH_MEMORY_LIMIT=" + std::to_string(estimate["bytes"].get<size_t>() - 1) +
+                 " " + kExe + " report --no-atlas --out " + out.string() + " " + file);
+  INFO(short_by_one.err);
+  CHECK(short_by_one.exit_code == 1);
+  CHECK(short_by_one.err.find(", UFF export ") != std::string::npos);
+  CHECK(!fs::exists(out));
   const auto r = RunCommand("GEARNVH_MEMORY_LIMIT=1 " + kExe + " report --no-atlas --out " +
-                            out.string() + " " + kExamples + "/idle_rattle.yaml");
+                            out.string() + " " + file);
   INFO(r.err);
   CHECK(r.exit_code == 1);
   // The file's analysis.cycles at its line, the estimate by part and the limit.

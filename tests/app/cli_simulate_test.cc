@@ -215,11 +215,18 @@ TEST_CASE(
   const auto roomy = RunCommand(limit(3 * estimate) + " " + kExe + run + file);
   CHECK(roomy.exit_code == 0);
   CHECK(roomy.err.find("will hold") == std::string::npos);
-  // A malformed limit is named.
+  // A malformed limit is named as the environment variable it is, not as part of the file; a
+  // number past the largest size is said to be too large.
   const auto bad = RunCommand("GEARNVH_MEMORY_LIMIT=1GB " + kExe + run + file);
   CHECK(bad.exit_code == 1);
-  CHECK(bad.err.find("GEARNVH_MEMORY_LIMIT: must be a whole number of bytes, got 1GB") !=
-        std::string::npos);
+  CHECK(bad.err ==
+        "error: the environment variable GEARNVH_MEMORY_LIMIT is '1GB': it must be a whole number "
+        "of bytes\n");
+  const auto huge = RunCommand("GEARNVH_MEMORY_LIMIT=99999999999999999999999 " + kExe + run + file);
+  CHECK(huge.exit_code == 1);
+  CHECK(huge.err ==
+        "error: the environment variable GEARNVH_MEMORY_LIMIT is 99999999999999999999999: too "
+        "large, at most 18446744073709551615 bytes\n");
 }
 
 TEST_CASE("simulate: bad options and unavailable tiers are clear errors", "[cli][simulate]") {

@@ -175,6 +175,16 @@ TEST_CASE("sweep refuses a sweep whose speeds in flight would hold more than the
   CHECK(two.exit_code == 2);
   CHECK(two.err.find("recorded samples 400 KiB") != std::string::npos);
   CHECK(!std::filesystem::exists(out.path() / "sweep"));  // nothing written
+  // Without --cycles the cycles are sweep's default, not a usage error: exit 1, saying so.
+  const auto by_default =
+      RunCommand("GEARNVH_MEMORY_LIMIT=1 " + kExe + " sweep --jobs 1 --out " +
+                 (out.path() / "sweep").string() + " " + kExamples + "/idle_rattle.yaml");
+  INFO(by_default.err);
+  CHECK(by_default.exit_code == 1);
+  CHECK(by_default.err.find("the default cycles per speed (set by --cycles): the run would hold "
+                            "about ") != std::string::npos);
+  CHECK(by_default.err.find("got 512") != std::string::npos);
+  CHECK(!std::filesystem::exists(out.path() / "sweep"));
 }
 
 }  // namespace

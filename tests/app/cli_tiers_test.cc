@@ -100,6 +100,18 @@ TEST_CASE("tiers refuses runs whose memory estimate exceeds the limit", "[cli][t
   CHECK(r.err.find("recorded samples 108 KiB") != std::string::npos);
   CHECK(r.err.find("got 54") != std::string::npos);
   CHECK(!std::filesystem::exists(out.path() / "tiers"));
+  // Without --cycles they come from the file's analysis.cycles (at most 400): an input error (1)
+  // at its line, as for simulate.
+  const auto from_file =
+      RunCommand("GEARNVH_MEMORY_LIMIT=1 " + kExe + " tiers --out " +
+                 (out.path() / "tiers").string() + " " + kExamples + "/idle_rattle.yaml");
+  INFO(from_file.err);
+  CHECK(from_file.exit_code == 1);
+  CHECK(from_file.err.find("idle_rattle.yaml:48: analysis.cycles: the run would hold about ") !=
+        std::string::npos);
+  CHECK(from_file.err.find("tiers records 400 of them (at most 400); fewer recorded cycles "
+                           "(--cycles) need less, got '2000'") != std::string::npos);
+  CHECK(!std::filesystem::exists(out.path() / "tiers"));
 }
 
 }  // namespace

@@ -1,12 +1,16 @@
 // Unit tests of the output-safety pieces: the output folder (lock, staging, commit), the finite
 // check of result documents and the UTF-8 check of input files.
-#include <catch2/catch.hpp>
 #include <fmt/format.h>
+
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <new>
+#include <stdexcept>
 
+#include "atomic_file.h"
 #include "command_errors.h"
 #include "config/utf8_check.h"
 #include "finite_results.h"
@@ -66,6 +70,29 @@ TEST_CASE("OutputFolder: an uncommitted run leaves nothing and stale staging is 
   CHECK(ReadWholeFile(target) == "a file\n");
 }
 
+TEST_CASE(
+    "WriteFileAtomically: a writer that throws anything leaves the earlier file and no temporary",
+    "[app][output]") {
+  const TempDir dir;
+  const fs::path target = dir.path() / "results.uff";
+  std::ofstream(target) << "earlier\n";
+  // std::bad_alloc as from a string growing past the memory the process may have, and an
+  // exception of no standard type: each reaches the caller as it was thrown.
+  auto half_then = [](auto error) {
+    return [error](std::FILE* f) {
+      std::fputs("half a file\n", f);
+      throw error;
+    };
+  };
+  CHECK_THROWS_AS(app::WriteFileAtomically(target.string(), half_then(std::bad_alloc())),
+                  std::bad_alloc);
+  CHECK_THROWS_AS(app::WriteFileAtomically(target.string(), half_then(42)), int);
+  CHECK(ReadWholeFile(target) == "earlier\n");
+  size_t entries = 0;
+  for (const auto& e : fs::directory_iterator(dir.path())) entries += e.path() != target ? 1 : 0;
+  CHECK(entries == 0);
+}
+
 // The message of the IoError that opening `target` raises ("" when it opens).
 std::string RefusalOf(const fs::path& target) {
   try {
@@ -123,9 +150,9 @@ TEST_CASE("RequireFinite names the quantity that is not finite", "[app][output]"
 TEST_CASE("RequireValidUtf8 accepts UTF-8 and names the line of anything else", "[app][input]") {
   CHECK_NOTHROW(config::RequireValidUtf8("name: Zahnräder \xE2\x82\xAC \xF0\x9F\x98\x80\n", "f"));
   for (const std::string bad : {std::string("\xFF"), std::string("\xC0\xAF"),  // overlong '/'
-                                std::string("\xED\xA0\x80"),                    // surrogate
-                                std::string("\xF4\x90\x80\x80"),                // > U+10FFFF
-                                std::string("\xE2\x82")}) {                     // cut short
+                                std::string("\xED\xA0\x80"),                   // surrogate
+                                std::string("\xF4\x90\x80\x80"),               // > U+10FFFF
+                                std::string("\xE2\x82")}) {                    // cut short
     INFO(bad.size());
     try {
       config::RequireValidUtf8("schema: gearnvh/1\nname: a" + bad + "\n", "f.yaml");

@@ -42,7 +42,8 @@ class SpectrumAnalyzer {
 };
 
 // The memory one spectrum of `length` samples holds at its peak: the caller's samples, the
-// analyzer's FFT input and window, FFTW's complex output and the amplitudes (length / 2 + 1 each).
+// analyzer's FFT input and window, FFTW's complex output, its plan's twiddle factors and the
+// amplitudes (length / 2 + 1 each).
 size_t SpectrumBytes(long length);
 
 // A peak near `frequency_hz` (searched within +-search_bins), refined by Hann interpolation.
