@@ -50,33 +50,27 @@ std::string BytesText(size_t bytes) {
 
 namespace {
 
-// MemAvailable of /proc/meminfo ("MemAvailable:   12345678 kB"); nullopt where there is none.
-std::optional<size_t> MemAvailable() {
-  std::ifstream meminfo("/proc/meminfo");
+// A "Key:   12345 kB" line of a /proc file in bytes; nullopt where there is none.
+std::optional<size_t> ProcKib(const char* path, const std::string& key) {
+  std::ifstream file(path);
   std::string line;
-  while (std::getline(meminfo, line)) {
-    if (line.rfind("MemAvailable:", 0) != 0) continue;
-    std::istringstream fields(line.substr(13));
+  while (std::getline(file, line)) {
+    if (line.rfind(key, 0) != 0) continue;
+    std::istringstream fields(line.substr(key.size()));
     size_t kib = 0;
     if (fields >> kib) return kib * 1024;
   }
   return std::nullopt;
 }
 
+std::optional<size_t> MemAvailable() { return ProcKib("/proc/meminfo", "MemAvailable:"); }
+
 // The address space left under the process's limit (ulimit -v): RLIMIT_AS less VmSize of
 // /proc/self/status; nullopt when there is no limit.
 std::optional<size_t> AddressSpaceLeft() {
   rlimit limit{};
   if (::getrlimit(RLIMIT_AS, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY) return std::nullopt;
-  std::ifstream status("/proc/self/status");
-  std::string line;
-  size_t used = 0;
-  while (std::getline(status, line)) {
-    if (line.rfind("VmSize:", 0) != 0) continue;
-    std::istringstream fields(line.substr(7));
-    size_t kib = 0;
-    if (fields >> kib) used = kib * 1024;
-  }
+  const size_t used = ProcKib("/proc/self/status", "VmSize:").value_or(0);
   const auto cap = static_cast<size_t>(limit.rlim_cur);
   return cap > used ? cap - used : 0;
 }
