@@ -12,6 +12,9 @@
 namespace gearnvh::app {
 namespace {
 
+// The data lines of a dataset 58 of n values (4E20.12: 20 characters each, a line end per 4).
+size_t DataTextBytes(size_t n) { return 20 * n + (n + 3) / 4; }
+
 // ID lines and labels are plain ASCII in fixed columns.
 std::string Ascii(const std::string& s, size_t width) {
   std::string out;
@@ -62,7 +65,7 @@ std::string UffDataset58(const UffFunction& f) {
   std::string out;
   // Its whole length at once (20 characters per value, a line end per 4, ~1 KB of records): a
   // growing string would hold up to twice that while it reallocates.
-  out.reserve(1024 + 20 * f.values.size() + (f.values.size() + 3) / 4);
+  out.reserve(1024 + DataTextBytes(f.values.size()));
   out = "    -1\n    58\n";
   for (const std::string* id : {&f.id1, &f.id2, &f.id3, &f.id4, &f.id5}) {
     out += Ascii(*id, 80) + "\n";
@@ -171,7 +174,7 @@ void WriteUffFile(const std::string& path, const std::vector<UffFunction>& funct
 
 MemoryPart OperatingPointUffMemory(long recorded_samples) {
   const auto n = static_cast<size_t>(std::max(recorded_samples, 0L));
-  return {"UFF export", 2 * n * sizeof(double) + 20 * n + (n + 3) / 4};
+  return {"UFF export", 2 * n * sizeof(double) + DataTextBytes(n)};
 }
 
 }  // namespace gearnvh::app
