@@ -21,20 +21,23 @@ void WriteFileAtomically(const std::string& path, const std::function<void(std::
     std::error_code ec;
     std::filesystem::remove(tmp, ec);
   };
-  bool wrote = true;
+  std::error_code write_error;  // fmt::print's report of a failed write, with its errno
   try {
     write(f);
-  } catch (const std::system_error&) {  // fmt::print's report of a failed write
-    wrote = false;
+  } catch (const std::system_error& e) {
+    write_error = e.code();
+    if (!write_error) write_error = std::make_error_code(std::errc::io_error);
   } catch (...) {  // anything else (std::bad_alloc while formatting): no file, the error as it is
     std::fclose(f);
     discard();
     throw;
   }
-  const bool ok = wrote && std::ferror(f) == 0 && std::fflush(f) == 0 && ::fsync(::fileno(f)) == 0;
+  const bool ok =
+      !write_error && std::ferror(f) == 0 && std::fflush(f) == 0 && ::fsync(::fileno(f)) == 0;
   const bool closed = std::fclose(f) == 0;
   if (!ok || !closed || std::rename(tmp.c_str(), path.c_str()) != 0) {
-    const std::string reason = std::strerror(errno);
+    // The failed write's own error: errno may since have been set by the calls after it.
+    const std::string reason = write_error ? write_error.message() : std::strerror(errno);
     discard();
     throw IoError("cannot write " + path + ": " + reason);
   }

@@ -93,8 +93,7 @@ int RunReport(const ReportCommandOptions& o) {
         std::max(1, std::min<int>(o.jobs > 0 ? o.jobs : hardware, static_cast<int>(mine.size())));
     const int inner = std::max(1, hardware / jobs);
     // Each gearbox in flight gets its share of the memory limit (docs/cli.md, "Memory").
-    std::optional<MemoryLimit> memory_share =
-        AvailableMemory(jobs * inner - 1, MpiContext::RanksOnNode());
+    std::optional<MemoryLimit> memory_share = AvailableMemoryOnEveryRank(jobs * inner - 1);
     if (memory_share && jobs > 1) {
       memory_share->bytes /= static_cast<size_t>(jobs);
       memory_share->source += fmt::format(", shared by {} gearboxes in parallel", jobs);

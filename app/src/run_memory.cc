@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "gearnvh/model/input_error.h"
+#include "mpi_context.h"
 
 namespace gearnvh::app {
 
@@ -119,6 +120,19 @@ std::optional<MemoryLimit> AvailableMemory(int threads, int sharing) {
     }
   }
   return out;
+}
+
+std::optional<MemoryLimit> AvailableMemoryOnEveryRank(int threads) {
+  std::optional<MemoryLimit> limit;
+  std::string error;
+  try {
+    limit = AvailableMemory(threads, MpiContext::RanksOnNode());
+  } catch (const std::runtime_error& e) {
+    error = e.what();
+  }
+  if (MpiContext::Active()) error = MpiContext::FirstNonEmpty(error);
+  if (!error.empty()) throw std::runtime_error(error);
+  return limit;
 }
 
 std::string MemoryRefusal(const RunMemory& need, const std::optional<MemoryLimit>& limit,

@@ -61,6 +61,11 @@ constexpr size_t kThreadAddressSpaceBytes = size_t{72} << 20;
 // GEARNVH_MEMORY_LIMIT is a std::runtime_error naming the environment variable.
 std::optional<MemoryLimit> AvailableMemory(int threads = 0, int sharing = 1);
 
+// AvailableMemory for the ranks of one MPI run (each with its ranks on the node sharing): a
+// malformed GEARNVH_MEMORY_LIMIT on any rank is the same std::runtime_error on every rank (the
+// first rank's), so no rank is left waiting in a later collective for one that threw.
+std::optional<MemoryLimit> AvailableMemoryOnEveryRank(int threads);
+
 // The rule an estimate above `limit` breaks ("the run would hold about ..., more than the ... of
 // memory available (...); `remedy`"), "" when it fits.
 std::string MemoryRefusal(const RunMemory& need, const std::optional<MemoryLimit>& limit,

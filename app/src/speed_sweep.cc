@@ -76,7 +76,9 @@ SpeedPoint RunPoint(const GearboxSpec& base, const ComponentModel& model,
 RunMemory SpeedSweepMemory(const SpeedSweepOptions& options, size_t speeds) {
   const SolverOptions solver = PointSolverOptions(options);
   const RecordingReserve recorded = PlanRecording(solver);
-  const auto at_once = static_cast<size_t>(ParallelWorkers(speeds, options.threads));
+  // A rank with no speeds (more ranks than speeds) holds nothing.
+  const auto at_once =
+      speeds == 0 ? size_t{0} : static_cast<size_t>(ParallelWorkers(speeds, options.threads));
   return {{{"recorded samples", at_once * recorded.sample_bytes()},
            {"event log", at_once * recorded.event_bytes()},
            {"waterfall spectra",

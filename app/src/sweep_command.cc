@@ -225,7 +225,7 @@ std::string CheckSweepMemory(const SweepOptions& options, const SpeedSweepOption
       static_cast<size_t>((spec.analysis.speed_sweep.points + ranks - 1 - rank) / ranks);
   const RunMemory need = SpeedSweepMemory(sweep, my_speeds);
   const std::optional<MemoryLimit> limit =
-      AvailableMemory(ParallelWorkers(my_speeds, sweep.threads) - 1, MpiContext::RanksOnNode());
+      AvailableMemoryOnEveryRank(ParallelWorkers(my_speeds, sweep.threads) - 1);
   const std::string option =
       options.cycles ? "--cycles" : "the default cycles per speed (set by --cycles)";
   const std::string value = std::to_string(sweep.cycles);

@@ -206,7 +206,7 @@ const double* SpectralLocator::BuildCarry(int segment, ContactState state) {
 
 void SpectralLocator::CarryProduct(const double* carry, const double* w) {
   const Eigen::Map<const Eigen::VectorXd> in(w, t_.m);
-  Eigen::Map<Eigen::VectorXd, Eigen::Aligned64> out(carried_.data(), padded_);
+  Eigen::Map<Eigen::VectorXd, kBufferAlignment> out(carried_.data(), padded_);
   switch (t_.m) {
     case 6:
       return CarryProductSized<6>(carry, padded_, t_.m, in, out);
@@ -222,7 +222,7 @@ SpectralLocator::CarriedVector<M> SpectralLocator::CarriedView(Eigen::VectorXd& 
   if constexpr (M == Eigen::Dynamic)
     return {buffer.data(), padded_};
   else
-    return Eigen::Map<const CarriedVector<M>, Eigen::Aligned64>(buffer.data());
+    return Eigen::Map<const CarriedVector<M>, kBufferAlignment>(buffer.data());
 }
 
 template <int M>
@@ -230,7 +230,7 @@ template <int M>
                                                               Eigen::VectorXd& buffer) {
   // A map already is the buffer.
   if constexpr (M != Eigen::Dynamic)
-    Eigen::Map<CarriedVector<M>, Eigen::Aligned64>(buffer.data()) = v;
+    Eigen::Map<CarriedVector<M>, kBufferAlignment>(buffer.data()) = v;
 }
 
 void SpectralLocator::Materialise(LocatorState& state) {
@@ -274,13 +274,13 @@ unsigned SpectralLocator::ClearWalls(const System& sp, int segment) const {
   switch (t_.m) {
     case 6:
       return ClearWallsOf<6>(sp, segment,
-                             Eigen::Map<const CarriedVector<6>, Eigen::Aligned64>(entry_.data()));
+                             Eigen::Map<const CarriedVector<6>, kBufferAlignment>(entry_.data()));
     case 7:
       return ClearWallsOf<7>(sp, segment,
-                             Eigen::Map<const CarriedVector<7>, Eigen::Aligned64>(entry_.data()));
+                             Eigen::Map<const CarriedVector<7>, kBufferAlignment>(entry_.data()));
     default:
       return ClearWallsOf<Eigen::Dynamic>(
-          sp, segment, Eigen::Map<const Eigen::VectorXd, Eigen::Aligned64>(entry_.data(), padded_));
+          sp, segment, Eigen::Map<const Eigen::VectorXd, kBufferAlignment>(entry_.data(), padded_));
   }
 }
 

@@ -382,9 +382,12 @@ class SpectralLocator final : public EventLocator {
   // fixed-size values, kept in registers across a run of carried segments (through the buffers,
   // every segment waited twice for a store to be forwarded to a load); otherwise maps of the
   // buffers (entry_, carried_).
+  // The alignment of the buffers entry_ and carried_: what Eigen's own allocation of a VectorXd
+  // guarantees (64 bytes in an AVX-512 build, 16 in a build for plain x86-64).
+  static constexpr int kBufferAlignment = Eigen::AlignedMax;
   template <int M>
   using CarriedVector =
-      std::conditional_t<M == Eigen::Dynamic, Eigen::Map<Eigen::VectorXd, Eigen::Aligned64>,
+      std::conditional_t<M == Eigen::Dynamic, Eigen::Map<Eigen::VectorXd, kBufferAlignment>,
                          Eigen::Matrix<double, kLineDoubles, 1>>;
   // A buffer (entry_ or carried_) as a CarriedVector: a copy at tier 1, a map otherwise.
   template <int M>
