@@ -7,10 +7,10 @@
 // examples/flexible_shafts.yaml at 7548.387097 rpm (mesh frequency 3.9 kHz, period 256 us),
 // 20 N m, one engine order 15.5 of 200000 rad/s^2: 2.7-2.9 events per mesh cycle on every tier,
 // the preprint's event rate. One core. Per-cycle cost = median of paired differences (runs of C
-// and 2C cycles from the same start, back to back), so the set-up both runs pay cancels. In the
-// same run: the matvec floor (Eigen matrix-vector products of the case's state dimension, 32
+// and 2C cycles from the same start, back to back), so the set-up both runs pay cancels. Beside
+// each pair: the matvec floor (Eigen matrix-vector products of the case's state dimension, 32
 // matrices cycled as the solver cycles its segment propagators), so every cost is also quoted as
-// a multiple of the work no event-driven method can avoid.
+// a multiple of the work no event-driven method can avoid (the median of the pairs' ratios).
 #include <fmt/format.h>
 
 #include <Eigen/Dense>
@@ -46,15 +46,11 @@ double Seconds(const std::function<void()>& f) {
          1e-9 * static_cast<double>(t1.tv_nsec - t0.tv_nsec);
 }
 
-// PairedMarginalSeconds (bench_common.h) on the clock above.
-double PairedMarginal(const std::function<void(bool longer)>& run, int pairs) {
-  std::vector<double> differences;
-  for (int p = 0; p < pairs; ++p) {
-    const double short_run = Seconds([&] { run(false); });
-    const double long_run = Seconds([&] { run(true); });
-    differences.push_back(long_run - short_run);
-  }
-  return std::max(Median(differences), 0.0);
+// One paired difference: `run(false)` then `run(true)`, back to back, on the clock above.
+double PairedDifference(const std::function<void(bool longer)>& run) {
+  const double short_run = Seconds([&] { run(false); });
+  const double long_run = Seconds([&] { run(true); });
+  return long_run - short_run;
 }
 
 // The preprint's figures (us per mesh cycle at its strong-rattle rate, one core).
@@ -110,7 +106,13 @@ struct Settings {
 
 struct Figures {
   SolverSummary summary;
+  int m = 0;  // the state dimension
   double us_per_cycle = 0.0;
+  // The matvec floor measured beside each pair (the median), and the median over the pairs of
+  // each pair's cost over its own floor: this VM's speed drifts by up to ~1.5x over seconds, so a
+  // floor measured minutes away from a case can be in another phase than the case.
+  double floor_ns = 0.0;
+  double ratio_to_floor = 0.0;
   double setup_ms = 0.0;  // the solver's per-run set-up (decompositions), model build excluded
   double build_ms = 0.0;  // spec -> component model -> reduced model -> tables
 };
@@ -120,6 +122,7 @@ Figures Measure(const GearboxSpec& spec, Tier tier, LadderMethod method, bool re
   Figures f;
   OperatingPointModel op;
   f.build_ms = 1e3 * Seconds([&] { op = BuildOperatingPointModel(spec, tier); });
+  f.m = op.tables.m;
   const auto [z0, s0] = StaticInitialState(op.tables);
   SolverOptions o;
   ApplyLadderMethod(method, o);
@@ -127,17 +130,31 @@ Figures Measure(const GearboxSpec& spec, Tier tier, LadderMethod method, bool re
   o.cycle_rows = cycle_rows;
   o.transient_cycles = s.transient;
   o.record_trajectory = record;
-  const double marginal = PairedMarginal(
-      [&](bool longer) {
-        o.cycles = longer ? 2 * cycles : cycles;
-        const SolverResult r = SimulateExact(op.tables, z0, s0, o);
-        if (longer) f.summary = r.summary;
-      },
-      s.pairs);
-  f.us_per_cycle = 1e6 * marginal / static_cast<double>(cycles);
+  std::vector<double> differences, floors;
+  for (int p = 0; p < s.pairs; ++p) {
+    differences.push_back(PairedDifference([&](bool longer) {
+      o.cycles = longer ? 2 * cycles : cycles;
+      const SolverResult r = SimulateExact(op.tables, z0, s0, o);
+      if (longer) f.summary = r.summary;
+    }));
+    // After the pair, so its own matrices do not evict the tables before the short run.
+    floors.push_back(MatvecFloorNs(f.m, 1));
+  }
+  f.us_per_cycle = 1e6 * std::max(Median(differences), 0.0) / static_cast<double>(cycles);
+  f.floor_ns = Median(floors);
+  std::vector<double> ratios;
+  for (size_t p = 0; p < differences.size(); ++p) {
+    ratios.push_back(1e9 * std::max(differences[p], 0.0) / static_cast<double>(cycles) /
+                     (f.summary.matvec_per_cycle * floors[p]));
+  }
+  f.ratio_to_floor = Median(ratios);
+  // Set-up: the median of 3 one-cycle runs (each builds its own decompositions).
   o.cycles = 1;
   o.transient_cycles = 0;
-  f.setup_ms = 1e3 * Seconds([&] { SimulateExact(op.tables, z0, s0, o); });
+  std::vector<double> setups;
+  for (int k = 0; k < 3; ++k)
+    setups.push_back(1e3 * Seconds([&] { SimulateExact(op.tables, z0, s0, o); }));
+  f.setup_ms = Median(setups);
   return f;
 }
 
@@ -210,11 +227,7 @@ int main(int argc, char** argv) {
       "median of {} paired differences, {} time\n",
       Machine(), s.cycles, s.transient, s.pairs, use_cpu_time ? "thread CPU" : "wall");
 
-  std::map<int, double> floor_ns;  // state dimension -> ns per matvec
-  auto floor_of = [&](int m) {
-    if (!floor_ns.count(m)) floor_ns[m] = MatvecFloorNs(m, s.quick ? 3 : 5);
-    return floor_ns[m];
-  };
+  std::map<int, std::vector<double>> floor_ns;  // state dimension -> each case's floor, ns
 
   fmt::print("\n  {:<40} {:>6} {:>4} {:>7} {:>8} {:>9} {:>8} {:>9} {:>9} {:>9} {:>9}\n", "case",
              "C", "m", "ev/cyc", "matvec/c", "us/cycle", "x real", "x paper", "floor us", "x floor",
@@ -263,11 +276,9 @@ int main(int argc, char** argv) {
     const long cycles = std::max(s.cycles, s.quick ? c.min_cycles / 5 : c.min_cycles);
     const Figures f =
         Measure(c.spec, c.tier, c.method, c.record, c.carry_max_error, c.cycle_rows, s, cycles);
-    const int m = [&] {
-      const OperatingPointModel op = BuildOperatingPointModel(c.spec, c.tier);
-      return op.tables.m;
-    }();
-    const double floor_us = 1e-3 * floor_of(m) * f.summary.matvec_per_cycle;
+    const int m = f.m;
+    floor_ns[m].push_back(f.floor_ns);
+    const double floor_us = 1e-3 * f.floor_ns * f.summary.matvec_per_cycle;
     const double paper_ratio = c.paper_us > 0.0 ? c.paper_us / f.us_per_cycle : 0.0;
     fmt::print(
         "  {:<40} {:>6} {:>4} {:>7.2f} {:>8.1f} {:>9.2f} {:>8.2f} {:>9} {:>9.2f} {:>9.2f} "
@@ -275,7 +286,7 @@ int main(int argc, char** argv) {
         c.label, cycles, m, f.summary.events_per_cycle, f.summary.matvec_per_cycle, f.us_per_cycle,
         mesh_period_us / f.us_per_cycle,
         paper_ratio > 0.0 ? fmt::format("{:.1f}", paper_ratio) : "-", floor_us,
-        f.us_per_cycle / floor_us, f.setup_ms);
+        f.ratio_to_floor, f.setup_ms);
     rows.push_back({{"case", c.label},
                     {"state_dim", m},
                     {"cycles", cycles},
@@ -288,7 +299,7 @@ int main(int argc, char** argv) {
                     {"paper_us_per_cycle", c.paper_us},
                     {"speedup_vs_paper", paper_ratio},
                     {"matvec_floor_us_per_cycle", floor_us},
-                    {"ratio_to_floor", f.us_per_cycle / floor_us},
+                    {"ratio_to_floor", f.ratio_to_floor},
                     {"solver_setup_ms", f.setup_ms},
                     {"model_build_ms", f.build_ms},
                     {"table_bytes", f.summary.table_bytes},
@@ -301,10 +312,10 @@ int main(int argc, char** argv) {
                f.summary.carried_systems, f.summary.carry_error_bound,
                f.summary.spectral_max_condition);
   }
-  fmt::print("\n  matvec floor (ns per product, 32 matrices cycled):");
+  fmt::print("\n  matvec floor (ns per product, 32 matrices cycled; each case's, in order):");
   nlohmann::json floors = nlohmann::json::object();
   for (const auto& [m, ns] : floor_ns) {
-    fmt::print("  m = {}: {:.0f}", m, ns);
+    fmt::print("  m = {}: {:.0f}", m, fmt::join(ns, " / "));
     floors[std::to_string(m)] = ns;
   }
   fmt::print("\n");
