@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "gearnvh/solver/spectral_locator.h"
 #include "gearnvh/solver/tangent_propagator.h"
 
 namespace gearnvh {

@@ -9,6 +9,7 @@
 
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/solver/cycle_map.h"
+#include "gearnvh/solver/spectral_locator.h"
 
 namespace gearnvh {
 

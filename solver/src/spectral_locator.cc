@@ -1,9 +1,9 @@
-// V3: closed-form event location in decoupled coordinates (event_locator.h, spectral_gap.h).
+// V3: closed-form event location in decoupled coordinates (spectral_locator.h, spectral_gap.h).
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "gearnvh/solver/event_locator.h"
+#include "gearnvh/solver/spectral_locator.h"
 #include "gearnvh/solver/tangent_propagator.h"
 
 namespace gearnvh {

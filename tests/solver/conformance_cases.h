@@ -1,5 +1,5 @@
 // The cases of the event-locator conformance suite (event_locator_test.cc): a single pair on tiers
-// 1, 3 and 5 in idle rattle and in a near-grazing impact (solver/event_locator.h: SpectralLocator,
+// 1, 3 and 5 in idle rattle and in a near-grazing impact (solver/event_locator.h, spectral_locator.h: SpectralLocator,
 // TaylorLocator, DyadicLocator behind ExactStepper), and a rattling gear train with a loose gear
 // and a near-grazing impact of that gear (solver/train_stepper.h: V3, V2, V1 as
 // TrainStepperOptions::events). Each case runs any of the three event methods from one start and

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "gearnvh/solver/exact_solver.h"
+#include "gearnvh/solver/spectral_locator.h"
 #include "solver/conformance_cases.h"
 #include "support/allocation_counter.h"
 
@@ -169,7 +170,7 @@ TEMPLATE_LIST_TEST_CASE("locator conformance: the tangent equals a finite-differ
 
 TEST_CASE("V3 carried in decoupled coordinates equals V3 stepped through z and Phi",
           "[solver][locator][carry]") {
-  // SpectralLocator hands a segment without an event to the next one as C_j w (event_locator.h)
+  // SpectralLocator hands a segment without an event to the next one as C_j w (spectral_locator.h)
   // instead of Phi z followed by S^-1 z. Both are exact propagations; they differ by rounding
   // amplified by the decompositions' conditioning (the carry's first-order bound is reported).
   const ConformanceCaseId c =

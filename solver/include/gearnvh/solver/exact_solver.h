@@ -4,8 +4,9 @@
 // so z(t) = expm(A t) z is exact; the contact state changes when a gap row crosses its wall. The
 // solver is split along its seams (Drake systems/analysis style):
 //   event_locator.h      the EventLocator interface (DoStep over one segment, events reported to
-//                        an EventHandler) and one class per method: SpectralLocator (V3),
-//                        TaylorLocator (V2), DyadicLocator (V1); each owns its tables.
+//                        an EventHandler) and one class per method: SpectralLocator (V3,
+//                        spectral_locator.h), TaylorLocator (V2), DyadicLocator (V1); each owns
+//                        its tables.
 //   tangent_propagator.h tangent columns: the same maps, saltation at state-triggered events.
 //   segment_fusion.h     certified segment runs and certified permanent contact.
 //   run_recording.h      pieces for the ExactRecorder, event counts and log, separated time.

@@ -40,8 +40,8 @@ struct SolverOptions {
   // ~ cond(S) eps).
   double spectral_max_condition = 1e6;  // >= 1
   // kSpectral: a segment without an event hands its state to the next segment in decoupled
-  // coordinates (one matvec instead of two; event_locator.h, SpectralLocator) where the
-  // first-order bound of the relative state error that step adds is at most this; 0 disables it.
+  // coordinates (one matvec instead of two; spectral_locator.h) where the first-order bound of
+  // the relative state error that step adds is at most this; 0 disables it.
   double carry_max_error = 1e-7;  // >= 0
   long cycles = 100;              // mesh cycles recorded after the transient; >= 1
   long transient_cycles = 0;      // mesh cycles run first and not recorded; >= 0
@@ -112,7 +112,7 @@ struct SolverSummary {
   size_t table_bytes = 0;
   int spectral_fallback_systems = 0;    // (segment, state) pairs located by kTaylor instead of V3
   double spectral_max_condition = 0.0;  // largest cond(S) among the decompositions used
-  // V3 steps carried in decoupled coordinates (event_locator.h, SpectralLocator): the (segment,
+  // V3 steps carried in decoupled coordinates (spectral_locator.h): the (segment,
   // state) pairs that carry and the largest first-order bound of the relative state error one
   // carried step adds.
   int carried_systems = 0;
