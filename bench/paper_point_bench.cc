@@ -285,8 +285,8 @@ int main(int argc, char** argv) {
         "{:>9.1f}\n",
         c.label, cycles, m, f.summary.events_per_cycle, f.summary.matvec_per_cycle, f.us_per_cycle,
         mesh_period_us / f.us_per_cycle,
-        paper_ratio > 0.0 ? fmt::format("{:.1f}", paper_ratio) : "-", floor_us,
-        f.ratio_to_floor, f.setup_ms);
+        paper_ratio > 0.0 ? fmt::format("{:.1f}", paper_ratio) : "-", floor_us, f.ratio_to_floor,
+        f.setup_ms);
     rows.push_back({{"case", c.label},
                     {"state_dim", m},
                     {"cycles", cycles},

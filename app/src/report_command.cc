@@ -21,6 +21,7 @@
 #include "mpi_context.h"
 #include "output_folder.h"
 #include "report_batch.h"
+#include "run_memory.h"
 
 namespace gearnvh::app {
 
@@ -212,6 +213,9 @@ int RunReport(const ReportCommandOptions& o) {
   } catch (const InputError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return ExitCodeOf(e);  // every rank sees the same input and the same error
+  } catch (const MemoryLimitVariableError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return kExitInput;  // the same error on every rank (AvailableMemoryOnEveryRank)
   } catch (const IoError& e) {
     std::cerr << "error: " << e.what() << "\n";
     code = kExitIo;

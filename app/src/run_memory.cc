@@ -94,12 +94,12 @@ std::optional<MemoryLimit> AvailableMemory(int threads, int sharing) {
     const auto [stop, error] = std::from_chars(s.data(), s.data() + s.size(), bytes);
     const bool whole = !s.empty() && stop == s.data() + s.size();
     if (whole && error == std::errc::result_out_of_range) {
-      throw std::runtime_error(
+      throw MemoryLimitVariableError(
           fmt::format("the environment variable {} is {}: too large, at most {} bytes", kVariable,
                       s, std::numeric_limits<size_t>::max()));
     }
     if (!whole || error != std::errc()) {
-      throw std::runtime_error(fmt::format(
+      throw MemoryLimitVariableError(fmt::format(
           "the environment variable {} is '{}': it must be a whole number of bytes", kVariable, s));
     }
     return MemoryLimit{bytes / share, kVariable + SharedBy(sharing)};
@@ -127,11 +127,11 @@ std::optional<MemoryLimit> AvailableMemoryOnEveryRank(int threads) {
   std::string error;
   try {
     limit = AvailableMemory(threads, MpiContext::RanksOnNode());
-  } catch (const std::runtime_error& e) {
+  } catch (const MemoryLimitVariableError& e) {
     error = e.what();
   }
   if (MpiContext::Active()) error = MpiContext::FirstNonEmpty(error);
-  if (!error.empty()) throw std::runtime_error(error);
+  if (!error.empty()) throw MemoryLimitVariableError(error);
   return limit;
 }
 

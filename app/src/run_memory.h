@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,12 @@ inline constexpr const char* kFewerCycles = "fewer recorded cycles need less";
 // A run estimated above this is warned about (as is one above half the limit).
 constexpr size_t kMemoryWarningBytes = size_t{1} << 30;
 
+// A malformed GEARNVH_MEMORY_LIMIT: invalid input (exit 1) that names the environment variable.
+class MemoryLimitVariableError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 struct MemoryLimit {
   size_t bytes = 0;
   std::string source;  // "MemAvailable in /proc/meminfo", "GEARNVH_MEMORY_LIMIT", ...
@@ -58,12 +65,12 @@ constexpr size_t kThreadAddressSpaceBytes = size_t{72} << 20;
 // kUnestimatedBytes, the latter also less kThreadAddressSpaceBytes for each of the `threads` the
 // run starts after the check; nullopt when none exists. The `sharing` processes of one run on
 // this machine (MPI ranks on the node) divide GEARNVH_MEMORY_LIMIT and MemAvailable. A malformed
-// GEARNVH_MEMORY_LIMIT is a std::runtime_error naming the environment variable.
+// GEARNVH_MEMORY_LIMIT is a MemoryLimitVariableError naming the environment variable.
 std::optional<MemoryLimit> AvailableMemory(int threads = 0, int sharing = 1);
 
 // AvailableMemory for the ranks of one MPI run (each with its ranks on the node sharing): a
-// malformed GEARNVH_MEMORY_LIMIT on any rank is the same std::runtime_error on every rank (the
-// first rank's), so no rank is left waiting in a later collective for one that threw.
+// malformed GEARNVH_MEMORY_LIMIT on any rank is the same MemoryLimitVariableError on every rank
+// (the first rank's), so no rank is left waiting in a later collective for one that threw.
 std::optional<MemoryLimit> AvailableMemoryOnEveryRank(int threads);
 
 // The rule an estimate above `limit` breaks ("the run would hold about ..., more than the ... of

@@ -109,6 +109,29 @@ TEST_CASE("mpi: a sweep that one rank cannot hold is refused by every rank, said
   CHECK(!fs::exists(dir.path() / "sweep"));
 }
 
+TEST_CASE("mpi: a malformed memory limit on one rank stops every rank with its message",
+          "[cli][mpi][memory]") {
+  // Only rank 1 (MPMD) has a malformed GEARNVH_MEMORY_LIMIT: it used to throw alone while rank 0
+  // went on into the next collective and waited for it for ever (the timeout turns a hang into a
+  // failure).
+  const TempDir dir;
+  const std::string sweep = kExe + " sweep " + kExamples +
+                            "/idle_rattle.yaml --cycles 100 --transient 0 --jobs 1 --out " +
+                            (dir.path() / "sweep").string();
+  const std::string report = kExe + " report " + kExamples + "/idle_rattle.yaml " + kExamples +
+                             "/idle_rattle.yaml --out " + (dir.path() / "report").string();
+  for (const std::string& command : {sweep, report}) {
+    const auto r = RunCommand("timeout 120 " + kMpirunOptions + "-np 1 " + command +
+                              " : -np 1 env GEARNVH_MEMORY_LIMIT=1GB " + command);
+    INFO(command << "\n" << r.out << r.err);
+    CHECK(r.exit_code == 1);
+    CHECK(r.err.find("error: the environment variable GEARNVH_MEMORY_LIMIT is '1GB': it must be a "
+                     "whole number of bytes") != std::string::npos);
+  }
+  CHECK(!fs::exists(dir.path() / "sweep"));
+  CHECK(!fs::exists(dir.path() / "report"));
+}
+
 TEST_CASE("mpi: a report batch split over 2 ranks equals the single-process report", "[cli][mpi]") {
   // Rank 1 builds the second gearbox (with its own Xvfb when there is no display) and sends the
   // files to rank 0, which alone writes the report.

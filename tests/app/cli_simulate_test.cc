@@ -229,6 +229,31 @@ TEST_CASE(
         "large, at most 18446744073709551615 bytes\n");
 }
 
+TEST_CASE("a malformed GEARNVH_MEMORY_LIMIT is an input error in every command that reads it",
+          "[cli][memory]") {
+  // report read it outside the commands' error mapping: an internal error (exit 3) until
+  // 2026-12-01. Every command checks the limit before its run, so each fails at once.
+  const TempDir dir;
+  const std::string pair = kExamples + "/idle_rattle.yaml";
+  const std::string train = kExamples + "/two_stage_helical_reducer.yaml";
+  const std::string commands[] = {
+      " simulate --cycles 10 " + pair,
+      " simulate --cycles 10 " + train,
+      " sweep --cycles 10 " + pair,
+      " tiers --cycles 10 " + pair,
+      " report " + pair + " --out " + (dir.path() / "report").string(),
+  };
+  for (const std::string& command : commands) {
+    const auto r = RunCommand("GEARNVH_MEMORY_LIMIT=1GB " + kExe + command);
+    INFO(command << "\n" << r.err);
+    CHECK(r.exit_code == 1);
+    CHECK(r.err.find("error: the environment variable GEARNVH_MEMORY_LIMIT is '1GB': it must be a "
+                     "whole number of bytes\n") != std::string::npos);
+    CHECK(r.err.find("internal error") == std::string::npos);
+  }
+  CHECK_FALSE(std::filesystem::exists(dir.path() / "report"));
+}
+
 TEST_CASE("simulate: bad options and unavailable tiers are clear errors", "[cli][simulate]") {
   const auto bad_tier = RunCommand(kExe + " simulate --tier 9 " + kExamples + "/idle_rattle.yaml");
   CHECK(bad_tier.exit_code == 2);  // a usage error
