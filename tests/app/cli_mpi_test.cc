@@ -86,15 +86,19 @@ TEST_CASE("mpi: mpirun -np 2 gives the single-process speed sweep", "[cli][mpi]"
         comparable(dir.path() / "two" / "sweep.json"));
 }
 
+// A short sweep of the idle-rattle example into `out`, one speed at a time per rank.
+std::string IdleSweepCommand(const fs::path& out) {
+  return kExe + " sweep " + kExamples + "/idle_rattle.yaml --cycles 100 --transient 0 --jobs 1 " +
+         "--out " + out.string();
+}
+
 TEST_CASE("mpi: a sweep that one rank cannot hold is refused by every rank, said by rank 0",
           "[cli][mpi][memory]") {
   // Rank 0 has room, rank 1 (its own limit, MPMD) has none: before, rank 1 refused alone (its
   // stderr is /dev/null) and rank 0 waited for it in the gather for ever; the timeout turns such
   // a hang into a failure.
   const TempDir dir;
-  const std::string sweep = kExe + " sweep " + kExamples +
-                            "/idle_rattle.yaml --cycles 100 --transient 0 --jobs 1 --out " +
-                            (dir.path() / "sweep").string();
+  const std::string sweep = IdleSweepCommand(dir.path() / "sweep");
   const auto r =
       RunCommand("timeout 120 " + kMpirunOptions + "-np 1 env GEARNVH_MEMORY_LIMIT=100000000000 " +
                  sweep + " : -np 1 env GEARNVH_MEMORY_LIMIT=1 " + sweep);
@@ -115,9 +119,7 @@ TEST_CASE("mpi: a malformed memory limit on one rank stops every rank with its m
   // went on into the next collective and waited for it for ever (the timeout turns a hang into a
   // failure).
   const TempDir dir;
-  const std::string sweep = kExe + " sweep " + kExamples +
-                            "/idle_rattle.yaml --cycles 100 --transient 0 --jobs 1 --out " +
-                            (dir.path() / "sweep").string();
+  const std::string sweep = IdleSweepCommand(dir.path() / "sweep");
   const std::string report = kExe + " report " + kExamples + "/idle_rattle.yaml " + kExamples +
                              "/idle_rattle.yaml --out " + (dir.path() / "report").string();
   for (const std::string& command : {sweep, report}) {
