@@ -18,6 +18,7 @@
 #include <thread>
 
 #include "support/run_command.h"
+#include "support/sanitizer.h"
 
 extern char** environ;
 
@@ -398,7 +399,7 @@ TEST_CASE("a mistyped command is named, with the closest command and the list",
   CHECK(unknown.err.find("error: unknown command 'bogus'; commands: check, ") != std::string::npos);
 }
 
-#if !defined(__SANITIZE_ADDRESS__)  // ASan reserves more address space than the cap below
+#if !defined(GEARNVH_UNDER_ASAN)  // ASan reserves more address space than the cap below
 TEST_CASE("simulate: running out of memory is an error that says so, not an internal error",
           "[cli][hardening]") {
   const TempDir dir;

@@ -3,6 +3,8 @@
 #include <cstdlib>
 #include <new>
 
+#include "support/sanitizer.h"
+
 namespace gearnvh::testing {
 std::atomic<long> g_allocations{0};
 std::atomic<bool> g_counting{false};
@@ -13,7 +15,7 @@ std::atomic<bool> g_counting{false};
 // Eigen's heap (MatrixXd temporaries, resizing) calls std::malloc directly, not operator new: the
 // test binary interposes malloc, calloc and realloc (glibc's own entry points do the work) so those
 // are counted too. Not under a sanitizer, whose runtime interposes them itself.
-#if defined(__GLIBC__) && !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
+#if defined(__GLIBC__) && !defined(GEARNVH_UNDER_ASAN)
 #define GEARNVH_COUNT_MALLOC 1
 extern "C" {
 void* __libc_malloc(std::size_t size);
