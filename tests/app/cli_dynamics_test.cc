@@ -6,6 +6,7 @@
 #include <set>
 
 #include "support/run_command.h"
+#include "support/paths.h"
 
 namespace gearnvh {
 namespace {
@@ -14,8 +15,8 @@ using testing::ReadWholeFile;
 using testing::RunCommand;
 using testing::TempDir;
 
-const std::string kExe = GEARNVH_EXE;
-const std::string kExamples = GEARNVH_EXAMPLES_DIR;
+using testing::kExe;
+using testing::kExamples;
 
 // A small atlas of the idle-rattle example: low drag torque rattles chaotically, higher drag
 // settles into periodic single- or double-sided rattle.

@@ -19,6 +19,7 @@
 
 #include "support/run_command.h"
 #include "support/sanitizer.h"
+#include "support/paths.h"
 
 extern char** environ;
 
@@ -30,8 +31,8 @@ using testing::ReadWholeFile;
 using testing::RunCommand;
 using testing::TempDir;
 
-const std::string kExe = GEARNVH_EXE;
-const std::string kExamples = GEARNVH_EXAMPLES_DIR;
+using testing::kExe;
+using testing::kExamples;
 const std::string kWhine = kExamples + "/industrial_whine.yaml";
 
 // Names in `dir` that a run must never leave behind.

@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "support/run_command.h"
+#include "support/paths.h"
 
 extern char** environ;
 
@@ -24,7 +25,7 @@ using testing::ReadWholeFile;
 using testing::RunCommand;
 using testing::TempDir;
 
-const std::string kExe = GEARNVH_EXE;
+using testing::kExe;
 // mpirun on loopback (as root OpenMPI also needs --allow-run-as-root). OpenMPI itself is not
 // LeakSanitizer-clean (its dlopen'ed components leak at MPI_Finalize), so the sanitizer run checks
 // leaks of these processes off; the code they run is the single-process code, leak-checked there.
@@ -32,7 +33,7 @@ const std::string kMpirunOptions =
     "env ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 mpirun --allow-run-as-root --oversubscribe "
     "--mca btl self,tcp --mca btl_tcp_if_include lo --mca oob_tcp_if_include lo ";
 const std::string kMpirun = kMpirunOptions + "-np 2 ";
-const std::string kExamples = GEARNVH_EXAMPLES_DIR;
+using testing::kExamples;
 const std::string kAtlas = " atlas " + kExamples +
                            "/idle_rattle.yaml --x operating.speed=700rpm:1100rpm:3"
                            " --y operating.torque=0.05Nm:0.5Nm:4 --cycles 1080 --transient 270 ";

@@ -9,6 +9,7 @@
 
 #include "gearnvh/render/plots.h"
 #include "support/run_command.h"
+#include "support/paths.h"
 
 namespace gearnvh {
 namespace {
@@ -18,8 +19,8 @@ using testing::ReadWholeFile;
 using testing::RunCommand;
 using testing::TempDir;
 
-const std::string kExe = GEARNVH_EXE;
-const std::string kExamples = GEARNVH_EXAMPLES_DIR;
+using testing::kExe;
+using testing::kExamples;
 const std::array<std::uint8_t, 3> kWhite{255, 255, 255};
 
 // Every <img src> of a page, in order.

@@ -5,6 +5,7 @@
 
 #include "gearnvh/solver/trajectory.h"
 #include "support/run_command.h"
+#include "support/paths.h"
 
 namespace gearnvh {
 namespace {
@@ -12,8 +13,8 @@ namespace {
 using testing::RunCommand;
 using testing::TempDir;
 
-const std::string kExe = GEARNVH_EXE;
-const std::string kExamples = GEARNVH_EXAMPLES_DIR;
+using testing::kExe;
+using testing::kExamples;
 
 TEST_CASE("simulate --json: summary keys, the rattle example rattles, the loaded one does not",
           "[cli][simulate]") {

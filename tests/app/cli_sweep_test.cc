@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "support/run_command.h"
+#include "support/paths.h"
 
 namespace gearnvh {
 namespace {
@@ -13,8 +14,8 @@ namespace {
 using testing::RunCommand;
 using testing::TempDir;
 
-const std::string kExe = GEARNVH_EXE;
-const std::string kExamples = GEARNVH_EXAMPLES_DIR;
+using testing::kExe;
+using testing::kExamples;
 
 TEST_CASE("simulate --json lists only the mesh harmonics when nothing can make sidebands",
           "[cli][sidebands]") {

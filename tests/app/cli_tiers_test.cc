@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "support/run_command.h"
+#include "support/paths.h"
 
 namespace gearnvh {
 namespace {
@@ -11,8 +12,8 @@ namespace {
 using testing::RunCommand;
 using testing::TempDir;
 
-const std::string kExe = GEARNVH_EXE;
-const std::string kExamples = GEARNVH_EXAMPLES_DIR;
+using testing::kExe;
+using testing::kExamples;
 
 TEST_CASE("tiers compares every modal tier of a flexible gearbox with the full FE model",
           "[cli][tiers]") {

@@ -18,6 +18,7 @@
 #include "gearnvh/solver/train_reference.h"
 #include "gearnvh/solver/train_tables.h"
 #include "support/run_command.h"
+#include "support/paths.h"
 
 namespace gearnvh {
 namespace {
@@ -26,8 +27,8 @@ using testing::ReadWholeFile;
 using testing::RunCommand;
 using testing::TempDir;
 
-const std::string kExe = GEARNVH_EXE;
-const std::string kExamples = GEARNVH_EXAMPLES_DIR;
+using testing::kExe;
+using testing::kExamples;
 
 // The linear train of tests/data (shared with python/tests/test_trains.py: input shaft g1 drives
 // the output shaft through g1-g2, loads[0] on the output, engine order 2 on the input) with a loose

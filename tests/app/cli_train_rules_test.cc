@@ -9,6 +9,7 @@
 #include "app/loose_gear_train_yaml.h"
 #include "app/three_shaft_train_yaml.h"
 #include "support/run_command.h"
+#include "support/paths.h"
 
 namespace gearnvh {
 namespace {
@@ -16,7 +17,7 @@ namespace {
 using testing::RunCommand;
 using testing::TempDir;
 
-const std::string kExe = GEARNVH_EXE;
+using testing::kExe;
 
 // An ordinary rattling 3-mesh train: a-b, c-d loaded, e-f with f loose on the output.
 const std::string kTrain = testing::kLooseGearTrainYaml + R"(analysis:

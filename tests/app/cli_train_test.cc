@@ -8,6 +8,7 @@
 #include <string>
 
 #include "support/run_command.h"
+#include "support/paths.h"
 
 namespace gearnvh {
 namespace {
@@ -16,8 +17,8 @@ using testing::RunCommand;
 using testing::TempDir;
 namespace fs = std::filesystem;
 
-const std::string kExe = GEARNVH_EXE;
-const std::string kExamples = GEARNVH_EXAMPLES_DIR;
+using testing::kExe;
+using testing::kExamples;
 
 TEST_CASE("check on the manual transmission reports every mesh and body", "[cli][train]") {
   const auto r = RunCommand(kExe + " check --json " + kExamples + "/manual_transmission_idle.yaml");

@@ -5,14 +5,15 @@
 #include <string>
 
 #include "support/run_command.h"
+#include "support/paths.h"
 
 namespace gearnvh {
 namespace {
 
 using testing::RunCommand;
 
-const std::string kExe = GEARNVH_EXE;
-const std::string kExamples = GEARNVH_EXAMPLES_DIR;
+using testing::kExe;
+using testing::kExamples;
 
 TEST_CASE(
     "validate on a rattling train compares V3 with CVODE, V2 and V1, and fusion with stepping",

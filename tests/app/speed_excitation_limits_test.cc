@@ -16,6 +16,7 @@
 #include "gearnvh/model/gearbox_spec_limits.h"
 #include "gearnvh/model/input_error.h"
 #include "support/run_command.h"
+#include "support/paths.h"
 
 namespace gearnvh {
 namespace {
@@ -23,8 +24,8 @@ namespace {
 using testing::RunCommand;
 using testing::TempDir;
 
-const std::string kExe = GEARNVH_EXE;
-constexpr double kRpm = 60.0 / (2.0 * std::numbers::pi);
+using testing::kExe;
+constexpr double kRpmPerRadPerSecond = 60.0 / (2.0 * std::numbers::pi);
 
 using testing::Contains;
 using testing::Example;
@@ -50,11 +51,11 @@ TEST_CASE("a pair's speed is limited by a pitch-line velocity of 200 m/s, in the
   CHECK(Contains(rad_s, "got '1e5 rad/s'"));
   // Either side of the limit (0.1 % margins, far above rounding of the 6-digit speeds).
   CHECK(LoadError(Replace(text, "speed: 800 rpm",
-                          "speed: " + std::to_string(0.999 * kPairLimitRadS * kRpm) + " rpm"))
+                          "speed: " + std::to_string(0.999 * kPairLimitRadS * kRpmPerRadPerSecond) + " rpm"))
             .empty());
   CHECK(Contains(
       LoadError(Replace(text, "speed: 800 rpm",
-                        "speed: " + std::to_string(1.001 * kPairLimitRadS * kRpm) + " rpm")),
+                        "speed: " + std::to_string(1.001 * kPairLimitRadS * kRpmPerRadPerSecond) + " rpm")),
       "operating.speed: gives the mesh a pitch-line velocity of 200.2 m/s"));
   // A written sweep's end is held to the same limit, in its own unit.
   const std::string sweep =
@@ -104,7 +105,7 @@ TEST_CASE("the default speed sweep is clipped to the pitch-line limit, with a no
   // The clipped top sits a relative 1e-9 below the limit (so rounding cannot cross it).
   CHECK(sweep.to == Approx(500.0).epsilon(1e-8));
   CHECK(sweep.to <= 500.0);
-  CHECK(sweep.from == Approx(500.0 / kRpm).epsilon(1e-12));  // the default's 500 rpm stays
+  CHECK(sweep.from == Approx(500.0 / kRpmPerRadPerSecond).epsilon(1e-12));  // the default's 500 rpm stays
   CHECK(sweep.points == 56);
   INFO(loaded.sweep_note);
   CHECK(Contains(loaded.sweep_note,
@@ -118,7 +119,7 @@ TEST_CASE("the default speed sweep is clipped to the pitch-line limit, with a no
   const config::LoadedGearbox unclipped =
       config::LoadAnyGearboxFromString(small.substr(0, small.find("  speed_sweep:")), "t.yaml");
   CHECK(unclipped.sweep_note.empty());
-  CHECK(unclipped.pair->analysis.speed_sweep.to == Approx(6000.0 / kRpm).epsilon(1e-12));
+  CHECK(unclipped.pair->analysis.speed_sweep.to == Approx(6000.0 / kRpmPerRadPerSecond).epsilon(1e-12));
 }
 
 // The loose-gear train with a 400-tooth input gear a (r = 0.4 m; its mesh a-b is then the

@@ -12,7 +12,7 @@
 namespace gearnvh::config {
 namespace {
 
-const std::string kBase = testing::ThreeShaftTrainWithLooseGearYaml();
+const std::string kLooseGearTrain = testing::ThreeShaftTrainWithLooseGearYaml();
 using testing::Replace;
 
 using testing::LoaderErrorOf;
@@ -20,11 +20,11 @@ using testing::LoaderErrorOf;
 TEST_CASE("a body inertia above 1e9 kg m^2 is refused as written", "[loader][train]") {
   // 1e300 kg m^2 once made `check` report a NaN critical speed (an internal error).
   CHECK_NOTHROW(LoadAnyGearboxFromString(
-      Replace(kBase, "b: {inertia: 3e-3 kg*m^2}", "b: {inertia: 1e9 kg*m^2}")));
+      Replace(kLooseGearTrain, "b: {inertia: 3e-3 kg*m^2}", "b: {inertia: 1e9 kg*m^2}")));
   for (const std::string v : {"1e300 kg*m^2", "2e9 kg*m^2", "2e15 kg*mm^2"}) {
     INFO(v);
     const InputError e =
-        LoaderErrorOf(Replace(kBase, "b: {inertia: 3e-3 kg*m^2}", "b: {inertia: " + v + "}"));
+        LoaderErrorOf(Replace(kLooseGearTrain, "b: {inertia: 3e-3 kg*m^2}", "b: {inertia: " + v + "}"));
     CHECK(e.path() == "shafts.b.inertia");
     CHECK(e.value() == "'" + v + "'");
     CHECK(e.line() == 7);
@@ -32,7 +32,7 @@ TEST_CASE("a body inertia above 1e9 kg m^2 is refused as written", "[loader][tra
   }
   // A gear's own inertia override follows the same rule.
   const InputError g =
-      LoaderErrorOf(Replace(kBase, "g5: {shaft: c, mounting: loose,",
+      LoaderErrorOf(Replace(kLooseGearTrain, "g5: {shaft: c, mounting: loose,",
                             "g5: {shaft: c, inertia: 1e300 kg*m^2, mounting: loose,"));
   CHECK(g.path() == "gears.g5.inertia");
   CHECK(g.value() == "'1e300 kg*m^2'");
@@ -42,7 +42,7 @@ TEST_CASE("a misspelt key of a shaft gets its did-you-mean in either form", "[lo
   // A misspelt `segments` once made the shaft rigid, and the other elastic keys were then called
   // unknown with the rigid keys as the only choices.
   const std::string elastic =
-      Replace(kBase, "b: {inertia: 3e-3 kg*m^2}",
+      Replace(kLooseGearTrain, "b: {inertia: 3e-3 kg*m^2}",
               "b: {material: steel, segmnts: [{length: 100 mm, outer_diameter: 30 mm}],\n"
               "     bearings: [{at: 10 mm, radial_stiffness: 1e8 N/m}]}");
   const InputError typo = LoaderErrorOf(elastic);
@@ -51,13 +51,13 @@ TEST_CASE("a misspelt key of a shaft gets its did-you-mean in either form", "[lo
   CHECK(typo.line() == 7);
   // An elastic key on a shaft without segments says which form it belongs to.
   const InputError rigid = LoaderErrorOf(
-      Replace(kBase, "b: {inertia: 3e-3 kg*m^2}", "b: {inertia: 3e-3 kg*m^2, material: steel}"));
+      Replace(kLooseGearTrain, "b: {inertia: 3e-3 kg*m^2}", "b: {inertia: 3e-3 kg*m^2, material: steel}"));
   CHECK(rigid.path() == "shafts.b.material");
   CHECK(rigid.rule().find("belongs to an elastic shaft, which needs segments:") !=
         std::string::npos);
   // The rigid form's own keys keep theirs.
   const InputError inertia =
-      LoaderErrorOf(Replace(kBase, "b: {inertia: 3e-3 kg*m^2}", "b: {inertai: 3e-3 kg*m^2}"));
+      LoaderErrorOf(Replace(kLooseGearTrain, "b: {inertia: 3e-3 kg*m^2}", "b: {inertai: 3e-3 kg*m^2}"));
   CHECK(inertia.rule() == "unknown key (did you mean 'inertia'?)");
 }
 
@@ -67,7 +67,7 @@ TEST_CASE("analysis.atlas of a train names train parameters", "[loader][train]")
       "    x: {parameter: 'meshes[2].backlash', from: 50 um, to: 150 um, points: 3}\n"
       "    y: {parameter: 'operating.loads[1].torque', from: 0.05 N*m, to: 0.5 N*m, points: 2, "
       "scale: log}\n";
-  const std::string text = kBase + atlas;
+  const std::string text = kLooseGearTrain + atlas;
   const LoadedGearbox loaded = LoadAnyGearboxFromString(text);
   REQUIRE(loaded.train.analysis.atlas_x);
   REQUIRE(loaded.train.analysis.atlas_y);

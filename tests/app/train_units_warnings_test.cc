@@ -16,6 +16,7 @@
 #include "model/test_trains.h"
 #include "support/run_command.h"
 #include "train_operating_point.h"
+#include "support/paths.h"
 
 namespace gearnvh {
 namespace {
@@ -23,8 +24,8 @@ namespace {
 using testing::RunCommand;
 using testing::TempDir;
 
-const std::string kExe = GEARNVH_EXE;
-const std::string kExamples = GEARNVH_EXAMPLES_DIR;
+using testing::kExe;
+using testing::kExamples;
 
 std::string ReadFile(const std::string& path) {
   std::ifstream in(path);

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "support/run_command.h"
+#include "support/paths.h"
 
 namespace gearnvh::app {
 namespace {
@@ -141,7 +142,7 @@ TEST_CASE("UFF dataset 58: the writer's records read back in their fixed columns
   }
 }
 
-const std::string kExe = GEARNVH_EXE;
+using testing::kExe;
 
 // A loaded pair with short runs (its mesh harmonics stand far above the background).
 const std::string kGearbox = R"(schema: gearnvh/1

@@ -12,7 +12,6 @@ namespace gearnvh {
 namespace {
 
 using testing::StandardPair;
-constexpr double kPi = std::numbers::pi;
 
 // Closed-form contact ratio of a standard (x = 0, h_a* = 1) pair at the standard centre distance,
 // written in units of the module: eps = [sqrt((z1/2+1)^2 - (z1/2 cos a)^2) + (same for z2)
@@ -22,7 +21,7 @@ double StandardContactRatio(int z1, int z2, double alpha) {
   const double c = std::cos(alpha), s = std::sin(alpha);
   return (std::sqrt((r1 + 1) * (r1 + 1) - r1 * r1 * c * c) +
           std::sqrt((r2 + 1) * (r2 + 1) - r2 * r2 * c * c) - (r1 + r2) * s) /
-         (kPi * c);
+         (std::numbers::pi * c);
 }
 
 TEST_CASE("contact ratio of standard 20 degree pairs matches the closed form", "[geometry]") {
@@ -31,7 +30,7 @@ TEST_CASE("contact ratio of standard 20 degree pairs matches the closed form", "
   for (auto [z1, z2] : {std::pair{27, 43}, {20, 20}, {17, 60}, {31, 47}}) {
     const PairGeometry g = ComputePairGeometry(StandardPair(z1, z2));
     CHECK(g.contact_ratio ==
-          Approx(StandardContactRatio(z1, z2, 20.0 * kPi / 180.0)).epsilon(1e-9));
+          Approx(StandardContactRatio(z1, z2, 20.0 * std::numbers::pi / 180.0)).epsilon(1e-9));
   }
   // Published value: a 20:20 standard 20-degree pair has eps = 1.557 (e.g. Shigley, ex. 13-x;
   // Maitra, Handbook of Gear Design) to the 3 decimals quoted.
@@ -46,9 +45,9 @@ TEST_CASE("standard radii and centre distance", "[geometry]") {
   CHECK(g.pinion.pitch == Approx(27e-3).epsilon(tol));
   CHECK(g.pinion.tip == Approx(29e-3).epsilon(tol));
   CHECK(g.pinion.root == Approx(24.5e-3).epsilon(tol));
-  CHECK(g.wheel.base == Approx(43e-3 * std::cos(20 * kPi / 180)).epsilon(tol));
+  CHECK(g.wheel.base == Approx(43e-3 * std::cos(20 * std::numbers::pi / 180)).epsilon(tol));
   CHECK(g.center_distance == Approx(70e-3).epsilon(1e-12));  // via the involute inverse
-  CHECK(g.working_pressure_angle == Approx(20 * kPi / 180).epsilon(1e-10));
+  CHECK(g.working_pressure_angle == Approx(20 * std::numbers::pi / 180).epsilon(1e-10));
   CHECK(g.contact_end - g.contact_start == Approx(g.contact_ratio * g.base_pitch).epsilon(1e-12));
   // Mesh frequency at 800 rpm: z1 n1 / 60 = 360 Hz.
   CHECK(g.mesh_frequency_hz == Approx(360.0).epsilon(1e-12));
@@ -60,7 +59,7 @@ TEST_CASE("profile-shifted pair uses the zero-backlash working centre distance",
   spec.wheel.profile_shift = 0.1;
   const PairGeometry g = ComputePairGeometry(spec);
   // inv(alpha_w) = inv(alpha0) + 2 (x1+x2) tan(alpha0)/(z1+z2): Newton inverse to ~1e-15.
-  const double a0 = 20 * kPi / 180;
+  const double a0 = 20 * std::numbers::pi / 180;
   CHECK(Involute(g.working_pressure_angle) ==
         Approx(Involute(a0) + 2 * 0.5 * std::tan(a0) / 44).epsilon(1e-12));
   CHECK(g.center_distance ==

@@ -13,7 +13,6 @@
 namespace gearnvh {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 
 // The hand-built pieces of tests/model/test_trains.h under short names.
 TrainGear Gear(const std::string& name, const std::string& shaft, int teeth,
@@ -40,7 +39,7 @@ TrainSpec TwoStage() {
              Gear("g6", "layshaft", 25)};
   t.meshes = {Mesh("g1", "g2"), Mesh("g3", "g4"), Mesh("g6", "g5")};
   t.operating.input_shaft = "input";
-  t.operating.speed = 1000.0 * 2.0 * kPi / 60.0;
+  t.operating.speed = 1000.0 * 2.0 * std::numbers::pi / 60.0;
   t.operating.loads = {{"output", 30.0}, {"g5", 0.2}};
   return t;
 }
@@ -110,8 +109,8 @@ TEST_CASE("a two-mesh torsional train's frequencies equal the closed-form eigenp
   const double tr = a11 + a22 + a33;
   const double s = (a11 * a22 - a12 * a21) + a11 * a33 + (a22 * a33 - a23 * a32);
   const double disc = std::sqrt(tr * tr - 4.0 * s);
-  const double f_low = std::sqrt(0.5 * (tr - disc)) / (2 * kPi);
-  const double f_high = std::sqrt(0.5 * (tr + disc)) / (2 * kPi);
+  const double f_low = std::sqrt(0.5 * (tr - disc)) / (2 * std::numbers::pi);
+  const double f_high = std::sqrt(0.5 * (tr + disc)) / (2 * std::numbers::pi);
   // The shift-invert eigensolver is accurate to ~1e-12 relative on a 3x3 pencil; the quadratic's
   // cancellation in tr - disc costs at most tr / (tr - disc) ~ 1e2 more.
   CHECK(modes.frequencies_hz[0] == Approx(f_low).epsilon(1e-9));
@@ -119,10 +118,10 @@ TEST_CASE("a two-mesh torsional train's frequencies equal the closed-form eigenp
   // Body inertias: the rigid shaft's own plus its gears' solid disks.
   const GearSpec& g2 = spec.gears[1].gear;
   const double rp = 0.5 * g2.module * g2.teeth, rb = 0.5 * g2.bore_diameter;
-  const double m2 = 7850.0 * kPi * (rp * rp - rb * rb) * g2.face_width;
+  const double m2 = 7850.0 * std::numbers::pi * (rp * rp - rb * rb) * g2.face_width;
   const GearSpec& g3 = spec.gears[2].gear;
   const double rp3 = 0.5 * g3.module * g3.teeth, rb3 = 0.5 * g3.bore_diameter;
-  const double m3 = 7850.0 * kPi * (rp3 * rp3 - rb3 * rb3) * g3.face_width;
+  const double m3 = 7850.0 * std::numbers::pi * (rp3 * rp3 - rb3 * rb3) * g3.face_width;
   CHECK(J2 == Approx(1e-3 + 0.5 * m2 * (rp * rp + rb * rb) + 0.5 * m3 * (rp3 * rp3 + rb3 * rb3))
                   .epsilon(1e-13));
 }
@@ -146,7 +145,7 @@ TEST_CASE("a schema-1 gearbox is the two-shaft train with the same mesh model", 
   const double r1 = model.geometry.pinion.base, r2 = model.geometry.wheel.base;
   const double f = std::sqrt(model.mesh_summary.mean * (r1 * r1 / model.pinion_body.polar +
                                                         r2 * r2 / model.wheel_body.polar)) /
-                   (2 * kPi);
+                   (2 * std::numbers::pi);
   REQUIRE(modes.frequencies_hz.size() == 1);
   CHECK(modes.frequencies_hz[0] == Approx(f).epsilon(1e-10));
 }

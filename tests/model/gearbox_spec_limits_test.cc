@@ -14,7 +14,7 @@ namespace {
 
 using testing::StandardPair;
 using L = GearboxLimits;
-constexpr double kDeg = std::numbers::pi / 180.0;
+using testing::kDeg;
 
 std::string PathOfError(const GearboxSpec& spec) {
   try {

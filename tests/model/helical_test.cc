@@ -11,8 +11,7 @@
 namespace gearnvh {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
+using testing::kDeg;
 
 GearboxSpec HelicalPair(double beta, double face = 30e-3) {
   GearboxSpec spec = testing::StandardPair(20, 40, 3e-3, face);
@@ -35,11 +34,11 @@ TEST_CASE("helical geometry: transverse section and contact ratios by the closed
   const double mt = mn / std::cos(beta), at = std::atan(std::tan(an) / std::cos(beta));
   const double r1 = mt * 10, r2 = mt * 20, rb1 = r1 * std::cos(at), rb2 = r2 * std::cos(at);
   const double ra1 = r1 + mn, ra2 = r2 + mn, a = r1 + r2;
-  const double pbt = kPi * mt * std::cos(at);
+  const double pbt = std::numbers::pi * mt * std::cos(at);
   const double eps_a = (std::sqrt(ra1 * ra1 - rb1 * rb1) + std::sqrt(ra2 * ra2 - rb2 * rb2) -
                         a * std::sin(at)) /
                        pbt;
-  const double eps_b = b * std::sin(beta) / (kPi * mn);
+  const double eps_b = b * std::sin(beta) / (std::numbers::pi * mn);
   // Rounding of a handful of trigonometric operations: 1e-13.
   CHECK(g.pinion.base == Approx(rb1).epsilon(1e-13));
   CHECK(g.wheel.tip == Approx(ra2).epsilon(1e-13));
@@ -73,7 +72,7 @@ TEST_CASE("an overlap ratio of one smooths the mesh stiffness", "[mesh][helical]
   // With eps_beta = 1 the total length of the contact lines is nearly constant over the cycle:
   // the stiffness ripple that is ~40 % for the spur pair drops to a few per cent.
   const double beta = 15 * kDeg;
-  const double face = kPi * 3e-3 / std::sin(beta);  // eps_beta = 1
+  const double face = std::numbers::pi * 3e-3 / std::sin(beta);  // eps_beta = 1
   GearboxSpec helical = HelicalPair(beta, face);
   GearboxSpec spur = HelicalPair(0.0, face);
   for (GearboxSpec* s : {&helical, &spur}) s->operating.torque = 50.0;

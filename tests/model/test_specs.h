@@ -7,6 +7,9 @@
 
 namespace gearnvh::testing {
 
+inline constexpr double kRpm = 2.0 * std::numbers::pi / 60.0;  // rad/s per rpm
+inline constexpr double kDeg = std::numbers::pi / 180.0;  // rad per degree
+
 // A standard 20-degree steel spur pair, module m, z1:z2, face width b, no shafts.
 inline GearboxSpec StandardPair(int z1, int z2, double module = 2e-3, double face = 15e-3) {
   GearboxSpec s;

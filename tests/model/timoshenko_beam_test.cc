@@ -9,7 +9,6 @@
 namespace gearnvh {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 const Material kSteel{206e9, 0.3, 7850.0};
 
 struct Assembled {
@@ -39,7 +38,7 @@ std::vector<double> Frequencies(const Assembled& a, const std::vector<int>& keep
     for (int j = 0; j < n; ++j) K(i, j) = a.K(keep[i], keep[j]), M(i, j) = a.M(keep[i], keep[j]);
   Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> s(K, M);
   std::vector<double> f;
-  for (int i = 0; i < n; ++i) f.push_back(std::sqrt(std::max(s.eigenvalues()[i], 0.0)) / (2 * kPi));
+  for (int i = 0; i < n; ++i) f.push_back(std::sqrt(std::max(s.eigenvalues()[i], 0.0)) / (2 * std::numbers::pi));
   return f;
 }
 
@@ -63,8 +62,8 @@ TEST_CASE("Euler–Bernoulli cantilever and free-free frequencies match the clos
   const double L = 1.0, d = 0.02;
   const int n = 40;
   const Assembled a = UniformBeam(L, d, n, /*shear=*/false);
-  const double A = kPi * d * d / 4, I = kPi * std::pow(d, 4) / 64;
-  const double base = std::sqrt(206e9 * I / (7850.0 * A * std::pow(L, 4))) / (2 * kPi);
+  const double A = std::numbers::pi * d * d / 4, I = std::numbers::pi * std::pow(d, 4) / 64;
+  const double base = std::sqrt(206e9 * I / (7850.0 * A * std::pow(L, 4))) / (2 * std::numbers::pi);
   for (bool xz : {true, false}) {
     const auto cant = Frequencies(a, PlaneDofs(n + 1, {0, 1, 3, 4}, xz));  // clamp node 0
     CHECK(cant[0] == Approx(1.8751041 * 1.8751041 * base).epsilon(0.005));
@@ -88,13 +87,13 @@ TEST_CASE("Timoshenko shear and rotary inertia lower a stubby beam's frequency a
   const Assembled a = UniformBeam(L, d, n, true);
   const auto fe = Frequencies(a, PlaneDofs(n + 1, {0, 6 * n + 0}, true));  // u_x = 0 at both ends
   for (int m = 1; m <= 2; ++m) {
-    const double k = m * kPi / L;
+    const double k = m * std::numbers::pi / L;
     const double qa = rho * I * rho / (kappa * G);
     const double qb = rho * A + k * k * (rho * I + E * I * rho / (kappa * G));
     const double qc = E * I * k * k * k * k;
     const double w2 = (qb - std::sqrt(qb * qb - 4 * qa * qc)) / (2 * qa);
-    const double exact = std::sqrt(w2) / (2 * kPi);
-    const double euler = k * k * std::sqrt(E * I / (rho * A)) / (2 * kPi);
+    const double exact = std::sqrt(w2) / (2 * std::numbers::pi);
+    const double euler = k * k * std::sqrt(E * I / (rho * A)) / (2 * std::numbers::pi);
     INFO("mode " << m << " Timoshenko " << exact << " Hz, Euler-Bernoulli " << euler << " Hz");
     CHECK(exact < 0.9 * euler);                        // the effect is large at L/d = 3
     CHECK(fe[m - 1] == Approx(exact).epsilon(0.005));  // and the element reproduces it

@@ -7,7 +7,6 @@
 namespace gearnvh {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 
 std::vector<double> Sample(int n, double rate, const std::function<double(double)>& f) {
   std::vector<double> x(static_cast<size_t>(n));
@@ -22,7 +21,7 @@ TEST_CASE("a pure tone on a bin reads its amplitude exactly", "[nvh][spectrum]")
   const double rate = 4096.0, f = 300.0, a = 2.5e-6;  // 1 Hz bins, the tone on bin 300
   SpectrumAnalyzer fft(n);
   const AmplitudeSpectrum s = fft.Analyze(
-      Sample(n, rate, [&](double t) { return 7e-6 + a * std::sin(2 * kPi * f * t); }), rate);
+      Sample(n, rate, [&](double t) { return 7e-6 + a * std::sin(2 * std::numbers::pi * f * t); }), rate);
   CHECK(s.bin_hz == 1.0);
   CHECK(s.amplitude[300] == Approx(a).epsilon(1e-12));
   CHECK(s.amplitude[299] ==
@@ -40,7 +39,7 @@ TEST_CASE("a pure tone off a bin: scalloping within the Hann bound, interpolatio
   SpectrumAnalyzer fft(n);
   for (double f : {300.5, 300.25, 777.8}) {
     const AmplitudeSpectrum s = fft.Analyze(
-        Sample(n, rate, [&](double t) { return a * std::cos(2 * kPi * f * t + 0.3); }), rate);
+        Sample(n, rate, [&](double t) { return a * std::cos(2 * std::numbers::pi * f * t + 0.3); }), rate);
     const double raw = *std::max_element(s.amplitude.begin() + 1, s.amplitude.end());
     CHECK(raw >= 0.8488 * a);
     CHECK(raw <= a * (1 + 1e-12));
@@ -63,8 +62,8 @@ TEST_CASE("an AM signal's sidebands are found at the right frequencies and ampli
   SpectrumAnalyzer fft(n);
   const AmplitudeSpectrum s = fft.Analyze(Sample(n, rate,
                                                  [&](double t) {
-                                                   return a * (1 + m * std::cos(2 * kPi * f1 * t)) *
-                                                          std::sin(2 * kPi * fm * t);
+                                                   return a * (1 + m * std::cos(2 * std::numbers::pi * f1 * t)) *
+                                                          std::sin(2 * std::numbers::pi * fm * t);
                                                  }),
                                           rate);
   SidebandOptions options;
@@ -115,8 +114,8 @@ TEST_CASE("a sideband table with one named source: the input shaft's orders of a
   const AmplitudeSpectrum s = fft.Analyze(
       Sample(n, rate,
              [&](double t) {
-               return a * (1 + m * std::cos(2 * kPi * 2 * fin * t)) * std::sin(2 * kPi * fm * t) +
-                      c * std::sin(2 * kPi * 2 * fin * t);
+               return a * (1 + m * std::cos(2 * std::numbers::pi * 2 * fin * t)) * std::sin(2 * std::numbers::pi * fm * t) +
+                      c * std::sin(2 * std::numbers::pi * 2 * fin * t);
              }),
       rate);
   const std::vector<SidebandRow> rows = SidebandTable(s, fm, {{"fin", fin}});
@@ -151,9 +150,9 @@ TEST_CASE("a line buried in broadband noise is not listed as a sideband",
   const int n = 6144;
   const double rate = n / record, a = 1.0;
   auto signal = [&](double small, double t) {
-    double v = a * std::sin(2 * kPi * fm * t) + small * a * std::sin(2 * kPi * (fm + f1) * t);
+    double v = a * std::sin(2 * std::numbers::pi * fm * t) + small * a * std::sin(2 * std::numbers::pi * (fm + f1) * t);
     for (int i = 1; i < 400; ++i) {
-      v += 1e-2 * a * std::sin(2 * kPi * (0.5 + 0.731 * i) * t + i);  // off-bin: leaks broadly
+      v += 1e-2 * a * std::sin(2 * std::numbers::pi * (0.5 + 0.731 * i) * t + i);  // off-bin: leaks broadly
     }
     return v;
   };
@@ -178,7 +177,7 @@ TEST_CASE("a signal at rest lists no line, whatever its rounding holds",
   SpectrumAnalyzer fft(n);
   for (auto [ripple, listed] : {std::pair{1e-21, false}, {1e-9, true}}) {
     const AmplitudeSpectrum s = fft.Analyze(
-        Sample(n, rate, [&](double t) { return mean + ripple * std::sin(2 * kPi * fm * t); }),
+        Sample(n, rate, [&](double t) { return mean + ripple * std::sin(2 * std::numbers::pi * fm * t); }),
         rate);
     const std::vector<SidebandRow> rows = SidebandTable(s, fm, {{"fin", 4.0}});
     INFO("ripple " << ripple);
@@ -189,7 +188,7 @@ TEST_CASE("a signal at rest lists no line, whatever its rounding holds",
   // -354 dB and not listed, a 1e-9 m one is.
   for (auto [ripple, listed] : {std::pair{1e-22, false}, {1e-9, true}}) {
     const AmplitudeSpectrum s = fft.Analyze(
-        Sample(n, rate, [&](double t) { return ripple * std::sin(2 * kPi * fm * t); }), rate);
+        Sample(n, rate, [&](double t) { return ripple * std::sin(2 * std::numbers::pi * fm * t); }), rate);
     SidebandOptions options;
     options.scale = 50e-6;
     INFO("ripple " << ripple << " about 0");

@@ -17,7 +17,7 @@
 namespace gearnvh {
 namespace {
 
-constexpr double kRpm = 2.0 * std::numbers::pi / 60.0;
+using testing::kRpm;
 
 // The loaded 20:30 pair at 60 rpm of tests/nvh/manufacturing_errors_test.cc: its mesh modes decay
 // by ~1e-30 per mesh cycle, so their eigenvalues are rounding (the case that exposed the dropped
@@ -30,7 +30,7 @@ GearboxSpec QuasiStaticPair() {
 }
 
 // The loaded industrial pair of examples/industrial_whine.yaml (permanent contact).
-GearboxSpec WhineSpec() {
+GearboxSpec IndustrialWhineSpec() {
   GearboxSpec s = testing::StandardPair(25, 75, 4e-3, 40e-3);
   s.pinion.bore_diameter = 45e-3;
   s.wheel.bore_diameter = 80e-3;
@@ -132,7 +132,7 @@ TEST_CASE("output rows from a static equilibrium with no transient match the pie
     // rounding): the rows start off the orbit, with every mode excited.
     CHECK(CompareRecordings(s.tables, start, 0, 30) >= 29);
   }
-  const testing::SolverSetup whine(WhineSpec(), Tier::kTier1);
+  const testing::SolverSetup whine(IndustrialWhineSpec(), Tier::kTier1);
   const auto [z0, state0] = StaticInitialState(whine.tables);
   CHECK(CompareRecordings(whine.tables, {z0, state0}, 0, 30) > 0);
 }
@@ -140,7 +140,7 @@ TEST_CASE("output rows from a static equilibrium with no transient match the pie
 TEST_CASE("output rows on the orbit after a transient match the pieces", "[solver][fused][rows]") {
   for (Tier tier : {Tier::kTier1, Tier::kTier3}) {
     INFO(TierName(tier));
-    const testing::SolverSetup s(WhineSpec(), tier);
+    const testing::SolverSetup s(IndustrialWhineSpec(), tier);
     const auto [z0, state0] = StaticInitialState(s.tables);
     CHECK(CompareRecordings(s.tables, {z0, state0}, 60, 30) == 30);
   }
@@ -152,7 +152,7 @@ TEST_CASE("with an engine excitation order the rows do not apply and the recordi
   // (SimulateExact fuses only without excitation), so rows on and off are the same run.
   for (Tier tier : {Tier::kTier1, Tier::kTier3}) {
     INFO(TierName(tier));
-    GearboxSpec spec = WhineSpec();
+    GearboxSpec spec = IndustrialWhineSpec();
     spec.operating.excitation = {{3.0, 50.0, 0.3}};
     const testing::SolverSetup s(spec, tier);
     const auto [z0, state0] = StaticInitialState(s.tables);

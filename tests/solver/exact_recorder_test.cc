@@ -14,7 +14,6 @@ namespace {
 using testing::BuildOscillatorTables;
 using testing::ImpactOscillator;
 
-constexpr double kPi = std::numbers::pi;
 
 TEST_CASE("exact statistics of one piece equal the closed forms of a sinusoid",
           "[solver][recorder]") {
@@ -24,7 +23,7 @@ TEST_CASE("exact statistics of one piece equal the closed forms of a sinusoid",
   // sub-step boundaries.
   ImpactOscillator o;
   o.mass = 2.0;
-  const double w = 2 * kPi * 1000.0;
+  const double w = 2 * std::numbers::pi * 1000.0;
   o.stiffness = o.mass * w * w;
   o.half_backlash = 1e-4;
   o.boundaries = {0.0, 1e-3};
@@ -56,7 +55,7 @@ TEST_CASE("exact statistics of one piece equal the closed forms of a sinusoid",
   CHECK(st.te.max == Approx(b + A).epsilon(1e-15));
   CHECK(st.te.min == Approx(b - A).epsilon(1e-15));
   CHECK(st.te.time_of_max == Approx(-phi / w).epsilon(1e-9));
-  CHECK(st.te.time_of_min == Approx((kPi - phi) / w).epsilon(1e-9));
+  CHECK(st.te.time_of_min == Approx((std::numbers::pi - phi) / w).epsilon(1e-9));
   // Mesh force k (x - b): its maximum k A between sub-step boundaries, mean k (mean - b).
   CHECK(st.mesh_force.max == Approx(o.stiffness * A).epsilon(1e-12));
   CHECK(st.mesh_force.Mean(L) == Approx(o.stiffness * (mean - b)).margin(1e-9 * o.stiffness * A));
@@ -74,7 +73,7 @@ TEST_CASE("a peak between segment boundaries is found, not missed", "[solver][re
   // Many short pieces (as events cut a segment) each starting where the last ended: the running
   // maximum over all of them is the sinusoid's, whichever piece holds the peak.
   ImpactOscillator o;
-  const double w = 2 * kPi * 50.0;
+  const double w = 2 * std::numbers::pi * 50.0;
   o.stiffness = w * w;
   o.half_backlash = 0.0;
   o.boundaries = {0.0, 0.02};
@@ -149,7 +148,7 @@ TEST_CASE("exact TE and force statistics agree with a dense reference to 1e-6",
     GearboxSpec spec = testing::StandardPair(27, 43);
     spec.mesh.stiffness = RectangularStiffness{2.0e8, 3.4e8, 1.43};
     spec.operating.torque = 50.0;
-    spec.operating.speed = 2000.0 * 2 * kPi / 60;  // 900 Hz mesh: a dynamic response
+    spec.operating.speed = 2000.0 * 2 * std::numbers::pi / 60;  // 900 Hz mesh: a dynamic response
     const testing::SolverSetup s(spec, Tier::kTier1);
     // No events: the samples agree to CVODE's accuracy, the ladder's 1e-8.
     CheckAgainstDenseReference(s.tables, DriveEquilibrium(s.tables), ContactState::kDrive, 12, 0,

@@ -19,13 +19,9 @@
 namespace gearnvh {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-constexpr double kRpm = 2.0 * kPi / 60.0;
+using testing::kRpm;
 using Model = testing::TrainModel;
-
-double MeshTe(const TrainTables& t, const TrainStepper& s, int mesh) {
-  return t.meshes[static_cast<size_t>(mesh)].v.dot(s.state().head(t.n));
-}
+using testing::MeshTe;
 
 // A pitch-error pattern with every tooth different (no symmetry a wrong tooth index could hide in).
 std::vector<double> PitchPattern(int teeth, double size, double seed) {
@@ -201,7 +197,7 @@ std::vector<std::vector<std::complex<double>>> ErrorLines(const TrainSpec& with_
       const double d =
           MeshTe(a.tables, sa, static_cast<int>(i)) - MeshTe(b.tables, sb, static_cast<int>(i));
       for (size_t q = 0; q < nus.size(); ++q)
-        lines[i][q] += d * std::polar(2.0 / static_cast<double>(samples), -2.0 * kPi * nus[q] * t);
+        lines[i][q] += d * std::polar(2.0 / static_cast<double>(samples), -2.0 * std::numbers::pi * nus[q] * t);
     }
   }
   CHECK(sa.summary().events == 0);
@@ -220,7 +216,7 @@ TEST_CASE("train errors: an idler's runout enters both its meshes at its own ang
   const double idler_hz = 6.0 / 60.0 * 20.0 / 30.0;
   const long cycles = 30;  // one idler revolution
   const auto lines = ErrorLines(spec, {idler_hz}, cycles, 256);
-  const std::complex<double> expected = std::polar(a, phi - 0.5 * kPi);
+  const std::complex<double> expected = std::polar(a, phi - 0.5 * std::numbers::pi);
   for (size_t i = 0; i < 2; ++i) {
     INFO("mesh " << i << ": line " << lines[i][0] << " m, expected " << expected);
     // Tolerance 1e-3 a: the midpoint rule over 256 samples per cycle of a sinusoid (exact up to
@@ -237,7 +233,7 @@ std::complex<double> PulseTransform(const MeshSegmentation& seg, double period, 
   for (const MeshSegment& s : seg.segments) {
     for (const auto& [q, w] : s.error_weights) {
       const double t0 = (q + s.tau_begin) * period, t1 = (q + s.tau_end) * period;
-      const double omega = 2.0 * kPi * nu;
+      const double omega = 2.0 * std::numbers::pi * nu;
       sum += w * (std::polar(1.0, -omega * t0) - std::polar(1.0, -omega * t1)) /
              std::complex<double>(0.0, omega);
     }
@@ -258,7 +254,7 @@ TEST_CASE(
   TrainSpec spec = IdlerTrain();
   const double A = 2e-6;
   std::vector<double> f(30);
-  for (int k = 0; k < 30; ++k) f[static_cast<size_t>(k)] = A * std::sin(2.0 * kPi * k / 30 + 0.3);
+  for (int k = 0; k < 30; ++k) f[static_cast<size_t>(k)] = A * std::sin(2.0 * std::numbers::pi * k / 30 + 0.3);
   Gear(spec, "g2").gear.pitch_errors = f;
   const double idler_hz = 6.0 / 60.0 * 20.0 / 30.0, mesh_hz = 30.0 * idler_hz;
   const std::vector<double> nus = {mesh_hz - idler_hz, mesh_hz + idler_hz, idler_hz,

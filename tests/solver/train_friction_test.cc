@@ -18,10 +18,7 @@ namespace gearnvh {
 namespace {
 
 using Model = testing::TrainModel;
-
-double MeshTe(const TrainTables& t, const TrainStepper& s, int mesh) {
-  return t.meshes[static_cast<size_t>(mesh)].v.dot(s.state().head(t.n));
-}
+using testing::MeshTe;
 
 TrainSpec WithFriction(TrainSpec spec, double mu) {
   for (TrainMesh& m : spec.meshes) m.mesh.friction_coefficient = mu;

@@ -28,6 +28,11 @@ struct TrainModel {
         tables(BuildTrainTables(spec, train, options)) {}
 };
 
+// The transmission error of one mesh in the stepper's current state.
+inline double MeshTe(const TrainTables& t, const TrainStepper& s, int mesh) {
+  return t.meshes[static_cast<size_t>(mesh)].v.dot(s.state().head(t.n));
+}
+
 // The loaded, dynamic pair of the one-mesh-train tests: 20/30 teeth, 1500 rpm (mesh at 500 Hz),
 // 100 N m, no engine orders; and its recorded run: 120 cycles (two revolutions of the wheel,
 // three of the pinion), 8 samples per cycle, no transient.

@@ -22,7 +22,6 @@
 namespace gearnvh {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 
 // The small rattling train and the two-stage train of tests/model/test_trains.h.
 TrainSpec Rattler(double excitation) { return testing::RattlerTrain(excitation); }

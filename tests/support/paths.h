@@ -1,0 +1,15 @@
+// Paths the build hands to the tests: the gearnvh executable and the bundled examples. One
+// definition (inline) for every test file, so that files compiled together in a unity batch do
+// not each define their own.
+#pragma once
+
+#include <string>
+
+namespace gearnvh::testing {
+
+inline const std::string kExamples = GEARNVH_EXAMPLES_DIR;
+#ifdef GEARNVH_EXE
+inline const std::string kExe = GEARNVH_EXE;
+#endif
+
+}  // namespace gearnvh::testing
