@@ -88,9 +88,10 @@ void PrintTrainAtlas(const TrainAtlasResult& r, const std::string& name, const s
              Count(r.threads, "thread", "threads"), r.wall_s);
   const TrainDisplayAxis dx = TrainDisplayAxisFor(r.x.parameter);
   const TrainDisplayAxis dy = TrainDisplayAxisFor(r.y.parameter);
-  fmt::print("  rows: {} from {:.4g} to {:.4g} {}; columns: {} from {:.4g} to {:.4g} {}\n",
-             r.y.parameter, r.y.range.to * dy.scale, r.y.range.from * dy.scale, dy.unit,
-             r.x.parameter, r.x.range.from * dx.scale, r.x.range.to * dx.scale, dx.unit);
+  fmt::print("  rows: {} from {} to {} {}; columns: {} from {} to {} {}\n", r.y.parameter,
+             Significant(r.y.range.to * dy.scale), Significant(r.y.range.from * dy.scale), dy.unit,
+             r.x.parameter, Significant(r.x.range.from * dx.scale),
+             Significant(r.x.range.to * dx.scale), dx.unit);
   fmt::print(
       "  the train (chaotic from its largest Lyapunov exponent, else its most impacting "
       "mesh):\n");

@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "check_command.h"
+#include "display_units.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/train_campbell.h"
 
@@ -65,7 +66,7 @@ nlohmann::json MatrixJson(const Eigen::MatrixXd& m) {
 
 nlohmann::json CampbellJson(const CampbellData& data) {
   std::vector<double> speeds_rpm;
-  for (double w : data.speeds_rad_s) speeds_rpm.push_back(w * kRpm);
+  for (double w : data.speeds_rad_s) speeds_rpm.push_back(Rpm(w));
   nlohmann::json modes = nlohmann::json::array();
   for (size_t k = 0; k < data.modes.size(); ++k) {
     nlohmann::json f = nlohmann::json::array();
@@ -181,7 +182,7 @@ nlohmann::json TrainCheckReport(const TrainSpec& spec, const TrainCheck& check) 
                              {"kind", KindName(body.kind)},
                              {"gears", gears},
                              {"speed", body.speed},
-                             {"speed_rpm", body.speed * kRpm},
+                             {"speed_rpm", Rpm(body.speed)},
                              {"polar_inertia", train.body_inertia[b]}});
   }
   doc["input_torque"] = train.input_torque;
@@ -190,7 +191,7 @@ nlohmann::json TrainCheckReport(const TrainSpec& spec, const TrainCheck& check) 
     critical.push_back({{"mode", c.mode},
                         {"line", c.line},
                         {"input_speed", c.input_speed},
-                        {"input_speed_rpm", c.input_speed * kRpm}});
+                        {"input_speed_rpm", Rpm(c.input_speed)}});
   }
   const TrainStructure& st = check.structure;
   doc["fe"] = {{"nodes", st.nodes.size()},

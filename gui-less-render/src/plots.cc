@@ -1,5 +1,6 @@
 #include "gearnvh/render/plots.h"
 
+#include <unistd.h>
 #include <vtkAxis.h>
 #include <vtkChartHistogram2D.h>
 #include <vtkChartLegend.h>
@@ -30,8 +31,10 @@
 #include <vtkWindowToImageFilter.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <limits>
 #include <mutex>
@@ -58,6 +61,37 @@ void StyleAxis(vtkAxis* axis, const std::string& title) {
   axis->SetGridVisible(true);
 }
 
+// Writes `bytes` to png_path through a temporary beside it and a rename (a reader never sees half
+// an image); a failure removes the temporary and names the system's reason.
+RenderStatus WritePng(const std::string& png_path, const unsigned char* bytes, size_t size) {
+  const std::filesystem::path target(png_path);
+  std::random_device rd;
+  const std::filesystem::path tmp =
+      target.parent_path() / ("." + target.filename().string() + ".tmp" + std::to_string(rd()));
+  std::FILE* f = std::fopen(tmp.c_str(), "wb");
+  if (f == nullptr) {
+    const int error = errno;
+    return {false, "could not write " + png_path + ": " + std::strerror(error), {}, error};
+  }
+  bool ok =
+      std::fwrite(bytes, 1, size, f) == size && std::fflush(f) == 0 && ::fsync(::fileno(f)) == 0;
+  int error = ok ? 0 : errno;
+  if (std::fclose(f) != 0 && ok) {
+    ok = false;
+    error = errno;
+  }
+  if (ok && std::rename(tmp.c_str(), target.c_str()) != 0) {
+    ok = false;
+    error = errno;
+  }
+  if (!ok) {
+    std::error_code ec;
+    std::filesystem::remove(tmp, ec);
+    return {false, "could not write " + png_path + ": " + std::strerror(error), {}, error};
+  }
+  return {};
+}
+
 // Renders the view into png_path atomically.
 RenderStatus WriteView(vtkContextView* view, const ImageOptions& options,
                        const std::string& png_path) {
@@ -72,32 +106,22 @@ RenderStatus WriteView(vtkContextView* view, const ImageOptions& options,
   grab->SetInputBufferTypeToRGB();
   grab->ReadFrontBufferOff();
   grab->Update();
-  const std::filesystem::path target(png_path);
-  std::random_device rd;
-  std::string tmp_name = ".";
-  tmp_name += target.filename().string();
-  tmp_name += ".tmp";
-  tmp_name += std::to_string(rd());
-  const std::filesystem::path tmp = target.parent_path() / tmp_name;
   vtkNew<vtkPNGWriter> writer;
-  writer->SetFileName(tmp.c_str());
+  writer->WriteToMemoryOn();
   writer->SetInputConnection(grab->GetOutputPort());
   writer->Write();
-  std::error_code ec;
-  if (writer->GetErrorCode() != 0 || !std::filesystem::exists(tmp, ec) ||
-      std::filesystem::file_size(tmp, ec) == 0) {
-    std::filesystem::remove(tmp, ec);
-    return {false, "could not write " + png_path, {}};
+  vtkUnsignedCharArray* png = writer->GetResult();
+  if (writer->GetErrorCode() != 0 || png == nullptr || png->GetNumberOfValues() == 0) {
+    return {false, "could not encode " + png_path, {}};
   }
-  std::filesystem::rename(tmp, target, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    return {false, "could not write " + png_path + ": " + ec.message(), {}};
-  }
-  return {};
+  return WritePng(png_path, png->GetPointer(0), static_cast<size_t>(png->GetNumberOfValues()));
 }
 
 RenderStatus CheckDisplay() {
+  // VTK's warnings and errors would go to stderr in colour, between the command's own lines:
+  // every failure that matters comes back as a status.
+  static std::once_flag quiet;
+  std::call_once(quiet, [] { vtkObject::GlobalWarningDisplayOff(); });
   const DisplayStatus& d = EnsureDisplay();
   if (!d.ok()) return {false, d.message, {}};
   return {};

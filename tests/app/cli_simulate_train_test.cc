@@ -2,6 +2,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 
 #include "support/run_command.h"
@@ -199,6 +200,40 @@ TEST_CASE("simulate on a train: the engine order shows in the headset mesh's spe
     }
   }
   CHECK(found);
+  // A mesh fundamental on the bin of an input order (and of a sideband) is named "1 fm" first.
+  for (const auto& m : doc["meshes"]) {
+    const double fm = 1.0 / m["mesh_period_s"].get<double>();
+    for (const auto& row : m["sidebands"]) {
+      const std::string label = row["label"];
+      INFO(label);
+      if (row["frequency_hz"].get<double>() == Approx(fm).epsilon(1e-9)) {
+        CHECK(label.rfind("1 fm", 0) == 0);
+      }
+    }
+  }
+}
+
+TEST_CASE("simulate on a train lists each mesh's harmonics on one line, as for a pair",
+          "[cli][train][sidebands]") {
+  const auto r = RunCommand(kExe + " simulate --cycles 210 --transient 50 " + kExamples +
+                            "/manual_transmission_idle.yaml");
+  INFO(r.out << r.err);
+  REQUIRE(r.exit_code == 0);
+  const size_t at = r.out.find("TE mesh harmonics per mesh over 2 common periods");
+  REQUIRE(at != std::string::npos);
+  // One line per mesh, then the notes: the shaft-order lines and sidebands (hundreds, down to the
+  // rounding floor) are in --json only.
+  std::istringstream lines(r.out.substr(r.out.find('\n', at) + 1));
+  std::string line;
+  int meshes = 0;
+  while (std::getline(lines, line) && line.rfind("    ", 0) == 0) {
+    INFO(line);
+    ++meshes;
+    CHECK(line.find(" 1 fm: ") != std::string::npos);
+    CHECK(line.find("fin") == std::string::npos);
+    CHECK(line.find("dB") == std::string::npos);
+  }
+  CHECK(meshes == 6);
 }
 
 TEST_CASE("simulate --lyapunov on a train reports the largest exponents", "[cli][train]") {
