@@ -31,14 +31,10 @@
 #include <vtkWindowToImageFilter.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
-#include <filesystem>
 #include <limits>
 #include <mutex>
-#include <random>
 #include <set>
 #include <stdexcept>
 #include <utility>
@@ -46,6 +42,7 @@
 #include "chart_items.h"
 #include "gearnvh/render/display.h"
 #include "gearnvh/render/layout.h"
+#include "png_file.h"
 
 namespace gearnvh::render {
 
@@ -59,37 +56,6 @@ void StyleAxis(vtkAxis* axis, const std::string& title) {
   axis->GetTitleProperties()->SetBold(false);
   axis->GetLabelProperties()->SetFontSize(13);
   axis->SetGridVisible(true);
-}
-
-// Writes `bytes` to png_path through a temporary beside it and a rename (a reader never sees half
-// an image); a failure removes the temporary and names the system's reason.
-RenderStatus WritePng(const std::string& png_path, const unsigned char* bytes, size_t size) {
-  const std::filesystem::path target(png_path);
-  std::random_device rd;
-  const std::filesystem::path tmp =
-      target.parent_path() / ("." + target.filename().string() + ".tmp" + std::to_string(rd()));
-  std::FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (f == nullptr) {
-    const int error = errno;
-    return {false, "could not write " + png_path + ": " + std::strerror(error), {}, error};
-  }
-  bool ok =
-      std::fwrite(bytes, 1, size, f) == size && std::fflush(f) == 0 && ::fsync(::fileno(f)) == 0;
-  int error = ok ? 0 : errno;
-  if (std::fclose(f) != 0 && ok) {
-    ok = false;
-    error = errno;
-  }
-  if (ok && std::rename(tmp.c_str(), target.c_str()) != 0) {
-    ok = false;
-    error = errno;
-  }
-  if (!ok) {
-    std::error_code ec;
-    std::filesystem::remove(tmp, ec);
-    return {false, "could not write " + png_path + ": " + std::strerror(error), {}, error};
-  }
-  return {};
 }
 
 // Renders the view into png_path atomically.
