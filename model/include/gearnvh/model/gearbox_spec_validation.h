@@ -5,10 +5,17 @@
 // the value (SI) and the rule; the first broken rule wins.
 #pragma once
 
+#include <string>
+
 #include "gearnvh/model/gearbox_spec.h"
 #include "gearnvh/model/gearbox_spec_limits.h"
 
 namespace gearnvh {
+
+// The rules on one gear alone (teeth, module, pressure and helix angle ranges, face width and
+// the gear's scale, RequireGearScale) at path `p` ("gears.pinion"): checked before any rule that
+// compares two gears, so that a mismatch is blamed on the implausible gear.
+void ValidateGearAlone(const GearSpec& gear, const std::string& p);
 
 // `operating`: kLeftToTheTrain for a train's mesh gearbox (see OperatingLimits).
 void ValidateGearboxSpec(const GearboxSpec& spec,
