@@ -8,7 +8,11 @@ namespace {
 // Shaft names quoted and joined: "'a', 'b'".
 std::string Quoted(const std::vector<std::string>& names) {
   std::string out;
-  for (const std::string& n : names) out += (out.empty() ? "'" : ", '") + n + "'";
+  for (const std::string& n : names) {
+    out += out.empty() ? "'" : ", '";
+    out += n;
+    out += '\'';
+  }
   return out;
 }
 
@@ -46,11 +50,15 @@ std::vector<std::string> TrainLoadWarnings(const TrainSpec& spec, const TrainTop
     return std::find(outputs.begin(), outputs.end(), load.on) != outputs.end();
   });
   if (loaded || outputs.empty()) return {};
-  return {"operating.loads: no load on the output shaft" +
-          std::string(outputs.size() == 1 ? " " : "s ") + Quoted(outputs) +
-          " (the end of the train from the input '" + spec.operating.input_shaft +
-          "'): the meshes leading to it carry only the other loads' power (give the output its "
-          "load, if it drives one)"};
+  // Appended rather than chained with operator+ (GCC 12 PR 105651 false -Wrestrict).
+  std::string warning = "operating.loads: no load on the output shaft";
+  warning += outputs.size() == 1 ? " " : "s ";
+  warning += Quoted(outputs);
+  warning += " (the end of the train from the input '";
+  warning += spec.operating.input_shaft;
+  warning += "'): the meshes leading to it carry only the other loads' power (give the output its "
+             "load, if it drives one)";
+  return {warning};
 }
 
 }  // namespace gearnvh::app
