@@ -42,7 +42,7 @@ bool Contains(const std::string& text, const std::string& part) {
 }
 
 TEST_CASE("absurd backlash and face width are refused in both schemas", "[loader][limits]") {
-  for (const std::string& backlash : {"80", "80 mm"}) {
+  for (const std::string backlash : {"80", "80 mm"}) {
     const std::string pair =
         LoadError(Replace(IdleRattle(), "backlash: 100 um", "backlash: " + backlash));
     INFO(pair);
@@ -66,7 +66,7 @@ TEST_CASE("absurd backlash and face width are refused in both schemas", "[loader
       Replace(kThreeShaftTrainYaml, "teeth: 41, module: 2 mm, face_width: 15 mm",
               "teeth: 41, module: 2 mm, face_width: 20"));
   CHECK(Contains(train_face, "gears.g2.face_width: gives b/m = 10000"));
-  for (const std::string& example : {"flexible_shafts.yaml", "idle_rattle.yaml",
+  for (const std::string example : {"flexible_shafts.yaml", "idle_rattle.yaml",
                                      "industrial_whine.yaml", "manual_transmission_idle.yaml",
                                      "two_stage_helical_reducer.yaml"}) {
     INFO(example);
@@ -165,7 +165,7 @@ TEST_CASE("messages cut a long value and name an oversized key", "[loader][messa
 }
 
 TEST_CASE("control characters in names are refused and never echoed raw", "[loader][messages]") {
-  for (const std::string& escape : {"\\x07", "\\0", "\\t", "\\x85"}) {
+  for (const std::string escape : {"\\x07", "\\0", "\\t", "\\x85"}) {
     const std::string gear = LoadError(
         Replace(kThreeShaftTrainYaml, "  g4: {shaft: c", "  \"g4" + escape + "\": {shaft: c"));
     INFO(gear);
