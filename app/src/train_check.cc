@@ -10,6 +10,7 @@
 #include "display_units.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/train_campbell.h"
+#include "train_load_warnings.h"
 
 namespace gearnvh::app {
 namespace {
@@ -99,6 +100,7 @@ nlohmann::json CampbellJson(const CampbellData& data) {
 TrainCheck BuildTrainCheck(const TrainSpec& spec) {
   TrainCheck c;
   c.train = BuildGearTrain(spec);
+  for (const std::string& w : TrainLoadWarnings(spec, c.train.topology)) c.train.warnings.push_back(w);
   c.torsional = TorsionalModes(c.train);
   c.structure = AssembleTrainStructure(spec, c.train);
   c.campbell_tier = spec.analysis.tier;

@@ -61,15 +61,7 @@ void InRange(const std::string& path, InputError::Quantity v, double lo, double 
 }
 
 void ValidateGear(const GearboxSpec& spec, const GearSpec& g, const std::string& p) {
-  if (g.teeth < 6) throw InputError(p + ".teeth", 0, std::to_string(g.teeth), "must be >= 6");
-  if (g.teeth > 10000)
-    throw InputError(p + ".teeth", 0, std::to_string(g.teeth), "must be <= 10000");
-  Positive(p + ".module", g.module);
-  InRange(p + ".pressure_angle", InputError::Angle(g.pressure_angle), 0.0, std::numbers::pi / 4.0,
-          true, true);
-  Positive(p + ".face_width", g.face_width);
-  InRange(p + ".helix_angle", InputError::Angle(g.helix_angle), 0.0, std::numbers::pi / 4.0, false,
-          true);
+  ValidateGearAlone(g, p);
   NonNegative(p + ".bore_diameter", g.bore_diameter);
   if (spec.materials.find(g.material) == spec.materials.end()) {
     throw InputError(p + ".material", 0, g.material, "must name a key of materials");
@@ -213,6 +205,19 @@ std::optional<SweepRangeViolation> FirstSweepRangeViolation(const SweepRange& r)
         "from", "must be > 0 with scale: log (the points are spaced geometrically)"};
   }
   return std::nullopt;
+}
+
+void ValidateGearAlone(const GearSpec& g, const std::string& p) {
+  if (g.teeth < 6) throw InputError(p + ".teeth", 0, std::to_string(g.teeth), "must be >= 6");
+  if (g.teeth > 10000)
+    throw InputError(p + ".teeth", 0, std::to_string(g.teeth), "must be <= 10000");
+  Positive(p + ".module", g.module);
+  InRange(p + ".pressure_angle", InputError::Angle(g.pressure_angle), 0.0, std::numbers::pi / 4.0,
+          true, true);
+  Positive(p + ".face_width", g.face_width);
+  InRange(p + ".helix_angle", InputError::Angle(g.helix_angle), 0.0, std::numbers::pi / 4.0, false,
+          true);
+  RequireGearScale(g, p);
 }
 
 void ValidateGearboxSpec(const GearboxSpec& spec, OperatingLimits operating) {

@@ -13,6 +13,11 @@
 
 namespace gearnvh {
 
+// The rules on one gear alone (teeth, module, pressure and helix angle ranges, face width and
+// the gear's scale, RequireGearScale) at path `p` ("gears.pinion"): checked before any rule that
+// compares two gears, so that a mismatch is blamed on the implausible gear.
+void ValidateGearAlone(const GearSpec& gear, const std::string& p);
+
 // `operating`: kLeftToTheTrain for a train's mesh gearbox (see OperatingLimits).
 void ValidateGearboxSpec(const GearboxSpec& spec,
                          OperatingLimits operating = OperatingLimits::kChecked);
