@@ -211,7 +211,8 @@ RenderStatus RenderLinePlot(const LinePlot& plot, const ImageOptions& options,
     if (s.style == Series::Style::kPoints) {
       auto* points = vtkPlotPoints::SafeDownCast(p);
       if (points != nullptr) {
-        points->SetMarkerStyle(vtkPlotPoints::CIRCLE);
+        points->SetMarkerStyle(s.marker == Series::Marker::kDiamond ? vtkPlotPoints::DIAMOND
+                                                                    : vtkPlotPoints::CIRCLE);
         points->SetMarkerSize(static_cast<float>(s.width));
       }
     }

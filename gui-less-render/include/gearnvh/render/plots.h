@@ -36,6 +36,8 @@ struct Series {
   std::string label;  // legend entry; empty: not in the legend
   std::vector<double> x, y;
   Style style = Style::kLine;
+  enum class Marker { kCircle, kDiamond };  // of kPoints
+  Marker marker = Marker::kCircle;
   int color = -1;      // palette index; -1: the series index
   double width = 2.0;  // line width or marker size, px
 };
