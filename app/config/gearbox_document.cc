@@ -47,6 +47,18 @@ std::string SchemaText(const YAML::Node& root) {
 // indexes a list (also written as ".0.").
 using Step = std::variant<std::string, size_t>;
 
+// A list index written with `digits`: no list of a gearbox file has a billion entries, and a
+// longer number would overflow (std::out_of_range).
+size_t ListIndex(const std::string& digits, const std::string& path) {
+  constexpr size_t kMaxDigits = 9;
+  if (digits.size() > kMaxDigits) {
+    throw InputError(path, 0, "'" + digits + "'",
+                     "is not a list index: at most " + std::to_string(kMaxDigits) +
+                         " digits (no list of a gearbox file has a billion entries)");
+  }
+  return static_cast<size_t>(std::stoul(digits));
+}
+
 std::vector<Step> ParsePath(const std::string& path) {
   const std::string rule =
       "must be a dotted schema path such as operating.torque or operating.excitation[0].amplitude";
@@ -57,7 +69,7 @@ std::vector<Step> ParsePath(const std::string& path) {
     const std::string key = path.substr(i, end == std::string::npos ? end : end - i);
     if (key.empty()) throw InputError(path, 0, "'" + path + "'", rule);
     const bool digits = key.find_first_not_of("0123456789") == std::string::npos;
-    steps.emplace_back(digits ? Step(static_cast<size_t>(std::stoul(key))) : Step(key));
+    steps.emplace_back(digits ? Step(ListIndex(key, path)) : Step(key));
     i = end;
     while (i != std::string::npos && path[i] == '[') {
       const size_t close = path.find(']', i);
@@ -65,7 +77,7 @@ std::vector<Step> ParsePath(const std::string& path) {
       if (index.empty() || index.find_first_not_of("0123456789") != std::string::npos) {
         throw InputError(path, 0, "'" + path + "'", rule);
       }
-      steps.emplace_back(static_cast<size_t>(std::stoul(index)));
+      steps.emplace_back(ListIndex(index, path));
       i = close + 1 < path.size() ? close + 1 : std::string::npos;
     }
     if (i == std::string::npos) break;

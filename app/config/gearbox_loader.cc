@@ -24,6 +24,7 @@ namespace gearnvh::config {
 namespace {
 
 constexpr size_t kMaxFileBytes = 16u << 20;
+constexpr size_t kMaxKeyCharacters = 1024;  // of an implicit key (YAML 1.2, 7.4.2)
 
 // A document without a `schema:` line is read as gearnvh/1; a gear train's keys then say which
 // line is missing.
@@ -141,11 +142,22 @@ std::string YamlSyntaxRule(const YAML::Exception& e, const std::string& text) {
            " levels deep, more than the parser allows (a gearbox needs a few)";
   }
   std::string rule = "not valid YAML: " + e.msg;
-  // yaml-cpp reports a tab in the indentation as some other error at that line or the next.
+  // yaml-cpp reports a tab in the indentation as some other error at that line or the next, and a
+  // key longer than YAML's 1024 characters as a value without a key.
   std::istringstream lines(text);
   std::string line;
   for (int i = 0; std::getline(lines, line) && i <= e.mark.line; ++i) {
     const std::string indent = line.substr(0, line.find_first_not_of(" \t"));
+    if (i == e.mark.line && e.msg == YAML::ErrorMsg::MAP_VALUE) {
+      const size_t colon = std::min(line.size(), static_cast<size_t>(std::max(0, e.mark.column)));
+      const size_t key = colon > indent.size() ? colon - indent.size() : 0;
+      if (key > kMaxKeyCharacters) {
+        return fmt::format(
+            "has a key of {} bytes (column {} to {}): YAML allows a key of at most {} "
+            "characters, and a gearbox's keys and names are short",
+            key, indent.size() + 1, colon, kMaxKeyCharacters);
+      }
+    }
     if (i + 1 >= e.mark.line && indent.find('\t') != std::string::npos) {
       return rule + " (line " + std::to_string(i + 1) +
              " is indented with a tab: YAML indents with spaces only)";

@@ -90,6 +90,10 @@ TrainSpec ReadTrainDocument(Reader& r, const YAML::Node& root) {
                  : std::string("must be a list of two gear names"));
     }
     r.Remember(Join(p, "gears"), pair, "");
+    for (size_t i = 0; i < 2; ++i) {
+      r.RequireNoControlCharacters(Join(p, "gears") + "[" + std::to_string(i) + "]", pair[i],
+                                   pair[i].Scalar());
+    }
     mesh.gear_a = pair[0].Scalar();
     mesh.gear_b = pair[1].Scalar();
     spec.meshes.push_back(mesh);

@@ -68,4 +68,13 @@ void RequireValidUtf8(const std::string& text, const std::string& source) {
   }
 }
 
+size_t ControlCharacterAt(const std::string& text) {
+  for (size_t i = 0; i < text.size(); ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    const auto next = i + 1 < text.size() ? static_cast<unsigned char>(text[i + 1]) : 0;
+    if (c < 0x20 || c == 0x7F || (c == 0xC2 && next >= 0x80 && next <= 0x9F)) return i;
+  }
+  return std::string::npos;
+}
+
 }  // namespace gearnvh::config

@@ -11,4 +11,9 @@ namespace gearnvh::config {
 // and for a control character YAML does not allow (C0 other than tab, LF, CR; DEL).
 void RequireValidUtf8(const std::string& text, const std::string& source);
 
+// The byte offset of the first control character of `text` (C0 including tab and line feed, DEL,
+// C1 U+0080-U+009F), std::string::npos when it has none. YAML escapes ("\x07", "\0") put them
+// into a scalar that the file itself may not hold.
+size_t ControlCharacterAt(const std::string& text);
+
 }  // namespace gearnvh::config

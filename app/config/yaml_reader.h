@@ -15,6 +15,7 @@
 #include "gearnvh/model/input_error.h"
 #include "source_locations.h"
 #include "units.h"
+#include "utf8_check.h"
 
 namespace gearnvh::config {
 
@@ -53,6 +54,18 @@ class Reader {
     throw InputError(path, LineOf(n), value, rule);
   }
 
+  // Names and texts reach terminals, reports and JSON: a control character in one (entered
+  // through a YAML escape) is refused rather than printed.
+  void RequireNoControlCharacters(const std::string& path, const YAML::Node& n,
+                                  const std::string& text) const {
+    const size_t at = ControlCharacterAt(text);
+    if (at == std::string::npos) return;
+    Fail(path, n, "'" + text + "'",
+         "must not contain control characters (character " + std::to_string(at + 1) +
+             " is one, written as a YAML escape such as \\x07 or \\0): names and texts are "
+             "printed on terminals and in reports");
+  }
+
   // Checks that `n` is a mapping whose keys are unique scalars from `allowed`.
   void ExpectMap(const YAML::Node& n, const std::string& path,
                  const std::vector<std::string>& allowed) {
@@ -63,6 +76,7 @@ class Reader {
       if (!kv.first.IsScalar())
         Fail(path, kv.first, Describe(kv.first), "keys must be plain names");
       const std::string key = kv.first.Scalar();
+      RequireNoControlCharacters(Join(path, key), kv.first, key);
       // yaml-cpp reads a merge key as an ordinary key named "<<"; say what it is.
       if (key == "<<") {
         Fail(Join(path, key), kv.first, "",
@@ -142,6 +156,7 @@ class Reader {
     if (!n.IsDefined()) return *fallback;
     const std::string p = Join(path, key);
     if (!n.IsScalar()) Fail(p, n, Describe(n), "must be a text");
+    RequireNoControlCharacters(p, n, n.Scalar());
     Remember(p, n, n.Scalar());
     return n.Scalar();
   }

@@ -183,9 +183,10 @@ int RunAtlas(const AtlasCommandOptions& options) {
               : " (" + Count(static_cast<long>(restored.size()), "cell", "cells") + " restored)");
       const DisplayAxis ax = DisplayAxisFor(x->parameter, spec);
       const DisplayAxis ay = DisplayAxisFor(y->parameter, spec);
-      fmt::print("  rows: {} from {:.4g} to {:.4g} {}; columns: {} from {:.4g} to {:.4g} {}\n",
-                 y->parameter, y->range.to * ay.scale, y->range.from * ay.scale, ay.unit,
-                 x->parameter, x->range.from * ax.scale, x->range.to * ax.scale, ax.unit);
+      fmt::print("  rows: {} from {} to {} {}; columns: {} from {} to {} {}\n", y->parameter,
+                 Significant(y->range.to * ay.scale), Significant(y->range.from * ay.scale),
+                 ay.unit, x->parameter, Significant(x->range.from * ax.scale),
+                 Significant(x->range.to * ax.scale), ax.unit);
       PrintRegimeMap(nx, ny, [&](int k) {
         const AtlasCell& c = result.cells[static_cast<size_t>(k)];
         return RegimeLetter(c.ok, c.regime);

@@ -16,7 +16,10 @@ namespace gearnvh::app {
 void WriteFileAtomically(const std::string& path, const std::function<void(std::FILE*)>& write) {
   const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
   std::FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (!f) throw IoError("cannot write " + path + ": " + std::strerror(errno));
+  if (!f) {
+    const std::string reason = std::strerror(errno);
+    throw IoError("cannot write " + path + ": " + reason, reason);
+  }
   auto discard = [&tmp] {
     std::error_code ec;
     std::filesystem::remove(tmp, ec);
@@ -39,7 +42,7 @@ void WriteFileAtomically(const std::string& path, const std::function<void(std::
     // The failed write's own error: errno may since have been set by the calls after it.
     const std::string reason = write_error ? write_error.message() : std::strerror(errno);
     discard();
-    throw IoError("cannot write " + path + ": " + reason);
+    throw IoError("cannot write " + path + ": " + reason, reason);
   }
 }
 

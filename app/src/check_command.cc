@@ -30,6 +30,12 @@ std::vector<ReducedModel> ReduceAvailableTiers(const ComponentModel& model) {
 
 namespace {
 
+// A stiffness zone's mean, null when the mesh cycle has no such zone (a helical mesh never
+// carried by one pair alone): the model reports those as 0.
+nlohmann::json ZoneMean(double mean) {
+  return mean > 0.0 ? nlohmann::json(mean) : nlohmann::json();
+}
+
 nlohmann::json RadiiJson(const GearRadii& r) {
   return {{"pitch_radius", r.pitch},
           {"base_radius", r.base},
@@ -67,8 +73,15 @@ void PrintText(const std::string& file, const GearboxSpec& spec, const Component
   fmt::print("  {:<28}{:>14.4g} N/m\n", "mean", k.mean);
   fmt::print("  {:<28}{:>14.4g} N/m\n", "min", k.min);
   fmt::print("  {:<28}{:>14.4g} N/m\n", "max", k.max);
-  fmt::print("  {:<28}{:>14.4g} N/m\n", "single-pair mean", k.single_pair_mean);
-  fmt::print("  {:<28}{:>14.4g} N/m\n", "double-pair mean", k.double_pair_mean);
+  // A helical mesh may never carry on one pair (or on exactly two) alone: no such zone, no mean.
+  for (const auto& [name, mean] : {std::pair{"single-pair mean", k.single_pair_mean},
+                                   std::pair{"double-pair mean", k.double_pair_mean}}) {
+    if (mean > 0.0) {
+      fmt::print("  {:<28}{:>14.4g} N/m\n", name, mean);
+    } else {
+      fmt::print("  {:<28}{:>14} (no such zone in the mesh cycle)\n", name, "n/a");
+    }
+  }
   fmt::print("  {:<28}{:>14.4f} µm\n", "LSTE peak-to-peak", k.lste_peak_to_peak * 1e6);
   fmt::print("  {:<28}{:>14.4f}\n", "max load share", k.load_sharing_max);
   fmt::print("  finite elements: {} nodes, {} DOF{}, {}\n", model.nodes.size(), model.dofs,
@@ -80,11 +93,11 @@ void PrintText(const std::string& file, const GearboxSpec& spec, const Component
     fmt::print("{:>10.1f}", modes.frequencies_hz[i]);
   }
   fmt::print("\n");
-  fmt::print("  {:<12}{:>5}{:>7}{:>14}{:>12}   lowest natural frequencies [Hz]\n", "modal tier",
-             "DOF", "state", "g_mesh [m/N]", "vs full");
+  fmt::print("  {:<12}{:>5}{:>7}{:>6}{:>14}{:>12}   lowest natural frequencies [Hz]\n",
+             "modal tier", "DOF", "state", "rigid", "g_mesh [m/N]", "vs full");
   for (const ReducedModel& r : tiers) {
-    fmt::print("  {:<12}{:>5}{:>7}{:>14.4e}{:>11}  ", r.name, r.dof, StateDimension(model, r),
-               r.static_mesh_compliance,
+    fmt::print("  {:<12}{:>5}{:>7}{:>6}{:>14.4e}{:>11}  ", r.name, r.dof, StateDimension(model, r),
+               r.rigid_body_modes, r.static_mesh_compliance,
                ComplianceErrorText(ComplianceErrorVsFull(r.tier, r.compliance_error_vs_full)));
     for (size_t i = 0; i < std::min<size_t>(4, r.natural_frequencies_hz.size()); ++i) {
       fmt::print("{:>9.1f}", r.natural_frequencies_hz[i]);
@@ -130,8 +143,8 @@ nlohmann::json CheckReport(const GearboxSpec& spec, const ComponentModel& model,
                   {{"mean", k.mean},
                    {"min", k.min},
                    {"max", k.max},
-                   {"single_pair_mean", k.single_pair_mean},
-                   {"double_pair_mean", k.double_pair_mean}}},
+                   {"single_pair_mean", ZoneMean(k.single_pair_mean)},
+                   {"double_pair_mean", ZoneMean(k.double_pair_mean)}}},
                  {"lste_peak_to_peak", k.lste_peak_to_peak},
                  {"load_sharing_max", k.load_sharing_max},
                  {"segments", model.segmentation.segments.size()},
@@ -151,6 +164,7 @@ nlohmann::json CheckReport(const GearboxSpec& spec, const ComponentModel& model,
     doc["tiers"].push_back({{"name", r.name},
                             {"dof", r.dof},
                             {"state_dim", StateDimension(model, r)},
+                            {"rigid_body_modes", r.rigid_body_modes},
                             {"natural_frequencies_hz", r.natural_frequencies_hz},
                             {"static_mesh_compliance", r.static_mesh_compliance},
                             {"compliance_error_vs_full", ComplianceErrorJson(ComplianceErrorVsFull(

@@ -17,10 +17,16 @@ namespace gearnvh::app {
 
 enum ExitCode : int { kExitOk = 0, kExitInput = 1, kExitUsage = 2, kExitInternal = 3, kExitIo = 4 };
 
-// An output that cannot be written, replaced or locked (exit 4). The message names the path.
+// An output that cannot be written, replaced or locked (exit 4). The message names the path;
+// `reason` is the system's alone ("No space left on device"), empty when there is none.
 class IoError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit IoError(const std::string& message, std::string reason = {})
+      : std::runtime_error(message), reason_(std::move(reason)) {}
+  const std::string& reason() const { return reason_; }
+
+ private:
+  std::string reason_;
 };
 
 // A result that is not a finite number (exit 3): a bug or an unguarded corner of the model, never

@@ -2,13 +2,40 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+
 #include "config/gearbox_loader.h"
 
 namespace gearnvh::app {
 
 std::string Format(double si_value, const DisplayUnit& unit) {
-  return fmt::format("{:.4g} {}", si_value * unit.per_si, unit.symbol);
+  return Significant(si_value * unit.per_si) + " " + unit.symbol;
 }
+
+std::string Significant(double v, int digits) {
+  const double magnitude = std::abs(v);
+  if (v == 0.0) return "0";
+  if (!std::isfinite(v) || magnitude < 1e-4 || magnitude >= 1e15) {
+    return fmt::format("{:.{}g}", v, digits);
+  }
+  // %g's digits, rounded first so that 9.99996 at 4 digits counts as 10 (one digit before the
+  // point), and fixed: the decimals left after the integer part.
+  const double rounded = std::stod(fmt::format("{:.{}e}", v, digits - 1));
+  const int before = static_cast<int>(std::floor(std::log10(std::abs(rounded)))) + 1;
+  std::string s = fmt::format("{:.{}f}", v, std::max(0, digits - before));
+  if (s.find('.') != std::string::npos) {
+    s.erase(s.find_last_not_of('0') + 1);
+    if (s.back() == '.') s.pop_back();
+  }
+  return s;
+}
+
+double AsWritten(double v) { return std::isfinite(v) ? std::stod(fmt::format("{:.12g}", v)) : v; }
+
+double Rpm(double rad_s) { return AsWritten(rad_s * 60.0 / (2.0 * std::numbers::pi)); }
 
 std::string TrainLoadsText(const TrainSpec& spec) {
   std::string text;

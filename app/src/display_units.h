@@ -12,8 +12,20 @@
 
 namespace gearnvh::app {
 
-// "800 rpm", "0.5 N m": the SI value in `unit`, 4 significant digits.
+// "800 rpm", "0.5 N m", "12000 rpm": the SI value in `unit`, 4 significant digits (Significant).
 std::string Format(double si_value, const DisplayUnit& unit);
+
+// `v` as an engineer writes it, with `digits` significant digits but without an exponent between
+// 1e-4 and 1e15 (digits of the integer part are never dropped): "12000", "12346", "0.5", "700.5".
+// Outside that range, or not finite, as printf's %g.
+std::string Significant(double v, int digits = 4);
+
+// `v` rounded to 12 significant digits: a value converted from SI back into the unit the user
+// wrote it in (700 rpm -> rad/s -> rpm) reads as written, 700, not 700.0000000000001.
+double AsWritten(double v);
+
+// rad/s in rpm, AsWritten.
+double Rpm(double rad_s);
 
 // The operating torque as given: "0.5 N m on the wheel", "20 N m on the pinion".
 std::string TorqueText(const GearboxSpec& spec);

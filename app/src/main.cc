@@ -18,6 +18,7 @@
 #include "command_errors.h"
 #include "config/gearbox_loader.h"
 #include "gearnvh/model/gearbox_spec_limits.h"
+#include "gearnvh/model/gearbox_spec_validation.h"
 #include "gearnvh_revision.h"
 #include "mpi_context.h"
 #include "orbits_command.h"
@@ -118,13 +119,14 @@ CLI::Option* AddMethodOption(CLI::App* command, gearnvh::LadderMethod& method,
 }
 
 // An axis of either schema's parameters (the file, read later, decides which apply; the command
-// then refuses a parameter of the other schema with its own message).
-CLI::Option* CheckAxis(CLI::Option* option, const std::string& flag) {
+// then refuses a parameter of the other schema with its own message). An atlas axis (`grid`) also
+// keeps the rules of the file's analysis.atlas axes.
+CLI::Option* CheckAxis(CLI::Option* option, const std::string& flag, bool grid = false) {
   const CLI::Validator axis(
-      [flag](std::string& text) -> std::string {
+      [flag, grid](std::string& text) -> std::string {
+        gearnvh::AtlasAxis parsed;
         try {
-          (void)gearnvh::config::ParseAxisOption(text, flag);
-          return {};
+          parsed = gearnvh::config::ParseAxisOption(text, flag);
         } catch (const gearnvh::InputError& pair_error) {
           const std::string name = text.substr(0, text.find('='));
           const bool train_form = gearnvh::app::TrainParameterDimension(name).has_value() ||
@@ -132,12 +134,18 @@ CLI::Option* CheckAxis(CLI::Option* option, const std::string& flag) {
                                   name.rfind("operating.loads", 0) == 0;
           if (!train_form) return RuleAndValue(pair_error);
           try {
-            (void)gearnvh::app::ParseTrainAxisOption(text, flag);
-            return {};
+            parsed = gearnvh::app::ParseTrainAxisOption(text, flag);
           } catch (const gearnvh::InputError& train_error) {
             return RuleAndValue(train_error);
           }
         }
+        const auto broken = gearnvh::FirstSweepRangeViolation(parsed.range);
+        if (!grid || !broken) return {};
+        const std::string part = broken->part == "points" ? "POINTS"
+                                 : broken->part == "to"   ? "TO"
+                                                          : "FROM";
+        return part + " " + broken->rule + " (the rule of analysis.atlas axes), got '" + text +
+               "'";
       },
       "");
   return Checked(option, axis, "PARAMETER=FROM:TO:N");
@@ -239,9 +247,9 @@ int Main(int argc, char** argv) {
   CheckAxis(atlas_cmd->add_option(
                 "--x", atlas.x,
                 "x axis PARAMETER=FROM:TO:POINTS, e.g. operating.speed=600rpm:3000rpm:24"),
-            "--x");
+            "--x", true);
   CheckAxis(atlas_cmd->add_option("--y", atlas.y, "y axis, e.g. operating.torque=0.05Nm:5Nm:24"),
-            "--y");
+            "--y", true);
   AddTierOption(atlas_cmd, atlas.tier);
   CheckRange(atlas_cmd->add_option("--cycles", atlas.cycles,
                                    "Averaged mesh cycles per cell (default 1080)"),
@@ -267,7 +275,7 @@ int Main(int argc, char** argv) {
   CheckRange(
       orbits_cmd->add_option("--period", orbits.period,
                              "Period in base periods (mesh and excitation both repeat), default 1"),
-      1, 64);
+      1, gearnvh::app::kMaxOrbitPeriod);
   CheckAxis(orbits_cmd->add_option("--sweep", orbits.sweep,
                                    "Continue along PARAMETER=FROM:TO:POINTS, e.g. "
                                    "operating.torque=0.1Nm:1Nm:10"),

@@ -245,4 +245,16 @@ OperatingPointAnalysis AnalyseOperatingPoint(
   return op;
 }
 
+std::string MeshHarmonicsText(const std::vector<SidebandRow>& rows) {
+  std::string text;
+  for (const SidebandRow& r : rows) {
+    // "1 fm = 23 fin" reads "1 fm": the lines sharing its bin are in --json.
+    if (IsMeshHarmonic(r)) {
+      text +=
+          fmt::format("{}: {:.4f} µm  ", r.label.substr(0, r.label.find(" = ")), r.amplitude * 1e6);
+    }
+  }
+  return text;
+}
+
 }  // namespace gearnvh::app

@@ -37,6 +37,11 @@ struct OperatingPointAnalysis {
   nlohmann::json doc;  // the `simulate --json` document without name and file
 };
 
+// The mesh harmonics of a TE sideband table on one line, as `simulate` prints them: "1 fm: 0.1234
+// µm  2 fm: 0.0123 µm  " (a table holds up to hundreds of shaft-order lines and sidebands, down
+// to the rounding floor: those are in --json). Empty when no harmonic stands out.
+std::string MeshHarmonicsText(const std::vector<SidebandRow>& rows);
+
 // Recording more than this many times the requested cycles (whole periods of the shaft-order
 // sources, `cycles_note`) is a warning: the run takes that much longer than asked for.
 constexpr long kCyclesRoundingWarningFactor = 2;

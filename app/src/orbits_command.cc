@@ -98,6 +98,13 @@ int ReportFailedOrbitPoints(int failed, size_t total) {
   return 1;
 }
 
+void RequireOrbitPeriod(int period, const std::string& field) {
+  if (period < 1 || period > kMaxOrbitPeriod) {
+    throw InputError(field, 0, std::to_string(period),
+                     "must be in [1, " + std::to_string(kMaxOrbitPeriod) + "]");
+  }
+}
+
 int RunOrbits(const OrbitsCommandOptions& options) {
   return RunReportingErrors(options.file, [&](config::SourceLocations& where) -> int {
     const config::LoadedGearbox loaded = config::LoadAnyGearboxFile(options.file);

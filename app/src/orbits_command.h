@@ -27,6 +27,13 @@ struct OrbitsCommandOptions {
 
 int RunOrbits(const OrbitsCommandOptions& options);
 
+// The longest period searched, in base periods (one limit for the CLI's --period and Python's
+// period=, of a pair and of a train): Newton's cost grows with it, and longer orbits are chaos in
+// practice.
+inline constexpr int kMaxOrbitPeriod = 64;
+// Throws InputError at `field` unless 1 <= period <= kMaxOrbitPeriod.
+void RequireOrbitPeriod(int period, const std::string& field);
+
 // Shared with the train's orbits (train_orbits_command.h):
 // {"re", "im", "abs"} of one Floquet multiplier.
 nlohmann::json MultiplierJson(std::complex<double> mu);

@@ -54,6 +54,11 @@ bool Exchange(const fs::path& a, const fs::path& b) {
 OutputFolder::OutputFolder(const fs::path& target, const std::string& flag) {
   target_ = fs::absolute(target).lexically_normal();
   if (!target_.has_filename()) target_ = target_.parent_path();
+  // The folder itself, not the name it was given: a symlink to DIR (or through a symlinked
+  // parent) must meet the same lock and stage beside the real DIR, on its filesystem.
+  std::error_code ec;
+  const fs::path real = fs::weakly_canonical(target_, ec);
+  if (!ec) target_ = real;
   CheckTarget(flag);
   Lock();
   try {
@@ -194,12 +199,23 @@ void OutputFolder::RemoveStaleStaging() const {
 }
 
 void OutputFolder::Write(const std::string& name, const std::string& content) const {
-  WriteFileAtomically((staging_ / name).string(), content);
+  Write(name, [&content](std::FILE* f) { std::fwrite(content.data(), 1, content.size(), f); });
 }
 
 void OutputFolder::Write(const std::string& name,
                          const std::function<void(std::FILE*)>& write) const {
-  WriteFileAtomically((staging_ / name).string(), write);
+  try {
+    WriteFileAtomically((staging_ / name).string(), write);
+  } catch (const IoError& e) {
+    throw WriteFailure(e.reason().empty() ? e.what() : e.reason());
+  }
+}
+
+IoError OutputFolder::WriteFailure(const std::string& reason) const {
+  // The staging folder is gone with this run: the user's folder is what to name.
+  return IoError(named_ + ": cannot write the results: " + reason + "; " +
+                     (Exists(target_) ? target_.string() + " is unchanged" : "nothing was written"),
+                 reason);
 }
 
 void OutputFolder::Commit() {

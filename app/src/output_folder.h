@@ -2,6 +2,8 @@
 //  - checked before any computation: DIR is a directory or absent, its filesystem is writable and
 //    not full (IoError, exit 4, otherwise, naming the flag, DIR and the system's reason; "the disk
 //    is full" only when the filesystem has blocks and too few are free);
+//  - DIR is taken as the folder it names (symlinks resolved): every name of one folder shares its
+//    lock, staging folder and messages;
 //  - one writer at a time: an advisory lock (flock) on "<parent>/.<DIR>.lock"; a second run
 //    refuses at once, naming the process that holds it (lock and staging folder go inside an
 //    existing DIR, as .gearnvh.lock and .gearnvh.partial-<pid>, when its parent is not writable);
@@ -26,6 +28,8 @@
 
 namespace gearnvh::app {
 
+class IoError;  // command_errors.h
+
 class OutputFolder {
  public:
   OutputFolder(const std::filesystem::path& target, const std::string& flag);
@@ -35,10 +39,13 @@ class OutputFolder {
 
   const std::filesystem::path& target() const { return target_; }
   const std::filesystem::path& staging() const { return staging_; }
-  // Writes one file into the staging folder (whole or not at all).
+  // Writes one file into the staging folder (whole or not at all); IoError WriteFailure otherwise.
   void Write(const std::string& name, const std::string& content) const;
   // The same, the content written by `write` as it goes (WriteFileAtomically).
   void Write(const std::string& name, const std::function<void(std::FILE*)>& write) const;
+  // The error of a write into the staging folder that failed for `reason` (the system's: "No
+  // space left on device"): names the flag, DIR and the reason, and that DIR is unchanged.
+  IoError WriteFailure(const std::string& reason) const;
   void Commit();
 
  private:

@@ -33,6 +33,34 @@ uint64_t ReadSize(const std::string& in, size_t& at) {
   return n;
 }
 
+// A gear train's summary lists `key` per mesh ("in-l0 0.12<br>l5-o5 0.034"); a pair's has it once
+// (`num`: the pair's cell of a key, "-" when missing).
+template <typename Num>
+std::string PerMesh(const nlohmann::json& s, const char* key, const Num& num) {
+  const auto meshes = s.find("meshes");
+  if (meshes == s.end() || !meshes->is_array()) return num(key);
+  std::string cell;
+  for (const nlohmann::json& m : *meshes) {
+    const auto name = m.find("name");
+    const auto value = m.find(key);
+    if (!cell.empty()) cell += "<br>";
+    cell += (name != m.end() && name->is_string() ? Html(name->get<std::string>()) : "-") + " " +
+            (value != m.end() && value->is_number() ? Number(value->get<double>()) : "-");
+  }
+  return cell.empty() ? "-" : cell;
+}
+
+// A pair's rattle regime; a train's loudest loose gear with its rattle index ("-" without one).
+template <typename Text>
+std::string Rattle(const nlohmann::json& s, const Text& text) {
+  const auto gear = s.find("loudest_loose_gear");
+  if (gear == s.end() || !gear->is_string()) return text("regime");
+  const auto index = s.find("loudest_loose_gear_rattle_index_rad_s2");
+  return Html(gear->get<std::string>()) + (index != s.end() && index->is_number()
+                                               ? " (" + Number(index->get<double>()) + " rad/s²)"
+                                               : std::string());
+}
+
 }  // namespace
 
 std::string BatchIndex(const std::vector<GearboxEntry>& entries) {
@@ -45,10 +73,10 @@ std::string BatchIndex(const std::vector<GearboxEntry>& entries) {
     << Count(static_cast<long>(entries.size()), "gearbox", "gearboxes") << ", "
     << (failed == 0 ? "<span class=\"ok\">all complete</span>"
                     : fmt::format("<span class=\"warn\">{} failed</span>", failed))
-    << "</p>\n<table>\n<tr><th>gearbox</th><th>modal model</th><th>pinion speed</th><th>torque"
-       "</th><th>TE RMS (µm)</th><th>rattle regime</th><th>impacts / mesh cycle</th><th>accel. "
-       "ratio</th><th>first critical speed (rpm)</th><th>chaotic atlas cells</th><th>real-time "
-       "ratio</th></tr>\n";
+    << "</p>\n<table>\n<tr><th>gearbox</th><th>modal model</th><th>speed</th><th>torque"
+       "</th><th>TE RMS (µm)</th><th>rattle regime / loudest loose gear</th><th>impacts / mesh "
+       "cycle</th><th>accel. ratio</th><th>first critical speed (rpm)</th><th>chaotic atlas "
+       "cells</th><th>real-time ratio</th></tr>\n";
   for (const GearboxEntry& e : entries) {
     if (!e.ok) {
       h << "<tr><td>" << Html(e.file)
@@ -72,10 +100,11 @@ std::string BatchIndex(const std::vector<GearboxEntry>& entries) {
     };
     h << "<tr><td><a href=\"" << e.folder << "/index.html\">" << Html(e.name) << "</a>"
       << (e.from_earlier ? " (earlier run)" : "") << "</td><td>" << text("tier") << "</td><td>"
-      << text("speed") << "</td><td>" << text("torque") << "</td><td>" << num("te_rms_um")
-      << "</td><td>" << text("regime") << "</td><td>" << num("impacts_per_cycle") << "</td><td>"
-      << num("acceleration_ratio") << "</td><td>" << num("first_critical_speed_rpm") << "</td><td>"
-      << num("chaotic_atlas_cells") << "</td><td>" << num("real_time_ratio") << "</td></tr>\n";
+      << text("speed") << "</td><td>" << text("torque") << "</td><td>"
+      << PerMesh(s, "te_rms_um", num) << "</td><td>" << Rattle(s, text) << "</td><td>"
+      << PerMesh(s, "impacts_per_cycle", num) << "</td><td>" << num("acceleration_ratio")
+      << "</td><td>" << num("first_critical_speed_rpm") << "</td><td>" << num("chaotic_atlas_cells")
+      << "</td><td>" << num("real_time_ratio") << "</td></tr>\n";
   }
   h << "</table>\n" << kImageCheckScript << "\n</body></html>\n";
   return h.str();
@@ -102,6 +131,7 @@ std::string PackEntries(const std::vector<size_t>& indices,
                       {"name", e.name},
                       {"ok", e.ok},
                       {"error", e.error},
+                      {"io_reason", e.io_reason},
                       {"summary", e.summary},
                       {"wall_s", e.wall_s},
                       {"files", files}});
@@ -127,6 +157,7 @@ void UnpackEntries(const std::string& packed, std::vector<GearboxEntry>& entries
     e.name = h.at("name").get<std::string>();
     e.ok = h.at("ok").get<bool>();
     e.error = h.at("error").get<std::string>();
+    e.io_reason = h.at("io_reason").get<std::string>();
     e.summary = h.at("summary");
     e.wall_s = h.at("wall_s").get<double>();
     if (!e.ok) continue;

@@ -148,6 +148,11 @@ int RunReport(const ReportCommandOptions& o) {
       for (size_t r = 1; r < parts.size(); ++r) UnpackEntries(parts[r], entries, staging);
     }
 
+    // A gearbox whose files could not be written (a full disk): the report cannot be written,
+    // whatever the others did; one error naming DIR and the reason (exit 4).
+    for (const GearboxEntry& e : entries) {
+      if (!e.io_reason.empty()) throw target->WriteFailure(e.io_reason);
+    }
     int failed = 0, internal = 0;
     for (const GearboxEntry& e : entries) {
       failed += e.ok ? 0 : 1;

@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <optional>
 #include <sstream>
@@ -32,8 +33,6 @@ namespace gearnvh::app {
 namespace fs = std::filesystem;
 
 namespace {
-
-constexpr double kRpm = 60.0 / (2.0 * std::numbers::pi);
 
 std::string TraceCsv(const Trajectory& t, size_t last) {
   std::ostringstream os;
@@ -112,6 +111,14 @@ std::string OrderTracksCsv(const std::vector<OrderTrack>& mesh,
 }
 
 }  // namespace
+
+void ThrowUnlessDrawn(const std::string& name, const render::RenderStatus& status) {
+  if (status.ok) return;
+  if (status.error_number != 0) {
+    throw IoError("image " + name + ": " + status.message, std::strerror(status.error_number));
+  }
+  throw std::runtime_error("image " + name + ": " + status.message);
+}
 
 GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::path& folder,
                                 const ReportCommandOptions& o, int threads,
@@ -207,7 +214,7 @@ GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::
     std::vector<ReportFigure> figures;
     auto draw = [&](const std::string& name, const std::string& caption,
                     const render::RenderStatus& status) {
-      if (!status.ok) throw std::runtime_error("image " + name + ": " + status.message);
+      ThrowUnlessDrawn(name, status);
       figures.push_back({name, caption});
     };
     const long trace_cycles = std::clamp<long>(2 * base_period, 4, 64);
@@ -251,7 +258,8 @@ GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::
     std::vector<TierPoint> tier_points;
     for (const ReducedModel& t : tiers) {
       tier_points.push_back({t.name, static_cast<double>(StateDimension(model, t)),
-                             TierFrequencyError(t, modes), t.compliance_error_vs_full});
+                             TierFrequencyError(t, modes),
+                             ComplianceErrorVsFull(t.tier, t.compliance_error_vs_full)});
     }
     draw("tiers.png",
          "Modal tiers: the largest error of the lowest natural frequencies and the static mesh "
@@ -331,7 +339,7 @@ GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::
     }
     entry.summary = {
         {"tier", op.tier_name},
-        {"speed_rpm", spec.operating.speed * kRpm},
+        {"speed_rpm", Rpm(spec.operating.speed)},
         {"torque_nm", spec.operating.torque},
         {"torque_on", TorqueOnName(spec.operating.torque_on)},
         {"speed", Format(spec.operating.speed, spec.operating.speed_unit)},
@@ -350,6 +358,12 @@ GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::
                         GearboxPage({file, spec, model, modes, tiers, op, sweep,
                                      atlas ? &*atlas : nullptr, atlas_options.cycles, figures}));
     entry.ok = true;
+  } catch (const IoError& e) {
+    entry.error = e.what();
+    entry.io_reason = e.reason().empty() ? e.what() : e.reason();
+  } catch (const fs::filesystem_error& e) {
+    entry.error = e.what();
+    entry.io_reason = e.code().message();
   } catch (const InputError& e) {
     entry.error = InputErrorMessage(e, file, where);
   } catch (const NonFiniteResult& e) {

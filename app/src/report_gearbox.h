@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 
+#include "gearnvh/render/plots.h"
 #include "report_command.h"
 #include "run_memory.h"
 
@@ -21,9 +22,14 @@ struct GearboxEntry {
   bool earlier_kept = false;  // failed now; DIR keeps this folder from an earlier run
   bool from_earlier = false;  // not in this run; kept from an earlier run into DIR
   std::string error;
+  std::string io_reason;  // failed writing its files, for this reason ("No space left on device")
   nlohmann::json summary;
   double wall_s = 0.0;
 };
+
+// A figure that was not drawn: IoError (with the system's reason) when its file could not be
+// written, else std::runtime_error; both name the image.
+void ThrowUnlessDrawn(const std::string& name, const render::RenderStatus& status);
 
 // Reports the stage a gearbox is in ("speed sweep 12/56 speeds"); empty: silent.
 using StageProgress = std::function<void(const std::string&)>;

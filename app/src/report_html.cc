@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "display_units.h"
+
 namespace gearnvh::app {
 
 std::string Html(const std::string& s) {
@@ -33,9 +35,7 @@ std::string Row(const std::string& name, const std::string& value) {
   return fmt::format("<tr><td>{}</td><td>{}</td></tr>\n", Html(name), Html(value));
 }
 
-std::string Number(double v, int digits) {
-  return std::isfinite(v) ? fmt::format("{:.{}g}", v, digits) : "-";
-}
+std::string Number(double v, int digits) { return std::isfinite(v) ? Significant(v, digits) : "-"; }
 
 const char* const kImageCheckScript = R"(<script>
 window.addEventListener('load', function () {

@@ -10,7 +10,7 @@ namespace gearnvh::app {
 std::string Html(const std::string& s);
 // <tr><td>name</td><td>value</td></tr>, both escaped.
 std::string Row(const std::string& name, const std::string& value);
-// `digits` significant digits; "-" when not finite.
+// `digits` significant digits as Significant writes them ("12000"); "-" when not finite.
 std::string Number(double v, int digits = 4);
 
 // The pages' style sheet (a <style> element).

@@ -241,34 +241,42 @@ render::LinePlot TierComparisonFigure(const std::string& cost_label,
   render::LinePlot p;
   p.title = "Modal tiers: accuracy against cost";
   p.x_label = cost_label;
-  p.y_label = "error (%)";
+  p.y_label = "error magnitude (%)";
   p.log_x = p.log_y = true;
   render::Series frequency{
       "largest natural-frequency error", {}, {}, render::Series::Style::kPoints};
   frequency.width = 11.0;
   frequency.color = 0;
-  render::Series second{second_error_label, {}, {}, render::Series::Style::kPoints};
-  second.width = 8.0;
-  second.color = 3;
+  render::Series positive{second_error_label, {}, {}, render::Series::Style::kPoints};
+  positive.width = 8.0;
+  positive.color = 3;
+  render::Series negative{second_error_label + " < 0", {}, {}, render::Series::Style::kPoints};
+  negative.width = 10.0;
+  negative.color = 5;
+  negative.marker = render::Series::Marker::kDiamond;
+  auto shown = [](double error) {
+    constexpr double kFloor = 1e-6;  // %
+    return std::isfinite(error) ? std::max(100.0 * std::abs(error), kFloor) : kNan;
+  };
   for (const TierPoint& t : tiers) {
-    auto shown = [](double error) {
-      constexpr double kFloor = 1e-6;  // %
-      return error >= 0.0 ? std::max(100.0 * error, kFloor) : kNan;
-    };
-    const double f = shown(t.frequency_error), e = shown(t.second_error);
+    const double f = shown(t.frequency_error);
+    const double e = t.second_error ? shown(*t.second_error) : kNan;
     if (std::isfinite(f)) {
       frequency.x.push_back(t.cost);
       frequency.y.push_back(f);
     }
     if (std::isfinite(e)) {
-      second.x.push_back(t.cost);
-      second.y.push_back(e);
+      render::Series& s = *t.second_error < 0.0 ? negative : positive;
+      s.x.push_back(t.cost);
+      s.y.push_back(e);
     }
     // The name at the frequency error, or at the second error when that one cannot be drawn.
     p.labels.push_back({t.cost, std::isfinite(f) ? f : e, t.name});
   }
   p.series = {frequency};
-  if (!second.x.empty()) p.series.push_back(std::move(second));
+  for (render::Series* s : {&positive, &negative}) {
+    if (!s->x.empty()) p.series.push_back(std::move(*s));
+  }
   return p;
 }
 

@@ -4,6 +4,7 @@
 // re 1 µm.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,12 +39,12 @@ render::HeatMap AtlasFigure(const AtlasResult& atlas, bool lyapunov, const Gearb
 struct TierPoint {
   std::string name;
   double cost = 0.0;
-  double frequency_error = 0.0;
-  double second_error = 0.0;
+  double frequency_error = 0.0;        // >= 0
+  std::optional<double> second_error;  // signed; none: not applicable (tier 1's compliance)
 };
-// Both errors in % against the cost, log-log, each tier labelled with its name. An error below
-// 1e-6 % (exact to rounding) is drawn at 1e-6 %; a negative one (not applicable, e.g. the
-// compliance of a rigid tier) is left out.
+// Both errors in % against the cost, log-log, each tier labelled with its name. The second error is
+// drawn at its magnitude, a negative one as a diamond (its own legend entry) rather than a circle.
+// A magnitude below 1e-6 % (exact to rounding) is drawn at 1e-6 %.
 render::LinePlot TierComparisonFigure(const std::string& cost_label,
                                       const std::vector<TierPoint>& tiers,
                                       const std::string& second_error_label);

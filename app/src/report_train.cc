@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "atomic_file.h"
+#include "display_units.h"
 #include "finite_results.h"
 #include "gearnvh/model/input_error.h"
 #include "report_html.h"
@@ -172,6 +173,41 @@ std::string TrainPage(const TrainPageInput& in) {
   return h.str();
 }
 
+// What the batch index lists for a train (report_batch.h): the pair's keys where they have a
+// meaning for a train, TE RMS and impacts per cycle per mesh, and the loudest loose gear.
+nlohmann::json TrainSummary(const TrainSpec& spec, const TrainCheck& check,
+                            const TrainOperatingPoint& op) {
+  double first_critical = std::numeric_limits<double>::quiet_NaN();
+  for (const CriticalSpeed& c : check.campbell.critical_speeds) {
+    if (!std::isfinite(first_critical) || c.speed_rpm < first_critical)
+      first_critical = c.speed_rpm;
+  }
+  nlohmann::json meshes = nlohmann::json::array();
+  for (size_t i = 0; i < op.stats.meshes.size(); ++i) {
+    const TrainMeshStatistics& m = op.stats.meshes[i];
+    const double cycles = op.stats.recorded_time / op.tables.meshes[i].period;
+    meshes.push_back(
+        {{"name", m.name},
+         {"te_rms_um", m.te_rms * 1e6},
+         {"impacts_per_cycle",
+          cycles > 0.0 ? static_cast<double>(m.drive_impacts + m.back_impacts) / cycles : 0.0}});
+  }
+  const std::vector<TrainLooseGearStatistics>& loose = op.stats.loose_gears;
+  return {
+      {"tier", std::string(TierName(op.tier)) + " (gear train)"},
+      {"speed", Format(spec.operating.speed, spec.operating.speed_unit) + " (" +
+                    spec.operating.input_shaft + ")"},
+      {"speed_rpm", Rpm(spec.operating.speed)},
+      {"torque", TrainLoadsText(spec)},
+      {"meshes", meshes},
+      {"loudest_loose_gear", loose.empty() ? nlohmann::json() : nlohmann::json(loose.front().name)},
+      {"loudest_loose_gear_rattle_index_rad_s2",
+       loose.empty() ? nlohmann::json() : nlohmann::json(loose.front().rattle_index)},
+      {"first_critical_speed_rpm",
+       std::isfinite(first_critical) ? nlohmann::json(first_critical) : nlohmann::json()},
+      {"real_time_ratio", op.wall_s > 0.0 ? op.summary.simulated_time / op.wall_s : 0.0}};
+}
+
 }  // namespace
 
 nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
@@ -211,7 +247,7 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
   std::vector<std::pair<std::string, std::string>> figures;
   auto draw = [&](const std::string& name, const std::string& caption,
                   const render::RenderStatus& status) {
-    if (!status.ok) throw std::runtime_error("image " + name + ": " + status.message);
+    ThrowUnlessDrawn(name, status);
     figures.emplace_back(name, caption);
   };
   const AxisScale scale = spec.analysis.speed_sweep.scale;
@@ -276,21 +312,7 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
   WriteFileAtomically((folder / "index.html").string(),
                       TrainPage({file, spec, check, op, sweep, figures}));
 
-  double first_critical = std::numeric_limits<double>::quiet_NaN();
-  for (const CriticalSpeed& c : check.campbell.critical_speeds) {
-    if (!std::isfinite(first_critical) || c.speed_rpm < first_critical)
-      first_critical = c.speed_rpm;
-  }
-  return {{"tier", std::string(TierName(op.tier)) + " (gear train)"},
-          {"speed",
-           fmt::format("{:.4g} rpm ({})", spec.operating.speed * kRpm, spec.operating.input_shaft)},
-          {"speed_rpm", spec.operating.speed * kRpm},
-          {"loudest_loose_gear", op.stats.loose_gears.empty()
-                                     ? nlohmann::json()
-                                     : nlohmann::json(op.stats.loose_gears.front().name)},
-          {"first_critical_speed_rpm",
-           std::isfinite(first_critical) ? nlohmann::json(first_critical) : nlohmann::json()},
-          {"real_time_ratio", op.wall_s > 0.0 ? op.summary.simulated_time / op.wall_s : 0.0}};
+  return TrainSummary(spec, check, op);
 }
 
 }  // namespace gearnvh::app

@@ -190,13 +190,8 @@ int RunSimulate(const SimulateOptions& options) {
           "  wheel acceleration  RMS {:.1f} rad/s², {:.2f}x the same gearbox without backlash\n",
           rattle.wheel_acceleration_rms, rattle.acceleration_ratio);
       if (!sideband_rows.empty()) {
-        fmt::print("  TE mesh harmonics   ");
-        for (const SidebandRow& r : sideband_rows) {
-          if (r.label.find('f', r.label.find("fm") + 2) == std::string::npos) {
-            fmt::print("{}: {:.4f} µm  ", r.label, r.amplitude * 1e6);
-          }
-        }
-        fmt::print("(sidebands in --json, over {})\n", Count(window, "mesh cycle", "mesh cycles"));
+        fmt::print("  TE mesh harmonics   {}(sidebands in --json, over {})\n",
+                   MeshHarmonicsText(sideband_rows), Count(window, "mesh cycle", "mesh cycles"));
       }
       if (!op.cycles_note.empty()) fmt::print("  note: {}\n", op.cycles_note);
       for (const std::string& w : op.warnings) {

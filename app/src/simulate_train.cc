@@ -17,30 +17,28 @@
 #include "gearnvh/nvh/train_lyapunov.h"
 #include "gearnvh/solver/train_statistics.h"
 #include "gearnvh/solver/train_stepper.h"
+#include "operating_point.h"
 #include "output_folder.h"
 #include "train_operating_point.h"
 
 namespace gearnvh::app {
 namespace {
 
-constexpr double kRpm = 60.0 / (2.0 * std::numbers::pi);
 constexpr int kSamplesPerCycle = 32;
 
+// Each mesh's harmonics, as the pair lists them (MeshHarmonicsText): every line of every source
+// down to the rounding floor would be hundreds of lines per mesh; they are in --json.
 void PrintTrainSidebands(const TrainOperatingPoint& op) {
   if (op.sideband_window_common_periods > 0) {
-    fmt::print("\n  TE spectrum lines per mesh over {} common period(s) ({:.4g} s):\n",
-               op.sideband_window_common_periods,
-               op.tables.common_period * static_cast<double>(op.sideband_window_common_periods));
+    fmt::print(
+        "\n  TE mesh harmonics per mesh over {} ({:.4g} s; shaft-order lines and sidebands "
+        "in --json):\n",
+        Count(op.sideband_window_common_periods, "common period", "common periods"),
+        op.tables.common_period * static_cast<double>(op.sideband_window_common_periods));
     for (size_t i = 0; i < op.sidebands.size(); ++i) {
-      const std::vector<SidebandRow>& rows = op.sidebands[i].rows;
-      if (rows.empty()) {
-        fmt::print("    {:<10}no line stands out\n", op.tables.meshes[i].name);
-      }
-      for (size_t k = 0; k < rows.size(); ++k) {
-        fmt::print("    {:<10}{:<22}{:>11.2f} Hz{:>13.4g} µm{:>9.1f} dB re 1 µm\n",
-                   k == 0 ? op.tables.meshes[i].name : "", rows[k].label, rows[k].frequency_hz,
-                   rows[k].amplitude * 1e6, rows[k].db_re_1um);
-      }
+      const std::string text = MeshHarmonicsText(op.sidebands[i].rows);
+      fmt::print("    {:<10}{}\n", op.tables.meshes[i].name,
+                 text.empty() ? "no harmonic stands out" : text);
     }
   }
   for (const std::string& note : op.sideband_notes) fmt::print("  (spectrum: {})\n", note);
@@ -198,7 +196,7 @@ nlohmann::json TrainSimulationJson(const TrainOperatingPoint& op, const TrainSpe
   doc["tier"] = TierName(tier);
   doc["state_dim"] = tables.m;
   doc["method"] = EventMethodName(solver.events);
-  doc["input_speed"] = {{"rad_s", spec.operating.speed}, {"rpm", spec.operating.speed * kRpm}};
+  doc["input_speed"] = {{"rad_s", spec.operating.speed}, {"rpm", Rpm(spec.operating.speed)}};
   doc["common_period_s"] = tables.common_period;
   doc["warnings"] = op.warnings;
   doc["memory_estimate"] = MemoryJson(op.memory);

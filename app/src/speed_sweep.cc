@@ -7,6 +7,7 @@
 #include <numbers>
 #include <thread>
 
+#include "display_units.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/rattle.h"
 #include "gearnvh/nvh/spectrum.h"
@@ -18,8 +19,6 @@
 namespace gearnvh::app {
 
 namespace {
-
-constexpr double kRpm = 60.0 / (2.0 * std::numbers::pi);
 
 SolverOptions PointSolverOptions(const SpeedSweepOptions& options) {
   SolverOptions solver;
@@ -35,7 +34,7 @@ SpeedPoint RunPoint(const GearboxSpec& base, const ComponentModel& model,
                     int order_bins) {
   SpeedPoint p;
   p.speed_rad_s = speed;
-  p.speed_rpm = speed * kRpm;
+  p.speed_rpm = Rpm(speed);
   GearboxSpec spec = base;
   spec.operating.speed = speed;
   const SegmentTables tables = BuildSegmentTables(model, reduced, spec);
@@ -123,7 +122,7 @@ SpeedSweepResult RunSpeedSweep(const GearboxSpec& spec, const ComponentModel& mo
     SpeedPoint& p = result.points[i];
     if (!skip.empty() && skip[i]) {
       p.speed_rad_s = speeds[i];
-      p.speed_rpm = speeds[i] * kRpm;
+      p.speed_rpm = Rpm(speeds[i]);
       p.message = "skipped";
       return;
     }

@@ -42,6 +42,7 @@ TierRow RunTier(const GearboxSpec& spec, const ComponentModel& model, const Redu
   row.name = label;
   row.method = solver.method;
   row.dof = reduced.dof;
+  row.rigid_body_modes = reduced.rigid_body_modes;
   row.compliance_error = ComplianceErrorVsFull(reduced.tier, reduced.compliance_error_vs_full);
   for (size_t k = 0; k < reduced.natural_frequencies_hz.size() && k < 6; ++k) {
     const double f = reduced.natural_frequencies_hz[k];
@@ -72,6 +73,21 @@ std::string ComplianceErrorCsv(std::optional<double> error) {
   field.precision(10);
   if (error) field << *error;
   return field.str();
+}
+
+// The rigid-body modes left out of the frequency comparison: one line when every tier has the
+// full model's count, else per tier.
+void PrintRigidBodyModes(const TiersComparison& c) {
+  const int full = c.full_fe_rigid_body_modes;
+  bool same = true;
+  for (const TierRow& r : c.rows) same = same && r.rigid_body_modes == full;
+  std::string text = fmt::format("full FE {}", full);
+  if (same) {
+    text += ", every tier the same";
+  } else {
+    for (const TierRow& r : c.rows) text += fmt::format(", {} {}", r.name, r.rigid_body_modes);
+  }
+  fmt::print("  rigid-body modes (not compared): {}\n", text);
 }
 
 double RelativeDifference(double a, double b) {
@@ -128,6 +144,7 @@ TiersComparison CompareTiers(const GearboxSpec& spec, const SolverOptions& solve
                     {"method", SolverMethodName(r.method)},
                     {"dof", r.dof},
                     {"state_dim", r.state_dim},
+                    {"rigid_body_modes", r.rigid_body_modes},
                     {"frequencies_hz", r.frequencies_hz},
                     {"frequency_errors", r.frequency_errors},
                     {"max_frequency_error", r.max_frequency_error},
@@ -143,7 +160,9 @@ TiersComparison CompareTiers(const GearboxSpec& spec, const SolverOptions& solve
                     {"table_bytes", r.table_bytes}});
   }
   out.full_fe_dof = model.dofs;
+  out.full_fe_rigid_body_modes = full.rigid_body_modes;
   out.doc = {{"full_fe_dof", model.dofs},
+             {"full_fe_rigid_body_modes", full.rigid_body_modes},
              {"full_fe_frequencies_hz", full.frequencies_hz},
              {"finest_tier", rows[finest].name},
              {"cycles", solver.cycles},
@@ -248,6 +267,7 @@ int RunTiers(const TiersCommandOptions& options) {
           "  finest tier: {}; frequencies of each tier compared with the closest full-FE "
           "frequency\n",
           rows[finest].name);
+      PrintRigidBodyModes(comparison);
     }
     return 0;
   });

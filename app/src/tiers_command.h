@@ -39,7 +39,8 @@ struct TierRow {
   std::string name;
   SolverMethod method = SolverMethod::kStepped;  // of the run
   int dof = 0, state_dim = 0;
-  std::vector<double> frequencies_hz;    // lowest (up to 6)
+  int rigid_body_modes = 0;              // left out of the frequencies (modal_analysis.h)
+  std::vector<double> frequencies_hz;    // lowest elastic (up to 6)
   std::vector<double> frequency_errors;  // relative, against the closest full-FE frequency
   double max_frequency_error = 0.0;
   std::optional<double> compliance_error;  // none for tier 1 (ComplianceErrorVsFull)
@@ -54,6 +55,7 @@ struct TiersComparison {
   std::vector<TierRow> rows;
   size_t finest = 0;  // the row with most DOF, the reference of the differences
   int full_fe_dof = 0;
+  int full_fe_rigid_body_modes = 0;
   nlohmann::json doc;  // the `tiers --json` document without name and file
 };
 

@@ -88,9 +88,10 @@ void PrintTrainAtlas(const TrainAtlasResult& r, const std::string& name, const s
              Count(r.threads, "thread", "threads"), r.wall_s);
   const TrainDisplayAxis dx = TrainDisplayAxisFor(r.x.parameter);
   const TrainDisplayAxis dy = TrainDisplayAxisFor(r.y.parameter);
-  fmt::print("  rows: {} from {:.4g} to {:.4g} {}; columns: {} from {:.4g} to {:.4g} {}\n",
-             r.y.parameter, r.y.range.to * dy.scale, r.y.range.from * dy.scale, dy.unit,
-             r.x.parameter, r.x.range.from * dx.scale, r.x.range.to * dx.scale, dx.unit);
+  fmt::print("  rows: {} from {} to {} {}; columns: {} from {} to {} {}\n", r.y.parameter,
+             Significant(r.y.range.to * dy.scale), Significant(r.y.range.from * dy.scale), dy.unit,
+             r.x.parameter, Significant(r.x.range.from * dx.scale),
+             Significant(r.x.range.to * dx.scale), dx.unit);
   fmt::print(
       "  the train (chaotic from its largest Lyapunov exponent, else its most impacting "
       "mesh):\n");
@@ -104,7 +105,8 @@ void PrintTrainAtlas(const TrainAtlasResult& r, const std::string& name, const s
         nx, ny,
         [&](int k) {
           const TrainAtlasPoint& p = r.cells[static_cast<size_t>(k)].point;
-          return RegimeLetter(p.ok, p.meshes[i].regime);
+          // A failed cell has no meshes.
+          return p.ok ? RegimeLetter(true, p.meshes[i].regime) : RegimeLetter(false, {});
         },
         false);
   }
@@ -278,7 +280,7 @@ int AtlasTrain(const AtlasCommandOptions& options, const TrainSpec& spec) {
                      "the atlas of a gear train runs in one process (threads, --jobs); MPI is "
                      "not available for gear trains yet");
   }
-  const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", true);
+  std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", true);
   const AtlasProgress progress = AtlasTerminalProgress(0, 1);
   const TrainAtlasResult result =
       RunTrainAtlas(spec, plan.x, plan.y, plan.atlas, plan.jobs, progress);
@@ -289,6 +291,7 @@ int AtlasTrain(const AtlasCommandOptions& options, const TrainSpec& spec) {
     out->Write("atlas.csv", TrainAtlasCsv(result));
     out->Write("atlas.json", doc.dump(1) + "\n");
     out->Commit();
+    out.reset();  // the lock released before the terminal output, whatever happens there
   }
   if (options.json) {
     std::cout << doc.dump(1) << "\n";

@@ -7,8 +7,10 @@
 #include <numbers>
 
 #include "check_command.h"
+#include "display_units.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/train_campbell.h"
+#include "train_load_warnings.h"
 
 namespace gearnvh::app {
 namespace {
@@ -65,7 +67,7 @@ nlohmann::json MatrixJson(const Eigen::MatrixXd& m) {
 
 nlohmann::json CampbellJson(const CampbellData& data) {
   std::vector<double> speeds_rpm;
-  for (double w : data.speeds_rad_s) speeds_rpm.push_back(w * kRpm);
+  for (double w : data.speeds_rad_s) speeds_rpm.push_back(Rpm(w));
   nlohmann::json modes = nlohmann::json::array();
   for (size_t k = 0; k < data.modes.size(); ++k) {
     nlohmann::json f = nlohmann::json::array();
@@ -98,6 +100,7 @@ nlohmann::json CampbellJson(const CampbellData& data) {
 TrainCheck BuildTrainCheck(const TrainSpec& spec) {
   TrainCheck c;
   c.train = BuildGearTrain(spec);
+  for (const std::string& w : TrainLoadWarnings(spec, c.train.topology)) c.train.warnings.push_back(w);
   c.torsional = TorsionalModes(c.train);
   c.structure = AssembleTrainStructure(spec, c.train);
   c.campbell_tier = spec.analysis.tier;
@@ -181,7 +184,7 @@ nlohmann::json TrainCheckReport(const TrainSpec& spec, const TrainCheck& check) 
                              {"kind", KindName(body.kind)},
                              {"gears", gears},
                              {"speed", body.speed},
-                             {"speed_rpm", body.speed * kRpm},
+                             {"speed_rpm", Rpm(body.speed)},
                              {"polar_inertia", train.body_inertia[b]}});
   }
   doc["input_torque"] = train.input_torque;
@@ -190,7 +193,7 @@ nlohmann::json TrainCheckReport(const TrainSpec& spec, const TrainCheck& check) 
     critical.push_back({{"mode", c.mode},
                         {"line", c.line},
                         {"input_speed", c.input_speed},
-                        {"input_speed_rpm", c.input_speed * kRpm}});
+                        {"input_speed_rpm", Rpm(c.input_speed)}});
   }
   const TrainStructure& st = check.structure;
   doc["fe"] = {{"nodes", st.nodes.size()},

@@ -17,6 +17,7 @@
 #include "gearnvh/solver/train_rate_bound.h"
 #include "gearnvh/solver/train_reduced_tables.h"
 #include "simulate_command.h"
+#include "train_load_warnings.h"
 
 namespace gearnvh::app {
 namespace {
@@ -251,6 +252,7 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, const TrainRun
   op.train = BuildGearTrain(spec);
   op.tables = BuildTrainTablesAtTier(spec, op.train, options.tier);
   op.warnings = TrainWarnings(op.train, op.tables);
+  for (const std::string& w : TrainLoadWarnings(spec, op.train.topology)) op.warnings.push_back(w);
   const TrainTables& tables = op.tables;
   // cycles and transient count cycles of the first mesh in the file.
   const double period = tables.meshes.front().period;

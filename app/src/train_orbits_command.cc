@@ -83,9 +83,7 @@ TrainOrbitsPlan PlanTrainOrbits(const OrbitsCommandOptions& options, const Train
                                 const TrainOptionNames& names) {
   const TrainCommandSettings settings =
       CheckTrainCommandOptions(options.tier, spec, options.method, std::nullopt, names);
-  if (options.period < 1) {
-    throw InputError(names("period"), 0, std::to_string(options.period), "must be >= 1");
-  }
+  RequireOrbitPeriod(options.period, names("period"));
   TrainOrbitsPlan plan;
   TrainOrbitScanOptions& scan = plan.scan;
   scan.periods = options.period;

@@ -9,6 +9,7 @@
 #include <sstream>
 #include <thread>
 
+#include "display_units.h"
 #include "gearnvh/model/input_error.h"
 #include "parallel_for.h"
 #include "train_operating_point.h"
@@ -16,12 +17,10 @@
 namespace gearnvh::app {
 namespace {
 
-constexpr double kRpm = 60.0 / (2.0 * std::numbers::pi);
-
 TrainSweepPoint RunPoint(const TrainSpec& base, const TrainSweepOptions& options, double speed) {
   TrainSweepPoint p;
   p.speed_rad_s = speed;
-  p.speed_rpm = speed * kRpm;
+  p.speed_rpm = Rpm(speed);
   TrainSpec spec = base;
   spec.operating.speed = speed;
   TrainRunOptions run;
@@ -172,18 +171,21 @@ std::string TrainLooseGearsCsv(const TrainSweepResult& r) {
 
 void PrintTrainSweep(const TrainSweepResult& r, const DisplayUnit& speed_unit) {
   const std::string unit = speed_unit.symbol;
+  auto shown = [&speed_unit](const TrainSweepPoint& p) {
+    return Significant(p.speed_rad_s * speed_unit.per_si, 6);
+  };
   for (size_t i = 0; i < r.mesh_names.size(); ++i) {
     fmt::print("\n  mesh {}\n  {:>8}{:>12}{:>12}{:>14}{:>16}{:>11}\n", r.mesh_names[i], unit,
                "TE RMS µm", "TE p-p µm", "force max N", "impacts/cycle", "separated");
     for (const TrainSweepPoint& p : r.points) {
       if (!p.ok) {
-        fmt::print("  {:8.4g}  failed: {}\n", p.speed_rad_s * speed_unit.per_si, p.message);
+        fmt::print("  {:>8}  failed: {}\n", shown(p), p.message);
         continue;
       }
       const TrainMeshStatistics& m = p.meshes[i];
-      fmt::print("  {:8.4g}{:12.4f}{:12.4f}{:14.2f}{:16.4f}{:10.1f}%\n",
-                 p.speed_rad_s * speed_unit.per_si, m.te_rms * 1e6, m.te_peak_to_peak * 1e6,
-                 m.force_max, p.ImpactsPerCycle(i), 100.0 * m.free_time_fraction);
+      fmt::print("  {:>8}{:12.4f}{:12.4f}{:14.2f}{:16.4f}{:10.1f}%\n", shown(p), m.te_rms * 1e6,
+                 m.te_peak_to_peak * 1e6, m.force_max, p.ImpactsPerCycle(i),
+                 100.0 * m.free_time_fraction);
     }
   }
   if (r.loose_gear_names.empty()) return;
@@ -193,7 +195,7 @@ void PrintTrainSweep(const TrainSweepResult& r, const DisplayUnit& speed_unit) {
   fmt::print("\n");
   for (const TrainSweepPoint& p : r.points) {
     if (!p.ok) continue;
-    fmt::print("  {:8.4g}", p.speed_rad_s * speed_unit.per_si);
+    fmt::print("  {:>8}", shown(p));
     for (const TrainLooseGearStatistics& g : p.loose_gears)
       fmt::print("{:>16}", fmt::format("{:.1f} ({})", g.rattle_index, g.rank));
     fmt::print("\n");

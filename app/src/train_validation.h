@@ -18,6 +18,7 @@
 
 #include "gearnvh/model/train_spec.h"
 #include "gearnvh/solver/train_reference.h"
+#include "gearnvh/solver/train_statistics.h"
 #include "gearnvh/solver/train_tables.h"
 #include "validation_ladder.h"
 
@@ -54,6 +55,13 @@ inline constexpr double kEventMatch = 1e-7;
 size_t TrustedSamples(const std::vector<double>& reference, const std::vector<double>& estimate,
                       size_t meshes, const std::vector<TrainReferenceEvent>& events,
                       const std::vector<double>& times, double period);
+
+// The events of either list up to `end` (s) left unpaired when each reference event is paired
+// with the nearest unpaired exact event of the same mesh, from and to state within `tolerance` (s).
+// By value, not by order: simultaneous events of different meshes (a kinematic loop) come in
+// either order.
+long UnpairedEvents(const std::vector<TrainReferenceEvent>& reference,
+                    const std::vector<TrainEventRecord>& exact, double end, double tolerance);
 
 // The rows "exact TE vs CVODE" and "events vs CVODE": the exact solver (V3) on `candidate` from
 // z_candidate against CVODE on `reference` from z_reference, both in states0, at `times` (uniform,

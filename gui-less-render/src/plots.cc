@@ -1,5 +1,6 @@
 #include "gearnvh/render/plots.h"
 
+#include <unistd.h>
 #include <vtkAxis.h>
 #include <vtkChartHistogram2D.h>
 #include <vtkChartLegend.h>
@@ -32,10 +33,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <limits>
 #include <mutex>
-#include <random>
 #include <set>
 #include <stdexcept>
 #include <utility>
@@ -43,6 +42,7 @@
 #include "chart_items.h"
 #include "gearnvh/render/display.h"
 #include "gearnvh/render/layout.h"
+#include "png_file.h"
 
 namespace gearnvh::render {
 
@@ -72,32 +72,22 @@ RenderStatus WriteView(vtkContextView* view, const ImageOptions& options,
   grab->SetInputBufferTypeToRGB();
   grab->ReadFrontBufferOff();
   grab->Update();
-  const std::filesystem::path target(png_path);
-  std::random_device rd;
-  std::string tmp_name = ".";
-  tmp_name += target.filename().string();
-  tmp_name += ".tmp";
-  tmp_name += std::to_string(rd());
-  const std::filesystem::path tmp = target.parent_path() / tmp_name;
   vtkNew<vtkPNGWriter> writer;
-  writer->SetFileName(tmp.c_str());
+  writer->WriteToMemoryOn();
   writer->SetInputConnection(grab->GetOutputPort());
   writer->Write();
-  std::error_code ec;
-  if (writer->GetErrorCode() != 0 || !std::filesystem::exists(tmp, ec) ||
-      std::filesystem::file_size(tmp, ec) == 0) {
-    std::filesystem::remove(tmp, ec);
-    return {false, "could not write " + png_path, {}};
+  vtkUnsignedCharArray* png = writer->GetResult();
+  if (writer->GetErrorCode() != 0 || png == nullptr || png->GetNumberOfValues() == 0) {
+    return {false, "could not encode " + png_path, {}};
   }
-  std::filesystem::rename(tmp, target, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    return {false, "could not write " + png_path + ": " + ec.message(), {}};
-  }
-  return {};
+  return WritePng(png_path, png->GetPointer(0), static_cast<size_t>(png->GetNumberOfValues()));
 }
 
 RenderStatus CheckDisplay() {
+  // VTK's warnings and errors would go to stderr in colour, between the command's own lines:
+  // every failure that matters comes back as a status.
+  static std::once_flag quiet;
+  std::call_once(quiet, [] { vtkObject::GlobalWarningDisplayOff(); });
   const DisplayStatus& d = EnsureDisplay();
   if (!d.ok()) return {false, d.message, {}};
   return {};
@@ -221,7 +211,8 @@ RenderStatus RenderLinePlot(const LinePlot& plot, const ImageOptions& options,
     if (s.style == Series::Style::kPoints) {
       auto* points = vtkPlotPoints::SafeDownCast(p);
       if (points != nullptr) {
-        points->SetMarkerStyle(vtkPlotPoints::CIRCLE);
+        points->SetMarkerStyle(s.marker == Series::Marker::kDiamond ? vtkPlotPoints::DIAMOND
+                                                                    : vtkPlotPoints::CIRCLE);
         points->SetMarkerSize(static_cast<float>(s.width));
       }
     }

@@ -89,6 +89,7 @@ ComponentModel BuildComponentModel(const GearboxSpec& spec, const ComponentModel
   m.cycle = ComputeMeshCycle(pair, g, options.mesh);
   m.mesh_summary = SummarizeMeshCycle(m.cycle, g);
   m.segmentation = SegmentMeshCycle(pair, evaluator, spec.analysis.segments_per_cycle);
+  m.mesh_summary.mean = CycleMeanStiffness(m.segmentation);  // the solver's k-bar
   // Engine orders are multiples of the pinion speed: z1 mesh cycles per pinion revolution.
   RequireExcitationResolved(spec.operating.excitation, spec.pinion.teeth,
                             LongestSegment(m.segmentation), spec.analysis.segments_per_cycle,
@@ -163,8 +164,17 @@ ComponentModel BuildComponentModel(const GearboxSpec& spec, const ComponentModel
 ModalSummary FullModelFrequencies(const ComponentModel& model, int count) {
   const Eigen::MatrixXd K = Eigen::MatrixXd(model.K) +
                             model.mesh_summary.mean * model.v_drive * model.v_drive.transpose();
-  const NaturalModes modes = LowestNaturalModes(K, Eigen::MatrixXd(model.M), count);
+  const double k = model.mesh_summary.mean;
+  const NaturalModes modes =
+      LowestNaturalModes(K, Eigen::MatrixXd(model.M), count, false,
+                         [&](const Eigen::VectorXd& x) { return FullStrainMagnitude(model, k, x); });
   return {modes.frequencies_hz, modes.rigid_body_modes};
+}
+
+double FullStrainMagnitude(const ComponentModel& model, double mesh_stiffness,
+                           const Eigen::VectorXd& x) {
+  const double mesh = model.v_drive.cwiseAbs().dot(x.cwiseAbs());
+  return AbsoluteQuadraticForm(model.K, x) + std::abs(mesh_stiffness) * mesh * mesh;
 }
 
 }  // namespace gearnvh

@@ -24,12 +24,6 @@ std::string Num(double v) { return fmt::format("{:.6g}", v); }
 double Involute(double a) { return std::tan(a) - a; }
 
 void GearLimits(const GearSpec& gear, const std::string& p) {
-  if (!(gear.module >= L::kMinModule && gear.module <= L::kMaxModule)) {
-    throw InputError(p + ".module", 0, {"{}", {InputError::Length(gear.module)}},
-                     {"must be in [{#}, {#}] {unit}: the tooth stiffness and FE models are for "
-                      "gears of that size",
-                      {InputError::Length(L::kMinModule), InputError::Length(L::kMaxModule)}});
-  }
   // A helical gear's teeth are generated on its transverse section (m_t, alpha_t, and h_a*, x
   // scaled by cos beta), so undercut (z_min = 2 h_a* cos(beta) / sin^2 alpha_t, ISO 21771) and the
   // tip thickness are those of the section.
@@ -77,7 +71,64 @@ long ShaftElements(const ShaftSpec& s) {
          static_cast<long>(s.bearings.size() + s.inertias.size()) + 1;
 }
 
+// Lengths of a mesh against its module: the backlash against the tooth thickness, the static
+// transmission error and the gears' tip relief against the module (as runout and pitch errors:
+// beyond a module they describe another gear, not an error of this one).
+void MeshLengthLimits(const GearboxSpec& spec) {
+  const double m = spec.pinion.module;  // both gears' (equal by now)
+  const double thickness = std::numbers::pi * m / 2.0;
+  const double max_backlash = L::kMaxBacklashPerToothThickness * thickness;
+  if (!(spec.mesh.backlash <= max_backlash)) {
+    throw InputError(
+        "mesh.backlash", 0, {"{}", {InputError::Length(spec.mesh.backlash)}},
+        {fmt::format("must be at most {{}}, {:g} of the tooth thickness at the pitch circle (pi "
+                     "m / 2 = {{}} at module {{}}): real backlash is a few hundredths of the "
+                     "module (is the unit right?)",
+                     L::kMaxBacklashPerToothThickness),
+         {InputError::Length(max_backlash), InputError::Length(thickness),
+          InputError::Length(m, "gears.pinion.module")}});
+  }
+  const auto within_module = [&](const std::string& path, double v) {
+    if (v <= m) return;
+    throw InputError(path, 0, {"{}", {InputError::Length(v)}},
+                     {"must be at most the module ({}): a larger deviation describes another gear, "
+                      "not an error of this one (is the unit right?)",
+                      {InputError::Length(m, "gears.pinion.module")}});
+  };
+  const auto& ste = spec.mesh.static_transmission_error.amplitudes;
+  for (size_t i = 0; i < ste.size(); ++i) {
+    within_module("mesh.static_transmission_error.amplitudes[" + std::to_string(i) + "]", ste[i]);
+  }
+  for (const auto& [gear, path] : {std::pair{&spec.pinion, "gears.pinion"},
+                                   std::pair{&spec.wheel, "gears.wheel"}}) {
+    if (gear->tip_relief) within_module(std::string(path) + ".tip_relief.amount",
+                                        gear->tip_relief->amount);
+  }
+}
+
 }  // namespace
+
+void RequireGearScale(const GearSpec& gear, const std::string& p) {
+  if (!(gear.module >= L::kMinModule && gear.module <= L::kMaxModule)) {
+    throw InputError(p + ".module", 0, {"{}", {InputError::Length(gear.module)}},
+                     {"must be in [{#}, {#}] {unit}: the tooth stiffness and FE models are for "
+                      "gears of that size",
+                      {InputError::Length(L::kMinModule), InputError::Length(L::kMaxModule)}});
+  }
+  const double ratio = gear.face_width / gear.module;
+  if (!(ratio >= L::kMinFaceWidthPerModule && ratio <= L::kMaxFaceWidthPerModule)) {
+    const auto width = [&](double per_module) {
+      return InputError::Length(per_module * gear.module);
+    };
+    throw InputError(
+        p + ".face_width", 0, {"{}", {InputError::Length(gear.face_width)}},
+        {fmt::format("gives b/m = {:.6g} face widths per module; must be in [{:g}, {:g}] (here "
+                     "[{{#}}, {{#}}] {{unit}}): gears span narrow instrument gears to wide "
+                     "industrial helical gears (is the unit right?)",
+                     ratio, L::kMinFaceWidthPerModule, L::kMaxFaceWidthPerModule),
+         {width(L::kMinFaceWidthPerModule), width(L::kMaxFaceWidthPerModule)}});
+  }
+}
 
 double PitchRadius(const GearSpec& gear) {
   return 0.5 * gear.module / std::cos(gear.helix_angle) * gear.teeth;
@@ -184,6 +235,7 @@ void ValidateGearboxLimits(const GearboxSpec& spec, OperatingLimits operating) {
   }
   GearLimits(spec.pinion, "gears.pinion");
   GearLimits(spec.wheel, "gears.wheel");
+  MeshLengthLimits(spec);
 
   // FE size: the full model's modal analysis is dense (stiffness, mass and the eigen solver's
   // workspace: about 6 n^2 doubles for n DOF).

@@ -61,15 +61,7 @@ void InRange(const std::string& path, InputError::Quantity v, double lo, double 
 }
 
 void ValidateGear(const GearboxSpec& spec, const GearSpec& g, const std::string& p) {
-  if (g.teeth < 6) throw InputError(p + ".teeth", 0, std::to_string(g.teeth), "must be >= 6");
-  if (g.teeth > 10000)
-    throw InputError(p + ".teeth", 0, std::to_string(g.teeth), "must be <= 10000");
-  Positive(p + ".module", g.module);
-  InRange(p + ".pressure_angle", InputError::Angle(g.pressure_angle), 0.0, std::numbers::pi / 4.0,
-          true, true);
-  Positive(p + ".face_width", g.face_width);
-  InRange(p + ".helix_angle", InputError::Angle(g.helix_angle), 0.0, std::numbers::pi / 4.0, false,
-          true);
+  ValidateGearAlone(g, p);
   NonNegative(p + ".bore_diameter", g.bore_diameter);
   if (spec.materials.find(g.material) == spec.materials.end()) {
     throw InputError(p + ".material", 0, g.material, "must name a key of materials");
@@ -191,20 +183,42 @@ void ValidateShaft(const GearboxSpec& spec, const ShaftSpec& s, const std::strin
 }
 
 void ValidateRange(const SweepRange& r, const std::string& p) {
-  if (r.points < 2) throw InputError(p + ".points", 0, std::to_string(r.points), "must be >= 2");
-  if (r.points > 100000) {
-    throw InputError(p + ".points", 0, std::to_string(r.points), "must be <= 100000");
-  }
-  if (!std::isfinite(r.from) || !std::isfinite(r.to) || !(r.to > r.from)) {
-    throw InputError(p + ".to", 0, Num(r.to), "must be greater than from (" + Num(r.from) + ")");
-  }
-  if (r.scale == AxisScale::kLog && !(r.from > 0.0)) {
-    throw InputError(p + ".from", 0, Num(r.from),
-                     "must be > 0 with scale: log (the points are spaced geometrically)");
-  }
+  const std::optional<SweepRangeViolation> v = FirstSweepRangeViolation(r);
+  if (!v) return;
+  const std::string value = v->part == "points" ? std::to_string(r.points)
+                            : v->part == "to"   ? Num(r.to)
+                                                : Num(r.from);
+  const std::string detail = v->part == "to" ? " (" + Num(r.from) + ")" : "";
+  throw InputError(p + "." + v->part, 0, value, v->rule + detail);
 }
 
 }  // namespace
+
+std::optional<SweepRangeViolation> FirstSweepRangeViolation(const SweepRange& r) {
+  if (r.points < 2) return SweepRangeViolation{"points", "must be >= 2"};
+  if (r.points > 100000) return SweepRangeViolation{"points", "must be <= 100000"};
+  if (!std::isfinite(r.from) || !std::isfinite(r.to) || !(r.to > r.from)) {
+    return SweepRangeViolation{"to", "must be greater than from"};
+  }
+  if (r.scale == AxisScale::kLog && !(r.from > 0.0)) {
+    return SweepRangeViolation{
+        "from", "must be > 0 with scale: log (the points are spaced geometrically)"};
+  }
+  return std::nullopt;
+}
+
+void ValidateGearAlone(const GearSpec& g, const std::string& p) {
+  if (g.teeth < 6) throw InputError(p + ".teeth", 0, std::to_string(g.teeth), "must be >= 6");
+  if (g.teeth > 10000)
+    throw InputError(p + ".teeth", 0, std::to_string(g.teeth), "must be <= 10000");
+  Positive(p + ".module", g.module);
+  InRange(p + ".pressure_angle", InputError::Angle(g.pressure_angle), 0.0, std::numbers::pi / 4.0,
+          true, true);
+  Positive(p + ".face_width", g.face_width);
+  InRange(p + ".helix_angle", InputError::Angle(g.helix_angle), 0.0, std::numbers::pi / 4.0, false,
+          true);
+  RequireGearScale(g, p);
+}
 
 void ValidateGearboxSpec(const GearboxSpec& spec, OperatingLimits operating) {
   if (spec.name.empty()) throw InputError("name", 0, "\"\"", "must not be empty");

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <numbers>
 #include <string_view>
 
@@ -14,6 +15,35 @@ DisplayUnit LibraryUnit(InputError::Dimension dimension) {
   return dimension == InputError::Dimension::kLength ? DisplayUnit{"mm", 1e3}
                                                      : DisplayUnit{"deg", 180.0 / std::numbers::pi};
 }
+
+// Text as a message shows it: a control character escaped ("\x07"; a terminal or a page would
+// act on it, NUL included), and cut after `limit` characters with its size in bytes (a 1 MB value
+// is not echoed whole). Cuts fall between UTF-8 sequences.
+std::string Shown(std::string_view text, size_t limit) {
+  std::string out;
+  size_t i = 0;
+  for (size_t shown = 0; i < text.size() && shown < limit; ++shown) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    const auto next = i + 1 < text.size() ? static_cast<unsigned char>(text[i + 1]) : 0;
+    if (c < 0x20 || c == 0x7F) {
+      out += fmt::format("\\x{:02X}", c);
+      ++i;
+    } else if (c == 0xC2 && next >= 0x80 && next <= 0x9F) {  // C1 controls, U+0080-U+009F
+      out += fmt::format("\\u{:04X}", next);
+      i += 2;
+    } else {
+      size_t n = c < 0x80 ? 1 : c >= 0xF0 ? 4 : c >= 0xE0 ? 3 : c >= 0xC0 ? 2 : 1;
+      n = std::min(n, text.size() - i);
+      out.append(text.substr(i, n));
+      i += n;
+    }
+  }
+  if (i < text.size()) out += fmt::format("… ({} bytes)", text.size());
+  return out;
+}
+
+// Characters shown of an error's path, value and rule.
+constexpr size_t kShownPath = 200, kShownValue = 60, kShownRule = 2000;
 
 }  // namespace
 
@@ -88,9 +118,9 @@ std::string InputError::Format(const std::string& source, int line, const std::s
   if (!source.empty()) out += source + ":";
   if (line > 0) out += std::to_string(line) + ":";
   if (!out.empty()) out += " ";
-  out += path.empty() ? std::string("(document)") : path;
-  out += ": " + rule;
-  if (!value.empty()) out += ", got " + value;
+  out += path.empty() ? std::string("(document)") : Shown(path, kShownPath);
+  out += ": " + Shown(rule, kShownRule);
+  if (!value.empty()) out += ", got " + Shown(value, kShownValue);
   return out;
 }
 

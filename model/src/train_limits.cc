@@ -6,9 +6,12 @@
 #include <numbers>
 #include <string>
 
+#include "gearnvh/model/count_text.h"
+#include "gearnvh/model/gear_geometry.h"
 #include "gearnvh/model/gearbox_spec_limits.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/model/train_spec.h"
+#include "train_rules.h"
 
 namespace gearnvh {
 namespace {
@@ -21,7 +24,86 @@ double BodySpeed(const TrainTopology& t, int body) {
   return std::abs(t.bodies[static_cast<size_t>(body)].speed);
 }
 
+std::string MeshName(const TrainSpec& spec, size_t m) {
+  return "meshes[" + std::to_string(m) + "] (" + spec.meshes[m].Name() + ")";
+}
+
 }  // namespace
+
+void RequireTrainSize(const TrainSpec& spec) {
+  const auto at_most = [](const char* path, size_t count, size_t limit, const char* one,
+                          const char* many) {
+    if (count <= limit) return;
+    throw InputError(path, 0, Count(static_cast<long>(count), one, many),
+                     fmt::format("must have at most {} {}: checking a train builds dense models of "
+                                 "all its bodies and meshes, whose time and memory grow with their "
+                                 "number squared or faster (1000 meshes ran past 2 GB)",
+                                 limit, many));
+  };
+  at_most("shafts", spec.shafts.size(), L::kMaxTrainShafts, "shaft", "shafts");
+  at_most("gears", spec.gears.size(), L::kMaxTrainGears, "gear", "gears");
+  at_most("meshes", spec.meshes.size(), L::kMaxTrainMeshes, "mesh", "meshes");
+}
+
+void RequireUniqueBodyNames(const TrainSpec& spec) {
+  for (const TrainGear& g : spec.gears) {
+    if (spec.FindShaft(g.name) == nullptr) continue;
+    throw InputError("gears." + g.name, 0, "'" + g.name + "'",
+                     "has the name of shafts." + g.name +
+                         ": a name belongs to one shaft or one gear (a load's `on` names either)");
+  }
+}
+
+void RequireMeshesPerGear(const TrainSpec& spec) {
+  for (const TrainGear& g : spec.gears) {
+    std::string meshes;
+    size_t count = 0;
+    for (size_t m = 0; m < spec.meshes.size(); ++m) {
+      if (spec.meshes[m].gear_a != g.name && spec.meshes[m].gear_b != g.name) continue;
+      ++count;
+      if (count <= 3) meshes += (meshes.empty() ? "" : ", ") + ("meshes[" + std::to_string(m) + "]");
+    }
+    if (count <= L::kMaxMeshesPerGear) continue;
+    throw InputError("gears." + g.name, 0,
+                     Count(static_cast<long>(count), "mesh", "meshes") + " (" + meshes + ", ...)",
+                     fmt::format("may take part in at most {} meshes (a planet set's sun has about "
+                                 "7): each mesh of a gear multiplies the contact states the model "
+                                 "follows",
+                                 L::kMaxMeshesPerGear));
+  }
+}
+
+void RequireSharedCenterDistances(const TrainSpec& spec, const TrainTopology& topology) {
+  std::vector<double> distance(spec.meshes.size());
+  for (size_t m = 0; m < spec.meshes.size(); ++m) {
+    const TrainGear& a = *spec.FindGear(spec.meshes[m].gear_a);
+    const TrainGear& b = *spec.FindGear(spec.meshes[m].gear_b);
+    distance[m] =
+        ComputePairGeometry(MeshGearbox(spec, topology, static_cast<int>(m), 0.0)).center_distance;
+    for (size_t e = 0; e < m; ++e) {
+      const TrainGear& ea = *spec.FindGear(spec.meshes[e].gear_a);
+      const TrainGear& eb = *spec.FindGear(spec.meshes[e].gear_b);
+      const bool same_shafts = (ea.shaft == a.shaft && eb.shaft == b.shaft) ||
+                               (ea.shaft == b.shaft && eb.shaft == a.shaft);
+      if (!same_shafts || std::abs(distance[e] - distance[m]) <= L::kCenterDistanceTolerance) {
+        continue;
+      }
+      const std::string p = "meshes[" + std::to_string(m) + "]";
+      const bool written = spec.meshes[m].mesh.center_distance.has_value();
+      throw InputError(
+          p + (written ? ".center_distance" : ".gears"),
+          0,
+          written ? InputError::Text{"{}", {InputError::Length(distance[m])}}
+                  : InputError::Text{"[" + a.name + ", " + b.name + "]"},
+          {"joins shafts '" + a.shaft + "' and '" + b.shaft + "' at a centre distance of {}, but " +
+               MeshName(spec, e) +
+               " joins them at {}: the meshes between two shafts share the shafts' one centre "
+               "distance (give them the same center_distance, with profile shifts that fit it)",
+           {InputError::Length(distance[m], p + ".center_distance"),
+            InputError::Length(distance[e], "meshes[" + std::to_string(e) + "].center_distance")}});
+    }
+  }
+}
 
 TrainTorqueFlow StaticTorqueFlow(const TrainSpec& spec, const TrainTopology& topology) {
   const size_t meshes = spec.meshes.size();

@@ -1,5 +1,6 @@
 #include "gearnvh/model/train_spec.h"
 
+#include <algorithm>
 #include <cmath>
 #include <deque>
 #include <set>
@@ -8,6 +9,7 @@
 #include "gearnvh/model/gearbox_spec_limits.h"
 #include "gearnvh/model/gearbox_spec_validation.h"
 #include "gearnvh/model/input_error.h"
+#include "train_rules.h"
 
 namespace gearnvh {
 namespace {
@@ -56,6 +58,60 @@ std::string TrainRule(std::string rule, const TrainSpec& spec, int m) {
     }
   }
   return rule;
+}
+
+// The speed a mesh would give a body: its parent mesh on the spanning tree, or a mesh closing a
+// kinematic loop onto it.
+struct SpeedClaim {
+  int mesh = -1;  // -1: the input shaft's own speed
+  int body = 0;
+  double speed = 0.0;
+};
+
+bool SameSpeed(double a, double b) { return std::abs(a - b) <= 1e-9 * std::abs(a); }
+
+// Every loop closes with consistent ratios. Of the speeds a body is given (by its tree mesh and
+// by the meshes closing loops onto it), the one most meshes agree on stands (the tree's on a tie;
+// the input's own speed always), and the first mesh giving another is named: the odd one out of
+// several parallel meshes, not the first one the tree happened to take.
+void RequireConsistentLoops(const TrainSpec& spec, const TrainTopology& t,
+                            const std::vector<SpeedClaim>& loop_claims) {
+  for (const SpeedClaim& odd : loop_claims) {
+    const TrainBody& body = t.bodies[static_cast<size_t>(odd.body)];
+    if (SameSpeed(body.speed, odd.speed)) continue;
+    std::vector<SpeedClaim> claims{{t.parent_mesh[static_cast<size_t>(odd.body)], odd.body,
+                                    body.speed}};
+    for (const SpeedClaim& c : loop_claims) {
+      if (c.body == odd.body) claims.push_back(c);
+    }
+    const auto agreeing = [&](const SpeedClaim& a) {
+      return std::count_if(claims.begin(), claims.end(),
+                           [&](const SpeedClaim& b) { return SameSpeed(a.speed, b.speed); });
+    };
+    const SpeedClaim* standing = &claims.front();
+    if (standing->mesh >= 0) {
+      for (const SpeedClaim& c : claims) {
+        if (agreeing(c) > agreeing(*standing)) standing = &c;
+      }
+    }
+    const auto found = std::find_if(claims.begin(), claims.end(), [&](const SpeedClaim& c) {
+      return !SameSpeed(standing->speed, c.speed);
+    });
+    const SpeedClaim& offender = found == claims.end() ? odd : *found;
+    std::string others;
+    for (const SpeedClaim& c : claims) {
+      if (!SameSpeed(standing->speed, c.speed)) continue;
+      others += (others.empty() ? "" : ", ") +
+                (c.mesh < 0 ? "the input speed" : MeshPath(c.mesh));
+    }
+    const TrainMesh& mesh = spec.meshes[static_cast<size_t>(offender.mesh)];
+    throw InputError(MeshPath(offender.mesh) + ".gears", 0,
+                     "[" + mesh.gear_a + ", " + mesh.gear_b + "]",
+                     "closes a kinematic loop whose ratios disagree: it would turn '" + body.name +
+                         "' at " + InUnit(offender.speed, spec.operating.speed_unit) +
+                         ", the other path (" + others + ") at " +
+                         InUnit(standing->speed, spec.operating.speed_unit));
+  }
 }
 
 }  // namespace
@@ -116,6 +172,7 @@ TrainTopology AnalyseTrainTopology(const TrainSpec& spec) {
   // Breadth-first over the meshes from the input body.
   std::deque<int> queue{t.input_body};
   std::set<int> visited_meshes;
+  std::vector<SpeedClaim> loop_claims;
   while (!queue.empty()) {
     const int body = queue.front();
     queue.pop_front();
@@ -140,17 +197,11 @@ TrainTopology AnalyseTrainTopology(const TrainSpec& spec) {
         queue.push_back(to);
       } else {
         t.loop_meshes.push_back(static_cast<int>(m));
-        if (std::abs(target.speed - speed) > 1e-9 * std::abs(target.speed)) {
-          throw InputError(MeshPath(static_cast<int>(m)) + ".gears", 0,
-                           "[" + mesh.gear_a + ", " + mesh.gear_b + "]",
-                           "closes a kinematic loop whose ratios disagree: it would turn '" +
-                               target.name + "' at " + InUnit(speed, spec.operating.speed_unit) +
-                               ", the other path at " +
-                               InUnit(target.speed, spec.operating.speed_unit));
-        }
+        loop_claims.push_back({static_cast<int>(m), to, speed});
       }
     }
   }
+  RequireConsistentLoops(spec, t, loop_claims);
   for (size_t b = 0; b < t.bodies.size(); ++b) {
     if (t.parent_mesh[b] != -2) continue;
     const TrainBody& body = t.bodies[b];
@@ -233,6 +284,8 @@ void ValidateTrainSpec(const TrainSpec& spec) {
                      "needs at least two gears");
   }
   if (spec.meshes.empty()) throw InputError("meshes", 0, "[]", "needs at least one mesh");
+  RequireTrainSize(spec);
+  RequireUniqueBodyNames(spec);
   for (const TrainShaft& s : spec.shafts) {
     const std::string p = "shafts." + s.name;
     if (s.inertia && !(*s.inertia >= 0.0 && std::isfinite(*s.inertia))) {
@@ -253,6 +306,9 @@ void ValidateTrainSpec(const TrainSpec& spec) {
     if (shaft->elastic && !g.at) {
       throw InputError(p + ".at", 0, "", "required: the gear sits on an elastic shaft");
     }
+    // Each gear's own scale before the rules comparing meshing gears, so that those blame the
+    // implausible gear (a module written without its unit) rather than its mate.
+    ValidateGearAlone(g.gear, p);
   }
   for (size_t m = 0; m < spec.meshes.size(); ++m) {
     const TrainMesh& mesh = spec.meshes[m];
@@ -296,6 +352,7 @@ void ValidateTrainSpec(const TrainSpec& spec) {
     ++meshes_of_gear[static_cast<size_t>(spec.GearIndex(a.name))];
     ++meshes_of_gear[static_cast<size_t>(spec.GearIndex(b.name))];
   }
+  RequireMeshesPerGear(spec);
   for (size_t g = 0; g < spec.gears.size(); ++g) {
     if (spec.gears[g].mounting == Mounting::kLoose && meshes_of_gear[g] == 0) {
       throw InputError("gears." + spec.gears[g].name + ".mounting", 0, "loose",
@@ -335,6 +392,7 @@ void ValidateTrainSpec(const TrainSpec& spec) {
           [&](const std::string& rule) { return TrainRule(rule, spec, static_cast<int>(m)); });
     }
   }
+  RequireSharedCenterDistances(spec, topology);
   ValidateTrainLimits(spec, topology);
 }
 

@@ -105,6 +105,13 @@ SpectralLine FindLine(const AmplitudeSpectrum& s, double frequency_hz, int searc
   return line;
 }
 
+bool IsMeshHarmonic(const SidebandRow& row) {
+  const std::string& l = row.label;
+  const size_t fm = l.find(" fm");
+  if (fm == std::string::npos || fm == 0 || l.find_first_not_of("0123456789") != fm) return false;
+  return fm + 3 == l.size() || l.compare(fm + 3, 3, " = ") == 0;
+}
+
 std::vector<SidebandRow> SidebandTable(const AmplitudeSpectrum& s, double mesh_hz, double pinion_hz,
                                        double wheel_hz, const SidebandOptions& options) {
   return SidebandTable(s, mesh_hz, {{"f1", pinion_hz}, {"f2", wheel_hz}}, options);
@@ -124,7 +131,7 @@ std::vector<SidebandRow> SidebandTable(const AmplitudeSpectrum& s, double mesh_h
   const double floor = strongest * std::pow(10.0, options.rounding_floor_db / 20.0);
   const double prominence = std::pow(10.0, options.prominence_db / 20.0);
   std::vector<double> around;
-  auto add = [&](const std::string& label, double f) {
+  auto add = [&](const std::string& label, double f, bool harmonic = false) {
     if (f <= s.bin_hz || f >= nyquist - s.bin_hz) return;
     const long k = std::lround(f / s.bin_hz);
     const double amp = s.amplitude[static_cast<size_t>(k)];
@@ -144,7 +151,7 @@ std::vector<SidebandRow> SidebandTable(const AmplitudeSpectrum& s, double mesh_h
     // Lines that coincide (z2 a multiple of z1 puts 3 f2 on 1 f1) share one row.
     for (SidebandRow& r : rows) {
       if (std::lround(r.frequency_hz / s.bin_hz) == k) {
-        r.label += " = " + label;
+        r.label = harmonic ? label + " = " + r.label : r.label + " = " + label;
         return;
       }
     }
@@ -157,7 +164,7 @@ std::vector<SidebandRow> SidebandTable(const AmplitudeSpectrum& s, double mesh_h
   }
   for (int k = 1; k <= options.harmonics; ++k) {
     const std::string fm = std::to_string(k) + " fm";
-    add(fm, k * mesh_hz);
+    add(fm, k * mesh_hz, true);
     if (!options.shaft_order_sources) continue;
     for (int j = 1; j <= options.orders; ++j) {
       for (const auto& [name, f] : sources) {

@@ -19,7 +19,8 @@ namespace py = pybind11;
 
 // gb.set's edit: `value` is a str as written ("0.3 N*m"), an int/float as SI, a bool, or a
 // dict/list; the document is edited and reloaded (either schema; it cannot change).
-config::LoadedGearbox SetByPath(config::GearboxDocument& document, const std::string& path,
+// `path` is a str (else TypeError); a str path or value UTF-8 cannot encode is an InputError.
+config::LoadedGearbox SetByPath(config::GearboxDocument& document, const py::object& path,
                                 const py::object& value);
 
 // A schema-1 gearbox (one pair).
@@ -28,7 +29,7 @@ class Gearbox {
   Gearbox(config::GearboxDocument document, GearboxSpec spec)
       : document_(std::move(document)), spec_(std::move(spec)) {}
 
-  void Set(const std::string& path, const py::object& value) {
+  void Set(const py::object& path, const py::object& value) {
     spec_ = *SetByPath(document_, path, value).pair;
   }
   std::string Get(const std::string& path) const { return document_.Get(path); }
@@ -49,7 +50,7 @@ class Train {
   Train(config::GearboxDocument document, TrainSpec spec)
       : document_(std::move(document)), spec_(std::move(spec)) {}
 
-  void Set(const std::string& path, const py::object& value) {
+  void Set(const py::object& path, const py::object& value) {
     spec_ = SetByPath(document_, path, value).train;
   }
   std::string Get(const std::string& path) const { return document_.Get(path); }

@@ -13,12 +13,38 @@
 
 namespace gearnvh::python {
 
-config::LoadedGearbox SetByPath(config::GearboxDocument& document, const std::string& path,
+namespace {
+
+// ascii(o): a str with every character beyond ASCII escaped, a lone surrogate included.
+std::string Ascii(const py::handle& o) {
+  return py::reinterpret_steal<py::str>(PyObject_ASCII(o.ptr())).cast<std::string>();
+}
+
+// A str as UTF-8. A lone surrogate (from a broken decode or surrogateescape) has no UTF-8 form:
+// an input error at `path`, where pybind11 would raise a bare cast error.
+std::string Utf8(const py::handle& text, const std::string& path) {
+  Py_ssize_t size = 0;
+  const char* data = PyUnicode_AsUTF8AndSize(text.ptr(), &size);
+  if (data != nullptr) return {data, static_cast<size_t>(size)};
+  PyErr_Clear();
+  throw InputError(path, 0, Ascii(text),
+                   "must be text UTF-8 can encode: a lone surrogate such as '\\ud800' cannot be");
+}
+
+}  // namespace
+
+config::LoadedGearbox SetByPath(config::GearboxDocument& document, const py::object& path_text,
                                 const py::object& value) {
+  if (!py::isinstance<py::str>(path_text)) {
+    throw py::type_error("gearnvh: set(path, value): path must be a str such as 'mesh.backlash', "
+                         "not " +
+                         std::string(py::str(path_text.get_type().attr("__name__"))));
+  }
+  const std::string path = Utf8(path_text, Ascii(path_text));
   if (py::isinstance<py::bool_>(value)) {
     return document.SetScalar(path, value.cast<bool>() ? "true" : "false");
   }
-  if (py::isinstance<py::str>(value)) return document.SetScalar(path, value.cast<std::string>());
+  if (py::isinstance<py::str>(value)) return document.SetScalar(path, Utf8(value, path));
   if (py::isinstance<py::dict>(value) || py::isinstance<py::list>(value) ||
       py::isinstance<py::tuple>(value)) {
     const std::string json = py::str(py::module_::import("json").attr("dumps")(value));

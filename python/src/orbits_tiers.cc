@@ -13,6 +13,7 @@
 #include "display_units.h"
 #include "gearbox.h"
 #include "gearnvh/nvh/orbit_scan.h"
+#include "orbits_command.h"
 #include "simulate_command.h"
 #include "tiers_command.h"
 
@@ -49,6 +50,7 @@ std::shared_ptr<Orbits> RunOrbits(const Gearbox& gb, int period,
     NamingSource(source, [&] { app::RequirePairAxisOption(spec, *axis, *sweep, "sweep"); });
   }
   NamingSource(source, [&] {
+    app::RequireOrbitPeriod(period, "period");
     // The transient, then at least one cycle per base period of the period searched.
     RequirePairRunLength(spec, app::LowestInputSpeed(TrainOf(spec), axis), period,
                          options.transient_cycles, std::nullopt, transient, false);

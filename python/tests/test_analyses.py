@@ -46,6 +46,12 @@ def test_atlas_grid_matches_the_command_line(gearnvh_exe):
         assert a.regime[cell["iy"]][cell["ix"]] == cell["regime"]
 
 
+def test_orbits_period_has_the_cli_limit(gb):
+    with pytest.raises(gearnvh.InputError) as long_period:  # `orbits --period` allows 1..64
+        gearnvh.orbits(gb, period=65)
+    assert (long_period.value.path, long_period.value.rule) == ("period", "must be in [1, 64]")
+
+
 def test_orbits_at_the_operating_point(gb):
     o = gearnvh.orbits(gb, transient=100)
     assert o.parameter == "operating point" and len(o.points) == 1

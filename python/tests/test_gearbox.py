@@ -77,6 +77,26 @@ def test_set_rejects_bad_values_naming_path_and_rule_and_keeps_the_gearbox():
     assert gb.yaml == before  # nothing half-changed
 
 
+def test_set_names_the_path_of_a_huge_index_or_a_lone_surrogate():
+    gb = gearnvh.load(str(IDLE_RATTLE))
+    before = gb.yaml
+    with pytest.raises(gearnvh.InputError) as huge:
+        gb.set("operating.excitation[99999999999999999999].amplitude", 1.0)
+    assert huge.value.path == "operating.excitation[99999999999999999999].amplitude"
+    assert "is not a list index" in huge.value.rule
+    with pytest.raises(gearnvh.InputError) as value:
+        gb.set("name", "idle \ud800")
+    assert value.value.path == "name"
+    assert "lone surrogate" in value.value.rule
+    with pytest.raises(gearnvh.InputError) as path:
+        gb.set("mesh.\ud800", "1 um")
+    assert path.value.path == "'mesh.\\ud800'"
+    assert "lone surrogate" in path.value.rule
+    with pytest.raises(TypeError):
+        gb.set(3, "1 um")
+    assert gb.yaml == before
+
+
 def test_load_errors_carry_path_line_and_source():
     with pytest.raises(gearnvh.InputError) as missing:
         gearnvh.load("/nonexistent/gearbox.yaml")

@@ -333,6 +333,9 @@ def test_train_analyses_name_the_keyword_value_and_rule(transmission, linear_fil
     with pytest.raises(gearnvh.InputError) as period:
         gearnvh.orbits(train, period=0)
     assert (period.value.path, period.value.value) == ("period", "0")
+    with pytest.raises(gearnvh.InputError) as long_period:  # the CLI's --period limit
+        gearnvh.orbits(train, period=65)
+    assert (long_period.value.path, long_period.value.rule) == ("period", "must be in [1, 64]")
     with pytest.raises(gearnvh.InputError) as index:
         gearnvh.orbits(train, sweep="meshes[3].backlash=50um:100um:3")
     assert index.value.path == "sweep"

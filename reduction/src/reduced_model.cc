@@ -128,7 +128,8 @@ void Finish(const ComponentModel& m, ReducedModel& r, double full_compliance) {
   r.compliance_error_vs_full =
       full_compliance > 0.0 ? (r.static_mesh_compliance - full_compliance) / full_compliance : 0.0;
   r.natural_frequencies_hz =
-      ReducedNaturalFrequencies(r, m.mesh_summary.mean, kReportedFrequencies, &r.rigid_body_modes);
+      ReducedNaturalFrequencies(m, r, m.mesh_summary.mean, kReportedFrequencies,
+                                &r.rigid_body_modes);
 }
 
 }  // namespace
@@ -170,11 +171,21 @@ double FullStaticMeshCompliance(const ComponentModel& m) {
   return v.dot(ldlt.solve(v));
 }
 
-std::vector<double> ReducedNaturalFrequencies(const ReducedModel& r, double mean_mesh_stiffness,
-                                              int count, int* rigid_body_modes) {
+StrainMagnitude ReducedStrainMagnitude(const ComponentModel& model, const ReducedModel& r,
+                                       double mean_mesh_stiffness) {
+  const double k = r.EffectiveMeshStiffness(mean_mesh_stiffness);
+  return [&model, &r, k](const Eigen::VectorXd& x) {
+    return FullStrainMagnitude(model, k, r.recovery * x);
+  };
+}
+
+std::vector<double> ReducedNaturalFrequencies(const ComponentModel& model, const ReducedModel& r,
+                                              double mean_mesh_stiffness, int count,
+                                              int* rigid_body_modes) {
   const Eigen::MatrixXd K =
       r.K + r.EffectiveMeshStiffness(mean_mesh_stiffness) * r.v_drive * r.v_drive.transpose();
-  const NaturalModes modes = LowestNaturalModes(K, r.M, count);
+  const NaturalModes modes = LowestNaturalModes(
+      K, r.M, count, false, ReducedStrainMagnitude(model, r, mean_mesh_stiffness));
   if (rigid_body_modes) *rigid_body_modes = modes.rigid_body_modes;
   return modes.frequencies_hz;
 }

@@ -13,7 +13,8 @@ namespace gearnvh {
 
 NaturalModes LowestSparseNaturalModes(const Eigen::SparseMatrix<double>& K,
                                       const Eigen::SparseMatrix<double>& M, int count,
-                                      int rigid_body_modes) {
+                                      int rigid_body_modes,
+                                      const StrainMagnitude& magnitude) {
   double scale = 0.0;
   for (int i = 0; i < K.rows(); ++i) {
     if (M.coeff(i, i) > 0.0) scale = std::max(scale, K.coeff(i, i) / M.coeff(i, i));
@@ -37,21 +38,19 @@ NaturalModes LowestSparseNaturalModes(const Eigen::SparseMatrix<double>& K,
   std::vector<int> order(static_cast<size_t>(w2.size()));
   for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
   std::sort(order.begin(), order.end(), [&](int a, int b) { return w2[a] < w2[b]; });
-  std::vector<int> kept;
+  std::vector<Eigen::VectorXd> kept;
   for (int i : order) {
-    if (w2[i] <= -1e-8 * shift) {
+    Eigen::VectorXd x = phi.col(i);
+    x /= std::sqrt(x.dot(M * x));
+    if (IsRigidBodyMode(w2[i], magnitude ? magnitude(x) : AbsoluteQuadraticForm(K, x))) {
       ++out.rigid_body_modes;
     } else {
       out.frequencies_hz.push_back(std::sqrt(w2[i]) / (2.0 * std::numbers::pi));
-      kept.push_back(i);
+      kept.push_back(std::move(x));
     }
   }
   out.shapes.resize(n, static_cast<Eigen::Index>(kept.size()));
-  for (size_t c = 0; c < kept.size(); ++c) {
-    Eigen::VectorXd x = phi.col(kept[c]);
-    x /= std::sqrt(x.dot(M * x));
-    out.shapes.col(static_cast<Eigen::Index>(c)) = x;
-  }
+  for (size_t c = 0; c < kept.size(); ++c) out.shapes.col(static_cast<Eigen::Index>(c)) = kept[c];
   return out;
 }
 

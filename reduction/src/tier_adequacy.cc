@@ -37,10 +37,14 @@ MeshModes FullModelMeshModes(const ComponentModel& model, const TierAdequacyOpti
   const Eigen::SparseMatrix<double> mesh =
       (model.mesh_summary.mean * model.v_drive * model.v_drive.transpose()).sparseView();
   K += mesh;
+  const StrainMagnitude magnitude = [&](const Eigen::VectorXd& x) {
+    return FullStrainMagnitude(model, model.mesh_summary.mean, x);
+  };
   const NaturalModes modes =
       model.dofs <= options.dense_limit
-          ? LowestNaturalModes(Eigen::MatrixXd(K), Eigen::MatrixXd(model.M), model.dofs, true)
-          : LowestSparseNaturalModes(K, model.M, options.sparse_modes, 1);
+          ? LowestNaturalModes(Eigen::MatrixXd(K), Eigen::MatrixXd(model.M), model.dofs, true,
+                               magnitude)
+          : LowestSparseNaturalModes(K, model.M, options.sparse_modes, 1, magnitude);
   double total = 0.0;
   std::vector<double> compliance(modes.frequencies_hz.size());
   for (size_t i = 0; i < compliance.size(); ++i) {
@@ -71,7 +75,8 @@ std::vector<TierModeMatch> Match(const ComponentModel& model, const ReducedModel
                                  const MeshModes& full, const TierAdequacyOptions& options) {
   const Eigen::MatrixXd K =
       r.K + r.EffectiveMeshStiffness(model.mesh_summary.mean) * r.v_drive * r.v_drive.transpose();
-  const NaturalModes tier = LowestNaturalModes(K, r.M, r.dof, true);
+  const NaturalModes tier = LowestNaturalModes(
+      K, r.M, r.dof, true, ReducedStrainMagnitude(model, r, model.mesh_summary.mean));
   const Eigen::MatrixXd recovered = r.recovery * tier.shapes;  // physical DOF
   const Eigen::MatrixXd m_recovered = model.M * recovered;
   std::vector<TierModeMatch> out;

@@ -24,6 +24,17 @@ TrainTableOptions CacheOptions(const TrainStepperOptions& options) {
   return tables;
 }
 
+// Whether sign * g stays within `tolerance` (the gap's rounding, TrainTables::GapTolerance) of
+// where it starts, or below the wall, over [0, horizon]: a body resting on a wall or floating at
+// the relative speed 0 moves its gap by rounding alone, and FirstRise would take that noise for
+// crossings (a train without load chattered, 1000 events in one grid segment). A real crossing
+// rises beyond the rounding; one that creeps slower is switched at a grid segment's start
+// (SwitchOutside) as any start outside the wall.
+bool WithinRounding(const ClosedFormGap& gap, double sign, double horizon, double tolerance) {
+  const double start = std::min(sign * gap.StartValue(), 0.0);  // FirstRise's offset
+  return start > -tolerance && start + gap.DerivativeBound(0.0, horizon, 1) * horizon <= tolerance;
+}
+
 }  // namespace
 
 TrainStepper::TrainStepper(const TrainTables& tables, const TrainStepperOptions& options,
@@ -262,7 +273,11 @@ double TrainStepper::AdvanceSpectral(const TrainSystem& sys, double remaining, T
       }
       held = &gap;
       loaded = wall;
-      const double root = gap.FirstRise(walls[k].sign, remaining);
+      const double root = WithinRounding(gap, walls[k].sign, remaining,
+                                         t_.GapTolerance(static_cast<int>(i), segment,
+                                                         walls[k].drive, z_))
+                              ? -1.0
+                              : gap.FirstRise(walls[k].sign, remaining);
       if (root >= 0.0 && (roots_[i] < 0.0 || root < roots_[i])) {
         roots_[i] = root;
         root_walls_[i] = walls[k];

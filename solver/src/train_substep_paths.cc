@@ -86,6 +86,11 @@ double TrainStepper::AdvanceDense(const TrainSystem& sys, double remaining, Trai
       // beyond the wall tolerance was switched at the grid segment's start).
       coeff[0] = std::min(coeff[0], 0.0);
       if (coeff[0] + reach <= 0.0) continue;  // certificate: the wall is out of reach
+      // Or the gap moves within its rounding only (a body at rest on the wall; as
+      // WithinRounding on the closed-form path, train_stepper.cc).
+      const double rounding =
+          t_.GapTolerance(static_cast<int>(i), grid_.segments()[i], walls[k].drive, z_);
+      if (coeff[0] > -rounding && coeff[0] + reach <= rounding) continue;
       const double root = taylor_root::FirstRoot(coeff, kTaylorTerms, d, kRootSamples);
       if (root >= 0.0 && (best < 0.0 || root < best)) {
         best = root, best_mesh = static_cast<int>(i), best_wall = walls[k];

@@ -329,6 +329,28 @@ TEST_CASE("check's text table shows n/a for tier 1's compliance error and not -1
   CHECK(line.find("-1.00e+00") == std::string::npos);
 }
 
+TEST_CASE("check on a helical pair says n/a for the single-pair zone it does not have", "[cli]") {
+  // Overlap ratio 15 mm sin 30° / (pi 2 mm) = 1.19: one pair never carries the load alone.
+  const TempDir dir;
+  std::string text =
+      ReplaceFirst(kValid, "teeth: 27\n", "teeth: 27\n    helix_angle: 30 deg\n    hand: left\n");
+  text = ReplaceFirst(text, "teeth: 43\n", "teeth: 43\n    helix_angle: 30 deg\n    hand: right\n");
+  const auto file = dir.Write("helical.yaml", text).string();
+  const auto r = RunCommand(kExe + " check " + file);
+  INFO(r.out << r.err);
+  REQUIRE(r.exit_code == 0);
+  const size_t row = r.out.find("single-pair mean");
+  REQUIRE(row != std::string::npos);
+  const std::string line = r.out.substr(row, r.out.find('\n', row) - row);
+  CHECK(line.find("n/a") != std::string::npos);
+  CHECK(line.find(" 0 N/m") == std::string::npos);
+  const auto j = RunCommand(kExe + " check --json " + file);
+  REQUIRE(j.exit_code == 0);
+  const auto stiffness = nlohmann::json::parse(j.out)["mesh"]["stiffness"];
+  CHECK(stiffness["single_pair_mean"].is_null());
+  CHECK(stiffness["mean"].get<double>() > 0.0);
+}
+
 TEST_CASE("a batch with one bad file checks the others and exits 1", "[cli][json]") {
   TempDir dir;
   const auto bad = dir.Write("bad.yaml", ReplaceFirst(kValid, "teeth: 27", "teeth: 3"));

@@ -80,6 +80,9 @@ TEST_CASE("atlas: bad axes are usage errors naming the option", "[cli][atlas]") 
            {"--x operating.speed=600rpm:3000rpm", "PARAMETER=FROM:TO:POINTS"},
            {"--x operating.speed=600mm:3000rpm:3", "unknown unit 'mm' for a rotational speed"},
            {"--x operating.speed=600rpm:3000rpm:0", "whole number"},
+           // The rules of the file's analysis.atlas axes.
+           {"--x operating.speed=600rpm:3000rpm:1", "POINTS must be >= 2"},
+           {"--y operating.torque=1Nm:0.1Nm:3", "TO must be greater than from"},
            {"--x operating.torque=0.1Nm:1Nm:2", "must differ from the x parameter"},
        }) {
     INFO(c.args);

@@ -268,6 +268,8 @@ TEST_CASE("report: a gear train gets its page and figures, next to a pair and pa
   CHECK(results["operating_point"]["meshes"].size() == 6);
   CHECK(results["operating_point"]["loose_gears"].size() == 4);
   CHECK(results["sweep"]["points"].size() == 3);
+  CHECK(results["sweep"]["speeds_rpm"][0].get<double>() ==
+        700.0);  // as written, not 700.0000000000001
   CHECK(results["check"]["campbell"]["modes"].size() >= 1);
   const std::string meshes = ReadWholeFile(g / "meshes.csv");
   CHECK(std::count(meshes.begin(), meshes.end(), '\n') == 1 + 3 * 6);
@@ -275,6 +277,45 @@ TEST_CASE("report: a gear train gets its page and figures, next to a pair and pa
   CHECK(batch.find("transmission/index.html") != std::string::npos);
   CHECK(batch.find("tier 1 (gear train)") != std::string::npos);
   CHECK(batch.find("broken_train.yaml") != std::string::npos);
+  // The train's row: TE RMS and impacts per mesh, the loudest loose gear (not "-").
+  const auto report = nlohmann::json::parse(ReadWholeFile(out / "report.json"));
+  for (const auto& gearbox : report["gearboxes"]) {
+    if (gearbox["folder"] != "transmission") continue;
+    const auto& summary = gearbox["summary"];
+    REQUIRE(summary["meshes"].size() == 6);
+    REQUIRE(summary["loudest_loose_gear"].is_string());
+    CHECK(summary["meshes"][5]["te_rms_um"].get<double>() > 0.0);
+    const size_t row = batch.find("<a href=\"transmission/index.html\">");
+    REQUIRE(row != std::string::npos);
+    const std::string cells = batch.substr(row, batch.find("</tr>", row) - row);
+    INFO(cells);
+    CHECK(cells.find("<br>l5-o5 ") != std::string::npos);
+    CHECK(cells.find("<td>" + summary["loudest_loose_gear"].get<std::string>() + " (") !=
+          std::string::npos);
+  }
+}
+
+TEST_CASE("report: a disk that fills up mid-report exits 4 with one message naming the folder",
+          "[cli][report][hardening]") {
+  // A small tmpfs in a user and mount namespace (no root needed); skipped where not permitted.
+  if (RunCommand("unshare -rm sh -c 'mount -t tmpfs -o size=64k tmpfs /mnt'").exit_code != 0) {
+    WARN("user and mount namespaces unavailable: the full-disk report test is not run here");
+    return;
+  }
+  const TempDir dir;
+  const std::string d = dir.path().string();
+  // 1100 kB: enough to start (1 MB free needed), full after the first images.
+  const auto run = RunCommand("unshare -rm sh -c 'mount -t tmpfs -o size=1100k tmpfs " + d +
+                              " && " + kExe + " report " + kExamples +
+                              "/industrial_whine.yaml --no-atlas --width 600 --height 400 --out " +
+                              d + "/out; echo rc=$?; ls -a " + d + "'");
+  INFO(run.out << run.err);
+  CHECK(run.out.find("rc=4") != std::string::npos);
+  // One line: the folder, the system's reason; no VTK or libpng text, no temporary path.
+  CHECK(run.err == "error: --out " + d + "/out: cannot write the results: No space left on " +
+                       "device; nothing was written\n");
+  CHECK(run.out.find(".partial-") == std::string::npos);
+  CHECK(run.out.find("out\n") == std::string::npos);
 }
 
 TEST_CASE("report fails a gearbox whose operating point would hold more than the memory limit",

@@ -170,6 +170,10 @@ TEST_CASE("atlas and orbits on a train refuse bad parameters naming the value an
             "'meshes[0].stiffness'", "is not a parameter a gear train can vary"},
            {"atlas --x operating.loads[7].torque=0Nm:1Nm:2 --y operating.speed=1000rpm:2000rpm:2",
             "operating.loads[7].torque", "has 2 entries (0: on output, 1: on g4)"},
+           {"atlas --x meshes[0].backlash=50um:100um:1 --y operating.speed=1000rpm:2000rpm:2",
+            "'meshes[0].backlash=50um:100um:1'", "POINTS must be >= 2"},
+           {"atlas --x meshes[0].backlash=50um:100um:2 --y operating.speed=2000rpm:1000rpm:2",
+            "'operating.speed=2000rpm:1000rpm:2'", "TO must be greater than from"},
            {"orbits --sweep meshes[2].backlash=50um:100um:3", "meshes[2].backlash",
             "has 2 entries (0: g1-g2, 1: g3-g4)"},
            {"orbits --sweep operating.speed=1000Nm:2000Nm:3", "'1000Nm'", "rpm"},
@@ -194,15 +198,29 @@ TEST_CASE("atlas and orbits on a train refuse bad parameters naming the value an
   const auto r = RunCommand(kExe +
                             " atlas --json --cycles 8 --transient 0"
                             " --x meshes[0].backlash=0um:80um:2"
-                            " --y operating.speed=2900rpm:3000rpm:1 " +
+                            " --y operating.speed=2900rpm:3000rpm:2 " +
                             file);
   CHECK(r.exit_code == 1);
   const auto doc = nlohmann::json::parse(r.out);
-  CHECK(doc["failed_cells"] == 1);
+  CHECK(doc["failed_cells"] == 2);  // backlash 0 at both speeds
   CHECK(doc["cells"][0]["ok"] == false);
   CHECK(doc["cells"][0]["message"].get<std::string>().find(
             "meshes[0].backlash: must be > 0, got 0 µm") != std::string::npos);
   CHECK(doc["cells"][1]["ok"] == true);
+  // The terminal map shows the failed cells (it crashed on them once) and --out is released.
+  const TempDir out;
+  const auto text = RunCommand(kExe +
+                               " atlas --cycles 8 --transient 0"
+                               " --x meshes[0].backlash=0um:80um:2"
+                               " --y operating.speed=2900rpm:3000rpm:2 --out " +
+                               (out.path() / "atlas").string() + " " + file);
+  INFO(text.err);
+  CHECK(text.exit_code == 1);
+  CHECK(text.out.find("  mesh g1-g2:\n  X") != std::string::npos);  // column 0: backlash 0
+  CHECK(text.out.find("  mesh g3-g4:\n  X") != std::string::npos);
+  CHECK(text.out.find("cell (0, 1) failed: meshes[0].backlash: must be > 0") != std::string::npos);
+  CHECK(std::filesystem::exists(out.path() / "atlas" / "atlas.csv"));
+  CHECK(!std::filesystem::exists(out.path() / ".atlas.lock"));
 
   // orbits: a failed first point names its value as the axis shows it (-10 µm, not -1e-05), and the
   // document keeps the train's common period, that of the points that ran: one input revolution,

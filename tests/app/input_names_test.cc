@@ -143,7 +143,7 @@ TEST_CASE("failed atlas cells and orbit points name the YAML path the user set",
   const auto atlas = testing::RunCommand(
       exe +
       " atlas --tier 5 --cycles 8 --transient 0 --x operating.speed=700rpm:800rpm:2"
-      " --y operating.torque=0.1Nm:0.2Nm:1 " +
+      " --y operating.torque=0.1Nm:0.2Nm:2 " +
       rattle);
   INFO(atlas.out << atlas.err);
   CHECK(atlas.exit_code == 1);
@@ -157,7 +157,7 @@ TEST_CASE("failed atlas cells and orbit points name the YAML path the user set",
   const auto backlash =
       testing::RunCommand(exe +
                           " atlas --json --cycles 8 --transient 0 --x mesh.backlash=-10um:80um:2"
-                          " --y operating.speed=800rpm:900rpm:1 " +
+                          " --y operating.speed=800rpm:900rpm:2 " +
                           rattle);
   INFO(backlash.err);
   CHECK(backlash.exit_code == 1);

@@ -52,6 +52,31 @@ TEST_CASE("OutputFolder: commits whole and keeps other files and holds one write
   CHECK(entries == 0);
 }
 
+TEST_CASE("OutputFolder: a symlink to the folder meets the same lock", "[app][output]") {
+  const TempDir dir;
+  const fs::path target = dir.path() / "out";
+  fs::create_directories(target);
+  fs::create_directory_symlink(target, dir.path() / "link");
+  fs::create_directories(dir.path() / "elsewhere");
+  fs::create_directory_symlink(dir.path(), dir.path() / "elsewhere" / "parent");
+  {
+    app::OutputFolder out(target, "--out");
+    // The folder by another name, and through a symlinked parent: refused while the lock holds.
+    CHECK_THROWS_AS(app::OutputFolder(dir.path() / "link", "--out"), app::IoError);
+    CHECK_THROWS_AS(app::OutputFolder(dir.path() / "elsewhere" / "parent" / "out", "--out"),
+                    app::IoError);
+  }
+  {
+    app::OutputFolder out(dir.path() / "link", "--out");
+    CHECK(out.staging().parent_path() == fs::canonical(dir.path()));
+    CHECK_THROWS_AS(app::OutputFolder(target, "--out"), app::IoError);
+    out.Write("a.csv", "new\n");
+    out.Commit();
+  }
+  CHECK(fs::is_symlink(dir.path() / "link"));  // the link stays, the folder got the file
+  CHECK(ReadWholeFile(target / "a.csv") == "new\n");
+}
+
 TEST_CASE("OutputFolder: an uncommitted run leaves nothing and stale staging is removed",
           "[app][output]") {
   const TempDir dir;

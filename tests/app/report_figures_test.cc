@@ -178,23 +178,30 @@ TEST_CASE("Campbell figure: every mode by type, critical speeds labelled, apart 
 TEST_CASE("tier comparison: log cost and error, every tier named, apart at both sizes",
           "[app][figures][render]") {
   const double kNan = std::numeric_limits<double>::quiet_NaN();
-  const std::vector<TierPoint> tiers = {{"tier 1", 6, 0.4, -1.0},
+  const std::vector<TierPoint> tiers = {{"tier 1", 6, 0.4, std::nullopt},
                                         {"tier 2", 14, 0.05, 0.2},
-                                        {"N20 MTA", 42, 1e-4, 1e-3},
+                                        {"N20 MTA", 42, 1e-4, -1e-3},
+                                        {"N20 simple", 30, 2e-3, -0.04},
                                         {"N40 full", 82, 0.0, kNan}};
   const render::LinePlot plot =
       TierComparisonFigure("cost (µs per mesh cycle)", tiers, "TE RMS difference");
   CHECK(plot.log_x);
   CHECK(plot.log_y);
-  REQUIRE(plot.series.size() == 2);
+  REQUIRE(plot.series.size() == 3);
   CHECK(plot.series[0].y.back() == 1e-6);  // an exact frequency is drawn at the 1e-6 % floor
-  CHECK(plot.series[1].x.size() == 2);     // not applicable (-1) and none (NaN) left out
+  CHECK(plot.series[1].x == std::vector<double>{14});  // not applicable and NaN left out
+  // Negative errors at their magnitude in %, as diamonds under their own legend entry.
+  CHECK(plot.series[2].y == std::vector<double>{100.0 * 1e-3, 100.0 * 0.04});
+  CHECK(plot.series[2].marker == render::Series::Marker::kDiamond);
+  CHECK(plot.series[2].label == "TE RMS difference < 0");
   const testing::TempDir dir;
   for (const auto& [w, h] : kSizes) {
     const std::string png = (dir.path() / ("tiers" + std::to_string(w) + ".png")).string();
     const render::RenderStatus s = render::RenderLinePlot(plot, {w, h, 100.0}, png);
     testing::CheckDrawnFigure(s, png, w, h, 100);
-    CHECK(s.layout.labels.size() == 4);
+    CHECK(s.layout.labels.size() == 5);
+    // Every drawn point is a data mark the labels avoided: 5 + 1 + 2.
+    CHECK(s.layout.data_marks.size() == 8);
   }
 }
 

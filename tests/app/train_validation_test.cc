@@ -88,6 +88,31 @@ void CheckLadderPasses(const std::vector<app::ValidationRow>& rows, bool fusion_
   }
 }
 
+TEST_CASE("validate's events are paired by mesh, flanks and time, not by order",
+          "[app][validate][train]") {
+  using S = ContactState;
+  // Tolerance 1e-3 s, end 10 s; the times are exact binary fractions where it matters.
+  const std::vector<TrainReferenceEvent> reference{
+      {0, 1.0, S::kDrive, S::kFree}, {1, 1.0, S::kDrive, S::kFree}, {0, 2.0, S::kFree, S::kDrive}};
+  // The simultaneous events of meshes 0 and 1 located in the other order: all paired.
+  const std::vector<TrainEventRecord> swapped{{1, {1.0, S::kDrive, S::kFree, 0.0}},
+                                              {0, {1.0, S::kDrive, S::kFree, 0.0}},
+                                              {0, {2.0, S::kFree, S::kDrive, 0.0}}};
+  CHECK(app::UnpairedEvents(reference, swapped, 10.0, 1e-3) == 0);
+  // The wrong flank, a time beyond the tolerance and an extra event are each unpaired (and the
+  // reference events they miss); an event after `end` is not compared.
+  std::vector<TrainEventRecord> wrong = swapped;
+  wrong[2].event.to = S::kBack;
+  CHECK(app::UnpairedEvents(reference, wrong, 10.0, 1e-3) == 2);
+  std::vector<TrainEventRecord> late = swapped;
+  late[0].event.time = 1.0 + 2e-3;
+  CHECK(app::UnpairedEvents(reference, late, 10.0, 1e-3) == 2);
+  std::vector<TrainEventRecord> extra = swapped;
+  extra.push_back({1, {3.0, S::kFree, S::kBack, 0.0}});
+  CHECK(app::UnpairedEvents(reference, extra, 10.0, 1e-3) == 1);
+  CHECK(app::UnpairedEvents(reference, extra, 2.5, 1e-3) == 0);
+}
+
 TEST_CASE("train validate passes on a rattling loose gear, within CVODE's trusted window",
           "[app][train][validate]") {
   const Fixture f;

@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "gearnvh/model/component_model.h"
+#include "gearnvh/model/gearbox_spec_limits.h"
 #include "gearnvh/model/input_error.h"
 #include "model/test_specs.h"
 #include "model/test_trains.h"
@@ -37,6 +38,8 @@ TrainSpec TwoStage() {
              Gear("g4", "output", 54),
              Gear("g5", "output", 30, Mounting::kLoose),
              Gear("g6", "layshaft", 25)};
+  // g6-g5 at the layshaft-output centre distance of g3-g4 (72 teeth at 2 mm).
+  t.gears[4].gear.module = t.gears[5].gear.module = 2e-3 * 72.0 / 55.0;
   t.meshes = {Mesh("g1", "g2"), Mesh("g3", "g4"), Mesh("g6", "g5")};
   t.operating.input_shaft = "input";
   t.operating.speed = 1000.0 * 2.0 * std::numbers::pi / 60.0;
@@ -194,7 +197,7 @@ TEST_CASE("train validation names the path and the rule", "[train][validation]")
     // on the layshaft would turn it at -0.4 w_in, the first path at -0.5 w_in.
     TrainSpec s = TwoStage();
     s.gears.push_back(Gear("g7", "input", 20));
-    s.gears.push_back(Gear("g8", "layshaft", 50));
+    s.gears.push_back(Gear("g8", "layshaft", 50));  // (another centre distance too: loop first)
     s.meshes.push_back(Mesh("g7", "g8"));
     CHECK(PathOfError(s).rfind("meshes[3].gears: closes a kinematic loop whose ratios disagree",
                                0) == 0);
@@ -209,6 +212,82 @@ TEST_CASE("train validation names the path and the rule", "[train][validation]")
     s.gears[3].gear.teeth = 3;
     CHECK(PathOfError(s).rfind("gears.g4.teeth: must be >= 6", 0) == 0);
   }
+}
+
+}  // namespace
+}  // namespace gearnvh
+
+namespace gearnvh {
+namespace {
+
+TEST_CASE("train rules: meshes between the same two shafts share one centre distance",
+          "[train][validation]") {
+  TrainSpec s = TwoStage();
+  // g7 (20) on the layshaft with g8 (37) loose on the output: 57 mm, g3-g4 72 mm.
+  s.gears.push_back(Gear("g7", "layshaft", 20));
+  s.gears.push_back(Gear("g8", "output", 37, Mounting::kLoose));
+  s.meshes.push_back(Mesh("g7", "g8"));
+  const std::string error = PathOfError(s);
+  INFO(error);
+  CHECK(error.rfind("meshes[3].gears: joins shafts 'layshaft' and 'output' at a centre distance "
+                    "of 57 mm, but meshes[1] (g3-g4) joins them at 72 mm",
+                    0) == 0);
+  s.gears.back().gear.teeth = 52;  // 72 mm: accepted
+  CHECK(PathOfError(s).empty());
+}
+
+TEST_CASE("train rules: an implausible module or helix angle is blamed on its own gear",
+          "[train][validation]") {
+  TrainSpec s = TwoStage();
+  s.gears[0].gear.module = 2.0;  // "module: 2", read as 2 m, on the first gear of meshes[0]
+  CHECK(PathOfError(s).rfind("gears.g1.module: must be in [", 0) == 0);
+  s = TwoStage();
+  s.gears[0].gear.helix_angle = 28.0;  // "helix_angle: 28", read as radians
+  CHECK(PathOfError(s).rfind("gears.g1.helix_angle: must be in [", 0) == 0);
+}
+
+TEST_CASE("train rules: a gear may not have a shaft's name", "[train][validation]") {
+  TrainSpec s = TwoStage();
+  s.gears[4].name = "layshaft";  // the loose gear g5
+  s.meshes[2].gear_b = "layshaft";
+  s.operating.loads[1].on = "layshaft";
+  CHECK(PathOfError(s).rfind("gears.layshaft: has the name of shafts.layshaft", 0) == 0);
+}
+
+TEST_CASE("train rules: a loop's error names the odd one of parallel meshes", "[train][validation]") {
+  TrainSpec s;
+  s.name = "parallel";
+  s.materials["steel"] = Material{206e9, 0.3, 7850.0};
+  s.shafts = {Rigid("input", 5e-3), Rigid("output", 0.2)};
+  // Three meshes on the same two shafts at 56 mm; the first (25:31) disagrees with the two 19:37.
+  s.gears = {Gear("e", "input", 25), Gear("f", "output", 31), Gear("a", "input", 19),
+             Gear("b", "output", 37), Gear("c", "input", 19), Gear("d", "output", 37)};
+  s.meshes = {Mesh("e", "f"), Mesh("a", "b"), Mesh("c", "d")};
+  s.operating.input_shaft = "input";
+  s.operating.speed = 100.0;
+  s.operating.loads = {{"output", 10.0}};
+  const std::string error = PathOfError(s);
+  INFO(error);
+  CHECK(error.rfind("meshes[0].gears: closes a kinematic loop whose ratios disagree", 0) == 0);
+  CHECK(error.find("the other path (meshes[1], meshes[2])") != std::string::npos);
+}
+
+TEST_CASE("train rules: the size of a train is limited before any work", "[train][validation]") {
+  using L = GearboxLimits;
+  TrainSpec s = TwoStage();
+  while (s.gears.size() <= L::kMaxTrainGears) s.gears.push_back(Gear("x", "layshaft", 40));
+  CHECK(PathOfError(s).rfind("gears: must have at most 256 gears", 0) == 0);
+  // g1 meshing 13 gears of 40 teeth on the layshaft besides g2 (consistent ratios and distances).
+  s = TwoStage();
+  for (size_t k = 0; k < L::kMaxMeshesPerGear; ++k) {
+    s.gears.push_back(Gear("h" + std::to_string(k), "layshaft", 40));
+    s.meshes.push_back(Mesh("g1", s.gears.back().name));
+  }
+  const std::string error = PathOfError(s);
+  INFO(error);
+  CHECK(error.rfind("gears.g1: may take part in at most 12 meshes", 0) == 0);
+  s.meshes.pop_back();
+  CHECK(PathOfError(s).empty());
 }
 
 }  // namespace

@@ -102,3 +102,60 @@ TEST_CASE("limits: load, excitation, run length and FE size", "[validation][limi
 
 }  // namespace
 }  // namespace gearnvh
+
+namespace gearnvh {
+namespace {
+
+std::string MessageOfError(const GearboxSpec& spec) {
+  try {
+    ValidateGearboxSpec(spec);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST_CASE("limits: lengths against the module (backlash, face width, STE, tip relief)",
+          "[validation][limits]") {
+  // Backlash: at most a quarter of the tooth thickness pi m / 2 = 3.14159 mm at m = 2 mm.
+  GearboxSpec s = StandardPair(27, 43);
+  s.mesh.backlash = 0.25 * std::numbers::pi * 2e-3 / 2.0 * (1.0 - 1e-12);
+  CHECK(PathOfError(s).empty());
+  s.mesh.backlash = 80.0;  // "backlash: 80" read as 80 m
+  CHECK(MessageOfError(s).rfind("mesh.backlash: must be at most 0.785398 mm, 0.25 of the tooth "
+                                "thickness at the pitch circle (pi m / 2 = 3.14159 mm at module "
+                                "2 mm)",
+                                0) == 0);
+  s.mesh.backlash = 80e-3;
+  CHECK(PathOfError(s) == "mesh.backlash");
+
+  // Face width: b/m in [1, 100], 2 to 200 mm at m = 2 mm.
+  s = StandardPair(27, 43);
+  s.pinion.face_width = 200e-3;
+  CHECK(PathOfError(s).empty());
+  s.pinion.face_width = 20.0;  // "face_width: 20" read as 20 m
+  CHECK(MessageOfError(s).rfind("gears.pinion.face_width: gives b/m = 10000 face widths per "
+                                "module; must be in [1, 100] (here [2, 200] mm)",
+                                0) == 0);
+  s.pinion.face_width = 1.9e-3;
+  CHECK(PathOfError(s) == "gears.pinion.face_width");
+
+  s = StandardPair(27, 43);
+  s.mesh.static_transmission_error = {{1e-6, 3e-3}, {0.0, 0.0}};
+  CHECK(PathOfError(s) == "mesh.static_transmission_error.amplitudes[1]");
+  s = StandardPair(27, 43);
+  s.wheel.tip_relief = TipRelief{3e-3, 1e-3};
+  CHECK(PathOfError(s) == "gears.wheel.tip_relief.amount");
+  s.wheel.tip_relief = TipRelief{20e-6, 1e-3};
+  CHECK(PathOfError(s).empty());
+}
+
+TEST_CASE("limits: a module out of range is blamed on its gear, not on its mate",
+          "[validation][limits]") {
+  GearboxSpec s = StandardPair(27, 43);
+  s.pinion.module = 2.0;  // "module: 2" on the pinion: the wheel's 2 mm is right
+  CHECK(PathOfError(s) == "gears.pinion.module");
+}
+
+}  // namespace
+}  // namespace gearnvh

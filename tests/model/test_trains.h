@@ -68,6 +68,9 @@ inline TrainSpec ElasticTwoStage(double element_length = 0.01) {
              TrainGearOf("g4", "output", 54),
              TrainGearOf("g5", "output", 30, Mounting::kLoose),
              TrainGearOf("g6", "layshaft", 25)};
+  // g6-g5 (55 teeth) shares the layshaft-output centre distance of g3-g4 (72 teeth at 2 mm): a
+  // module of 2 x 72 / 55 mm.
+  t.gears[4].gear.module = t.gears[5].gear.module = 2e-3 * 72.0 / 55.0;
   const double beta = 15.0 * std::numbers::pi / 180.0;
   t.gears[0].gear.helix_angle = t.gears[1].gear.helix_angle = beta;
   t.gears[0].gear.hand = Hand::kRight;

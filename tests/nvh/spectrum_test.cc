@@ -140,6 +140,36 @@ TEST_CASE("a sideband table with one named source: the input shaft's orders of a
   }
 }
 
+TEST_CASE("a mesh harmonic on a shaft order's bin is named first", "[nvh][spectrum][sidebands]") {
+  // fm = 3 fin: 3 fin, 1 fm and 2 fm - 3 fin share one bin, 1 fm + 3 fin and 2 fm another; the
+  // rows read "1 fm = ..." and "2 fm = ...", so they count as the mesh harmonics they are. 1 fin
+  // is a shaft order (1 fm - 2 fin on its bin).
+  const double fin = 4.0, fm = 3.0 * fin, record = 3.0;
+  const int n = 3072;
+  const double rate = n / record;
+  SpectrumAnalyzer fft(n);
+  const AmplitudeSpectrum s = fft.Analyze(Sample(n, rate,
+                                                 [&](double t) {
+                                                   return 2e-6 * std::sin(2 * kPi * fm * t) +
+                                                          1e-6 * std::sin(2 * kPi * 2 * fm * t) +
+                                                          3e-6 * std::sin(2 * kPi * fin * t);
+                                                 }),
+                                          rate);
+  std::vector<std::string> harmonics, others;
+  for (const SidebandRow& r : SidebandTable(s, fm, {{"fin", fin}})) {
+    (IsMeshHarmonic(r) ? harmonics : others).push_back(r.label);
+  }
+  REQUIRE(harmonics.size() == 2);
+  CHECK(harmonics[0] == "1 fm = 3 fin = 2 fm - 3 fin");
+  CHECK(harmonics[1] == "2 fm = 1 fm + 3 fin = 3 fm - 3 fin");
+  CHECK(others == std::vector<std::string>{"1 fin = 1 fm - 2 fin"});
+  CHECK(IsMeshHarmonic({"3 fm", 1.0}));
+  CHECK(IsMeshHarmonic({"12 fm = 1 f1", 1.0}));
+  CHECK_FALSE(IsMeshHarmonic({"1 fm + 1 f1", 1.0}));
+  CHECK_FALSE(IsMeshHarmonic({"23 fin = 1 fm", 1.0}));
+  CHECK_FALSE(IsMeshHarmonic({"fm", 1.0}));
+}
+
 TEST_CASE("a line buried in broadband noise is not listed as a sideband",
           "[nvh][spectrum][sidebands]") {
   // A carrier plus deterministic broadband "noise" (many incommensurate tones of 1e-2 a): a

@@ -3,8 +3,10 @@
 // The figures are plain data (titles, axis labels with units, series, labels); this library only
 // draws them. Every render first makes sure an X display exists (display.h) and reports a missing
 // one as a status, never a crash. PNGs are written to a temporary file and renamed, so a reader
-// never sees half an image. Rendering is serialised process-wide (one GL context at a time); the
-// callers compute in parallel and draw one after another.
+// never sees half an image; the image is encoded in memory and written by this library, so a
+// failed write (a full disk) is a status with the system's reason, never VTK's or libpng's text on
+// stderr (VTK's warning output is off). Rendering is serialised process-wide (one GL context at a
+// time); the callers compute in parallel and draw one after another.
 #pragma once
 
 #include <array>
@@ -34,6 +36,8 @@ struct Series {
   std::string label;  // legend entry; empty: not in the legend
   std::vector<double> x, y;
   Style style = Style::kLine;
+  enum class Marker { kCircle, kDiamond };  // of kPoints
+  Marker marker = Marker::kCircle;
   int color = -1;      // palette index; -1: the series index
   double width = 2.0;  // line width or marker size, px
 };
@@ -86,7 +90,8 @@ struct DrawnLayout {
 struct RenderStatus {
   bool ok = true;
   std::string message;
-  DrawnLayout layout;  // when ok
+  DrawnLayout layout;    // when ok
+  int error_number = 0;  // the system's errno when the PNG file could not be written (ENOSPC)
 };
 
 RenderStatus RenderLinePlot(const LinePlot& plot, const ImageOptions& options,

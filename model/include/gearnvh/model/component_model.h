@@ -74,7 +74,7 @@ struct ComponentModel {
   // Mesh.
   PairGeometry geometry;
   MeshCycle cycle;
-  MeshStiffnessSummary mesh_summary;
+  MeshStiffnessSummary mesh_summary;  // mean: CycleMeanStiffness of `segmentation`
   MeshSegmentation segmentation;
   double half_backlash = 0.0;   // b, m
   double mesh_damping = 0.0;    // c = 2 zeta sqrt(k_mean m_e), N s/m
@@ -115,7 +115,13 @@ struct ModalSummary {
 
 // Undamped natural frequencies of the full model linearised in drive contact at the mean mesh
 // stiffness: (K + k_mean v v^T) phi = w^2 M phi (dense; for check and reporting). Rigid-body modes
-// (the free rotation) by the scale-aware criterion of modal_analysis.h.
+// (the free rotation) by the criterion of modal_analysis.h with FullStrainMagnitude.
 ModalSummary FullModelFrequencies(const ComponentModel& model, int count);
+
+// |x|^T |K| |x| + k (|v|^T |x|)^2 of a full-model shape x at mesh stiffness k: the magnitude of
+// the terms of its strain energy, the scale of the rigid-body test (modal_analysis.h) that the
+// full model and every modal tier (shapes recovered) share.
+double FullStrainMagnitude(const ComponentModel& model, double mesh_stiffness,
+                           const Eigen::VectorXd& x);
 
 }  // namespace gearnvh

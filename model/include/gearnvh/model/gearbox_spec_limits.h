@@ -3,6 +3,7 @@
 // protects). Called by ValidateGearboxSpec, so every command applies them.
 #pragma once
 
+#include <cstddef>
 #include <string>
 
 #include "gearnvh/model/gearbox_spec.h"
@@ -35,6 +36,20 @@ struct GearboxLimits {
   static constexpr double kMinYoungsModulus = 0.5e9, kMaxYoungsModulus = 1.2e12;
   // kg/m^3: from gear plastics (about 900-1400) to the densest metals (osmium, 22,590).
   static constexpr double kMinDensity = 500.0, kMaxDensity = 25000.0;
+  // Face width over (normal) module, b/m: narrow instrument gears (about 3) to wide industrial
+  // helical gears (ISO 6336 practice: up to about 40-60). Outside it a unit is likely wrong
+  // (face_width: 20 read as 20 m).
+  static constexpr double kMinFaceWidthPerModule = 1.0, kMaxFaceWidthPerModule = 100.0;
+  // Backlash over the tooth thickness at the pitch circle, s = pi m / 2: a quarter of it is far
+  // beyond any gear's backlash (about 0.02-0.1 m) and leaves the teeth most of their thickness.
+  static constexpr double kMaxBacklashPerToothThickness = 0.25;
+  // A train's size: the meshes, gears and shafts a check builds and reduces (dense models of all
+  // bodies) within minutes and a few hundred MB, and the meshes one gear takes part in (a planet
+  // set has up to about 7; each mesh of a gear multiplies the contact states the solver tracks).
+  static constexpr size_t kMaxTrainShafts = 64, kMaxTrainGears = 256, kMaxTrainMeshes = 128;
+  static constexpr size_t kMaxMeshesPerGear = 12;
+  // m: two meshes between the same two shafts must have the same centre distance to within this.
+  static constexpr double kCenterDistanceTolerance = 1e-6;
 };
 
 // Which limits apply. A schema-1 gearbox owns its operating point (kChecked). A train's mesh
@@ -47,6 +62,11 @@ enum class OperatingLimits {
 
 void ValidateGearboxLimits(const GearboxSpec& spec,
                            OperatingLimits operating = OperatingLimits::kChecked);
+
+// InputError at `path` (a gear's) unless its module is within [kMinModule, kMaxModule] and its
+// face width within the b/m band: the gear's own scale, checked before any rule that compares it
+// with the gear it meshes with (so that the implausible gear is the one named).
+void RequireGearScale(const GearSpec& gear, const std::string& path);
 
 // Tooth load per unit face width, N/m: the torque on gear `b` over its pitch radius and the
 // narrower face, w = T_b / (r_b b_min). Limited to GearboxLimits::kMaxUnitLoad.

@@ -1,21 +1,40 @@
-// Undamped natural frequencies of K phi = w^2 M phi with a rigid-body criterion that does not
-// depend on how stiff the stiffest part of the model is.
+// Undamped natural frequencies of K phi = w^2 M phi, with one rigid-body criterion for every model
+// (the full FE model, every modal tier; docs/design.md §3, "Rigid-body modes").
 //
-// A dense solver computes eigenvalues w^2 to an absolute accuracy of ~eps * w_max^2, so a relative
-// zero test (w^2 <= 1e-9 w_max^2) calls a 60 Hz bending mode "rigid" once a bearing is stiff
-// enough (1e13 N/m). Instead the pencil is solved in shift-invert form
-//   M phi = mu (K + s M) phi,   w^2 = 1/mu - s,
-// where the computed mu carry an absolute error ~eps / s, so w^2 near zero is accurate to ~eps s.
-// The shift s = 1e-10 max_i K_ii / M_ii (the largest eigenvalue is within a factor n of that
-// estimate) keeps K + s M factorisable (condition <= ~1e10 n). A mode is rigid-body when
-// w^2 <= 1e-8 s: eight decades above the rounding of a true zero, and for any practical model
-// below 1e-3 Hz (w_max = 2 pi 1 MHz gives the threshold 2e-4 rad/s).
+// The pencil is solved in shift-invert form M phi = mu (K + s M) phi, w^2 = 1/mu - s, with
+// s = 1e-10 max_i K_ii / M_ii: the computed w^2 of the lowest modes carry an absolute error ~eps s,
+// so a slow elastic mode keeps its digits however stiff the stiffest part of the model is.
+//
+// Rigid-body test: a mode is rigid-body when its strain energy w^2 (phi M-normalised) is below
+// kRigidBodyCancellation of the magnitude of the terms it is summed from, |phi|^T |K| |phi|. A true
+// zero is the cancellation of springs moving rigidly and comes out at ~n eps of that magnitude
+// (the rounding of K, and of a reduction's condensation, in the springs the mode moves), whatever
+// the model's largest eigenvalue; 1e-10 is three decades above that and leaves such a frequency
+// fewer than three significant digits. Measuring against the magnitude the mode itself strains,
+// not the largest eigenvalue, keeps a 60 Hz mode elastic beside a 1e17 N/m bearing, and gives a
+// reduced tier the verdict of the full model when the magnitude is taken there (StrainMagnitude).
 #pragma once
 
 #include <Eigen/Dense>
+#include <Eigen/Sparse>
+#include <functional>
 #include <vector>
 
 namespace gearnvh {
+
+constexpr double kRigidBodyCancellation = 1e-10;
+
+// |x|^T |K| |x| of a mode shape x (M-normalised, in the pencil's coordinates): the magnitude of
+// the terms of its strain energy x^T K x.
+using StrainMagnitude = std::function<double(const Eigen::VectorXd& shape)>;
+
+// |x|^T |K| |x| for a sparse K.
+double AbsoluteQuadraticForm(const Eigen::SparseMatrix<double>& K, const Eigen::VectorXd& x);
+
+// The rigid-body test above: w2 is the mode's eigenvalue, magnitude its StrainMagnitude.
+inline bool IsRigidBodyMode(double w2, double magnitude) {
+  return w2 <= kRigidBodyCancellation * magnitude;
+}
 
 struct NaturalModes {
   std::vector<double> frequencies_hz;  // ascending, rigid-body modes excluded
@@ -24,8 +43,9 @@ struct NaturalModes {
 };
 
 // The `count` lowest elastic modes of the symmetric pencil (K, M), M positive definite and K
-// positive semidefinite. Shapes are returned when `with_shapes`.
+// positive semidefinite. Shapes are returned when `with_shapes`. `magnitude` defaults to
+// |x|^T |K| |x| of this K; a reduced model passes the full model's (shapes recovered).
 NaturalModes LowestNaturalModes(const Eigen::MatrixXd& K, const Eigen::MatrixXd& M, int count,
-                                bool with_shapes = false);
+                                bool with_shapes = false, const StrainMagnitude& magnitude = {});
 
 }  // namespace gearnvh

@@ -78,12 +78,17 @@ struct SidebandOptions {
 };
 struct SidebandRow {
   std::string label;  // e.g. "1 f1", "2 fm", "1 fm + 1 f1", "3 fm - 2 f2"; "1 f1 = 3 f2" when
-                      // two lines fall on one frequency
+                      // two lines fall on one frequency, a mesh harmonic named first
+                      // ("1 fm = 23 fin")
   double frequency_hz = 0.0;
   double amplitude = 0.0;   // m
   double db_re_1um = 0.0;   // 20 log10(amplitude / 1 µm)
   double background = 0.0;  // local median amplitude
 };
+// Whether a row is a mesh harmonic "k fm" (its label starts with it: a shaft order or sideband
+// falling on the same bin is named after it, "1 fm = 23 fin").
+bool IsMeshHarmonic(const SidebandRow& row);
+
 std::vector<SidebandRow> SidebandTable(const AmplitudeSpectrum& s, double mesh_hz, double pinion_hz,
                                        double wheel_hz, const SidebandOptions& options = {});
 

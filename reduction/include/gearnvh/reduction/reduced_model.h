@@ -27,6 +27,7 @@
 
 #include "gearnvh/model/component_model.h"
 #include "gearnvh/model/input_error.h"
+#include "gearnvh/model/modal_analysis.h"
 
 namespace gearnvh {
 
@@ -106,9 +107,16 @@ ReducedModel ReduceModel(const ComponentModel& model, Tier tier,
 // Static mesh compliance of the full FE model (sparse, gear rotations held), m/N.
 double FullStaticMeshCompliance(const ComponentModel& model);
 
-// Lowest natural frequencies of a reduced model linearised at mean drive contact, and the number of
-// rigid-body modes (the scale-aware criterion of model/modal_analysis.h).
-std::vector<double> ReducedNaturalFrequencies(const ReducedModel& r, double mean_mesh_stiffness,
-                                              int count, int* rigid_body_modes = nullptr);
+// Lowest natural frequencies of a reduced model of `model` linearised at mean drive contact, and
+// the number of rigid-body modes: the criterion of model/modal_analysis.h on the shapes recovered
+// to the full model (ReducedStrainMagnitude), so every tier counts what the full model counts.
+std::vector<double> ReducedNaturalFrequencies(const ComponentModel& model, const ReducedModel& r,
+                                              double mean_mesh_stiffness, int count,
+                                              int* rigid_body_modes = nullptr);
+
+// The full model's strain magnitude (FullStrainMagnitude) of a reduced shape, recovered (T x), at
+// the tier's effective mesh stiffness.
+StrainMagnitude ReducedStrainMagnitude(const ComponentModel& model, const ReducedModel& r,
+                                       double mean_mesh_stiffness);
 
 }  // namespace gearnvh
