@@ -13,6 +13,7 @@
 #include "gearnvh/model/input_error.h"
 #include "support/run_command.h"
 #include "train_load_warnings.h"
+#include "support/paths.h"
 
 namespace gearnvh {
 namespace {
@@ -20,7 +21,7 @@ namespace {
 using testing::kThreeShaftTrainYaml;
 using testing::Replace;
 
-const std::string kExe = GEARNVH_EXE;
+using testing::kExe;
 
 std::string IdleRattle() {
   std::ifstream in(std::string(GEARNVH_EXAMPLES_DIR) + "/idle_rattle.yaml");

@@ -13,7 +13,7 @@
 namespace gearnvh {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
+constexpr double kRadPerCycle = 2.0 * std::numbers::pi;
 
 // single 2e8, double 3.4e8 N/m, contact ratio 1.6: k_bar = 2.84e8 N/m.
 RectangularStiffness Rectangular(double contact_ratio = 1.6) {
@@ -41,7 +41,7 @@ TEST_CASE("tier 1 of a rigid pair with a rectangular override is the closed form
   // 1e-12: the segment sum adds 32 products, a few roundings each.
   CHECK(m.mesh_summary.mean == Approx(k).epsilon(1e-12));
   const double rb1 = BaseRadius(27, 2e-3), rb2 = BaseRadius(43, 2e-3);
-  const double f = std::sqrt(k * (rb1 * rb1 / 3e-4 + rb2 * rb2 / 2e-3)) / kTwoPi;
+  const double f = std::sqrt(k * (rb1 * rb1 / 3e-4 + rb2 * rb2 / 2e-3)) / kRadPerCycle;
   const ReducedModel r = ReduceModel(m, Tier::kTier1);
   REQUIRE(r.natural_frequencies_hz.size() == 1);
   CHECK(r.rigid_body_modes == 1);
@@ -71,8 +71,8 @@ TEST_CASE("tier 1 of a two-stage train with rectangular overrides is the closed 
   const double p = k1 * (ra * ra / j_in + rb * rb / j_lay), q = k2 * (ra * ra / j_lay + rb * rb / j_out);
   const double c = rb * ra / j_lay;
   const double root = std::sqrt(0.25 * (p - q) * (p - q) + k1 * k2 * c * c);
-  const double f_low = std::sqrt(0.5 * (p + q) - root) / kTwoPi;
-  const double f_high = std::sqrt(0.5 * (p + q) + root) / kTwoPi;
+  const double f_low = std::sqrt(0.5 * (p + q) - root) / kRadPerCycle;
+  const double f_high = std::sqrt(0.5 * (p + q) + root) / kRadPerCycle;
   const TrainTorsionalModes modes = TorsionalModes(train);
   CHECK(modes.free_rotations == 1);
   REQUIRE(modes.frequencies_hz.size() == 2);
