@@ -253,7 +253,7 @@ AtlasAxis ParseAxisOption(
     throw InputError(field, 0, "'" + rest.substr(c2 + 1) + "'",
                      "POINTS must be a whole number in 1..100000");
   }
-  axis.range = {from.si_value, to.si_value, static_cast<int>(*points)};
+  axis.range = {from.value_si, to.value_si, static_cast<int>(*points)};
   return axis;
 }
 

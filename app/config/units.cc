@@ -186,12 +186,12 @@ ParsedQuantity ParseQuantity(std::string_view text, Dimension d) {
     return out;
   }
   if (unit.empty()) {
-    out.si_value = *value;
+    out.value_si = *value;
     return out;
   }
   for (const auto& u : Table(d)) {
     if (unit == u.symbol) {
-      out.si_value = *value * u.to_si;
+      out.value_si = *value * u.to_si;
       out.unit = u.symbol;
       return out;
     }

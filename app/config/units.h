@@ -34,7 +34,7 @@ std::string DimensionWithArticle(Dimension d);
 std::string AcceptedUnits(Dimension d);
 
 struct ParsedQuantity {
-  double si_value = 0.0;
+  double value_si = 0.0;
   std::string unit;   // the unit symbol as written ("" for a plain SI number)
   std::string error;  // empty on success; otherwise the rule broken
 };

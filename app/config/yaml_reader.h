@@ -132,7 +132,7 @@ class Reader {
     const ParsedQuantity q = ParseQuantity(n.Scalar(), d);
     if (!q.error.empty()) Fail(path, n, "'" + n.Scalar() + "'", q.error);
     Remember(path, n, n.Scalar());
-    return q.si_value;
+    return q.value_si;
   }
 
   int Integer(const YAML::Node& map, const std::string& path, const std::string& key,

@@ -11,8 +11,8 @@
 
 namespace gearnvh::app {
 
-std::string Format(double si_value, const DisplayUnit& unit) {
-  return Significant(si_value * unit.per_si) + " " + unit.symbol;
+std::string Format(double value_si, const DisplayUnit& unit) {
+  return Significant(value_si * unit.per_si) + " " + unit.symbol;
 }
 
 std::string Significant(double v, int digits) {

@@ -13,7 +13,7 @@
 namespace gearnvh::app {
 
 // "800 rpm", "0.5 N m", "12000 rpm": the SI value in `unit`, 4 significant digits (Significant).
-std::string Format(double si_value, const DisplayUnit& unit);
+std::string Format(double value_si, const DisplayUnit& unit);
 
 // `v` as an engineer writes it, with `digits` significant digits but without an exponent between
 // 1e-4 and 1e15 (digits of the integer part are never dropped): "12000", "12346", "0.5", "700.5".

@@ -146,8 +146,8 @@ double LongestSegment(const MeshSegmentation& segmentation) {
   return longest;
 }
 
-std::string InUnit(double si_value, const DisplayUnit& unit) {
-  return fmt::format("{:.6g} {}", si_value * unit.per_si, unit.symbol);
+std::string InUnit(double value_si, const DisplayUnit& unit) {
+  return fmt::format("{:.6g} {}", value_si * unit.per_si, unit.symbol);
 }
 
 void RequirePitchLineVelocity(const std::string& path, double speed, const DisplayUnit& unit,

@@ -2,6 +2,7 @@
 // gearbox_spec_limits.cc stated on the train's input shaft, loads and first mesh).
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -73,6 +74,11 @@ void RequireMeshesPerGear(const TrainSpec& spec) {
   }
 }
 
+// The normal module of mesh m (its two gears share it: ValidateTrainSpec).
+double NormalModule(const TrainSpec& spec, size_t m) {
+  return spec.FindGear(spec.meshes[m].gear_a)->gear.module;
+}
+
 void RequireSharedCenterDistances(const TrainSpec& spec, const TrainTopology& topology) {
   std::vector<double> distance(spec.meshes.size());
   for (size_t m = 0; m < spec.meshes.size(); ++m) {
@@ -85,7 +91,9 @@ void RequireSharedCenterDistances(const TrainSpec& spec, const TrainTopology& to
       const TrainGear& eb = *spec.FindGear(spec.meshes[e].gear_b);
       const bool same_shafts = (ea.shaft == a.shaft && eb.shaft == b.shaft) ||
                                (ea.shaft == b.shaft && eb.shaft == a.shaft);
-      if (!same_shafts || std::abs(distance[e] - distance[m]) <= L::kCenterDistanceTolerance) {
+      const double tolerance =
+          L::kCenterDistanceTolerancePerModule * std::min(NormalModule(spec, m), NormalModule(spec, e));
+      if (!same_shafts || std::abs(distance[e] - distance[m]) <= tolerance) {
         continue;
       }
       const std::string p = "meshes[" + std::to_string(m) + "]";

@@ -31,7 +31,7 @@ TrainTableOptions CacheOptions(const TrainStepperOptions& options) {
 // rises beyond the rounding; one that creeps slower is switched at a grid segment's start
 // (SwitchOutside) as any start outside the wall.
 bool WithinRounding(const ClosedFormGap& gap, double sign, double horizon, double tolerance) {
-  const double start = std::min(sign * gap.StartValue(), 0.0);  // FirstRise's offset
+  const double start = std::min(sign * gap.StartValue(), 0.0);  // f(0), or 0 at or past the wall
   return start > -tolerance && start + gap.DerivativeBound(0.0, horizon, 1) * horizon <= tolerance;
 }
 

@@ -279,8 +279,10 @@ TEST_CASE("report: a gear train gets its page and figures, next to a pair and pa
   CHECK(batch.find("broken_train.yaml") != std::string::npos);
   // The train's row: TE RMS and impacts per mesh, the loudest loose gear (not "-").
   const auto report = nlohmann::json::parse(ReadWholeFile(out / "report.json"));
+  int trains = 0;
   for (const auto& gearbox : report["gearboxes"]) {
     if (gearbox["folder"] != "transmission") continue;
+    ++trains;
     const auto& summary = gearbox["summary"];
     REQUIRE(summary["meshes"].size() == 6);
     REQUIRE(summary["loudest_loose_gear"].is_string());
@@ -293,6 +295,7 @@ TEST_CASE("report: a gear train gets its page and figures, next to a pair and pa
     CHECK(cells.find("<td>" + summary["loudest_loose_gear"].get<std::string>() + " (") !=
           std::string::npos);
   }
+  CHECK(trains == 1);
 }
 
 TEST_CASE("report: a disk that fills up mid-report exits 4 with one message naming the folder",

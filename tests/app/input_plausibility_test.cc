@@ -56,7 +56,7 @@ TEST_CASE("absurd backlash and face width are refused in both schemas", "[loader
   const std::string face = LoadError(Replace(IdleRattle(), "face_width: 15 mm", "face_width: 20"));
   INFO(face);
   CHECK(Contains(face, "gears.pinion.face_width: gives b/m = 10000 face widths per module; must be "
-                       "in [1, 100] (here [0.002, 0.2] m)"));
+                       "in [0.3, 300] (here [0.0006, 0.6] m)"));
   CHECK(Contains(face, "got '20'"));
 
   const std::string train =

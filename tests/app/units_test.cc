@@ -9,23 +9,23 @@ namespace {
 TEST_CASE("quantities convert to SI", "[units]") {
   // Unit factors are exact decimal or pi-based products: tolerance 2 ulps relative.
   const double tol = 2 * std::numeric_limits<double>::epsilon();
-  CHECK(ParseQuantity("2 mm", Dimension::kLength).si_value == Approx(2e-3).epsilon(tol));
-  CHECK(ParseQuantity("100 um", Dimension::kLength).si_value == Approx(1e-4).epsilon(tol));
-  CHECK(ParseQuantity("2mm", Dimension::kLength).si_value == Approx(2e-3).epsilon(tol));
-  CHECK(ParseQuantity("1e-3", Dimension::kLength).si_value == Approx(1e-3).epsilon(tol));
-  CHECK(ParseQuantity("1e-3 m", Dimension::kLength).si_value == Approx(1e-3).epsilon(tol));
-  CHECK(ParseQuantity("20 deg", Dimension::kAngle).si_value ==
+  CHECK(ParseQuantity("2 mm", Dimension::kLength).value_si == Approx(2e-3).epsilon(tol));
+  CHECK(ParseQuantity("100 um", Dimension::kLength).value_si == Approx(1e-4).epsilon(tol));
+  CHECK(ParseQuantity("2mm", Dimension::kLength).value_si == Approx(2e-3).epsilon(tol));
+  CHECK(ParseQuantity("1e-3", Dimension::kLength).value_si == Approx(1e-3).epsilon(tol));
+  CHECK(ParseQuantity("1e-3 m", Dimension::kLength).value_si == Approx(1e-3).epsilon(tol));
+  CHECK(ParseQuantity("20 deg", Dimension::kAngle).value_si ==
         Approx(20 * std::numbers::pi / 180).epsilon(tol));
-  CHECK(ParseQuantity("1500 rpm", Dimension::kAngularSpeed).si_value ==
+  CHECK(ParseQuantity("1500 rpm", Dimension::kAngularSpeed).value_si ==
         Approx(50 * std::numbers::pi).epsilon(tol));
-  CHECK(ParseQuantity("206 GPa", Dimension::kPressure).si_value == Approx(206e9).epsilon(tol));
-  CHECK(ParseQuantity("3e-4 kg*m^2", Dimension::kInertia).si_value == Approx(3e-4).epsilon(tol));
-  CHECK(ParseQuantity("2e8 N/m", Dimension::kStiffness).si_value == Approx(2e8).epsilon(tol));
-  CHECK(ParseQuantity("1e4 N*m/rad", Dimension::kRotationalStiffness).si_value == Approx(1e4));
-  CHECK(ParseQuantity("800 rad/s^2", Dimension::kAngularAcceleration).si_value == Approx(800));
-  CHECK(ParseQuantity("-0.5 N*m", Dimension::kTorque).si_value == Approx(-0.5));
-  CHECK(ParseQuantity("1000 N*s/m", Dimension::kDamping).si_value == Approx(1000));
-  CHECK(ParseQuantity("7850 kg/m^3", Dimension::kDensity).si_value == Approx(7850));
+  CHECK(ParseQuantity("206 GPa", Dimension::kPressure).value_si == Approx(206e9).epsilon(tol));
+  CHECK(ParseQuantity("3e-4 kg*m^2", Dimension::kInertia).value_si == Approx(3e-4).epsilon(tol));
+  CHECK(ParseQuantity("2e8 N/m", Dimension::kStiffness).value_si == Approx(2e8).epsilon(tol));
+  CHECK(ParseQuantity("1e4 N*m/rad", Dimension::kRotationalStiffness).value_si == Approx(1e4));
+  CHECK(ParseQuantity("800 rad/s^2", Dimension::kAngularAcceleration).value_si == Approx(800));
+  CHECK(ParseQuantity("-0.5 N*m", Dimension::kTorque).value_si == Approx(-0.5));
+  CHECK(ParseQuantity("1000 N*s/m", Dimension::kDamping).value_si == Approx(1000));
+  CHECK(ParseQuantity("7850 kg/m^3", Dimension::kDensity).value_si == Approx(7850));
 }
 
 TEST_CASE("bad quantities are rejected with the rule", "[units]") {

@@ -234,6 +234,11 @@ TEST_CASE("train rules: meshes between the same two shafts share one centre dist
                     0) == 0);
   s.gears.back().gear.teeth = 52;  // 72 mm: accepted
   CHECK(PathOfError(s).empty());
+  // Within 1 % of the 2 mm module (20 um), as rounded drawing data gives it: accepted; beyond: not.
+  s.meshes.back().mesh.center_distance = 72.015e-3;
+  CHECK(PathOfError(s).empty());
+  s.meshes.back().mesh.center_distance = 72.025e-3;
+  CHECK(PathOfError(s) == "meshes[3].center_distance");
 }
 
 TEST_CASE("train rules: an implausible module or helix angle is blamed on its own gear",

@@ -129,15 +129,15 @@ TEST_CASE("limits: lengths against the module (backlash, face width, STE, tip re
   s.mesh.backlash = 80e-3;
   CHECK(PathOfError(s) == "mesh.backlash");
 
-  // Face width: b/m in [1, 100], 2 to 200 mm at m = 2 mm.
+  // Face width: b/m in [0.3, 300], 0.6 to 600 mm at m = 2 mm.
   s = StandardPair(27, 43);
-  s.pinion.face_width = 200e-3;
+  s.pinion.face_width = 300e-3;  // a wide double-helical gear, b/m = 150
   CHECK(PathOfError(s).empty());
   s.pinion.face_width = 20.0;  // "face_width: 20" read as 20 m
   CHECK(MessageOfError(s).rfind("gears.pinion.face_width: gives b/m = 10000 face widths per "
-                                "module; must be in [1, 100] (here [2, 200] mm)",
+                                "module; must be in [0.3, 300] (here [0.6, 600] mm)",
                                 0) == 0);
-  s.pinion.face_width = 1.9e-3;
+  s.pinion.face_width = 0.5e-3;
   CHECK(PathOfError(s) == "gears.pinion.face_width");
 
   s = StandardPair(27, 43);

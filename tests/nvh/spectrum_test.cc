@@ -150,9 +150,9 @@ TEST_CASE("a mesh harmonic on a shaft order's bin is named first", "[nvh][spectr
   SpectrumAnalyzer fft(n);
   const AmplitudeSpectrum s = fft.Analyze(Sample(n, rate,
                                                  [&](double t) {
-                                                   return 2e-6 * std::sin(2 * kPi * fm * t) +
-                                                          1e-6 * std::sin(2 * kPi * 2 * fm * t) +
-                                                          3e-6 * std::sin(2 * kPi * fin * t);
+                                                   return 2e-6 * std::sin(2 * std::numbers::pi * fm * t) +
+                                                          1e-6 * std::sin(2 * std::numbers::pi * 2 * fm * t) +
+                                                          3e-6 * std::sin(2 * std::numbers::pi * fin * t);
                                                  }),
                                           rate);
   std::vector<std::string> harmonics, others;

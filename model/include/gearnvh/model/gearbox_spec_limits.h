@@ -36,10 +36,10 @@ struct GearboxLimits {
   static constexpr double kMinYoungsModulus = 0.5e9, kMaxYoungsModulus = 1.2e12;
   // kg/m^3: from gear plastics (about 900-1400) to the densest metals (osmium, 22,590).
   static constexpr double kMinDensity = 500.0, kMaxDensity = 25000.0;
-  // Face width over (normal) module, b/m: narrow instrument gears (about 3) to wide industrial
-  // helical gears (ISO 6336 practice: up to about 40-60). Outside it a unit is likely wrong
-  // (face_width: 20 read as 20 m).
-  static constexpr double kMinFaceWidthPerModule = 1.0, kMaxFaceWidthPerModule = 100.0;
+  // Face width over (normal) module, b/m: thin stamped or fine-blanked gears (about 0.5-1) to
+  // wide double-helical turbo, marine and mill gears (b/d up to 2-2.5 at 40-60 teeth: b/m up to
+  // about 150). A unit left out is a factor of 1000 (face_width: 20 read as 20 m), far outside.
+  static constexpr double kMinFaceWidthPerModule = 0.3, kMaxFaceWidthPerModule = 300.0;
   // Backlash over the tooth thickness at the pitch circle, s = pi m / 2: a quarter of it is far
   // beyond any gear's backlash (about 0.02-0.1 m) and leaves the teeth most of their thickness.
   static constexpr double kMaxBacklashPerToothThickness = 0.25;
@@ -48,8 +48,11 @@ struct GearboxLimits {
   // set has up to about 7; each mesh of a gear multiplies the contact states the solver tracks).
   static constexpr size_t kMaxTrainShafts = 64, kMaxTrainGears = 256, kMaxTrainMeshes = 128;
   static constexpr size_t kMaxMeshesPerGear = 12;
-  // m: two meshes between the same two shafts must have the same centre distance to within this.
-  static constexpr double kCenterDistanceTolerance = 1e-6;
+  // Two meshes between the same two shafts must have the same centre distance to within this
+  // fraction of the smaller normal module: data rounded as drawings give it (shift coefficients to
+  // 0.001, helix angles to 0.01 deg) moves it by a few micrometres, one tooth more or less by about
+  // half a module.
+  static constexpr double kCenterDistanceTolerancePerModule = 0.01;
 };
 
 // Which limits apply. A schema-1 gearbox owns its operating point (kChecked). A train's mesh
@@ -83,7 +86,7 @@ struct TrainTopology;
 double LongestSegment(const MeshSegmentation& segmentation);
 
 // An SI value shown in `unit` with 6 significant digits: "1500 rpm".
-std::string InUnit(double si_value, const DisplayUnit& unit);
+std::string InUnit(double value_si, const DisplayUnit& unit);
 
 // Pitch radius of a gear, m: r = m_n z / (2 cos beta).
 double PitchRadius(const GearSpec& gear);
