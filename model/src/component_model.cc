@@ -89,7 +89,6 @@ ComponentModel BuildComponentModel(const GearboxSpec& spec, const ComponentModel
   m.cycle = ComputeMeshCycle(pair, g, options.mesh);
   m.mesh_summary = SummarizeMeshCycle(m.cycle, g);
   m.segmentation = SegmentMeshCycle(pair, evaluator, spec.analysis.segments_per_cycle);
-  m.mesh_summary.mean = CycleMeanStiffness(m.segmentation);  // the solver's k-bar
   // Engine orders are multiples of the pinion speed: z1 mesh cycles per pinion revolution.
   RequireExcitationResolved(spec.operating.excitation, spec.pinion.teeth,
                             LongestSegment(m.segmentation), spec.analysis.segments_per_cycle,

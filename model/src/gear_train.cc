@@ -87,7 +87,6 @@ GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& opti
                         return rule + " in " + mesh.pair.path_mesh + " (" + mesh.name + ")";
                       });
     }
-    mesh.stiffness.mean = CycleMeanStiffness(mesh.segmentation);  // the solver's k-bar
     for (const std::string& w : mesh.cycle.warnings) train.warnings.push_back(w);
     // The solver's grid cuts at every mesh's segment boundaries, so its segments are no longer
     // than the finest mesh's: that mesh (most segments per input revolution) decides.

@@ -144,12 +144,6 @@ MeshSegmentation SegmentMeshCycle(const MeshPair& pair, const MeshEvaluator& ev,
   return out;
 }
 
-double CycleMeanStiffness(const MeshSegmentation& segmentation) {
-  double mean = 0.0;
-  for (const MeshSegment& s : segmentation.segments) {
-    mean += (s.tau_end - s.tau_begin) * s.drive.stiffness;
-  }
   return mean;
 }
-
 }  // namespace gearnvh

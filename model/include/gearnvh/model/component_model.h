@@ -74,7 +74,7 @@ struct ComponentModel {
   // Mesh.
   PairGeometry geometry;
   MeshCycle cycle;
-  MeshStiffnessSummary mesh_summary;  // mean: CycleMeanStiffness of `segmentation`
+  MeshStiffnessSummary mesh_summary;
   MeshSegmentation segmentation;
   double half_backlash = 0.0;   // b, m
   double mesh_damping = 0.0;    // c = 2 zeta sqrt(k_mean m_e), N s/m

@@ -48,10 +48,5 @@ struct MeshSegmentation {
 MeshSegmentation SegmentMeshCycle(const MeshPair& pair, const MeshEvaluator& evaluator,
                                   int segments_per_cycle, int scan_samples = 2048);
 
-// The cycle mean of the drive-flank stiffness, sum_j (tau_end - tau_begin) k_j: the mean the
-// solver's segments carry, integrated between the mandatory breaks (exact for an override). A
-// mean of samples is not: a sample cell that straddles a break (a rectangular switch) weighs
-// both sides by its midpoint (docs/design.md §2.3).
-double CycleMeanStiffness(const MeshSegmentation& segmentation);
 
 }  // namespace gearnvh
