@@ -189,7 +189,7 @@ TEST_CASE("a line buried in broadband noise is not listed as a sideband",
   SpectrumAnalyzer fft(n);
   for (auto [small, listed] : {std::pair{3e-3, false}, {0.1, true}}) {
     const AmplitudeSpectrum s =
-        fft.Analyze(Sample(n, rate, [&](double t) { return signal(small, t); }), rate);
+        fft.Analyze(Sample(n, rate, [&, small = small](double t) { return signal(small, t); }), rate);
     bool found = false;
     for (const SidebandRow& r : SidebandTable(s, fm, f1, f2)) found |= r.label == "1 fm + 1 f1";
     CHECK(found == listed);
@@ -207,7 +207,10 @@ TEST_CASE("a signal at rest lists no line, whatever its rounding holds",
   SpectrumAnalyzer fft(n);
   for (auto [ripple, listed] : {std::pair{1e-21, false}, {1e-9, true}}) {
     const AmplitudeSpectrum s = fft.Analyze(
-        Sample(n, rate, [&](double t) { return mean + ripple * std::sin(2 * std::numbers::pi * fm * t); }),
+        Sample(n, rate,
+               [&, ripple = ripple](double t) {
+                 return mean + ripple * std::sin(2 * std::numbers::pi * fm * t);
+               }),
         rate);
     const std::vector<SidebandRow> rows = SidebandTable(s, fm, {{"fin", 4.0}});
     INFO("ripple " << ripple);
@@ -218,7 +221,11 @@ TEST_CASE("a signal at rest lists no line, whatever its rounding holds",
   // -354 dB and not listed, a 1e-9 m one is.
   for (auto [ripple, listed] : {std::pair{1e-22, false}, {1e-9, true}}) {
     const AmplitudeSpectrum s = fft.Analyze(
-        Sample(n, rate, [&](double t) { return ripple * std::sin(2 * std::numbers::pi * fm * t); }), rate);
+        Sample(n, rate,
+               [&, ripple = ripple](double t) {
+                 return ripple * std::sin(2 * std::numbers::pi * fm * t);
+               }),
+        rate);
     SidebandOptions options;
     options.scale = 50e-6;
     INFO("ripple " << ripple << " about 0");
