@@ -48,5 +48,4 @@ struct MeshSegmentation {
 MeshSegmentation SegmentMeshCycle(const MeshPair& pair, const MeshEvaluator& evaluator,
                                   int segments_per_cycle, int scan_samples = 2048);
 
-
 }  // namespace gearnvh
