@@ -144,6 +144,4 @@ MeshSegmentation SegmentMeshCycle(const MeshPair& pair, const MeshEvaluator& ev,
   return out;
 }
 
-  return mean;
-}
 }  // namespace gearnvh
