@@ -43,9 +43,6 @@ nlohmann::json RadiiJson(const GearRadii& r) {
           {"root_radius", r.root}};
 }
 
-const std::vector<Tier> kAllTiers{Tier::kTier1, Tier::kTier2,     Tier::kTier3, Tier::kTier4,
-                                  Tier::kTier5, Tier::kN20Simple, Tier::kN20Mta};
-
 void PrintText(const std::string& file, const GearboxSpec& spec, const ComponentModel& model,
                const ModalSummary& modes, const std::vector<ReducedModel>& tiers) {
   const PairGeometry& g = model.geometry;

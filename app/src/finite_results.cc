@@ -1,5 +1,6 @@
 #include "finite_results.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "command_errors.h"
@@ -28,5 +29,11 @@ void Walk(const nlohmann::json& j, const std::string& path, const std::string& w
 }  // namespace
 
 void RequireFinite(const nlohmann::json& doc, const std::string& what) { Walk(doc, "", what); }
+
+nlohmann::json FiniteOrNull(double v) { return std::isfinite(v) ? nlohmann::json(v) : nullptr; }
+
+double RelativeDifference(double a, double b) {
+  return std::abs(a - b) / std::max(std::abs(b), 1e-300);
+}
 
 }  // namespace gearnvh::app

@@ -25,10 +25,6 @@ namespace gearnvh::app {
 
 namespace {
 
-nlohmann::json FiniteOrNull(double v) {
-  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
-}
-
 nlohmann::json PointJson(const OrbitScanPoint& p) {
   const PeriodicOrbit& o = p.orbit;
   nlohmann::json mu = nlohmann::json::array();

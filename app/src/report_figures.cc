@@ -11,7 +11,8 @@ namespace gearnvh::app {
 
 namespace {
 
-constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+// A NaN point ends one stem of a line plot before the next starts.
+constexpr double kStemBreak = std::numeric_limits<double>::quiet_NaN();
 
 }  // namespace
 
@@ -88,7 +89,7 @@ render::LinePlot SidebandStemFigure(const OperatingPointAnalysis& op) {
   for (const SidebandRow* r : shown) {
     const int kind = harmonic(*r) ? 0 : 1;
     stems[kind].x.insert(stems[kind].x.end(), {r->frequency_hz, r->frequency_hz, r->frequency_hz});
-    stems[kind].y.insert(stems[kind].y.end(), {base, r->db_re_1um, kNan});
+    stems[kind].y.insert(stems[kind].y.end(), {base, r->db_re_1um, kStemBreak});
     heads[kind].x.push_back(r->frequency_hz);
     heads[kind].y.push_back(r->db_re_1um);
   }

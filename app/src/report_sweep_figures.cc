@@ -12,7 +12,8 @@ namespace gearnvh::app {
 
 namespace {
 
-constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+// A point without a value: the plots leave it out.
+constexpr double kNoValue = std::numeric_limits<double>::quiet_NaN();
 
 // Palette indices (plots.h PaletteColor): blue, orange, green, vermillion, sky, purple, grey.
 int TypeColor(ModeType t) {
@@ -152,8 +153,9 @@ render::HeatMap WaterfallFigure(const SpeedSweepResult& sweep) {
   h.log_y = sweep.speed_scale == AxisScale::kLog;
   for (const SpeedPoint& s : sweep.points) {
     for (int k = 0; k < h.nx; ++k) {
-      const double a = s.ok && k < static_cast<int>(s.amplitude_m.size()) ? s.amplitude_m[k] : kNan;
-      h.values.push_back(a > 0.0 ? 20.0 * std::log10(a / 1e-6) : kNan);
+      const double a =
+          s.ok && k < static_cast<int>(s.amplitude_m.size()) ? s.amplitude_m[k] : kNoValue;
+      h.values.push_back(a > 0.0 ? 20.0 * std::log10(a / 1e-6) : kNoValue);
     }
   }
   // Keep the colour range on the signal: floor 60 dB below the strongest line.
@@ -186,8 +188,8 @@ render::LinePlot OrderTrackFigure(const std::vector<OrderTrack>& mesh,
   auto add = [&](const OrderTrack& t, render::Series::Style style, int color, double width) {
     render::Series s{t.label, t.speed_rpm, {}, style};
     for (double a : t.amplitude_m) {
-      const double db = a > 0.0 ? 20.0 * std::log10(a / 1e-6) : kNan;
-      s.y.push_back(db >= top - 100.0 ? db : kNan);
+      const double db = a > 0.0 ? 20.0 * std::log10(a / 1e-6) : kNoValue;
+      s.y.push_back(db >= top - 100.0 ? db : kNoValue);
     }
     s.color = color;
     s.width = width;
@@ -225,11 +227,11 @@ render::HeatMap AtlasFigure(const AtlasResult& atlas, bool lyapunov, const Gearb
   }
   for (const AtlasCell& c : atlas.cells) {
     if (!c.ok) {
-      h.values.push_back(kNan);
+      h.values.push_back(kNoValue);
     } else if (lyapunov) {
       h.values.push_back(std::max(c.lyapunov_per_forcing_cycle, -positive));
     } else {
-      h.values.push_back(c.rattle_index > 0.0 ? std::log10(c.rattle_index) : kNan);
+      h.values.push_back(c.rattle_index > 0.0 ? std::log10(c.rattle_index) : kNoValue);
     }
   }
   return h;
@@ -256,11 +258,11 @@ render::LinePlot TierComparisonFigure(const std::string& cost_label,
   negative.marker = render::Series::Marker::kDiamond;
   auto shown = [](double error) {
     constexpr double kFloor = 1e-6;  // %
-    return std::isfinite(error) ? std::max(100.0 * std::abs(error), kFloor) : kNan;
+    return std::isfinite(error) ? std::max(100.0 * std::abs(error), kFloor) : kNoValue;
   };
   for (const TierPoint& t : tiers) {
     const double f = shown(t.frequency_error);
-    const double e = t.second_error ? shown(*t.second_error) : kNan;
+    const double e = t.second_error ? shown(*t.second_error) : kNoValue;
     if (std::isfinite(f)) {
       frequency.x.push_back(t.cost);
       frequency.y.push_back(f);

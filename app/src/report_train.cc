@@ -4,7 +4,6 @@
 
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <sstream>
 
 #include "atomic_file.h"
@@ -22,8 +21,6 @@ namespace gearnvh::app {
 namespace fs = std::filesystem;
 
 namespace {
-
-constexpr double kRpm = 60.0 / (2.0 * std::numbers::pi);
 
 // One series per mesh (or loose gear) of `value` against the input speed; failed speeds left out.
 template <typename Value>
@@ -84,7 +81,7 @@ std::string TrainPage(const TrainPageInput& in) {
   }
   h << "<h2>Operating point</h2>\n<table>\n"
     << Row("input shaft", in.spec.operating.input_shaft)
-    << Row("input speed (rpm)", Number(in.spec.operating.speed * kRpm))
+    << Row("input speed (rpm)", Number(Rpm(in.spec.operating.speed)))
     << Row("bodies / meshes", fmt::format("{} / {}", op.tables.bodies(), op.tables.meshes.size()))
     << Row("common period (s)", op.tables.common_period > 0.0
                                     ? Number(op.tables.common_period)
@@ -252,7 +249,7 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
   };
   const AxisScale scale = spec.analysis.speed_sweep.scale;
   std::vector<double> campbell_rpm;
-  for (double w : check.campbell.speeds_rad_s) campbell_rpm.push_back(w * kRpm);
+  for (double w : check.campbell.speeds_rad_s) campbell_rpm.push_back(Rpm(w));
   draw("campbell.png",
        std::string("Every tracked natural frequency of the train's ") +
            TierName(check.campbell_tier) +

@@ -24,7 +24,7 @@
 namespace gearnvh::app {
 namespace {
 
-constexpr int kSamplesPerCycle = 32;
+constexpr int kTraceSamplesPerCycle = 32;
 
 // Each mesh's harmonics, as the pair lists them (MeshHarmonicsText): every line of every source
 // down to the rounding floor would be hundreds of lines per mesh; they are in --json.
@@ -137,7 +137,6 @@ void PrintJumps(const TrainTables& tables, const TrainStepperOptions& solver,
 }
 
 // Infinity (no positive exponent: no horizon) as null.
-nlohmann::json FiniteOrNull(double x) { return std::isfinite(x) ? nlohmann::json(x) : nullptr; }
 
 void PrintLyapunov(const TrainLyapunovSummary& l) {
   fmt::print("\n  Lyapunov exponents  ({}; free rotation removed; {} saltations over {:.4f} s)\n",
@@ -242,7 +241,7 @@ TrainSimulatePlan PlanTrainSimulate(const SimulateOptions& options, const TrainS
   TrainRunOptions& run = plan.run;
   run.cycles = options.cycles.value_or(spec.analysis.cycles);
   run.transient = options.transient.value_or(spec.analysis.transient_cycles);
-  run.samples_per_cycle = kSamplesPerCycle;
+  run.samples_per_cycle = kTraceSamplesPerCycle;
   run.events = settings.events;
   run.tier = settings.tier;
   RequireCycleCounts(run.cycles, 1, run.transient, names);

@@ -90,11 +90,6 @@ void PrintRigidBodyModes(const TiersComparison& c) {
   fmt::print("  rigid-body modes (not compared): {}\n", text);
 }
 
-double RelativeDifference(double a, double b) {
-  const double scale = std::max(std::abs(b), 1e-300);
-  return std::abs(a - b) / scale;
-}
-
 }  // namespace
 
 double TierFrequencyError(const ReducedModel& reduced, const ModalSummary& full) {

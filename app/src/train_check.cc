@@ -15,8 +15,6 @@
 namespace gearnvh::app {
 namespace {
 
-constexpr double kRpm = 60.0 / (2.0 * std::numbers::pi);
-
 struct TierCrossing {
   int mode = 0;              // numbered from 1
   std::string line;          // "mesh g1-g2 1x", "shaft input 1x"
@@ -51,9 +49,6 @@ std::vector<TierCrossing> CriticalSpeeds(const TrainSpec& spec, const GearTrain&
 }
 
 const char* KindName(BodyKind kind) { return kind == BodyKind::kShaft ? "shaft" : "loose gear"; }
-
-const std::vector<Tier> kAllTiers{Tier::kTier1, Tier::kTier2,     Tier::kTier3, Tier::kTier4,
-                                  Tier::kTier5, Tier::kN20Simple, Tier::kN20Mta};
 
 nlohmann::json MatrixJson(const Eigen::MatrixXd& m) {
   nlohmann::json rows = nlohmann::json::array();
@@ -100,7 +95,8 @@ nlohmann::json CampbellJson(const CampbellData& data) {
 TrainCheck BuildTrainCheck(const TrainSpec& spec) {
   TrainCheck c;
   c.train = BuildGearTrain(spec);
-  for (const std::string& w : TrainLoadWarnings(spec, c.train.topology)) c.train.warnings.push_back(w);
+  for (const std::string& w : TrainLoadWarnings(spec, c.train.topology))
+    c.train.warnings.push_back(w);
   c.torsional = TorsionalModes(c.train);
   c.structure = AssembleTrainStructure(spec, c.train);
   c.campbell_tier = spec.analysis.tier;
@@ -257,7 +253,7 @@ void PrintTrainCheck(const std::string& file, const TrainSpec& spec, const Train
     for (int g : body.gears)
       gears += (gears.empty() ? "" : ", ") + spec.gears[static_cast<size_t>(g)].name;
     fmt::print("  {:<16}{:<12}{:>14.2f}{:>18.4e}   {}\n", body.name, KindName(body.kind),
-               body.speed * kRpm, train.body_inertia[b], gears);
+               Rpm(body.speed), train.body_inertia[b], gears);
   }
   fmt::print("  input torque balancing the loads: {:.4g} N m\n", train.input_torque);
   fmt::print("  tier 1 (torsional, {} DOF, {} free rotation{}): natural frequencies [Hz]\n   ",
@@ -293,7 +289,7 @@ void PrintTrainCheck(const std::string& file, const TrainSpec& spec, const Train
   fmt::print(
       "  Campbell ({}, input {:.0f}-{:.0f} rpm): {} tracked modes, {} order lines, {} "
       "critical speeds\n",
-      TierName(check.campbell_tier), cd.speeds_rad_s.front() * kRpm, cd.speeds_rad_s.back() * kRpm,
+      TierName(check.campbell_tier), Rpm(cd.speeds_rad_s.front()), Rpm(cd.speeds_rad_s.back()),
       cd.modes.size(), cd.orders.size(), cd.critical_speeds.size());
   constexpr size_t kPrintedCrossings = 30;
   for (size_t i = 0; i < std::min(kPrintedCrossings, cd.critical_speeds.size()); ++i) {

@@ -17,10 +17,6 @@
 namespace gearnvh::app {
 namespace {
 
-double RelativeDifference(double a, double b) {
-  return b != 0.0 ? std::abs(a - b) / std::abs(b) : std::abs(a);
-}
-
 TrainTierRow RunTier(const TrainSpec& spec, TrainRunOptions run, Tier tier) {
   run.tier = tier;
   // Every tier steps the same cycles: whether a transient is certified and jumped depends on the

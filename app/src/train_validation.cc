@@ -22,7 +22,7 @@ namespace {
 constexpr long kWindowEvents = 20;
 constexpr int kMinCycles = 2;
 constexpr int kMaxCycles = 200;
-constexpr int kSamplesPerCycle = 64;
+constexpr int kReferenceSamplesPerCycle = 64;
 
 // The reference: CVODE at rtol 1e-13. Its error is estimated by a run at rtol 1e-12 (measured on
 // a rattling loose gear against a quad-precision integration: 4.3e-7 of the TE after three
@@ -214,8 +214,9 @@ TrainReferenceComparison CompareTrainWithReference(
   TrainRecorder recorder(candidate, 1, 0.0);
   recorder.KeepEvents(exact_events);
   const bool ran = stepper.Run(end, &recorder);
-  const long compared = std::count_if(ref.events.begin(), ref.events.end(),
-                                      [end](const TrainReferenceEvent& e) { return e.time <= end; });
+  const long compared =
+      std::count_if(ref.events.begin(), ref.events.end(),
+                    [end](const TrainReferenceEvent& e) { return e.time <= end; });
   const long mismatched =
       !ran || stepper.summary().events != exact_events
           ? compared + exact_events
@@ -291,8 +292,8 @@ std::vector<ValidationRow> RunTrainValidationLadder(
   done(1);
   const double window = cycles * period;
   std::vector<double> times;
-  for (int k = 1; k <= cycles * kSamplesPerCycle; ++k)
-    times.push_back(window * k / (cycles * kSamplesPerCycle));
+  for (int k = 1; k <= cycles * kReferenceSamplesPerCycle; ++k)
+    times.push_back(window * k / (cycles * kReferenceSamplesPerCycle));
 
   // 1-2. CVODE (BDF, its own assembly of every tuple): TE at the samples and every event.
   TrainReferenceComparison cvode =

@@ -2,20 +2,10 @@
 
 #include <cmath>
 #include <numbers>
-#include <sstream>
 
 #include "gearnvh/model/input_error.h"
 
 namespace gearnvh {
-namespace {
-std::string Num(double v) {
-  std::ostringstream os;
-  os.precision(6);
-  os << v;
-  return os.str();
-}
-}  // namespace
-
 double Involute(double alpha) { return std::tan(alpha) - alpha; }
 
 double InverseInvolute(double inv) {
@@ -100,12 +90,12 @@ PairGeometry ComputePairGeometry(const MeshPair& pair) {
     if (pair.mesh.center_distance) {
       throw InputError(pair.path_mesh + ".center_distance", 0,
                        {"{}", {InputError::Length(g.center_distance)}},
-                       {"gives a transverse contact ratio of " + Num(g.contact_ratio) +
+                       {"gives a transverse contact ratio of " + MessageNumber(g.contact_ratio) +
                             ", must give >= 1 for continuous contact (the standard centre "
                             "distance r_p,a + r_p,b is {})",
                         {InputError::Length(a0)}});
     }
-    throw InputError(pair.path_mesh, 0, Num(g.contact_ratio),
+    throw InputError(pair.path_mesh, 0, MessageNumber(g.contact_ratio),
                      "contact ratio must be >= 1 for continuous contact");
   }
   g.mesh_frequency_hz = p.teeth * pair.speed_a / (2.0 * std::numbers::pi);

@@ -19,10 +19,6 @@ namespace {
 
 using L = GearboxLimits;
 
-std::string Num(double v) { return fmt::format("{:.6g}", v); }
-
-double Involute(double a) { return std::tan(a) - a; }
-
 void GearLimits(const GearSpec& gear, const std::string& p) {
   // A helical gear's teeth are generated on its transverse section (m_t, alpha_t, and h_a*, x
   // scaled by cos beta), so undercut (z_min = 2 h_a* cos(beta) / sin^2 alpha_t, ISO 21771) and the
@@ -99,10 +95,10 @@ void MeshLengthLimits(const GearboxSpec& spec) {
   for (size_t i = 0; i < ste.size(); ++i) {
     within_module("mesh.static_transmission_error.amplitudes[" + std::to_string(i) + "]", ste[i]);
   }
-  for (const auto& [gear, path] : {std::pair{&spec.pinion, "gears.pinion"},
-                                   std::pair{&spec.wheel, "gears.wheel"}}) {
-    if (gear->tip_relief) within_module(std::string(path) + ".tip_relief.amount",
-                                        gear->tip_relief->amount);
+  for (const auto& [gear, path] :
+       {std::pair{&spec.pinion, "gears.pinion"}, std::pair{&spec.wheel, "gears.wheel"}}) {
+    if (gear->tip_relief)
+      within_module(std::string(path) + ".tip_relief.amount", gear->tip_relief->amount);
   }
 }
 
@@ -184,7 +180,7 @@ std::string UnresolvedRule(const ExcitationOrderUnresolved::Facts& f, const std:
 
 ExcitationOrderUnresolved::ExcitationOrderUnresolved(Facts facts)
     : InputError("operating.excitation[" + std::to_string(facts.index) + "].order", 0,
-                 Num(facts.order), UnresolvedRule(facts, "segments_per_cycle")),
+                 MessageNumber(facts.order), UnresolvedRule(facts, "segments_per_cycle")),
       facts_(std::move(facts)) {}
 
 std::string ExcitationOrderUnresolved::RuleNaming(const std::string& setting) const {
@@ -208,7 +204,7 @@ void RequireExcitationResolved(const std::vector<ExcitationOrder>& orders,
 
 void RequireInertiaWithinLimit(const std::string& path, double inertia) {
   if (inertia <= L::kMaxInertia) return;
-  throw InputError(path, 0, Num(inertia),
+  throw InputError(path, 0, MessageNumber(inertia),
                    fmt::format("must be <= {:g} kg m^2: heavier than any rotating machine (a "
                                "15 MW wind-turbine rotor is about 3e8 kg m^2), and the modal "
                                "analysis loses its precision (1e300 overflowed to NaN)",
@@ -219,14 +215,14 @@ void ValidateGearboxLimits(const GearboxSpec& spec, OperatingLimits operating) {
   for (const auto& [key, m] : spec.materials) {
     const std::string p = "materials." + key;
     if (!(m.youngs_modulus >= L::kMinYoungsModulus && m.youngs_modulus <= L::kMaxYoungsModulus)) {
-      throw InputError(p + ".youngs_modulus", 0, Num(m.youngs_modulus),
+      throw InputError(p + ".youngs_modulus", 0, MessageNumber(m.youngs_modulus),
                        fmt::format("must be in [{:g}, {:g}] GPa: gear and shaft materials span "
                                    "gear plastics to tungsten carbide (steel: 206 GPa; is the "
                                    "unit missing?)",
                                    L::kMinYoungsModulus * 1e-9, L::kMaxYoungsModulus * 1e-9));
     }
     if (!(m.density >= L::kMinDensity && m.density <= L::kMaxDensity)) {
-      throw InputError(p + ".density", 0, Num(m.density),
+      throw InputError(p + ".density", 0, MessageNumber(m.density),
                        fmt::format("must be in [{:g}, {:g}] kg/m^3: gear and shaft materials span "
                                    "gear plastics to the densest metals (steel: 7850 kg/m^3; is "
                                    "the unit right?)",
@@ -259,7 +255,7 @@ void ValidateGearboxLimits(const GearboxSpec& spec, OperatingLimits operating) {
       const ShaftSpec& s = largest == "shafts.input" ? *spec.input_shaft : *spec.output_shaft;
       const std::string path = largest + (s.element_length ? ".element_length" : ".segments");
       throw InputError(
-          path, 0, s.element_length ? Num(*s.element_length) : std::string("(default)"),
+          path, 0, s.element_length ? MessageNumber(*s.element_length) : std::string("(default)"),
           fmt::format("gives {} shaft elements in all ({:.0f} DOF): the modal analysis of the full "
                       "model would need about {:.3g} GB, the limit is {:.3g} GB (use longer "
                       "elements)",
@@ -279,7 +275,7 @@ void ValidateGearboxLimits(const GearboxSpec& spec, OperatingLimits operating) {
   // Load: a linear-elastic tooth model (small deflections, no yield, no contact-area growth).
   const double unit_load = ToothUnitLoad(spec.pinion, spec.wheel, spec.operating.torque);
   if (!(unit_load <= L::kMaxUnitLoad)) {
-    throw InputError("operating.torque", 0, Num(spec.operating.torque),
+    throw InputError("operating.torque", 0, MessageNumber(spec.operating.torque),
                      fmt::format("gives a tooth load of {:.3g} N/um of face width, above {} N/um: "
                                  "the mesh-stiffness and LSTE models assume small linear-elastic "
                                  "tooth deflections, and real teeth yield long before",
@@ -294,7 +290,8 @@ void ValidateGearboxLimits(const GearboxSpec& spec, OperatingLimits operating) {
     const double fluctuation = e.amplitude / (e.order * omega);
     if (!(fluctuation <= omega)) {
       throw InputError(
-          "operating.excitation[" + std::to_string(i) + "].amplitude", 0, Num(e.amplitude),
+          "operating.excitation[" + std::to_string(i) + "].amplitude", 0,
+          MessageNumber(e.amplitude),
           fmt::format("makes the speed fluctuation a / (order x speed) = {} exceed the mean "
                       "speed {}: the shaft would turn backwards, and the model assumes a steady "
                       "mean speed",
@@ -314,7 +311,7 @@ void ValidateGearboxLimits(const GearboxSpec& spec, OperatingLimits operating) {
     const double seconds = static_cast<double>(a.cycles + a.transient_cycles) / hz;
     if (!(seconds <= L::kMaxSimulatedSeconds)) {
       throw InputError(
-          path, 0, Num(speed),
+          path, 0, MessageNumber(speed),
           fmt::format("is so low that the {} mesh cycles of analysis.cycles + "
                       "transient_cycles last {:.3g} s of simulated time (mesh "
                       "frequency {:.3g} Hz); the limit is {} s",

@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <numbers>
-#include <sstream>
 
 #include "gearnvh/model/count_text.h"
 #include "gearnvh/model/gear_geometry.h"
@@ -21,19 +20,12 @@ std::string Indexed(const std::string& base, size_t i) {
   return s;
 }
 
-std::string Num(double v) {
-  std::ostringstream os;
-  os.precision(6);
-  os << v;
-  return os.str();
-}
-
 // Small rule helpers: each throws InputError(path, value, rule) when the rule is broken.
 void Positive(const std::string& path, double v) {
-  if (!(v > 0.0) || !std::isfinite(v)) throw InputError(path, 0, Num(v), "must be > 0");
+  if (!(v > 0.0) || !std::isfinite(v)) throw InputError(path, 0, MessageNumber(v), "must be > 0");
 }
 void NonNegative(const std::string& path, double v) {
-  if (!(v >= 0.0) || !std::isfinite(v)) throw InputError(path, 0, Num(v), "must be >= 0");
+  if (!(v >= 0.0) || !std::isfinite(v)) throw InputError(path, 0, MessageNumber(v), "must be >= 0");
 }
 bool Within(double v, double lo, double hi, bool lo_open, bool hi_open) {
   const bool ok_lo = lo_open ? v > lo : v >= lo;
@@ -46,7 +38,8 @@ std::string Interval(bool lo_open, bool hi_open, const std::string& lo, const st
 }
 void InRange(const std::string& path, double v, double lo, double hi, bool lo_open, bool hi_open) {
   if (!Within(v, lo, hi, lo_open, hi_open)) {
-    throw InputError(path, 0, Num(v), Interval(lo_open, hi_open, Num(lo), Num(hi)));
+    throw InputError(path, 0, MessageNumber(v),
+                     Interval(lo_open, hi_open, MessageNumber(lo), MessageNumber(hi)));
   }
 }
 // The same for a length or an angle: the value and the bounds in the unit the file wrote.
@@ -69,8 +62,8 @@ void ValidateGear(const GearboxSpec& spec, const GearSpec& g, const std::string&
   Positive(p + ".addendum_coefficient", g.addendum_coefficient);
   if (!(g.dedendum_coefficient >= g.addendum_coefficient) ||
       !std::isfinite(g.dedendum_coefficient)) {
-    throw InputError(p + ".dedendum_coefficient", 0, Num(g.dedendum_coefficient),
-                     "must be >= addendum_coefficient (" + Num(g.addendum_coefficient) +
+    throw InputError(p + ".dedendum_coefficient", 0, MessageNumber(g.dedendum_coefficient),
+                     "must be >= addendum_coefficient (" + MessageNumber(g.addendum_coefficient) +
                          "): the root clearance c* cannot be negative");
   }
   InRange(p + ".profile_shift", g.profile_shift, -1.0, 1.5, false, false);
@@ -83,7 +76,7 @@ void ValidateGear(const GearboxSpec& spec, const GearSpec& g, const std::string&
     NonNegative(p + ".tip_relief.amount", g.tip_relief->amount);
     NonNegative(p + ".tip_relief.length", g.tip_relief->length);
     if (g.tip_relief->amount > 0.0 && !(g.tip_relief->length > 0.0)) {
-      throw InputError(p + ".tip_relief.length", 0, Num(g.tip_relief->length),
+      throw InputError(p + ".tip_relief.length", 0, MessageNumber(g.tip_relief->length),
                        "must be > 0 when the relief amount is > 0");
     }
   }
@@ -93,7 +86,8 @@ void ValidateGear(const GearboxSpec& spec, const GearSpec& g, const std::string&
     InRange(p + ".runout.amplitude", InputError::Length(g.runout->amplitude), 0.0, g.module, false,
             false);
     if (!std::isfinite(g.runout->phase)) {
-      throw InputError(p + ".runout.phase", 0, Num(g.runout->phase), "must be a finite angle");
+      throw InputError(p + ".runout.phase", 0, MessageNumber(g.runout->phase),
+                       "must be a finite angle");
     }
   }
   if (!g.pitch_errors.empty() && static_cast<int>(g.pitch_errors.size()) != g.teeth) {
@@ -106,7 +100,7 @@ void ValidateGear(const GearboxSpec& spec, const GearSpec& g, const std::string&
   }
   const GearRadii r = ComputeGearRadii(g);
   if (!(r.root > 0.0)) {
-    throw InputError(p + ".dedendum_coefficient", 0, Num(g.dedendum_coefficient),
+    throw InputError(p + ".dedendum_coefficient", 0, MessageNumber(g.dedendum_coefficient),
                      "gives a root radius <= 0");
   }
   if (!(g.bore_diameter < 2.0 * r.root)) {
@@ -127,7 +121,7 @@ void ValidateShaft(const GearboxSpec& spec, const ShaftSpec& s, const std::strin
     Positive(q + ".outer_diameter", s.segments[i].outer_diameter);
     NonNegative(q + ".inner_diameter", s.segments[i].inner_diameter);
     if (!(s.segments[i].inner_diameter < s.segments[i].outer_diameter)) {
-      throw InputError(q + ".inner_diameter", 0, Num(s.segments[i].inner_diameter),
+      throw InputError(q + ".inner_diameter", 0, MessageNumber(s.segments[i].inner_diameter),
                        "must be smaller than outer_diameter");
     }
   }
@@ -176,7 +170,7 @@ void ValidateShaft(const GearboxSpec& spec, const ShaftSpec& s, const std::strin
   if (s.element_length) {
     Positive(p + ".element_length", *s.element_length);
     if (len / *s.element_length > 200000.0) {
-      throw InputError(p + ".element_length", 0, Num(*s.element_length),
+      throw InputError(p + ".element_length", 0, MessageNumber(*s.element_length),
                        "gives more than 200000 elements on this shaft");
     }
   }
@@ -186,9 +180,9 @@ void ValidateRange(const SweepRange& r, const std::string& p) {
   const std::optional<SweepRangeViolation> v = FirstSweepRangeViolation(r);
   if (!v) return;
   const std::string value = v->part == "points" ? std::to_string(r.points)
-                            : v->part == "to"   ? Num(r.to)
-                                                : Num(r.from);
-  const std::string detail = v->part == "to" ? " (" + Num(r.from) + ")" : "";
+                            : v->part == "to"   ? MessageNumber(r.to)
+                                                : MessageNumber(r.from);
+  const std::string detail = v->part == "to" ? " (" + MessageNumber(r.from) + ")" : "";
   throw InputError(p + "." + v->part, 0, value, v->rule + detail);
 }
 
@@ -201,8 +195,8 @@ std::optional<SweepRangeViolation> FirstSweepRangeViolation(const SweepRange& r)
     return SweepRangeViolation{"to", "must be greater than from"};
   }
   if (r.scale == AxisScale::kLog && !(r.from > 0.0)) {
-    return SweepRangeViolation{
-        "from", "must be > 0 with scale: log (the points are spaced geometrically)"};
+    return SweepRangeViolation{"from",
+                               "must be > 0 with scale: log (the points are spaced geometrically)"};
   }
   return std::nullopt;
 }
@@ -266,7 +260,7 @@ void ValidateGearboxSpec(const GearboxSpec& spec, OperatingLimits operating) {
       const std::string phase_path = Indexed("mesh.stiffness.table.phase", i);
       InRange(phase_path, t->phase[i], 0.0, 1.0, false, true);
       if (i > 0 && !(t->phase[i] > t->phase[i - 1])) {
-        throw InputError(phase_path, 0, Num(t->phase[i]), "must be strictly increasing");
+        throw InputError(phase_path, 0, MessageNumber(t->phase[i]), "must be strictly increasing");
       }
       Positive(Indexed("mesh.stiffness.table.stiffness", i), t->stiffness[i]);
     }
@@ -276,8 +270,8 @@ void ValidateGearboxSpec(const GearboxSpec& spec, OperatingLimits operating) {
     for (double c : f->cos_coefficients) amplitude_sum += std::abs(c);
     for (double s : f->sin_coefficients) amplitude_sum += std::abs(s);
     if (!(amplitude_sum < f->mean)) {
-      throw InputError("mesh.stiffness.fourier", 0, Num(amplitude_sum),
-                       "sum of |harmonic amplitudes| must be < mean (" + Num(f->mean) +
+      throw InputError("mesh.stiffness.fourier", 0, MessageNumber(amplitude_sum),
+                       "sum of |harmonic amplitudes| must be < mean (" + MessageNumber(f->mean) +
                            " N/m) so the stiffness stays positive");
     }
   }
@@ -316,7 +310,8 @@ void ValidateGearboxSpec(const GearboxSpec& spec, OperatingLimits operating) {
   }
   ValidateRange(a.speed_sweep, "analysis.speed_sweep");
   if (a.speed_sweep.from <= 0.0) {
-    throw InputError("analysis.speed_sweep.from", 0, Num(a.speed_sweep.from), "must be > 0");
+    throw InputError("analysis.speed_sweep.from", 0, MessageNumber(a.speed_sweep.from),
+                     "must be > 0");
   }
   if (a.atlas_x) ValidateRange(a.atlas_x->range, "analysis.atlas.x");
   if (a.atlas_y) ValidateRange(a.atlas_y->range, "analysis.atlas.y");

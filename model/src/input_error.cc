@@ -124,4 +124,6 @@ std::string InputError::Format(const std::string& source, int line, const std::s
   return out;
 }
 
+std::string MessageNumber(double v) { return fmt::format("{:.6g}", v); }
+
 }  // namespace gearnvh

@@ -19,8 +19,6 @@ namespace {
 
 using L = GearboxLimits;
 
-std::string Num(double v) { return fmt::format("{:.6g}", v); }
-
 double BodySpeed(const TrainTopology& t, int body) {
   return std::abs(t.bodies[static_cast<size_t>(body)].speed);
 }
@@ -62,7 +60,8 @@ void RequireMeshesPerGear(const TrainSpec& spec) {
     for (size_t m = 0; m < spec.meshes.size(); ++m) {
       if (spec.meshes[m].gear_a != g.name && spec.meshes[m].gear_b != g.name) continue;
       ++count;
-      if (count <= 3) meshes += (meshes.empty() ? "" : ", ") + ("meshes[" + std::to_string(m) + "]");
+      if (count <= 3)
+        meshes += (meshes.empty() ? "" : ", ") + ("meshes[" + std::to_string(m) + "]");
     }
     if (count <= L::kMaxMeshesPerGear) continue;
     throw InputError("gears." + g.name, 0,
@@ -91,16 +90,15 @@ void RequireSharedCenterDistances(const TrainSpec& spec, const TrainTopology& to
       const TrainGear& eb = *spec.FindGear(spec.meshes[e].gear_b);
       const bool same_shafts = (ea.shaft == a.shaft && eb.shaft == b.shaft) ||
                                (ea.shaft == b.shaft && eb.shaft == a.shaft);
-      const double tolerance =
-          L::kCenterDistanceTolerancePerModule * std::min(NormalModule(spec, m), NormalModule(spec, e));
+      const double tolerance = L::kCenterDistanceTolerancePerModule *
+                               std::min(NormalModule(spec, m), NormalModule(spec, e));
       if (!same_shafts || std::abs(distance[e] - distance[m]) <= tolerance) {
         continue;
       }
       const std::string p = "meshes[" + std::to_string(m) + "]";
       const bool written = spec.meshes[m].mesh.center_distance.has_value();
       throw InputError(
-          p + (written ? ".center_distance" : ".gears"),
-          0,
+          p + (written ? ".center_distance" : ".gears"), 0,
           written ? InputError::Text{"{}", {InputError::Length(distance[m])}}
                   : InputError::Text{"[" + a.name + ", " + b.name + "]"},
           {"joins shafts '" + a.shaft + "' and '" + b.shaft + "' at a centre distance of {}, but " +
@@ -194,7 +192,7 @@ void ValidateTrainLimits(const TrainSpec& spec, const TrainTopology& topology) {
     const int load = flow.main_load[m];  // power flows, so some load sends it
     throw InputError(
         "operating.loads[" + std::to_string(load) + "].torque", 0,
-        Num(op.loads[static_cast<size_t>(load)].torque),
+        MessageNumber(op.loads[static_cast<size_t>(load)].torque),
         fmt::format("gives meshes[{}] ({}-{}) a tooth load of {:.3g} N/um of face width "
                     "(transmitted torque {:.6g} N m on {}), above {} N/um: the mesh-stiffness and "
                     "LSTE models assume small linear-elastic tooth deflections, and real teeth "
@@ -210,7 +208,8 @@ void ValidateTrainLimits(const TrainSpec& spec, const TrainTopology& topology) {
     const double fluctuation = e.amplitude / (e.order * omega_in);
     if (!(fluctuation <= omega_in)) {
       throw InputError(
-          "operating.excitation[" + std::to_string(i) + "].amplitude", 0, Num(e.amplitude),
+          "operating.excitation[" + std::to_string(i) + "].amplitude", 0,
+          MessageNumber(e.amplitude),
           fmt::format("makes the speed fluctuation a / (order x speed) = {} of the input shaft "
                       "'{}' exceed its mean speed {}: the shaft would turn backwards, and the "
                       "model assumes a steady mean speed",
@@ -233,7 +232,7 @@ void ValidateTrainLimits(const TrainSpec& spec, const TrainTopology& topology) {
     const double seconds = static_cast<double>(an.cycles + an.transient_cycles) / hz;
     if (!(seconds <= L::kMaxSimulatedSeconds)) {
       throw InputError(
-          path, 0, Num(speed),
+          path, 0, MessageNumber(speed),
           fmt::format("is so low that the {} cycles of the first mesh (meshes[0], "
                       "analysis.cycles + transient_cycles) last {:.3g} s of simulated "
                       "time (mesh frequency {:.3g} Hz); the limit is {} s",

@@ -14,12 +14,6 @@
 namespace gearnvh {
 namespace {
 
-std::string Num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
-
 std::string MeshPath(int m) { return "meshes[" + std::to_string(m) + "]"; }
 
 // Replaces the schema-1 prefix of an error path found on a mesh's gearbox by the train's.
@@ -79,8 +73,8 @@ void RequireConsistentLoops(const TrainSpec& spec, const TrainTopology& t,
   for (const SpeedClaim& odd : loop_claims) {
     const TrainBody& body = t.bodies[static_cast<size_t>(odd.body)];
     if (SameSpeed(body.speed, odd.speed)) continue;
-    std::vector<SpeedClaim> claims{{t.parent_mesh[static_cast<size_t>(odd.body)], odd.body,
-                                    body.speed}};
+    std::vector<SpeedClaim> claims{
+        {t.parent_mesh[static_cast<size_t>(odd.body)], odd.body, body.speed}};
     for (const SpeedClaim& c : loop_claims) {
       if (c.body == odd.body) claims.push_back(c);
     }
@@ -101,16 +95,14 @@ void RequireConsistentLoops(const TrainSpec& spec, const TrainTopology& t,
     std::string others;
     for (const SpeedClaim& c : claims) {
       if (!SameSpeed(standing->speed, c.speed)) continue;
-      others += (others.empty() ? "" : ", ") +
-                (c.mesh < 0 ? "the input speed" : MeshPath(c.mesh));
+      others += (others.empty() ? "" : ", ") + (c.mesh < 0 ? "the input speed" : MeshPath(c.mesh));
     }
     const TrainMesh& mesh = spec.meshes[static_cast<size_t>(offender.mesh)];
-    throw InputError(MeshPath(offender.mesh) + ".gears", 0,
-                     "[" + mesh.gear_a + ", " + mesh.gear_b + "]",
-                     "closes a kinematic loop whose ratios disagree: it would turn '" + body.name +
-                         "' at " + InUnit(offender.speed, spec.operating.speed_unit) +
-                         ", the other path (" + others + ") at " +
-                         InUnit(standing->speed, spec.operating.speed_unit));
+    throw InputError(
+        MeshPath(offender.mesh) + ".gears", 0, "[" + mesh.gear_a + ", " + mesh.gear_b + "]",
+        "closes a kinematic loop whose ratios disagree: it would turn '" + body.name + "' at " +
+            InUnit(offender.speed, spec.operating.speed_unit) + ", the other path (" + others +
+            ") at " + InUnit(standing->speed, spec.operating.speed_unit));
   }
 }
 
@@ -289,7 +281,7 @@ void ValidateTrainSpec(const TrainSpec& spec) {
   for (const TrainShaft& s : spec.shafts) {
     const std::string p = "shafts." + s.name;
     if (s.inertia && !(*s.inertia >= 0.0 && std::isfinite(*s.inertia))) {
-      throw InputError(p + ".inertia", 0, Num(*s.inertia), "must be >= 0");
+      throw InputError(p + ".inertia", 0, MessageNumber(*s.inertia), "must be >= 0");
     }
     if (s.inertia) RequireInertiaWithinLimit(p + ".inertia", *s.inertia);
     if (!s.inertia && !s.elastic) {
@@ -364,7 +356,7 @@ void ValidateTrainSpec(const TrainSpec& spec) {
                      "must name a key of shafts");
   }
   if (!(spec.operating.speed > 0.0 && std::isfinite(spec.operating.speed))) {
-    throw InputError("operating.speed.value", 0, Num(spec.operating.speed) + " rad/s",
+    throw InputError("operating.speed.value", 0, MessageNumber(spec.operating.speed) + " rad/s",
                      "must be > 0: the input shaft's mean speed (it turns the way it is driven)");
   }
   for (size_t i = 0; i < spec.operating.loads.size(); ++i) {
@@ -374,7 +366,7 @@ void ValidateTrainSpec(const TrainSpec& spec) {
       throw InputError(p + ".on", 0, "'" + load.on + "'", "must name a shaft or a gear");
     }
     if (!(load.torque >= 0.0 && std::isfinite(load.torque))) {
-      throw InputError(p + ".torque", 0, Num(load.torque), "must be >= 0");
+      throw InputError(p + ".torque", 0, MessageNumber(load.torque), "must be >= 0");
     }
   }
   const TrainTopology topology = AnalyseTrainTopology(spec);

@@ -27,7 +27,6 @@ namespace {
 constexpr int kTier4Modes = 8;
 constexpr int kTier5Modes = 28;
 constexpr int kTruncatedModes = 20;
-constexpr int kReportedFrequencies = 10;
 
 std::vector<int> Boundary(const ComponentModel& m, Tier tier) {
   std::vector<NodeDof> dofs;
@@ -127,9 +126,8 @@ void Finish(const ComponentModel& m, ReducedModel& r, double full_compliance) {
   r.full_static_mesh_compliance = full_compliance;
   r.compliance_error_vs_full =
       full_compliance > 0.0 ? (r.static_mesh_compliance - full_compliance) / full_compliance : 0.0;
-  r.natural_frequencies_hz =
-      ReducedNaturalFrequencies(m, r, m.mesh_summary.mean, kReportedFrequencies,
-                                &r.rigid_body_modes);
+  r.natural_frequencies_hz = ReducedNaturalFrequencies(m, r, m.mesh_summary.mean,
+                                                       kReportedFrequencies, &r.rigid_body_modes);
 }
 
 }  // namespace

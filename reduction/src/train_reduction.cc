@@ -15,7 +15,6 @@ namespace {
 
 constexpr int kTier4ModesPerShaft = 4;
 constexpr int kTier5ModesPerShaft = 14;
-constexpr int kReportedFrequencies = 10;
 
 int ModesPerShaft(Tier tier) {
   switch (tier) {

@@ -89,7 +89,7 @@ struct Problem {
   std::vector<ContactState> states;
 };
 
-int Rhs(sunrealtype, N_Vector y, N_Vector ydot, void* data) {
+int TrainRhs(sunrealtype, N_Vector y, N_Vector ydot, void* data) {
   const Problem& p = *static_cast<Problem*>(data);
   Eigen::Map<const Eigen::VectorXd> z(NV_DATA_S(y), NV_LENGTH_S(y));
   Eigen::Map<Eigen::VectorXd> dz(NV_DATA_S(ydot), NV_LENGTH_S(y));
@@ -97,7 +97,8 @@ int Rhs(sunrealtype, N_Vector y, N_Vector ydot, void* data) {
   return 0;
 }
 
-int Jac(sunrealtype, N_Vector, N_Vector, SUNMatrix J, void* data, N_Vector, N_Vector, N_Vector) {
+int TrainJac(sunrealtype, N_Vector, N_Vector, SUNMatrix J, void* data, N_Vector, N_Vector,
+             N_Vector) {
   const Problem& p = *static_cast<Problem*>(data);
   for (long c = 0; c < SM_COLUMNS_D(J); ++c)
     for (long r = 0; r < SM_ROWS_D(J); ++r) SM_ELEMENT_D(J, r, c) = p.A(r, c);
@@ -116,7 +117,7 @@ double Gap(const Problem& p, size_t i, bool drive, const double* z) {
   return drive ? delta - e - mt.half_backlash : delta - e + mt.half_backlash;
 }
 
-int Roots(sunrealtype, N_Vector y, sunrealtype* g, void* data) {
+int TrainRoots(sunrealtype, N_Vector y, sunrealtype* g, void* data) {
   const Problem& p = *static_cast<Problem*>(data);
   for (size_t i = 0; i < p.t->meshes.size(); ++i) {
     g[2 * i] = Gap(p, i, true, NV_DATA_S(y));
@@ -150,8 +151,8 @@ TrainReferenceResult SimulateTrainReference(const TrainTables& t, const Eigen::V
   TrainGrid grid(t);
   p.segments = grid.segments();
   p.A = AssembleTrainGenerator(t, p.segments, p.states);
-  const CvodeBdf cvode(z0, {t.n, options.rtol, options.atol_position, options.atol_velocity, Rhs,
-                            Jac, Roots, static_cast<int>(2 * meshes), &p});
+  const CvodeBdf cvode(z0, {t.n, options.rtol, options.atol_position, options.atol_velocity,
+                            TrainRhs, TrainJac, TrainRoots, static_cast<int>(2 * meshes), &p});
   void* mem = cvode.mem();
   N_Vector y = cvode.y();
   N_Vector dky = N_VNew_Serial(m, cvode.context());

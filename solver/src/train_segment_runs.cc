@@ -15,7 +15,6 @@
 namespace gearnvh {
 namespace {
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
 constexpr int kStateBits = 2;  // per mesh in a combination's code
 
 uint64_t CombinationCode(const std::vector<ContactState>& states) {
@@ -216,7 +215,7 @@ std::unique_ptr<TrainSegmentRuns::Run> TrainSegmentRuns::Build(
   for (int w = 0; w < walls; ++w) {
     run->tolerance[w] =
         1e-9 * t_.meshes[static_cast<size_t>(walls_[static_cast<size_t>(w)].mesh)].half_backlash +
-        64.0 * kEps * run->tolerance[w];
+        64.0 * std::numeric_limits<double>::epsilon() * run->tolerance[w];
   }
   run->constant = f_const + loss_const;
   const Eigen::MatrixXd weights = f_weights + loss_weights;

@@ -9,11 +9,6 @@
 #include "gearnvh/solver/train_stepper.h"
 
 namespace gearnvh {
-namespace {
-
-constexpr double kEps = std::numeric_limits<double>::epsilon();
-
-}  // namespace
 
 void TrainStepperOptions::Validate() const {
   if (!(grazing_rate_tolerance >= 0.0)) {
@@ -70,7 +65,7 @@ void TrainGrid::FindEnd() {
 
 void TrainGrid::Next() {
   // Every mesh whose boundary is this end (within rounding of the time) moves on.
-  const double tolerance = merge_ + 4.0 * kEps * end_;
+  const double tolerance = merge_ + 4.0 * std::numeric_limits<double>::epsilon() * end_;
   for (size_t i = 0; i < segment_.size(); ++i) {
     const TrainMeshTable& mt = t_->meshes[i];
     const double boundary = static_cast<double>(cycle_[i]) * mt.period +

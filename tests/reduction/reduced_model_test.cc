@@ -18,9 +18,6 @@ GearboxSpec Flexible(double element_length = 0.01) {
   return testing::FlexibleShaftsPair(element_length);
 }
 
-const std::vector<Tier> kAllTiers{Tier::kTier1, Tier::kTier2,     Tier::kTier3, Tier::kTier4,
-                                  Tier::kTier5, Tier::kN20Simple, Tier::kN20Mta};
-
 // Independent full-model compliance: dense saddle point [[K, C^T], [C, 0]] with C the two held
 // gear rotations (the library removes the DOF and uses a sparse LDL^T instead).
 double DenseHeldCompliance(const ComponentModel& m) {

@@ -13,12 +13,9 @@ namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
-const std::vector<Tier> kEveryTier{Tier::kTier1, Tier::kTier2,     Tier::kTier3, Tier::kTier4,
-                                  Tier::kTier5, Tier::kN20Simple, Tier::kN20Mta};
-
 std::vector<Tier> TiersOf(const ComponentModel& m) {
   std::vector<Tier> out;
-  for (Tier t : kEveryTier) {
+  for (Tier t : kAllTiers) {
     if (TierAvailable(m, t)) out.push_back(t);
   }
   return out;

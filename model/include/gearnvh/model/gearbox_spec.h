@@ -8,6 +8,7 @@
 // is stated once, here.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <map>
 #include <optional>
@@ -39,13 +40,13 @@ struct Runout {
 enum class Hand { kRight, kLeft };
 
 struct GearSpec {
-  int teeth = 0;                       // >= 6
-  double module = 0.0;                 // m, > 0 (normal module for a helical gear)
+  int teeth = 0;        // >= 6
+  double module = 0.0;  // m, > 0 (normal module for a helical gear)
   double pressure_angle = 20.0 * 3.141592653589793 / 180.0;  // rad, in (0, pi/4) (normal)
-  double face_width = 0.0;             // m, > 0
-  double bore_diameter = 0.0;          // m, >= 0 and < root diameter
-  std::string material;                // a key of GearboxSpec::materials
-  double addendum_coefficient = 1.0;   // h_a*, > 0
+  double face_width = 0.0;                                   // m, > 0
+  double bore_diameter = 0.0;                                // m, >= 0 and < root diameter
+  std::string material;                                      // a key of GearboxSpec::materials
+  double addendum_coefficient = 1.0;                         // h_a*, > 0
   double dedendum_coefficient = 1.25;  // h_f* = h_a* + c*, > addendum coefficient
   double profile_shift = 0.0;          // x, dimensionless
   std::optional<double> inertia;       // kg m^2 polar inertia override (default: solid disk)
@@ -157,6 +158,10 @@ struct OperatingSpec {
 
 // Modal tier names as in docs/design.md §3.
 enum class Tier { kTier1, kTier2, kTier3, kTier4, kTier5, kN20Simple, kN20Mta };
+// Every tier, in the order `check`, `tiers` and reports list them.
+inline constexpr std::array<Tier, 7> kAllTiers{Tier::kTier1, Tier::kTier2, Tier::kTier3,
+                                               Tier::kTier4, Tier::kTier5, Tier::kN20Simple,
+                                               Tier::kN20Mta};
 
 // How the points of a range are spaced: evenly (linear) or geometrically (log; from > 0).
 enum class AxisScale { kLinear, kLog };

@@ -110,4 +110,7 @@ class InputError : public std::runtime_error {
   std::string source_;
 };
 
+// A number in a message or a rule: six significant digits (printf %.6g: 0.001, 2.5e+08).
+std::string MessageNumber(double v);
+
 }  // namespace gearnvh

@@ -31,6 +31,9 @@
 
 namespace gearnvh {
 
+// How many of the lowest natural frequencies a reduced model (pair or train) reports.
+inline constexpr int kReportedFrequencies = 10;
+
 struct ReductionOptions {
   // Modal damping ratio of the Craig–Bampton fixed-interface modes (shaft structural damping), [0,
   // 1).
