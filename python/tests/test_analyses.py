@@ -88,6 +88,16 @@ def test_validate_a_pair_as_the_command_line(gearnvh_exe):
     assert repr(v.checks[0]).startswith("<gearnvh.ValidationCheck fused cycle vs step-by-step")
 
 
+@pytest.mark.parametrize("x, part", [("operating.torque=0.1Nm:0.4Nm:1", "POINTS"),
+                                     ("operating.torque=0.4Nm:0.1Nm:3", "TO")])
+def test_atlas_axes_keep_the_rules_of_the_files_axes(gb, x, part):
+    # The command line refuses these (the rule of analysis.atlas axes); Python did not.
+    with pytest.raises(gearnvh.InputError) as bad:
+        gearnvh.atlas(gb, x=x, y="mesh.backlash=60um:120um:2", cycles=40, transient=20, jobs=1)
+    assert str(bad.value).startswith("x: ") or " x: " in str(bad.value)
+    assert part in str(bad.value) and "analysis.atlas axes" in str(bad.value)
+
+
 def test_a_failed_atlas_cell_shows_its_value_as_the_axis_does(gb):
     a = gearnvh.atlas(gb, x="mesh.backlash=-10um:80um:2", y="operating.speed=800rpm:900rpm:1",
                       cycles=8, transient=0, jobs=1)
