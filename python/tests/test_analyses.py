@@ -99,12 +99,12 @@ def test_atlas_axes_keep_the_rules_of_the_files_axes(gb, x, part):
 
 
 def test_a_failed_atlas_cell_shows_its_value_as_the_axis_does(gb):
-    a = gearnvh.atlas(gb, x="mesh.backlash=-10um:80um:2", y="operating.speed=800rpm:900rpm:1",
+    a = gearnvh.atlas(gb, x="mesh.backlash=-10um:80um:2", y="operating.speed=800rpm:900rpm:2",
                       cycles=8, transient=0, jobs=1)
     cells = a.to_dict()["cells"]
     assert cells[0]["message"] == "mesh.backlash: must be > 0, got -10 µm"
-    assert a.failed == 1
-    assert repr(a) == "<gearnvh.Atlas mesh.backlash x operating.speed: 2 x 1 cells, 1 failed>"
+    assert a.failed == 2  # the -10 µm column at both speeds
+    assert repr(a) == "<gearnvh.Atlas mesh.backlash x operating.speed: 2 x 2 cells, 2 failed>"
     o = gearnvh.orbits(gb, sweep="mesh.backlash=-10um:80um:2", transient=8)
     assert o.points[0].message == "mesh.backlash: must be > 0, got -10 µm"
     assert repr(o.points[0]) == ("<gearnvh.OrbitPoint -1e-05: failed: mesh.backlash: must be > 0, "
