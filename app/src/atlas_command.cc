@@ -15,6 +15,7 @@
 #include "config/gearbox_loader.h"
 #include "display_units.h"
 #include "finite_results.h"
+#include "gearnvh/model/gearbox_spec_validation.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/atlas.h"
 #include "mpi_context.h"
@@ -29,6 +30,17 @@ void RequirePairAxisOption(const GearboxSpec& spec, const AtlasAxis& axis, const
                            const std::string& field) {
   config::RequireVariableParameter(spec, axis.parameter, field);
   RequireAxisWithinPitchLineLimit(TrainOf(spec), axis, text, field, "the mesh");
+}
+
+void RequireAtlasAxisRange(const AtlasAxis& axis, const std::string& text,
+                           const std::string& field) {
+  const auto broken = FirstSweepRangeViolation(axis.range);
+  if (!broken) return;
+  const std::string part = broken->part == "points" ? "POINTS"
+                           : broken->part == "to"   ? "TO"
+                                                    : "FROM";
+  throw InputError(field, 0, text,
+                   part + " " + broken->rule + " (the rule of analysis.atlas axes)");
 }
 
 int RunAtlas(const AtlasCommandOptions& options) {
@@ -57,6 +69,8 @@ int RunAtlas(const AtlasCommandOptions& options) {
     // The file's axes were checked by the loader; the options' are checked here (usage errors).
     if (options.x) RequirePairAxisOption(spec, *x, *options.x, "--x");
     if (options.y) RequirePairAxisOption(spec, *y, *options.y, "--y");
+    if (options.x) RequireAtlasAxisRange(*x, *options.x, "--x");
+    if (options.y) RequireAtlasAxisRange(*y, *options.y, "--y");
     RequireRunLengthOfOptions(loaded.train, LowestInputSpeed(loaded.train, x, y), atlas.cycles,
                               atlas.transient_cycles, options.cycles, options.transient);
     if (x->parameter == y->parameter) {

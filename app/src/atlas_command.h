@@ -36,4 +36,10 @@ int RunAtlas(const AtlasCommandOptions& options);
 void RequirePairAxisOption(const GearboxSpec& spec, const AtlasAxis& axis, const std::string& text,
                            const std::string& field);
 
+// An atlas axis given outside the file (pair or train, command line or Python) keeps the range
+// rules of the file's analysis.atlas axes (FirstSweepRangeViolation: at least 2 points, FROM
+// below TO, a positive FROM on a log axis). InputError naming `field` with `text`.
+void RequireAtlasAxisRange(const AtlasAxis& axis, const std::string& text,
+                           const std::string& field);
+
 }  // namespace gearnvh::app

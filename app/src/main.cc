@@ -18,7 +18,6 @@
 #include "command_errors.h"
 #include "config/gearbox_loader.h"
 #include "gearnvh/model/gearbox_spec_limits.h"
-#include "gearnvh/model/gearbox_spec_validation.h"
 #include "gearnvh_revision.h"
 #include "mpi_context.h"
 #include "orbits_command.h"
@@ -139,13 +138,13 @@ CLI::Option* CheckAxis(CLI::Option* option, const std::string& flag, bool grid =
             return RuleAndValue(train_error);
           }
         }
-        const auto broken = gearnvh::FirstSweepRangeViolation(parsed.range);
-        if (!grid || !broken) return {};
-        const std::string part = broken->part == "points" ? "POINTS"
-                                 : broken->part == "to"   ? "TO"
-                                                          : "FROM";
-        return part + " " + broken->rule + " (the rule of analysis.atlas axes), got '" + text +
-               "'";
+        if (!grid) return {};
+        try {
+          gearnvh::app::RequireAtlasAxisRange(parsed, text, flag);
+        } catch (const gearnvh::InputError& e) {
+          return e.rule() + ", got '" + text + "'";
+        }
+        return {};
       },
       "");
   return Checked(option, axis, "PARAMETER=FROM:TO:N");

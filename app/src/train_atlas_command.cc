@@ -8,6 +8,7 @@
 #include <sstream>
 #include <thread>
 
+#include "atlas_command.h"
 #include "atlas_documents.h"
 #include "atlas_terminal.h"
 #include "command_errors.h"
@@ -263,6 +264,8 @@ TrainAtlasPlan PlanTrainAtlas(const AtlasCommandOptions& options, const TrainSpe
                     options.y ? names("y") : "analysis.atlas.y.parameter");
   if (options.x) RequireAxisWithinPitchLineLimit(spec, *x, *options.x, names("x"));
   if (options.y) RequireAxisWithinPitchLineLimit(spec, *y, *options.y, names("y"));
+  if (options.x) RequireAtlasAxisRange(*x, *options.x, names("x"));
+  if (options.y) RequireAtlasAxisRange(*y, *options.y, names("y"));
   RequireRunLengthOfOptions(spec, LowestInputSpeed(spec, x, y), atlas.cycles,
                             atlas.transient_cycles, options.cycles, options.transient, names);
   plan.x = *x;

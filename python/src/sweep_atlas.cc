@@ -101,6 +101,8 @@ std::shared_ptr<Atlas> RunAtlas(const Gearbox& gb, const std::optional<std::stri
   NamingSource(source, [&] {
     if (x) app::RequirePairAxisOption(spec, *ax, *x, "x");
     if (y) app::RequirePairAxisOption(spec, *ay, *y, "y");
+    if (x) app::RequireAtlasAxisRange(*ax, *x, "x");
+    if (y) app::RequireAtlasAxisRange(*ay, *y, "y");
     RequirePairRunLength(spec, app::LowestInputSpeed(TrainOf(spec), ax, ay), options.cycles,
                          options.transient_cycles, cycles, transient, false);
   });

@@ -88,13 +88,23 @@ def test_validate_a_pair_as_the_command_line(gearnvh_exe):
     assert repr(v.checks[0]).startswith("<gearnvh.ValidationCheck fused cycle vs step-by-step")
 
 
+@pytest.mark.parametrize("x, part", [("operating.torque=0.1Nm:0.4Nm:1", "POINTS"),
+                                     ("operating.torque=0.4Nm:0.1Nm:3", "TO")])
+def test_atlas_axes_keep_the_rules_of_the_files_axes(gb, x, part):
+    # The command line refuses these (the rule of analysis.atlas axes); Python did not.
+    with pytest.raises(gearnvh.InputError) as bad:
+        gearnvh.atlas(gb, x=x, y="mesh.backlash=60um:120um:2", cycles=40, transient=20, jobs=1)
+    assert str(bad.value).startswith("x: ") or " x: " in str(bad.value)
+    assert part in str(bad.value) and "analysis.atlas axes" in str(bad.value)
+
+
 def test_a_failed_atlas_cell_shows_its_value_as_the_axis_does(gb):
-    a = gearnvh.atlas(gb, x="mesh.backlash=-10um:80um:2", y="operating.speed=800rpm:900rpm:1",
+    a = gearnvh.atlas(gb, x="mesh.backlash=-10um:80um:2", y="operating.speed=800rpm:900rpm:2",
                       cycles=8, transient=0, jobs=1)
     cells = a.to_dict()["cells"]
     assert cells[0]["message"] == "mesh.backlash: must be > 0, got -10 µm"
-    assert a.failed == 1
-    assert repr(a) == "<gearnvh.Atlas mesh.backlash x operating.speed: 2 x 1 cells, 1 failed>"
+    assert a.failed == 2  # the -10 µm column at both speeds
+    assert repr(a) == "<gearnvh.Atlas mesh.backlash x operating.speed: 2 x 2 cells, 2 failed>"
     o = gearnvh.orbits(gb, sweep="mesh.backlash=-10um:80um:2", transient=8)
     assert o.points[0].message == "mesh.backlash: must be > 0, got -10 µm"
     assert repr(o.points[0]) == ("<gearnvh.OrbitPoint -1e-05: failed: mesh.backlash: must be > 0, "

@@ -188,6 +188,14 @@ def test_lyapunov_of_a_linear_train_is_its_decay_rate(gearnvh_exe, linear_file):
     assert doc["lyapunov"]["exponents_per_s"] == list(r.lyapunov.exponents)
 
 
+def test_a_train_atlas_axis_of_one_point_is_refused(linear_file):
+    # The rule of analysis.atlas axes, as on the command line: at least 2 points.
+    with pytest.raises(gearnvh.InputError) as bad:
+        gearnvh.atlas(gearnvh.load(linear_file), x="operating.speed=2500rpm:3500rpm:1",
+                      y="meshes[0].damping_ratio=0.02:0.04:2", cycles=20, transient=20, jobs=1)
+    assert "POINTS" in str(bad.value) and "analysis.atlas axes" in str(bad.value)
+
+
 def test_atlas_of_a_linear_train_has_no_rattle_and_the_decay_rate(gearnvh_exe, linear_file):
     train = gearnvh.load(linear_file)
     args = dict(x="operating.speed=2500rpm:3500rpm:2", y="meshes[0].damping_ratio=0.02:0.04:2",
