@@ -419,4 +419,8 @@ def test_a_run_estimated_above_an_hour_is_refused_at_allow_slow(tmp_path):
             call()
         assert refused.value.path == "allow_slow", name
         assert "without allow_slow" in refused.value.rule, name
-        assert "body f, inertia 1e-15 kg m²" in refused.value.rule, name
+        # The body is named at every tier; its inertia only where the run is tier 1 (a reduced
+        # tier spreads a body over several coordinates): tiers' costliest run is tier 3.
+        assert "body f" in refused.value.rule, name
+        if name != "tiers":
+            assert "body f, inertia 1e-15 kg m²" in refused.value.rule, name
