@@ -23,6 +23,7 @@ struct AtlasCommandOptions {
   std::optional<std::string> out;
   bool json = false;
   bool resume = false;  // skip the cells already in DIR's checkpoint (needs --out)
+  bool allow_slow = false;  // gear trains: run even when the cost estimate exceeds an hour
 };
 
 // Under mpirun the cells are split across ranks (round robin), each rank runs its cells on

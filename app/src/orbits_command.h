@@ -23,6 +23,7 @@ struct OrbitsCommandOptions {
   LadderMethod method = LadderMethod::kV3;  // kFused locates events as kV3
   std::optional<std::string> out;
   bool json = false;
+  bool allow_slow = false;  // gear trains: run even when the cost estimate exceeds an hour
 };
 
 int RunOrbits(const OrbitsCommandOptions& options);

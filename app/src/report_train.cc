@@ -10,6 +10,7 @@
 #include "display_units.h"
 #include "finite_results.h"
 #include "gearnvh/model/input_error.h"
+#include "gearnvh/solver/train_reduced_tables.h"
 #include "report_html.h"
 #include "report_sweep_figures.h"
 #include "train_check.h"
@@ -215,20 +216,32 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
       CheckTrainCommandOptions(std::nullopt, spec, LadderMethod::kV3, std::nullopt);
   if (stage) stage("train model, modes and Campbell data");
   const TrainCheck check = BuildTrainCheck(spec);
-  if (stage) stage("operating point");
   TrainRunOptions run;
   run.tier = settings.tier;
   run.cycles = spec.analysis.cycles;
   run.transient = spec.analysis.transient_cycles;
-  const TrainOperatingPoint op = RunTrainOperatingPoint(spec, run);
-  if (!op.ok()) {
-    throw std::runtime_error("operating point: " + TrainStepperMessage(op.summary));
-  }
   TrainSweepOptions sweep_options;
   sweep_options.cycles = 256;
   sweep_options.transient = 100;
   sweep_options.threads = threads;
   sweep_options.tier = settings.tier;
+  {
+    // The operating point's and the sweep's cost, said (or refused) before either runs.
+    const GearTrain train = BuildGearTrain(spec);
+    const TrainTables tables = BuildTrainTablesAtTier(spec, train, settings.tier);
+    const double seconds =
+        static_cast<double>(run.cycles + run.transient) * tables.meshes.front().period;
+    const RunCostEstimate cost = CombineRunCosts(
+        {EstimateRunCost(tables, seconds, &spec), EstimateTrainSweepCost(spec, sweep_options)}, 1);
+    const std::string slow = CheckRunCost(cost, o.allow_slow, "the operating point and the sweep");
+    if (!slow.empty()) fmt::print(stderr, "warning: {}: {}\n", file, slow);
+    run.allow_slow = sweep_options.allow_slow = true;
+  }
+  if (stage) stage("operating point");
+  const TrainOperatingPoint op = RunTrainOperatingPoint(spec, run);
+  if (!op.ok()) {
+    throw std::runtime_error("operating point: " + TrainStepperMessage(op.summary));
+  }
   const TrainSweepResult sweep =
       RunTrainSweep(spec, sweep_options,
                     stage ? TrainSweepProgress([&stage](int done, int total) {

@@ -25,6 +25,7 @@ struct SimulateOptions {
   bool json = false;
   // Gear trains: the K largest Lyapunov exponents (tangents with saltation, a second run).
   std::optional<int> lyapunov;
+  bool allow_slow = false;  // gear trains: run even when the cost estimate exceeds an hour
 };
 
 int RunSimulate(const SimulateOptions& options);

@@ -244,6 +244,8 @@ TrainSimulatePlan PlanTrainSimulate(const SimulateOptions& options, const TrainS
   run.samples_per_cycle = kTraceSamplesPerCycle;
   run.events = settings.events;
   run.tier = settings.tier;
+  run.allow_slow = options.allow_slow;
+  run.names = names;
   RequireCycleCounts(run.cycles, 1, run.transient, names);
   RequireRunLengthOfOptions(spec, spec.operating.speed, run.cycles, run.transient, options.cycles,
                             options.transient, names);

@@ -73,7 +73,8 @@ SpeedPoint PointFromJson(const nlohmann::json& j) {
 // `sweep` on a gear train: the train solver per speed (train_sweep.h). Under mpirun rank 0
 // runs every speed (trains are not split across ranks yet).
 int SweepTrain(const SweepOptions& options, const TrainSpec& spec) {
-  const TrainSweepOptions sweep = PlanTrainSweep(options, spec);
+  TrainSweepOptions sweep = PlanTrainSweep(options, spec);
+  sweep.before_run_warning = [](const std::string& w) { fmt::print(stderr, "warning: {}\n", w); };
   const Tier tier = sweep.tier;
   if (MpiContext::Rank() != 0) return 0;
   const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", true);

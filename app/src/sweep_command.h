@@ -21,6 +21,7 @@ struct SweepOptions {
   std::optional<std::string> out;
   std::optional<std::string> uff;  // UFF dataset-58 file (order tracks)
   bool json = false;
+  bool allow_slow = false;  // gear trains: run even when the cost estimate exceeds an hour
 };
 
 int RunSweep(const SweepOptions& options);

@@ -30,6 +30,7 @@ struct TiersCommandOptions {
   bool json = false;
   int width = 1200, height = 800;  // tiers.png, px
   double dpi = 100.0;              // tiers.png; scales the fonts
+  bool allow_slow = false;  // gear trains: run even when the cost estimate exceeds an hour
 };
 
 int RunTiers(const TiersCommandOptions& options);

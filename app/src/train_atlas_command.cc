@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <iostream>
 #include <map>
@@ -255,6 +256,8 @@ TrainAtlasPlan PlanTrainAtlas(const AtlasCommandOptions& options, const TrainSpe
                      "an atlas needs two axes: " + names("x") + " and " + names("y") +
                          " (or analysis.atlas.x and .y)");
   }
+  plan.allow_slow = options.allow_slow;
+  plan.names = names;
   if (x->parameter == y->parameter) {
     throw InputError(names("y"), 0, y->parameter, "must differ from the x parameter");
   }
@@ -273,6 +276,22 @@ TrainAtlasPlan PlanTrainAtlas(const AtlasCommandOptions& options, const TrainSpe
   return plan;
 }
 
+std::string CheckTrainAtlasCost(const TrainSpec& spec, const TrainAtlasPlan& plan) {
+  const TrainAtlasOptions& a = plan.atlas;
+  const long alignment = std::min(50L, a.cycles / 4);
+  const double period =
+      1.0 / FirstMeshFrequency(spec, AnalyseTrainTopology(spec), spec.operating.speed);
+  const RunCostEstimate cell = EstimateRunCost(
+      spec, a.tier, static_cast<double>(a.transient_cycles + alignment + a.cycles) * period);
+  const int cells = plan.x.range.points * plan.y.range.points;
+  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+  const int threads = plan.jobs > 0 ? plan.jobs : static_cast<int>(cores);
+  const RunCostEstimate cost =
+      CombineRunCosts(std::vector<RunCostEstimate>(static_cast<size_t>(cells), cell), threads);
+  return CheckRunCost(cost, plan.allow_slow, fmt::format("the atlas's {} cells", cells),
+                      plan.names);
+}
+
 int AtlasTrain(const AtlasCommandOptions& options, const TrainSpec& spec) {
   const TrainAtlasPlan plan = PlanTrainAtlas(options, spec);
   if (options.resume) {
@@ -283,6 +302,8 @@ int AtlasTrain(const AtlasCommandOptions& options, const TrainSpec& spec) {
                      "the atlas of a gear train runs in one process (threads, --jobs); MPI is "
                      "not available for gear trains yet");
   }
+  if (const std::string slow = CheckTrainAtlasCost(spec, plan); !slow.empty())
+    fmt::print(stderr, "warning: {}\n", slow);
   std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", true);
   const AtlasProgress progress = AtlasTerminalProgress(0, 1);
   const TrainAtlasResult result =

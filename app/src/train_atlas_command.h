@@ -48,9 +48,16 @@ struct TrainAtlasPlan {
   TrainAtlasOptions atlas;
   AtlasAxis x, y;
   int jobs = 0;
+  bool allow_slow = false;  // run even when the cost estimate exceeds an hour
+  TrainOptionNames names;
 };
 TrainAtlasPlan PlanTrainAtlas(const AtlasCommandOptions& options, const TrainSpec& spec,
                               const TrainOptionNames& names = {});
+// The atlas's run-cost check before any cell runs (CheckRunCost): every cell's transient,
+// alignment and averaged cycles at the file's operating point (the axes' own values are not
+// built; the tangent column's extra work is not counted), over the threads. Returns the warning
+// (empty when none); throws InputError naming names("allow-slow") when refused.
+std::string CheckTrainAtlasCost(const TrainSpec& spec, const TrainAtlasPlan& plan);
 // `atlas --json` on a train: TrainAtlasJson with the train's name, `file` and the tier.
 nlohmann::json TrainAtlasDocument(const TrainAtlasResult& r, const TrainAtlasOptions& o,
                                   const TrainSpec& spec, const std::string& file);

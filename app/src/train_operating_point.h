@@ -15,6 +15,7 @@
 // any source only mesh harmonics are considered (the pair's rule).
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <functional>
 #include <nlohmann/json.hpp>
@@ -30,6 +31,18 @@
 #include "run_memory.h"
 
 namespace gearnvh::app {
+
+// How the caller names its options in messages: "--cycles" on the command line, "cycles" for
+// the Python module's keyword (TrainOptionNames{""}).
+struct TrainOptionNames {
+  std::string prefix = "--";
+  // A keyword spells a dashed option with underscores ("allow-slow" -> "allow_slow").
+  std::string operator()(const std::string& option) const {
+    std::string name = option;
+    if (prefix.empty()) std::replace(name.begin(), name.end(), '-', '_');
+    return prefix + name;
+  }
+};
 
 struct TrainRunOptions {
   long cycles = 2000;                         // recorded cycles of the first mesh in the file, >= 1
@@ -49,32 +62,82 @@ struct TrainRunOptions {
   // the command's own parts, throw to refuse the run, or return a warning (kept in `warnings` and
   // passed to before_run_warning); empty: no check.
   std::function<std::string(RunMemory&)> before_run_memory;
+  // A run whose cost estimate (EstimateRunCost) exceeds kSlowRunRefuseSeconds is refused unless
+  // this is set; the refusal names names("allow-slow").
+  bool allow_slow = false;
+  TrainOptionNames names;
   void Validate() const;
 };
 
-// A highest mode this many times the fastest mesh frequency or more makes a run slow: every
-// sub-step of the dense path (and of V1, V2) is at most 1 / (2 omega_max) long.
-constexpr double kSlowModeRatio = 1000.0;
+// The run-cost estimate of a train run and what a command does with it (docs/cli.md, "Run
+// cost"): the dense path takes about 2 rho sub-steps per simulated second, rho the solver's own
+// bound on the spectral radius of the generator (BoundTupleRate, solver/train_rate_bound.h), each
+// costing about kSubstepSecondsPerState2 m^2 (m the state dimension). Above kSlowRunWarnSeconds a
+// warning, above kSlowRunRefuseSeconds a refusal unless the caller allows slow runs.
+//
+// The per-sub-step constant is a third of what was measured (65 us per sub-step at m = 86, i.e.
+// ~9e-9 m^2 s: the manual-transmission example at tier 3 with a heavy rigid shaft, dense path, on
+// the 2-core development machine, 2026-12-02) so that a faster machine is not refused a run that
+// is not surely slow. The closed-form path (decomposed tuples), certified jumps and
+// segment-run fusion can make the transient cheaper than the dense path; the recorded cycles are
+// always stepped on sub-steps (the recorder's Taylor chunks).
+constexpr double kSubstepSecondsPerState2 = 3e-9;
+constexpr double kSlowRunWarnSeconds = 60.0;
+constexpr double kSlowRunRefuseSeconds = 3600.0;
 
-// What a run costs per simulated second, estimated before it starts, on the tuple the run starts
-// in with every mesh in drive contact (segment 0 of every mesh, t = 0): the solver's own bound rho
-// on that tuple's spectral radius (BoundTupleRate, solver/train_rate_bound.h: tooth friction and a
-// reduced tier's skew damping included), so the dense path's sub-step there is 1 / (2 rho) unless
-// its second bound (the balanced row norm) is shorter; the highest frictionless undamped mode
-// omega = sqrt(lambda_max(M^-1 K)) of that tuple and the body that moves most in it.
+// The term of rho that dominates it (BoundTupleRate): the highest undamped mode sqrt(lambda_max(
+// M^-1 K)), the symmetric damping lambda_max(M^-1 C), the gyroscopic (skew) part of a reduced
+// tier's damping, or tooth friction.
+enum class RateTerm { kStiffness, kDamping, kGyroscopic, kFriction };
+const char* RateTermName(RateTerm term);
+
+// What a run costs, estimated before it starts, on the tuple the run starts in with every mesh in
+// drive contact (segment 0 of every mesh, t = 0): the solver's own bound rho on that tuple's
+// spectral radius (tooth friction and a reduced tier's skew damping included), so the dense
+// path's sub-step there is 1 / (2 rho) unless its second bound (the balanced row norm) is
+// shorter; the highest frictionless undamped mode omega = sqrt(lambda_max(M^-1 K)) of that tuple
+// and the body that moves most in it.
 struct RunCostEstimate {
   double mode_hz = 0.0;          // the highest mode, Hz (frictionless)
   double fastest_mesh_hz = 0.0;  // the fastest mesh frequency, Hz
   int body = 0;                  // the body that moves most in the highest mode
   double substep_s = 0.0;        // 1 / (2 rho), s; 0 when rho is 0 or an eigenproblem failed
+  double rho = 0.0;              // 1/s
+  RateTerm dominant = RateTerm::kStiffness;
+  double dominant_rate = 0.0;  // that term's part of rho, 1/s
+  // The body the dominant term comes from: for kGyroscopic the body whose node has the largest
+  // spin rate |w_b| I_p / I_d (the nutation a disk's gyroscopic moment drives), else `body`.
+  int cause_body = 0;
+  std::string cause_body_name;
+  double cause_body_inertia = 0.0;  // its polar inertia, kg m^2
+  double cause_nutation_rate = 0.0;  // kGyroscopic: |w_b| I_p / I_d at that node, rad/s
+  Tier tier = Tier::kTier1;
+  int state_dim = 0;        // m
+  double simulated_s = 0.0;  // the simulated time the estimate is for, s (all runs)
+  double substeps = 0.0;     // simulated_s / substep_s (all runs)
+  double wall_s = 0.0;       // substeps * kSubstepSecondsPerState2 m^2 (/ parallel runs)
+  int runs = 1;              // runs counted (a sweep's speeds, an atlas's cells, tiers)
 };
-RunCostEstimate EstimateRunCost(const TrainTables& tables);
+// For `simulated_s` seconds of simulated time on `tables`. The structure is assembled for the
+// gyroscopic cause's body when that term dominates (tiers 2+ only).
+RunCostEstimate EstimateRunCost(const TrainTables& tables, double simulated_s = 0.0,
+                                const TrainSpec* spec = nullptr);
+// The same after building the model of `spec` at `tier`.
+RunCostEstimate EstimateRunCost(const TrainSpec& spec, Tier tier, double simulated_s);
+// Several runs: sub-steps summed, wall time summed over `parallel` threads (>= 1), the cause that
+// of the costliest run.
+RunCostEstimate CombineRunCosts(const std::vector<RunCostEstimate>& runs, int parallel);
 
-// The warning before a very slow run, or empty: the highest mode (EstimateRunCost) at or above
-// kSlowModeRatio times the fastest mesh frequency. It names the mode, the body that moves most in
-// it (the cause: usually a tiny inertia) and the cost, simulated_s / substep_s sub-steps for
-// `simulated_s` seconds.
-std::string SlowRunWarning(const TrainTables& tables, double simulated_s);
+// The cost of running `what` ("the run", "the sweep's 12 speeds"): empty below
+// kSlowRunWarnSeconds, else a warning naming the estimate and its cause. Above
+// kSlowRunRefuseSeconds, unless `allow_slow`, throws InputError at names("allow-slow") (exit 2
+// on the command line) stating the estimate, its cause and that the option allows the run.
+std::string CheckRunCost(const RunCostEstimate& cost, bool allow_slow,
+                         const std::string& what = "the run",
+                         const TrainOptionNames& names = {});
+
+// The warning text of a cost (whatever its size): the estimate and its cause.
+std::string RunCostText(const RunCostEstimate& cost, const std::string& what);
 
 struct TrainMeshSidebands {
   long window_cycles = 0;  // cycles of this mesh in the spectrum window
@@ -89,6 +152,7 @@ struct TrainOperatingPoint {
   TrainStepperSummary summary;
   TrainStatistics stats;
   std::vector<std::string> warnings;  // what the train solver does not model, said once
+  RunCostEstimate cost;               // estimated before the run
   double wall_s = 0.0;
   // The parts that grow with the recorded cycles, estimated before the run: the TE samples kept
   // for spectra (TrainRecorder::KeepTeSeries) and the spectrum of one mesh at a time.
@@ -106,12 +170,6 @@ struct TrainCommandSettings {
   EventMethod events = EventMethod::kSpectral;
 };
 
-// How the caller names its options in messages: "--cycles" on the command line, "cycles" for
-// the Python module's keyword (TrainOptionNames{""}).
-struct TrainOptionNames {
-  std::string prefix = "--";
-  std::string operator()(const std::string& option) const { return prefix + option; }
-};
 
 // What `simulate` and `sweep` accept on a train: a tier the train has (`--tier` or
 // analysis.tier; tiers 4, 5 and N20 need an elastic shaft) and no UFF file; the event method is

@@ -14,6 +14,7 @@
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/atlas.h"
 #include "gearnvh/nvh/train_orbit_scan.h"
+#include "gearnvh/solver/train_reduced_tables.h"
 #include "output_folder.h"
 #include "train_operating_point.h"
 
@@ -94,6 +95,8 @@ TrainOrbitsPlan PlanTrainOrbits(const OrbitsCommandOptions& options, const Train
     throw InputError(names("transient"), 0, std::to_string(scan.transient_cycles), "must be >= 0");
   }
   plan.sweep_option = names("sweep");
+  plan.allow_slow = options.allow_slow;
+  plan.names = names;
   if (options.sweep) {
     plan.sweep = ParseTrainAxisOption(*options.sweep, plan.sweep_option);
     TrainSpec probe = spec;  // the name's index is checked once, as a usage error
@@ -108,6 +111,19 @@ TrainOrbitsPlan PlanTrainOrbits(const OrbitsCommandOptions& options, const Train
   for (int i = 0; plan.sweep && i < count; ++i)
     plan.values[static_cast<size_t>(i)] = AxisValue(*plan.sweep, i);
   return plan;
+}
+
+std::string CheckTrainOrbitsCost(const TrainSpec& spec, const TrainOrbitsPlan& plan) {
+  const GearTrain train = BuildGearTrain(spec);
+  const TrainTables tables = BuildTrainTablesAtTier(spec, train, plan.scan.tier);
+  const double seconds =
+      static_cast<double>(plan.scan.transient_cycles) * tables.meshes.front().period +
+      static_cast<double>(plan.scan.periods) * tables.common_period;
+  const RunCostEstimate point = EstimateRunCost(tables, seconds, &spec);
+  const RunCostEstimate cost =
+      CombineRunCosts(std::vector<RunCostEstimate>(plan.values.size(), point), 1);
+  return CheckRunCost(cost, plan.allow_slow, fmt::format("the {} orbit points", plan.values.size()),
+                      plan.names);
 }
 
 std::vector<TrainOrbitScanPoint> RunTrainOrbits(const TrainSpec& spec, const TrainOrbitsPlan& plan,
@@ -159,6 +175,8 @@ nlohmann::json TrainOrbitsDocument(const std::vector<TrainOrbitScanPoint>& point
 
 int OrbitsTrain(const OrbitsCommandOptions& options, const TrainSpec& spec) {
   const TrainOrbitsPlan plan = PlanTrainOrbits(options, spec);
+  if (const std::string slow = CheckTrainOrbitsCost(spec, plan); !slow.empty())
+    fmt::print(stderr, "warning: {}\n", slow);
   const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
   const std::optional<AtlasAxis>& sweep = plan.sweep;
   const std::vector<double>& values = plan.values;

@@ -26,9 +26,16 @@ struct TrainOrbitsPlan {
   std::optional<AtlasAxis> sweep;
   std::string sweep_option;    // the option's name for a variant's error
   std::vector<double> values;  // SI, one per point (0 without a sweep)
+  bool allow_slow = false;     // run even when the cost estimate exceeds an hour
+  TrainOptionNames names;
 };
 TrainOrbitsPlan PlanTrainOrbits(const OrbitsCommandOptions& options, const TrainSpec& spec,
                                 const TrainOptionNames& names = {});
+// The scan's run-cost check before any point runs (CheckRunCost): per point the transient and one
+// shot over the orbit's period at the file's operating point (a lower bound: Newton takes several
+// shots, each with tangent columns), points one after another. Returns the warning (empty when
+// none); throws InputError naming names("allow-slow") when refused.
+std::string CheckTrainOrbitsCost(const TrainSpec& spec, const TrainOrbitsPlan& plan);
 
 // The plan's points (ScanTrainPeriodicOrbits over the variants).
 std::vector<TrainOrbitScanPoint> RunTrainOrbits(const TrainSpec& spec, const TrainOrbitsPlan& plan,

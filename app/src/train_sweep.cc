@@ -6,11 +6,13 @@
 #include <atomic>
 #include <mutex>
 #include <numbers>
+#include <optional>
 #include <sstream>
 #include <thread>
 
 #include "display_units.h"
 #include "gearnvh/model/input_error.h"
+#include "gearnvh/solver/train_reduced_tables.h"
 #include "parallel_for.h"
 #include "train_operating_point.h"
 
@@ -30,6 +32,7 @@ TrainSweepPoint RunPoint(const TrainSpec& base, const TrainSweepOptions& options
   run.events = options.events;
   run.cancel = options.cancel;
   run.tier = options.tier;
+  run.allow_slow = true;  // the sweep's cost was checked before any speed ran
   const TrainOperatingPoint op = RunTrainOperatingPoint(spec, run);
   p.ok = op.ok();
   if (!p.ok) p.message = "the run stopped: " + TrainStepperMessage(op.summary);
@@ -60,6 +63,8 @@ TrainSweepOptions PlanTrainSweep(const SweepOptions& options, const TrainSpec& s
   sweep.threads = options.jobs;
   sweep.events = settings.events;
   sweep.tier = settings.tier;
+  sweep.allow_slow = options.allow_slow;
+  sweep.names = names;
   RequireCycleCounts(sweep.cycles, 1, sweep.transient, names);
   if (sweep.threads < 0)
     throw InputError(names("jobs"), 0, std::to_string(sweep.threads), "must be >= 0");
@@ -80,9 +85,34 @@ int TrainSweepResult::failed() const {
   return n;
 }
 
+RunCostEstimate EstimateTrainSweepCost(const TrainSpec& spec, const TrainSweepOptions& options) {
+  const SweepRange& range = spec.analysis.speed_sweep;
+  std::optional<RunCostEstimate> cheapest;
+  for (double speed : {range.Point(0), range.Point(range.points - 1)}) {
+    TrainSpec at = spec;
+    at.operating.speed = speed;
+    const GearTrain train = BuildGearTrain(at);
+    const TrainTables tables = BuildTrainTablesAtTier(at, train, options.tier);
+    const double seconds =
+        static_cast<double>(options.cycles + options.transient) * tables.meshes.front().period;
+    const RunCostEstimate cost = EstimateRunCost(tables, seconds, &at);
+    if (!cheapest || cost.wall_s < cheapest->wall_s) cheapest = cost;
+  }
+  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+  const int threads = options.threads > 0 ? options.threads : static_cast<int>(cores);
+  return CombineRunCosts(std::vector<RunCostEstimate>(static_cast<size_t>(range.points), *cheapest),
+                         threads);
+}
+
 TrainSweepResult RunTrainSweep(const TrainSpec& spec, const TrainSweepOptions& options,
                                const TrainSweepProgress& progress) {
   options.Validate();
+  {
+    const RunCostEstimate cost = EstimateTrainSweepCost(spec, options);
+    const std::string what = fmt::format("the sweep's {} speeds", cost.runs);
+    const std::string slow = CheckRunCost(cost, options.allow_slow, what, options.names);
+    if (!slow.empty() && options.before_run_warning) options.before_run_warning(slow);
+  }
   const SweepRange& range = spec.analysis.speed_sweep;
   std::vector<double> speeds(static_cast<size_t>(range.points));
   for (int i = 0; i < range.points; ++i) speeds[static_cast<size_t>(i)] = range.Point(i);

@@ -27,6 +27,12 @@ struct TrainSweepOptions {
   // Passed to every speed's run (TrainRunOptions::cancel); a cancelled speed fails with its
   // message. Not owned; null: never cancelled.
   const std::atomic<bool>* cancel = nullptr;
+  // The sweep's run-cost estimate (EstimateTrainSweepCost) is checked before any speed runs
+  // (CheckRunCost): refused above an hour unless allow_slow, names("allow-slow") in the message;
+  // a warning above a minute goes to before_run_warning (when set).
+  bool allow_slow = false;
+  TrainOptionNames names;
+  std::function<void(const std::string&)> before_run_warning;
   void Validate() const;
 };
 
@@ -54,6 +60,11 @@ struct TrainSweepResult {
 // --jobs, tier and event method, held to the run-length limit at the sweep's lowest speed.
 TrainSweepOptions PlanTrainSweep(const SweepOptions& options, const TrainSpec& spec,
                                  const TrainOptionNames& names = {});
+
+// The cost of the sweep's runs: each speed's transient and cycles at the smaller of the estimates
+// at the sweep's two end speeds (the cost per run varies monotonically with the speed, so no
+// speed costs less), over the threads.
+RunCostEstimate EstimateTrainSweepCost(const TrainSpec& spec, const TrainSweepOptions& options);
 
 using TrainSweepProgress = std::function<void(int done, int total)>;
 

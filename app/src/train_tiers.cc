@@ -65,6 +65,21 @@ TrainTiersComparison CompareTrainTiers(const TrainSpec& spec, TrainRunOptions ru
   for (const TrainBody& b : train.topology.bodies) {
     if (b.kind == BodyKind::kLooseGear) out.loose_gears.push_back(b.name);
   }
+  {
+    // Every tier's cost before any runs (each builds its tables again for the run).
+    std::vector<RunCostEstimate> costs;
+    for (Tier t : tiers) {
+      const double period = 1.0 / FirstMeshFrequency(spec, train.topology, spec.operating.speed);
+      costs.push_back(
+          EstimateRunCost(spec, t, static_cast<double>(run.cycles + run.transient) * period));
+    }
+    const RunCostEstimate cost = CombineRunCosts(costs, 1);
+    const std::string what = fmt::format("the {} tiers' runs", costs.size());
+    const std::string slow = CheckRunCost(cost, run.allow_slow, what, run.names);
+    if (!slow.empty() && run.before_run_warning) run.before_run_warning(slow);
+    run.allow_slow = true;
+    run.before_run_warning = {};
+  }
   for (Tier t : tiers) {
     if (progress) progress(out.rows.size() + 1, tiers.size(), TierName(t));
     out.rows.push_back(RunTier(spec, run, t));
@@ -115,6 +130,8 @@ TrainRunOptions PlanTrainTiers(const TiersCommandOptions& options, const TrainSp
   TrainRunOptions run;
   run.cycles = options.cycles.value_or(std::min(spec.analysis.cycles, 400));
   run.transient = options.transient.value_or(std::min(spec.analysis.transient_cycles, 200));
+  run.allow_slow = options.allow_slow;
+  run.names = names;
   RequireCycleCounts(run.cycles, 1, run.transient, names);
   RequireRunLengthOfOptions(spec, spec.operating.speed, run.cycles, run.transient, options.cycles,
                             options.transient, names);
@@ -130,7 +147,8 @@ nlohmann::json TrainTiersDocument(const TrainTiersComparison& c, const TrainSpec
 }
 
 int RunTrainTiers(const TiersCommandOptions& options, const TrainSpec& spec) {
-  const TrainRunOptions run = PlanTrainTiers(options, spec);
+  TrainRunOptions run = PlanTrainTiers(options, spec);
+  run.before_run_warning = [](const std::string& w) { fmt::print(stderr, "warning: {}\n", w); };
   const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", false);
   const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
   TiersProgress progress;

@@ -92,7 +92,8 @@ TrainStructure AssembleTrainStructure(const TrainSpec& spec, const GearTrain& tr
     const int node = static_cast<int>(s.nodes.size());
     shaft_node[si] = node;
     s.nodes.push_back({id, 0.0});
-    as.AddBody(node, GearBody{0.0, shaft.inertia.value_or(0.0), 0.0}, w);
+    // `inertia` is a lumped torsional inertia (no tilt inertia to carry a gyroscopic moment).
+    as.AddBody(node, GearBody{0.0, shaft.inertia.value_or(0.0), 0.0}, 0.0);
     for (int g : fixed) {
       const TrainGear& gear = spec.gears[static_cast<size_t>(g)];
       s.gear_node[static_cast<size_t>(g)] = node;

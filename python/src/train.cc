@@ -53,7 +53,7 @@ std::shared_ptr<TrainSimulation> SimulateTrain(const Train& train, const py::obj
                                                std::optional<long> cycles,
                                                std::optional<long> transient,
                                                const std::string& method,
-                                               std::optional<int> lyapunov,
+                                               std::optional<int> lyapunov, bool allow_slow,
                                                const py::object& progress) {
   return PlanAndRunOnTrain(
       train,
@@ -61,6 +61,7 @@ std::shared_ptr<TrainSimulation> SimulateTrain(const Train& train, const py::obj
         auto options =
             TrainCommandOptions<app::SimulateOptions>(source, tier, method, cycles, transient);
         options.lyapunov = lyapunov;
+        options.allow_slow = allow_slow;
         return app::PlanTrainSimulate(options, spec, kKeywordNames);
       },
       [&](app::TrainSimulatePlan& plan, const TrainSpec& spec, const std::string& source,
@@ -88,7 +89,7 @@ std::shared_ptr<TrainSimulation> SimulateTrain(const Train& train, const py::obj
 
 std::shared_ptr<TrainSweep> SweepTrain(const Train& train, const py::object& tier,
                                        std::optional<long> cycles, std::optional<long> transient,
-                                       int jobs, const std::string& method,
+                                       int jobs, const std::string& method, bool allow_slow,
                                        const py::object& progress) {
   return PlanAndRunOnTrain(
       train,
@@ -96,6 +97,7 @@ std::shared_ptr<TrainSweep> SweepTrain(const Train& train, const py::object& tie
         auto sweep =
             TrainCommandOptions<app::SweepOptions>(source, tier, method, cycles, transient);
         sweep.jobs = jobs;
+        sweep.allow_slow = allow_slow;
         return app::PlanTrainSweep(sweep, spec, kKeywordNames);
       },
       [&](app::TrainSweepOptions& options, const TrainSpec& spec, const std::string& source,
@@ -363,15 +365,18 @@ void BindTrain(py::module_& m) {
         "(bodies, meshes, modes, tiers, Campbell data; SI units).");
   m.def("simulate", &SimulateTrain, py::arg("gearbox"), py::kw_only(), py::arg("tier") = py::none(),
         py::arg("cycles") = py::none(), py::arg("transient") = py::none(), py::arg("method") = "v3",
-        py::arg("lyapunov") = py::none(), py::arg("progress") = py::none(),
+        py::arg("lyapunov") = py::none(), py::arg("allow_slow") = false,
+        py::arg("progress") = py::none(),
         "A gear train's operating point, as `gearnvh simulate TRAIN.yaml`: cycles and transient "
         "count cycles of the first mesh (default analysis.cycles, analysis.transient_cycles); "
         "method: v1, v2, v3 (fused means v3 on trains); lyapunov=K: also the K largest Lyapunov "
-        "exponents (a second run, as --lyapunov K).");
+        "exponents (a second run, as --lyapunov K); allow_slow: run even when the run-cost "
+        "estimate exceeds one hour (as --allow-slow; refused otherwise).");
   m.def("sweep", &SweepTrain, py::arg("gearbox"), py::kw_only(), py::arg("tier") = py::none(),
         py::arg("cycles") = py::none(), py::arg("transient") = py::none(), py::arg("jobs") = 0,
-        py::arg("method") = "v3", py::arg("progress") = py::none(),
-        "A gear train's speed sweep over analysis.speed_sweep, as `gearnvh sweep TRAIN.yaml`.");
+        py::arg("method") = "v3", py::arg("allow_slow") = false, py::arg("progress") = py::none(),
+        "A gear train's speed sweep over analysis.speed_sweep, as `gearnvh sweep TRAIN.yaml` "
+        "(allow_slow as simulate's).");
 }
 
 }  // namespace gearnvh::python

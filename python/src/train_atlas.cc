@@ -28,7 +28,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 std::shared_ptr<TrainAtlas> AtlasTrain(const Train& train, const std::optional<std::string>& x,
                                        const std::optional<std::string>& y, const py::object& tier,
                                        std::optional<long> cycles, std::optional<long> transient,
-                                       int jobs, const std::string& method,
+                                       int jobs, const std::string& method, bool allow_slow,
                                        const py::object& progress) {
   return PlanAndRunOnTrain(
       train,
@@ -38,7 +38,10 @@ std::shared_ptr<TrainAtlas> AtlasTrain(const Train& train, const std::optional<s
         options.x = x;
         options.y = y;
         options.jobs = jobs;
-        return app::PlanTrainAtlas(options, spec, kKeywordNames);
+        options.allow_slow = allow_slow;
+        app::TrainAtlasPlan plan = app::PlanTrainAtlas(options, spec, kKeywordNames);
+        (void)app::CheckTrainAtlasCost(spec, plan);  // refuses; its warning is not kept
+        return plan;
       },
       [&](app::TrainAtlasPlan& plan, const TrainSpec& spec, const std::string& source,
           CallControl& control) {
@@ -233,7 +236,7 @@ void BindTrainAtlas(py::module_& m) {
   m.def("atlas", &AtlasTrain, py::arg("gearbox"), py::kw_only(), py::arg("x") = py::none(),
         py::arg("y") = py::none(), py::arg("tier") = py::none(), py::arg("cycles") = py::none(),
         py::arg("transient") = py::none(), py::arg("jobs") = 0, py::arg("method") = "v3",
-        py::arg("progress") = py::none(),
+        py::arg("allow_slow") = false, py::arg("progress") = py::none(),
         "A gear train's chaos atlas, as `gearnvh atlas TRAIN.yaml`: x, y like "
         "'operating.loads[1].torque=0Nm:2Nm:8' (default analysis.atlas); cycles and transient "
         "count cycles of the first mesh (defaults 1080 and 300).");

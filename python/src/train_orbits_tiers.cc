@@ -40,7 +40,8 @@ struct TrainTiers {
 std::shared_ptr<TrainOrbits> OrbitsTrain(const Train& train, int period,
                                          const std::optional<std::string>& sweep,
                                          const py::object& tier, std::optional<long> transient,
-                                         const std::string& method, const py::object& progress) {
+                                         const std::string& method, bool allow_slow,
+                                         const py::object& progress) {
   return PlanAndRunOnTrain(
       train,
       [&](const TrainSpec& spec, const std::string& source) {
@@ -48,7 +49,10 @@ std::shared_ptr<TrainOrbits> OrbitsTrain(const Train& train, int period,
         options.period = period;
         options.sweep = sweep;
         options.transient = transient;
-        return app::PlanTrainOrbits(options, spec, kKeywordNames);
+        options.allow_slow = allow_slow;
+        app::TrainOrbitsPlan plan = app::PlanTrainOrbits(options, spec, kKeywordNames);
+        (void)app::CheckTrainOrbitsCost(spec, plan);  // refuses; its warning is not kept
+        return plan;
       },
       [&](app::TrainOrbitsPlan& plan, const TrainSpec& spec, const std::string& source,
           CallControl& control) {
@@ -66,7 +70,8 @@ std::shared_ptr<TrainOrbits> OrbitsTrain(const Train& train, int period,
 }
 
 std::shared_ptr<TrainTiers> TiersTrain(const Train& train, std::optional<long> cycles,
-                                       std::optional<long> transient, const py::object& progress) {
+                                       std::optional<long> transient, bool allow_slow,
+                                       const py::object& progress) {
   return PlanAndRunOnTrain(
       train,
       [&](const TrainSpec& spec, const std::string& source) {
@@ -74,6 +79,7 @@ std::shared_ptr<TrainTiers> TiersTrain(const Train& train, std::optional<long> c
         options.file = source;
         options.cycles = cycles;
         options.transient = transient;
+        options.allow_slow = allow_slow;
         return app::PlanTrainTiers(options, spec, kKeywordNames);
       },
       [&](app::TrainRunOptions& run, const TrainSpec& spec, const std::string& source,
@@ -235,11 +241,12 @@ void BindTrainOrbitsTiers(py::module_& m) {
   m.def("orbits", &OrbitsTrain, py::arg("gearbox"), py::kw_only(), py::arg("period") = 1,
         py::arg("sweep") = py::none(), py::arg("tier") = py::none(),
         py::arg("transient") = py::none(), py::arg("method") = "v3",
-        py::arg("progress") = py::none(),
+        py::arg("allow_slow") = false, py::arg("progress") = py::none(),
         "A gear train's period-M orbits (M common periods) and Floquet multipliers, as `gearnvh "
         "orbits TRAIN.yaml`; sweep like 'meshes[0].backlash=50um:150um:5'.");
   m.def("tiers", &TiersTrain, py::arg("gearbox"), py::kw_only(), py::arg("cycles") = py::none(),
-        py::arg("transient") = py::none(), py::arg("progress") = py::none(),
+        py::arg("transient") = py::none(), py::arg("allow_slow") = false,
+        py::arg("progress") = py::none(),
         "Every tier of a gear train side by side, as `gearnvh tiers TRAIN.yaml` (cycles default "
         "min(analysis.cycles, 400), transient min(analysis.transient_cycles, 200)).");
 }

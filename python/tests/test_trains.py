@@ -384,3 +384,51 @@ def test_a_progress_exception_stops_the_lyapunov_run(linear_file):
         gearnvh.simulate(gearnvh.load(linear_file), cycles=20_000, transient=10, lyapunov=1,
                          progress=stop_in_the_second_run)
     assert all(total == 2000 for _, total in calls)
+
+
+TINY_LOOSE_GEAR = """schema: gearnvh/2
+name: Tiny loose gear
+materials:
+  steel: {youngs_modulus: 206 GPa, poisson_ratio: 0.3, density: 7850 kg/m^3}
+shafts:
+  input: {inertia: 5e-3 kg*m^2}
+  output: {inertia: 0.5 kg*m^2}
+gears:
+  a: {shaft: input, teeth: 21, module: 2 mm, face_width: 18 mm, bore_diameter: 20 mm, material: steel}
+  b: {shaft: output, teeth: 35, module: 2 mm, face_width: 18 mm, bore_diameter: 20 mm, material: steel}
+  e: {shaft: input, teeth: 25, module: 2 mm, face_width: 15 mm, bore_diameter: 20 mm, material: steel}
+  f: {shaft: output, mounting: loose, teeth: 31, module: 2 mm, face_width: 15 mm, bore_diameter: 30 mm, material: steel, inertia: 1e-15 kg*m^2}
+meshes:
+  - {gears: [a, b], backlash: 80 um}
+  - {gears: [e, f], backlash: 100 um}
+operating:
+  speed: {shaft: input, value: 1000 rpm}
+  loads:
+    - {on: output, torque: 20 N*m}
+    - {on: f, torque: 0.2 N*m}
+"""
+
+
+def test_a_run_estimated_above_an_hour_is_refused_at_allow_slow(tmp_path):
+    # The loose gear f at 1e-15 kg m^2 has a ~1e10 rad/s mode: hours of sub-steps (docs/cli.md,
+    # "Run cost"). Every train analysis refuses before it runs, naming the keyword that allows it.
+    path = tmp_path / "tiny.yaml"
+    path.write_text(TINY_LOOSE_GEAR)
+    train = gearnvh.load(path)
+    calls = {
+        "simulate": lambda **k: gearnvh.simulate(train, **k),
+        "sweep": lambda **k: gearnvh.sweep(train, **k),
+        "tiers": lambda **k: gearnvh.tiers(train, **k),
+        "atlas": lambda **k: gearnvh.atlas(train, x="operating.speed=900rpm:1000rpm:2",
+                                           y="meshes[1].backlash=80um:100um:2", **k),
+    }
+    for name, call in calls.items():
+        with pytest.raises(gearnvh.InputError) as refused:
+            call()
+        assert refused.value.path == "allow_slow", name
+        assert "without allow_slow" in refused.value.rule, name
+        # The body is named at every tier; its inertia only where the run is tier 1 (a reduced
+        # tier spreads a body over several coordinates): tiers' costliest run is tier 3.
+        assert "body f" in refused.value.rule, name
+        if name != "tiers":
+            assert "body f, inertia 1e-15 kg m²" in refused.value.rule, name

@@ -1,6 +1,7 @@
 // The slow-run estimate (app/src/train_operating_point.h, EstimateRunCost) against the solver: its
 // sub-step is 1 / (2 rho) with the table cache's own bound rho of the same tuple (TrainSystem::rho,
-// both from BoundTupleRate), and a run on the dense path takes the sub-steps those bounds allow.
+// both from BoundTupleRate), and a run on the dense path takes the sub-steps those bounds allow;
+// the refusal above an hour (--allow-slow) and the warning above a minute.
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <filesystem>
@@ -9,16 +10,25 @@
 #include <string>
 #include <vector>
 
+#include "app/loose_gear_train_yaml.h"
+#include "app/three_shaft_train_yaml.h"
 #include "config/gearbox_loader.h"
 #include "gearnvh/model/gear_train.h"
+#include "gearnvh/model/input_error.h"
+#include "gearnvh/solver/train_reduced_tables.h"
 #include "gearnvh/solver/train_stepper.h"
 #include "gearnvh/solver/train_tables.h"
 #include "model/test_trains.h"
+#include "support/paths.h"
 #include "support/run_command.h"
 #include "train_operating_point.h"
 
 namespace gearnvh {
 namespace {
+
+using testing::kExamples;
+using testing::kExe;
+using testing::RunCommand;
 
 TrainSpec LinearTrain() {
   const config::LoadedGearbox loaded = config::LoadAnyGearboxFromString(
@@ -98,6 +108,103 @@ TEST_CASE("the slow-run estimate is the solver's bound and counts a dense run's 
   // the estimate's 42,336 (+7 %, its segment 0 being softer than the mean).
   SECTION("linear train (tests/data)") { CheckAgainstRun(LinearTrain(), 0.02); }
   SECTION("tiny loose gear") { CheckAgainstRun(TinyLooseGear(), 2e-3); }
+}
+
+// The loose-gear train (loose_gear_train_yaml.h) with its loose gear f at `inertia`.
+std::string TinyLooseGearYaml(const std::string& inertia) {
+  return testing::ReplaceFirst(testing::kLooseGearTrainYaml,
+                               "bore_diameter: 30 mm, material: steel}",
+                               "bore_diameter: 30 mm, material: steel, inertia: " + inertia + "}");
+}
+
+TEST_CASE("simulate refuses a run estimated above an hour and names --allow-slow and the body",
+          "[cli][train][warnings]") {
+  // f at 1e-15 kg m^2: its mode sqrt(k r_b^2 / J) is ~1e10 rad/s, so the default run (2500
+  // cycles of a-b, ~7 s simulated) needs ~1e11 sub-steps: hours even at a third of the measured
+  // cost per sub-step. Refused before anything runs, exit 2 (a usage error: the option allows it).
+  const testing::TempDir dir;
+  const std::string file = dir.Write("tiny.yaml", TinyLooseGearYaml("1e-15 kg*m^2")).string();
+  const auto r = RunCommand(kExe + " simulate " + file);
+  INFO(r.err);
+  CHECK(r.exit_code == 2);
+  CHECK(r.out.empty());
+  CHECK(r.err.find("error: ") != std::string::npos);
+  CHECK(r.err.find("--allow-slow") != std::string::npos);
+  CHECK(r.err.find("the run would take about") != std::string::npos);
+  CHECK(r.err.find("body f, inertia 1e-15 kg m²") != std::string::npos);
+  CHECK(r.err.find("dominated by stiffness") != std::string::npos);
+}
+
+TEST_CASE("simulate --allow-slow starts the run it would refuse, saying its cost first",
+          "[cli][train][warnings]") {
+  // The refused run above with --allow-slow: not refused, the warning is on stderr before the run,
+  // and the run is still going after 5 s of CPU time (its start, refused or not, takes ~0.5 s),
+  // when the CPU limit kills it (SIGXCPU or SIGKILL at the hard limit: 152 or 137). A CPU limit,
+  // not a wall-clock one: on a loaded machine the start alone took 13 s of wall time. A single
+  // cycle of it would also take minutes (~9e7 sub-steps), so the run is not waited for.
+  const testing::TempDir dir;
+  const std::string file = dir.Write("tiny.yaml", TinyLooseGearYaml("1e-15 kg*m^2")).string();
+  const auto r = RunCommand("ulimit -t 5; exec " + kExe + " simulate --allow-slow " + file);
+  INFO(r.err);
+  CHECK((r.exit_code == 152 || r.exit_code == 137));
+  CHECK(r.err.find("warning: the run would take about") != std::string::npos);
+  CHECK(r.err.find("error:") == std::string::npos);
+}
+
+TEST_CASE("an ordinary train is neither refused nor warned about its cost",
+          "[cli][train][warnings]") {
+  // Every bundled train's run as its file sets it (analysis tier, cycles and transient) is
+  // estimated below the warning's minute, and the light loose gear of the loose-gear train
+  // (f as written, ~1e-4 kg m^2) runs without a word about its cost.
+  for (const char* name : {"manual_transmission_idle.yaml", "two_stage_helical_reducer.yaml"}) {
+    const config::LoadedGearbox loaded = config::LoadAnyGearboxFromString(
+        testing::ReadWholeFile(std::filesystem::path(kExamples) / name));
+    REQUIRE(loaded.schema == 2);
+    const TrainSpec& spec = loaded.train;
+    const TrainTables t = BuildTrainTablesAtTier(spec, BuildGearTrain(spec), spec.analysis.tier);
+    const double seconds =
+        static_cast<double>(spec.analysis.cycles + spec.analysis.transient_cycles) *
+        t.meshes.front().period;
+    const app::RunCostEstimate cost = app::EstimateRunCost(t, seconds, &spec);
+    INFO(name << ": " << app::RunCostText(cost, "the run"));
+    CHECK(cost.wall_s < app::kSlowRunWarnSeconds);
+    CHECK(app::CheckRunCost(cost, false).empty());
+  }
+  const testing::TempDir dir;
+  const std::string file = dir.Write("loose.yaml", testing::kLooseGearTrainYaml).string();
+  const auto r = RunCommand(kExe + " simulate --cycles 200 --transient 50 " + file);
+  INFO(r.err);
+  CHECK(r.exit_code == 0);
+  CHECK(r.err.find("would take about") == std::string::npos);
+  CHECK(r.err.find("--allow-slow") == std::string::npos);
+}
+
+TEST_CASE("the run-cost check refuses above an hour only without allow_slow",
+          "[train][warnings]") {
+  // The refusal and the warning follow the estimate's wall time alone: 59 s nothing, 61 s a
+  // warning, 3601 s a refusal naming the option as the caller spells it ("--allow-slow" on the
+  // command line, "allow_slow" for the Python keyword), unless allowed.
+  app::RunCostEstimate cost;
+  cost.substep_s = 1e-9;
+  cost.cause_body_name = "g";
+  cost.wall_s = 59.0;
+  CHECK(app::CheckRunCost(cost, false).empty());
+  cost.wall_s = 61.0;
+  CHECK(!app::CheckRunCost(cost, false).empty());
+  cost.wall_s = 3601.0;
+  CHECK(!app::CheckRunCost(cost, true).empty());
+  try {
+    (void)app::CheckRunCost(cost, false);
+    FAIL("not refused");
+  } catch (const InputError& e) {
+    CHECK(e.path() == "--allow-slow");
+  }
+  try {
+    (void)app::CheckRunCost(cost, false, "the run", app::TrainOptionNames{""});
+    FAIL("not refused");
+  } catch (const InputError& e) {
+    CHECK(e.path() == "allow_slow");
+  }
 }
 
 }  // namespace

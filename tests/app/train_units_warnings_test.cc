@@ -1,8 +1,9 @@
 // Train outputs in the units the file wrote (as the pair: text in them, JSON keys in fixed units),
-// and the warning before a very slow run (app/src/train_operating_point.h, SlowRunWarning).
+// and the warning before a very slow run (app/src/train_operating_point.h, CheckRunCost).
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <atomic>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <fstream>
@@ -93,7 +94,7 @@ TEST_CASE("a train with a tiny loose gear is warned about before its slow run",
   // and r_b = |v| on the gear's coordinate.
   TrainSpec spec = testing::RattlerTrain(1500.0);
   const TrainTables normal = BuildTrainTables(spec, BuildGearTrain(spec));
-  CHECK(app::SlowRunWarning(normal, 0.1).empty());
+  CHECK(app::CheckRunCost(app::EstimateRunCost(normal, 0.1), false).empty());
   spec.gears[3].gear.inertia = 1e-9;
   const TrainTables tiny = BuildTrainTables(spec, BuildGearTrain(spec));
   const int loose = 2;  // bodies: input, layshaft, g4
@@ -102,24 +103,38 @@ TEST_CASE("a train with a tiny loose gear is warned about before its slow run",
   const TrainMeshTable& mt = tiny.meshes[1];
   const double k = mt.k_drive[0];
   const double hz = std::sqrt(k * mt.v[loose] * mt.v[loose] / 1e-9) / (2.0 * std::numbers::pi);
-  const std::string w = app::SlowRunWarning(tiny, 0.1);
+  // 0.1 s: ~2e6 sub-steps of ~50 ns at m = 8, about 0.4 s by the estimate: no warning. 100 s:
+  // about 400 s, a warning (above 60 s) and no refusal (below an hour).
+  CHECK(app::CheckRunCost(app::EstimateRunCost(tiny, 0.1), false).empty());
+  const app::RunCostEstimate cost = app::EstimateRunCost(tiny, 100.0);
+  CHECK(cost.wall_s ==
+        Approx(cost.substeps * app::kSubstepSecondsPerState2 * tiny.m * tiny.m).epsilon(1e-12));
+  CHECK(cost.substeps == Approx(100.0 / cost.substep_s).epsilon(1e-12));
+  CHECK(cost.dominant == app::RateTerm::kStiffness);
+  const std::string w = app::CheckRunCost(cost, false);
   INFO(w << "\nexpected " << hz << " Hz");
   REQUIRE(!w.empty());
   CHECK(w.find(fmt::format("{:.4g} Hz", hz)) != std::string::npos);
   CHECK(w.find("body g4, inertia 1e-09 kg m²") != std::string::npos);
-  CHECK(w.find("sub-steps for the 0.1 s simulated") != std::string::npos);
+  CHECK(w.find("sub-steps of at most") != std::string::npos);
+  CHECK(w.find("for the 100 s simulated") != std::string::npos);
 
-  // The run says it before it starts, and keeps it in its warnings (JSON `warnings`).
+  // A run estimated above a minute says it before it starts, and keeps it in its warnings (JSON
+  // `warnings`): 10 cycles of the first mesh with g4 at 1e-15 kg m^2 (~1e10 rad/s: ~4e8 sub-steps,
+  // ~80 s by the estimate). The run is cancelled before its first step (it would take that long).
+  spec.gears[3].gear.inertia = 1e-15;
   app::TrainRunOptions run;
-  run.cycles = 1;
+  run.cycles = 10;
   run.transient = 0;
   run.spectra = false;
+  const std::atomic<bool> cancelled{true};
+  run.cancel = &cancelled;
   std::vector<std::string> said;
   run.before_run_warning = [&](const std::string& text) { said.push_back(text); };
-  const app::TrainOperatingPoint op = app::RunTrainOperatingPoint(spec, run);
+  CHECK_THROWS_AS(app::RunTrainOperatingPoint(spec, run), RunCancelled);
   REQUIRE(said.size() == 1);
-  CHECK(said[0].find("the highest mode of the train") != std::string::npos);
-  CHECK(std::find(op.warnings.begin(), op.warnings.end(), said[0]) != op.warnings.end());
+  CHECK(said[0].find("the run would take about") != std::string::npos);
+  CHECK(said[0].find("body g4, inertia 1e-15 kg m²") != std::string::npos);
 }
 
 TEST_CASE("the slow-run estimate's sub-step follows the solver's bound with tooth friction",
@@ -147,16 +162,17 @@ TEST_CASE("the slow-run estimate's sub-step follows the solver's bound with toot
   const double n = slide * v / J;
   const double rho = std::sqrt(omega * omega + k * n) + mt.damping * (v * v / J + n);
 
-  const app::RunCostEstimate without = app::EstimateRunCost(plain);
-  const app::RunCostEstimate with = app::EstimateRunCost(rubbing);
+  const app::RunCostEstimate without = app::EstimateRunCost(plain, 0.1);
+  const app::RunCostEstimate with = app::EstimateRunCost(rubbing, 0.1);
   CHECK(without.substep_s == Approx(0.5 / omega).epsilon(1e-4));
   CHECK(with.substep_s == Approx(0.5 / rho).epsilon(1e-4));
   CHECK(with.substep_s < without.substep_s);
   // The mode (and so the body named) is the frictionless one either way.
   CHECK(with.mode_hz == Approx(without.mode_hz).epsilon(1e-12));
   CHECK(with.body == loose);
-  const std::string w = app::SlowRunWarning(rubbing, 0.1);
-  CHECK(w.find(fmt::format("about {:.3g} sub-steps", 0.1 / with.substep_s)) != std::string::npos);
+  CHECK(with.substeps == Approx(0.1 / with.substep_s).epsilon(1e-12));
+  const std::string w = app::RunCostText(with, "the run");
+  CHECK(w.find(fmt::format("({:.3g} dense sub-steps", 0.1 / with.substep_s)) != std::string::npos);
 }
 
 }  // namespace
