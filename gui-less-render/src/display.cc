@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/file.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -69,8 +70,29 @@ std::string XvfbEndedMessage(const std::string& xvfb) {
          " -displayfd 1` to see why), or set DISPLAY to a running X server";
 }
 
+// Held while an Xvfb starts, so two gearnvh processes (MPI ranks, parallel runs) never start
+// theirs at the same moment: two Xvfbs scanning for a free display together can both name the
+// same one, and the loser exits after its client connected (XIO error). Released on close.
+class XvfbStartLock {
+ public:
+  XvfbStartLock() {
+    fd_ = ::open("/tmp/.gearnvh-xvfb-start.lock", O_RDWR | O_CREAT | O_CLOEXEC, 0666);
+    if (fd_ < 0) fd_ = ::open("/tmp/.gearnvh-xvfb-start.lock", O_RDONLY | O_CLOEXEC);
+    if (fd_ >= 0) ::flock(fd_, LOCK_EX);  // without the file: start unserialised, as before
+  }
+  ~XvfbStartLock() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  XvfbStartLock(const XvfbStartLock&) = delete;
+  XvfbStartLock& operator=(const XvfbStartLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
+
 DisplayStatus StartXvfb() {
   DisplayStatus s;
+  const XvfbStartLock serialised;
   const std::string xvfb = FindOnPath("Xvfb");
   if (xvfb.empty()) {
     s.info = DisplayStatus::Info::kXvfbMissing;
