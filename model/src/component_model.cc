@@ -87,8 +87,8 @@ ComponentModel BuildComponentModel(const GearboxSpec& spec, const ComponentModel
   const PairGeometry& g = m.geometry;
   const MeshEvaluator evaluator(pair, g, options.mesh);
   m.cycle = ComputeMeshCycle(pair, g, options.mesh);
-  m.mesh_summary = SummarizeMeshCycle(m.cycle, g);
   m.segmentation = SegmentMeshCycle(pair, evaluator, spec.analysis.segments_per_cycle);
+  m.mesh_summary = SummarizeMeshCycle(m.cycle, g, m.segmentation);
   // Engine orders are multiples of the pinion speed: z1 mesh cycles per pinion revolution.
   RequireExcitationResolved(spec.operating.excitation, spec.pinion.teeth,
                             LongestSegment(m.segmentation), spec.analysis.segments_per_cycle,
@@ -164,9 +164,9 @@ ModalSummary FullModelFrequencies(const ComponentModel& model, int count) {
   const Eigen::MatrixXd K = Eigen::MatrixXd(model.K) +
                             model.mesh_summary.mean * model.v_drive * model.v_drive.transpose();
   const double k = model.mesh_summary.mean;
-  const NaturalModes modes =
-      LowestNaturalModes(K, Eigen::MatrixXd(model.M), count, false,
-                         [&](const Eigen::VectorXd& x) { return FullStrainMagnitude(model, k, x); });
+  const NaturalModes modes = LowestNaturalModes(
+      K, Eigen::MatrixXd(model.M), count, false,
+      [&](const Eigen::VectorXd& x) { return FullStrainMagnitude(model, k, x); });
   return {modes.frequencies_hz, modes.rigid_body_modes};
 }
 

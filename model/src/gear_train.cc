@@ -77,7 +77,6 @@ GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& opti
     mesh.pair.path_mesh = "meshes[" + std::to_string(m) + "]";
     mesh.geometry = ComputePairGeometry(mesh.pair);
     mesh.cycle = ComputeMeshCycle(mesh.pair, mesh.geometry, options);
-    mesh.stiffness = SummarizeMeshCycle(mesh.cycle, mesh.geometry);
     try {
       mesh.segmentation = SegmentMeshCycle(mesh.pair, MeshEvaluator(mesh.pair, mesh.geometry),
                                            spec.analysis.segments_per_cycle);
@@ -87,6 +86,7 @@ GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& opti
                         return rule + " in " + mesh.pair.path_mesh + " (" + mesh.name + ")";
                       });
     }
+    mesh.stiffness = SummarizeMeshCycle(mesh.cycle, mesh.geometry, mesh.segmentation);
     for (const std::string& w : mesh.cycle.warnings) train.warnings.push_back(w);
     // The solver's grid cuts at every mesh's segment boundaries, so its segments are no longer
     // than the finest mesh's: that mesh (most segments per input revolution) decides.

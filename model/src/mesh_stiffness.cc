@@ -8,6 +8,7 @@
 #include <tuple>
 
 #include "gearnvh/model/input_error.h"
+#include "gearnvh/model/mesh_segmentation.h"
 #include "gearnvh/model/tooth_stiffness.h"
 
 namespace gearnvh {
@@ -393,16 +394,15 @@ MeshCycle ComputeMeshCycle(const MeshPair& pair, const PairGeometry& g,
   return cycle;
 }
 
-MeshStiffnessSummary SummarizeMeshCycle(const MeshCycle& cycle, const PairGeometry& g) {
+MeshStiffnessSummary SummarizeMeshCycle(const MeshCycle& cycle, const PairGeometry& g,
+                                        const MeshSegmentation& segmentation) {
   MeshStiffnessSummary s;
   s.contact_ratio = g.contact_ratio;
-  const size_t n = cycle.drive.size();
   s.min = s.max = cycle.drive[0].stiffness;
   double lste_min = cycle.drive[0].lste, lste_max = lste_min;
-  double single_sum = 0.0, double_sum = 0.0, sum = 0.0;
+  double single_sum = 0.0, double_sum = 0.0;
   int single_n = 0, double_n = 0;
   for (const FlankSample& d : cycle.drive) {
-    sum += d.stiffness;
     s.min = std::min(s.min, d.stiffness);
     s.max = std::max(s.max, d.stiffness);
     lste_min = std::min(lste_min, d.lste);
@@ -412,7 +412,9 @@ MeshStiffnessSummary SummarizeMeshCycle(const MeshCycle& cycle, const PairGeomet
     for (int m = 0; m < d.pair_count; ++m)
       s.load_sharing_max = std::max(s.load_sharing_max, d.pairs[m].load_share);
   }
-  s.mean = sum / static_cast<double>(n);
+  for (const MeshSegment& seg : segmentation.segments) {
+    s.mean += seg.drive.stiffness * (seg.tau_end - seg.tau_begin);
+  }
   s.single_pair_mean = single_n ? single_sum / single_n : 0.0;
   s.double_pair_mean = double_n ? double_sum / double_n : 0.0;
   s.lste_peak_to_peak = lste_max - lste_min;

@@ -35,9 +35,9 @@ TEST_CASE("helical geometry: transverse section and contact ratios by the closed
   const double r1 = mt * 10, r2 = mt * 20, rb1 = r1 * std::cos(at), rb2 = r2 * std::cos(at);
   const double ra1 = r1 + mn, ra2 = r2 + mn, a = r1 + r2;
   const double pbt = std::numbers::pi * mt * std::cos(at);
-  const double eps_a = (std::sqrt(ra1 * ra1 - rb1 * rb1) + std::sqrt(ra2 * ra2 - rb2 * rb2) -
-                        a * std::sin(at)) /
-                       pbt;
+  const double eps_a =
+      (std::sqrt(ra1 * ra1 - rb1 * rb1) + std::sqrt(ra2 * ra2 - rb2 * rb2) - a * std::sin(at)) /
+      pbt;
   const double eps_b = b * std::sin(beta) / (std::numbers::pi * mn);
   // Rounding of a handful of trigonometric operations: 1e-13.
   CHECK(g.pinion.base == Approx(rb1).epsilon(1e-13));
@@ -58,8 +58,8 @@ TEST_CASE("the slice method tends to the spur pair as the helix angle vanishes",
   GearboxSpec nearly = HelicalPair(1e-7);
   nearly.operating.torque = 50.0;
   const PairGeometry gs = ComputePairGeometry(spur), gh = ComputePairGeometry(nearly);
-  const MeshStiffnessSummary s = SummarizeMeshCycle(ComputeMeshCycle(PairOf(spur), gs), gs);
-  const MeshStiffnessSummary h = SummarizeMeshCycle(ComputeMeshCycle(PairOf(nearly), gh), gh);
+  const MeshStiffnessSummary s = testing::MeshSummaryOf(spur);
+  const MeshStiffnessSummary h = testing::MeshSummaryOf(nearly);
   // beta = 1e-7 moves the slices by eps_beta = 3e-7 of a cycle and the transverse module by
   // 5e-15; the spline table interpolates the pair stiffness to ~1e-12. Agreement to 1e-6 is the
   // staircase of slices straddling the contact transitions (3e-7 of a cycle).
@@ -78,8 +78,8 @@ TEST_CASE("an overlap ratio of one smooths the mesh stiffness", "[mesh][helical]
   for (GearboxSpec* s : {&helical, &spur}) s->operating.torque = 50.0;
   const PairGeometry gh = ComputePairGeometry(helical), gs = ComputePairGeometry(spur);
   REQUIRE(gh.overlap_ratio == Approx(1.0).epsilon(1e-12));
-  const MeshStiffnessSummary h = SummarizeMeshCycle(ComputeMeshCycle(PairOf(helical), gh), gh);
-  const MeshStiffnessSummary s = SummarizeMeshCycle(ComputeMeshCycle(PairOf(spur), gs), gs);
+  const MeshStiffnessSummary h = testing::MeshSummaryOf(helical);
+  const MeshStiffnessSummary s = testing::MeshSummaryOf(spur);
   const double helical_ripple = (h.max - h.min) / h.mean, spur_ripple = (s.max - s.min) / s.mean;
   INFO("ripple helical " << helical_ripple << ", spur " << spur_ripple);
   CHECK(spur_ripple > 0.3);
@@ -98,12 +98,12 @@ TEST_CASE("helical mesh stiffness lies within the spread of methods around ISO 6
     GearboxSpec spec = HelicalPair(beta, face);
     spec.operating.torque = 100.0 * face * 1e3 * 0.5 * 0.06 / std::cos(beta);  // ~100 N/mm
     const PairGeometry g = ComputePairGeometry(spec);
-    const MeshStiffnessSummary s = SummarizeMeshCycle(ComputeMeshCycle(PairOf(spec), g), g);
+    const MeshStiffnessSummary s = testing::MeshSummaryOf(spec);
     const double zn1 = 20 / std::pow(std::cos(beta), 3), zn2 = 40 / std::pow(std::cos(beta), 3);
     const double q = 0.04723 + 0.15551 / zn1 + 0.25791 / zn2;
     const double c_single = 0.8 / q * std::cos(beta);
     const double c_gamma = 0.85 * c_single * (0.75 * g.contact_ratio + 0.25);  // N/(mm um)
-    const double iso = c_gamma * face * 1e3 * 1e6;                              // N/m
+    const double iso = c_gamma * face * 1e3 * 1e6;                             // N/m
     const double normal = s.mean / std::pow(std::cos(g.base_helix_angle), 2);
     INFO(deg << " deg: mean (normal) " << normal << " N/m vs ISO c_gamma_beta b " << iso << " ("
              << 100 * (normal / iso - 1) << " %)");
@@ -142,8 +142,8 @@ TEST_CASE("the helical mesh vector carries the axial force T tan(beta) / r and i
   CHECK(axial_wheel == Approx(-axial_pinion).epsilon(1e-7));
   // The axial force acts at the contact point, r_b1 from the pinion's axis: a tilting moment
   // F_a r_b1 reacted by the supports' tilt stiffness.
-  const double tilt = options.rigid_tilt_stiffness *
-                      std::hypot(q[model.PinionDof(kThx)], q[model.PinionDof(kThy)]);
+  const double tilt =
+      options.rigid_tilt_stiffness * std::hypot(q[model.PinionDof(kThx)], q[model.PinionDof(kThy)]);
   CHECK(tilt == Approx(expected * model.geometry.pinion.base).epsilon(1e-7));
   // A spur pair has none.
   GearboxSpec spur = HelicalPair(0.0);

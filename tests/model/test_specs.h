@@ -3,12 +3,16 @@
 
 #include <numbers>
 
+#include "gearnvh/model/gear_geometry.h"
 #include "gearnvh/model/gearbox_spec.h"
+#include "gearnvh/model/mesh_pair.h"
+#include "gearnvh/model/mesh_segmentation.h"
+#include "gearnvh/model/mesh_stiffness.h"
 
 namespace gearnvh::testing {
 
 inline constexpr double kRpm = 2.0 * std::numbers::pi / 60.0;  // rad/s per rpm
-inline constexpr double kDeg = std::numbers::pi / 180.0;  // rad per degree
+inline constexpr double kDeg = std::numbers::pi / 180.0;       // rad per degree
 
 // A standard 20-degree steel spur pair, module m, z1:z2, face width b, no shafts.
 inline GearboxSpec StandardPair(int z1, int z2, double module = 2e-3, double face = 15e-3) {
@@ -47,6 +51,16 @@ inline GearboxSpec FlexibleShaftsPair(double element_length = 0.01) {
     (s == 0 ? spec.input_shaft : spec.output_shaft) = shaft;
   }
   return spec;
+}
+
+// The mesh stiffness summary of a pair spec, as the model builders make it (default sampling,
+// the spec's segments per cycle).
+inline MeshStiffnessSummary MeshSummaryOf(const GearboxSpec& spec) {
+  const MeshPair pair = PairOf(spec);
+  const PairGeometry g = ComputePairGeometry(pair);
+  return SummarizeMeshCycle(
+      ComputeMeshCycle(pair, g), g,
+      SegmentMeshCycle(pair, MeshEvaluator(pair, g), spec.analysis.segments_per_cycle));
 }
 
 }  // namespace gearnvh::testing

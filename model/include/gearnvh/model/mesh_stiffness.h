@@ -34,9 +34,9 @@ struct MeshStiffnessOptions {
   int samples_per_cycle = 2048;
   // Pairs farther than this many base pitches outside the path of contact are ignored; > 0.
   double path_extension_pitches = 0.5;
-  // Face slices of a helical pair (the slice method, docs/gear-trains.md); >= 2. Each slice is a spur pair
-  // of width b / N on the transverse section, displaced in mesh phase by its position along the
-  // face times tan(beta_b) / p_bt.
+  // Face slices of a helical pair (the slice method, docs/gear-trains.md); >= 2. Each slice is a
+  // spur pair of width b / N on the transverse section, displaced in mesh phase by its position
+  // along the face times tan(beta_b) / p_bt.
   int helical_slices = 40;
   void Validate() const;
 };
@@ -82,11 +82,14 @@ struct MeshCycle {
 
 struct MeshStiffnessSummary {
   double contact_ratio = 0.0;
-  double mean = 0.0, min = 0.0, max = 0.0;  // drive flank k(tau), N/m
-  double single_pair_mean = 0.0;            // mean of k over samples with one loaded pair
-  double double_pair_mean = 0.0;            // ... with two loaded pairs (0 if none)
-  double lste_peak_to_peak = 0.0;           // m
-  double load_sharing_max = 0.0;            // max LSR_j over the cycle
+  // Drive flank k(tau), N/m. `mean` is the cycle mean of the k the solver integrates,
+  // sum_j k_j (tau_end - tau_begin)_j over the segmentation: exact for an override, 8-point
+  // Gauss-Legendre between breaks otherwise. min and max come from the samples.
+  double mean = 0.0, min = 0.0, max = 0.0;
+  double single_pair_mean = 0.0;   // mean of k over samples with one loaded pair
+  double double_pair_mean = 0.0;   // ... with two loaded pairs (0 if none)
+  double lste_peak_to_peak = 0.0;  // m
+  double load_sharing_max = 0.0;   // max LSR_j over the cycle
 };
 
 // Pair stiffness (series Hertz + pinion tooth + wheel tooth) at roll position s (clamped to the
@@ -141,7 +144,9 @@ class MeshEvaluator {
 MeshCycle ComputeMeshCycle(const MeshPair& pair, const PairGeometry& geometry,
                            const MeshStiffnessOptions& options = {});
 
-MeshStiffnessSummary SummarizeMeshCycle(const MeshCycle& cycle, const PairGeometry& geometry);
+struct MeshSegmentation;
+MeshStiffnessSummary SummarizeMeshCycle(const MeshCycle& cycle, const PairGeometry& geometry,
+                                        const MeshSegmentation& segmentation);
 
 // The stiffness an override gives at cycle fraction tau (drive flank), N/m.
 double OverrideStiffness(const StiffnessModel& model, double tau);
