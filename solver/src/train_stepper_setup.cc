@@ -127,8 +127,8 @@ ContactState NextStaticState(const TrainTables& t, size_t i, ContactState state,
 // along the null space N of the static system (which moves no contact's spring), the least-squares
 // fit of each free mesh's mean gap row (v + v_back)/2 to the middle of its walls over the cycle.
 // Nothing presses such a mesh, so any place is an equilibrium; the middle keeps the farthest from
-// both walls as e_ij changes from segment to segment (the least-norm solution put a loose gear of
-// a train without load 2.6 um from its back wall).
+// both walls as e_ij changes from segment to segment (the least-norm solution left the headset
+// mesh of the manual transmission without load 2.6 um from its back wall).
 void CentreFreeMeshes(const TrainTables& t, const std::vector<ContactState>& states,
                       const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>& cod,
                       Eigen::Ref<Eigen::VectorXd> x) {
