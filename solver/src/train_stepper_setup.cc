@@ -78,52 +78,107 @@ void TrainGrid::Next() {
   FindEnd();
 }
 
+namespace {
+
+// The static stiffness rows of the contact combination `states` (K x = f with each contact's
+// spring at its segment-0 wall) and the centring row r~ x = 0 below them.
+void StaticSystem(const TrainTables& t, const std::vector<ContactState>& states, Eigen::MatrixXd& B,
+                  Eigen::VectorXd& rhs) {
+  const int n = t.n;
+  B = Eigen::MatrixXd::Zero(n + 1, n);
+  if (t.structural_stiffness.size() > 0) B.topRows(n) = t.structural_stiffness;
+  rhs = Eigen::VectorXd::Zero(n + 1);
+  rhs.head(n) = t.force;
+  for (size_t i = 0; i < t.meshes.size(); ++i) {
+    const TrainMeshTable& mt = t.meshes[i];
+    if (states[i] == ContactState::kFree) continue;
+    const bool drive = states[i] == ContactState::kDrive;
+    const double k = drive ? mt.k_drive[0] : mt.k_back[0];
+    const Eigen::VectorXd& u = mt.ForceVector(0, drive);  // v without friction
+    B.topRows(n) += k * u * mt.Vector(drive).transpose();
+    rhs.head(n) += k * t.Wall(static_cast<int>(i), 0, drive) * u;
+  }
+  // K x = f is singular along the free rotation (and more so with a free loose gear; with
+  // friction also inconsistent along it, the loss balanced only in the cycle mean): the
+  // least-squares solution with r~ x = 0 is the centred one.
+  const double scale = std::max(B.topRows(n).norm(), 1.0) / t.recenter_row.norm();
+  B.row(n) = scale * t.recenter_row;
+}
+
+// The state mesh i takes next, given the static solution z of its current contact state: a
+// contact stays while its flank is pressed beyond the gap's rounding floor (GapTolerance); a drive
+// contact pulled beyond it tries the back flank; a contact that carries no force (a mesh of a
+// train without load sits exactly on its wall, where rounding alone would pick a side) is free.
+ContactState NextStaticState(const TrainTables& t, size_t i, ContactState state,
+                             const Eigen::VectorXd& z) {
+  const int mesh = static_cast<int>(i);
+  if (state == ContactState::kFree) return state;
+  const bool drive = state == ContactState::kDrive;
+  const double gap = t.GapValue(mesh, 0, drive, z);
+  const double tolerance = t.GapTolerance(mesh, 0, drive, z);
+  if (drive) {
+    if (gap > tolerance) return state;
+    return gap < -tolerance ? ContactState::kBack : ContactState::kFree;
+  }
+  return gap < -tolerance ? state : ContactState::kFree;
+}
+
+// Places every free mesh in the middle of its backlash where the contacts leave it free to move:
+// along the null space N of the static system (which moves no contact's spring), the least-squares
+// fit of each free mesh's mean gap row (v + v_back)/2 to the middle of its walls over the cycle.
+// Nothing presses such a mesh, so any place is an equilibrium; the middle keeps the farthest from
+// both walls as e_ij changes from segment to segment (the least-norm solution left the headset
+// mesh of the manual transmission without load 2.6 um from its back wall).
+void CentreFreeMeshes(const TrainTables& t, const std::vector<ContactState>& states,
+                      const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>& cod,
+                      Eigen::Ref<Eigen::VectorXd> x) {
+  const int n = t.n;
+  const long free_dims = n - cod.rank();
+  std::vector<size_t> free;
+  for (size_t i = 0; i < t.meshes.size(); ++i) {
+    if (states[i] == ContactState::kFree) free.push_back(i);
+  }
+  if (free.empty() || free_dims <= 0) return;
+  // B P = Q T Z with T's last n - rank columns zero: B's null space is P Z^T [0; I].
+  const Eigen::MatrixXd null =
+      cod.colsPermutation() * cod.matrixZ().bottomRows(free_dims).transpose();
+  Eigen::MatrixXd rows(static_cast<long>(free.size()), n);
+  Eigen::VectorXd misfit(static_cast<long>(free.size()));
+  for (size_t k = 0; k < free.size(); ++k) {
+    const TrainMeshTable& mt = t.meshes[free[k]];
+    const auto [low, high] = std::minmax_element(mt.error.begin(), mt.error.end());
+    rows.row(static_cast<long>(k)) = 0.5 * (mt.v + mt.v_back).transpose();
+    misfit[static_cast<long>(k)] = 0.5 * (*low + *high) - rows.row(static_cast<long>(k)).dot(x);
+  }
+  const Eigen::MatrixXd fit = rows * null;
+  x += null * fit.completeOrthogonalDecomposition().solve(misfit);
+}
+
+}  // namespace
+
 std::pair<Eigen::VectorXd, std::vector<ContactState>> TrainStaticState(const TrainTables& t) {
   const int n = t.n;
   std::vector<ContactState> states(t.meshes.size(), ContactState::kDrive);
   Eigen::VectorXd z = Eigen::VectorXd::Zero(t.m);
   z[t.constant_slot()] = 1.0;
+  Eigen::MatrixXd B;
+  Eigen::VectorXd rhs;
+  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod;
   // Each pass fixes the meshes whose static gap contradicts their state; a mesh changes at most
   // twice (drive -> back -> free).
   for (size_t pass = 0; pass <= 2 * t.meshes.size(); ++pass) {
-    Eigen::MatrixXd B = Eigen::MatrixXd::Zero(n + 1, n);
-    if (t.structural_stiffness.size() > 0) B.topRows(n) = t.structural_stiffness;
-    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n + 1);
-    rhs.head(n) = t.force;
-    for (size_t i = 0; i < t.meshes.size(); ++i) {
-      const TrainMeshTable& mt = t.meshes[i];
-      if (states[i] == ContactState::kFree) continue;
-      const bool drive = states[i] == ContactState::kDrive;
-      const double k = drive ? mt.k_drive[0] : mt.k_back[0];
-      const Eigen::VectorXd& v = mt.Vector(drive);
-      const Eigen::VectorXd& u = mt.ForceVector(0, drive);  // v without friction
-      B.topRows(n) += k * u * v.transpose();
-      rhs.head(n) +=
-          k * (drive ? mt.error[0] + mt.half_backlash : mt.error[0] - mt.half_backlash) * u;
-    }
-    // K x = f is singular along the free rotation (and more so with a free loose gear; with
-    // friction also inconsistent along it, the loss balanced only in the cycle mean): the
-    // least-squares solution with r~ x = 0 is the centred one.
-    const double scale = std::max(B.topRows(n).norm(), 1.0) / t.recenter_row.norm();
-    B.row(n) = scale * t.recenter_row;
-    z.head(n) = B.completeOrthogonalDecomposition().solve(rhs);
+    StaticSystem(t, states, B, rhs);
+    cod.compute(B);
+    z.head(n) = cod.solve(rhs);
     bool changed = false;
     for (size_t i = 0; i < t.meshes.size(); ++i) {
-      const TrainMeshTable& mt = t.meshes[i];
-      const double delta = mt.v.dot(z.head(n)) - mt.error[0];
-      const double delta_back = mt.v_back.dot(z.head(n)) - mt.error[0];
-      ContactState want = ContactState::kFree;
-      if (delta > mt.half_backlash)
-        want = ContactState::kDrive;
-      else if (delta_back < -mt.half_backlash)
-        want = ContactState::kBack;
-      if (states[i] != ContactState::kFree && want != states[i]) {
-        states[i] = states[i] == ContactState::kDrive ? ContactState::kBack : ContactState::kFree;
-        changed = true;
-      }
+      const ContactState next = NextStaticState(t, i, states[i], z);
+      changed = changed || next != states[i];
+      states[i] = next;
     }
     if (!changed) break;
   }
+  CentreFreeMeshes(t, states, cod, z.head(n));
   return {z, states};
 }
 

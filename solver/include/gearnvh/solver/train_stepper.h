@@ -169,8 +169,10 @@ const char* TrainStepperInfoName(TrainStepperSummary::Info info);
 // contact events in the 2.31e-05 s grid segment starting at t = 0.01234567891 s".
 std::string TrainStepperMessage(const TrainStepperSummary& summary);
 
-// Static equilibrium at t = 0 with each mesh on the flank its load presses (drive first, a mesh
-// whose static gap says otherwise on the back flank, else free), centred (r~ x = 0).
+// Static equilibrium at t = 0 with each mesh on the flank its load presses beyond the gap's
+// rounding floor (drive first, a mesh pulled on the back flank, a mesh that carries no force
+// free), centred (r~ x = 0); free meshes in the middle of their backlash along the directions the
+// contacts leave free (docs/gear-trains.md, "Initial state").
 std::pair<Eigen::VectorXd, std::vector<ContactState>> TrainStaticState(const TrainTables& tables);
 
 class TrainStepper {
