@@ -79,7 +79,7 @@ OperatingPointAnalysis AnalyseOperatingPoint(
       3.0 * spec.pinion.teeth * spec.operating.speed / (2.0 * std::numbers::pi);
   op.adequacy = AssessTierAdequacy(model, reduced, FullModelMeshModes(model, adequacy), adequacy);
   if (!op.adequacy.adequate) op.warnings.push_back(op.adequacy.Warning());
-  op.tables = BuildSegmentTables(model, reduced, spec);
+  op.tables = BuildSegmentTables(model, reduced, spec, solver.cancel);
   const SegmentTables& tables = op.tables;
   // Shaft-order lines (runout, pitch errors, engine orders) sit on spectrum bins only over whole
   // periods of what makes them: the record is rounded up to a multiple of the model's common

@@ -32,15 +32,15 @@ SolverOptions PointSolverOptions(const SpeedSweepOptions& options) {
 SpeedPoint RunPoint(const GearboxSpec& base, const ComponentModel& model,
                     const ReducedModel& reduced, const SpeedSweepOptions& options, double speed,
                     int order_bins) {
+  ThrowIfCancelled(options.cancel);  // a speed not started yet
   SpeedPoint p;
   p.speed_rad_s = speed;
   p.speed_rpm = Rpm(speed);
   GearboxSpec spec = base;
   spec.operating.speed = speed;
-  const SegmentTables tables = BuildSegmentTables(model, reduced, spec);
+  const SegmentTables tables = BuildSegmentTables(model, reduced, spec, options.cancel);
   const auto [z0, state0] = StaticInitialState(tables);
   const SolverOptions solver = PointSolverOptions(options);
-  if (solver.Cancelled()) throw RunCancelled();
   const SolverResult run = SimulateExact(tables, z0, state0, solver);
   p.matvec_per_cycle = run.summary.matvec_per_cycle;
   p.real_time_ratio = run.summary.real_time_ratio;

@@ -113,6 +113,7 @@ TiersComparison CompareTiers(const GearboxSpec& spec, const SolverOptions& solve
   std::vector<TierRow>& rows = out.rows;
   const size_t total = tiers.size() + 1;
   for (const ReducedModel& r : tiers) {
+    ThrowIfCancelled(solver.cancel);
     if (progress) progress(rows.size() + 1, total, r.name);
     rows.push_back(RunTier(spec, model, r, full, solver, r.name, before_run_memory));
     if (r.tier == Tier::kN20Mta) {

@@ -10,6 +10,7 @@
 #include "display_units.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/train_campbell.h"
+#include "gearnvh/solver/solver_options.h"
 #include "train_load_warnings.h"
 
 namespace gearnvh::app {
@@ -92,9 +93,10 @@ nlohmann::json CampbellJson(const CampbellData& data) {
 
 }  // namespace
 
-TrainCheck BuildTrainCheck(const TrainSpec& spec) {
+TrainCheck BuildTrainCheck(const TrainSpec& spec, const std::atomic<bool>* cancel) {
   TrainCheck c;
   c.train = BuildGearTrain(spec);
+  ThrowIfCancelled(cancel);
   for (const std::string& w : TrainLoadWarnings(spec, c.train.topology))
     c.train.warnings.push_back(w);
   c.torsional = TorsionalModes(c.train);
@@ -104,13 +106,16 @@ TrainCheck BuildTrainCheck(const TrainSpec& spec) {
     throw InputError("analysis.tier", 0, TierName(c.campbell_tier),
                      "tiers 4, 5, N20 simple and N20 MTA need an elastic shaft in the train");
   }
+  ThrowIfCancelled(cancel);
   c.fe = FullTrainModes(c.structure, kReportedModes);
+  ThrowIfCancelled(cancel);
   const TrainReducedModel* analysis = nullptr;
   std::vector<Tier> available;
   for (Tier t : kAllTiers) {
     (TrainTierAvailable(c.structure, t) ? available : c.unavailable).push_back(t);
   }
   c.tiers = ReduceTrainTiers(c.structure, available);
+  ThrowIfCancelled(cancel);
   for (const TrainReducedModel& r : c.tiers) {
     if (r.tier == c.campbell_tier) analysis = &r;
   }

@@ -5,6 +5,7 @@
 // tier over the speed sweep.
 #pragma once
 
+#include <atomic>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -27,8 +28,9 @@ struct TrainCheck {
   CampbellData campbell;
 };
 
-// Throws InputError when analysis.tier is not available for this train.
-TrainCheck BuildTrainCheck(const TrainSpec& spec);
+// Throws InputError when analysis.tier is not available for this train. `cancel` is polled
+// between the steps (modes, reduction, Campbell; none is polled inside): RunCancelled once set.
+TrainCheck BuildTrainCheck(const TrainSpec& spec, const std::atomic<bool>* cancel = nullptr);
 
 // The JSON document `check --json` prints for a train (keys documented in docs/results.md).
 nlohmann::json TrainCheckReport(const TrainSpec& spec, const TrainCheck& check);

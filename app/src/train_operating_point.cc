@@ -403,7 +403,9 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, const TrainRun
   TrainOperatingPoint op;
   op.tier = options.tier;
   op.train = BuildGearTrain(spec);
-  op.tables = BuildTrainTablesAtTier(spec, op.train, options.tier);
+  TrainTableOptions table_options;
+  table_options.cancel = options.cancel;
+  op.tables = BuildTrainTablesAtTier(spec, op.train, options.tier, table_options);
   op.warnings = TrainWarnings(op.train, op.tables);
   for (const std::string& w : TrainLoadWarnings(spec, op.train.topology)) op.warnings.push_back(w);
   const TrainTables& tables = op.tables;
@@ -421,7 +423,9 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, const TrainRun
   const auto [z0, states0] = TrainStaticState(tables);
   op.solver.events = options.events;
   op.solver.jumps = options.jumps;
-  TrainStepper stepper(tables, op.solver, z0, states0);
+  TrainStepperOptions stepper_options = op.solver;  // op.solver keeps no flag beyond this call
+  stepper_options.cancel = options.cancel;
+  TrainStepper stepper(tables, stepper_options, z0, states0);
   TrainRecorder recorder(tables, options.samples_per_cycle, start);
   SpectrumWindow window;
   if (options.spectra) {
@@ -440,18 +444,16 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, const TrainRun
   }
   if (kept > 0) recorder.KeepTeSeries(window.from_time, kept);
   const auto wall_start = std::chrono::steady_clock::now();
-  // The run goes in chunks of at most 1 % and kCancelCycles cycles: cancellation is seen within
-  // that, progress is reported at every 1 %.
+  // The run goes in chunks of at most 1 % (progress is reported at every 1 %) and kChunkCycles
+  // cycles: a chunk's end bounds the fused runs and the fusion-table decision, so the cap (once
+  // cancellation's latency) is kept to keep the results. The stepper polls cancellation itself.
   constexpr int kProgressSteps = 100;
-  constexpr double kCancelCycles = 64.0;
-  const double chunk = std::min(end / kProgressSteps, kCancelCycles * period);
+  constexpr double kChunkCycles = 64.0;
+  const double chunk = std::min(end / kProgressSteps, kChunkCycles * period);
   const long chunks = static_cast<long>(std::ceil(end / chunk));
   bool ok = true;
   long reported = 0;
   for (long c = 1; c <= chunks && ok; ++c) {
-    if (options.cancel != nullptr && options.cancel->load(std::memory_order_relaxed)) {
-      throw RunCancelled();
-    }
     ok = stepper.Run(c == chunks ? end : std::min(end, chunk * static_cast<double>(c)), &recorder);
     const long step = static_cast<long>(kProgressSteps * stepper.time() / end);
     if (progress && (step > reported || c == chunks || !ok)) {
@@ -483,6 +485,7 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, const TrainRun
     SpectrumAnalyzer analyzer(static_cast<int>(window_samples));
     const double rate = 1.0 / recorder.sample_interval();
     for (size_t i = 0; i < tables.meshes.size(); ++i) {
+      ThrowIfCancelled(options.cancel);  // an FFT of up to 2^21 samples per mesh
       const TrainMeshTable& mt = tables.meshes[i];
       const AmplitudeSpectrum spectrum = analyzer.Analyze(recorder.te_series()[i], rate);
       op.sidebands[i].window_cycles =

@@ -53,7 +53,8 @@ struct TrainRunOptions {
   EventMethod events = EventMethod::kSpectral;  // V3; V2 and V1 to validate
   Tier tier = Tier::kTier1;  // the train's tier (docs/gear-trains.md, "Tiers of a train")
   bool jumps = true;         // certified jumps of the transient (TrainStepperOptions::jumps)
-  // Checked before each 1 % of the run: RunCancelled once set. Not owned; null: never cancelled.
+  // Polled by the table build and the stepper (per mesh, per grid segment): RunCancelled once
+  // set. Not owned; null: never cancelled.
   const std::atomic<bool>* cancel = nullptr;
   // Called with each warning about the run's cost (SlowRunWarning) before the run starts, so a
   // command can say it on stderr at once; empty: not called (the warning is in `warnings` too).

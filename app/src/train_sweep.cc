@@ -20,6 +20,7 @@ namespace gearnvh::app {
 namespace {
 
 TrainSweepPoint RunPoint(const TrainSpec& base, const TrainSweepOptions& options, double speed) {
+  ThrowIfCancelled(options.cancel);  // a speed not started yet
   TrainSweepPoint p;
   p.speed_rad_s = speed;
   p.speed_rpm = Rpm(speed);
@@ -88,11 +89,14 @@ int TrainSweepResult::failed() const {
 RunCostEstimate EstimateTrainSweepCost(const TrainSpec& spec, const TrainSweepOptions& options) {
   const SweepRange& range = spec.analysis.speed_sweep;
   std::optional<RunCostEstimate> cheapest;
+  TrainTableOptions table_options;
+  table_options.cancel = options.cancel;
   for (double speed : {range.Point(0), range.Point(range.points - 1)}) {
+    ThrowIfCancelled(options.cancel);
     TrainSpec at = spec;
     at.operating.speed = speed;
     const GearTrain train = BuildGearTrain(at);
-    const TrainTables tables = BuildTrainTablesAtTier(at, train, options.tier);
+    const TrainTables tables = BuildTrainTablesAtTier(at, train, options.tier, table_options);
     const double seconds =
         static_cast<double>(options.cycles + options.transient) * tables.meshes.front().period;
     const RunCostEstimate cost = EstimateRunCost(tables, seconds, &at);

@@ -69,6 +69,7 @@ TrainTiersComparison CompareTrainTiers(const TrainSpec& spec, TrainRunOptions ru
     // Every tier's cost before any runs (each builds its tables again for the run).
     std::vector<RunCostEstimate> costs;
     for (Tier t : tiers) {
+      ThrowIfCancelled(run.cancel);  // each builds the tier's tables
       const double period = 1.0 / FirstMeshFrequency(spec, train.topology, spec.operating.speed);
       costs.push_back(
           EstimateRunCost(spec, t, static_cast<double>(run.cycles + run.transient) * period));
@@ -81,6 +82,7 @@ TrainTiersComparison CompareTrainTiers(const TrainSpec& spec, TrainRunOptions ru
     run.before_run_warning = {};
   }
   for (Tier t : tiers) {
+    ThrowIfCancelled(run.cancel);
     if (progress) progress(out.rows.size() + 1, tiers.size(), TierName(t));
     out.rows.push_back(RunTier(spec, run, t));
   }

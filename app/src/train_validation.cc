@@ -161,6 +161,7 @@ TrainReferenceComparison CompareTrainWithReference(
   ro.end_time = window;
   ro.sample_interval = window / static_cast<double>(times.size());
   ro.rtol = kReferenceRtol;
+  ro.cancel = cancel;
   const TrainReferenceResult ref = SimulateTrainReference(reference, z_reference, states0, ro);
   ro.rtol = kEstimateRtol;
   const TrainReferenceResult estimate = SimulateTrainReference(reference, z_reference, states0, ro);
@@ -285,7 +286,9 @@ std::vector<ValidationRow> RunTrainValidationLadder(
     if (progress) progress(stage, kStages);
   };
   const GearTrain train = BuildGearTrain(spec);
-  const TrainTables tables = BuildTrainTablesAtTier(spec, train, spec.analysis.tier);
+  TrainTableOptions table_options;
+  table_options.cancel = cancel;
+  const TrainTables tables = BuildTrainTablesAtTier(spec, train, spec.analysis.tier, table_options);
   const auto [z0, states0] = TrainStaticState(tables);
   const double period = tables.meshes.front().period;
   const int cycles = WindowCycles(tables, z0, states0, cancel);

@@ -25,8 +25,8 @@
 namespace gearnvh::app {
 
 // progress(done, 5) after each stage (the window run, the CVODE comparison, V2, V1, fusion);
-// `cancel` is passed to the exact runs (TrainStepperOptions::cancel: RunCancelled), CVODE's runs
-// finish first.
+// `cancel` is passed to the table build, the exact runs and CVODE's runs (each polls it:
+// RunCancelled once set).
 std::vector<ValidationRow> RunTrainValidationLadder(
     const TrainSpec& spec, const std::atomic<bool>* cancel = nullptr,
     const std::function<void(int done, int total)>& progress = {});

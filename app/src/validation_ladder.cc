@@ -31,13 +31,21 @@ double MaxRelativeTe(const Trajectory& a, const Trajectory& b, size_t count) {
   return scale > 0.0 ? diff / scale : 0.0;
 }
 
+// The options of a ladder run that `cancel` stops.
+SolverOptions CancellableOptions(const std::atomic<bool>* cancel) {
+  SolverOptions options;
+  options.cancel = cancel;
+  return options;
+}
+
 }  // namespace
 
-std::vector<ValidationRow> RunValidationLadder(const GearboxSpec& spec) {
+std::vector<ValidationRow> RunValidationLadder(const GearboxSpec& spec,
+                                               const std::atomic<bool>* cancel) {
   std::vector<ValidationRow> rows;
   const ComponentModel model = BuildComponentModel(spec);
   const ReducedModel tier1 = ReduceModel(model, Tier::kTier1);
-  const SegmentTables tables = BuildSegmentTables(model, tier1, spec);
+  const SegmentTables tables = BuildSegmentTables(model, tier1, spec, cancel);
   SegmentTables quiet = tables;  // the same model without engine excitation
   quiet.excitation.clear();
   const auto [z0, state0] = StaticInitialState(tables);
@@ -46,12 +54,12 @@ std::vector<ValidationRow> RunValidationLadder(const GearboxSpec& spec) {
 
   // 1. A fused cycle (product of segment propagators) against sub-step propagation.
   {
-    SolverOptions stepped;
+    SolverOptions stepped = CancellableOptions(cancel);
     stepped.method = SolverMethod::kStepped;
     const ContactState state = state0 == ContactState::kFree ? ContactState::kDrive : state0;
     ExactStepper stepper(quiet, stepped, z0, state, static_cast<size_t>(quiet.segments()), 16);
     stepper.Run(1, true);
-    const ConstantContactCycle cycle(quiet, state);
+    const ConstantContactCycle cycle(quiet, state, cancel);
     Eigen::VectorXd fused = cycle.map() * z0;
     fused.head(tables.n) -= tables.rigid_rotation * tables.recenter_row.dot(fused.head(tables.n));
     const bool no_events = stepper.summary().events == 0 && stepper.contact() == state;
@@ -82,7 +90,7 @@ std::vector<ValidationRow> RunValidationLadder(const GearboxSpec& spec) {
   }
   // 1b. Segment-run fusion against V3 stepping: 10 unrecorded cycles from the static state.
   {
-    SolverOptions stepped, fused;
+    SolverOptions stepped = CancellableOptions(cancel), fused = stepped;
     ApplyLadderMethod(LadderMethod::kV3, stepped);
     ApplyLadderMethod(LadderMethod::kFused, fused);
     // Runs reproduce the dense propagators' products: both sides step through z and Phi (V3's
@@ -113,13 +121,14 @@ std::vector<ValidationRow> RunValidationLadder(const GearboxSpec& spec) {
   }
   // 2-3. Event times and TE against the CVODE reference (10 cycles, tier 1, with excitation).
   {
-    SolverOptions opt;
+    SolverOptions opt = CancellableOptions(cancel);
     opt.method = SolverMethod::kStepped;
     opt.cycles = 10;
     const SolverResult exact = SimulateExact(tables, z0, state0, opt);
     ReferenceOptions ref_opt;
     ref_opt.cycles = 10;
     ref_opt.rtol = 1e-13;
+    ref_opt.cancel = cancel;
     const ReferenceResult ref = SimulateReference(tables, z0, state0, ref_opt);
     const auto& ea = exact.trajectory.events;
     const auto& eb = ref.trajectory.events;
@@ -171,7 +180,7 @@ std::vector<ValidationRow> RunValidationLadder(const GearboxSpec& spec) {
   {
     std::vector<SolverResult> runs;
     for (const LadderMethod method : {LadderMethod::kV1, LadderMethod::kV2, LadderMethod::kV3}) {
-      SolverOptions opt;
+      SolverOptions opt = CancellableOptions(cancel);
       ApplyLadderMethod(method, opt);
       opt.cycles = 10;
       runs.push_back(SimulateExact(tables, z0, state0, opt));
@@ -204,14 +213,14 @@ std::vector<ValidationRow> RunValidationLadder(const GearboxSpec& spec) {
       refined.analysis.segments_per_cycle = std::min(4096, base * factor);
       const ComponentModel m = BuildComponentModel(refined);
       const ReducedModel r = ReduceModel(m, Tier::kTier1);
-      SegmentTables t = BuildSegmentTables(m, r, refined);
+      SegmentTables t = BuildSegmentTables(m, r, refined, cancel);
       t.excitation.clear();
-      const ConstantContactCycle cycle(t, ContactState::kDrive);
+      const ConstantContactCycle cycle(t, ContactState::kDrive, cancel);
       if (!cycle.has_orbit()) {
         ok = false;
         break;
       }
-      SolverOptions opt;
+      SolverOptions opt = CancellableOptions(cancel);
       opt.method = SolverMethod::kStepped;
       ExactStepper stepper(t, opt, cycle.orbit(), ContactState::kDrive, t.segments(), 64);
       stepper.Run(1, true);
@@ -247,8 +256,8 @@ std::vector<ValidationRow> RunValidationLadder(const GearboxSpec& spec) {
   }
   // 5. Permanent contact against the linear steady state (the periodic orbit of the cycle map).
   {
-    const ConstantContactCycle cycle(quiet, ContactState::kDrive);
-    SolverOptions opt;
+    const ConstantContactCycle cycle(quiet, ContactState::kDrive, cancel);
+    SolverOptions opt = CancellableOptions(cancel);
     opt.method = SolverMethod::kStepped;
     ExactStepper stepper(quiet, opt, cycle.orbit(), ContactState::kDrive, 0, 16);
     stepper.Run(3, true);
@@ -274,7 +283,7 @@ std::vector<ValidationRow> RunValidationLadder(const GearboxSpec& spec) {
     } else {
       Eigen::VectorXd z = Eigen::VectorXd::Zero(tables.m);
       z[2 * tables.n] = 1.0;
-      SolverOptions opt;
+      SolverOptions opt = CancellableOptions(cancel);
       opt.method = SolverMethod::kStepped;
       opt.cycles = 50;
       const SolverResult r = SimulateExact(quiet, z, ContactState::kFree, opt);
@@ -303,6 +312,7 @@ std::vector<ValidationRow> RunValidationLadder(const GearboxSpec& spec) {
     }
   }
   // 7. MTA static mesh compliance; 8. reduced frequencies vs the full FE model.
+  ThrowIfCancelled(cancel);  // two reductions and a full-FE eigenproblem, not polled inside
   if (TierAvailable(model, Tier::kN20Mta)) {
     const ReducedModel mta = ReduceModel(model, Tier::kN20Mta);
     rows.push_back(CheckRow("MTA static mesh compliance vs full FE",

@@ -3,6 +3,7 @@
 // without shafts) are reported as skipped, not passed silently.
 #pragma once
 
+#include <atomic>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,9 @@ struct ValidationRow {
 ValidationRow CheckRow(std::string name, double value, double threshold, std::string detail);
 ValidationRow SkippedRow(std::string name, std::string why);
 
-std::vector<ValidationRow> RunValidationLadder(const GearboxSpec& spec);
+// `cancel` (SolverOptions::cancel) is passed to every run, table build and CVODE reference:
+// RunCancelled once set. Not owned; null: never cancelled.
+std::vector<ValidationRow> RunValidationLadder(const GearboxSpec& spec,
+                                               const std::atomic<bool>* cancel = nullptr);
 
 }  // namespace gearnvh::app

@@ -56,7 +56,7 @@ AtlasCell ComputeAtlasCell(const GearboxSpec& base, const AtlasAxis& x, const At
     SetParameter(spec, x.parameter, cell.x);
     SetParameter(spec, y.parameter, cell.y);
     ValidateGearboxSpec(spec);
-    const OperatingPointModel op = BuildOperatingPointModel(spec, options.tier);
+    const OperatingPointModel op = BuildOperatingPointModel(spec, options.tier, options.cancel);
     const SegmentTables& tables = op.tables;
     const auto [z0, state0] = StaticInitialState(tables);
     LyapunovOptions lyapunov;

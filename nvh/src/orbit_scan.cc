@@ -36,14 +36,14 @@ std::vector<OrbitScanPoint> ScanPeriodicOrbits(const GearboxSpec& base,
   for (int i = 0; i < points; ++i) {
     OrbitScanPoint& p = out[static_cast<size_t>(i)];
     try {
-      if (options.cancel != nullptr && options.cancel->load()) throw RunCancelled();
+      ThrowIfCancelled(options.cancel);
       GearboxSpec spec = base;
       if (sweep) {
         p.value = AxisValue(*sweep, i);
         SetParameter(spec, sweep->parameter, p.value);
         ValidateGearboxSpec(spec);
       }
-      const OperatingPointModel op = BuildOperatingPointModel(spec, options.tier);
+      const OperatingPointModel op = BuildOperatingPointModel(spec, options.tier, options.cancel);
       const SegmentTables& tables = op.tables;
       PeriodicOrbitOptions orbit_options;
       orbit_options.period = options.period;

@@ -68,7 +68,9 @@ TrainAtlasPoint ComputeTrainAtlasPoint(const TrainSpec& variant, const TrainAtla
     options.Validate();
     ValidateTrainSpec(variant);
     const GearTrain train = BuildGearTrain(variant);
-    const TrainTables tables = BuildTrainTablesAtTier(variant, train, options.tier);
+    TrainTableOptions table_options;
+    table_options.cancel = options.cancel;
+    const TrainTables tables = BuildTrainTablesAtTier(variant, train, options.tier, table_options);
     TrainLyapunovOptions lyapunov;
     lyapunov.exponents = 1;
     lyapunov.transient_cycles = options.transient_cycles;

@@ -92,13 +92,15 @@ std::vector<TrainOrbitScanPoint> ScanTrainPeriodicOrbits(int count, const TrainV
   std::vector<TrainOrbitScanPoint> out(static_cast<size_t>(count));
   std::optional<Guess> previous;
   for (int i = 0; i < count; ++i) {
-    if (options.cancel != nullptr && options.cancel->load()) throw RunCancelled();
+    ThrowIfCancelled(options.cancel);
     TrainOrbitScanPoint& p = out[static_cast<size_t>(i)];
     try {
       const TrainSpec spec = variant(i);
       ValidateTrainSpec(spec);
       const GearTrain train = BuildGearTrain(spec);
-      const TrainTables tables = BuildTrainTablesAtTier(spec, train, options.tier);
+      TrainTableOptions table_options;
+      table_options.cancel = options.cancel;
+      const TrainTables tables = BuildTrainTablesAtTier(spec, train, options.tier, table_options);
       p.common_period = tables.common_period;
       p.ok = true;
       TrainOrbitOptions orbit_options;

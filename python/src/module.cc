@@ -89,9 +89,12 @@ py::object Load(const py::object& source) {
 py::object Check(const Gearbox& gb) {
   const nlohmann::json doc = RunOnModel(
       gb,
-      [](const GearboxSpec& spec, const std::string& source, CallControl&) {
+      [](const GearboxSpec& spec, const std::string& source, CallControl& control) {
+        // Ctrl-C is seen between the steps (none is polled inside).
         const ComponentModel model = BuildComponentModel(spec);
+        ThrowIfCancelled(&control.cancel);
         const ModalSummary modes = FullModelFrequencies(model, app::kReportedModes);
+        ThrowIfCancelled(&control.cancel);
         const std::vector<ReducedModel> tiers = app::ReduceAvailableTiers(model);
         nlohmann::json out = app::CheckReport(spec, model, modes, tiers);
         out["file"] = source;

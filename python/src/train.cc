@@ -40,8 +40,9 @@ struct TrainSweep {
 py::object CheckTrain(const Train& train) {
   const nlohmann::json doc = RunOnModel(
       train,
-      [](const TrainSpec& spec, const std::string& source, CallControl&) {
-        nlohmann::json out = app::TrainCheckReport(spec, app::BuildTrainCheck(spec));
+      [](const TrainSpec& spec, const std::string& source, CallControl& control) {
+        nlohmann::json out =
+            app::TrainCheckReport(spec, app::BuildTrainCheck(spec, &control.cancel));
         out["file"] = source;
         return out;
       },

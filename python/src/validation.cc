@@ -35,14 +35,13 @@ std::shared_ptr<Validation> ValidateTrain(const Train& train, const py::object& 
       progress);
 }
 
-// The pair's ladder (`gearnvh validate FILE` on a schema-1 file). It has no progress counts and
-// no cancellation point: Ctrl-C stops it when it ends (about a second on the examples).
+// The pair's ladder (`gearnvh validate FILE` on a schema-1 file). It has no progress counts.
 std::shared_ptr<Validation> ValidateGearbox(const Gearbox& gearbox, const py::object& progress) {
   return RunOnModel(
       gearbox,
-      [](const GearboxSpec& spec, const std::string& source, CallControl&) {
+      [](const GearboxSpec& spec, const std::string& source, CallControl& control) {
         auto out = std::make_shared<Validation>();
-        out->rows = app::RunValidationLadder(spec);
+        out->rows = app::RunValidationLadder(spec, &control.cancel);
         out->doc = app::ValidationDocument(out->rows, spec.name, source);
         return out;
       },
@@ -91,7 +90,7 @@ void BindValidation(py::module_& m) {
         py::arg("progress") = py::none(),
         "The validation ladder of a gear pair, as `gearnvh validate FILE`: fused vs stepped "
         "propagation, exact vs CVODE reference, closed forms, segment convergence, MTA "
-        "compliance, ISO 6336 stiffness. No progress counts; Ctrl-C stops it when it ends.");
+        "compliance, ISO 6336 stiffness. No progress counts; Ctrl-C interrupts.");
 }
 
 }  // namespace gearnvh::python

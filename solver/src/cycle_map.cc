@@ -5,16 +5,20 @@
 #include <stdexcept>
 
 #include "flush_subnormals.h"
+#include "gearnvh/solver/solver_options.h"
 
 namespace gearnvh {
 
 ConstantContactCycle::ConstantContactCycle(const SegmentTables& t, ContactState state,
-                                           int max_jump_log2)
+                                           const std::atomic<bool>* cancel, int max_jump_log2)
     : t_(t), state_(state) {
   const int m = t.m, n = t.n;
   const int s = static_cast<int>(state);
   P_ = Eigen::MatrixXd::Identity(m, m);
-  for (int j = 0; j < t.segments(); ++j) P_ = (t.systems[j][s].full * P_).eval();
+  for (int j = 0; j < t.segments(); ++j) {
+    ThrowIfCancelled(cancel);
+    P_ = (t.systems[j][s].full * P_).eval();
+  }
   // Quotient projector removing the free-rotation subspace (position and velocity parts).
   L_ = FreeRotationProjector(t);
   Pq_ = L_ * P_ * L_;
@@ -51,6 +55,7 @@ ConstantContactCycle::ConstantContactCycle(const SegmentTables& t, ContactState 
   orbit_margin_ = 1e300;
   double curvature = 0.0, substep2 = 0.0;
   for (int j = 0; j < t.segments(); ++j) {
+    ThrowIfCancelled(cancel);
     const SegmentSystem& sys = t.systems[j][s];
     const Eigen::RowVectorXd& c = state == ContactState::kDrive ? sys.gap_drive : sys.gap_back;
     const double sign = state == ContactState::kDrive ? 1.0 : -1.0;  // margin = sign * gap

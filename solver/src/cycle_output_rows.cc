@@ -6,6 +6,7 @@
 #include <numeric>
 
 #include "gearnvh/solver/exact_recorder.h"
+#include "gearnvh/solver/solver_options.h"
 #include "ordered_schur.h"
 #include "polynomial_statistics.h"
 
@@ -44,7 +45,8 @@ Eigen::RowVectorXd ValueRow(const Eigen::MatrixXd& c, double s) {
 }  // namespace
 
 CycleOutputRows::CycleOutputRows(const SegmentTables& t, const ConstantContactCycle& cycle,
-                                 const ExactRecorder& recorder, int samples_per_cycle)
+                                 const ExactRecorder& recorder, int samples_per_cycle,
+                                 const std::atomic<bool>* cancel)
     : t_(t), cycle_(cycle) {
   const int n = t.n, m = t.m, e = 2 * n;
   const Eigen::VectorXcd& lambda = cycle.eigenvalues();
@@ -129,7 +131,7 @@ CycleOutputRows::CycleOutputRows(const SegmentTables& t, const ConstantContactCy
   basis.block(0, 3, e, e) = balance.cwiseInverse().asDiagonal() * U;
   projection_ = U.transpose() * balance.asDiagonal() * L.topRows(e);
 
-  if (!PropagateColumns(recorder, samples_per_cycle, basis)) return;
+  if (!PropagateColumns(recorder, samples_per_cycle, basis, cancel)) return;
   for (int j = 0; j < t.segments(); ++j) cycle_length_ += t.SegmentLength(j);
   candidate_.assign(chunks_.size(), 0);
   x_ = Eigen::VectorXd::Zero(columns_);
@@ -142,7 +144,8 @@ CycleOutputRows::CycleOutputRows(const SegmentTables& t, const ConstantContactCy
 // Propagates the basis columns through one cycle, chunk by chunk as the recorder cuts its pieces:
 // samples, integrals, extremum data and the tail weights. False when a sample falls in no chunk.
 bool CycleOutputRows::PropagateColumns(const ExactRecorder& recorder, int samples_per_cycle,
-                                       const Eigen::MatrixXd& basis) {
+                                       const Eigen::MatrixXd& basis,
+                                       const std::atomic<bool>* cancel) {
   const SegmentTables& t = t_;
   const ConstantContactCycle& cycle = cycle_;
   // Propagate the columns through one cycle, chunk by chunk as the recorder cuts its pieces.
@@ -165,6 +168,7 @@ bool CycleOutputRows::PropagateColumns(const ExactRecorder& recorder, int sample
   Eigen::MatrixXd X = basis, chunk_X;
   int next_sample = 0;
   for (int j = 0; j < t.segments(); ++j) {
+    ThrowIfCancelled(cancel);
     const SegmentSystem& sys = t.systems[static_cast<size_t>(j)][s];
     const Eigen::MatrixXd& rows = recorder.chunk_rows(j, state);
     const double seg_length = t.SegmentLength(j);

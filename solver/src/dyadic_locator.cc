@@ -18,6 +18,7 @@ DyadicLocator::DyadicLocator(const SegmentTables& tables, const SolverOptions& o
   }
   levels_.resize(tables.segments());
   for (int j = 0; j < tables.segments(); ++j) {
+    ThrowIfCancelled(cancel_);
     for (int st = 0; st < 3; ++st) {
       // Every level straight from the balanced Pade (squaring up from the finest level would
       // amplify rounding by 2^34).

@@ -11,7 +11,8 @@ namespace gearnvh {
 EventLocator::EventLocator(const SegmentTables& tables, const SolverOptions& options)
     : t_(tables),
       gap_tolerance_(1e-12 * tables.half_backlash),
-      grazing_rate_tolerance_(options.grazing_rate_tolerance) {}
+      grazing_rate_tolerance_(options.grazing_rate_tolerance),
+      cancel_(options.cancel) {}
 
 SubstepLocator::SubstepLocator(const SegmentTables& tables, const SolverOptions& options)
     : EventLocator(tables, options), z1_(tables.m) {}

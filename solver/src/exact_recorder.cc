@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "gearnvh/solver/cycle_output_rows.h"
+#include "gearnvh/solver/solver_options.h"
 #include "polynomial_statistics.h"
 
 namespace gearnvh {
@@ -33,7 +34,8 @@ double OutputStatistics::Rms(double duration) const {
   return std::sqrt(static_cast<double>(std::max(variance, 0.0L)));
 }
 
-ExactRecorder::ExactRecorder(const SegmentTables& tables, int samples_per_cycle, Trajectory* out)
+ExactRecorder::ExactRecorder(const SegmentTables& tables, int samples_per_cycle, Trajectory* out,
+                             const std::atomic<bool>* cancel)
     : t_(tables),
       sample_step_(tables.mesh_period / std::max(samples_per_cycle, 1)),
       coefficients_(kOutputs * (K + 1)),
@@ -42,6 +44,7 @@ ExactRecorder::ExactRecorder(const SegmentTables& tables, int samples_per_cycle,
       out_(out) {
   rows_.resize(static_cast<size_t>(tables.segments()));
   for (int j = 0; j < tables.segments(); ++j) {
+    ThrowIfCancelled(cancel);
     for (int st = 0; st < 3; ++st) {
       const SegmentSystem& sys = tables.systems[static_cast<size_t>(j)][st];
       Eigen::MatrixXd r(kOutputs, tables.m);

@@ -136,7 +136,7 @@ bool ExactStepper::Run(long cycles, bool record) {
   state_.allow_carry = !recorded && !tangent_.active();
   bool ok = true;
   for (long c = 0; c < cycles; ++c, ++cycle_) {
-    if (options_.Cancelled()) throw RunCancelled();
+    ThrowIfCancelled(options_.cancel);
     events_this_cycle_ = 0;
     if (!StepCycle(recorded, try_runs)) {
       ok = TooManyEvents();
@@ -351,7 +351,7 @@ SolverResult SimulateExact(const SegmentTables& tables, const Eigen::VectorXd& z
   auto try_fuse = [&]() {
     const ContactState state = stepper.contact();
     if (!may_fuse || stepper.summary().contact_certified || state == ContactState::kFree) return;
-    if (!cycle || cycle->state() != state) cycle.emplace(tables, state);
+    if (!cycle || cycle->state() != state) cycle.emplace(tables, state, options.cancel);
     if (!cycle->Certify(stepper.state()).certified) return;
     stepper.summary().contact_certified = true;
     stepper.SetFusedContact(true);

@@ -238,6 +238,7 @@ ReferenceResult SimulateReference(const SegmentTables& t, const Eigen::VectorXd&
       CVodeReInit(mem, time, y);
       CVodeSetStopTime(mem, seg_end);
       while (time < seg_end && result.status == ReferenceStatus::kSuccess) {
+        ThrowIfCancelled(options.cancel);
         double reached = time;
         const int flag = CVode(mem, seg_end, y, &reached, CV_ONE_STEP);
         if (flag < 0) {

@@ -42,13 +42,13 @@ RecordingReserve PlanRecording(const SolverOptions& options) {
 
 RunRecording::RunRecording(const SegmentTables& tables, const SolverOptions& options,
                            size_t reserve_samples, size_t reserve_events)
-    : tables_(tables), samples_per_cycle_(options.samples_per_cycle) {
+    : tables_(tables), samples_per_cycle_(options.samples_per_cycle), cancel_(options.cancel) {
   trajectory_.samples.reserve(reserve_samples);
   PreferHugePages(trajectory_.samples.data(),
                   trajectory_.samples.capacity() * sizeof(TrajectorySample));
   trajectory_.events.reserve(reserve_events);
   if (options.record_trajectory) {
-    recorder_.emplace(tables, options.samples_per_cycle, &trajectory_);
+    recorder_.emplace(tables, options.samples_per_cycle, &trajectory_, options.cancel);
     piece_z_.resize(tables.m);
   }
 }
@@ -107,7 +107,7 @@ void RunRecording::UseCycleMap(const ConstantContactCycle* cycle) {
 bool RunRecording::RowCycle(long cycle, double cycle_start, const Eigen::VectorXd& z) {
   if (!recorder_ || cycle_map_ == nullptr || rows_refused_) return false;
   if (!rows_) {
-    rows_.emplace(tables_, *cycle_map_, *recorder_, samples_per_cycle_);
+    rows_.emplace(tables_, *cycle_map_, *recorder_, samples_per_cycle_, cancel_);
     rows_refused_ = !rows_->usable();
     if (rows_refused_) return false;
   }

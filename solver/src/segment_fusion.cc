@@ -15,7 +15,8 @@ SegmentFusion::SegmentFusion(const SegmentTables& tables, const SolverOptions& o
   int levels = 0;
   while ((2 << levels) <= tables.segments() && levels < options.fusion_levels) ++levels;
   for (int st = 0; st < 3; ++st)
-    runs_[static_cast<size_t>(st)] = SegmentRunTable(tables, static_cast<ContactState>(st), levels);
+    runs_[static_cast<size_t>(st)] =
+        SegmentRunTable(tables, static_cast<ContactState>(st), levels, options.cancel);
   skip_.assign(3 * static_cast<size_t>(tables.segments()), 0);
   backoff_.assign(skip_.size(), 0);
   built_ = true;

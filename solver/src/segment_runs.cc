@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "gearnvh/solver/solver_options.h"
+
 namespace gearnvh {
 
 namespace {
@@ -50,7 +52,8 @@ constexpr double kGridFactor = 4.0 / 3.0;
 
 }  // namespace
 
-SegmentRunTable::SegmentRunTable(const SegmentTables& t, ContactState state, int max_level)
+SegmentRunTable::SegmentRunTable(const SegmentTables& t, ContactState state, int max_level,
+                                 const std::atomic<bool>* cancel)
     : t_(&t), state_(state), tolerance_(1e-9 * t.half_backlash) {
   const int S = t.segments(), p = t.inputs;
   input_bounds_.resize(p);
@@ -63,6 +66,7 @@ SegmentRunTable::SegmentRunTable(const SegmentTables& t, ContactState state, int
   // segment are the same in every run that contains it: formed once here.
   std::vector<std::vector<Eigen::MatrixXd>> grid(static_cast<size_t>(S));
   for (int k = 0; k < S; ++k) {
+    ThrowIfCancelled(cancel);
     const SegmentSystem& sys = t.systems[k][static_cast<int>(state)];
     Eigen::MatrixXd E = Eigen::MatrixXd::Identity(t.m, t.m);
     grid[static_cast<size_t>(k)].push_back(E);
@@ -73,8 +77,10 @@ SegmentRunTable::SegmentRunTable(const SegmentTables& t, ContactState state, int
   }
   for (int level = 1; level <= static_cast<int>(runs_.size()); ++level) {
     for (int index = 0; index < static_cast<int>(runs_[static_cast<size_t>(level - 1)].size());
-         ++index)
+         ++index) {
+      ThrowIfCancelled(cancel);
       Build(level, index, grid);
+    }
   }
 }
 

@@ -5,6 +5,7 @@
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "free_rotation.h"
+#include "gearnvh/solver/solver_options.h"
 
 namespace gearnvh {
 
@@ -212,7 +213,7 @@ int StateDimension(const ComponentModel& model, const ReducedModel& reduced) {
 }
 
 SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel& r,
-                                 const GearboxSpec& spec) {
+                                 const GearboxSpec& spec, const std::atomic<bool>* cancel) {
   SegmentTables t;
   t.n = r.dof;
   t.errors = model.errors;
@@ -274,6 +275,7 @@ SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel
   t.systems.resize(segs.size());
   t.substeps.resize(segs.size());
   for (size_t j = 0; j < segs.size(); ++j) {
+    ThrowIfCancelled(cancel);
     const MeshSegment& s = segs[j];
     const double h = t.SegmentLength(static_cast<int>(j));
     const double e = s.unloaded_error;
@@ -351,10 +353,11 @@ SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel
   return t;
 }
 
-OperatingPointModel BuildOperatingPointModel(const GearboxSpec& spec, Tier tier) {
+OperatingPointModel BuildOperatingPointModel(const GearboxSpec& spec, Tier tier,
+                                             const std::atomic<bool>* cancel) {
   OperatingPointModel op{BuildComponentModel(spec), {}, {}};
   op.reduced = ReduceModel(op.model, tier);
-  op.tables = BuildSegmentTables(op.model, op.reduced, spec);
+  op.tables = BuildSegmentTables(op.model, op.reduced, spec, cancel);
   return op;
 }
 

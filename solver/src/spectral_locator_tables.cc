@@ -49,6 +49,7 @@ void SpectralLocator::FreeAligned::operator()(double* p) const {
 }
 
 SpectralLocator::System& SpectralLocator::Build(int segment, ContactState state) {
+  ThrowIfCancelled(cancel_);  // a decomposition per first visit: many in the first cycles
   System& sp = systems_[segment][static_cast<int>(state)];
   sp.built = true;
   // One balancing frequency for all three states of a segment (the same scaling whichever state

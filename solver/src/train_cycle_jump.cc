@@ -74,7 +74,7 @@ void TrainStepper::TryJump(double end_time, const TrainRecorder* rec) {
   }
   if (!cycle_map_ || cycle_map_->states() != states_) {
     cycle_map_ = std::make_unique<TrainCycleMap>(t_, states_, options_.jump_margin_fraction,
-                                                 period_segments_);
+                                                 period_segments_, options_.cancel);
     ++summary_.cycle_map_builds;
   }
   summary_.cycle_map_info = cycle_map_->info();

@@ -16,12 +16,16 @@ namespace gearnvh {
 namespace {
 
 // Every grid segment of one common period from t = 0: f(grid); stops after `limit` segments.
-// Returns the number walked.
+// Returns the number walked. `cancel` is polled before each f.
 template <typename F>
-long ForEachPeriodSegment(const TrainTables& t, long limit, F&& f) {
+long ForEachPeriodSegment(const TrainTables& t, long limit, const std::atomic<bool>* cancel,
+                          F&& f) {
   const double until = t.common_period * (1.0 - 1e-12);
   long count = 0;
-  for (TrainGrid grid(t); grid.start() < until && count < limit; grid.Next(), ++count) f(grid);
+  for (TrainGrid grid(t); grid.start() < until && count < limit; grid.Next(), ++count) {
+    ThrowIfCancelled(cancel);
+    f(grid);
+  }
   return count;
 }
 
@@ -47,11 +51,12 @@ double Horner(const V& c, double x) {
 }  // namespace
 
 long CountCommonPeriodSegments(const TrainTables& tables, long limit) {
-  return ForEachPeriodSegment(tables, limit, [](const TrainGrid&) {});
+  return ForEachPeriodSegment(tables, limit, nullptr, [](const TrainGrid&) {});
 }
 
 TrainCycleMap::TrainCycleMap(const TrainTables& tables, const std::vector<ContactState>& states,
-                             double margin_fraction, long grid_segments)
+                             double margin_fraction, long grid_segments,
+                             const std::atomic<bool>* cancel)
     : t_(tables), states_(states), margin_fraction_(margin_fraction) {
   const int m = t_.m, e = 2 * t_.n;
   dev_.resize(e);
@@ -64,19 +69,19 @@ TrainCycleMap::TrainCycleMap(const TrainTables& tables, const std::vector<Contac
   bound_ = margin_;
   TupleMemo memo;  // the tuples of one period (a few per cent of its grid segments)
   std::vector<Eigen::MatrixXd> propagators;
-  BuildMap(memo, propagators, grid_segments);
-  if (info_ == Info::kSuccess) BuildCertificate(memo, propagators);
+  BuildMap(memo, propagators, grid_segments, cancel);
+  if (info_ == Info::kSuccess) BuildCertificate(memo, propagators, cancel);
 }
 
 void TrainCycleMap::BuildMap(TupleMemo& memo, std::vector<Eigen::MatrixXd>& propagators,
-                             long grid_segments) {
+                             long grid_segments, const std::atomic<bool>* cancel) {
   const int n = t_.n, m = t_.m, e = 2 * n;
   const int c = t_.constant_slot();
   phi_ = Eigen::MatrixXd::Identity(m, m);
   Eigen::VectorXd inputs = Eigen::VectorXd::Zero(m);
   const bool keep = static_cast<double>(grid_segments) * m * m * sizeof(double) <= kKeepBytes;
   if (keep) propagators.reserve(static_cast<size_t>(grid_segments));
-  ForEachPeriodSegment(t_, kWholePeriod, [&](const TrainGrid& grid) {
+  ForEachPeriodSegment(t_, kWholePeriod, cancel, [&](const TrainGrid& grid) {
     const std::vector<int>& segments = grid.segments();
     const double h = grid.end() - grid.start();
     // R_g: the input slots are set to the segment's mean excitation and mean manufacturing
@@ -132,7 +137,8 @@ void TrainCycleMap::BuildMap(TupleMemo& memo, std::vector<Eigen::MatrixXd>& prop
 }
 
 void TrainCycleMap::BuildCertificate(TupleMemo& memo,
-                                     const std::vector<Eigen::MatrixXd>& propagators) {
+                                     const std::vector<Eigen::MatrixXd>& propagators,
+                                     const std::atomic<bool>* cancel) {
   const int n = t_.n, m = t_.m, e = 2 * n;
   const int meshes = static_cast<int>(t_.meshes.size());
   const int terms = kTaylorTerms + 1;
@@ -154,7 +160,7 @@ void TrainCycleMap::BuildCertificate(TupleMemo& memo,
                              y.tail(y.size() - e).cwiseAbs().maxCoeff()));
   };
   size_t index = 0;
-  ForEachPeriodSegment(t_, kWholePeriod, [&](const TrainGrid& grid) {
+  ForEachPeriodSegment(t_, kWholePeriod, cancel, [&](const TrainGrid& grid) {
     const std::vector<int>& segments = grid.segments();
     const double h = grid.end() - grid.start();
     SetGridInputs(t_, grid, z);

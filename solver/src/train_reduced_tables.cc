@@ -3,6 +3,7 @@
 #include <string>
 
 #include "gearnvh/model/input_error.h"
+#include "gearnvh/solver/solver_options.h"
 
 namespace gearnvh {
 
@@ -86,7 +87,9 @@ TrainTables BuildReducedTrainTables(const TrainSpec& spec, const GearTrain& trai
 TrainTables BuildTrainTablesAtTier(const TrainSpec& spec, const GearTrain& train, Tier tier,
                                    const TrainTableOptions& options) {
   if (tier == Tier::kTier1) return BuildTrainTables(spec, train, options);
+  ThrowIfCancelled(options.cancel);
   const TrainStructure structure = AssembleTrainStructure(spec, train);
+  ThrowIfCancelled(options.cancel);
   const TrainReducedModel reduced = ReduceTrain(structure, tier);
   return BuildReducedTrainTables(spec, train, structure, reduced, options);
 }

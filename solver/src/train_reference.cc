@@ -4,9 +4,11 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <type_traits>
 
 #include "cvode_bdf.h"
 #include "gearnvh/model/input_error.h"
+#include "gearnvh/solver/solver_options.h"
 #include "gearnvh/solver/train_stepper.h"
 
 namespace gearnvh {
@@ -155,7 +157,10 @@ TrainReferenceResult SimulateTrainReference(const TrainTables& t, const Eigen::V
                             TrainRhs, TrainJac, TrainRoots, static_cast<int>(2 * meshes), &p});
   void* mem = cvode.mem();
   N_Vector y = cvode.y();
-  N_Vector dky = N_VNew_Serial(m, cvode.context());
+  // Owned here (freed also when a cancellation unwinds the run).
+  const std::unique_ptr<std::remove_pointer_t<N_Vector>, void (*)(N_Vector)> dky_owner(
+      N_VNew_Serial(m, cvode.context()), N_VDestroy);
+  N_Vector dky = dky_owner.get();
   std::vector<int> found(2 * meshes);
   std::vector<double> te_rows;
   long next_sample = 0;
@@ -204,6 +209,7 @@ TrainReferenceResult SimulateTrainReference(const TrainTables& t, const Eigen::V
     CVodeReInit(mem, time, y);
     CVodeSetStopTime(mem, seg_end);
     while (time < seg_end && result.success) {
+      ThrowIfCancelled(options.cancel);
       double reached = time;
       const int flag = CVode(mem, seg_end, y, &reached, CV_ONE_STEP);
       if (flag < 0) {
@@ -246,7 +252,6 @@ TrainReferenceResult SimulateTrainReference(const TrainTables& t, const Eigen::V
   result.steps += cvode.StepsSoFar();
   result.final_state = Eigen::Map<const Eigen::VectorXd>(NV_DATA_S(y), m);
   result.final_states = p.states;
-  N_VDestroy(dky);
   return result;
 }
 

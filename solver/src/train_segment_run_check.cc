@@ -19,7 +19,8 @@ SegmentRunCheck CheckSegmentRuns(const TrainTables& t, const TrainTables& fused_
   stepped.cancel = cancel;
   const TrainStepperOptions defaults;
   const long limit = defaults.max_cycle_map_segments;
-  TrainSegmentRuns runs(fused_tables, defaults.fusion_levels, defaults.fusion_limit_bytes, limit);
+  TrainSegmentRuns runs(fused_tables, defaults.fusion_levels, defaults.fusion_limit_bytes, limit,
+                        cancel);
   const long period = CountCommonPeriodSegments(t, limit);
   TrainStepper stepper(t, stepped, z0, states0);
   TrainGrid grid(t);

@@ -48,11 +48,12 @@ void RemoveRigid(const TrainTables& t, Eigen::VectorXd& z) {
 }  // namespace
 
 TrainSegmentRuns::TrainSegmentRuns(const TrainTables& tables, int max_level, size_t limit_bytes,
-                                   long max_period_segments)
+                                   long max_period_segments, const std::atomic<bool>* cancel)
     : t_(tables),
       max_level_(max_level),
       limit_bytes_(limit_bytes),
       max_period_segments_(max_period_segments),
+      cancel_(cancel),
       walk_(tables) {
   const int meshes = static_cast<int>(tables.meshes.size());
   const int p = tables.m - tables.input_slot();
@@ -147,6 +148,7 @@ std::unique_ptr<TrainSegmentRuns::Run> TrainSegmentRuns::Build(
   Eigen::RowVectorXd column_max(m + lp);
   std::vector<int> segments(meshes);
   for (int i = 0; i < length; ++i) {
+    ThrowIfCancelled(cancel_);
     std::copy(run->segments.begin() + static_cast<std::ptrdiff_t>(i * meshes),
               run->segments.begin() + static_cast<std::ptrdiff_t>((i + 1) * meshes),
               segments.begin());

@@ -63,8 +63,9 @@ TrainStepper::TrainStepper(const TrainTables& tables, const TrainStepperOptions&
   recenter_period_ = tables.common_period > 0.0 ? tables.common_period : tables.InputRevolution();
   next_recenter_ = recenter_period_;
   if (options.events == EventMethod::kSpectral && options.fusion_levels > 0) {
-    fusion_ = std::make_unique<TrainSegmentRuns>(
-        tables, options.fusion_levels, options.fusion_limit_bytes, options.max_cycle_map_segments);
+    fusion_ = std::make_unique<TrainSegmentRuns>(tables, options.fusion_levels,
+                                                 options.fusion_limit_bytes,
+                                                 options.max_cycle_map_segments, options.cancel);
   }
   for (const TrainMeshTable& mt : tables.meshes)
     period_cycles_.push_back(std::lround(tables.common_period / mt.period));
@@ -95,9 +96,7 @@ TrainStepperSummary TrainStepper::summary() const {
 
 bool TrainStepper::Run(double end_time, TrainRecorder* recorder) {
   while (time_ < end_time) {
-    if (options_.cancel != nullptr && options_.cancel->load(std::memory_order_relaxed)) {
-      throw RunCancelled();
-    }
+    ThrowIfCancelled(options_.cancel);
     long advanced = FusedRun(end_time, recorder);  // grid segments
     if (advanced == 0) {
       const double until = std::min(end_time, grid_.end());

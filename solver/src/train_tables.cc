@@ -9,6 +9,7 @@
 
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/model/mesh_segmentation.h"
+#include "gearnvh/solver/solver_options.h"
 
 namespace gearnvh {
 namespace {
@@ -154,6 +155,7 @@ TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
   std::vector<bool> back_loaded;
   for (const ExcitationOrder& e : t.excitation) cycles_per_revolution.push_back(e.order);
   for (size_t i = 0; i < train.meshes.size(); ++i) {
+    ThrowIfCancelled(options.cancel);
     const TrainMeshModel& mm = train.meshes[i];
     TrainMeshTable mt;
     mt.name = mm.name;

@@ -25,6 +25,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <atomic>
 #include <complex>
 #include <string>
 #include <vector>
@@ -42,8 +43,10 @@ struct ContactCertificate {
 
 class ConstantContactCycle {
  public:
-  // Tables must have no engine excitation; `state` is kDrive or kBack.
-  ConstantContactCycle(const SegmentTables& tables, ContactState state, int max_jump_log2 = 40);
+  // Tables must have no engine excitation; `state` is kDrive or kBack. `cancel`
+  // (SolverOptions::cancel) is polled per segment of the build.
+  ConstantContactCycle(const SegmentTables& tables, ContactState state,
+                       const std::atomic<bool>* cancel = nullptr, int max_jump_log2 = 40);
 
   const Eigen::MatrixXd& map() const { return P_; }        // one matvec per cycle
   const Eigen::VectorXd& orbit() const { return orbit_; }  // y*, on the quotient (cycle start)

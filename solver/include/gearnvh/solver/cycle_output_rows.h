@@ -32,6 +32,7 @@
 
 #include <Eigen/Dense>
 #include <array>
+#include <atomic>
 #include <vector>
 
 #include "gearnvh/solver/cycle_map.h"
@@ -44,8 +45,10 @@ class ExactRecorder;
 
 class CycleOutputRows {
  public:
+  // `cancel` (SolverOptions::cancel) is polled per segment of the columns' propagation.
   CycleOutputRows(const SegmentTables& tables, const ConstantContactCycle& cycle,
-                  const ExactRecorder& recorder, int samples_per_cycle);
+                  const ExactRecorder& recorder, int samples_per_cycle,
+                  const std::atomic<bool>* cancel = nullptr);
   bool usable() const { return usable_; }
   // Starts a stretch of row cycles in mesh cycle `cycle` from z (at its start): the modal
   // amplitudes fix the cycle after which each mode is dead.
@@ -81,7 +84,7 @@ class CycleOutputRows {
     double scale = 0.0;
   };
   bool PropagateColumns(const ExactRecorder& recorder, int samples_per_cycle,
-                        const Eigen::MatrixXd& basis);
+                        const Eigen::MatrixXd& basis, const std::atomic<bool>* cancel);
   void Extrema(Statistic& st, OutputStatistics& out, double cycle_start, bool want_min, int live);
   void Accumulate(const Statistic& st, OutputStatistics& out, int live);
 

@@ -169,6 +169,8 @@ class EventLocator {
   const SegmentTables& t_;
   double gap_tolerance_;  // m: a start this far outside a wall is an immediate event
   double grazing_rate_tolerance_;
+  // SolverOptions::cancel: polled where a locator builds tables (per segment or system built).
+  const std::atomic<bool>* cancel_;
   LocatorStatistics statistics_;
 };
 

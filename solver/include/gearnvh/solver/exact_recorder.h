@@ -24,6 +24,7 @@
 
 #include <Eigen/Dense>
 #include <array>
+#include <atomic>
 #include <vector>
 
 #include "gearnvh/solver/segment_tables.h"
@@ -37,7 +38,9 @@ class ExactRecorder {
  public:
   // Writes samples and statistics into *out; `samples_per_cycle` uniform samples per mesh cycle
   // (>= 1), at most out->samples.capacity() stored (reserve before recording).
-  ExactRecorder(const SegmentTables& tables, int samples_per_cycle, Trajectory* out);
+  // `cancel` (SolverOptions::cancel) is polled per segment of the rows' build.
+  ExactRecorder(const SegmentTables& tables, int samples_per_cycle, Trajectory* out,
+                const std::atomic<bool>* cancel = nullptr);
 
   // The recorded window starts at `time` (samples at time + k T_m / P).
   void Start(double time);

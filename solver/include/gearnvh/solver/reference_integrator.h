@@ -10,6 +10,7 @@
 // nothing here is exact — it is the independent yardstick the exact solver is checked against.
 #pragma once
 
+#include <atomic>
 #include <string>
 
 #include "gearnvh/solver/exact_solver.h"
@@ -23,6 +24,8 @@ struct ReferenceOptions {
   double atol_velocity = 1e-14;  // m/s or rad/s, > 0
   long max_events = 100000;      // >= 1
   int samples_per_cycle = 32;    // uniform output samples per mesh cycle (CVODE's interpolant)
+  // Polled between CVODE's steps: RunCancelled once set (SolverOptions::cancel). Not owned.
+  const std::atomic<bool>* cancel = nullptr;
   void Validate() const;
 };
 

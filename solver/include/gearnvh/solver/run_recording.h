@@ -74,6 +74,7 @@ class RunRecording {
  private:
   const SegmentTables& tables_;
   int samples_per_cycle_;
+  const std::atomic<bool>* cancel_;  // SolverOptions::cancel, for the output rows' build
   Trajectory trajectory_;
   std::optional<ExactRecorder> recorder_;
   const ConstantContactCycle* cycle_map_ = nullptr;

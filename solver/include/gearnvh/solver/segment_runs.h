@@ -25,6 +25,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <atomic>
 #include <vector>
 
 #include "gearnvh/solver/segment_tables.h"
@@ -54,8 +55,10 @@ struct SegmentRun {
 class SegmentRunTable {
  public:
   SegmentRunTable() = default;
-  // Runs of 2, 4, ..., 2^max_level segments in `state`, aligned, for every start, built here.
-  SegmentRunTable(const SegmentTables& tables, ContactState state, int max_level);
+  // Runs of 2, 4, ..., 2^max_level segments in `state`, aligned, for every start, built here;
+  // `cancel` (SolverOptions::cancel) is polled per segment and per run built.
+  SegmentRunTable(const SegmentTables& tables, ContactState state, int max_level,
+                  const std::atomic<bool>* cancel = nullptr);
   // The longest run starting at `segment` that is certified for z (at that segment's start), or
   // nullptr. `scratch` has m entries. Does not allocate.
   const SegmentRun* Certify(int segment, const Eigen::VectorXd& z, Eigen::VectorXd& scratch);

@@ -24,6 +24,7 @@
 
 #include <Eigen/Dense>
 #include <array>
+#include <atomic>
 #include <vector>
 
 #include "gearnvh/model/gearbox_spec.h"
@@ -173,8 +174,10 @@ int InputCount(const ComponentModel& model);
 // reports print this number.
 int StateDimension(const ComponentModel& model, const ReducedModel& reduced);
 
+// `cancel` (SolverOptions::cancel) is polled per segment: RunCancelled once set.
 SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel& reduced,
-                                 const GearboxSpec& spec);
+                                 const GearboxSpec& spec,
+                                 const std::atomic<bool>* cancel = nullptr);
 
 // One operating point's whole model chain, the way every analysis builds it: spec -> component
 // model -> reduced model of `tier` -> segment tables.
@@ -183,6 +186,7 @@ struct OperatingPointModel {
   ReducedModel reduced;
   SegmentTables tables;
 };
-OperatingPointModel BuildOperatingPointModel(const GearboxSpec& spec, Tier tier);
+OperatingPointModel BuildOperatingPointModel(const GearboxSpec& spec, Tier tier,
+                                             const std::atomic<bool>* cancel = nullptr);
 
 }  // namespace gearnvh

@@ -65,10 +65,10 @@ struct SolverOptions {
   // cycles by output rows on the cycle's start state (cycle_output_rows.h); equal to the
   // piece-by-piece recording to rounding. false: one matvec per segment, recorded piece by piece.
   bool cycle_rows = true;
-  // Cancellation (an interactive caller's Ctrl-C): polled at the start of every mesh cycle by
-  // ExactStepper::Run, which throws RunCancelled once it is set. Not owned; null: never cancelled.
+  // Cancellation (an interactive caller's Ctrl-C): polled (ThrowIfCancelled) at the start of every
+  // mesh cycle by ExactStepper::Run and per segment while the run's tables are built (locator,
+  // segment runs, recorder rows, cycle map, output rows). Not owned; null: never cancelled.
   const std::atomic<bool>* cancel = nullptr;
-  bool Cancelled() const { return cancel != nullptr && cancel->load(std::memory_order_relaxed); }
   void Validate() const;
 };
 
@@ -77,6 +77,14 @@ class RunCancelled : public std::runtime_error {
  public:
   RunCancelled() : std::runtime_error("cancelled") {}
 };
+
+// Throws RunCancelled once *cancel is set (null: never). Called once per step of every loop of a
+// run or of its set-up that can last more than ~0.1 s on a large model (a segment, a grid segment,
+// a cycle, a CVODE step, a tier, a speed), so a caller waiting on Ctrl-C is answered within one
+// such step.
+inline void ThrowIfCancelled(const std::atomic<bool>* cancel) {
+  if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) throw RunCancelled();
+}
 
 // The rungs of the validation ladder as one choice: kV1, kV2, kV3 step (kStepped) with the
 // kDyadic, kTaylor, kSpectral event path; kFused is kSpectral events plus kFused. Callers that

@@ -35,6 +35,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <atomic>
 #include <map>
 #include <vector>
 
@@ -61,9 +62,11 @@ class TrainCycleMap {
 
   // The map of one common period with every mesh in `states` (each kDrive or kBack);
   // margin_fraction in [0, 1) is the share of each orbit margin kept free of the transient;
-  // grid_segments: the period's grid segments (sizes the kept propagators).
+  // grid_segments: the period's grid segments (sizes the kept propagators); `cancel`
+  // (TrainStepperOptions::cancel) is polled per grid segment of the build.
   TrainCycleMap(const TrainTables& tables, const std::vector<ContactState>& states,
-                double margin_fraction, long grid_segments);
+                double margin_fraction, long grid_segments,
+                const std::atomic<bool>* cancel = nullptr);
   Info info() const { return info_; }
   const std::vector<ContactState>& states() const { return states_; }
   const Eigen::MatrixXd& map() const { return phi_; }
@@ -93,8 +96,10 @@ class TrainCycleMap {
   const Tuple& Lookup(TupleMemo& memo, const std::vector<int>& segments) const;
   // The period's propagators expm(A_g h_g) are kept for the certificate's walk up to this size.
   static constexpr double kKeepBytes = 64.0 * 1048576.0;
-  void BuildMap(TupleMemo& memo, std::vector<Eigen::MatrixXd>& propagators, long grid_segments);
-  void BuildCertificate(TupleMemo& memo, const std::vector<Eigen::MatrixXd>& propagators);
+  void BuildMap(TupleMemo& memo, std::vector<Eigen::MatrixXd>& propagators, long grid_segments,
+                const std::atomic<bool>* cancel);
+  void BuildCertificate(TupleMemo& memo, const std::vector<Eigen::MatrixXd>& propagators,
+                        const std::atomic<bool>* cancel);
   const TrainTables& t_;
   std::vector<ContactState> states_;
   double margin_fraction_;

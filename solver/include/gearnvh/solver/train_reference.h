@@ -9,6 +9,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <atomic>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,8 @@ struct TrainReferenceOptions {
   double atol_velocity = 1e-14;  // rad/s, > 0
   long max_events = 100000;      // >= 1
   double sample_interval = 0.0;  // s: TE samples at k * sample_interval (0: none)
+  // Polled between CVODE's steps: RunCancelled once set (SolverOptions::cancel). Not owned.
+  const std::atomic<bool>* cancel = nullptr;
   void Validate() const;
 };
 

@@ -74,9 +74,10 @@ class TrainSegmentRuns {
  public:
   static constexpr int kMaxBackoff = 63;
   // max_level: runs of up to 2^max_level grid segments (>= 1); limit_bytes: the tables held;
-  // max_period_segments: fusion is off when the common period has more grid segments.
+  // max_period_segments: fusion is off when the common period has more grid segments; `cancel`
+  // (TrainStepperOptions::cancel) is polled per grid segment of a run's build.
   TrainSegmentRuns(const TrainTables& tables, int max_level, size_t limit_bytes,
-                   long max_period_segments);
+                   long max_period_segments, const std::atomic<bool>* cancel = nullptr);
   ~TrainSegmentRuns();
   // At the start of the grid segment at `position` of the common period (`grid` there, z the
   // state there, every mesh held in `states`): the longest certified run that ends by `end_time`
@@ -140,6 +141,7 @@ class TrainSegmentRuns {
   int max_level_;
   size_t limit_bytes_;
   long max_period_segments_;
+  const std::atomic<bool>* cancel_;
   long period_segments_ = 0;
   bool enabled_ = true;
   std::unordered_map<Key, Entry, KeyHash> entries_;

@@ -114,8 +114,8 @@ struct TrainStepperOptions {
   // (two-stage reducer, docs/BENCHMARKS.md). Held tables are used whatever is left. >= 1.
   long fusion_min_periods = 64;
   TrainTableOptions tables;
-  // Checked at every grid segment: Run() throws RunCancelled once set (a caller's Ctrl-C). Not
-  // owned; null: never cancelled.
+  // Checked at every grid segment and per grid segment of a cycle map's or fused run's build:
+  // Run() throws RunCancelled once set (a caller's Ctrl-C). Not owned; null: never cancelled.
   const std::atomic<bool>* cancel = nullptr;
   void Validate() const;
 };

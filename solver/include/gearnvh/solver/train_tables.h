@@ -54,6 +54,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <atomic>
 #include <cstdint>
 #include <deque>
 #include <string>
@@ -182,6 +183,9 @@ struct TrainTableOptions {
   double max_condition = 1e6;  // >= 1
   // The common period is searched up to this many input revolutions. >= 1.
   long max_common_period_revolutions = 1000;
+  // Polled per mesh and between the reduction's steps while the tables are built (RunCancelled
+  // once set; SolverOptions::cancel). Not owned; null: never cancelled.
+  const std::atomic<bool>* cancel = nullptr;
   void Validate() const;
 };
 
