@@ -32,8 +32,8 @@ void RequireFinite(const nlohmann::json& doc, const std::string& what) { Walk(do
 
 nlohmann::json FiniteOrNull(double v) { return std::isfinite(v) ? nlohmann::json(v) : nullptr; }
 
-double RelativeDifference(double a, double b) {
-  return std::abs(a - b) / std::max(std::abs(b), 1e-300);
+double RelativeDifference(double a, double b, double resolution) {
+  return std::abs(a - b) / std::max(std::abs(b), resolution);
 }
 
 }  // namespace gearnvh::app

@@ -13,7 +13,14 @@ void RequireFinite(const nlohmann::json& doc, const std::string& what);
 // A quantity that may be undefined (an infinite horizon, no boundary): its value or JSON null.
 nlohmann::json FiniteOrNull(double v);
 
-// |a - b| / |b|: a result's relative difference to its reference (|b| floored at 1e-300).
-double RelativeDifference(double a, double b);
+// |a - b| / max(|b|, resolution): a result's difference relative to its reference. Below the
+// quantity's resolution a difference is measured against the resolution: a TE of 1e-19 m beside
+// an exact 0 (a resting train) is no difference, not 1e281.
+double RelativeDifference(double a, double b, double resolution);
+
+// Resolutions of the compared quantities, far below anything measurable or audible.
+inline constexpr double kTeResolution = 1e-12;                   // m: a TE rig resolves ~1 nm
+inline constexpr double kImpactEnergyResolution = 1e-12;         // J per cycle: 1 µm/s on 1 kg
+inline constexpr double kAngularAccelerationResolution = 1e-6;  // rad/s^2: 3e-8 m/s^2 at 30 mm
 
 }  // namespace gearnvh::app

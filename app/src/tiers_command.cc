@@ -128,10 +128,9 @@ TiersComparison CompareTiers(const GearboxSpec& spec, const SolverOptions& solve
     if (rows[i].dof > rows[finest].dof) finest = i;
   }
   for (TierRow& r : rows) {
-    r.te_rms_difference = RelativeDifference(r.te_rms, rows[finest].te_rms);
-    r.rattle_index_difference = rows[finest].rattle_index > 0.0
-                                    ? RelativeDifference(r.rattle_index, rows[finest].rattle_index)
-                                    : std::abs(r.rattle_index);
+    r.te_rms_difference = RelativeDifference(r.te_rms, rows[finest].te_rms, kTeResolution);
+    r.rattle_index_difference = RelativeDifference(r.rattle_index, rows[finest].rattle_index,
+                                                   kImpactEnergyResolution);
   }
 
   nlohmann::json list = nlohmann::json::array();

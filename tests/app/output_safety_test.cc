@@ -172,6 +172,20 @@ TEST_CASE("RequireFinite names the quantity that is not finite", "[app][output]"
   CHECK_THROWS_WITH(app::RequireFinite(doc, "x"), Catch::Contains("list[1] is infinite"));
 }
 
+TEST_CASE("RelativeDifference: relative above the quantity's resolution, against it below",
+          "[app][output]") {
+  // Exact arithmetic on binary-exact inputs: 0.25 against 0.5 is 0.5.
+  CHECK(app::RelativeDifference(0.25, 0.5, app::kTeResolution) == 0.5);
+  CHECK(app::RelativeDifference(-0.75, -0.5, app::kTeResolution) == 0.5);
+  // A resting train: rounding-level TE beside an exact zero is 1e-7 of the resolution, where a
+  // 1e-300 floor made it 1e281 (tiers printed 2e+288).
+  CHECK(app::RelativeDifference(1e-19, 0.0, app::kTeResolution) == Approx(1e-7).epsilon(1e-12));
+  CHECK(app::RelativeDifference(0.0, 0.0, app::kTeResolution) == 0.0);
+  // A tier that rattles where the finest rests is a difference far above 1.
+  CHECK(app::RelativeDifference(1e-3, 0.0, app::kAngularAccelerationResolution) ==
+        Approx(1e3).epsilon(1e-15));
+}
+
 TEST_CASE("RequireValidUtf8 accepts UTF-8 and names the line of anything else", "[app][input]") {
   CHECK_NOTHROW(config::RequireValidUtf8("name: Zahnräder \xE2\x82\xAC \xF0\x9F\x98\x80\n", "f"));
   for (const std::string& bad : {std::string("\xFF"), std::string("\xC0\xAF"),  // overlong '/'
