@@ -36,11 +36,11 @@ void RequireAtlasAxisRange(const AtlasAxis& axis, const std::string& text,
                            const std::string& field) {
   const auto broken = FirstSweepRangeViolation(axis.range);
   if (!broken) return;
-  const std::string part = broken->part == "points" ? "POINTS"
-                           : broken->part == "to"   ? "TO"
-                                                    : "FROM";
+  const char* part = broken->part == SweepRangePart::kPoints ? "POINTS"
+                     : broken->part == SweepRangePart::kTo   ? "TO"
+                                                             : "FROM";
   throw InputError(field, 0, text,
-                   part + " " + broken->rule + " (the rule of analysis.atlas axes)");
+                   std::string(part) + " " + broken->rule + " (the rule of analysis.atlas axes)");
 }
 
 int RunAtlas(const AtlasCommandOptions& options) {

@@ -19,8 +19,8 @@ nlohmann::json FiniteOrNull(double v);
 double RelativeDifference(double a, double b, double resolution);
 
 // Resolutions of the compared quantities, far below anything measurable or audible.
-inline constexpr double kTeResolution = 1e-12;                   // m: a TE rig resolves ~1 nm
-inline constexpr double kImpactEnergyResolution = 1e-12;         // J per cycle: 1 µm/s on 1 kg
+inline constexpr double kTeResolution = 1e-12;                  // m: a TE rig resolves ~1 nm
+inline constexpr double kImpactEnergyResolution = 1e-12;        // J per cycle: 1 µm/s on 1 kg
 inline constexpr double kAngularAccelerationResolution = 1e-6;  // rad/s^2: 3e-8 m/s^2 at 30 mm
 
 }  // namespace gearnvh::app

@@ -129,8 +129,8 @@ TiersComparison CompareTiers(const GearboxSpec& spec, const SolverOptions& solve
   }
   for (TierRow& r : rows) {
     r.te_rms_difference = RelativeDifference(r.te_rms, rows[finest].te_rms, kTeResolution);
-    r.rattle_index_difference = RelativeDifference(r.rattle_index, rows[finest].rattle_index,
-                                                   kImpactEnergyResolution);
+    r.rattle_index_difference =
+        RelativeDifference(r.rattle_index, rows[finest].rattle_index, kImpactEnergyResolution);
   }
 
   nlohmann::json list = nlohmann::json::array();

@@ -94,11 +94,11 @@ TrainTiersComparison CompareTrainTiers(const TrainSpec& spec, TrainRunOptions ru
   nlohmann::json list = nlohmann::json::array();
   for (TrainTierRow& r : rows) {
     for (size_t i = 0; i < r.te_rms.size(); ++i)
-      r.te_rms_difference.push_back(RelativeDifference(r.te_rms[i], finest.te_rms[i], kTeResolution));
+      r.te_rms_difference.push_back(
+          RelativeDifference(r.te_rms[i], finest.te_rms[i], kTeResolution));
     for (size_t i = 0; i < r.rattle_index.size(); ++i) {
-      r.rattle_index_difference.push_back(
-          RelativeDifference(r.rattle_index[i], finest.rattle_index[i],
-                             kAngularAccelerationResolution));
+      r.rattle_index_difference.push_back(RelativeDifference(
+          r.rattle_index[i], finest.rattle_index[i], kAngularAccelerationResolution));
     }
     nlohmann::json meshes = nlohmann::json::array(), loose = nlohmann::json::array();
     for (size_t i = 0; i < r.te_rms.size(); ++i) {

@@ -70,15 +70,27 @@ std::string XvfbEndedMessage(const std::string& xvfb) {
          " -displayfd 1` to see why), or set DISPLAY to a running X server";
 }
 
-// Held while an Xvfb starts, so two gearnvh processes (MPI ranks, parallel runs) never start
-// theirs at the same moment: two Xvfbs scanning for a free display together can both name the
-// same one, and the loser exits after its client connected (XIO error). Released on close.
+// Held while an Xvfb starts, so two gearnvh processes (MPI ranks, parallel runs) sharing a
+// temporary directory never start theirs at the same moment: two Xvfbs scanning for a free display
+// together can both name the same one, and the loser exits after its client connected (XIO error).
+// Released on close. The wait is bounded: a holder stopped mid-start (SIGSTOP, a debugger) costs at
+// most kXvfbStartLockWait, after which this start goes ahead unserialised, as without the file.
+constexpr auto kXvfbStartLockWait = std::chrono::seconds(15);  // > the 10 s start deadline
+
 class XvfbStartLock {
  public:
   XvfbStartLock() {
-    fd_ = ::open("/tmp/.gearnvh-xvfb-start.lock", O_RDWR | O_CREAT | O_CLOEXEC, 0666);
-    if (fd_ < 0) fd_ = ::open("/tmp/.gearnvh-xvfb-start.lock", O_RDONLY | O_CLOEXEC);
-    if (fd_ >= 0) ::flock(fd_, LOCK_EX);  // without the file: start unserialised, as before
+    std::error_code error;
+    const std::filesystem::path dir = std::filesystem::temp_directory_path(error);  // $TMPDIR
+    const std::string path =
+        ((error ? std::filesystem::path("/tmp") : dir) / ".gearnvh-xvfb-start.lock").string();
+    fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
+    if (fd_ < 0) fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd_ < 0) return;  // without the file: start unserialised
+    const auto deadline = std::chrono::steady_clock::now() + kXvfbStartLockWait;
+    while (::flock(fd_, LOCK_EX | LOCK_NB) != 0 && std::chrono::steady_clock::now() < deadline) {
+      ::usleep(20000);
+    }
   }
   ~XvfbStartLock() {
     if (fd_ >= 0) ::close(fd_);

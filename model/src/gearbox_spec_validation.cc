@@ -179,23 +179,27 @@ void ValidateShaft(const GearboxSpec& spec, const ShaftSpec& s, const std::strin
 void ValidateRange(const SweepRange& r, const std::string& p) {
   const std::optional<SweepRangeViolation> v = FirstSweepRangeViolation(r);
   if (!v) return;
-  const std::string value = v->part == "points" ? std::to_string(r.points)
-                            : v->part == "to"   ? MessageNumber(r.to)
-                                                : MessageNumber(r.from);
-  const std::string detail = v->part == "to" ? " (" + MessageNumber(r.from) + ")" : "";
-  throw InputError(p + "." + v->part, 0, value, v->rule + detail);
+  switch (v->part) {
+    case SweepRangePart::kPoints:
+      throw InputError(p + ".points", 0, std::to_string(r.points), v->rule);
+    case SweepRangePart::kTo:
+      throw InputError(p + ".to", 0, MessageNumber(r.to),
+                       v->rule + " (" + MessageNumber(r.from) + ")");
+    case SweepRangePart::kFrom:
+      throw InputError(p + ".from", 0, MessageNumber(r.from), v->rule);
+  }
 }
 
 }  // namespace
 
 std::optional<SweepRangeViolation> FirstSweepRangeViolation(const SweepRange& r) {
-  if (r.points < 2) return SweepRangeViolation{"points", "must be >= 2"};
-  if (r.points > 100000) return SweepRangeViolation{"points", "must be <= 100000"};
+  if (r.points < 2) return SweepRangeViolation{SweepRangePart::kPoints, "must be >= 2"};
+  if (r.points > 100000) return SweepRangeViolation{SweepRangePart::kPoints, "must be <= 100000"};
   if (!std::isfinite(r.from) || !std::isfinite(r.to) || !(r.to > r.from)) {
-    return SweepRangeViolation{"to", "must be greater than from"};
+    return SweepRangeViolation{SweepRangePart::kTo, "must be greater than from"};
   }
   if (r.scale == AxisScale::kLog && !(r.from > 0.0)) {
-    return SweepRangeViolation{"from",
+    return SweepRangeViolation{SweepRangePart::kFrom,
                                "must be > 0 with scale: log (the points are spaced geometrically)"};
   }
   return std::nullopt;

@@ -1,15 +1,20 @@
 // End-to-end tests of `gearnvh report`: the README's main job, batches with a bad file, the
 // output folder rules, the no-display error, and the report opened in headless Chromium.
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <catch2/catch.hpp>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <regex>
 
 #include "gearnvh/render/plots.h"
-#include "support/run_command.h"
 #include "support/paths.h"
+#include "support/run_command.h"
 
 namespace gearnvh {
 namespace {
@@ -19,8 +24,8 @@ using testing::ReadWholeFile;
 using testing::RunCommand;
 using testing::TempDir;
 
-using testing::kExe;
 using testing::kExamples;
+using testing::kExe;
 const std::array<std::uint8_t, 3> kWhite{255, 255, 255};
 
 // Every <img src> of a page, in order.
@@ -219,6 +224,33 @@ TEST_CASE("report: an Xvfb that exits at once is reported with its exit status, 
         std::string::npos);
   CHECK(run.err.find("within 10 s") == std::string::npos);
   CHECK(!fs::exists(dir.path() / "r"));
+}
+
+TEST_CASE("report: a start lock held by a stopped process delays the Xvfb start, never blocks it",
+          "[cli][report]") {
+  // The Xvfb start lock in $TMPDIR is held here for the whole run, as by a gearnvh stopped while
+  // starting its Xvfb. The run waits its bound (15 s) and then starts unserialised: here a fake
+  // Xvfb that exits at once, so the run ends on that message instead of waiting forever.
+  const TempDir dir;
+  const fs::path xvfb = dir.path() / "Xvfb";
+  std::ofstream(xvfb) << "#!/bin/sh\nexit 3\n";
+  fs::permissions(xvfb, fs::perms::owner_all);
+  const int lock =
+      ::open((dir.path() / ".gearnvh-xvfb-start.lock").c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0600);
+  REQUIRE(lock >= 0);
+  REQUIRE(::flock(lock, LOCK_EX | LOCK_NB) == 0);
+  const auto start = std::chrono::steady_clock::now();
+  const auto run = RunCommand("env -u DISPLAY TMPDIR=" + dir.path().string() +
+                              " PATH=" + dir.path().string() + " " + kExe + " report " + kExamples +
+                              "/industrial_whine.yaml --out " + (dir.path() / "r").string());
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ::close(lock);
+  INFO(run.err);
+  CHECK(run.exit_code == 1);
+  CHECK(run.err.find("exited with status 3 before it was ready") != std::string::npos);
+  CHECK(seconds >= 14.9);  // it waited for the lock's bound
+  CHECK(seconds < 60.0);   // and not for the holder (the run's own work takes a few seconds)
 }
 
 TEST_CASE("report: a gear train gets its page and figures, next to a pair and past a bad file",

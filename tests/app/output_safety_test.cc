@@ -189,9 +189,9 @@ TEST_CASE("RelativeDifference: relative above the quantity's resolution, against
 TEST_CASE("RequireValidUtf8 accepts UTF-8 and names the line of anything else", "[app][input]") {
   CHECK_NOTHROW(config::RequireValidUtf8("name: Zahnräder \xE2\x82\xAC \xF0\x9F\x98\x80\n", "f"));
   for (const std::string& bad : {std::string("\xFF"), std::string("\xC0\xAF"),  // overlong '/'
-                                std::string("\xED\xA0\x80"),                   // surrogate
-                                std::string("\xF4\x90\x80\x80"),               // > U+10FFFF
-                                std::string("\xE2\x82")}) {                    // cut short
+                                 std::string("\xED\xA0\x80"),                   // surrogate
+                                 std::string("\xF4\x90\x80\x80"),               // > U+10FFFF
+                                 std::string("\xE2\x82")}) {                    // cut short
     INFO(bad.size());
     try {
       config::RequireValidUtf8("schema: gearnvh/1\nname: a" + bad + "\n", "f.yaml");

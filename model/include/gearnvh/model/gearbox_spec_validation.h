@@ -23,10 +23,11 @@ void ValidateGearboxSpec(const GearboxSpec& spec,
                          OperatingLimits operating = OperatingLimits::kChecked);
 
 // The first rule a speed sweep or an atlas axis breaks (>= 2 points, from < to, from > 0 on a log
-// scale): the part ("points", "to", "from") and the rule; nullopt when it keeps them all. One set
-// of rules for the file's ranges and the command line's axes.
+// scale): the part of the range and the rule; nullopt when it keeps them all. One set of rules
+// for the file's ranges and the command line's axes.
+enum class SweepRangePart { kFrom, kTo, kPoints };
 struct SweepRangeViolation {
-  std::string part;
+  SweepRangePart part;
   std::string rule;
 };
 std::optional<SweepRangeViolation> FirstSweepRangeViolation(const SweepRange& range);
