@@ -217,7 +217,7 @@ RunCostEstimate EstimateRunCost(const TrainTables& t, double simulated_s, const 
   out.body = static_cast<int>(body);
   out.cause_body = out.body;
   out.cause_body_name = t.body_names[static_cast<size_t>(body)];
-  out.cause_body_inertia = t.tier == Tier::kTier1 ? t.inertia[body] : 0.0;
+  out.cause_body_inertia = t.body_inertia[body];
   if (out.dominant == RateTerm::kGyroscopic && spec != nullptr) GyroscopicCause(*spec, out);
   if (out.substep_s > 0.0) {
     out.substeps = simulated_s / out.substep_s;

@@ -127,6 +127,7 @@ TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
   t.m = 2 * t.n + 2;
   const int n = t.n;
   t.inertia = Eigen::Map<const Eigen::VectorXd>(train.body_inertia.data(), n);
+  t.body_inertia = t.inertia;
   t.input_speed = spec.operating.speed;
   t.excitation = spec.operating.excitation;
   for (const TrainBody& b : topo.bodies) {

@@ -125,6 +125,7 @@ struct TrainTables {
   // Per body (rows) its angle in its own direction of rotation as a row on x (tier 1: identity).
   Eigen::MatrixXd body_angles;
   Eigen::VectorXd inertia;               // diagonal of M: J per body, kg m^2 (reduced: ones)
+  Eigen::VectorXd body_inertia;          // J per body, kg m^2, at every tier
   Eigen::VectorXd force;                 // f: constant torques, N m (friction loss included)
   double friction_loss_torque = 0.0;     // dT, the mean friction loss the input supplies, N m
   Eigen::VectorXd excitation_direction;  // d = J_in e_in
