@@ -193,7 +193,8 @@ int Main(int argc, char** argv) {
       "Write TE and mesh force histories and the TE spectrum as UFF dataset 58");
   simulate_cmd->add_flag("--json", simulate.json, "Print the results as one JSON document");
   simulate_cmd->add_flag("--allow-slow", simulate.allow_slow,
-                      "Gear trains: run even when the run-cost estimate exceeds one hour (refused otherwise; docs/cli.md, \"Run cost\")");
+                         "Gear trains: run even when the run-cost estimate exceeds one hour "
+                         "(refused otherwise; docs/cli.md, \"Run cost\")");
   AddMethodOption(simulate_cmd, simulate.method,
                   "Event location and fusion: v1 (dyadic bisection on dense propagators, a "
                   "baseline), v2 (sub-step certificate + Taylor-polynomial search), v3 "
@@ -216,6 +217,9 @@ int Main(int argc, char** argv) {
   validate_cmd->add_flag(
       "--json", validate.json,
       "Print {name, file, pass, checks: [{name, value, threshold, pass, skipped, detail}]}");
+  validate_cmd->add_flag("--allow-slow", validate.allow_slow,
+                         "Gear trains: run even when the ladder's run-cost estimate exceeds one "
+                         "hour (refused otherwise; docs/cli.md, \"Run cost\")");
 
   gearnvh::app::SweepOptions sweep;
   CLI::App* sweep_cmd = app.add_subcommand(
@@ -239,7 +243,8 @@ int Main(int argc, char** argv) {
   sweep_cmd->add_option("--uff", sweep.uff, "Write the TE order tracks as UFF dataset 58");
   sweep_cmd->add_flag("--json", sweep.json, "Print the results as one JSON document");
   sweep_cmd->add_flag("--allow-slow", sweep.allow_slow,
-                      "Gear trains: run even when the run-cost estimate exceeds one hour (refused otherwise; docs/cli.md, \"Run cost\")");
+                      "Gear trains: run even when the run-cost estimate exceeds one hour (refused "
+                      "otherwise; docs/cli.md, \"Run cost\")");
 
   gearnvh::app::AtlasCommandOptions atlas;
   CLI::App* atlas_cmd = app.add_subcommand(
@@ -265,7 +270,8 @@ int Main(int argc, char** argv) {
   atlas_cmd->add_option("--out", atlas.out, "Write atlas.csv and atlas.json");
   atlas_cmd->add_flag("--json", atlas.json, "Print the atlas as one JSON document");
   atlas_cmd->add_flag("--allow-slow", atlas.allow_slow,
-                      "Gear trains: run even when the run-cost estimate exceeds one hour (refused otherwise; docs/cli.md, \"Run cost\")");
+                      "Gear trains: run even when the run-cost estimate exceeds one hour (refused "
+                      "otherwise; docs/cli.md, \"Run cost\")");
   atlas_cmd->add_flag("--resume", atlas.resume,
                       "Skip cells already computed by an earlier run of the same command (the "
                       "checkpoint in --out DIR)");
@@ -295,7 +301,8 @@ int Main(int argc, char** argv) {
   orbits_cmd->add_option("--out", orbits.out, "Write orbits.csv and orbits.json");
   orbits_cmd->add_flag("--json", orbits.json, "Print the orbits as one JSON document");
   orbits_cmd->add_flag("--allow-slow", orbits.allow_slow,
-                      "Gear trains: run even when the run-cost estimate exceeds one hour (refused otherwise; docs/cli.md, \"Run cost\")");
+                       "Gear trains: run even when the run-cost estimate exceeds one hour (refused "
+                       "otherwise; docs/cli.md, \"Run cost\")");
 
   gearnvh::app::TiersCommandOptions tiers;
   CLI::App* tiers_cmd = app.add_subcommand(
@@ -315,7 +322,8 @@ int Main(int argc, char** argv) {
   tiers_cmd->add_option("--out", tiers.out, "Write tiers.json, tiers.csv and tiers.png");
   tiers_cmd->add_flag("--json", tiers.json, "Print the comparison as one JSON document");
   tiers_cmd->add_flag("--allow-slow", tiers.allow_slow,
-                      "Gear trains: run even when the run-cost estimate exceeds one hour (refused otherwise; docs/cli.md, \"Run cost\")");
+                      "Gear trains: run even when the run-cost estimate exceeds one hour (refused "
+                      "otherwise; docs/cli.md, \"Run cost\")");
 #ifdef GEARNVH_HAVE_RENDER
   AddImageSizeOptions(tiers_cmd, tiers.width, tiers.height, tiers.dpi, "tiers.png");
 #endif
@@ -338,7 +346,8 @@ int Main(int argc, char** argv) {
   bool no_atlas = false;
   report_cmd->add_flag("--no-atlas", no_atlas, "Skip the coarse chaos atlas");
   report_cmd->add_flag("--allow-slow", report.allow_slow,
-                      "Gear trains: run even when the run-cost estimate exceeds one hour (refused otherwise; docs/cli.md, \"Run cost\")");
+                       "Gear trains: run even when the run-cost estimate exceeds one hour (refused "
+                       "otherwise; docs/cli.md, \"Run cost\")");
 #endif
 
   try {

@@ -278,17 +278,32 @@ ValidationRow CompareFusionWithStepping(const TrainTables& t, const TrainTables&
   return row;
 }
 
-std::vector<ValidationRow> RunTrainValidationLadder(
-    const TrainSpec& spec, const std::atomic<bool>* cancel,
-    const std::function<void(int done, int total)>& progress) {
+RunCostEstimate TrainValidationCost(const TrainTables& tables, const TrainSpec& spec) {
+  constexpr int kExactRuns = 5;
+  const RunCostEstimate one =
+      EstimateRunCost(tables, kMaxCycles * tables.meshes.front().period, &spec);
+  return CombineRunCosts(std::vector<RunCostEstimate>(kExactRuns, one), 1);
+}
+
+std::vector<ValidationRow> RunTrainValidationLadder(const TrainSpec& spec,
+                                                    const TrainValidationOptions& options) {
   constexpr int kStages = 5;
   const auto done = [&](int stage) {
-    if (progress) progress(stage, kStages);
+    if (options.progress) options.progress(stage, kStages);
   };
+  const std::atomic<bool>* cancel = options.cancel;
   const GearTrain train = BuildGearTrain(spec);
   TrainTableOptions table_options;
   table_options.cancel = cancel;
   const TrainTables tables = BuildTrainTablesAtTier(spec, train, spec.analysis.tier, table_options);
+  if (const std::string slow = CheckRunCost(TrainValidationCost(tables, spec), options.allow_slow,
+                                            fmt::format("the validation's 5 runs of up to {} "
+                                                        "cycles of mesh {}",
+                                                        kMaxCycles, tables.meshes.front().name),
+                                            options.names);
+      !slow.empty() && options.before_run_warning) {
+    options.before_run_warning(slow);
+  }
   const auto [z0, states0] = TrainStaticState(tables);
   const double period = tables.meshes.front().period;
   const int cycles = WindowCycles(tables, z0, states0, cancel);

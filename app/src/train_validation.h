@@ -20,16 +20,33 @@
 #include "gearnvh/solver/train_reference.h"
 #include "gearnvh/solver/train_statistics.h"
 #include "gearnvh/solver/train_tables.h"
+#include "train_operating_point.h"
 #include "validation_ladder.h"
 
 namespace gearnvh::app {
 
-// progress(done, 5) after each stage (the window run, the CVODE comparison, V2, V1, fusion);
-// `cancel` is passed to the table build, the exact runs and CVODE's runs (each polls it:
-// RunCancelled once set).
-std::vector<ValidationRow> RunTrainValidationLadder(
-    const TrainSpec& spec, const std::atomic<bool>* cancel = nullptr,
-    const std::function<void(int done, int total)>& progress = {});
+struct TrainValidationOptions {
+  // Passed to the table build, the exact runs and CVODE's runs (each polls it: RunCancelled once
+  // set). Not owned; null: never cancelled.
+  const std::atomic<bool>* cancel = nullptr;
+  // progress(done, 5) after each stage (the window run, the CVODE comparison, V2, V1, fusion).
+  std::function<void(int done, int total)> progress;
+  // The ladder's worst case (TrainValidationCost) above kSlowRunRefuseSeconds is refused unless
+  // this is set (CheckRunCost: InputError naming names("allow-slow")).
+  bool allow_slow = false;
+  TrainOptionNames names;
+  // Called with the cost warning (above kSlowRunWarnSeconds) before the first run; empty: not
+  // called.
+  std::function<void(const std::string&)> before_run_warning;
+};
+
+std::vector<ValidationRow> RunTrainValidationLadder(const TrainSpec& spec,
+                                                    const TrainValidationOptions& options = {});
+
+// The ladder's worst case on `tables`: its five exact runs (the window run, V3, V2, V1 and the
+// fused check) each the longest window (200 cycles of the first mesh). CVODE's two runs are not
+// counted (their cost is not the dense sub-step's).
+RunCostEstimate TrainValidationCost(const TrainTables& tables, const TrainSpec& spec);
 
 // Tolerance of every TE row: 1e-8 of the TE (the issue's).
 inline constexpr double kTeTolerance = 1e-8;

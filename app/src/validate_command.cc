@@ -30,14 +30,21 @@ nlohmann::json ValidationDocument(const std::vector<ValidationRow>& rows, const 
 }
 
 int RunValidate(const ValidateOptions& options) {
-  config::SourceLocations where;
-  try {
+  return RunReportingErrors(options.file, [&](config::SourceLocations& where) -> int {
     const config::LoadedGearbox loaded = config::LoadAnyGearboxFile(options.file);
     where = loaded.locations;
     const std::string name = loaded.schema == 2 ? loaded.train.name : loaded.pair->name;
-    const std::vector<ValidationRow> rows = loaded.schema == 2
-                                                ? RunTrainValidationLadder(loaded.train)
-                                                : RunValidationLadder(*loaded.pair);
+    std::vector<ValidationRow> rows;
+    if (loaded.schema == 2) {
+      TrainValidationOptions ladder;
+      ladder.allow_slow = options.allow_slow;
+      ladder.before_run_warning = [](const std::string& w) {
+        std::cerr << "warning: " << w << "\n";
+      };
+      rows = RunTrainValidationLadder(loaded.train, ladder);
+    } else {
+      rows = RunValidationLadder(*loaded.pair);
+    }
     const nlohmann::json doc = ValidationDocument(rows, name, options.file);
     const bool all = doc["pass"].get<bool>();
     if (options.json) {
@@ -52,11 +59,8 @@ int RunValidate(const ValidateOptions& options) {
       }
       fmt::print("  {}\n", all ? "all checks passed" : "SOME CHECKS FAILED");
     }
-    return all ? 0 : 1;
-  } catch (const InputError& e) {
-    std::cerr << "error: " << InputErrorMessage(e, options.file, where) << "\n";
-    return 1;
-  }
+    return all ? kExitOk : kExitInput;
+  });
 }
 
 }  // namespace gearnvh::app

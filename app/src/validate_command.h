@@ -13,6 +13,7 @@ namespace gearnvh::app {
 struct ValidateOptions {
   std::string file;
   bool json = false;
+  bool allow_slow = false;  // gear trains: run a ladder estimated above an hour
 };
 
 int RunValidate(const ValidateOptions& options);

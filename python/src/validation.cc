@@ -22,13 +22,18 @@ struct Validation {
   nlohmann::json doc;  // the `validate --json` document
 };
 
-std::shared_ptr<Validation> ValidateTrain(const Train& train, const py::object& progress) {
+std::shared_ptr<Validation> ValidateTrain(const Train& train, bool allow_slow,
+                                          const py::object& progress) {
   return RunOnModel(
       train,
-      [](const TrainSpec& spec, const std::string& source, CallControl& control) {
+      [allow_slow](const TrainSpec& spec, const std::string& source, CallControl& control) {
         auto out = std::make_shared<Validation>();
-        out->rows = app::RunTrainValidationLadder(spec, &control.cancel,
-                                                  [&](int d, int t) { control.Progress(d, t); });
+        app::TrainValidationOptions options;
+        options.cancel = &control.cancel;
+        options.progress = [&](int d, int t) { control.Progress(d, t); };
+        options.allow_slow = allow_slow;
+        options.names = kKeywordNames;
+        out->rows = app::RunTrainValidationLadder(spec, options);
         out->doc = app::ValidationDocument(out->rows, spec.name, source);
         return out;
       },
@@ -83,9 +88,10 @@ void BindValidation(py::module_& m) {
       });
 
   m.def("validate", &ValidateTrain, py::arg("gearbox"), py::kw_only(),
-        py::arg("progress") = py::none(),
+        py::arg("allow_slow") = false, py::arg("progress") = py::none(),
         "The validation ladder of a gear train, as `gearnvh validate TRAIN.yaml`: the exact "
-        "solver against the CVODE reference and its V2 and V1 event methods.");
+        "solver against the CVODE reference and its V2 and V1 event methods. allow_slow: run "
+        "even when the ladder's run-cost estimate is above an hour (as simulate's).");
   m.def("validate", &ValidateGearbox, py::arg("gearbox"), py::kw_only(),
         py::arg("progress") = py::none(),
         "The validation ladder of a gear pair, as `gearnvh validate FILE`: fused vs stepped "

@@ -421,14 +421,12 @@ def test_a_run_estimated_above_an_hour_is_refused_at_allow_slow(tmp_path):
         "tiers": lambda **k: gearnvh.tiers(train, **k),
         "atlas": lambda **k: gearnvh.atlas(train, x="operating.speed=900rpm:1000rpm:2",
                                            y="meshes[1].backlash=80um:100um:2", **k),
+        "validate": lambda **k: gearnvh.validate(train, **k),
     }
     for name, call in calls.items():
         with pytest.raises(gearnvh.InputError) as refused:
             call()
         assert refused.value.path == "allow_slow", name
         assert "without allow_slow" in refused.value.rule, name
-        # The body is named at every tier; its inertia only where the run is tier 1 (a reduced
-        # tier spreads a body over several coordinates): tiers' costliest run is tier 3.
-        assert "body f" in refused.value.rule, name
-        if name != "tiers":
-            assert "body f, inertia 1e-15 kg m²" in refused.value.rule, name
+        # The body and its own inertia, at every tier (tiers' costliest run is tier 3).
+        assert "body f, inertia 1e-15 kg m²" in refused.value.rule, name

@@ -88,8 +88,11 @@ TEST_CASE("cancelling a train's validation ladder ends it within a second in eve
   SECTION("the ladder, in its CVODE references") {
     const double delay = GENERATE(0.5, 3.0);
     INFO("flag set " << delay << " s after the start");
-    const double seconds = testing::SecondsToCancel(
-        delay, [&](const std::atomic<bool>* cancel) { RunTrainValidationLadder(spec, cancel); });
+    const double seconds = testing::SecondsToCancel(delay, [&](const std::atomic<bool>* cancel) {
+      TrainValidationOptions options;
+      options.cancel = cancel;
+      RunTrainValidationLadder(spec, options);
+    });
     CHECK(seconds < kCallCancelSeconds);
   }
   SECTION("its fused-run check") {

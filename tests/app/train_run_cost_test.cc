@@ -140,6 +140,21 @@ TEST_CASE("simulate refuses a run estimated above an hour and names --allow-slow
   }
 }
 
+TEST_CASE("validate refuses a ladder estimated above an hour and names --allow-slow",
+          "[cli][train][warnings]") {
+  // The same train: the ladder's five exact runs of up to 200 cycles each (~0.5 s simulated in
+  // all) need ~1e10 sub-steps. Refused before any run, exit 2, nothing on stdout.
+  const testing::TempDir dir;
+  const std::string file = dir.Write("tiny.yaml", TinyLooseGearYaml("1e-15 kg*m^2")).string();
+  const auto r = RunCommand(kExe + " validate " + file);
+  INFO(r.err);
+  CHECK(r.exit_code == 2);
+  CHECK(r.out.empty());
+  CHECK(r.err.find("--allow-slow") != std::string::npos);
+  CHECK(r.err.find("the validation's 5 runs of up to 200 cycles of mesh") != std::string::npos);
+  CHECK(r.err.find("body f, inertia 1e-15 kg m²") != std::string::npos);
+}
+
 TEST_CASE("simulate --allow-slow starts the run it would refuse, saying its cost first",
           "[cli][train][warnings]") {
   // The refused run above with --allow-slow: not refused, the warning is on stderr before the run,
@@ -184,8 +199,7 @@ TEST_CASE("an ordinary train is neither refused nor warned about its cost",
   CHECK(r.err.find("--allow-slow") == std::string::npos);
 }
 
-TEST_CASE("the run-cost check refuses above an hour only without allow_slow",
-          "[train][warnings]") {
+TEST_CASE("the run-cost check refuses above an hour only without allow_slow", "[train][warnings]") {
   // The refusal and the warning follow the estimate's wall time alone: 59 s nothing, 61 s a
   // warning, 3601 s a refusal naming the option as the caller spells it ("--allow-slow" on the
   // command line, "allow_slow" for the Python keyword), unless allowed.
