@@ -178,24 +178,12 @@ RunCostEstimate EstimateRunCost(const TrainTables& t, double simulated_s, const 
   out.substep_s = bound.rho > 0.0 ? 0.5 / bound.rho : 0.0;
   // rho's terms (BoundTupleRate): w, the symmetric damping, the skew (gyroscopic) part of C_0 and
   // friction's share.
-  const double w = bound.stiffness_frequency;
-  double gyroscopic = 0.0;
-  const Eigen::MatrixXd& c0 = t.structural_damping;
-  if (c0.size() > 0) {
-    const Eigen::MatrixXd skew = 0.5 * (c0 - c0.transpose());
-    if (!skew.isZero(0.0)) {
-      const Eigen::VectorXd r = t.inertia.cwiseInverse().cwiseSqrt();
-      gyroscopic = (r.asDiagonal() * skew * r.asDiagonal()).norm();
-    }
-  }
-  const double friction = pencil.friction_k.size() > 0
-                              ? std::sqrt(w * w + pencil.friction_k_norm) - w +
-                                    pencil.friction_c_norm
-                              : 0.0;
-  const std::pair<RateTerm, double> terms[] = {{RateTerm::kStiffness, w},
-                                               {RateTerm::kDamping, damping - gyroscopic},
-                                               {RateTerm::kGyroscopic, gyroscopic},
-                                               {RateTerm::kFriction, friction}};
+  const double gyroscopic = GyroscopicRateBound(t);
+  const std::pair<RateTerm, double> terms[] = {
+      {RateTerm::kStiffness, bound.stiffness_frequency},
+      {RateTerm::kDamping, damping - gyroscopic},
+      {RateTerm::kGyroscopic, gyroscopic},
+      {RateTerm::kFriction, bound.friction_rate}};
   for (const auto& [term, rate] : terms) {
     if (rate > out.dominant_rate) {
       out.dominant = term;

@@ -71,14 +71,18 @@ TuplePencil AssembleTuplePencil(const TrainTables& t, const std::vector<int>& se
   return p;
 }
 
+double GyroscopicRateBound(const TrainTables& t) {
+  if (!SkewDamping(t)) return 0.0;
+  const Eigen::MatrixXd& c0 = t.structural_damping;
+  const Eigen::MatrixXd skew = 0.5 * (c0 - c0.transpose());
+  const Eigen::VectorXd root_inv_j = t.inertia.cwiseInverse().cwiseSqrt();
+  return (root_inv_j.asDiagonal() * skew * root_inv_j.asDiagonal()).norm();
+}
+
 double DampingRateBound(const TrainTables& t, const Eigen::MatrixXd& C) {
   const Eigen::VectorXd inv_j = t.inertia.cwiseInverse();
   if (!SkewDamping(t)) return LargestRate(inv_j, C);
-  const Eigen::MatrixXd& c0 = t.structural_damping;
-  const Eigen::MatrixXd skew = 0.5 * (c0 - c0.transpose());
-  const Eigen::VectorXd root_inv_j = inv_j.cwiseSqrt();
-  return LargestRate(inv_j, 0.5 * (C + C.transpose())) +
-         (root_inv_j.asDiagonal() * skew * root_inv_j.asDiagonal()).norm();
+  return LargestRate(inv_j, 0.5 * (C + C.transpose())) + GyroscopicRateBound(t);
 }
 
 TupleRateBound BoundTupleRate(const TrainTables& t, const TuplePencil& p, double damping_rate) {
@@ -86,7 +90,9 @@ TupleRateBound BoundTupleRate(const TrainTables& t, const TuplePencil& p, double
   out.stiffness_frequency = std::sqrt(LargestRate(t.inertia.cwiseInverse(), p.K));
   const double w = out.stiffness_frequency;
   if (p.friction_k.size() > 0) {
-    out.rho = std::sqrt(w * w + p.friction_k_norm) + damping_rate + p.friction_c_norm;
+    const double stiffness = std::sqrt(w * w + p.friction_k_norm);
+    out.rho = stiffness + damping_rate + p.friction_c_norm;
+    out.friction_rate = stiffness - w + p.friction_c_norm;
   } else {
     out.rho = SkewDamping(t) ? w + damping_rate : std::max(w, damping_rate);
   }

@@ -37,12 +37,17 @@ TuplePencil AssembleTuplePencil(const TrainTables& tables, const std::vector<int
 // structural C_0 that of the symmetric part plus the skew part's norm. It depends on the contact
 // states only (c_i is constant per mesh), so the table cache keeps it per state combination.
 double DampingRateBound(const TrainTables& tables, const Eigen::MatrixXd& C);
+// The skew part's share of DampingRateBound: |M^-1/2 (C_0 - C_0^T)/2 M^-1/2| (the gyroscopic
+// term of a reduced tier), 0 when C_0 is symmetric.
+double GyroscopicRateBound(const TrainTables& tables);
 
 struct TupleRateBound {
   double rho = 0.0;  // >= |lambda| for every eigenvalue of A_sigma, 1/s
   // sqrt(lambda_max(M^-1 K_sym)), the highest frictionless undamped mode, rad/s (also the scale
   // of the decomposition's velocity balance).
   double stiffness_frequency = 0.0;
+  // Friction's share of rho: sqrt(w^2 + friction_k_norm) - w + friction_c_norm (0 without).
+  double friction_rate = 0.0;
 };
 // From a tuple's pencil and its DampingRateBound.
 TupleRateBound BoundTupleRate(const TrainTables& tables, const TuplePencil& pencil,
