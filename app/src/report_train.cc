@@ -225,20 +225,20 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
   sweep_options.transient = 100;
   sweep_options.threads = threads;
   sweep_options.tier = settings.tier;
-  {
-    // The operating point's and the sweep's cost, said (or refused) before either runs.
-    const GearTrain train = BuildGearTrain(spec);
-    const TrainTables tables = BuildTrainTablesAtTier(spec, train, settings.tier);
-    const double seconds =
-        static_cast<double>(run.cycles + run.transient) * tables.meshes.front().period;
-    const RunCostEstimate cost = CombineRunCosts(
-        {EstimateRunCost(tables, seconds, &spec), EstimateTrainSweepCost(spec, sweep_options)}, 1);
-    const std::string slow = CheckRunCost(cost, o.allow_slow, "the operating point and the sweep");
-    if (!slow.empty()) fmt::print(stderr, "warning: {}: {}\n", file, slow);
-    run.allow_slow = sweep_options.allow_slow = true;
-  }
+  // The operating point's and the sweep's cost, said (or refused) before either runs; the
+  // operating point then runs on the tables estimated.
+  GearTrain train = BuildGearTrain(spec);
+  TrainTables tables = BuildTrainTablesAtTier(spec, train, settings.tier);
+  const double seconds =
+      static_cast<double>(run.cycles + run.transient) * tables.meshes.front().period;
+  const RunCostEstimate cost = CombineRunCosts(
+      {EstimateRunCost(tables, seconds, &spec), EstimateTrainSweepCost(spec, sweep_options)}, 1);
+  const std::string slow = CheckRunCost(cost, o.allow_slow, "the operating point and the sweep");
+  if (!slow.empty()) fmt::print(stderr, "warning: {}: {}\n", file, slow);
+  run.allow_slow = sweep_options.allow_slow = true;
   if (stage) stage("operating point");
-  const TrainOperatingPoint op = RunTrainOperatingPoint(spec, run);
+  const TrainOperatingPoint op =
+      RunTrainOperatingPoint(spec, std::move(train), std::move(tables), run);
   if (!op.ok()) {
     throw std::runtime_error("operating point: " + TrainStepperMessage(op.summary));
   }

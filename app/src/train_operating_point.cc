@@ -215,11 +215,6 @@ RunCostEstimate EstimateRunCost(const TrainTables& t, double simulated_s, const 
   return out;
 }
 
-RunCostEstimate EstimateRunCost(const TrainSpec& spec, Tier tier, double simulated_s) {
-  const GearTrain train = BuildGearTrain(spec);
-  return EstimateRunCost(BuildTrainTablesAtTier(spec, train, tier), simulated_s, &spec);
-}
-
 RunCostEstimate CombineRunCosts(const std::vector<RunCostEstimate>& runs, int parallel) {
   if (runs.empty()) return {};
   const auto costliest = std::max_element(
@@ -388,12 +383,22 @@ void TrainRunOptions::Validate() const {
 TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, const TrainRunOptions& options,
                                            const TrainProgress& progress) {
   options.Validate();
-  TrainOperatingPoint op;
-  op.tier = options.tier;
-  op.train = BuildGearTrain(spec);
+  GearTrain train = BuildGearTrain(spec);
   TrainTableOptions table_options;
   table_options.cancel = options.cancel;
-  op.tables = BuildTrainTablesAtTier(spec, op.train, options.tier, table_options);
+  TrainTables tables = BuildTrainTablesAtTier(spec, train, options.tier, table_options);
+  return RunTrainOperatingPoint(spec, std::move(train), std::move(tables), options, progress);
+}
+
+TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, GearTrain train,
+                                           TrainTables tables_at_tier,
+                                           const TrainRunOptions& options,
+                                           const TrainProgress& progress) {
+  options.Validate();
+  TrainOperatingPoint op;
+  op.tier = options.tier;
+  op.train = std::move(train);
+  op.tables = std::move(tables_at_tier);
   op.warnings = TrainWarnings(op.train, op.tables);
   for (const std::string& w : TrainLoadWarnings(spec, op.train.topology)) op.warnings.push_back(w);
   const TrainTables& tables = op.tables;

@@ -123,8 +123,6 @@ struct RunCostEstimate {
 // gyroscopic cause's body when that term dominates (tiers 2+ only).
 RunCostEstimate EstimateRunCost(const TrainTables& tables, double simulated_s = 0.0,
                                 const TrainSpec* spec = nullptr);
-// The same after building the model of `spec` at `tier`.
-RunCostEstimate EstimateRunCost(const TrainSpec& spec, Tier tier, double simulated_s);
 // Several runs: sub-steps summed, wall time summed over `parallel` threads (>= 1), the cause that
 // of the costliest run.
 RunCostEstimate CombineRunCosts(const std::vector<RunCostEstimate>& runs, int parallel);
@@ -213,6 +211,12 @@ void RequireAxisWithinPitchLineLimit(const TrainSpec& spec, const AtlasAxis& axi
 using TrainProgress = std::function<void(double time, double end)>;
 
 TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, const TrainRunOptions& options,
+                                           const TrainProgress& progress = {});
+// The same on the train of `spec` and its tables at options.tier, already built (BuildGearTrain,
+// BuildTrainTablesAtTier): a command that estimated the run's cost on them runs them.
+TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, GearTrain train,
+                                           TrainTables tables_at_tier,
+                                           const TrainRunOptions& options,
                                            const TrainProgress& progress = {});
 
 // `meshes` and `loose_gears` of `simulate --json` on a train (docs/cli.md), SI units.

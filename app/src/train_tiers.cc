@@ -17,12 +17,14 @@
 namespace gearnvh::app {
 namespace {
 
-TrainTierRow RunTier(const TrainSpec& spec, TrainRunOptions run, Tier tier) {
-  run.tier = tier;
+TrainTierRow RunTier(const TrainSpec& spec, const GearTrain& train, TrainTables tables,
+                     TrainRunOptions run) {
+  run.tier = tables.tier;
+  const Tier tier = tables.tier;
   // Every tier steps the same cycles: whether a transient is certified and jumped depends on the
   // tier, and the cost columns compare stepping.
   run.jumps = false;
-  const TrainOperatingPoint op = RunTrainOperatingPoint(spec, run);
+  const TrainOperatingPoint op = RunTrainOperatingPoint(spec, train, std::move(tables), run);
   if (!op.ok()) {
     throw std::runtime_error(std::string(TierName(tier)) +
                              ": the run stopped: " + TrainStepperMessage(op.summary));
@@ -65,26 +67,26 @@ TrainTiersComparison CompareTrainTiers(const TrainSpec& spec, TrainRunOptions ru
   for (const TrainBody& b : train.topology.bodies) {
     if (b.kind == BodyKind::kLooseGear) out.loose_gears.push_back(b.name);
   }
-  {
-    // Every tier's cost before any runs (each builds its tables again for the run).
-    std::vector<RunCostEstimate> costs;
-    for (Tier t : tiers) {
-      ThrowIfCancelled(run.cancel);  // each builds the tier's tables
-      const double period = 1.0 / FirstMeshFrequency(spec, train.topology, spec.operating.speed);
-      costs.push_back(
-          EstimateRunCost(spec, t, static_cast<double>(run.cycles + run.transient) * period));
-    }
-    const RunCostEstimate cost = CombineRunCosts(costs, 1);
-    const std::string what = fmt::format("the {} tiers' runs", costs.size());
-    const std::string slow = CheckRunCost(cost, run.allow_slow, what, run.names);
-    if (!slow.empty() && run.before_run_warning) run.before_run_warning(slow);
-    run.allow_slow = true;
-    run.before_run_warning = {};
-  }
+  // Every tier's tables and cost before any runs; the runs then use those tables.
+  std::vector<TrainTables> tables;
+  std::vector<RunCostEstimate> costs;
+  TrainTableOptions table_options;
+  table_options.cancel = run.cancel;
   for (Tier t : tiers) {
+    tables.push_back(BuildTrainTablesAtTier(spec, train, t, table_options));
+    const double period = tables.back().meshes.front().period;
+    costs.push_back(EstimateRunCost(
+        tables.back(), static_cast<double>(run.cycles + run.transient) * period, &spec));
+  }
+  const std::string slow = CheckRunCost(CombineRunCosts(costs, 1), run.allow_slow,
+                                        fmt::format("the {} tiers' runs", costs.size()), run.names);
+  if (!slow.empty() && run.before_run_warning) run.before_run_warning(slow);
+  run.allow_slow = true;
+  run.before_run_warning = {};
+  for (TrainTables& t : tables) {
     ThrowIfCancelled(run.cancel);
-    if (progress) progress(out.rows.size() + 1, tiers.size(), TierName(t));
-    out.rows.push_back(RunTier(spec, run, t));
+    if (progress) progress(out.rows.size() + 1, tiers.size(), TierName(t.tier));
+    out.rows.push_back(RunTier(spec, train, std::move(t), run));
   }
   std::vector<TrainTierRow>& rows = out.rows;
   for (size_t i = 0; i < rows.size(); ++i) {

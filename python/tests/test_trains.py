@@ -386,27 +386,12 @@ def test_a_progress_exception_stops_the_lyapunov_run(linear_file):
     assert all(total == 2000 for _, total in calls)
 
 
-TINY_LOOSE_GEAR = """schema: gearnvh/2
-name: Tiny loose gear
-materials:
-  steel: {youngs_modulus: 206 GPa, poisson_ratio: 0.3, density: 7850 kg/m^3}
-shafts:
-  input: {inertia: 5e-3 kg*m^2}
-  output: {inertia: 0.5 kg*m^2}
-gears:
-  a: {shaft: input, teeth: 21, module: 2 mm, face_width: 18 mm, bore_diameter: 20 mm, material: steel}
-  b: {shaft: output, teeth: 35, module: 2 mm, face_width: 18 mm, bore_diameter: 20 mm, material: steel}
-  e: {shaft: input, teeth: 25, module: 2 mm, face_width: 15 mm, bore_diameter: 20 mm, material: steel}
-  f: {shaft: output, mounting: loose, teeth: 31, module: 2 mm, face_width: 15 mm, bore_diameter: 30 mm, material: steel, inertia: 1e-15 kg*m^2}
-meshes:
-  - {gears: [a, b], backlash: 80 um}
-  - {gears: [e, f], backlash: 100 um}
-operating:
-  speed: {shaft: input, value: 1000 rpm}
-  loads:
-    - {on: output, torque: 20 N*m}
-    - {on: f, torque: 0.2 N*m}
-"""
+# The C++ tests' rattling 3-mesh train (tests/app/loose_gear_train_yaml.h) with its loose gear f
+# at 1e-15 kg m^2.
+TINY_LOOSE_GEAR = (SOURCE_DIR / "tests" / "data" / "loose_gear_train.yaml").read_text().replace(
+    "bore_diameter: 30 mm, material: steel}",
+    "bore_diameter: 30 mm, material: steel, inertia: 1e-15 kg*m^2}")
+assert "inertia: 1e-15" in TINY_LOOSE_GEAR
 
 
 def test_a_run_estimated_above_an_hour_is_refused_at_allow_slow(tmp_path):
