@@ -144,4 +144,13 @@ MeshSegmentation SegmentMeshCycle(const MeshPair& pair, const MeshEvaluator& ev,
   return out;
 }
 
+double CycleMeanStiffness(const MeshSegmentation& segmentation, Flank flank) {
+  double mean = 0.0;
+  for (const MeshSegment& s : segmentation.segments) {
+    const FlankSegment& f = flank == Flank::kDrive ? s.drive : s.back;
+    mean += f.stiffness * (s.tau_end - s.tau_begin);
+  }
+  return mean;
+}
+
 }  // namespace gearnvh

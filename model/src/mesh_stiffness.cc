@@ -412,9 +412,7 @@ MeshStiffnessSummary SummarizeMeshCycle(const MeshCycle& cycle, const PairGeomet
     for (int m = 0; m < d.pair_count; ++m)
       s.load_sharing_max = std::max(s.load_sharing_max, d.pairs[m].load_share);
   }
-  for (const MeshSegment& seg : segmentation.segments) {
-    s.mean += seg.drive.stiffness * (seg.tau_end - seg.tau_begin);
-  }
+  s.mean = CycleMeanStiffness(segmentation, Flank::kDrive);
   s.single_pair_mean = single_n ? single_sum / single_n : 0.0;
   s.double_pair_mean = double_n ? double_sum / double_n : 0.0;
   s.lste_peak_to_peak = lste_max - lste_min;

@@ -172,9 +172,7 @@ TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
     const double speed_a = std::abs(topo.bodies[static_cast<size_t>(mm.body_a)].speed);
     mt.period = 2.0 * std::numbers::pi / (teeth * speed_a);
     cycles_per_revolution.push_back(teeth * speed_a / t.input_speed);
-    const MeshEvaluator evaluator(mm.pair, mm.geometry);
-    const MeshSegmentation seg =
-        SegmentMeshCycle(mm.pair, evaluator, spec.analysis.segments_per_cycle);
+    const MeshSegmentation& seg = mm.segmentation;  // built with the train (BuildGearTrain)
     for (const MeshSegment& s : seg.segments) {
       mt.boundary.push_back(s.tau_begin * mt.period);
       mt.k_drive.push_back(s.drive.stiffness);

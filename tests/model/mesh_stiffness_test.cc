@@ -228,7 +228,6 @@ TEST_CASE("a rectangular override is reproduced exactly at any segmentation, on 
   const MeshEvaluator ev(PairOf(spec), g);
   for (int S : {12, 13, 32, 57, 200}) {
     const MeshSegmentation seg = SegmentMeshCycle(PairOf(spec), ev, S);
-    double drive_mean = 0.0, back_mean = 0.0;
     for (const MeshSegment& s : seg.segments) {
       // Each segment lies on one level of the wave: its mean is that level, to rounding of the
       // 8-point quadrature (relative 1e-15; the bound allows a few ulps).
@@ -238,14 +237,12 @@ TEST_CASE("a rectangular override is reproduced exactly at any segmentation, on 
         INFO("S = " << S << ", segment [" << s.tau_begin << ", " << s.tau_end << "], k = " << k);
         CHECK(on_level);
       }
-      drive_mean += s.drive.stiffness * (s.tau_end - s.tau_begin);
-      back_mean += s.back.stiffness * (s.tau_end - s.tau_begin);
     }
     // The cycle mean is the wave's: single + (eps - 1)(double - single), exactly.
     const double exact =
         rect.single + (rect.contact_ratio - 1.0) * (rect.double_pair - rect.single);
-    CHECK(drive_mean == Approx(exact).epsilon(1e-14));
-    CHECK(back_mean == Approx(exact).epsilon(1e-14));
+    CHECK(CycleMeanStiffness(seg, Flank::kDrive) == Approx(exact).epsilon(1e-14));
+    CHECK(CycleMeanStiffness(seg, Flank::kBack) == Approx(exact).epsilon(1e-14));
   }
   // The switches are among the mandatory boundaries (drive: 0 and eps - 1).
   const MeshSegmentation seg = SegmentMeshCycle(PairOf(spec), ev, 32);
@@ -318,8 +315,7 @@ TEST_CASE("segmentation: S segments, boundaries on transitions, means consistent
   }
   // Cycle mean from segment means equals the fine-sample mean to quadrature accuracy
   // (midpoint rule on 2048 samples across 7 jumps: ~1e-3 relative).
-  double mean = 0.0;
-  for (const auto& s : seg.segments) mean += s.drive.stiffness * (s.tau_end - s.tau_begin);
+  const double mean = CycleMeanStiffness(seg, Flank::kDrive);
   double sampled = 0.0;
   const MeshCycle cycle = ComputeMeshCycle(PairOf(spec), g);
   for (const FlankSample& d : cycle.drive) sampled += d.stiffness / cycle.drive.size();

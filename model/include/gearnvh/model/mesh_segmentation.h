@@ -48,4 +48,9 @@ struct MeshSegmentation {
 MeshSegmentation SegmentMeshCycle(const MeshPair& pair, const MeshEvaluator& evaluator,
                                   int segments_per_cycle, int scan_samples = 2048);
 
+// The cycle mean of the flank's stiffness over the segments the solver integrates,
+// sum_j k_j (tau_end - tau_begin), N/m: exact for a stiffness override (its switches are segment
+// boundaries). MeshStiffnessSummary::mean is the drive flank's.
+double CycleMeanStiffness(const MeshSegmentation& segmentation, Flank flank);
+
 }  // namespace gearnvh
