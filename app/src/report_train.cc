@@ -227,7 +227,7 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
   sweep_options.tier = settings.tier;
   // The operating point's and the sweep's cost, said (or refused) before either runs; the
   // operating point then runs on the tables estimated.
-  GearTrain train = BuildGearTrain(spec);
+  GearTrain train = check.train;
   TrainTables tables = BuildTrainTablesAtTier(spec, train, settings.tier);
   const double seconds =
       static_cast<double>(run.cycles + run.transient) * tables.meshes.front().period;

@@ -120,10 +120,14 @@ SpectrumWindow PlanWindow(const TrainTables& t, double dt, double start, double 
 
 const char* RateTermName(RateTerm term) {
   switch (term) {
-    case RateTerm::kStiffness: return "stiffness (the highest undamped mode)";
-    case RateTerm::kDamping: return "damping";
-    case RateTerm::kGyroscopic: return "gyroscopic moments";
-    case RateTerm::kFriction: return "tooth friction";
+    case RateTerm::kStiffness:
+      return "stiffness (the highest undamped mode)";
+    case RateTerm::kDamping:
+      return "damping";
+    case RateTerm::kGyroscopic:
+      return "gyroscopic moments";
+    case RateTerm::kFriction:
+      return "tooth friction";
   }
   return "";
 }
@@ -150,8 +154,8 @@ void GyroscopicCause(const TrainSpec& spec, RunCostEstimate& out) {
     out.cause_body = body;
     out.cause_body_name = train.topology.bodies[static_cast<size_t>(body)].name;
     // G is per unit input speed: spin w_b / w_in times I_p.
-    const double spin = train.topology.bodies[static_cast<size_t>(body)].speed /
-                        spec.operating.speed;
+    const double spin =
+        train.topology.bodies[static_cast<size_t>(body)].speed / spec.operating.speed;
     out.cause_body_inertia = spin != 0.0 ? ip / std::abs(spin) : 0.0;
     out.cause_nutation_rate = rate;
   }
@@ -179,11 +183,10 @@ RunCostEstimate EstimateRunCost(const TrainTables& t, double simulated_s, const 
   // rho's terms (BoundTupleRate): w, the symmetric damping, the skew (gyroscopic) part of C_0 and
   // friction's share.
   const double gyroscopic = GyroscopicRateBound(t);
-  const std::pair<RateTerm, double> terms[] = {
-      {RateTerm::kStiffness, bound.stiffness_frequency},
-      {RateTerm::kDamping, damping - gyroscopic},
-      {RateTerm::kGyroscopic, gyroscopic},
-      {RateTerm::kFriction, bound.friction_rate}};
+  const std::pair<RateTerm, double> terms[] = {{RateTerm::kStiffness, bound.stiffness_frequency},
+                                               {RateTerm::kDamping, damping - gyroscopic},
+                                               {RateTerm::kGyroscopic, gyroscopic},
+                                               {RateTerm::kFriction, bound.friction_rate}};
   for (const auto& [term, rate] : terms) {
     if (rate > out.dominant_rate) {
       out.dominant = term;
@@ -395,6 +398,9 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, GearTrain trai
                                            const TrainRunOptions& options,
                                            const TrainProgress& progress) {
   options.Validate();
+  if (tables_at_tier.tier != options.tier) {
+    throw std::logic_error("RunTrainOperatingPoint: the tables are not at options.tier");
+  }
   TrainOperatingPoint op;
   op.tier = options.tier;
   op.train = std::move(train);

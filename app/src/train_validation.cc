@@ -279,10 +279,18 @@ ValidationRow CompareFusionWithStepping(const TrainTables& t, const TrainTables&
 }
 
 RunCostEstimate TrainValidationCost(const TrainTables& tables, const TrainSpec& spec) {
-  constexpr int kExactRuns = 5;
-  const RunCostEstimate one =
-      EstimateRunCost(tables, kMaxCycles * tables.meshes.front().period, &spec);
-  return CombineRunCosts(std::vector<RunCostEstimate>(kExactRuns, one), 1);
+  const double window = kMaxCycles * tables.meshes.front().period;
+  const RunCostEstimate one = EstimateRunCost(tables, window, &spec);
+  std::vector<RunCostEstimate> runs(4, one);  // the window run, V3, V2, V1
+  // The fused check steps its periods unless it is skipped (CompareFusionWithStepping).
+  const long limit = TrainStepperOptions{}.max_cycle_map_segments;
+  const bool fused_check =
+      tables.common_period > 0.0 && CountCommonPeriodSegments(tables, limit + 1) <= limit;
+  if (fused_check) {
+    runs.push_back(
+        EstimateRunCost(tables, std::max(window, kFusionPeriods * tables.common_period), &spec));
+  }
+  return CombineRunCosts(runs, 1);
 }
 
 std::vector<ValidationRow> RunTrainValidationLadder(const TrainSpec& spec,
@@ -296,11 +304,12 @@ std::vector<ValidationRow> RunTrainValidationLadder(const TrainSpec& spec,
   TrainTableOptions table_options;
   table_options.cancel = cancel;
   const TrainTables tables = BuildTrainTablesAtTier(spec, train, spec.analysis.tier, table_options);
-  if (const std::string slow = CheckRunCost(TrainValidationCost(tables, spec), options.allow_slow,
-                                            fmt::format("the validation's 5 runs of up to {} "
-                                                        "cycles of mesh {}",
-                                                        kMaxCycles, tables.meshes.front().name),
-                                            options.names);
+  if (const std::string slow =
+          CheckRunCost(TrainValidationCost(tables, spec), options.allow_slow,
+                       fmt::format("the validation's exact runs (each up to {} "
+                                   "cycles of mesh {} or {} common periods)",
+                                   kMaxCycles, tables.meshes.front().name, kFusionPeriods),
+                       options.names);
       !slow.empty() && options.before_run_warning) {
     options.before_run_warning(slow);
   }

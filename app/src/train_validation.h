@@ -43,9 +43,10 @@ struct TrainValidationOptions {
 std::vector<ValidationRow> RunTrainValidationLadder(const TrainSpec& spec,
                                                     const TrainValidationOptions& options = {});
 
-// The ladder's worst case on `tables`: its five exact runs (the window run, V3, V2, V1 and the
-// fused check) each the longest window (200 cycles of the first mesh). CVODE's two runs are not
-// counted (their cost is not the dense sub-step's).
+// The ladder's worst case on `tables`: its five exact runs, the window run, V3, V2 and V1 each
+// the longest window (200 cycles of the first mesh) and the fused check the longer of that and
+// its kFusionPeriods common periods. CVODE's two runs are not counted (their cost is not the
+// dense sub-step's).
 RunCostEstimate TrainValidationCost(const TrainTables& tables, const TrainSpec& spec);
 
 // Tolerance of every TE row: 1e-8 of the TE (the issue's).

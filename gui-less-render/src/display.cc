@@ -9,6 +9,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
@@ -88,7 +89,10 @@ class XvfbStartLock {
     if (fd_ < 0) fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
     if (fd_ < 0) return;  // without the file: start unserialised
     const auto deadline = std::chrono::steady_clock::now() + kXvfbStartLockWait;
-    while (::flock(fd_, LOCK_EX | LOCK_NB) != 0 && std::chrono::steady_clock::now() < deadline) {
+    while (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+      // Another error (ENOLCK on a file system without locks): start unserialised at once.
+      if (errno != EWOULDBLOCK && errno != EINTR) return;
+      if (std::chrono::steady_clock::now() >= deadline) return;
       ::usleep(20000);
     }
   }

@@ -405,7 +405,7 @@ def test_a_run_estimated_above_an_hour_is_refused_at_allow_slow(tmp_path):
         "sweep": lambda **k: gearnvh.sweep(train, **k),
         "tiers": lambda **k: gearnvh.tiers(train, **k),
         "atlas": lambda **k: gearnvh.atlas(train, x="operating.speed=900rpm:1000rpm:2",
-                                           y="meshes[1].backlash=80um:100um:2", **k),
+                                           y="meshes[2].backlash=80um:100um:2", **k),
         "validate": lambda **k: gearnvh.validate(train, **k),
     }
     for name, call in calls.items():

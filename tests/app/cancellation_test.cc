@@ -1,12 +1,13 @@
 // Cancellation of the app's long calls (the flag the Python module sets on Ctrl-C): a train's
 // operating point, a train sweep and both validation ladders end within a second of the flag,
 // whatever phase they are in (table build, stepping, CVODE reference, fused-run checks).
-// Tolerance: kCallCancelSeconds from the set to the end. Each call runs for far longer uncancelled
-// (stated per case); the polled steps last at most ~0.1 s, the rest is margin for a loaded CI
-// machine.
+// Tolerance: testing::kCancelBoundSeconds (support/cancel_latency.h) from the set to the end.
+// Each call runs for far longer uncancelled (stated per case); the polled steps last at most
+// ~0.1 s, the rest is margin for a loaded CI machine.
 #include <atomic>
 #include <catch2/catch.hpp>
 #include <chrono>
+#include <optional>
 #include <thread>
 
 #include "config/gearbox_loader.h"
@@ -21,8 +22,6 @@
 
 namespace gearnvh::app {
 namespace {
-
-constexpr double kCallCancelSeconds = 1.0;
 
 TrainSpec TwoStageReducerExample() {
   return config::LoadAnyGearboxFile(testing::kExamples + "/two_stage_helical_reducer.yaml").train;
@@ -46,7 +45,7 @@ TEST_CASE("cancelling a train's operating point at tier 5 ends it within a secon
     cancellable.cancel = cancel;
     RunTrainOperatingPoint(spec, cancellable);
   });
-  CHECK(seconds < kCallCancelSeconds);
+  CHECK(seconds < testing::kCancelBoundSeconds);
 }
 
 TEST_CASE("cancelling a train sweep ends it within a second, every speed cancelled",
@@ -67,14 +66,25 @@ TEST_CASE("cancelling a train sweep ends it within a second, every speed cancell
     set_at = std::chrono::steady_clock::now();
     flag.store(true);
   });
-  const TrainSweepResult result = RunTrainSweep(spec, options);
+  // Cancelled while the sweep's cost is estimated (its tier-5 tables, slow in the instrumented
+  // build), the sweep throws RunCancelled; later, every speed reports "cancelled".
+  std::optional<TrainSweepResult> result;
+  try {
+    result = RunTrainSweep(spec, options);
+  } catch (const RunCancelled&) {
+  } catch (...) {
+    setter.join();
+    throw;
+  }
   const auto ended = std::chrono::steady_clock::now();
   setter.join();
-  CHECK(std::chrono::duration<double>(ended - set_at).count() < kCallCancelSeconds);
-  REQUIRE_FALSE(result.points.empty());
-  for (const TrainSweepPoint& p : result.points) {
-    CHECK_FALSE(p.ok);
-    CHECK(p.message == "cancelled");
+  CHECK(std::chrono::duration<double>(ended - set_at).count() < testing::kCancelBoundSeconds);
+  if (result) {
+    REQUIRE_FALSE(result->points.empty());
+    for (const TrainSweepPoint& p : result->points) {
+      CHECK_FALSE(p.ok);
+      CHECK(p.message == "cancelled");
+    }
   }
 }
 
@@ -93,7 +103,7 @@ TEST_CASE("cancelling a train's validation ladder ends it within a second in eve
       options.cancel = cancel;
       RunTrainValidationLadder(spec, options);
     });
-    CHECK(seconds < kCallCancelSeconds);
+    CHECK(seconds < testing::kCancelBoundSeconds);
   }
   SECTION("its fused-run check") {
     const TrainTables tables =
@@ -102,7 +112,7 @@ TEST_CASE("cancelling a train's validation ladder ends it within a second in eve
     const double seconds = testing::SecondsToCancel(0.5, [&](const std::atomic<bool>* cancel) {
       CompareFusionWithStepping(tables, tables, start.first, start.second, cancel);
     });
-    CHECK(seconds < kCallCancelSeconds);
+    CHECK(seconds < testing::kCancelBoundSeconds);
   }
 }
 
@@ -116,7 +126,7 @@ TEST_CASE("cancelling a pair's validation ladder ends it within a second",
   INFO("flag set " << delay << " s after the start");
   const double seconds = testing::SecondsToCancel(
       delay, [&](const std::atomic<bool>* cancel) { RunValidationLadder(spec, cancel); });
-  CHECK(seconds < kCallCancelSeconds);
+  CHECK(seconds < testing::kCancelBoundSeconds);
 }
 
 }  // namespace

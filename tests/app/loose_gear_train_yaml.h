@@ -10,6 +10,7 @@
 
 namespace gearnvh::testing {
 
+// Read at start-up; a missing file is an empty string, which every test then fails to load.
 inline const std::string kLooseGearTrainYaml =
     ReadWholeFile(std::filesystem::path(GEARNVH_TEST_DATA_DIR) / "loose_gear_train.yaml");
 

@@ -134,8 +134,9 @@ TEST_CASE("sweep and tiers and validate: a train without load or excitation rest
     INFO(tier["name"].get<std::string>());
     for (const auto& m : tier["meshes"]) {
       CHECK(m["te_rms_m"].get<double>() <= kRestingTe);
-      // Equal (zero) TE at every tier: no rounding-level TE divided by an exact zero.
-      CHECK(m["te_rms_difference_to_finest"] == 0.0);
+      // Rounding-level TE at every tier is no difference (measured against the 1 pm resolution,
+      // not divided by an exact zero: 2e+288 before).
+      CHECK(m["te_rms_difference_to_finest"].get<double>() <= 1e-6);
     }
     for (const auto& g : tier["loose_gears"]) CHECK(g["rattle_index"] == 0.0);
   }
