@@ -1,5 +1,5 @@
 # Sourced by scripts/test.sh --sanitize and scripts/fuzz.sh: the one instrumented build in
-# build-asan/ (clang, ASan + UBSan at -O1, libFuzzer coverage on the loader and model libraries)
+# build-asan/ (clang, ASan + UBSan at -O2, libFuzzer coverage on the loader and model libraries)
 # that serves both the sanitizer suite and the fuzzer (docs/testing.md).
 export GEARNVH_BUILD_DIR=build-asan
 # No Python module here: an ASan-instrumented extension needs libasan preloaded into the Python

@@ -100,7 +100,8 @@ TEST_CASE("cancelling a pair's table build at N40 full ends it within a second")
 TEST_CASE("cancelling a pair run at N40 full ends it within a second, early or late") {
   // The stepper's tables (segment runs, recorder rows), the first cycle's decompositions (one per
   // visited segment and state, ~1 s in all) and the stepping: over 5 s for 10^5 cycles.
-  const SolverSetup s(SlowPairSpec(64), Tier::kTier5);
+  // Built once for the three delays (the tier-5 reduction is ~25 s in the instrumented build).
+  static const SolverSetup s(SlowPairSpec(64), Tier::kTier5);
   const auto start = StaticInitialState(s.tables);
   SolverOptions options;
   options.cycles = 100000;
