@@ -16,8 +16,10 @@
 #include "config/train_parameters.h"
 #include "display_units.h"
 #include "finite_results.h"
+#include "gearnvh/model/gear_train.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/atlas.h"
+#include "gearnvh/solver/train_reduced_tables.h"
 #include "mpi_context.h"
 #include "output_folder.h"
 #include "parallel_for.h"
@@ -279,10 +281,10 @@ TrainAtlasPlan PlanTrainAtlas(const AtlasCommandOptions& options, const TrainSpe
 std::string CheckTrainAtlasCost(const TrainSpec& spec, const TrainAtlasPlan& plan) {
   const TrainAtlasOptions& a = plan.atlas;
   const long alignment = std::min(50L, a.cycles / 4);
-  const double period =
-      1.0 / FirstMeshFrequency(spec, AnalyseTrainTopology(spec), spec.operating.speed);
+  const TrainTables tables = BuildTrainTablesAtTier(spec, BuildGearTrain(spec), a.tier);
+  const double period = tables.meshes.front().period;
   const RunCostEstimate cell = EstimateRunCost(
-      spec, a.tier, static_cast<double>(a.transient_cycles + alignment + a.cycles) * period);
+      tables, static_cast<double>(a.transient_cycles + alignment + a.cycles) * period, &spec);
   const int cells = plan.x.range.points * plan.y.range.points;
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   const int threads = plan.jobs > 0 ? plan.jobs : static_cast<int>(cores);

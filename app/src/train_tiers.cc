@@ -11,6 +11,7 @@
 #include "finite_results.h"
 #include "gearnvh/model/train_structure.h"
 #include "gearnvh/reduction/train_reduction.h"
+#include "gearnvh/solver/train_reduced_tables.h"
 #include "output_folder.h"
 #include "train_operating_point.h"
 
