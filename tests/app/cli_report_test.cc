@@ -280,26 +280,28 @@ TEST_CASE("report: a start lock held by a stopped process delays the Xvfb start,
 
 TEST_CASE("report: a gear train gets its page and figures, next to a pair and past a bad file",
           "[cli][report][train]") {
-  // The manual transmission, shortened (210 recorded cycles: two common periods; 3 sweep speeds).
+  // The manual transmission, shortened (210 recorded cycles: two common periods; 3 sweep speeds),
+  // beside the rattle pair on 3 sweep speeds and 200 cycles.
   const TempDir dir;
-  std::ifstream in(kExamples + "/manual_transmission_idle.yaml");
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const std::string at = "analysis:\n";
-  const size_t pos = text.find(at);
-  REQUIRE(pos != std::string::npos);
-  text.insert(pos + at.size(),
-              "  cycles: 210\n  transient_cycles: 50\n"
-              "  speed_sweep: {from: 700 rpm, to: 1300 rpm, points: 3}\n");
-  const fs::path train = dir.Write("transmission.yaml", text);
+  const testing::TextEdit shorter = {
+      "analysis:\n",
+      "analysis:\n  cycles: 210\n  transient_cycles: 50\n"
+      "  speed_sweep: {from: 700 rpm, to: 1300 rpm, points: 3}\n"};
+  const fs::path train = dir.Write(
+      "transmission.yaml", testing::ExampleVariantText("manual_transmission_idle.yaml", {shorter}));
   // A broken train (a mesh names a gear that does not exist) must not stop the batch.
-  std::string broken_text = text;
-  const size_t gear = broken_text.find("gears: [in, l0]");
-  REQUIRE(gear != std::string::npos);
-  broken_text.replace(gear, 15, "gears: [in, zz]");
-  const fs::path broken = dir.Write("broken_train.yaml", broken_text);
+  const fs::path broken = dir.Write(
+      "broken_train.yaml",
+      testing::ExampleVariantText("manual_transmission_idle.yaml",
+                                  {shorter, {"gears: [in, l0]", "gears: [in, zz]"}}));
+  const fs::path pair = testing::WriteExampleVariant(
+      dir, "idle_rattle.yaml",
+      {{"cycles: 2000", "cycles: 200"},
+       {"transient_cycles: 500", "transient_cycles: 100"},
+       {"to: 3000 rpm, points: 25}", "to: 3000 rpm, points: 3}"}});
   const fs::path out = dir.path() / "report";
   const auto run = RunCommand(kExe + " report " + train.string() + " " + broken.string() + " " +
-                              kExamples + "/idle_rattle.yaml --no-atlas --out " + out.string() +
+                              pair.string() + " --no-atlas --out " + out.string() +
                               " --width 800 --height 560");
   INFO(run.out << run.err);
   CHECK(run.exit_code == 1);  // the broken train

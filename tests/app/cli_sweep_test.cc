@@ -45,13 +45,13 @@ TEST_CASE("simulate with pinion runout: the 1x pinion line equals the runout at 
   // 60 rpm loaded: quasi-static, so delta = b + e + F/k and the line at f1 is the runout
   // amplitude; the segment mean of a sinusoid attenuates it by (pi / (z1 S))^2 / 6 = 3e-6 here.
   const TempDir dir;
-  std::ifstream in(kExamples + "/industrial_whine.yaml");
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  text.replace(text.find("speed: 1500 rpm"), 15, "speed: 60 rpm");
   const std::string relief = "    tip_relief: {amount: 20 um, length: 8 mm}\n";
-  text.insert(text.find(relief) + relief.size(), "    runout: {amplitude: 10 um, phase: 30 deg}\n");
-  const auto file = dir.path() / "runout.yaml";
-  std::ofstream(file) << text;
+  const auto file = dir.Write(
+      "runout.yaml",
+      testing::ExampleVariantText(
+          "industrial_whine.yaml",
+          {{"speed: 1500 rpm", "speed: 60 rpm"},
+           {relief, relief + "    runout: {amplitude: 10 um, phase: 30 deg}\n"}}));
   const auto run =
       RunCommand(kExe + " simulate --json --cycles 110 --transient 50 " + file.string());
   INFO(run.err);
@@ -127,18 +127,14 @@ TEST_CASE("sweep writes Campbell and waterfall data atomically and reports per s
 TEST_CASE("sweep text shows the speeds in the unit the file wrote, the JSON in rpm",
           "[cli][sweep]") {
   // The idle-rattle example with its speeds in rev/s (10, 30, 50 rev/s = 600, 1800, 3000 rpm).
-  std::ifstream in(kExamples + "/idle_rattle.yaml");
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const std::string sweep = "speed_sweep: {from: 600 rpm, to: 3000 rpm, points: 25}";
-  const std::string speed = "speed: 800 rpm";
-  REQUIRE(text.find(sweep) != std::string::npos);
-  REQUIRE(text.find(speed) != std::string::npos);
-  text.replace(text.find(sweep), sweep.size(),
-               "speed_sweep: {from: 10 rev/s, to: 50 rev/s, points: 3}");
-  text.replace(text.find(speed), speed.size(), "speed: 13.5 rev/s");
   const TempDir dir;
-  const auto file = dir.path() / "revs.yaml";
-  std::ofstream(file) << text;
+  const auto file = dir.Write(
+      "revs.yaml",
+      testing::ExampleVariantText(
+          "idle_rattle.yaml",
+          {{"speed_sweep: {from: 600 rpm, to: 3000 rpm, points: 25}",
+            "speed_sweep: {from: 10 rev/s, to: 50 rev/s, points: 3}"},
+           {"speed: 800 rpm", "speed: 13.5 rev/s"}}));
   const std::string command = kExe + " sweep --cycles 16 --transient 4 " + file.string();
   const auto run = RunCommand(command);
   INFO(run.err);
