@@ -15,6 +15,7 @@
 #include "config/gearbox_loader.h"
 #include "display_units.h"
 #include "finite_results.h"
+#include "gearnvh/analysis/train_operating_point.h"
 #include "gearnvh/model/gearbox_spec_validation.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/atlas.h"
@@ -22,7 +23,7 @@
 #include "output_folder.h"
 #include "simulate_command.h"
 #include "train_atlas_command.h"
-#include "train_operating_point.h"
+#include "train_command_options.h"
 
 namespace gearnvh::app {
 

@@ -33,10 +33,6 @@ std::string Significant(double v, int digits) {
   return s;
 }
 
-double AsWritten(double v) { return std::isfinite(v) ? std::stod(fmt::format("{:.12g}", v)) : v; }
-
-double Rpm(double rad_s) { return AsWritten(rad_s * 60.0 / (2.0 * std::numbers::pi)); }
-
 std::string TrainLoadsText(const TrainSpec& spec) {
   std::string text;
   for (const TrainLoad& load : spec.operating.loads) {

@@ -5,6 +5,7 @@
 #include <functional>
 #include <string>
 
+#include "gearnvh/analysis/written_numbers.h"
 #include "gearnvh/model/count_text.h"
 #include "gearnvh/model/gearbox_spec.h"
 #include "gearnvh/model/spec_parameters.h"
@@ -19,13 +20,6 @@ std::string Format(double value_si, const DisplayUnit& unit);
 // 1e-4 and 1e15 (digits of the integer part are never dropped): "12000", "12346", "0.5", "700.5".
 // Outside that range, or not finite, as printf's %g.
 std::string Significant(double v, int digits = 4);
-
-// `v` rounded to 12 significant digits: a value converted from SI back into the unit the user
-// wrote it in (700 rpm -> rad/s -> rpm) reads as written, 700, not 700.0000000000001.
-double AsWritten(double v);
-
-// rad/s in rpm, AsWritten.
-double Rpm(double rad_s);
 
 // The operating torque as given: "0.5 N m on the wheel", "20 N m on the pinion".
 std::string TorqueText(const GearboxSpec& spec);

@@ -110,4 +110,17 @@ std::string MpiContext::FirstNonEmpty(const std::string& mine) {
   return BroadcastString(first);
 }
 
+std::optional<MemoryLimit> AvailableMemoryOnEveryRank(int threads) {
+  std::optional<MemoryLimit> limit;
+  std::string error;
+  try {
+    limit = AvailableMemory(threads, MpiContext::RanksOnNode());
+  } catch (const MemoryLimitVariableError& e) {
+    error = e.what();
+  }
+  if (MpiContext::Active()) error = MpiContext::FirstNonEmpty(error);
+  if (!error.empty()) throw MemoryLimitVariableError(error);
+  return limit;
+}
+
 }  // namespace gearnvh::app

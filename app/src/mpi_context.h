@@ -4,8 +4,11 @@
 // is a single rank 0 of 1.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "gearnvh/analysis/run_memory.h"
 
 namespace gearnvh::app {
 
@@ -28,5 +31,10 @@ class MpiContext {
   // The first non-empty of the ranks' strings, in rank order, on every rank ("" when all are).
   static std::string FirstNonEmpty(const std::string& mine);
 };
+
+// AvailableMemory for the ranks of one MPI run (each with its ranks on the node sharing): a
+// malformed GEARNVH_MEMORY_LIMIT on any rank is the same MemoryLimitVariableError on every rank
+// (the first rank's), so no rank is left waiting in a later collective for one that threw.
+std::optional<MemoryLimit> AvailableMemoryOnEveryRank(int threads);
 
 }  // namespace gearnvh::app

@@ -14,11 +14,12 @@
 #include "config/gearbox_loader.h"
 #include "display_units.h"
 #include "finite_results.h"
+#include "gearnvh/analysis/train_operating_point.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/orbit_scan.h"
 #include "output_folder.h"
 #include "simulate_command.h"
-#include "train_operating_point.h"
+#include "train_command_options.h"
 #include "train_orbits_command.h"
 
 namespace gearnvh::app {

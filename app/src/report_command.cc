@@ -15,13 +15,13 @@
 #include "cleanup_on_exit.h"
 #include "command_errors.h"
 #include "display_units.h"
+#include "gearnvh/analysis/run_memory.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/render/display.h"
 #include "gearnvh/render/plots.h"
 #include "mpi_context.h"
 #include "output_folder.h"
 #include "report_batch.h"
-#include "run_memory.h"
 
 namespace gearnvh::app {
 

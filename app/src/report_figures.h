@@ -8,9 +8,9 @@
 #include <string>
 
 #include "display_units.h"
+#include "gearnvh/analysis/operating_point.h"
 #include "gearnvh/model/component_model.h"
 #include "gearnvh/render/plots.h"
-#include "operating_point.h"
 
 namespace gearnvh::app {
 

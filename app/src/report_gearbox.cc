@@ -16,14 +16,15 @@
 #include "config/gearbox_loader.h"
 #include "display_units.h"
 #include "finite_results.h"
+#include "gearnvh/analysis/operating_point.h"
+#include "gearnvh/analysis/order_tracks.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/periodic_orbit.h"
-#include "operating_point.h"
-#include "order_tracks.h"
 #include "report_figures.h"
 #include "report_page.h"
 #include "report_sweep_figures.h"
 #include "report_train.h"
+#include "result_documents.h"
 #include "sweep_command.h"
 #include "tiers_command.h"
 #include "uff_export.h"
@@ -313,7 +314,7 @@ GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::
     nlohmann::json results = {{"name", spec.name},
                               {"file", file},
                               {"check", check},
-                              {"operating_point", op.doc},
+                              {"operating_point", OperatingPointJson(op)},
                               {"base_period_mesh_cycles", base_period},
                               {"sweep", SweepJson(sweep, spec.pinion.teeth)}};
     if (atlas) results["atlas"] = AtlasJson(*atlas, atlas_options);

@@ -9,9 +9,9 @@
 #include <optional>
 #include <string>
 
+#include "gearnvh/analysis/run_memory.h"
 #include "gearnvh/render/plots.h"
 #include "report_command.h"
-#include "run_memory.h"
 
 namespace gearnvh::app {
 

@@ -8,6 +8,7 @@
 #include "check_command.h"
 #include "display_units.h"
 #include "report_html.h"
+#include "result_documents.h"
 
 namespace gearnvh::app {
 

@@ -6,11 +6,11 @@
 #include <string>
 #include <vector>
 
+#include "gearnvh/analysis/operating_point.h"
+#include "gearnvh/analysis/speed_sweep.h"
 #include "gearnvh/model/component_model.h"
 #include "gearnvh/nvh/atlas.h"
 #include "gearnvh/reduction/reduced_model.h"
-#include "operating_point.h"
-#include "speed_sweep.h"
 
 namespace gearnvh::app {
 

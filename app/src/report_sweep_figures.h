@@ -8,10 +8,10 @@
 #include <string>
 #include <vector>
 
+#include "gearnvh/analysis/order_tracks.h"
+#include "gearnvh/analysis/speed_sweep.h"
 #include "gearnvh/nvh/atlas.h"
 #include "gearnvh/render/plots.h"
-#include "order_tracks.h"
-#include "speed_sweep.h"
 
 namespace gearnvh::app {
 

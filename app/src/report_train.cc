@@ -9,13 +9,15 @@
 #include "atomic_file.h"
 #include "display_units.h"
 #include "finite_results.h"
+#include "gearnvh/analysis/train_operating_point.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/solver/train_reduced_tables.h"
 #include "report_html.h"
 #include "report_sweep_figures.h"
+#include "result_documents.h"
 #include "train_check.h"
-#include "train_operating_point.h"
-#include "train_sweep.h"
+#include "train_command_options.h"
+#include "train_sweep_command.h"
 
 namespace gearnvh::app {
 

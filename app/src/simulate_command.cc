@@ -15,16 +15,18 @@
 #include "config/gearbox_loader.h"
 #include "display_units.h"
 #include "finite_results.h"
+#include "gearnvh/analysis/operating_point.h"
+#include "gearnvh/analysis/run_memory.h"
+#include "gearnvh/analysis/train_operating_point.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/rattle.h"
 #include "gearnvh/nvh/spectrum.h"
 #include "gearnvh/nvh/transmission_error.h"
 #include "gearnvh/reduction/reduced_model.h"
-#include "operating_point.h"
 #include "output_folder.h"
-#include "run_memory.h"
+#include "result_documents.h"
 #include "simulate_train.h"
-#include "train_operating_point.h"
+#include "train_command_options.h"
 #include "uff_export.h"
 
 namespace gearnvh::app {
@@ -135,7 +137,7 @@ int RunSimulate(const SimulateOptions& options) {
     const TransmissionErrorStats& te = op.te;
     const std::vector<SidebandRow>& sideband_rows = op.sidebands;
     const long window = op.sideband_window;
-    nlohmann::json doc = op.doc;
+    nlohmann::json doc = OperatingPointJson(op);
     doc["name"] = spec.name;
     doc["file"] = options.file;
     RequireFinite(doc, "simulate");

@@ -12,14 +12,16 @@
 
 #include "display_units.h"
 #include "finite_results.h"
+#include "gearnvh/analysis/operating_point.h"
+#include "gearnvh/analysis/train_operating_point.h"
 #include "gearnvh/model/gear_train.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/train_lyapunov.h"
 #include "gearnvh/solver/train_statistics.h"
 #include "gearnvh/solver/train_stepper.h"
-#include "operating_point.h"
 #include "output_folder.h"
-#include "train_operating_point.h"
+#include "result_documents.h"
+#include "train_command_options.h"
 
 namespace gearnvh::app {
 namespace {
@@ -234,7 +236,7 @@ nlohmann::json TrainSimulationJson(const TrainOperatingPoint& op, const TrainSpe
 }
 
 TrainSimulatePlan PlanTrainSimulate(const SimulateOptions& options, const TrainSpec& spec,
-                                    const TrainOptionNames& names) {
+                                    const OptionNames& names) {
   const TrainCommandSettings settings =
       CheckTrainCommandOptions(options.tier, spec, options.method, options.uff, names);
   TrainSimulatePlan plan;

@@ -8,10 +8,10 @@
 #include <optional>
 #include <string>
 
+#include "gearnvh/analysis/train_operating_point.h"
 #include "gearnvh/model/train_spec.h"
 #include "gearnvh/nvh/train_lyapunov.h"
 #include "simulate_command.h"
-#include "train_operating_point.h"
 
 namespace gearnvh::app {
 
@@ -30,7 +30,7 @@ struct TrainSimulatePlan {
   std::optional<int> lyapunov;
 };
 TrainSimulatePlan PlanTrainSimulate(const SimulateOptions& options, const TrainSpec& spec,
-                                    const TrainOptionNames& names = {});
+                                    const OptionNames& names = {});
 
 // `simulate --lyapunov K`: the K largest exponents over the run's transient and cycles, a second
 // run from the static state of `op`'s tables. progress(fraction done); run.cancel is passed on.

@@ -7,7 +7,7 @@
 #include <optional>
 #include <string>
 
-#include "speed_sweep.h"
+#include "gearnvh/analysis/speed_sweep.h"
 
 namespace gearnvh::app {
 

@@ -15,14 +15,15 @@
 #include "config/gearbox_loader.h"
 #include "display_units.h"
 #include "finite_results.h"
+#include "gearnvh/analysis/operating_point.h"
 #include "gearnvh/nvh/lyapunov.h"
-#include "operating_point.h"
 #include "output_folder.h"
 #include "train_tiers.h"
 #ifdef GEARNVH_HAVE_RENDER
+#include "gearnvh/analysis/train_operating_point.h"
 #include "gearnvh/render/plots.h"
 #include "report_sweep_figures.h"
-#include "train_operating_point.h"
+#include "train_command_options.h"
 #endif
 
 namespace gearnvh::app {

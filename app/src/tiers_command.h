@@ -13,12 +13,12 @@
 #include <string>
 #include <vector>
 
+#include "gearnvh/analysis/run_memory.h"
 #include "gearnvh/model/component_model.h"
 #include "gearnvh/model/gearbox_spec.h"
 #include "gearnvh/nvh/rattle.h"
 #include "gearnvh/reduction/reduced_model.h"
 #include "gearnvh/solver/exact_solver.h"
-#include "run_memory.h"
 
 namespace gearnvh::app {
 
@@ -30,7 +30,7 @@ struct TiersCommandOptions {
   bool json = false;
   int width = 1200, height = 800;  // tiers.png, px
   double dpi = 100.0;              // tiers.png; scales the fonts
-  bool allow_slow = false;  // gear trains: run even when the cost estimate exceeds an hour
+  bool allow_slow = false;         // gear trains: run even when the cost estimate exceeds an hour
 };
 
 int RunTiers(const TiersCommandOptions& options);

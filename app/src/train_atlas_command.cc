@@ -16,14 +16,15 @@
 #include "config/train_parameters.h"
 #include "display_units.h"
 #include "finite_results.h"
+#include "gearnvh/analysis/parallel_for.h"
+#include "gearnvh/analysis/train_operating_point.h"
 #include "gearnvh/model/gear_train.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/atlas.h"
 #include "gearnvh/solver/train_reduced_tables.h"
 #include "mpi_context.h"
 #include "output_folder.h"
-#include "parallel_for.h"
-#include "train_operating_point.h"
+#include "train_command_options.h"
 
 namespace gearnvh::app {
 
@@ -237,7 +238,7 @@ nlohmann::json TrainAtlasDocument(const TrainAtlasResult& r, const TrainAtlasOpt
 }
 
 TrainAtlasPlan PlanTrainAtlas(const AtlasCommandOptions& options, const TrainSpec& spec,
-                              const TrainOptionNames& names) {
+                              const OptionNames& names) {
   const TrainCommandSettings settings =
       CheckTrainCommandOptions(options.tier, spec, options.method, std::nullopt, names);
   TrainAtlasPlan plan;

@@ -11,9 +11,9 @@
 #include <vector>
 
 #include "atlas_command.h"
+#include "gearnvh/analysis/train_operating_point.h"
 #include "gearnvh/model/train_spec.h"
 #include "gearnvh/nvh/train_atlas.h"
-#include "train_operating_point.h"
 
 namespace gearnvh::app {
 
@@ -49,10 +49,10 @@ struct TrainAtlasPlan {
   AtlasAxis x, y;
   int jobs = 0;
   bool allow_slow = false;  // run even when the cost estimate exceeds an hour
-  TrainOptionNames names;
+  OptionNames names;
 };
 TrainAtlasPlan PlanTrainAtlas(const AtlasCommandOptions& options, const TrainSpec& spec,
-                              const TrainOptionNames& names = {});
+                              const OptionNames& names = {});
 // The atlas's run-cost check before any cell runs (CheckRunCost): every cell's transient,
 // alignment and averaged cycles at the file's operating point (the axes' own values are not
 // built; the tangent column's extra work is not counted), over the threads. Returns the warning

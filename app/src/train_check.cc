@@ -8,10 +8,10 @@
 
 #include "check_command.h"
 #include "display_units.h"
+#include "gearnvh/analysis/train_load_warnings.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/train_campbell.h"
 #include "gearnvh/solver/solver_options.h"
-#include "train_load_warnings.h"
 
 namespace gearnvh::app {
 namespace {

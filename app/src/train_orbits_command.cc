@@ -11,12 +11,13 @@
 #include "config/train_parameters.h"
 #include "display_units.h"
 #include "finite_results.h"
+#include "gearnvh/analysis/train_operating_point.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/atlas.h"
 #include "gearnvh/nvh/train_orbit_scan.h"
 #include "gearnvh/solver/train_reduced_tables.h"
 #include "output_folder.h"
-#include "train_operating_point.h"
+#include "train_command_options.h"
 
 namespace gearnvh::app {
 namespace {
@@ -81,7 +82,7 @@ void PrintPoint(const TrainOrbitScanPoint& p, const std::string& where) {
 }  // namespace
 
 TrainOrbitsPlan PlanTrainOrbits(const OrbitsCommandOptions& options, const TrainSpec& spec,
-                                const TrainOptionNames& names) {
+                                const OptionNames& names) {
   const TrainCommandSettings settings =
       CheckTrainCommandOptions(options.tier, spec, options.method, std::nullopt, names);
   RequireOrbitPeriod(options.period, names("period"));

@@ -9,11 +9,11 @@
 #include <string>
 #include <vector>
 
+#include "gearnvh/analysis/train_operating_point.h"
 #include "gearnvh/model/train_spec.h"
 #include "gearnvh/nvh/atlas.h"
 #include "gearnvh/nvh/train_orbit_scan.h"
 #include "orbits_command.h"
-#include "train_operating_point.h"
 
 namespace gearnvh::app {
 
@@ -27,10 +27,10 @@ struct TrainOrbitsPlan {
   std::string sweep_option;    // the option's name for a variant's error
   std::vector<double> values;  // SI, one per point (0 without a sweep)
   bool allow_slow = false;     // run even when the cost estimate exceeds an hour
-  TrainOptionNames names;
+  OptionNames names;
 };
 TrainOrbitsPlan PlanTrainOrbits(const OrbitsCommandOptions& options, const TrainSpec& spec,
-                                const TrainOptionNames& names = {});
+                                const OptionNames& names = {});
 // The scan's run-cost check before any point runs (CheckRunCost): per point the transient and one
 // shot over the orbit's period at the file's operating point (a lower bound: Newton takes several
 // shots, each with tangent columns), points one after another. Returns the warning (empty when

@@ -9,11 +9,12 @@
 #include <sstream>
 
 #include "finite_results.h"
+#include "gearnvh/analysis/train_operating_point.h"
 #include "gearnvh/model/train_structure.h"
 #include "gearnvh/reduction/train_reduction.h"
 #include "gearnvh/solver/train_reduced_tables.h"
 #include "output_folder.h"
-#include "train_operating_point.h"
+#include "train_command_options.h"
 
 namespace gearnvh::app {
 namespace {
@@ -132,7 +133,7 @@ TrainTiersComparison CompareTrainTiers(const TrainSpec& spec, TrainRunOptions ru
 }
 
 TrainRunOptions PlanTrainTiers(const TiersCommandOptions& options, const TrainSpec& spec,
-                               const TrainOptionNames& names) {
+                               const OptionNames& names) {
   TrainRunOptions run;
   run.cycles = options.cycles.value_or(std::min(spec.analysis.cycles, 400));
   run.transient = options.transient.value_or(std::min(spec.analysis.transient_cycles, 200));

@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "gearnvh/analysis/train_operating_point.h"
 #include "gearnvh/model/train_spec.h"
 #include "tiers_command.h"
-#include "train_operating_point.h"
 
 namespace gearnvh::app {
 
@@ -40,7 +40,7 @@ TrainTiersComparison CompareTrainTiers(const TrainSpec& spec, TrainRunOptions ru
 // `names` saying how they are named in errors): --cycles (default min(analysis.cycles, 400)) and
 // --transient (default min(analysis.transient_cycles, 200)) held to the run-length limit.
 TrainRunOptions PlanTrainTiers(const TiersCommandOptions& options, const TrainSpec& spec,
-                               const TrainOptionNames& names = {});
+                               const OptionNames& names = {});
 // `tiers --json` on a train: the comparison's document with the train's name and `file`.
 nlohmann::json TrainTiersDocument(const TrainTiersComparison& c, const TrainSpec& spec,
                                   const std::string& file);

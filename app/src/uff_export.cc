@@ -7,7 +7,7 @@
 #include <ctime>
 
 #include "atomic_file.h"
-#include "order_tracks.h"
+#include "gearnvh/analysis/order_tracks.h"
 
 namespace gearnvh::app {
 namespace {

@@ -14,10 +14,10 @@
 #include <string>
 #include <vector>
 
+#include "gearnvh/analysis/operating_point.h"
+#include "gearnvh/analysis/run_memory.h"
+#include "gearnvh/analysis/speed_sweep.h"
 #include "gearnvh/model/gearbox_spec.h"
-#include "operating_point.h"
-#include "run_memory.h"
-#include "speed_sweep.h"
 
 namespace gearnvh::app {
 

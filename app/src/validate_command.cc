@@ -7,9 +7,9 @@
 
 #include "command_errors.h"
 #include "config/gearbox_loader.h"
+#include "gearnvh/analysis/train_validation.h"
+#include "gearnvh/analysis/validation_ladder.h"
 #include "gearnvh/model/input_error.h"
-#include "train_validation.h"
-#include "validation_ladder.h"
 
 namespace gearnvh::app {
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "validation_ladder.h"
+#include "gearnvh/analysis/validation_ladder.h"
 
 namespace gearnvh::app {
 

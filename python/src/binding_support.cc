@@ -6,6 +6,7 @@
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/model/train_spec.h"
 #include "simulate_command.h"
+#include "train_command_options.h"
 
 namespace gearnvh::python {
 
@@ -42,7 +43,7 @@ void RequirePairRunLength(const GearboxSpec& spec, double lowest_speed, long cyc
                          " (32 samples of every recorded cycle are kept in memory)");
   }
   app::RequireRunLengthOfOptions(TrainOf(spec), lowest_speed, cycles, transient, cycles_keyword,
-                                 transient_keyword, app::TrainOptionNames{""});
+                                 transient_keyword, gearnvh::OptionNames{""});
 }
 
 Tier TierArgument(const py::object& tier, Tier fallback, const std::string& source) {

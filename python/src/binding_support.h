@@ -15,10 +15,10 @@
 #include <type_traits>
 #include <vector>
 
+#include "gearnvh/analysis/train_operating_point.h"
 #include "gearnvh/model/gearbox_spec.h"
 #include "gearnvh/nvh/atlas.h"
 #include "simulate_command.h"
-#include "train_operating_point.h"
 
 namespace gearnvh::python {
 
@@ -157,6 +157,6 @@ void RequirePairRunLength(const GearboxSpec& spec, double lowest_speed, long cyc
 std::optional<std::string> TierText(const py::object& tier);
 
 // Errors name the module's keywords ("cycles"), not the command line's options ("--cycles").
-inline const app::TrainOptionNames kKeywordNames{""};
+inline const gearnvh::OptionNames kKeywordNames{""};
 
 }  // namespace gearnvh::python

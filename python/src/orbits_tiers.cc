@@ -16,6 +16,7 @@
 #include "orbits_command.h"
 #include "simulate_command.h"
 #include "tiers_command.h"
+#include "train_command_options.h"
 
 namespace gearnvh::python {
 

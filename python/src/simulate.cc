@@ -9,9 +9,10 @@
 
 #include "binding_support.h"
 #include "gearbox.h"
+#include "gearnvh/analysis/operating_point.h"
 #include "gearnvh/model/component_model.h"
 #include "gearnvh/nvh/lyapunov.h"
-#include "operating_point.h"
+#include "result_documents.h"
 #include "simulate_command.h"
 
 namespace gearnvh::python {
@@ -19,7 +20,7 @@ namespace gearnvh::python {
 namespace {
 
 struct Simulation {
-  app::OperatingPointAnalysis op;
+  gearnvh::OperatingPointAnalysis op;
   double rattle_index = 0.0;  // impact energy per forcing cycle, J (as atlas and tiers)
   nlohmann::json doc;         // the `simulate --json` document
 };
@@ -47,13 +48,13 @@ std::shared_ptr<Simulation> Simulate(const Gearbox& gb, const py::object& tier,
           run.cancel = &control.cancel;
           const ComponentModel model = BuildComponentModel(spec);
           auto out = std::make_shared<Simulation>();
-          out->op = app::AnalyseOperatingPoint(spec, model, chosen, run,
-                                               [&](long d, long t) { control.Progress(d, t); });
+          out->op = gearnvh::AnalyseOperatingPoint(spec, model, chosen, run,
+                                                   [&](long d, long t) { control.Progress(d, t); });
           out->op.solver.cancel = nullptr;  // the flag dies with this call
           const SegmentTables& tables = out->op.tables;
           out->rattle_index =
               out->op.rattle.impact_energy_per_cycle * ForcingPeriod(tables) / tables.mesh_period;
-          out->doc = out->op.doc;
+          out->doc = app::OperatingPointJson(out->op);
           out->doc["name"] = spec.name;
           out->doc["file"] = source;
           return out;

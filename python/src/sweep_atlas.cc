@@ -13,20 +13,21 @@
 #include "config/gearbox_loader.h"
 #include "display_units.h"
 #include "gearbox.h"
+#include "gearnvh/analysis/speed_sweep.h"
 #include "gearnvh/model/component_model.h"
 #include "gearnvh/nvh/atlas.h"
 #include "gearnvh/reduction/reduced_model.h"
 #include "gearnvh/solver/exact_solver.h"
 #include "simulate_command.h"
-#include "speed_sweep.h"
 #include "sweep_command.h"
+#include "train_command_options.h"
 
 namespace gearnvh::python {
 
 namespace {
 
 struct Sweep {
-  app::SpeedSweepResult result;
+  gearnvh::SpeedSweepResult result;
   nlohmann::json doc;  // the `sweep --json` document
 };
 
@@ -41,7 +42,7 @@ std::shared_ptr<Sweep> RunSweep(const Gearbox& gb, const py::object& tier,
   const GearboxSpec spec = gb.spec();
   const std::string source = gb.source();
   const Tier chosen = TierArgument(tier, spec.analysis.tier, source);
-  app::SpeedSweepOptions options;
+  gearnvh::SpeedSweepOptions options;
   options.cycles = cycles.value_or(options.cycles);
   options.transient_cycles = transient.value_or(options.transient_cycles);
   options.waterfall_cycles = std::min(options.waterfall_cycles, options.cycles - 1);
@@ -58,8 +59,8 @@ std::shared_ptr<Sweep> RunSweep(const Gearbox& gb, const py::object& tier,
           const ComponentModel model = BuildComponentModel(spec);
           const ReducedModel reduced = ReduceModel(model, chosen);
           auto out = std::make_shared<Sweep>();
-          out->result = app::RunSpeedSweep(spec, model, reduced, options,
-                                           [&](int d, int t) { control.Progress(d, t); });
+          out->result = gearnvh::RunSpeedSweep(spec, model, reduced, options,
+                                               [&](int d, int t) { control.Progress(d, t); });
           out->doc = app::SweepJson(out->result, spec.pinion.teeth);
           out->doc["name"] = spec.name;
           out->doc["file"] = source;
@@ -67,7 +68,7 @@ std::shared_ptr<Sweep> RunSweep(const Gearbox& gb, const py::object& tier,
           out->doc["cycles_per_speed"] = options.cycles;
           out->doc["transient_cycles"] = options.transient_cycles;
           int failed = 0;
-          for (const app::SpeedPoint& p : out->result.points) failed += p.ok ? 0 : 1;
+          for (const gearnvh::SpeedPoint& p : out->result.points) failed += p.ok ? 0 : 1;
           out->doc["failed_speeds"] = failed;
           return out;
         });
@@ -126,7 +127,7 @@ std::shared_ptr<Atlas> RunAtlas(const Gearbox& gb, const std::optional<std::stri
 }
 
 template <typename Field>
-py::cpp_function SpeedField(Field app::SpeedPoint::*member) {
+py::cpp_function SpeedField(Field gearnvh::SpeedPoint::*member) {
   return py::cpp_function([member](py::object self) {
     return StridedView(self.cast<const Sweep&>().result.points, member, self);
   });
@@ -147,11 +148,11 @@ void BindSweepAtlas(py::module_& m) {
       m, "Sweep",
       "Speed sweep (gearnvh sweep): Campbell data and a waterfall, one exact run per speed. "
       "Per-speed attributes are read-only NumPy views.")
-      .def_property_readonly("speeds_rpm", SpeedField(&app::SpeedPoint::speed_rpm))
-      .def_property_readonly("speeds_rad_s", SpeedField(&app::SpeedPoint::speed_rad_s))
-      .def_property_readonly("te_rms", SpeedField(&app::SpeedPoint::te_rms), "m per speed")
-      .def_property_readonly("te_peak_to_peak", SpeedField(&app::SpeedPoint::te_peak_to_peak))
-      .def_property_readonly("events_per_cycle", SpeedField(&app::SpeedPoint::events_per_cycle))
+      .def_property_readonly("speeds_rpm", SpeedField(&gearnvh::SpeedPoint::speed_rpm))
+      .def_property_readonly("speeds_rad_s", SpeedField(&gearnvh::SpeedPoint::speed_rad_s))
+      .def_property_readonly("te_rms", SpeedField(&gearnvh::SpeedPoint::te_rms), "m per speed")
+      .def_property_readonly("te_peak_to_peak", SpeedField(&gearnvh::SpeedPoint::te_peak_to_peak))
+      .def_property_readonly("events_per_cycle", SpeedField(&gearnvh::SpeedPoint::events_per_cycle))
       .def_property_readonly("ok",
                              [](const Sweep& s) {
                                std::vector<bool> ok;

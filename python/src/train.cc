@@ -13,27 +13,27 @@
 
 #include "binding_support.h"
 #include "gearbox.h"
+#include "gearnvh/analysis/train_operating_point.h"
 #include "gearnvh/model/count_text.h"
 #include "gearnvh/nvh/train_lyapunov.h"
 #include "simulate_command.h"
 #include "simulate_train.h"
 #include "train_call.h"
 #include "train_check.h"
-#include "train_operating_point.h"
-#include "train_sweep.h"
+#include "train_sweep_command.h"
 
 namespace gearnvh::python {
 
 namespace {
 
 struct TrainSimulation {
-  app::TrainOperatingPoint op;
+  gearnvh::TrainOperatingPoint op;
   std::optional<TrainLyapunovSummary> lyapunov;  // lyapunov=K
   nlohmann::json doc;                            // the `simulate --json` document
 };
 
 struct TrainSweep {
-  app::TrainSweepResult result;
+  gearnvh::TrainSweepResult result;
   nlohmann::json doc;  // the `sweep --json` document
 };
 
@@ -72,7 +72,7 @@ std::shared_ptr<TrainSimulation> SimulateTrain(const Train& train, const py::obj
         constexpr long kSteps = 1000;
         const long total = plan.lyapunov ? 2 * kSteps : kSteps;
         auto out = std::make_shared<TrainSimulation>();
-        out->op = app::RunTrainOperatingPoint(spec, plan.run, [&](double time, double end) {
+        out->op = gearnvh::RunTrainOperatingPoint(spec, plan.run, [&](double time, double end) {
           control.Progress(std::lround(kSteps * time / end), total);
         });
         out->doc = app::TrainSimulationJson(out->op, spec, source, plan.run.tier);
@@ -101,12 +101,12 @@ std::shared_ptr<TrainSweep> SweepTrain(const Train& train, const py::object& tie
         sweep.allow_slow = allow_slow;
         return app::PlanTrainSweep(sweep, spec, kKeywordNames);
       },
-      [&](app::TrainSweepOptions& options, const TrainSpec& spec, const std::string& source,
+      [&](gearnvh::TrainSweepOptions& options, const TrainSpec& spec, const std::string& source,
           CallControl& control) {
         options.cancel = &control.cancel;
         auto out = std::make_shared<TrainSweep>();
         out->result =
-            app::RunTrainSweep(spec, options, [&](int d, int t) { control.Progress(d, t); });
+            gearnvh::RunTrainSweep(spec, options, [&](int d, int t) { control.Progress(d, t); });
         out->doc = app::TrainSweepDocument(out->result, spec, source, options);
         return out;
       },
@@ -115,9 +115,9 @@ std::shared_ptr<TrainSweep> SweepTrain(const Train& train, const py::object& tie
 
 // speeds x columns of value(point, column); NaN for a failed speed.
 template <typename Value>
-py::array_t<double> PerSpeed(const app::TrainSweepResult& r, size_t columns, Value&& value) {
+py::array_t<double> PerSpeed(const gearnvh::TrainSweepResult& r, size_t columns, Value&& value) {
   std::vector<std::vector<double>> rows;
-  for (const app::TrainSweepPoint& p : r.points) {
+  for (const gearnvh::TrainSweepPoint& p : r.points) {
     std::vector<double> row(columns, std::numeric_limits<double>::quiet_NaN());
     if (p.ok) {
       for (size_t c = 0; c < columns; ++c) row[c] = value(p, c);
@@ -321,7 +321,7 @@ void BindTrain(py::module_& m) {
           [](const TrainSweep& s) {
             return PerSpeed(
                 s.result, s.result.mesh_names.size(),
-                [](const app::TrainSweepPoint& p, size_t i) { return p.meshes[i].te_rms; });
+                [](const gearnvh::TrainSweepPoint& p, size_t i) { return p.meshes[i].te_rms; });
           },
           "speeds x meshes, m (NaN for a failed speed)")
       .def_property_readonly(
@@ -329,7 +329,7 @@ void BindTrain(py::module_& m) {
           [](const TrainSweep& s) {
             return PerSpeed(
                 s.result, s.result.mesh_names.size(),
-                [](const app::TrainSweepPoint& p, size_t i) { return p.meshes[i].force_max; });
+                [](const gearnvh::TrainSweepPoint& p, size_t i) { return p.meshes[i].force_max; });
           },
           "speeds x meshes, N")
       .def_property_readonly(
@@ -337,14 +337,14 @@ void BindTrain(py::module_& m) {
           [](const TrainSweep& s) {
             return PerSpeed(
                 s.result, s.result.mesh_names.size(),
-                [](const app::TrainSweepPoint& p, size_t i) { return p.ImpactsPerCycle(i); });
+                [](const gearnvh::TrainSweepPoint& p, size_t i) { return p.ImpactsPerCycle(i); });
           },
           "speeds x meshes: drive + back impacts per cycle of that mesh")
       .def_property_readonly(
           "rattle_index",
           [](const TrainSweep& s) {
             return PerSpeed(s.result, s.result.loose_gear_names.size(),
-                            [](const app::TrainSweepPoint& p, size_t g) {
+                            [](const gearnvh::TrainSweepPoint& p, size_t g) {
                               return p.loose_gears[g].rattle_index;
                             });
           },

@@ -82,7 +82,7 @@ std::shared_ptr<TrainTiers> TiersTrain(const Train& train, std::optional<long> c
         options.allow_slow = allow_slow;
         return app::PlanTrainTiers(options, spec, kKeywordNames);
       },
-      [&](app::TrainRunOptions& run, const TrainSpec& spec, const std::string& source,
+      [&](gearnvh::TrainRunOptions& run, const TrainSpec& spec, const std::string& source,
           CallControl& control) {
         run.cancel = &control.cancel;
         auto out = std::make_shared<TrainTiers>();
@@ -240,8 +240,8 @@ void BindTrainOrbitsTiers(py::module_& m) {
 
   m.def("orbits", &OrbitsTrain, py::arg("gearbox"), py::kw_only(), py::arg("period") = 1,
         py::arg("sweep") = py::none(), py::arg("tier") = py::none(),
-        py::arg("transient") = py::none(), py::arg("method") = "v3",
-        py::arg("allow_slow") = false, py::arg("progress") = py::none(),
+        py::arg("transient") = py::none(), py::arg("method") = "v3", py::arg("allow_slow") = false,
+        py::arg("progress") = py::none(),
         "A gear train's period-M orbits (M common periods) and Floquet multipliers, as `gearnvh "
         "orbits TRAIN.yaml`; sweep like 'meshes[0].backlash=50um:150um:5'.");
   m.def("tiers", &TiersTrain, py::arg("gearbox"), py::kw_only(), py::arg("cycles") = py::none(),

@@ -8,17 +8,17 @@
 
 #include "binding_support.h"
 #include "gearbox.h"
+#include "gearnvh/analysis/train_validation.h"
+#include "gearnvh/analysis/validation_ladder.h"
 #include "train_call.h"
-#include "train_validation.h"
 #include "validate_command.h"
-#include "validation_ladder.h"
 
 namespace gearnvh::python {
 
 namespace {
 
 struct Validation {
-  std::vector<app::ValidationRow> rows;
+  std::vector<gearnvh::ValidationRow> rows;
   nlohmann::json doc;  // the `validate --json` document
 };
 
@@ -28,12 +28,12 @@ std::shared_ptr<Validation> ValidateTrain(const Train& train, bool allow_slow,
       train,
       [allow_slow](const TrainSpec& spec, const std::string& source, CallControl& control) {
         auto out = std::make_shared<Validation>();
-        app::TrainValidationOptions options;
+        gearnvh::TrainValidationOptions options;
         options.cancel = &control.cancel;
         options.progress = [&](int d, int t) { control.Progress(d, t); };
         options.allow_slow = allow_slow;
         options.names = kKeywordNames;
-        out->rows = app::RunTrainValidationLadder(spec, options);
+        out->rows = gearnvh::RunTrainValidationLadder(spec, options);
         out->doc = app::ValidationDocument(out->rows, spec.name, source);
         return out;
       },
@@ -46,7 +46,7 @@ std::shared_ptr<Validation> ValidateGearbox(const Gearbox& gearbox, const py::ob
       gearbox,
       [](const GearboxSpec& spec, const std::string& source, CallControl& control) {
         auto out = std::make_shared<Validation>();
-        out->rows = app::RunValidationLadder(spec, &control.cancel);
+        out->rows = gearnvh::RunValidationLadder(spec, &control.cancel);
         out->doc = app::ValidationDocument(out->rows, spec.name, source);
         return out;
       },
@@ -57,14 +57,14 @@ std::shared_ptr<Validation> ValidateGearbox(const Gearbox& gearbox, const py::ob
 
 void BindValidation(py::module_& m) {
   // Validation.
-  py::class_<app::ValidationRow>(m, "ValidationCheck", "One row of the validation ladder.")
-      .def_readonly("name", &app::ValidationRow::name)
-      .def_readonly("value", &app::ValidationRow::value)
-      .def_readonly("threshold", &app::ValidationRow::threshold)
-      .def_readonly("passed", &app::ValidationRow::pass, "value <= threshold")
-      .def_readonly("skipped", &app::ValidationRow::skipped)
-      .def_readonly("detail", &app::ValidationRow::detail, "what was compared, or why skipped")
-      .def("__repr__", [](const app::ValidationRow& r) {
+  py::class_<gearnvh::ValidationRow>(m, "ValidationCheck", "One row of the validation ladder.")
+      .def_readonly("name", &gearnvh::ValidationRow::name)
+      .def_readonly("value", &gearnvh::ValidationRow::value)
+      .def_readonly("threshold", &gearnvh::ValidationRow::threshold)
+      .def_readonly("passed", &gearnvh::ValidationRow::pass, "value <= threshold")
+      .def_readonly("skipped", &gearnvh::ValidationRow::skipped)
+      .def_readonly("detail", &gearnvh::ValidationRow::detail, "what was compared, or why skipped")
+      .def("__repr__", [](const gearnvh::ValidationRow& r) {
         return "<gearnvh.ValidationCheck " + r.name + ": " +
                (r.skipped ? "skipped" : (r.pass ? "pass" : "FAIL")) + ">";
       });
@@ -78,7 +78,7 @@ void BindValidation(py::module_& m) {
           "The document `gearnvh validate --json` prints.")
       .def("__repr__", [](const Validation& v) {
         long passed = 0, skipped = 0;
-        for (const app::ValidationRow& r : v.rows) {
+        for (const gearnvh::ValidationRow& r : v.rows) {
           skipped += r.skipped ? 1 : 0;
           passed += !r.skipped && r.pass ? 1 : 0;
         }

@@ -11,14 +11,14 @@
 #include <thread>
 
 #include "config/gearbox_loader.h"
+#include "gearnvh/analysis/train_operating_point.h"
+#include "gearnvh/analysis/train_sweep.h"
+#include "gearnvh/analysis/train_validation.h"
+#include "gearnvh/analysis/validation_ladder.h"
 #include "gearnvh/model/gear_train.h"
 #include "gearnvh/solver/train_reduced_tables.h"
 #include "support/cancel_latency.h"
 #include "support/paths.h"
-#include "train_operating_point.h"
-#include "train_sweep.h"
-#include "train_validation.h"
-#include "validation_ladder.h"
 
 namespace gearnvh::app {
 namespace {

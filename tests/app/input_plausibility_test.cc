@@ -10,10 +10,10 @@
 #include "app/three_shaft_train_yaml.h"
 #include "config/gearbox_document.h"
 #include "config/gearbox_loader.h"
+#include "gearnvh/analysis/train_load_warnings.h"
 #include "gearnvh/model/input_error.h"
-#include "support/run_command.h"
-#include "train_load_warnings.h"
 #include "support/paths.h"
+#include "support/run_command.h"
 
 namespace gearnvh {
 namespace {
@@ -55,21 +55,22 @@ TEST_CASE("absurd backlash and face width are refused in both schemas", "[loader
   CHECK(Contains(mm, "must be at most 0.785398 mm, 0.25 of the tooth thickness"));
   const std::string face = LoadError(Replace(IdleRattle(), "face_width: 15 mm", "face_width: 20"));
   INFO(face);
-  CHECK(Contains(face, "gears.pinion.face_width: gives b/m = 10000 face widths per module; must be "
-                       "in [0.3, 300] (here [0.0006, 0.6] m)"));
+  CHECK(Contains(face,
+                 "gears.pinion.face_width: gives b/m = 10000 face widths per module; must be "
+                 "in [0.3, 300] (here [0.0006, 0.6] m)"));
   CHECK(Contains(face, "got '20'"));
 
   const std::string train =
       LoadError(Replace(kThreeShaftTrainYaml, "backlash: 100 um", "backlash: 80"));
   INFO(train);
   CHECK(Contains(train, "meshes[0].backlash: must be at most "));
-  const std::string train_face = LoadError(
-      Replace(kThreeShaftTrainYaml, "teeth: 41, module: 2 mm, face_width: 15 mm",
-              "teeth: 41, module: 2 mm, face_width: 20"));
+  const std::string train_face =
+      LoadError(Replace(kThreeShaftTrainYaml, "teeth: 41, module: 2 mm, face_width: 15 mm",
+                        "teeth: 41, module: 2 mm, face_width: 20"));
   CHECK(Contains(train_face, "gears.g2.face_width: gives b/m = 10000"));
-  for (const std::string example : {"flexible_shafts.yaml", "idle_rattle.yaml",
-                                     "industrial_whine.yaml", "manual_transmission_idle.yaml",
-                                     "two_stage_helical_reducer.yaml"}) {
+  for (const std::string example :
+       {"flexible_shafts.yaml", "idle_rattle.yaml", "industrial_whine.yaml",
+        "manual_transmission_idle.yaml", "two_stage_helical_reducer.yaml"}) {
     INFO(example);
     CHECK_NOTHROW(config::LoadAnyGearboxFile(std::string(GEARNVH_EXAMPLES_DIR) + "/" + example));
   }
@@ -82,9 +83,9 @@ TEST_CASE("a module or helix angle without its unit is blamed on its own gear", 
   INFO(module);
   CHECK(Contains(module, "gears.g1.module: must be in [5e-05, 0.1] m"));
   CHECK(Contains(module, "got '2'"));
-  const std::string helix =
-      LoadError(Replace(kThreeShaftTrainYaml, "material: steel}", "material: steel, "
-                                                                  "helix_angle: 28, hand: left}"));
+  const std::string helix = LoadError(Replace(kThreeShaftTrainYaml, "material: steel}",
+                                              "material: steel, "
+                                              "helix_angle: 28, hand: left}"));
   INFO(helix);
   CHECK(Contains(helix, "gears.g1.helix_angle: must be in [0, 0.785398) rad, got '28'"));
 }
@@ -94,8 +95,9 @@ TEST_CASE("a gear may not share a shaft's name", "[loader][train]") {
   text = Replace(text, "[g3, g4]", "[g3, c]");
   const std::string error = LoadError(text);
   INFO(error);
-  CHECK(Contains(error, "gears.c: has the name of shafts.c: a name belongs to one shaft or one "
-                        "gear"));
+  CHECK(Contains(error,
+                 "gears.c: has the name of shafts.c: a name belongs to one shaft or one "
+                 "gear"));
 }
 
 TEST_CASE("meshes between the same two shafts need one centre distance", "[loader][train]") {
@@ -109,10 +111,12 @@ TEST_CASE("meshes between the same two shafts need one centre distance", "[loade
       "  - {gears: [g3, g4], backlash: 100 um}\n  - {gears: [g6, g5], backlash: 100 um}\n");
   const std::string error = LoadError(text);
   INFO(error);
-  CHECK(Contains(error, "meshes[2].gears: joins shafts 'b' and 'c' at a centre distance of 57 mm, "
-                        "but meshes[1] (g3-g4) joins them at 56 mm"));
-  CHECK(LoadError(Replace(text, "teeth: 37, module: 2 mm, face_width: 15 mm, bore_diameter: 20 mm, "
-                                "material: steel}\n  g4",
+  CHECK(Contains(error,
+                 "meshes[2].gears: joins shafts 'b' and 'c' at a centre distance of 57 mm, "
+                 "but meshes[1] (g3-g4) joins them at 56 mm"));
+  CHECK(LoadError(Replace(text,
+                          "teeth: 37, module: 2 mm, face_width: 15 mm, bore_diameter: 20 mm, "
+                          "material: steel}\n  g4",
                           "teeth: 36, module: 2 mm, face_width: 15 mm, bore_diameter: 20 mm, "
                           "material: steel}\n  g4"))
             .empty());
@@ -121,7 +125,8 @@ TEST_CASE("meshes between the same two shafts need one centre distance", "[loade
 TEST_CASE("a train beyond the size limit is refused before any work", "[loader][train]") {
   std::string meshes;
   for (int i = 0; i < 128; ++i) meshes += "  - {gears: [g1, g2], backlash: 100 um}\n";
-  const std::string error = LoadError(Replace(kThreeShaftTrainYaml, "meshes:\n", "meshes:\n" + meshes));
+  const std::string error =
+      LoadError(Replace(kThreeShaftTrainYaml, "meshes:\n", "meshes:\n" + meshes));
   INFO(error);
   CHECK(Contains(error, "meshes: must have at most 128 meshes"));
   CHECK(Contains(error, "got 130 meshes"));
@@ -131,7 +136,7 @@ TEST_CASE("a train without a load, or without one on its output, is warned about
           "[train][warnings]") {
   const auto warnings = [](const std::string& text) {
     const TrainSpec spec = config::LoadAnyGearboxFromString(text).train;
-    return app::TrainLoadWarnings(spec, AnalyseTrainTopology(spec));
+    return gearnvh::TrainLoadWarnings(spec, AnalyseTrainTopology(spec));
   };
   CHECK(warnings(kThreeShaftTrainYaml).empty());
   const std::string no_load =
@@ -151,7 +156,8 @@ TEST_CASE("a train without a load, or without one on its output, is warned about
 
 TEST_CASE("messages cut a long value and name an oversized key", "[loader][messages]") {
   const std::string huge(1000000, 'x');
-  const std::string value = LoadError(Replace(IdleRattle(), "backlash: 100 um", "backlash: " + huge));
+  const std::string value =
+      LoadError(Replace(IdleRattle(), "backlash: 100 um", "backlash: " + huge));
   INFO(value.substr(0, 300));
   CHECK(value.size() < 1000);
   CHECK(Contains(value, "got 'xxxxxxxxxx"));

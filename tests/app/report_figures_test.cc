@@ -9,8 +9,8 @@
 #include <limits>
 
 #include "config/gearbox_loader.h"
+#include "gearnvh/analysis/order_tracks.h"
 #include "gearnvh/render/plots.h"
-#include "order_tracks.h"
 #include "report_sweep_figures.h"
 #include "support/figure_checks.h"
 #include "support/run_command.h"

@@ -10,11 +10,11 @@
 
 #include "app/three_shaft_train_yaml.h"
 #include "config/gearbox_loader.h"
+#include "gearnvh/analysis/train_operating_point.h"
+#include "gearnvh/analysis/train_sweep.h"
 #include "support/paths.h"
 #include "support/run_command.h"
 #include "support/sanitizer.h"
-#include "train_operating_point.h"
-#include "train_sweep.h"
 
 namespace gearnvh {
 namespace {
@@ -60,15 +60,15 @@ TEST_CASE("a train without load or excitation rests at every speed of its sweep"
   // sanitizers): the instrumented build runs 6 speeds over the same range (500-6000 rpm).
   spec.analysis.speed_sweep.points = 6;
 #endif
-  app::TrainSweepOptions options;
+  gearnvh::TrainSweepOptions options;
   // A resting state is constant from the first instant: a short run says as much as a long one,
   // and the cost is in building each speed's tables.
   options.cycles = 16;
   options.transient = 4;
-  const app::TrainSweepResult r = app::RunTrainSweep(spec, options);
+  const gearnvh::TrainSweepResult r = gearnvh::RunTrainSweep(spec, options);
   REQUIRE(r.points.size() == static_cast<size_t>(spec.analysis.speed_sweep.points));
   CHECK(r.failed() == 0);
-  for (const app::TrainSweepPoint& p : r.points) {
+  for (const gearnvh::TrainSweepPoint& p : r.points) {
     INFO(p.speed_rpm << " rpm: " << p.message);
     CHECK(p.ok);
     for (const TrainMeshStatistics& m : p.meshes) {
@@ -89,12 +89,12 @@ TEST_CASE("a train without load or excitation rests at every tier", "[app][train
       config::LoadAnyGearboxFromString(RestingTransmissionYaml(), "resting.yaml");
   for (Tier tier : {Tier::kTier1, Tier::kTier2, Tier::kTier3}) {
     INFO(TierName(tier));
-    app::TrainRunOptions run;
+    gearnvh::TrainRunOptions run;
     run.tier = tier;
     run.cycles = 32;
     run.transient = 8;
     run.spectra = false;
-    const app::TrainOperatingPoint op = app::RunTrainOperatingPoint(loaded.train, run);
+    const gearnvh::TrainOperatingPoint op = gearnvh::RunTrainOperatingPoint(loaded.train, run);
     INFO(TrainStepperMessage(op.summary));
     REQUIRE(op.ok());
     CHECK(op.summary.events == 0);
@@ -158,12 +158,12 @@ TEST_CASE("a train without load but with its engine order still rattles", "[app]
   REQUIRE(loaded.train.operating.excitation.size() == 1);
   loaded.train.analysis.speed_sweep = {700.0 * 2.0 * std::numbers::pi / 60.0,
                                        900.0 * 2.0 * std::numbers::pi / 60.0, 2};
-  app::TrainSweepOptions options;
+  gearnvh::TrainSweepOptions options;
   options.cycles = 100;
   options.transient = 50;
-  const app::TrainSweepResult r = app::RunTrainSweep(loaded.train, options);
+  const gearnvh::TrainSweepResult r = gearnvh::RunTrainSweep(loaded.train, options);
   REQUIRE(r.points.size() == 2);
-  for (const app::TrainSweepPoint& p : r.points) {
+  for (const gearnvh::TrainSweepPoint& p : r.points) {
     INFO(p.speed_rpm << " rpm: " << p.message);
     REQUIRE(p.ok);
     REQUIRE(p.loose_gears.size() == 4);

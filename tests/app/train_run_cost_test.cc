@@ -1,4 +1,4 @@
-// The slow-run estimate (app/src/train_operating_point.h, EstimateRunCost) against the solver: its
+// The slow-run estimate (analysis/include/gearnvh/analysis/run_cost.h, EstimateRunCost) against the solver: its
 // sub-step is 1 / (2 rho) with the table cache's own bound rho of the same tuple (TrainSystem::rho,
 // both from BoundTupleRate), and a run on the dense path takes the sub-steps those bounds allow;
 // the refusal above an hour (--allow-slow) and the warning above a minute.
@@ -13,6 +13,7 @@
 #include "app/loose_gear_train_yaml.h"
 #include "app/three_shaft_train_yaml.h"
 #include "config/gearbox_loader.h"
+#include "gearnvh/analysis/train_operating_point.h"
 #include "gearnvh/model/gear_train.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/solver/train_reduced_tables.h"
@@ -21,7 +22,6 @@
 #include "model/test_trains.h"
 #include "support/paths.h"
 #include "support/run_command.h"
-#include "train_operating_point.h"
 
 namespace gearnvh {
 namespace {
@@ -63,7 +63,7 @@ void ForEachDriveTuple(const TrainTables& t, const std::vector<int>& prefix,
 // boundaries inside a grid segment only come from events, none here).
 void CheckAgainstRun(const TrainSpec& spec, double seconds) {
   const TrainTables t = BuildTrainTables(spec, BuildGearTrain(spec));
-  const app::RunCostEstimate cost = app::EstimateRunCost(t);
+  const gearnvh::RunCostEstimate cost = gearnvh::EstimateRunCost(t);
   TrainStepperOptions options;
   options.tables.decompose_after_visits = std::numeric_limits<int>::max();
   options.jumps = false;
@@ -186,10 +186,10 @@ TEST_CASE("an ordinary train is neither refused nor warned about its cost",
     const double seconds =
         static_cast<double>(spec.analysis.cycles + spec.analysis.transient_cycles) *
         t.meshes.front().period;
-    const app::RunCostEstimate cost = app::EstimateRunCost(t, seconds, &spec);
-    INFO(name << ": " << app::RunCostText(cost, "the run"));
-    CHECK(cost.wall_s < app::kSlowRunWarnSeconds);
-    CHECK(app::CheckRunCost(cost, false).empty());
+    const gearnvh::RunCostEstimate cost = gearnvh::EstimateRunCost(t, seconds, &spec);
+    INFO(name << ": " << gearnvh::RunCostText(cost, "the run"));
+    CHECK(cost.wall_s < gearnvh::kSlowRunWarnSeconds);
+    CHECK(gearnvh::CheckRunCost(cost, false).empty());
   }
   const testing::TempDir dir;
   const std::string file = dir.Write("loose.yaml", testing::kLooseGearTrainYaml).string();
@@ -204,23 +204,23 @@ TEST_CASE("the run-cost check refuses above an hour only without allow_slow", "[
   // The refusal and the warning follow the estimate's wall time alone: 59 s nothing, 61 s a
   // warning, 3601 s a refusal naming the option as the caller spells it ("--allow-slow" on the
   // command line, "allow_slow" for the Python keyword), unless allowed.
-  app::RunCostEstimate cost;
+  gearnvh::RunCostEstimate cost;
   cost.substep_s = 1e-9;
   cost.cause_body_name = "g";
   cost.wall_s = 59.0;
-  CHECK(app::CheckRunCost(cost, false).empty());
+  CHECK(gearnvh::CheckRunCost(cost, false).empty());
   cost.wall_s = 61.0;
-  CHECK(!app::CheckRunCost(cost, false).empty());
+  CHECK(!gearnvh::CheckRunCost(cost, false).empty());
   cost.wall_s = 3601.0;
-  CHECK(!app::CheckRunCost(cost, true).empty());
+  CHECK(!gearnvh::CheckRunCost(cost, true).empty());
   try {
-    (void)app::CheckRunCost(cost, false);
+    (void)gearnvh::CheckRunCost(cost, false);
     FAIL("not refused");
   } catch (const InputError& e) {
     CHECK(e.path() == "--allow-slow");
   }
   try {
-    (void)app::CheckRunCost(cost, false, "the run", app::TrainOptionNames{""});
+    (void)gearnvh::CheckRunCost(cost, false, "the run", gearnvh::OptionNames{""});
     FAIL("not refused");
   } catch (const InputError& e) {
     CHECK(e.path() == "allow_slow");

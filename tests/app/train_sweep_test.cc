@@ -1,8 +1,6 @@
-// The speed sweep of a gear train (app/src/train_sweep.h): a train decoupled by a massive layshaft
+// The speed sweep of a gear train (analysis/include/gearnvh/analysis/train_sweep.h): a train decoupled by a massive layshaft
 // sweeps as its two stages swept alone; the rattle ranking of a loose gear under drag; the manual
 // transmission's operating point and sweep at the report's settings run to their end.
-#include "train_sweep.h"
-
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <fstream>
@@ -11,8 +9,9 @@
 #include <string>
 
 #include "config/gearbox_loader.h"
+#include "gearnvh/analysis/train_operating_point.h"
 #include "model/test_trains.h"
-#include "train_operating_point.h"
+#include "train_sweep_command.h"
 
 namespace gearnvh {
 namespace {
@@ -62,18 +61,18 @@ TEST_CASE("train sweep: a massive layshaft's two stages sweep as two one-mesh tr
   // sampled statistics agree to that: 1e-11 m on TE, 1e-9 relative on forces, far below what a
   // wrong speed, load or period per point would make (the TE RMS here is ~1e-7 m).
   const double j_lay = 1e8;
-  app::TrainSweepOptions options;
+  gearnvh::TrainSweepOptions options;
   options.cycles = 64;
   options.transient = 32;
   options.threads = 1;
-  const app::TrainSweepResult full = app::RunTrainSweep(Stage(0, j_lay), options);
-  const app::TrainSweepResult first = app::RunTrainSweep(Stage(1, j_lay), options);
-  const app::TrainSweepResult second = app::RunTrainSweep(Stage(2, j_lay), options);
+  const gearnvh::TrainSweepResult full = gearnvh::RunTrainSweep(Stage(0, j_lay), options);
+  const gearnvh::TrainSweepResult first = gearnvh::RunTrainSweep(Stage(1, j_lay), options);
+  const gearnvh::TrainSweepResult second = gearnvh::RunTrainSweep(Stage(2, j_lay), options);
   REQUIRE(full.points.size() == 3);
   REQUIRE(full.mesh_names == std::vector<std::string>{"g1-g2", "g3-g4"});
   CHECK(full.loose_gear_names.empty());
   for (size_t s = 0; s < 3; ++s) {
-    const app::TrainSweepPoint& p = full.points[s];
+    const gearnvh::TrainSweepPoint& p = full.points[s];
     REQUIRE(p.ok);
     REQUIRE(first.points[s].ok);
     REQUIRE(second.points[s].ok);
@@ -122,12 +121,12 @@ TEST_CASE("train sweep: a loose gear under drag rattles under engine excitation,
   t.operating.excitation = {{2.0, 1500.0, 0.0}};
   t.analysis.segments_per_cycle = 16;
   t.analysis.speed_sweep = {700.0 * kRpm, 900.0 * kRpm, 2};
-  app::TrainSweepOptions options;
+  gearnvh::TrainSweepOptions options;
   options.cycles = 100;
   options.transient = 50;
-  const app::TrainSweepResult r = app::RunTrainSweep(t, options);
+  const gearnvh::TrainSweepResult r = gearnvh::RunTrainSweep(t, options);
   REQUIRE(r.loose_gear_names == std::vector<std::string>{"g4"});
-  for (const app::TrainSweepPoint& p : r.points) {
+  for (const gearnvh::TrainSweepPoint& p : r.points) {
     REQUIRE(p.ok);
     REQUIRE(p.loose_gears.size() == 1);
     CHECK(p.loose_gears[0].rank == 1);
@@ -157,21 +156,21 @@ TEST_CASE("train report runs: the manual transmission's operating point and swee
   const config::LoadedGearbox loaded = config::LoadAnyGearboxFromString(text);
   REQUIRE(loaded.schema == 2);
   TrainSpec spec = loaded.train;
-  app::TrainRunOptions run;
+  gearnvh::TrainRunOptions run;
   run.cycles = 210;
   run.transient = 50;
-  const app::TrainOperatingPoint op = app::RunTrainOperatingPoint(spec, run);
+  const gearnvh::TrainOperatingPoint op = gearnvh::RunTrainOperatingPoint(spec, run);
   INFO(TrainStepperMessage(op.summary));
   REQUIRE(op.ok());
   CHECK(TrainStepperMessage(op.summary).empty());
   CHECK(op.summary.events > 0);  // the loose gears rattle at idle
   spec.analysis.speed_sweep = {700.0 * kRpm, 1300.0 * kRpm, 3};
-  app::TrainSweepOptions options;
+  gearnvh::TrainSweepOptions options;
   options.cycles = 256;
   options.transient = 100;
-  const app::TrainSweepResult sweep = app::RunTrainSweep(spec, options);
+  const gearnvh::TrainSweepResult sweep = gearnvh::RunTrainSweep(spec, options);
   REQUIRE(sweep.points.size() == 3);
-  for (const app::TrainSweepPoint& p : sweep.points) {
+  for (const gearnvh::TrainSweepPoint& p : sweep.points) {
     INFO(p.speed_rpm << " rpm: " << p.message);
     CHECK(p.ok);
   }

@@ -1,5 +1,5 @@
 // Train outputs in the units the file wrote (as the pair: text in them, JSON keys in fixed units),
-// and the warning before a very slow run (app/src/train_operating_point.h, CheckRunCost).
+// and the warning before a very slow run (analysis/include/gearnvh/analysis/run_cost.h, CheckRunCost).
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -12,12 +12,12 @@
 #include <sstream>
 #include <string>
 
+#include "gearnvh/analysis/train_operating_point.h"
 #include "gearnvh/model/gear_train.h"
 #include "gearnvh/solver/train_tables.h"
 #include "model/test_trains.h"
-#include "support/run_command.h"
-#include "train_operating_point.h"
 #include "support/paths.h"
+#include "support/run_command.h"
 
 namespace gearnvh {
 namespace {
@@ -25,8 +25,8 @@ namespace {
 using testing::RunCommand;
 using testing::TempDir;
 
-using testing::kExe;
 using testing::kExamples;
+using testing::kExe;
 
 std::string ReadFile(const std::string& path) {
   std::ifstream in(path);
@@ -94,7 +94,7 @@ TEST_CASE("a train with a tiny loose gear is warned about before its slow run",
   // and r_b = |v| on the gear's coordinate.
   TrainSpec spec = testing::RattlerTrain(1500.0);
   const TrainTables normal = BuildTrainTables(spec, BuildGearTrain(spec));
-  CHECK(app::CheckRunCost(app::EstimateRunCost(normal, 0.1), false).empty());
+  CHECK(gearnvh::CheckRunCost(gearnvh::EstimateRunCost(normal, 0.1), false).empty());
   spec.gears[3].gear.inertia = 1e-9;
   const TrainTables tiny = BuildTrainTables(spec, BuildGearTrain(spec));
   const int loose = 2;  // bodies: input, layshaft, g4
@@ -105,13 +105,13 @@ TEST_CASE("a train with a tiny loose gear is warned about before its slow run",
   const double hz = std::sqrt(k * mt.v[loose] * mt.v[loose] / 1e-9) / (2.0 * std::numbers::pi);
   // 0.1 s: ~2e6 sub-steps of ~50 ns at m = 8, about 0.4 s by the estimate: no warning. 100 s:
   // about 400 s, a warning (above 60 s) and no refusal (below an hour).
-  CHECK(app::CheckRunCost(app::EstimateRunCost(tiny, 0.1), false).empty());
-  const app::RunCostEstimate cost = app::EstimateRunCost(tiny, 100.0);
+  CHECK(gearnvh::CheckRunCost(gearnvh::EstimateRunCost(tiny, 0.1), false).empty());
+  const gearnvh::RunCostEstimate cost = gearnvh::EstimateRunCost(tiny, 100.0);
   CHECK(cost.wall_s ==
-        Approx(cost.substeps * app::kSubstepSecondsPerState2 * tiny.m * tiny.m).epsilon(1e-12));
+        Approx(cost.substeps * gearnvh::kSubstepSecondsPerState2 * tiny.m * tiny.m).epsilon(1e-12));
   CHECK(cost.substeps == Approx(100.0 / cost.substep_s).epsilon(1e-12));
-  CHECK(cost.dominant == app::RateTerm::kStiffness);
-  const std::string w = app::CheckRunCost(cost, false);
+  CHECK(cost.dominant == gearnvh::RateTerm::kStiffness);
+  const std::string w = gearnvh::CheckRunCost(cost, false);
   INFO(w << "\nexpected " << hz << " Hz");
   REQUIRE(!w.empty());
   CHECK(w.find(fmt::format("{:.4g} Hz", hz)) != std::string::npos);
@@ -124,7 +124,7 @@ TEST_CASE("a train with a tiny loose gear is warned about before its slow run",
   // ~80 s by the estimate). The run is cancelled when the warning is said, so before its first
   // step (it would take that long); a flag set earlier would stop the table build before it.
   spec.gears[3].gear.inertia = 1e-15;
-  app::TrainRunOptions run;
+  gearnvh::TrainRunOptions run;
   run.cycles = 10;
   run.transient = 0;
   run.spectra = false;
@@ -135,7 +135,7 @@ TEST_CASE("a train with a tiny loose gear is warned about before its slow run",
     said.push_back(text);
     cancelled.store(true);
   };
-  CHECK_THROWS_AS(app::RunTrainOperatingPoint(spec, run), RunCancelled);
+  CHECK_THROWS_AS(gearnvh::RunTrainOperatingPoint(spec, run), RunCancelled);
   REQUIRE(said.size() == 1);
   CHECK(said[0].find("the run would take about") != std::string::npos);
   CHECK(said[0].find("body g4, inertia 1e-15 kg m²") != std::string::npos);
@@ -166,8 +166,8 @@ TEST_CASE("the slow-run estimate's sub-step follows the solver's bound with toot
   const double n = slide * v / J;
   const double rho = std::sqrt(omega * omega + k * n) + mt.damping * (v * v / J + n);
 
-  const app::RunCostEstimate without = app::EstimateRunCost(plain, 0.1);
-  const app::RunCostEstimate with = app::EstimateRunCost(rubbing, 0.1);
+  const gearnvh::RunCostEstimate without = gearnvh::EstimateRunCost(plain, 0.1);
+  const gearnvh::RunCostEstimate with = gearnvh::EstimateRunCost(rubbing, 0.1);
   CHECK(without.substep_s == Approx(0.5 / omega).epsilon(1e-4));
   CHECK(with.substep_s == Approx(0.5 / rho).epsilon(1e-4));
   CHECK(with.substep_s < without.substep_s);
@@ -175,7 +175,7 @@ TEST_CASE("the slow-run estimate's sub-step follows the solver's bound with toot
   CHECK(with.mode_hz == Approx(without.mode_hz).epsilon(1e-12));
   CHECK(with.body == loose);
   CHECK(with.substeps == Approx(0.1 / with.substep_s).epsilon(1e-12));
-  const std::string w = app::RunCostText(with, "the run");
+  const std::string w = gearnvh::RunCostText(with, "the run");
   CHECK(w.find(fmt::format("({:.3g} dense sub-steps", 0.1 / with.substep_s)) != std::string::npos);
 }
 

@@ -1,7 +1,7 @@
-// The gear-train rows of `gearnvh validate` (app/src/train_validation.h) on a rattling train with
+// The gear-train rows of `gearnvh validate` (analysis/include/gearnvh/analysis/train_validation.h) on a rattling train with
 // a light loose gear: they pass on the exact solver, compared only where the CVODE reference is
 // trusted, and they still fail on a perturbed state or a wrong model.
-#include "train_validation.h"
+#include "gearnvh/analysis/train_validation.h"
 
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -38,7 +38,7 @@ size_t WindowOf(const std::function<double(int)>& error,
       estimate.push_back(reference.back() + error(k));
     }
   }
-  return app::TrustedSamples(reference, estimate, 2, events, times, 1.0);
+  return gearnvh::TrustedSamples(reference, estimate, 2, events, times, 1.0);
 }
 
 TEST_CASE("the trusted window: the leading samples where the two references agree",
@@ -78,10 +78,11 @@ struct Fixture {
 
 // The train ladder's five rows all pass; none is skipped but the fusion row (the last) when
 // `fusion_skipped` (no run certified along its window).
-void CheckLadderPasses(const std::vector<app::ValidationRow>& rows, bool fusion_skipped = false) {
+void CheckLadderPasses(const std::vector<gearnvh::ValidationRow>& rows,
+                       bool fusion_skipped = false) {
   REQUIRE(rows.size() == 5);
   for (size_t k = 0; k < rows.size(); ++k) {
-    const app::ValidationRow& r = rows[k];
+    const gearnvh::ValidationRow& r = rows[k];
     INFO(r.name << ": " << r.value << " (" << r.detail << ")");
     CHECK(r.pass);
     CHECK(r.skipped == (k == 4 && fusion_skipped));
@@ -98,31 +99,31 @@ TEST_CASE("validate's events are paired by mesh, flanks and time, not by order",
   const std::vector<TrainEventRecord> swapped{{1, {1.0, S::kDrive, S::kFree, 0.0}},
                                               {0, {1.0, S::kDrive, S::kFree, 0.0}},
                                               {0, {2.0, S::kFree, S::kDrive, 0.0}}};
-  CHECK(app::UnpairedEvents(reference, swapped, 10.0, 1e-3) == 0);
+  CHECK(gearnvh::UnpairedEvents(reference, swapped, 10.0, 1e-3) == 0);
   // The wrong flank, a time beyond the tolerance and an extra event are each unpaired (and the
   // reference events they miss); an event after `end` is not compared.
   std::vector<TrainEventRecord> wrong = swapped;
   wrong[2].event.to = S::kBack;
-  CHECK(app::UnpairedEvents(reference, wrong, 10.0, 1e-3) == 2);
+  CHECK(gearnvh::UnpairedEvents(reference, wrong, 10.0, 1e-3) == 2);
   std::vector<TrainEventRecord> late = swapped;
   late[0].event.time = 1.0 + 2e-3;
-  CHECK(app::UnpairedEvents(reference, late, 10.0, 1e-3) == 2);
+  CHECK(gearnvh::UnpairedEvents(reference, late, 10.0, 1e-3) == 2);
   std::vector<TrainEventRecord> extra = swapped;
   extra.push_back({1, {3.0, S::kFree, S::kBack, 0.0}});
-  CHECK(app::UnpairedEvents(reference, extra, 10.0, 1e-3) == 1);
-  CHECK(app::UnpairedEvents(reference, extra, 2.5, 1e-3) == 0);
+  CHECK(gearnvh::UnpairedEvents(reference, extra, 10.0, 1e-3) == 1);
+  CHECK(gearnvh::UnpairedEvents(reference, extra, 2.5, 1e-3) == 0);
 }
 
 TEST_CASE("train validate passes on a rattling loose gear, within CVODE's trusted window",
           "[app][train][validate]") {
   const Fixture f;
-  const std::vector<app::ValidationRow> rows = app::RunTrainValidationLadder(f.spec);
+  const std::vector<gearnvh::ValidationRow> rows = gearnvh::RunTrainValidationLadder(f.spec);
   CheckLadderPasses(rows);
   // The run covers 20 events (three cycles); CVODE is trusted over a part of it that still holds
   // the loose gear's first impacts (15 events in 1.67 cycles when written).
   CHECK(rows[0].detail.find("not compared there") != std::string::npos);
-  const app::TrainReferenceComparison c =
-      app::CompareTrainWithReference(f.tables, f.tables, f.z0, f.z0, f.states0, f.times);
+  const gearnvh::TrainReferenceComparison c =
+      gearnvh::CompareTrainWithReference(f.tables, f.tables, f.z0, f.z0, f.states0, f.times);
   CHECK(c.trusted_cycles > 1.0);
   CHECK(c.trusted_cycles < 3.0);
   REQUIRE(c.rows.size() == 2);
@@ -138,8 +139,8 @@ TEST_CASE("train validate fails on a perturbed state and on a wrong model",
     // tolerance at t = 0 already.
     Eigen::VectorXd z = f.z0;
     z[f.loose] += 1e-9;
-    const app::TrainReferenceComparison c =
-        app::CompareTrainWithReference(f.tables, f.tables, f.z0, z, f.states0, f.times);
+    const gearnvh::TrainReferenceComparison c =
+        gearnvh::CompareTrainWithReference(f.tables, f.tables, f.z0, z, f.states0, f.times);
     REQUIRE(c.rows.size() == 2);
     CHECK_FALSE(c.rows[0].pass);
     CHECK(c.rows[0].value > 1e-8);
@@ -148,8 +149,8 @@ TEST_CASE("train validate fails on a perturbed state and on a wrong model",
     // 0.002 N m more drag on J = 1.6e-4 kg m^2: 12 rad/s^2, ~1e-7 m of TE within a cycle.
     TrainTables wrong = f.tables;
     wrong.force[f.loose] *= 1.01;
-    const app::TrainReferenceComparison c =
-        app::CompareTrainWithReference(f.tables, wrong, f.z0, f.z0, f.states0, f.times);
+    const gearnvh::TrainReferenceComparison c =
+        gearnvh::CompareTrainWithReference(f.tables, wrong, f.z0, f.z0, f.states0, f.times);
     REQUIRE(c.rows.size() == 2);
     CHECK_FALSE(c.rows[0].pass);
     CHECK_FALSE(c.rows[1].pass);
@@ -157,8 +158,8 @@ TEST_CASE("train validate fails on a perturbed state and on a wrong model",
   SECTION("the engine order's amplitude 0.1 % high in the solver's model") {
     TrainTables wrong = f.tables;
     wrong.excitation_direction *= 1.001;
-    const app::TrainReferenceComparison c =
-        app::CompareTrainWithReference(f.tables, wrong, f.z0, f.z0, f.states0, f.times);
+    const gearnvh::TrainReferenceComparison c =
+        gearnvh::CompareTrainWithReference(f.tables, wrong, f.z0, f.z0, f.states0, f.times);
     REQUIRE(c.rows.size() == 2);
     CHECK_FALSE(c.rows[0].pass);
   }
@@ -173,14 +174,14 @@ TEST_CASE("train validate passes with tooth friction and fails when the solver d
   Fixture f;
   for (TrainMesh& m : f.spec.meshes) m.mesh.friction_coefficient = 0.05;
   const TrainTables rough = BuildTrainTablesAtTier(f.spec, f.train, f.spec.analysis.tier);
-  const std::vector<app::ValidationRow> rows = app::RunTrainValidationLadder(f.spec);
+  const std::vector<gearnvh::ValidationRow> rows = gearnvh::RunTrainValidationLadder(f.spec);
   // With friction on every mesh the loose gear's rattle leaves no run certifiable in the fusion
   // row's two periods (every try refused): that row is skipped, and says so.
   CheckLadderPasses(rows, true);
   CHECK(rows[4].detail.find("no run was certified") != std::string::npos);
   const auto [z0, states0] = TrainStaticState(rough);
-  const app::TrainReferenceComparison c =
-      app::CompareTrainWithReference(rough, f.tables, z0, z0, states0, f.times);
+  const gearnvh::TrainReferenceComparison c =
+      gearnvh::CompareTrainWithReference(rough, f.tables, z0, z0, states0, f.times);
   REQUIRE(c.rows.size() == 2);
   CHECK_FALSE(c.rows[0].pass);
 }
@@ -195,21 +196,21 @@ TEST_CASE("train validate: segment-run fusion equals stepping and fails on an al
                              .train;
   const TrainTables t = BuildTrainTables(spec, BuildGearTrain(spec));
   const auto [z0, states0] = TrainStaticState(t);
-  const app::ValidationRow row = app::CompareFusionWithStepping(t, t, z0, states0);
+  const gearnvh::ValidationRow row = gearnvh::CompareFusionWithStepping(t, t, z0, states0);
   INFO(row.detail);
   CHECK(row.pass);
   CHECK_FALSE(row.skipped);
-  CHECK(row.threshold == app::kFusionTolerance);
-  CHECK(row.value <= app::kFusionTolerance);
+  CHECK(row.threshold == gearnvh::kFusionTolerance);
+  CHECK(row.value <= gearnvh::kFusionTolerance);
   CHECK(row.detail.find(" 0 of ") == std::string::npos);  // some grid segments were fused
   // The engine order 0.1 % high in the fused runs' model: over a run the TE moves by ~1e-3 of
   // its dynamic change, far above 3e-11 of the TE.
   TrainTables wrong = t;
   wrong.excitation_direction *= 1.001;
-  const app::ValidationRow bad = app::CompareFusionWithStepping(t, wrong, z0, states0);
+  const gearnvh::ValidationRow bad = gearnvh::CompareFusionWithStepping(t, wrong, z0, states0);
   INFO(bad.detail);
   CHECK_FALSE(bad.pass);
-  CHECK(bad.value > app::kFusionTolerance);
+  CHECK(bad.value > gearnvh::kFusionTolerance);
 }
 
 }  // namespace

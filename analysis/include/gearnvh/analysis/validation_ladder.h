@@ -9,7 +9,7 @@
 
 #include "gearnvh/model/gearbox_spec.h"
 
-namespace gearnvh::app {
+namespace gearnvh {
 
 struct ValidationRow {
   std::string name;
@@ -29,4 +29,4 @@ ValidationRow SkippedRow(std::string name, std::string why);
 std::vector<ValidationRow> RunValidationLadder(const GearboxSpec& spec,
                                                const std::atomic<bool>* cancel = nullptr);
 
-}  // namespace gearnvh::app
+}  // namespace gearnvh

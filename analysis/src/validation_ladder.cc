@@ -1,4 +1,4 @@
-#include "validation_ladder.h"
+#include "gearnvh/analysis/validation_ladder.h"
 
 #include <fmt/format.h>
 
@@ -10,7 +10,7 @@
 #include "gearnvh/solver/cycle_map.h"
 #include "gearnvh/solver/reference_integrator.h"
 
-namespace gearnvh::app {
+namespace gearnvh {
 
 ValidationRow CheckRow(std::string name, double value, double threshold, std::string detail) {
   return {std::move(name), value, threshold, value <= threshold, false, std::move(detail)};
@@ -353,4 +353,4 @@ std::vector<ValidationRow> RunValidationLadder(const GearboxSpec& spec,
   return rows;
 }
 
-}  // namespace gearnvh::app
+}  // namespace gearnvh

@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
+#include "gearnvh/analysis/speed_sweep.h"
 #include "gearnvh/model/gearbox_spec.h"
-#include "speed_sweep.h"
 
-namespace gearnvh::app {
+namespace gearnvh {
 
 struct OrderTrack {
   std::string label;                           // "1x mesh", "2x mesh - 1x wheel"
@@ -35,4 +35,4 @@ std::vector<OrderTrack> MeshOrderTracks(const GearboxSpec& spec, const SpeedSwee
 std::vector<OrderTrack> LargestSidebandTracks(const GearboxSpec& spec,
                                               const SpeedSweepResult& sweep, int count);
 
-}  // namespace gearnvh::app
+}  // namespace gearnvh

@@ -1,4 +1,4 @@
-#include "train_validation.h"
+#include "gearnvh/analysis/train_validation.h"
 
 #include <fmt/format.h>
 
@@ -13,7 +13,7 @@
 #include "gearnvh/solver/train_segment_runs.h"
 #include "gearnvh/solver/train_stepper.h"
 
-namespace gearnvh::app {
+namespace gearnvh {
 namespace {
 
 // The window run: from the static state until the exact solver has seen kWindowEvents contact
@@ -368,4 +368,4 @@ std::vector<ValidationRow> RunTrainValidationLadder(const TrainSpec& spec,
   return rows;
 }
 
-}  // namespace gearnvh::app
+}  // namespace gearnvh

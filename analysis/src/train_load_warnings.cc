@@ -1,8 +1,8 @@
-#include "train_load_warnings.h"
+#include "gearnvh/analysis/train_load_warnings.h"
 
 #include <algorithm>
 
-namespace gearnvh::app {
+namespace gearnvh {
 namespace {
 
 // Shaft names quoted and joined: "'a', 'b'".
@@ -41,9 +41,10 @@ std::vector<std::string> OutputShafts(const TrainSpec& spec, const TrainTopology
 std::vector<std::string> TrainLoadWarnings(const TrainSpec& spec, const TrainTopology& topology) {
   const std::vector<TrainLoad>& loads = spec.operating.loads;
   if (loads.empty()) {
-    return {"operating.loads: the train has no load: every mesh runs at zero mean torque, its "
-            "teeth kept in contact only by inertia and the excitation (give the output shaft its "
-            "load, and each loose gear its drag)"};
+    return {
+        "operating.loads: the train has no load: every mesh runs at zero mean torque, its "
+        "teeth kept in contact only by inertia and the excitation (give the output shaft its "
+        "load, and each loose gear its drag)"};
   }
   const std::vector<std::string> outputs = OutputShafts(spec, topology);
   const bool loaded = std::any_of(loads.begin(), loads.end(), [&](const TrainLoad& load) {
@@ -56,9 +57,10 @@ std::vector<std::string> TrainLoadWarnings(const TrainSpec& spec, const TrainTop
   warning += Quoted(outputs);
   warning += " (the end of the train from the input '";
   warning += spec.operating.input_shaft;
-  warning += "'): the meshes leading to it carry only the other loads' power (give the output its "
-             "load, if it drives one)";
+  warning +=
+      "'): the meshes leading to it carry only the other loads' power (give the output its "
+      "load, if it drives one)";
   return {warning};
 }
 
-}  // namespace gearnvh::app
+}  // namespace gearnvh

@@ -6,17 +6,15 @@
 
 #include <atomic>
 #include <functional>
-#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include "gearnvh/analysis/train_operating_point.h"
 #include "gearnvh/model/train_spec.h"
 #include "gearnvh/solver/solver_options.h"
 #include "gearnvh/solver/train_statistics.h"
-#include "sweep_command.h"
-#include "train_operating_point.h"
 
-namespace gearnvh::app {
+namespace gearnvh {
 
 struct TrainSweepOptions {
   long cycles = 512;                            // recorded cycles of the first mesh per speed, >= 1
@@ -31,7 +29,7 @@ struct TrainSweepOptions {
   // (CheckRunCost): refused above an hour unless allow_slow, names("allow-slow") in the message;
   // a warning above a minute goes to before_run_warning (when set).
   bool allow_slow = false;
-  TrainOptionNames names;
+  OptionNames names;
   std::function<void(const std::string&)> before_run_warning;
   void Validate() const;
 };
@@ -55,12 +53,6 @@ struct TrainSweepResult {
   int failed() const;
 };
 
-// What `sweep` runs on a train, from its options (the command line's or the Python module's,
-// `names` saying how they are named in errors): --cycles (default 512), --transient (200),
-// --jobs, tier and event method, held to the run-length limit at the sweep's lowest speed.
-TrainSweepOptions PlanTrainSweep(const SweepOptions& options, const TrainSpec& spec,
-                                 const TrainOptionNames& names = {});
-
 // The cost of the sweep's runs: each speed's transient and cycles at the smaller of the estimates
 // at the sweep's two end speeds (the cost per run varies monotonically with the speed, so no
 // speed costs less), over the threads.
@@ -73,17 +65,4 @@ using TrainSweepProgress = std::function<void(int done, int total)>;
 TrainSweepResult RunTrainSweep(const TrainSpec& spec, const TrainSweepOptions& options,
                                const TrainSweepProgress& progress = {});
 
-// The sweep's documents: JSON (SI units) and CSV, one row per speed and mesh / loose gear.
-nlohmann::json TrainSweepJson(const TrainSweepResult& r);
-// `sweep --json` on a train: TrainSweepJson with the train's name, the file, the tier, and the
-// cycles and transient per speed.
-nlohmann::json TrainSweepDocument(const TrainSweepResult& r, const TrainSpec& spec,
-                                  const std::string& file, const TrainSweepOptions& options);
-std::string TrainMeshesCsv(const TrainSweepResult& r);
-std::string TrainLooseGearsCsv(const TrainSweepResult& r);
-
-// Prints the sweep's text tables (per mesh, then the loose gears' rattle index per speed).
-// The tables of a sweep on a terminal, speeds in `speed_unit` (the unit the file wrote).
-void PrintTrainSweep(const TrainSweepResult& r, const DisplayUnit& speed_unit);
-
-}  // namespace gearnvh::app
+}  // namespace gearnvh

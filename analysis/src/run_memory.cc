@@ -1,4 +1,4 @@
-#include "run_memory.h"
+#include "gearnvh/analysis/run_memory.h"
 
 #include <fmt/format.h>
 #include <sys/resource.h>
@@ -12,9 +12,8 @@
 #include <stdexcept>
 
 #include "gearnvh/model/input_error.h"
-#include "mpi_context.h"
 
-namespace gearnvh::app {
+namespace gearnvh {
 
 size_t RunMemory::bytes() const {
   size_t total = 0;
@@ -29,12 +28,6 @@ std::string RunMemory::Describe() const {
     listed += (listed.empty() ? "" : ", ") + p.name + " " + BytesText(p.bytes);
   }
   return BytesText(bytes()) + (listed.empty() ? "" : " (" + listed + ")");
-}
-
-nlohmann::json MemoryJson(const RunMemory& memory) {
-  nlohmann::json parts = nlohmann::json::object();
-  for (const MemoryPart& p : memory.parts) parts[p.name] = p.bytes;
-  return {{"bytes", memory.bytes()}, {"parts", parts}};
 }
 
 std::string BytesText(size_t bytes) {
@@ -122,19 +115,6 @@ std::optional<MemoryLimit> AvailableMemory(int threads, int sharing) {
   return out;
 }
 
-std::optional<MemoryLimit> AvailableMemoryOnEveryRank(int threads) {
-  std::optional<MemoryLimit> limit;
-  std::string error;
-  try {
-    limit = AvailableMemory(threads, MpiContext::RanksOnNode());
-  } catch (const MemoryLimitVariableError& e) {
-    error = e.what();
-  }
-  if (MpiContext::Active()) error = MpiContext::FirstNonEmpty(error);
-  if (!error.empty()) throw MemoryLimitVariableError(error);
-  return limit;
-}
-
 std::string MemoryRefusal(const RunMemory& need, const std::optional<MemoryLimit>& limit,
                           const std::string& remedy) {
   if (!limit || need.bytes() <= limit->bytes) return "";
@@ -158,4 +138,4 @@ std::string CheckRunMemory(const RunMemory& need, const std::optional<MemoryLimi
             : "");
 }
 
-}  // namespace gearnvh::app
+}  // namespace gearnvh

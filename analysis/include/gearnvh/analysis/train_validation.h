@@ -16,14 +16,14 @@
 #include <functional>
 #include <vector>
 
+#include "gearnvh/analysis/train_operating_point.h"
+#include "gearnvh/analysis/validation_ladder.h"
 #include "gearnvh/model/train_spec.h"
 #include "gearnvh/solver/train_reference.h"
 #include "gearnvh/solver/train_statistics.h"
 #include "gearnvh/solver/train_tables.h"
-#include "train_operating_point.h"
-#include "validation_ladder.h"
 
-namespace gearnvh::app {
+namespace gearnvh {
 
 struct TrainValidationOptions {
   // Passed to the table build, the exact runs and CVODE's runs (each polls it: RunCancelled once
@@ -34,7 +34,7 @@ struct TrainValidationOptions {
   // The ladder's worst case (TrainValidationCost) above kSlowRunRefuseSeconds is refused unless
   // this is set (CheckRunCost: InputError naming names("allow-slow")).
   bool allow_slow = false;
-  TrainOptionNames names;
+  OptionNames names;
   // Called with the cost warning (above kSlowRunWarnSeconds) before the first run; empty: not
   // called.
   std::function<void(const std::string&)> before_run_warning;
@@ -113,4 +113,4 @@ ValidationRow CompareFusionWithStepping(const TrainTables& tables, const TrainTa
                                         const std::vector<ContactState>& states0,
                                         const std::atomic<bool>* cancel = nullptr);
 
-}  // namespace gearnvh::app
+}  // namespace gearnvh

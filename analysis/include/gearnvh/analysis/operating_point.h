@@ -4,10 +4,10 @@
 #pragma once
 
 #include <functional>
-#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include "gearnvh/analysis/run_memory.h"
 #include "gearnvh/model/component_model.h"
 #include "gearnvh/nvh/rattle.h"
 #include "gearnvh/nvh/spectrum.h"
@@ -16,14 +16,14 @@
 #include "gearnvh/reduction/tier_adequacy.h"
 #include "gearnvh/solver/exact_solver.h"
 #include "gearnvh/solver/segment_tables.h"
-#include "run_memory.h"
 
-namespace gearnvh::app {
+namespace gearnvh {
 
 struct OperatingPointAnalysis {
   std::string tier_name;
   std::string cycles_note;  // set when the recorded cycles were rounded to whole revolutions
   std::vector<std::string> warnings;  // the model's, the tier adequacy's, the cycles rounding's
+  TierAdequacyOptions adequacy_options;
   TierAdequacy adequacy;
   SegmentTables tables;
   SolverOptions solver;  // as run (cycles may be rounded up to whole revolutions of both gears)
@@ -33,14 +33,10 @@ struct OperatingPointAnalysis {
   TransmissionErrorStats te;
   long sideband_window = 0;    // mesh cycles in the spectrum (whole revolutions of both shafts)
   AmplitudeSpectrum spectrum;  // TE spectrum over that window (empty when too few cycles)
+  SidebandOptions sideband_options;
   std::vector<SidebandRow> sidebands;
-  nlohmann::json doc;  // the `simulate --json` document without name and file
+  std::vector<std::string> sideband_notes;  // what the listing holds and why (cycles_note first)
 };
-
-// The mesh harmonics of a TE sideband table on one line, as `simulate` prints them: "1 fm: 0.1234
-// µm  2 fm: 0.0123 µm  " (a table holds up to hundreds of shaft-order lines and sidebands, down
-// to the rounding floor: those are in --json). Empty when no harmonic stands out.
-std::string MeshHarmonicsText(const std::vector<SidebandRow>& rows);
 
 // Recording more than this many times the requested cycles (whole periods of the shaft-order
 // sources, `cycles_note`) is a warning: the run takes that much longer than asked for.
@@ -63,15 +59,4 @@ OperatingPointAnalysis AnalyseOperatingPoint(
     const std::function<void(const std::string&)>& before_run_warning = {},
     const std::function<std::string(RunMemory&)>& before_run_memory = {});
 
-nlohmann::json SummaryJson(const SolverSummary& s);
-
-// What the TE mean contains: half the backlash b (delta is measured from the nominal rigid
-// rotation, and drive contact closes the gap at delta = b), and the mean from the contact.
-std::string TeMeanNote(const TransmissionErrorStats& te, double half_backlash);
-
-// Why the dynamic factor may not be meaningful: "" under load; a note when the mean mesh force is
-// near zero next to its peaks (drag torque, rattle), where max / static force is large by
-// construction.
-std::string DynamicFactorNote(const TransmissionErrorStats& te);
-
-}  // namespace gearnvh::app
+}  // namespace gearnvh

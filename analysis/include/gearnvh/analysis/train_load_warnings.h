@@ -8,10 +8,10 @@
 
 #include "gearnvh/model/train_spec.h"
 
-namespace gearnvh::app {
+namespace gearnvh {
 
 // The output shafts are the ends of the train: the shafts other than the input that no other
 // shaft is reached through (on the topology's spanning tree from the input).
 std::vector<std::string> TrainLoadWarnings(const TrainSpec& spec, const TrainTopology& topology);
 
-}  // namespace gearnvh::app
+}  // namespace gearnvh

@@ -1,4 +1,4 @@
-#include "order_tracks.h"
+#include "gearnvh/analysis/order_tracks.h"
 
 #include <fmt/format.h>
 
@@ -6,7 +6,7 @@
 #include <cmath>
 #include <limits>
 
-namespace gearnvh::app {
+namespace gearnvh {
 
 namespace {
 
@@ -88,4 +88,4 @@ std::vector<OrderTrack> LargestSidebandTracks(const GearboxSpec& spec,
   return out;
 }
 
-}  // namespace gearnvh::app
+}  // namespace gearnvh

@@ -7,14 +7,14 @@
 #include <string>
 #include <vector>
 
+#include "gearnvh/analysis/run_memory.h"
 #include "gearnvh/model/gearbox_spec.h"
 #include "gearnvh/nvh/campbell.h"
 #include "gearnvh/nvh/rattle.h"
 #include "gearnvh/reduction/reduced_model.h"
 #include "gearnvh/solver/solver_options.h"
-#include "run_memory.h"
 
-namespace gearnvh::app {
+namespace gearnvh {
 
 struct SpeedSweepOptions {
   long cycles = 512;            // recorded mesh cycles per speed; >= 2
@@ -61,4 +61,4 @@ SpeedSweepResult RunSpeedSweep(const GearboxSpec& spec, const ComponentModel& mo
                                const SweepProgress& progress = {},
                                const std::vector<bool>& skip = {});
 
-}  // namespace gearnvh::app
+}  // namespace gearnvh

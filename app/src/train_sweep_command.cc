@@ -1,61 +1,18 @@
-#include "train_sweep.h"
+#include "train_sweep_command.h"
 
 #include <fmt/format.h>
 
-#include <algorithm>
-#include <atomic>
-#include <mutex>
-#include <numbers>
 #include <optional>
 #include <sstream>
-#include <thread>
 
-#include "display_units.h"
 #include "gearnvh/model/input_error.h"
-#include "gearnvh/solver/train_reduced_tables.h"
-#include "parallel_for.h"
-#include "train_operating_point.h"
+#include "result_documents.h"
+#include "train_command_options.h"
 
 namespace gearnvh::app {
-namespace {
-
-TrainSweepPoint RunPoint(const TrainSpec& base, const TrainSweepOptions& options, double speed) {
-  ThrowIfCancelled(options.cancel);  // a speed not started yet
-  TrainSweepPoint p;
-  p.speed_rad_s = speed;
-  p.speed_rpm = Rpm(speed);
-  TrainSpec spec = base;
-  spec.operating.speed = speed;
-  TrainRunOptions run;
-  run.cycles = options.cycles;
-  run.transient = options.transient;
-  run.spectra = false;
-  run.events = options.events;
-  run.cancel = options.cancel;
-  run.tier = options.tier;
-  run.allow_slow = true;  // the sweep's cost was checked before any speed ran
-  const TrainOperatingPoint op = RunTrainOperatingPoint(spec, run);
-  p.ok = op.ok();
-  if (!p.ok) p.message = "the run stopped: " + TrainStepperMessage(op.summary);
-  p.real_time_ratio = op.wall_s > 0.0 ? op.summary.simulated_time / op.wall_s : 0.0;
-  p.recorded_s = op.stats.recorded_time;
-  for (const TrainMeshTable& mt : op.tables.meshes) p.mesh_periods.push_back(mt.period);
-  p.meshes = op.stats.meshes;
-  p.loose_gears = op.stats.loose_gears;
-  std::sort(p.loose_gears.begin(), p.loose_gears.end(),
-            [](const auto& a, const auto& b) { return a.body < b.body; });
-  return p;
-}
-
-}  // namespace
-
-void TrainSweepOptions::Validate() const {
-  if (cycles < 1) throw InputError("--cycles", 0, std::to_string(cycles), "must be >= 1");
-  if (transient < 0) throw InputError("--transient", 0, std::to_string(transient), "must be >= 0");
-}
 
 TrainSweepOptions PlanTrainSweep(const SweepOptions& options, const TrainSpec& spec,
-                                 const TrainOptionNames& names) {
+                                 const OptionNames& names) {
   const TrainCommandSettings settings =
       CheckTrainCommandOptions(options.tier, spec, options.method, options.uff, names);
   TrainSweepOptions sweep;
@@ -72,70 +29,6 @@ TrainSweepOptions PlanTrainSweep(const SweepOptions& options, const TrainSpec& s
   RequireRunLengthOfOptions(spec, spec.analysis.speed_sweep.from, sweep.cycles, sweep.transient,
                             options.cycles, options.transient, names);
   return sweep;
-}
-
-double TrainSweepPoint::ImpactsPerCycle(size_t mesh) const {
-  const double cycles = recorded_s / mesh_periods[mesh];
-  const TrainMeshStatistics& m = meshes[mesh];
-  return cycles > 0.0 ? static_cast<double>(m.drive_impacts + m.back_impacts) / cycles : 0.0;
-}
-
-int TrainSweepResult::failed() const {
-  int n = 0;
-  for (const TrainSweepPoint& p : points) n += p.ok ? 0 : 1;
-  return n;
-}
-
-RunCostEstimate EstimateTrainSweepCost(const TrainSpec& spec, const TrainSweepOptions& options) {
-  const SweepRange& range = spec.analysis.speed_sweep;
-  std::optional<RunCostEstimate> cheapest;
-  TrainTableOptions table_options;
-  table_options.cancel = options.cancel;
-  for (double speed : {range.Point(0), range.Point(range.points - 1)}) {
-    ThrowIfCancelled(options.cancel);
-    TrainSpec at = spec;
-    at.operating.speed = speed;
-    const GearTrain train = BuildGearTrain(at);
-    const TrainTables tables = BuildTrainTablesAtTier(at, train, options.tier, table_options);
-    const double seconds =
-        static_cast<double>(options.cycles + options.transient) * tables.meshes.front().period;
-    const RunCostEstimate cost = EstimateRunCost(tables, seconds, &at);
-    if (!cheapest || cost.wall_s < cheapest->wall_s) cheapest = cost;
-  }
-  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
-  const int threads = options.threads > 0 ? options.threads : static_cast<int>(cores);
-  return CombineRunCosts(std::vector<RunCostEstimate>(static_cast<size_t>(range.points), *cheapest),
-                         threads);
-}
-
-TrainSweepResult RunTrainSweep(const TrainSpec& spec, const TrainSweepOptions& options,
-                               const TrainSweepProgress& progress) {
-  options.Validate();
-  {
-    const RunCostEstimate cost = EstimateTrainSweepCost(spec, options);
-    const std::string what = fmt::format("the sweep's {} speeds", cost.runs);
-    const std::string slow = CheckRunCost(cost, options.allow_slow, what, options.names);
-    if (!slow.empty() && options.before_run_warning) options.before_run_warning(slow);
-  }
-  const SweepRange& range = spec.analysis.speed_sweep;
-  std::vector<double> speeds(static_cast<size_t>(range.points));
-  for (int i = 0; i < range.points; ++i) speeds[static_cast<size_t>(i)] = range.Point(i);
-  TrainSweepResult result;
-  for (const TrainMesh& m : spec.meshes) result.mesh_names.push_back(m.Name());
-  result.points.resize(speeds.size());
-  SweepProgressCounter counter(static_cast<int>(speeds.size()), progress);
-  ParallelFor(speeds.size(), options.threads, [&](size_t i) {
-    TrainSweepPoint& p = result.points[i];
-    RunSweepPoint(p, speeds[i], [&] { return RunPoint(spec, options, speeds[i]); });
-    counter.Tick();
-  });
-  for (const TrainSweepPoint& p : result.points) {
-    if (!p.ok) continue;
-    for (const TrainLooseGearStatistics& g : p.loose_gears)
-      result.loose_gear_names.push_back(g.name);
-    break;
-  }
-  return result;
 }
 
 nlohmann::json TrainSweepJson(const TrainSweepResult& r) {

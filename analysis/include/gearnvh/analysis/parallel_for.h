@@ -12,7 +12,7 @@
 #include <thread>
 #include <vector>
 
-namespace gearnvh::app {
+namespace gearnvh {
 
 // The threads ParallelFor(count, threads, ...) runs on: at most one per index.
 inline int ParallelWorkers(size_t count, int threads) {
@@ -67,4 +67,4 @@ class SweepProgressCounter {
   std::function<void(int, int)> report_;
 };
 
-}  // namespace gearnvh::app
+}  // namespace gearnvh

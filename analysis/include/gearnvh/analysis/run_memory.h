@@ -5,13 +5,12 @@
 #pragma once
 
 #include <cstddef>
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-namespace gearnvh::app {
+namespace gearnvh {
 
 struct MemoryPart {
   std::string name;  // "recorded samples", "event log", "TE spectrum", ...
@@ -25,9 +24,6 @@ struct RunMemory {
   // "1.3 GiB (recorded samples 256 MiB, event log 24 MiB, TE spectrum 144 MiB)"
   std::string Describe() const;
 };
-
-// {"bytes": total, "parts": {name: bytes}}: the `memory_estimate` of a results document.
-nlohmann::json MemoryJson(const RunMemory& memory);
 
 // "512 MiB", "1.3 GiB", "12 KiB", "100 B".
 std::string BytesText(size_t bytes);
@@ -68,11 +64,6 @@ constexpr size_t kThreadAddressSpaceBytes = size_t{72} << 20;
 // GEARNVH_MEMORY_LIMIT is a MemoryLimitVariableError naming the environment variable.
 std::optional<MemoryLimit> AvailableMemory(int threads = 0, int sharing = 1);
 
-// AvailableMemory for the ranks of one MPI run (each with its ranks on the node sharing): a
-// malformed GEARNVH_MEMORY_LIMIT on any rank is the same MemoryLimitVariableError on every rank
-// (the first rank's), so no rank is left waiting in a later collective for one that threw.
-std::optional<MemoryLimit> AvailableMemoryOnEveryRank(int threads);
-
 // The rule an estimate above `limit` breaks ("the run would hold about ..., more than the ... of
 // memory available (...); `remedy`"), "" when it fits.
 std::string MemoryRefusal(const RunMemory& need, const std::optional<MemoryLimit>& limit,
@@ -86,4 +77,4 @@ std::string CheckRunMemory(const RunMemory& need, const std::optional<MemoryLimi
                            const std::string& option, const std::string& value,
                            const std::string& remedy = kFewerCycles);
 
-}  // namespace gearnvh::app
+}  // namespace gearnvh

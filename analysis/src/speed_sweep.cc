@@ -1,4 +1,4 @@
-#include "speed_sweep.h"
+#include "gearnvh/analysis/speed_sweep.h"
 
 #include <algorithm>
 #include <atomic>
@@ -7,16 +7,16 @@
 #include <numbers>
 #include <thread>
 
-#include "display_units.h"
+#include "gearnvh/analysis/parallel_for.h"
+#include "gearnvh/analysis/written_numbers.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/rattle.h"
 #include "gearnvh/nvh/spectrum.h"
 #include "gearnvh/nvh/transmission_error.h"
 #include "gearnvh/solver/exact_solver.h"
 #include "gearnvh/solver/segment_tables.h"
-#include "parallel_for.h"
 
-namespace gearnvh::app {
+namespace gearnvh {
 
 namespace {
 
@@ -134,4 +134,4 @@ SpeedSweepResult RunSpeedSweep(const GearboxSpec& spec, const ComponentModel& mo
   return result;
 }
 
-}  // namespace gearnvh::app
+}  // namespace gearnvh

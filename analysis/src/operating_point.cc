@@ -1,4 +1,4 @@
-#include "operating_point.h"
+#include "gearnvh/analysis/operating_point.h"
 
 #include <fmt/format.h>
 
@@ -7,50 +7,7 @@
 
 #include "gearnvh/model/count_text.h"
 
-namespace gearnvh::app {
-
-nlohmann::json SummaryJson(const SolverSummary& s) {
-  return {{"status", SolverStatusName(s.status)},
-          {"message", s.message},
-          {"mesh_cycles", s.mesh_cycles},
-          {"events", s.events},
-          {"drive_impacts", s.drive_impacts},
-          {"back_impacts", s.back_impacts},
-          {"separations", s.separations},
-          {"grazing", s.grazing},
-          {"events_per_cycle", s.events_per_cycle},
-          {"matvecs", s.matvecs},
-          {"matvec_per_cycle", s.matvec_per_cycle},
-          {"fused_cycles", s.fused_cycles},
-          {"run_fused_segments", s.run_fused_segments},
-          {"jumped_cycles", s.jumped_cycles},
-          {"contact_certified", s.contact_certified},
-          {"simulated_s", s.simulated_s},
-          {"wall_s", s.wall_s},
-          {"real_time_ratio", s.real_time_ratio},
-          {"table_bytes", s.table_bytes},
-          {"spectral_fallback_systems", s.spectral_fallback_systems},
-          {"spectral_max_condition", s.spectral_max_condition},
-          {"trajectory_truncated", s.trajectory_truncated}};
-}
-
-std::string TeMeanNote(const TransmissionErrorStats& te, double half_backlash) {
-  return fmt::format(
-      "the mean includes half the backlash (b = {:.4g} µm: the TE is measured from the nominal "
-      "rigid rotation and drive contact closes the gap at TE = b); from the drive-flank contact it "
-      "is {:.4g} µm",
-      half_backlash * 1e6, te.mean_from_contact * 1e6);
-}
-
-std::string DynamicFactorNote(const TransmissionErrorStats& te) {
-  // Near zero: below a tenth of the peak force (a loaded mesh has mean ~ static force and peaks
-  // of a few times that at most).
-  if (te.dynamic_factor > 0.0 && te.mesh_force_mean >= 0.1 * te.mesh_force_max) return "";
-  return fmt::format(
-      "not meaningful here: the mean mesh force ({:.3g} N) is near zero next to its peaks ({:.3g} "
-      "N), as under a drag torque; the factor max / static force is then large by construction",
-      te.mesh_force_mean, te.mesh_force_max);
-}
+namespace gearnvh {
 
 RunMemory OperatingPointMemory(const SolverOptions& run, const SolverOptions& reference,
                                long spectrum_cycles) {
@@ -74,7 +31,7 @@ OperatingPointAnalysis AnalyseOperatingPoint(
   // Warnings the engineer must see with the numbers: the model's (fits used outside their range,
   // errors that can unload pairs) and whether the tier reproduces the modes the mesh excites.
   op.warnings = model.warnings;
-  TierAdequacyOptions adequacy;
+  TierAdequacyOptions& adequacy = op.adequacy_options;
   adequacy.max_frequency_hz =
       3.0 * spec.pinion.teeth * spec.operating.speed / (2.0 * std::numbers::pi);
   op.adequacy = AssessTierAdequacy(model, reduced, FullModelMeshModes(model, adequacy), adequacy);
@@ -144,117 +101,42 @@ OperatingPointAnalysis AnalyseOperatingPoint(
                                            ? 0.0
                                            : spec.pinion.teeth / spec.operating.excitation[0].order;
   op.rattle = ComputeRattleIndices(result, model.effective_mass, cycles_per_excitation, &reference);
-  const RattleIndices& rattle = op.rattle;
   op.te = ComputeTransmissionErrorStats(trajectory, spec.WheelTorque() / model.geometry.wheel.base,
                                         model.half_backlash);
 
-  const TransmissionErrorStats& te = op.te;
-  nlohmann::json& doc = op.doc;
-  doc["tier"] = reduced.name;
-  doc["warnings"] = op.warnings;
-  nlohmann::json adequacy_modes = nlohmann::json::array();
-  for (const TierModeMatch& m : op.adequacy.modes) {
-    adequacy_modes.push_back({{"full_hz", m.full_hz},
-                              {"mesh_compliance_share", m.share},
-                              {"tier_hz", m.tier_hz},
-                              {"mac", m.mac},
-                              {"relative_error", m.relative_error},
-                              {"reproduced", m.reproduced}});
-  }
-  doc["tier_adequacy"] = {
-      {"adequate", op.adequacy.adequate},
-      {"max_frequency_hz", adequacy.max_frequency_hz},
-      {"modes", adequacy_modes},
-      {"adequate_tier", op.adequacy.adequate_tier
-                            ? nlohmann::json(TierName(*op.adequacy.adequate_tier))
-                            : nlohmann::json(nullptr)}};
-  doc["method"] = SolverMethodName(solver.method);
-  doc["events_method"] = EventMethodName(solver.events);
-  doc["state_dim"] = tables.m;
-  doc["summary"] = SummaryJson(summary);
-  doc["memory_estimate"] = MemoryJson(op.memory);
-  doc["te_rms"] = te.rms;
-  doc["te"] = {{"mean", te.mean},
-               {"mean_from_contact", te.mean_from_contact},
-               {"mean_note", TeMeanNote(te, model.half_backlash)},
-               {"rms", te.rms},
-               {"peak_to_peak", te.peak_to_peak},
-               {"max", te.max},
-               {"min", te.min}};
-  doc["rattle"] = {{"regime", RattleRegimeName(rattle.regime)},
-                   {"drive_impacts_per_cycle", rattle.drive_impacts_per_cycle},
-                   {"back_impacts_per_cycle", rattle.back_impacts_per_cycle},
-                   {"drive_impacts_per_excitation_cycle", rattle.drive_impacts_per_excitation},
-                   {"back_impacts_per_excitation_cycle", rattle.back_impacts_per_excitation},
-                   {"impact_velocity_rms", rattle.impact_velocity_rms},
-                   {"impact_energy_per_cycle", rattle.impact_energy_per_cycle},
-                   {"separation_fraction", rattle.separation_fraction},
-                   {"wheel_acceleration_rms", rattle.wheel_acceleration_rms},
-                   {"no_backlash_acceleration_rms", rattle.no_backlash_acceleration_rms},
-                   {"acceleration_ratio", rattle.acceleration_ratio}};
-  doc["mesh_force"] = {{"mean", te.mesh_force_mean},
-                       {"max", te.mesh_force_max},
-                       {"dynamic_factor", te.dynamic_factor},
-                       {"dynamic_factor_note", DynamicFactorNote(te)}};
   // Mesh harmonics, shaft orders and their sidebands of the TE over whole periods of the sources
   // (every recorded cycle when there are none).
   const long recorded = summary.trajectory_truncated ? 0 : summary.recorded_cycles;
   op.sideband_window = period > 0 ? (recorded / period) * period : 0;
-  nlohmann::json sidebands = nlohmann::json::array();
   const long window = op.sideband_window;
-  SidebandOptions sideband_options;
-  sideband_options.shaft_order_sources = shaft_order_sources;
-  sideband_options.scale = tables.half_backlash;
+  op.sideband_options.shaft_order_sources = shaft_order_sources;
+  op.sideband_options.scale = tables.half_backlash;
   if (window > 0 && summary.status == SolverStatus::kSuccess) {
     const int per_cycle = op.solver.samples_per_cycle;
     SpectrumAnalyzer analyzer(static_cast<int>(window * per_cycle));
     op.spectrum = TeSpectrum(trajectory, tables.mesh_period, per_cycle, window, analyzer);
-    const AmplitudeSpectrum& spectrum = op.spectrum;
     const double pinion_hz = spec.operating.speed / (2.0 * std::numbers::pi);
     op.sidebands =
-        SidebandTable(spectrum, 1.0 / tables.mesh_period, pinion_hz,
-                      pinion_hz * spec.pinion.teeth / spec.wheel.teeth, sideband_options);
-    for (const SidebandRow& r : op.sidebands) {
-      sidebands.push_back({{"label", r.label},
-                           {"frequency_hz", r.frequency_hz},
-                           {"amplitude_m", r.amplitude},
-                           {"db_re_1um", r.db_re_1um},
-                           {"background_m", r.background}});
-    }
+        SidebandTable(op.spectrum, 1.0 / tables.mesh_period, pinion_hz,
+                      pinion_hz * spec.pinion.teeth / spec.wheel.teeth, op.sideband_options);
   }
-  doc["sidebands"] = sidebands;
-  doc["sideband_window_cycles"] = window;
-  nlohmann::json notes = nlohmann::json::array();
-  if (!op.cycles_note.empty()) notes.push_back(op.cycles_note);
+  if (!op.cycles_note.empty()) op.sideband_notes.push_back(op.cycles_note);
   if (!shaft_order_sources) {
-    notes.push_back(
+    op.sideband_notes.push_back(
         "the model has no runout, pitch error or engine order: no shaft-order line or sideband "
         "can arise, so only the mesh harmonics are listed");
   }
   if (window == 0) {
-    notes.push_back(
+    op.sideband_notes.push_back(
         "no spectrum: the record holds no whole period of the engine orders and gear "
         "errors");
   }
-  notes.push_back(fmt::format(
+  op.sideband_notes.push_back(fmt::format(
       "lines are listed when {:g} dB above the median of the {} bins around them and above {:g} "
       "dB relative to the strongest bin",
-      sideband_options.prominence_db, 2 * sideband_options.background_bins,
-      sideband_options.rounding_floor_db));
-  doc["sidebands_notes"] = notes;
+      op.sideband_options.prominence_db, 2 * op.sideband_options.background_bins,
+      op.sideband_options.rounding_floor_db));
   return op;
 }
 
-std::string MeshHarmonicsText(const std::vector<SidebandRow>& rows) {
-  std::string text;
-  for (const SidebandRow& r : rows) {
-    // "1 fm = 23 fin" reads "1 fm": the lines sharing its bin are in --json.
-    if (IsMeshHarmonic(r)) {
-      text +=
-          fmt::format("{}: {:.4f} µm  ", r.label.substr(0, r.label.find(" = ")), r.amplitude * 1e6);
-    }
-  }
-  return text;
-}
-
-}  // namespace gearnvh::app
+}  // namespace gearnvh

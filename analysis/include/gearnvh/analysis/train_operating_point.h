@@ -1,0 +1,98 @@
+// One operating point of a gear train (schema gearnvh/2) through the train solver
+// (solver/train_stepper.h) and its per-mesh NVH: what `gearnvh simulate` prints for a train and
+// what each point of a train's `sweep` holds.
+//
+// Per-mesh TE spectrum (docs/results.md, "Gear trains"): the amplitude-correct Hann spectrum
+// (nvh/spectrum.h) of mesh i's TE at the recorder's uniform samples (dt = the fastest mesh period
+// / samples_per_cycle) over the last W whole common periods of the record (every mesh and every
+// engine order back in phase, so every periodic line of every mesh sits on a bin). W is the number
+// of whole common periods in the record, bounded by the sample storage; 0 (no spectrum, a note
+// says what is needed) when the record is shorter than one common period or the train has none.
+// The lines are the pair's SidebandTable per mesh: its harmonics k fm_i, the shaft orders j f_s of
+// every source and the sidebands k fm_i +- j f_s, listed only when they stand out of the local
+// background and above the rounding floor. Sources: the input shaft (fin) with engine orders, and
+// every body whose gears carry runout or pitch errors (f_<body>; fin for the input shaft); without
+// any source only mesh harmonics are considered (the pair's rule).
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "gearnvh/analysis/option_names.h"
+#include "gearnvh/analysis/run_cost.h"
+#include "gearnvh/analysis/run_memory.h"
+#include "gearnvh/model/gear_train.h"
+#include "gearnvh/model/train_spec.h"
+#include "gearnvh/nvh/spectrum.h"
+#include "gearnvh/solver/train_statistics.h"
+#include "gearnvh/solver/train_stepper.h"
+
+namespace gearnvh {
+
+struct TrainRunOptions {
+  long cycles = 2000;                         // recorded cycles of the first mesh in the file, >= 1
+  long transient = 500;                       // cycles of the first mesh before recording, >= 0
+  int samples_per_cycle = 32;                 // per cycle of the fastest mesh, >= 4
+  bool spectra = true;                        // keep the TE samples and compute per-mesh sidebands
+  long max_spectrum_samples = long{1} << 21;  // TE samples kept per mesh for spectra, >= 1
+  EventMethod events = EventMethod::kSpectral;  // V3; V2 and V1 to validate
+  Tier tier = Tier::kTier1;  // the train's tier (docs/gear-trains.md, "Tiers of a train")
+  bool jumps = true;         // certified jumps of the transient (TrainStepperOptions::jumps)
+  // Polled by the table build and the stepper (per mesh, per grid segment): RunCancelled once
+  // set. Not owned; null: never cancelled.
+  const std::atomic<bool>* cancel = nullptr;
+  // Called with each warning about the run's cost (SlowRunWarning) before the run starts, so a
+  // command can say it on stderr at once; empty: not called (the warning is in `warnings` too).
+  std::function<void(const std::string&)> before_run_warning;
+  // Called with the memory estimate before the run starts (TrainOperatingPoint::memory): may add
+  // the command's own parts, throw to refuse the run, or return a warning (kept in `warnings` and
+  // passed to before_run_warning); empty: no check.
+  std::function<std::string(RunMemory&)> before_run_memory;
+  // A run whose cost estimate (EstimateRunCost) exceeds kSlowRunRefuseSeconds is refused unless
+  // this is set; the refusal names names("allow-slow").
+  bool allow_slow = false;
+  OptionNames names;
+  void Validate() const;
+};
+
+struct TrainMeshSidebands {
+  long window_cycles = 0;  // cycles of this mesh in the spectrum window
+  std::vector<SidebandRow> rows;
+};
+
+struct TrainOperatingPoint {
+  Tier tier = Tier::kTier1;
+  GearTrain train;
+  TrainTables tables;
+  TrainStepperOptions solver;
+  TrainStepperSummary summary;
+  TrainStatistics stats;
+  std::vector<std::string> warnings;  // what the train solver does not model, said once
+  RunCostEstimate cost;               // estimated before the run
+  double wall_s = 0.0;
+  // The parts that grow with the recorded cycles, estimated before the run: the TE samples kept
+  // for spectra (TrainRecorder::KeepTeSeries) and the spectrum of one mesh at a time.
+  RunMemory memory;
+  // Spectra (empty `sidebands` when TrainRunOptions::spectra is false).
+  long sideband_window_common_periods = 0;
+  SidebandOptions sideband_options;
+  std::vector<TrainMeshSidebands> sidebands;  // per mesh, file order
+  std::vector<std::string> sideband_notes;
+  bool ok() const { return summary.info == TrainStepperSummary::Info::kSuccess; }
+};
+
+// Called about 100 times during the run with the simulated time reached (s) and the end time.
+using TrainProgress = std::function<void(double time, double end)>;
+
+TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, const TrainRunOptions& options,
+                                           const TrainProgress& progress = {});
+// The same on the train of `spec` and its tables at options.tier, already built (BuildGearTrain,
+// BuildTrainTablesAtTier): a command that estimated the run's cost on them runs them.
+TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, GearTrain train,
+                                           TrainTables tables_at_tier,
+                                           const TrainRunOptions& options,
+                                           const TrainProgress& progress = {});
+
+}  // namespace gearnvh

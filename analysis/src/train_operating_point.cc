@@ -1,0 +1,261 @@
+#include "gearnvh/analysis/train_operating_point.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <optional>
+#include <utility>
+
+#include "gearnvh/analysis/train_load_warnings.h"
+#include "gearnvh/model/input_error.h"
+#include "gearnvh/solver/train_reduced_tables.h"
+
+namespace gearnvh {
+namespace {
+
+// The train's model warnings and errors that may unload tooth pairs (the pair's warning, per
+// mesh), said once per run.
+std::vector<std::string> TrainWarnings(const GearTrain& train, const TrainTables& tables) {
+  std::vector<std::string> out = train.warnings;
+  for (size_t i = 0; i < tables.meshes.size(); ++i) {
+    const MeshErrorExcitation& errors = tables.meshes[i].errors;
+    const TrainMeshModel& mm = train.meshes[i];
+    if (!errors.active() || !(mm.stiffness.max > 0.0)) continue;
+    const double pair_deflection = mm.cycle.load / mm.stiffness.max;
+    if (errors.largest_pair_deviation() > pair_deflection) {
+      out.push_back(fmt::format(
+          "meshes[{}] ({}): pitch deviations differ by up to {:.3g} µm, more than the loaded "
+          "deflection of the mesh ({:.3g} µm at its transmitted torque): they can unload tooth "
+          "pairs, which the model does not follow (the loaded pairs of the error-free mesh carry "
+          "the errors' mean)",
+          i, mm.name, errors.largest_pair_deviation() * 1e6, pair_deflection * 1e6));
+    }
+  }
+  return out;
+}
+
+// The shaft-order sources of the spectra: the input shaft ("fin") when the file has engine orders
+// or its gears carry errors, and every other body whose gears carry runout or pitch errors
+// ("f_<body>"), at its nominal rotation frequency.
+std::vector<ShaftOrderSource> ShaftOrderSources(const TrainSpec& spec, const GearTrain& train,
+                                                const TrainTables& tables) {
+  const TrainTopology& topo = train.topology;
+  std::vector<bool> carries(topo.bodies.size(), false);
+  for (size_t g = 0; g < spec.gears.size(); ++g) {
+    const GearSpec& gear = spec.gears[g].gear;
+    const bool runout = gear.runout && gear.runout->amplitude > 0.0;
+    const bool pitch = std::any_of(gear.pitch_errors.begin(), gear.pitch_errors.end(),
+                                   [](double f) { return f != 0.0; });
+    if (runout || pitch) carries[static_cast<size_t>(topo.gear_body[g])] = true;
+  }
+  const double to_hz = 1.0 / (2.0 * std::numbers::pi);
+  std::vector<ShaftOrderSource> sources;
+  if (!tables.excitation.empty() || carries[static_cast<size_t>(topo.input_body)])
+    sources.push_back({"fin", tables.input_speed * to_hz});
+  for (size_t b = 0; b < topo.bodies.size(); ++b) {
+    if (!carries[b] || static_cast<int>(b) == topo.input_body) continue;
+    sources.push_back({"f_" + topo.bodies[b].name, std::abs(topo.bodies[b].speed) * to_hz});
+  }
+  return sources;
+}
+
+// The spectrum window on the recorder's sample grid t_k = start + k dt: the last W whole common
+// periods inside [start, end].
+struct SpectrumWindow {
+  long periods = 0;             // W
+  long samples_per_period = 0;  // common period / dt (a whole number)
+  double from_time = 0.0;       // the window's first sample
+  std::string note;             // why there is no window
+};
+
+SpectrumWindow PlanWindow(const TrainTables& t, double dt, double start, double end,
+                          long max_samples, long first_mesh_cycles) {
+  SpectrumWindow w;
+  if (t.common_period <= 0.0) {
+    w.note =
+        "no spectrum: the meshes and engine orders have no common period within 1000 input "
+        "revolutions, so no window holds whole periods of every line";
+    return w;
+  }
+  const double per_period = t.common_period / dt;
+  w.samples_per_period = std::llround(per_period);
+  // The common period is a whole number of cycles of the fastest mesh, dt a whole fraction of it.
+  if (w.samples_per_period < 1 ||
+      std::abs(per_period - static_cast<double>(w.samples_per_period)) > 1e-6) {
+    w.note = "no spectrum: the common period is not a whole number of samples";
+    return w;
+  }
+  const long in_record =
+      static_cast<long>(std::floor((end - start) / t.common_period * (1 + 1e-12)));
+  w.periods = std::min(in_record, max_samples / w.samples_per_period);
+  const long period_cycles = std::llround(t.common_period / t.meshes.front().period);
+  if (w.periods == 0) {
+    w.note = in_record == 0
+                 ? fmt::format(
+                       "no spectrum: the record ({} cycles of {}) is shorter than the "
+                       "common period of the train ({} cycles); record at least that many",
+                       first_mesh_cycles, t.meshes.front().name, period_cycles)
+                 : fmt::format(
+                       "no spectrum: one common period ({} cycles of {}) needs more "
+                       "samples than the {} kept per mesh",
+                       period_cycles, t.meshes.front().name, max_samples);
+    return w;
+  }
+  const long last = static_cast<long>(std::floor((end - start) / dt));
+  const long first = std::max(0L, last - w.periods * w.samples_per_period);
+  w.from_time = start + static_cast<double>(first) * dt;
+  return w;
+}
+
+}  // namespace
+
+void TrainRunOptions::Validate() const {
+  if (cycles < 1)
+    throw InputError("TrainRunOptions.cycles", 0, std::to_string(cycles), "must be >= 1");
+  if (transient < 0) {
+    throw InputError("TrainRunOptions.transient", 0, std::to_string(transient), "must be >= 0");
+  }
+  if (samples_per_cycle < 4) {
+    throw InputError("TrainRunOptions.samples_per_cycle", 0, std::to_string(samples_per_cycle),
+                     "must be >= 4");
+  }
+  if (max_spectrum_samples < 1) {
+    throw InputError("TrainRunOptions.max_spectrum_samples", 0,
+                     std::to_string(max_spectrum_samples), "must be >= 1");
+  }
+}
+
+TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, const TrainRunOptions& options,
+                                           const TrainProgress& progress) {
+  options.Validate();
+  GearTrain train = BuildGearTrain(spec);
+  TrainTableOptions table_options;
+  table_options.cancel = options.cancel;
+  TrainTables tables = BuildTrainTablesAtTier(spec, train, options.tier, table_options);
+  return RunTrainOperatingPoint(spec, std::move(train), std::move(tables), options, progress);
+}
+
+TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, GearTrain train,
+                                           TrainTables tables_at_tier,
+                                           const TrainRunOptions& options,
+                                           const TrainProgress& progress) {
+  options.Validate();
+  if (tables_at_tier.tier != options.tier) {
+    throw std::logic_error("RunTrainOperatingPoint: the tables are not at options.tier");
+  }
+  TrainOperatingPoint op;
+  op.tier = options.tier;
+  op.train = std::move(train);
+  op.tables = std::move(tables_at_tier);
+  op.warnings = TrainWarnings(op.train, op.tables);
+  for (const std::string& w : TrainLoadWarnings(spec, op.train.topology)) op.warnings.push_back(w);
+  const TrainTables& tables = op.tables;
+  // cycles and transient count cycles of the first mesh in the file.
+  const double period = tables.meshes.front().period;
+  const double start = static_cast<double>(options.transient) * period;
+  const double end = start + static_cast<double>(options.cycles) * period;
+
+  op.cost = EstimateRunCost(tables, end, &spec);
+  if (const std::string slow = CheckRunCost(op.cost, options.allow_slow, "the run", options.names);
+      !slow.empty()) {
+    op.warnings.push_back(slow);
+    if (options.before_run_warning) options.before_run_warning(slow);
+  }
+  const auto [z0, states0] = TrainStaticState(tables);
+  op.solver.events = options.events;
+  op.solver.jumps = options.jumps;
+  TrainStepperOptions stepper_options = op.solver;  // op.solver keeps no flag beyond this call
+  stepper_options.cancel = options.cancel;
+  TrainStepper stepper(tables, stepper_options, z0, states0);
+  TrainRecorder recorder(tables, options.samples_per_cycle, start);
+  SpectrumWindow window;
+  if (options.spectra) {
+    window = PlanWindow(tables, recorder.sample_interval(), start, end,
+                        options.max_spectrum_samples, options.cycles);
+  }
+  const long kept = window.periods * window.samples_per_period;
+  op.memory = {{{"TE samples", TrainRecorder::TeSeriesBytes(tables.meshes.size(), kept)},
+                {"TE spectrum", SpectrumBytes(kept)}},
+               kept};
+  if (options.before_run_memory) {
+    if (const std::string warning = options.before_run_memory(op.memory); !warning.empty()) {
+      op.warnings.push_back(warning);
+      if (options.before_run_warning) options.before_run_warning(warning);
+    }
+  }
+  if (kept > 0) recorder.KeepTeSeries(window.from_time, kept);
+  const auto wall_start = std::chrono::steady_clock::now();
+  // The run goes in chunks of at most 1 % (progress is reported at every 1 %) and kChunkCycles
+  // cycles: a chunk's end bounds the fused runs and the fusion-table decision, so the cap (once
+  // cancellation's latency) is kept to keep the results. The stepper polls cancellation itself.
+  constexpr int kProgressSteps = 100;
+  constexpr double kChunkCycles = 64.0;
+  const double chunk = std::min(end / kProgressSteps, kChunkCycles * period);
+  const long chunks = static_cast<long>(std::ceil(end / chunk));
+  bool ok = true;
+  long reported = 0;
+  for (long c = 1; c <= chunks && ok; ++c) {
+    ok = stepper.Run(c == chunks ? end : std::min(end, chunk * static_cast<double>(c)), &recorder);
+    const long step = static_cast<long>(kProgressSteps * stepper.time() / end);
+    if (progress && (step > reported || c == chunks || !ok)) {
+      reported = step;
+      progress(stepper.time(), end);
+    }
+  }
+  op.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  op.summary = stepper.summary();
+  op.stats = recorder.Result();
+  if (!options.spectra) return op;
+
+  // Shaft-order content comes from the engine orders (orders of the input shaft, up to the
+  // highest) and from the runout and pitch errors of gears (orders of the bodies that carry
+  // them). The common period holds whole revolutions of both, so their lines sit on bins.
+  const bool errors = tables.error_inputs > 0;
+  op.sideband_options.shaft_order_sources = !tables.excitation.empty() || errors;
+  for (const ExcitationOrder& e : tables.excitation) {
+    op.sideband_options.orders =
+        std::max(op.sideband_options.orders, static_cast<int>(std::ceil(e.order)));
+  }
+  const std::vector<ShaftOrderSource> sources = ShaftOrderSources(spec, op.train, tables);
+  op.sideband_window_common_periods = window.periods;
+  op.sidebands.resize(tables.meshes.size());
+  const long window_samples = window.periods * window.samples_per_period;
+  const bool complete = ok && window.periods > 0 &&
+                        static_cast<long>(recorder.te_series().front().size()) == window_samples;
+  if (complete) {
+    SpectrumAnalyzer analyzer(static_cast<int>(window_samples));
+    const double rate = 1.0 / recorder.sample_interval();
+    for (size_t i = 0; i < tables.meshes.size(); ++i) {
+      ThrowIfCancelled(options.cancel);  // an FFT of up to 2^21 samples per mesh
+      const TrainMeshTable& mt = tables.meshes[i];
+      const AmplitudeSpectrum spectrum = analyzer.Analyze(recorder.te_series()[i], rate);
+      op.sidebands[i].window_cycles =
+          std::llround(static_cast<double>(window.periods) * tables.common_period / mt.period);
+      SidebandOptions mesh_options = op.sideband_options;
+      mesh_options.scale = mt.half_backlash;
+      op.sidebands[i].rows = SidebandTable(spectrum, 1.0 / mt.period, sources, mesh_options);
+    }
+  } else if (!window.note.empty()) {
+    op.sideband_notes.push_back(window.note);
+  } else {
+    op.sideband_notes.push_back("no spectrum: the run stopped before the end of the record");
+  }
+  op.sideband_notes.push_back(
+      !op.sideband_options.shaft_order_sources
+          ? "the train has no runout, pitch error or engine order: no shaft-order line or "
+            "sideband can arise, so only each mesh's harmonics are listed"
+          : "shaft-order lines and sidebands come from the engine orders (orders j fin of the "
+            "input shaft) and the gears' runout and pitch errors (orders of the bodies that carry "
+            "them, f_<body>); every mesh lists the lines of every source");
+  op.sideband_notes.push_back(fmt::format(
+      "lines are listed when {:g} dB above the median of the {} bins around them and above {:g} "
+      "dB relative to the strongest bin (rounding of the exact solution lies near -300 dB)",
+      op.sideband_options.prominence_db, 2 * op.sideband_options.background_bins,
+      op.sideband_options.rounding_floor_db));
+  return op;
+}
+
+}  // namespace gearnvh

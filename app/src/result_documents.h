@@ -1,0 +1,46 @@
+// The JSON and text of analysis results that several commands, the report and the Python module
+// share: SI units in JSON, as docs/cli.md lists the keys.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "gearnvh/analysis/operating_point.h"
+#include "gearnvh/analysis/run_memory.h"
+#include "gearnvh/analysis/train_operating_point.h"
+#include "gearnvh/nvh/spectrum.h"
+#include "gearnvh/nvh/transmission_error.h"
+#include "gearnvh/solver/solver_options.h"
+#include "gearnvh/solver/train_statistics.h"
+
+namespace gearnvh::app {
+
+// {"bytes": total, "parts": {name: bytes}}: the `memory_estimate` of a results document.
+nlohmann::json MemoryJson(const RunMemory& memory);
+
+nlohmann::json SummaryJson(const SolverSummary& s);
+
+// The `simulate --json` document of a pair's operating point without name and file.
+nlohmann::json OperatingPointJson(const OperatingPointAnalysis& op);
+
+// The mesh harmonics of a TE sideband table on one line, as `simulate` prints them: "1 fm: 0.1234
+// µm  2 fm: 0.0123 µm  " (a table holds up to hundreds of shaft-order lines and sidebands, down
+// to the rounding floor: those are in --json). Empty when no harmonic stands out.
+std::string MeshHarmonicsText(const std::vector<SidebandRow>& rows);
+
+// What the TE mean contains: half the backlash b (delta is measured from the nominal rigid
+// rotation, and drive contact closes the gap at delta = b), and the mean from the contact.
+std::string TeMeanNote(const TransmissionErrorStats& te, double half_backlash);
+
+// Why the dynamic factor may not be meaningful: "" under load; a note when the mean mesh force is
+// near zero next to its peaks (drag torque, rattle), where max / static force is large by
+// construction.
+std::string DynamicFactorNote(const TransmissionErrorStats& te);
+
+// `meshes` and `loose_gears` of `simulate --json` on a train (docs/cli.md), SI units.
+nlohmann::json TrainMeshesJson(const TrainOperatingPoint& op);
+nlohmann::json TrainLooseGearsJson(const std::vector<TrainLooseGearStatistics>& gears);
+nlohmann::json SidebandsJson(const std::vector<SidebandRow>& rows);
+
+}  // namespace gearnvh::app

@@ -1,0 +1,35 @@
+// `sweep` on a gear train: its options checked and planned (the command line's or the Python
+// module's), and the sweep's documents (JSON in SI units, CSV, the terminal's tables).
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "display_units.h"
+#include "gearnvh/analysis/option_names.h"
+#include "gearnvh/analysis/train_sweep.h"
+#include "gearnvh/model/train_spec.h"
+#include "sweep_command.h"
+
+namespace gearnvh::app {
+
+// What `sweep` runs on a train, from its options (the command line's or the Python module's,
+// `names` saying how they are named in errors): --cycles (default 512), --transient (200),
+// --jobs, tier and event method, held to the run-length limit at the sweep's lowest speed.
+TrainSweepOptions PlanTrainSweep(const SweepOptions& options, const TrainSpec& spec,
+                                 const OptionNames& names = {});
+
+// The sweep's documents: JSON (SI units) and CSV, one row per speed and mesh / loose gear.
+nlohmann::json TrainSweepJson(const TrainSweepResult& r);
+// `sweep --json` on a train: TrainSweepJson with the train's name, the file, the tier, and the
+// cycles and transient per speed.
+nlohmann::json TrainSweepDocument(const TrainSweepResult& r, const TrainSpec& spec,
+                                  const std::string& file, const TrainSweepOptions& options);
+std::string TrainMeshesCsv(const TrainSweepResult& r);
+std::string TrainLooseGearsCsv(const TrainSweepResult& r);
+
+// Prints the sweep's text tables (per mesh, then the loose gears' rattle index per speed).
+// The tables of a sweep on a terminal, speeds in `speed_unit` (the unit the file wrote).
+void PrintTrainSweep(const TrainSweepResult& r, const DisplayUnit& speed_unit);
+
+}  // namespace gearnvh::app
