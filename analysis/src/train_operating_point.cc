@@ -126,6 +126,14 @@ void TrainRunOptions::Validate() const {
     throw InputError("TrainRunOptions.max_spectrum_samples", 0,
                      std::to_string(max_spectrum_samples), "must be >= 1");
   }
+  if (max_history_samples < 0) {
+    throw InputError("TrainRunOptions.max_history_samples", 0, std::to_string(max_history_samples),
+                     "must be >= 0");
+  }
+  if (max_logged_events < 0) {
+    throw InputError("TrainRunOptions.max_logged_events", 0, std::to_string(max_logged_events),
+                     "must be >= 0");
+  }
 }
 
 TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, const TrainRunOptions& options,
@@ -176,17 +184,34 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, GearTrain trai
     window = PlanWindow(tables, recorder.sample_interval(), start, end,
                         options.max_spectrum_samples, options.cycles);
   }
-  const long kept = window.periods * window.samples_per_period;
-  op.memory = {{{"TE samples", TrainRecorder::TeSeriesBytes(tables.meshes.size(), kept)},
-                {"TE spectrum", SpectrumBytes(kept)}},
+  const long window_samples = window.periods * window.samples_per_period;
+  // With histories every sample of the record is kept (the spectrum window is its tail), else
+  // only the window's.
+  const double dt = recorder.sample_interval();
+  const long record_samples = static_cast<long>(std::ceil((end - start) / dt));
+  const long kept =
+      options.histories ? std::min(record_samples, options.max_history_samples) : window_samples;
+  const size_t meshes = tables.meshes.size();
+  op.memory = {{{"TE samples", TrainRecorder::SeriesBytes(meshes, kept, options.histories)},
+                {"TE spectrum", SpectrumBytes(window_samples)}},
                kept};
+  if (options.histories) {
+    op.memory.parts.push_back(
+        {"event log", static_cast<size_t>(options.max_logged_events) * sizeof(TrainEventRecord)});
+    op.memory.parts.push_back(
+        {"TE spectra of every mesh",
+         meshes * static_cast<size_t>(window_samples / 2 + 1) * sizeof(double)});
+  }
   if (options.before_run_memory) {
     if (const std::string warning = options.before_run_memory(op.memory); !warning.empty()) {
       op.warnings.push_back(warning);
       if (options.before_run_warning) options.before_run_warning(warning);
     }
   }
-  if (kept > 0) recorder.KeepTeSeries(window.from_time, kept);
+  if (kept > 0) {
+    recorder.KeepSeries(options.histories ? start : window.from_time, kept, options.histories);
+  }
+  if (options.histories) recorder.KeepEvents(options.max_logged_events);
   const auto wall_start = std::chrono::steady_clock::now();
   // The run goes in chunks of at most 1 % (progress is reported at every 1 %) and kChunkCycles
   // cycles: a chunk's end bounds the fused runs and the fusion-table decision, so the cap (once
@@ -208,6 +233,18 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, GearTrain trai
   op.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   op.summary = stepper.summary();
   op.stats = recorder.Result();
+  if (options.histories) {
+    TrainHistories& h = op.histories;
+    h.start = start;
+    h.dt = dt;
+    h.te = recorder.te_series();
+    h.force = recorder.force_series();
+    h.contact = recorder.contact_series();
+    h.truncated = !h.te.empty() && static_cast<long>(h.te.front().size()) < op.stats.samples;
+    h.events = recorder.events();
+    h.events_truncated = static_cast<long>(h.events.size()) >= options.max_logged_events &&
+                         op.summary.events > options.max_logged_events;
+  }
   if (!options.spectra) return op;
 
   // Shaft-order content comes from the engine orders (orders of the input shaft, up to the
@@ -222,24 +259,35 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, GearTrain trai
   const std::vector<ShaftOrderSource> sources = ShaftOrderSources(spec, op.train, tables);
   op.sideband_window_common_periods = window.periods;
   op.sidebands.resize(tables.meshes.size());
-  const long window_samples = window.periods * window.samples_per_period;
-  const bool complete = ok && window.periods > 0 &&
-                        static_cast<long>(recorder.te_series().front().size()) == window_samples;
+  // The window's first sample among those kept (0 unless every sample of the record was kept).
+  const auto first =
+      static_cast<size_t>(options.histories ? std::llround((window.from_time - start) / dt) : 0);
+  const std::vector<std::vector<double>>& series = recorder.te_series();
+  const bool complete = ok && window.periods > 0 && !series.empty() &&
+                        series.front().size() >= first &&
+                        static_cast<long>(series.front().size() - first) == window_samples;
   if (complete) {
     SpectrumAnalyzer analyzer(static_cast<int>(window_samples));
-    const double rate = 1.0 / recorder.sample_interval();
+    const double rate = 1.0 / dt;
+    std::vector<double> window_te;
     for (size_t i = 0; i < tables.meshes.size(); ++i) {
       ThrowIfCancelled(options.cancel);  // an FFT of up to 2^21 samples per mesh
       const TrainMeshTable& mt = tables.meshes[i];
-      const AmplitudeSpectrum spectrum = analyzer.Analyze(recorder.te_series()[i], rate);
+      if (first > 0)
+        window_te.assign(series[i].begin() + static_cast<long>(first), series[i].end());
+      AmplitudeSpectrum spectrum = analyzer.Analyze(first > 0 ? window_te : series[i], rate);
       op.sidebands[i].window_cycles =
           std::llround(static_cast<double>(window.periods) * tables.common_period / mt.period);
       SidebandOptions mesh_options = op.sideband_options;
       mesh_options.scale = mt.half_backlash;
       op.sidebands[i].rows = SidebandTable(spectrum, 1.0 / mt.period, sources, mesh_options);
+      if (options.histories) op.sidebands[i].spectrum = std::move(spectrum);
     }
   } else if (!window.note.empty()) {
     op.sideband_notes.push_back(window.note);
+  } else if (ok && op.histories.truncated) {
+    op.sideband_notes.push_back(
+        "no spectrum: the time histories hold fewer samples than the record (max_history_samples)");
   } else {
     op.sideband_notes.push_back("no spectrum: the run stopped before the end of the record");
   }

@@ -26,6 +26,7 @@
 #include "output_folder.h"
 #include "result_documents.h"
 #include "simulate_train.h"
+#include "time_histories.h"
 #include "train_command_options.h"
 #include "uff_export.h"
 
@@ -59,30 +60,6 @@ LadderMethod ParseMethod(const std::string& text, const std::string& field) {
   }
   throw InputError(field, 0, text, "must be one of " + choices);
 }
-
-namespace {
-
-// Streamed: at the sample storage bound (4e6 samples) the text is ~0.4 GB.
-void WriteTrajectoryCsv(const Trajectory& t, std::FILE* f) {
-  fmt::print(f, "time_s,te_m,mesh_force_n,pinion_speed_rad_s,wheel_speed_rad_s,contact\n");
-  for (const TrajectorySample& s : t.samples) {
-    fmt::print(f, "{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{}\n", s.time, s.te, s.mesh_force,
-               s.pinion_speed, s.wheel_speed, ContactStateName(s.state));
-  }
-}
-
-std::string EventsCsv(const Trajectory& t) {
-  std::ostringstream os;
-  os.precision(17);
-  os << "time_s,from,to,gap_rate_m_s\n";
-  for (const EventRecord& e : t.events) {
-    os << e.time << ',' << ContactStateName(e.from) << ',' << ContactStateName(e.to) << ','
-       << e.gap_rate << '\n';
-  }
-  return os.str();
-}
-
-}  // namespace
 
 int RunSimulate(const SimulateOptions& options) {
   return RunReportingErrors(options.file, [&](config::SourceLocations& where) -> int {

@@ -21,7 +21,9 @@
 #include "gearnvh/solver/train_stepper.h"
 #include "output_folder.h"
 #include "result_documents.h"
+#include "time_histories.h"
 #include "train_command_options.h"
+#include "uff_export.h"
 
 namespace gearnvh::app {
 namespace {
@@ -232,13 +234,21 @@ nlohmann::json TrainSimulationJson(const TrainOperatingPoint& op, const TrainSpe
   doc["sideband_window_common_periods"] = op.sideband_window_common_periods;
   doc["sidebands_notes"] = op.sideband_notes;
   doc["loose_gears"] = TrainLooseGearsJson(op.stats.loose_gears);
+  if (op.histories.dt > 0.0) {
+    const TrainHistories& h = op.histories;
+    doc["time_histories"] = {{"samples", h.te.empty() ? 0 : h.te.front().size()},
+                             {"sample_interval_s", h.dt},
+                             {"truncated", h.truncated},
+                             {"events", h.events.size()},
+                             {"events_truncated", h.events_truncated}};
+  }
   return doc;
 }
 
 TrainSimulatePlan PlanTrainSimulate(const SimulateOptions& options, const TrainSpec& spec,
                                     const OptionNames& names) {
   const TrainCommandSettings settings =
-      CheckTrainCommandOptions(options.tier, spec, options.method, options.uff, names);
+      CheckTrainCommandOptions(options.tier, spec, options.method, std::nullopt, names);
   TrainSimulatePlan plan;
   TrainRunOptions& run = plan.run;
   run.cycles = options.cycles.value_or(spec.analysis.cycles);
@@ -248,6 +258,7 @@ TrainSimulatePlan PlanTrainSimulate(const SimulateOptions& options, const TrainS
   run.tier = settings.tier;
   run.allow_slow = options.allow_slow;
   run.names = names;
+  run.histories = options.out.has_value() || options.uff.has_value();
   RequireCycleCounts(run.cycles, 1, run.transient, names);
   RequireRunLengthOfOptions(spec, spec.operating.speed, run.cycles, run.transient, options.cycles,
                             options.transient, names);
@@ -288,6 +299,11 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
     said_before_run.push_back(w);
   };
   run.before_run_memory = [&](RunMemory& need) {
+    if (options.uff) {
+      MemoryPart uff = OperatingPointUffMemory(need.recorded_samples);
+      uff.bytes *= spec.meshes.size();
+      need.parts.push_back(uff);
+    }
     return CheckRunMemory(need, AvailableMemory(), options.cycles ? "--cycles" : "analysis.cycles",
                           std::to_string(cycles));
   };
@@ -320,9 +336,13 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
   if (lyapunov) doc["lyapunov"] = TrainLyapunovJson(*lyapunov);
   RequireFinite(doc, "simulate");
   if (out) {
+    out->Write("trajectory.csv",
+               [&op](std::FILE* f) { WriteTrainTrajectoryCsv(op.histories, op.tables, f); });
+    out->Write("events.csv", TrainEventsCsv(op.histories, op.tables));
     out->Write("results.json", doc.dump(2) + "\n");
     out->Commit();
   }
+  if (options.uff) WriteUffFile(*options.uff, TrainOperatingPointUff(spec, op));
   if (options.json) {
     std::cout << doc.dump(2) << "\n";
   } else {

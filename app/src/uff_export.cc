@@ -48,10 +48,10 @@ std::string Today() {
 UffAxis TimeAxis() { return {17, 0, 0, 0, "time", "s"}; }
 UffAxis TeAxis() { return {8, 1, 0, 0, "transmission error", "m"}; }
 
-UffFunction Base(const GearboxSpec& spec, const std::string& what, int id) {
+UffFunction Base(const std::string& gearbox, const std::string& what, int id) {
   UffFunction f;
   f.id1 = what;
-  f.id2 = spec.name;
+  f.id2 = gearbox;
   f.id3 = Today();
   f.id4 = "gearnvh";
   f.id5 = "NONE";
@@ -85,45 +85,82 @@ std::string UffDataset58(const UffFunction& f) {
   return out;
 }
 
-std::vector<UffFunction> OperatingPointUff(const GearboxSpec& spec,
-                                           const OperatingPointAnalysis& op, int first_id) {
+std::vector<UffFunction> MeshUff(const std::string& gearbox, MeshUffSource m, int& next_id) {
   std::vector<UffFunction> out;
-  const std::vector<TrajectorySample>& samples = op.result.trajectory.samples;
-  if (samples.size() >= 2) {
-    const double dx = op.tables.mesh_period / op.solver.samples_per_cycle;
-    UffFunction te = Base(spec, "dynamic transmission error", first_id++);
+  const std::string of = m.label.empty() ? "" : ", mesh " + m.label;
+  if (m.te.size() >= 2) {
+    UffFunction te = Base(gearbox, "dynamic transmission error" + of, next_id++);
     te.function_type = 1;
     te.response_name = "TE";
+    te.response_node = m.node;
     te.abscissa = TimeAxis();
     te.ordinate = TeAxis();
-    te.x_min = samples.front().time;
-    te.dx = dx;
+    te.x_min = m.start;
+    te.dx = m.dt;
     UffFunction force = te;
-    force.id1 = "mesh force (drive flank positive)";
-    force.function_id = first_id++;
+    force.id1 = "mesh force (drive flank positive)" + of;
+    force.function_id = next_id++;
     force.response_name = "MESH";
     force.ordinate = {9, 0, 1, 0, "mesh force", "N"};
-    te.values.reserve(samples.size());
-    force.values.reserve(samples.size());
-    for (const TrajectorySample& s : samples) {
-      te.values.push_back(s.te);
-      force.values.push_back(s.mesh_force);
-    }
+    te.values = std::move(m.te);
+    force.values = std::move(m.force);
     out.push_back(std::move(te));
     out.push_back(std::move(force));
   }
-  if (!op.spectrum.amplitude.empty()) {
+  if (!m.spectrum.amplitude.empty()) {
     UffFunction s =
-        Base(spec, fmt::format("TE amplitude spectrum, Hann, {} mesh cycles", op.sideband_window),
-             first_id++);
+        Base(gearbox, fmt::format("TE amplitude spectrum, Hann, {}{}", m.spectrum_window, of),
+             next_id++);
     s.function_type = 12;
     s.response_name = "TE";
+    s.response_node = m.node;
     s.abscissa = {18, 0, 0, 0, "frequency", "Hz"};
     s.ordinate = TeAxis();
     s.x_min = 0.0;
-    s.dx = op.spectrum.bin_hz;
-    s.values = op.spectrum.amplitude;
+    s.dx = m.spectrum.bin_hz;
+    s.values = std::move(m.spectrum.amplitude);
     out.push_back(std::move(s));
+  }
+  return out;
+}
+
+std::vector<UffFunction> OperatingPointUff(const GearboxSpec& spec,
+                                           const OperatingPointAnalysis& op, int first_id) {
+  MeshUffSource mesh;
+  const std::vector<TrajectorySample>& samples = op.result.trajectory.samples;
+  if (!samples.empty()) mesh.start = samples.front().time;
+  mesh.dt = op.tables.mesh_period / op.solver.samples_per_cycle;
+  mesh.te.reserve(samples.size());
+  mesh.force.reserve(samples.size());
+  for (const TrajectorySample& s : samples) {
+    mesh.te.push_back(s.te);
+    mesh.force.push_back(s.mesh_force);
+  }
+  mesh.spectrum = op.spectrum;
+  mesh.spectrum_window = fmt::format("{} mesh cycles", op.sideband_window);
+  return MeshUff(spec.name, std::move(mesh), first_id);
+}
+
+std::vector<UffFunction> TrainOperatingPointUff(const TrainSpec& spec,
+                                                const TrainOperatingPoint& op, int first_id) {
+  std::vector<UffFunction> out;
+  const TrainHistories& h = op.histories;
+  for (size_t i = 0; i < op.tables.meshes.size(); ++i) {
+    MeshUffSource mesh;
+    mesh.label = op.tables.meshes[i].name;
+    mesh.node = static_cast<int>(i) + 1;
+    mesh.start = h.start;
+    mesh.dt = h.dt;
+    if (i < h.te.size()) {
+      mesh.te = h.te[i];
+      mesh.force = h.force[i];
+    }
+    if (i < op.sidebands.size()) {
+      mesh.spectrum = op.sidebands[i].spectrum;
+      mesh.spectrum_window = fmt::format("{} mesh cycles", op.sidebands[i].window_cycles);
+    }
+    for (UffFunction& f : MeshUff(spec.name, std::move(mesh), first_id))
+      out.push_back(std::move(f));
   }
   return out;
 }
@@ -145,9 +182,9 @@ std::vector<UffFunction> SweepOrderTracksUff(const GearboxSpec& spec, const Spee
   for (const OrderTrack& track : MeshOrderTracks(spec, sweep, 3)) {
     ++k;
     const double order = track.pinion_order;
-    UffFunction f =
-        Base(spec, fmt::format("order track: TE at mesh order {} (pinion order {:g})", k, order),
-             first_id++);
+    UffFunction f = Base(
+        spec.name, fmt::format("order track: TE at mesh order {} (pinion order {:g})", k, order),
+        first_id++);
     f.function_type = 12;
     f.response_name = "TE";
     f.abscissa = {19, 0, 0, 0, "pinion speed", "rpm"};

@@ -6,7 +6,7 @@
 //
 // What a report or `--uff` file holds (docs/reports.md):
 //   operating point: TE time history (m over s), mesh force time history (N over s), TE amplitude
-//     spectrum (m over Hz);
+//     spectrum (m over Hz); a gear train's for every mesh (response node = the mesh's number);
 //   speed sweep: order tracks of the TE amplitude at mesh orders 1..3 (m over rpm; z axis = the
 //     pinion order).
 #pragma once
@@ -17,7 +17,10 @@
 #include "gearnvh/analysis/operating_point.h"
 #include "gearnvh/analysis/run_memory.h"
 #include "gearnvh/analysis/speed_sweep.h"
+#include "gearnvh/analysis/train_operating_point.h"
 #include "gearnvh/model/gearbox_spec.h"
+#include "gearnvh/model/train_spec.h"
+#include "gearnvh/nvh/spectrum.h"
 
 namespace gearnvh::app {
 
@@ -44,10 +47,28 @@ struct UffFunction {
 // One dataset 58 block, from its "    -1" line to the closing "    -1".
 std::string UffDataset58(const UffFunction& f);
 
-// The operating point's functions (TE and mesh force histories over the recorded samples, the TE
-// spectrum when there is one), ids from `first_id`.
+// What one mesh's operating-point functions are made of.
+struct MeshUffSource {
+  std::string label;              // the mesh's name in the ID lines; "" for a pair's one mesh
+  int node = 1;                   // the response node: the mesh's number, from 1
+  double start = 0.0, dt = 0.0;   // the first sample's time and the sample interval, s
+  std::vector<double> te, force;  // at the samples, m and N
+  AmplitudeSpectrum spectrum;     // the TE spectrum (may be empty)
+  std::string spectrum_window;    // what its window holds: "64 mesh cycles"
+};
+
+// One mesh's functions: its TE and mesh force histories (when it has 2 samples or more) and its TE
+// spectrum (when there is one), ids from `next_id` on (advanced past them).
+std::vector<UffFunction> MeshUff(const std::string& gearbox, MeshUffSource mesh, int& next_id);
+
+// The operating point's functions (MeshUff of the pair's one mesh), ids from `first_id`.
 std::vector<UffFunction> OperatingPointUff(const GearboxSpec& spec,
                                            const OperatingPointAnalysis& op, int first_id = 1);
+
+// A train's operating point: MeshUff of every mesh in file order (response node i + 1, the mesh
+// named in the ID lines), from its time histories (TrainRunOptions::histories).
+std::vector<UffFunction> TrainOperatingPointUff(const TrainSpec& spec,
+                                                const TrainOperatingPoint& op, int first_id = 1);
 
 // Order tracks of the sweep's waterfall at mesh orders 1..3 (order_tracks.h); none when a speed
 // failed or the sweep is log-spaced (the dataset's abscissa is even).

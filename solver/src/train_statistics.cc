@@ -28,11 +28,17 @@ TrainRecorder::TrainRecorder(const TrainTables& tables, int samples_per_cycle, d
   grazing_.assign(meshes, 0);
 }
 
-void TrainRecorder::KeepTeSeries(double from_time, long max_samples) {
+void TrainRecorder::KeepSeries(double from_time, long max_samples, bool histories) {
   keep_from_ = from_time;
   keep_max_ = std::max(0L, max_samples);
-  te_series_.assign(t_.meshes.size(), {});
-  for (std::vector<double>& series : te_series_) series.reserve(static_cast<size_t>(keep_max_));
+  keep_histories_ = histories;
+  const size_t meshes = t_.meshes.size(), reserved = static_cast<size_t>(keep_max_);
+  te_series_.assign(meshes, {});
+  force_series_.assign(histories ? meshes : 0, {});
+  contact_series_.assign(histories ? meshes : 0, {});
+  for (std::vector<double>& series : te_series_) series.reserve(reserved);
+  for (std::vector<double>& series : force_series_) series.reserve(reserved);
+  for (std::vector<ContactState>& series : contact_series_) series.reserve(reserved);
 }
 
 void TrainRecorder::KeepEvents(long max_events) {
@@ -41,12 +47,30 @@ void TrainRecorder::KeepEvents(long max_events) {
   events_.reserve(static_cast<size_t>(keep_events_));
 }
 
-void TrainRecorder::Sample(double time, const Eigen::VectorXd& z) {
+double TrainRecorder::ForceAt(size_t mesh, const Eigen::VectorXd& z, int segment,
+                              ContactState state) const {
+  if (state == ContactState::kFree) return 0.0;
+  // k (delta - wall) + c delta', the wall of the flank in contact (as Chunk).
+  const TrainMeshTable& mt = t_.meshes[mesh];
+  const bool drive = state == ContactState::kDrive;
+  const Eigen::VectorXd& row = !drive && mt.distinct_back ? mt.v_back : mt.v;
+  const int n = t_.n;
+  const size_t j = static_cast<size_t>(segment);
+  const double k_mesh = drive ? mt.k_drive[j] : mt.k_back[j];
+  const double wall = t_.Wall(static_cast<int>(mesh), segment, drive, z);
+  return k_mesh * (row.dot(z.head(n)) - wall) + mt.damping * row.dot(z.segment(n, n));
+}
+
+void TrainRecorder::Sample(double time, const Eigen::VectorXd& z, const std::vector<int>& segments,
+                           const std::vector<ContactState>& states) {
   // Half a sample interval of slack: sample times are start + k dt, rounded.
   if (keep_max_ > 0 && time >= keep_from_ - 0.5 * dt_) {
     for (size_t i = 0; i < t_.meshes.size(); ++i) {
-      if (static_cast<long>(te_series_[i].size()) < keep_max_)
-        te_series_[i].push_back(t_.meshes[i].v.dot(z.head(t_.n)));
+      if (static_cast<long>(te_series_[i].size()) >= keep_max_) continue;
+      te_series_[i].push_back(t_.meshes[i].v.dot(z.head(t_.n)));
+      if (!keep_histories_) continue;
+      force_series_[i].push_back(ForceAt(i, z, segments[i], states[i]));
+      contact_series_[i].push_back(states[i]);
     }
   }
   ++samples_;

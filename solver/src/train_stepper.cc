@@ -195,7 +195,10 @@ void TrainStepper::Record(const TrainSystem& sys, const Eigen::Ref<const Eigen::
   if (rec == nullptr) return;
   rec->Interval(piece_start, length, states_);
   rec->Piece(sys, z_start, piece_start, length, grid_.segments(), states_);
-  while (rec->next_sample() < piece_start + length) {
+  // A sample on the piece's end belongs to the next piece (as the pair's ExactRecorder): a mesh
+  // force steps there when the segment's stiffness does.
+  const double sample_end = piece_start + length - 1e-9 * rec->sample_interval();
+  while (rec->next_sample() < sample_end) {
     const double tau = std::max(0.0, rec->next_sample() - piece_start);
     if (spectral) {
       PropagateDecoupled(sys.decomposition, w_, tau, wt_, scratch_);
@@ -203,7 +206,7 @@ void TrainStepper::Record(const TrainSystem& sys, const Eigen::Ref<const Eigen::
     } else {
       TaylorValue(tau, zs_);
     }
-    rec->Sample(rec->next_sample(), zs_);
+    rec->Sample(rec->next_sample(), zs_, grid_.segments(), states_);
   }
 }
 
@@ -272,11 +275,11 @@ double TrainStepper::AdvanceSpectral(const TrainSystem& sys, double remaining, T
       }
       held = &gap;
       loaded = wall;
-      const double root = WithinRounding(gap, walls[k].sign, remaining,
-                                         t_.GapTolerance(static_cast<int>(i), segment,
-                                                         walls[k].drive, z_))
-                              ? -1.0
-                              : gap.FirstRise(walls[k].sign, remaining);
+      const double root =
+          WithinRounding(gap, walls[k].sign, remaining,
+                         t_.GapTolerance(static_cast<int>(i), segment, walls[k].drive, z_))
+              ? -1.0
+              : gap.FirstRise(walls[k].sign, remaining);
       if (root >= 0.0 && (roots_[i] < 0.0 || root < roots_[i])) {
         roots_[i] = root;
         root_walls_[i] = walls[k];

@@ -1,7 +1,7 @@
-// The slow-run estimate (analysis/include/gearnvh/analysis/run_cost.h, EstimateRunCost) against the solver: its
-// sub-step is 1 / (2 rho) with the table cache's own bound rho of the same tuple (TrainSystem::rho,
-// both from BoundTupleRate), and a run on the dense path takes the sub-steps those bounds allow;
-// the refusal above an hour (--allow-slow) and the warning above a minute.
+// The slow-run estimate (analysis/include/gearnvh/analysis/run_cost.h, EstimateRunCost) against the
+// solver: its sub-step is 1 / (2 rho) with the table cache's own bound rho of the same tuple
+// (TrainSystem::rho, both from BoundTupleRate), and a run on the dense path takes the sub-steps
+// those bounds allow; the refusal above an hour (--allow-slow) and the warning above a minute.
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <filesystem>

@@ -1,6 +1,7 @@
-// The speed sweep of a gear train (analysis/include/gearnvh/analysis/train_sweep.h): a train decoupled by a massive layshaft
-// sweeps as its two stages swept alone; the rattle ranking of a loose gear under drag; the manual
-// transmission's operating point and sweep at the report's settings run to their end.
+// The speed sweep of a gear train (analysis/include/gearnvh/analysis/train_sweep.h): a train
+// decoupled by a massive layshaft sweeps as its two stages swept alone; the rattle ranking of a
+// loose gear under drag; the manual transmission's operating point and sweep at the report's
+// settings run to their end.
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <fstream>

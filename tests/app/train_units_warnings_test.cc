@@ -1,5 +1,6 @@
 // Train outputs in the units the file wrote (as the pair: text in them, JSON keys in fixed units),
-// and the warning before a very slow run (analysis/include/gearnvh/analysis/run_cost.h, CheckRunCost).
+// and the warning before a very slow run (analysis/include/gearnvh/analysis/run_cost.h,
+// CheckRunCost).
 #include <fmt/format.h>
 
 #include <algorithm>

@@ -1,6 +1,6 @@
-// The gear-train rows of `gearnvh validate` (analysis/include/gearnvh/analysis/train_validation.h) on a rattling train with
-// a light loose gear: they pass on the exact solver, compared only where the CVODE reference is
-// trusted, and they still fail on a perturbed state or a wrong model.
+// The gear-train rows of `gearnvh validate` (analysis/include/gearnvh/analysis/train_validation.h)
+// on a rattling train with a light loose gear: they pass on the exact solver, compared only where
+// the CVODE reference is trusted, and they still fail on a perturbed state or a wrong model.
 #include "gearnvh/analysis/train_validation.h"
 
 #include <catch2/catch.hpp>

@@ -11,8 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "support/run_command.h"
+#include "loose_gear_train_yaml.h"
 #include "support/paths.h"
+#include "support/run_command.h"
 
 namespace gearnvh::app {
 namespace {
@@ -221,6 +222,67 @@ TEST_CASE("simulate --uff: TE and mesh force histories and the TE spectrum read 
   CHECK(s.values[static_cast<size_t>(window)] == Approx(fm_amplitude).epsilon(kUffRelative));
 }
 
+TEST_CASE("simulate --uff and --out on a gear train: every mesh's histories and spectrum read back",
+          "[uff][train]") {
+  // The rattling three-mesh train: TE, mesh force and TE spectrum per mesh, response node i + 1,
+  // the same values as trajectory.csv's columns of that mesh; events.csv holds the JSON's count.
+  const TempDir dir;
+  const auto file = dir.Write("train.yaml", testing::kLooseGearTrainYaml);
+  const auto uff = dir.path() / "op.uff";
+  const auto r =
+      RunCommand(kExe + " simulate --json --cycles 200 --transient 50 --uff " + uff.string() +
+                 " --out " + (dir.path() / "out").string() + " " + file.string());
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const auto doc = nlohmann::json::parse(r.out);
+  const auto& meshes = doc["meshes"];
+  REQUIRE(meshes.size() == 3);
+  const long samples = doc["time_histories"]["samples"].get<long>();
+  CHECK(samples == 200 * 32);  // the first mesh (a-b) is the fastest: 32 samples per cycle
+  CHECK_FALSE(doc["time_histories"]["truncated"].get<bool>());
+  const std::vector<Parsed58> d = ReadUff(ReadWholeFile(uff));
+  REQUIRE(d.size() == 9);
+  const auto csv = Csv(ReadWholeFile(dir.path() / "out" / "trajectory.csv"));
+  REQUIRE(csv.size() == static_cast<size_t>(1 + samples));
+  REQUIRE(csv[0].size() == 1 + 3 * 3);
+  const auto events = Csv(ReadWholeFile(dir.path() / "out" / "events.csv"));
+  CHECK(events.size() == 1 + doc["time_histories"]["events"].get<size_t>());
+  CHECK(events[0] == std::vector<std::string>{"time_s", "mesh", "from", "to", "gap_rate_m_s"});
+  int fundamentals = 0;
+  for (size_t i = 0; i < 3; ++i) {
+    const std::string name = meshes[i]["name"].get<std::string>();
+    INFO("mesh " << name);
+    CHECK(csv[0][1 + 3 * i] == name + ".te_m");
+    CHECK(csv[0][2 + 3 * i] == name + ".mesh_force_n");
+    CHECK(csv[0][3 + 3 * i] == name + ".contact");
+    for (size_t k = 0; k < 2; ++k) {
+      const Parsed58& h = d[3 * i + k];
+      INFO(h.id1);
+      CHECK(h.id1.find(", mesh " + name) != std::string::npos);
+      CHECK(h.function_type == 1);
+      CHECK(h.ordinate.units == (k == 0 ? "m" : "N"));
+      REQUIRE(h.count == samples);
+      for (size_t j = 0; j < h.values.size(); ++j) {
+        const double expected = std::stod(csv[j + 1][1 + 3 * i + k]);
+        REQUIRE(h.values[j] == Approx(expected).epsilon(kUffRelative).margin(1e-300));
+      }
+    }
+    // The spectrum: the bin of the mesh frequency holds the "1 fm" line of the mesh's table.
+    const Parsed58& s = d[3 * i + 2];
+    CHECK(s.function_type == 12);
+    CHECK(s.id1.find(", mesh " + name) != std::string::npos);
+    const long window = meshes[i]["sideband_window_cycles"].get<long>();
+    REQUIRE(window > 0);
+    for (const auto& row : meshes[i]["sidebands"]) {
+      if (row["label"].get<std::string>().rfind("1 fm", 0) != 0) continue;
+      ++fundamentals;
+      CHECK(s.values[static_cast<size_t>(window)] ==
+            Approx(row["amplitude_m"].get<double>()).epsilon(kUffRelative));
+    }
+  }
+  CHECK(fundamentals >= 1);  // the check above ran
+}
+
 TEST_CASE("sweep --uff: order tracks at mesh orders 1 to 3 equal the waterfall", "[uff]") {
   const TempDir dir;
   const auto file = dir.Write("pair.yaml", kGearbox);
@@ -239,7 +301,7 @@ TEST_CASE("sweep --uff: order tracks at mesh orders 1 to 3 equal the waterfall",
     INFO("mesh order " << k);
     CHECK(t.abscissa.data_type == 19);  // rpm
     CHECK(t.abscissa.units == "rpm");
-    CHECK(t.z.data_type == 20);         // order
+    CHECK(t.z.data_type == 20);  // order
     CHECK(t.z_value == Approx(23.0 * k).epsilon(1e-12));
     CHECK(t.x_min == Approx(1000.0).epsilon(1e-12));
     CHECK(t.dx == Approx(500.0).epsilon(1e-12));

@@ -107,10 +107,11 @@ TEST_CASE("train: V3 agrees with a quad-precision integration where CVODE's accu
   }
 
   {  // CVODE's error estimate (rtol 1e-13 against 1e-12) bounds its error
-    // The premise of validate's trusted window (analysis/include/gearnvh/analysis/train_validation.h): the running
-    // maximum of |TE(1e-13) - TE(1e-12)| is at least that of |TE(1e-13) - quad| (measured: 2.5x
-    // larger once above rounding), up to a floor of 1e-12 of the TE (both at rounding during the
-    // first cycle: 3e-13 against 2e-13).
+    // The premise of validate's trusted window
+    // (analysis/include/gearnvh/analysis/train_validation.h): the running maximum of |TE(1e-13) -
+    // TE(1e-12)| is at least that of |TE(1e-13) - quad| (measured: 2.5x larger once above
+    // rounding), up to a floor of 1e-12 of the TE (both at rounding during the first cycle: 3e-13
+    // against 2e-13).
     std::vector<std::vector<double>> cvode;
     for (const double rtol : {1e-13, 1e-12}) {
       TrainReferenceOptions ro;

@@ -37,6 +37,13 @@ struct TrainRunOptions {
   int samples_per_cycle = 32;                 // per cycle of the fastest mesh, >= 4
   bool spectra = true;                        // keep the TE samples and compute per-mesh sidebands
   long max_spectrum_samples = long{1} << 21;  // TE samples kept per mesh for spectra, >= 1
+  // Time histories (simulate --out and --uff): every mesh's TE, force and contact state at every
+  // sample of the record (at most max_history_samples per mesh, as the pair's
+  // SolverOptions::max_trajectory_samples), the record's contact events (at most
+  // max_logged_events) and each mesh's TE spectrum (TrainOperatingPoint::histories, spectrum).
+  bool histories = false;
+  long max_history_samples = 4'000'000;         // >= 0
+  long max_logged_events = 1'000'000;           // >= 0
   EventMethod events = EventMethod::kSpectral;  // V3; V2 and V1 to validate
   Tier tier = Tier::kTier1;  // the train's tier (docs/gear-trains.md, "Tiers of a train")
   bool jumps = true;         // certified jumps of the transient (TrainStepperOptions::jumps)
@@ -60,6 +67,18 @@ struct TrainRunOptions {
 struct TrainMeshSidebands {
   long window_cycles = 0;  // cycles of this mesh in the spectrum window
   std::vector<SidebandRow> rows;
+  AmplitudeSpectrum spectrum;  // of the window; kept with TrainRunOptions::histories only
+};
+
+// Every mesh's TE, force and contact state at the record's uniform samples, and its contact
+// events (TrainRunOptions::histories).
+struct TrainHistories {
+  double start = 0.0, dt = 0.0;  // the first sample's time and the sample interval, s
+  bool truncated = false;        // the record held more samples than max_history_samples
+  std::vector<std::vector<double>> te, force;      // per mesh (file order), m and N
+  std::vector<std::vector<ContactState>> contact;  // per mesh
+  std::vector<TrainEventRecord> events;            // in time order
+  bool events_truncated = false;                   // more events than max_logged_events
 };
 
 struct TrainOperatingPoint {
@@ -72,9 +91,10 @@ struct TrainOperatingPoint {
   std::vector<std::string> warnings;  // what the train solver does not model, said once
   RunCostEstimate cost;               // estimated before the run
   double wall_s = 0.0;
-  // The parts that grow with the recorded cycles, estimated before the run: the TE samples kept
-  // for spectra (TrainRecorder::KeepTeSeries) and the spectrum of one mesh at a time.
+  // The parts that grow with the recorded cycles, estimated before the run: the samples kept for
+  // spectra and histories (TrainRecorder::KeepSeries), the events and the spectra.
   RunMemory memory;
+  TrainHistories histories;  // empty unless TrainRunOptions::histories
   // Spectra (empty `sidebands` when TrainRunOptions::spectra is false).
   long sideband_window_common_periods = 0;
   SidebandOptions sideband_options;

@@ -66,14 +66,20 @@ class TrainRecorder {
   double start_time() const { return start_; }  // s
   double sample_interval() const { return dt_; }
   // Keeps the TE of every mesh at the samples at or after `from_time` (s), at most `max_samples`
-  // per mesh (storage reserved here, so recording allocates nothing).
-  void KeepTeSeries(double from_time, long max_samples);
-  // What KeepTeSeries(_, max_samples) reserves on a train of `meshes` meshes.
-  static size_t TeSeriesBytes(size_t meshes, long max_samples) {
-    return meshes * static_cast<size_t>(std::max(0L, max_samples)) * sizeof(double);
+  // per mesh; with `histories`, also each mesh's force (k (g) + c delta' in contact, 0 free, as
+  // the statistics define it) and contact state there. Storage is reserved here, so recording
+  // allocates nothing.
+  void KeepSeries(double from_time, long max_samples, bool histories = false);
+  // What KeepSeries(_, max_samples, histories) reserves on a train of `meshes` meshes.
+  static size_t SeriesBytes(size_t meshes, long max_samples, bool histories = false) {
+    const size_t per_sample = sizeof(double) + (histories ? sizeof(double) + 1 : 0);
+    return meshes * static_cast<size_t>(std::max(0L, max_samples)) * per_sample;
   }
-  // Per mesh (file order) the kept TE samples, m.
+  // Per mesh (file order) the kept TE samples, m; with histories, the force (N) and the contact
+  // state at the same samples (empty otherwise).
   const std::vector<std::vector<double>>& te_series() const { return te_series_; }
+  const std::vector<std::vector<double>>& force_series() const { return force_series_; }
+  const std::vector<std::vector<ContactState>>& contact_series() const { return contact_series_; }
   // Keeps the first `max_events` contact changes of the recorded window, in the order they are
   // located (storage reserved here, so recording allocates nothing).
   void KeepEvents(long max_events);
@@ -83,8 +89,10 @@ class TrainRecorder {
   void Piece(const TrainSystem& system, const Eigen::Ref<const Eigen::VectorXd>& z, double start,
              double length, const std::vector<int>& segments,
              const std::vector<ContactState>& states);
-  // The exact state z at the sample time next_sample(): counted, and its TE kept (KeepTeSeries).
-  void Sample(double time, const Eigen::VectorXd& z);
+  // The exact state z at the sample time next_sample(), in the tuple of `segments` and `states`:
+  // counted, and its TE (with histories: force and contact) kept (KeepSeries).
+  void Sample(double time, const Eigen::VectorXd& z, const std::vector<int>& segments,
+              const std::vector<ContactState>& states);
   void Interval(double start, double length, const std::vector<ContactState>& states);
   void Event(int mesh, ContactState from, ContactState to, double time, double rate);
   void Grazing(int mesh, double time);
@@ -97,6 +105,7 @@ class TrainRecorder {
   void MoveOnColumns(double tau, Eigen::VectorXd& z) const;
   void Chunk(double start, double length, const std::vector<int>& segments,
              const std::vector<ContactState>& states);
+  double ForceAt(size_t mesh, const Eigen::VectorXd& z, int segment, ContactState state) const;
   const TrainTables& t_;
   double start_ = 0.0, dt_ = 0.0, next_ = 0.0;
   long samples_ = 0;
@@ -109,7 +118,9 @@ class TrainRecorder {
   std::vector<long> drive_impacts_, back_impacts_, separations_, grazing_;
   double keep_from_ = 0.0;
   long keep_max_ = 0;
-  std::vector<std::vector<double>> te_series_;
+  bool keep_histories_ = false;
+  std::vector<std::vector<double>> te_series_, force_series_;
+  std::vector<std::vector<ContactState>> contact_series_;
   long keep_events_ = 0;
   std::vector<TrainEventRecord> events_;
 };

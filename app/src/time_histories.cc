@@ -1,0 +1,58 @@
+#include "time_histories.h"
+
+#include <fmt/format.h>
+
+#include <sstream>
+
+#include "gearnvh/solver/segment_tables.h"
+
+namespace gearnvh::app {
+
+void WriteTrajectoryCsv(const Trajectory& t, std::FILE* f) {
+  fmt::print(f, "time_s,te_m,mesh_force_n,pinion_speed_rad_s,wheel_speed_rad_s,contact\n");
+  for (const TrajectorySample& s : t.samples) {
+    fmt::print(f, "{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{}\n", s.time, s.te, s.mesh_force,
+               s.pinion_speed, s.wheel_speed, ContactStateName(s.state));
+  }
+}
+
+std::string EventsCsv(const Trajectory& t) {
+  std::ostringstream os;
+  os.precision(17);
+  os << "time_s,from,to,gap_rate_m_s\n";
+  for (const EventRecord& e : t.events) {
+    os << e.time << ',' << ContactStateName(e.from) << ',' << ContactStateName(e.to) << ','
+       << e.gap_rate << '\n';
+  }
+  return os.str();
+}
+
+void WriteTrainTrajectoryCsv(const TrainHistories& h, const TrainTables& tables, std::FILE* f) {
+  fmt::print(f, "time_s");
+  for (const TrainMeshTable& mt : tables.meshes)
+    fmt::print(f, ",{0}.te_m,{0}.mesh_force_n,{0}.contact", mt.name);
+  fmt::print(f, "\n");
+  const size_t samples = h.te.empty() ? 0 : h.te.front().size();
+  for (size_t k = 0; k < samples; ++k) {
+    fmt::print(f, "{:.17g}", h.start + static_cast<double>(k) * h.dt);
+    for (size_t i = 0; i < h.te.size(); ++i) {
+      fmt::print(f, ",{:.17g},{:.17g},{}", h.te[i][k], h.force[i][k],
+                 ContactStateName(h.contact[i][k]));
+    }
+    fmt::print(f, "\n");
+  }
+}
+
+std::string TrainEventsCsv(const TrainHistories& h, const TrainTables& tables) {
+  std::ostringstream os;
+  os.precision(17);
+  os << "time_s,mesh,from,to,gap_rate_m_s\n";
+  for (const TrainEventRecord& e : h.events) {
+    os << e.event.time << ',' << tables.meshes[static_cast<size_t>(e.mesh)].name << ','
+       << ContactStateName(e.event.from) << ',' << ContactStateName(e.event.to) << ','
+       << e.event.gap_rate << '\n';
+  }
+  return os.str();
+}
+
+}  // namespace gearnvh::app
