@@ -110,6 +110,59 @@ SpectrumWindow PlanWindow(const TrainTables& t, double dt, double start, double 
   return w;
 }
 
+// The uniform samples a run keeps per mesh: from the sample at `from` (s) to the record's end, at
+// most `count`. The sideband window, the waterfall's tail and the time histories are parts of it.
+struct KeptSamples {
+  double from = 0.0;
+  long count = 0;
+};
+
+KeptSamples PlanKeptSamples(const TrainRunOptions& options, const SpectrumWindow& window,
+                            double start, double end, double dt) {
+  // Samples at start + k dt before the record's end (the last piece's end, less the recorder's
+  // 1e-9 dt); one more at the front keeps a rounded first index inside.
+  const long record = static_cast<long>(std::ceil((end - start) / dt - 1e-9));
+  if (options.histories) return {start, std::min(record, options.max_history_samples)};
+  long first = record;
+  if (window.periods > 0)
+    first = std::min<long>(first, std::llround((window.from_time - start) / dt));
+  if (options.waterfall_samples > 0)
+    first = std::min(first, std::max(0L, record - options.waterfall_samples - 1));
+  return {start + static_cast<double>(first) * dt, std::max(0L, record - first)};
+}
+
+// The `length` samples of `series` from the one at time `from` (the series' first is at
+// `series_from`, dt apart); empty when the series does not hold them all.
+std::vector<double> SeriesSlice(const std::vector<double>& series, double series_from, double dt,
+                                double from, long length) {
+  const long first = std::llround((from - series_from) / dt);
+  if (first < 0 || length <= 0 || first + length > static_cast<long>(series.size())) return {};
+  return {series.begin() + first, series.begin() + first + length};
+}
+
+// What the run keeps that grows with the record (TrainOperatingPoint::memory): `kept` samples per
+// mesh, the sideband window's spectrum, and with histories the event log and every mesh's
+// spectrum, with a waterfall every mesh's tail spectrum.
+RunMemory TrainRunMemory(const TrainRunOptions& options, size_t meshes, long kept,
+                         long window_samples) {
+  RunMemory memory{{{"TE samples", TrainRecorder::SeriesBytes(meshes, kept, options.histories)},
+                    {"TE spectrum", SpectrumBytes(window_samples)}},
+                   kept};
+  if (options.histories) {
+    memory.parts.push_back(
+        {"event log", static_cast<size_t>(options.max_logged_events) * sizeof(TrainEventRecord)});
+    memory.parts.push_back({"TE spectra of every mesh",
+                            meshes * static_cast<size_t>(window_samples / 2 + 1) * sizeof(double)});
+  }
+  if (options.waterfall_samples > 0) {
+    memory.parts.push_back(
+        {"waterfall spectra",
+         SpectrumBytes(options.waterfall_samples) +
+             meshes * static_cast<size_t>(options.waterfall_samples / 2 + 1) * sizeof(double)});
+  }
+  return memory;
+}
+
 }  // namespace
 
 void TrainRunOptions::Validate() const {
@@ -134,6 +187,10 @@ void TrainRunOptions::Validate() const {
     throw InputError("TrainRunOptions.max_logged_events", 0, std::to_string(max_logged_events),
                      "must be >= 0");
   }
+  if (waterfall_samples < 0) {
+    throw InputError("TrainRunOptions.waterfall_samples", 0, std::to_string(waterfall_samples),
+                     "must be >= 0");
+  }
 }
 
 TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, const TrainRunOptions& options,
@@ -145,6 +202,85 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, const TrainRun
   TrainTables tables = BuildTrainTablesAtTier(spec, train, options.tier, table_options);
   return RunTrainOperatingPoint(spec, std::move(train), std::move(tables), options, progress);
 }
+
+namespace {
+
+// Each mesh's TE spectrum over the sideband window and its lines (TrainOperatingPoint::sidebands).
+void MeshSidebands(const TrainSpec& spec, const TrainRunOptions& options,
+                   const SpectrumWindow& window, const TrainRecorder& recorder, double kept_from,
+                   bool ok, TrainOperatingPoint& op) {
+  const TrainTables& tables = op.tables;
+  // Shaft-order content comes from the engine orders (orders of the input shaft, up to the
+  // highest) and from the runout and pitch errors of gears (orders of the bodies that carry
+  // them). The common period holds whole revolutions of both, so their lines sit on bins.
+  op.sideband_options.shaft_order_sources = !tables.excitation.empty() || tables.error_inputs > 0;
+  for (const ExcitationOrder& e : tables.excitation) {
+    op.sideband_options.orders =
+        std::max(op.sideband_options.orders, static_cast<int>(std::ceil(e.order)));
+  }
+  const std::vector<ShaftOrderSource> sources = ShaftOrderSources(spec, op.train, tables);
+  op.sideband_window_common_periods = window.periods;
+  op.sidebands.resize(tables.meshes.size());
+  const long window_samples = window.periods * window.samples_per_period;
+  const double dt = recorder.sample_interval();
+  const std::vector<std::vector<double>>& series = recorder.te_series();
+  const bool complete =
+      ok && window.periods > 0 &&
+      !SeriesSlice(series.front(), kept_from, dt, window.from_time, window_samples).empty();
+  if (complete) {
+    SpectrumAnalyzer analyzer(static_cast<int>(window_samples));
+    for (size_t i = 0; i < tables.meshes.size(); ++i) {
+      ThrowIfCancelled(options.cancel);  // an FFT of up to 2^21 samples per mesh
+      const TrainMeshTable& mt = tables.meshes[i];
+      AmplitudeSpectrum spectrum = analyzer.Analyze(
+          SeriesSlice(series[i], kept_from, dt, window.from_time, window_samples), 1.0 / dt);
+      op.sidebands[i].window_cycles =
+          std::llround(static_cast<double>(window.periods) * tables.common_period / mt.period);
+      SidebandOptions mesh_options = op.sideband_options;
+      mesh_options.scale = mt.half_backlash;
+      op.sidebands[i].rows = SidebandTable(spectrum, 1.0 / mt.period, sources, mesh_options);
+      if (options.histories) op.sidebands[i].spectrum = std::move(spectrum);
+    }
+  } else if (!window.note.empty()) {
+    op.sideband_notes.push_back(window.note);
+  } else if (ok && op.histories.truncated) {
+    op.sideband_notes.push_back(
+        "no spectrum: the time histories hold fewer samples than the record (max_history_samples)");
+  } else {
+    op.sideband_notes.push_back("no spectrum: the run stopped before the end of the record");
+  }
+  op.sideband_notes.push_back(
+      !op.sideband_options.shaft_order_sources
+          ? "the train has no runout, pitch error or engine order: no shaft-order line or "
+            "sideband can arise, so only each mesh's harmonics are listed"
+          : "shaft-order lines and sidebands come from the engine orders (orders j fin of the "
+            "input shaft) and the gears' runout and pitch errors (orders of the bodies that carry "
+            "them, f_<body>); every mesh lists the lines of every source");
+  op.sideband_notes.push_back(fmt::format(
+      "lines are listed when {:g} dB above the median of the {} bins around them and above {:g} "
+      "dB relative to the strongest bin (rounding of the exact solution lies near -300 dB)",
+      op.sideband_options.prominence_db, 2 * op.sideband_options.background_bins,
+      op.sideband_options.rounding_floor_db));
+}
+
+// Each mesh's TE spectrum over the record's last options.waterfall_samples samples
+// (TrainOperatingPoint::waterfall); none when the run stopped or the samples are not all kept.
+void TailSpectra(const TrainRunOptions& options, const TrainRecorder& recorder, bool ok,
+                 TrainOperatingPoint& op) {
+  const long n = options.waterfall_samples;
+  const std::vector<std::vector<double>>& series = recorder.te_series();
+  if (!ok || n <= 0 || series.empty() || static_cast<long>(series.front().size()) < n) return;
+  if (op.histories.truncated) return;  // the kept samples stop before the record's end
+  SpectrumAnalyzer analyzer(static_cast<int>(n));
+  std::vector<double> tail;
+  for (const std::vector<double>& te : series) {
+    ThrowIfCancelled(options.cancel);
+    tail.assign(te.end() - n, te.end());
+    op.waterfall.push_back(analyzer.Analyze(tail, 1.0 / recorder.sample_interval()));
+  }
+}
+
+}  // namespace
 
 TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, GearTrain train,
                                            TrainTables tables_at_tier,
@@ -179,38 +315,21 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, GearTrain trai
   stepper_options.cancel = options.cancel;
   TrainStepper stepper(tables, stepper_options, z0, states0);
   TrainRecorder recorder(tables, options.samples_per_cycle, start);
+  const double dt = recorder.sample_interval();
   SpectrumWindow window;
   if (options.spectra) {
-    window = PlanWindow(tables, recorder.sample_interval(), start, end,
-                        options.max_spectrum_samples, options.cycles);
+    window = PlanWindow(tables, dt, start, end, options.max_spectrum_samples, options.cycles);
   }
-  const long window_samples = window.periods * window.samples_per_period;
-  // With histories every sample of the record is kept (the spectrum window is its tail), else
-  // only the window's.
-  const double dt = recorder.sample_interval();
-  const long record_samples = static_cast<long>(std::ceil((end - start) / dt));
-  const long kept =
-      options.histories ? std::min(record_samples, options.max_history_samples) : window_samples;
-  const size_t meshes = tables.meshes.size();
-  op.memory = {{{"TE samples", TrainRecorder::SeriesBytes(meshes, kept, options.histories)},
-                {"TE spectrum", SpectrumBytes(window_samples)}},
-               kept};
-  if (options.histories) {
-    op.memory.parts.push_back(
-        {"event log", static_cast<size_t>(options.max_logged_events) * sizeof(TrainEventRecord)});
-    op.memory.parts.push_back(
-        {"TE spectra of every mesh",
-         meshes * static_cast<size_t>(window_samples / 2 + 1) * sizeof(double)});
-  }
+  const KeptSamples kept = PlanKeptSamples(options, window, start, end, dt);
+  op.memory = TrainRunMemory(options, tables.meshes.size(), kept.count,
+                             window.periods * window.samples_per_period);
   if (options.before_run_memory) {
     if (const std::string warning = options.before_run_memory(op.memory); !warning.empty()) {
       op.warnings.push_back(warning);
       if (options.before_run_warning) options.before_run_warning(warning);
     }
   }
-  if (kept > 0) {
-    recorder.KeepSeries(options.histories ? start : window.from_time, kept, options.histories);
-  }
+  if (kept.count > 0) recorder.KeepSeries(kept.from, kept.count, options.histories);
   if (options.histories) recorder.KeepEvents(options.max_logged_events);
   const auto wall_start = std::chrono::steady_clock::now();
   // The run goes in chunks of at most 1 % (progress is reported at every 1 %) and kChunkCycles
@@ -245,64 +364,8 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, GearTrain trai
     h.events_truncated = static_cast<long>(h.events.size()) >= options.max_logged_events &&
                          op.summary.events > options.max_logged_events;
   }
-  if (!options.spectra) return op;
-
-  // Shaft-order content comes from the engine orders (orders of the input shaft, up to the
-  // highest) and from the runout and pitch errors of gears (orders of the bodies that carry
-  // them). The common period holds whole revolutions of both, so their lines sit on bins.
-  const bool errors = tables.error_inputs > 0;
-  op.sideband_options.shaft_order_sources = !tables.excitation.empty() || errors;
-  for (const ExcitationOrder& e : tables.excitation) {
-    op.sideband_options.orders =
-        std::max(op.sideband_options.orders, static_cast<int>(std::ceil(e.order)));
-  }
-  const std::vector<ShaftOrderSource> sources = ShaftOrderSources(spec, op.train, tables);
-  op.sideband_window_common_periods = window.periods;
-  op.sidebands.resize(tables.meshes.size());
-  // The window's first sample among those kept (0 unless every sample of the record was kept).
-  const auto first =
-      static_cast<size_t>(options.histories ? std::llround((window.from_time - start) / dt) : 0);
-  const std::vector<std::vector<double>>& series = recorder.te_series();
-  const bool complete = ok && window.periods > 0 && !series.empty() &&
-                        series.front().size() >= first &&
-                        static_cast<long>(series.front().size() - first) == window_samples;
-  if (complete) {
-    SpectrumAnalyzer analyzer(static_cast<int>(window_samples));
-    const double rate = 1.0 / dt;
-    std::vector<double> window_te;
-    for (size_t i = 0; i < tables.meshes.size(); ++i) {
-      ThrowIfCancelled(options.cancel);  // an FFT of up to 2^21 samples per mesh
-      const TrainMeshTable& mt = tables.meshes[i];
-      if (first > 0)
-        window_te.assign(series[i].begin() + static_cast<long>(first), series[i].end());
-      AmplitudeSpectrum spectrum = analyzer.Analyze(first > 0 ? window_te : series[i], rate);
-      op.sidebands[i].window_cycles =
-          std::llround(static_cast<double>(window.periods) * tables.common_period / mt.period);
-      SidebandOptions mesh_options = op.sideband_options;
-      mesh_options.scale = mt.half_backlash;
-      op.sidebands[i].rows = SidebandTable(spectrum, 1.0 / mt.period, sources, mesh_options);
-      if (options.histories) op.sidebands[i].spectrum = std::move(spectrum);
-    }
-  } else if (!window.note.empty()) {
-    op.sideband_notes.push_back(window.note);
-  } else if (ok && op.histories.truncated) {
-    op.sideband_notes.push_back(
-        "no spectrum: the time histories hold fewer samples than the record (max_history_samples)");
-  } else {
-    op.sideband_notes.push_back("no spectrum: the run stopped before the end of the record");
-  }
-  op.sideband_notes.push_back(
-      !op.sideband_options.shaft_order_sources
-          ? "the train has no runout, pitch error or engine order: no shaft-order line or "
-            "sideband can arise, so only each mesh's harmonics are listed"
-          : "shaft-order lines and sidebands come from the engine orders (orders j fin of the "
-            "input shaft) and the gears' runout and pitch errors (orders of the bodies that carry "
-            "them, f_<body>); every mesh lists the lines of every source");
-  op.sideband_notes.push_back(fmt::format(
-      "lines are listed when {:g} dB above the median of the {} bins around them and above {:g} "
-      "dB relative to the strongest bin (rounding of the exact solution lies near -300 dB)",
-      op.sideband_options.prominence_db, 2 * op.sideband_options.background_bins,
-      op.sideband_options.rounding_floor_db));
+  TailSpectra(options, recorder, ok, op);
+  if (options.spectra) MeshSidebands(spec, options, window, recorder, kept.from, ok, op);
   return op;
 }
 

@@ -19,7 +19,8 @@
 namespace gearnvh {
 namespace {
 
-TrainSweepPoint RunPoint(const TrainSpec& base, const TrainSweepOptions& options, double speed) {
+TrainSweepPoint RunPoint(const TrainSpec& base, const TrainSweepOptions& options, double speed,
+                         int order_bins) {
   ThrowIfCancelled(options.cancel);  // a speed not started yet
   TrainSweepPoint p;
   p.speed_rad_s = speed;
@@ -30,6 +31,7 @@ TrainSweepPoint RunPoint(const TrainSpec& base, const TrainSweepOptions& options
   run.cycles = options.cycles;
   run.transient = options.transient;
   run.spectra = false;
+  run.waterfall_samples = options.WaterfallCycles() * run.samples_per_cycle;
   run.events = options.events;
   run.cancel = options.cancel;
   run.tier = options.tier;
@@ -44,6 +46,10 @@ TrainSweepPoint RunPoint(const TrainSpec& base, const TrainSweepOptions& options
   p.loose_gears = op.stats.loose_gears;
   std::sort(p.loose_gears.begin(), p.loose_gears.end(),
             [](const auto& a, const auto& b) { return a.body < b.body; });
+  for (const AmplitudeSpectrum& s : op.waterfall) {
+    const auto bins = std::min<size_t>(static_cast<size_t>(order_bins), s.amplitude.size());
+    p.waterfall.emplace_back(s.amplitude.begin(), s.amplitude.begin() + static_cast<long>(bins));
+  }
   return p;
 }
 
@@ -52,6 +58,26 @@ TrainSweepPoint RunPoint(const TrainSpec& base, const TrainSweepOptions& options
 void TrainSweepOptions::Validate() const {
   if (cycles < 1) throw InputError("--cycles", 0, std::to_string(cycles), "must be >= 1");
   if (transient < 0) throw InputError("--transient", 0, std::to_string(transient), "must be >= 0");
+  if (waterfall_cycles < 1) {
+    throw InputError("TrainSweepOptions.waterfall_cycles", 0, std::to_string(waterfall_cycles),
+                     "must be >= 1");
+  }
+  if (!(max_order >= 0.0)) {
+    throw InputError("TrainSweepOptions.max_order", 0, std::to_string(max_order), "must be >= 0");
+  }
+}
+
+std::vector<double> MeshOrders(const TrainSpec& spec) {
+  const TrainTopology topology = AnalyseTrainTopology(spec);
+  const double input = std::abs(topology.bodies[static_cast<size_t>(topology.input_body)].speed);
+  std::vector<double> orders;
+  for (const TrainMesh& m : spec.meshes) {
+    const int a = spec.GearIndex(m.gear_a);
+    const double speed =
+        std::abs(topology.bodies[static_cast<size_t>(topology.gear_body[a])].speed);
+    orders.push_back(AsWritten(spec.gears[static_cast<size_t>(a)].gear.teeth * speed / input));
+  }
+  return orders;
 }
 
 double TrainSweepPoint::ImpactsPerCycle(size_t mesh) const {
@@ -102,11 +128,20 @@ TrainSweepResult RunTrainSweep(const TrainSpec& spec, const TrainSweepOptions& o
   for (int i = 0; i < range.points; ++i) speeds[static_cast<size_t>(i)] = range.Point(i);
   TrainSweepResult result;
   for (const TrainMesh& m : spec.meshes) result.mesh_names.push_back(m.Name());
+  result.speed_scale = range.scale;
+  result.mesh_orders = MeshOrders(spec);
+  const double fastest = *std::max_element(result.mesh_orders.begin(), result.mesh_orders.end());
+  result.order_step = fastest / static_cast<double>(options.WaterfallCycles());
+  const double max_order = options.max_order > 0.0 ? options.max_order : 3.5 * fastest;
+  const long half = options.WaterfallCycles() * TrainRunOptions{}.samples_per_cycle / 2;
+  result.order_bins =
+      static_cast<int>(std::min<long>(half, static_cast<long>(max_order / result.order_step))) + 1;
   result.points.resize(speeds.size());
   SweepProgressCounter counter(static_cast<int>(speeds.size()), progress);
   ParallelFor(speeds.size(), options.threads, [&](size_t i) {
     TrainSweepPoint& p = result.points[i];
-    RunSweepPoint(p, speeds[i], [&] { return RunPoint(spec, options, speeds[i]); });
+    RunSweepPoint(p, speeds[i],
+                  [&] { return RunPoint(spec, options, speeds[i], result.order_bins); });
     counter.Tick();
   });
   for (const TrainSweepPoint& p : result.points) {

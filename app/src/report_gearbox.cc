@@ -91,7 +91,7 @@ std::string OrderTracksCsv(const std::vector<OrderTrack>& mesh,
   os.precision(12);
   os << "speed_rpm";
   for (const OrderTrack* t : all) {
-    os << ",\"" << t->label << " (pinion order " << t->pinion_order << ") m\",\"" << t->label
+    os << ",\"" << t->label << " (pinion order " << t->order << ") m\",\"" << t->label
        << " dB re 1 µm\"";
   }
   os << '\n';
@@ -200,7 +200,8 @@ GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::
       base_period = 1;  // incommensurate orders: section every mesh cycle
     }
 
-    const std::vector<OrderTrack> mesh_tracks = MeshOrderTracks(spec, sweep, 3);
+    const std::vector<OrderTrack> mesh_tracks =
+        MeshOrderTracks(PairWaterfall(sweep), spec.pinion.teeth, 3);
     const std::vector<OrderTrack> sideband_tracks = LargestSidebandTracks(spec, sweep, 2);
 
     // Images.

@@ -215,7 +215,7 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
                                 const StageProgress& stage, const TrainSpec& spec) {
   // analysis.tier must be a tier the train has (tiers 4, 5 and N20 need an elastic shaft).
   const TrainCommandSettings settings =
-      CheckTrainCommandOptions(std::nullopt, spec, LadderMethod::kV3, std::nullopt);
+      CheckTrainCommandOptions(std::nullopt, spec, LadderMethod::kV3);
   if (stage) stage("train model, modes and Campbell data");
   const TrainCheck check = BuildTrainCheck(spec);
   TrainRunOptions run;

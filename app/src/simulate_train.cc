@@ -248,7 +248,7 @@ nlohmann::json TrainSimulationJson(const TrainOperatingPoint& op, const TrainSpe
 TrainSimulatePlan PlanTrainSimulate(const SimulateOptions& options, const TrainSpec& spec,
                                     const OptionNames& names) {
   const TrainCommandSettings settings =
-      CheckTrainCommandOptions(options.tier, spec, options.method, std::nullopt, names);
+      CheckTrainCommandOptions(options.tier, spec, options.method, names);
   TrainSimulatePlan plan;
   TrainRunOptions& run = plan.run;
   run.cycles = options.cycles.value_or(spec.analysis.cycles);

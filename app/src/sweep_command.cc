@@ -93,9 +93,11 @@ int SweepTrain(const SweepOptions& options, const TrainSpec& spec) {
   if (out) {
     out->Write("meshes.csv", TrainMeshesCsv(result));
     out->Write("loose_gears.csv", TrainLooseGearsCsv(result));
+    out->Write("waterfall.csv", TrainWaterfallCsv(result));
     out->Write("sweep.json", doc.dump(1) + "\n");
     out->Commit();
   }
+  if (options.uff) WriteUffFile(*options.uff, TrainSweepOrderTracksUff(spec, result));
   if (options.json) {
     std::cout << doc.dump(1) << "\n";
   } else {

@@ -240,7 +240,7 @@ nlohmann::json TrainAtlasDocument(const TrainAtlasResult& r, const TrainAtlasOpt
 TrainAtlasPlan PlanTrainAtlas(const AtlasCommandOptions& options, const TrainSpec& spec,
                               const OptionNames& names) {
   const TrainCommandSettings settings =
-      CheckTrainCommandOptions(options.tier, spec, options.method, std::nullopt, names);
+      CheckTrainCommandOptions(options.tier, spec, options.method, names);
   TrainAtlasPlan plan;
   TrainAtlasOptions& atlas = plan.atlas;
   atlas.cycles = options.cycles.value_or(atlas.cycles);

@@ -70,7 +70,6 @@ void RequireRunLengthOfOptions(const TrainSpec& spec, double lowest_speed, long 
 
 TrainCommandSettings CheckTrainCommandOptions(const std::optional<std::string>& tier_option,
                                               const TrainSpec& spec, LadderMethod method,
-                                              const std::optional<std::string>& uff,
                                               const OptionNames& names) {
   const Tier tier = tier_option ? ParseTier(*tier_option, names("tier")) : spec.analysis.tier;
   if (tier != Tier::kTier1 &&
@@ -79,8 +78,6 @@ TrainCommandSettings CheckTrainCommandOptions(const std::optional<std::string>& 
                      tier_option ? *tier_option : TierName(tier),
                      "tiers 4, 5, N20 simple and N20 MTA need an elastic shaft in the train");
   }
-  if (uff)
-    throw InputError(names("uff"), 0, *uff, "UFF export is not available for gear trains yet");
   return {tier, EventMethodOf(method)};
 }
 

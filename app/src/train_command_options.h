@@ -18,13 +18,12 @@ struct TrainCommandSettings {
   EventMethod events = EventMethod::kSpectral;
 };
 
-// What `simulate` and `sweep` accept on a train: a tier the train has (`--tier` or
-// analysis.tier; tiers 4, 5 and N20 need an elastic shaft) and no UFF file; the event method is
-// EventMethodOf(method) (kFused means kV3: fusion is not built for trains).
-// Throws InputError naming the option or key otherwise.
+// What the commands accept on a train: a tier the train has (`--tier` or analysis.tier; tiers 4,
+// 5 and N20 need an elastic shaft); the event method is EventMethodOf(method) (kFused runs kV3
+// with the train's jumps and segment-run fusion). Throws InputError naming the option or key
+// otherwise.
 TrainCommandSettings CheckTrainCommandOptions(const std::optional<std::string>& tier_option,
                                               const TrainSpec& spec, LadderMethod method,
-                                              const std::optional<std::string>& uff,
                                               const OptionNames& names = {});
 
 // `cycles` >= `min_cycles` and `transient` >= 0 (the counts a command runs), else InputError

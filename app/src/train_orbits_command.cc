@@ -84,7 +84,7 @@ void PrintPoint(const TrainOrbitScanPoint& p, const std::string& where) {
 TrainOrbitsPlan PlanTrainOrbits(const OrbitsCommandOptions& options, const TrainSpec& spec,
                                 const OptionNames& names) {
   const TrainCommandSettings settings =
-      CheckTrainCommandOptions(options.tier, spec, options.method, std::nullopt, names);
+      CheckTrainCommandOptions(options.tier, spec, options.method, names);
   RequireOrbitPeriod(options.period, names("period"));
   TrainOrbitsPlan plan;
   TrainOrbitScanOptions& scan = plan.scan;

@@ -14,7 +14,7 @@ namespace gearnvh::app {
 TrainSweepOptions PlanTrainSweep(const SweepOptions& options, const TrainSpec& spec,
                                  const OptionNames& names) {
   const TrainCommandSettings settings =
-      CheckTrainCommandOptions(options.tier, spec, options.method, options.uff, names);
+      CheckTrainCommandOptions(options.tier, spec, options.method, names);
   TrainSweepOptions sweep;
   sweep.cycles = options.cycles.value_or(sweep.cycles);
   sweep.transient = options.transient.value_or(sweep.transient);
@@ -59,9 +59,25 @@ nlohmann::json TrainSweepJson(const TrainSweepResult& r) {
                       {"meshes", meshes},
                       {"loose_gears", loose}});
   }
-  return {{"schema", "gearnvh/2"},  {"speeds_rpm", speeds},
-          {"meshes", r.mesh_names}, {"loose_gears", r.loose_gear_names},
-          {"points", points},       {"failed_speeds", r.failed()}};
+  nlohmann::json waterfall_meshes = nlohmann::json::array();
+  for (size_t i = 0; i < r.mesh_names.size(); ++i) {
+    nlohmann::json rows = nlohmann::json::array();
+    for (const TrainSweepPoint& p : r.points)
+      rows.push_back(i < p.waterfall.size() ? p.waterfall[i] : std::vector<double>{});
+    waterfall_meshes.push_back(
+        {{"name", r.mesh_names[i]}, {"mesh_order", r.mesh_orders[i]}, {"amplitude_m", rows}});
+  }
+  return {{"schema", "gearnvh/2"},
+          {"speeds_rpm", speeds},
+          {"meshes", r.mesh_names},
+          {"loose_gears", r.loose_gear_names},
+          {"points", points},
+          {"failed_speeds", r.failed()},
+          {"waterfall",
+           {{"order_step", r.order_step},
+            {"order_bins", r.order_bins},
+            {"reference", "input shaft"},
+            {"meshes", waterfall_meshes}}}};
 }
 
 std::string TrainMeshesCsv(const TrainSweepResult& r) {
@@ -91,6 +107,22 @@ std::string TrainLooseGearsCsv(const TrainSweepResult& r) {
     for (const TrainLooseGearStatistics& g : p.loose_gears) {
       os << p.speed_rpm << ',' << g.name << ',' << g.rattle_index << ',' << g.rank << ','
          << g.impacts << '\n';
+    }
+  }
+  return os.str();
+}
+
+std::string TrainWaterfallCsv(const TrainSweepResult& r) {
+  std::ostringstream os;
+  os.precision(12);
+  os << "speed_rpm,mesh,order,frequency_hz,amplitude_m\n";
+  for (const TrainSweepPoint& p : r.points) {
+    for (size_t i = 0; i < p.waterfall.size(); ++i) {
+      for (size_t k = 0; k < p.waterfall[i].size(); ++k) {
+        const double order = static_cast<double>(k) * r.order_step;
+        os << p.speed_rpm << ',' << r.mesh_names[i] << ',' << order << ','
+           << order * p.speed_rpm / 60.0 << ',' << p.waterfall[i][k] << '\n';
+      }
     }
   }
   return os.str();

@@ -165,37 +165,60 @@ std::vector<UffFunction> TrainOperatingPointUff(const TrainSpec& spec,
   return out;
 }
 
+namespace {
+
+// Order tracks as dataset 58 over an even speed axis (`reference`: the shaft whose speed and
+// orders they are on); none unless every speed succeeded (`all_ok`: even spacing needs every
+// speed), with fewer than 2 speeds, or when the sweep is log-spaced (its tracks are in the
+// report's order_tracks.csv only). An order beyond the waterfall's order range reads as 0.
+void AppendOrderTracksUff(const std::string& gearbox, const std::vector<OrderTrack>& tracks,
+                          bool all_ok, AxisScale scale, const std::string& reference,
+                          const std::string& mesh, int& next_id, std::vector<UffFunction>& out) {
+  if (!all_ok || tracks.empty() || scale == AxisScale::kLog) return;
+  const std::vector<double>& speeds = tracks.front().speed_rpm;
+  if (speeds.size() < 2) return;
+  int k = 0;
+  for (const OrderTrack& track : tracks) {
+    ++k;
+    UffFunction f = Base(gearbox,
+                         fmt::format("order track: TE at mesh order {}{} ({} order {:g})", k,
+                                     mesh.empty() ? "" : " of " + mesh, reference, track.order),
+                         next_id++);
+    f.function_type = 12;
+    f.response_name = "TE";
+    f.abscissa = {19, 0, 0, 0, reference + " speed", "rpm"};
+    f.ordinate = TeAxis();
+    f.z = {20, 0, 0, 0, reference + " order", "NONE"};
+    f.z_value = track.order;
+    f.x_min = speeds.front();
+    f.dx = speeds[1] - speeds[0];
+    for (double a : track.amplitude_m) f.values.push_back(std::isfinite(a) ? a : 0.0);
+    out.push_back(std::move(f));
+  }
+}
+
+}  // namespace
+
 std::vector<UffFunction> SweepOrderTracksUff(const GearboxSpec& spec, const SpeedSweepResult& sweep,
                                              int first_id) {
   std::vector<UffFunction> out;
-  // Even spacing needs every speed: when one failed, no track is written (the sweep reports the
-  // failure). Bin k z1 / order_step = k * window cycles lies exactly on the mesh order.
-  for (const SpeedPoint& p : sweep.points) {
-    if (!p.ok) return out;
-  }
-  if (sweep.points.size() < 2 || !(sweep.order_step > 0.0)) return out;
-  // Dataset 58 is written with an even abscissa: a log-spaced sweep has none (its tracks are in
-  // the report's order_tracks.csv).
-  if (sweep.speed_scale == AxisScale::kLog) return out;
-  const double step = sweep.points[1].speed_rpm - sweep.points[0].speed_rpm;
-  int k = 0;
-  for (const OrderTrack& track : MeshOrderTracks(spec, sweep, 3)) {
-    ++k;
-    const double order = track.pinion_order;
-    UffFunction f = Base(
-        spec.name, fmt::format("order track: TE at mesh order {} (pinion order {:g})", k, order),
-        first_id++);
-    f.function_type = 12;
-    f.response_name = "TE";
-    f.abscissa = {19, 0, 0, 0, "pinion speed", "rpm"};
-    f.ordinate = TeAxis();
-    f.z = {20, 0, 0, 0, "pinion order", "NONE"};
-    f.z_value = order;
-    f.x_min = sweep.points.front().speed_rpm;
-    f.dx = step;
-    // Every speed succeeded; an order beyond the waterfall's order range reads as 0.
-    for (double a : track.amplitude_m) f.values.push_back(std::isfinite(a) ? a : 0.0);
-    out.push_back(std::move(f));
+  const bool all_ok = std::all_of(sweep.points.begin(), sweep.points.end(),
+                                  [](const SpeedPoint& p) { return p.ok; });
+  if (!(sweep.order_step > 0.0)) return out;
+  // Bin k z1 / order_step = k * window cycles lies exactly on the mesh order.
+  AppendOrderTracksUff(spec.name, MeshOrderTracks(PairWaterfall(sweep), spec.pinion.teeth, 3),
+                       all_ok, sweep.speed_scale, "pinion", "", first_id, out);
+  return out;
+}
+
+std::vector<UffFunction> TrainSweepOrderTracksUff(const TrainSpec& spec,
+                                                  const TrainSweepResult& sweep, int first_id) {
+  std::vector<UffFunction> out;
+  if (!(sweep.order_step > 0.0)) return out;
+  for (size_t i = 0; i < sweep.mesh_names.size(); ++i) {
+    AppendOrderTracksUff(
+        spec.name, MeshOrderTracks(MeshWaterfall(sweep, i), sweep.mesh_orders[i], 3),
+        sweep.failed() == 0, sweep.speed_scale, "input", sweep.mesh_names[i], first_id, out);
   }
   return out;
 }

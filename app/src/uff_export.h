@@ -18,6 +18,7 @@
 #include "gearnvh/analysis/run_memory.h"
 #include "gearnvh/analysis/speed_sweep.h"
 #include "gearnvh/analysis/train_operating_point.h"
+#include "gearnvh/analysis/train_sweep.h"
 #include "gearnvh/model/gearbox_spec.h"
 #include "gearnvh/model/train_spec.h"
 #include "gearnvh/nvh/spectrum.h"
@@ -74,6 +75,11 @@ std::vector<UffFunction> TrainOperatingPointUff(const TrainSpec& spec,
 // failed or the sweep is log-spaced (the dataset's abscissa is even).
 std::vector<UffFunction> SweepOrderTracksUff(const GearboxSpec& spec, const SpeedSweepResult& sweep,
                                              int first_id = 1);
+
+// A train's sweep: for every mesh in file order its order tracks at mesh orders 1..3 (input-shaft
+// orders and speed; the mesh named in the first ID line), under the same conditions.
+std::vector<UffFunction> TrainSweepOrderTracksUff(const TrainSpec& spec,
+                                                  const TrainSweepResult& sweep, int first_id = 1);
 
 // Writes the datasets one after the other into `path` (WriteFileAtomically), one dataset's text
 // in memory at a time.

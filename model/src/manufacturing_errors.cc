@@ -72,4 +72,13 @@ double MeshErrorExcitation::SegmentMean(long cycle, int segment, double t0, doub
   return e;
 }
 
+MeshErrorExcitation MeshErrorExcitation::AtSpeed(double speed_a) const {
+  MeshErrorExcitation out = *this;
+  if (speeds_[0] != 0.0) {
+    out.speeds_[1] = speeds_[1] * speed_a / speeds_[0];
+    out.speeds_[0] = speed_a;
+  }
+  return out;
+}
+
 }  // namespace gearnvh

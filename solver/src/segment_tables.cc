@@ -216,7 +216,8 @@ SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel
                                  const GearboxSpec& spec, const std::atomic<bool>* cancel) {
   SegmentTables t;
   t.n = r.dof;
-  t.errors = model.errors;
+  // The model's errors at the speed run here (a sweep runs one model at every speed).
+  t.errors = model.errors.AtSpeed(spec.operating.speed);
   t.inputs = InputCount(model);
   t.m = StateDimension(model, r);
   t.pinion_speed = spec.operating.speed;

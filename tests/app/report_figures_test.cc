@@ -55,10 +55,10 @@ TEST_CASE("order tracks read the mesh orders on their bins and pick the largest 
           "[app][figures]") {
   const SpeedSweepResult sweep = KnownSweep();
   const GearboxSpec spec = Pair20x40();
-  const std::vector<OrderTrack> mesh = MeshOrderTracks(spec, sweep, 3);
+  const std::vector<OrderTrack> mesh = MeshOrderTracks(PairWaterfall(sweep), spec.pinion.teeth, 3);
   REQUIRE(mesh.size() == 3);
   CHECK(mesh[1].label == "2x mesh");
-  CHECK(mesh[1].pinion_order == 40.0);
+  CHECK(mesh[1].order == 40.0);
   for (size_t i = 0; i < sweep.points.size(); ++i) {
     INFO("speed " << i);
     if (!sweep.points[i].ok) {
@@ -74,19 +74,21 @@ TEST_CASE("order tracks read the mesh orders on their bins and pick the largest 
   const std::vector<OrderTrack> sidebands = LargestSidebandTracks(spec, sweep, 4);
   REQUIRE(sidebands.size() == 2);
   CHECK(sidebands[0].label == "1x mesh + 1x pinion");
-  CHECK(sidebands[0].pinion_order == 21.0);
+  CHECK(sidebands[0].order == 21.0);
   CHECK(sidebands[1].label == "2x mesh - 1x wheel");
   CHECK(sidebands[1].amplitude_m[0] == 0.02e-6);
   // An order between bins takes the larger neighbour: 20.25 lies between bins 40 and 41.
-  CHECK(TrackOrder(sweep, 20.25, "x").amplitude_m[0] == sweep.points[0].amplitude_m[40]);
+  CHECK(TrackOrder(PairWaterfall(sweep), 20.25, "x").amplitude_m[0] ==
+        sweep.points[0].amplitude_m[40]);
 }
 
 TEST_CASE("order-track figure: dB re 1 µm against rpm, drawn apart at both sizes",
           "[app][figures][render]") {
   const SpeedSweepResult sweep = KnownSweep();
   const GearboxSpec spec = Pair20x40();
-  const render::LinePlot plot = OrderTrackFigure(
-      MeshOrderTracks(spec, sweep, 3), LargestSidebandTracks(spec, sweep, 2), AxisScale::kLinear);
+  const render::LinePlot plot =
+      OrderTrackFigure(MeshOrderTracks(PairWaterfall(sweep), spec.pinion.teeth, 3),
+                       LargestSidebandTracks(spec, sweep, 2), AxisScale::kLinear);
   CHECK(plot.y_label == "TE amplitude (dB re 1 µm)");
   REQUIRE(plot.series.size() == 5);
   // 1 µm x 1.5 at resonance: 20 log10(1.5) = 3.52 dB.

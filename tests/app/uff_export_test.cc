@@ -314,5 +314,49 @@ TEST_CASE("sweep --uff: order tracks at mesh orders 1 to 3 equal the waterfall",
   }
 }
 
+TEST_CASE("sweep --uff on a gear train: every mesh's order tracks equal its waterfall",
+          "[uff][train]") {
+  // Three meshes, three mesh orders each; a track reads the larger of the two waterfall bins
+  // around its order (input-shaft orders), the bin itself when the order is on one.
+  const TempDir dir;
+  const auto file = dir.Write("train.yaml", testing::kLooseGearTrainYaml);
+  const auto uff = dir.path() / "sweep.uff";
+  const auto r = RunCommand(kExe + " sweep --json --cycles 40 --transient 10 --uff " +
+                            uff.string() + " " + file.string());
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const auto doc = nlohmann::json::parse(r.out);
+  const auto& waterfall = doc["waterfall"];
+  const double step = waterfall["order_step"].get<double>();
+  const std::vector<double> speeds = doc["speeds_rpm"].get<std::vector<double>>();
+  const std::vector<Parsed58> d = ReadUff(ReadWholeFile(uff));
+  REQUIRE(waterfall["meshes"].size() == 3);
+  REQUIRE(d.size() == 9);
+  for (size_t i = 0; i < 3; ++i) {
+    const auto& mesh = waterfall["meshes"][i];
+    const std::string name = mesh["name"].get<std::string>();
+    const double order = mesh["mesh_order"].get<double>();
+    const auto rows = mesh["amplitude_m"].get<std::vector<std::vector<double>>>();
+    REQUIRE(rows.size() == speeds.size());
+    for (int k = 1; k <= 3; ++k) {
+      const Parsed58& t = d[3 * i + static_cast<size_t>(k - 1)];
+      INFO(t.id1);
+      CHECK(t.id1.find("mesh order " + std::to_string(k) + " of " + name) != std::string::npos);
+      CHECK(t.abscissa.label == "input speed");
+      CHECK(t.z.label == "input order");
+      CHECK(t.z_value == Approx(k * order).epsilon(1e-5));
+      CHECK(t.x_min == Approx(speeds.front()).epsilon(1e-5));
+      REQUIRE(t.values.size() == speeds.size());
+      const double at = k * order / step;
+      const auto lo = static_cast<size_t>(std::floor(at + 1e-9));
+      const size_t hi = std::abs(at - std::round(at)) < 1e-9 ? lo : lo + 1;
+      for (size_t s = 0; s < speeds.size(); ++s) {
+        const double expected = std::max(rows[s].at(lo), rows[s].at(hi));
+        CHECK(t.values[s] == Approx(expected).epsilon(kUffRelative).margin(1e-300));
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace gearnvh::app

@@ -42,8 +42,11 @@ struct TrainRunOptions {
   // SolverOptions::max_trajectory_samples), the record's contact events (at most
   // max_logged_events) and each mesh's TE spectrum (TrainOperatingPoint::histories, spectrum).
   bool histories = false;
-  long max_history_samples = 4'000'000;         // >= 0
-  long max_logged_events = 1'000'000;           // >= 0
+  long max_history_samples = 4'000'000;  // >= 0
+  long max_logged_events = 1'000'000;    // >= 0
+  // A sweep's waterfall row: each mesh's TE amplitude spectrum (Hann) over the record's last
+  // waterfall_samples samples (TrainOperatingPoint::waterfall); 0: none.
+  long waterfall_samples = 0;                   // >= 0
   EventMethod events = EventMethod::kSpectral;  // V3; V2 and V1 to validate
   Tier tier = Tier::kTier1;  // the train's tier (docs/gear-trains.md, "Tiers of a train")
   bool jumps = true;         // certified jumps of the transient (TrainStepperOptions::jumps)
@@ -95,6 +98,9 @@ struct TrainOperatingPoint {
   // spectra and histories (TrainRecorder::KeepSeries), the events and the spectra.
   RunMemory memory;
   TrainHistories histories;  // empty unless TrainRunOptions::histories
+  // Per mesh (file order) the TE spectrum of the record's tail (TrainRunOptions::
+  // waterfall_samples); empty when none was asked for or the run stopped.
+  std::vector<AmplitudeSpectrum> waterfall;
   // Spectra (empty `sidebands` when TrainRunOptions::spectra is false).
   long sideband_window_common_periods = 0;
   SidebandOptions sideband_options;

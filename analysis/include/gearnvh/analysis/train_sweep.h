@@ -4,6 +4,7 @@
 // (docs/cli.md, "`sweep` on a gear train").
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <functional>
 #include <string>
@@ -17,8 +18,14 @@
 namespace gearnvh {
 
 struct TrainSweepOptions {
-  long cycles = 512;                            // recorded cycles of the first mesh per speed, >= 1
-  long transient = 200;                         // cycles of the first mesh before recording, >= 0
+  long cycles = 512;     // recorded cycles of the first mesh per speed, >= 1
+  long transient = 200;  // cycles of the first mesh before recording, >= 0
+  // The waterfall: each mesh's TE spectrum over the last WaterfallCycles() = min(waterfall_cycles,
+  // cycles) cycles of the fastest mesh (waterfall_cycles >= 1), up to max_order input-shaft
+  // orders (0: 3.5 times the fastest mesh's order).
+  long waterfall_cycles = 256;
+  double max_order = 0.0;
+  long WaterfallCycles() const { return std::min(waterfall_cycles, cycles); }
   int threads = 0;                              // 0: all hardware threads
   EventMethod events = EventMethod::kSpectral;  // V3; V2 and V1 to validate
   Tier tier = Tier::kTier1;                     // the train's tier (TrainRunOptions::tier)
@@ -43,6 +50,9 @@ struct TrainSweepPoint {
   std::vector<double> mesh_periods;                   // s, per mesh
   std::vector<TrainMeshStatistics> meshes;            // file order
   std::vector<TrainLooseGearStatistics> loose_gears;  // body order (rank at this speed inside)
+  // Per mesh the waterfall row: TE amplitude (m) at orders b * order_step of the input shaft,
+  // b < order_bins (TrainSweepResult); empty when the run failed.
+  std::vector<std::vector<double>> waterfall;
   // Impacts (drive + back) per cycle of mesh i: the mesh's rattle index.
   double ImpactsPerCycle(size_t mesh) const;
 };
@@ -50,6 +60,12 @@ struct TrainSweepPoint {
 struct TrainSweepResult {
   std::vector<std::string> mesh_names, loose_gear_names;
   std::vector<TrainSweepPoint> points;  // ascending input speed
+  // The waterfall's order axis, in orders of the input shaft: bin b at b * order_step (the fastest
+  // mesh's order / waterfall_cycles), b < order_bins; each mesh's fundamental (its mesh order).
+  double order_step = 0.0;
+  int order_bins = 0;
+  std::vector<double> mesh_orders;
+  AxisScale speed_scale = AxisScale::kLinear;  // of analysis.speed_sweep
   int failed() const;
 };
 
@@ -57,6 +73,10 @@ struct TrainSweepResult {
 // at the sweep's two end speeds (the cost per run varies monotonically with the speed, so no
 // speed costs less), over the threads.
 RunCostEstimate EstimateTrainSweepCost(const TrainSpec& spec, const TrainSweepOptions& options);
+
+// Each mesh's order of the input shaft, file order: its mesh frequency over the input shaft's
+// rotation frequency (z_a |w_a| / |w_in|).
+std::vector<double> MeshOrders(const TrainSpec& spec);
 
 using TrainSweepProgress = std::function<void(int done, int total)>;
 

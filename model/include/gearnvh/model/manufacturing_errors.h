@@ -35,6 +35,10 @@ class MeshErrorExcitation {
 
   // True when the gears carry runout or pitch errors (otherwise the input is identically zero).
   bool active() const { return active_; }
+  // The same errors with the first gear turning at `speed_a` rad/s (the second in the mesh's
+  // ratio): a runout's frequency follows the speed; pitch errors and the pair weights are per
+  // tooth and segment, independent of it.
+  MeshErrorExcitation AtSpeed(double speed_a) const;
   // Mean of e_err over segment `segment` of mesh cycle `cycle`, which starts at time t0 and lasts
   // h seconds, m. Allocation-free.
   double SegmentMean(long cycle, int segment, double t0, double h) const;
