@@ -80,36 +80,6 @@ std::string MeshCycleCsv(const ComponentModel& model) {
   return os.str();
 }
 
-// speed_rpm, then per track its amplitude in m and in dB re 1 µm (empty where the run failed).
-std::string OrderTracksCsv(const std::vector<OrderTrack>& mesh,
-                           const std::vector<OrderTrack>& sidebands) {
-  std::vector<const OrderTrack*> all;
-  for (const auto* tracks : {&mesh, &sidebands}) {
-    for (const OrderTrack& t : *tracks) all.push_back(&t);
-  }
-  std::ostringstream os;
-  os.precision(12);
-  os << "speed_rpm";
-  for (const OrderTrack* t : all) {
-    os << ",\"" << t->label << " (pinion order " << t->order << ") m\",\"" << t->label
-       << " dB re 1 µm\"";
-  }
-  os << '\n';
-  const size_t n = all.empty() ? 0 : all.front()->speed_rpm.size();
-  for (size_t i = 0; i < n; ++i) {
-    os << all.front()->speed_rpm[i];
-    for (const OrderTrack* t : all) {
-      const double a = t->amplitude_m[i];
-      if (a > 0.0) {
-        os << ',' << a << ',' << 20.0 * std::log10(a / 1e-6);
-      } else {
-        os << ",,";
-      }
-    }
-    os << '\n';
-  }
-  return os.str();
-}
 
 }  // namespace
 

@@ -138,23 +138,28 @@ render::LinePlot CampbellFigure(const CampbellData& c, const std::vector<double>
 }
 
 render::HeatMap WaterfallFigure(const SpeedSweepResult& sweep) {
+  return WaterfallFigure(PairWaterfall(sweep), sweep.order_bins, sweep.speed_scale, "pinion",
+                         "Waterfall: dynamic TE amplitude");
+}
+
+render::HeatMap WaterfallFigure(const WaterfallView& waterfall, int order_bins,
+                                AxisScale speed_scale, const std::string& reference,
+                                const std::string& title) {
   render::HeatMap h;
-  h.title = "Waterfall: dynamic TE amplitude";
-  h.x_label = "pinion order (-)";
-  h.y_label = "pinion speed (rpm)";
+  h.title = title;
+  h.x_label = reference + " order (-)";
+  h.y_label = reference + " speed (rpm)";
   h.value_label = "dB re 1 µm";
-  h.nx = std::max(1, sweep.order_bins);
-  h.ny = static_cast<int>(sweep.points.size());
-  h.x_min = -0.5 * sweep.order_step;
-  h.x_max = (h.nx - 0.5) * sweep.order_step;
-  const SweepRange rpm{sweep.points.front().speed_rpm, sweep.points.back().speed_rpm, h.ny,
-                       sweep.speed_scale};
+  h.nx = std::max(1, order_bins);
+  h.ny = static_cast<int>(waterfall.rows.size());
+  h.x_min = -0.5 * waterfall.order_step;
+  h.x_max = (h.nx - 0.5) * waterfall.order_step;
+  const SweepRange rpm{waterfall.speed_rpm.front(), waterfall.speed_rpm.back(), h.ny, speed_scale};
   CellEdges(rpm, 1.0, h.y_min, h.y_max);
-  h.log_y = sweep.speed_scale == AxisScale::kLog;
-  for (const SpeedPoint& s : sweep.points) {
+  h.log_y = speed_scale == AxisScale::kLog;
+  for (const std::vector<double>* row : waterfall.rows) {
     for (int k = 0; k < h.nx; ++k) {
-      const double a =
-          s.ok && k < static_cast<int>(s.amplitude_m.size()) ? s.amplitude_m[k] : kNoValue;
+      const double a = row != nullptr && k < static_cast<int>(row->size()) ? (*row)[k] : kNoValue;
       h.values.push_back(a > 0.0 ? 20.0 * std::log10(a / 1e-6) : kNoValue);
     }
   }
@@ -169,16 +174,18 @@ render::HeatMap WaterfallFigure(const SpeedSweepResult& sweep) {
   return h;
 }
 
-render::LinePlot OrderTrackFigure(const std::vector<OrderTrack>& mesh,
-                                  const std::vector<OrderTrack>& sidebands, AxisScale speed_scale) {
+render::LinePlot OrderTrackFigure(const std::vector<OrderTrack>& solid,
+                                  const std::vector<OrderTrack>& dashed, AxisScale speed_scale,
+                                  const std::string& title, const std::string& reference,
+                                  DashedColours colours) {
   render::LinePlot p;
   p.log_x = speed_scale == AxisScale::kLog;
-  p.title = "Order tracks: TE at the mesh orders and the largest sidebands";
-  p.x_label = "pinion speed (rpm)";
+  p.title = title;
+  p.x_label = reference + " speed (rpm)";
   p.y_label = "TE amplitude (dB re 1 µm)";
   p.auto_log_y = false;
   double top = -std::numeric_limits<double>::infinity();
-  for (const auto* tracks : {&mesh, &sidebands}) {
+  for (const auto* tracks : {&solid, &dashed}) {
     for (const OrderTrack& t : *tracks) {
       for (double a : t.amplitude_m) {
         if (a > 0.0) top = std::max(top, 20.0 * std::log10(a / 1e-6));
@@ -196,10 +203,40 @@ render::LinePlot OrderTrackFigure(const std::vector<OrderTrack>& mesh,
     p.series.push_back(std::move(s));
   };
   int color = 0;
-  for (const OrderTrack& t : mesh) add(t, render::Series::Style::kLine, color++, 2.0);
-  color = 3;
-  for (const OrderTrack& t : sidebands) add(t, render::Series::Style::kDashed, color++, 1.5);
+  for (const OrderTrack& t : solid) add(t, render::Series::Style::kLine, color++, 2.0);
+  color = colours == DashedColours::kAfterSolid ? 3 : 0;
+  for (const OrderTrack& t : dashed) add(t, render::Series::Style::kDashed, color++, 1.5);
   return p;
+}
+
+std::string OrderTracksCsv(const std::vector<OrderTrack>& solid,
+                           const std::vector<OrderTrack>& dashed, const std::string& reference) {
+  std::vector<const OrderTrack*> all;
+  for (const auto* tracks : {&solid, &dashed}) {
+    for (const OrderTrack& t : *tracks) all.push_back(&t);
+  }
+  std::ostringstream os;
+  os.precision(12);
+  os << "speed_rpm";
+  for (const OrderTrack* t : all) {
+    os << ",\"" << t->label << " (" << reference << " order " << t->order << ") m\",\""
+       << t->label << " dB re 1 µm\"";
+  }
+  os << '\n';
+  const size_t n = all.empty() ? 0 : all.front()->speed_rpm.size();
+  for (size_t i = 0; i < n; ++i) {
+    os << all.front()->speed_rpm[i];
+    for (const OrderTrack* t : all) {
+      const double a = t->amplitude_m[i];
+      if (a > 0.0) {
+        os << ',' << a << ',' << 20.0 * std::log10(a / 1e-6);
+      } else {
+        os << ",,";
+      }
+    }
+    os << '\n';
+  }
+  return os.str();
 }
 
 render::HeatMap AtlasFigure(const AtlasResult& atlas, bool lyapunov, const GearboxSpec& spec) {

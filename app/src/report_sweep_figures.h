@@ -24,12 +24,31 @@ render::LinePlot CampbellFigure(const SpeedSweepResult& sweep);
 // (one per column of campbell.frequency_hz), with its speed axis label ("input speed (rpm)").
 render::LinePlot CampbellFigure(const CampbellData& campbell, const std::vector<double>& rpm,
                                 AxisScale speed_scale, const std::string& speed_label);
+// TE amplitude in dB re 1 µm over order (x) and speed (y), floored 60 dB under the strongest
+// line: a pair's (pinion orders and speed) ...
 render::HeatMap WaterfallFigure(const SpeedSweepResult& sweep);
-// Amplitude in dB re 1 µm against speed: `mesh` solid, `sidebands` dashed. Values more than
-// 100 dB under the strongest are left out (an exact solution's rounding noise lies far below).
-// The speed axis has the sweep's scale.
-render::LinePlot OrderTrackFigure(const std::vector<OrderTrack>& mesh,
-                                  const std::vector<OrderTrack>& sidebands, AxisScale speed_scale);
+// ... or any waterfall of `order_bins` bins on `reference`'s orders and speed ("input" for a
+// train's mesh), titled `title`.
+render::HeatMap WaterfallFigure(const WaterfallView& waterfall, int order_bins,
+                                AxisScale speed_scale, const std::string& reference,
+                                const std::string& title);
+// How the dashed tracks of an order-track figure are coloured: after the solid ones (a pair's
+// sidebands) or each as the solid track of the same index (a train's 2x mesh order of a mesh).
+enum class DashedColours { kAfterSolid, kAsSolid };
+// Amplitude in dB re 1 µm against speed: `solid` (the mesh orders), `dashed` (a pair's largest
+// sidebands, a train's higher mesh orders). Values more than 100 dB under the strongest are left
+// out (an exact solution's rounding noise lies far below). The speed axis has the sweep's scale
+// and is `reference`'s speed.
+render::LinePlot OrderTrackFigure(
+    const std::vector<OrderTrack>& solid, const std::vector<OrderTrack>& dashed,
+    AxisScale speed_scale,
+    const std::string& title = "Order tracks: TE at the mesh orders and the largest sidebands",
+    const std::string& reference = "pinion", DashedColours colours = DashedColours::kAfterSolid);
+// The figure's data: speed_rpm, then per track its amplitude in m and in dB re 1 µm (empty where
+// the run failed); columns named with the track's label and its order of `reference`.
+std::string OrderTracksCsv(const std::vector<OrderTrack>& solid,
+                           const std::vector<OrderTrack>& dashed,
+                           const std::string& reference = "pinion");
 // lyapunov: lambda per forcing cycle (diverging map); otherwise log10 of the rattle index.
 // Axes in the units of `spec` (the gearbox file), logarithmic where the atlas axis is.
 render::HeatMap AtlasFigure(const AtlasResult& atlas, bool lyapunov, const GearboxSpec& spec);

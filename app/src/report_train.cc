@@ -9,6 +9,7 @@
 #include "atomic_file.h"
 #include "display_units.h"
 #include "finite_results.h"
+#include "gearnvh/analysis/order_tracks.h"
 #include "gearnvh/analysis/train_operating_point.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/solver/train_reduced_tables.h"
@@ -18,6 +19,7 @@
 #include "train_check.h"
 #include "train_command_options.h"
 #include "train_sweep_command.h"
+#include "uff_export.h"
 
 namespace gearnvh::app {
 
@@ -167,8 +169,10 @@ std::string TrainPage(const TrainPageInput& in) {
   }
   h << "<p>Data: <a href=\"meshes.csv\">meshes.csv</a>, <a href=\"loose_gears.csv\">"
        "loose_gears.csv</a>, <a href=\"sidebands.csv\">sidebands.csv</a>, <a "
-       "href=\"results.json\">results.json</a>. Not built for trains yet: the waterfall, order "
-       "tracks, chaos atlas and tier comparison of a gear pair's report.</p>\n";
+       "href=\"waterfall.csv\">waterfall.csv</a>, <a href=\"order_tracks.csv\">order_tracks.csv"
+       "</a>, <a href=\"results.uff\">results.uff</a> (UFF dataset 58: every mesh's TE and force "
+       "histories, TE spectrum and order tracks), <a href=\"results.json\">results.json</a>. Not "
+       "built for trains yet: the chaos atlas and tier comparison of a gear pair's report.</p>\n";
   h << kImageCheckScript << "\n</body></html>\n";
   return h.str();
 }
@@ -222,6 +226,7 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
   run.tier = settings.tier;
   run.cycles = spec.analysis.cycles;
   run.transient = spec.analysis.transient_cycles;
+  run.histories = true;  // results.uff
   TrainSweepOptions sweep_options;
   sweep_options.cycles = 256;
   sweep_options.transient = 100;
@@ -287,6 +292,34 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
                sweep, sweep.mesh_names, "Dynamic TE RMS per mesh", "TE RMS (µm)",
                [](const TrainSweepPoint& p, size_t i) { return p.meshes[i].te_rms * 1e6; }, scale),
            image, (folder / "mesh_te.png").string()));
+  // Every mesh's 1x mesh-order track solid, its 2x dashed in the same colour; a waterfall each.
+  std::vector<OrderTrack> first_orders, second_orders, every_order;
+  for (size_t i = 0; i < sweep.mesh_names.size(); ++i) {
+    const std::vector<OrderTrack> tracks =
+        MeshOrderTracks(MeshWaterfall(sweep, i), sweep.mesh_orders[i], 3, sweep.mesh_names[i]);
+    first_orders.push_back(tracks[0]);
+    second_orders.push_back(tracks[1]);
+    every_order.insert(every_order.end(), tracks.begin(), tracks.end());
+  }
+  draw("order_tracks.png",
+       "TE amplitude at each mesh's own mesh order (solid) and twice it (dashed, same colour) "
+       "against the input speed: the mesh-order resonances (order_tracks.csv holds orders 1-3).",
+       render::RenderLinePlot(
+           OrderTrackFigure(first_orders, second_orders, scale,
+                            "Order tracks: TE at each mesh's 1x and 2x mesh order", "input",
+                            DashedColours::kAsSolid),
+           image, (folder / "order_tracks.png").string()));
+  for (size_t i = 0; i < sweep.mesh_names.size(); ++i) {
+    const std::string name = fmt::format("waterfall_{}.png", i + 1);
+    draw(name,
+         fmt::format("Waterfall of mesh {} (mesh order {} of the input shaft): its TE amplitude "
+                     "over input orders and speed (waterfall.csv).",
+                     sweep.mesh_names[i], Number(sweep.mesh_orders[i])),
+         render::RenderHeatMap(WaterfallFigure(MeshWaterfall(sweep, i), sweep.order_bins, scale,
+                                               "input", "Waterfall: TE of mesh " +
+                                                            sweep.mesh_names[i]),
+                               image, (folder / name).string()));
+  }
   if (!sweep.loose_gear_names.empty()) {
     draw(
         "loose_gears.png",
@@ -304,6 +337,15 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
   WriteFileAtomically((folder / "meshes.csv").string(), TrainMeshesCsv(sweep));
   WriteFileAtomically((folder / "loose_gears.csv").string(), TrainLooseGearsCsv(sweep));
   WriteFileAtomically((folder / "sidebands.csv").string(), TrainSidebandsCsv(op));
+  WriteFileAtomically((folder / "waterfall.csv").string(), TrainWaterfallCsv(sweep));
+  WriteFileAtomically((folder / "order_tracks.csv").string(),
+                      OrderTracksCsv(every_order, {}, "input"));
+  {
+    std::vector<UffFunction> uff = TrainOperatingPointUff(spec, op);
+    for (UffFunction& f : TrainSweepOrderTracksUff(spec, sweep, static_cast<int>(uff.size()) + 1))
+      uff.push_back(std::move(f));
+    WriteUffFile((folder / "results.uff").string(), uff);
+  }
   nlohmann::json images = nlohmann::json::array();
   for (const auto& [name, caption] : figures)
     images.push_back({{"file", name}, {"caption", caption}});

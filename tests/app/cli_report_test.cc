@@ -312,9 +312,11 @@ TEST_CASE("report: a gear train gets its page and figures, next to a pair and pa
   CHECK(page.find("Loose gears by rattle index") != std::string::npos);
   CHECK(page.find("TE spectrum lines per mesh") != std::string::npos);
   CHECK(page.find("l5-o5") != std::string::npos);
-  // Campbell, per-mesh TE RMS and impacts, loose gears: drawn, with a title and data.
+  // Campbell, per-mesh TE RMS and impacts, order tracks, a waterfall per mesh, loose gears:
+  // drawn, with a title and data.
   const auto images = ImageSources(page);
-  CHECK(images.size() == 4);
+  CHECK(images.size() == 4 + 1 + 6);
+  CHECK(std::count(images.begin(), images.end(), "waterfall_6.png") == 1);
   for (const std::string& src : images) {
     INFO(src);
     const render::RgbImage img = render::ReadPng((g / src).string());
@@ -332,6 +334,21 @@ TEST_CASE("report: a gear train gets its page and figures, next to a pair and pa
   CHECK(results["check"]["campbell"]["modes"].size() >= 1);
   const std::string meshes = ReadWholeFile(g / "meshes.csv");
   CHECK(std::count(meshes.begin(), meshes.end(), '\n') == 1 + 3 * 6);
+  // Waterfall rows per speed and mesh, order tracks 1-3 per mesh, and the UFF file: every mesh's
+  // TE and force histories and spectrum (210 cycles: two common periods) and its 3 order tracks.
+  const std::string waterfall = ReadWholeFile(g / "waterfall.csv");
+  CHECK(waterfall.rfind("speed_rpm,mesh,order,frequency_hz,amplitude_m\n", 0) == 0);
+  CHECK(static_cast<long>(std::count(waterfall.begin(), waterfall.end(), '\n')) ==
+        1 + 3 * 6 * results["sweep"]["waterfall"]["order_bins"].get<long>());
+  const std::string tracks = ReadWholeFile(g / "order_tracks.csv");
+  CHECK(tracks.find("1x mesh l5-o5 (input order") != std::string::npos);
+  CHECK(std::count(tracks.begin(), tracks.end(), '\n') == 1 + 3);
+  const std::string uff = ReadWholeFile(g / "results.uff");
+  size_t datasets = 0;
+  for (size_t at = uff.find("    -1\n    58\n"); at != std::string::npos;
+       at = uff.find("    -1\n    58\n", at + 1))
+    ++datasets;
+  CHECK(datasets == 6 * 3 + 6 * 3);
   const std::string batch = ReadWholeFile(out / "index.html");
   CHECK(batch.find("transmission/index.html") != std::string::npos);
   CHECK(batch.find("tier 1 (gear train)") != std::string::npos);
