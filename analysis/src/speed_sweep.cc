@@ -89,7 +89,7 @@ SpeedSweepResult RunSpeedSweep(const GearboxSpec& spec, const ComponentModel& mo
                                const ReducedModel& reduced, const SpeedSweepOptions& options,
                                const SweepProgress& progress, const std::vector<bool>& skip) {
   if (options.cycles < 2) {
-    throw InputError("--cycles", 0, std::to_string(options.cycles), "must be >= 2");
+    throw InputError("SpeedSweepOptions.cycles", 0, std::to_string(options.cycles), "must be >= 2");
   }
   if (options.waterfall_cycles < 1 || options.waterfall_cycles > options.cycles) {
     throw InputError("SpeedSweepOptions.waterfall_cycles", 0,

@@ -131,13 +131,13 @@ KeptSamples PlanKeptSamples(const TrainRunOptions& options, const SpectrumWindow
   return {start + static_cast<double>(first) * dt, std::max(0L, record - first)};
 }
 
-// The `length` samples of `series` from the one at time `from` (the series' first is at
-// `series_from`, dt apart); empty when the series does not hold them all.
-std::vector<double> SeriesSlice(const std::vector<double>& series, double series_from, double dt,
-                                double from, long length) {
+// The index in a series of samples dt apart from `series_from` of the sample at `from`, when the
+// series holds `length` samples from there; nullopt otherwise.
+std::optional<size_t> SliceStart(size_t series_size, double series_from, double dt, double from,
+                                 long length) {
   const long first = std::llround((from - series_from) / dt);
-  if (first < 0 || length <= 0 || first + length > static_cast<long>(series.size())) return {};
-  return {series.begin() + first, series.begin() + first + length};
+  if (first < 0 || length <= 0 || first + length > static_cast<long>(series_size)) return {};
+  return static_cast<size_t>(first);
 }
 
 // What the run keeps that grows with the record (TrainOperatingPoint::memory): `kept` samples per
@@ -224,16 +224,19 @@ void MeshSidebands(const TrainSpec& spec, const TrainRunOptions& options,
   const long window_samples = window.periods * window.samples_per_period;
   const double dt = recorder.sample_interval();
   const std::vector<std::vector<double>>& series = recorder.te_series();
-  const bool complete =
-      ok && window.periods > 0 &&
-      !SeriesSlice(series.front(), kept_from, dt, window.from_time, window_samples).empty();
-  if (complete) {
+  const std::optional<size_t> first =
+      ok && window.periods > 0 && !series.empty()
+          ? SliceStart(series.front().size(), kept_from, dt, window.from_time, window_samples)
+          : std::nullopt;
+  if (first) {
     SpectrumAnalyzer analyzer(static_cast<int>(window_samples));
+    std::vector<double> window_te;
     for (size_t i = 0; i < tables.meshes.size(); ++i) {
       ThrowIfCancelled(options.cancel);  // an FFT of up to 2^21 samples per mesh
       const TrainMeshTable& mt = tables.meshes[i];
-      AmplitudeSpectrum spectrum = analyzer.Analyze(
-          SeriesSlice(series[i], kept_from, dt, window.from_time, window_samples), 1.0 / dt);
+      const auto from = series[i].begin() + static_cast<long>(*first);
+      window_te.assign(from, from + window_samples);
+      AmplitudeSpectrum spectrum = analyzer.Analyze(window_te, 1.0 / dt);
       op.sidebands[i].window_cycles =
           std::llround(static_cast<double>(window.periods) * tables.common_period / mt.period);
       SidebandOptions mesh_options = op.sideband_options;
@@ -352,20 +355,18 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, GearTrain trai
   op.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   op.summary = stepper.summary();
   op.stats = recorder.Result();
+  TrainHistories& h = op.histories;
   if (options.histories) {
-    TrainHistories& h = op.histories;
+    const std::vector<std::vector<double>>& te = recorder.te_series();
     h.start = start;
     h.dt = dt;
-    h.te = recorder.te_series();
-    h.force = recorder.force_series();
-    h.contact = recorder.contact_series();
-    h.truncated = !h.te.empty() && static_cast<long>(h.te.front().size()) < op.stats.samples;
+    h.truncated = (te.empty() ? 0L : static_cast<long>(te.front().size())) < op.stats.samples;
     h.events = recorder.events();
-    h.events_truncated = static_cast<long>(h.events.size()) >= options.max_logged_events &&
-                         op.summary.events > options.max_logged_events;
+    h.events_truncated = recorder.window_events() > static_cast<long>(h.events.size());
   }
   TailSpectra(options, recorder, ok, op);
   if (options.spectra) MeshSidebands(spec, options, window, recorder, kept.from, ok, op);
+  if (options.histories) recorder.TakeSeries(h.te, h.force, h.contact);  // no copy
   return op;
 }
 

@@ -56,8 +56,10 @@ TrainSweepPoint RunPoint(const TrainSpec& base, const TrainSweepOptions& options
 }  // namespace
 
 void TrainSweepOptions::Validate() const {
-  if (cycles < 1) throw InputError("--cycles", 0, std::to_string(cycles), "must be >= 1");
-  if (transient < 0) throw InputError("--transient", 0, std::to_string(transient), "must be >= 0");
+  if (cycles < 1) throw InputError(names("cycles"), 0, std::to_string(cycles), "must be >= 1");
+  if (transient < 0) {
+    throw InputError(names("transient"), 0, std::to_string(transient), "must be >= 0");
+  }
   if (waterfall_cycles < 1) {
     throw InputError("TrainSweepOptions.waterfall_cycles", 0, std::to_string(waterfall_cycles),
                      "must be >= 1");

@@ -257,6 +257,7 @@ int RunSweep(const SweepOptions& options) {
     SpeedSweepOptions sweep;
     sweep.cycles = options.cycles.value_or(sweep.cycles);
     sweep.transient_cycles = options.transient.value_or(sweep.transient_cycles);
+    RequireCycleCounts(sweep.cycles, 2, sweep.transient_cycles);
     sweep.waterfall_cycles = std::min(sweep.waterfall_cycles, sweep.cycles - 1);
     RequireRunLengthOfOptions(loaded.train, spec.analysis.speed_sweep.from, sweep.cycles,
                               sweep.transient_cycles, options.cycles, options.transient);

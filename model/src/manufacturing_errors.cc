@@ -74,10 +74,9 @@ double MeshErrorExcitation::SegmentMean(long cycle, int segment, double t0, doub
 
 MeshErrorExcitation MeshErrorExcitation::AtSpeed(double speed_a) const {
   MeshErrorExcitation out = *this;
-  if (speeds_[0] != 0.0) {
-    out.speeds_[1] = speeds_[1] * speed_a / speeds_[0];
-    out.speeds_[0] = speed_a;
-  }
+  if (speed_a == speeds_[0]) return out;  // bit for bit as built
+  out.speeds_[0] = speed_a;
+  out.speeds_[1] = speed_a * teeth_[0] / static_cast<double>(teeth_[1]);  // as the constructor
   return out;
 }
 

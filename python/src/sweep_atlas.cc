@@ -49,6 +49,7 @@ std::shared_ptr<Sweep> RunSweep(const Gearbox& gb, const py::object& tier,
   options.threads = jobs;
   options.method = NamingSource(source, [&] { return app::ParseMethod(method, "method"); });
   NamingSource(source, [&] {
+    app::RequireCycleCounts(options.cycles, 2, options.transient_cycles, OptionNames{""});
     RequirePairRunLength(spec, spec.analysis.speed_sweep.from, options.cycles,
                          options.transient_cycles, cycles, transient, false);
   });

@@ -52,7 +52,7 @@ def test_simulate_gives_the_command_line_document(gearnvh_exe, transmission):
     cli = json.loads(subprocess.run(
         [gearnvh_exe, "simulate", str(TRANSMISSION), "--cycles", "60", "--transient", "20",
          "--json"], check=True, capture_output=True, text=True).stdout)
-    # Both call app::RunTrainOperatingPoint on the same spec through the same static library:
+    # Both call RunTrainOperatingPoint (analysis/) on the same spec through the same static library:
     # every number is equal bit for bit (tolerance 0), except the wall-clock timings.
     assert without_timings(result.to_dict()) == without_timings(cli)
     assert [m.name for m in result.meshes] == transmission.meshes

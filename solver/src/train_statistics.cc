@@ -41,6 +41,18 @@ void TrainRecorder::KeepSeries(double from_time, long max_samples, bool historie
   for (std::vector<ContactState>& series : contact_series_) series.reserve(reserved);
 }
 
+void TrainRecorder::TakeSeries(std::vector<std::vector<double>>& te,
+                               std::vector<std::vector<double>>& force,
+                               std::vector<std::vector<ContactState>>& contact) {
+  te = std::move(te_series_);
+  force = std::move(force_series_);
+  contact = std::move(contact_series_);
+  te_series_.clear();
+  force_series_.clear();
+  contact_series_.clear();
+  keep_max_ = 0;
+}
+
 void TrainRecorder::KeepEvents(long max_events) {
   keep_events_ = std::max(0L, max_events);
   events_.clear();
@@ -177,6 +189,7 @@ void TrainRecorder::Interval(double start, double length, const std::vector<Cont
 
 void TrainRecorder::Event(int mesh, ContactState from, ContactState to, double time, double rate) {
   if (time < start_) return;
+  ++window_events_;
   if (static_cast<long>(events_.size()) < keep_events_)
     events_.push_back({mesh, {time, from, to, rate}});
   const size_t i = static_cast<size_t>(mesh);

@@ -3,6 +3,7 @@
 // JSON outputs of the same run.
 #include "uff_export.h"
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <fstream>
@@ -31,6 +32,7 @@ struct Parsed58 {
   std::string id1, id2;
   int function_type = 0, function_id = 0;
   std::string response_name;
+  int response_node = 0;
   int ordinate_type = 0, spacing = -1;
   long count = 0;
   double x_min = 0.0, dx = 0.0, z_value = 0.0;
@@ -76,6 +78,7 @@ std::vector<Parsed58> ReadUff(const std::string& text) {
     d.function_type = std::stoi(Field(r6, 0, 5));
     d.function_id = std::stoi(Field(r6, 5, 10));
     d.response_name = Trim(Field(r6, 31, 10));
+    d.response_node = std::stoi(Field(r6, 41, 10));
     const std::string& r7 = lines[i + 8];  // FORMAT(3I10,3E13.5)
     d.ordinate_type = std::stoi(Field(r7, 0, 10));
     d.count = std::stol(Field(r7, 10, 10));
@@ -259,9 +262,13 @@ TEST_CASE("simulate --uff and --out on a gear train: every mesh's histories and 
       const Parsed58& h = d[3 * i + k];
       INFO(h.id1);
       CHECK(h.id1.find(", mesh " + name) != std::string::npos);
+      CHECK(h.response_node == static_cast<int>(i) + 1);
       CHECK(h.function_type == 1);
       CHECK(h.ordinate.units == (k == 0 ? "m" : "N"));
       REQUIRE(h.count == samples);
+      // E13.5 abscissa fields: 6 significant digits of the CSV's first time and its step.
+      CHECK(h.x_min == Approx(std::stod(csv[1][0])).epsilon(1e-5));
+      CHECK(h.dx == Approx(std::stod(csv[2][0]) - std::stod(csv[1][0])).epsilon(1e-5));
       for (size_t j = 0; j < h.values.size(); ++j) {
         const double expected = std::stod(csv[j + 1][1 + 3 * i + k]);
         REQUIRE(h.values[j] == Approx(expected).epsilon(kUffRelative).margin(1e-300));
@@ -270,6 +277,7 @@ TEST_CASE("simulate --uff and --out on a gear train: every mesh's histories and 
     // The spectrum: the bin of the mesh frequency holds the "1 fm" line of the mesh's table.
     const Parsed58& s = d[3 * i + 2];
     CHECK(s.function_type == 12);
+    CHECK(s.response_node == static_cast<int>(i) + 1);
     CHECK(s.id1.find(", mesh " + name) != std::string::npos);
     const long window = meshes[i]["sideband_window_cycles"].get<long>();
     REQUIRE(window > 0);
@@ -346,7 +354,9 @@ TEST_CASE("sweep --uff on a gear train: every mesh's order tracks equal its wate
       CHECK(t.z.label == "input order");
       CHECK(t.z_value == Approx(k * order).epsilon(1e-5));
       CHECK(t.x_min == Approx(speeds.front()).epsilon(1e-5));
+      CHECK(t.dx == Approx(speeds[1] - speeds[0]).epsilon(1e-5));
       REQUIRE(t.values.size() == speeds.size());
+      CHECK(*std::max_element(t.values.begin(), t.values.end()) > 0.0);  // a line, not empty
       const double at = k * order / step;
       const auto lo = static_cast<size_t>(std::floor(at + 1e-9));
       const size_t hi = std::abs(at - std::round(at)) < 1e-9 ? lo : lo + 1;

@@ -72,7 +72,8 @@ class TrainRecorder {
   void KeepSeries(double from_time, long max_samples, bool histories = false);
   // What KeepSeries(_, max_samples, histories) reserves on a train of `meshes` meshes.
   static size_t SeriesBytes(size_t meshes, long max_samples, bool histories = false) {
-    const size_t per_sample = sizeof(double) + (histories ? sizeof(double) + 1 : 0);
+    const size_t per_sample =
+        sizeof(double) + (histories ? sizeof(double) + sizeof(ContactState) : 0);
     return meshes * static_cast<size_t>(std::max(0L, max_samples)) * per_sample;
   }
   // Per mesh (file order) the kept TE samples, m; with histories, the force (N) and the contact
@@ -80,10 +81,15 @@ class TrainRecorder {
   const std::vector<std::vector<double>>& te_series() const { return te_series_; }
   const std::vector<std::vector<double>>& force_series() const { return force_series_; }
   const std::vector<std::vector<ContactState>>& contact_series() const { return contact_series_; }
+  // Moves the kept series out (the recorder keeps none after): a run's histories without a copy.
+  void TakeSeries(std::vector<std::vector<double>>& te, std::vector<std::vector<double>>& force,
+                  std::vector<std::vector<ContactState>>& contact);
   // Keeps the first `max_events` contact changes of the recorded window, in the order they are
   // located (storage reserved here, so recording allocates nothing).
   void KeepEvents(long max_events);
   const std::vector<TrainEventRecord>& events() const { return events_; }
+  // The contact changes of the recorded window, kept or not.
+  long window_events() const { return window_events_; }
   // The trajectory from z (at `start`, in `system`, the tuple of `segments` and `states`) for
   // `length` seconds: the exact statistics of its part inside the recorded window.
   void Piece(const TrainSystem& system, const Eigen::Ref<const Eigen::VectorXd>& z, double start,
@@ -121,7 +127,7 @@ class TrainRecorder {
   bool keep_histories_ = false;
   std::vector<std::vector<double>> te_series_, force_series_;
   std::vector<std::vector<ContactState>> contact_series_;
-  long keep_events_ = 0;
+  long keep_events_ = 0, window_events_ = 0;
   std::vector<TrainEventRecord> events_;
 };
 
