@@ -131,12 +131,15 @@ OperatingPointAnalysis AnalyseOperatingPoint(
         "no spectrum: the record holds no whole period of the engine orders and gear "
         "errors");
   }
-  op.sideband_notes.push_back(fmt::format(
+  op.sideband_notes.push_back(SidebandListingNote(op.sideband_options));
+  return op;
+}
+
+std::string SidebandListingNote(const SidebandOptions& o) {
+  return fmt::format(
       "lines are listed when {:g} dB above the median of the {} bins around them and above {:g} "
       "dB relative to the strongest bin",
-      op.sideband_options.prominence_db, 2 * op.sideband_options.background_bins,
-      op.sideband_options.rounding_floor_db));
-  return op;
+      o.prominence_db, 2 * o.background_bins, o.rounding_floor_db);
 }
 
 }  // namespace gearnvh

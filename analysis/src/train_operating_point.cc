@@ -9,6 +9,7 @@
 #include <optional>
 #include <utility>
 
+#include "gearnvh/analysis/operating_point.h"
 #include "gearnvh/analysis/train_load_warnings.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/solver/train_reduced_tables.h"
@@ -259,11 +260,8 @@ void MeshSidebands(const TrainSpec& spec, const TrainRunOptions& options,
           : "shaft-order lines and sidebands come from the engine orders (orders j fin of the "
             "input shaft) and the gears' runout and pitch errors (orders of the bodies that carry "
             "them, f_<body>); every mesh lists the lines of every source");
-  op.sideband_notes.push_back(fmt::format(
-      "lines are listed when {:g} dB above the median of the {} bins around them and above {:g} "
-      "dB relative to the strongest bin (rounding of the exact solution lies near -300 dB)",
-      op.sideband_options.prominence_db, 2 * op.sideband_options.background_bins,
-      op.sideband_options.rounding_floor_db));
+  op.sideband_notes.push_back(SidebandListingNote(op.sideband_options) +
+                              " (rounding of the exact solution lies near -300 dB)");
 }
 
 // Each mesh's TE spectrum over the record's last options.waterfall_samples samples

@@ -38,6 +38,9 @@ struct OperatingPointAnalysis {
   std::vector<std::string> sideband_notes;  // what the listing holds and why (cycles_note first)
 };
 
+// The rule a sideband listing follows, in words (the last of the listing's notes).
+std::string SidebandListingNote(const SidebandOptions& options);
+
 // Recording more than this many times the requested cycles (whole periods of the shaft-order
 // sources, `cycles_note`) is a warning: the run takes that much longer than asked for.
 constexpr long kCyclesRoundingWarningFactor = 2;
