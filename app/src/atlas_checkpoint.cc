@@ -11,22 +11,35 @@
 
 namespace gearnvh::app {
 
-std::string AtlasCheckpointSettings(const std::string& file_text, const AtlasAxis& x,
-                                    const AtlasAxis& y, const AtlasOptions& o) {
+std::string AtlasCheckpointSettingsText(const std::string& file, const AtlasAxis& x,
+                                        const AtlasAxis& y, long cycles, long transient_cycles,
+                                        EventMethod events, Tier tier, double chaos_threshold) {
+  std::ifstream in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string file_text = text.str();
   const nlohmann::json j = {{"file_hash", std::to_string(std::hash<std::string>{}(file_text))},
                             {"x", AtlasAxisJson(x)},
                             {"y", AtlasAxisJson(y)},
-                            {"cycles", o.cycles},
-                            {"transient", o.transient_cycles},
-                            {"method", EventMethodName(o.events)},
-                            {"tier", static_cast<int>(o.tier)},
-                            {"chaos_threshold", o.chaos_threshold}};
+                            {"cycles", cycles},
+                            {"transient", transient_cycles},
+                            {"method", EventMethodName(events)},
+                            {"tier", static_cast<int>(tier)},
+                            {"chaos_threshold", chaos_threshold}};
   return j.dump();
 }
 
-std::vector<AtlasCell> PrepareAtlasCheckpoint(const AtlasCheckpoint& cp, bool resume) {
+std::optional<AtlasCheckpoint> AtlasCheckpointIn(const std::optional<std::string>& out_dir,
+                                                 std::string settings, int nx, int ny) {
+  if (!out_dir) return std::nullopt;
+  return AtlasCheckpoint{std::filesystem::path(*out_dir) / ".atlas-checkpoint", std::move(settings),
+                         nx, ny};
+}
+
+std::vector<nlohmann::json> PrepareAtlasCheckpoint(const AtlasCheckpoint& cp, bool resume,
+                                                   const AtlasCellCheck& check_cell) {
   namespace fs = std::filesystem;
-  std::vector<AtlasCell> done;
+  std::vector<nlohmann::json> done;
   const fs::path settings = cp.dir / "settings.json";
   if (resume && fs::exists(settings)) {
     std::ifstream in(settings);
@@ -43,8 +56,12 @@ std::vector<AtlasCell> PrepareAtlasCheckpoint(const AtlasCheckpoint& cp, bool re
       std::string line;
       while (std::getline(cells, line)) {
         try {
-          const AtlasCell c = AtlasCellFromJson(nlohmann::json::parse(line));
-          if (c.ok && c.ix >= 0 && c.iy >= 0 && c.ix < cp.nx && c.iy < cp.ny) done.push_back(c);
+          nlohmann::json c = nlohmann::json::parse(line);
+          check_cell(c);
+          const int ix = c.at("ix").get<int>(), iy = c.at("iy").get<int>();
+          if (c.at("ok").get<bool>() && ix >= 0 && iy >= 0 && ix < cp.nx && iy < cp.ny) {
+            done.push_back(std::move(c));
+          }
         } catch (const std::exception&) {
           // A line cut short by the kill (or damaged): that cell is computed again.
         }

@@ -10,6 +10,7 @@
 
 #include "atlas_checkpoint.h"
 #include "atlas_documents.h"
+#include "atlas_grid.h"
 #include "atlas_terminal.h"
 #include "command_errors.h"
 #include "config/gearbox_loader.h"
@@ -81,98 +82,37 @@ int RunAtlas(const AtlasCommandOptions& options) {
       throw InputError("--resume", 0, "", "needs --out DIR (the checkpoint lives there)");
     }
     atlas.Validate();
-    const int nx = x->range.points, ny = y->range.points, total = nx * ny;
+    const int nx = x->range.points, ny = y->range.points;
 
     // Checkpoint (only with --out): rank 0 prepares it and tells every rank what is done.
-    std::optional<AtlasCheckpoint> checkpoint;
-    std::vector<AtlasCell> restored;
-    if (options.out) {
-      std::ifstream in(options.file);
-      std::stringstream text;
-      text << in.rdbuf();
-      checkpoint = AtlasCheckpoint{std::filesystem::path(*options.out) / ".atlas-checkpoint",
-                                   AtlasCheckpointSettings(text.str(), *x, *y, atlas), nx, ny};
-      if (rank == 0) restored = PrepareAtlasCheckpoint(*checkpoint, options.resume);
-    }
-    std::string restored_text;
-    if (rank == 0) {
-      nlohmann::json indices = nlohmann::json::array();
-      for (const AtlasCell& c : restored) indices.push_back(c.iy * nx + c.ix);
-      restored_text = indices.dump();
-    }
-    restored_text = MpiContext::BroadcastString(restored_text);
-    std::vector<bool> skip(static_cast<size_t>(total), false);
-    for (int k = 0; k < total; ++k) skip[static_cast<size_t>(k)] = k % ranks != rank;
-    for (const auto& k : nlohmann::json::parse(restored_text)) skip[k.get<size_t>()] = true;
-
+    AtlasGrid grid(nx, ny,
+                   AtlasCheckpointIn(options.out,
+                                     AtlasCheckpointSettings(options.file, *x, *y, atlas), nx, ny),
+                   options.resume, [](const nlohmann::json& j) { (void)AtlasCellFromJson(j); });
     const AtlasProgress progress = AtlasTerminalProgress(rank, ranks);
-    const bool on_terminal = static_cast<bool>(progress);
-    std::ofstream log;
-    if (checkpoint) {
-      log.open(checkpoint->dir / ("cells-rank-" + std::to_string(rank) + ".jsonl"), std::ios::app);
-    }
-    AtlasCellCallback on_cell = [&](const AtlasCell& c) {
-      if (log.is_open() && c.ok) log << AtlasCellJson(c).dump() << std::endl;  // flushed per cell
+    auto lost = [&](int k, const std::string& message) {
+      AtlasCell c;
+      c.ix = k % nx;
+      c.iy = k / nx;
+      c.x = AxisValue(*x, c.ix);
+      c.y = AxisValue(*y, c.iy);
+      c.message = message;
+      return c;
     };
-    // This rank's cells; a rank that fails outside a cell reports its cells as lost.
-    nlohmann::json mine = nlohmann::json::array();
-    double wall_s = 0.0;
-    int threads = 1;
-    try {
-      const AtlasResult part = RunChaosAtlas(spec, *x, *y, atlas, progress, skip, on_cell);
-      wall_s = part.wall_s;
-      threads = part.threads;
-      for (int k = 0; k < total; ++k) {
-        if (!skip[static_cast<size_t>(k)])
-          mine.push_back(AtlasCellJson(part.cells[static_cast<size_t>(k)]));
-      }
-    } catch (const std::exception& e) {
-      for (int k = 0; k < total; ++k) {
-        if (skip[static_cast<size_t>(k)]) continue;
-        AtlasCell lost;
-        lost.ix = k % nx;
-        lost.iy = k / nx;
-        lost.x = AxisValue(*x, lost.ix);
-        lost.y = AxisValue(*y, lost.iy);
-        lost.message = "lost: rank " + std::to_string(rank) + " failed: " + e.what();
-        mine.push_back(AtlasCellJson(lost));
-      }
-    }
-    if (on_terminal) fmt::print(stderr, "\n");
-    const std::vector<std::string> parts = MpiContext::GatherToRoot(mine.dump());
+    AtlasResult result = grid.RunCells<AtlasResult>(
+        [&](const std::vector<bool>& skip, const AtlasCellCallback& on_cell) {
+          return RunChaosAtlas(spec, *x, *y, atlas, progress, skip, on_cell);
+        },
+        AtlasCellJson, AtlasCellFromJson, lost);
+    if (progress) fmt::print(stderr, "\n");
     if (rank != 0) return 0;
-
-    AtlasResult result;
     result.x = *x;
     result.y = *y;
-    result.threads = threads;
-    result.wall_s = wall_s;
-    result.cells.resize(static_cast<size_t>(total));
-    std::vector<bool> filled(static_cast<size_t>(total), false);
-    auto place = [&](const AtlasCell& c) {
-      const size_t k = static_cast<size_t>(c.iy * nx + c.ix);
-      result.cells[k] = c;
-      filled[k] = true;
-    };
-    for (const AtlasCell& c : restored) place(c);
-    for (const std::string& part : parts) {
-      for (const auto& j : nlohmann::json::parse(part)) place(AtlasCellFromJson(j));
-    }
-    for (int k = 0; k < total; ++k) {
-      if (!filled[static_cast<size_t>(k)]) {
-        AtlasCell& c = result.cells[static_cast<size_t>(k)];
-        c.ix = k % nx;
-        c.iy = k / nx;
-        c.x = AxisValue(*x, c.ix);
-        c.y = AxisValue(*y, c.iy);
-        c.message = "lost: no rank returned this cell";
-      }
-    }
     nlohmann::json doc = AtlasJson(result, atlas);
     doc["name"] = spec.name;
     doc["file"] = options.file;
     doc["ranks"] = ranks;
-    doc["restored_cells"] = restored.size();
+    doc["restored_cells"] = grid.restored();
     RequireFinite(doc, "atlas");
     if (out) {
       out->Write("atlas.csv", AtlasCsv(result, spec));
@@ -180,10 +120,7 @@ int RunAtlas(const AtlasCommandOptions& options) {
       out->Commit();
       // Complete: the checkpoint has served its purpose (failed cells stay failed in the output;
       // a new run retries them).
-      if (result.Failed() == 0) {
-        log.close();
-        std::filesystem::remove_all(checkpoint->dir);
-      }
+      if (result.Failed() == 0) grid.Discard();
     }
     if (options.json) {
       std::cout << doc.dump(1) << "\n";
@@ -193,9 +130,9 @@ int RunAtlas(const AtlasCommandOptions& options) {
           options.file, nx, ny, Count(atlas.cycles, "mesh cycle", "mesh cycles"),
           Count(result.threads, "thread", "threads"),
           ranks > 1 ? fmt::format(" x {} ranks", ranks) : "", result.wall_s,
-          restored.empty()
+          grid.restored() == 0
               ? ""
-              : " (" + Count(static_cast<long>(restored.size()), "cell", "cells") + " restored)");
+              : " (" + Count(static_cast<long>(grid.restored()), "cell", "cells") + " restored)");
       const DisplayAxis ax = DisplayAxisFor(x->parameter, spec);
       const DisplayAxis ay = DisplayAxisFor(y->parameter, spec);
       fmt::print("  rows: {} from {} to {} {}; columns: {} from {} to {} {}\n", y->parameter,

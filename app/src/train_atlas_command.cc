@@ -6,11 +6,15 @@
 #include <chrono>
 #include <iostream>
 #include <map>
+#include <mutex>
 #include <sstream>
+#include <stdexcept>
 #include <thread>
 
+#include "atlas_checkpoint.h"
 #include "atlas_command.h"
 #include "atlas_documents.h"
+#include "atlas_grid.h"
 #include "atlas_terminal.h"
 #include "command_errors.h"
 #include "config/train_parameters.h"
@@ -46,7 +50,9 @@ TrainSpec CellVariant(const TrainSpec& base, const AtlasAxis& x, const AtlasAxis
   return spec;
 }
 
-nlohmann::json CellJson(const TrainAtlasCell& c) {
+}  // namespace
+
+nlohmann::json TrainAtlasCellJson(const TrainAtlasCell& c) {
   const TrainAtlasPoint& p = c.point;
   nlohmann::json meshes = nlohmann::json::array();
   for (const TrainAtlasMesh& m : p.meshes) {
@@ -79,6 +85,49 @@ nlohmann::json CellJson(const TrainAtlasCell& c) {
           {"wall_s", p.wall_s}};
 }
 
+TrainAtlasCell TrainAtlasCellFromJson(const nlohmann::json& j) {
+  TrainAtlasCell c;
+  c.ix = j.at("ix").get<int>();
+  c.iy = j.at("iy").get<int>();
+  c.x = j.at("x").get<double>();
+  c.y = j.at("y").get<double>();
+  TrainAtlasPoint& p = c.point;
+  p.ok = j.at("ok").get<bool>();
+  p.message = j.at("message").get<std::string>();
+  p.lyapunov_per_s = j.at("lyapunov_per_s").get<double>();
+  p.lyapunov_per_forcing_cycle = j.at("lyapunov_per_forcing_cycle").get<double>();
+  p.lyapunov_standard_error = j.at("lyapunov_standard_error").get<double>();
+  if (p.ok) p.regime = RegimeFromJson(j.at("regime"));
+  for (const auto& m : j.at("meshes")) {
+    p.meshes.push_back(
+        {m.at("name").get<std::string>(), m.at("drive_impacts_per_cycle").get<double>(),
+         m.at("back_impacts_per_cycle").get<double>(), m.at("separation_fraction").get<double>(),
+         m.at("impact_velocity_rms").get<double>(), RegimeFromJson(m.at("regime"))});
+  }
+  for (const auto& g : j.at("loose_gears")) {
+    p.loose_gears.push_back({g.at("name").get<std::string>(), g.at("rattle_index").get<double>(),
+                             g.at("impacts").get<long>(), g.at("rank").get<int>()});
+  }
+  p.wall_s = j.at("wall_s").get<double>();
+  return c;
+}
+
+namespace {
+
+std::vector<std::string> MeshNames(const TrainSpec& spec) {
+  std::vector<std::string> names;
+  for (const TrainMesh& m : spec.meshes) names.push_back(m.Name());
+  return names;
+}
+
+std::vector<std::string> LooseGearNames(const TrainSpec& spec) {
+  std::vector<std::string> names;
+  for (const TrainGear& g : spec.gears) {
+    if (g.mounting == Mounting::kLoose) names.push_back(g.name);
+  }
+  return names;
+}
+
 // The axis's values in display units, for the map's caption and the CSV header.
 std::string AxisHeader(const AtlasAxis& a) {
   const TrainDisplayAxis d = TrainDisplayAxisFor(a.parameter);
@@ -86,11 +135,15 @@ std::string AxisHeader(const AtlasAxis& a) {
 }
 
 void PrintTrainAtlas(const TrainAtlasResult& r, const std::string& name, const std::string& file,
-                     long cycles) {
+                     long cycles, int ranks, size_t restored) {
   const int nx = r.x.range.points, ny = r.y.range.points;
-  fmt::print("{}  ({}): chaos atlas of a gear train, {} x {} cells, {} of {} each, {}, {:.1f} s\n",
-             name, file, nx, ny, Count(cycles, "cycle", "cycles"), r.mesh_names.front(),
-             Count(r.threads, "thread", "threads"), r.wall_s);
+  fmt::print(
+      "{}  ({}): chaos atlas of a gear train, {} x {} cells, {} of {} each, {}{}, {:.1f} s{}\n",
+      name, file, nx, ny, Count(cycles, "cycle", "cycles"), r.mesh_names.front(),
+      Count(r.threads, "thread", "threads"), ranks > 1 ? fmt::format(" x {} ranks", ranks) : "",
+      r.wall_s,
+      restored == 0 ? ""
+                    : " (" + Count(static_cast<long>(restored), "cell", "cells") + " restored)");
   const TrainDisplayAxis dx = TrainDisplayAxisFor(r.x.parameter);
   const TrainDisplayAxis dy = TrainDisplayAxisFor(r.y.parameter);
   fmt::print("  rows: {} from {} to {} {}; columns: {} from {} to {} {}\n", r.y.parameter,
@@ -132,27 +185,40 @@ void PrintTrainAtlas(const TrainAtlasResult& r, const std::string& name, const s
 
 TrainAtlasResult RunTrainAtlas(const TrainSpec& base, const AtlasAxis& x, const AtlasAxis& y,
                                const TrainAtlasOptions& options, int threads,
-                               const AtlasProgress& progress) {
+                               const AtlasProgress& progress, const std::vector<bool>& skip,
+                               const TrainAtlasCellCallback& on_cell) {
   options.Validate();
   const auto start = std::chrono::steady_clock::now();
   TrainAtlasResult r;
   r.x = x;
   r.y = y;
-  for (const TrainMesh& m : base.meshes) r.mesh_names.push_back(m.Name());
-  for (const TrainGear& g : base.gears) {
-    if (g.mounting == Mounting::kLoose) r.loose_gear_names.push_back(g.name);
-  }
+  r.mesh_names = MeshNames(base);
+  r.loose_gear_names = LooseGearNames(base);
   const int nx = x.range.points, total = nx * y.range.points;
+  if (!skip.empty() && static_cast<int>(skip.size()) != total) {
+    throw std::invalid_argument("RunTrainAtlas: skip must have one entry per cell");
+  }
   r.cells.resize(static_cast<size_t>(total));
-  const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  r.threads = std::max(1, std::min(threads > 0 ? threads : hardware, total));
-  SweepProgressCounter counter(total, progress);
-  ParallelFor(static_cast<size_t>(total), r.threads, [&](size_t k) {
+  std::vector<size_t> to_do;
+  for (size_t k = 0; k < r.cells.size(); ++k) {
     TrainAtlasCell& c = r.cells[k];
     c.ix = static_cast<int>(k) % nx;
     c.iy = static_cast<int>(k) / nx;
     c.x = AxisValue(x, c.ix);
     c.y = AxisValue(y, c.iy);
+    if (!skip.empty() && skip[k]) {
+      c.point.message = "skipped";
+    } else {
+      to_do.push_back(k);
+    }
+  }
+  const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  r.threads = std::max(
+      1, std::min(threads > 0 ? threads : hardware, std::max(1, static_cast<int>(to_do.size()))));
+  SweepProgressCounter counter(static_cast<int>(to_do.size()), progress);
+  std::mutex completed;
+  ParallelFor(to_do.size(), r.threads, [&](size_t i) {
+    TrainAtlasCell& c = r.cells[to_do[i]];
     if (options.cancel != nullptr && options.cancel->load()) {
       c.point.message = "cancelled";
       counter.Tick();
@@ -166,6 +232,10 @@ TrainAtlasResult RunTrainAtlas(const TrainSpec& base, const AtlasAxis& x, const 
       c.point.ok = false;
       c.point.message = e.what();
     }
+    if (on_cell) {
+      const std::lock_guard<std::mutex> lock(completed);
+      on_cell(c);
+    }
     counter.Tick();
   });
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -176,7 +246,7 @@ nlohmann::json TrainAtlasJson(const TrainAtlasResult& r, const TrainAtlasOptions
   nlohmann::json cells = nlohmann::json::array();
   std::map<std::string, int> regimes;
   for (const TrainAtlasCell& c : r.cells) {
-    cells.push_back(CellJson(c));
+    cells.push_back(TrainAtlasCellJson(c));
     ++regimes[c.point.ok ? RattleRegimeName(c.point.regime) : "failed"];
   }
   nlohmann::json doc = AtlasRunJson(regimes, r.Failed(), o, r.threads, r.wall_s);
@@ -296,34 +366,59 @@ std::string CheckTrainAtlasCost(const TrainSpec& spec, const TrainAtlasPlan& pla
 }
 
 int AtlasTrain(const AtlasCommandOptions& options, const TrainSpec& spec) {
+  const int rank = MpiContext::Rank(), ranks = MpiContext::Size();
   const TrainAtlasPlan plan = PlanTrainAtlas(options, spec);
-  if (options.resume) {
-    throw InputError("--resume", 0, "", "checkpoints are not available for gear trains yet");
+  if (options.resume && !options.out) {
+    throw InputError("--resume", 0, "", "needs --out DIR (the checkpoint lives there)");
   }
-  if (MpiContext::Size() > 1) {
-    throw InputError("mpirun", 0, std::to_string(MpiContext::Size()) + " ranks",
-                     "the atlas of a gear train runs in one process (threads, --jobs); MPI is "
-                     "not available for gear trains yet");
-  }
-  if (const std::string slow = CheckTrainAtlasCost(spec, plan); !slow.empty())
+  if (const std::string slow = CheckTrainAtlasCost(spec, plan); !slow.empty() && rank == 0)
     fmt::print(stderr, "warning: {}\n", slow);
   std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", true);
-  const AtlasProgress progress = AtlasTerminalProgress(0, 1);
-  const TrainAtlasResult result =
-      RunTrainAtlas(spec, plan.x, plan.y, plan.atlas, plan.jobs, progress);
+  const int nx = plan.x.range.points, ny = plan.y.range.points;
+  // Checkpoint (only with --out): rank 0 prepares it and tells every rank what is done.
+  AtlasGrid grid(
+      nx, ny,
+      AtlasCheckpointIn(options.out,
+                        AtlasCheckpointSettings(options.file, plan.x, plan.y, plan.atlas), nx, ny),
+      options.resume, [](const nlohmann::json& j) { (void)TrainAtlasCellFromJson(j); });
+  const AtlasProgress progress = AtlasTerminalProgress(rank, ranks);
+  auto lost = [&](int k, const std::string& message) {
+    TrainAtlasCell c;
+    c.ix = k % nx;
+    c.iy = k / nx;
+    c.x = AxisValue(plan.x, c.ix);
+    c.y = AxisValue(plan.y, c.iy);
+    c.point.message = message;
+    return c;
+  };
+  TrainAtlasResult result = grid.RunCells<TrainAtlasResult>(
+      [&](const std::vector<bool>& skip, const TrainAtlasCellCallback& on_cell) {
+        return RunTrainAtlas(spec, plan.x, plan.y, plan.atlas, plan.jobs, progress, skip, on_cell);
+      },
+      TrainAtlasCellJson, TrainAtlasCellFromJson, lost);
   if (progress) fmt::print(stderr, "\n");
+  if (rank != 0) return 0;
+  result.x = plan.x;
+  result.y = plan.y;
+  result.mesh_names = MeshNames(spec);
+  result.loose_gear_names = LooseGearNames(spec);
   nlohmann::json doc = TrainAtlasDocument(result, plan.atlas, spec, options.file);
+  doc["ranks"] = ranks;
+  doc["restored_cells"] = grid.restored();
   RequireFinite(doc, "atlas");
   if (out) {
     out->Write("atlas.csv", TrainAtlasCsv(result));
     out->Write("atlas.json", doc.dump(1) + "\n");
     out->Commit();
     out.reset();  // the lock released before the terminal output, whatever happens there
+    // Complete: the checkpoint has served its purpose (failed cells stay failed in the output;
+    // a new run retries them).
+    if (result.Failed() == 0) grid.Discard();
   }
   if (options.json) {
     std::cout << doc.dump(1) << "\n";
   } else {
-    PrintTrainAtlas(result, spec.name, options.file, plan.atlas.cycles);
+    PrintTrainAtlas(result, spec.name, options.file, plan.atlas.cycles, ranks, grid.restored());
   }
   return ReportFailedAtlasCells(result.Failed(), result.cells.size());
 }

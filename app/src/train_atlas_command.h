@@ -2,10 +2,11 @@
 // (config/train_parameters.h) one ComputeTrainAtlasPoint (nvh/train_atlas.h) — the largest Lyapunov
 // exponent, each mesh's impacts and regime, each loose gear's rattle index — cells in parallel
 // (ParallelFor), a failed cell kept with its message. A regime map per train and per mesh on the
-// terminal, atlas.csv and atlas.json (docs/cli.md, docs/results.md). One process: MPI and
-// --resume are not available on trains.
+// terminal, atlas.csv and atlas.json (docs/cli.md, docs/results.md). Over MPI ranks and with a
+// checkpoint (--resume) as the pair's atlas (atlas_grid.h).
 #pragma once
 
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -32,10 +33,22 @@ struct TrainAtlasResult {
   int Failed() const;
 };
 
-// Every cell of the grid on `threads` threads (0: all cores); progress(done, total) under a lock.
+using TrainAtlasCellCallback = std::function<void(const TrainAtlasCell&)>;
+
+// Every cell of the grid whose `skip` entry is false (skip may be empty: all cells) on `threads`
+// threads (0: all cores); progress(done, cells to do) under a lock, and on_cell(cell) under a
+// lock as each completes. Skipped cells are returned with ok = false and message "skipped" (the
+// caller fills them: another MPI rank's, or restored on resume).
 TrainAtlasResult RunTrainAtlas(const TrainSpec& base, const AtlasAxis& x, const AtlasAxis& y,
                                const TrainAtlasOptions& options, int threads,
-                               const AtlasProgress& progress = {});
+                               const AtlasProgress& progress = {},
+                               const std::vector<bool>& skip = {},
+                               const TrainAtlasCellCallback& on_cell = {});
+
+// One cell as atlas.json lists it, and back (throws on a missing or mistyped field): the form
+// the checkpoint stores and MPI ranks exchange.
+nlohmann::json TrainAtlasCellJson(const TrainAtlasCell& c);
+TrainAtlasCell TrainAtlasCellFromJson(const nlohmann::json& j);
 
 nlohmann::json TrainAtlasJson(const TrainAtlasResult& r, const TrainAtlasOptions& o);
 std::string TrainAtlasCsv(const TrainAtlasResult& r);

@@ -1,5 +1,5 @@
-// Scale-out of `gearnvh atlas`: mpirun -np 2 equals the single-process atlas, and a run killed
-// midway completes with --resume to the same atlas.
+// Scale-out of `gearnvh atlas`, a pair's and a gear train's: mpirun -np 2 equals the
+// single-process atlas, and a run killed midway completes with --resume to the same atlas.
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -47,6 +47,17 @@ const std::string kAtlas = " atlas " + kExamples +
                            "/idle_rattle.yaml --x operating.speed=700rpm:1100rpm:3"
                            " --y operating.torque=0.05Nm:0.5Nm:4" +
                            kAtlasCycles;
+// The rattling three-mesh train (tests/data/loose_gear_train.yaml), 12 cells of about 0.35 s each
+// in Release: its atlas runs through the same ranks and checkpoint as the pair's.
+#if defined(GEARNVH_UNDER_ASAN)
+const std::string kTrainCycles = " --cycles 200 --transient 50 ";
+#else
+const std::string kTrainCycles = " --cycles 400 --transient 100 ";
+#endif
+const std::string kTrainAtlas = " atlas " + std::string(GEARNVH_TEST_DATA_DIR) +
+                                "/loose_gear_train.yaml --x operating.speed=900rpm:1100rpm:3"
+                                " --y operating.loads[1].torque=0.1Nm:0.3Nm:4" +
+                                kTrainCycles;
 
 // The atlas document without what legitimately differs between runs (timings, threads, ranks).
 std::string Comparable(const fs::path& json) {
@@ -56,14 +67,15 @@ std::string Comparable(const fs::path& json) {
   return d.dump();
 }
 
-TEST_CASE("mpi: mpirun -np 2 gives the single-process atlas", "[cli][mpi]") {
+// `atlas` (atlas or kTrainAtlas) on 2 ranks equals the single-process run, cell for cell.
+void CheckMpiAtlas(const std::string& atlas) {
   const TempDir dir;
-  const auto single = RunCommand(kExe + kAtlas + "--jobs 2 --out " + (dir.path() / "one").string());
+  const auto single = RunCommand(kExe + atlas + "--jobs 2 --out " + (dir.path() / "one").string());
   INFO(single.err);
   REQUIRE(single.exit_code == 0);
   // Loopback only; as root OpenMPI needs --allow-run-as-root; 2 ranks on 2 cores, 1 thread each.
   const auto mpi =
-      RunCommand(kMpirun + kExe + kAtlas + "--jobs 1 --out " + (dir.path() / "two").string());
+      RunCommand(kMpirun + kExe + atlas + "--jobs 1 --out " + (dir.path() / "two").string());
   INFO(mpi.out << mpi.err);
   REQUIRE(mpi.exit_code == 0);
   const auto doc = nlohmann::json::parse(ReadWholeFile(dir.path() / "two" / "atlas.json"));
@@ -73,6 +85,14 @@ TEST_CASE("mpi: mpirun -np 2 gives the single-process atlas", "[cli][mpi]") {
   CHECK(ReadWholeFile(dir.path() / "one" / "atlas.csv") ==
         ReadWholeFile(dir.path() / "two" / "atlas.csv"));
   CHECK(!fs::exists(dir.path() / "two" / ".atlas-checkpoint"));  // removed once complete
+}
+
+TEST_CASE("mpi: mpirun -np 2 gives the single-process atlas", "[cli][mpi]") {
+  CheckMpiAtlas(kAtlas);
+}
+
+TEST_CASE("mpi: mpirun -np 2 gives the single-process atlas of a gear train", "[cli][mpi][train]") {
+  CheckMpiAtlas(kTrainAtlas);
 }
 
 TEST_CASE("mpi: mpirun -np 2 gives the single-process speed sweep", "[cli][mpi]") {
@@ -182,14 +202,14 @@ TEST_CASE("mpi: a report batch split over 2 ranks equals the single-process repo
   }
 }
 
-TEST_CASE("mpi: an atlas killed midway completes with --resume to the same cells",
-          "[cli][resume]") {
+// `atlas` (12 cells) killed midway completes with --resume to the cells of an uninterrupted run.
+void CheckKilledAtlasResumes(const std::string& atlas) {
   const TempDir dir;
   const fs::path out = dir.path() / "killed";
   const fs::path log = out / ".atlas-checkpoint" / "cells-rank-0.jsonl";
   // Start the run, wait until a few cells are in the checkpoint, and SIGKILL it.
   std::vector<std::string> words;
-  std::istringstream command(kExe + kAtlas + "--jobs 1 --out " + out.string());
+  std::istringstream command(kExe + atlas + "--jobs 1 --out " + out.string());
   for (std::string w; command >> w;) words.push_back(w);
   std::vector<char*> argv;
   for (std::string& w : words) argv.push_back(w.data());
@@ -214,13 +234,12 @@ TEST_CASE("mpi: an atlas killed midway completes with --resume to the same cells
   REQUIRE(done_before < 12);  // killed midway
   CHECK(!fs::exists(out / "atlas.json"));
 
-  const auto resumed = RunCommand(kExe + kAtlas + "--jobs 1 --resume --json --out " + out.string());
+  const auto resumed = RunCommand(kExe + atlas + "--jobs 1 --resume --json --out " + out.string());
   INFO(resumed.err);
   REQUIRE(resumed.exit_code == 0);
   const auto doc = nlohmann::json::parse(resumed.out);
   CHECK(doc["restored_cells"].get<long>() >= done_before - 1);  // a line cut by the kill is redone
-  const auto fresh =
-      RunCommand(kExe + kAtlas + "--jobs 2 --out " + (dir.path() / "fresh").string());
+  const auto fresh = RunCommand(kExe + atlas + "--jobs 2 --out " + (dir.path() / "fresh").string());
   REQUIRE(fresh.exit_code == 0);
   CHECK(Comparable(out / "atlas.json") == Comparable(dir.path() / "fresh" / "atlas.json"));
 
@@ -229,9 +248,19 @@ TEST_CASE("mpi: an atlas killed midway completes with --resume to the same cells
   REQUIRE(std::system(("mkdir -p " + (other / ".atlas-checkpoint").string() + " && echo '{}' > " +
                        (other / ".atlas-checkpoint" / "settings.json").string())
                           .c_str()) == 0);
-  const auto refused = RunCommand(kExe + kAtlas + "--resume --out " + other.string());
+  const auto refused = RunCommand(kExe + atlas + "--resume --out " + other.string());
   CHECK(refused.exit_code == 2);  // --resume does not fit: a usage error
   CHECK(refused.err.find("other settings") != std::string::npos);
+}
+
+TEST_CASE("mpi: an atlas killed midway completes with --resume to the same cells",
+          "[cli][resume]") {
+  CheckKilledAtlasResumes(kAtlas);
+}
+
+TEST_CASE("a gear train's atlas killed midway completes with --resume to the same cells",
+          "[cli][resume][train]") {
+  CheckKilledAtlasResumes(kTrainAtlas);
 }
 
 }  // namespace

@@ -1,0 +1,47 @@
+#include "atlas_grid.h"
+
+#include <filesystem>
+
+#include "mpi_context.h"
+
+namespace gearnvh::app {
+
+AtlasGrid::AtlasGrid(int nx, int ny, std::optional<AtlasCheckpoint> checkpoint, bool resume,
+                     const AtlasCellCheck& check_cell)
+    : nx_(nx), ny_(ny), checkpoint_(std::move(checkpoint)) {
+  const int rank = MpiContext::Rank(), ranks = MpiContext::Size();
+  std::string restored_text;
+  if (rank == 0) {
+    if (checkpoint_) restored_ = PrepareAtlasCheckpoint(*checkpoint_, resume, check_cell);
+    nlohmann::json indices = nlohmann::json::array();
+    for (const nlohmann::json& c : restored_) {
+      indices.push_back(c.at("iy").get<int>() * nx_ + c.at("ix").get<int>());
+    }
+    restored_text = indices.dump();
+  }
+  restored_text = MpiContext::BroadcastString(restored_text);
+  skip_.assign(static_cast<size_t>(total()), false);
+  for (int k = 0; k < total(); ++k) skip_[static_cast<size_t>(k)] = k % ranks != rank;
+  for (const auto& k : nlohmann::json::parse(restored_text)) skip_[k.get<size_t>()] = true;
+  if (checkpoint_) {
+    log_.open(checkpoint_->dir / ("cells-rank-" + std::to_string(rank) + ".jsonl"), std::ios::app);
+  }
+}
+
+int AtlasGrid::Rank() const { return MpiContext::Rank(); }
+
+void AtlasGrid::Log(const nlohmann::json& cell) {
+  if (log_.is_open() && cell.at("ok").get<bool>()) log_ << cell.dump() << std::endl;
+}
+
+std::vector<std::string> AtlasGrid::GatherParts(const nlohmann::json& mine) const {
+  return MpiContext::GatherToRoot(mine.dump());
+}
+
+void AtlasGrid::Discard() {
+  if (!checkpoint_) return;
+  log_.close();
+  std::filesystem::remove_all(checkpoint_->dir);
+}
+
+}  // namespace gearnvh::app
