@@ -8,6 +8,7 @@
 #include <numbers>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
 #include <thread>
 
 #include "gearnvh/analysis/parallel_for.h"
@@ -117,7 +118,7 @@ RunCostEstimate EstimateTrainSweepCost(const TrainSpec& spec, const TrainSweepOp
 }
 
 TrainSweepResult RunTrainSweep(const TrainSpec& spec, const TrainSweepOptions& options,
-                               const TrainSweepProgress& progress) {
+                               const TrainSweepProgress& progress, const std::vector<bool>& skip) {
   options.Validate();
   {
     const RunCostEstimate cost = EstimateTrainSweepCost(spec, options);
@@ -138,21 +139,35 @@ TrainSweepResult RunTrainSweep(const TrainSpec& spec, const TrainSweepOptions& o
   const long half = options.WaterfallCycles() * TrainRunOptions{}.samples_per_cycle / 2;
   result.order_bins =
       static_cast<int>(std::min<long>(half, static_cast<long>(max_order / result.order_step))) + 1;
+  if (!skip.empty() && skip.size() != speeds.size()) {
+    throw std::invalid_argument("RunTrainSweep: skip must have one entry per speed");
+  }
   result.points.resize(speeds.size());
   SweepProgressCounter counter(static_cast<int>(speeds.size()), progress);
   ParallelFor(speeds.size(), options.threads, [&](size_t i) {
     TrainSweepPoint& p = result.points[i];
+    if (!skip.empty() && skip[i]) {
+      p.speed_rad_s = speeds[i];
+      p.speed_rpm = Rpm(speeds[i]);
+      p.message = "skipped";
+      return;
+    }
     RunSweepPoint(p, speeds[i],
                   [&] { return RunPoint(spec, options, speeds[i], result.order_bins); });
     counter.Tick();
   });
+  NameLooseGears(result);
+  return result;
+}
+
+void NameLooseGears(TrainSweepResult& result) {
+  result.loose_gear_names.clear();
   for (const TrainSweepPoint& p : result.points) {
     if (!p.ok) continue;
     for (const TrainLooseGearStatistics& g : p.loose_gears)
       result.loose_gear_names.push_back(g.name);
     break;
   }
-  return result;
 }
 
 }  // namespace gearnvh

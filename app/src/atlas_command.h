@@ -22,7 +22,7 @@ struct AtlasCommandOptions {
   LadderMethod method = LadderMethod::kV3;  // kFused locates events as kV3
   std::optional<std::string> out;
   bool json = false;
-  bool resume = false;  // skip the cells already in DIR's checkpoint (needs --out)
+  bool resume = false;      // skip the cells already in DIR's checkpoint (needs --out)
   bool allow_slow = false;  // gear trains: run even when the cost estimate exceeds an hour
 };
 

@@ -25,13 +25,13 @@ class AtlasGrid {
   // One entry per cell: true for the cells this rank does not compute (another rank's, restored).
   const std::vector<bool>& skip() const { return skip_; }
   size_t restored() const { return restored_.size(); }
-  // Collective: runs this rank's cells, `run(skip(), on_cell)` (RunCells) returning a Result whose `cells`
-  // hold one per grid cell (those skipped ignored) and calling on_cell(cell) under a lock as each
-  // completes (logged to the checkpoint, flushed). Rank 0 returns the Result with every cell of
-  // the grid: restored ones, every rank's computed ones, and `lost(k, reason)` for a cell nobody
-  // returned or whose rank failed outside any cell (its `run` threw; then threads and wall time
-  // are the Result's defaults). Other ranks return their own part. `to_json`/`from_json` convert
-  // a cell to and from the JSON the checkpoint stores.
+  // Collective: runs this rank's cells, `run(skip(), on_cell)` (RunCells) returning a Result whose
+  // `cells` hold one per grid cell (those skipped ignored) and calling on_cell(cell) under a lock
+  // as each completes (logged to the checkpoint, flushed). Rank 0 returns the Result with every
+  // cell of the grid: restored ones, every rank's computed ones, and `lost(k, reason)` for a cell
+  // nobody returned or whose rank failed outside any cell (its `run` threw; then threads and wall
+  // time are the Result's defaults). Other ranks return their own part. `to_json`/`from_json`
+  // convert a cell to and from the JSON the checkpoint stores.
   template <typename Result, typename Compute, typename ToJson, typename FromJson, typename Lost>
   Result RunCells(Compute run, ToJson to_json, FromJson from_json, Lost lost);
   // Rank 0, once the outputs are written and no cell failed: the checkpoint has served.

@@ -22,7 +22,7 @@ struct ReportCommandOptions {
   int jobs = 0;  // gearboxes in parallel; 0 = all cores
   int width = 1200, height = 800;
   double dpi = 100.0;
-  bool atlas = true;  // a coarse chaos atlas when the gearbox defines analysis.atlas
+  bool atlas = true;        // a coarse chaos atlas when the gearbox defines analysis.atlas
   bool allow_slow = false;  // gear trains: run even when the cost estimate exceeds an hour
 };
 

@@ -80,7 +80,6 @@ std::string MeshCycleCsv(const ComponentModel& model) {
   return os.str();
 }
 
-
 }  // namespace
 
 void ThrowUnlessDrawn(const std::string& name, const render::RenderStatus& status) {

@@ -219,8 +219,8 @@ std::string OrderTracksCsv(const std::vector<OrderTrack>& solid,
   os.precision(12);
   os << "speed_rpm";
   for (const OrderTrack* t : all) {
-    os << ",\"" << t->label << " (" << reference << " order " << t->order << ") m\",\""
-       << t->label << " dB re 1 µm\"";
+    os << ",\"" << t->label << " (" << reference << " order " << t->order << ") m\",\"" << t->label
+       << " dB re 1 µm\"";
   }
   os << '\n';
   const size_t n = all.empty() ? 0 : all.front()->speed_rpm.size();

@@ -315,10 +315,10 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
          fmt::format("Waterfall of mesh {} (mesh order {} of the input shaft): its TE amplitude "
                      "over input orders and speed (waterfall.csv).",
                      sweep.mesh_names[i], Number(sweep.mesh_orders[i])),
-         render::RenderHeatMap(WaterfallFigure(MeshWaterfall(sweep, i), sweep.order_bins, scale,
-                                               "input", "Waterfall: TE of mesh " +
-                                                            sweep.mesh_names[i]),
-                               image, (folder / name).string()));
+         render::RenderHeatMap(
+             WaterfallFigure(MeshWaterfall(sweep, i), sweep.order_bins, scale, "input",
+                             "Waterfall: TE of mesh " + sweep.mesh_names[i]),
+             image, (folder / name).string()));
   }
   if (!sweep.loose_gear_names.empty()) {
     draw(

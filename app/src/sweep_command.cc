@@ -23,6 +23,7 @@
 #include "gearnvh/model/input_error.h"
 #include "mpi_context.h"
 #include "output_folder.h"
+#include "rank_gather.h"
 #include "simulate_command.h"
 #include "train_command_options.h"
 #include "train_sweep_command.h"
@@ -36,9 +37,8 @@ nlohmann::json NumberOrNull(double v) {
   return std::isnan(v) ? nlohmann::json() : nlohmann::json(v);
 }
 
-nlohmann::json PointJson(size_t index, const SpeedPoint& p) {
-  return {{"index", index},
-          {"speed_rad_s", p.speed_rad_s},
+nlohmann::json PointJson(const SpeedPoint& p) {
+  return {{"speed_rad_s", p.speed_rad_s},
           {"speed_rpm", p.speed_rpm},
           {"ok", p.ok},
           {"message", p.message},
@@ -51,6 +51,13 @@ nlohmann::json PointJson(size_t index, const SpeedPoint& p) {
           {"matvec_per_cycle", p.matvec_per_cycle},
           {"real_time_ratio", p.real_time_ratio},
           {"amplitude_m", p.amplitude_m}};
+}
+
+// A speed no rank returned.
+template <typename Point>
+void LoseSpeed(Point& p) {
+  p.ok = false;
+  p.message = "lost: no rank returned this speed";
 }
 
 SpeedPoint PointFromJson(const nlohmann::json& j) {
@@ -71,23 +78,32 @@ SpeedPoint PointFromJson(const nlohmann::json& j) {
   return p;
 }
 
-// `sweep` on a gear train: the train solver per speed (train_sweep.h). Under mpirun rank 0
-// runs every speed (trains are not split across ranks yet).
+// `sweep` on a gear train: the train solver per speed (train_sweep.h), under mpirun the speeds
+// split across ranks as the pair's.
 int SweepTrain(const SweepOptions& options, const TrainSpec& spec) {
+  const int rank = MpiContext::Rank();
   TrainSweepOptions sweep = PlanTrainSweep(options, spec);
-  sweep.before_run_warning = [](const std::string& w) { fmt::print(stderr, "warning: {}\n", w); };
+  sweep.before_run_warning = [rank](const std::string& w) {
+    if (rank == 0) fmt::print(stderr, "warning: {}\n", w);
+  };
   const Tier tier = sweep.tier;
-  if (MpiContext::Rank() != 0) return 0;
   const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", true);
-  const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
+  const bool on_terminal = rank == 0 && ::isatty(STDERR_FILENO) != 0;
   TrainSweepProgress progress;
   if (on_terminal) {
     progress = [](int done, int total) {
       fmt::print(stderr, "\rsweep: {:3d}% ({}/{} speeds)", 100 * done / total, done, total);
     };
   }
-  const TrainSweepResult result = RunTrainSweep(spec, sweep, progress);
+  const std::vector<bool> skip =
+      OtherRanksItems(static_cast<size_t>(spec.analysis.speed_sweep.points));
+  TrainSweepResult result = RunTrainSweep(spec, sweep, progress, skip);
   if (on_terminal) fmt::print(stderr, "\n");
+  if (!GatherItemsToRoot(result.points, skip, TrainSweepPointJson, TrainSweepPointFromJson,
+                         LoseSpeed<TrainSweepPoint>)) {
+    return 0;
+  }
+  NameLooseGears(result);
   nlohmann::json doc = TrainSweepDocument(result, spec, options.file, sweep);
   RequireFinite(doc, "sweep");
   if (out) {
@@ -279,30 +295,13 @@ int RunSweep(const SweepOptions& options) {
       };
     }
     // Under mpirun the speeds are split across ranks (round robin) and rank 0 gathers them.
-    std::vector<bool> skip(static_cast<size_t>(spec.analysis.speed_sweep.points), false);
-    for (size_t i = 0; i < skip.size(); ++i) skip[i] = static_cast<int>(i % ranks) != rank;
+    const std::vector<bool> skip =
+        OtherRanksItems(static_cast<size_t>(spec.analysis.speed_sweep.points));
     SpeedSweepResult result =
         RunSpeedSweep(spec, model, reduced, sweep, rank == 0 ? progress : SweepProgress{}, skip);
     if (on_terminal) fmt::print(stderr, "\n");
-    if (ranks > 1) {
-      nlohmann::json mine = nlohmann::json::array();
-      for (size_t i = 0; i < result.points.size(); ++i) {
-        if (!skip[i]) mine.push_back(PointJson(i, result.points[i]));
-      }
-      const std::vector<std::string> parts = MpiContext::GatherToRoot(mine.dump());
-      if (rank != 0) return 0;
-      std::vector<bool> filled(result.points.size(), false);
-      for (const std::string& part : parts) {
-        for (const auto& j : nlohmann::json::parse(part)) {
-          const size_t i = j.at("index").get<size_t>();
-          result.points[i] = PointFromJson(j);
-          filled[i] = true;
-        }
-      }
-      for (size_t i = 0; i < filled.size(); ++i) {
-        if (!filled[i]) result.points[i].message = "lost: no rank returned this speed";
-      }
-    }
+    if (!GatherItemsToRoot(result.points, skip, PointJson, PointFromJson, LoseSpeed<SpeedPoint>))
+      return 0;
 
     nlohmann::json doc = SweepJson(result, spec.pinion.teeth);
     doc["name"] = spec.name;

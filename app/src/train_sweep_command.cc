@@ -11,6 +11,63 @@
 
 namespace gearnvh::app {
 
+nlohmann::json TrainSweepPointJson(const TrainSweepPoint& p) {
+  nlohmann::json meshes = nlohmann::json::array();
+  for (const TrainMeshStatistics& m : p.meshes) {
+    meshes.push_back({m.name, m.te_mean, m.te_rms, m.te_peak_to_peak, m.force_mean, m.force_max,
+                      m.drive_impacts, m.back_impacts, m.separations, m.grazing,
+                      m.free_time_fraction, m.impact_velocity_max, m.impact_velocity_rms});
+  }
+  nlohmann::json loose = nlohmann::json::array();
+  for (const TrainLooseGearStatistics& g : p.loose_gears) {
+    loose.push_back({g.name, g.body, g.rattle_index, g.impacts, g.rank});
+  }
+  return {{"speed_rad_s", p.speed_rad_s},
+          {"speed_rpm", p.speed_rpm},
+          {"ok", p.ok},
+          {"message", p.message},
+          {"real_time_ratio", p.real_time_ratio},
+          {"recorded_s", p.recorded_s},
+          {"mesh_periods", p.mesh_periods},
+          {"meshes", meshes},
+          {"loose_gears", loose},
+          {"waterfall", p.waterfall}};
+}
+
+TrainSweepPoint TrainSweepPointFromJson(const nlohmann::json& j) {
+  TrainSweepPoint p;
+  p.speed_rad_s = j.at("speed_rad_s").get<double>();
+  p.speed_rpm = j.at("speed_rpm").get<double>();
+  p.ok = j.at("ok").get<bool>();
+  p.message = j.at("message").get<std::string>();
+  p.real_time_ratio = j.at("real_time_ratio").get<double>();
+  p.recorded_s = j.at("recorded_s").get<double>();
+  p.mesh_periods = j.at("mesh_periods").get<std::vector<double>>();
+  for (const auto& m : j.at("meshes")) {
+    TrainMeshStatistics s;
+    s.name = m.at(0).get<std::string>();
+    s.te_mean = m.at(1).get<double>();
+    s.te_rms = m.at(2).get<double>();
+    s.te_peak_to_peak = m.at(3).get<double>();
+    s.force_mean = m.at(4).get<double>();
+    s.force_max = m.at(5).get<double>();
+    s.drive_impacts = m.at(6).get<long>();
+    s.back_impacts = m.at(7).get<long>();
+    s.separations = m.at(8).get<long>();
+    s.grazing = m.at(9).get<long>();
+    s.free_time_fraction = m.at(10).get<double>();
+    s.impact_velocity_max = m.at(11).get<double>();
+    s.impact_velocity_rms = m.at(12).get<double>();
+    p.meshes.push_back(std::move(s));
+  }
+  for (const auto& g : j.at("loose_gears")) {
+    p.loose_gears.push_back({g.at(0).get<std::string>(), g.at(1).get<int>(), g.at(2).get<double>(),
+                             g.at(3).get<long>(), g.at(4).get<int>()});
+  }
+  p.waterfall = j.at("waterfall").get<std::vector<std::vector<double>>>();
+  return p;
+}
+
 TrainSweepOptions PlanTrainSweep(const SweepOptions& options, const TrainSpec& spec,
                                  const OptionNames& names) {
   const TrainCommandSettings settings =

@@ -21,6 +21,11 @@ TrainSweepOptions PlanTrainSweep(const SweepOptions& options, const TrainSpec& s
 
 // The sweep's documents: JSON (SI units) and CSV, one row per speed and mesh / loose gear.
 nlohmann::json TrainSweepJson(const TrainSweepResult& r);
+// One speed with everything the outputs read from it (statistics, waterfall rows), and back
+// (throws on a missing or mistyped field): the form MPI ranks exchange. Numbers round-trip bit for
+// bit.
+nlohmann::json TrainSweepPointJson(const TrainSweepPoint& p);
+TrainSweepPoint TrainSweepPointFromJson(const nlohmann::json& j);
 // `sweep --json` on a train: TrainSweepJson with the train's name, the file, the tier, and the
 // cycles and transient per speed.
 nlohmann::json TrainSweepDocument(const TrainSweepResult& r, const TrainSpec& spec,

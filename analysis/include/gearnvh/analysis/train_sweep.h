@@ -81,8 +81,15 @@ std::vector<double> MeshOrders(const TrainSpec& spec);
 using TrainSweepProgress = std::function<void(int done, int total)>;
 
 // Runs every speed of spec.analysis.speed_sweep (the input shaft's speed); a speed whose run
-// throws or stops is kept with ok = false and its message, the others go on.
+// throws or stops is kept with ok = false and its message, the others go on. Speeds whose `skip`
+// entry is true are not run (ok = false, message "skipped": MPI ranks fill them in); skip may be
+// empty.
 TrainSweepResult RunTrainSweep(const TrainSpec& spec, const TrainSweepOptions& options,
-                               const TrainSweepProgress& progress = {});
+                               const TrainSweepProgress& progress = {},
+                               const std::vector<bool>& skip = {});
+
+// The result's loose_gear_names from its first successful speed (body order); RunTrainSweep calls
+// it, and a caller that fills in skipped speeds calls it again.
+void NameLooseGears(TrainSweepResult& result);
 
 }  // namespace gearnvh
