@@ -110,7 +110,7 @@ GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::
     if (loaded.schema == 2) {
       entry.name = loaded.train.name;
       fs::create_directories(folder);
-      entry.summary = BuildTrainReport(file, folder, o, threads, stage, loaded.train);
+      entry.summary = BuildTrainReport(file, folder, o, threads, stage, loaded.train, memory);
       entry.ok = true;
       entry.wall_s =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

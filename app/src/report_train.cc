@@ -216,7 +216,8 @@ nlohmann::json TrainSummary(const TrainSpec& spec, const TrainCheck& check,
 
 nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
                                 const ReportCommandOptions& o, int threads,
-                                const StageProgress& stage, const TrainSpec& spec) {
+                                const StageProgress& stage, const TrainSpec& spec,
+                                const std::optional<MemoryLimit>& memory) {
   // analysis.tier must be a tier the train has (tiers 4, 5 and N20 need an elastic shaft).
   const TrainCommandSettings settings =
       CheckTrainCommandOptions(std::nullopt, spec, LadderMethod::kV3);
@@ -227,6 +228,12 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
   run.cycles = spec.analysis.cycles;
   run.transient = spec.analysis.transient_cycles;
   run.histories = true;  // results.uff
+  run.before_run_memory = [&](RunMemory& need) {
+    MemoryPart uff = OperatingPointUffMemory(need.recorded_samples);  // results.uff
+    uff.bytes *= spec.meshes.size();
+    need.parts.push_back(uff);
+    return CheckRunMemory(need, memory, "analysis.cycles", std::to_string(run.cycles));
+  };
   TrainSweepOptions sweep_options;
   sweep_options.cycles = 256;
   sweep_options.transient = 100;

@@ -15,9 +15,12 @@
 namespace gearnvh::app {
 
 // Writes everything into `folder` (which exists) and returns the summary the batch index lists.
-// Throws (InputError, std::runtime_error) on failure; BuildGearboxReport reports it.
+// Throws (InputError, std::runtime_error) on failure; BuildGearboxReport reports it. The operating
+// point (with its histories and results.uff) is refused, naming analysis.cycles, when its memory
+// estimate exceeds `memory` (this gearbox's share; nullopt: not checked), as a pair's.
 nlohmann::json BuildTrainReport(const std::string& file, const std::filesystem::path& folder,
                                 const ReportCommandOptions& options, int threads,
-                                const StageProgress& stage, const TrainSpec& spec);
+                                const StageProgress& stage, const TrainSpec& spec,
+                                const std::optional<MemoryLimit>& memory);
 
 }  // namespace gearnvh::app

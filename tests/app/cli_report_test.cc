@@ -53,10 +53,9 @@ TEST_CASE("report: a batch with a malformed file completes the good gearbox and 
   const fs::path out = dir.path() / "report";
 #if defined(GEARNVH_UNDER_ASAN)
   const std::string example =
-      testing::WriteExampleVariant(
-          dir, "idle_rattle.yaml",
-          {{"to: 3000 rpm, points: 24}", "to: 3000 rpm, points: 4}"},
-           {"to: 5 N*m,    points: 24", "to: 5 N*m,    points: 4"}})
+      testing::WriteExampleVariant(dir, "idle_rattle.yaml",
+                                   {{"to: 3000 rpm, points: 24}", "to: 3000 rpm, points: 4}"},
+                                    {"to: 5 N*m,    points: 24", "to: 5 N*m,    points: 4"}})
           .string();
   const size_t atlas_cells = 16;
 #else
@@ -283,26 +282,25 @@ TEST_CASE("report: a gear train gets its page and figures, next to a pair and pa
   // The manual transmission, shortened (210 recorded cycles: two common periods; 3 sweep speeds),
   // beside the rattle pair on 3 sweep speeds and 200 cycles.
   const TempDir dir;
-  const testing::TextEdit shorter = {
-      "analysis:\n",
-      "analysis:\n  cycles: 210\n  transient_cycles: 50\n"
-      "  speed_sweep: {from: 700 rpm, to: 1300 rpm, points: 3}\n"};
+  const testing::TextEdit shorter = {"analysis:\n",
+                                     "analysis:\n  cycles: 210\n  transient_cycles: 50\n"
+                                     "  speed_sweep: {from: 700 rpm, to: 1300 rpm, points: 3}\n"};
   const fs::path train = dir.Write(
       "transmission.yaml", testing::ExampleVariantText("manual_transmission_idle.yaml", {shorter}));
   // A broken train (a mesh names a gear that does not exist) must not stop the batch.
-  const fs::path broken = dir.Write(
-      "broken_train.yaml",
-      testing::ExampleVariantText("manual_transmission_idle.yaml",
-                                  {shorter, {"gears: [in, l0]", "gears: [in, zz]"}}));
-  const fs::path pair = testing::WriteExampleVariant(
-      dir, "idle_rattle.yaml",
-      {{"cycles: 2000", "cycles: 200"},
-       {"transient_cycles: 500", "transient_cycles: 100"},
-       {"to: 3000 rpm, points: 25}", "to: 3000 rpm, points: 3}"}});
+  const fs::path broken =
+      dir.Write("broken_train.yaml",
+                testing::ExampleVariantText("manual_transmission_idle.yaml",
+                                            {shorter, {"gears: [in, l0]", "gears: [in, zz]"}}));
+  const fs::path pair =
+      testing::WriteExampleVariant(dir, "idle_rattle.yaml",
+                                   {{"cycles: 2000", "cycles: 200"},
+                                    {"transient_cycles: 500", "transient_cycles: 100"},
+                                    {"to: 3000 rpm, points: 25}", "to: 3000 rpm, points: 3}"}});
   const fs::path out = dir.path() / "report";
-  const auto run = RunCommand(kExe + " report " + train.string() + " " + broken.string() + " " +
-                              pair.string() + " --no-atlas --out " + out.string() +
-                              " --width 800 --height 560");
+  const auto run =
+      RunCommand(kExe + " report " + train.string() + " " + broken.string() + " " + pair.string() +
+                 " --no-atlas --out " + out.string() + " --width 800 --height 560");
   INFO(run.out << run.err);
   CHECK(run.exit_code == 1);  // the broken train
   CHECK(run.err.find("broken_train.yaml") != std::string::npos);
@@ -424,6 +422,31 @@ TEST_CASE("report fails a gearbox whose operating point would hold more than the
   CHECK(r.err.find("idle_rattle.yaml:48: analysis.cycles: the run would hold about ") !=
         std::string::npos);
   CHECK(r.err.find("(GEARNVH_MEMORY_LIMIT)") != std::string::npos);
+  CHECK(!fs::exists(out));
+}
+
+TEST_CASE("report fails a gear train whose operating point would hold more than the memory limit",
+          "[cli][report][memory][train]") {
+  TempDir dir;
+  const fs::path out = dir.path() / "report";
+  const std::string file = (fs::path(GEARNVH_TEST_DATA_DIR) / "loose_gear_train.yaml").string();
+  // The train's page writes results.uff with every mesh's histories, as simulate --uff does: the
+  // same estimate, so one byte less than simulate --uff's is refused before anything is written.
+  const auto probe =
+      RunCommand(kExe + " simulate --json --uff " + (dir.path() / "x.uff").string() + " " + file);
+  REQUIRE(probe.exit_code == 0);
+  const nlohmann::json estimate = nlohmann::json::parse(probe.out)["memory_estimate"];
+  REQUIRE(estimate["parts"]["UFF export"].get<size_t>() > 0);
+  const auto short_by_one =
+      RunCommand("GEARNVH_MEMORY_LIMIT=" + std::to_string(estimate["bytes"].get<size_t>() - 1) +
+                 " " + kExe + " report --no-atlas --out " + out.string() + " " + file);
+  INFO(short_by_one.err);
+  CHECK(short_by_one.exit_code == 1);
+  CHECK(
+      short_by_one.err.find("loose_gear_train.yaml: analysis.cycles: the run would hold about ") !=
+      std::string::npos);
+  CHECK(short_by_one.err.find(", UFF export ") != std::string::npos);
+  CHECK(short_by_one.err.find("(GEARNVH_MEMORY_LIMIT)") != std::string::npos);
   CHECK(!fs::exists(out));
 }
 
