@@ -54,8 +54,8 @@ std::shared_ptr<TrainSimulation> SimulateTrain(const Train& train, const py::obj
                                                std::optional<long> cycles,
                                                std::optional<long> transient,
                                                const std::string& method,
-                                               std::optional<int> lyapunov, bool allow_slow,
-                                               const py::object& progress) {
+                                               std::optional<int> lyapunov, bool histories,
+                                               bool allow_slow, const py::object& progress) {
   return PlanAndRunOnTrain(
       train,
       [&](const TrainSpec& spec, const std::string& source) {
@@ -63,7 +63,9 @@ std::shared_ptr<TrainSimulation> SimulateTrain(const Train& train, const py::obj
             TrainCommandOptions<app::SimulateOptions>(source, tier, method, cycles, transient);
         options.lyapunov = lyapunov;
         options.allow_slow = allow_slow;
-        return app::PlanTrainSimulate(options, spec, kKeywordNames);
+        app::TrainSimulatePlan plan = app::PlanTrainSimulate(options, spec, kKeywordNames);
+        plan.run.histories = histories;
+        return plan;
       },
       [&](app::TrainSimulatePlan& plan, const TrainSpec& spec, const std::string& source,
           CallControl& control) {
@@ -125,6 +127,32 @@ py::array_t<double> PerSpeed(const gearnvh::TrainSweepResult& r, size_t columns,
     rows.push_back(std::move(row));
   }
   return Matrix(rows);
+}
+
+// A (meshes x samples) array copied from per-mesh histories (all of one length), as `Out`.
+template <typename Out, typename In>
+py::array_t<Out> MeshMatrix(const std::vector<std::vector<In>>& per_mesh) {
+  const size_t rows = per_mesh.size(), columns = rows == 0 ? 0 : per_mesh.front().size();
+  py::array_t<Out> a({static_cast<py::ssize_t>(rows), static_cast<py::ssize_t>(columns)});
+  auto w = a.template mutable_unchecked<2>();
+  for (size_t i = 0; i < rows; ++i) {
+    for (size_t k = 0; k < columns; ++k) {
+      w(static_cast<py::ssize_t>(i), static_cast<py::ssize_t>(k)) =
+          static_cast<Out>(per_mesh[i][k]);
+    }
+  }
+  return a;
+}
+
+// One field of every logged event, as a 1-D array.
+template <typename Out, typename Value>
+py::array_t<Out> EventColumn(const TrainHistories& h, Value&& value) {
+  py::array_t<Out> a(static_cast<py::ssize_t>(h.events.size()));
+  auto w = a.template mutable_unchecked<1>();
+  for (size_t i = 0; i < h.events.size(); ++i) {
+    w(static_cast<py::ssize_t>(i)) = static_cast<Out>(value(h.events[i]));
+  }
+  return a;
 }
 
 // A read-only view of one of the summary's per-exponent lists.
@@ -240,6 +268,73 @@ void BindTrain(py::module_& m) {
                " 1/s>";
       });
 
+  py::class_<TrainHistories>(
+      m, "TrainHistories",
+      "Every mesh's time histories over the recorded cycles of simulate(train, histories=True), "
+      "as `simulate --out` writes them (trajectory.csv, events.csv): uniform samples, 32 per "
+      "cycle of the fastest mesh, each the exact state at its time. Arrays are copies, meshes x "
+      "samples in file order.")
+      .def_property_readonly(
+          "time",
+          [](const TrainHistories& h) {
+            const size_t n = h.te.empty() ? 0 : h.te.front().size();
+            py::array_t<double> t(static_cast<py::ssize_t>(n));
+            auto w = t.mutable_unchecked<1>();
+            for (size_t k = 0; k < n; ++k) {
+              w(static_cast<py::ssize_t>(k)) = h.start + static_cast<double>(k) * h.dt;
+            }
+            return t;
+          },
+          "s")
+      .def_property_readonly(
+          "te", [](const TrainHistories& h) { return MeshMatrix<double>(h.te); },
+          "transmission error, m (meshes x samples)")
+      .def_property_readonly(
+          "force", [](const TrainHistories& h) { return MeshMatrix<double>(h.force); },
+          "mesh force, N (meshes x samples)")
+      .def_property_readonly(
+          "contact", [](const TrainHistories& h) { return MeshMatrix<int>(h.contact); },
+          "contact state: 0 back flank, 1 free, 2 drive flank (as Trajectory.contact)")
+      .def_readonly("truncated", &TrainHistories::truncated,
+                    "the record held more samples than are kept (4,000,000 per mesh)")
+      .def_property_readonly(
+          "event_time",
+          [](const TrainHistories& h) {
+            return EventColumn<double>(h, [](const TrainEventRecord& e) { return e.event.time; });
+          },
+          "s")
+      .def_property_readonly(
+          "event_mesh",
+          [](const TrainHistories& h) {
+            return EventColumn<int>(h, [](const TrainEventRecord& e) { return e.mesh; });
+          },
+          "the mesh's index, file order")
+      .def_property_readonly(
+          "event_from",
+          [](const TrainHistories& h) {
+            return EventColumn<int>(h, [](const TrainEventRecord& e) { return e.event.from; });
+          },
+          "state before the event")
+      .def_property_readonly(
+          "event_to",
+          [](const TrainHistories& h) {
+            return EventColumn<int>(h, [](const TrainEventRecord& e) { return e.event.to; });
+          },
+          "state after the event")
+      .def_property_readonly(
+          "event_gap_rate",
+          [](const TrainHistories& h) {
+            return EventColumn<double>(h,
+                                       [](const TrainEventRecord& e) { return e.event.gap_rate; });
+          },
+          "m/s, the gap's rate crossing its wall")
+      .def_readonly("events_truncated", &TrainHistories::events_truncated,
+                    "more events than are kept (1,000,000)")
+      .def("__repr__", [](const TrainHistories& h) {
+        return fmt::format("<gearnvh.TrainHistories {} meshes x {} samples, {} events>",
+                           h.te.size(), h.te.empty() ? 0 : h.te.front().size(), h.events.size());
+      });
+
   py::class_<TrainSimulation, std::shared_ptr<TrainSimulation>>(
       m, "TrainSimulation", "One operating point of a gear train (gearnvh simulate TRAIN.yaml).")
       .def_property_readonly(
@@ -274,6 +369,14 @@ void BindTrain(py::module_& m) {
             return py::cast(*s.lyapunov, py::return_value_policy::reference_internal, self);
           },
           "TrainLyapunov with lyapunov=K, else None")
+      .def_property_readonly(
+          "histories",
+          [](py::object self) -> py::object {
+            const TrainSimulation& s = self.cast<const TrainSimulation&>();
+            if (s.op.histories.dt <= 0.0) return py::none();
+            return py::cast(s.op.histories, py::return_value_policy::reference_internal, self);
+          },
+          "TrainHistories with histories=True, else None")
       .def_property_readonly(
           "ok",
           [](const TrainSimulation& s) {
@@ -366,12 +469,14 @@ void BindTrain(py::module_& m) {
         "(bodies, meshes, modes, tiers, Campbell data; SI units).");
   m.def("simulate", &SimulateTrain, py::arg("gearbox"), py::kw_only(), py::arg("tier") = py::none(),
         py::arg("cycles") = py::none(), py::arg("transient") = py::none(), py::arg("method") = "v3",
-        py::arg("lyapunov") = py::none(), py::arg("allow_slow") = false,
-        py::arg("progress") = py::none(),
+        py::arg("lyapunov") = py::none(), py::arg("histories") = false,
+        py::arg("allow_slow") = false, py::arg("progress") = py::none(),
         "A gear train's operating point, as `gearnvh simulate TRAIN.yaml`: cycles and transient "
         "count cycles of the first mesh (default analysis.cycles, analysis.transient_cycles); "
         "method: v1, v2, v3 (fused means v3 on trains); lyapunov=K: also the K largest Lyapunov "
-        "exponents (a second run, as --lyapunov K); allow_slow: run even when the run-cost "
+        "exponents (a second run, as --lyapunov K); histories: keep every mesh's TE, force and "
+        "contact at every sample and the event log (TrainSimulation.histories, as --out); "
+        "allow_slow: run even when the run-cost "
         "estimate exceeds one hour (as --allow-slow; refused otherwise).");
   m.def("sweep", &SweepTrain, py::arg("gearbox"), py::kw_only(), py::arg("tier") = py::none(),
         py::arg("cycles") = py::none(), py::arg("transient") = py::none(), py::arg("jobs") = 0,

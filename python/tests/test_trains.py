@@ -1,4 +1,5 @@
 """Gear trains (schema gearnvh/2) from Python: load, set, check, simulate and sweep."""
+import csv
 import json
 import subprocess
 
@@ -61,6 +62,41 @@ def test_simulate_gives_the_command_line_document(gearnvh_exe, transmission):
     assert ranked == [g["name"] for g in cli["loose_gears"]]
     assert [g.rank for g in result.loose_gears] == list(range(1, len(ranked) + 1))
     assert result.ok and result.events == cli["summary"]["events"] > 0
+
+
+def test_histories_are_the_command_lines_trajectory_and_events(gearnvh_exe, tmp_path):
+    # The rattling 3-mesh train: simulate(histories=True) holds what `simulate --out` writes
+    # (trajectory.csv, events.csv), and without it there are none.
+    loose = SOURCE_DIR / "tests" / "data" / "loose_gear_train.yaml"
+    train = gearnvh.load(loose)
+    assert gearnvh.simulate(train, cycles=40, transient=10).histories is None
+    result = gearnvh.simulate(train, cycles=40, transient=10, histories=True)
+    h = result.histories
+    subprocess.run([gearnvh_exe, "simulate", str(loose), "--cycles", "40", "--transient", "10",
+                    "--out", str(tmp_path / "out")], check=True, capture_output=True)
+    state = {"back": 0, "free": 1, "drive": 2}
+    with open(tmp_path / "out" / "trajectory.csv") as f:
+        rows = list(csv.DictReader(f))
+    assert h.te.shape == h.force.shape == h.contact.shape == (3, 40 * 32)
+    assert len(h.time) == len(rows) == 40 * 32
+    # The CSV writes 17 significant digits: the same doubles (tolerance 0; the writer forms each
+    # time as start + k dt, as the binding does).
+    assert np.array_equal(h.time, [float(r["time_s"]) for r in rows])
+    for i, name in enumerate(train.meshes):
+        assert np.array_equal(h.te[i], [float(r[name + ".te_m"]) for r in rows])
+        assert np.array_equal(h.force[i], [float(r[name + ".mesh_force_n"]) for r in rows])
+        assert np.array_equal(h.contact[i], [state[r[name + ".contact"]] for r in rows])
+        # Apart, no force acts (state 1 is free flight).
+        assert np.all(h.force[i][h.contact[i] == 1] == 0.0)
+    with open(tmp_path / "out" / "events.csv") as f:
+        events = list(csv.DictReader(f))
+    assert len(h.event_time) == len(events) == result.to_dict()["time_histories"]["events"] > 0
+    assert np.array_equal(h.event_time, [float(e["time_s"]) for e in events])
+    assert [train.meshes[i] for i in h.event_mesh] == [e["mesh"] for e in events]
+    assert np.array_equal(h.event_from, [state[e["from"]] for e in events])
+    assert np.array_equal(h.event_to, [state[e["to"]] for e in events])
+    assert np.array_equal(h.event_gap_rate, [float(e["gap_rate_m_s"]) for e in events])
+    assert not h.truncated and not h.events_truncated
 
 
 def test_sweep_arrays_are_the_runs_at_each_speed(transmission):
