@@ -117,7 +117,10 @@ SpeedSweepResult RunSpeedSweep(const GearboxSpec& spec, const ComponentModel& mo
 
   // Waterfall: one exact run per speed, in parallel.
   result.points.resize(speeds.size());
-  SweepProgressCounter counter(static_cast<int>(speeds.size()), progress);
+  const auto to_run = skip.empty()
+                          ? speeds.size()
+                          : static_cast<size_t>(std::count(skip.begin(), skip.end(), false));
+  SweepProgressCounter counter(static_cast<int>(to_run), progress);
   ParallelFor(speeds.size(), options.threads, [&](size_t i) {
     SpeedPoint& p = result.points[i];
     if (!skip.empty() && skip[i]) {

@@ -68,6 +68,8 @@ void TrainSweepOptions::Validate() const {
   if (!(max_order >= 0.0)) {
     throw InputError("TrainSweepOptions.max_order", 0, std::to_string(max_order), "must be >= 0");
   }
+  if (ranks < 1)
+    throw InputError("TrainSweepOptions.ranks", 0, std::to_string(ranks), "must be >= 1");
 }
 
 std::vector<double> MeshOrders(const TrainSpec& spec) {
@@ -113,7 +115,8 @@ RunCostEstimate EstimateTrainSweepCost(const TrainSpec& spec, const TrainSweepOp
   }
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   const int threads = options.threads > 0 ? options.threads : static_cast<int>(cores);
-  return CombineRunCosts(std::vector<RunCostEstimate>(static_cast<size_t>(range.points), *cheapest),
+  const int share = (range.points + options.ranks - 1) / options.ranks;
+  return CombineRunCosts(std::vector<RunCostEstimate>(static_cast<size_t>(share), *cheapest),
                          threads);
 }
 
@@ -122,7 +125,10 @@ TrainSweepResult RunTrainSweep(const TrainSpec& spec, const TrainSweepOptions& o
   options.Validate();
   {
     const RunCostEstimate cost = EstimateTrainSweepCost(spec, options);
-    const std::string what = fmt::format("the sweep's {} speeds", cost.runs);
+    const std::string what = options.ranks > 1
+                                 ? fmt::format("each process's {} of the sweep's {} speeds",
+                                               cost.runs, spec.analysis.speed_sweep.points)
+                                 : fmt::format("the sweep's {} speeds", cost.runs);
     const std::string slow = CheckRunCost(cost, options.allow_slow, what, options.names);
     if (!slow.empty() && options.before_run_warning) options.before_run_warning(slow);
   }
@@ -143,7 +149,10 @@ TrainSweepResult RunTrainSweep(const TrainSpec& spec, const TrainSweepOptions& o
     throw std::invalid_argument("RunTrainSweep: skip must have one entry per speed");
   }
   result.points.resize(speeds.size());
-  SweepProgressCounter counter(static_cast<int>(speeds.size()), progress);
+  const auto to_run = skip.empty()
+                          ? speeds.size()
+                          : static_cast<size_t>(std::count(skip.begin(), skip.end(), false));
+  SweepProgressCounter counter(static_cast<int>(to_run), progress);
   ParallelFor(speeds.size(), options.threads, [&](size_t i) {
     TrainSweepPoint& p = result.points[i];
     if (!skip.empty() && skip[i]) {

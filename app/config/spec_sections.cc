@@ -217,7 +217,7 @@ AtlasAxis ReadAtlasAxis(Reader& r, const YAML::Node& n, const std::string& path,
   std::string rule;
   if (schema == 2) {
     dimension = app::TrainParameterDimension(axis.parameter);
-    if (!dimension) rule = app::TrainParameterRejection(axis.parameter);
+    if (!dimension) rule = TrainParameterRejection(axis.parameter);
   } else {
     const auto& params = AtlasParameters();
     if (const auto it = params.find(axis.parameter); it != params.end()) {

@@ -126,7 +126,7 @@ void ValidateTrainAtlasAxes(const TrainSpec& spec) {
                                    std::pair{&an.atlas_y, "analysis.atlas.y.parameter"}}) {
     if (!*axis) continue;
     TrainSpec variant = spec;
-    app::SetTrainParameter(variant, (*axis)->parameter, (*axis)->range.from, path);
+    SetTrainParameter(variant, (*axis)->parameter, (*axis)->range.from, path);
   }
   if (an.atlas_x && an.atlas_y && an.atlas_x->parameter == an.atlas_y->parameter) {
     throw InputError("analysis.atlas.y.parameter", 0, an.atlas_y->parameter,

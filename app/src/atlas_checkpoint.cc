@@ -29,13 +29,6 @@ std::string AtlasCheckpointSettingsText(const std::string& file, const AtlasAxis
   return j.dump();
 }
 
-std::optional<AtlasCheckpoint> AtlasCheckpointIn(const std::optional<std::string>& out_dir,
-                                                 std::string settings, int nx, int ny) {
-  if (!out_dir) return std::nullopt;
-  return AtlasCheckpoint{std::filesystem::path(*out_dir) / ".atlas-checkpoint", std::move(settings),
-                         nx, ny};
-}
-
 std::vector<nlohmann::json> PrepareAtlasCheckpoint(const AtlasCheckpoint& cp, bool resume,
                                                    const AtlasCellCheck& check_cell) {
   namespace fs = std::filesystem;

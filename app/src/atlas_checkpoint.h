@@ -24,7 +24,8 @@ struct AtlasCheckpoint {
 };
 
 // What a resume must match: the gearbox file's hash (its text as read now), the axes, cycles,
-// method, tier and chaos threshold (`o`: AtlasOptions or TrainAtlasOptions, alike in these fields).
+// method, tier and chaos threshold (AtlasCheckpointSettings takes them from AtlasOptions or
+// TrainAtlasOptions, alike in these fields).
 std::string AtlasCheckpointSettingsText(const std::string& file, const AtlasAxis& x,
                                         const AtlasAxis& y, long cycles, long transient_cycles,
                                         EventMethod events, Tier tier, double chaos_threshold);
@@ -35,9 +36,16 @@ std::string AtlasCheckpointSettings(const std::string& file, const AtlasAxis& x,
                                      o.chaos_threshold);
 }
 
-// The checkpoint in DIR/.atlas-checkpoint of a run that writes to DIR (--out); none otherwise.
+// The checkpoint in DIR/.atlas-checkpoint of a run that writes to DIR (--out) over the axes x and
+// y; none otherwise.
+template <typename Options>
 std::optional<AtlasCheckpoint> AtlasCheckpointIn(const std::optional<std::string>& out_dir,
-                                                 std::string settings, int nx, int ny);
+                                                 const std::string& file, const AtlasAxis& x,
+                                                 const AtlasAxis& y, const Options& o) {
+  if (!out_dir) return std::nullopt;
+  return AtlasCheckpoint{std::filesystem::path(*out_dir) / ".atlas-checkpoint",
+                         AtlasCheckpointSettings(file, x, y, o), x.range.points, y.range.points};
+}
 
 // Rank 0: prepares the checkpoint and returns the cells already computed (resume), as JSON: the
 // logged lines that parse, pass `check_cell` (which throws on a cell its reader cannot read), are

@@ -2,11 +2,8 @@
 
 #include <fmt/format.h>
 
-#include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "atlas_checkpoint.h"
 #include "atlas_documents.h"
@@ -85,9 +82,7 @@ int RunAtlas(const AtlasCommandOptions& options) {
     const int nx = x->range.points, ny = y->range.points;
 
     // Checkpoint (only with --out): rank 0 prepares it and tells every rank what is done.
-    AtlasGrid grid(nx, ny,
-                   AtlasCheckpointIn(options.out,
-                                     AtlasCheckpointSettings(options.file, *x, *y, atlas), nx, ny),
+    AtlasGrid grid(nx, ny, AtlasCheckpointIn(options.out, options.file, *x, *y, atlas),
                    options.resume, [](const nlohmann::json& j) { (void)AtlasCellFromJson(j); });
     const AtlasProgress progress = AtlasTerminalProgress(rank, ranks);
     auto lost = [&](int k, const std::string& message) {

@@ -83,6 +83,7 @@ SpeedPoint PointFromJson(const nlohmann::json& j) {
 int SweepTrain(const SweepOptions& options, const TrainSpec& spec) {
   const int rank = MpiContext::Rank();
   TrainSweepOptions sweep = PlanTrainSweep(options, spec);
+  sweep.ranks = MpiContext::Size();  // each rank's cost is its share of the speeds
   sweep.before_run_warning = [rank](const std::string& w) {
     if (rank == 0) fmt::print(stderr, "warning: {}\n", w);
   };

@@ -3,12 +3,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <chrono>
 #include <iostream>
 #include <map>
-#include <mutex>
 #include <sstream>
-#include <stdexcept>
 #include <thread>
 
 #include "atlas_checkpoint.h"
@@ -20,7 +17,6 @@
 #include "config/train_parameters.h"
 #include "display_units.h"
 #include "finite_results.h"
-#include "gearnvh/analysis/parallel_for.h"
 #include "gearnvh/analysis/train_operating_point.h"
 #include "gearnvh/model/gear_train.h"
 #include "gearnvh/model/input_error.h"
@@ -31,26 +27,6 @@
 #include "train_command_options.h"
 
 namespace gearnvh::app {
-
-int TrainAtlasResult::Failed() const {
-  int failed = 0;
-  for (const TrainAtlasCell& c : cells) failed += c.point.ok ? 0 : 1;
-  return failed;
-}
-
-namespace {
-
-// The fields name where each axis came from (the option or the file's analysis.atlas).
-TrainSpec CellVariant(const TrainSpec& base, const AtlasAxis& x, const AtlasAxis& y, double vx,
-                      double vy, const std::string& x_field = "--x",
-                      const std::string& y_field = "--y") {
-  TrainSpec spec = base;
-  SetTrainParameter(spec, x.parameter, vx, x_field);
-  SetTrainParameter(spec, y.parameter, vy, y_field);
-  return spec;
-}
-
-}  // namespace
 
 nlohmann::json TrainAtlasCellJson(const TrainAtlasCell& c) {
   const TrainAtlasPoint& p = c.point;
@@ -114,20 +90,6 @@ TrainAtlasCell TrainAtlasCellFromJson(const nlohmann::json& j) {
 
 namespace {
 
-std::vector<std::string> MeshNames(const TrainSpec& spec) {
-  std::vector<std::string> names;
-  for (const TrainMesh& m : spec.meshes) names.push_back(m.Name());
-  return names;
-}
-
-std::vector<std::string> LooseGearNames(const TrainSpec& spec) {
-  std::vector<std::string> names;
-  for (const TrainGear& g : spec.gears) {
-    if (g.mounting == Mounting::kLoose) names.push_back(g.name);
-  }
-  return names;
-}
-
 // The axis's values in display units, for the map's caption and the CSV header.
 std::string AxisHeader(const AtlasAxis& a) {
   const TrainDisplayAxis d = TrainDisplayAxisFor(a.parameter);
@@ -182,65 +144,6 @@ void PrintTrainAtlas(const TrainAtlasResult& r, const std::string& name, const s
 }
 
 }  // namespace
-
-TrainAtlasResult RunTrainAtlas(const TrainSpec& base, const AtlasAxis& x, const AtlasAxis& y,
-                               const TrainAtlasOptions& options, int threads,
-                               const AtlasProgress& progress, const std::vector<bool>& skip,
-                               const TrainAtlasCellCallback& on_cell) {
-  options.Validate();
-  const auto start = std::chrono::steady_clock::now();
-  TrainAtlasResult r;
-  r.x = x;
-  r.y = y;
-  r.mesh_names = MeshNames(base);
-  r.loose_gear_names = LooseGearNames(base);
-  const int nx = x.range.points, total = nx * y.range.points;
-  if (!skip.empty() && static_cast<int>(skip.size()) != total) {
-    throw std::invalid_argument("RunTrainAtlas: skip must have one entry per cell");
-  }
-  r.cells.resize(static_cast<size_t>(total));
-  std::vector<size_t> to_do;
-  for (size_t k = 0; k < r.cells.size(); ++k) {
-    TrainAtlasCell& c = r.cells[k];
-    c.ix = static_cast<int>(k) % nx;
-    c.iy = static_cast<int>(k) / nx;
-    c.x = AxisValue(x, c.ix);
-    c.y = AxisValue(y, c.iy);
-    if (!skip.empty() && skip[k]) {
-      c.point.message = "skipped";
-    } else {
-      to_do.push_back(k);
-    }
-  }
-  const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  r.threads = std::max(
-      1, std::min(threads > 0 ? threads : hardware, std::max(1, static_cast<int>(to_do.size()))));
-  SweepProgressCounter counter(static_cast<int>(to_do.size()), progress);
-  std::mutex completed;
-  ParallelFor(to_do.size(), r.threads, [&](size_t i) {
-    TrainAtlasCell& c = r.cells[to_do[i]];
-    if (options.cancel != nullptr && options.cancel->load()) {
-      c.point.message = "cancelled";
-      counter.Tick();
-      return;
-    }
-    try {
-      const TrainSpec variant = CellVariant(base, x, y, c.x, c.y);
-      ValidateTrainVariant(variant, {{x.parameter, c.x}, {y.parameter, c.y}});
-      c.point = ComputeTrainAtlasPoint(variant, options);
-    } catch (const std::exception& e) {  // the variant itself (ComputeTrainAtlasPoint never throws)
-      c.point.ok = false;
-      c.point.message = e.what();
-    }
-    if (on_cell) {
-      const std::lock_guard<std::mutex> lock(completed);
-      on_cell(c);
-    }
-    counter.Tick();
-  });
-  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return r;
-}
 
 nlohmann::json TrainAtlasJson(const TrainAtlasResult& r, const TrainAtlasOptions& o) {
   nlohmann::json cells = nlohmann::json::array();
@@ -317,6 +220,10 @@ TrainAtlasPlan PlanTrainAtlas(const AtlasCommandOptions& options, const TrainSpe
   atlas.transient_cycles = options.transient.value_or(atlas.transient_cycles);
   atlas.events = settings.events;
   atlas.tier = settings.tier;
+  // A cell's invalid variant is worded at the parameter with the axis's value as it is shown.
+  atlas.input_error_message = [](const InputError& e, const std::vector<ParameterValue>& set) {
+    return std::string(config::AtParameterValue(e, set, TrainAxisValueText).what());
+  };
   RequireCycleCounts(atlas.cycles, 8, atlas.transient_cycles, names);
   if (options.jobs < 0)
     throw InputError(names("jobs"), 0, std::to_string(options.jobs), "must be >= 0");
@@ -335,9 +242,13 @@ TrainAtlasPlan PlanTrainAtlas(const AtlasCommandOptions& options, const TrainSpe
     throw InputError(names("y"), 0, y->parameter, "must differ from the x parameter");
   }
   // Names and indices are checked once here (a bad name is a usage error, not a failed cell).
-  (void)CellVariant(spec, *x, *y, x->range.from, y->range.from,
-                    options.x ? names("x") : "analysis.atlas.x.parameter",
-                    options.y ? names("y") : "analysis.atlas.y.parameter");
+  {
+    TrainSpec variant = spec;
+    SetTrainParameter(variant, x->parameter, x->range.from,
+                      options.x ? names("x") : "analysis.atlas.x.parameter");
+    SetTrainParameter(variant, y->parameter, y->range.from,
+                      options.y ? names("y") : "analysis.atlas.y.parameter");
+  }
   if (options.x) RequireAxisWithinPitchLineLimit(spec, *x, *options.x, names("x"));
   if (options.y) RequireAxisWithinPitchLineLimit(spec, *y, *options.y, names("y"));
   if (options.x) RequireAtlasAxisRange(*x, *options.x, names("x"));
@@ -349,20 +260,23 @@ TrainAtlasPlan PlanTrainAtlas(const AtlasCommandOptions& options, const TrainSpe
   return plan;
 }
 
-std::string CheckTrainAtlasCost(const TrainSpec& spec, const TrainAtlasPlan& plan) {
+std::string CheckTrainAtlasCost(const TrainSpec& spec, const TrainAtlasPlan& plan, int ranks) {
   const TrainAtlasOptions& a = plan.atlas;
   const long alignment = std::min(50L, a.cycles / 4);
   const TrainTables tables = BuildTrainTablesAtTier(spec, BuildGearTrain(spec), a.tier);
   const double period = tables.meshes.front().period;
   const RunCostEstimate cell = EstimateRunCost(
       tables, static_cast<double>(a.transient_cycles + alignment + a.cycles) * period, &spec);
-  const int cells = plan.x.range.points * plan.y.range.points;
+  const int all_cells = plan.x.range.points * plan.y.range.points;
+  const int cells = (all_cells + ranks - 1) / ranks;
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   const int threads = plan.jobs > 0 ? plan.jobs : static_cast<int>(cores);
   const RunCostEstimate cost =
       CombineRunCosts(std::vector<RunCostEstimate>(static_cast<size_t>(cells), cell), threads);
-  return CheckRunCost(cost, plan.allow_slow, fmt::format("the atlas's {} cells", cells),
-                      plan.names);
+  const std::string what =
+      ranks > 1 ? fmt::format("each rank's {} of the atlas's {} cells", cells, all_cells)
+                : fmt::format("the atlas's {} cells", cells);
+  return CheckRunCost(cost, plan.allow_slow, what, plan.names);
 }
 
 int AtlasTrain(const AtlasCommandOptions& options, const TrainSpec& spec) {
@@ -371,16 +285,13 @@ int AtlasTrain(const AtlasCommandOptions& options, const TrainSpec& spec) {
   if (options.resume && !options.out) {
     throw InputError("--resume", 0, "", "needs --out DIR (the checkpoint lives there)");
   }
-  if (const std::string slow = CheckTrainAtlasCost(spec, plan); !slow.empty() && rank == 0)
+  if (const std::string slow = CheckTrainAtlasCost(spec, plan, ranks); !slow.empty() && rank == 0)
     fmt::print(stderr, "warning: {}\n", slow);
   std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", true);
   const int nx = plan.x.range.points, ny = plan.y.range.points;
   // Checkpoint (only with --out): rank 0 prepares it and tells every rank what is done.
-  AtlasGrid grid(
-      nx, ny,
-      AtlasCheckpointIn(options.out,
-                        AtlasCheckpointSettings(options.file, plan.x, plan.y, plan.atlas), nx, ny),
-      options.resume, [](const nlohmann::json& j) { (void)TrainAtlasCellFromJson(j); });
+  AtlasGrid grid(nx, ny, AtlasCheckpointIn(options.out, options.file, plan.x, plan.y, plan.atlas),
+                 options.resume, [](const nlohmann::json& j) { (void)TrainAtlasCellFromJson(j); });
   const AtlasProgress progress = AtlasTerminalProgress(rank, ranks);
   auto lost = [&](int k, const std::string& message) {
     TrainAtlasCell c;

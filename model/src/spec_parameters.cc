@@ -1,5 +1,10 @@
 #include "gearnvh/model/spec_parameters.h"
 
+#include <regex>
+
+#include "gearnvh/model/count_text.h"
+#include "gearnvh/model/input_error.h"
+
 namespace gearnvh {
 
 const std::vector<std::string>& VariableParameters() {
@@ -28,6 +33,99 @@ void SetParameter(GearboxSpec& spec, const std::string& name, double value) {
     throw ParameterNotVariable(name, "must be one of " + known);
   }
   *slot = value;
+}
+
+namespace {
+
+const char* const kForms =
+    "operating.speed, operating.loads[i].torque, operating.excitation[i].amplitude, "
+    "meshes[i].backlash or meshes[i].damping_ratio (i the index in the file's list, from 0)";
+
+// A parsed name: its list ("operating.loads", ...), index and key; list empty for operating.speed.
+struct TrainParameterName {
+  std::string list;
+  size_t index = 0;
+  std::string key;
+};
+
+std::optional<TrainParameterName> Parse(const std::string& name) {
+  if (name == "operating.speed") return TrainParameterName{"", 0, "speed"};
+  static const std::regex indexed(
+      R"(^(operating\.loads|operating\.excitation|meshes)\[([0-9]{1,6})\]\.([a-z_]+)$)");
+  std::smatch m;
+  if (!std::regex_match(name, m, indexed)) return std::nullopt;
+  TrainParameterName p{m[1].str(), std::stoul(m[2].str()), m[3].str()};
+  const bool known = (p.list == "operating.loads" && p.key == "torque") ||
+                     (p.list == "operating.excitation" && p.key == "amplitude") ||
+                     (p.list == "meshes" && (p.key == "backlash" || p.key == "damping_ratio"));
+  return known ? std::optional<TrainParameterName>(p) : std::nullopt;
+}
+
+// The entry `index` of a list of `size`, or InputError naming what the file has.
+void RequireIndex(const TrainParameterName& p, size_t size, const std::string& name,
+                  const std::string& field, const std::string& entries) {
+  if (p.index < size) return;
+  throw InputError(field, 0, name,
+                   size == 0 ? "the file has no " + p.list + " entry to vary"
+                             : "the file's " + p.list + " has " + Count(size, "entry", "entries") +
+                                   " (" + entries + ")");
+}
+
+}  // namespace
+
+std::optional<TrainParameter> TrainParameterOf(const std::string& name) {
+  const std::optional<TrainParameterName> p = Parse(name);
+  if (!p) return std::nullopt;
+  if (p->key == "speed") return TrainParameter::kSpeed;
+  if (p->key == "torque") return TrainParameter::kLoadTorque;
+  if (p->key == "amplitude") return TrainParameter::kExcitationAmplitude;
+  if (p->key == "backlash") return TrainParameter::kBacklash;
+  return TrainParameter::kDampingRatio;
+}
+
+std::string TrainParameterRejection(const std::string& name) {
+  if (name == "operating.torque") {
+    return "is a schema-1 parameter; a gear train's torques are operating.loads[i].torque. A "
+           "gear train varies " +
+           std::string(kForms);
+  }
+  if (name.rfind("mesh.", 0) == 0) {
+    return "is a schema-1 parameter; a gear train's meshes are meshes[i]. A gear train varies " +
+           std::string(kForms);
+  }
+  return "is not a parameter a gear train can vary: one of " + std::string(kForms);
+}
+
+void SetTrainParameter(TrainSpec& spec, const std::string& name, double value,
+                       const std::string& field) {
+  const std::optional<TrainParameterName> p = Parse(name);
+  if (!p) throw InputError(field, 0, name, TrainParameterRejection(name));
+  if (p->key == "speed") {
+    spec.operating.speed = value;
+  } else if (p->list == "operating.loads") {
+    std::string entries;
+    for (size_t i = 0; i < spec.operating.loads.size(); ++i) {
+      entries += (i ? ", " : "") + std::to_string(i) + ": on " + spec.operating.loads[i].on;
+    }
+    RequireIndex(*p, spec.operating.loads.size(), name, field, entries);
+    spec.operating.loads[p->index].torque = value;
+  } else if (p->list == "operating.excitation") {
+    std::string entries;
+    for (size_t i = 0; i < spec.operating.excitation.size(); ++i) {
+      entries += (i ? ", " : "") + std::to_string(i) + ": order " +
+                 std::to_string(spec.operating.excitation[i].order);
+    }
+    RequireIndex(*p, spec.operating.excitation.size(), name, field, entries);
+    spec.operating.excitation[p->index].amplitude = value;
+  } else {
+    std::string entries;
+    for (size_t i = 0; i < spec.meshes.size(); ++i) {
+      entries += (i ? ", " : "") + std::to_string(i) + ": " + spec.meshes[i].Name();
+    }
+    RequireIndex(*p, spec.meshes.size(), name, field, entries);
+    MeshSpec& mesh = spec.meshes[p->index].mesh;
+    (p->key == "backlash" ? mesh.backlash : mesh.damping_ratio) = value;
+  }
 }
 
 }  // namespace gearnvh

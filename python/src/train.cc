@@ -162,6 +162,76 @@ py::cpp_function LyapunovVector(std::vector<double> TrainLyapunovSummary::*membe
   });
 }
 
+// TrainHistories: simulate(train, histories=True).histories.
+void BindTrainHistories(py::module_& m) {
+  py::class_<TrainHistories>(
+      m, "TrainHistories",
+      "Every mesh's time histories over the recorded cycles of simulate(train, histories=True), "
+      "as `simulate --out` writes them (trajectory.csv, events.csv): uniform samples, 32 per "
+      "cycle of the fastest mesh, each the exact state at its time. Arrays are copies, meshes x "
+      "samples in file order.")
+      .def_property_readonly(
+          "time",
+          [](const TrainHistories& h) {
+            const size_t n = h.te.empty() ? 0 : h.te.front().size();
+            py::array_t<double> t(static_cast<py::ssize_t>(n));
+            auto w = t.mutable_unchecked<1>();
+            for (size_t k = 0; k < n; ++k) {
+              w(static_cast<py::ssize_t>(k)) = h.start + static_cast<double>(k) * h.dt;
+            }
+            return t;
+          },
+          "s")
+      .def_property_readonly(
+          "te", [](const TrainHistories& h) { return MeshMatrix<double>(h.te); },
+          "transmission error, m (meshes x samples)")
+      .def_property_readonly(
+          "force", [](const TrainHistories& h) { return MeshMatrix<double>(h.force); },
+          "mesh force, N (meshes x samples)")
+      .def_property_readonly(
+          "contact", [](const TrainHistories& h) { return MeshMatrix<int>(h.contact); },
+          "contact state: 0 back flank, 1 free, 2 drive flank (as Trajectory.contact)")
+      .def_readonly("truncated", &TrainHistories::truncated,
+                    "the record held more samples than are kept (4,000,000 per mesh)")
+      .def_property_readonly(
+          "event_time",
+          [](const TrainHistories& h) {
+            return EventColumn<double>(h, [](const TrainEventRecord& e) { return e.event.time; });
+          },
+          "s")
+      .def_property_readonly(
+          "event_mesh",
+          [](const TrainHistories& h) {
+            return EventColumn<int>(h, [](const TrainEventRecord& e) { return e.mesh; });
+          },
+          "the mesh's index, file order")
+      .def_property_readonly(
+          "event_from",
+          [](const TrainHistories& h) {
+            return EventColumn<int>(h, [](const TrainEventRecord& e) { return e.event.from; });
+          },
+          "state before the event")
+      .def_property_readonly(
+          "event_to",
+          [](const TrainHistories& h) {
+            return EventColumn<int>(h, [](const TrainEventRecord& e) { return e.event.to; });
+          },
+          "state after the event")
+      .def_property_readonly(
+          "event_gap_rate",
+          [](const TrainHistories& h) {
+            return EventColumn<double>(h,
+                                       [](const TrainEventRecord& e) { return e.event.gap_rate; });
+          },
+          "m/s, the gap's rate crossing its wall")
+      .def_readonly("events_truncated", &TrainHistories::events_truncated,
+                    "more events than are kept (1,000,000)")
+      .def("__repr__", [](const TrainHistories& h) {
+        return fmt::format("<gearnvh.TrainHistories {} meshes x {} samples, {} events>",
+                           h.te.size(), h.te.empty() ? 0 : h.te.front().size(), h.events.size());
+      });
+}
+
 }  // namespace
 
 void BindTrain(py::module_& m) {
@@ -268,72 +338,7 @@ void BindTrain(py::module_& m) {
                " 1/s>";
       });
 
-  py::class_<TrainHistories>(
-      m, "TrainHistories",
-      "Every mesh's time histories over the recorded cycles of simulate(train, histories=True), "
-      "as `simulate --out` writes them (trajectory.csv, events.csv): uniform samples, 32 per "
-      "cycle of the fastest mesh, each the exact state at its time. Arrays are copies, meshes x "
-      "samples in file order.")
-      .def_property_readonly(
-          "time",
-          [](const TrainHistories& h) {
-            const size_t n = h.te.empty() ? 0 : h.te.front().size();
-            py::array_t<double> t(static_cast<py::ssize_t>(n));
-            auto w = t.mutable_unchecked<1>();
-            for (size_t k = 0; k < n; ++k) {
-              w(static_cast<py::ssize_t>(k)) = h.start + static_cast<double>(k) * h.dt;
-            }
-            return t;
-          },
-          "s")
-      .def_property_readonly(
-          "te", [](const TrainHistories& h) { return MeshMatrix<double>(h.te); },
-          "transmission error, m (meshes x samples)")
-      .def_property_readonly(
-          "force", [](const TrainHistories& h) { return MeshMatrix<double>(h.force); },
-          "mesh force, N (meshes x samples)")
-      .def_property_readonly(
-          "contact", [](const TrainHistories& h) { return MeshMatrix<int>(h.contact); },
-          "contact state: 0 back flank, 1 free, 2 drive flank (as Trajectory.contact)")
-      .def_readonly("truncated", &TrainHistories::truncated,
-                    "the record held more samples than are kept (4,000,000 per mesh)")
-      .def_property_readonly(
-          "event_time",
-          [](const TrainHistories& h) {
-            return EventColumn<double>(h, [](const TrainEventRecord& e) { return e.event.time; });
-          },
-          "s")
-      .def_property_readonly(
-          "event_mesh",
-          [](const TrainHistories& h) {
-            return EventColumn<int>(h, [](const TrainEventRecord& e) { return e.mesh; });
-          },
-          "the mesh's index, file order")
-      .def_property_readonly(
-          "event_from",
-          [](const TrainHistories& h) {
-            return EventColumn<int>(h, [](const TrainEventRecord& e) { return e.event.from; });
-          },
-          "state before the event")
-      .def_property_readonly(
-          "event_to",
-          [](const TrainHistories& h) {
-            return EventColumn<int>(h, [](const TrainEventRecord& e) { return e.event.to; });
-          },
-          "state after the event")
-      .def_property_readonly(
-          "event_gap_rate",
-          [](const TrainHistories& h) {
-            return EventColumn<double>(h,
-                                       [](const TrainEventRecord& e) { return e.event.gap_rate; });
-          },
-          "m/s, the gap's rate crossing its wall")
-      .def_readonly("events_truncated", &TrainHistories::events_truncated,
-                    "more events than are kept (1,000,000)")
-      .def("__repr__", [](const TrainHistories& h) {
-        return fmt::format("<gearnvh.TrainHistories {} meshes x {} samples, {} events>",
-                           h.te.size(), h.te.empty() ? 0 : h.te.front().size(), h.events.size());
-      });
+  BindTrainHistories(m);
 
   py::class_<TrainSimulation, std::shared_ptr<TrainSimulation>>(
       m, "TrainSimulation", "One operating point of a gear train (gearnvh simulate TRAIN.yaml).")

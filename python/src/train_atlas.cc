@@ -19,7 +19,7 @@ namespace gearnvh::python {
 namespace {
 
 struct TrainAtlas {
-  app::TrainAtlasResult result;
+  gearnvh::TrainAtlasResult result;
   nlohmann::json doc;  // the `atlas --json` document
 };
 
@@ -47,8 +47,8 @@ std::shared_ptr<TrainAtlas> AtlasTrain(const Train& train, const std::optional<s
           CallControl& control) {
         plan.atlas.cancel = &control.cancel;
         auto out = std::make_shared<TrainAtlas>();
-        out->result = app::RunTrainAtlas(spec, plan.x, plan.y, plan.atlas, plan.jobs,
-                                         [&](int d, int t) { control.Progress(d, t); });
+        out->result = gearnvh::RunTrainAtlas(spec, plan.x, plan.y, plan.atlas, plan.jobs,
+                                             [&](int d, int t) { control.Progress(d, t); });
         out->doc = app::TrainAtlasDocument(out->result, plan.atlas, spec, source);
         return out;
       },
@@ -57,21 +57,22 @@ std::shared_ptr<TrainAtlas> AtlasTrain(const Train& train, const std::optional<s
 
 // (rows, columns) of value(cell) over the atlas grid; NaN for a failed cell.
 template <typename Value>
-py::array_t<double> AtlasGrid(const app::TrainAtlasResult& r, Value&& value) {
+py::array_t<double> AtlasGrid(const gearnvh::TrainAtlasResult& r, Value&& value) {
   const long nx = r.x.range.points, ny = r.y.range.points;
   py::array_t<double> out({ny, nx});
   auto m = out.mutable_unchecked<2>();
-  for (const app::TrainAtlasCell& c : r.cells) m(c.iy, c.ix) = c.point.ok ? value(c.point) : kNaN;
+  for (const gearnvh::TrainAtlasCell& c : r.cells)
+    m(c.iy, c.ix) = c.point.ok ? value(c.point) : kNaN;
   return out;
 }
 
 // (items, rows, columns): one grid per mesh or loose gear.
 template <typename Value>
-py::array_t<double> AtlasGrids(const app::TrainAtlasResult& r, size_t items, Value&& value) {
+py::array_t<double> AtlasGrids(const gearnvh::TrainAtlasResult& r, size_t items, Value&& value) {
   const long nx = r.x.range.points, ny = r.y.range.points;
   py::array_t<double> out({static_cast<long>(items), ny, nx});
   auto m = out.mutable_unchecked<3>();
-  for (const app::TrainAtlasCell& c : r.cells) {
+  for (const gearnvh::TrainAtlasCell& c : r.cells) {
     for (size_t i = 0; i < items; ++i) {
       m(static_cast<py::ssize_t>(i), c.iy, c.ix) = c.point.ok ? value(c.point, i) : kNaN;
     }
@@ -89,9 +90,10 @@ py::cpp_function MeshGrids(double TrainAtlasMesh::*member) {
 
 // A regime name per cell (row-major nested lists), "failed" for a failed cell.
 template <typename Regime>
-std::vector<std::vector<std::string>> RegimeGrid(const app::TrainAtlasResult& r, Regime&& regime) {
+std::vector<std::vector<std::string>> RegimeGrid(const gearnvh::TrainAtlasResult& r,
+                                                 Regime&& regime) {
   std::vector<std::vector<std::string>> grid(static_cast<size_t>(r.y.range.points));
-  for (const app::TrainAtlasCell& c : r.cells) {
+  for (const gearnvh::TrainAtlasCell& c : r.cells) {
     grid[static_cast<size_t>(c.iy)].push_back(c.point.ok ? RattleRegimeName(regime(c.point))
                                                          : "failed");
   }
@@ -160,7 +162,7 @@ void BindTrainAtlas(py::module_& m) {
       .def(
           "cell",
           [](py::object self, int ix, int iy) {
-            const app::TrainAtlasResult& r = self.cast<const TrainAtlas&>().result;
+            const gearnvh::TrainAtlasResult& r = self.cast<const TrainAtlas&>().result;
             if (ix < 0 || ix >= r.x.range.points || iy < 0 || iy >= r.y.range.points) {
               throw py::index_error("atlas cell (" + std::to_string(ix) + ", " +
                                     std::to_string(iy) + ") outside the grid");

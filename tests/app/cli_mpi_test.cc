@@ -166,6 +166,25 @@ TEST_CASE("mpi: mpirun -np 2 gives the single-process speed sweep of a gear trai
   CHECK(without_dates(uff_one) == without_dates(ReadWholeFile(dir.path() / "two.uff")));
 }
 
+TEST_CASE("mpi: a resume that does not fit the checkpoint is refused by every rank",
+          "[cli][mpi][resume]") {
+  // Rank 0 alone reads the checkpoint; its refusal must reach the other rank, which would
+  // otherwise wait for rank 0's list of restored cells (a hang: `timeout` makes it a failure).
+  for (const std::string& atlas : {kAtlas, kTrainAtlas}) {
+    INFO(atlas);
+    const TempDir dir;
+    const fs::path other = dir.path() / "other";
+    fs::create_directories(other / ".atlas-checkpoint");
+    std::ofstream(other / ".atlas-checkpoint" / "settings.json") << "{}\n";
+    const auto refused = RunCommand("timeout 120 " + kMpirun + kExe + atlas +
+                                    "--jobs 1 --resume --out " + other.string());
+    INFO(refused.out << refused.err);
+    CHECK(refused.exit_code == 2);  // --resume does not fit: a usage error, from every rank
+    CHECK(refused.err.find("other settings") != std::string::npos);
+    CHECK(!fs::exists(other / "atlas.json"));
+  }
+}
+
 // A short sweep of the idle-rattle example into `out`, one speed at a time per rank.
 std::string IdleSweepCommand(const fs::path& out) {
   return kExe + " sweep " + kExamples + "/idle_rattle.yaml --cycles 100 --transient 0 --jobs 1 " +

@@ -177,5 +177,70 @@ TEST_CASE("train report runs: the manual transmission's operating point and swee
   }
 }
 
+TEST_CASE("a train sweep's speed crosses between MPI ranks whole: its JSON round-trips bit for bit",
+          "[train][sweep][mpi]") {
+  // Every field the outputs read, with numbers that are not short decimals (the JSON must carry
+  // all 17 digits) and integers past 2^31.
+  TrainSweepPoint p;
+  p.speed_rad_s = 100.0 / 3.0;
+  p.speed_rpm = p.speed_rad_s * 60.0 / (2.0 * std::numbers::pi);
+  p.ok = true;
+  p.message = "a \"quoted\" note";
+  p.real_time_ratio = 12.345678901234567;
+  p.recorded_s = 0.1 + 0.2;
+  p.mesh_periods = {1.0 / 7.0, 1.0 / 11.0};
+  TrainMeshStatistics m;
+  m.name = "a-b";
+  m.te_mean = 4.1e-5 / 3.0;
+  m.te_rms = 1e-7 / 7.0;
+  m.te_peak_to_peak = 2e-6 / 9.0;
+  m.force_mean = 442.0 / 3.0;
+  m.force_max = 1e3 / 7.0;
+  m.drive_impacts = 3000000000L;
+  m.back_impacts = 7;
+  m.separations = 11;
+  m.grazing = 2;
+  m.free_time_fraction = 1.0 / 3.0;
+  m.impact_velocity_max = 0.01 / 3.0;
+  m.impact_velocity_rms = 0.004 / 7.0;
+  p.meshes = {m, m};
+  p.meshes[1].name = "c-d";
+  p.loose_gears = {{"f", 5, 1234.5 / 7.0, 42, 1}};
+  p.waterfall = {{0.0, 1e-6 / 3.0, 5e-300}, {1.0 / 3.0, 0.0, 2.0}};
+  using app::TrainSweepPointFromJson;
+  using app::TrainSweepPointJson;
+  const TrainSweepPoint back = TrainSweepPointFromJson(
+      nlohmann::json::parse(TrainSweepPointJson(p).dump()));  // as the ranks send it: text
+  CHECK(TrainSweepPointJson(back) == TrainSweepPointJson(p));
+  CHECK(back.speed_rad_s == p.speed_rad_s);
+  CHECK(back.speed_rpm == p.speed_rpm);
+  CHECK(back.ok);
+  CHECK(back.message == p.message);
+  CHECK(back.real_time_ratio == p.real_time_ratio);
+  CHECK(back.recorded_s == p.recorded_s);
+  CHECK(back.mesh_periods == p.mesh_periods);
+  REQUIRE(back.meshes.size() == 2);
+  CHECK(back.meshes[1].name == "c-d");
+  CHECK(back.meshes[0].te_rms == m.te_rms);
+  CHECK(back.meshes[0].force_max == m.force_max);
+  CHECK(back.meshes[0].drive_impacts == 3000000000L);
+  CHECK(back.meshes[0].grazing == 2);
+  CHECK(back.meshes[0].free_time_fraction == m.free_time_fraction);
+  CHECK(back.meshes[0].impact_velocity_rms == m.impact_velocity_rms);
+  REQUIRE(back.loose_gears.size() == 1);
+  CHECK(back.loose_gears[0].body == 5);
+  CHECK(back.loose_gears[0].rattle_index == p.loose_gears[0].rattle_index);
+  CHECK(back.loose_gears[0].rank == 1);
+  CHECK(back.waterfall == p.waterfall);
+  // A failed speed: no statistics, its message.
+  TrainSweepPoint failed;
+  failed.speed_rad_s = 50.0;
+  failed.message = "lost: no rank returned this speed";
+  const TrainSweepPoint failed_back = TrainSweepPointFromJson(TrainSweepPointJson(failed));
+  CHECK_FALSE(failed_back.ok);
+  CHECK(failed_back.message == failed.message);
+  CHECK(failed_back.meshes.empty());
+}
+
 }  // namespace
 }  // namespace gearnvh

@@ -37,6 +37,10 @@ struct TrainSweepOptions {
   // a warning above a minute goes to before_run_warning (when set).
   bool allow_slow = false;
   OptionNames names;
+  // The speeds are shared round robin among this many processes (MPI ranks), each running its
+  // share (RunTrainSweep's skip): the cost check counts one share, ceil(points / ranks) speeds,
+  // the same on every process. >= 1.
+  int ranks = 1;
   std::function<void(const std::string&)> before_run_warning;
   void Validate() const;
 };
@@ -69,9 +73,9 @@ struct TrainSweepResult {
   int failed() const;
 };
 
-// The cost of the sweep's runs: each speed's transient and cycles at the smaller of the estimates
-// at the sweep's two end speeds (the cost per run varies monotonically with the speed, so no
-// speed costs less), over the threads.
+// The cost of the sweep's runs on one process (options.ranks): each speed's transient and cycles
+// at the smaller of the estimates at the sweep's two end speeds (the cost per run varies
+// monotonically with the speed, so no speed costs less), over the threads.
 RunCostEstimate EstimateTrainSweepCost(const TrainSpec& spec, const TrainSweepOptions& options);
 
 // Each mesh's order of the input shaft, file order: its mesh frequency over the input shaft's

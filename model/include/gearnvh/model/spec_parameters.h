@@ -1,12 +1,15 @@
-// Schema parameters that analyses vary programmatically: atlas axes and orbit continuation.
-// Names are dotted schema paths; values are SI (the units of GearboxSpec).
+// Schema parameters that analyses vary programmatically: atlas axes and orbit continuation, of a
+// pair (GearboxSpec, schema gearnvh/1) and of a gear train (TrainSpec, schema gearnvh/2). Names
+// are dotted schema paths; values are SI (the units of the specs).
 #pragma once
 
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "gearnvh/model/gearbox_spec.h"
+#include "gearnvh/model/train_spec.h"
 
 namespace gearnvh {
 
@@ -37,5 +40,23 @@ struct ParameterValue {
 // Sets one parameter; ParameterNotVariable when it cannot. The caller re-validates the spec
 // (ValidateGearboxSpec) before use.
 void SetParameter(GearboxSpec& spec, const std::string& name, double value);
+
+// A gear train's parameters, named by their schema paths with the list index of the file:
+//   operating.speed                      the input shaft's mean speed (rad/s)
+//   operating.loads[i].torque            load i's torque (N m): the output load or a loose gear's
+//                                        drag
+//   operating.excitation[i].amplitude    engine order i's amplitude (rad/s^2)
+//   meshes[i].backlash                   mesh i's backlash (m)
+//   meshes[i].damping_ratio              mesh i's damping ratio
+enum class TrainParameter { kSpeed, kLoadTorque, kExcitationAmplitude, kBacklash, kDampingRatio };
+// Which of the forms above `name` is; nullopt when none.
+std::optional<TrainParameter> TrainParameterOf(const std::string& name);
+// Why `name` is not a train parameter (the accepted forms; for a schema-1 name, its train form).
+std::string TrainParameterRejection(const std::string& name);
+// Sets one parameter (SI). InputError naming `field` when the name is not a train parameter or its
+// index is beyond the file's list (the message lists what the file has). The caller validates
+// the variant (ValidateTrainSpec) before use.
+void SetTrainParameter(TrainSpec& spec, const std::string& name, double value,
+                       const std::string& field);
 
 }  // namespace gearnvh

@@ -14,9 +14,12 @@
 #pragma once
 
 #include <atomic>
+#include <functional>
 #include <string>
 #include <vector>
 
+#include "gearnvh/model/input_error.h"
+#include "gearnvh/model/spec_parameters.h"
 #include "gearnvh/model/train_spec.h"
 #include "gearnvh/nvh/rattle.h"
 #include "gearnvh/solver/solver_options.h"
@@ -32,6 +35,11 @@ struct TrainAtlasOptions {
   // Passed to the run (TrainStepperOptions::cancel): a cancelled cell fails with "cancelled".
   // Not owned; null: never cancelled.
   const std::atomic<bool>* cancel = nullptr;
+  // How an input error of a cell's variant is worded (RunTrainAtlas, analysis/train_atlas.h),
+  // given the parameters the variant was set to, as AtlasOptions::input_error_message. Empty:
+  // what().
+  std::function<std::string(const InputError&, const std::vector<ParameterValue>&)>
+      input_error_message;
   void Validate() const;  // throws InputError naming the field
 };
 
