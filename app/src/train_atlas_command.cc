@@ -202,11 +202,14 @@ std::string TrainAtlasCsv(const TrainAtlasResult& r) {
 }
 
 nlohmann::json TrainAtlasDocument(const TrainAtlasResult& r, const TrainAtlasOptions& o,
-                                  const TrainSpec& spec, const std::string& file) {
+                                  const TrainSpec& spec, const std::string& file, int ranks,
+                                  size_t restored_cells) {
   nlohmann::json doc = TrainAtlasJson(r, o);
   doc["name"] = spec.name;
   doc["file"] = file;
   doc["tier"] = TierName(o.tier);
+  doc["ranks"] = ranks;
+  doc["restored_cells"] = restored_cells;
   return doc;
 }
 
@@ -313,9 +316,8 @@ int AtlasTrain(const AtlasCommandOptions& options, const TrainSpec& spec) {
   result.y = plan.y;
   result.mesh_names = MeshNames(spec);
   result.loose_gear_names = LooseGearNames(spec);
-  nlohmann::json doc = TrainAtlasDocument(result, plan.atlas, spec, options.file);
-  doc["ranks"] = ranks;
-  doc["restored_cells"] = grid.restored();
+  nlohmann::json doc =
+      TrainAtlasDocument(result, plan.atlas, spec, options.file, ranks, grid.restored());
   RequireFinite(doc, "atlas");
   if (out) {
     out->Write("atlas.csv", TrainAtlasCsv(result));

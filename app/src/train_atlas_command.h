@@ -45,9 +45,11 @@ TrainAtlasPlan PlanTrainAtlas(const AtlasCommandOptions& options, const TrainSpe
 // are counted, so the estimate errs long). Returns the warning
 // (empty when none); throws InputError naming names("allow-slow") when refused.
 std::string CheckTrainAtlasCost(const TrainSpec& spec, const TrainAtlasPlan& plan, int ranks = 1);
-// `atlas --json` on a train: TrainAtlasJson with the train's name, `file` and the tier.
+// `atlas --json` on a train: TrainAtlasJson with the train's name, `file`, the tier, the MPI
+// ranks that ran it and the cells a resume restored.
 nlohmann::json TrainAtlasDocument(const TrainAtlasResult& r, const TrainAtlasOptions& o,
-                                  const TrainSpec& spec, const std::string& file);
+                                  const TrainSpec& spec, const std::string& file, int ranks = 1,
+                                  size_t restored_cells = 0);
 
 int AtlasTrain(const AtlasCommandOptions& options, const TrainSpec& spec);
 
