@@ -40,6 +40,12 @@ WaterfallView MeshWaterfall(const TrainSweepResult& sweep, size_t mesh) {
   return w;
 }
 
+std::vector<WaterfallView> MeshWaterfalls(const TrainSweepResult& sweep) {
+  std::vector<WaterfallView> views;
+  for (size_t i = 0; i < sweep.mesh_names.size(); ++i) views.push_back(MeshWaterfall(sweep, i));
+  return views;
+}
+
 OrderTrack TrackOrder(const WaterfallView& waterfall, double order, const std::string& label) {
   OrderTrack t;
   t.label = label;

@@ -271,7 +271,7 @@ GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::
     WriteFileAtomically((folder / "mesh_cycle.csv").string(), MeshCycleCsv(model));
     WriteFileAtomically((folder / "campbell.csv").string(), CampbellCsv(sweep));
     WriteFileAtomically((folder / "critical_speeds.csv").string(), CriticalCsv(sweep));
-    WriteFileAtomically((folder / "waterfall.csv").string(), WaterfallCsv(sweep));
+    WriteFileAtomically((folder / "waterfall.csv").string(), WaterfallCsv({PairWaterfall(sweep)}));
     WriteFileAtomically((folder / "order_tracks.csv").string(),
                         OrderTracksCsv(mesh_tracks, sideband_tracks));
     if (atlas) WriteFileAtomically((folder / "atlas.csv").string(), AtlasCsv(*atlas, spec));

@@ -344,7 +344,7 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
   WriteFileAtomically((folder / "meshes.csv").string(), TrainMeshesCsv(sweep));
   WriteFileAtomically((folder / "loose_gears.csv").string(), TrainLooseGearsCsv(sweep));
   WriteFileAtomically((folder / "sidebands.csv").string(), TrainSidebandsCsv(op));
-  WriteFileAtomically((folder / "waterfall.csv").string(), TrainWaterfallCsv(sweep));
+  WriteFileAtomically((folder / "waterfall.csv").string(), WaterfallCsv(MeshWaterfalls(sweep), sweep.mesh_names));
   WriteFileAtomically((folder / "order_tracks.csv").string(),
                       OrderTracksCsv(every_order, {}, "input"));
   {

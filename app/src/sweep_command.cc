@@ -110,7 +110,7 @@ int SweepTrain(const SweepOptions& options, const TrainSpec& spec) {
   if (out) {
     out->Write("meshes.csv", TrainMeshesCsv(result));
     out->Write("loose_gears.csv", TrainLooseGearsCsv(result));
-    out->Write("waterfall.csv", TrainWaterfallCsv(result));
+    out->Write("waterfall.csv", WaterfallCsv(MeshWaterfalls(result), result.mesh_names));
     out->Write("sweep.json", doc.dump(1) + "\n");
     out->Commit();
   }
@@ -221,15 +221,24 @@ std::string CriticalCsv(const SpeedSweepResult& r) {
   return os.str();
 }
 
-std::string WaterfallCsv(const SpeedSweepResult& r) {
+std::string WaterfallCsv(const std::vector<WaterfallView>& waterfalls,
+                         const std::vector<std::string>& names) {
   std::ostringstream os;
   os.precision(12);
-  os << "speed_rpm,order,frequency_hz,amplitude_m\n";
-  for (const SpeedPoint& p : r.points) {
-    for (size_t k = 0; k < p.amplitude_m.size(); ++k) {
-      const double order = static_cast<double>(k) * r.order_step;
-      os << p.speed_rpm << ',' << order << ',' << order * p.speed_rpm / 60.0 << ','
-         << p.amplitude_m[k] << '\n';
+  os << (names.empty() ? "speed_rpm,order,frequency_hz,amplitude_m\n"
+                       : "speed_rpm,mesh,order,frequency_hz,amplitude_m\n");
+  const size_t speeds = waterfalls.empty() ? 0 : waterfalls.front().speed_rpm.size();
+  for (size_t s = 0; s < speeds; ++s) {
+    for (size_t i = 0; i < waterfalls.size(); ++i) {
+      const WaterfallView& w = waterfalls[i];
+      if (w.rows[s] == nullptr) continue;
+      const double rpm = w.speed_rpm[s];
+      for (size_t k = 0; k < w.rows[s]->size(); ++k) {
+        const double order = static_cast<double>(k) * w.order_step;
+        os << rpm << ',';
+        if (!names.empty()) os << names[i] << ',';
+        os << order << ',' << order * rpm / 60.0 << ',' << (*w.rows[s])[k] << '\n';
+      }
     }
   }
   return os.str();
@@ -317,7 +326,7 @@ int RunSweep(const SweepOptions& options) {
     if (out) {
       out->Write("campbell.csv", CampbellCsv(result));
       out->Write("critical_speeds.csv", CriticalCsv(result));
-      out->Write("waterfall.csv", WaterfallCsv(result));
+      out->Write("waterfall.csv", WaterfallCsv({PairWaterfall(result)}));
       out->Write("sweep.json", doc.dump(1) + "\n");
       out->Commit();
     }

@@ -6,7 +6,9 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <vector>
 
+#include "gearnvh/analysis/order_tracks.h"
 #include "gearnvh/analysis/speed_sweep.h"
 
 namespace gearnvh::app {
@@ -26,11 +28,15 @@ struct SweepOptions {
 
 int RunSweep(const SweepOptions& options);
 
-// The sweep's documents (also used by reports): JSON, and CSV of the Campbell data, critical
-// speeds and waterfall. `mesh_order` = z1.
+// The sweep's documents (also used by reports): JSON, and CSV of the Campbell data and critical
+// speeds. `mesh_order` = z1.
 nlohmann::json SweepJson(const SpeedSweepResult& r, double mesh_order);
 std::string CampbellCsv(const SpeedSweepResult& r);
 std::string CriticalCsv(const SpeedSweepResult& r);
-std::string WaterfallCsv(const SpeedSweepResult& r);
+// waterfall.csv of a pair's or a train's sweep: a row per speed and order bin of each waterfall
+// (speed_rpm, order, frequency_hz, amplitude_m); with `names` (a train's meshes, one waterfall
+// each) a `mesh` column after the speed. A failed speed has no rows.
+std::string WaterfallCsv(const std::vector<WaterfallView>& waterfalls,
+                         const std::vector<std::string>& names = {});
 
 }  // namespace gearnvh::app

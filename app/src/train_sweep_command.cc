@@ -169,22 +169,6 @@ std::string TrainLooseGearsCsv(const TrainSweepResult& r) {
   return os.str();
 }
 
-std::string TrainWaterfallCsv(const TrainSweepResult& r) {
-  std::ostringstream os;
-  os.precision(12);
-  os << "speed_rpm,mesh,order,frequency_hz,amplitude_m\n";
-  for (const TrainSweepPoint& p : r.points) {
-    for (size_t i = 0; i < p.waterfall.size(); ++i) {
-      for (size_t k = 0; k < p.waterfall[i].size(); ++k) {
-        const double order = static_cast<double>(k) * r.order_step;
-        os << p.speed_rpm << ',' << r.mesh_names[i] << ',' << order << ','
-           << order * p.speed_rpm / 60.0 << ',' << p.waterfall[i][k] << '\n';
-      }
-    }
-  }
-  return os.str();
-}
-
 void PrintTrainSweep(const TrainSweepResult& r, const DisplayUnit& speed_unit) {
   const std::string unit = speed_unit.symbol;
   auto shown = [&speed_unit](const TrainSweepPoint& p) {

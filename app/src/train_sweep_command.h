@@ -32,8 +32,7 @@ nlohmann::json TrainSweepDocument(const TrainSweepResult& r, const TrainSpec& sp
                                   const std::string& file, const TrainSweepOptions& options);
 std::string TrainMeshesCsv(const TrainSweepResult& r);
 std::string TrainLooseGearsCsv(const TrainSweepResult& r);
-// Each mesh's waterfall: speed_rpm, mesh, order (of the input shaft), frequency_hz, amplitude_m.
-std::string TrainWaterfallCsv(const TrainSweepResult& r);
+// (waterfall.csv: WaterfallCsv of MeshWaterfalls, sweep_command.h.)
 
 // Prints the sweep's text tables (per mesh, then the loose gears' rattle index per speed).
 // The tables of a sweep on a terminal, speeds in `speed_unit` (the unit the file wrote).

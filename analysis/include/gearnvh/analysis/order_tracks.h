@@ -31,8 +31,9 @@ struct WaterfallView {
 };
 // A pair's waterfall (pinion orders).
 WaterfallView PairWaterfall(const SpeedSweepResult& sweep);
-// The waterfall of a train's mesh `mesh` (input-shaft orders).
+// The waterfall of a train's mesh `mesh` (input-shaft orders), and of every mesh in file order.
 WaterfallView MeshWaterfall(const TrainSweepResult& sweep, size_t mesh);
+std::vector<WaterfallView> MeshWaterfalls(const TrainSweepResult& sweep);
 
 // The track of one order (> 0).
 OrderTrack TrackOrder(const WaterfallView& waterfall, double order, const std::string& label);
