@@ -270,6 +270,46 @@ TEST_CASE("mpi: a report batch split over 2 ranks equals the single-process repo
   }
 }
 
+TEST_CASE("mpi: a gear train's report page built on rank 1 equals the single-process one",
+          "[cli][mpi][train]") {
+  // The rattling three-mesh train, short (200 + 50 cycles, 4 sweep speeds), second in the batch so
+  // that rank 1 builds it and sends its files to rank 0.
+  const TempDir dir;
+  const std::string yaml =
+      ReadWholeFile(fs::path(GEARNVH_TEST_DATA_DIR) / "loose_gear_train.yaml") +
+      "analysis:\n  cycles: 200\n  transient_cycles: 50\n"
+      "  speed_sweep: {from: 800 rpm, to: 1200 rpm, points: 4}\n";
+  const auto first = dir.Write("first.yaml", yaml);  // rank 0's
+  const auto train = dir.Write("train.yaml", yaml);
+  const std::string args = " --no-atlas --width 600 --height 400 --out ";
+  const auto mpi = RunCommand(kMpirun + kExe + " report " + first.string() + " " + train.string() +
+                              args + (dir.path() / "two").string());
+  INFO(mpi.out << mpi.err);
+  REQUIRE(mpi.exit_code == 0);
+  const auto batch = nlohmann::json::parse(ReadWholeFile(dir.path() / "two" / "report.json"));
+  CHECK(batch["ranks"] == 2);
+  CHECK(batch["failed"] == 0);
+  const auto one =
+      RunCommand(kExe + " report " + train.string() + args + (dir.path() / "one").string());
+  INFO(one.err);
+  REQUIRE(one.exit_code == 0);
+  const fs::path a = dir.path() / "one" / "train", b = dir.path() / "two" / "train";
+  for (const char* file :
+       {"meshes.csv", "loose_gears.csv", "sidebands.csv", "waterfall.csv", "order_tracks.csv"}) {
+    INFO(file);
+    CHECK(ReadWholeFile(a / file).size() > 0);
+    CHECK(ReadWholeFile(a / file) == ReadWholeFile(b / file));
+  }
+  int files = 0;
+  for (const auto& entry : fs::directory_iterator(a)) {
+    INFO(entry.path().filename());
+    CHECK(fs::exists(b / entry.path().filename()));
+    CHECK(fs::file_size(b / entry.path().filename()) > 0);
+    ++files;
+  }
+  CHECK(files >= 16);  // the page, its 10 figures, CSVs, results.json and results.uff
+}
+
 // `atlas` (12 cells) killed midway completes with --resume to the cells of an uninterrupted run.
 void CheckKilledAtlasResumes(const std::string& atlas) {
   const TempDir dir;
