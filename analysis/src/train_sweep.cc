@@ -20,8 +20,9 @@
 namespace gearnvh {
 namespace {
 
-TrainSweepPoint RunPoint(const TrainSpec& base, const TrainSweepOptions& options, double speed,
-                         int order_bins) {
+// `built`: the train of `base` at some speed of the sweep (GearTrainAtSpeed moves it).
+TrainSweepPoint RunPoint(const TrainSpec& base, const GearTrain& built,
+                         const TrainSweepOptions& options, double speed, int order_bins) {
   ThrowIfCancelled(options.cancel);  // a speed not started yet
   TrainSweepPoint p;
   p.speed_rad_s = speed;
@@ -37,7 +38,12 @@ TrainSweepPoint RunPoint(const TrainSpec& base, const TrainSweepOptions& options
   run.cancel = options.cancel;
   run.tier = options.tier;
   run.allow_slow = true;  // the sweep's cost was checked before any speed ran
-  const TrainOperatingPoint op = RunTrainOperatingPoint(spec, run);
+  GearTrain train = GearTrainAtSpeed(built, spec);
+  TrainTableOptions table_options;
+  table_options.cancel = options.cancel;
+  TrainTables tables = BuildTrainTablesAtTier(spec, train, options.tier, table_options);
+  const TrainOperatingPoint op =
+      RunTrainOperatingPoint(spec, std::move(train), std::move(tables), run);
   p.ok = op.ok();
   if (!p.ok) p.message = "the run stopped: " + TrainStepperMessage(op.summary);
   p.real_time_ratio = op.wall_s > 0.0 ? op.summary.simulated_time / op.wall_s : 0.0;
@@ -97,7 +103,11 @@ int TrainSweepResult::failed() const {
   return n;
 }
 
-RunCostEstimate EstimateTrainSweepCost(const TrainSpec& spec, const TrainSweepOptions& options) {
+namespace {
+
+// The run-cost estimate of the sweep, with the train it built at the first speed.
+RunCostEstimate EstimateTrainSweepCost(const TrainSpec& spec, const TrainSweepOptions& options,
+                                       GearTrain& first) {
   const SweepRange& range = spec.analysis.speed_sweep;
   std::optional<RunCostEstimate> cheapest;
   TrainTableOptions table_options;
@@ -106,7 +116,8 @@ RunCostEstimate EstimateTrainSweepCost(const TrainSpec& spec, const TrainSweepOp
     ThrowIfCancelled(options.cancel);
     TrainSpec at = spec;
     at.operating.speed = speed;
-    const GearTrain train = BuildGearTrain(at);
+    const GearTrain train = first.meshes.empty() ? BuildGearTrain(at) : GearTrainAtSpeed(first, at);
+    if (first.meshes.empty()) first = train;
     const TrainTables tables = BuildTrainTablesAtTier(at, train, options.tier, table_options);
     const double seconds =
         static_cast<double>(options.cycles + options.transient) * tables.meshes.front().period;
@@ -120,11 +131,19 @@ RunCostEstimate EstimateTrainSweepCost(const TrainSpec& spec, const TrainSweepOp
                          threads);
 }
 
+}  // namespace
+
+RunCostEstimate EstimateTrainSweepCost(const TrainSpec& spec, const TrainSweepOptions& options) {
+  GearTrain first;
+  return EstimateTrainSweepCost(spec, options, first);
+}
+
 TrainSweepResult RunTrainSweep(const TrainSpec& spec, const TrainSweepOptions& options,
                                const TrainSweepProgress& progress, const std::vector<bool>& skip) {
   options.Validate();
+  GearTrain first;  // the train at the first speed: each speed moves it (GearTrainAtSpeed)
   {
-    const RunCostEstimate cost = EstimateTrainSweepCost(spec, options);
+    const RunCostEstimate cost = EstimateTrainSweepCost(spec, options, first);
     const std::string what = options.ranks > 1
                                  ? fmt::format("each process's {} of the sweep's {} speeds",
                                                cost.runs, spec.analysis.speed_sweep.points)
@@ -162,7 +181,7 @@ TrainSweepResult RunTrainSweep(const TrainSpec& spec, const TrainSweepOptions& o
       return;
     }
     RunSweepPoint(p, speeds[i],
-                  [&] { return RunPoint(spec, options, speeds[i], result.order_bins); });
+                  [&] { return RunPoint(spec, first, options, speeds[i], result.order_bins); });
     counter.Tick();
   });
   NameLooseGears(result);

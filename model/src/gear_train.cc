@@ -22,6 +22,17 @@ double ShaftPolarInertia(const ShaftSpec& shaft, const Material& material) {
   return j;
 }
 
+// The mesh's schema-1 gearbox, pair and geometry at the body speeds of `topology`.
+void SetMeshKinematics(const TrainSpec& spec, const TrainTopology& topology, size_t m,
+                       TrainMeshModel& mesh) {
+  mesh.gearbox = MeshGearbox(spec, topology, static_cast<int>(m), mesh.transmitted_torque);
+  mesh.pair = PairOf(mesh.gearbox);
+  mesh.pair.path_a = "gears." + spec.gears[static_cast<size_t>(mesh.gear_a)].name;
+  mesh.pair.path_b = "gears." + spec.gears[static_cast<size_t>(mesh.gear_b)].name;
+  mesh.pair.path_mesh = "meshes[" + std::to_string(m) + "]";
+  mesh.geometry = ComputePairGeometry(mesh.pair);
+}
+
 }  // namespace
 
 GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& options) {
@@ -70,12 +81,7 @@ GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& opti
   double finest_per_revolution = 0.0;
   for (size_t m = 0; m < train.meshes.size(); ++m) {
     TrainMeshModel& mesh = train.meshes[m];
-    mesh.gearbox = MeshGearbox(spec, topo, static_cast<int>(m), mesh.transmitted_torque);
-    mesh.pair = PairOf(mesh.gearbox);
-    mesh.pair.path_a = "gears." + spec.gears[static_cast<size_t>(mesh.gear_a)].name;
-    mesh.pair.path_b = "gears." + spec.gears[static_cast<size_t>(mesh.gear_b)].name;
-    mesh.pair.path_mesh = "meshes[" + std::to_string(m) + "]";
-    mesh.geometry = ComputePairGeometry(mesh.pair);
+    SetMeshKinematics(spec, topo, m, mesh);
     mesh.cycle = ComputeMeshCycle(mesh.pair, mesh.geometry, options);
     try {
       mesh.segmentation = SegmentMeshCycle(mesh.pair, MeshEvaluator(mesh.pair, mesh.geometry),
@@ -113,6 +119,14 @@ GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& opti
   }
   RequireExcitationResolved(spec.operating.excitation, finest.cycles_per_revolution,
                             finest.longest_segment, spec.analysis.segments_per_cycle, finest.name);
+  return train;
+}
+
+GearTrain GearTrainAtSpeed(GearTrain train, const TrainSpec& at) {
+  train.topology = AnalyseTrainTopology(at);
+  for (size_t m = 0; m < train.meshes.size(); ++m) {
+    SetMeshKinematics(at, train.topology, m, train.meshes[m]);
+  }
   return train;
 }
 

@@ -23,6 +23,10 @@ double BodySpeed(const TrainTopology& t, int body) {
   return std::abs(t.bodies[static_cast<size_t>(body)].speed);
 }
 
+double SpeedRatio(const TrainTopology& t, int body) {
+  return std::abs(t.bodies[static_cast<size_t>(body)].speed_ratio);
+}
+
 std::string MeshName(const TrainSpec& spec, size_t m) {
   return "meshes[" + std::to_string(m) + "] (" + spec.meshes[m].Name() + ")";
 }
@@ -126,7 +130,8 @@ TrainTorqueFlow StaticTorqueFlow(const TrainSpec& spec, const TrainTopology& top
     const int shaft = spec.ShaftIndex(load.on);
     const int body =
         shaft >= 0 ? shaft : topology.gear_body[static_cast<size_t>(spec.GearIndex(load.on))];
-    const double power = load.torque * BodySpeed(topology, body);
+    // Power per unit input speed: the flow is then the same bits at every input speed.
+    const double power = load.torque * SpeedRatio(topology, body);
     total_power += power;
     // Up the spanning tree to the input: every mesh on the way carries this power.
     for (int child = body; topology.parent_mesh[static_cast<size_t>(child)] >= 0;) {
@@ -144,12 +149,12 @@ TrainTorqueFlow StaticTorqueFlow(const TrainSpec& spec, const TrainTopology& top
       child = child == body_a ? body_b : body_a;
     }
   }
-  flow.input_torque = total_power / BodySpeed(topology, topology.input_body);
+  flow.input_torque = total_power;  // the input's speed ratio is 1
   for (size_t m = 0; m < meshes; ++m) {
     const int body_b =
         topology.gear_body[static_cast<size_t>(spec.GearIndex(spec.meshes[m].gear_b))];
     // Power P through the mesh at base-circle speed |w_b| r_b,b: torque on gear b P / |w_b|.
-    flow.transmitted_torque[m] = mesh_power[m] / BodySpeed(topology, body_b);
+    flow.transmitted_torque[m] = mesh_power[m] / SpeedRatio(topology, body_b);
   }
   return flow;
 }

@@ -161,6 +161,7 @@ TrainTopology AnalyseTrainTopology(const TrainSpec& spec) {
   t.parent_mesh.assign(t.bodies.size(), -2);  // -2: not reached
   t.parent_mesh[static_cast<size_t>(t.input_body)] = -1;
   t.bodies[static_cast<size_t>(t.input_body)].speed = spec.operating.speed;
+  t.bodies[static_cast<size_t>(t.input_body)].speed_ratio = 1.0;
   // Breadth-first over the meshes from the input body.
   std::deque<int> queue{t.input_body};
   std::set<int> visited_meshes;
@@ -186,6 +187,7 @@ TrainTopology AnalyseTrainTopology(const TrainSpec& spec) {
       if (t.parent_mesh[static_cast<size_t>(to)] == -2) {
         t.parent_mesh[static_cast<size_t>(to)] = static_cast<int>(m);
         target.speed = speed;
+        target.speed_ratio = -t.bodies[static_cast<size_t>(body)].speed_ratio * ratio;
         queue.push_back(to);
       } else {
         t.loop_meshes.push_back(static_cast<int>(m));

@@ -295,5 +295,64 @@ TEST_CASE("train rules: the size of a train is limited before any work", "[train
   CHECK(PathOfError(s).empty());
 }
 
+// Every number of `a` equals `b`'s: the bits, since the same operations run on the same inputs.
+void CheckSameMeshes(const GearTrain& a, const GearTrain& b) {
+  REQUIRE(a.meshes.size() == b.meshes.size());
+  CHECK(a.input_torque == b.input_torque);
+  CHECK(a.body_inertia == b.body_inertia);
+  CHECK(a.warnings == b.warnings);
+  REQUIRE(a.topology.bodies.size() == b.topology.bodies.size());
+  for (size_t i = 0; i < a.topology.bodies.size(); ++i) {
+    CHECK(a.topology.bodies[i].speed == b.topology.bodies[i].speed);
+  }
+  for (size_t m = 0; m < a.meshes.size(); ++m) {
+    const TrainMeshModel &x = a.meshes[m], &y = b.meshes[m];
+    INFO(x.name);
+    CHECK(x.pair.speed_a == y.pair.speed_a);
+    CHECK(x.gearbox.operating.speed == y.gearbox.operating.speed);
+    CHECK(x.pair.path_mesh == y.pair.path_mesh);
+    CHECK(x.geometry.mesh_frequency_hz == y.geometry.mesh_frequency_hz);
+    CHECK(x.geometry.mesh_period_s == y.geometry.mesh_period_s);
+    CHECK(x.geometry.contact_ratio == y.geometry.contact_ratio);
+    CHECK(x.transmitted_torque == y.transmitted_torque);
+    CHECK(x.cycle.tau == y.cycle.tau);
+    CHECK(x.cycle.load == y.cycle.load);
+    REQUIRE(x.cycle.drive.size() == y.cycle.drive.size());
+    for (size_t i = 0; i < x.cycle.drive.size(); ++i) {
+      CHECK(x.cycle.drive[i].stiffness == y.cycle.drive[i].stiffness);
+      CHECK(x.cycle.drive[i].lste == y.cycle.drive[i].lste);
+      CHECK(x.cycle.back[i].stiffness == y.cycle.back[i].stiffness);
+    }
+    REQUIRE(x.segmentation.segments.size() == y.segmentation.segments.size());
+    for (size_t j = 0; j < x.segmentation.segments.size(); ++j) {
+      const MeshSegment &s = x.segmentation.segments[j], &t = y.segmentation.segments[j];
+      CHECK(s.tau_begin == t.tau_begin);
+      CHECK(s.tau_end == t.tau_end);
+      CHECK(s.lste == t.lste);
+      CHECK(s.error_weights == t.error_weights);
+    }
+    CHECK(x.stiffness.mean == y.stiffness.mean);
+    CHECK(x.stiffness.lste_peak_to_peak == y.stiffness.lste_peak_to_peak);
+  }
+}
+
+TEST_CASE("a train built at one speed and moved to another equals the train built there",
+          "[train][sweep]") {
+  // GearTrainAtSpeed reuses the meshes' stiffness, segmentation and torque flow: they must not
+  // depend on the speed. A helical, elastic, loaded train with a loose gear, and the rigid one.
+  for (const TrainSpec& spec : {testing::ElasticTwoStage(), testing::RigidTwoStage()}) {
+    INFO(spec.name);
+    TrainSpec at = spec;
+    at.operating.speed = 2370.0 * 2.0 * std::numbers::pi / 60.0;
+    const GearTrain moved = GearTrainAtSpeed(BuildGearTrain(spec), at);
+    const GearTrain built = BuildGearTrain(at);
+    CheckSameMeshes(moved, built);
+    // And it did move: the mesh frequencies scale with the input speed.
+    const GearTrain before = BuildGearTrain(spec);
+    CHECK(moved.meshes[0].geometry.mesh_frequency_hz ==
+          Approx(before.meshes[0].geometry.mesh_frequency_hz * 2370.0 / 1000.0).epsilon(1e-14));
+  }
+}
+
 }  // namespace
 }  // namespace gearnvh

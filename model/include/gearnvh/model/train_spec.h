@@ -86,6 +86,9 @@ struct TrainBody {
   // Nominal speed, rad/s, signed: > 0 turns the way the input shaft does. From the input speed
   // through the meshes, omega_b = -omega_a z_a / z_b.
   double speed = 0.0;
+  // The same per unit input speed, from the tooth ratios alone: what depends on speed ratios only
+  // (the static torque flow) is then the same bits at every input speed.
+  double speed_ratio = 0.0;
 };
 
 struct TrainTopology {
