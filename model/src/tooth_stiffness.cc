@@ -92,32 +92,27 @@ ToothCompliance ToothStiffnessModel::AtRoll(double roll) const {
 
 ToothCompliance ToothStiffnessModel::AtForceAngle(double alpha1) const {
   const double c = std::cos(alpha1), s = std::sin(alpha1);
-  auto x_of = [&](double a) { return r_b_ * ((a + alpha2_) * std::sin(a) + std::cos(a)); };
-  auto h_of = [&](double a) { return r_b_ * ((a + alpha2_) * std::cos(a) - std::sin(a)); };
-  const double x_p = x_of(alpha1), h_p = h_of(alpha1);
+  const double x_p = r_b_ * ((alpha1 + alpha2_) * s + c), h_p = r_b_ * ((alpha1 + alpha2_) * c - s);
 
   ToothCompliance out;
-  // Involute part.
+  // Involute part: the three integrands share x(a), h(a) and dx/da, one pass over the nodes (their
+  // sines and cosines were most of a mesh's build).
   if (alpha1 > alpha_start_) {
-    auto integrand = [&](double a, int which) {
-      const double x = x_of(a), h = h_of(a);
-      const double dx = r_b_ * (a + alpha2_) * std::cos(a);
-      const double area = 2.0 * h * L_;
-      switch (which) {
-        case 0: {
+    const auto [bending, shear, axial] =
+        IntegrateComponents<3>(rule_, alpha_start_, alpha1, [&](double a) {
+          const double sin_a = std::sin(a), cos_a = std::cos(a);
+          const double x = r_b_ * ((a + alpha2_) * sin_a + cos_a);
+          const double h = r_b_ * ((a + alpha2_) * cos_a - sin_a);
+          const double dx = r_b_ * (a + alpha2_) * cos_a;
+          const double area = 2.0 * h * L_;
           const double moment = c * (x_p - x) - s * h_p;
           const double inertia = 2.0 * h * h * h * L_ / 3.0;
-          return moment * moment / (E_ * inertia) * dx;
-        }
-        case 1:
-          return 1.2 * c * c / (G_ * area) * dx;
-        default:
-          return s * s / (E_ * area) * dx;
-      }
-    };
-    out.bending = Integrate(rule_, alpha_start_, alpha1, [&](double a) { return integrand(a, 0); });
-    out.shear = Integrate(rule_, alpha_start_, alpha1, [&](double a) { return integrand(a, 1); });
-    out.axial = Integrate(rule_, alpha_start_, alpha1, [&](double a) { return integrand(a, 2); });
+          return std::array<double, 3>{moment * moment / (E_ * inertia) * dx,
+                                       1.2 * c * c / (G_ * area) * dx, s * s / (E_ * area) * dx};
+        });
+    out.bending = bending;
+    out.shear = shear;
+    out.axial = axial;
   }
   // Straight part below the base circle: constant section, closed form.
   if (straight_half_thickness_ > 0.0) {
