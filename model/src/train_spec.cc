@@ -264,7 +264,8 @@ TrainSpec TrainOf(const GearboxSpec& spec) {
   t.operating.input_shaft = "input";
   t.operating.speed = spec.operating.speed;
   t.operating.speed_unit = spec.operating.speed_unit;
-  t.operating.loads.push_back({"output", spec.operating.torque});
+  // The output resists the wheel's torque (a pinion torque times z2 / z1), in the file's unit.
+  t.operating.loads.push_back({"output", spec.WheelTorque(), spec.operating.torque_unit});
   t.operating.excitation = spec.operating.excitation;
   t.analysis = spec.analysis;
   return t;

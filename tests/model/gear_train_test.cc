@@ -153,6 +153,25 @@ TEST_CASE("a schema-1 gearbox is the two-shaft train with the same mesh model", 
   CHECK(modes.frequencies_hz[0] == Approx(f).epsilon(1e-10));
 }
 
+TEST_CASE("a schema-1 gearbox loaded on its pinion is the train loaded on its output by z2/z1",
+          "[train]") {
+  // torque_on: pinion: the wheel resists T1 z2 / z1, so the mesh carries the same force either way.
+  GearboxSpec spec = testing::StandardPair(27, 43);
+  spec.operating.torque = 25.0;
+  spec.operating.torque_on = TorqueOn::kPinion;
+  spec.operating.torque_unit = {"lbf*ft", 0.7375621492772654};
+  const TrainSpec train_spec = TrainOf(spec);
+  REQUIRE(train_spec.operating.loads.size() == 1);
+  CHECK(train_spec.operating.loads[0].on == "output");
+  CHECK(train_spec.operating.loads[0].torque == Approx(25.0 * 43.0 / 27.0).epsilon(1e-15));
+  CHECK(train_spec.operating.loads[0].torque_unit.symbol == "lbf*ft");
+  const GearTrain train = BuildGearTrain(train_spec);
+  const ComponentModel model = BuildComponentModel(spec);
+  // x z2 / z1 / ratio: a few roundings of 1e-16 between the two paths.
+  CHECK(train.meshes[0].cycle.load == Approx(model.cycle.load).epsilon(1e-14));
+  CHECK(train.input_torque == Approx(25.0).epsilon(1e-14));
+}
+
 std::string PathOfError(const TrainSpec& spec) {
   try {
     ValidateTrainSpec(spec);
