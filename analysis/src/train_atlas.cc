@@ -64,6 +64,16 @@ TrainAtlasResult RunTrainAtlas(const TrainSpec& base, const AtlasAxis& x, const 
   const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   r.threads = std::max(
       1, std::min(threads > 0 ? threads : hardware, std::max(1, static_cast<int>(to_do.size()))));
+  // With input speed on one axis, the cells of one value of the other axis share their meshes:
+  // built once (by whichever cell comes first) and moved to each cell's speed, which gives the
+  // bits BuildGearTrain gives there (GearTrainAtSpeed). The mesh models were most of a short
+  // cell's cost.
+  const bool x_speed = TrainParameterOf(x.parameter) == TrainParameter::kSpeed;
+  const bool y_speed = TrainParameterOf(y.parameter) == TrainParameter::kSpeed;
+  const size_t groups =
+      x_speed == y_speed ? 0 : static_cast<size_t>(x_speed ? y.range.points : nx);
+  std::vector<std::once_flag> group_built(groups);
+  std::vector<GearTrain> group_train(groups);
   SweepProgressCounter counter(static_cast<int>(to_do.size()), progress);
   std::mutex completed;
   ParallelFor(to_do.size(), r.threads, [&](size_t i) {
@@ -79,7 +89,15 @@ TrainAtlasResult RunTrainAtlas(const TrainSpec& base, const AtlasAxis& x, const 
       SetTrainParameter(variant, x.parameter, c.x, "x");
       SetTrainParameter(variant, y.parameter, c.y, "y");
       ValidateTrainSpec(variant);
-      c.point = ComputeTrainAtlasPoint(variant, options);
+      TrainBuilder build;
+      if (groups > 0) {
+        const auto g = static_cast<size_t>(x_speed ? c.iy : c.ix);
+        build = [&, g](const TrainSpec& at) {
+          std::call_once(group_built[g], [&] { group_train[g] = BuildGearTrain(at); });
+          return GearTrainAtSpeed(group_train[g], at);
+        };
+      }
+      c.point = ComputeTrainAtlasPoint(variant, options, build);
     } catch (const InputError& e) {
       c.point.ok = false;
       c.point.message =

@@ -61,13 +61,14 @@ void FillPoint(const TrainTables& tables, const TrainLyapunovSummary& lyapunov,
 
 }  // namespace
 
-TrainAtlasPoint ComputeTrainAtlasPoint(const TrainSpec& variant, const TrainAtlasOptions& options) {
+TrainAtlasPoint ComputeTrainAtlasPoint(const TrainSpec& variant, const TrainAtlasOptions& options,
+                                       const TrainBuilder& build) {
   const auto start = std::chrono::steady_clock::now();
   TrainAtlasPoint p;
   try {
     options.Validate();
     ValidateTrainSpec(variant);
-    const GearTrain train = BuildGearTrain(variant);
+    const GearTrain train = build ? build(variant) : BuildGearTrain(variant);
     TrainTableOptions table_options;
     table_options.cancel = options.cancel;
     const TrainTables tables = BuildTrainTablesAtTier(variant, train, options.tier, table_options);

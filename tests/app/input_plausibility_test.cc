@@ -3,10 +3,9 @@
 // size of a train, warnings on missing loads, oversized and control-character input in messages,
 // and list indexes of an edit path.
 #include <catch2/catch.hpp>
-#include <fstream>
-#include <iterator>
 #include <string>
 
+#include "app/load_error.h"
 #include "app/three_shaft_train_yaml.h"
 #include "config/gearbox_document.h"
 #include "config/gearbox_loader.h"
@@ -18,29 +17,13 @@
 namespace gearnvh {
 namespace {
 
+using testing::Contains;
+using testing::kExe;
 using testing::kThreeShaftTrainYaml;
+using testing::LoadError;
 using testing::Replace;
 
-using testing::kExe;
-
-std::string IdleRattle() {
-  std::ifstream in(std::string(GEARNVH_EXAMPLES_DIR) + "/idle_rattle.yaml");
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-// The message loading `text` gives ("" when it loads).
-std::string LoadError(const std::string& text) {
-  try {
-    (void)config::LoadAnyGearboxFromString(text, "t.yaml");
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-
-bool Contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+std::string IdleRattle() { return testing::Example("idle_rattle.yaml"); }
 
 TEST_CASE("absurd backlash and face width are refused in both schemas", "[loader][limits]") {
   for (const std::string backlash : {"80", "80 mm"}) {

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "config/gearbox_loader.h"
+#include "model/test_specs.h"
 #include "gearnvh/analysis/train_operating_point.h"
 #include "model/test_trains.h"
 #include "train_sweep_command.h"
@@ -17,7 +18,7 @@
 namespace gearnvh {
 namespace {
 
-constexpr double kRpm = 2.0 * std::numbers::pi / 60.0;  // rad/s per rpm
+using testing::kRpm;  // rad/s per rpm
 
 // Input (g1, 20) -> layshaft (g2, 40; g3, 40) -> output (g4, 80), 150 N m on the output, swept
 // over 500-900 rpm of the input. Both meshes have the same frequency (20 x the input speed), so

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "gearnvh/model/gear_train.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/model/spec_parameters.h"
 #include "gearnvh/model/train_spec.h"
@@ -68,7 +69,13 @@ struct TrainAtlasPoint {
   double wall_s = 0.0;
 };
 
+// Builds the component model of a variant (BuildGearTrain, or a train built once and moved to the
+// variant's speed by GearTrainAtSpeed).
+using TrainBuilder = std::function<GearTrain(const TrainSpec& variant)>;
+
 // One variant; never throws (a failure, including an invalid variant, is reported in the point).
-TrainAtlasPoint ComputeTrainAtlasPoint(const TrainSpec& variant, const TrainAtlasOptions& options);
+// `build` empty: BuildGearTrain.
+TrainAtlasPoint ComputeTrainAtlasPoint(const TrainSpec& variant, const TrainAtlasOptions& options,
+                                       const TrainBuilder& build = {});
 
 }  // namespace gearnvh
