@@ -56,8 +56,8 @@ TEST_CASE("a train without load or excitation rests at every speed of its sweep"
   REQUIRE(loaded.train.analysis.speed_sweep.points == 56);
   TrainSpec spec = loaded.train;
 #if defined(GEARNVH_UNDER_ASAN)
-  // Each speed builds its train and tables (~1.5 s CPU in Release, several times that under the
-  // sanitizers): the instrumented build runs 6 speeds over the same range (500-6000 rpm).
+  // Each speed builds its tables, several times slower under the sanitizers: the instrumented
+  // build runs 6 speeds over the same range (500-6000 rpm).
   spec.analysis.speed_sweep.points = 6;
 #endif
   gearnvh::TrainSweepOptions options;
