@@ -70,8 +70,7 @@ TrainAtlasResult RunTrainAtlas(const TrainSpec& base, const AtlasAxis& x, const 
   // cell's cost.
   const bool x_speed = TrainParameterOf(x.parameter) == TrainParameter::kSpeed;
   const bool y_speed = TrainParameterOf(y.parameter) == TrainParameter::kSpeed;
-  const size_t groups =
-      x_speed == y_speed ? 0 : static_cast<size_t>(x_speed ? y.range.points : nx);
+  const size_t groups = x_speed == y_speed ? 0 : static_cast<size_t>(x_speed ? y.range.points : nx);
   std::vector<std::once_flag> group_built(groups);
   std::vector<GearTrain> group_train(groups);
   SweepProgressCounter counter(static_cast<int>(to_do.size()), progress);

@@ -82,23 +82,14 @@ int RunAtlas(const AtlasCommandOptions& options) {
     const int nx = x->range.points, ny = y->range.points;
 
     // Checkpoint (only with --out): rank 0 prepares it and tells every rank what is done.
-    AtlasGrid grid(nx, ny, AtlasCheckpointIn(options.out, options.file, *x, *y, atlas),
+    AtlasGrid grid(*x, *y, AtlasCheckpointIn(options.out, options.file, *x, *y, atlas),
                    options.resume, [](const nlohmann::json& j) { (void)AtlasCellFromJson(j); });
     const AtlasProgress progress = AtlasTerminalProgress(rank, ranks);
-    auto lost = [&](int k, const std::string& message) {
-      AtlasCell c;
-      c.ix = k % nx;
-      c.iy = k / nx;
-      c.x = AxisValue(*x, c.ix);
-      c.y = AxisValue(*y, c.iy);
-      c.message = message;
-      return c;
-    };
     AtlasResult result = grid.RunCells<AtlasResult>(
         [&](const std::vector<bool>& skip, const AtlasCellCallback& on_cell) {
           return RunChaosAtlas(spec, *x, *y, atlas, progress, skip, on_cell);
         },
-        AtlasCellJson, AtlasCellFromJson, lost);
+        AtlasCellJson, AtlasCellFromJson);
     if (progress) fmt::print(stderr, "\n");
     if (rank != 0) return 0;
     result.x = *x;

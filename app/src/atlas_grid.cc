@@ -8,9 +8,10 @@
 
 namespace gearnvh::app {
 
-AtlasGrid::AtlasGrid(int nx, int ny, std::optional<AtlasCheckpoint> checkpoint, bool resume,
+AtlasGrid::AtlasGrid(const AtlasAxis& x, const AtlasAxis& y,
+                     std::optional<AtlasCheckpoint> checkpoint, bool resume,
                      const AtlasCellCheck& check_cell)
-    : nx_(nx), ny_(ny), checkpoint_(std::move(checkpoint)) {
+    : x_(x), y_(y), nx_(x.range.points), ny_(y.range.points), checkpoint_(std::move(checkpoint)) {
   const int rank = MpiContext::Rank(), ranks = MpiContext::Size();
   // Rank 0's refusal (a resume with other settings, an unwritable checkpoint) stops every rank:
   // the others would otherwise wait in this broadcast for a rank that left.

@@ -9,17 +9,20 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "atlas_checkpoint.h"
+#include "gearnvh/analysis/train_atlas.h"
+#include "gearnvh/nvh/atlas.h"
 
 namespace gearnvh::app {
 
 class AtlasGrid {
  public:
   // Collective. Without a checkpoint (no --out) nothing is restored or logged.
-  AtlasGrid(int nx, int ny, std::optional<AtlasCheckpoint> checkpoint, bool resume,
-            const AtlasCellCheck& check_cell);
+  AtlasGrid(const AtlasAxis& x, const AtlasAxis& y, std::optional<AtlasCheckpoint> checkpoint,
+            bool resume, const AtlasCellCheck& check_cell);
 
   int total() const { return nx_ * ny_; }
   // One entry per cell: true for the cells this rank does not compute (another rank's, restored).
@@ -28,12 +31,12 @@ class AtlasGrid {
   // Collective: runs this rank's cells, `run(skip(), on_cell)` (RunCells) returning a Result whose
   // `cells` hold one per grid cell (those skipped ignored) and calling on_cell(cell) under a lock
   // as each completes (logged to the checkpoint, flushed). Rank 0 returns the Result with every
-  // cell of the grid: restored ones, every rank's computed ones, and `lost(k, reason)` for a cell
-  // nobody returned or whose rank failed outside any cell (its `run` threw; then threads and wall
-  // time are the Result's defaults). Other ranks return their own part. `to_json`/`from_json`
-  // convert a cell to and from the JSON the checkpoint stores.
-  template <typename Result, typename Compute, typename ToJson, typename FromJson, typename Lost>
-  Result RunCells(Compute run, ToJson to_json, FromJson from_json, Lost lost);
+  // cell of the grid: restored ones, every rank's computed ones, and a failed cell saying "lost"
+  // and why for a cell nobody returned or whose rank failed outside any cell (its `run` threw;
+  // then threads and wall time are the Result's defaults). Other ranks return their own part.
+  // `to_json`/`from_json` convert a cell to and from the JSON the checkpoint stores.
+  template <typename Result, typename Compute, typename ToJson, typename FromJson>
+  Result RunCells(Compute run, ToJson to_json, FromJson from_json);
   // Rank 0, once the outputs are written and no cell failed: the checkpoint has served.
   void Discard();
 
@@ -42,6 +45,11 @@ class AtlasGrid {
   std::vector<std::string> GatherParts(const nlohmann::json& mine) const;
   int Rank() const;
 
+  // Cell k, at its axis values, failed with `message` (a pair's cell or a train's).
+  template <typename Cell>
+  Cell Lost(size_t k, const std::string& message) const;
+
+  AtlasAxis x_, y_;
   int nx_ = 0, ny_ = 0;
   std::optional<AtlasCheckpoint> checkpoint_;
   std::vector<nlohmann::json> restored_;
@@ -49,8 +57,23 @@ class AtlasGrid {
   std::ofstream log_;
 };
 
-template <typename Result, typename Compute, typename ToJson, typename FromJson, typename Lost>
-Result AtlasGrid::RunCells(Compute run, ToJson to_json, FromJson from_json, Lost lost) {
+template <typename Cell>
+Cell AtlasGrid::Lost(size_t k, const std::string& message) const {
+  Cell c;
+  c.ix = static_cast<int>(k) % nx_;
+  c.iy = static_cast<int>(k) / nx_;
+  c.x = AxisValue(x_, c.ix);
+  c.y = AxisValue(y_, c.iy);
+  if constexpr (std::is_same_v<Cell, TrainAtlasCell>) {
+    c.point.message = message;
+  } else {
+    c.message = message;
+  }
+  return c;
+}
+
+template <typename Result, typename Compute, typename ToJson, typename FromJson>
+Result AtlasGrid::RunCells(Compute run, ToJson to_json, FromJson from_json) {
   using Cell = typename decltype(Result::cells)::value_type;
   Result result;
   std::string failure;
@@ -62,9 +85,8 @@ Result AtlasGrid::RunCells(Compute run, ToJson to_json, FromJson from_json, Lost
   nlohmann::json mine = nlohmann::json::array();
   for (size_t k = 0; k < skip_.size(); ++k) {
     if (skip_[k]) continue;
-    mine.push_back(failure.empty()
-                       ? to_json(result.cells[k])
-                       : to_json(lost(static_cast<int>(k), "lost: rank " + std::to_string(Rank()) +
+    mine.push_back(failure.empty() ? to_json(result.cells[k])
+                                   : to_json(Lost<Cell>(k, "lost: rank " + std::to_string(Rank()) +
                                                                " failed: " + failure)));
   }
   const std::vector<std::string> parts = GatherParts(mine);
@@ -81,7 +103,7 @@ Result AtlasGrid::RunCells(Compute run, ToJson to_json, FromJson from_json, Lost
     for (const auto& j : nlohmann::json::parse(part)) place(j);
   }
   for (size_t k = 0; k < result.cells.size(); ++k) {
-    if (!filled[k]) result.cells[k] = lost(static_cast<int>(k), "lost: no rank returned this cell");
+    if (!filled[k]) result.cells[k] = Lost<Cell>(k, "lost: no rank returned this cell");
   }
   return result;
 }

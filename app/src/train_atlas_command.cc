@@ -291,25 +291,16 @@ int AtlasTrain(const AtlasCommandOptions& options, const TrainSpec& spec) {
   if (const std::string slow = CheckTrainAtlasCost(spec, plan, ranks); !slow.empty() && rank == 0)
     fmt::print(stderr, "warning: {}\n", slow);
   std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", true);
-  const int nx = plan.x.range.points, ny = plan.y.range.points;
   // Checkpoint (only with --out): rank 0 prepares it and tells every rank what is done.
-  AtlasGrid grid(nx, ny, AtlasCheckpointIn(options.out, options.file, plan.x, plan.y, plan.atlas),
+  AtlasGrid grid(plan.x, plan.y,
+                 AtlasCheckpointIn(options.out, options.file, plan.x, plan.y, plan.atlas),
                  options.resume, [](const nlohmann::json& j) { (void)TrainAtlasCellFromJson(j); });
   const AtlasProgress progress = AtlasTerminalProgress(rank, ranks);
-  auto lost = [&](int k, const std::string& message) {
-    TrainAtlasCell c;
-    c.ix = k % nx;
-    c.iy = k / nx;
-    c.x = AxisValue(plan.x, c.ix);
-    c.y = AxisValue(plan.y, c.iy);
-    c.point.message = message;
-    return c;
-  };
   TrainAtlasResult result = grid.RunCells<TrainAtlasResult>(
       [&](const std::vector<bool>& skip, const TrainAtlasCellCallback& on_cell) {
         return RunTrainAtlas(spec, plan.x, plan.y, plan.atlas, plan.jobs, progress, skip, on_cell);
       },
-      TrainAtlasCellJson, TrainAtlasCellFromJson, lost);
+      TrainAtlasCellJson, TrainAtlasCellFromJson);
   if (progress) fmt::print(stderr, "\n");
   if (rank != 0) return 0;
   result.x = plan.x;

@@ -7,9 +7,9 @@
 #include <numbers>
 
 #include "config/gearbox_loader.h"
-#include "model/test_specs.h"
 #include "gearnvh/model/spec_parameters.h"
 #include "loose_gear_train_yaml.h"
+#include "model/test_specs.h"
 
 namespace gearnvh {
 namespace {

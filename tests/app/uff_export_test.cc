@@ -358,9 +358,9 @@ TEST_CASE("sweep --uff on a gear train: every mesh's order tracks equal its wate
   // not the file's default 56: what is checked is how tracks are read, not the sweep (the 56 took
   // 89 s under the sanitizers).
   const TempDir dir;
-  const auto file =
-      dir.Write("train.yaml", std::string(testing::kLooseGearTrainYaml) +
-                                  "analysis:\n  speed_sweep: {from: 800 rpm, to: 1200 rpm, points: 5}\n");
+  const auto file = dir.Write(
+      "train.yaml", std::string(testing::kLooseGearTrainYaml) +
+                        "analysis:\n  speed_sweep: {from: 800 rpm, to: 1200 rpm, points: 5}\n");
   const auto uff = dir.path() / "sweep.uff";
   const auto r = RunCommand(kExe + " sweep --json --cycles 40 --transient 10 --uff " +
                             uff.string() + " " + file.string());

@@ -14,7 +14,6 @@
 namespace gearnvh {
 namespace {
 
-
 // The hand-built pieces of tests/model/test_trains.h under short names.
 TrainGear Gear(const std::string& name, const std::string& shaft, int teeth,
                Mounting mounting = Mounting::kFixed) {
@@ -278,14 +277,15 @@ TEST_CASE("train rules: a gear may not have a shaft's name", "[train][validation
   CHECK(PathOfError(s).rfind("gears.layshaft: has the name of shafts.layshaft", 0) == 0);
 }
 
-TEST_CASE("train rules: a loop's error names the odd one of parallel meshes", "[train][validation]") {
+TEST_CASE("train rules: a loop's error names the odd one of parallel meshes",
+          "[train][validation]") {
   TrainSpec s;
   s.name = "parallel";
   s.materials["steel"] = Material{206e9, 0.3, 7850.0};
   s.shafts = {Rigid("input", 5e-3), Rigid("output", 0.2)};
   // Three meshes on the same two shafts at 56 mm; the first (25:31) disagrees with the two 19:37.
-  s.gears = {Gear("e", "input", 25), Gear("f", "output", 31), Gear("a", "input", 19),
-             Gear("b", "output", 37), Gear("c", "input", 19), Gear("d", "output", 37)};
+  s.gears = {Gear("e", "input", 25),  Gear("f", "output", 31), Gear("a", "input", 19),
+             Gear("b", "output", 37), Gear("c", "input", 19),  Gear("d", "output", 37)};
   s.meshes = {Mesh("e", "f"), Mesh("a", "b"), Mesh("c", "d")};
   s.operating.input_shaft = "input";
   s.operating.speed = 100.0;
