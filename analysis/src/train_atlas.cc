@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 #include <thread>
 
@@ -64,13 +65,18 @@ TrainAtlasResult RunTrainAtlas(const TrainSpec& base, const AtlasAxis& x, const 
   const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   r.threads = std::max(
       1, std::min(threads > 0 ? threads : hardware, std::max(1, static_cast<int>(to_do.size()))));
-  // With input speed on one axis, the cells of one value of the other axis share their meshes:
-  // built once (by whichever cell comes first) and moved to each cell's speed, which gives the
-  // bits BuildGearTrain gives there (GearTrainAtSpeed). The mesh models were most of a short
-  // cell's cost.
-  const bool x_speed = TrainParameterOf(x.parameter) == TrainParameter::kSpeed;
-  const bool y_speed = TrainParameterOf(y.parameter) == TrainParameter::kSpeed;
-  const size_t groups = x_speed == y_speed ? 0 : static_cast<size_t>(x_speed ? y.range.points : nx);
+  // Input speed and excitation amplitudes leave a train's meshes as they are (GearTrainAtSpeed):
+  // the cells that differ only in those share their meshes, built once (by whichever cell comes
+  // first) and moved to each cell, which gives the bits BuildGearTrain gives there. The mesh
+  // models were most of a short cell's cost.
+  auto changes_meshes = [](const AtlasAxis& axis) {
+    const std::optional<TrainParameter> p = TrainParameterOf(axis.parameter);
+    return p != TrainParameter::kSpeed && p != TrainParameter::kExcitationAmplitude;
+  };
+  const bool x_meshes = changes_meshes(x), y_meshes = changes_meshes(y);
+  const size_t groups = x_meshes && y_meshes ? 0
+                                             : static_cast<size_t>(x_meshes ? nx : 1) *
+                                                   (y_meshes ? y.range.points : 1);
   std::vector<std::once_flag> group_built(groups);
   std::vector<GearTrain> group_train(groups);
   SweepProgressCounter counter(static_cast<int>(to_do.size()), progress);
@@ -90,7 +96,8 @@ TrainAtlasResult RunTrainAtlas(const TrainSpec& base, const AtlasAxis& x, const 
       ValidateTrainSpec(variant);
       TrainBuilder build;
       if (groups > 0) {
-        const auto g = static_cast<size_t>(x_speed ? c.iy : c.ix);
+        const auto g = static_cast<size_t>(x_meshes ? c.ix : 0) +
+                       static_cast<size_t>(y_meshes ? c.iy : 0) * (x_meshes ? nx : 1);
         build = [&, g](const TrainSpec& at) {
           std::call_once(group_built[g], [&] { group_train[g] = BuildGearTrain(at); });
           return GearTrainAtSpeed(group_train[g], at);

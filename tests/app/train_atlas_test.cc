@@ -1,6 +1,6 @@
-// The atlas of a gear train (analysis/include/gearnvh/analysis/train_atlas.h): with input speed on
-// an axis, the cells of one value of the other axis share their meshes (built once, moved to each
-// speed); every cell must be the cell a fresh build gives.
+// The atlas of a gear train (analysis/include/gearnvh/analysis/train_atlas.h): cells that differ
+// only in input speed or excitation amplitude share their meshes (built once, moved to each cell);
+// every cell must be the cell a fresh build gives.
 #include "gearnvh/analysis/train_atlas.h"
 
 #include <catch2/catch.hpp>
@@ -45,8 +45,9 @@ void CheckCellsAreFreshBuilds(const TrainSpec& base, const TrainAtlasResult& atl
   }
 }
 
-TEST_CASE("a train atlas over speed shares each row's meshes and gives the cells of fresh builds",
-          "[app][train][atlas]") {
+TEST_CASE(
+    "a train atlas shares meshes across speeds and amplitudes and gives the cells of fresh builds",
+    "[app][train][atlas]") {
   // The rattling three-mesh train: speed x drag torque on its loose gear (the mesh loads change
   // with the drag, so each drag value is its own build), speed on either axis, two threads.
   const config::LoadedGearbox loaded =
@@ -62,6 +63,16 @@ TEST_CASE("a train atlas over speed shares each row's meshes and gives the cells
   }
   SECTION("speed on y") {
     const TrainAtlasResult atlas = RunTrainAtlas(loaded.train, drag, speed, options, 2);
+    CheckCellsAreFreshBuilds(loaded.train, atlas, options);
+  }
+  SECTION("speed x excitation amplitude: one build for every cell") {
+    const AtlasAxis amplitude{"operating.excitation[0].amplitude", {500.0, 1500.0, 2}};
+    const TrainAtlasResult atlas = RunTrainAtlas(loaded.train, speed, amplitude, options, 2);
+    CheckCellsAreFreshBuilds(loaded.train, atlas, options);
+  }
+  SECTION("excitation amplitude x drag") {
+    const AtlasAxis amplitude{"operating.excitation[0].amplitude", {500.0, 1000.0, 3}};
+    const TrainAtlasResult atlas = RunTrainAtlas(loaded.train, amplitude, drag, options, 2);
     CheckCellsAreFreshBuilds(loaded.train, atlas, options);
   }
 }

@@ -53,12 +53,13 @@ struct GearTrain {
 GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& options = {});
 
 // The train of `at`, a spec that differs from the one `train` was built from only in
-// operating.speed, without building its meshes again: a mesh's stiffness over the cycle, its
-// segmentation and the static torque flow depend on the geometry and the loads, not on the speed
-// (the flow balances power, T_in |w_in| = sum T_j |w_j|, in ratios of speeds). The topology's
-// body speeds and each mesh's pair and geometry (mesh frequency) are those of `at`. Equal, field by
-// field, to BuildGearTrain(at) (tests/model/gear_train_test.cc); a speed sweep builds each speed's
-// train this way (the meshes were ~90 % of a speed's cost).
+// operating.speed and the amplitudes of operating.excitation, without building its meshes again: a
+// mesh's stiffness over the cycle, its segmentation and the static torque flow depend on the
+// geometry and the loads, not on the speed (the flow balances power, T_in |w_in| = sum T_j |w_j|,
+// in ratios of speeds), and a GearTrain holds no excitation amplitude (the tables do). The
+// topology's body speeds and each mesh's pair and geometry (mesh frequency) are those of `at`.
+// Equal, field by field, to BuildGearTrain(at) (tests/model/gear_train_test.cc); a speed sweep
+// builds each speed's train this way (the meshes were ~90 % of a speed's cost).
 GearTrain GearTrainAtSpeed(GearTrain train, const TrainSpec& at);
 
 // Tier 1 of the train: torsional natural frequencies at the mean mesh stiffnesses and the mode
