@@ -134,6 +134,22 @@ void ValidateTrainAtlasAxes(const TrainSpec& spec) {
   }
 }
 
+// The train TrainOf makes of a schema-1 gearbox names its paths as schema 2 does; its errors
+// name the paths the file wrote (the inverse of the renaming ValidateTrainSpec applies to the
+// pair rules it restates).
+void AliasSchemaOnePaths(SourceLocations& locations) {
+  locations.Alias("meshes[0]", "mesh");
+  locations.Alias("gears.pinion.at", "shafts.input.gear_at");
+  locations.Alias("gears.wheel.at", "shafts.output.gear_at");
+  // The one load is the file's operating.torque (on the wheel, or the pinion's in its ratio).
+  for (const char* load : {"operating.loads", "operating.loads[0]", "operating.loads[0].on",
+                           "operating.loads[0].torque"}) {
+    locations.Alias(load, "operating.torque");
+  }
+  locations.Alias("operating.speed.value", "operating.speed");
+  locations.Alias("operating.speed.shaft", "operating.speed");
+}
+
 }  // namespace
 
 LoadedGearbox LoadAnyGearboxFromString(const std::string& text, const std::string& source) {
@@ -150,6 +166,7 @@ LoadedGearbox LoadAnyGearboxFromString(const std::string& text, const std::strin
   if (out.schema == 1) {
     out.pair = LoadPairFromString(text, source, out.locations, out.sweep_note);
     out.train = TrainOf(*out.pair);
+    AliasSchemaOnePaths(out.locations);
     return out;
   }
   out.train = ReadAndValidate(

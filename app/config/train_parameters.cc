@@ -21,6 +21,7 @@ std::optional<Dimension> TrainParameterDimension(const std::string& name) {
     case TrainParameter::kBacklash:
       return Dimension::kLength;
     case TrainParameter::kDampingRatio:
+    case TrainParameter::kFrictionCoefficient:
       return Dimension::kDimensionless;
   }
   return std::nullopt;
@@ -43,6 +44,7 @@ TrainDisplayAxis TrainDisplayAxisFor(const std::string& name) {
     case TrainParameter::kBacklash:
       return {1e6, "µm"};
     case TrainParameter::kDampingRatio:
+    case TrainParameter::kFrictionCoefficient:
       return {};
   }
   return {};

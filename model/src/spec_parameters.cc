@@ -14,32 +14,38 @@ const std::vector<std::string>& VariableParameters() {
   return names;
 }
 
-void SetParameter(GearboxSpec& spec, const std::string& name, double value) {
-  double* slot = nullptr;
-  if (name == "operating.speed") slot = &spec.operating.speed;
-  if (name == "operating.torque") slot = &spec.operating.torque;
-  if (name == "mesh.backlash") slot = &spec.mesh.backlash;
-  if (name == "mesh.damping_ratio") slot = &spec.mesh.damping_ratio;
-  if (name == "mesh.friction_coefficient") slot = &spec.mesh.friction_coefficient;
-  if (name == "operating.excitation[0].amplitude") {
-    if (spec.operating.excitation.empty()) {
-      throw ParameterNotVariable(name, "the gearbox has no operating.excitation order to vary");
-    }
-    slot = &spec.operating.excitation[0].amplitude;
+std::optional<std::string> TrainParameterOfPair(const std::string& name) {
+  if (name == "operating.speed" || name == "operating.excitation[0].amplitude") return name;
+  if (name == "operating.torque") return "operating.loads[0].torque";
+  if (name == "mesh.backlash" || name == "mesh.damping_ratio" ||
+      name == "mesh.friction_coefficient") {
+    return "meshes[0]" + name.substr(4);
   }
-  if (slot == nullptr) {
+  return std::nullopt;
+}
+
+void SetParameter(GearboxSpec& spec, const std::string& name, double value) {
+  const std::optional<std::string> train_name = TrainParameterOfPair(name);
+  if (!train_name) {
     std::string known;
     for (const std::string& n : VariableParameters()) known += (known.empty() ? "" : ", ") + n;
     throw ParameterNotVariable(name, "must be one of " + known);
   }
-  *slot = value;
+  if (name == "operating.excitation[0].amplitude" && spec.operating.excitation.empty()) {
+    throw ParameterNotVariable(name, "the gearbox has no operating.excitation order to vary");
+  }
+  // The pair is the train TrainOf makes of it: one registry, the train's.
+  TrainSpec train = TrainOf(spec);
+  SetTrainParameter(train, *train_name, value, name);
+  spec = GearboxOf(train);
 }
 
 namespace {
 
 const char* const kForms =
     "operating.speed, operating.loads[i].torque, operating.excitation[i].amplitude, "
-    "meshes[i].backlash or meshes[i].damping_ratio (i the index in the file's list, from 0)";
+    "meshes[i].backlash, meshes[i].damping_ratio or meshes[i].friction_coefficient (i the index "
+    "in the file's list, from 0)";
 
 // A parsed name: its list ("operating.loads", ...), index and key; list empty for operating.speed.
 struct TrainParameterName {
@@ -57,7 +63,8 @@ std::optional<TrainParameterName> Parse(const std::string& name) {
   TrainParameterName p{m[1].str(), std::stoul(m[2].str()), m[3].str()};
   const bool known = (p.list == "operating.loads" && p.key == "torque") ||
                      (p.list == "operating.excitation" && p.key == "amplitude") ||
-                     (p.list == "meshes" && (p.key == "backlash" || p.key == "damping_ratio"));
+                     (p.list == "meshes" && (p.key == "backlash" || p.key == "damping_ratio" ||
+                                             p.key == "friction_coefficient"));
   return known ? std::optional<TrainParameterName>(p) : std::nullopt;
 }
 
@@ -80,7 +87,8 @@ std::optional<TrainParameter> TrainParameterOf(const std::string& name) {
   if (p->key == "torque") return TrainParameter::kLoadTorque;
   if (p->key == "amplitude") return TrainParameter::kExcitationAmplitude;
   if (p->key == "backlash") return TrainParameter::kBacklash;
-  return TrainParameter::kDampingRatio;
+  if (p->key == "damping_ratio") return TrainParameter::kDampingRatio;
+  return TrainParameter::kFrictionCoefficient;
 }
 
 std::string TrainParameterRejection(const std::string& name) {
@@ -108,7 +116,16 @@ void SetTrainParameter(TrainSpec& spec, const std::string& name, double value,
       entries += (i ? ", " : "") + std::to_string(i) + ": on " + spec.operating.loads[i].on;
     }
     RequireIndex(*p, spec.operating.loads.size(), name, field, entries);
-    spec.operating.loads[p->index].torque = value;
+    TrainLoad& load = spec.operating.loads[p->index];
+    if (load.pinion_torque) {
+      // A schema-1 load written on the pinion varies as written; the output resists its z2 / z1
+      // times (GearboxSpec::WheelTorque's expression, so the pair and its train agree bitwise).
+      load.pinion_torque = value;
+      load.torque =
+          value * static_cast<double>(spec.gears[1].gear.teeth) / spec.gears[0].gear.teeth;
+    } else {
+      load.torque = value;
+    }
   } else if (p->list == "operating.excitation") {
     std::string entries;
     for (size_t i = 0; i < spec.operating.excitation.size(); ++i) {
@@ -124,7 +141,9 @@ void SetTrainParameter(TrainSpec& spec, const std::string& name, double value,
     }
     RequireIndex(*p, spec.meshes.size(), name, field, entries);
     MeshSpec& mesh = spec.meshes[p->index].mesh;
-    (p->key == "backlash" ? mesh.backlash : mesh.damping_ratio) = value;
+    (p->key == "backlash"        ? mesh.backlash
+     : p->key == "damping_ratio" ? mesh.damping_ratio
+                                 : mesh.friction_coefficient) = value;
   }
 }
 

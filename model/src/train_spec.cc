@@ -4,6 +4,7 @@
 #include <cmath>
 #include <deque>
 #include <set>
+#include <stdexcept>
 
 #include "gearnvh/model/count_text.h"
 #include "gearnvh/model/gearbox_spec_limits.h"
@@ -265,10 +266,56 @@ TrainSpec TrainOf(const GearboxSpec& spec) {
   t.operating.speed = spec.operating.speed;
   t.operating.speed_unit = spec.operating.speed_unit;
   // The output resists the wheel's torque (a pinion torque times z2 / z1), in the file's unit.
-  t.operating.loads.push_back({"output", spec.WheelTorque(), spec.operating.torque_unit});
+  TrainLoad load{"output", spec.WheelTorque(), spec.operating.torque_unit};
+  if (spec.operating.torque_on == TorqueOn::kPinion) load.pinion_torque = spec.operating.torque;
+  t.operating.loads.push_back(load);
   t.operating.excitation = spec.operating.excitation;
   t.analysis = spec.analysis;
   return t;
+}
+
+bool IsSchemaOnePair(const TrainSpec& spec) {
+  if (spec.shafts.size() != 2 || spec.gears.size() != 2 || spec.meshes.size() != 1 ||
+      spec.operating.loads.size() != 1) {
+    return false;
+  }
+  // A schema-1 shaft is rigid with no inertia of its own, or elastic with the gear at gear_at.
+  const auto schema_one_body = [](const TrainShaft& s, const TrainGear& g, const char* shaft,
+                                  const char* gear) {
+    const bool shaft_form =
+        s.elastic ? !s.inertia && g.at && *g.at == s.elastic->gear_at : s.inertia == 0.0 && !g.at;
+    return s.name == shaft && g.name == gear && g.shaft == shaft &&
+           g.mounting == Mounting::kFixed && s.bearings.empty() && shaft_form;
+  };
+  const TrainMesh& mesh = spec.meshes.front();
+  const TrainLoad& load = spec.operating.loads.front();
+  return schema_one_body(spec.shafts[0], spec.gears[0], "input", "pinion") &&
+         schema_one_body(spec.shafts[1], spec.gears[1], "output", "wheel") &&
+         mesh.gear_a == "pinion" && mesh.gear_b == "wheel" && mesh.center_line_angle == 0.0 &&
+         spec.operating.input_shaft == "input" && load.on == "output";
+}
+
+GearboxSpec GearboxOf(const TrainSpec& spec) {
+  if (!IsSchemaOnePair(spec)) {
+    throw std::invalid_argument("GearboxOf: '" + spec.name + "' is not a train TrainOf gives");
+  }
+  GearboxSpec g;
+  g.name = spec.name;
+  g.materials = spec.materials;
+  g.pinion = spec.gears[0].gear;
+  g.wheel = spec.gears[1].gear;
+  g.mesh = spec.meshes.front().mesh;
+  g.input_shaft = spec.shafts[0].elastic;
+  g.output_shaft = spec.shafts[1].elastic;
+  const TrainLoad& load = spec.operating.loads.front();
+  g.operating.speed = spec.operating.speed;
+  g.operating.speed_unit = spec.operating.speed_unit;
+  g.operating.torque = load.pinion_torque.value_or(load.torque);
+  g.operating.torque_on = load.pinion_torque ? TorqueOn::kPinion : TorqueOn::kWheel;
+  g.operating.torque_unit = load.torque_unit;
+  g.operating.excitation = spec.operating.excitation;
+  g.analysis = spec.analysis;
+  return g;
 }
 
 void ValidateTrainSpec(const TrainSpec& spec) {

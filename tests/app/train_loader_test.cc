@@ -16,6 +16,7 @@ namespace gearnvh::config {
 namespace {
 
 const std::string& kBase = testing::kThreeShaftTrainYaml;
+using testing::Contains;
 using testing::Replace;
 
 using testing::LoaderErrorOf;
@@ -147,6 +148,52 @@ TEST_CASE("train messages name the train's gears and the values", "[loader][trai
   CHECK(cd.value() == "'100 mm'");
   CHECK(cd.rule().find("contact ratio of -") != std::string::npos);
   CHECK(cd.rule().find("is 64 mm)") != std::string::npos);
+}
+
+TEST_CASE("a schema-1 gearbox's train names the paths the file wrote", "[loader][train]") {
+  // The train TrainOf makes of a pair says meshes[0], gears.pinion.at, operating.loads[0]; an error
+  // raised on it is located at, and named by, the schema-1 paths and values the file wrote.
+  const std::string text = ReadExample("flexible_shafts.yaml");
+  LoadedGearbox loaded = LoadAnyGearboxFromString(text, "f.yaml");
+  REQUIRE(loaded.schema == 1);
+  const auto located = [&](const InputError& e) {
+    return std::string(LocatedIn(e, loaded.locations, "f.yaml").what());
+  };
+  CHECK(located(InputError("meshes[0].backlash", 0, "", "must be > 0")) ==
+        "f.yaml:33: mesh.backlash: must be > 0, got '120 um'");
+  CHECK(located(InputError("gears.pinion.at", 0, "", "must lie within the shaft")) ==
+        "f.yaml:44: shafts.input.gear_at: must lie within the shaft, got '100 mm'");
+  CHECK(located(InputError("operating.loads[0].torque", 0, "", "must be >= 0")) ==
+        "f.yaml:67: operating.torque: must be >= 0, got '200 N*m'");
+  CHECK(located(InputError("operating.speed.value", 0, "", "must be > 0")) ==
+        "f.yaml:66: operating.speed: must be > 0, got '3000 rpm'");
+  // A path the train shares with the pair is as it was; a rule's mention of a path is renamed whole
+  // (meshes[0] and meshes[0].backlash, not meshes[0]x or a sentence's full stop).
+  CHECK(located(InputError("gears.wheel.teeth", 0, "", "see meshes[0].")) ==
+        "f.yaml:24: gears.wheel.teeth: see mesh., got '47'");
+  CHECK(located(InputError("gears.wheel.teeth", 0, "",
+                           "meshes[0].backlash, meshes[0]x and (meshes[0])")) ==
+        "f.yaml:24: gears.wheel.teeth: mesh.backlash, meshes[0]x and (mesh), got '47'");
+  // The train's own validation, on a train the pair's file could not have written, speaks of the
+  // file's paths: a helix on the wheel alone breaks the rule the train states for meshes[0].
+  loaded.train.gears[1].gear.helix_angle = 0.2;
+  try {
+    ValidateTrainSpec(loaded.train);
+    FAIL("a helix on one gear of the pair passed");
+  } catch (const InputError& e) {
+    const std::string message = located(e);
+    INFO(message);
+    CHECK(message.rfind("f.yaml:24: gears.wheel.helix_angle: must equal the helix angle of", 0) ==
+          0);
+    CHECK(Contains(message, "the gear it meshes with in mesh"));
+    CHECK_FALSE(Contains(message, "meshes[0]"));
+  }
+  // A schema-2 file has no aliases: its own paths stay.
+  const LoadedGearbox train = LoadAnyGearboxFromString(kBase, "t.yaml");
+  CHECK(std::string(LocatedIn(InputError("meshes[0].backlash", 0, "", "must be > 0"),
+                              train.locations, "t.yaml")
+                        .what())
+            .find("meshes[0].backlash") != std::string::npos);
 }
 
 TEST_CASE("a train without a schema line is told to write one", "[loader][train]") {

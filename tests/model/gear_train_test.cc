@@ -8,6 +8,7 @@
 #include "gearnvh/model/component_model.h"
 #include "gearnvh/model/gearbox_spec_limits.h"
 #include "gearnvh/model/input_error.h"
+#include "gearnvh/model/spec_parameters.h"
 #include "model/test_specs.h"
 #include "model/test_trains.h"
 
@@ -169,6 +170,94 @@ TEST_CASE("a schema-1 gearbox loaded on its pinion is the train loaded on its ou
   // x z2 / z1 / ratio: a few roundings of 1e-16 between the two paths.
   CHECK(train.meshes[0].cycle.load == Approx(model.cycle.load).epsilon(1e-14));
   CHECK(train.input_torque == Approx(25.0).epsilon(1e-14));
+}
+
+TEST_CASE("GearboxOf takes back the train TrainOf makes of a schema-1 gearbox, bit for bit",
+          "[train]") {
+  // Every field a schema-1 file can set, on elastic and rigid shafts, loaded on either gear.
+  GearboxSpec elastic = testing::FlexibleShaftsPair();
+  elastic.name = "round trip";
+  elastic.pinion.helix_angle = 15.0 * testing::kDeg;
+  elastic.wheel.helix_angle = 15.0 * testing::kDeg;
+  elastic.wheel.hand = Hand::kLeft;
+  elastic.pinion.runout = Runout{5e-6, 0.3};
+  elastic.wheel.pitch_errors = std::vector<double>(47, 1e-6);
+  elastic.pinion.tip_relief = TipRelief{10e-6, 2e-3};
+  elastic.mesh.friction_coefficient = 0.05;
+  elastic.mesh.center_distance = 0.12;
+  elastic.mesh.stiffness = FourierStiffness{3e8, {2e7}, {1e7}};
+  elastic.mesh.static_transmission_error = {{1e-6}, {0.2}};
+  elastic.operating.torque = 120.0;
+  elastic.operating.torque_on = TorqueOn::kPinion;
+  elastic.operating.torque_unit = {"lbf*ft", 0.7375621492772654};
+  elastic.operating.speed_unit = {"rpm", 60.0 / (2.0 * std::numbers::pi)};
+  elastic.operating.excitation = {{2.0, 300.0, 0.1}, {4.0, 50.0, -0.4}};
+  elastic.analysis.tier = Tier::kTier3;
+  elastic.analysis.cycles = 77;
+  elastic.analysis.atlas_x = AtlasAxis{"mesh.backlash", {50e-6, 200e-6, 4, AxisScale::kLog}};
+  const GearboxSpec rigid = testing::StandardPair(27, 43);
+  for (const GearboxSpec& pair : {elastic, rigid}) {
+    const TrainSpec train = TrainOf(pair);
+    CHECK(IsSchemaOnePair(train));
+    CHECK(GearboxOf(train) == pair);
+  }
+  // The load a pinion torque means is on the output; GearboxOf shows it on the pinion again.
+  CHECK(TrainOf(elastic).operating.loads[0].pinion_torque == 120.0);
+  CHECK(GearboxOf(TrainOf(elastic)).operating.torque_on == TorqueOn::kPinion);
+  // A train of another form is not a schema-1 gearbox: GearboxOf refuses it.
+  TrainSpec loose = TrainOf(rigid);
+  loose.gears[1].mounting = Mounting::kLoose;
+  CHECK_FALSE(IsSchemaOnePair(loose));
+  CHECK_THROWS_AS(GearboxOf(loose), std::invalid_argument);
+  TrainSpec heavy = TrainOf(rigid);
+  heavy.shafts[0].inertia = 1e-3;  // a rigid shaft with inertia of its own: no schema-1 field
+  CHECK_FALSE(IsSchemaOnePair(heavy));
+  CHECK_FALSE(IsSchemaOnePair(TwoStage()));
+}
+
+TEST_CASE("one parameter registry: a pair's parameter is its train's", "[train][parameters]") {
+  GearboxSpec pair = testing::StandardPair(27, 43);
+  pair.operating.excitation = {{2.0, 300.0, 0.0}};
+  // Each schema-1 name sets exactly its field (every other field compared with ==).
+  for (const std::string& name : VariableParameters()) {
+    INFO(name);
+    GearboxSpec expected = pair;
+    if (name == "operating.speed") expected.operating.speed = 0.125;
+    if (name == "operating.torque") expected.operating.torque = 0.125;
+    if (name == "mesh.backlash") expected.mesh.backlash = 0.125;
+    if (name == "mesh.damping_ratio") expected.mesh.damping_ratio = 0.125;
+    if (name == "mesh.friction_coefficient") expected.mesh.friction_coefficient = 0.125;
+    if (name == "operating.excitation[0].amplitude") {
+      expected.operating.excitation[0].amplitude = 0.125;
+    }
+    REQUIRE_FALSE(expected == pair);
+    GearboxSpec set = pair;
+    SetParameter(set, name, 0.125);
+    CHECK(set == expected);
+  }
+  // A torque the file wrote on the pinion varies on the pinion; the train's output resists the
+  // pair's WheelTorque(), the same expression, so the bits agree.
+  pair.operating.torque_on = TorqueOn::kPinion;
+  SetParameter(pair, "operating.torque", 30.0);
+  CHECK(pair.operating.torque == 30.0);
+  CHECK(pair.operating.torque_on == TorqueOn::kPinion);
+  CHECK(TrainOf(pair).operating.loads[0].torque == pair.WheelTorque());
+  TrainSpec train = TrainOf(pair);
+  SetTrainParameter(train, "operating.loads[0].torque", 12.0, "x");
+  CHECK(train.operating.loads[0].pinion_torque == 12.0);
+  CHECK(train.operating.loads[0].torque == 12.0 * 43.0 / 27.0);  // same operations
+  // What the registry cannot set says why.
+  GearboxSpec plain = testing::StandardPair(27, 43);
+  CHECK_THROWS_WITH(SetParameter(plain, "operating.excitation[0].amplitude", 1.0),
+                    Catch::Contains("no operating.excitation order to vary"));
+  CHECK_THROWS_WITH(SetParameter(plain, "mesh.center_distance", 1.0),
+                    Catch::Contains("must be one of operating.speed"));
+  // A train's friction coefficient, per mesh.
+  TrainSpec two_stage = TwoStage();
+  CHECK(TrainParameterOf("meshes[1].friction_coefficient") == TrainParameter::kFrictionCoefficient);
+  SetTrainParameter(two_stage, "meshes[1].friction_coefficient", 0.07, "x");
+  CHECK(two_stage.meshes[1].mesh.friction_coefficient == 0.07);
+  CHECK(two_stage.meshes[0].mesh.friction_coefficient == 0.0);
 }
 
 std::string PathOfError(const TrainSpec& spec) {

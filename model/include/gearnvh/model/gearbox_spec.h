@@ -22,11 +22,15 @@ struct Material {
   double youngs_modulus = 0.0;  // Pa, > 0
   double poisson_ratio = 0.0;   // -, in (-1, 0.5)
   double density = 0.0;         // kg/m^3, > 0
+
+  bool operator==(const Material&) const = default;
 };
 
 struct TipRelief {
   double amount = 0.0;  // m, >= 0: profile removed at the tip
   double length = 0.0;  // m, >= 0: roll length along the line of action over which it grows
+
+  bool operator==(const TipRelief&) const = default;
 };
 
 // Radial runout (eccentricity) of a gear, as the once-per-revolution transmission error it adds
@@ -35,6 +39,8 @@ struct TipRelief {
 struct Runout {
   double amplitude = 0.0;  // m, >= 0
   double phase = 0.0;      // rad
+
+  bool operator==(const Runout&) const = default;
 };
 
 enum class Hand { kRight, kLeft };
@@ -59,23 +65,33 @@ struct GearSpec {
   // teeth numbered in the order they enter the mesh (tooth 0 is in the pair that enters the path
   // of contact at t = 0).
   std::vector<double> pitch_errors;
+
+  bool operator==(const GearSpec&) const = default;
 };
 
 struct RectangularStiffness {
   double single = 0.0;         // N/m, > 0: one pair in contact
   double double_pair = 0.0;    // N/m, > 0: two pairs in contact
   double contact_ratio = 0.0;  // in (1, 2)
+
+  bool operator==(const RectangularStiffness&) const = default;
 };
 struct TableStiffness {
   std::vector<double> phase;      // fraction of the mesh cycle, strictly increasing in [0, 1)
   std::vector<double> stiffness;  // N/m, > 0, same length as phase
+
+  bool operator==(const TableStiffness&) const = default;
 };
 struct FourierStiffness {
   double mean = 0.0;                     // N/m, > 0
   std::vector<double> cos_coefficients;  // N/m, harmonics 1..n of the mesh frequency
   std::vector<double> sin_coefficients;  // N/m
+
+  bool operator==(const FourierStiffness&) const = default;
 };
-struct PotentialEnergyStiffness {};
+struct PotentialEnergyStiffness {
+  bool operator==(const PotentialEnergyStiffness&) const = default;
+};
 
 using StiffnessModel =
     std::variant<PotentialEnergyStiffness, RectangularStiffness, TableStiffness, FourierStiffness>;
@@ -83,6 +99,8 @@ using StiffnessModel =
 struct StaticTransmissionError {
   std::vector<double> amplitudes;  // m, harmonics 1..n of the mesh frequency
   std::vector<double> phases;      // rad, same length
+
+  bool operator==(const StaticTransmissionError&) const = default;
 };
 
 struct MeshSpec {
@@ -92,12 +110,16 @@ struct MeshSpec {
   std::optional<double> center_distance;  // m; default: standard centre distance
   StiffnessModel stiffness = PotentialEnergyStiffness{};
   StaticTransmissionError static_transmission_error;
+
+  bool operator==(const MeshSpec&) const = default;
 };
 
 struct ShaftSegment {
   double length = 0.0;          // m, > 0
   double outer_diameter = 0.0;  // m, > 0
   double inner_diameter = 0.0;  // m, in [0, outer)
+
+  bool operator==(const ShaftSegment&) const = default;
 };
 
 struct BearingSpec {
@@ -106,6 +128,8 @@ struct BearingSpec {
   double axial_stiffness = 0.0;   // N/m, >= 0
   double tilt_stiffness = 0.0;    // N m/rad, >= 0
   double damping = 0.0;           // N s/m, >= 0 (radial and axial)
+
+  bool operator==(const BearingSpec&) const = default;
 };
 
 struct LumpedInertia {
@@ -113,6 +137,8 @@ struct LumpedInertia {
   double polar = 0.0;      // kg m^2, >= 0
   double diametral = 0.0;  // kg m^2, >= 0
   double mass = 0.0;       // kg, >= 0 (schema 2; schema 1 lumps no mass)
+
+  bool operator==(const LumpedInertia&) const = default;
 };
 
 struct ShaftSpec {
@@ -128,12 +154,16 @@ struct ShaftSpec {
     for (const auto& s : segments) total += s.length;
     return total;
   }
+
+  bool operator==(const ShaftSpec&) const = default;
 };
 
 struct ExcitationOrder {
   double order = 0.0;      // > 0, multiple of the pinion shaft speed
   double amplitude = 0.0;  // rad/s^2, >= 0: angular acceleration amplitude on the pinion
   double phase = 0.0;      // rad
+
+  bool operator==(const ExcitationOrder&) const = default;
 };
 
 // The gear `OperatingSpec::torque` acts on: a load resisting the wheel, or the torque the pinion
@@ -144,6 +174,8 @@ enum class TorqueOn { kWheel, kPinion };
 struct DisplayUnit {
   std::string symbol;
   double per_si = 1.0;
+
+  bool operator==(const DisplayUnit&) const = default;
 };
 
 struct OperatingSpec {
@@ -154,6 +186,8 @@ struct OperatingSpec {
   DisplayUnit speed_unit{"rad/s", 1.0};
   DisplayUnit torque_unit{"N m", 1.0};
   std::vector<ExcitationOrder> excitation;
+
+  bool operator==(const OperatingSpec&) const = default;
 };
 
 // Modal tier names as in docs/design.md §3.
@@ -181,11 +215,15 @@ struct SweepRange {
     const double t = static_cast<double>(i) / (points - 1);
     return scale == AxisScale::kLog ? from * std::pow(to / from, t) : from + (to - from) * t;
   }
+
+  bool operator==(const SweepRange&) const = default;
 };
 
 struct AtlasAxis {
   std::string parameter;  // dotted schema path, e.g. "operating.speed"
   SweepRange range;
+
+  bool operator==(const AtlasAxis&) const = default;
 };
 
 struct AnalysisSpec {
@@ -197,6 +235,8 @@ struct AnalysisSpec {
                          6000.0 * 2.0 * 3.141592653589793 / 60.0, 56};
   std::optional<AtlasAxis> atlas_x;
   std::optional<AtlasAxis> atlas_y;
+
+  bool operator==(const AnalysisSpec&) const = default;
 };
 
 struct GearboxSpec {
@@ -220,6 +260,8 @@ struct GearboxSpec {
                ? operating.torque
                : operating.torque * static_cast<double>(wheel.teeth) / pinion.teeth;
   }
+
+  bool operator==(const GearboxSpec&) const = default;
 };
 
 // "wheel" or "pinion".

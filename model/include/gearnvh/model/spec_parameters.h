@@ -37,8 +37,14 @@ struct ParameterValue {
   double value = 0.0;
 };
 
-// Sets one parameter; ParameterNotVariable when it cannot. The caller re-validates the spec
-// (ValidateGearboxSpec) before use.
+// The train parameter a schema-1 name is on the train TrainOf makes of the pair
+// (operating.torque: operating.loads[0].torque; mesh.backlash: meshes[0].backlash), nullopt when
+// `name` is not one of VariableParameters().
+std::optional<std::string> TrainParameterOfPair(const std::string& name);
+
+// Sets one parameter through the train registry below (TrainOf, SetTrainParameter, GearboxOf);
+// ParameterNotVariable when it cannot. The caller re-validates the spec (ValidateGearboxSpec)
+// before use.
 void SetParameter(GearboxSpec& spec, const std::string& name, double value);
 
 // A gear train's parameters, named by their schema paths with the list index of the file:
@@ -48,7 +54,16 @@ void SetParameter(GearboxSpec& spec, const std::string& name, double value);
 //   operating.excitation[i].amplitude    engine order i's amplitude (rad/s^2)
 //   meshes[i].backlash                   mesh i's backlash (m)
 //   meshes[i].damping_ratio              mesh i's damping ratio
-enum class TrainParameter { kSpeed, kLoadTorque, kExcitationAmplitude, kBacklash, kDampingRatio };
+//   meshes[i].friction_coefficient       mesh i's tooth friction coefficient
+// A load a schema-1 file wrote on the pinion (TrainLoad::pinion_torque) varies as written.
+enum class TrainParameter {
+  kSpeed,
+  kLoadTorque,
+  kExcitationAmplitude,
+  kBacklash,
+  kDampingRatio,
+  kFrictionCoefficient
+};
 // Which of the forms above `name` is; nullopt when none.
 std::optional<TrainParameter> TrainParameterOf(const std::string& name);
 // Why `name` is not a train parameter (the accepted forms; for a schema-1 name, its train form).

@@ -27,6 +27,8 @@ struct TrainShaft {
   std::optional<double> inertia;
   std::optional<ShaftSpec> elastic;
   std::vector<BearingSpec> bearings;  // rigid shafts; an elastic shaft keeps its own
+
+  bool operator==(const TrainShaft&) const = default;
 };
 
 struct TrainGear {
@@ -35,6 +37,8 @@ struct TrainGear {
   std::optional<double> at;  // m, axial position; required on an elastic shaft
   Mounting mounting = Mounting::kFixed;
   GearSpec gear;
+
+  bool operator==(const TrainGear&) const = default;
 };
 
 struct TrainMesh {
@@ -44,12 +48,20 @@ struct TrainMesh {
   // rad about +z from +x. Default 0: every mesh along +x (an unfolded planar layout).
   double center_line_angle = 0.0;
   std::string Name() const { return gear_a + "-" + gear_b; }
+
+  bool operator==(const TrainMesh&) const = default;
 };
 
 struct TrainLoad {
   std::string on;                       // a shaft name or a loose gear's name
   double torque = 0.0;                  // N m, >= 0: mean torque resisting its rotation
   DisplayUnit torque_unit{"N m", 1.0};  // the unit the input wrote it in, for output
+  // Schema 1's `operating.torque_on: pinion`: the file gave the torque the pinion transmits, N m,
+  // and `torque` (on the output) is that times z_wheel / z_pinion. Kept so that the pair is shown
+  // and varied as written.
+  std::optional<double> pinion_torque = std::nullopt;
+
+  bool operator==(const TrainLoad&) const = default;
 };
 
 struct TrainOperating {
@@ -58,6 +70,8 @@ struct TrainOperating {
   DisplayUnit speed_unit{"rad/s", 1.0};  // the unit the input wrote it in, for output
   std::vector<TrainLoad> loads;
   std::vector<ExcitationOrder> excitation;  // orders of the input shaft's speed
+
+  bool operator==(const TrainOperating&) const = default;
 };
 
 struct TrainSpec {
@@ -73,6 +87,8 @@ struct TrainSpec {
   const TrainShaft* FindShaft(const std::string& name) const;
   int GearIndex(const std::string& name) const;   // -1 when there is no such gear
   int ShaftIndex(const std::string& name) const;  // -1 when there is no such shaft
+
+  bool operator==(const TrainSpec&) const = default;
 };
 
 // The rotating bodies of a train: each shaft with the gears fixed on it, and each loose gear.
@@ -124,8 +140,16 @@ TrainTorqueFlow StaticTorqueFlow(const TrainSpec& spec, const TrainTopology& top
 GearboxSpec MeshGearbox(const TrainSpec& spec, const TrainTopology& topology, int m,
                         double transmitted_torque);
 
-// The two-shaft, one-mesh train a schema-1 gearbox means.
+// The two-shaft, one-mesh train a schema-1 gearbox means: shafts "input" and "output" (rigid ones
+// with no inertia of their own), gears "pinion" and "wheel", one mesh, one load on the output.
 TrainSpec TrainOf(const GearboxSpec& spec);
+
+// Whether `spec` is a train TrainOf can give (so GearboxOf can take it back).
+bool IsSchemaOnePair(const TrainSpec& spec);
+
+// The schema-1 gearbox a train of TrainOf's form means: GearboxOf(TrainOf(p)) == p. Throws
+// std::invalid_argument when !IsSchemaOnePair(spec).
+GearboxSpec GearboxOf(const TrainSpec& spec);
 
 // Range and topology rules (every message names the schema path): names resolve, a mesh joins
 // gears on different shafts, every loose gear meshes, helical pairs have equal helix angles and
