@@ -105,9 +105,9 @@ int TrainSweepResult::failed() const {
 
 namespace {
 
-// The run-cost estimate of the sweep, with the train it built at the first speed.
+// The run-cost estimate of the sweep; `first` is set to the train it built at the first speed.
 RunCostEstimate EstimateTrainSweepCost(const TrainSpec& spec, const TrainSweepOptions& options,
-                                       GearTrain& first) {
+                                       std::optional<GearTrain>& first) {
   const SweepRange& range = spec.analysis.speed_sweep;
   std::optional<RunCostEstimate> cheapest;
   TrainTableOptions table_options;
@@ -116,8 +116,8 @@ RunCostEstimate EstimateTrainSweepCost(const TrainSpec& spec, const TrainSweepOp
     ThrowIfCancelled(options.cancel);
     TrainSpec at = spec;
     at.operating.speed = speed;
-    const GearTrain train = first.meshes.empty() ? BuildGearTrain(at) : GearTrainAtSpeed(first, at);
-    if (first.meshes.empty()) first = train;
+    if (!first) first = BuildGearTrain(at);
+    const GearTrain train = GearTrainAtSpeed(*first, at);
     const TrainTables tables = BuildTrainTablesAtTier(at, train, options.tier, table_options);
     const double seconds =
         static_cast<double>(options.cycles + options.transient) * tables.meshes.front().period;
@@ -134,14 +134,14 @@ RunCostEstimate EstimateTrainSweepCost(const TrainSpec& spec, const TrainSweepOp
 }  // namespace
 
 RunCostEstimate EstimateTrainSweepCost(const TrainSpec& spec, const TrainSweepOptions& options) {
-  GearTrain first;
+  std::optional<GearTrain> first;
   return EstimateTrainSweepCost(spec, options, first);
 }
 
 TrainSweepResult RunTrainSweep(const TrainSpec& spec, const TrainSweepOptions& options,
                                const TrainSweepProgress& progress, const std::vector<bool>& skip) {
   options.Validate();
-  GearTrain first;  // the train at the first speed: each speed moves it (GearTrainAtSpeed)
+  std::optional<GearTrain> first;  // at the first speed: each speed moves it (GearTrainAtSpeed)
   {
     const RunCostEstimate cost = EstimateTrainSweepCost(spec, options, first);
     const std::string what = options.ranks > 1
@@ -181,7 +181,7 @@ TrainSweepResult RunTrainSweep(const TrainSpec& spec, const TrainSweepOptions& o
       return;
     }
     RunSweepPoint(p, speeds[i],
-                  [&] { return RunPoint(spec, first, options, speeds[i], result.order_bins); });
+                  [&] { return RunPoint(spec, *first, options, speeds[i], result.order_bins); });
     counter.Tick();
   });
   NameLooseGears(result);

@@ -9,11 +9,9 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
-#include <type_traits>
 #include <vector>
 
 #include "atlas_checkpoint.h"
-#include "gearnvh/analysis/train_atlas.h"
 #include "gearnvh/nvh/atlas.h"
 
 namespace gearnvh::app {
@@ -64,11 +62,7 @@ Cell AtlasGrid::Lost(size_t k, const std::string& message) const {
   c.iy = static_cast<int>(k) / nx_;
   c.x = AxisValue(x_, c.ix);
   c.y = AxisValue(y_, c.iy);
-  if constexpr (std::is_same_v<Cell, TrainAtlasCell>) {
-    c.point.message = message;
-  } else {
-    c.message = message;
-  }
+  FailureMessage(c) = message;  // found by argument-dependent lookup beside the cell type
   return c;
 }
 

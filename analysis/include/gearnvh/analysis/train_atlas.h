@@ -22,6 +22,9 @@ struct TrainAtlasCell {
   TrainAtlasPoint point;
 };
 
+// Where a failed cell's reason goes (as FailureMessage(AtlasCell&)).
+inline std::string& FailureMessage(TrainAtlasCell& cell) { return cell.point.message; }
+
 struct TrainAtlasResult {
   AtlasAxis x, y;
   std::vector<std::string> mesh_names, loose_gear_names;

@@ -56,6 +56,9 @@ struct AtlasCell {
   double wall_s = 0.0;
 };
 
+// Where a failed cell's reason goes (each atlas cell type has one: generic code sets it).
+inline std::string& FailureMessage(AtlasCell& cell) { return cell.message; }
+
 struct AtlasResult {
   AtlasAxis x, y;
   std::vector<AtlasCell> cells;  // row-major: index iy * x.points + ix
