@@ -281,6 +281,26 @@ void TailSpectra(const TrainRunOptions& options, const TrainRecorder& recorder, 
   }
 }
 
+// The tier against the full FE model at the run's speed, up to 3x the highest mesh frequency (the
+// pair's limit, on the fastest mesh); a miss is warned with the mesh that sees the mode.
+void AssessTier(const TrainSpec& spec, const TrainRunOptions& options, TrainOperatingPoint& op) {
+  ThrowIfCancelled(options.cancel);
+  const TrainStructure structure = AssembleTrainStructure(spec, op.train);
+  TierAdequacyOptions adequacy;
+  double fastest = 0.0;
+  for (const TrainMeshTable& mesh : op.tables.meshes)
+    fastest = std::max(fastest, 1.0 / mesh.period);
+  adequacy.max_frequency_hz = 3.0 * fastest;
+  const TrainReducedModel reduced = ReduceTrain(structure, options.tier);
+  ThrowIfCancelled(options.cancel);
+  op.adequacy =
+      AssessTierAdequacy(structure, reduced, FullModelMeshModes(structure, adequacy), adequacy);
+  op.adequacy_options = adequacy;
+  std::vector<std::string> names;
+  for (const TrainMesh& m : spec.meshes) names.push_back(m.Name());
+  if (!op.adequacy.adequate) op.warnings.push_back(op.adequacy.Warning(names));
+}
+
 }  // namespace
 
 TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, GearTrain train,
@@ -297,6 +317,7 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, GearTrain trai
   op.tables = std::move(tables_at_tier);
   op.warnings = TrainWarnings(op.train, op.tables);
   for (const std::string& w : TrainLoadWarnings(spec, op.train.topology)) op.warnings.push_back(w);
+  if (options.tier_adequacy) AssessTier(spec, options, op);
   const TrainTables& tables = op.tables;
   // cycles and transient count cycles of the first mesh in the file.
   const double period = tables.meshes.front().period;

@@ -228,6 +228,7 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
   run.cycles = spec.analysis.cycles;
   run.transient = spec.analysis.transient_cycles;
   run.histories = true;  // results.uff
+  run.tier_adequacy = true;
   run.before_run_memory = [&](RunMemory& need) {
     MemoryPart uff = OperatingPointUffMemory(need.recorded_samples);  // results.uff
     uff.bytes *= spec.meshes.size();
@@ -344,7 +345,8 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
   WriteFileAtomically((folder / "meshes.csv").string(), TrainMeshesCsv(sweep));
   WriteFileAtomically((folder / "loose_gears.csv").string(), TrainLooseGearsCsv(sweep));
   WriteFileAtomically((folder / "sidebands.csv").string(), TrainSidebandsCsv(op));
-  WriteFileAtomically((folder / "waterfall.csv").string(), WaterfallCsv(MeshWaterfalls(sweep), sweep.mesh_names));
+  WriteFileAtomically((folder / "waterfall.csv").string(),
+                      WaterfallCsv(MeshWaterfalls(sweep), sweep.mesh_names));
   WriteFileAtomically((folder / "order_tracks.csv").string(),
                       OrderTracksCsv(every_order, {}, "input"));
   {
@@ -356,6 +358,11 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
   nlohmann::json images = nlohmann::json::array();
   for (const auto& [name, caption] : figures)
     images.push_back({{"file", name}, {"caption", caption}});
+  std::vector<std::string> mesh_names;
+  for (const TrainMesh& m : spec.meshes) mesh_names.push_back(m.Name());
+  const nlohmann::json adequacy =
+      op.adequacy_options ? TierAdequacyJson(op.adequacy, *op.adequacy_options, mesh_names)
+                          : nlohmann::json(nullptr);
   nlohmann::json results = {{"name", spec.name},
                             {"file", file},
                             {"schema", "gearnvh/2"},
@@ -365,7 +372,8 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
                               {"loose_gears", TrainLooseGearsJson(op.stats.loose_gears)},
                               {"sideband_window_common_periods", op.sideband_window_common_periods},
                               {"sidebands_notes", op.sideband_notes},
-                              {"warnings", op.warnings}}},
+                              {"warnings", op.warnings},
+                              {"tier_adequacy", adequacy}}},
                             {"sweep", TrainSweepJson(sweep)},
                             {"images", images}};
   RequireFinite(results, "results.json");

@@ -65,28 +65,33 @@ std::string MeshHarmonicsText(const std::vector<SidebandRow>& rows) {
   return text;
 }
 
+nlohmann::json TierAdequacyJson(const TierAdequacy& adequacy, const TierAdequacyOptions& options,
+                                const std::vector<std::string>& mesh_names) {
+  nlohmann::json modes = nlohmann::json::array();
+  for (const TierModeMatch& m : adequacy.modes) {
+    nlohmann::json mode = {
+        {"full_hz", m.full_hz}, {"mesh_compliance_share", m.share},   {"tier_hz", m.tier_hz},
+        {"mac", m.mac},         {"relative_error", m.relative_error}, {"reproduced", m.reproduced}};
+    if (static_cast<size_t>(m.mesh) < mesh_names.size()) {
+      mode["mesh"] = mesh_names[static_cast<size_t>(m.mesh)];
+    }
+    modes.push_back(mode);
+  }
+  return {
+      {"adequate", adequacy.adequate},
+      {"max_frequency_hz", options.max_frequency_hz},
+      {"modes", modes},
+      {"adequate_tier", adequacy.adequate_tier ? nlohmann::json(TierName(*adequacy.adequate_tier))
+                                               : nlohmann::json(nullptr)}};
+}
+
 nlohmann::json OperatingPointJson(const OperatingPointAnalysis& op) {
   const TransmissionErrorStats& te = op.te;
   const RattleIndices& rattle = op.rattle;
   nlohmann::json doc;
   doc["tier"] = op.tier_name;
   doc["warnings"] = op.warnings;
-  nlohmann::json adequacy_modes = nlohmann::json::array();
-  for (const TierModeMatch& m : op.adequacy.modes) {
-    adequacy_modes.push_back({{"full_hz", m.full_hz},
-                              {"mesh_compliance_share", m.share},
-                              {"tier_hz", m.tier_hz},
-                              {"mac", m.mac},
-                              {"relative_error", m.relative_error},
-                              {"reproduced", m.reproduced}});
-  }
-  doc["tier_adequacy"] = {
-      {"adequate", op.adequacy.adequate},
-      {"max_frequency_hz", op.adequacy_options.max_frequency_hz},
-      {"modes", adequacy_modes},
-      {"adequate_tier", op.adequacy.adequate_tier
-                            ? nlohmann::json(TierName(*op.adequacy.adequate_tier))
-                            : nlohmann::json(nullptr)}};
+  doc["tier_adequacy"] = TierAdequacyJson(op.adequacy, op.adequacy_options, {});
   doc["method"] = SolverMethodName(op.solver.method);
   doc["events_method"] = EventMethodName(op.solver.events);
   doc["state_dim"] = op.tables.m;

@@ -24,6 +24,11 @@ nlohmann::json SummaryJson(const SolverSummary& s);
 // The `simulate --json` document of a pair's operating point without name and file.
 nlohmann::json OperatingPointJson(const OperatingPointAnalysis& op);
 
+// `tier_adequacy`: the verdict, the frequency limit and each mode the meshes see; with
+// `mesh_names` (a train's, file order) each mode names the mesh that sees it most.
+nlohmann::json TierAdequacyJson(const TierAdequacy& adequacy, const TierAdequacyOptions& options,
+                                const std::vector<std::string>& mesh_names);
+
 // The mesh harmonics of a TE sideband table on one line, as `simulate` prints them: "1 fm: 0.1234
 // µm  2 fm: 0.0123 µm  " (a table holds up to hundreds of shaft-order lines and sidebands, down
 // to the rounding floor: those are in --json). Empty when no harmonic stands out.

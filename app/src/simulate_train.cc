@@ -202,6 +202,11 @@ nlohmann::json TrainSimulationJson(const TrainOperatingPoint& op, const TrainSpe
   doc["input_speed"] = {{"rad_s", spec.operating.speed}, {"rpm", Rpm(spec.operating.speed)}};
   doc["common_period_s"] = tables.common_period;
   doc["warnings"] = op.warnings;
+  if (op.adequacy_options) {
+    std::vector<std::string> names;
+    for (const TrainMesh& m : spec.meshes) names.push_back(m.Name());
+    doc["tier_adequacy"] = TierAdequacyJson(op.adequacy, *op.adequacy_options, names);
+  }
   doc["memory_estimate"] = MemoryJson(op.memory);
   doc["summary"] = {{"status", TrainStepperInfoName(s.info)},
                     {"message", TrainStepperMessage(s)},
@@ -259,6 +264,7 @@ TrainSimulatePlan PlanTrainSimulate(const SimulateOptions& options, const TrainS
   run.allow_slow = options.allow_slow;
   run.names = names;
   run.histories = options.out.has_value() || options.uff.has_value();
+  run.tier_adequacy = true;
   RequireCycleCounts(run.cycles, 1, run.transient, names);
   RequireRunLengthOfOptions(spec, spec.operating.speed, run.cycles, run.transient, options.cycles,
                             options.transient, names);

@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <numbers>
+#include <optional>
 
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/model/modal_analysis.h"
@@ -31,6 +33,46 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 }  // namespace
 
+MeshModes MeshSeenModes(const NaturalModes& modes, const std::vector<Eigen::VectorXd>& meshes,
+                        const TierAdequacyOptions& options) {
+  options.Validate();
+  const size_t count = modes.frequencies_hz.size();
+  // compliance[m][i] = (v_m^T phi_i)^2 / w_i^2, each mesh's share over the computed modes.
+  std::vector<std::vector<double>> compliance(meshes.size(), std::vector<double>(count));
+  std::vector<double> total(meshes.size(), 0.0);
+  for (size_t m = 0; m < meshes.size(); ++m) {
+    for (size_t i = 0; i < count; ++i) {
+      const double w = kTwoPi * modes.frequencies_hz[i];
+      const double g = meshes[m].dot(modes.shapes.col(static_cast<Eigen::Index>(i)));
+      compliance[m][i] = g * g / (w * w);
+      total[m] += compliance[m][i];
+    }
+  }
+  MeshModes out;
+  std::vector<Eigen::Index> kept;
+  for (size_t i = 0; i < count; ++i) {
+    double share = 0.0;
+    int seen_by = 0;
+    for (size_t m = 0; m < meshes.size(); ++m) {
+      const double s = total[m] > 0.0 ? compliance[m][i] / total[m] : 0.0;
+      if (s > share) {
+        share = s;
+        seen_by = static_cast<int>(m);
+      }
+    }
+    if (modes.frequencies_hz[i] > options.max_frequency_hz || share < options.min_share) continue;
+    out.frequencies_hz.push_back(modes.frequencies_hz[i]);
+    out.shares.push_back(share);
+    out.mesh.push_back(seen_by);
+    kept.push_back(static_cast<Eigen::Index>(i));
+  }
+  out.shapes.resize(modes.shapes.rows(), static_cast<Eigen::Index>(kept.size()));
+  for (size_t c = 0; c < kept.size(); ++c) {
+    out.shapes.col(static_cast<Eigen::Index>(c)) = modes.shapes.col(kept[c]);
+  }
+  return out;
+}
+
 MeshModes FullModelMeshModes(const ComponentModel& model, const TierAdequacyOptions& options) {
   options.Validate();
   Eigen::SparseMatrix<double> K = model.K;
@@ -45,45 +87,33 @@ MeshModes FullModelMeshModes(const ComponentModel& model, const TierAdequacyOpti
           ? LowestNaturalModes(Eigen::MatrixXd(K), Eigen::MatrixXd(model.M), model.dofs, true,
                                magnitude)
           : LowestSparseNaturalModes(K, model.M, options.sparse_modes, 1, magnitude);
-  double total = 0.0;
-  std::vector<double> compliance(modes.frequencies_hz.size());
-  for (size_t i = 0; i < compliance.size(); ++i) {
-    const double w = kTwoPi * modes.frequencies_hz[i];
-    const double g = model.v_drive.dot(modes.shapes.col(static_cast<Eigen::Index>(i)));
-    compliance[i] = g * g / (w * w);
-    total += compliance[i];
-  }
-  MeshModes out;
-  std::vector<Eigen::Index> kept;
-  for (size_t i = 0; i < compliance.size(); ++i) {
-    const double share = total > 0.0 ? compliance[i] / total : 0.0;
-    if (modes.frequencies_hz[i] > options.max_frequency_hz || share < options.min_share) continue;
-    out.frequencies_hz.push_back(modes.frequencies_hz[i]);
-    out.shares.push_back(share);
-    kept.push_back(static_cast<Eigen::Index>(i));
-  }
-  out.shapes.resize(model.dofs, static_cast<Eigen::Index>(kept.size()));
-  for (size_t c = 0; c < kept.size(); ++c) {
-    out.shapes.col(static_cast<Eigen::Index>(c)) = modes.shapes.col(kept[c]);
-  }
-  return out;
+  return MeshSeenModes(modes, {model.v_drive}, options);
+}
+
+MeshModes FullModelMeshModes(const TrainStructure& structure, const TierAdequacyOptions& options) {
+  options.Validate();
+  const int count = structure.dofs <= options.dense_limit ? structure.dofs : options.sparse_modes;
+  const NaturalModes modes = FullTrainModes(structure, count, options.dense_limit, true);
+  std::vector<Eigen::VectorXd> meshes;
+  for (const TrainMeshVectors& m : structure.meshes) meshes.push_back(m.v_drive);
+  return MeshSeenModes(modes, meshes, options);
 }
 
 namespace {
 
-std::vector<TierModeMatch> Match(const ComponentModel& model, const ReducedModel& r,
-                                 const MeshModes& full, const TierAdequacyOptions& options) {
-  const Eigen::MatrixXd K =
-      r.K + r.EffectiveMeshStiffness(model.mesh_summary.mean) * r.v_drive * r.v_drive.transpose();
-  const NaturalModes tier = LowestNaturalModes(
-      K, r.M, r.dof, true, ReducedStrainMagnitude(model, r, model.mesh_summary.mean));
-  const Eigen::MatrixXd recovered = r.recovery * tier.shapes;  // physical DOF
-  const Eigen::MatrixXd m_recovered = model.M * recovered;
+// Each full mode matched with the tier mode (shapes recovered to the physical DOF) of largest
+// mass-weighted MAC.
+std::vector<TierModeMatch> Match(const NaturalModes& tier, const Eigen::MatrixXd& recovery,
+                                 const Eigen::SparseMatrix<double>& M, const MeshModes& full,
+                                 const TierAdequacyOptions& options) {
+  const Eigen::MatrixXd recovered = recovery * tier.shapes;  // physical DOF
+  const Eigen::MatrixXd m_recovered = M * recovered;
   std::vector<TierModeMatch> out;
   for (size_t i = 0; i < full.frequencies_hz.size(); ++i) {
     TierModeMatch match;
     match.full_hz = full.frequencies_hz[i];
     match.share = full.shares[i];
+    match.mesh = full.mesh[i];
     match.relative_error = 1.0;
     const Eigen::VectorXd phi = full.shapes.col(static_cast<Eigen::Index>(i));
     for (Eigen::Index j = 0; j < recovered.cols(); ++j) {
@@ -102,25 +132,39 @@ std::vector<TierModeMatch> Match(const ComponentModel& model, const ReducedModel
   return out;
 }
 
+std::vector<TierModeMatch> Match(const ComponentModel& model, const ReducedModel& r,
+                                 const MeshModes& full, const TierAdequacyOptions& options) {
+  const Eigen::MatrixXd K =
+      r.K + r.EffectiveMeshStiffness(model.mesh_summary.mean) * r.v_drive * r.v_drive.transpose();
+  const NaturalModes tier = LowestNaturalModes(
+      K, r.M, r.dof, true, ReducedStrainMagnitude(model, r, model.mesh_summary.mean));
+  return Match(tier, r.recovery, model.M, full, options);
+}
+
+std::vector<TierModeMatch> Match(const TrainStructure& structure, const TrainReducedModel& r,
+                                 const MeshModes& full, const TierAdequacyOptions& options) {
+  return Match(TrainReducedModes(structure, r, r.dof, true), r.recovery, structure.M, full,
+               options);
+}
+
 bool Adequate(const std::vector<TierModeMatch>& modes) {
   return std::all_of(modes.begin(), modes.end(),
                      [](const TierModeMatch& m) { return m.reproduced; });
 }
 
-}  // namespace
-
-TierAdequacy AssessTierAdequacy(const ComponentModel& model, const ReducedModel& reduced,
-                                const MeshModes& full, const TierAdequacyOptions& options) {
-  options.Validate();
+// The verdict on `tier` (its matches), and when inadequate the lowest adequate tier in the order
+// of cost: `adequate_at(t)` reduces to tier t (nullopt: not available) and matches it.
+TierAdequacy Assess(Tier tier, std::vector<TierModeMatch> matches,
+                    const std::function<std::optional<bool>(Tier)>& adequate_at) {
   TierAdequacy out;
-  out.tier = reduced.tier;
-  out.modes = Match(model, reduced, full, options);
+  out.tier = tier;
+  out.modes = std::move(matches);
   out.adequate = Adequate(out.modes);
   if (out.adequate) return out;
   for (Tier t :
        {Tier::kTier1, Tier::kTier2, Tier::kTier3, Tier::kTier4, Tier::kN20Mta, Tier::kTier5}) {
-    if (t == reduced.tier || !TierAvailable(model, t)) continue;
-    if (Adequate(Match(model, ReduceModel(model, t), full, options))) {
+    if (t == tier) continue;
+    if (adequate_at(t).value_or(false)) {
       out.adequate_tier = t;
       break;
     }
@@ -128,23 +172,51 @@ TierAdequacy AssessTierAdequacy(const ComponentModel& model, const ReducedModel&
   return out;
 }
 
-std::string TierAdequacy::Warning() const {
+}  // namespace
+
+TierAdequacy AssessTierAdequacy(const ComponentModel& model, const ReducedModel& reduced,
+                                const MeshModes& full, const TierAdequacyOptions& options) {
+  options.Validate();
+  return Assess(reduced.tier, Match(model, reduced, full, options),
+                [&](Tier t) -> std::optional<bool> {
+                  if (!TierAvailable(model, t)) return std::nullopt;
+                  return Adequate(Match(model, ReduceModel(model, t), full, options));
+                });
+}
+
+TierAdequacy AssessTierAdequacy(const TrainStructure& structure, const TrainReducedModel& reduced,
+                                const MeshModes& full, const TierAdequacyOptions& options,
+                                const ReductionOptions& reduction) {
+  options.Validate();
+  return Assess(
+      reduced.tier, Match(structure, reduced, full, options), [&](Tier t) -> std::optional<bool> {
+        if (!TrainTierAvailable(structure, t)) return std::nullopt;
+        return Adequate(Match(structure, ReduceTrain(structure, t, reduction), full, options));
+      });
+}
+
+std::string TierAdequacy::Warning(const std::vector<std::string>& mesh_names) const {
   if (adequate) return "";
   const TierModeMatch* worst = nullptr;
   for (const TierModeMatch& m : modes) {
     if (!m.reproduced && (worst == nullptr || m.share > worst->share)) worst = &m;
   }
+  // One mesh: "the mesh compliance"; several: the mesh that sees the mode most, by name.
+  const std::string whose =
+      mesh_names.size() > 1 && worst->mesh >= 0 &&
+              static_cast<size_t>(worst->mesh) < mesh_names.size()
+          ? "the compliance of mesh " + mesh_names[static_cast<size_t>(worst->mesh)]
+          : std::string("the mesh compliance");
   std::string text =
       worst->tier_hz > 0.0
-          ? fmt::format(
-                "{} puts the {:.0f} Hz mode ({:.0f} % of the mesh compliance) at {:.0f} Hz "
-                "({:+.1f} %)",
-                TierName(tier), worst->full_hz, 100.0 * worst->share, worst->tier_hz,
-                100.0 * worst->relative_error)
-          : fmt::format("{} misses the {:.0f} Hz mode ({:.0f} % of the mesh compliance)",
-                        TierName(tier), worst->full_hz, 100.0 * worst->share);
-  text += adequate_tier ? fmt::format("; {} reproduces every mode the mesh sees below the limit",
-                                      TierName(*adequate_tier))
+          ? fmt::format("{} puts the {:.0f} Hz mode ({:.0f} % of {}) at {:.0f} Hz ({:+.1f} %)",
+                        TierName(tier), worst->full_hz, 100.0 * worst->share, whose, worst->tier_hz,
+                        100.0 * worst->relative_error)
+          : fmt::format("{} misses the {:.0f} Hz mode ({:.0f} % of {})", TierName(tier),
+                        worst->full_hz, 100.0 * worst->share, whose);
+  text += adequate_tier ? fmt::format("; {} reproduces every mode {} below the limit",
+                                      TierName(*adequate_tier),
+                                      mesh_names.size() > 1 ? "the meshes see" : "the mesh sees")
                         : std::string("; no tier reproduces them all");
   return text;
 }

@@ -143,19 +143,33 @@ Eigen::MatrixXd EngagedDense(const TrainStructure& s, const TrainReducedModel& r
 // by a zero test once the stiffest DOF is ~1e12 times stiffer; the count of free rotations is
 // known from the meshes (FreeRotations). Further rigid-body modes (a direction no bearing holds)
 // are still counted by the scale-aware criterion.
+// Shapes, when asked, are M-normalised in the coordinates of K (x = Z y).
 NaturalModes ModesWithoutFreeRotations(const Eigen::MatrixXd& K, const Eigen::MatrixXd& M,
-                                       const Eigen::MatrixXd& F, int count) {
+                                       const Eigen::MatrixXd& F, int count,
+                                       bool with_shapes = false) {
   const Eigen::Index n = K.rows(), f = F.cols();
-  if (f == 0) return LowestNaturalModes(K, M, count);
+  if (f == 0) return LowestNaturalModes(K, M, count, with_shapes);
   const Eigen::HouseholderQR<Eigen::MatrixXd> qr(M * F);
   const Eigen::MatrixXd Z = (qr.householderQ() * Eigen::MatrixXd::Identity(n, n)).rightCols(n - f);
-  NaturalModes modes =
-      LowestNaturalModes(Symmetric(Z.transpose() * K * Z), Symmetric(Z.transpose() * M * Z), count);
+  NaturalModes modes = LowestNaturalModes(Symmetric(Z.transpose() * K * Z),
+                                          Symmetric(Z.transpose() * M * Z), count, with_shapes);
   modes.rigid_body_modes += static_cast<int>(f);
+  if (with_shapes) modes.shapes = (Z * modes.shapes).eval();
   return modes;
 }
 
+// The free rotations in reduced coordinates: the M-orthogonal projection of the physical ones.
+Eigen::MatrixXd ReducedFreeRotations(const TrainStructure& s, const TrainReducedModel& r) {
+  return r.M.ldlt().solve(r.recovery.transpose() * (s.M * s.free_rotations));
+}
+
 }  // namespace
+
+NaturalModes TrainReducedModes(const TrainStructure& s, const TrainReducedModel& r, int count,
+                               bool with_shapes) {
+  return ModesWithoutFreeRotations(EngagedDense(s, r), r.M, ReducedFreeRotations(s, r), count,
+                                   with_shapes);
+}
 
 bool TrainTierAvailable(const TrainStructure& s, Tier tier) {
   return ModesPerShaft(tier) == 0 || !s.elastic_shafts.empty();
@@ -193,11 +207,11 @@ Eigen::MatrixXd FullStaticComplianceMatrix(const TrainStructure& s) {
   return Symmetric(V.transpose() * ldlt.solve(V));
 }
 
-NaturalModes FullTrainModes(const TrainStructure& s, int count, int dense_limit) {
+NaturalModes FullTrainModes(const TrainStructure& s, int count, int dense_limit, bool with_shapes) {
   const Eigen::SparseMatrix<double> K = s.EngagedStiffness();
   if (s.dofs <= dense_limit) {
     return ModesWithoutFreeRotations(Eigen::MatrixXd(K), Eigen::MatrixXd(s.M), s.free_rotations,
-                                     count);
+                                     count, with_shapes);
   }
   // Lanczos cannot restrict to the complement cheaply: the known number of free rotations are the
   // lowest eigenpairs, dropped when the zero test did not already classify them.
@@ -324,10 +338,7 @@ void Finish(const TrainStructure& s, const Eigen::MatrixXd& full_compliance, Tra
   const double full_norm = full_compliance.norm();
   r.compliance_error_vs_full =
       full_norm > 0.0 ? (r.static_compliance - full_compliance).norm() / full_norm : 0.0;
-  // The free rotations in reduced coordinates: the M-orthogonal projection of the physical ones.
-  const Eigen::MatrixXd free = r.M.ldlt().solve(r.recovery.transpose() * (s.M * s.free_rotations));
-  const NaturalModes modes =
-      ModesWithoutFreeRotations(EngagedDense(s, r), r.M, free, kReportedFrequencies);
+  const NaturalModes modes = TrainReducedModes(s, r, kReportedFrequencies);
   r.natural_frequencies_hz = modes.frequencies_hz;
   r.rigid_body_modes = modes.rigid_body_modes;
 }

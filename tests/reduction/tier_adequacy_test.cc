@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "model/test_specs.h"
+#include "model/test_trains.h"
 
 namespace gearnvh {
 namespace {
@@ -78,6 +79,102 @@ TEST_CASE("the sparse and dense full-model solves give the same mesh modes",
     CHECK(sparse.frequencies_hz[i] == Approx(dense.frequencies_hz[i]).epsilon(1e-8));
     CHECK(sparse.shares[i] == Approx(dense.shares[i]).epsilon(0.02));
   }
+}
+
+TEST_CASE("a mode matters when some mesh sees it: the largest of the meshes' shares",
+          "[reduction][adequacy]") {
+  // Three unit-mass modes at 100, 200, 300 Hz (identity shapes) and two meshes: mesh 0 sees modes
+  // 1 and 2 equally (v = [1, 1, 0]), mesh 1 sees modes 2 and 3 (v = [0, 1, 1]). Mesh 0's shares
+  // are (1/w1^2, 1/w2^2) / (1/w1^2 + 1/w2^2) = 4/5, 1/5; mesh 1's are 9/13, 4/13 (closed form).
+  NaturalModes modes;
+  modes.frequencies_hz = {100.0, 200.0, 300.0};
+  modes.shapes = Eigen::MatrixXd::Identity(3, 3);
+  TierAdequacyOptions options;
+  options.max_frequency_hz = 1000.0;
+  const MeshModes seen =
+      MeshSeenModes(modes, {Eigen::Vector3d(1, 1, 0), Eigen::Vector3d(0, 1, 1)}, options);
+  REQUIRE(seen.frequencies_hz.size() == 3);
+  // Shares are ratios of a few products: 1e-14 relative.
+  CHECK(seen.shares[0] == Approx(4.0 / 5.0).epsilon(1e-14));
+  CHECK(seen.mesh[0] == 0);
+  CHECK(seen.shares[1] == Approx(9.0 / 13.0).epsilon(1e-14));  // mesh 1's 9/13 beats mesh 0's 1/5
+  CHECK(seen.mesh[1] == 1);
+  CHECK(seen.shares[2] == Approx(4.0 / 13.0).epsilon(1e-14));
+  CHECK(seen.mesh[2] == 1);
+  // Below the limit only, and a share under min_share does not count.
+  options.max_frequency_hz = 250.0;
+  options.min_share = 0.5;
+  const MeshModes few =
+      MeshSeenModes(modes, {Eigen::Vector3d(1, 1, 0), Eigen::Vector3d(0, 1, 1)}, options);
+  REQUIRE(few.frequencies_hz == std::vector<double>{100.0, 200.0});
+}
+
+TEST_CASE("a schema-1 pair's train gets the pair's tier verdict from its own structure",
+          "[reduction][adequacy][train]") {
+  // The ComponentModel and the TrainStructure of TrainOf(pair) are built by separate code; the
+  // same FE model gives the same modes and the same verdict at every tier.
+  const GearboxSpec spec = FlexiblePair();
+  const ComponentModel model = BuildComponentModel(spec);
+  const TrainSpec train_spec = TrainOf(spec);
+  const GearTrain train = BuildGearTrain(train_spec);
+  const TrainStructure structure = AssembleTrainStructure(train_spec, train);
+  TierAdequacyOptions options;
+  options.max_frequency_hz = ThreeTimesMesh(spec);
+  const MeshModes pair_modes = FullModelMeshModes(model, options);
+  const MeshModes train_modes = FullModelMeshModes(structure, options);
+  REQUIRE(train_modes.frequencies_hz.size() == pair_modes.frequencies_hz.size());
+  for (size_t i = 0; i < pair_modes.frequencies_hz.size(); ++i) {
+    // Two assemblies and eigen-solves of one model (the train removes its free rotation by
+    // projection, the pair by the zero test): 1e-8 on frequencies; shares sum over slightly
+    // different sets of modes (the pair's count includes the free rotation's slot): 1e-6.
+    CHECK(train_modes.frequencies_hz[i] == Approx(pair_modes.frequencies_hz[i]).epsilon(1e-8));
+    CHECK(train_modes.shares[i] == Approx(pair_modes.shares[i]).epsilon(1e-6));
+    CHECK(train_modes.mesh[i] == 0);
+  }
+  for (Tier tier : {Tier::kTier1, Tier::kTier3, Tier::kTier5, Tier::kN20Mta}) {
+    CAPTURE(TierName(tier));
+    const TierAdequacy p = AssessTierAdequacy(model, ReduceModel(model, tier), pair_modes, options);
+    const TierAdequacy t =
+        AssessTierAdequacy(structure, ReduceTrain(structure, tier), train_modes, options);
+    CHECK(t.adequate == p.adequate);
+    CHECK(t.adequate_tier == p.adequate_tier);
+    CHECK(t.Warning() == p.Warning());
+  }
+}
+
+TEST_CASE("a train's tier check names the mesh that sees the missed mode and a tier that has it",
+          "[reduction][adequacy][train]") {
+  const TrainSpec spec = testing::ElasticTwoStage();
+  const GearTrain train = BuildGearTrain(spec);
+  const TrainStructure structure = AssembleTrainStructure(spec, train);
+  TierAdequacyOptions options;
+  double fastest = 0.0;
+  for (const TrainMeshModel& m : train.meshes) {
+    fastest = std::max(fastest, m.geometry.mesh_frequency_hz);
+  }
+  options.max_frequency_hz = 3.0 * fastest;
+  const MeshModes full = FullModelMeshModes(structure, options);
+  REQUIRE_FALSE(full.frequencies_hz.empty());
+  std::vector<std::string> names;
+  for (const TrainMesh& m : spec.meshes) names.push_back(m.Name());
+  const TierAdequacy t1 =
+      AssessTierAdequacy(structure, ReduceTrain(structure, Tier::kTier1), full, options);
+  INFO(t1.Warning(names));
+  REQUIRE_FALSE(t1.adequate);
+  // The warning names one of the train's meshes, and the tier it recommends passes its own check.
+  bool names_a_mesh = false;
+  for (const std::string& n : names) {
+    names_a_mesh |= t1.Warning(names).find("compliance of mesh " + n) != std::string::npos;
+  }
+  CHECK(names_a_mesh);
+  REQUIRE(t1.adequate_tier.has_value());
+  CHECK(AssessTierAdequacy(structure, ReduceTrain(structure, *t1.adequate_tier), full, options)
+            .adequate);
+  // Tier 5 keeps 14 shaft modes per elastic shaft: it reproduces every mode below the limit here.
+  CHECK(
+      AssessTierAdequacy(structure, ReduceTrain(structure, Tier::kTier5), full, options).adequate);
+  // Every mode the meshes see is seen by one of the three meshes.
+  for (int m : full.mesh) CHECK((m >= 0 && m < 3));
 }
 
 }  // namespace

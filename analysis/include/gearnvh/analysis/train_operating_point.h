@@ -17,6 +17,7 @@
 
 #include <atomic>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,7 @@
 #include "gearnvh/model/gear_train.h"
 #include "gearnvh/model/train_spec.h"
 #include "gearnvh/nvh/spectrum.h"
+#include "gearnvh/reduction/tier_adequacy.h"
 #include "gearnvh/solver/train_statistics.h"
 #include "gearnvh/solver/train_stepper.h"
 
@@ -50,6 +52,10 @@ struct TrainRunOptions {
   EventMethod events = EventMethod::kSpectral;  // V3; V2 and V1 to validate
   Tier tier = Tier::kTier1;  // the train's tier (docs/gear-trains.md, "Tiers of a train")
   bool jumps = true;         // certified jumps of the transient (TrainStepperOptions::jumps)
+  // Check the tier against the full FE model at this speed (reduction/tier_adequacy.h: the modes
+  // the meshes see below 3x the highest mesh frequency) and warn when it misses one. A modal solve
+  // of the full model: `simulate` asks for it, a sweep's speeds do not.
+  bool tier_adequacy = false;
   // Polled by the table build and the stepper (per mesh, per grid segment): RunCancelled once
   // set. Not owned; null: never cancelled.
   const std::atomic<bool>* cancel = nullptr;
@@ -92,7 +98,10 @@ struct TrainOperatingPoint {
   TrainStepperSummary summary;
   TrainStatistics stats;
   std::vector<std::string> warnings;  // what the train solver does not model, said once
-  RunCostEstimate cost;               // estimated before the run
+  // With TrainRunOptions::tier_adequacy: the options used (the frequency limit) and the verdict.
+  std::optional<TierAdequacyOptions> adequacy_options;
+  TierAdequacy adequacy;
+  RunCostEstimate cost;  // estimated before the run
   double wall_s = 0.0;
   // The parts that grow with the recorded cycles, estimated before the run: the samples kept for
   // spectra and histories (TrainRecorder::KeepSeries), the events and the spectra.

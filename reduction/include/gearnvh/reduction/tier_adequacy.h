@@ -1,16 +1,18 @@
-// Does a modal tier reproduce the modes of the full FE model that the mesh can excite?
+// Does a modal tier reproduce the modes of the full FE model that the meshes can excite? One test
+// for every gearbox (a schema-1 pair's ComponentModel, a train's TrainStructure).
 //
-// The full model, linearised in drive contact at the mean mesh stiffness, has modes phi_i
-// (M-normalised, frequency f_i). A mode matters for the transmission error when the mesh sees it:
-// its share of the mesh's modal compliance, (v^T phi_i)^2 / w_i^2 over the sum of that quantity
-// over the computed modes, is at least `min_share` (1 %); lateral or axial modes orthogonal to the
-// line of action do not count. Every mode that matters below `max_frequency_hz` (callers pass 3x
-// the mesh frequency) must be reproduced by the tier: a tier mode (recovered to the physical DOF,
-// T phi_r) with a mass-weighted MAC >= `min_mac` against it and a frequency within
-// `max_frequency_error` (5 %). Otherwise the tier is inadequate at this operating point, and the
-// lowest adequate tier is looked for in the order of cost: 1, 2, 3, 4, N20 MTA, 5.
-// The full model's modes come from a dense solve up to `dense_limit` DOF and from Spectra's
-// shift-invert Lanczos on the sparse pencil above (the lowest `sparse_modes`).
+// The full model, linearised in drive contact with every mesh at its mean stiffness, has modes
+// phi_i (M-normalised, frequency f_i). A mode matters for the transmission error when a mesh sees
+// it: its share of mesh m's modal compliance, (v_m^T phi_i)^2 / w_i^2 over the sum of that quantity
+// over the computed modes, is at least `min_share` (1 %) for some mesh m; lateral or axial modes
+// orthogonal to every line of action do not count. Every mode that matters below
+// `max_frequency_hz` (callers pass 3x the highest mesh frequency) must be reproduced by the tier: a
+// tier mode (recovered to the physical DOF, T phi_r) with a mass-weighted MAC >= `min_mac` against
+// it and a frequency within `max_frequency_error` (5 %). Otherwise the tier is inadequate at this
+// operating point, and the lowest adequate tier is looked for in the order of cost: 1, 2, 3, 4, N20
+// MTA, 5. The full model's modes come from a dense solve up to `dense_limit` DOF and from
+// Spectra's shift-invert Lanczos on the sparse pencil above (the lowest `sparse_modes`); a train's
+// free rotations are removed by construction (train_reduction.h).
 #pragma once
 
 #include <optional>
@@ -18,7 +20,10 @@
 #include <vector>
 
 #include "gearnvh/model/component_model.h"
+#include "gearnvh/model/modal_analysis.h"
+#include "gearnvh/model/train_structure.h"
 #include "gearnvh/reduction/reduced_model.h"
+#include "gearnvh/reduction/train_reduction.h"
 
 namespace gearnvh {
 
@@ -32,17 +37,24 @@ struct TierAdequacyOptions {
   void Validate() const;
 };
 
-// The full model's modes that the mesh sees below the frequency limit.
+// The full model's modes that the meshes see below the frequency limit.
 struct MeshModes {
   std::vector<double> frequencies_hz;
-  std::vector<double> shares;  // of the mesh's modal compliance
+  std::vector<double> shares;  // of the modal compliance of the mesh that sees it most
+  std::vector<int> mesh;       // that mesh (index in file order; 0 for a pair)
   Eigen::MatrixXd shapes;      // M-normalised, physical DOF
 };
+// Of `modes` (with M-normalised shapes, every mode computed), those that a mesh with vector v_m in
+// `meshes` sees (the share rule above).
+MeshModes MeshSeenModes(const NaturalModes& modes, const std::vector<Eigen::VectorXd>& meshes,
+                        const TierAdequacyOptions& options);
 MeshModes FullModelMeshModes(const ComponentModel& model, const TierAdequacyOptions& options);
+MeshModes FullModelMeshModes(const TrainStructure& structure, const TierAdequacyOptions& options);
 
 struct TierModeMatch {
   double full_hz = 0.0;
   double share = 0.0;
+  int mesh = 0;          // the mesh that sees it most
   double tier_hz = 0.0;  // the best-matching tier mode (0 when none has MAC >= min_mac)
   double mac = 0.0;
   double relative_error = 0.0;  // (tier - full) / full; 1 when missing
@@ -54,13 +66,17 @@ struct TierAdequacy {
   bool adequate = true;
   std::vector<TierModeMatch> modes;
   std::optional<Tier> adequate_tier;  // the lowest adequate tier, when this one is not
-  // "tier 1 misses the 1234 Hz mode (12 % of the mesh compliance); use tier 3", or empty.
-  std::string Warning() const;
+  // "tier 1 misses the 1234 Hz mode (12 % of the mesh compliance); tier 3 reproduces ...", or
+  // empty. With several `mesh_names` (file order) the mesh that sees the mode is named.
+  std::string Warning(const std::vector<std::string>& mesh_names = {}) const;
 };
 
 // Compares `reduced` with the full model's mesh modes; when inadequate, reduces the model to the
 // cheaper-first tiers until one is adequate.
 TierAdequacy AssessTierAdequacy(const ComponentModel& model, const ReducedModel& reduced,
                                 const MeshModes& full, const TierAdequacyOptions& options);
+TierAdequacy AssessTierAdequacy(const TrainStructure& structure, const TrainReducedModel& reduced,
+                                const MeshModes& full, const TierAdequacyOptions& options,
+                                const ReductionOptions& reduction = {});
 
 }  // namespace gearnvh

@@ -70,6 +70,14 @@ Eigen::MatrixXd FullStaticComplianceMatrix(const TrainStructure& structure);
 // stiffness (dense up to `dense_limit` DOF, on the complement of the free rotations; sparse
 // shift-invert Lanczos above, dropping the known number of free rotations), and the number of
 // rigid-body modes.
-NaturalModes FullTrainModes(const TrainStructure& structure, int count, int dense_limit = 600);
+// With `with_shapes`, their M-normalised shapes (physical DOF).
+NaturalModes FullTrainModes(const TrainStructure& structure, int count, int dense_limit = 600,
+                            bool with_shapes = false);
+
+// The lowest `count` elastic modes of a reduced model with every mesh at its mean stiffness, its
+// free rotations (the physical ones, M-orthogonally projected) removed by construction; with
+// `with_shapes`, their M-normalised shapes in the reduced coordinates.
+NaturalModes TrainReducedModes(const TrainStructure& structure, const TrainReducedModel& reduced,
+                               int count, bool with_shapes = false);
 
 }  // namespace gearnvh
