@@ -10,6 +10,7 @@
 #include "binding_support.h"
 #include "gearbox.h"
 #include "gearnvh/analysis/operating_point.h"
+#include "gearnvh/analysis/run_memory.h"
 #include "gearnvh/model/component_model.h"
 #include "gearnvh/nvh/lyapunov.h"
 #include "result_documents.h"
@@ -48,8 +49,16 @@ std::shared_ptr<Simulation> Simulate(const Gearbox& gb, const py::object& tier,
           run.cancel = &control.cancel;
           const ComponentModel model = BuildComponentModel(spec);
           auto out = std::make_shared<Simulation>();
-          out->op = gearnvh::AnalyseOperatingPoint(spec, model, chosen, run,
-                                                   [&](long d, long t) { control.Progress(d, t); });
+          // The command line's memory check (docs/cli.md, "Memory"), at the keyword or the file's
+          // analysis.cycles.
+          const std::string cycles_at =
+              cycles ? kKeywordNames("cycles") : std::string("analysis.cycles");
+          out->op = gearnvh::AnalyseOperatingPoint(
+              spec, model, chosen, run, [&](long d, long t) { control.Progress(d, t); }, {},
+              [&](RunMemory& need) {
+                return CheckRunMemory(need, AvailableMemory(), cycles_at,
+                                      std::to_string(run.cycles));
+              });
           out->op.solver.cancel = nullptr;  // the flag dies with this call
           const SegmentTables& tables = out->op.tables;
           out->rattle_index =

@@ -13,6 +13,7 @@
 
 #include "binding_support.h"
 #include "gearbox.h"
+#include "gearnvh/analysis/run_memory.h"
 #include "gearnvh/analysis/train_operating_point.h"
 #include "gearnvh/model/count_text.h"
 #include "gearnvh/nvh/train_lyapunov.h"
@@ -65,6 +66,13 @@ std::shared_ptr<TrainSimulation> SimulateTrain(const Train& train, const py::obj
         options.allow_slow = allow_slow;
         app::TrainSimulatePlan plan = app::PlanTrainSimulate(options, spec, kKeywordNames);
         plan.run.histories = histories;
+        // The command line's memory check (docs/cli.md, "Memory"), at the keyword or the file's
+        // analysis.cycles.
+        plan.run.before_run_memory = [at = cycles ? kKeywordNames("cycles")
+                                                  : std::string("analysis.cycles"),
+                                      value = std::to_string(plan.run.cycles)](RunMemory& need) {
+          return CheckRunMemory(need, AvailableMemory(), at, value);
+        };
         return plan;
       },
       [&](app::TrainSimulatePlan& plan, const TrainSpec& spec, const std::string& source,

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import gearnvh
-from conftest import IDLE_RATTLE
+from conftest import EXAMPLES, IDLE_RATTLE
 
 RUN = dict(tier=1, cycles=200, transient=50)
 
@@ -156,3 +156,24 @@ def test_ctrl_c_interrupts_a_long_run():
             gearnvh.simulate(gb, tier=1, cycles=10, transient=1_200_000, method="v3")
     finally:
         timer.cancel()
+
+
+def test_simulate_checks_memory_as_the_command_line(monkeypatch):
+    # A pair's and a train's run estimated above the memory limit are refused before they run, at
+    # the keyword that set the recorded cycles (or the file's analysis.cycles), naming the limit
+    # (docs/cli.md, "Memory"). 1 MB holds neither run's recorded samples.
+    monkeypatch.setenv("GEARNVH_MEMORY_LIMIT", "1000000")
+    pair = gearnvh.load(str(IDLE_RATTLE))
+    train = gearnvh.load(str(EXAMPLES / "manual_transmission_idle.yaml"))
+    for model in (pair, train):
+        with pytest.raises(gearnvh.InputError) as refused:
+            gearnvh.simulate(model, tier=1, cycles=2000, transient=10)
+        assert refused.value.path == "cycles"
+        assert refused.value.value == "2000"
+        assert "GEARNVH_MEMORY_LIMIT" in refused.value.rule
+        with pytest.raises(gearnvh.InputError) as from_file:
+            gearnvh.simulate(model, tier=1, transient=10)
+        assert from_file.value.path == "analysis.cycles"
+    # Within the limit the same call runs.
+    monkeypatch.setenv("GEARNVH_MEMORY_LIMIT", str(8 << 30))
+    assert gearnvh.simulate(pair, tier=1, cycles=50, transient=10).summary.events >= 0
