@@ -281,24 +281,26 @@ void TailSpectra(const TrainRunOptions& options, const TrainRecorder& recorder, 
   }
 }
 
-// The tier against the full FE model at the run's speed, up to 3x the highest mesh frequency (the
-// pair's limit, on the fastest mesh); a miss is warned with the mesh that sees the mode.
+// The tier against the full FE model at the run's speed: mesh m's modes up to 3x its mesh frequency
+// (the pair's limit); a miss is warned with the mesh that sees the mode.
 void AssessTier(const TrainSpec& spec, const TrainRunOptions& options, TrainOperatingPoint& op) {
   ThrowIfCancelled(options.cancel);
   const TrainStructure structure = AssembleTrainStructure(spec, op.train);
+  std::vector<double> limits_hz;
+  for (const TrainMeshTable& mesh : op.tables.meshes) limits_hz.push_back(3.0 / mesh.period);
   TierAdequacyOptions adequacy;
-  double fastest = 0.0;
-  for (const TrainMeshTable& mesh : op.tables.meshes)
-    fastest = std::max(fastest, 1.0 / mesh.period);
-  adequacy.max_frequency_hz = 3.0 * fastest;
+  adequacy.max_frequency_hz = *std::max_element(limits_hz.begin(), limits_hz.end());
   const TrainReducedModel reduced = ReduceTrain(structure, options.tier);
   ThrowIfCancelled(options.cancel);
-  op.adequacy =
-      AssessTierAdequacy(structure, reduced, FullModelMeshModes(structure, adequacy), adequacy);
+  const MeshModes full = FullModelMeshModes(structure, limits_hz, adequacy);
+  ThrowIfCancelled(options.cancel);
+  op.adequacy = AssessTierAdequacy(structure, reduced, full, adequacy);
   op.adequacy_options = adequacy;
   std::vector<std::string> names;
   for (const TrainMesh& m : spec.meshes) names.push_back(m.Name());
-  if (!op.adequacy.adequate) op.warnings.push_back(op.adequacy.Warning(names));
+  if (const std::string warning = op.adequacy.Warning(names); !warning.empty()) {
+    op.warnings.push_back(warning);
+  }
 }
 
 }  // namespace
@@ -317,7 +319,6 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, GearTrain trai
   op.tables = std::move(tables_at_tier);
   op.warnings = TrainWarnings(op.train, op.tables);
   for (const std::string& w : TrainLoadWarnings(spec, op.train.topology)) op.warnings.push_back(w);
-  if (options.tier_adequacy) AssessTier(spec, options, op);
   const TrainTables& tables = op.tables;
   // cycles and transient count cycles of the first mesh in the file.
   const double period = tables.meshes.front().period;
@@ -351,6 +352,8 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, GearTrain trai
       if (options.before_run_warning) options.before_run_warning(warning);
     }
   }
+  // After the cost and memory checks: a refused run does not pay for the full model's modes.
+  if (options.tier_adequacy) AssessTier(spec, options, op);
   if (kept.count > 0) recorder.KeepSeries(kept.from, kept.count, options.histories);
   if (options.histories) recorder.KeepEvents(options.max_logged_events);
   const auto wall_start = std::chrono::steady_clock::now();

@@ -142,10 +142,9 @@ void AliasSchemaOnePaths(SourceLocations& locations) {
   locations.Alias("gears.pinion.at", "shafts.input.gear_at");
   locations.Alias("gears.wheel.at", "shafts.output.gear_at");
   // The one load is the file's operating.torque (on the wheel, or the pinion's in its ratio).
-  for (const char* load : {"operating.loads", "operating.loads[0]", "operating.loads[0].on",
-                           "operating.loads[0].torque"}) {
-    locations.Alias(load, "operating.torque");
-  }
+  locations.Alias("operating.loads[0]", "operating.torque");
+  locations.Alias("operating.loads[0].torque", "operating.torque");
+  locations.Alias("operating.loads[0].on", "operating.torque_on");
   locations.Alias("operating.speed.value", "operating.speed");
   locations.Alias("operating.speed.shaft", "operating.speed");
 }

@@ -79,6 +79,7 @@ nlohmann::json TierAdequacyJson(const TierAdequacy& adequacy, const TierAdequacy
   }
   return {
       {"adequate", adequacy.adequate},
+      {"complete", adequacy.complete},
       {"max_frequency_hz", options.max_frequency_hz},
       {"modes", modes},
       {"adequate_tier", adequacy.adequate_tier ? nlohmann::json(TierName(*adequacy.adequate_tier))

@@ -1,6 +1,7 @@
 #include "gearnvh/model/spec_parameters.h"
 
 #include <regex>
+#include <stdexcept>
 
 #include "gearnvh/model/count_text.h"
 #include "gearnvh/model/input_error.h"
@@ -14,6 +15,11 @@ const std::vector<std::string>& VariableParameters() {
   return names;
 }
 
+namespace {
+
+// The train parameter a schema-1 name is on the train TrainOf makes of the pair
+// (operating.torque: operating.loads[0].torque; mesh.backlash: meshes[0].backlash), nullopt when
+// `name` is not one of VariableParameters().
 std::optional<std::string> TrainParameterOfPair(const std::string& name) {
   if (name == "operating.speed" || name == "operating.excitation[0].amplitude") return name;
   if (name == "operating.torque") return "operating.loads[0].torque";
@@ -23,6 +29,8 @@ std::optional<std::string> TrainParameterOfPair(const std::string& name) {
   }
   return std::nullopt;
 }
+
+}  // namespace
 
 void SetParameter(GearboxSpec& spec, const std::string& name, double value) {
   const std::optional<std::string> train_name = TrainParameterOfPair(name);
@@ -107,43 +115,57 @@ std::string TrainParameterRejection(const std::string& name) {
 void SetTrainParameter(TrainSpec& spec, const std::string& name, double value,
                        const std::string& field) {
   const std::optional<TrainParameterName> p = Parse(name);
-  if (!p) throw InputError(field, 0, name, TrainParameterRejection(name));
-  if (p->key == "speed") {
-    spec.operating.speed = value;
-  } else if (p->list == "operating.loads") {
-    std::string entries;
-    for (size_t i = 0; i < spec.operating.loads.size(); ++i) {
-      entries += (i ? ", " : "") + std::to_string(i) + ": on " + spec.operating.loads[i].on;
-    }
-    RequireIndex(*p, spec.operating.loads.size(), name, field, entries);
-    TrainLoad& load = spec.operating.loads[p->index];
-    if (load.pinion_torque) {
+  const std::optional<TrainParameter> kind = TrainParameterOf(name);
+  if (!p || !kind) throw InputError(field, 0, name, TrainParameterRejection(name));
+  switch (*kind) {
+    case TrainParameter::kSpeed:
+      spec.operating.speed = value;
+      return;
+    case TrainParameter::kLoadTorque: {
+      std::string entries;
+      for (size_t i = 0; i < spec.operating.loads.size(); ++i) {
+        entries += (i ? ", " : "") + std::to_string(i) + ": on " + spec.operating.loads[i].on;
+      }
+      RequireIndex(*p, spec.operating.loads.size(), name, field, entries);
+      TrainLoad& load = spec.operating.loads[p->index];
+      if (!load.pinion_torque) {
+        load.torque = value;
+        return;
+      }
       // A schema-1 load written on the pinion varies as written; the output resists its z2 / z1
       // times (GearboxSpec::WheelTorque's expression, so the pair and its train agree bitwise).
+      if (!IsSchemaOnePair(spec)) {
+        throw std::logic_error("SetTrainParameter: a pinion torque on a train of another form");
+      }
       load.pinion_torque = value;
-      load.torque =
-          value * static_cast<double>(spec.gears[1].gear.teeth) / spec.gears[0].gear.teeth;
-    } else {
-      load.torque = value;
+      load.torque = value * static_cast<double>(spec.FindGear("wheel")->gear.teeth) /
+                    spec.FindGear("pinion")->gear.teeth;
+      return;
     }
-  } else if (p->list == "operating.excitation") {
-    std::string entries;
-    for (size_t i = 0; i < spec.operating.excitation.size(); ++i) {
-      entries += (i ? ", " : "") + std::to_string(i) + ": order " +
-                 std::to_string(spec.operating.excitation[i].order);
+    case TrainParameter::kExcitationAmplitude: {
+      std::string entries;
+      for (size_t i = 0; i < spec.operating.excitation.size(); ++i) {
+        entries += (i ? ", " : "") + std::to_string(i) + ": order " +
+                   std::to_string(spec.operating.excitation[i].order);
+      }
+      RequireIndex(*p, spec.operating.excitation.size(), name, field, entries);
+      spec.operating.excitation[p->index].amplitude = value;
+      return;
     }
-    RequireIndex(*p, spec.operating.excitation.size(), name, field, entries);
-    spec.operating.excitation[p->index].amplitude = value;
-  } else {
-    std::string entries;
-    for (size_t i = 0; i < spec.meshes.size(); ++i) {
-      entries += (i ? ", " : "") + std::to_string(i) + ": " + spec.meshes[i].Name();
+    case TrainParameter::kBacklash:
+    case TrainParameter::kDampingRatio:
+    case TrainParameter::kFrictionCoefficient: {
+      std::string entries;
+      for (size_t i = 0; i < spec.meshes.size(); ++i) {
+        entries += (i ? ", " : "") + std::to_string(i) + ": " + spec.meshes[i].Name();
+      }
+      RequireIndex(*p, spec.meshes.size(), name, field, entries);
+      MeshSpec& mesh = spec.meshes[p->index].mesh;
+      (*kind == TrainParameter::kBacklash       ? mesh.backlash
+       : *kind == TrainParameter::kDampingRatio ? mesh.damping_ratio
+                                                : mesh.friction_coefficient) = value;
+      return;
     }
-    RequireIndex(*p, spec.meshes.size(), name, field, entries);
-    MeshSpec& mesh = spec.meshes[p->index].mesh;
-    (p->key == "backlash"        ? mesh.backlash
-     : p->key == "damping_ratio" ? mesh.damping_ratio
-                                 : mesh.friction_coefficient) = value;
   }
 }
 

@@ -289,7 +289,12 @@ bool IsSchemaOnePair(const TrainSpec& spec) {
   };
   const TrainMesh& mesh = spec.meshes.front();
   const TrainLoad& load = spec.operating.loads.front();
-  return schema_one_body(spec.shafts[0], spec.gears[0], "input", "pinion") &&
+  // A pinion torque and the output's load agree (GearboxSpec::WheelTorque).
+  const bool load_form =
+      !load.pinion_torque || load.torque == *load.pinion_torque *
+                                                static_cast<double>(spec.gears[1].gear.teeth) /
+                                                spec.gears[0].gear.teeth;
+  return load_form && schema_one_body(spec.shafts[0], spec.gears[0], "input", "pinion") &&
          schema_one_body(spec.shafts[1], spec.gears[1], "output", "wheel") &&
          mesh.gear_a == "pinion" && mesh.gear_b == "wheel" && mesh.center_line_angle == 0.0 &&
          spec.operating.input_shaft == "input" && load.on == "output";

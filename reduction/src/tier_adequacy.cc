@@ -7,6 +7,7 @@
 #include <functional>
 #include <numbers>
 #include <optional>
+#include <stdexcept>
 
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/model/modal_analysis.h"
@@ -34,8 +35,11 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
 }  // namespace
 
 MeshModes MeshSeenModes(const NaturalModes& modes, const std::vector<Eigen::VectorXd>& meshes,
-                        const TierAdequacyOptions& options) {
+                        const std::vector<double>& limits_hz, const TierAdequacyOptions& options) {
   options.Validate();
+  if (limits_hz.size() != meshes.size()) {
+    throw std::invalid_argument("MeshSeenModes: one frequency limit per mesh");
+  }
   const size_t count = modes.frequencies_hz.size();
   // compliance[m][i] = (v_m^T phi_i)^2 / w_i^2, each mesh's share over the computed modes.
   std::vector<std::vector<double>> compliance(meshes.size(), std::vector<double>(count));
@@ -54,7 +58,8 @@ MeshModes MeshSeenModes(const NaturalModes& modes, const std::vector<Eigen::Vect
     double share = 0.0;
     int seen_by = 0;
     for (size_t m = 0; m < meshes.size(); ++m) {
-      const double s = total[m] > 0.0 ? compliance[m][i] / total[m] : 0.0;
+      const bool excited = modes.frequencies_hz[i] <= limits_hz[m];
+      const double s = excited && total[m] > 0.0 ? compliance[m][i] / total[m] : 0.0;
       if (s > share) {
         share = s;
         seen_by = static_cast<int>(m);
@@ -87,16 +92,31 @@ MeshModes FullModelMeshModes(const ComponentModel& model, const TierAdequacyOpti
           ? LowestNaturalModes(Eigen::MatrixXd(K), Eigen::MatrixXd(model.M), model.dofs, true,
                                magnitude)
           : LowestSparseNaturalModes(K, model.M, options.sparse_modes, 1, magnitude);
-  return MeshSeenModes(modes, {model.v_drive}, options);
+  return MeshSeenModes(modes, {model.v_drive}, {options.max_frequency_hz}, options);
 }
 
-MeshModes FullModelMeshModes(const TrainStructure& structure, const TierAdequacyOptions& options) {
+MeshModes FullModelMeshModes(const TrainStructure& structure, const std::vector<double>& limits_hz,
+                             const TierAdequacyOptions& options) {
   options.Validate();
-  const int count = structure.dofs <= options.dense_limit ? structure.dofs : options.sparse_modes;
-  const NaturalModes modes = FullTrainModes(structure, count, options.dense_limit, true);
+  const bool dense = structure.dofs <= options.dense_limit;
+  int count = dense ? structure.dofs : options.sparse_modes;
+  NaturalModes modes = FullTrainModes(structure, count, options.dense_limit, true);
+  // Lanczos gives the lowest `count`: ask for more until they pass the highest limit.
+  const double highest = *std::max_element(limits_hz.begin(), limits_hz.end());
+  const auto short_of_limit = [&] {
+    return static_cast<int>(modes.frequencies_hz.size()) == count &&
+           modes.frequencies_hz.back() < highest;
+  };
+  while (!dense && short_of_limit() && 2 * count < structure.dofs) {
+    count *= 2;
+    modes = FullTrainModes(structure, count, options.dense_limit, true);
+  }
   std::vector<Eigen::VectorXd> meshes;
   for (const TrainMeshVectors& m : structure.meshes) meshes.push_back(m.v_drive);
-  return MeshSeenModes(modes, meshes, options);
+  MeshModes out = MeshSeenModes(modes, meshes, limits_hz, options);
+  out.complete = !modes.frequencies_hz.empty() && !short_of_limit();
+  out.found_up_to_hz = modes.frequencies_hz.empty() ? 0.0 : modes.frequencies_hz.back();
+  return out;
 }
 
 namespace {
@@ -154,10 +174,12 @@ bool Adequate(const std::vector<TierModeMatch>& modes) {
 
 // The verdict on `tier` (its matches), and when inadequate the lowest adequate tier in the order
 // of cost: `adequate_at(t)` reduces to tier t (nullopt: not available) and matches it.
-TierAdequacy Assess(Tier tier, std::vector<TierModeMatch> matches,
+TierAdequacy Assess(Tier tier, const MeshModes& full, std::vector<TierModeMatch> matches,
                     const std::function<std::optional<bool>(Tier)>& adequate_at) {
   TierAdequacy out;
   out.tier = tier;
+  out.complete = full.complete;
+  out.found_up_to_hz = full.found_up_to_hz;
   out.modes = std::move(matches);
   out.adequate = Adequate(out.modes);
   if (out.adequate) return out;
@@ -177,7 +199,7 @@ TierAdequacy Assess(Tier tier, std::vector<TierModeMatch> matches,
 TierAdequacy AssessTierAdequacy(const ComponentModel& model, const ReducedModel& reduced,
                                 const MeshModes& full, const TierAdequacyOptions& options) {
   options.Validate();
-  return Assess(reduced.tier, Match(model, reduced, full, options),
+  return Assess(reduced.tier, full, Match(model, reduced, full, options),
                 [&](Tier t) -> std::optional<bool> {
                   if (!TierAvailable(model, t)) return std::nullopt;
                   return Adequate(Match(model, ReduceModel(model, t), full, options));
@@ -189,14 +211,26 @@ TierAdequacy AssessTierAdequacy(const TrainStructure& structure, const TrainRedu
                                 const ReductionOptions& reduction) {
   options.Validate();
   return Assess(
-      reduced.tier, Match(structure, reduced, full, options), [&](Tier t) -> std::optional<bool> {
+      reduced.tier, full, Match(structure, reduced, full, options),
+      [&](Tier t) -> std::optional<bool> {
         if (!TrainTierAvailable(structure, t)) return std::nullopt;
-        return Adequate(Match(structure, ReduceTrain(structure, t, reduction), full, options));
+        try {
+          return Adequate(Match(structure, ReduceTrain(structure, t, reduction), full, options));
+        } catch (const StructureNotReducible&) {
+          return std::nullopt;  // a tier this structure cannot have is no advice
+        }
       });
 }
 
 std::string TierAdequacy::Warning(const std::vector<std::string>& mesh_names) const {
-  if (adequate) return "";
+  // The modes the full model's solve did not reach were not checked: said, not passed over.
+  const std::string unchecked =
+      complete ? std::string()
+               : fmt::format(
+                     "the full model's modes were found only up to {:.0f} Hz: {} was "
+                     "checked against those",
+                     found_up_to_hz, TierName(tier));
+  if (adequate) return unchecked;
   const TierModeMatch* worst = nullptr;
   for (const TierModeMatch& m : modes) {
     if (!m.reproduced && (worst == nullptr || m.share > worst->share)) worst = &m;
@@ -218,7 +252,7 @@ std::string TierAdequacy::Warning(const std::vector<std::string>& mesh_names) co
                                       TierName(*adequate_tier),
                                       mesh_names.size() > 1 ? "the meshes see" : "the mesh sees")
                         : std::string("; no tier reproduces them all");
-  return text;
+  return unchecked.empty() ? text : text + "; " + unchecked;
 }
 
 }  // namespace gearnvh

@@ -241,11 +241,14 @@ TEST_CASE("one parameter registry: a pair's parameter is its train's", "[train][
   SetParameter(pair, "operating.torque", 30.0);
   CHECK(pair.operating.torque == 30.0);
   CHECK(pair.operating.torque_on == TorqueOn::kPinion);
-  CHECK(TrainOf(pair).operating.loads[0].torque == pair.WheelTorque());
   TrainSpec train = TrainOf(pair);
   SetTrainParameter(train, "operating.loads[0].torque", 12.0, "x");
   CHECK(train.operating.loads[0].pinion_torque == 12.0);
-  CHECK(train.operating.loads[0].torque == 12.0 * 43.0 / 27.0);  // same operations
+  CHECK(train.operating.loads[0].torque == GearboxOf(train).WheelTorque());  // same operations
+  CHECK(train.operating.loads[0].torque == Approx(12.0 * 43.0 / 27.0).epsilon(1e-15));
+  // A load that disagrees with its pinion torque is no schema-1 pair.
+  train.operating.loads[0].torque *= 2.0;
+  CHECK_FALSE(IsSchemaOnePair(train));
   // What the registry cannot set says why.
   GearboxSpec plain = testing::StandardPair(27, 43);
   CHECK_THROWS_WITH(SetParameter(plain, "operating.excitation[0].amplitude", 1.0),

@@ -37,12 +37,8 @@ struct ParameterValue {
   double value = 0.0;
 };
 
-// The train parameter a schema-1 name is on the train TrainOf makes of the pair
-// (operating.torque: operating.loads[0].torque; mesh.backlash: meshes[0].backlash), nullopt when
-// `name` is not one of VariableParameters().
-std::optional<std::string> TrainParameterOfPair(const std::string& name);
-
-// Sets one parameter through the train registry below (TrainOf, SetTrainParameter, GearboxOf);
+// Sets one parameter through the train registry below (TrainOf, SetTrainParameter, GearboxOf;
+// operating.torque is operating.loads[0].torque, mesh.backlash meshes[0].backlash, ...);
 // ParameterNotVariable when it cannot. The caller re-validates the spec (ValidateGearboxSpec)
 // before use.
 void SetParameter(GearboxSpec& spec, const std::string& name, double value);

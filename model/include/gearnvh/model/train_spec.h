@@ -144,7 +144,8 @@ GearboxSpec MeshGearbox(const TrainSpec& spec, const TrainTopology& topology, in
 // with no inertia of their own), gears "pinion" and "wheel", one mesh, one load on the output.
 TrainSpec TrainOf(const GearboxSpec& spec);
 
-// Whether `spec` is a train TrainOf can give (so GearboxOf can take it back).
+// Whether `spec` is a train TrainOf can give (so GearboxOf can take it back), its load agreeing
+// with its pinion torque when it has one.
 bool IsSchemaOnePair(const TrainSpec& spec);
 
 // The schema-1 gearbox a train of TrainOf's form means: GearboxOf(TrainOf(p)) == p. Throws
