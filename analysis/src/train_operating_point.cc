@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "gearnvh/analysis/operating_point.h"
+#include "gearnvh/analysis/train_atlas.h"
 #include "gearnvh/analysis/train_load_warnings.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/solver/train_reduced_tables.h"
@@ -296,9 +297,7 @@ void AssessTier(const TrainSpec& spec, const TrainRunOptions& options, TrainOper
   ThrowIfCancelled(options.cancel);
   op.adequacy = AssessTierAdequacy(structure, reduced, full, adequacy);
   op.adequacy_options = adequacy;
-  std::vector<std::string> names;
-  for (const TrainMesh& m : spec.meshes) names.push_back(m.Name());
-  if (const std::string warning = op.adequacy.Warning(names); !warning.empty()) {
+  if (const std::string warning = op.adequacy.Warning(MeshNames(spec)); !warning.empty()) {
     op.warnings.push_back(warning);
   }
 }

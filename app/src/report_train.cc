@@ -10,6 +10,7 @@
 #include "display_units.h"
 #include "finite_results.h"
 #include "gearnvh/analysis/order_tracks.h"
+#include "gearnvh/analysis/train_atlas.h"
 #include "gearnvh/analysis/train_operating_point.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/solver/train_reduced_tables.h"
@@ -358,10 +359,8 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
   nlohmann::json images = nlohmann::json::array();
   for (const auto& [name, caption] : figures)
     images.push_back({{"file", name}, {"caption", caption}});
-  std::vector<std::string> mesh_names;
-  for (const TrainMesh& m : spec.meshes) mesh_names.push_back(m.Name());
   const nlohmann::json adequacy =
-      op.adequacy_options ? TierAdequacyJson(op.adequacy, *op.adequacy_options, mesh_names)
+      op.adequacy_options ? TierAdequacyJson(op.adequacy, *op.adequacy_options, MeshNames(spec))
                           : nlohmann::json(nullptr);
   nlohmann::json results = {{"name", spec.name},
                             {"file", file},

@@ -13,6 +13,7 @@
 #include "display_units.h"
 #include "finite_results.h"
 #include "gearnvh/analysis/operating_point.h"
+#include "gearnvh/analysis/train_atlas.h"
 #include "gearnvh/analysis/train_operating_point.h"
 #include "gearnvh/model/gear_train.h"
 #include "gearnvh/model/input_error.h"
@@ -203,9 +204,7 @@ nlohmann::json TrainSimulationJson(const TrainOperatingPoint& op, const TrainSpe
   doc["common_period_s"] = tables.common_period;
   doc["warnings"] = op.warnings;
   if (op.adequacy_options) {
-    std::vector<std::string> names;
-    for (const TrainMesh& m : spec.meshes) names.push_back(m.Name());
-    doc["tier_adequacy"] = TierAdequacyJson(op.adequacy, *op.adequacy_options, names);
+    doc["tier_adequacy"] = TierAdequacyJson(op.adequacy, *op.adequacy_options, MeshNames(spec));
   }
   doc["memory_estimate"] = MemoryJson(op.memory);
   doc["summary"] = {{"status", TrainStepperInfoName(s.info)},

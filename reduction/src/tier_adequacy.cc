@@ -65,7 +65,7 @@ MeshModes MeshSeenModes(const NaturalModes& modes, const std::vector<Eigen::Vect
         seen_by = static_cast<int>(m);
       }
     }
-    if (modes.frequencies_hz[i] > options.max_frequency_hz || share < options.min_share) continue;
+    if (share < options.min_share) continue;  // above every mesh's limit the share is 0
     out.frequencies_hz.push_back(modes.frequencies_hz[i]);
     out.shares.push_back(share);
     out.mesh.push_back(seen_by);

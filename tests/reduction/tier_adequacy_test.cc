@@ -149,11 +149,19 @@ TEST_CASE("a schema-1 pair's train gets the pair's tier verdict from its own str
   }
 }
 
+// The elastic two-stage train (model/test_trains.h), its mesh models and its full structure.
+struct TwoStageModel {
+  TrainSpec spec = testing::ElasticTwoStage();
+  GearTrain train = BuildGearTrain(spec);
+  TrainStructure structure = AssembleTrainStructure(spec, train);
+};
+
 TEST_CASE("a train's tier check names the mesh that sees the missed mode and a tier that has it",
           "[reduction][adequacy][train]") {
-  const TrainSpec spec = testing::ElasticTwoStage();
-  const GearTrain train = BuildGearTrain(spec);
-  const TrainStructure structure = AssembleTrainStructure(spec, train);
+  const TwoStageModel model;
+  const TrainSpec& spec = model.spec;
+  const GearTrain& train = model.train;
+  const TrainStructure& structure = model.structure;
   TierAdequacyOptions options;
   std::vector<double> limits;
   for (const TrainMeshModel& m : train.meshes) limits.push_back(3.0 * m.geometry.mesh_frequency_hz);
@@ -193,11 +201,11 @@ TEST_CASE("a train's tier check names the mesh that sees the missed mode and a t
 TEST_CASE("a train's sparse and dense full-model solves give the same mesh modes",
           "[reduction][adequacy][train]") {
   // Above dense_limit the train's modes come from Lanczos, which drops the free rotation as its
-  // lowest eigenpair instead of projecting it out; a limit above the first 60 modes makes it ask
-  // for more (the count doubles until the modes pass the limit).
-  const TrainSpec spec = testing::ElasticTwoStage();
-  const GearTrain train = BuildGearTrain(spec);
-  const TrainStructure structure = AssembleTrainStructure(spec, train);
+  // lowest eigenpair instead of projecting it out; a limit above the first sparse_modes (8 here)
+  // makes it ask for more (the count doubles until the modes pass the limit).
+  const TwoStageModel model;
+  const TrainSpec& spec = model.spec;
+  const TrainStructure& structure = model.structure;
   TierAdequacyOptions options;
   options.max_frequency_hz = 20000.0;
   options.sparse_modes = 8;
