@@ -165,8 +165,7 @@ nlohmann::json CheckReport(const GearboxSpec& spec, const ComponentModel& model,
                             {"natural_frequencies_hz", r.natural_frequencies_hz},
                             {"static_mesh_compliance", r.static_mesh_compliance},
                             {"compliance_error_vs_full", ComplianceErrorJson(ComplianceErrorVsFull(
-                                                             r.tier, r.compliance_error_vs_full))},
-                            {"residual_compliance", r.residual_compliance}});
+                                                             r.tier, r.compliance_error_vs_full))}});
   }
   doc["tiers_unavailable"] = unavailable;
   doc["full_static_mesh_compliance"] =

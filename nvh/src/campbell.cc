@@ -157,7 +157,7 @@ ModeInfo Identify(const LinearRotorModel& model, const Eigen::VectorXcd& shape, 
 
 LinearRotorModel LinearisedRotor(const ComponentModel& model, const ReducedModel& reduced) {
   LinearRotorModel r;
-  const double k = reduced.EffectiveMeshStiffness(model.mesh_summary.mean);
+  const double k = model.mesh_summary.mean;
   r.M = reduced.M;
   r.K = reduced.K + k * reduced.v_drive * reduced.v_drive.transpose();
   r.C = reduced.C + model.mesh_damping * reduced.v_drive * reduced.v_drive.transpose();

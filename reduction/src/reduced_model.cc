@@ -122,7 +122,7 @@ Eigen::VectorXd HeldStaticResponse(const ReducedModel& r) {
 }
 
 void Finish(const ComponentModel& m, ReducedModel& r, double full_compliance) {
-  r.static_mesh_compliance = r.v_drive.dot(HeldStaticResponse(r)) + r.residual_compliance;
+  r.static_mesh_compliance = r.v_drive.dot(HeldStaticResponse(r));
   r.full_static_mesh_compliance = full_compliance;
   r.compliance_error_vs_full =
       full_compliance > 0.0 ? (r.static_mesh_compliance - full_compliance) / full_compliance : 0.0;
@@ -171,17 +171,15 @@ double FullStaticMeshCompliance(const ComponentModel& m) {
 
 StrainMagnitude ReducedStrainMagnitude(const ComponentModel& model, const ReducedModel& r,
                                        double mean_mesh_stiffness) {
-  const double k = r.EffectiveMeshStiffness(mean_mesh_stiffness);
-  return [&model, &r, k](const Eigen::VectorXd& x) {
-    return FullStrainMagnitude(model, k, r.recovery * x);
+  return [&model, &r, mean_mesh_stiffness](const Eigen::VectorXd& x) {
+    return FullStrainMagnitude(model, mean_mesh_stiffness, r.recovery * x);
   };
 }
 
 std::vector<double> ReducedNaturalFrequencies(const ComponentModel& model, const ReducedModel& r,
                                               double mean_mesh_stiffness, int count,
                                               int* rigid_body_modes) {
-  const Eigen::MatrixXd K =
-      r.K + r.EffectiveMeshStiffness(mean_mesh_stiffness) * r.v_drive * r.v_drive.transpose();
+  const Eigen::MatrixXd K = r.K + mean_mesh_stiffness * r.v_drive * r.v_drive.transpose();
   const NaturalModes modes = LowestNaturalModes(
       K, r.M, count, false, ReducedStrainMagnitude(model, r, mean_mesh_stiffness));
   if (rigid_body_modes) *rigid_body_modes = modes.rigid_body_modes;
@@ -212,7 +210,7 @@ ReducedModel ReduceModel(const ComponentModel& m, Tier tier, const ReductionOpti
     // Free-free modes of the 40-DOF model, lowest 20 kept (M-normalised).
     Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(r.K, r.M);
     Eigen::MatrixXd basis = eig.eigenvectors().leftCols(kTruncatedModes);
-    if (tier == Tier::kN20Mta && options.mta_vector_form) {
+    if (tier == Tier::kN20Mta) {
       // Residual vector: the held static shape minus its part in the kept modes, M-normalised.
       const Eigen::VectorXd shape = HeldStaticResponse(r);
       Eigen::VectorXd res = shape - basis * (basis.transpose() * r.M * shape);
@@ -224,13 +222,9 @@ ReducedModel ReduceModel(const ComponentModel& m, Tier tier, const ReductionOpti
     t.boundary_dof = 0;
     t.modal_dof = t.dof;
     r = std::move(t);
-    if (tier == Tier::kN20Mta && !options.mta_vector_form) {
-      r.residual_compliance = full_compliance - r.v_drive.dot(HeldStaticResponse(r));
-    }
   }
   r.tier = tier;
   r.name = TierName(tier);
-  if (tier == Tier::kN20Mta && options.mta_vector_form) r.name += " (vector)";
   Finish(m, r, full_compliance);
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;

@@ -154,8 +154,7 @@ std::vector<TierModeMatch> Match(const NaturalModes& tier, const Eigen::MatrixXd
 
 std::vector<TierModeMatch> Match(const ComponentModel& model, const ReducedModel& r,
                                  const MeshModes& full, const TierAdequacyOptions& options) {
-  const Eigen::MatrixXd K =
-      r.K + r.EffectiveMeshStiffness(model.mesh_summary.mean) * r.v_drive * r.v_drive.transpose();
+  const Eigen::MatrixXd K = r.K + model.mesh_summary.mean * r.v_drive * r.v_drive.transpose();
   const NaturalModes tier = LowestNaturalModes(
       K, r.M, r.dof, true, ReducedStrainMagnitude(model, r, model.mesh_summary.mean));
   return Match(tier, r.recovery, model.M, full, options);

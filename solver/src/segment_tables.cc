@@ -285,7 +285,7 @@ SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel
       Eigen::VectorXd f = static_force;
       Eigen::VectorXd error_force = Eigen::VectorXd::Zero(n);  // force per metre of e_err
       if (state == ContactState::kDrive) {
-        const double k = r.EffectiveMeshStiffness(s.drive.stiffness);
+        const double k = s.drive.stiffness;
         const Eigen::VectorXd u =
             r.v_drive + mu * r.FrictionVector(Flank::kDrive, s.drive.friction_sigma,
                                               s.drive.friction_arm_pinion,
@@ -296,7 +296,7 @@ SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel
         f += k * (e + b) * u;
         error_force = k * u;
       } else if (state == ContactState::kBack) {
-        const double k = r.EffectiveMeshStiffness(s.back.stiffness);
+        const double k = s.back.stiffness;
         const Eigen::VectorXd u =
             r.v_back - mu * r.FrictionVector(Flank::kBack, s.back.friction_sigma,
                                              s.back.friction_arm_pinion, s.back.friction_arm_wheel);

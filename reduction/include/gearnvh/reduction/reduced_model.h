@@ -9,16 +9,17 @@
 //   tier 4  20 DOF  tier 3 + 8 Craig–Bampton fixed-interface modes
 //   tier 5  40 DOF  tier 3 + 28 fixed-interface modes ("N40 full")
 //   N20 simple  20  lowest 20 free-free modes of tier 5 (2 rigid rotations + 18 elastic)
-//   N20 MTA     20  N20 simple + residual mesh flexibility g_res in series with the mesh spring:
-//                   k_eff(t) = k(t) / (1 + k(t) g_res)   (Rixen 2001; Dickens et al. 1997)
-//                   (vector form, an option: the residual static shape as a 21st Ritz vector)
+//   N20 MTA     21  N20 simple + the mesh's residual static shape as a 21st Ritz vector (modal
+//                   truncation augmentation, vector form: Dickens et al. 1997; Rixen 2001). The one
+//                   form for every gearbox: on a train it adds one vector per mesh and so restores
+//                   the whole compliance matrix, the meshes' coupling too (docs/design.md §3).
 //
 // Static mesh compliance (the check quantity): the compliance along the drive line of action at the
 // mesh with both gear bodies' rotations held, g = v^T q where K q = v subject to th_z(pinion) =
 // th_z(wheel) = 0. Holding the gear rotations removes the structure's free torsional rotations with
 // boundary loads only, so Guyan and Craig–Bampton reproduce it exactly (constraint modes are exact
-// static shapes for boundary loads); modal truncation does not, and MTA adds the difference
-// g_res = g_full - g_truncated back in series with the mesh spring.
+// static shapes for boundary loads); modal truncation does not, and MTA's residual vector makes
+// the static shape itself part of the basis, so g is exact again.
 #pragma once
 
 #include <Eigen/Dense>
@@ -38,8 +39,6 @@ struct ReductionOptions {
   // Modal damping ratio of the Craig–Bampton fixed-interface modes (shaft structural damping), [0,
   // 1).
   double structural_damping_ratio = 0.01;
-  // MTA as one more Ritz vector (the residual static shape) instead of a series spring.
-  bool mta_vector_form = false;
   // Interior problems smaller than this use a dense eigensolver (Spectra needs ncv < n); >= 8.
   int dense_eigen_threshold = 64;
   void Validate() const;
@@ -57,15 +56,13 @@ struct ReducedModel {
   Eigen::VectorXd pinion_torsion, wheel_torsion;  // T^T e_thz of each gear
   Eigen::VectorXd static_force;                   // T^T f
   Eigen::MatrixXd recovery;                       // T, full DOF x dof
-  double residual_compliance = 0.0;               // g_res (MTA series form), m/N
-  double static_mesh_compliance = 0.0;            // g of this model incl. g_res, m/N
+  double static_mesh_compliance = 0.0;            // g of this model, m/N
   double full_static_mesh_compliance = 0.0;       // g of the full FE model, m/N
   double compliance_error_vs_full = 0.0;          // (g - g_full) / g_full
-  std::vector<double> natural_frequencies_hz;     // lowest 10 at mean (effective) mesh stiffness
+  std::vector<double> natural_frequencies_hz;     // lowest 10 at the mean mesh stiffness
   int rigid_body_modes = 0;
   double wall_seconds = 0.0;
 
-  double EffectiveMeshStiffness(double k) const { return k / (1.0 + k * residual_compliance); }
   Eigen::VectorXd FrictionVector(Flank flank, double sigma, double arm_pinion,
                                  double arm_wheel) const {
     return sigma *

@@ -11,7 +11,7 @@
 //   free:  K_s = K,  C_s = C + Omega1 G,  f_s = f,  B_s = [d, 0]
 //   back:  K_s = K + k (v' - mu w') v'^T,  C_s = C + Omega1 G + c (v' - mu w') v'^T,
 //          f_s = f + k (e - b)(v' - mu w'),  B_s = [d, k (v' - mu w')]
-// with k the segment's mean mesh stiffness (MTA: k / (1 + k g_res)), c the mesh damping, e the
+// with k the segment's mean mesh stiffness, c the mesh damping, e the
 // segment's unloaded error, b = backlash / 2, w/w' the segment's friction vectors, f the static
 // load and d = J1 e_pinion the excitation direction (torque J1 s on the pinion). Gaps (affine in
 // z): g+ = v^T x - e - e_err - b (drive contact while g+ > 0),
