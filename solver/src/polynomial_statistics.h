@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "bracketed_newton.h"
@@ -12,6 +13,15 @@
 namespace gearnvh::polynomial_statistics {
 
 inline constexpr int kMaxDegree = 20;
+
+// H_kl = 1 / (k + l + 1) = int_0^1 s^k s^l ds.
+inline constexpr auto kHilbert = [] {
+  std::array<std::array<double, kMaxDegree + 1>, kMaxDegree + 1> h{};
+  for (int k = 0; k <= kMaxDegree; ++k) {
+    for (int l = 0; l <= kMaxDegree; ++l) h[k][l] = 1.0 / (k + l + 1);
+  }
+  return h;
+}();
 
 // Coefficients a_0..a_d of p(s) = sum a_k s^k on [0, L].
 struct Poly {
@@ -41,16 +51,20 @@ struct Poly {
     for (int k = d - 1; k >= 0; --k) v = v * L + coefficient(k) / (k + 1);
     return v * L;
   }
-  // int_0^L (p(s) - offset)^2 ds: the square's coefficients, then their integral.
+  // int_0^L (p(s) - offset)^2 ds = L c^T H c with c_k = a_k L^k (p on [0, 1]) and H the Hilbert
+  // matrix, H_kl = 1 / (k + l + 1): its symmetric half, each row a contiguous product.
   double SquareIntegral(double L, double offset) const {
-    double b[2 * kMaxDegree + 1] = {};
+    double c[kMaxDegree + 1];
+    double power = 1.0;
+    for (int k = 0; k <= d; ++k, power *= L) c[k] = (k == 0 ? a[0] - offset : a[k]) * power;
+    double off_diagonal = 0.0, diagonal = 0.0;
     for (int k = 0; k <= d; ++k) {
-      const double ak = k == 0 ? a[0] - offset : a[k];
-      for (int l = 0; l <= d; ++l) b[k + l] += ak * (l == 0 ? a[0] - offset : a[l]);
+      double row = 0.0;
+      for (int l = k + 1; l <= d; ++l) row += kHilbert[k][l] * c[l];
+      off_diagonal += c[k] * row;
+      diagonal += kHilbert[k][k] * c[k] * c[k];
     }
-    double v = b[2 * d] / (2 * d + 1);
-    for (int j = 2 * d - 1; j >= 0; --j) v = v * L + b[j] / (j + 1);
-    return v * L;
+    return (diagonal + 2.0 * off_diagonal) * L;
   }
   // sup |p''| on [0, L].
   double CurvatureBound(double L) const {

@@ -19,6 +19,23 @@ TrainRecorder::TrainRecorder(const TrainTables& tables, int samples_per_cycle, d
   acceleration_.resize(static_cast<size_t>(tables.bodies()));
   taylor_.resize(tables.m, kTerms + 1);
   chunk_z_.resize(tables.m);
+  const int n = tables.n;
+  te_rows_.resize(static_cast<Eigen::Index>(meshes), n);
+  back_rows_.resize(static_cast<Eigen::Index>(meshes), n);
+  for (size_t i = 0; i < meshes; ++i) {
+    const TrainMeshTable& mt = tables.meshes[i];
+    te_rows_.row(static_cast<Eigen::Index>(i)) = mt.v.transpose();
+    back_rows_.row(static_cast<Eigen::Index>(i)) = (mt.distinct_back ? mt.v_back : mt.v).transpose();
+  }
+  for (int b = 0; b < tables.bodies(); ++b) {
+    if (tables.loose[static_cast<size_t>(b)]) loose_bodies_.push_back(b);
+  }
+  loose_rows_.resize(static_cast<Eigen::Index>(loose_bodies_.size()), n);
+  for (size_t l = 0; l < loose_bodies_.size(); ++l)
+    loose_rows_.row(static_cast<Eigen::Index>(l)) = tables.body_angles.row(loose_bodies_[l]);
+  te_coefficients_.resize(te_rows_.rows(), kTerms + 1);
+  back_coefficients_.resize(back_rows_.rows(), kTerms + 1);
+  acceleration_coefficients_.resize(loose_rows_.rows(), kTerms);
   free_time_.assign(meshes, 0.0);
   impact_sum2_.assign(meshes, 0.0);
   impact_max_.assign(meshes, 0.0);
@@ -135,10 +152,13 @@ void TrainRecorder::Chunk(double start, double length, const std::vector<int>& s
                           const std::vector<ContactState>& states) {
   namespace ps = polynomial_statistics;
   const int n = t_.n;
-  double te[kTerms + 1], force[kTerms + 1], rate[kTerms + 1];
+  const auto positions = taylor_.topRows(n);
+  te_coefficients_.noalias() = te_rows_ * positions;
+  double force[kTerms + 1];
   for (size_t i = 0; i < t_.meshes.size(); ++i) {
     const TrainMeshTable& mt = t_.meshes[i];
-    for (int k = 0; k <= kTerms; ++k) te[k] = mt.v.dot(taylor_.col(k).head(n));
+    const Eigen::Index row = static_cast<Eigen::Index>(i);
+    const double* te = te_coefficients_.row(row).data();
     const ps::Poly delta = ps::Trimmed(te, kTerms, length);
     ps::Accumulate(te_[i], delta, length);
     ps::UpdateExtrema(delta, length, start, te_[i], true);
@@ -154,27 +174,28 @@ void TrainRecorder::Chunk(double start, double length, const std::vector<int>& s
     const double k_mesh = drive ? mt.k_drive[j] : mt.k_back[j];
     const double wall = t_.Wall(static_cast<int>(i), segments[i], drive, taylor_.col(0));
     // The back flank's own row from tier 2 on (its lateral terms differ from the TE row's).
+    const double* flank = te;
     if (!drive && mt.distinct_back) {
-      for (int k = 0; k <= kTerms; ++k) te[k] = mt.v_back.dot(taylor_.col(k).head(n));
+      back_coefficients_.row(row).noalias() = back_rows_.row(row) * positions;
+      flank = back_coefficients_.row(row).data();
     }
     for (int k = 0; k <= kTerms; ++k) {
-      rate[k] = k < kTerms ? (k + 1) * te[k + 1] : 0.0;
-      force[k] = k_mesh * te[k] + mt.damping * rate[k];
+      const double rate = k < kTerms ? (k + 1) * flank[k + 1] : 0.0;
+      force[k] = k_mesh * flank[k] + mt.damping * rate;
     }
     force[0] -= k_mesh * wall;
     const ps::Poly f = ps::Trimmed(force, kTerms, length);
     ps::Accumulate(force_[i], f, length);
     ps::UpdateExtrema(f, length, start, force_[i], false);
   }
-  double accel[kTerms + 1];
-  for (int b = 0; b < t_.bodies(); ++b) {
-    if (!t_.loose[static_cast<size_t>(b)]) continue;
-    // The acceleration is the velocity's derivative: (k + 1) times its next coefficient; the
-    // body's angle is its row of body_angles (tier 1: its own coordinate).
-    const auto row = t_.body_angles.row(b);
-    for (int k = 0; k < kTerms; ++k) accel[k] = (k + 1) * row.dot(taylor_.col(k + 1).segment(n, n));
-    ps::Accumulate(acceleration_[static_cast<size_t>(b)], ps::Trimmed(accel, kTerms - 1, length),
-                   length);
+  // A loose body's acceleration is its velocity's derivative: (k + 1) times the next coefficient
+  // of its angle row (body_angles; tier 1: its own coordinate) on the velocities.
+  acceleration_coefficients_.noalias() = loose_rows_ * taylor_.block(n, 1, n, kTerms);
+  for (size_t l = 0; l < loose_bodies_.size(); ++l) {
+    double* accel = acceleration_coefficients_.row(static_cast<Eigen::Index>(l)).data();
+    for (int k = 0; k < kTerms; ++k) accel[k] *= k + 1;
+    ps::Accumulate(acceleration_[static_cast<size_t>(loose_bodies_[l])],
+                   ps::Trimmed(accel, kTerms - 1, length), length);
   }
   exact_duration_ += length;
 }

@@ -120,6 +120,13 @@ class TrainRecorder {
   std::vector<OutputStatistics> te_, force_, acceleration_;  // per mesh, mesh, body
   Eigen::MatrixXd taylor_;
   Eigen::VectorXd chunk_z_;
+  // A chunk's polynomial coefficients as products, not one dot product per mesh and term: every
+  // mesh's TE row (and back-flank row) and every loose body's angle row, times the Taylor columns.
+  // Row-major, so a row is one polynomial's contiguous coefficients.
+  using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  RowMatrix te_rows_, back_rows_, loose_rows_;
+  RowMatrix te_coefficients_, back_coefficients_, acceleration_coefficients_;
+  std::vector<int> loose_bodies_;
   std::vector<double> free_time_, impact_sum2_, impact_max_;
   std::vector<long> drive_impacts_, back_impacts_, separations_, grazing_;
   double keep_from_ = 0.0;
