@@ -107,7 +107,7 @@ SpeedSweepResult RunSpeedSweep(const GearboxSpec& spec, const ComponentModel& mo
   result.order_bins =
       static_cast<int>(std::min<long>(half, static_cast<long>(max_order / result.order_step))) + 1;
 
-  // Campbell: the tier linearised in drive contact at the mean (effective) mesh stiffness; every
+  // Campbell: the tier linearised in drive contact at the mean mesh stiffness; every
   // mode up to 3x the highest mesh frequency of the sweep.
   const LinearRotorModel linear = LinearisedRotor(model, reduced);
   CampbellOptions campbell;

@@ -8,6 +8,7 @@
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/model/modal_analysis.h"
 #include "gearnvh/reduction/craig_bampton.h"
+#include "residual_vectors.h"
 
 namespace gearnvh {
 
@@ -107,7 +108,7 @@ ReducedModel Transform(const ReducedModel& a, const Eigen::MatrixXd& P) {
 
 // Held-rotation static response of a dense reduced model: K x = v subject to C x = 0 (C = gear
 // rotation rows of the recovery matrix), by the saddle-point system.
-Eigen::VectorXd HeldStaticResponse(const ReducedModel& r) {
+Eigen::VectorXd HeldStaticResponse(const ReducedModel& r, const Eigen::VectorXd& v) {
   const int n = r.dof;
   Eigen::MatrixXd A = Eigen::MatrixXd::Zero(n + 2, n + 2);
   A.topLeftCorner(n, n) = r.K;
@@ -116,13 +117,13 @@ Eigen::VectorXd HeldStaticResponse(const ReducedModel& r) {
   A.block(0, n, n, 1) = r.pinion_torsion;
   A.block(0, n + 1, n, 1) = r.wheel_torsion;
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n + 2);
-  rhs.head(n) = r.v_drive;
+  rhs.head(n) = v;
   const Eigen::VectorXd sol = A.fullPivLu().solve(rhs);
   return sol.head(n);
 }
 
 void Finish(const ComponentModel& m, ReducedModel& r, double full_compliance) {
-  r.static_mesh_compliance = r.v_drive.dot(HeldStaticResponse(r));
+  r.static_mesh_compliance = r.v_drive.dot(HeldStaticResponse(r, r.v_drive));
   r.full_static_mesh_compliance = full_compliance;
   r.compliance_error_vs_full =
       full_compliance > 0.0 ? (r.static_mesh_compliance - full_compliance) / full_compliance : 0.0;
@@ -211,12 +212,11 @@ ReducedModel ReduceModel(const ComponentModel& m, Tier tier, const ReductionOpti
     Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(r.K, r.M);
     Eigen::MatrixXd basis = eig.eigenvectors().leftCols(kTruncatedModes);
     if (tier == Tier::kN20Mta) {
-      // Residual vector: the held static shape minus its part in the kept modes, M-normalised.
-      const Eigen::VectorXd shape = HeldStaticResponse(r);
-      Eigen::VectorXd res = shape - basis * (basis.transpose() * r.M * shape);
-      res /= std::sqrt(res.dot(r.M * res));
-      basis.conservativeResize(Eigen::NoChange, kTruncatedModes + 1);
-      basis.col(kTruncatedModes) = res;
+      // Residual vectors of both flanks' held static shapes (the back flank's line of action is
+      // another direction).
+      Eigen::MatrixXd shapes(r.dof, 2);
+      shapes << HeldStaticResponse(r, r.v_drive), HeldStaticResponse(r, r.v_back);
+      basis = AugmentWithResiduals(std::move(basis), r.M, shapes);
     }
     ReducedModel t = Transform(r, basis);
     t.boundary_dof = 0;

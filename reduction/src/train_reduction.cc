@@ -8,6 +8,7 @@
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/model/modal_analysis.h"
 #include "gearnvh/reduction/craig_bampton.h"
+#include "residual_vectors.h"
 #include "gearnvh/reduction/sparse_modes.h"
 
 namespace gearnvh {
@@ -299,7 +300,7 @@ TrainReducedModel Transform(const TrainReducedModel& a, const Eigen::MatrixXd& P
 }
 
 // N20 simple / MTA from tier 5: as many free-free modes as tier 4 has DOF, and for MTA one
-// residual vector per mesh.
+// residual vector per mesh and flank.
 TrainReducedModel Truncate(const TrainStructure& s, const TrainReducedModel& tier5, Tier tier) {
   const int keep =
       std::min(tier5.dof, tier5.boundary_dof +
@@ -307,19 +308,12 @@ TrainReducedModel Truncate(const TrainStructure& s, const TrainReducedModel& tie
   const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(tier5.K, tier5.M);
   Eigen::MatrixXd basis = eig.eigenvectors().leftCols(keep);
   if (tier == Tier::kN20Mta) {
-    const Eigen::MatrixXd X =
-        HeldStaticResponses(tier5.K, HeldRows(s, tier5.recovery), Columns(tier5.v_drive));
-    const Eigen::MatrixXd R = X - basis * (basis.transpose() * tier5.M * X);
-    // M-orthonormal residual vectors; a residual that the kept modes already span is dropped.
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> gram(
-        Symmetric(R.transpose() * tier5.M * R));
-    const double largest = gram.eigenvalues().size() > 0 ? gram.eigenvalues().maxCoeff() : 0.0;
-    for (Eigen::Index k = 0; k < gram.eigenvalues().size(); ++k) {
-      const double lambda = gram.eigenvalues()[k];
-      if (!(lambda > 1e-14 * largest)) continue;
-      basis.conservativeResize(Eigen::NoChange, basis.cols() + 1);
-      basis.rightCols(1) = R * gram.eigenvectors().col(k) / std::sqrt(lambda);
-    }
+    // Both flanks' held static shapes of every mesh (a back flank's line of action is another
+    // direction).
+    Eigen::MatrixXd V(tier5.dof, 2 * static_cast<Eigen::Index>(tier5.v_drive.size()));
+    V << Columns(tier5.v_drive), Columns(tier5.v_back);
+    basis = AugmentWithResiduals(std::move(basis), tier5.M,
+                                 HeldStaticResponses(tier5.K, HeldRows(s, tier5.recovery), V));
   }
   TrainReducedModel r = Transform(tier5, basis);
   r.boundary_dof = 0;

@@ -84,7 +84,7 @@ struct CampbellData {
 // Mesh orders 1..3 (z1 per pinion revolution) and shaft orders 1..2 of both shafts.
 std::vector<OrderLine> GearOrderLines(int pinion_teeth, int wheel_teeth);
 
-// The tier linearised in drive contact at the mean (effective) mesh stiffness, with the mesh
+// The tier linearised in drive contact at the mean mesh stiffness, with the mesh
 // damping, and the physical model's energy classes and disks for mode identification.
 LinearRotorModel LinearisedRotor(const ComponentModel& model, const ReducedModel& reduced);
 

@@ -9,17 +9,17 @@
 //   tier 4  20 DOF  tier 3 + 8 Craig–Bampton fixed-interface modes
 //   tier 5  40 DOF  tier 3 + 28 fixed-interface modes ("N40 full")
 //   N20 simple  20  lowest 20 free-free modes of tier 5 (2 rigid rotations + 18 elastic)
-//   N20 MTA     21  N20 simple + the mesh's residual static shape as a 21st Ritz vector (modal
+//   N20 MTA     22  N20 simple + the residual static shape of each flank as Ritz vectors (modal
 //                   truncation augmentation, vector form: Dickens et al. 1997; Rixen 2001). The one
-//                   form for every gearbox: on a train it adds one vector per mesh and so restores
+//                   form for every gearbox: on a train it adds two vectors per mesh and so restores
 //                   the whole compliance matrix, the meshes' coupling too (docs/design.md §3).
 //
 // Static mesh compliance (the check quantity): the compliance along the drive line of action at the
 // mesh with both gear bodies' rotations held, g = v^T q where K q = v subject to th_z(pinion) =
 // th_z(wheel) = 0. Holding the gear rotations removes the structure's free torsional rotations with
 // boundary loads only, so Guyan and Craig–Bampton reproduce it exactly (constraint modes are exact
-// static shapes for boundary loads); modal truncation does not, and MTA's residual vector makes
-// the static shape itself part of the basis, so g is exact again.
+// static shapes for boundary loads); modal truncation does not, and MTA's residual vectors make
+// the static shapes themselves part of the basis, so g is exact again.
 #pragma once
 
 #include <Eigen/Dense>
@@ -115,7 +115,7 @@ std::vector<double> ReducedNaturalFrequencies(const ComponentModel& model, const
                                               int* rigid_body_modes = nullptr);
 
 // The full model's strain magnitude (FullStrainMagnitude) of a reduced shape, recovered (T x), at
-// the tier's effective mesh stiffness.
+// the mean mesh stiffness.
 StrainMagnitude ReducedStrainMagnitude(const ComponentModel& model, const ReducedModel& r,
                                        double mean_mesh_stiffness);
 

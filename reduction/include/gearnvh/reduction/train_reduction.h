@@ -7,7 +7,8 @@
 //   tier 4  tier 3 + 4 Craig–Bampton fixed-interface modes per elastic shaft
 //   tier 5  tier 3 + 14 fixed-interface modes per elastic shaft
 //   N20 simple  the lowest free-free modes of tier 5, as many as tier 4 has DOF
-//   N20 MTA     N20 simple + one residual vector per mesh (Dickens, Nakagawa & Wittbrodt 1997)
+//   N20 MTA     N20 simple + one residual vector per mesh and flank (Dickens, Nakagawa &
+//               Wittbrodt 1997)
 // Every mesh's gear DOF are interface DOF from tier 3 on, and each elastic shaft's interior is
 // decoupled from the others once they are held, so its modes are computed shaft by shaft.
 //
@@ -18,7 +19,8 @@
 // 3 on reproduce G exactly (constraint modes are exact static shapes for interface loads). Modal
 // truncation does not; with several meshes a series spring per mesh cannot restore a matrix, so MTA
 // adds the residual vectors x_j - P P^T M x_j (P: kept modes), which put every x_j in the basis:
-// the Galerkin solution of the held static problem is then x_j itself and G is exact again.
+// the Galerkin solution of the held static problem is then x_j itself and G is exact again. The
+// back flanks' shapes (v_back, another line of action) are added the same way.
 #pragma once
 
 #include <Eigen/Dense>

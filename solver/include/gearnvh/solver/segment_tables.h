@@ -42,7 +42,7 @@ struct SegmentSystem {
   Eigen::MatrixXd substep;                           // expm(A h / substeps)
   Eigen::RowVectorXd gap_drive, gap_back;            // g+ = gap_drive z, g- = gap_back z
   Eigen::RowVectorXd gap_drive_rate, gap_back_rate;  // rows of c A: d/dt of the gaps
-  double mesh_stiffness = 0.0;  // k (effective) of this state and segment, 0 when free
+  double mesh_stiffness = 0.0;  // k of this state and segment, 0 when free
   Eigen::RowVectorXd wheel_acceleration_row;  // running angular acceleration of the wheel: row . z
 };
 
