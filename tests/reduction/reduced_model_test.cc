@@ -99,6 +99,9 @@ TEST_CASE("Craig–Bampton and MTA reproduce the full static mesh compliance", "
   // truncation's is not.
   const ReducedModel mta = ReduceModel(m, Tier::kN20Mta);
   CHECK(mta.dof == simple.dof + 2);
+  // 1e-10 as for the drive flank above: two dense solves of the same held problem, exact in
+  // exact arithmetic (the back shape is in both bases). Simple truncation misses 1.7e-3 of it on
+  // this pair: 1e-6 is far below that and far above rounding.
   const double g_back_full = DenseHeldCompliance(m, m.v_back);
   CHECK(ReducedBackCompliance(mta) == Approx(g_back_full).epsilon(1e-10));
   CHECK(ReducedBackCompliance(ReduceModel(m, Tier::kTier5)) == Approx(g_back_full).epsilon(1e-10));

@@ -123,6 +123,8 @@ TEST_CASE("Craig-Bampton and MTA keep the static compliance matrix at all meshes
   series.diagonal() = full.diagonal();
   const double coupling_error = std::abs(series(0, 1) - full(0, 1)) / std::abs(full(0, 1));
   CAPTURE(coupling_error);
+  // Simple truncation's coupling error on this train is 2.9e-3 (what a series spring would keep);
+  // 1e-3 says it is a real miss, not rounding. MTA's 1e-8 as for the whole matrix above.
   CHECK(coupling_error > 1e-3);
   CHECK(std::abs(mta.static_compliance(0, 1) - full(0, 1)) < 1e-8 * std::abs(full(0, 1)));
 }
