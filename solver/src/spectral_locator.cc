@@ -11,26 +11,15 @@ namespace gearnvh {
 
 namespace {
 
-// y = the top y.size() rows of a x for a square a (x: a.cols() entries); M: its size when known
-// at compile time.
+// y = the top y.size() rows of a x for a dense matrix a (padded to one line of 8 rows, M columns)
+// when M, the state dimension, is known at compile time.
 template <int M>
-void MultiplySized(const Eigen::MatrixXd& a, const double* x, Eigen::Ref<Eigen::VectorXd> y) {
-  const int m = static_cast<int>(a.rows());
-  const Eigen::Map<const Eigen::Matrix<double, M, M>> fixed(a.data(), m, m);
-  y.noalias() = fixed.topRows(y.size()) * Eigen::Map<const Eigen::Matrix<double, M, 1>>(x, m);
-}
-
-// The products of a segment with an event, through fixed-size kernels at tier 1 (m = 6, 7; the
-// same sizes as EnterCarriedSized).
-void Multiply(const Eigen::MatrixXd& a, const double* x, Eigen::Ref<Eigen::VectorXd> y) {
-  switch (a.rows()) {
-    case 6:
-      return MultiplySized<6>(a, x, y);
-    case 7:
-      return MultiplySized<7>(a, x, y);
-    default:
-      y.noalias() = a.topRows(y.size()) * Eigen::Map<const Eigen::VectorXd>(x, a.cols());
-  }
+void MultiplySized(const double* a, const double* x, Eigen::Ref<Eigen::VectorXd> y) {
+  using Padded =
+      Eigen::Map<const Eigen::Matrix<double, SpectralLocator::kLineDoubles, M>, Eigen::Aligned64>;
+  const Eigen::Matrix<double, SpectralLocator::kLineDoubles, 1> product =
+      Padded(a) * Eigen::Map<const Eigen::Matrix<double, M, 1>>(x);
+  y = product.head(y.size());
 }
 
 static_assert(kMaxWalls < 32, "the screen's verdicts are bit sets in an unsigned");
@@ -76,6 +65,21 @@ template <int M, class Vector>
 
 }  // namespace
 
+// Fixed-size kernels at tier 1 (m = 6, 7; the same sizes as EnterCarriedSized).
+void SpectralLocator::MultiplyDense(const double* a, const double* x,
+                                    Eigen::Ref<Eigen::VectorXd> y) {
+  switch (t_.m) {
+    case 6:
+      return MultiplySized<6>(a, x, y);
+    case 7:
+      return MultiplySized<7>(a, x, y);
+    default:
+      product_.noalias() = Eigen::Map<const Eigen::MatrixXd, Eigen::Aligned64>(a, padded_, t_.m) *
+                           Eigen::Map<const Eigen::VectorXd>(x, t_.m);
+      y = product_.head(y.size());
+  }
+}
+
 void SpectralLocator::CarryProduct(const double* carry, const double* w) {
   const Eigen::Map<const Eigen::VectorXd> in(w, t_.m);
   Eigen::Map<Eigen::VectorXd, kBufferAlignment> out(carried_.data(), padded_);
@@ -109,7 +113,7 @@ void SpectralLocator::Materialise(LocatorState& state) {
   if (!state.z_stale) return;
   const int live = t_.m - t_.inputs;  // the input slots of z are the stepper's
   const System& sp = systems_[carry_segment_][static_cast<int>(carry_state_)];
-  Multiply(sp.decomposition.S, carried_.data(), state.z.head(live));
+  MultiplyDense(DenseMatrix(sp, Dense::kS), carried_.data(), state.z.head(live));
   ++state.matvecs;
   state.z_stale = false;
 }
@@ -290,7 +294,7 @@ bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
     }
     const double remaining = h - done;
     if (!carried) {
-      Multiply(sp.decomposition.S_inv, z.data(), entry_.head(t_.m));  // the pads stay 0
+      MultiplyDense(DenseMatrix(sp, Dense::kSInverse), z.data(), entry_.head(t_.m));  // pads stay 0
       w_ = entry_.head(t_.m);
       ++state.matvecs;
     }
@@ -349,12 +353,13 @@ bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
         z.head(t_.m - t_.inputs) = carried_.head(t_.m - t_.inputs);
         state.z_stale = false;
       } else if (!moved && !state.z_stale) {
-        Multiply(sys.full, z.data(), z1_);  // the dense propagator: exact to rounding, cond-free
+        // The dense propagator: exact to rounding, cond-free.
+        MultiplyDense(DenseMatrix(sp, Dense::kPropagator), z.data(), z1_);
         if (state.tangent != nullptr) state.tangent->Propagate(sys.full);
         z.swap(z1_);
       } else {
         PropagateDecoupled(sp.decomposition, w_, remaining, wt_, scratch_);
-        Multiply(sp.decomposition.S, wt_.data(), z);
+        MultiplyDense(DenseMatrix(sp, Dense::kS), wt_.data(), z);
         state.z_stale = false;
         if (state.tangent != nullptr)
           state.tangent->PropagateDecoupled(sp.decomposition, remaining);
@@ -371,7 +376,7 @@ bool SpectralLocator::DoStep(int segment, double start, LocatorState& state,
     // A grazing touch keeps the state; the search resumes just past it.
     if (touch) step = std::min(remaining, best + 1e-12 * h);
     PropagateDecoupled(sp.decomposition, w_, step, wt_, scratch_);
-    Multiply(sp.decomposition.S, wt_.data(), z);
+    MultiplyDense(DenseMatrix(sp, Dense::kS), wt_.data(), z);
     state.z_stale = false;
     if (state.tangent != nullptr) state.tangent->PropagateDecoupled(sp.decomposition, step);
     ++state.matvecs;

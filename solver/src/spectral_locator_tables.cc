@@ -42,6 +42,11 @@ SpectralLocator::SpectralLocator(const SegmentTables& tables, const SolverOption
   const size_t curved = 3 * curved_doubles_ * static_cast<size_t>(tables.segments());
   curved_.reset(static_cast<double*>(
       ::operator new (std::max<size_t>(curved, 1) * sizeof(double), std::align_val_t{64})));
+  dense_doubles_ = static_cast<size_t>(padded_) * tables.m;
+  const size_t dense = 3 * 3 * dense_doubles_ * static_cast<size_t>(tables.segments());
+  dense_.reset(static_cast<double*>(
+      ::operator new (std::max<size_t>(dense, 1) * sizeof(double), std::align_val_t{64})));
+  product_.setZero(padded_);
 }
 
 void SpectralLocator::FreeAligned::operator()(double* p) const {
@@ -66,6 +71,17 @@ SpectralLocator::System& SpectralLocator::Build(int segment, ContactState state)
   }
   statistics_.spectral_max_condition =
       std::max(statistics_.spectral_max_condition, sp.decomposition.condition);
+  sp.dense =
+      dense_.get() + (static_cast<size_t>(state) * t_.segments() + segment) * 3 * dense_doubles_;
+  const auto fill_dense = [&](Dense which, const Eigen::MatrixXd& a) {
+    Eigen::Map<Eigen::MatrixXd> padded(sp.dense + static_cast<size_t>(which) * dense_doubles_,
+                                       padded_, t_.m);
+    padded.topRows(t_.m) = a;
+    padded.bottomRows(padded_ - t_.m).setZero();
+  };
+  fill_dense(Dense::kS, sp.decomposition.S);
+  fill_dense(Dense::kSInverse, sp.decomposition.S_inv);
+  fill_dense(Dense::kPropagator, sys.full);
   for (int g = 0; g < kGapRows; ++g)
     sp.gaps[g] = ClosedFormGap(sp.decomposition, GapRow(sys, g), t_.SegmentLength(segment));
   // The carried-segment block: input columns, the walls' linear screens (BuildCarry adds the
@@ -94,8 +110,9 @@ SpectralLocator::System& SpectralLocator::Build(int segment, ContactState state)
           sign * gap.CurvedScreenRow(k).transpose();
     }
   }
-  statistics_.table_bytes += 2 * sizeof(double) * static_cast<size_t>(m) * m +
-                             sizeof(double) * (block_doubles_ + curved_doubles_);
+  statistics_.table_bytes +=
+      2 * sizeof(double) * static_cast<size_t>(m) * m +
+      sizeof(double) * (block_doubles_ + curved_doubles_ + 3 * dense_doubles_);
   return sp;
 }
 

@@ -71,7 +71,17 @@ class SpectralLocator final : public EventLocator {
     // (last segment of the cycle). carry_built: decided on first use.
     bool carries = false;
     bool carry_built = false;
+    // Its dense matrices S, S^-1 and the segment's propagator Phi in dense_ (filled by Build when
+    // ok), each padded_ rows by m columns, the pad rows 0: a product over whole vector registers
+    // (at m = 46 the unpadded product took twice as long, a scalar tail on every column).
+    double* dense = nullptr;
   };
+  enum class Dense { kS = 0, kSInverse = 1, kPropagator = 2 };
+  const double* DenseMatrix(const System& sp, Dense which) const {
+    return sp.dense + static_cast<size_t>(which) * dense_doubles_;
+  }
+  // y = the top y.size() rows of a dense matrix (DenseMatrix) times x (m entries).
+  void MultiplyDense(const double* a, const double* x, Eigen::Ref<Eigen::VectorXd> y);
   // The system of (segment, state), decomposed on first use (inline: called on every segment).
   System& Prepared(int segment, ContactState state) {
     System& sp = systems_[segment][static_cast<int>(state)];
@@ -163,6 +173,10 @@ class SpectralLocator final : public EventLocator {
   int padded_ = 0;
   size_t block_doubles_ = 0, curved_doubles_ = 0;
   std::unique_ptr<double[], FreeAligned> blocks_, curved_;
+  // Three padded dense matrices per (state, segment), as blocks_ (System::dense).
+  size_t dense_doubles_ = 0;
+  std::unique_ptr<double[], FreeAligned> dense_;
+  Eigen::VectorXd product_;    // MultiplyDense's padded product
   Eigen::VectorXd entry_;      // w of a carried entry, padded_ entries
   std::vector<double> w_ref_;  // per segment; 0 until its first visit
   TaylorLocator fallback_;
