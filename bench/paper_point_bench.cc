@@ -72,18 +72,20 @@ GearboxSpec LoadedPoint() {
 }
 
 // ns per matvec y = A_k x, A_k cycling over 32 random m x m matrices (the solver's working set
-// at 64 segment propagators per cycle is of that size).
+// at 64 segment propagators per cycle is of that size), stored as the V3 locator stores its dense
+// matrices: rows padded with zeros to a multiple of 8, 64-byte aligned.
 double MatvecFloorNs(int m, int repeats) {
-  std::vector<Eigen::MatrixXd> a(32, Eigen::MatrixXd::Zero(m, m));
-  for (auto& x : a) x.setRandom();
-  Eigen::VectorXd x = Eigen::VectorXd::Random(m), y(m);
+  const int padded = (m + 7) / 8 * 8;
+  std::vector<Eigen::MatrixXd> a(32, Eigen::MatrixXd::Zero(padded, m));
+  for (auto& x : a) x.topRows(m).setRandom();
+  Eigen::VectorXd x = Eigen::VectorXd::Random(m), y(padded);
   const long n = std::max<long>(20000, 40'000'000L / (static_cast<long>(m) * m));
   std::vector<double> t;
   for (int r = 0; r < repeats; ++r) {
     t.push_back(Seconds([&] {
       for (long k = 0; k < n; ++k) {
         y.noalias() = a[k & 31] * x;
-        x.swap(y);
+        x = y.head(m);
         x *= 0.5 / std::max(1.0, x.cwiseAbs().maxCoeff());  // keep the values finite
       }
     }));

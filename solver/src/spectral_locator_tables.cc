@@ -1,6 +1,6 @@
 // V3's tables of a (segment, state), built on its first visit (spectral_locator.h): the
-// decomposition, the closed-form gaps, the carried-segment block (input columns, the walls'
-// screens) and the carry matrix with its error bound.
+// decomposition, the closed-form gaps, the padded dense matrices, the carried-segment block (input
+// columns, the walls' screens) and the carry matrix with its error bound.
 #include <algorithm>
 #include <limits>
 #include <new>
@@ -11,7 +11,7 @@ namespace gearnvh {
 
 namespace {
 
-// A carried segment's column length: m padded to whole 64-byte lines (8 doubles).
+// A padded column's length: m rounded up to whole 64-byte lines (8 doubles).
 int PaddedSize(int m) {
   constexpr int line = SpectralLocator::kLineDoubles;
   return (m + line - 1) / line * line;
@@ -43,9 +43,6 @@ SpectralLocator::SpectralLocator(const SegmentTables& tables, const SolverOption
   curved_.reset(static_cast<double*>(
       ::operator new (std::max<size_t>(curved, 1) * sizeof(double), std::align_val_t{64})));
   dense_doubles_ = static_cast<size_t>(padded_) * tables.m;
-  const size_t dense = 3 * 3 * dense_doubles_ * static_cast<size_t>(tables.segments());
-  dense_.reset(static_cast<double*>(
-      ::operator new (std::max<size_t>(dense, 1) * sizeof(double), std::align_val_t{64})));
   product_.setZero(padded_);
 }
 
@@ -71,10 +68,10 @@ SpectralLocator::System& SpectralLocator::Build(int segment, ContactState state)
   }
   statistics_.spectral_max_condition =
       std::max(statistics_.spectral_max_condition, sp.decomposition.condition);
-  sp.dense =
-      dense_.get() + (static_cast<size_t>(state) * t_.segments() + segment) * 3 * dense_doubles_;
+  const size_t dense_bytes = sizeof(double) * kDenseMatrices * dense_doubles_;
+  sp.dense.reset(static_cast<double*>(::operator new (dense_bytes, std::align_val_t{64})));
   const auto fill_dense = [&](Dense which, const Eigen::MatrixXd& a) {
-    Eigen::Map<Eigen::MatrixXd> padded(sp.dense + static_cast<size_t>(which) * dense_doubles_,
+    Eigen::Map<Eigen::MatrixXd> padded(sp.dense.get() + static_cast<size_t>(which) * dense_doubles_,
                                        padded_, t_.m);
     padded.topRows(t_.m) = a;
     padded.bottomRows(padded_ - t_.m).setZero();
@@ -112,7 +109,7 @@ SpectralLocator::System& SpectralLocator::Build(int segment, ContactState state)
   }
   statistics_.table_bytes +=
       2 * sizeof(double) * static_cast<size_t>(m) * m +
-      sizeof(double) * (block_doubles_ + curved_doubles_ + 3 * dense_doubles_);
+      sizeof(double) * (block_doubles_ + curved_doubles_ + kDenseMatrices * dense_doubles_);
   return sp;
 }
 

@@ -43,7 +43,7 @@ namespace gearnvh {
 class SpectralLocator final : public EventLocator {
  public:
   static constexpr EventMethod kMethod = EventMethod::kSpectral;
-  static constexpr int kLineDoubles = 8;  // a carried column's padding unit: one 64-byte line
+  static constexpr int kLineDoubles = 8;  // a padded column's unit: one 64-byte line
   SpectralLocator(const SegmentTables& tables, const SolverOptions& options);
   EventMethod method() const override { return kMethod; }
   bool DoStep(int segment, double start, LocatorState& state, EventHandler& handler) override;
@@ -56,6 +56,9 @@ class SpectralLocator final : public EventLocator {
   int CarryThrough(int segment, long cycle, SegmentTables::CyclePhase& phase, LocatorState& state);
 
  private:
+  struct FreeAligned {
+    void operator()(double* p) const;
+  };
   struct System {
     SpectralDecomposition decomposition;
     std::array<ClosedFormGap, kGapRows> gaps;  // indexed by GapWall::gap
@@ -71,14 +74,15 @@ class SpectralLocator final : public EventLocator {
     // (last segment of the cycle). carry_built: decided on first use.
     bool carries = false;
     bool carry_built = false;
-    // Its dense matrices S, S^-1 and the segment's propagator Phi in dense_ (filled by Build when
-    // ok), each padded_ rows by m columns, the pad rows 0: a product over whole vector registers
-    // (at m = 46 the unpadded product took twice as long, a scalar tail on every column).
-    double* dense = nullptr;
+    // Its dense matrices S, S^-1 and the segment's propagator Phi (filled by Build when ok), each
+    // padded_ rows by m columns, the pad rows 0: Eigen's product over rows past the last whole
+    // vector makes extra passes over the columns (at m = 46 about twice the time of 48 rows).
+    std::unique_ptr<double[], FreeAligned> dense;
   };
   enum class Dense { kS = 0, kSInverse = 1, kPropagator = 2 };
+  static constexpr int kDenseMatrices = 3;
   const double* DenseMatrix(const System& sp, Dense which) const {
-    return sp.dense + static_cast<size_t>(which) * dense_doubles_;
+    return sp.dense.get() + static_cast<size_t>(which) * dense_doubles_;
   }
   // y = the top y.size() rows of a dense matrix (DenseMatrix) times x (m entries).
   void MultiplyDense(const double* a, const double* x, Eigen::Ref<Eigen::VectorXd> y);
@@ -161,9 +165,6 @@ class SpectralLocator final : public EventLocator {
   // z and Phi.
   double max_carry_error_;
   std::vector<std::array<System, 3>> systems_;  // [segment][state]
-  struct FreeAligned {
-    void operator()(double* p) const;
-  };
   // The carried-segment blocks, one per (state, segment) in that order (a cycle in one state reads
   // consecutive blocks), each 64-byte aligned, holding what a carried segment reads in the order
   // it reads it: the input columns of S^-1, per active wall the screen's start row times the
@@ -173,9 +174,7 @@ class SpectralLocator final : public EventLocator {
   int padded_ = 0;
   size_t block_doubles_ = 0, curved_doubles_ = 0;
   std::unique_ptr<double[], FreeAligned> blocks_, curved_;
-  // Three padded dense matrices per (state, segment), as blocks_ (System::dense).
-  size_t dense_doubles_ = 0;
-  std::unique_ptr<double[], FreeAligned> dense_;
+  size_t dense_doubles_ = 0;   // one of System::dense's matrices
   Eigen::VectorXd product_;    // MultiplyDense's padded product
   Eigen::VectorXd entry_;      // w of a carried entry, padded_ entries
   std::vector<double> w_ref_;  // per segment; 0 until its first visit
