@@ -11,25 +11,16 @@ namespace gearnvh {
 
 namespace {
 
-// y = the top y.size() rows of a x for a dense matrix a (padded to one line of 8 rows, M columns)
-// when M, the state dimension, is known at compile time.
-template <int M>
-void MultiplySized(const double* a, const double* x, Eigen::Ref<Eigen::VectorXd> y) {
-  using Padded =
-      Eigen::Map<const Eigen::Matrix<double, SpectralLocator::kLineDoubles, M>, Eigen::Aligned64>;
-  const Eigen::Matrix<double, SpectralLocator::kLineDoubles, 1> product =
-      Padded(a) * Eigen::Map<const Eigen::Matrix<double, M, 1>>(x);
-  y = product.head(y.size());
-}
-
-// out (P entries) = a w for a padded matrix a (P rows, m columns, 64-byte aligned columns): one
-// pass over the columns with P / 8 vector sums. Eigen's product makes a pass per block of rows
-// (48 rows: 32 then 16) and was ~15 % slower at 48 x 46 (microbenchmark, AVX-512).
-template <int P>
+// out (P entries) = a w for a padded matrix a (P rows, m columns, 64-byte aligned columns; M: m
+// when known at compile time): one pass over the columns with one sum per vector of rows. Eigen's
+// product makes a pass per block of rows (48 rows: 32 then 16) and was ~15 % slower at 48 x 46
+// (microbenchmark, AVX-512).
+template <int P, int M = Eigen::Dynamic>
 void PaddedProductSized(const double* a, int m, const double* w, double* out) {
   using Column = Eigen::Map<const Eigen::Matrix<double, P, 1>, Eigen::Aligned64>;
+  const int columns = M == Eigen::Dynamic ? m : M;
   Eigen::Matrix<double, P, 1> sum = w[0] * Column(a);
-  for (int k = 1; k < m; ++k) sum.noalias() += w[k] * Column(a + static_cast<size_t>(k) * P);
+  for (int k = 1; k < columns; ++k) sum.noalias() += w[k] * Column(a + static_cast<size_t>(k) * P);
   Eigen::Map<Eigen::Matrix<double, P, 1>>{out} = sum;
 }
 
@@ -100,18 +91,16 @@ template <int M, class Vector>
 
 }  // namespace
 
-// Fixed-size kernels at tier 1 (m = 6, 7; the same sizes as EnterCarriedSized).
 void SpectralLocator::MultiplyDense(const double* a, const double* x,
                                     Eigen::Ref<Eigen::VectorXd> y) {
-  switch (t_.m) {
-    case 6:
-      return MultiplySized<6>(a, x, y);
-    case 7:
-      return MultiplySized<7>(a, x, y);
-    default:
-      PaddedProduct(a, padded_, t_.m, x, product_.data());
-      y = product_.head(y.size());
-  }
+  // At tier 1 (m = 6, 7: the sizes of EnterCarriedSized) the column count is fixed too.
+  if (t_.m == 6)
+    PaddedProductSized<kLineDoubles, 6>(a, 6, x, product_.data());
+  else if (t_.m == 7)
+    PaddedProductSized<kLineDoubles, 7>(a, 7, x, product_.data());
+  else
+    PaddedProduct(a, padded_, t_.m, x, product_.data());
+  y = product_.head(y.size());
 }
 
 void SpectralLocator::CarryProduct(const double* carry, const double* w) {
