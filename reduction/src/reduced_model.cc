@@ -8,6 +8,7 @@
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/model/modal_analysis.h"
 #include "gearnvh/reduction/craig_bampton.h"
+#include "mode_cut.h"
 #include "residual_vectors.h"
 
 namespace gearnvh {
@@ -208,9 +209,11 @@ ReducedModel ReduceModel(const ComponentModel& m, Tier tier, const ReductionOpti
         2.0 * options.structural_damping_ratio * std::sqrt(cb.fixed_interface_omega2[j]);
   }
   if (tier == Tier::kN20Simple || tier == Tier::kN20Mta) {
-    // Free-free modes of the 40-DOF model, lowest 20 kept (M-normalised).
+    // Free-free modes of the tier-5 model, the lowest 20 kept (more where the cut would split a
+    // cluster), M-normalised.
     Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(r.K, r.M);
-    Eigen::MatrixXd basis = eig.eigenvectors().leftCols(kTruncatedModes);
+    Eigen::MatrixXd basis =
+        eig.eigenvectors().leftCols(ClusterCut(eig.eigenvalues(), kTruncatedModes));
     if (tier == Tier::kN20Mta) {
       // Residual vectors of both flanks' held static shapes (the back flank's line of action is
       // another direction).

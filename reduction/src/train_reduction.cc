@@ -8,8 +8,9 @@
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/model/modal_analysis.h"
 #include "gearnvh/reduction/craig_bampton.h"
-#include "residual_vectors.h"
 #include "gearnvh/reduction/sparse_modes.h"
+#include "mode_cut.h"
+#include "residual_vectors.h"
 
 namespace gearnvh {
 namespace {
@@ -247,26 +248,30 @@ TrainReducedModel CraigBamptonTier(const TrainStructure& s, Tier tier,
   std::vector<double> omega2;
   const int per_shaft = ModesPerShaft(tier);
   if (per_shaft > 0) {
+    // The lowest fixed-interface modes of all elastic shafts together (their interiors are
+    // uncoupled once the gear nodes are held, so a shaft with lower modes gets more of them).
     std::vector<bool> is_boundary(static_cast<size_t>(s.dofs), false);
     for (int d : boundary) is_boundary[static_cast<size_t>(d)] = true;
-    for (int shaft : s.elastic_shafts) {
-      std::vector<int> interior;
-      for (size_t n = 0; n < s.nodes.size(); ++n) {
-        if (s.node_body[n] != shaft) continue;
-        for (int d = 0; d < 6; ++d) {
-          const int dof = TrainStructure::Dof(static_cast<int>(n), static_cast<NodeDof>(d));
-          if (!is_boundary[static_cast<size_t>(dof)]) interior.push_back(dof);
-        }
+    std::vector<int> interior;
+    for (size_t n = 0; n < s.nodes.size(); ++n) {
+      const int body = s.node_body[n];
+      if (std::find(s.elastic_shafts.begin(), s.elastic_shafts.end(), body) ==
+          s.elastic_shafts.end()) {
+        continue;
       }
-      const FixedInterfaceModeSet modes =
-          FixedInterfaceModes(s.K, s.M, interior, per_shaft, options);
-      if (modes.status != CraigBamptonStatus::kSuccess) {
-        throw StructureNotReducible("cannot be reduced: " + modes.message);
+      for (int d = 0; d < 6; ++d) {
+        const int dof = TrainStructure::Dof(static_cast<int>(n), static_cast<NodeDof>(d));
+        if (!is_boundary[static_cast<size_t>(dof)]) interior.push_back(dof);
       }
-      T.conservativeResize(Eigen::NoChange, T.cols() + modes.shapes.cols());
-      T.rightCols(modes.shapes.cols()) = modes.shapes;
-      for (Eigen::Index j = 0; j < modes.omega2.size(); ++j) omega2.push_back(modes.omega2[j]);
     }
+    const FixedInterfaceModeSet modes = FixedInterfaceModes(
+        s.K, s.M, interior, per_shaft * static_cast<int>(s.elastic_shafts.size()), options);
+    if (modes.status != CraigBamptonStatus::kSuccess) {
+      throw StructureNotReducible("cannot be reduced: " + modes.message);
+    }
+    T.conservativeResize(Eigen::NoChange, T.cols() + modes.shapes.cols());
+    T.rightCols(modes.shapes.cols()) = modes.shapes;
+    for (Eigen::Index j = 0; j < modes.omega2.size(); ++j) omega2.push_back(modes.omega2[j]);
   }
   TrainReducedModel r = Project(s, T);
   r.boundary_dof = static_cast<int>(boundary.size());
@@ -299,14 +304,14 @@ TrainReducedModel Transform(const TrainReducedModel& a, const Eigen::MatrixXd& P
   return r;
 }
 
-// N20 simple / MTA from tier 5: as many free-free modes as tier 4 has DOF, and for MTA one
+// N20 simple / MTA from tier 5: as many free-free modes as tier 4 has DOF (more where the cut
+// would split a cluster), and for MTA one
 // residual vector per mesh and flank.
 TrainReducedModel Truncate(const TrainStructure& s, const TrainReducedModel& tier5, Tier tier) {
   const int keep =
-      std::min(tier5.dof, tier5.boundary_dof +
-                              kTier4ModesPerShaft * static_cast<int>(s.elastic_shafts.size()));
+      tier5.boundary_dof + kTier4ModesPerShaft * static_cast<int>(s.elastic_shafts.size());
   const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(tier5.K, tier5.M);
-  Eigen::MatrixXd basis = eig.eigenvectors().leftCols(keep);
+  Eigen::MatrixXd basis = eig.eigenvectors().leftCols(ClusterCut(eig.eigenvalues(), keep));
   if (tier == Tier::kN20Mta) {
     // Both flanks' held static shapes of every mesh (a back flank's line of action is another
     // direction).

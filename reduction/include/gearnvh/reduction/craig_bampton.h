@@ -1,15 +1,16 @@
 // Craig–Bampton basis (Craig & Bampton 1968) for a sparse structure with a chosen boundary.
 //
-//   q = T [x_b; eta],   T = [[I, 0], [Psi, Phi]] (rows: boundary, interior; stored in full DOF
-//   order) Psi = -K_ii^{-1} K_ib           constraint modes (sparse LDL^T of K_ii) K_ii phi = w^2
-//   M_ii phi         lowest fixed-interface modes, M_ii-normalised
-//     (Spectra SymGEigsShiftSolver in shift-invert mode at sigma = 0 on the sparse pencil;
-//     interiors
-//      with fewer than ReductionOptions::dense_eigen_threshold DOF use a dense solver, because the
-//      Lanczos subspace must be smaller than the problem).
+//   q = T [x_b; eta],   T = [[I, 0], [Psi, Phi]]   (rows: boundary, interior; stored in full DOF
+//                                                   order)
+//   Psi = -K_ii^{-1} K_ib          constraint modes (sparse LDL^T of K_ii)
+//   K_ii phi = w^2 M_ii phi        lowest fixed-interface modes, M_ii-normalised
+// The modes come from Spectra's SymGEigsShiftSolver in shift-invert mode at sigma = 0 on the
+// sparse pencil; interiors with fewer than ReductionOptions::dense_eigen_threshold DOF use a dense
+// solver, because the Lanczos subspace must be smaller than the problem.
 // Preconditions: K, M symmetric, K_ii positive definite (the boundary must remove every free
 // direction of the interior — the gear-node rotations do, for shafts on bearings).
-// modes = 0 gives Guyan (static) condensation.
+// modes = 0 gives Guyan (static) condensation; otherwise at least `modes` fixed-interface modes,
+// more where the cut would split a cluster (FixedInterfaceModes).
 #pragma once
 
 #include <Eigen/Dense>
@@ -24,7 +25,7 @@ enum class CraigBamptonStatus { kSuccess, kInteriorSingular, kEigenNotConverged 
 
 struct CraigBamptonBasis {
   CraigBamptonStatus status = CraigBamptonStatus::kSuccess;
-  Eigen::MatrixXd T;                       // full DOF x (boundary + modes)
+  Eigen::MatrixXd T;                       // full DOF x (boundary + kept modes)
   Eigen::VectorXd fixed_interface_omega2;  // ascending, rad^2/s^2
   bool sparse_eigensolver = false;
   std::string message;
@@ -32,10 +33,12 @@ struct CraigBamptonBasis {
 
 // The lowest `modes` fixed-interface modes of the DOF `interior` (every other DOF held):
 // K_ii phi = w^2 M_ii phi, M_ii-normalised, ascending, as columns over the full DOF (zero outside
-// the interior). The eigensolver choice is CraigBampton's.
+// the interior). The eigensolver choice is CraigBampton's. The count grows past `modes` to the
+// end of a cluster of equal eigenvalues (reduction/src/mode_cut.h): a cut never splits a
+// degenerate pair, whose members the solver returns in an arbitrary rotation.
 struct FixedInterfaceModeSet {
   CraigBamptonStatus status = CraigBamptonStatus::kSuccess;
-  Eigen::MatrixXd shapes;  // full DOF x modes
+  Eigen::MatrixXd shapes;  // full DOF x kept modes
   Eigen::VectorXd omega2;  // rad^2/s^2
   bool sparse_eigensolver = false;
   std::string message;

@@ -9,6 +9,9 @@
 //   tier 4  20 DOF  tier 3 + 8 Craig–Bampton fixed-interface modes
 //   tier 5  40 DOF  tier 3 + 28 fixed-interface modes ("N40 full")
 //   N20 simple  20  lowest 20 free-free modes of tier 5 (2 rigid rotations + 18 elastic)
+// A cut never splits a cluster of equal eigenvalues (an axisymmetric shaft's x and y bending): the
+// count grows to the cluster's end (reduction/src/mode_cut.h), e.g. 41 DOF at tier 5 of
+// examples/flexible_shafts.yaml, whose 28th and 29th fixed-interface modes are one pair.
 //   N20 MTA     22  N20 simple + the residual static shape of each flank as Ritz vectors (modal
 //                   truncation augmentation, vector form: Dickens et al. 1997; Rixen 2001). The one
 //                   form for every gearbox: on a train it adds two vectors per mesh and so restores
