@@ -215,10 +215,16 @@ ReducedModel ReduceModel(const ComponentModel& m, Tier tier, const ReductionOpti
     Eigen::MatrixXd basis =
         eig.eigenvectors().leftCols(ClusterCut(eig.eigenvalues(), kTruncatedModes));
     if (tier == Tier::kN20Mta) {
-      // Residual vectors of both flanks' held static shapes (the back flank's line of action is
-      // another direction).
-      Eigen::MatrixXd shapes(r.dof, 2);
-      shapes << HeldStaticResponse(r, r.v_drive), HeldStaticResponse(r, r.v_back);
+      // Residual vectors of both flanks' held and inertia-relief static shapes (the back flank's
+      // line of action is another direction; residual_vectors.h). The two lowest modes are the
+      // gear bodies' free rotations.
+      Eigen::MatrixXd loads(r.dof, 2);
+      loads << r.v_drive, r.v_back;
+      const Eigen::MatrixXd relieved =
+          InertiaRelievedLoads(loads, r.M, eig.eigenvectors().leftCols(2));
+      Eigen::MatrixXd shapes(r.dof, 4);
+      shapes << HeldStaticResponse(r, loads.col(0)), HeldStaticResponse(r, loads.col(1)),
+          HeldStaticResponse(r, relieved.col(0)), HeldStaticResponse(r, relieved.col(1));
       basis = AugmentWithResiduals(std::move(basis), r.M, shapes);
     }
     ReducedModel t = Transform(r, basis);

@@ -1,5 +1,16 @@
 // Modal truncation augmentation (docs/design.md §3): the residual vectors that put static shapes
 // into a truncated modal basis. Shared by the pair's and the train's N20 MTA.
+//
+// MTA adds, per mesh and flank (the load v, its line-of-action vector), two static shapes of the
+// structure without meshes, whose bodies turn freely (rigid-body modes Phi_r, M-orthonormal, one
+// free rotation per body):
+//   held             K x = v with each body's rotation held where the load torques act: the
+//                    static compliance and the loaded static state stay exact;
+//   inertia relief   K x = (I - M Phi_r Phi_r^T) v, the load balanced by the bodies' own inertia,
+//                    as a mesh force is in vibration: the quasi-static response of the truncated
+//                    modes (the free-free residual flexibility).
+// Their span has at most one direction per body beyond the held shapes (the difference is the
+// held response to a body's rigid inertia load); AugmentWithResiduals drops what is spanned.
 #pragma once
 
 #include <Eigen/Dense>
@@ -22,6 +33,13 @@ inline Eigen::MatrixXd AugmentWithResiduals(Eigen::MatrixXd P, const Eigen::Matr
     P.rightCols(1) = R * eig.eigenvectors().col(k) / std::sqrt(lambda);
   }
   return P;
+}
+
+// The loads V (columns) with the inertia of the rigid-body modes `rigid` (M-orthonormal columns)
+// balancing them: (I - M Phi_r Phi_r^T) V.
+inline Eigen::MatrixXd InertiaRelievedLoads(const Eigen::MatrixXd& V, const Eigen::MatrixXd& M,
+                                            const Eigen::MatrixXd& rigid) {
+  return V - M * (rigid * (rigid.transpose() * V));
 }
 
 }  // namespace gearnvh

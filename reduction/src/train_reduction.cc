@@ -313,12 +313,16 @@ TrainReducedModel Truncate(const TrainStructure& s, const TrainReducedModel& tie
   const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(tier5.K, tier5.M);
   Eigen::MatrixXd basis = eig.eigenvectors().leftCols(ClusterCut(eig.eigenvalues(), keep));
   if (tier == Tier::kN20Mta) {
-    // Both flanks' held static shapes of every mesh (a back flank's line of action is another
-    // direction).
-    Eigen::MatrixXd V(tier5.dof, 2 * static_cast<Eigen::Index>(tier5.v_drive.size()));
-    V << Columns(tier5.v_drive), Columns(tier5.v_back);
-    basis = AugmentWithResiduals(std::move(basis), tier5.M,
-                                 HeldStaticResponses(tier5.K, HeldRows(s, tier5.recovery), V));
+    // Both flanks' held and inertia-relief static shapes of every mesh (a back flank's line of
+    // action is another direction; residual_vectors.h). The lowest modes, one per held rotation,
+    // are the bodies' free rotations.
+    const Eigen::MatrixXd held = HeldRows(s, tier5.recovery);
+    const Eigen::Index loads = 2 * static_cast<Eigen::Index>(tier5.v_drive.size());
+    Eigen::MatrixXd V(tier5.dof, 2 * loads);
+    V.leftCols(loads) << Columns(tier5.v_drive), Columns(tier5.v_back);
+    V.rightCols(loads) =
+        InertiaRelievedLoads(V.leftCols(loads), tier5.M, eig.eigenvectors().leftCols(held.rows()));
+    basis = AugmentWithResiduals(std::move(basis), tier5.M, HeldStaticResponses(tier5.K, held, V));
   }
   TrainReducedModel r = Transform(tier5, basis);
   r.boundary_dof = 0;
