@@ -160,7 +160,7 @@ std::vector<double> RitzFrequencies(const ReducedModel& tier5, double mesh_stiff
   return f;
 }
 
-TEST_CASE("MTA's inertia-relief shapes bring its frequencies to tier 5's; held shapes alone do not",
+TEST_CASE("MTA's inertia-relief shapes bring its frequencies to tier 5's, held shapes alone do not",
           "[reduction][mta]") {
   // An independent construction of the two candidate bases from tier 5 (docs/design.md §3): the
   // lowest 20 free-free modes P (the first two the gears' free rotations Phi_r), plus

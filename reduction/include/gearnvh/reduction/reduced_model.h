@@ -12,10 +12,11 @@
 // A cut never splits a cluster of equal eigenvalues (an axisymmetric shaft's x and y bending): the
 // count grows to the cluster's end (reduction/src/mode_cut.h), e.g. 41 DOF at tier 5 of
 // examples/flexible_shafts.yaml, whose 28th and 29th fixed-interface modes are one pair.
-//   N20 MTA     22  N20 simple + the residual static shape of each flank as Ritz vectors (modal
-//                   truncation augmentation, vector form: Dickens et al. 1997; Rixen 2001). The one
-//                   form for every gearbox: on a train it adds two vectors per mesh and so restores
-//                   the whole compliance matrix, the meshes' coupling too (docs/design.md §3).
+//   N20 MTA     23  N20 simple + each flank's held and inertia-relief static shapes as Ritz vectors
+//                   (modal truncation augmentation, vector form: Dickens et al. 1997; Rixen 2001):
+//                   two held shapes and one relief direction. The one form for every gearbox: on a
+//                   train it restores the whole compliance matrix, the meshes' coupling too, and
+//                   brings the frequencies to tier 5's (docs/design.md §3).
 //
 // Static mesh compliance (the check quantity): the compliance along the drive line of action at the
 // mesh with both gear bodies' rotations held, g = v^T q where K q = v subject to th_z(pinion) =
