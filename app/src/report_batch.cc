@@ -50,15 +50,23 @@ std::string PerMesh(const nlohmann::json& s, const char* key, const Num& num) {
   return cell.empty() ? "-" : cell;
 }
 
-// A pair's rattle regime; a train's loudest loose gear with its rattle index ("-" without one).
+// A pair's rattle regime; a train's loudest loose gear with its impact energy per second, or "no
+// loose gear impacts" ("-" for a train without loose gears).
 template <typename Text>
 std::string Rattle(const nlohmann::json& s, const Text& text) {
   const auto gear = s.find("loudest_loose_gear");
-  if (gear == s.end() || !gear->is_string()) return text("regime");
-  const auto index = s.find("loudest_loose_gear_rattle_index_rad_s2");
-  return Html(gear->get<std::string>()) + (index != s.end() && index->is_number()
-                                               ? " (" + Number(index->get<double>()) + " rad/s²)"
-                                               : std::string());
+  if (gear == s.end()) return text("regime");
+  if (!gear->is_string()) {
+    const auto count = s.find("loose_gears");
+    return count != s.end() && count->is_number() && count->get<double>() > 0
+               ? "no loose gear impacts"
+               : "-";
+  }
+  const auto energy = s.find("loudest_loose_gear_impact_energy_per_second_w");
+  return Html(gear->get<std::string>()) +
+         (energy != s.end() && energy->is_number()
+              ? " (" + Number(energy->get<double>() * 1e3) + " mW of impacts)"
+              : std::string());
 }
 
 }  // namespace

@@ -119,15 +119,23 @@ std::string TrainPage(const TrainPageInput& in) {
       << "</td><td>" << Number(100.0 * m.free_time_fraction, 3) << " %</td></tr>\n";
   }
   h << "</table>\n";
-  h << "<h2>Loose gears by rattle index</h2>\n";
+  h << "<h2>Loose gears by impact energy</h2>\n";
   if (op.stats.loose_gears.empty()) {
     h << "<p>The train has no loose gear.</p>\n";
   } else {
-    h << "<table>\n<tr><th>rank</th><th>loose gear</th><th>rattle index (RMS angular "
-         "acceleration, rad/s²)</th><th>impacts</th></tr>\n";
+    h << "<p>Ranked by impact energy per second, ½ m<sub>e</sub> v² summed over the impacts of "
+         "the gear's meshes (v the gap's closing speed); a gear without an impact does not "
+         "rattle (rank –). The RMS angular acceleration is shown beside it.</p>\n"
+         "<table>\n<tr><th>rank</th><th>loose gear</th><th>impact energy (mW)</th><th>drive "
+         "impacts / s</th><th>back impacts / s</th><th>impact velocity RMS (mm/s)</th><th>impact "
+         "velocity max (mm/s)</th><th>RMS angular acceleration (rad/s²)</th></tr>\n";
     for (const TrainLooseGearStatistics& g : op.stats.loose_gears) {
-      h << "<tr><td>" << g.rank << "</td><td>" << Html(g.name) << "</td><td>"
-        << Number(g.rattle_index) << "</td><td>" << g.impacts << "</td></tr>\n";
+      h << "<tr><td>" << (g.rank > 0 ? std::to_string(g.rank) : "–") << "</td><td>"
+        << Html(g.name) << "</td><td>" << Number(g.impact_energy_per_second * 1e3) << "</td><td>"
+        << Number(g.drive_impacts_per_second) << "</td><td>" << Number(g.back_impacts_per_second)
+        << "</td><td>" << Number(g.impact_velocity_rms * 1e3) << "</td><td>"
+        << Number(g.impact_velocity_max * 1e3) << "</td><td>" << Number(g.rattle_index)
+        << "</td></tr>\n";
     }
     h << "</table>\n";
   }
@@ -198,6 +206,9 @@ nlohmann::json TrainSummary(const TrainSpec& spec, const TrainCheck& check,
           cycles > 0.0 ? static_cast<double>(m.drive_impacts + m.back_impacts) / cycles : 0.0}});
   }
   const std::vector<TrainLooseGearStatistics>& loose = op.stats.loose_gears;
+  // The gear ranked first, if any gear impacts (the list puts impacting gears first).
+  const TrainLooseGearStatistics* loudest =
+      !loose.empty() && loose.front().rank == 1 ? &loose.front() : nullptr;
   return {
       {"tier", std::string(TierName(op.tier)) + " (gear train)"},
       {"speed", Format(spec.operating.speed, spec.operating.speed_unit) + " (" +
@@ -205,9 +216,10 @@ nlohmann::json TrainSummary(const TrainSpec& spec, const TrainCheck& check,
       {"speed_rpm", Rpm(spec.operating.speed)},
       {"torque", TrainLoadsText(spec)},
       {"meshes", meshes},
-      {"loudest_loose_gear", loose.empty() ? nlohmann::json() : nlohmann::json(loose.front().name)},
-      {"loudest_loose_gear_rattle_index_rad_s2",
-       loose.empty() ? nlohmann::json() : nlohmann::json(loose.front().rattle_index)},
+      {"loose_gears", loose.size()},
+      {"loudest_loose_gear", loudest ? nlohmann::json(loudest->name) : nlohmann::json()},
+      {"loudest_loose_gear_impact_energy_per_second_w",
+       loudest ? nlohmann::json(loudest->impact_energy_per_second) : nlohmann::json()},
       {"first_critical_speed_rpm",
        std::isfinite(first_critical) ? nlohmann::json(first_critical) : nlohmann::json()},
       {"real_time_ratio", op.wall_s > 0.0 ? op.summary.simulated_time / op.wall_s : 0.0}};
@@ -332,12 +344,16 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
   if (!sweep.loose_gear_names.empty()) {
     draw(
         "loose_gears.png",
-        "Rattle index of each loose gear (RMS angular acceleration) against the input speed "
-        "(loose_gears.csv).",
+        "Impact energy per second of each loose gear against the input speed; 0 where it does "
+        "not impact (loose_gears.csv, with the impact rates, velocities and RMS acceleration).",
         render::RenderLinePlot(
             OverSpeed(
-                sweep, sweep.loose_gear_names, "Loose gears: rattle index", "rattle index (rad/s²)",
-                [](const TrainSweepPoint& p, size_t i) { return p.loose_gears[i].rattle_index; },
+                sweep, sweep.loose_gear_names, "Loose gears: impact energy", "impact energy (mW)",
+                [&sweep](const TrainSweepPoint& p, size_t i) {
+                  const TrainLooseGearStatistics* g =
+                      FindLooseGear(p.loose_gears, sweep.loose_gear_names[i]);
+                  return g ? g->impact_energy_per_second * 1e3 : 0.0;
+                },
                 scale),
             image, (folder / "loose_gears.png").string()));
   }

@@ -179,8 +179,13 @@ nlohmann::json TrainLooseGearsJson(const std::vector<TrainLooseGearStatistics>& 
   for (const TrainLooseGearStatistics& g : gears) {
     loose.push_back({{"name", g.name},
                      {"rank", g.rank},
-                     {"rattle_index", g.rattle_index},
-                     {"impacts", g.impacts}});
+                     {"impact_energy_per_second", g.impact_energy_per_second},
+                     {"impacts", g.impacts},
+                     {"drive_impacts_per_second", g.drive_impacts_per_second},
+                     {"back_impacts_per_second", g.back_impacts_per_second},
+                     {"impact_velocity_rms", g.impact_velocity_rms},
+                     {"impact_velocity_max", g.impact_velocity_max},
+                     {"rattle_index", g.rattle_index}});
   }
   return loose;
 }

@@ -386,10 +386,15 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
                  m.drive_impacts, m.back_impacts, 100.0 * m.free_time_fraction);
     }
     if (!stats.loose_gears.empty()) {
-      fmt::print("\n  loose gears by rattle index (RMS angular acceleration):\n");
+      fmt::print("\n  loose gears by impact energy (a gear without impacts does not rattle):\n");
+      fmt::print("    {:<6}{:<10}{:>13}{:>11}{:>11}{:>13}{:>13}{:>15}\n", "rank", "gear",
+                 "energy mW", "drive /s", "back /s", "v RMS mm/s", "v max mm/s", "accel rad/s²");
       for (const TrainLooseGearStatistics& g : stats.loose_gears) {
-        fmt::print("    {}. {:<8}{:>12.1f} rad/s²{:>10} impacts\n", g.rank, g.name, g.rattle_index,
-                   g.impacts);
+        fmt::print("    {:<6}{:<10}{:>13.4g}{:>11.1f}{:>11.1f}{:>13.4g}{:>13.4g}{:>15.1f}\n",
+                   g.rank > 0 ? std::to_string(g.rank) : "-", g.name,
+                   g.impact_energy_per_second * 1e3, g.drive_impacts_per_second,
+                   g.back_impacts_per_second, g.impact_velocity_rms * 1e3,
+                   g.impact_velocity_max * 1e3, g.rattle_index);
       }
     }
     fmt::print(

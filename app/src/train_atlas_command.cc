@@ -42,6 +42,7 @@ nlohmann::json TrainAtlasCellJson(const TrainAtlasCell& c) {
   nlohmann::json loose = nlohmann::json::array();
   for (const TrainAtlasLooseGear& g : p.loose_gears) {
     loose.push_back({{"name", g.name},
+                     {"impact_energy_per_second", g.impact_energy_per_second},
                      {"rattle_index", g.rattle_index},
                      {"impacts", g.impacts},
                      {"rank", g.rank}});
@@ -82,7 +83,8 @@ TrainAtlasCell TrainAtlasCellFromJson(const nlohmann::json& j) {
   }
   for (const auto& g : j.at("loose_gears")) {
     p.loose_gears.push_back({g.at("name").get<std::string>(), g.at("rattle_index").get<double>(),
-                             g.at("impacts").get<long>(), g.at("rank").get<int>()});
+                             g.at("impacts").get<long>(), g.at("rank").get<int>(),
+                             g.at("impact_energy_per_second").get<double>()});
   }
   p.wall_s = j.at("wall_s").get<double>();
   return c;
@@ -131,11 +133,16 @@ void PrintTrainAtlas(const TrainAtlasResult& r, const std::string& name, const s
         false);
   }
   if (!r.loose_gear_names.empty()) {
-    fmt::print("  loose gear that rattles most (rattle index, RMS angular acceleration):\n");
+    fmt::print("  loose gear that rattles most (impact energy per second):\n");
     for (const TrainAtlasCell& c : r.cells) {
-      if (!c.point.ok || c.point.loose_gears.empty()) continue;
+      if (!c.point.ok) continue;
+      if (c.point.loose_gears.empty() || c.point.loose_gears.front().rank != 1) {
+        fmt::print("    cell ({}, {}): no loose gear impacts\n", c.ix, c.iy);
+        continue;
+      }
       const TrainAtlasLooseGear& top = c.point.loose_gears.front();
-      fmt::print("    cell ({}, {}): {} {:.4g} rad/s²\n", c.ix, c.iy, top.name, top.rattle_index);
+      fmt::print("    cell ({}, {}): {} {:.4g} mW\n", c.ix, c.iy, top.name,
+                 top.impact_energy_per_second * 1e3);
     }
   }
   for (const TrainAtlasCell& c : r.cells) {
@@ -173,7 +180,9 @@ std::string TrainAtlasCsv(const TrainAtlasResult& r) {
     os << ',' << m << " drive_impacts_per_cycle," << m << " back_impacts_per_cycle," << m
        << " separation_fraction," << m << " impact_velocity_rms," << m << " regime";
   }
-  for (const std::string& g : r.loose_gear_names) os << ',' << g << " rattle_index";
+  for (const std::string& g : r.loose_gear_names) {
+    os << ',' << g << " impact_energy_per_second," << g << " rattle_index";
+  }
   os << ",message\n";
   for (const TrainAtlasCell& c : r.cells) {
     const TrainAtlasPoint& p = c.point;
@@ -191,10 +200,12 @@ std::string TrainAtlasCsv(const TrainAtlasResult& r) {
          << RattleRegimeName(m.regime);
     }
     for (const std::string& g : r.loose_gear_names) {
+      const auto lg = std::find_if(p.loose_gears.begin(), p.loose_gears.end(),
+                                   [&](const TrainAtlasLooseGear& l) { return l.name == g; });
       os << ',';
-      for (const TrainAtlasLooseGear& lg : p.loose_gears) {
-        if (lg.name == g) os << lg.rattle_index;
-      }
+      if (lg != p.loose_gears.end()) os << lg->impact_energy_per_second;
+      os << ',';
+      if (lg != p.loose_gears.end()) os << lg->rattle_index;
     }
     os << ',' << CsvQuoted(p.message) << '\n';
   }

@@ -20,7 +20,9 @@ nlohmann::json TrainSweepPointJson(const TrainSweepPoint& p) {
   }
   nlohmann::json loose = nlohmann::json::array();
   for (const TrainLooseGearStatistics& g : p.loose_gears) {
-    loose.push_back({g.name, g.body, g.rattle_index, g.impacts, g.rank});
+    loose.push_back({g.name, g.body, g.rattle_index, g.impacts, g.rank, g.drive_impacts,
+                     g.back_impacts, g.drive_impacts_per_second, g.back_impacts_per_second,
+                     g.impact_velocity_rms, g.impact_velocity_max, g.impact_energy_per_second});
   }
   return {{"speed_rad_s", p.speed_rad_s},
           {"speed_rpm", p.speed_rpm},
@@ -61,8 +63,20 @@ TrainSweepPoint TrainSweepPointFromJson(const nlohmann::json& j) {
     p.meshes.push_back(std::move(s));
   }
   for (const auto& g : j.at("loose_gears")) {
-    p.loose_gears.push_back({g.at(0).get<std::string>(), g.at(1).get<int>(), g.at(2).get<double>(),
-                             g.at(3).get<long>(), g.at(4).get<int>()});
+    TrainLooseGearStatistics s;
+    s.name = g.at(0).get<std::string>();
+    s.body = g.at(1).get<int>();
+    s.rattle_index = g.at(2).get<double>();
+    s.impacts = g.at(3).get<long>();
+    s.rank = g.at(4).get<int>();
+    s.drive_impacts = g.at(5).get<long>();
+    s.back_impacts = g.at(6).get<long>();
+    s.drive_impacts_per_second = g.at(7).get<double>();
+    s.back_impacts_per_second = g.at(8).get<double>();
+    s.impact_velocity_rms = g.at(9).get<double>();
+    s.impact_velocity_max = g.at(10).get<double>();
+    s.impact_energy_per_second = g.at(11).get<double>();
+    p.loose_gears.push_back(std::move(s));
   }
   p.waterfall = j.at("waterfall").get<std::vector<std::vector<double>>>();
   return p;
@@ -158,12 +172,16 @@ std::string TrainMeshesCsv(const TrainSweepResult& r) {
 std::string TrainLooseGearsCsv(const TrainSweepResult& r) {
   std::ostringstream os;
   os.precision(12);
-  os << "speed_rpm,gear,rattle_index_rad_s2,rank,impacts\n";
+  os << "speed_rpm,gear,rank,impact_energy_per_second_w,drive_impacts_per_second,"
+        "back_impacts_per_second,impact_velocity_rms_m_s,impact_velocity_max_m_s,impacts,"
+        "rattle_index_rad_s2\n";
   for (const TrainSweepPoint& p : r.points) {
     if (!p.ok) continue;
     for (const TrainLooseGearStatistics& g : p.loose_gears) {
-      os << p.speed_rpm << ',' << g.name << ',' << g.rattle_index << ',' << g.rank << ','
-         << g.impacts << '\n';
+      os << p.speed_rpm << ',' << g.name << ',' << g.rank << ',' << g.impact_energy_per_second
+         << ',' << g.drive_impacts_per_second << ',' << g.back_impacts_per_second << ','
+         << g.impact_velocity_rms << ',' << g.impact_velocity_max << ',' << g.impacts << ','
+         << g.rattle_index << '\n';
     }
   }
   return os.str();
@@ -189,15 +207,23 @@ void PrintTrainSweep(const TrainSweepResult& r, const DisplayUnit& speed_unit) {
     }
   }
   if (r.loose_gear_names.empty()) return;
-  fmt::print("\n  loose gears: rattle index (RMS angular acceleration, rad/s²) and rank\n  {:>8}",
-             unit);
+  fmt::print(
+      "\n  loose gears: impact energy (mW) and rank (- : no impact)\n  {:>8}", unit);
   for (const std::string& name : r.loose_gear_names) fmt::print("{:>16}", name);
   fmt::print("\n");
   for (const TrainSweepPoint& p : r.points) {
     if (!p.ok) continue;
     fmt::print("  {:>8}", shown(p));
-    for (const TrainLooseGearStatistics& g : p.loose_gears)
-      fmt::print("{:>16}", fmt::format("{:.1f} ({})", g.rattle_index, g.rank));
+    // The columns follow the names; a point lists its gears by rank.
+    for (const std::string& name : r.loose_gear_names) {
+      const TrainLooseGearStatistics* g = FindLooseGear(p.loose_gears, name);
+      if (!g) {
+        fmt::print("{:>16}", "-");
+        continue;
+      }
+      fmt::print("{:>16}", fmt::format("{:.4g} ({})", g->impact_energy_per_second * 1e3,
+                                       g->rank > 0 ? std::to_string(g->rank) : "-"));
+    }
     fmt::print("\n");
   }
 }

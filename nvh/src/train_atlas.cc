@@ -51,7 +51,8 @@ void FillPoint(const TrainTables& tables, const TrainLyapunovSummary& lyapunov,
     p.meshes.push_back(mesh);
   }
   for (const TrainLooseGearStatistics& g : stats.loose_gears) {
-    p.loose_gears.push_back({g.name, g.rattle_index, g.impacts, g.rank});
+    p.loose_gears.push_back(
+        {g.name, g.rattle_index, g.impacts, g.rank, g.impact_energy_per_second});
   }
   p.regime = IsChaotic(p.lyapunov_per_forcing_cycle, p.lyapunov_per_s, p.lyapunov_standard_error,
                        chaos_threshold)

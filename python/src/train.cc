@@ -300,14 +300,26 @@ void BindTrain(py::module_& m) {
   py::class_<TrainLooseGearStatistics>(m, "LooseGearResult",
                                        "A loose gear's rattle in a train run.")
       .def_readonly("name", &TrainLooseGearStatistics::name)
-      .def_readonly("rank", &TrainLooseGearStatistics::rank, "1 = rattles most")
+      .def_readonly("rank", &TrainLooseGearStatistics::rank,
+                    "1 = largest impact energy per second; 0 = no impact")
       .def_readonly("rattle_index", &TrainLooseGearStatistics::rattle_index,
                     "RMS angular acceleration about the mean, rad/s^2")
       .def_readonly("impacts", &TrainLooseGearStatistics::impacts,
                     "impacts of the meshes this gear belongs to")
+      .def_readonly("drive_impacts", &TrainLooseGearStatistics::drive_impacts)
+      .def_readonly("back_impacts", &TrainLooseGearStatistics::back_impacts)
+      .def_readonly("drive_impacts_per_second", &TrainLooseGearStatistics::drive_impacts_per_second,
+                    "1/s")
+      .def_readonly("back_impacts_per_second", &TrainLooseGearStatistics::back_impacts_per_second,
+                    "1/s")
+      .def_readonly("impact_velocity_rms", &TrainLooseGearStatistics::impact_velocity_rms, "m/s")
+      .def_readonly("impact_velocity_max", &TrainLooseGearStatistics::impact_velocity_max, "m/s")
+      .def_readonly("impact_energy_per_second", &TrainLooseGearStatistics::impact_energy_per_second,
+                    "W: (1/2) m_e g'^2 summed over the impacts, per recorded second")
       .def("__repr__", [](const TrainLooseGearStatistics& g) {
         return "<gearnvh.LooseGearResult " + std::to_string(g.rank) + ". " + g.name + ", " +
-               std::to_string(g.rattle_index) + " rad/s^2>";
+               std::to_string(g.impact_energy_per_second) + " W, " + std::to_string(g.impacts) +
+               " impacts>";
       });
 
   py::class_<TrainLyapunovSummary>(
@@ -459,12 +471,26 @@ void BindTrain(py::module_& m) {
       .def_property_readonly(
           "rattle_index",
           [](const TrainSweep& s) {
-            return PerSpeed(s.result, s.result.loose_gear_names.size(),
-                            [](const gearnvh::TrainSweepPoint& p, size_t g) {
-                              return p.loose_gears[g].rattle_index;
-                            });
+            const std::vector<std::string>& names = s.result.loose_gear_names;
+            return PerSpeed(
+                s.result, names.size(), [&names](const gearnvh::TrainSweepPoint& p, size_t g) {
+                  const TrainLooseGearStatistics* l = FindLooseGear(p.loose_gears, names[g]);
+                  return l ? l->rattle_index : std::numeric_limits<double>::quiet_NaN();
+                });
           },
-          "speeds x loose gears, rad/s^2 (RMS angular acceleration)")
+          "speeds x loose gears (in the order of loose_gear_names), rad/s^2 (RMS angular "
+          "acceleration)")
+      .def_property_readonly(
+          "impact_energy_per_second",
+          [](const TrainSweep& s) {
+            const std::vector<std::string>& names = s.result.loose_gear_names;
+            return PerSpeed(
+                s.result, names.size(), [&names](const gearnvh::TrainSweepPoint& p, size_t g) {
+                  const TrainLooseGearStatistics* l = FindLooseGear(p.loose_gears, names[g]);
+                  return l ? l->impact_energy_per_second : std::numeric_limits<double>::quiet_NaN();
+                });
+          },
+          "speeds x loose gears (in the order of loose_gear_names), W")
       .def(
           "to_dict", [](const TrainSweep& s) { return ToPython(s.doc); },
           "The document `gearnvh sweep --json TRAIN.yaml` prints.")

@@ -120,10 +120,13 @@ void BindTrainAtlas(py::module_& m) {
       .def_readonly("rattle_index", &TrainAtlasLooseGear::rattle_index,
                     "RMS angular acceleration about the mean, rad/s^2")
       .def_readonly("impacts", &TrainAtlasLooseGear::impacts)
-      .def_readonly("rank", &TrainAtlasLooseGear::rank, "1 = rattles most in this cell")
+      .def_readonly("rank", &TrainAtlasLooseGear::rank,
+                    "1 = largest impact energy per second in this cell; 0 = no impact")
+      .def_readonly("impact_energy_per_second", &TrainAtlasLooseGear::impact_energy_per_second,
+                    "W")
       .def("__repr__", [](const TrainAtlasLooseGear& g) {
-        return fmt::format("<gearnvh.TrainAtlasLooseGear {}. {}, {:.4g} rad/s^2>", g.rank, g.name,
-                           g.rattle_index);
+        return fmt::format("<gearnvh.TrainAtlasLooseGear {}. {}, {:.4g} W>", g.rank, g.name,
+                           g.impact_energy_per_second);
       });
   py::class_<TrainAtlasPoint>(m, "TrainAtlasCell", "One cell of a train's atlas.")
       .def_readonly("ok", &TrainAtlasPoint::ok)
@@ -225,6 +228,18 @@ void BindTrainAtlas(py::module_& m) {
             });
           },
           "(loose gears, len(y), len(x)), rad/s^2, in the order of loose_gear_names")
+      .def_property_readonly(
+          "impact_energy_per_second",
+          [](const TrainAtlas& a) {
+            const std::vector<std::string>& names = a.result.loose_gear_names;
+            return AtlasGrids(a.result, names.size(), [&](const TrainAtlasPoint& p, size_t g) {
+              for (const TrainAtlasLooseGear& lg : p.loose_gears) {
+                if (lg.name == names[g]) return lg.impact_energy_per_second;
+              }
+              return kNaN;
+            });
+          },
+          "(loose gears, len(y), len(x)), W, in the order of loose_gear_names")
       .def_property_readonly("failed", [](const TrainAtlas& a) { return a.result.Failed(); })
       .def(
           "to_dict", [](const TrainAtlas& a) { return ToPython(a.doc); },

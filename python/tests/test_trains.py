@@ -114,6 +114,12 @@ def test_sweep_arrays_are_the_runs_at_each_speed(transmission):
     assert list(sweep.te_rms[1]) == [m.te_rms for m in single.meshes]
     by_name = {g.name: g.rattle_index for g in single.loose_gears}
     assert list(sweep.rattle_index[1]) == [by_name[n] for n in sweep.loose_gear_names]
+    # Columns follow loose_gear_names, though each run lists its gears by rank.
+    energy = {g.name: g.impact_energy_per_second for g in single.loose_gears}
+    assert list(sweep.impact_energy_per_second[1]) == [energy[n] for n in sweep.loose_gear_names]
+    ranked = sorted((g for g in single.loose_gears if g.rank > 0), key=lambda g: g.rank)
+    assert [g.impact_energy_per_second for g in ranked] == sorted(
+        (g.impact_energy_per_second for g in ranked), reverse=True)
     doc = sweep.to_dict()
     assert doc["schema"] == "gearnvh/2" and doc["name"] == train.name
     assert doc["tier"] == "tier 1" and doc["cycles_per_speed"] == RUN["cycles"]

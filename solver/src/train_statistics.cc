@@ -252,6 +252,7 @@ TrainStatistics TrainRecorder::Result() const {
     s.impact_velocity_max = impact_max_[i];
     s.impact_velocity_rms =
         impacts > 0 ? std::sqrt(impact_sum2_[i] / static_cast<double>(impacts)) : 0.0;
+    s.impact_energy = 0.5 * t_.meshes[i].effective_mass * impact_sum2_[i];
     out.meshes.push_back(s);
   }
   for (int b = 0; b < t_.bodies(); ++b) {
@@ -260,16 +261,33 @@ TrainStatistics TrainRecorder::Result() const {
     g.name = t_.body_names[static_cast<size_t>(b)];
     g.body = b;
     g.rattle_index = acceleration_[static_cast<size_t>(b)].Rms(T);
+    double sum2 = 0.0, energy = 0.0;
     for (size_t i = 0; i < t_.meshes.size(); ++i) {
-      if (t_.meshes[i].body_a == b || t_.meshes[i].body_b == b)
-        g.impacts += out.meshes[i].drive_impacts + out.meshes[i].back_impacts;
+      if (t_.meshes[i].body_a != b && t_.meshes[i].body_b != b) continue;
+      const TrainMeshStatistics& m = out.meshes[i];
+      g.drive_impacts += m.drive_impacts;
+      g.back_impacts += m.back_impacts;
+      g.impact_velocity_max = std::max(g.impact_velocity_max, m.impact_velocity_max);
+      sum2 += impact_sum2_[i];
+      energy += m.impact_energy;
+    }
+    g.impacts = g.drive_impacts + g.back_impacts;
+    g.impact_velocity_rms = g.impacts > 0 ? std::sqrt(sum2 / static_cast<double>(g.impacts)) : 0.0;
+    if (recorded_ > 0.0) {
+      g.drive_impacts_per_second = static_cast<double>(g.drive_impacts) / recorded_;
+      g.back_impacts_per_second = static_cast<double>(g.back_impacts) / recorded_;
+      g.impact_energy_per_second = energy / recorded_;
     }
     out.loose_gears.push_back(g);
   }
-  std::stable_sort(out.loose_gears.begin(), out.loose_gears.end(),
-                   [](const auto& a, const auto& b) { return a.rattle_index > b.rattle_index; });
-  for (size_t k = 0; k < out.loose_gears.size(); ++k)
-    out.loose_gears[k].rank = static_cast<int>(k) + 1;
+  // Impacting gears by impact energy per second; the others after them, in body order, rank 0.
+  std::stable_sort(out.loose_gears.begin(), out.loose_gears.end(), [](const auto& a, const auto& b) {
+    if ((a.impacts > 0) != (b.impacts > 0)) return a.impacts > 0;
+    return a.impact_energy_per_second > b.impact_energy_per_second;
+  });
+  for (size_t k = 0; k < out.loose_gears.size(); ++k) {
+    if (out.loose_gears[k].impacts > 0) out.loose_gears[k].rank = static_cast<int>(k) + 1;
+  }
   return out;
 }
 

@@ -63,7 +63,7 @@ TEST_CASE("atlas checkpoint: a train's cells round-trip, and a line its reader r
   c.point.regime = RattleRegime::kDoubleSided;
   c.point.meshes = {{"a-b", 0.5, 0.25, 0.3, 1e-3, RattleRegime::kDoubleSided},
                     {"c-d", 0.0, 0.0, 0.0, 0.0, RattleRegime::kNoImpact}};
-  c.point.loose_gears = {{"f", 123.4, 42, 1}};
+  c.point.loose_gears = {{"f", 123.4, 42, 1, 1e-3 / 7.0}};
   c.point.wall_s = 0.5;
   nlohmann::json pair_line = nlohmann::json::parse(
       "{\"ix\": 0, \"iy\": 0, \"ok\": true}");  // ok and inside, but not a train cell
@@ -85,6 +85,7 @@ TEST_CASE("atlas checkpoint: a train's cells round-trip, and a line its reader r
   REQUIRE(back.point.loose_gears.size() == 1);
   CHECK(back.point.loose_gears[0].impacts == 42);
   CHECK(back.point.loose_gears[0].rank == 1);
+  CHECK(back.point.loose_gears[0].impact_energy_per_second == 1e-3 / 7.0);
 }
 
 }  // namespace

@@ -307,7 +307,7 @@ TEST_CASE("report: a gear train gets its page and figures, next to a pair and pa
   CHECK(fs::exists(out / "idle-rattle" / "index.html"));  // the pair completed
   const fs::path g = out / "transmission";
   const std::string page = ReadWholeFile(g / "index.html");
-  CHECK(page.find("Loose gears by rattle index") != std::string::npos);
+  CHECK(page.find("Loose gears by impact energy") != std::string::npos);
   CHECK(page.find("TE spectrum lines per mesh") != std::string::npos);
   CHECK(page.find("l5-o5") != std::string::npos);
   // Campbell, per-mesh TE RMS and impacts, order tracks, a waterfall per mesh, loose gears:

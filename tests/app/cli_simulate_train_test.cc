@@ -55,13 +55,22 @@ TEST_CASE("simulate --json on a train reports every mesh and ranks the loose gea
     const double f = m["rattle"]["separation_fraction"].get<double>();
     CHECK((f >= 0.0 && f <= 1.0));
   }
-  // The four loose gears, ranked 1..4 by a non-increasing rattle index.
+  // The four loose gears, ranked 1..4 by a non-increasing impact energy per second (each
+  // impacts at idle), with their impact rates, velocities and RMS acceleration.
   const auto& loose = doc["loose_gears"];
   REQUIRE(loose.size() == 4);
   for (size_t k = 0; k < loose.size(); ++k) {
     CHECK(loose[k]["rank"] == static_cast<int>(k) + 1);
+    CHECK(loose[k]["impacts"].get<long>() > 0);
+    CHECK(loose[k]["impact_velocity_max"].get<double>() >=
+          loose[k]["impact_velocity_rms"].get<double>());
+    CHECK(loose[k]["rattle_index"].get<double>() > 0.0);
+    CHECK(loose[k]["drive_impacts_per_second"].get<double>() +
+              loose[k]["back_impacts_per_second"].get<double>() >
+          0.0);
     if (k > 0) {
-      CHECK(loose[k]["rattle_index"].get<double>() <= loose[k - 1]["rattle_index"].get<double>());
+      CHECK(loose[k]["impact_energy_per_second"].get<double>() <=
+            loose[k - 1]["impact_energy_per_second"].get<double>());
     }
   }
   // 50 cycles of the headset mesh (21 teeth at 800 rpm).
@@ -87,7 +96,7 @@ TEST_CASE("simulate on a train prints the per-mesh table", "[cli][train]") {
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
   CHECK(r.out.find("l3-o3") != std::string::npos);
-  CHECK(r.out.find("loose gears by rattle index") != std::string::npos);
+  CHECK(r.out.find("loose gears by impact energy") != std::string::npos);
   CHECK(r.err.empty());  // quiet when piped
 }
 

@@ -128,13 +128,15 @@ TEST_CASE(
       CHECK(c["meshes"][1]["drive_impacts_per_cycle"].get<double>() > 0.0);
       CHECK(c["meshes"][0]["regime"] == "no impact");
       CHECK(c["loose_gears"][0]["rattle_index"].get<double>() > 0.0);
+      CHECK(c["loose_gears"][0]["impact_energy_per_second"].get<double>() > 0.0);
+      CHECK(c["loose_gears"][0]["rank"] == 1);
     }
   }
   CHECK(doc["regime_counts"]["no impact"] == 2);
   const std::string csv = ReadWholeFile(dir.path() / "out" / "atlas.csv");
   CHECK(csv.find("operating.loads[1].torque [N m],operating.speed [rpm]") != std::string::npos);
   CHECK(csv.find("g3-g4 regime") != std::string::npos);
-  CHECK(csv.find("g4 rattle_index") != std::string::npos);
+  CHECK(csv.find("g4 impact_energy_per_second,g4 rattle_index") != std::string::npos);
   CHECK(std::count(csv.begin(), csv.end(), '\n') == 5);
   CHECK(nlohmann::json::parse(ReadWholeFile(dir.path() / "out" / "atlas.json"))["cells"].size() ==
         4);

@@ -77,7 +77,12 @@ TEST_CASE("a train without load or excitation rests at every speed of its sweep"
       CHECK(m.free_time_fraction == Approx(1.0).epsilon(1e-12));  // rounding of a sum of times
       CHECK(m.te_peak_to_peak <= kRestingTe);
     }
-    for (const TrainLooseGearStatistics& g : p.loose_gears) CHECK(g.rattle_index == 0.0);
+    for (const TrainLooseGearStatistics& g : p.loose_gears) {
+      CHECK(g.rattle_index == 0.0);
+      // No impact: not ranked as rattling (issue 39: a gear with 0 impacts was ranked first).
+      CHECK(g.rank == 0);
+      CHECK(g.impact_energy_per_second == 0.0);
+    }
   }
 }
 

@@ -206,7 +206,20 @@ TEST_CASE("a train sweep's speed crosses between MPI ranks whole: its JSON round
   m.impact_velocity_rms = 0.004 / 7.0;
   p.meshes = {m, m};
   p.meshes[1].name = "c-d";
-  p.loose_gears = {{"f", 5, 1234.5 / 7.0, 42, 1}};
+  TrainLooseGearStatistics f;
+  f.name = "f";
+  f.body = 5;
+  f.rattle_index = 1234.5 / 7.0;
+  f.drive_impacts = 40;
+  f.back_impacts = 2;
+  f.impacts = 42;
+  f.drive_impacts_per_second = 400.0 / 3.0;
+  f.back_impacts_per_second = 20.0 / 3.0;
+  f.impact_velocity_rms = 0.01 / 3.0;
+  f.impact_velocity_max = 0.02 / 7.0;
+  f.impact_energy_per_second = 1e-3 / 3.0;
+  f.rank = 1;
+  p.loose_gears = {f};
   p.waterfall = {{0.0, 1e-6 / 3.0, 5e-300}, {1.0 / 3.0, 0.0, 2.0}};
   using app::TrainSweepPointFromJson;
   using app::TrainSweepPointJson;
@@ -232,6 +245,14 @@ TEST_CASE("a train sweep's speed crosses between MPI ranks whole: its JSON round
   CHECK(back.loose_gears[0].body == 5);
   CHECK(back.loose_gears[0].rattle_index == p.loose_gears[0].rattle_index);
   CHECK(back.loose_gears[0].rank == 1);
+  CHECK(back.loose_gears[0].impacts == 42);
+  CHECK(back.loose_gears[0].drive_impacts == 40);
+  CHECK(back.loose_gears[0].back_impacts == 2);
+  CHECK(back.loose_gears[0].drive_impacts_per_second == f.drive_impacts_per_second);
+  CHECK(back.loose_gears[0].back_impacts_per_second == f.back_impacts_per_second);
+  CHECK(back.loose_gears[0].impact_velocity_rms == f.impact_velocity_rms);
+  CHECK(back.loose_gears[0].impact_velocity_max == f.impact_velocity_max);
+  CHECK(back.loose_gears[0].impact_energy_per_second == f.impact_energy_per_second);
   CHECK(back.waterfall == p.waterfall);
   // A failed speed: no statistics, its message.
   TrainSweepPoint failed;

@@ -608,6 +608,7 @@ TEST_CASE("train: the recorded statistics are exact, against dense samples of th
   // two runs stopped at different times part after ~10 ms.
   TrainStepper dense(t, {}, z0, states0);
   TrainRecorder recorder(t, 32, start);
+  recorder.KeepEvents(1000000);
   REQUIRE(dense.Run(start, &recorder));
 
   const int samples = 40000;  // even: Simpson
@@ -683,6 +684,36 @@ TEST_CASE("train: the recorded statistics are exact, against dense samples of th
   // The acceleration jumps at every event and segment boundary: Simpson's rule is first order
   // there, ~dt / contact per jump (measured 1.4e-4): 1e-3.
   CHECK(std::abs(exact.loose_gears[0].rattle_index - rattle) <= 1e-3 * rattle);
+
+  // The loose gear's impacts from the kept event list (free -> contact on its meshes), with the
+  // effective mass from the bodies' inertias and base radii (m_e = J_a J_b / (J_a r_b^2 +
+  // J_b r_a^2): v = r_a e_a - r_b e_b, so r_a = v_a and r_b = -v_b): equal to rounding of the same
+  // sums (1e-12).
+  const TrainLooseGearStatistics& g = exact.loose_gears[0];
+  REQUIRE(recorder.window_events() == static_cast<long>(recorder.events().size()));
+  long drive = 0, back = 0;
+  double sum2 = 0.0, vmax = 0.0, energy = 0.0;
+  for (const TrainEventRecord& e : recorder.events()) {
+    const TrainMeshTable& mt = t.meshes[static_cast<size_t>(e.mesh)];
+    if (mt.body_a != g.body && mt.body_b != g.body) continue;
+    if (e.event.from != ContactState::kFree) continue;
+    (e.event.to == ContactState::kDrive ? drive : back) += 1;
+    const double ja = t.inertia[mt.body_a], jb = t.inertia[mt.body_b];
+    const double ra = mt.v[mt.body_a], rb = -mt.v[mt.body_b];
+    sum2 += e.event.gap_rate * e.event.gap_rate;
+    vmax = std::max(vmax, std::abs(e.event.gap_rate));
+    energy += 0.5 * ja * jb / (ja * rb * rb + jb * ra * ra) * e.event.gap_rate * e.event.gap_rate;
+  }
+  REQUIRE(drive + back >= 5);  // it rattles (8 impacts in this window)
+  CHECK(g.drive_impacts == drive);
+  CHECK(g.back_impacts == back);
+  CHECK(g.impacts == drive + back);
+  CHECK(g.rank == 1);
+  CHECK(g.drive_impacts_per_second == Approx(drive / (end - start)).epsilon(1e-12));
+  CHECK(g.back_impacts_per_second == Approx(back / (end - start)).epsilon(1e-12));
+  CHECK(g.impact_velocity_rms == Approx(std::sqrt(sum2 / (drive + back))).epsilon(1e-12));
+  CHECK(g.impact_velocity_max == vmax);
+  CHECK(g.impact_energy_per_second == Approx(energy / (end - start)).epsilon(1e-12));
 }
 
 TEST_CASE("train: lazy decomposition (dense until a tuple's third entry) agrees with eager",

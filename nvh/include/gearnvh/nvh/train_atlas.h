@@ -56,7 +56,8 @@ struct TrainAtlasLooseGear {
   std::string name;
   double rattle_index = 0.0;  // RMS angular acceleration about the mean, rad/s^2
   long impacts = 0;           // impacts of its meshes over the recorded cycles
-  int rank = 0;               // 1 = rattles most in this cell
+  int rank = 0;  // 1 = largest impact energy per second in this cell; 0 = no impact
+  double impact_energy_per_second = 0.0;  // W (TrainLooseGearStatistics)
 };
 
 struct TrainAtlasPoint {

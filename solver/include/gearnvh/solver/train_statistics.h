@@ -9,8 +9,9 @@
 // s^k / k! (truncation (rho s)^19 / 19! ~ 1e-23, below rounding), whose integrals of y and y^2 are
 // closed forms and whose extrema are certified (polynomial_statistics.h). Outputs per mesh: the TE
 // delta_i = v_i^T x (mean, RMS about the mean, peak-to-peak), the mesh force k (g) + c delta' in
-// contact, 0 free (mean and maximum); per loose gear its rattle index, the RMS of its angular
-// acceleration about the mean (rad/s^2). Nothing is taken from samples: a peak between samples,
+// contact, 0 free (mean and maximum); per loose gear its impacts and their energy (below) and its
+// rattle index, the RMS of its angular acceleration about the mean (rad/s^2). Nothing is taken
+// from samples: a peak between samples,
 // such as an impact's force, is found. Uniform samples (samples_per_cycle per cycle of the fastest
 // mesh, each the exact state at its time) are counted and serve the spectra.
 #pragma once
@@ -33,14 +34,24 @@ struct TrainMeshStatistics {
   long drive_impacts = 0, back_impacts = 0, separations = 0, grazing = 0;
   double free_time_fraction = 0.0;                              // [0, 1]
   double impact_velocity_max = 0.0, impact_velocity_rms = 0.0;  // m/s
+  double impact_energy = 0.0;  // J: the sum over impacts of (1/2) m_e g'^2 (m_e the mesh's
+                               // effective mass, TrainMeshTable::effective_mass)
 };
 
+// A loose gear's rattle, over the impacts of the meshes it belongs to (docs/results.md). Ranked by
+// impact energy per second, the impacts' kinetic energy along the line of action: what makes the
+// noise. A gear without an impact does not rattle and has rank 0 (RMS acceleration alone favours
+// light gears that only whine).
 struct TrainLooseGearStatistics {
   std::string name;
   int body = 0;
   double rattle_index = 0.0;  // RMS angular acceleration about the mean, rad/s^2
-  long impacts = 0;           // impacts of the meshes this gear belongs to
-  int rank = 0;               // 1 = rattles most
+  long drive_impacts = 0, back_impacts = 0;
+  long impacts = 0;                                                    // drive + back
+  double drive_impacts_per_second = 0.0, back_impacts_per_second = 0.0;  // per recorded second
+  double impact_velocity_rms = 0.0, impact_velocity_max = 0.0;  // m/s
+  double impact_energy_per_second = 0.0;                        // W (J per recorded second)
+  int rank = 0;  // 1 = largest impact energy per second; 0 = no impact
 };
 
 // One located contact change of a train run: the mesh, and the pair's record of it (the time, the
@@ -50,11 +61,19 @@ struct TrainEventRecord {
   EventRecord event;
 };
 
+// The gear of that name in `gears` (listed by rank), or null.
+inline const TrainLooseGearStatistics* FindLooseGear(
+    const std::vector<TrainLooseGearStatistics>& gears, const std::string& name) {
+  const auto g = std::find_if(gears.begin(), gears.end(),
+                              [&](const TrainLooseGearStatistics& l) { return l.name == name; });
+  return g == gears.end() ? nullptr : &*g;
+}
+
 struct TrainStatistics {
   double recorded_time = 0.0;  // s
   long samples = 0;
   std::vector<TrainMeshStatistics> meshes;            // in the order of the file
-  std::vector<TrainLooseGearStatistics> loose_gears;  // sorted by rank
+  std::vector<TrainLooseGearStatistics> loose_gears;  // by rank, then the gears without impact
 };
 
 class TrainRecorder {
