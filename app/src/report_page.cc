@@ -57,8 +57,14 @@ std::string GearboxPage(const GearboxPageInput& in) {
     << Row("impacts per mesh cycle (drive / back)",
            fmt::format("{} / {}", Number(r.drive_impacts_per_cycle),
                        Number(r.back_impacts_per_cycle)))
-    << Row("impact velocity RMS (mm/s)", Number(r.impact_velocity_rms * 1e3))
+    << Row("impacts per second (drive / back)",
+           fmt::format("{} / {}", Number(r.drive_impacts_per_second),
+                       Number(r.back_impacts_per_second)))
+    << Row("impact velocity RMS / max (mm/s)",
+           fmt::format("{} / {}", Number(r.impact_velocity_rms * 1e3),
+                       Number(r.impact_velocity_max * 1e3)))
     << Row("impact energy per mesh cycle (J)", Number(r.impact_energy_per_cycle))
+    << Row("impact energy per second (mW)", Number(r.impact_energy_per_second * 1e3))
     << Row("time separated (%)", Number(100.0 * r.separation_fraction))
     << Row("wheel acceleration RMS (rad/s²)", Number(r.wheel_acceleration_rms))
     << Row("acceleration ratio vs no backlash", Number(r.acceleration_ratio))

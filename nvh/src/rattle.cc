@@ -1,5 +1,6 @@
 #include "gearnvh/nvh/rattle.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace gearnvh {
@@ -56,10 +57,16 @@ RattleIndices ComputeRattleIndices(const SolverResult& run, double effective_mas
   for (const EventRecord& e : run.trajectory.events) {
     if (e.from != ContactState::kFree) continue;  // impacts: free -> contact
     square += e.gap_rate * e.gap_rate;
+    r.impact_velocity_max = std::max(r.impact_velocity_max, std::abs(e.gap_rate));
     ++impacts;
   }
   r.impact_velocity_rms = impacts > 0 ? std::sqrt(square / impacts) : 0.0;
   r.impact_energy_per_cycle = 0.5 * effective_mass * square / recorded_cycles;
+  if (s.recorded_s > 0.0) {
+    r.drive_impacts_per_second = static_cast<double>(s.drive_impacts) / s.recorded_s;
+    r.back_impacts_per_second = static_cast<double>(s.back_impacts) / s.recorded_s;
+    r.impact_energy_per_second = 0.5 * effective_mass * square / s.recorded_s;
+  }
   r.separation_fraction = s.recorded_s > 0.0 ? s.separated_s / s.recorded_s : 0.0;
   r.wheel_acceleration_rms = WheelAccelerationRms(run.trajectory);
   if (no_backlash) {

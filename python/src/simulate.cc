@@ -171,9 +171,14 @@ void BindSimulate(py::module_& m) {
                              [](const RattleIndices& r) { return RattleRegimeName(r.regime); })
       .def_readonly("drive_impacts_per_cycle", &RattleIndices::drive_impacts_per_cycle)
       .def_readonly("back_impacts_per_cycle", &RattleIndices::back_impacts_per_cycle)
+      .def_readonly("drive_impacts_per_second", &RattleIndices::drive_impacts_per_second, "1/s")
+      .def_readonly("back_impacts_per_second", &RattleIndices::back_impacts_per_second, "1/s")
       .def_readonly("impact_velocity_rms", &RattleIndices::impact_velocity_rms, "m/s")
+      .def_readonly("impact_velocity_max", &RattleIndices::impact_velocity_max, "m/s")
       .def_readonly("impact_energy_per_cycle", &RattleIndices::impact_energy_per_cycle,
                     "J per mesh cycle")
+      .def_readonly("impact_energy_per_second", &RattleIndices::impact_energy_per_second,
+                    "W, as a train's loose gear's")
       .def_readonly("separation_fraction", &RattleIndices::separation_fraction)
       .def_readonly("wheel_acceleration_rms", &RattleIndices::wheel_acceleration_rms, "rad/s^2")
       .def_readonly("acceleration_ratio", &RattleIndices::acceleration_ratio,

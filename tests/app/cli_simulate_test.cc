@@ -41,6 +41,16 @@ TEST_CASE("simulate --json: summary keys, the rattle example rattles, the loaded
   CHECK(r["rattle"]["separation_fraction"].get<double>() > 0.1);
   CHECK(r["rattle"]["no_backlash_acceleration_rms"].get<double>() > 0.0);
   CHECK(r["rattle"]["acceleration_ratio"].get<double>() > 1.5);
+  // The per-second rattle a train's loose gears report: the same sums over another length (the
+  // recorded cycles' time), so energy per second x seconds = energy per cycle x cycles, to the
+  // rounding of two divisions (1e-12).
+  const double recorded_cycles = 324.0, recorded_s = recorded_cycles * 60.0 / 800.0 / 27.0;
+  CHECK(r["rattle"]["impact_energy_per_second"].get<double>() * recorded_s ==
+        Approx(r["rattle"]["impact_energy_per_cycle"].get<double>() * recorded_cycles)
+            .epsilon(1e-12));
+  CHECK(r["rattle"]["impact_velocity_max"].get<double>() >=
+        r["rattle"]["impact_velocity_rms"].get<double>());
+  CHECK(r["rattle"]["back_impacts_per_second"].get<double>() > 0.0);
 
   const auto whine = RunCommand(kExe + " simulate --json --cycles 200 --transient 100 " +
                                 kExamples + "/industrial_whine.yaml");

@@ -42,6 +42,11 @@ TEST_CASE("rattle indices of a constructed run with known impacts", "[nvh][rattl
   CHECK(r.drive_impacts_per_excitation == Approx(2.7).epsilon(1e-15));
   CHECK(r.impact_velocity_rms == Approx(std::sqrt((1.0 + 4.0 + 9.0) / 3)).epsilon(1e-15));
   CHECK(r.impact_energy_per_cycle == Approx(0.5 * me * 14.0 / 10).epsilon(1e-15));
+  // Per recorded second (10 ms): as a train's loose gear reports them.
+  CHECK(r.drive_impacts_per_second == Approx(200.0).epsilon(1e-15));
+  CHECK(r.back_impacts_per_second == Approx(100.0).epsilon(1e-15));
+  CHECK(r.impact_energy_per_second == Approx(0.5 * me * 14.0 / 0.010).epsilon(1e-15));
+  CHECK(r.impact_velocity_max == 3.0);
   CHECK(r.separation_fraction == Approx(0.4).epsilon(1e-15));
   CHECK(r.wheel_acceleration_rms == Approx(100.0 / std::sqrt(2.0)).epsilon(1e-12));
   CHECK(r.acceleration_ratio == Approx(4.0).epsilon(1e-12));

@@ -6,6 +6,9 @@
 //   impact velocity RMS             sqrt(mean over impacts of g'^2), g' the gap rate at impact, m/s
 //   impact energy per cycle         sum over impacts of (1/2) m_e g'^2 / N, J (m_e = J1 J2 /
 //                                   (J1 r_b2^2 + J2 r_b1^2), the mesh's effective mass)
+//   per recorded second             the impacts per flank, and the impact energy (W): the same
+//                                   numbers a train reports per loose gear (train_statistics.h)
+//   impact velocity max             max over impacts of |g'|, m/s
 //   separation fraction             time in free flight / recorded time (exact, from event times)
 //   wheel acceleration RMS          sqrt((1/T) ∫ (a - mean a)^2 dt) of the loose gear's (wheel's)
 //                                   angular acceleration, exact (closed-form integrals over the
@@ -43,8 +46,10 @@ bool IsChaotic(double per_forcing_cycle, double exponent_per_s, double standard_
 struct RattleIndices {
   double drive_impacts_per_cycle = 0.0, back_impacts_per_cycle = 0.0;
   double drive_impacts_per_excitation = 0.0, back_impacts_per_excitation = 0.0;
-  double impact_velocity_rms = 0.0;      // m/s
-  double impact_energy_per_cycle = 0.0;  // J
+  double drive_impacts_per_second = 0.0, back_impacts_per_second = 0.0;
+  double impact_velocity_rms = 0.0, impact_velocity_max = 0.0;  // m/s
+  double impact_energy_per_cycle = 0.0;                         // J
+  double impact_energy_per_second = 0.0;                        // W
   double separation_fraction = 0.0;
   double wheel_acceleration_rms = 0.0;  // rad/s^2
   double no_backlash_acceleration_rms = 0.0;
