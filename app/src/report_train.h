@@ -1,7 +1,7 @@
 // One gear train (schema gearnvh/2) of a report, built into its folder: the train's check (modes
 // and Campbell data of analysis.tier), the operating point on the train solver with every
 // mesh's TE spectrum lines, a speed sweep, the figures (Campbell diagram; per mesh TE RMS and
-// impacts per cycle against the input speed; each loose gear's rattle index against speed), the
+// impacts per cycle against the input speed; each loose gear's impact energy against speed), the
 // data files and the page (docs/reports.md, "Gear trains").
 #pragma once
 

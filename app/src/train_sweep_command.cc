@@ -207,14 +207,13 @@ void PrintTrainSweep(const TrainSweepResult& r, const DisplayUnit& speed_unit) {
     }
   }
   if (r.loose_gear_names.empty()) return;
-  fmt::print(
-      "\n  loose gears: impact energy (mW) and rank (- : no impact)\n  {:>8}", unit);
+  fmt::print("\n  loose gears: impact energy (mW) and rank (- : no impact)\n  {:>8}", unit);
   for (const std::string& name : r.loose_gear_names) fmt::print("{:>16}", name);
   fmt::print("\n");
   for (const TrainSweepPoint& p : r.points) {
     if (!p.ok) continue;
     fmt::print("  {:>8}", shown(p));
-    // The columns follow the names; a point lists its gears by rank.
+    // The columns follow the names, found by name.
     for (const std::string& name : r.loose_gear_names) {
       const TrainLooseGearStatistics* g = FindLooseGear(p.loose_gears, name);
       if (!g) {

@@ -34,7 +34,7 @@ std::string TrainMeshesCsv(const TrainSweepResult& r);
 std::string TrainLooseGearsCsv(const TrainSweepResult& r);
 // (waterfall.csv: WaterfallCsv of MeshWaterfalls, sweep_command.h.)
 
-// Prints the sweep's text tables (per mesh, then the loose gears' rattle index per speed).
+// Prints the sweep's text tables (per mesh, then the loose gears' impact energy and rank per speed).
 // The tables of a sweep on a terminal, speeds in `speed_unit` (the unit the file wrote).
 void PrintTrainSweep(const TrainSweepResult& r, const DisplayUnit& speed_unit);
 

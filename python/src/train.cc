@@ -137,6 +137,19 @@ py::array_t<double> PerSpeed(const gearnvh::TrainSweepResult& r, size_t columns,
   return Matrix(rows);
 }
 
+// speeds x loose gears of a loose gear's field, in the order of loose_gear_names (found by name);
+// NaN for a failed speed.
+py::cpp_function PerSpeedLooseGears(double TrainLooseGearStatistics::*member) {
+  return py::cpp_function([member](const TrainSweep& s) {
+    const std::vector<std::string>& names = s.result.loose_gear_names;
+    return PerSpeed(s.result, names.size(),
+                    [&names, member](const gearnvh::TrainSweepPoint& p, size_t g) {
+                      const TrainLooseGearStatistics* l = FindLooseGear(p.loose_gears, names[g]);
+                      return l ? l->*member : std::numeric_limits<double>::quiet_NaN();
+                    });
+  });
+}
+
 // A (meshes x samples) array copied from per-mesh histories (all of one length), as `Out`.
 template <typename Out, typename In>
 py::array_t<Out> MeshMatrix(const std::vector<std::vector<In>>& per_mesh) {
@@ -317,9 +330,9 @@ void BindTrain(py::module_& m) {
       .def_readonly("impact_energy_per_second", &TrainLooseGearStatistics::impact_energy_per_second,
                     "W: (1/2) m_e g'^2 summed over the impacts, per recorded second")
       .def("__repr__", [](const TrainLooseGearStatistics& g) {
-        return "<gearnvh.LooseGearResult " + std::to_string(g.rank) + ". " + g.name + ", " +
-               std::to_string(g.impact_energy_per_second) + " W, " + std::to_string(g.impacts) +
-               " impacts>";
+        return "<gearnvh.LooseGearResult " + (g.rank > 0 ? std::to_string(g.rank) + ". " : "- ") +
+               g.name + ", " + std::to_string(g.impact_energy_per_second) + " W, " +
+               std::to_string(g.impacts) + " impacts>";
       });
 
   py::class_<TrainLyapunovSummary>(
@@ -367,7 +380,8 @@ void BindTrain(py::module_& m) {
           "MeshResult per mesh, file order")
       .def_property_readonly(
           "loose_gears", [](const TrainSimulation& s) { return s.op.stats.loose_gears; },
-          "LooseGearResult per loose gear, by rank (1 = rattles most)")
+          "LooseGearResult per loose gear, by rank (1 = the largest impact energy), then the gears "
+          "without impacts (rank 0)")
       .def_property_readonly(
           "sidebands",
           [](const TrainSimulation& s) {
@@ -468,28 +482,13 @@ void BindTrain(py::module_& m) {
                 [](const gearnvh::TrainSweepPoint& p, size_t i) { return p.ImpactsPerCycle(i); });
           },
           "speeds x meshes: drive + back impacts per cycle of that mesh")
-      .def_property_readonly(
-          "rattle_index",
-          [](const TrainSweep& s) {
-            const std::vector<std::string>& names = s.result.loose_gear_names;
-            return PerSpeed(
-                s.result, names.size(), [&names](const gearnvh::TrainSweepPoint& p, size_t g) {
-                  const TrainLooseGearStatistics* l = FindLooseGear(p.loose_gears, names[g]);
-                  return l ? l->rattle_index : std::numeric_limits<double>::quiet_NaN();
-                });
-          },
-          "speeds x loose gears (in the order of loose_gear_names), rad/s^2 (RMS angular "
-          "acceleration)")
+      .def_property_readonly("rattle_index",
+                             PerSpeedLooseGears(&TrainLooseGearStatistics::rattle_index),
+                             "speeds x loose gears (in the order of loose_gear_names), rad/s^2 "
+                             "(RMS angular acceleration)")
       .def_property_readonly(
           "impact_energy_per_second",
-          [](const TrainSweep& s) {
-            const std::vector<std::string>& names = s.result.loose_gear_names;
-            return PerSpeed(
-                s.result, names.size(), [&names](const gearnvh::TrainSweepPoint& p, size_t g) {
-                  const TrainLooseGearStatistics* l = FindLooseGear(p.loose_gears, names[g]);
-                  return l ? l->impact_energy_per_second : std::numeric_limits<double>::quiet_NaN();
-                });
-          },
+          PerSpeedLooseGears(&TrainLooseGearStatistics::impact_energy_per_second),
           "speeds x loose gears (in the order of loose_gear_names), W")
       .def(
           "to_dict", [](const TrainSweep& s) { return ToPython(s.doc); },

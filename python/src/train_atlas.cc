@@ -88,6 +88,20 @@ py::cpp_function MeshGrids(double TrainAtlasMesh::*member) {
   });
 }
 
+// (loose gears, rows, columns) of a loose gear's field, in the order of loose_gear_names (a cell
+// lists its gears by rank); NaN where a gear is missing.
+py::cpp_function LooseGearGrids(double TrainAtlasLooseGear::*member) {
+  return py::cpp_function([member](const TrainAtlas& a) {
+    const std::vector<std::string>& names = a.result.loose_gear_names;
+    return AtlasGrids(a.result, names.size(), [&names, member](const TrainAtlasPoint& p, size_t g) {
+      for (const TrainAtlasLooseGear& lg : p.loose_gears) {
+        if (lg.name == names[g]) return lg.*member;
+      }
+      return kNaN;
+    });
+  });
+}
+
 // A regime name per cell (row-major nested lists), "failed" for a failed cell.
 template <typename Regime>
 std::vector<std::vector<std::string>> RegimeGrid(const gearnvh::TrainAtlasResult& r,
@@ -122,10 +136,10 @@ void BindTrainAtlas(py::module_& m) {
       .def_readonly("impacts", &TrainAtlasLooseGear::impacts)
       .def_readonly("rank", &TrainAtlasLooseGear::rank,
                     "1 = largest impact energy per second in this cell; 0 = no impact")
-      .def_readonly("impact_energy_per_second", &TrainAtlasLooseGear::impact_energy_per_second,
-                    "W")
+      .def_readonly("impact_energy_per_second", &TrainAtlasLooseGear::impact_energy_per_second, "W")
       .def("__repr__", [](const TrainAtlasLooseGear& g) {
-        return fmt::format("<gearnvh.TrainAtlasLooseGear {}. {}, {:.4g} W>", g.rank, g.name,
+        return fmt::format("<gearnvh.TrainAtlasLooseGear {} {}, {:.4g} W>",
+                           g.rank > 0 ? std::to_string(g.rank) + "." : "-", g.name,
                            g.impact_energy_per_second);
       });
   py::class_<TrainAtlasPoint>(m, "TrainAtlasCell", "One cell of a train's atlas.")
@@ -139,7 +153,8 @@ void BindTrainAtlas(py::module_& m) {
           [](const TrainAtlasPoint& p) { return p.ok ? RattleRegimeName(p.regime) : "failed"; })
       .def_readonly("meshes", &TrainAtlasPoint::meshes, "TrainAtlasMesh per mesh, file order")
       .def_readonly("loose_gears", &TrainAtlasPoint::loose_gears,
-                    "TrainAtlasLooseGear by rank (1 = rattles most)")
+                    "TrainAtlasLooseGear by rank (1 = the largest impact energy), then the gears "
+                    "without impacts (rank 0)")
       .def_readonly("wall_s", &TrainAtlasPoint::wall_s)
       .def("__repr__", [](const TrainAtlasPoint& p) {
         if (!p.ok) return "<gearnvh.TrainAtlasCell failed: " + p.message + ">";
@@ -216,30 +231,12 @@ void BindTrainAtlas(py::module_& m) {
                              MeshGrids(&TrainAtlasMesh::back_impacts_per_cycle))
       .def_property_readonly("separation_fraction", MeshGrids(&TrainAtlasMesh::separation_fraction))
       .def_property_readonly("impact_velocity_rms", MeshGrids(&TrainAtlasMesh::impact_velocity_rms))
-      .def_property_readonly(
-          "rattle_index",
-          [](const TrainAtlas& a) {
-            const std::vector<std::string>& names = a.result.loose_gear_names;
-            return AtlasGrids(a.result, names.size(), [&](const TrainAtlasPoint& p, size_t g) {
-              for (const TrainAtlasLooseGear& lg : p.loose_gears) {
-                if (lg.name == names[g]) return lg.rattle_index;
-              }
-              return kNaN;
-            });
-          },
-          "(loose gears, len(y), len(x)), rad/s^2, in the order of loose_gear_names")
-      .def_property_readonly(
-          "impact_energy_per_second",
-          [](const TrainAtlas& a) {
-            const std::vector<std::string>& names = a.result.loose_gear_names;
-            return AtlasGrids(a.result, names.size(), [&](const TrainAtlasPoint& p, size_t g) {
-              for (const TrainAtlasLooseGear& lg : p.loose_gears) {
-                if (lg.name == names[g]) return lg.impact_energy_per_second;
-              }
-              return kNaN;
-            });
-          },
-          "(loose gears, len(y), len(x)), W, in the order of loose_gear_names")
+      .def_property_readonly("rattle_index", LooseGearGrids(&TrainAtlasLooseGear::rattle_index),
+                             "(loose gears, len(y), len(x)), rad/s^2, in the order of "
+                             "loose_gear_names")
+      .def_property_readonly("impact_energy_per_second",
+                             LooseGearGrids(&TrainAtlasLooseGear::impact_energy_per_second),
+                             "(loose gears, len(y), len(x)), W, in the order of loose_gear_names")
       .def_property_readonly("failed", [](const TrainAtlas& a) { return a.result.Failed(); })
       .def(
           "to_dict", [](const TrainAtlas& a) { return ToPython(a.doc); },

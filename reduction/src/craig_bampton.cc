@@ -109,6 +109,71 @@ FixedInterfaceModeSet FixedInterfaceModes(const SpMat& K, const SpMat& M,
   return out;
 }
 
+FixedInterfaceModeSet LowestFixedInterfaceModes(const SpMat& K, const SpMat& M,
+                                                const std::vector<std::vector<int>>& interiors,
+                                                int modes, const ReductionOptions& options) {
+  const size_t parts = interiors.size();
+  int available = 0;
+  for (const std::vector<int>& interior : interiors) available += static_cast<int>(interior.size());
+  modes = std::clamp(modes, 0, available);
+  if (modes == 0) return FixedInterfaceModes(K, M, {}, 0, options);
+  std::vector<FixedInterfaceModeSet> sets(parts);
+  std::vector<int> asked(parts, 0);
+  std::vector<bool> stale(parts, true);
+  const int share = parts > 0 ? (modes + static_cast<int>(parts) - 1) / static_cast<int>(parts) : 0;
+  for (size_t p = 0; p < parts; ++p) {
+    asked[p] = std::min(static_cast<int>(interiors[p].size()), share + kClusterLookahead);
+  }
+  struct Value {
+    double omega2;
+    size_t part;
+    Eigen::Index column;
+  };
+  std::vector<Value> merged;
+  int cut = 0;
+  for (;;) {
+    for (size_t p = 0; p < parts; ++p) {
+      if (!stale[p]) continue;
+      sets[p] = FixedInterfaceModes(K, M, interiors[p], asked[p], options);
+      if (sets[p].status != CraigBamptonStatus::kSuccess) return sets[p];
+      stale[p] = false;
+    }
+    merged.clear();
+    for (size_t p = 0; p < parts; ++p) {
+      for (Eigen::Index j = 0; j < sets[p].omega2.size(); ++j) {
+        merged.push_back({sets[p].omega2[j], p, j});
+      }
+    }
+    std::stable_sort(merged.begin(), merged.end(),
+                     [](const Value& a, const Value& b) { return a.omega2 < b.omega2; });
+    Eigen::VectorXd values(static_cast<Eigen::Index>(merged.size()));
+    for (size_t k = 0; k < merged.size(); ++k)
+      values[static_cast<Eigen::Index>(k)] = merged[k].omega2;
+    cut = ClusterCut(values, modes);
+    // A part whose modes may continue below the first value cut off is asked for more.
+    bool more = false;
+    for (size_t p = 0; p < parts; ++p) {
+      const Eigen::Index have = sets[p].omega2.size();
+      if (have >= static_cast<Eigen::Index>(interiors[p].size())) continue;
+      if (cut < values.size() && have > 0 && sets[p].omega2[have - 1] >= values[cut]) continue;
+      asked[p] = std::min(static_cast<int>(interiors[p].size()),
+                          2 * static_cast<int>(have) + kClusterLookahead);
+      stale[p] = more = true;
+    }
+    if (!more) break;
+  }
+  FixedInterfaceModeSet out;
+  out.shapes = Eigen::MatrixXd::Zero(K.rows(), cut);
+  out.omega2 = Eigen::VectorXd::Zero(cut);
+  for (int k = 0; k < cut; ++k) {
+    const Value& v = merged[static_cast<size_t>(k)];
+    out.omega2[k] = v.omega2;
+    out.shapes.col(k) = sets[v.part].shapes.col(v.column);
+  }
+  for (const FixedInterfaceModeSet& s : sets) out.sparse_eigensolver |= s.sparse_eigensolver;
+  return out;
+}
+
 CraigBamptonBasis CraigBampton(const SpMat& K, const SpMat& M, const std::vector<int>& boundary,
                                int modes, const ReductionOptions& options) {
   CraigBamptonBasis out;

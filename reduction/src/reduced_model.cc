@@ -194,19 +194,34 @@ ReducedModel ReduceModel(const ComponentModel& m, Tier tier, const ReductionOpti
   RequireTierAvailable(m, tier);
   const double full_compliance = FullStaticMeshCompliance(m);
   const std::vector<int> boundary = Boundary(m, tier);
-  const int modes = ModesOf(tier);
-  const CraigBamptonBasis cb = CraigBampton(m.K, m.M, boundary, modes, options);
-  if (cb.status != CraigBamptonStatus::kSuccess) {
-    throw StructureNotReducible("cannot be reduced: " + cb.message);
+  const CraigBamptonBasis guyan = CraigBampton(m.K, m.M, boundary, 0, options);
+  if (guyan.status != CraigBamptonStatus::kSuccess) {
+    throw StructureNotReducible("cannot be reduced: " + guyan.message);
   }
-  ReducedModel r = Project(m, cb.T);
+  // The lowest fixed-interface modes of both shafts together, each shaft's interior solved on its
+  // own (LowestFixedInterfaceModes), as a train's.
+  std::vector<bool> is_boundary(static_cast<size_t>(m.dofs), false);
+  for (int d : boundary) is_boundary[static_cast<size_t>(d)] = true;
+  std::vector<std::vector<int>> interiors(2);
+  for (int dof = 0; ModesOf(tier) > 0 && dof < m.dofs; ++dof) {
+    if (!is_boundary[static_cast<size_t>(dof)])
+      interiors[static_cast<size_t>(m.nodes[static_cast<size_t>(dof / 6)].shaft)].push_back(dof);
+  }
+  const FixedInterfaceModeSet fixed =
+      LowestFixedInterfaceModes(m.K, m.M, interiors, ModesOf(tier), options);
+  if (fixed.status != CraigBamptonStatus::kSuccess) {
+    throw StructureNotReducible("cannot be reduced: " + fixed.message);
+  }
+  Eigen::MatrixXd T(m.dofs, guyan.T.cols() + fixed.shapes.cols());
+  T << guyan.T, fixed.shapes;
+  ReducedModel r = Project(m, T);
   r.boundary_dof = static_cast<int>(boundary.size());
-  r.modal_dof = static_cast<int>(cb.fixed_interface_omega2.size());
+  r.modal_dof = static_cast<int>(fixed.omega2.size());
   // Structural damping of the fixed-interface modes (mass-normalised: 2 zeta omega on the
   // diagonal).
   for (int j = 0; j < r.modal_dof; ++j) {
     r.C(r.boundary_dof + j, r.boundary_dof + j) +=
-        2.0 * options.structural_damping_ratio * std::sqrt(cb.fixed_interface_omega2[j]);
+        2.0 * options.structural_damping_ratio * std::sqrt(fixed.omega2[j]);
   }
   if (tier == Tier::kN20Simple || tier == Tier::kN20Mta) {
     // Free-free modes of the tier-5 model, the lowest 20 kept (more where the cut would split a

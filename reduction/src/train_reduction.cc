@@ -248,24 +248,23 @@ TrainReducedModel CraigBamptonTier(const TrainStructure& s, Tier tier,
   std::vector<double> omega2;
   const int per_shaft = ModesPerShaft(tier);
   if (per_shaft > 0) {
-    // The lowest fixed-interface modes of all elastic shafts together (their interiors are
-    // uncoupled once the gear nodes are held, so a shaft with lower modes gets more of them).
+    // The lowest fixed-interface modes of all elastic shafts together (a shaft with lower modes
+    // gets more of them), each shaft's interior solved on its own.
     std::vector<bool> is_boundary(static_cast<size_t>(s.dofs), false);
     for (int d : boundary) is_boundary[static_cast<size_t>(d)] = true;
-    std::vector<int> interior;
-    for (size_t n = 0; n < s.nodes.size(); ++n) {
-      const int body = s.node_body[n];
-      if (std::find(s.elastic_shafts.begin(), s.elastic_shafts.end(), body) ==
-          s.elastic_shafts.end()) {
-        continue;
-      }
-      for (int d = 0; d < 6; ++d) {
-        const int dof = TrainStructure::Dof(static_cast<int>(n), static_cast<NodeDof>(d));
-        if (!is_boundary[static_cast<size_t>(dof)]) interior.push_back(dof);
+    std::vector<std::vector<int>> interiors;
+    for (int shaft : s.elastic_shafts) {
+      std::vector<int>& interior = interiors.emplace_back();
+      for (size_t n = 0; n < s.nodes.size(); ++n) {
+        if (s.node_body[n] != shaft) continue;
+        for (int d = 0; d < 6; ++d) {
+          const int dof = TrainStructure::Dof(static_cast<int>(n), static_cast<NodeDof>(d));
+          if (!is_boundary[static_cast<size_t>(dof)]) interior.push_back(dof);
+        }
       }
     }
-    const FixedInterfaceModeSet modes = FixedInterfaceModes(
-        s.K, s.M, interior, per_shaft * static_cast<int>(s.elastic_shafts.size()), options);
+    const FixedInterfaceModeSet modes = LowestFixedInterfaceModes(
+        s.K, s.M, interiors, per_shaft * static_cast<int>(s.elastic_shafts.size()), options);
     if (modes.status != CraigBamptonStatus::kSuccess) {
       throw StructureNotReducible("cannot be reduced: " + modes.message);
     }
@@ -305,8 +304,8 @@ TrainReducedModel Transform(const TrainReducedModel& a, const Eigen::MatrixXd& P
 }
 
 // N20 simple / MTA from tier 5: as many free-free modes as tier 4 has DOF (more where the cut
-// would split a cluster), and for MTA one
-// residual vector per mesh and flank.
+// would split a cluster), and for MTA the residual vectors of every mesh and flank's held and
+// inertia-relief static shapes.
 TrainReducedModel Truncate(const TrainStructure& s, const TrainReducedModel& tier5, Tier tier) {
   const int keep =
       tier5.boundary_dof + kTier4ModesPerShaft * static_cast<int>(s.elastic_shafts.size());

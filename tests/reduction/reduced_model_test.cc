@@ -178,7 +178,8 @@ TEST_CASE("MTA's inertia-relief shapes bring its frequencies to tier 5's, held s
   held << P, HeldShape(tier5, tier5.v_drive), HeldShape(tier5, tier5.v_back);
   both << held, HeldShape(tier5, relieved(tier5.v_drive)), HeldShape(tier5, relieved(tier5.v_back));
   const double k = m.mesh_summary.mean;
-  const std::vector<double> f5 = RitzFrequencies(tier5, k, Eigen::MatrixXd::Identity(40, 40));
+  const std::vector<double> f5 =
+      RitzFrequencies(tier5, k, Eigen::MatrixXd::Identity(tier5.dof, tier5.dof));
   const std::vector<double> f_held = RitzFrequencies(tier5, k, held);
   const std::vector<double> f_both = RitzFrequencies(tier5, k, both);
   const ReducedModel mta = ReduceModel(m, Tier::kN20Mta);
@@ -188,8 +189,8 @@ TEST_CASE("MTA's inertia-relief shapes bring its frequencies to tier 5's, held s
     CAPTURE(j, f5[j], f_held[j], f_both[j]);
     miss_held = std::max(miss_held, (f_held[j] - f5[j]) / f5[j]);
     miss_both = std::max(miss_both, (f_both[j] - f5[j]) / f5[j]);
-    // The library's MTA is the second basis: the same Ritz values to the rounding of two 40-DOF
-    // eigensolves of differently orthonormalised bases (1e-9).
+    // The library's MTA is the second basis: the same Ritz values to the rounding of two
+    // eigensolves (23 DOF and the test's QR basis) of differently orthonormalised bases (1e-9).
     CHECK(mta.natural_frequencies_hz[j] == Approx(f_both[j]).epsilon(1e-9));
   }
   CAPTURE(miss_held, miss_both);
@@ -309,6 +310,60 @@ TEST_CASE("a mode cut never splits a degenerate pair: the kept subspace is the s
   }
   // The scan crossed degenerate pairs, so the growth was exercised.
   CHECK(grown >= 5);
+}
+
+TEST_CASE("the lowest modes over uncoupled parts: identical parts' repeated values and the closed "
+          "form",
+          "[reduction][spectra]") {
+  // Three uncoupled fixed-fixed spring-mass chains of 100 DOF (sparse path), K = k tridiag(-1, 2,
+  // -1), M = I: omega_j^2 = 4 k sin^2(j pi / 202). Two are identical (every value twice: one
+  // Lanczos run over their union would see one direction per value), the third is 100 times
+  // softer, so the lowest 30 are mostly its own and it must be asked for more than its share.
+  const int n = 100;
+  const double stiffness[] = {1e6, 1e6, 1e4};
+  std::vector<Eigen::Triplet<double>> kt, mt;
+  std::vector<std::vector<int>> interiors(3);
+  std::vector<double> closed;
+  for (int p = 0; p < 3; ++p) {
+    for (int i = 0; i < n; ++i) {
+      const int d = p * n + i;
+      interiors[static_cast<size_t>(p)].push_back(d);
+      kt.emplace_back(d, d, 2 * stiffness[p]);
+      if (i + 1 < n) {
+        kt.emplace_back(d, d + 1, -stiffness[p]);
+        kt.emplace_back(d + 1, d, -stiffness[p]);
+      }
+      mt.emplace_back(d, d, 1.0);
+      const double s = std::sin((i + 1) * std::numbers::pi / (2.0 * (n + 1)));
+      closed.push_back(4 * stiffness[p] * s * s);
+    }
+  }
+  Eigen::SparseMatrix<double> K(3 * n, 3 * n), M(3 * n, 3 * n);
+  K.setFromTriplets(kt.begin(), kt.end());
+  M.setFromTriplets(mt.begin(), mt.end());
+  std::sort(closed.begin(), closed.end());
+  // The expected count: 30, grown to the end of its cluster (an identical pair, 1e-6 relative).
+  int expected = 30;
+  while (closed[static_cast<size_t>(expected)] - closed[static_cast<size_t>(expected - 1)] <=
+         1e-6 * closed[static_cast<size_t>(expected)]) {
+    ++expected;
+  }
+  const FixedInterfaceModeSet kept = LowestFixedInterfaceModes(K, M, interiors, 30);
+  REQUIRE(kept.status == CraigBamptonStatus::kSuccess);
+  CHECK(kept.sparse_eigensolver);
+  REQUIRE(kept.omega2.size() == expected);
+  int repeated = 0;
+  for (int j = 0; j < expected; ++j) {
+    CAPTURE(j);
+    // Lanczos to 1e-12 on a pencil of condition ~4e6 (largest over smallest of a part): 1e-9.
+    CHECK(kept.omega2[j] == Approx(closed[static_cast<size_t>(j)]).epsilon(1e-9));
+    repeated += j > 0 && kept.omega2[j] == Approx(kept.omega2[j - 1]).epsilon(1e-9);
+    // Each shape lives on one part, exactly zero on the others.
+    int parts = 0;
+    for (int p = 0; p < 3; ++p) parts += kept.shapes.col(j).segment(p * n, n).norm() > 0.0;
+    CHECK(parts == 1);
+  }
+  CHECK(repeated >= 2);  // the identical chains' values were found twice
 }
 
 TEST_CASE("rigid-shaft models have tiers 1-3 only", "[reduction]") {

@@ -115,8 +115,9 @@ TEST_CASE("Craig-Bampton and MTA keep the static compliance matrix at all meshes
   const TrainReducedModel simple = ReduceTrain(t.structure, Tier::kN20Simple);
   const TrainReducedModel mta = ReduceTrain(t.structure, Tier::kN20Mta);
   CHECK(simple.compliance_error_vs_full > 1e-4);
-  // A held shape per mesh and flank, and the inertia-relief directions beyond them: one per body
-  // but the train's free rotation (three bodies here), docs/design.md §3.
+  // A held shape per mesh and flank, and the inertia-relief directions beyond them: at most one per
+  // elastic shaft (a rigid body's inertia load acts at its held rotation and deflects nothing);
+  // this train's two elastic shafts give two (docs/design.md §3).
   CHECK(mta.dof == simple.dof + 6 + 2);
   // Why the vector form (docs/design.md §3): a spring g_res,j = G_full,jj - G_simple,jj in series
   // with each mesh restores each mesh's own compliance but not the meshes' coupling, which stays
@@ -158,7 +159,7 @@ TEST_CASE("train tier frequencies converge to the full FE model's as the tier ri
       CHECK(r.natural_frequencies_hz[k] >= full.frequencies_hz[k] * (1.0 - 1e-9));
     }
   }
-  // Tier 5 (14 modes per shaft) reaches the lowest six full-model frequencies within 1 %, and
+  // Tier 5 (14 modes per elastic shaft, the lowest of all together) reaches the lowest six full-model frequencies within 1 %, and
   // closer than tier 3 (Guyan) does.
   for (size_t k = 0; k < 6; ++k) {
     CAPTURE(k);

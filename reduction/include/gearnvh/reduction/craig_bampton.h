@@ -48,6 +48,19 @@ FixedInterfaceModeSet FixedInterfaceModes(const Eigen::SparseMatrix<double>& K,
                                           const std::vector<int>& interior, int modes,
                                           const ReductionOptions& options = {});
 
+// The lowest `modes` fixed-interface modes over several uncoupled interiors (the shafts'
+// interiors, uncoupled once the gear nodes are held): the same set as one solve of their union,
+// found part by part. Each part's pencil is solved on its own (FixedInterfaceModes), the values are
+// merged and cut (never inside a cluster), and a part is asked for more modes while its largest
+// computed one lies below the first value cut off. Solving the parts apart keeps the shapes exactly
+// zero on the other parts and finds the repeated values of identical shafts, which one Lanczos run
+// over the union sees only through rounding (one direction per distinct value). Ascending; ties in
+// part order.
+FixedInterfaceModeSet LowestFixedInterfaceModes(const Eigen::SparseMatrix<double>& K,
+                                                const Eigen::SparseMatrix<double>& M,
+                                                const std::vector<std::vector<int>>& interiors,
+                                                int modes, const ReductionOptions& options = {});
+
 CraigBamptonBasis CraigBampton(const Eigen::SparseMatrix<double>& K,
                                const Eigen::SparseMatrix<double>& M,
                                const std::vector<int>& boundary, int modes,

@@ -4,13 +4,16 @@
 //   tier 1  one torsional DOF per body (th_z at the body's first gear; Guyan: shafts rigid)
 //   tier 2  tier 1 + u_x, u_y at every gear
 //   tier 3  all six DOF at every gear (Guyan)
-//   tier 4  tier 3 + 4 Craig–Bampton fixed-interface modes per elastic shaft
-//   tier 5  tier 3 + 14 fixed-interface modes per elastic shaft
+//   tier 4  tier 3 + the lowest 4 x (elastic shafts) Craig–Bampton fixed-interface modes of all
+//           elastic shafts together
+//   tier 5  tier 3 + the lowest 14 x (elastic shafts) fixed-interface modes
 //   N20 simple  the lowest free-free modes of tier 5, as many as tier 4 has DOF
-//   N20 MTA     N20 simple + one residual vector per mesh and flank (Dickens, Nakagawa &
-//               Wittbrodt 1997)
-// Every mesh's gear DOF are interface DOF from tier 3 on, and each elastic shaft's interior is
-// decoupled from the others once they are held, so its modes are computed shaft by shaft.
+//   N20 MTA     N20 simple + the held and inertia-relief static shapes of every mesh and flank
+//               as residual vectors (Dickens, Nakagawa & Wittbrodt 1997; docs/design.md §3)
+// A cut never splits a cluster of equal eigenvalues, so these counts are minimums. Every mesh's
+// gear DOF are interface DOF from tier 3 on, and each elastic shaft's interior is decoupled from
+// the others once they are held, so its modes are computed shaft by shaft and then merged
+// (LowestFixedInterfaceModes).
 //
 // Static compliance matrix at the meshes (the check quantity), with one rotation per body held (the
 // pair's held gear rotations, made a matrix): G_ij = v_i^T x_j, K x_j = v_j subject to th_z = 0 at
@@ -18,7 +21,8 @@
 // every body's free rotation with loads at the interface only, so Guyan and Craig–Bampton from tier
 // 3 on reproduce G exactly (constraint modes are exact static shapes for interface loads). Modal
 // truncation does not; with several meshes a series spring per mesh cannot restore a matrix, so MTA
-// adds the residual vectors x_j - P P^T M x_j (P: kept modes), which put every x_j in the basis:
+// adds the residual vectors x_j - P P^T M x_j (P: kept modes), which put every x_j in the basis
+// (beside the inertia-relief shapes, reduction/src/residual_vectors.h):
 // the Galerkin solution of the held static problem is then x_j itself and G is exact again. The
 // back flanks' shapes (v_back, another line of action) are added the same way.
 #pragma once
