@@ -9,8 +9,9 @@
 //   inertia relief   K x = (I - M Phi_r Phi_r^T) v, the load balanced by the bodies' own inertia,
 //                    as a mesh force is in vibration: the quasi-static response of the truncated
 //                    modes (the free-free residual flexibility).
-// Their span has at most one direction per body beyond the held shapes (the difference is the
-// held response to a body's rigid inertia load); AugmentWithResiduals drops what is spanned.
+// Their span has at most one direction per elastic shaft beyond the held shapes (the difference is
+// the held response to a body's rigid inertia load, which a rigid body carries at its held
+// rotation without deflecting); AugmentWithResiduals drops what is spanned.
 #pragma once
 
 #include <Eigen/Dense>
