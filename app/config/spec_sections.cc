@@ -24,6 +24,7 @@ const std::vector<std::string> kGearKeys{"teeth",
                                          "inertia",
                                          "mass",
                                          "tip_relief",
+                                         "lead",
                                          "helix_angle",
                                          "hand",
                                          "runout",
@@ -66,6 +67,20 @@ GearSpec ReadGear(Reader& r, const YAML::Node& n, const std::string& path,
     r.ExpectMap(t, p, {"amount", "length"});
     g.tip_relief = TipRelief{r.Quantity(t, p, "amount", Dimension::kLength),
                              r.Quantity(t, p, "length", Dimension::kLength)};
+  }
+  if (const YAML::Node t = r.Child(n, path, "lead", false); t.IsDefined()) {
+    const std::string p = Join(path, "lead");
+    r.ExpectMap(t, p, {"crowning", "end_relief", "slope"});
+    LeadModification lead;
+    lead.crowning = r.Quantity(t, p, "crowning", Dimension::kLength, 0.0);
+    if (const YAML::Node e = r.Child(t, p, "end_relief", false); e.IsDefined()) {
+      const std::string pe = Join(p, "end_relief");
+      r.ExpectMap(e, pe, {"amount", "length"});
+      lead.end_relief_amount = r.Quantity(e, pe, "amount", Dimension::kLength);
+      lead.end_relief_length = r.Quantity(e, pe, "length", Dimension::kLength);
+    }
+    lead.slope = r.Quantity(t, p, "slope", Dimension::kLength, 0.0);
+    g.lead = lead;
   }
   g.helix_angle = r.Quantity(n, path, "helix_angle", Dimension::kAngle, 0.0);
   if (const YAML::Node h = r.Child(n, path, "hand", false); h.IsDefined()) {
@@ -275,7 +290,8 @@ std::map<std::string, Material> ReadMaterials(Reader& r, const YAML::Node& root)
 MeshSpec ReadMesh(Reader& r, const YAML::Node& mesh, const std::string& path,
                   const std::vector<std::string>& extra_keys) {
   std::vector<std::string> keys{"backlash",        "damping_ratio", "friction_coefficient",
-                                "center_distance", "stiffness",     "static_transmission_error"};
+                                "center_distance", "stiffness",     "static_transmission_error",
+                                "misalignment"};
   keys.insert(keys.end(), extra_keys.begin(), extra_keys.end());
   r.ExpectMap(mesh, path, keys);
   MeshSpec out;
@@ -285,6 +301,7 @@ MeshSpec ReadMesh(Reader& r, const YAML::Node& mesh, const std::string& path,
   out.friction_coefficient = r.Quantity(mesh, path, "friction_coefficient",
                                         Dimension::kDimensionless, out.friction_coefficient);
   out.center_distance = r.OptionalQuantity(mesh, path, "center_distance", Dimension::kLength);
+  out.misalignment = r.Quantity(mesh, path, "misalignment", Dimension::kLength, 0.0);
   if (const YAML::Node s = r.Child(mesh, path, "stiffness", false); s.IsDefined()) {
     out.stiffness = ReadStiffness(r, s, Join(path, "stiffness"));
   }

@@ -85,11 +85,12 @@ void MeshLengthLimits(const GearboxSpec& spec) {
           InputError::Length(m, "gears.pinion.module")}});
   }
   const auto within_module = [&](const std::string& path, double v) {
-    if (v <= m) return;
-    throw InputError(path, 0, {"{}", {InputError::Length(v)}},
-                     {"must be at most the module ({}): a larger deviation describes another gear, "
-                      "not an error of this one (is the unit right?)",
-                      {InputError::Length(m, "gears.pinion.module")}});
+    if (std::abs(v) <= m) return;
+    throw InputError(
+        path, 0, {"{}", {InputError::Length(v)}},
+        {"must be at most the module ({}) in size: a larger deviation describes another gear, "
+         "not an error of this one (is the unit right?)",
+         {InputError::Length(m, "gears.pinion.module")}});
   };
   const auto& ste = spec.mesh.static_transmission_error.amplitudes;
   for (size_t i = 0; i < ste.size(); ++i) {
@@ -99,7 +100,13 @@ void MeshLengthLimits(const GearboxSpec& spec) {
        {std::pair{&spec.pinion, "gears.pinion"}, std::pair{&spec.wheel, "gears.wheel"}}) {
     if (gear->tip_relief)
       within_module(std::string(path) + ".tip_relief.amount", gear->tip_relief->amount);
+    if (gear->lead) {
+      within_module(std::string(path) + ".lead.crowning", gear->lead->crowning);
+      within_module(std::string(path) + ".lead.end_relief.amount", gear->lead->end_relief_amount);
+      within_module(std::string(path) + ".lead.slope", gear->lead->slope);
+    }
   }
+  within_module("mesh.misalignment", spec.mesh.misalignment);
 }
 
 }  // namespace

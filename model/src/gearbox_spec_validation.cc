@@ -80,6 +80,18 @@ void ValidateGear(const GearboxSpec& spec, const GearSpec& g, const std::string&
                        "must be > 0 when the relief amount is > 0");
     }
   }
+  if (g.lead) {
+    const LeadModification& lead = *g.lead;
+    NonNegative(p + ".lead.crowning", lead.crowning);
+    NonNegative(p + ".lead.end_relief.amount", lead.end_relief_amount);
+    if (lead.end_relief_amount > 0.0 || lead.end_relief_length != 0.0) {
+      InRange(p + ".lead.end_relief.length", InputError::Length(lead.end_relief_length), 0.0,
+              0.5 * g.face_width, true, false);
+    }
+    if (!std::isfinite(lead.slope)) {
+      throw InputError(p + ".lead.slope", 0, MessageNumber(lead.slope), "must be finite");
+    }
+  }
   // Manufacturing errors are small deviations of the geometry: beyond a module they describe a
   // different gear, not an error of this one.
   if (g.runout) {

@@ -43,6 +43,17 @@ struct Runout {
   bool operator==(const Runout&) const = default;
 };
 
+// Lead (helix) modifications of a gear's flanks: material removed across the face, measured
+// normal to the flank along the line of action (y from the face's start, the end at smaller z).
+struct LeadModification {
+  double crowning = 0.0;           // m, >= 0: C (2 y / b - 1)^2, C at both face ends
+  double end_relief_amount = 0.0;  // m, >= 0: removed at each face end ...
+  double end_relief_length = 0.0;  // m, in (0, b / 2] when amount > 0: ... tapering to 0 over it
+  double slope = 0.0;              // m, signed: helix slope deviation, slope * y / b (drive flank)
+
+  bool operator==(const LeadModification&) const = default;
+};
+
 enum class Hand { kRight, kLeft };
 
 struct GearSpec {
@@ -58,6 +69,7 @@ struct GearSpec {
   std::optional<double> inertia;       // kg m^2 polar inertia override (default: solid disk)
   std::optional<double> mass;          // kg override (default: solid disk)
   std::optional<TipRelief> tip_relief;
+  std::optional<LeadModification> lead;
   double helix_angle = 0.0;  // rad, in [0, pi/4): 0 for a spur gear
   Hand hand = Hand::kRight;  // of the helix; meaningful when helix_angle > 0
   std::optional<Runout> runout;
@@ -110,6 +122,9 @@ struct MeshSpec {
   std::optional<double> center_distance;  // m; default: standard centre distance
   StiffnessModel stiffness = PotentialEnergyStiffness{};
   StaticTransmissionError static_transmission_error;
+  // Manufacturing mesh misalignment f_ma (ISO 6336-1), m, signed: the drive flanks' separation at
+  // the face's end (larger z) exceeds that at its start by this much, growing linearly across it.
+  double misalignment = 0.0;
 
   bool operator==(const MeshSpec&) const = default;
 };

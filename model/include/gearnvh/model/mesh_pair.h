@@ -14,16 +14,19 @@
 namespace gearnvh {
 
 struct MeshPair {
-  GearSpec a, b;                 // transverse sections (helix_angle 0)
-  GearSpec normal_a, normal_b;   // the gears as specified (normal module and pressure angle)
-  double helix_angle = 0.0;      // beta at the reference cylinder, rad (0: spur)
-  double normal_module = 0.0;    // m_n, m
-  double face_width = 0.0;       // the common face width b = min(b_a, b_b), m
-  Hand hand_a = Hand::kRight;    // gear a's hand (gear b has the other)
+  GearSpec a, b;                // transverse sections (helix_angle 0)
+  GearSpec normal_a, normal_b;  // the gears as specified (normal module and pressure angle)
+  double helix_angle = 0.0;     // beta at the reference cylinder, rad (0: spur)
+  double normal_module = 0.0;   // m_n, m
+  double face_width = 0.0;      // the common face width b = min(b_a, b_b), m
+  Hand hand_a = Hand::kRight;   // gear a's hand (gear b has the other)
   MeshSpec mesh;
   Material material_a, material_b;
   double speed_a = 0.0;             // rad/s, nominal speed of gear a (> 0)
   double transmitted_torque = 0.0;  // N m, mean torque gear b delivers (>= 0): load = T / r_b,b
+  // The linear mismatch across the face from the shafts' deflection under the static load, m
+  // (signed as MeshSpec::misalignment; 0 for rigid shafts).
+  double shaft_misalignment = 0.0;
   std::string path_a, path_b, path_mesh;  // "gears.pinion", "gears.wheel", "mesh"
   bool helical() const { return helix_angle > 0.0; }
 };

@@ -15,6 +15,12 @@
 // LSTE(tau) = delta, and friction arms sigma = sum LSR_j sgn_j, a1 = sum LSR_j sgn_j rho1_j,
 // a2 = sum LSR_j sgn_j rho2_j with rho1 = s_j, rho2 = |T1T2| - s_j, sgn_j = sign(s_j - s_pitch).
 // At F = 0 the limit F -> 0+ is taken (pairs at the smallest separation share by stiffness).
+// Misalignment and lead modifications (docs/design.md §2.5): with a static load F > 0, the face is
+// cut into strips (the helical slices; a spur face alike) and each strip's separation grows
+// linearly across it by the face mismatch m(y) (misalignment, crowning, end relief, helix slope),
+// so a strip carries k (delta - e)_+ integrated over its width: the sharing above becomes a
+// piecewise-quadratic equation in delta, solved exactly, and k(tau) is the tangent stiffness
+// dF/d delta. The face load factor K_Hbeta is the peak of the cycle-mean line load over F / b.
 // A stiffness override (rectangular / table / Fourier) replaces k(tau) by the user's data; the
 // geometric pair positions still give the friction arms (sharing proportional to count).
 #pragma once
@@ -34,10 +40,11 @@ struct MeshStiffnessOptions {
   int samples_per_cycle = 2048;
   // Pairs farther than this many base pitches outside the path of contact are ignored; > 0.
   double path_extension_pitches = 0.5;
-  // Face slices of a helical pair (the slice method, docs/gear-trains.md); >= 2. Each slice is a
-  // spur pair of width b / N on the transverse section, displaced in mesh phase by its position
-  // along the face times tan(beta_b) / p_bt.
-  int helical_slices = 40;
+  // Face slices of a helical pair (the slice method, docs/gear-trains.md) and of a loaded spur pair
+  // whose face is misaligned or lead-modified; >= 2. Each slice is a spur pair of width b / N on
+  // the transverse section, displaced in mesh phase by its position along the face times
+  // tan(beta_b) / p_bt (0 for spur).
+  int face_slices = 40;
   void Validate() const;
 };
 
@@ -50,11 +57,43 @@ struct PairState {
   bool loaded = false;
 };
 
-// One tooth pair on one face slice (the whole face for a spur pair).
+// One tooth pair on one face slice (the whole face for an aligned spur pair): a strip of the face
+// whose separation grows linearly across it from `separation` at one edge by `spread` at the other
+// (0: uniform), with its stiffness spread evenly over its width.
 struct ContactElement {
   double roll = 0.0, stiffness = 0.0, separation = 0.0, load_share = 0.0;
-  int pair = 0;  // PairState::offset of its tooth pair
+  double spread = 0.0;           // m, >= 0
+  bool grows_toward_end = true;  // the separation grows toward the slice's larger face position
+  double tangent = 0.0;          // d(its load) / d delta at the solution, N/m (<= stiffness)
+  int slice = 0;                 // face slice, from the face's start (smaller z)
+  int pair = 0;                  // PairState::offset of its tooth pair
   bool loaded = false;
+};
+
+// Solves sum_j F_j(delta) = load exactly over the contact elements, F_j the load of element j at
+// approach delta: k (delta - e)_+ for a uniform element, k / s * integral over [e, e + s] of
+// (delta - u)_+ du for one of spread s (piecewise quadratic in delta). Returns delta and sets each
+// element's load share, tangent stiffness and `loaded`. At load 0 the elements at the smallest
+// separation share by stiffness (the limit load -> 0+ of uniform elements).
+double ShareLoad(std::vector<ContactElement>& elements, double load);
+
+// The load per unit face width at each slice edge (N / slices + 1 positions from the face start):
+// the sum over the elements of their line load there; an inner edge takes the larger of its two
+// slices' values (helical slices' pairs differ across an edge). `face_width` b, m.
+std::vector<double> LineLoadAtSliceEdges(const std::vector<ContactElement>& elements, double delta,
+                                         int slices, double face_width);
+
+// The load across the face of one flank under the static load (docs/design.md §2.5).
+struct FaceLoad {
+  std::vector<double> position;   // m from the face start (smaller z), the slice edges
+  std::vector<double> line_load;  // N/m, the mesh-cycle mean at each position
+  std::vector<double> mismatch;   // m, the separation the misalignment and leads add there
+  double factor = 1.0;            // K_Hbeta: the largest line_load over F / b
+  double loaded_width = 0.0;      // m, the narrowest loaded width over the cycle
+  // ISO 6336-1 method C's K_Hbeta at the same linear mismatch (no running-in allowance) with
+  // c_gamma_beta = 0.85 times the mean stiffness per unit face width of the full face.
+  double iso_method_c = 1.0;
+  double linear_mismatch = 0.0;  // m, F_beta_y: the linear part of the mismatch across the face
 };
 
 // One flank's state at one cycle fraction.
@@ -74,9 +113,12 @@ struct MeshCycle {
   std::vector<double> tau;         // sample cycle fractions (midpoints of equal cells)
   std::vector<FlankSample> drive;  // drive flank samples
   std::vector<FlankSample> back;   // back flank samples
-  double load = 0.0;               // F, N
-  double back_phase = 0.0;         // C - 2 s_start, m (the back flank's mirrored offset)
-  bool overridden = false;         // stiffness from user data
+  // The drive flank's load across the face; empty positions when the face is aligned and
+  // unmodified or unloaded (then the load is uniform: K_Hbeta = 1).
+  FaceLoad face;
+  double load = 0.0;        // F, N
+  double back_phase = 0.0;  // C - 2 s_start, m (the back flank's mirrored offset)
+  bool overridden = false;  // stiffness from user data
   std::vector<std::string> warnings;
 };
 
@@ -90,6 +132,7 @@ struct MeshStiffnessSummary {
   double double_pair_mean = 0.0;   // ... with two loaded pairs (0 if none)
   double lste_peak_to_peak = 0.0;  // m
   double load_sharing_max = 0.0;   // max LSR_j over the cycle
+  double face_load_factor = 1.0;   // K_Hbeta (MeshCycle::face)
 };
 
 // Pair stiffness (series Hertz + pinion tooth + wheel tooth) at roll position s (clamped to the
@@ -128,12 +171,27 @@ class MeshEvaluator {
   bool overridden() const { return overridden_; }
   const PairGeometry& geometry() const { return g_; }
   const std::vector<std::string>& warnings() const { return pair_.warnings(); }
+  // Whether the face is modelled strip by strip: the static load is > 0, no stiffness override,
+  // and some misalignment or lead modification gives the face a mismatch.
+  bool face_modelled() const { return face_; }
+  // The drive flank's mismatch at the slice edges, m (its smallest value 0); empty if uniform.
+  const std::vector<double>& face_mismatch() const { return drive_mismatch_; }
+  int slices() const { return slices_; }
+  // The drive flank's line load at the slice edges at tau (LineLoadAtSliceEdges), and in
+  // `loaded_width` the width of the face that carries load, m.
+  std::vector<double> LineLoad(double tau, double& loaded_width) const;
 
  private:
   StiffnessModel stiffness_;
   PairGeometry g_;
   PairStiffness pair_;
   int slices_ = 1;
+  double face_width_ = 0.0;
+  bool face_ = false;
+  // The separation misalignment and leads add at the slice edges (drive: all of them; back: the
+  // symmetric leads, crowning and end relief), m; empty when uniform.
+  std::vector<double> drive_mismatch_, back_mismatch_;
+  std::vector<ContactElement> Elements(double tau, Flank flank) const;
   double reach_, load_, mirror_, back_phase_;
   bool overridden_;
   double relief_start_amount_ = 0, relief_start_length_ = 0, relief_end_amount_ = 0,

@@ -1,0 +1,202 @@
+// The load across the face under misalignment and lead modifications (docs/design.md §2.5).
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <vector>
+
+#include "gearnvh/model/mesh_pair.h"
+#include "gearnvh/model/mesh_stiffness.h"
+#include "model/test_specs.h"
+
+namespace gearnvh {
+namespace {
+
+using testing::StandardPair;
+
+// One tooth pair of uniform stiffness c' per unit width over a face b, cut into `slices` strips,
+// with a linear mismatch f across the face (0 at the face start).
+std::vector<ContactElement> UniformFace(double c_prime, double b, double f, int slices) {
+  std::vector<ContactElement> elements;
+  for (int k = 0; k < slices; ++k) {
+    ContactElement e;
+    e.stiffness = c_prime * b / slices;
+    e.separation = f * k / slices;
+    e.spread = f / slices;
+    e.slice = k;
+    elements.push_back(e);
+  }
+  return elements;
+}
+
+double LoadedWidth(const std::vector<ContactElement>& elements, double delta, double b,
+                   int slices) {
+  double width = 0.0;
+  for (const ContactElement& e : elements) {
+    const double over = delta - e.separation;
+    width += b / slices * (over <= 0.0 ? 0.0 : std::min(over / e.spread, 1.0));
+  }
+  return width;
+}
+
+// ISO 6336-1's closed forms for a linear mismatch f over a face b of uniform stiffness c' under a
+// load F: K = 1 + c' f b / (2F) while the whole face carries load, sqrt(2 c' f b / F) with a loaded
+// width sqrt(2 F b / (c' f)) once part of it opens. The strips integrate (delta - u)_+ exactly over
+// a linear u, so both hold to rounding whatever the strip count: 1e-9 relative leaves room for the
+// sums over 40 strips (~1e-14 each) and nothing for a discretisation error (the midpoint rule's
+// would be ~1/N^2 = 6e-4).
+TEST_CASE("a uniform face under a linear mismatch reproduces ISO 6336-1's K_Hbeta in both regimes",
+          "[model][face]") {
+  const double c_prime = 1.4e10;  // N/m per m of face (14 N/(mm um))
+  const double b = 0.03, f = 12e-6;
+  const int slices = 40;
+  for (double load : {2e4, 4e3, 1e3, 2.0e2}) {
+    std::vector<ContactElement> elements = UniformFace(c_prime, b, f, slices);
+    const double delta = ShareLoad(elements, load);
+    const std::vector<double> line = LineLoadAtSliceEdges(elements, delta, slices, b);
+    const double factor = line.front() / (load / b);
+    const double x = c_prime * f * b / (2.0 * load);
+    INFO("F = " << load << " N, c' f b / (2F) = " << x);
+    double shares = 0.0, tangent = 0.0;
+    for (const ContactElement& e : elements) shares += e.load_share, tangent += e.tangent;
+    CHECK(shares == Approx(1.0).epsilon(1e-12));
+    const double width = LoadedWidth(elements, delta, b, slices);
+    // The tangent stiffness is c' times the loaded width.
+    CHECK(tangent == Approx(c_prime * width).epsilon(1e-12));
+    // The edge carries the peak.
+    for (double w : line) CHECK(w <= line.front() * (1.0 + 1e-14));
+    if (x <= 1.0) {
+      CHECK(factor == Approx(1.0 + x).epsilon(1e-9));
+      CHECK(delta == Approx(load / (c_prime * b) + 0.5 * f).epsilon(1e-9));
+      CHECK(width == Approx(b).epsilon(1e-12));
+    } else {
+      CHECK(factor == Approx(std::sqrt(2.0 * c_prime * f * b / load)).epsilon(1e-9));
+      CHECK(width == Approx(std::sqrt(2.0 * load * b / (c_prime * f))).epsilon(1e-9));
+      CHECK(width < b);
+    }
+  }
+}
+
+TEST_CASE("uniform elements share load as before: k (delta - e)_+ = F solved linearly",
+          "[model][face]") {
+  // Three elements, separations 0, 1, 5 um: at F the first two carry load.
+  std::vector<ContactElement> elements(3);
+  const double k[] = {2e8, 3e8, 1e8}, e[] = {0.0, 1e-6, 5e-6};
+  for (int i = 0; i < 3; ++i) elements[i].stiffness = k[i], elements[i].separation = e[i];
+  const double load = 500.0;
+  const double delta = ShareLoad(elements, load);
+  CHECK(delta == Approx((load + k[1] * e[1]) / (k[0] + k[1])).epsilon(1e-15));
+  CHECK(elements[0].loaded);
+  CHECK(elements[1].loaded);
+  CHECK_FALSE(elements[2].loaded);
+  CHECK(elements[0].tangent == k[0]);
+  CHECK(elements[2].tangent == 0.0);
+}
+
+MeshCycle CycleOf(const GearboxSpec& spec) {
+  const MeshPair pair = PairOf(spec);
+  return ComputeMeshCycle(pair, ComputePairGeometry(pair));
+}
+
+TEST_CASE("a zero misalignment and empty leads leave the mesh cycle unchanged bitwise",
+          "[model][face]") {
+  GearboxSpec spec = StandardPair(31, 47, 3e-3, 30e-3);
+  spec.operating.torque = 200.0;
+  const MeshCycle plain = CycleOf(spec);
+  spec.mesh.misalignment = 0.0;
+  spec.pinion.lead = LeadModification{};
+  const MeshCycle same = CycleOf(spec);
+  REQUIRE(same.drive.size() == plain.drive.size());
+  for (size_t i = 0; i < plain.drive.size(); ++i) {
+    CHECK(same.drive[i].stiffness == plain.drive[i].stiffness);
+    CHECK(same.drive[i].lste == plain.drive[i].lste);
+    CHECK(same.back[i].stiffness == plain.back[i].stiffness);
+  }
+  CHECK(same.face.position.empty());
+  CHECK(same.face.factor == 1.0);
+}
+
+TEST_CASE("a misaligned spur mesh: K_Hbeta from its own stiffness, stiffness and load sharing",
+          "[model][face]") {
+  GearboxSpec spec = StandardPair(31, 47, 3e-3, 30e-3);
+  spec.operating.torque = 300.0;
+  const MeshCycle aligned = CycleOf(spec);
+  spec.mesh.misalignment = 3e-6;
+  const MeshCycle tilted = CycleOf(spec);
+  REQUIRE_FALSE(tilted.face.position.empty());
+  const double b = 30e-3, load = tilted.load;
+  double mean_stiffness = 0.0;
+  for (const FlankSample& d : tilted.drive) mean_stiffness += d.stiffness / tilted.drive.size();
+  // Whole face loaded at every sample: the line load at the face start is F/b + k(tau) f / (2b),
+  // so the cycle mean gives K = 1 + k_mean f / (2F) with the tangent stiffness' mean. Only pairs
+  // entering or leaving are loaded over part of the face, so the form holds to ~1e-3.
+  REQUIRE(tilted.face.loaded_width > 0.5 * b);
+  const double expected = 1.0 + mean_stiffness * 3e-6 / (2.0 * load);
+  INFO("K_Hbeta " << tilted.face.factor << ", from k_mean " << expected << ", ISO method C "
+                  << tilted.face.iso_method_c);
+  CHECK(tilted.face.factor == Approx(expected).epsilon(2e-3));
+  CHECK(tilted.face.factor > 1.05);
+  // ISO's c_gamma_beta is 0.85 of the full face's mean stiffness: x scales alike.
+  CHECK((tilted.face.iso_method_c - 1.0) / (tilted.face.factor - 1.0) ==
+        Approx(0.85).epsilon(5e-3));
+  CHECK(tilted.face.linear_mismatch == 3e-6);
+  // The cycle-mean line load integrates to F over the face (trapezoid on a linear distribution).
+  double integral = 0.0;
+  for (size_t i = 0; i + 1 < tilted.face.position.size(); ++i) {
+    integral += 0.5 * (tilted.face.line_load[i] + tilted.face.line_load[i + 1]) *
+                (tilted.face.position[i + 1] - tilted.face.position[i]);
+  }
+  CHECK(integral == Approx(load).epsilon(1e-3));
+  // The mean approach grows by about f / 2; the shares still sum to 1.
+  double lste_aligned = 0.0, lste_tilted = 0.0;
+  for (size_t i = 0; i < aligned.drive.size(); ++i) {
+    lste_aligned += aligned.drive[i].lste / aligned.drive.size();
+    lste_tilted += tilted.drive[i].lste / tilted.drive.size();
+    double shares = 0.0;
+    for (int m = 0; m < tilted.drive[i].pair_count; ++m)
+      shares += tilted.drive[i].pairs[m].load_share;
+    CHECK(shares == Approx(1.0).epsilon(1e-12));
+  }
+  CHECK(lste_tilted - lste_aligned == Approx(1.5e-6).epsilon(0.05));
+}
+
+TEST_CASE(
+    "a helix slope correction matching the misalignment restores the aligned mesh, and "
+    "crowning relieves the edge",
+    "[model][face]") {
+  GearboxSpec spec = StandardPair(31, 47, 3e-3, 30e-3);
+  spec.operating.torque = 300.0;
+  const MeshCycle aligned = CycleOf(spec);
+  spec.mesh.misalignment = 20e-6;  // opens part of the face at 300 N m
+  const MeshCycle tilted = CycleOf(spec);
+  CHECK(tilted.face.loaded_width < 0.03);
+  CHECK(tilted.face.factor > 2.0);
+  // Crowning moves the peak off the edge: a lower K_Hbeta at this large tilt.
+  spec.pinion.lead = LeadModification{.crowning = 10e-6};
+  const MeshCycle crowned = CycleOf(spec);
+  INFO("K_Hbeta tilted " << tilted.face.factor << ", crowned " << crowned.face.factor);
+  CHECK(crowned.face.factor < tilted.face.factor);
+  // The slope modification removes the tilt: the face is uniform again, as aligned.
+  spec.pinion.lead = LeadModification{.slope = -20e-6};
+  const MeshCycle corrected = CycleOf(spec);
+  CHECK(corrected.face.factor == 1.0);
+  for (size_t i = 0; i < aligned.drive.size(); ++i) {
+    CHECK(corrected.drive[i].stiffness == Approx(aligned.drive[i].stiffness).epsilon(1e-12));
+    CHECK(corrected.drive[i].lste == Approx(aligned.drive[i].lste).epsilon(1e-12));
+  }
+}
+
+TEST_CASE("an unloaded mesh keeps its full face and says the misalignment is not applied",
+          "[model][face]") {
+  GearboxSpec spec = StandardPair(31, 47, 3e-3, 30e-3);
+  spec.operating.torque = 0.0;
+  spec.mesh.misalignment = 10e-6;
+  const MeshCycle cycle = CycleOf(spec);
+  CHECK(cycle.face.position.empty());
+  bool warned = false;
+  for (const std::string& w : cycle.warnings) {
+    warned = warned || w.find("carries no static load") != std::string::npos;
+  }
+  CHECK(warned);
+}
+
+}  // namespace
+}  // namespace gearnvh
