@@ -9,6 +9,7 @@
 #include "command_errors.h"
 #include "config/gearbox_loader.h"
 #include "display_units.h"
+#include "face_load_output.h"
 #include "finite_results.h"
 #include "gearnvh/model/component_model.h"
 #include "gearnvh/model/gear_geometry.h"
@@ -81,6 +82,7 @@ void PrintText(const std::string& file, const GearboxSpec& spec, const Component
   }
   fmt::print("  {:<28}{:>14.4f} µm\n", "LSTE peak-to-peak", k.lste_peak_to_peak * 1e6);
   fmt::print("  {:<28}{:>14.4f}\n", "max load share", k.load_sharing_max);
+  fmt::print("{}", FaceLoadText(model.cycle.face, "  "));
   fmt::print("  finite elements: {} nodes, {} DOF{}, {}\n", model.nodes.size(), model.dofs,
              model.flexible ? " (flexible shafts)" : " (rigid shafts on bearings)",
              Count(modes.rigid_body_modes, "rigid-body mode", "rigid-body modes"));
@@ -144,6 +146,7 @@ nlohmann::json CheckReport(const GearboxSpec& spec, const ComponentModel& model,
                    {"double_pair_mean", ZoneMean(k.double_pair_mean)}}},
                  {"lste_peak_to_peak", k.lste_peak_to_peak},
                  {"load_sharing_max", k.load_sharing_max},
+                 {"face_load", FaceLoadJson(model.cycle.face)},
                  {"segments", model.segmentation.segments.size()},
                  {"mesh_damping", model.mesh_damping},
                  {"warnings", model.warnings}};
@@ -158,14 +161,15 @@ nlohmann::json CheckReport(const GearboxSpec& spec, const ComponentModel& model,
     if (!TierAvailable(model, t)) unavailable.emplace_back(TierName(t));
   }
   for (const ReducedModel& r : tiers) {
-    doc["tiers"].push_back({{"name", r.name},
-                            {"dof", r.dof},
-                            {"state_dim", StateDimension(model, r)},
-                            {"rigid_body_modes", r.rigid_body_modes},
-                            {"natural_frequencies_hz", r.natural_frequencies_hz},
-                            {"static_mesh_compliance", r.static_mesh_compliance},
-                            {"compliance_error_vs_full", ComplianceErrorJson(ComplianceErrorVsFull(
-                                                             r.tier, r.compliance_error_vs_full))}});
+    doc["tiers"].push_back(
+        {{"name", r.name},
+         {"dof", r.dof},
+         {"state_dim", StateDimension(model, r)},
+         {"rigid_body_modes", r.rigid_body_modes},
+         {"natural_frequencies_hz", r.natural_frequencies_hz},
+         {"static_mesh_compliance", r.static_mesh_compliance},
+         {"compliance_error_vs_full",
+          ComplianceErrorJson(ComplianceErrorVsFull(r.tier, r.compliance_error_vs_full))}});
   }
   doc["tiers_unavailable"] = unavailable;
   doc["full_static_mesh_compliance"] =

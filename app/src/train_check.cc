@@ -8,6 +8,7 @@
 
 #include "check_command.h"
 #include "display_units.h"
+#include "face_load_output.h"
 #include "gearnvh/analysis/train_load_warnings.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/nvh/train_campbell.h"
@@ -174,7 +175,8 @@ nlohmann::json TrainCheckReport(const TrainSpec& spec, const TrainCheck& check) 
            {"min", k.min},
            {"max", k.max}}},
          {"lste_peak_to_peak", k.lste_peak_to_peak},
-         {"load_sharing_max", k.load_sharing_max}});
+         {"load_sharing_max", k.load_sharing_max},
+         {"face_load", FaceLoadJson(m.cycle.face)}});
   }
   doc["bodies"] = nlohmann::json::array();
   for (size_t b = 0; b < train.topology.bodies.size(); ++b) {
@@ -250,6 +252,10 @@ void PrintTrainCheck(const std::string& file, const TrainSpec& spec, const Train
                g.helix_angle > 0.0
                    ? fmt::format("  helical {:.1f}°", g.helix_angle * 180.0 / std::numbers::pi)
                    : "  spur");
+  }
+  for (const TrainMeshModel& m : train.meshes) {
+    const std::string face = FaceLoadText(m.cycle.face, "    ");
+    if (!face.empty()) fmt::print("  mesh {}:\n{}", m.name, face);
   }
   fmt::print("  {:<16}{:<12}{:>14}{:>18}   gears\n", "body", "kind", "speed [rpm]", "J [kg m²]");
   for (size_t b = 0; b < train.topology.bodies.size(); ++b) {

@@ -8,6 +8,7 @@
 #include "gearnvh/model/gearbox_spec_limits.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/model/modal_analysis.h"
+#include "gearnvh/model/shaft_misalignment.h"
 #include "structure_assembly.h"
 
 namespace gearnvh {
@@ -68,22 +69,9 @@ int AddShaft(const GearboxSpec& spec, const std::optional<ShaftSpec>& shaft, int
   return gear_node;
 }
 
-}  // namespace
-
-Eigen::VectorXd ComponentModel::FrictionVector(Flank flank, double sigma, double arm_pinion,
-                                               double arm_wheel) const {
-  Eigen::VectorXd w =
-      sigma * (flank == Flank::kDrive ? translation_friction_drive : translation_friction_back);
-  w[PinionDof(kThz)] += arm_pinion;
-  w[WheelDof(kThz)] += arm_wheel;
-  return w;
-}
-
-ComponentModel BuildComponentModel(const GearboxSpec& spec, const ComponentModelOptions& options) {
-  options.Validate();
-  ComponentModel m;
-  const MeshPair pair = PairOf(spec);
-  m.geometry = ComputePairGeometry(pair);
+// The mesh's cycle, segments, summary and error excitation for `pair` (m.geometry set).
+void BuildMesh(const GearboxSpec& spec, const MeshPair& pair, const ComponentModelOptions& options,
+               ComponentModel& m) {
   const PairGeometry& g = m.geometry;
   const MeshEvaluator evaluator(pair, g, options.mesh);
   m.cycle = ComputeMeshCycle(pair, g, options.mesh);
@@ -108,6 +96,26 @@ ComponentModel BuildComponentModel(const GearboxSpec& spec, const ComponentModel
       m.warnings.push_back(text);
     }
   }
+}
+
+}  // namespace
+
+Eigen::VectorXd ComponentModel::FrictionVector(Flank flank, double sigma, double arm_pinion,
+                                               double arm_wheel) const {
+  Eigen::VectorXd w =
+      sigma * (flank == Flank::kDrive ? translation_friction_drive : translation_friction_back);
+  w[PinionDof(kThz)] += arm_pinion;
+  w[WheelDof(kThz)] += arm_wheel;
+  return w;
+}
+
+ComponentModel BuildComponentModel(const GearboxSpec& spec, const ComponentModelOptions& options) {
+  options.Validate();
+  ComponentModel m;
+  MeshPair pair = PairOf(spec);
+  m.geometry = ComputePairGeometry(pair);
+  const PairGeometry& g = m.geometry;
+  BuildMesh(spec, pair, options, m);
   m.half_backlash = 0.5 * spec.mesh.backlash;
   m.friction_coefficient = spec.mesh.friction_coefficient;
   m.pinion_speed = spec.operating.speed;
@@ -157,6 +165,27 @@ ComponentModel BuildComponentModel(const GearboxSpec& spec, const ComponentModel
   m.static_force = Eigen::VectorXd::Zero(m.dofs);
   m.static_force[m.PinionDof(kThz)] = spec.WheelTorque() * rb1 / rb2;
   m.static_force[m.WheelDof(kThz)] = spec.WheelTorque();
+
+  // Elastic shafts tilt the gears under the static load: the mesh again with that misalignment.
+  if (m.flexible && m.cycle.load > 0.0) {
+    // The free rotation: the pinion's shaft turning by r_b2 against the wheel's by -r_b1.
+    Eigen::MatrixXd free = Eigen::MatrixXd::Zero(m.dofs, 1);
+    for (size_t i = 0; i < m.nodes.size(); ++i) {
+      free(ComponentModel::Dof(static_cast<int>(i), kThz), 0) = m.nodes[i].shaft == 0 ? rb2 : -rb1;
+    }
+    free.normalize();
+    const Eigen::SparseVector<double> v = m.v_drive.sparseView();
+    const Eigen::SparseMatrix<double> engaged =
+        m.K + m.mesh_summary.mean * Eigen::SparseMatrix<double>(v * v.transpose());
+    const Eigen::VectorXd x = StaticDeflection(engaged, m.static_force, free);
+    pair.shaft_misalignment =
+        TiltMisalignment(m.v_drive, x, m.pinion_node, m.wheel_node, pair.face_width);
+    if (pair.shaft_misalignment != 0.0) {
+      BuildMesh(spec, pair, options, m);
+      m.mesh_damping =
+          2.0 * spec.mesh.damping_ratio * std::sqrt(m.mesh_summary.mean * m.effective_mass);
+    }
+  }
   return m;
 }
 

@@ -7,6 +7,8 @@
 #include "gearnvh/model/component_model.h"
 #include "gearnvh/model/gearbox_spec_limits.h"
 #include "gearnvh/model/input_error.h"
+#include "gearnvh/model/shaft_misalignment.h"
+#include "gearnvh/model/train_structure.h"
 
 namespace gearnvh {
 namespace {
@@ -31,6 +33,45 @@ void SetMeshKinematics(const TrainSpec& spec, const TrainTopology& topology, siz
   mesh.pair.path_b = "gears." + spec.gears[static_cast<size_t>(mesh.gear_b)].name;
   mesh.pair.path_mesh = "meshes[" + std::to_string(m) + "]";
   mesh.geometry = ComputePairGeometry(mesh.pair);
+}
+
+// The mesh's cycle, segments and stiffness summary for its pair.
+void BuildMeshCycle(const TrainSpec& spec, const MeshStiffnessOptions& options,
+                    TrainMeshModel& mesh) {
+  mesh.cycle = ComputeMeshCycle(mesh.pair, mesh.geometry, options);
+  try {
+    mesh.segmentation = SegmentMeshCycle(mesh.pair, MeshEvaluator(mesh.pair, mesh.geometry),
+                                         spec.analysis.segments_per_cycle);
+  } catch (const InputError& e) {  // the rule names "this pair": say which mesh it is
+    throw e.Renamed([](const std::string& path) { return path; },
+                    [&](const std::string& rule) {
+                      return rule + " in " + mesh.pair.path_mesh + " (" + mesh.name + ")";
+                    });
+  }
+  mesh.stiffness = SummarizeMeshCycle(mesh.cycle, mesh.geometry, mesh.segmentation);
+}
+
+// Elastic shafts tilt the gears under the static load: each loaded mesh again with the
+// misalignment that gives (shaft_misalignment.h). The load sits on the back flank where power
+// flows from b to a, so that flank's line of action measures it there.
+void ApplyShaftMisalignment(const TrainSpec& spec, const MeshStiffnessOptions& options,
+                            GearTrain& train) {
+  const bool elastic = std::any_of(spec.shafts.begin(), spec.shafts.end(),
+                                   [](const TrainShaft& s) { return s.elastic.has_value(); });
+  if (!elastic) return;
+  const TrainStructure structure = AssembleTrainStructure(spec, train);
+  const Eigen::VectorXd x = StaticDeflection(structure.EngagedStiffness(), structure.static_force,
+                                             structure.free_rotations);
+  for (size_t m = 0; m < train.meshes.size(); ++m) {
+    TrainMeshModel& mesh = train.meshes[m];
+    if (!(mesh.cycle.load > 0.0)) continue;
+    const TrainMeshVectors& v = structure.meshes[m];
+    mesh.pair.shaft_misalignment = TiltMisalignment(
+        mesh.back_flank_loaded ? v.v_back : v.v_drive, x,
+        structure.gear_node[static_cast<size_t>(mesh.gear_a)],
+        structure.gear_node[static_cast<size_t>(mesh.gear_b)], mesh.pair.face_width);
+    if (mesh.pair.shaft_misalignment != 0.0) BuildMeshCycle(spec, options, mesh);
+  }
 }
 
 }  // namespace
@@ -80,19 +121,11 @@ GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& opti
   } finest;
   double finest_per_revolution = 0.0;
   for (size_t m = 0; m < train.meshes.size(); ++m) {
-    TrainMeshModel& mesh = train.meshes[m];
-    SetMeshKinematics(spec, topo, m, mesh);
-    mesh.cycle = ComputeMeshCycle(mesh.pair, mesh.geometry, options);
-    try {
-      mesh.segmentation = SegmentMeshCycle(mesh.pair, MeshEvaluator(mesh.pair, mesh.geometry),
-                                           spec.analysis.segments_per_cycle);
-    } catch (const InputError& e) {  // the rule names "this pair": say which mesh it is
-      throw e.Renamed([](const std::string& path) { return path; },
-                      [&](const std::string& rule) {
-                        return rule + " in " + mesh.pair.path_mesh + " (" + mesh.name + ")";
-                      });
-    }
-    mesh.stiffness = SummarizeMeshCycle(mesh.cycle, mesh.geometry, mesh.segmentation);
+    SetMeshKinematics(spec, topo, m, train.meshes[m]);
+    BuildMeshCycle(spec, options, train.meshes[m]);
+  }
+  ApplyShaftMisalignment(spec, options, train);
+  for (TrainMeshModel& mesh : train.meshes) {
     for (const std::string& w : mesh.cycle.warnings) train.warnings.push_back(w);
     // The solver's grid cuts at every mesh's segment boundaries, so its segments are no longer
     // than the finest mesh's: that mesh (most segments per input revolution) decides.

@@ -559,10 +559,24 @@ FlankSample MeshEvaluator::Evaluate(double tau, Flank flank) const {
 
 namespace {
 
+// The misalignment components of FaceLoad.
+FaceLoad LinearMismatch(const MeshPair& pair) {
+  FaceLoad face;
+  face.manufacturing_misalignment = pair.mesh.misalignment;
+  face.shaft_misalignment = pair.shaft_misalignment;
+  face.lead_slopes =
+      (pair.a.lead ? pair.a.lead->slope : 0.0) + (pair.b.lead ? pair.b.lead->slope : 0.0);
+  face.linear_mismatch =
+      face.manufacturing_misalignment + face.shaft_misalignment + face.lead_slopes;
+  face.face_width = pair.face_width;
+  face.loaded_width = pair.face_width;
+  return face;
+}
+
 // The drive flank's load across the face over the cycle samples (docs/design.md §2.5).
 FaceLoad ComputeFaceLoad(const MeshPair& pair, const MeshEvaluator& evaluator,
                          const std::vector<double>& tau, const MeshStiffnessOptions& options) {
-  FaceLoad face;
+  FaceLoad face = LinearMismatch(pair);
   const int slices = evaluator.slices();
   const double b = pair.face_width;
   face.mismatch = evaluator.face_mismatch();
@@ -581,9 +595,6 @@ FaceLoad ComputeFaceLoad(const MeshPair& pair, const MeshEvaluator& evaluator,
   face.factor = *std::max_element(face.line_load.begin(), face.line_load.end()) / mean;
   // ISO 6336-1 method C: F_beta_y c_gamma_beta / (2 F / b) = x; K = 1 + x up to 2, 2 sqrt(x)
   // beyond, with c_gamma_beta = 0.85 times the full face's mean stiffness per unit width.
-  face.linear_mismatch = pair.mesh.misalignment + pair.shaft_misalignment +
-                         (pair.a.lead ? pair.a.lead->slope : 0.0) +
-                         (pair.b.lead ? pair.b.lead->slope : 0.0);
   MeshPair aligned = pair;
   aligned.mesh.misalignment = 0.0;
   aligned.shaft_misalignment = 0.0;
@@ -617,6 +628,7 @@ MeshCycle ComputeMeshCycle(const MeshPair& pair, const PairGeometry& g,
     cycle.drive[i] = evaluator.Evaluate(tau, Flank::kDrive);
     cycle.back[i] = evaluator.Evaluate(tau, Flank::kBack);
   }
+  cycle.face = LinearMismatch(pair);
   if (evaluator.face_modelled()) {
     cycle.face = ComputeFaceLoad(pair, evaluator, cycle.tau, options);
   } else if (FaceModified(pair)) {

@@ -110,7 +110,7 @@ TEST_CASE("a zero misalignment and empty leads leave the mesh cycle unchanged bi
     CHECK(same.drive[i].lste == plain.drive[i].lste);
     CHECK(same.back[i].stiffness == plain.back[i].stiffness);
   }
-  CHECK(same.face.position.empty());
+  CHECK_FALSE(same.face.modelled());
   CHECK(same.face.factor == 1.0);
 }
 
@@ -121,7 +121,7 @@ TEST_CASE("a misaligned spur mesh: K_Hbeta from its own stiffness, stiffness and
   const MeshCycle aligned = CycleOf(spec);
   spec.mesh.misalignment = 3e-6;
   const MeshCycle tilted = CycleOf(spec);
-  REQUIRE_FALSE(tilted.face.position.empty());
+  REQUIRE(tilted.face.modelled());
   const double b = 30e-3, load = tilted.load;
   double mean_stiffness = 0.0;
   for (const FlankSample& d : tilted.drive) mean_stiffness += d.stiffness / tilted.drive.size();
@@ -190,7 +190,7 @@ TEST_CASE("an unloaded mesh keeps its full face and says the misalignment is not
   spec.operating.torque = 0.0;
   spec.mesh.misalignment = 10e-6;
   const MeshCycle cycle = CycleOf(spec);
-  CHECK(cycle.face.position.empty());
+  CHECK_FALSE(cycle.face.modelled());
   bool warned = false;
   for (const std::string& w : cycle.warnings) {
     warned = warned || w.find("carries no static load") != std::string::npos;

@@ -83,22 +83,35 @@ double ShareLoad(std::vector<ContactElement>& elements, double load);
 std::vector<double> LineLoadAtSliceEdges(const std::vector<ContactElement>& elements, double delta,
                                          int slices, double face_width);
 
-// The load across the face of one flank under the static load (docs/design.md §2.5).
+// The load across the drive flank's face under the static load (docs/design.md §2.5). The
+// misalignment components are set for every mesh; the distribution only where the face is
+// modelled (MeshEvaluator::face_modelled), else positions are empty and the load is uniform.
 struct FaceLoad {
+  // The linear mismatch across the face, m, signed as MeshSpec::misalignment: f_ma, the shafts'
+  // static deflection f_sh, the two gears' lead slopes, and their sum F_beta_y.
+  double manufacturing_misalignment = 0.0, shaft_misalignment = 0.0, lead_slopes = 0.0;
+  double linear_mismatch = 0.0;
+  double face_width = 0.0;        // b, m: the common face
   std::vector<double> position;   // m from the face start (smaller z), the slice edges
   std::vector<double> line_load;  // N/m, the mesh-cycle mean at each position
   std::vector<double> mismatch;   // m, the separation the misalignment and leads add there
   double factor = 1.0;            // K_Hbeta: the largest line_load over F / b
-  double loaded_width = 0.0;      // m, the narrowest loaded width over the cycle
-  // ISO 6336-1 method C's K_Hbeta at the same linear mismatch (no running-in allowance) with
-  // c_gamma_beta = 0.85 times the mean stiffness per unit face width of the full face.
+  double loaded_width = 0.0;      // m, the narrowest loaded width over the cycle (b if uniform)
+  // ISO 6336-1 method C's K_Hbeta at |F_beta_y| (no running-in allowance, no crowning) with
+  // c_gamma_beta = 0.85 times the full face's mean stiffness per unit width: 1 + x up to 2, then
+  // 2 sqrt(x), x = |F_beta_y| c_gamma_beta / (2 F / b).
   double iso_method_c = 1.0;
-  double linear_mismatch = 0.0;  // m, F_beta_y: the linear part of the mismatch across the face
+  bool modelled() const { return !position.empty(); }
+  // Whether anything misaligns or modifies the face (else the load is uniform by construction).
+  bool misaligned() const {
+    return modelled() || manufacturing_misalignment != 0.0 || shaft_misalignment != 0.0 ||
+           lead_slopes != 0.0;
+  }
 };
 
 // One flank's state at one cycle fraction.
 struct FlankSample {
-  double stiffness = 0.0;  // sum of loaded pair stiffnesses, N/m
+  double stiffness = 0.0;  // sum of loaded pair (tangent) stiffnesses, N/m
   double lste = 0.0;       // mesh approach delta at the operating load, m
   int loaded_pairs = 0;
   double friction_sigma = 0.0;       // sum LSR sgn
