@@ -1,8 +1,11 @@
 // The load across the face under misalignment and lead modifications (docs/design.md §2.5).
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <numbers>
 #include <vector>
 
+#include "gearnvh/model/component_model.h"
+#include "gearnvh/model/gear_train.h"
 #include "gearnvh/model/mesh_pair.h"
 #include "gearnvh/model/mesh_stiffness.h"
 #include "model/test_specs.h"
@@ -196,6 +199,44 @@ TEST_CASE("an unloaded mesh keeps its full face and says the misalignment is not
     warned = warned || w.find("carries no static load") != std::string::npos;
   }
   CHECK(warned);
+}
+
+// A pinion on a simply supported elastic shaft (bearings at both ends, rigid radially, free to
+// tilt) and a wheel on rigid supports: the mesh force P pushes the pinion away from the wheel, so
+// its face tilts by the Euler-Bernoulli slope at the load, P a c (c - a) / (3 E I L) (a, c the
+// spans either side), which the Timoshenko elements' section rotation reproduces exactly for a
+// point load at a node (a statically determinate beam's moment is independent of shear). The
+// bearings' radial compliance (1e14 N/m) tilts it by ~1e-7 of that. The face opens toward the
+// longer span, the larger z.
+TEST_CASE("the shafts' static deflection tilts the face by the beam's closed-form slope",
+          "[model][face]") {
+  GearboxSpec spec = StandardPair(31, 47, 3e-3, 30e-3);
+  spec.operating.torque = 200.0;
+  const double d = 0.03, length = 0.3, a = 0.1, c = length - a;
+  ShaftSpec shaft;
+  shaft.material = "steel";
+  shaft.segments = {{length, d, 0.0}};
+  shaft.gear_at = a;
+  shaft.bearings = {{0.0, 1e14, 1e8, 0.0, 0.0}, {length, 1e14, 0.0, 0.0, 0.0}};
+  shaft.element_length = 0.01;
+  spec.input_shaft = shaft;
+  const ComponentModel model = BuildComponentModel(spec);
+  const double load = model.cycle.load;
+  const double ei = 206e9 * std::numbers::pi * std::pow(d, 4) / 64.0;
+  const double slope = load * a * c * (c - a) / (3.0 * ei * length);
+  INFO("f_sh " << model.cycle.face.shaft_misalignment * 1e6 << " um, closed form "
+               << 30e-3 * slope * 1e6 << " um");
+  CHECK(model.cycle.face.shaft_misalignment == Approx(30e-3 * slope).epsilon(1e-6));
+  CHECK(model.cycle.face.modelled());
+  CHECK(model.cycle.face.factor > 1.0);
+  // The same gearbox as a one-mesh train: its own structure gives the same tilt and face load, to
+  // the conditioning of the static solve (1e14 N/m bearings against ~1e7 N/m of shaft bending
+  // leave ~1e-8 of rounding in either solve).
+  const GearTrain train = BuildGearTrain(TrainOf(spec));
+  const FaceLoad& face = train.meshes[0].cycle.face;
+  CHECK(face.shaft_misalignment == Approx(model.cycle.face.shaft_misalignment).epsilon(1e-6));
+  CHECK(face.factor == Approx(model.cycle.face.factor).epsilon(1e-6));
+  CHECK(train.meshes[0].stiffness.mean == Approx(model.mesh_summary.mean).epsilon(1e-6));
 }
 
 }  // namespace
