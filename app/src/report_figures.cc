@@ -235,4 +235,22 @@ render::LinePlot LsteFigure(const ComponentModel& model) {
   return p;
 }
 
+render::LinePlot FaceLoadFigure(const std::vector<std::pair<std::string, FaceLoad>>& meshes) {
+  render::LinePlot p;
+  p.title = "Load across the face (drive flank, mesh-cycle mean)";
+  p.x_label = "position from the face start (mm)";
+  p.y_label = "line load (N/mm)";
+  p.auto_log_y = false;
+  for (const auto& [name, face] : meshes) {
+    if (!face.modelled()) continue;
+    render::Series s{fmt::format("{} (K_Hβ {:.3f})", name, face.factor), {}, {}};
+    for (size_t i = 0; i < face.position.size(); ++i) {
+      s.x.push_back(face.position[i] * 1e3);
+      s.y.push_back(face.line_load[i] * 1e-3);
+    }
+    p.series.push_back(s);
+  }
+  return p;
+}
+
 }  // namespace gearnvh::app

@@ -28,5 +28,8 @@ render::LinePlot PhaseFigure(const OperatingPointAnalysis& op, long cycles,
 render::LinePlot MeshStiffnessFigure(const ComponentModel& model);
 render::LinePlot LoadSharingFigure(const ComponentModel& model);
 render::LinePlot LsteFigure(const ComponentModel& model);
+// The mesh-cycle mean line load across the face of each named mesh whose face is modelled
+// (FaceLoad::modelled), against the position from the face start.
+render::LinePlot FaceLoadFigure(const std::vector<std::pair<std::string, FaceLoad>>& meshes);
 
 }  // namespace gearnvh::app

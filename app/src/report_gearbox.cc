@@ -247,6 +247,13 @@ GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::
                                 (folder / "load_sharing.png").string()));
     draw("lste.png", "Loaded static transmission error over one mesh cycle.",
          render::RenderLinePlot(LsteFigure(model), small, (folder / "lste.png").string()));
+    if (model.cycle.face.modelled()) {
+      draw("face_load.png",
+           "Load per unit face width across the face under misalignment and lead modifications "
+           "(K_Hβ: its peak over the mean; `check` gives the misalignment components).",
+           render::RenderLinePlot(FaceLoadFigure({{"mesh", model.cycle.face}}), small,
+                                  (folder / "face_load.png").string()));
+    }
     if (atlas) {
       draw("atlas_lyapunov.png",
            "Largest Lyapunov exponent per forcing cycle (red: chaotic, blue: regular; strongly "
