@@ -452,6 +452,10 @@ std::vector<ContactElement> MeshEvaluator::Elements(double tau, Flank flank) con
   std::vector<ContactElement> elements;
   const std::vector<double>& mismatch = flank == Flank::kDrive ? drive_mismatch_ : back_mismatch_;
   const double slice_weight = 1.0 / slices_;
+  // A spur face's slices all see the same rolls: each pair's stiffness (a quadrature) and
+  // separation once, from the first slice.
+  const bool same_rolls = g.overlap_ratio == 0.0;
+  std::array<double, FlankSample::kMaxPairs> first_stiffness{}, first_separation{};
   for (int k = 0; k < slices_; ++k) {
     const double shift = slices_ > 1 ? g.overlap_ratio * (k + 0.5) / slices_ : 0.0;
     const double s_drive = g.contact_start + (tau + shift) * g.base_pitch;
@@ -464,8 +468,13 @@ std::vector<ContactElement> MeshEvaluator::Elements(double tau, Flank flank) con
          s += g.base_pitch, ++count) {
       ContactElement e;
       e.roll = s;
-      e.stiffness = slices_ > 1 ? slice_weight * pair_.At(s) : pair_.At(s);
-      e.separation = Separation(s);
+      const auto pair = static_cast<size_t>(count);
+      if (k == 0 || !same_rolls) {
+        first_stiffness[pair] = slices_ > 1 ? slice_weight * pair_.At(s) : pair_.At(s);
+        first_separation[pair] = Separation(s);
+      }
+      e.stiffness = first_stiffness[pair];
+      e.separation = first_separation[pair];
       e.slice = k;
       if (!mismatch.empty()) {
         const double at_start = mismatch[static_cast<size_t>(k)];
@@ -485,9 +494,8 @@ std::vector<ContactElement> MeshEvaluator::Elements(double tau, Flank flank) con
   return elements;
 }
 
-std::vector<double> MeshEvaluator::LineLoad(double tau, double& loaded_width) const {
-  std::vector<ContactElement> elements = Elements(tau, Flank::kDrive);
-  const double delta = ShareLoad(elements, load_);
+void MeshEvaluator::FaceAt(const std::vector<ContactElement>& elements, double delta,
+                           FaceSample& face) const {
   // A slice's elements all grow toward the same edge, so the loaded parts nest: the slice's
   // loaded width is the largest.
   const double width = face_width_ / slices_;
@@ -497,16 +505,29 @@ std::vector<double> MeshEvaluator::LineLoad(double tau, double& loaded_width) co
     const double part = !(over > 0.0) ? 0.0 : (over >= e.spread ? 1.0 : over / e.spread);
     loaded[static_cast<size_t>(e.slice)] = std::max(loaded[static_cast<size_t>(e.slice)], part);
   }
-  loaded_width = 0.0;
-  for (double part : loaded) loaded_width += part * width;
-  return LineLoadAtSliceEdges(elements, delta, slices_, face_width_);
+  face.loaded_width = 0.0;
+  for (double part : loaded) face.loaded_width += part * width;
+  face.line_load = LineLoadAtSliceEdges(elements, delta, slices_, face_width_);
+  // The same pairs with the mismatch taken off: the full face's stiffness.
+  std::vector<ContactElement> full = elements;
+  for (ContactElement& e : full) {
+    const auto k = static_cast<size_t>(e.slice);
+    e.separation -= std::min(drive_mismatch_[k], drive_mismatch_[k + 1]);
+    e.spread = 0.0;
+  }
+  ShareLoad(full, load_);
+  face.full_face_stiffness = 0.0;
+  for (const ContactElement& e : full) face.full_face_stiffness += e.tangent;
 }
 
-FlankSample MeshEvaluator::Evaluate(double tau, Flank flank) const {
+FlankSample MeshEvaluator::Evaluate(double tau, Flank flank, FaceSample* face) const {
   const PairGeometry& g = g_;
   std::vector<ContactElement> elements = Elements(tau, flank);
   FlankSample out;
   out.lste = ShareLoad(elements, load_);
+  if (face != nullptr && flank == Flank::kDrive && !drive_mismatch_.empty()) {
+    FaceAt(elements, out.lste, *face);
+  }
   if (overridden_) {
     // User data replaces the stiffness; share equally among elements inside the path.
     const double tau_flank = flank == Flank::kDrive ? tau : back_phase_ / g.base_pitch - tau;
@@ -573,37 +594,29 @@ FaceLoad LinearMismatch(const MeshPair& pair) {
   return face;
 }
 
-// The drive flank's load across the face over the cycle samples (docs/design.md §2.5).
+// The drive flank's load across the face from the cycle's face samples.
 FaceLoad ComputeFaceLoad(const MeshPair& pair, const MeshEvaluator& evaluator,
-                         const std::vector<double>& tau, const MeshStiffnessOptions& options) {
+                         const std::vector<FaceSample>& samples) {
   FaceLoad face = LinearMismatch(pair);
   const int slices = evaluator.slices();
   const double b = pair.face_width;
   face.mismatch = evaluator.face_mismatch();
-  if (face.mismatch.empty()) face.mismatch.assign(static_cast<size_t>(slices) + 1, 0.0);
   face.position.resize(static_cast<size_t>(slices) + 1);
   for (int i = 0; i <= slices; ++i) face.position[static_cast<size_t>(i)] = b * i / slices;
   face.line_load.assign(face.position.size(), 0.0);
-  face.loaded_width = b;
-  for (double t : tau) {
-    double width = 0.0;
-    const std::vector<double> line = evaluator.LineLoad(t, width);
-    for (size_t i = 0; i < line.size(); ++i) face.line_load[i] += line[i] / tau.size();
-    face.loaded_width = std::min(face.loaded_width, width);
+  double full_face_stiffness = 0.0;
+  const double n = static_cast<double>(samples.size());
+  for (const FaceSample& sample : samples) {
+    for (size_t i = 0; i < sample.line_load.size(); ++i)
+      face.line_load[i] += sample.line_load[i] / n;
+    face.loaded_width = std::min(face.loaded_width, sample.loaded_width);
+    full_face_stiffness += sample.full_face_stiffness / n;
   }
   const double mean = evaluator.load() / b;
   face.factor = *std::max_element(face.line_load.begin(), face.line_load.end()) / mean;
-  // ISO 6336-1 method C: F_beta_y c_gamma_beta / (2 F / b) = x; K = 1 + x up to 2, 2 sqrt(x)
+  // ISO 6336-1 method C: x = F_beta_y c_gamma_beta / (2 F / b); K = 1 + x up to 2, 2 sqrt(x)
   // beyond, with c_gamma_beta = 0.85 times the full face's mean stiffness per unit width.
-  MeshPair aligned = pair;
-  aligned.mesh.misalignment = 0.0;
-  aligned.shaft_misalignment = 0.0;
-  aligned.a.lead.reset();
-  aligned.b.lead.reset();
-  const MeshEvaluator full(aligned, evaluator.geometry(), options);
-  double stiffness = 0.0;
-  for (double t : tau) stiffness += full.Evaluate(t, Flank::kDrive).stiffness / tau.size();
-  const double x = std::abs(face.linear_mismatch) * 0.85 * stiffness / b / (2.0 * mean);
+  const double x = std::abs(face.linear_mismatch) * 0.85 * full_face_stiffness / b / (2.0 * mean);
   face.iso_method_c = x <= 1.0 ? 1.0 + x : 2.0 * std::sqrt(x);
   return face;
 }
@@ -622,15 +635,21 @@ MeshCycle ComputeMeshCycle(const MeshPair& pair, const PairGeometry& g,
   cycle.tau.resize(n);
   cycle.drive.resize(n);
   cycle.back.resize(n);
+  // The drive flank's face samples where only the drive flank's face is uniform: none.
+  const bool face = evaluator.face_modelled() && !evaluator.face_mismatch().empty();
+  std::vector<FaceSample> face_samples(face ? static_cast<size_t>(n) : 0);
   for (int i = 0; i < n; ++i) {
     const double tau = (i + 0.5) / n;
     cycle.tau[i] = tau;
-    cycle.drive[i] = evaluator.Evaluate(tau, Flank::kDrive);
+    cycle.drive[i] = evaluator.Evaluate(tau, Flank::kDrive,
+                                        face ? &face_samples[static_cast<size_t>(i)] : nullptr);
     cycle.back[i] = evaluator.Evaluate(tau, Flank::kBack);
   }
   cycle.face = LinearMismatch(pair);
-  if (evaluator.face_modelled()) {
-    cycle.face = ComputeFaceLoad(pair, evaluator, cycle.tau, options);
+  if (face) {
+    cycle.face = ComputeFaceLoad(pair, evaluator, face_samples);
+  } else if (evaluator.face_modelled()) {
+    // Only the back flank's symmetric leads, which cancel on the drive flank: its load is uniform.
   } else if (FaceModified(pair)) {
     cycle.warnings.push_back(
         pair.path_mesh + ": " +

@@ -165,13 +165,21 @@ class PairStiffness {
 
 enum class Flank { kDrive, kBack };
 
+// The load across the face at one cycle fraction.
+struct FaceSample {
+  std::vector<double> line_load;     // N/m at the slice edges (LineLoadAtSliceEdges)
+  double loaded_width = 0.0;         // m: the width of the face that carries load
+  double full_face_stiffness = 0.0;  // N/m: the mesh stiffness with the mismatch removed
+};
+
 // Evaluates one flank's load sharing at any cycle fraction (the fine samples, segment quadrature
 // and transition bisection all go through here).
 class MeshEvaluator {
  public:
   MeshEvaluator(const MeshPair& pair, const PairGeometry& geometry,
                 const MeshStiffnessOptions& options = {});
-  FlankSample Evaluate(double tau, Flank flank) const;
+  // With `face` (where the face is modelled): the same state's load across the face as well.
+  FlankSample Evaluate(double tau, Flank flank, FaceSample* face = nullptr) const;
   double load() const { return load_; }
   double back_phase() const { return back_phase_; }
   // Cycle fractions (in [0, 1)) where a pair crosses the pitch point on the given flank.
@@ -190,9 +198,6 @@ class MeshEvaluator {
   // The drive flank's mismatch at the slice edges, m (its smallest value 0); empty if uniform.
   const std::vector<double>& face_mismatch() const { return drive_mismatch_; }
   int slices() const { return slices_; }
-  // The drive flank's line load at the slice edges at tau (LineLoadAtSliceEdges), and in
-  // `loaded_width` the width of the face that carries load, m.
-  std::vector<double> LineLoad(double tau, double& loaded_width) const;
 
  private:
   StiffnessModel stiffness_;
@@ -205,6 +210,7 @@ class MeshEvaluator {
   // symmetric leads, crowning and end relief), m; empty when uniform.
   std::vector<double> drive_mismatch_, back_mismatch_;
   std::vector<ContactElement> Elements(double tau, Flank flank) const;
+  void FaceAt(const std::vector<ContactElement>& elements, double delta, FaceSample& face) const;
   double reach_, load_, mirror_, back_phase_;
   bool overridden_;
   double relief_start_amount_ = 0, relief_start_length_ = 0, relief_end_amount_ = 0,
