@@ -2,7 +2,26 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+
 namespace gearnvh::app {
+namespace {
+
+const char* ModelName(FaceLoad::Model model) {
+  switch (model) {
+    case FaceLoad::Model::kModelled:
+      return "modelled";
+    case FaceLoad::Model::kUnloaded:
+      return "unloaded";
+    case FaceLoad::Model::kOverridden:
+      return "overridden";
+    case FaceLoad::Model::kUniform:
+      break;
+  }
+  return "uniform";
+}
+
+}  // namespace
 
 std::string FaceLoadText(const FaceLoad& face, const std::string& indent) {
   if (!face.misaligned()) return "";
@@ -10,18 +29,25 @@ std::string FaceLoadText(const FaceLoad& face, const std::string& indent) {
   const auto line = [&](const std::string& name, const std::string& value) {
     out += fmt::format("{}{:<34}{:>12}\n", indent, name, value);
   };
-  const auto um = [](double m) { return fmt::format("{:.3f} µm", m * 1e6); };
+  // Below the last digit shown: 0.000, not rounding's -0.000.
+  const auto um = [](double m) {
+    return fmt::format("{:.3f} µm", std::abs(m) < 5e-10 ? 0.0 : m * 1e6);
+  };
   out += indent + "load across the face (drive flank, mesh-cycle mean):\n";
   line("  misalignment f_ma", um(face.manufacturing_misalignment));
   line("  from the shafts' deflection f_sh", um(face.shaft_misalignment));
   line("  lead slopes", um(face.lead_slopes));
   line("  linear mismatch F_βy", um(face.linear_mismatch));
+  if (face.model == FaceLoad::Model::kUniform) {
+    out += indent + "  (the mismatch cancels: the load is uniform, K_Hβ 1)\n";
+    return out;
+  }
   if (!face.modelled()) {
     out += indent + "  (not applied: see the warning)\n";
     return out;
   }
   line("  K_Hβ (slice model)", fmt::format("{:.4f}", face.factor));
-  line("  K_Hβ (ISO 6336-1 method C)", fmt::format("{:.4f}", face.iso_method_c));
+  line("  K_Hβ (ISO 6336-1 formula at F_βy)", fmt::format("{:.4f}", face.iso_method_c));
   line("  loaded width (narrowest)", fmt::format("{:.2f} mm", face.loaded_width * 1e3));
   line("  face width", fmt::format("{:.2f} mm", face.face_width * 1e3));
   // The distribution at ~11 points across the face, start to end.
@@ -44,6 +70,7 @@ nlohmann::json FaceLoadJson(const FaceLoad& face) {
             {"lead_slopes", face.lead_slopes},
             {"linear", face.linear_mismatch}}},
           {"modelled", face.modelled()},
+          {"model", ModelName(face.model)},
           {"factor", face.factor},
           {"iso_6336_method_c", face.iso_method_c},
           {"loaded_width", face.loaded_width},

@@ -243,7 +243,7 @@ render::LinePlot FaceLoadFigure(const std::vector<std::pair<std::string, FaceLoa
   p.auto_log_y = false;
   for (const auto& [name, face] : meshes) {
     if (!face.modelled()) continue;
-    render::Series s{fmt::format("{} (K_Hβ {:.3f})", name, face.factor), {}, {}};
+    render::Series s{fmt::format("{} (K_Hbeta {:.3f})", name, face.factor), {}, {}};
     for (size_t i = 0; i < face.position.size(); ++i) {
       s.x.push_back(face.position[i] * 1e3);
       s.y.push_back(face.line_load[i] * 1e-3);

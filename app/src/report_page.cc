@@ -41,8 +41,8 @@ std::string GearboxPage(const GearboxPageInput& in) {
                        Number(model.mesh_summary.min * 1e-6),
                        Number(model.mesh_summary.max * 1e-6)))
     << Row("LSTE peak-to-peak (µm)", Number(model.mesh_summary.lste_peak_to_peak * 1e6))
-    << Row("face load factor K_Hβ (ISO 6336-1 method C)",
-           fmt::format("{} ({})", Number(model.cycle.face.factor),
+    << Row("face load factor K_Hβ: slice model / ISO 6336-1 formula",
+           fmt::format("{} / {}", Number(model.cycle.face.factor),
                        Number(model.cycle.face.iso_method_c)))
     << Row("backlash (µm)", Number(spec.mesh.backlash * 1e6))
     << Row("pinion speed", Format(spec.operating.speed, spec.operating.speed_unit))

@@ -60,16 +60,28 @@ void ApplyShaftMisalignment(const TrainSpec& spec, const MeshStiffnessOptions& o
                                    [](const TrainShaft& s) { return s.elastic.has_value(); });
   if (!elastic) return;
   const TrainStructure structure = AssembleTrainStructure(spec, train);
-  const Eigen::VectorXd x = StaticDeflection(structure.EngagedStiffness(), structure.static_force,
-                                             structure.free_rotations);
+  // Every mesh engaged on its loaded flank (EngagedStiffness takes the drive flank's).
+  Eigen::SparseMatrix<double> engaged = structure.K;
+  for (size_t m = 0; m < train.meshes.size(); ++m) {
+    const TrainMeshVectors& v = structure.meshes[m];
+    const Eigen::SparseVector<double> loaded =
+        (train.meshes[m].back_flank_loaded ? v.v_back : v.v_drive).sparseView();
+    engaged +=
+        structure.mean_stiffness[m] * Eigen::SparseMatrix<double>(loaded * loaded.transpose());
+  }
+  const Eigen::VectorXd x =
+      StaticDeflection(engaged, structure.static_force, structure.free_rotations);
   for (size_t m = 0; m < train.meshes.size(); ++m) {
     TrainMeshModel& mesh = train.meshes[m];
     if (!(mesh.cycle.load > 0.0)) continue;
     const TrainMeshVectors& v = structure.meshes[m];
-    mesh.pair.shaft_misalignment = TiltMisalignment(
-        mesh.back_flank_loaded ? v.v_back : v.v_drive, x,
-        structure.gear_node[static_cast<size_t>(mesh.gear_a)],
-        structure.gear_node[static_cast<size_t>(mesh.gear_b)], mesh.pair.face_width);
+    // v_back's approach is negative in back contact (structure_assembly.h): its compression is
+    // -v_back^T x, so its face opens the other way round.
+    const double tilt = TiltMisalignment(mesh.back_flank_loaded ? v.v_back : v.v_drive, x,
+                                         structure.gear_node[static_cast<size_t>(mesh.gear_a)],
+                                         structure.gear_node[static_cast<size_t>(mesh.gear_b)],
+                                         mesh.pair.face_width);
+    mesh.pair.shaft_misalignment = mesh.back_flank_loaded ? -tilt : tilt;
     if (mesh.pair.shaft_misalignment != 0.0) BuildMeshCycle(spec, options, mesh);
   }
 }

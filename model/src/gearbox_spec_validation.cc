@@ -84,9 +84,13 @@ void ValidateGear(const GearboxSpec& spec, const GearSpec& g, const std::string&
     const LeadModification& lead = *g.lead;
     NonNegative(p + ".lead.crowning", lead.crowning);
     NonNegative(p + ".lead.end_relief.amount", lead.end_relief_amount);
-    if (lead.end_relief_amount > 0.0 || lead.end_relief_length != 0.0) {
-      InRange(p + ".lead.end_relief.length", InputError::Length(lead.end_relief_length), 0.0,
-              0.5 * g.face_width, true, false);
+    if ((lead.end_relief_amount > 0.0 || lead.end_relief_length != 0.0) &&
+        !(lead.end_relief_length > 0.0 && lead.end_relief_length <= 0.5 * g.face_width)) {
+      throw InputError(p + ".lead.end_relief.length", 0,
+                       {"{}", {InputError::Length(lead.end_relief_length)}},
+                       {"must be in (0, {}]: half this gear's face width (the relief runs in "
+                        "from both ends)",
+                        {InputError::Length(0.5 * g.face_width)}});
     }
     if (!std::isfinite(lead.slope)) {
       throw InputError(p + ".lead.slope", 0, MessageNumber(lead.slope), "must be finite");

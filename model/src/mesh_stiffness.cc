@@ -1,5 +1,7 @@
 #include "gearnvh/model/mesh_stiffness.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -216,7 +218,7 @@ double ShareLoad(std::vector<ContactElement>& elements, double load) {
   // elements (40 slices), whose quadratic sort dominated the mesh-cycle build.
   std::stable_sort(events.begin(), events.end(),
                    [](const Event& a, const Event& b) { return a.at < b.at; });
-  std::vector<char> started(static_cast<size_t>(n), 0);
+  std::vector<char> started(static_cast<size_t>(n), 0), whole(static_cast<size_t>(n), 0);
   // Whole elements' sum k and sum k * (mean separation); the load, its slope and its curvature
   // (sum k / s of the partly loaded elements) at the current event.
   double sum_k = 0.0, sum_ke = 0.0, total = 0.0, slope = 0.0, curvature = 0.0, at = 0.0;
@@ -233,6 +235,7 @@ double ShareLoad(std::vector<ContactElement>& elements, double load) {
     at = ev.at;
     const ContactElement& p = elements[static_cast<size_t>(ev.element)];
     started[static_cast<size_t>(ev.element)] = 1;
+    whole[static_cast<size_t>(ev.element)] = ev.whole ? 1 : 0;
     if (ev.whole) {
       sum_k += p.stiffness;
       sum_ke += p.spread > 0.0 ? p.stiffness * (p.separation + 0.5 * p.spread)
@@ -249,6 +252,8 @@ double ShareLoad(std::vector<ContactElement>& elements, double load) {
     }
     const bool last = m + 1 == count;
     if (partial == 0) {
+      // No partly loaded element: drop what the curvature's +k/s and -k/s left by rounding.
+      curvature = 0.0;
       // Only whole elements carry load: the linear solve (a uniform face's only case).
       delta = (load + sum_ke) / sum_k;
       // Stop once delta is below the next event; an element with e == delta adds nothing under
@@ -258,6 +263,23 @@ double ShareLoad(std::vector<ContactElement>& elements, double load) {
     }
     if (curvature < 0.0) curvature = 0.0;  // rounding as the last partial element turns whole
     const double h = events[static_cast<size_t>(m) + 1].at - at;
+    if (total + slope * h + 0.5 * curvature * h * h < load) continue;
+    // The tracked polynomial carries every event's rounding (k / s added, later taken off): its
+    // coefficients again from the elements themselves before the bracket is trusted.
+    total = slope = curvature = 0.0;
+    for (int i = 0; i < n; ++i) {
+      const ContactElement& e = elements[static_cast<size_t>(i)];
+      if (!started[static_cast<size_t>(i)]) continue;
+      if (whole[static_cast<size_t>(i)]) {
+        total += e.stiffness * (at - e.separation - 0.5 * e.spread);
+        slope += e.stiffness;
+      } else {
+        const double over = at - e.separation;
+        total += 0.5 * e.stiffness * over * over / e.spread;
+        slope += e.stiffness * over / e.spread;
+        curvature += e.stiffness / e.spread;
+      }
+    }
     if (total + slope * h + 0.5 * curvature * h * h < load) continue;
     // load = total + slope x + curvature x^2 / 2 on [at, next event], in its stable root form.
     const double r = std::max(load - total, 0.0);
@@ -315,6 +337,12 @@ namespace {
 
 double Frac(double x) { return x - std::floor(x); }
 
+// A strip whose separation changes by less than this fraction of the face's largest mismatch
+// across it counts as uniform (MeshEvaluator::Elements).
+constexpr double kUniformSpread = 1e-9;
+
+constexpr double kUniformMismatch = 1e-12;  // m
+
 // The material a gear's lead modification removes at face position y of the common face b (the
 // gear's own face, of width b_g >= b, centred on it).
 double LeadRemoval(const GearSpec& gear, double y, double face, bool symmetric_only) {
@@ -345,12 +373,9 @@ std::vector<double> FaceMismatch(const MeshPair& pair, int slices, bool drive) {
                                 LeadRemoval(pair.b, y, face, !drive);
   }
   const double low = *std::min_element(m.begin(), m.end());
-  bool uniform = true;
-  for (double& v : m) {
-    v -= low;
-    uniform = uniform && v == 0.0;
-  }
-  if (uniform) m.clear();
+  for (double& v : m) v -= low;
+  // Uniform below a picometre: what remains of a slope cancelling a misalignment is rounding.
+  if (*std::max_element(m.begin(), m.end()) <= kUniformMismatch) m.clear();
   return m;
 }
 
@@ -385,6 +410,9 @@ MeshEvaluator::MeshEvaluator(const MeshPair& pair, const PairGeometry& g,
     back_mismatch_ = FaceMismatch(pair, slices_, false);
     if (drive_mismatch_.empty() && back_mismatch_.empty() && !pair.helical()) slices_ = 1;
     face_ = !drive_mismatch_.empty() || !back_mismatch_.empty();
+    for (const std::vector<double>* m : {&drive_mismatch_, &back_mismatch_}) {
+      for (double v : *m) mismatch_scale_ = std::max(mismatch_scale_, v);
+    }
   }
   reach_ = options.path_extension_pitches * g.base_pitch;
   if (wheel.tip_relief) {
@@ -482,6 +510,12 @@ std::vector<ContactElement> MeshEvaluator::Elements(double tau, Flank flank) con
         e.separation += std::min(at_start, at_end);
         e.spread = std::abs(at_end - at_start);
         e.grows_toward_end = at_end >= at_start;
+        // A spread at the rounding of the mismatch (a crowning's vertex against a slope) is
+        // uniform: its k / s would swamp the other strips' curvature in the sweep.
+        if (e.spread <= kUniformSpread * mismatch_scale_) {
+          e.separation += 0.5 * e.spread;
+          e.spread = 0.0;
+        }
       }
       // The tooth pair: cycles since it entered the path of contact at this slice (drive flank),
       // the same integer on every slice.
@@ -585,8 +619,10 @@ FaceLoad LinearMismatch(const MeshPair& pair) {
   FaceLoad face;
   face.manufacturing_misalignment = pair.mesh.misalignment;
   face.shaft_misalignment = pair.shaft_misalignment;
-  face.lead_slopes =
-      (pair.a.lead ? pair.a.lead->slope : 0.0) + (pair.b.lead ? pair.b.lead->slope : 0.0);
+  // A gear's slope grows over its own face; the common face sees b / b_gear of it.
+  for (const GearSpec* gear : {&pair.a, &pair.b}) {
+    if (gear->lead) face.lead_slopes += gear->lead->slope * pair.face_width / gear->face_width;
+  }
   face.linear_mismatch =
       face.manufacturing_misalignment + face.shaft_misalignment + face.lead_slopes;
   face.face_width = pair.face_width;
@@ -616,6 +652,8 @@ FaceLoad ComputeFaceLoad(const MeshPair& pair, const MeshEvaluator& evaluator,
   face.factor = *std::max_element(face.line_load.begin(), face.line_load.end()) / mean;
   // ISO 6336-1 method C: x = F_beta_y c_gamma_beta / (2 F / b); K = 1 + x up to 2, 2 sqrt(x)
   // beyond, with c_gamma_beta = 0.85 times the full face's mean stiffness per unit width.
+  face.model = FaceLoad::Model::kModelled;
+  face.full_face_stiffness = full_face_stiffness;
   const double x = std::abs(face.linear_mismatch) * 0.85 * full_face_stiffness / b / (2.0 * mean);
   face.iso_method_c = x <= 1.0 ? 1.0 + x : 2.0 * std::sqrt(x);
   return face;
@@ -648,16 +686,27 @@ MeshCycle ComputeMeshCycle(const MeshPair& pair, const PairGeometry& g,
   cycle.face = LinearMismatch(pair);
   if (face) {
     cycle.face = ComputeFaceLoad(pair, evaluator, face_samples);
-  } else if (evaluator.face_modelled()) {
-    // Only the back flank's symmetric leads, which cancel on the drive flank: its load is uniform.
-  } else if (FaceModified(pair)) {
-    cycle.warnings.push_back(
-        pair.path_mesh + ": " +
-        (evaluator.overridden()
-             ? std::string("the stiffness override gives the whole face's stiffness: the "
-                           "misalignment and lead modifications are not applied")
-             : std::string("carries no static load: the misalignment and lead modifications "
-                           "are not applied (the loaded width at zero load is a point)")));
+    const FaceLoad& f = cycle.face;
+    if (f.loaded_width < 0.5 * f.face_width) {
+      double mean = 0.0;
+      for (const FlankSample& d : cycle.drive) mean += d.stiffness / n;
+      cycle.warnings.push_back(fmt::format(
+          "{}: carries its static load ({:.4g} N) on {:.3g} mm of its {:.3g} mm face (K_Hβ "
+          "{:.3g}): its mesh stiffness is that of the static load, {:.4g} N/µm against {:.4g} "
+          "N/µm over the full face; a dynamic load well above it (impacts) loads more of the face",
+          pair.path_mesh, cycle.load, f.loaded_width * 1e3, f.face_width * 1e3, f.factor,
+          mean * 1e-6, f.full_face_stiffness * 1e-6));
+    }
+  } else if (FaceModified(pair) && evaluator.overridden()) {
+    cycle.face.model = FaceLoad::Model::kOverridden;
+    cycle.warnings.push_back(pair.path_mesh +
+                             ": the stiffness override gives the whole face's stiffness: the "
+                             "misalignment and lead modifications are not applied");
+  } else if (FaceModified(pair) && !(cycle.load > 0.0)) {
+    cycle.face.model = FaceLoad::Model::kUnloaded;
+    cycle.warnings.push_back(pair.path_mesh +
+                             ": carries no static load: the misalignment and lead modifications "
+                             "are not applied (the loaded width at zero load is a point)");
   }
   return cycle;
 }

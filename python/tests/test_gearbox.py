@@ -152,3 +152,23 @@ def test_check_gives_tier_1_no_compliance_error():
     assert tiers[0]["name"] == "tier 1"
     assert tiers[0]["compliance_error_vs_full"] is None
     assert isinstance(tiers[1]["compliance_error_vs_full"], float)
+
+
+def test_misalignment_sweep_through_set_and_check():
+    # A sweep over f_ma and crowning, as docs/python.md shows: the face load factor grows with
+    # the misalignment on the loaded pair (a uniform face gives exactly 1), and a crowning
+    # relieves the loaded edge of a large one.
+    gb = gearnvh.load(MINIMAL)
+    gb.set("operating.torque", "100 N*m")
+    factors = []
+    for f in ["0 um", "2 um", "8 um", "30 um"]:
+        gb.set("mesh.misalignment", f)
+        face = gearnvh.check(gb)["mesh"]["face_load"]
+        factors.append(face["factor"])
+    assert factors[0] == 1.0
+    assert factors == sorted(factors) and factors[3] > 2.0
+    assert face["misalignment"]["manufacturing"] == pytest.approx(30e-6, rel=1e-12)
+    gb.set("gears.pinion.lead", {"crowning": "10 um"})
+    crowned = gearnvh.check(gb)["mesh"]["face_load"]
+    assert crowned["model"] == "modelled"
+    assert crowned["factor"] < factors[3]

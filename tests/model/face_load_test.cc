@@ -177,10 +177,14 @@ TEST_CASE(
   const MeshCycle crowned = CycleOf(spec);
   INFO("K_Hbeta tilted " << tilted.face.factor << ", crowned " << crowned.face.factor);
   CHECK(crowned.face.factor < tilted.face.factor);
-  // The slope modification removes the tilt: the face is uniform again, as aligned.
+  // The slope modification removes the tilt: the face is uniform again, as aligned, and no warning
+  // says the misalignment is not applied.
   spec.pinion.lead = LeadModification{.slope = -20e-6};
   const MeshCycle corrected = CycleOf(spec);
   CHECK(corrected.face.factor == 1.0);
+  CHECK(corrected.face.model == FaceLoad::Model::kUniform);
+  CHECK(corrected.face.linear_mismatch == Approx(0.0).margin(1e-18));
+  CHECK(corrected.warnings.empty());
   for (size_t i = 0; i < aligned.drive.size(); ++i) {
     CHECK(corrected.drive[i].stiffness == Approx(aligned.drive[i].stiffness).epsilon(1e-12));
     CHECK(corrected.drive[i].lste == Approx(aligned.drive[i].lste).epsilon(1e-12));
@@ -194,9 +198,54 @@ TEST_CASE("an unloaded mesh keeps its full face and says the misalignment is not
   spec.mesh.misalignment = 10e-6;
   const MeshCycle cycle = CycleOf(spec);
   CHECK_FALSE(cycle.face.modelled());
+  CHECK(cycle.face.model == FaceLoad::Model::kUnloaded);
   bool warned = false;
   for (const std::string& w : cycle.warnings) {
     warned = warned || w.find("carries no static load") != std::string::npos;
+  }
+  CHECK(warned);
+}
+
+// A crowning's vertex against a small slope leaves one strip with a spread at the rounding of the
+// mismatch (1e-22 m): its k / s would swamp the sweep's curvature. Such a strip counts as uniform,
+// so the mesh is continuous in the misalignment: 1e-6 of a µm more moves the mean stiffness and
+// LSTE by ~1e-7 relative (tolerance 1e-5), not by the percents a swamped sweep gave.
+TEST_CASE("the face model is continuous where a strip's spread vanishes to rounding",
+          "[model][face]") {
+  GearboxSpec spec = StandardPair(31, 47, 3e-3, 30e-3);
+  spec.operating.torque = 200.0;
+  spec.pinion.lead = LeadModification{.crowning = 10e-6};
+  const auto summary = [&](double misalignment) {
+    spec.mesh.misalignment = misalignment;
+    return testing::MeshSummaryOf(spec);
+  };
+  const MeshStiffnessSummary a = summary(-1e-6), b = summary(-1.000001e-6);
+  CHECK(a.mean == Approx(b.mean).epsilon(1e-5));
+  CHECK(a.lste_peak_to_peak == Approx(b.lste_peak_to_peak).epsilon(1e-5));
+  CHECK(a.face_load_factor == Approx(b.face_load_factor).epsilon(1e-5));
+  // The sharing still balances the load at every sample.
+  const MeshCycle cycle = CycleOf(spec);
+  for (const FlankSample& d : cycle.drive) {
+    double shares = 0.0;
+    for (int m = 0; m < d.pair_count; ++m) shares += d.pairs[m].load_share;
+    CHECK(shares == Approx(1.0).epsilon(1e-12));
+  }
+}
+
+// A lightly loaded mesh (a loose gear under drag) carries its static load on a sliver of the
+// face: the mesh stiffness is that of the static load, which a warning says.
+TEST_CASE("a mesh loaded on a small part of its face warns that its stiffness is the static "
+          "load's",
+          "[model][face]") {
+  GearboxSpec spec = StandardPair(31, 47, 3e-3, 30e-3);
+  spec.operating.torque = 0.3;
+  spec.mesh.misalignment = 10e-6;
+  const MeshCycle cycle = CycleOf(spec);
+  REQUIRE(cycle.face.modelled());
+  CHECK(cycle.face.loaded_width < 0.1 * 30e-3);
+  bool warned = false;
+  for (const std::string& w : cycle.warnings) {
+    warned = warned || w.find("of its 30 mm face") != std::string::npos;
   }
   CHECK(warned);
 }

@@ -87,8 +87,9 @@ std::vector<double> LineLoadAtSliceEdges(const std::vector<ContactElement>& elem
 // misalignment components are set for every mesh; the distribution only where the face is
 // modelled (MeshEvaluator::face_modelled), else positions are empty and the load is uniform.
 struct FaceLoad {
-  // The linear mismatch across the face, m, signed as MeshSpec::misalignment: f_ma, the shafts'
-  // static deflection f_sh, the two gears' lead slopes, and their sum F_beta_y.
+  // The linear mismatch across the common face, m, signed as MeshSpec::misalignment: f_ma, the
+  // shafts' static deflection f_sh, the two gears' lead slopes over the common face (a gear's
+  // slope times b / b_gear), and their sum F_beta_y.
   double manufacturing_misalignment = 0.0, shaft_misalignment = 0.0, lead_slopes = 0.0;
   double linear_mismatch = 0.0;
   double face_width = 0.0;        // b, m: the common face
@@ -99,13 +100,19 @@ struct FaceLoad {
   double loaded_width = 0.0;      // m, the narrowest loaded width over the cycle (b if uniform)
   // ISO 6336-1 method C's K_Hbeta at |F_beta_y| (no running-in allowance, no crowning) with
   // c_gamma_beta = 0.85 times the full face's mean stiffness per unit width: 1 + x up to 2, then
-  // 2 sqrt(x), x = |F_beta_y| c_gamma_beta / (2 F / b).
+  // 2 sqrt(x), x = |F_beta_y| c_gamma_beta / (2 F / b), F the force along the line of action.
+  // ISO's formula at the model's F_beta_y, not a method C rating (no F_beta_x factors or floor).
   double iso_method_c = 1.0;
-  bool modelled() const { return !position.empty(); }
+  // Whether the face is modelled strip by strip, and why not where it is misaligned or modified:
+  // no static load, or a stiffness override (warned), or a mismatch that cancels (uniform).
+  enum class Model { kUniform, kModelled, kUnloaded, kOverridden };
+  Model model = Model::kUniform;
+  double full_face_stiffness = 0.0;  // N/m, cycle mean with the mismatch removed (kModelled)
+  bool modelled() const { return model == Model::kModelled; }
   // Whether anything misaligns or modifies the face (else the load is uniform by construction).
   bool misaligned() const {
-    return modelled() || manufacturing_misalignment != 0.0 || shaft_misalignment != 0.0 ||
-           lead_slopes != 0.0;
+    return model != Model::kUniform || manufacturing_misalignment != 0.0 ||
+           shaft_misalignment != 0.0 || lead_slopes != 0.0;
   }
 };
 
@@ -205,6 +212,7 @@ class MeshEvaluator {
   PairStiffness pair_;
   int slices_ = 1;
   double face_width_ = 0.0;
+  double mismatch_scale_ = 0.0;  // the largest mismatch, m
   bool face_ = false;
   // The separation misalignment and leads add at the slice edges (drive: all of them; back: the
   // symmetric leads, crowning and end relief), m; empty when uniform.
