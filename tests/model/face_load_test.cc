@@ -1,4 +1,5 @@
 // The load across the face under misalignment and lead modifications (docs/design.md §2.5).
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <numbers>
@@ -92,6 +93,11 @@ TEST_CASE("uniform elements share load as before: k (delta - e)_+ = F solved lin
   CHECK_FALSE(elements[2].loaded);
   CHECK(elements[0].tangent == k[0]);
   CHECK(elements[2].tangent == 0.0);
+}
+
+bool Warns(const MeshCycle& cycle, const std::string& text) {
+  return std::any_of(cycle.warnings.begin(), cycle.warnings.end(),
+                     [&](const std::string& w) { return w.find(text) != std::string::npos; });
 }
 
 MeshCycle CycleOf(const GearboxSpec& spec) {
@@ -199,11 +205,7 @@ TEST_CASE("an unloaded mesh keeps its full face and says the misalignment is not
   const MeshCycle cycle = CycleOf(spec);
   CHECK_FALSE(cycle.face.modelled());
   CHECK(cycle.face.model == FaceLoad::Model::kUnloaded);
-  bool warned = false;
-  for (const std::string& w : cycle.warnings) {
-    warned = warned || w.find("carries no static load") != std::string::npos;
-  }
-  CHECK(warned);
+  CHECK(Warns(cycle, "carries no static load"));
 }
 
 // A crowning's vertex against a small slope leaves one strip with a spread at the rounding of the
@@ -234,20 +236,17 @@ TEST_CASE("the face model is continuous where a strip's spread vanishes to round
 
 // A lightly loaded mesh (a loose gear under drag) carries its static load on a sliver of the
 // face: the mesh stiffness is that of the static load, which a warning says.
-TEST_CASE("a mesh loaded on a small part of its face warns that its stiffness is the static "
-          "load's",
-          "[model][face]") {
+TEST_CASE(
+    "a mesh loaded on a small part of its face warns that its stiffness is the static "
+    "load's",
+    "[model][face]") {
   GearboxSpec spec = StandardPair(31, 47, 3e-3, 30e-3);
   spec.operating.torque = 0.3;
   spec.mesh.misalignment = 10e-6;
   const MeshCycle cycle = CycleOf(spec);
   REQUIRE(cycle.face.modelled());
   CHECK(cycle.face.loaded_width < 0.1 * 30e-3);
-  bool warned = false;
-  for (const std::string& w : cycle.warnings) {
-    warned = warned || w.find("of its 30 mm face") != std::string::npos;
-  }
-  CHECK(warned);
+  CHECK(Warns(cycle, "of its 30 mm face"));
 }
 
 // A pinion on a simply supported elastic shaft (bearings at both ends, rigid radially, free to
