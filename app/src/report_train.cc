@@ -130,8 +130,8 @@ std::string TrainPage(const TrainPageInput& in) {
          "impacts / s</th><th>back impacts / s</th><th>impact velocity RMS (mm/s)</th><th>impact "
          "velocity max (mm/s)</th><th>RMS angular acceleration (rad/s²)</th></tr>\n";
     for (const TrainLooseGearStatistics& g : op.stats.loose_gears) {
-      h << "<tr><td>" << (g.rank > 0 ? std::to_string(g.rank) : "–") << "</td><td>" << Html(g.name)
-        << "</td><td>" << Number(g.impact_energy_per_second * 1e3) << "</td><td>"
+      h << "<tr><td>" << (g.rank > 0 ? std::to_string(g.rank) : "–") << "</td><td>"
+        << Html(g.name) << "</td><td>" << Number(g.impact_energy_per_second * 1e3) << "</td><td>"
         << Number(g.drive_impacts_per_second) << "</td><td>" << Number(g.back_impacts_per_second)
         << "</td><td>" << Number(g.impact_velocity_rms * 1e3) << "</td><td>"
         << Number(g.impact_velocity_max * 1e3) << "</td><td>" << Number(g.rattle_index)
@@ -209,19 +209,20 @@ nlohmann::json TrainSummary(const TrainSpec& spec, const TrainCheck& check,
   // The gear ranked first, if any gear impacts (the list puts impacting gears first).
   const TrainLooseGearStatistics* loudest =
       !loose.empty() && loose.front().rank == 1 ? &loose.front() : nullptr;
-  return {{"tier", std::string(TierName(op.tier)) + " (gear train)"},
-          {"speed", Format(spec.operating.speed, spec.operating.speed_unit) + " (" +
-                        spec.operating.input_shaft + ")"},
-          {"speed_rpm", Rpm(spec.operating.speed)},
-          {"torque", TrainLoadsText(spec)},
-          {"meshes", meshes},
-          {"loose_gears", loose.size()},
-          {"loudest_loose_gear", loudest ? nlohmann::json(loudest->name) : nlohmann::json()},
-          {"loudest_loose_gear_impact_energy_per_second_w",
-           loudest ? nlohmann::json(loudest->impact_energy_per_second) : nlohmann::json()},
-          {"first_critical_speed_rpm",
-           std::isfinite(first_critical) ? nlohmann::json(first_critical) : nlohmann::json()},
-          {"real_time_ratio", op.wall_s > 0.0 ? op.summary.simulated_time / op.wall_s : 0.0}};
+  return {
+      {"tier", std::string(TierName(op.tier)) + " (gear train)"},
+      {"speed", Format(spec.operating.speed, spec.operating.speed_unit) + " (" +
+                    spec.operating.input_shaft + ")"},
+      {"speed_rpm", Rpm(spec.operating.speed)},
+      {"torque", TrainLoadsText(spec)},
+      {"meshes", meshes},
+      {"loose_gears", loose.size()},
+      {"loudest_loose_gear", loudest ? nlohmann::json(loudest->name) : nlohmann::json()},
+      {"loudest_loose_gear_impact_energy_per_second_w",
+       loudest ? nlohmann::json(loudest->impact_energy_per_second) : nlohmann::json()},
+      {"first_critical_speed_rpm",
+       std::isfinite(first_critical) ? nlohmann::json(first_critical) : nlohmann::json()},
+      {"real_time_ratio", op.wall_s > 0.0 ? op.summary.simulated_time / op.wall_s : 0.0}};
 }
 
 }  // namespace
@@ -351,19 +352,20 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
          render::RenderLinePlot(FaceLoadFigure(faces), image, (folder / "face_load.png").string()));
   }
   if (!sweep.loose_gear_names.empty()) {
-    draw("loose_gears.png",
-         "Impact energy per second of each loose gear against the input speed; 0 where it does "
-         "not impact (loose_gears.csv, with the impact rates, velocities and RMS acceleration).",
-         render::RenderLinePlot(
-             OverSpeed(
-                 sweep, sweep.loose_gear_names, "Loose gears: impact energy", "impact energy (mW)",
-                 [&sweep](const TrainSweepPoint& p, size_t i) {
-                   const TrainLooseGearStatistics* g =
-                       FindLooseGear(p.loose_gears, sweep.loose_gear_names[i]);
-                   return g ? g->impact_energy_per_second * 1e3 : 0.0;
-                 },
-                 scale),
-             image, (folder / "loose_gears.png").string()));
+    draw(
+        "loose_gears.png",
+        "Impact energy per second of each loose gear against the input speed; 0 where it does "
+        "not impact (loose_gears.csv, with the impact rates, velocities and RMS acceleration).",
+        render::RenderLinePlot(
+            OverSpeed(
+                sweep, sweep.loose_gear_names, "Loose gears: impact energy", "impact energy (mW)",
+                [&sweep](const TrainSweepPoint& p, size_t i) {
+                  const TrainLooseGearStatistics* g =
+                      FindLooseGear(p.loose_gears, sweep.loose_gear_names[i]);
+                  return g ? g->impact_energy_per_second * 1e3 : 0.0;
+                },
+                scale),
+            image, (folder / "loose_gears.png").string()));
   }
 
   if (stage) stage("data files and page");

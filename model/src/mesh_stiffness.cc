@@ -614,8 +614,8 @@ FlankSample MeshEvaluator::Evaluate(double tau, Flank flank, FaceSample* face) c
 
 namespace {
 
-// The misalignment components of FaceLoad.
-FaceLoad LinearMismatch(const MeshPair& pair) {
+// A FaceLoad with the misalignment components set, the face uniform.
+FaceLoad MismatchComponents(const MeshPair& pair) {
   FaceLoad face;
   face.manufacturing_misalignment = pair.mesh.misalignment;
   face.shaft_misalignment = pair.shaft_misalignment;
@@ -633,7 +633,7 @@ FaceLoad LinearMismatch(const MeshPair& pair) {
 // The drive flank's load across the face from the cycle's face samples.
 FaceLoad ComputeFaceLoad(const MeshPair& pair, const MeshEvaluator& evaluator,
                          const std::vector<FaceSample>& samples) {
-  FaceLoad face = LinearMismatch(pair);
+  FaceLoad face = MismatchComponents(pair);
   const int slices = evaluator.slices();
   const double b = pair.face_width;
   face.mismatch = evaluator.face_mismatch();
@@ -683,7 +683,7 @@ MeshCycle ComputeMeshCycle(const MeshPair& pair, const PairGeometry& g,
                                         face ? &face_samples[static_cast<size_t>(i)] : nullptr);
     cycle.back[i] = evaluator.Evaluate(tau, Flank::kBack);
   }
-  cycle.face = LinearMismatch(pair);
+  cycle.face = MismatchComponents(pair);
   if (face) {
     cycle.face = ComputeFaceLoad(pair, evaluator, face_samples);
     const FaceLoad& f = cycle.face;

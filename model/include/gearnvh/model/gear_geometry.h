@@ -41,9 +41,9 @@ struct PairGeometry {
   double gear_ratio = 0.0;              // z2 / z1
   double mesh_frequency_hz = 0.0;       // at the operating speed
   double mesh_period_s = 0.0;
-  // Helical pairs (docs/gear-trains.md; all 0 or equal to the transverse values for spur gears):
-  // the helix angle beta, the base helix angle beta_b (sin beta_b = sin beta cos a_n), the common
-  // face width, the overlap ratio eps_beta = b sin beta / (pi m_n) and the total contact ratio
+  // Helical pairs (docs/gear-trains.md; all 0 or equal to the transverse values for spur gears): the helix
+  // angle beta, the base helix angle beta_b (sin beta_b = sin beta cos a_n), the common face width,
+  // the overlap ratio eps_beta = b sin beta / (pi m_n) and the total contact ratio
   // eps_gamma = eps_alpha + eps_beta (contact_ratio above is the transverse eps_alpha).
   double helix_angle = 0.0, base_helix_angle = 0.0;
   double face_width = 0.0;
