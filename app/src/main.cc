@@ -29,6 +29,7 @@
 #include "simulate_command.h"
 #include "sweep_command.h"
 #include "validate_command.h"
+#include "whine_command.h"
 
 namespace {
 
@@ -246,6 +247,31 @@ int Main(int argc, char** argv) {
                       "Gear trains: run even when the run-cost estimate exceeds one hour (refused "
                       "otherwise; docs/cli.md, \"Run cost\")");
 
+  gearnvh::app::WhineCommandOptions whine;
+  CLI::App* whine_cmd = app.add_subcommand(
+      "whine",
+      "Whine in the frequency domain over analysis.speed_sweep: every mesh at its mean "
+      "stiffness driven by its loaded static TE, runout, pitch errors and the excitation orders; "
+      "per line and speed each mesh's dynamic TE and force, each bearing's force on the housing "
+      "and each shaft's speed fluctuation, and the speeds where a mesh may lose contact.");
+  whine_cmd->add_option("FILE", whine.file, "Gearbox YAML file")->required();
+  AddTierOption(whine_cmd, whine.tier);
+  CheckRange(whine_cmd->add_option("--speeds", whine.speeds,
+                                   "Speeds over analysis.speed_sweep's range (default 2000)"),
+             2, 100000);
+  CheckRange(whine_cmd->add_option("--harmonics", whine.harmonics,
+                                   "Mesh orders 1..H of every mesh (default 3)"),
+             1, 20);
+  CheckRange(whine_cmd->add_option("--sidebands", whine.sidebands,
+                                   "Pitch-error lines +-1..S shaft orders around each mesh order "
+                                   "(default 2)"),
+             0, 10);
+  CheckRange(whine_cmd->add_option("--jobs", whine.jobs, "Threads (default 1; 0: all cores)"), 0,
+             1024);
+  whine_cmd->add_option("--out", whine.out,
+                        "Write whine.json, whine_meshes.csv and whine_bearings.csv");
+  whine_cmd->add_flag("--json", whine.json, "Print the results as one JSON document");
+
   gearnvh::app::AtlasCommandOptions atlas;
   CLI::App* atlas_cmd = app.add_subcommand(
       "atlas",
@@ -385,6 +411,7 @@ int Main(int argc, char** argv) {
     if (simulate_cmd->parsed()) return gearnvh::app::RunSimulate(simulate);
     if (validate_cmd->parsed()) return gearnvh::app::RunValidate(validate);
     if (sweep_cmd->parsed()) return gearnvh::app::RunSweep(sweep);
+    if (whine_cmd->parsed()) return gearnvh::app::RunWhineCommand(whine);
     if (atlas_cmd->parsed()) return gearnvh::app::RunAtlas(atlas);
     if (orbits_cmd->parsed()) return gearnvh::app::RunOrbits(orbits);
     if (tiers_cmd->parsed()) return gearnvh::app::RunTiers(tiers);

@@ -87,6 +87,12 @@ TrainStructure AssembleTrainStructure(const TrainSpec& spec, const GearTrain& tr
                    DiskBody(gear.gear, spec.materials.at(gear.gear.material)), w);
       }
       detail::AddShaftSupports(*shaft.elastic, id, w, s.nodes, as);
+      for (size_t b = 0; b < shaft.elastic->bearings.size(); ++b) {
+        const BearingSpec& bearing = shaft.elastic->bearings[b];
+        s.bearings.push_back({id, static_cast<int>(b), bearing.at,
+                              detail::NearestNode(s.nodes, id, bearing.at), 0.0,
+                              bearing.radial_stiffness, bearing.axial_stiffness, bearing.damping});
+      }
       continue;
     }
     const int node = static_cast<int>(s.nodes.size());
@@ -104,10 +110,15 @@ TrainStructure AssembleTrainStructure(const TrainSpec& spec, const GearTrain& tr
     if (shaft.bearings.empty()) {
       as.AddSupport(node, opt.rigid_radial_stiffness, opt.rigid_axial_stiffness,
                     opt.rigid_tilt_stiffness, opt.rigid_damping);
+      s.bearings.push_back({id, -1, 0.0, node, 0.0, opt.rigid_radial_stiffness,
+                            opt.rigid_axial_stiffness, opt.rigid_damping});
     }
-    for (const BearingSpec& b : shaft.bearings) {
-      as.AddSupportAt(node, b.at, b.radial_stiffness, b.axial_stiffness, b.tilt_stiffness,
-                      b.damping);
+    for (size_t b = 0; b < shaft.bearings.size(); ++b) {
+      const BearingSpec& bearing = shaft.bearings[b];
+      as.AddSupportAt(node, bearing.at, bearing.radial_stiffness, bearing.axial_stiffness,
+                      bearing.tilt_stiffness, bearing.damping);
+      s.bearings.push_back({id, static_cast<int>(b), bearing.at, node, bearing.at,
+                            bearing.radial_stiffness, bearing.axial_stiffness, bearing.damping});
     }
   }
   // Loose gears: a node each, on its bearing at its position on the shaft (the shaft points are

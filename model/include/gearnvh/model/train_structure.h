@@ -51,6 +51,19 @@ struct TrainMeshVectors {
   double sense = 1.0;                             // s_a
 };
 
+// A bearing between a shaft and the housing: one of the shaft's own, or the support of a rigid
+// shaft that lists none (index -1, TrainStructureOptions::structure's rigid supports). Its point
+// lies at `offset` along the axis from `node` (a rigid shaft's one node; 0 on an elastic shaft,
+// whose bearing sits at its nearest node) and moves with u + th x (offset e_z).
+struct StructureBearing {
+  int shaft = 0;        // index in TrainSpec::shafts
+  int index = -1;       // in the shaft's bearings; -1: the default support
+  double at = 0.0;      // m along the shaft, as written
+  int node = 0;
+  double offset = 0.0;  // m
+  double radial_stiffness = 0.0, axial_stiffness = 0.0, damping = 0.0;  // N/m, N/m, N s/m
+};
+
 struct TrainStructure {
   std::vector<FeNode>
       nodes;  // FeNode::shaft = index in TrainSpec::shafts (a loose gear: its shaft)
@@ -64,6 +77,7 @@ struct TrainStructure {
   // bodies' polar inertias, N s/m.
   std::vector<double> mesh_damping;
   std::vector<int> elastic_shafts;  // indices in TrainSpec::shafts with FE
+  std::vector<StructureBearing> bearings;  // shafts in file order, each shaft's in its order
   // Rigid rotation of every body (dofs x bodies) and the free rotations with every mesh engaged
   // (dofs x count, orthonormal combinations of the body rotations).
   Eigen::MatrixXd body_rotations, free_rotations;

@@ -1,0 +1,249 @@
+#include "whine_command.h"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <iostream>
+#include <numbers>
+#include <sstream>
+
+#include "command_errors.h"
+#include "config/gearbox_loader.h"
+#include "display_units.h"
+#include "finite_results.h"
+#include "output_folder.h"
+#include "train_command_options.h"
+
+namespace gearnvh::app {
+namespace {
+
+constexpr double kRpmPerRadS = 60.0 / (2.0 * std::numbers::pi);
+constexpr const char* kDirections[3] = {"x", "y", "z"};
+
+const char* LineKindName(WhineLineKind kind) {
+  switch (kind) {
+    case WhineLineKind::kMeshOrder:
+      return "mesh_order";
+    case WhineLineKind::kSideband:
+      return "sideband";
+    case WhineLineKind::kShaftOrder:
+      return "shaft_order";
+    case WhineLineKind::kExcitation:
+      return "excitation";
+  }
+  return "";
+}
+
+std::vector<double> Rpm(const WhineResult& r) {
+  std::vector<double> rpm;
+  for (double w : r.speed_rad_s) rpm.push_back(w * kRpmPerRadS);
+  return rpm;
+}
+
+std::string BearingName(const WhineBearing& b) {
+  return b.index >= 0 ? fmt::format("{}.bearings[{}]", b.shaft, b.index) : b.shaft + " support";
+}
+
+std::string MeshesCsv(const WhineResult& r) {
+  std::ostringstream os;
+  os.precision(12);
+  os << "speed_rpm,mesh,order,line,te_amplitude_m,force_amplitude_n,contact_loss\n";
+  const std::vector<double> rpm = Rpm(r);
+  for (size_t s = 0; s < rpm.size(); ++s) {
+    for (const WhineMesh& m : r.meshes) {
+      for (size_t l = 0; l < r.lines.size(); ++l) {
+        os << rpm[s] << ',' << m.name << ',' << r.lines[l].order << ",\"" << r.lines[l].label
+           << "\"," << m.te_amplitude_m[l][s] << ',' << m.force_amplitude_n[l][s] << ','
+           << (m.contact_loss[s] ? 1 : 0) << '\n';
+      }
+    }
+  }
+  return os.str();
+}
+
+std::string BearingsCsv(const WhineResult& r) {
+  std::ostringstream os;
+  os.precision(12);
+  os << "speed_rpm,bearing,at_m,order,line,force_x_n,force_y_n,force_z_n\n";
+  const std::vector<double> rpm = Rpm(r);
+  for (size_t s = 0; s < rpm.size(); ++s) {
+    for (const WhineBearing& b : r.bearings) {
+      for (size_t l = 0; l < r.lines.size(); ++l) {
+        os << rpm[s] << ',' << BearingName(b) << ',' << b.at << ',' << r.lines[l].order << ",\""
+           << r.lines[l].label << '"';
+        for (int d = 0; d < 3; ++d) os << ',' << b.force_amplitude_n[l][static_cast<size_t>(d)][s];
+        os << '\n';
+      }
+    }
+  }
+  return os.str();
+}
+
+// The largest value of `values` and the speed (rad/s) it is at.
+std::pair<double, double> Peak(const std::vector<double>& values, const WhineResult& r) {
+  const auto it = std::max_element(values.begin(), values.end());
+  return {*it, r.speed_rad_s[static_cast<size_t>(it - values.begin())]};
+}
+
+// Speed ranges flagged for contact loss, "1200-1350, 4000" in the user's unit.
+std::string FlaggedRanges(const WhineMesh& m, const WhineResult& r, const DisplayUnit& unit) {
+  std::vector<std::string> parts;
+  const size_t n = r.speed_rad_s.size();
+  for (size_t s = 0; s < n; ++s) {
+    if (!m.contact_loss[s]) continue;
+    size_t e = s;
+    while (e + 1 < n && m.contact_loss[e + 1]) ++e;
+    const std::string a = Significant(r.speed_rad_s[s] * unit.per_si, 5);
+    parts.push_back(e == s ? a : a + "-" + Significant(r.speed_rad_s[e] * unit.per_si, 5));
+    s = e;
+  }
+  std::string text;
+  for (size_t i = 0; i < parts.size(); ++i) text += (i ? ", " : "") + parts[i];
+  return text;
+}
+
+void PrintWhine(const WhineResult& r, const TrainSpec& spec, const std::string& file) {
+  const DisplayUnit& unit = spec.operating.speed_unit;
+  fmt::print("{}  ({}), {}: whine, mean mesh stiffness, {} DOF, {} speeds of {} from {} to {} {}\n",
+             spec.name, file, TierName(r.tier), r.dof, r.speed_rad_s.size(),
+             spec.operating.input_shaft, Significant(r.speed_rad_s.front() * unit.per_si, 5),
+             Significant(r.speed_rad_s.back() * unit.per_si, 5), unit.symbol);
+  for (const WhineMesh& m : r.meshes) {
+    fmt::print("\n  mesh {} ({} flank, static force {} N, mean stiffness {:.4g} N/m)\n", m.name,
+               m.back_flank_loaded ? "back" : "drive", Significant(m.static_force, 5),
+               m.mean_stiffness);
+    fmt::print("  {:>10}  {:<36}{:>14}{:>12}{:>14}{:>12}\n", "order", "line", "peak TE µm",
+               "at " + unit.symbol, "peak force N", "at " + unit.symbol);
+    for (size_t l = 0; l < r.lines.size(); ++l) {
+      const auto [te, te_at] = Peak(m.te_amplitude_m[l], r);
+      const auto [f, f_at] = Peak(m.force_amplitude_n[l], r);
+      if (te == 0.0 && f == 0.0) continue;
+      fmt::print("  {:>10.6g}  {:<36}{:>14.6f}{:>12}{:>14.4g}{:>12}\n", r.lines[l].order,
+                 r.lines[l].label, te * 1e6, Significant(te_at * unit.per_si, 5), f,
+                 Significant(f_at * unit.per_si, 5));
+    }
+    const std::string flagged = FlaggedRanges(m, r, unit);
+    if (!flagged.empty())
+      fmt::print("  may lose contact (sum of force amplitudes >= static force) at {} {}\n",
+                 flagged, unit.symbol);
+  }
+  if (!r.bearings.empty()) {
+    fmt::print("\n  bearings: peak force amplitude on the housing over the speeds, N\n");
+    fmt::print("  {:<24}{:>10}  {:<36}{:>12}{:>12}{:>12}\n", "bearing", "order", "line", "x", "y",
+               "z");
+    for (const WhineBearing& b : r.bearings) {
+      for (size_t l = 0; l < r.lines.size(); ++l) {
+        const auto& f = b.force_amplitude_n[l];
+        const double x = Peak(f[0], r).first, y = Peak(f[1], r).first, z = Peak(f[2], r).first;
+        if (x == 0.0 && y == 0.0 && z == 0.0) continue;
+        fmt::print("  {:<24}{:>10.6g}  {:<36}{:>12.4g}{:>12.4g}{:>12.4g}\n", BearingName(b),
+                   r.lines[l].order, r.lines[l].label, x, y, z);
+      }
+    }
+  }
+}
+
+}  // namespace
+
+nlohmann::json WhineJson(const WhineResult& r) {
+  nlohmann::json lines = nlohmann::json::array();
+  for (const WhineLine& l : r.lines)
+    lines.push_back({{"order", l.order}, {"kind", LineKindName(l.kind)}, {"label", l.label}});
+  nlohmann::json meshes = nlohmann::json::array();
+  for (const WhineMesh& m : r.meshes) {
+    nlohmann::json orders = nlohmann::json::array();
+    for (size_t l = 0; l < r.lines.size(); ++l) {
+      orders.push_back({{"order", r.lines[l].order},
+                        {"te_amplitude_m", m.te_amplitude_m[l]},
+                        {"force_amplitude_n", m.force_amplitude_n[l]}});
+    }
+    meshes.push_back({{"name", m.name},
+                      {"loaded_flank", m.back_flank_loaded ? "back" : "drive"},
+                      {"static_force_n", m.static_force},
+                      {"mean_stiffness_n_per_m", m.mean_stiffness},
+                      {"force_amplitude_sum_n", m.force_amplitude_sum_n},
+                      {"contact_loss", m.contact_loss},
+                      {"orders", orders}});
+  }
+  nlohmann::json bearings = nlohmann::json::array();
+  for (const WhineBearing& b : r.bearings) {
+    nlohmann::json orders = nlohmann::json::array();
+    for (size_t l = 0; l < r.lines.size(); ++l) {
+      nlohmann::json force;
+      for (int d = 0; d < 3; ++d)
+        force[kDirections[d]] = b.force_amplitude_n[l][static_cast<size_t>(d)];
+      orders.push_back({{"order", r.lines[l].order}, {"force_amplitude_n", force}});
+    }
+    bearings.push_back({{"name", BearingName(b)},
+                        {"shaft", b.shaft},
+                        {"index", b.index},
+                        {"at_m", b.at},
+                        {"orders", orders}});
+  }
+  nlohmann::json bodies = nlohmann::json::array();
+  for (const WhineBody& b : r.bodies) {
+    nlohmann::json orders = nlohmann::json::array();
+    for (size_t l = 0; l < r.lines.size(); ++l) {
+      orders.push_back(
+          {{"order", r.lines[l].order}, {"speed_amplitude_rad_s", b.speed_amplitude_rad_s[l]}});
+    }
+    bodies.push_back({{"name", b.name}, {"orders", orders}});
+  }
+  return {{"model", "mean"},
+          {"tier", TierName(r.tier)},
+          {"dof", r.dof},
+          {"speeds_rpm", Rpm(r)},
+          {"speed_scale", r.speed_scale == AxisScale::kLog ? "log" : "linear"},
+          {"lines", lines},
+          {"meshes", meshes},
+          {"bearings", bearings},
+          {"shafts", bodies},
+          {"contact_loss_speeds", r.ContactLossSpeeds()},
+          {"warnings", r.warnings}};
+}
+
+int RunWhineCommand(const WhineCommandOptions& options) {
+  return RunReportingErrors(options.file, [&](config::SourceLocations& where) -> int {
+    const config::LoadedGearbox loaded = config::LoadAnyGearboxFile(options.file);
+    where = loaded.locations;
+    const TrainSpec& spec = loaded.train;
+    WhineOptions whine;
+    whine.tier = CheckTrainCommandOptions(options.tier, spec, LadderMethod::kFused).tier;
+    whine.speeds = options.speeds;
+    whine.mesh_harmonics = options.harmonics;
+    whine.sideband_orders = options.sidebands;
+    whine.threads = options.jobs;
+    const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", true);
+    const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
+    WhineProgress progress;
+    if (on_terminal) {
+      progress = [](int done, int total) {
+        if (done % 50 == 0 || done == total)
+          fmt::print(stderr, "\rwhine: {:3d}% ({}/{} speeds)", 100 * done / total, done, total);
+      };
+    }
+    const WhineResult result = RunWhine(spec, whine, progress);
+    if (on_terminal) fmt::print(stderr, "\n");
+    for (const std::string& w : result.warnings) std::cerr << "warning: " << w << "\n";
+    nlohmann::json doc = WhineJson(result);
+    doc["name"] = spec.name;
+    doc["file"] = options.file;
+    doc["input_shaft"] = spec.operating.input_shaft;
+    RequireFinite(doc, "whine");
+    if (out) {
+      out->Write("whine.json", doc.dump(1) + "\n");
+      out->Write("whine_meshes.csv", MeshesCsv(result));
+      if (!result.bearings.empty()) out->Write("whine_bearings.csv", BearingsCsv(result));
+      out->Commit();
+    }
+    if (options.json) {
+      std::cout << doc.dump(1) << "\n";
+    } else {
+      PrintWhine(result, spec, options.file);
+    }
+    return 0;
+  });
+}
+
+}  // namespace gearnvh::app

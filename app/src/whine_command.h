@@ -1,0 +1,32 @@
+// `gearnvh whine FILE [--tier T] [--speeds N] [--harmonics H] [--sidebands S] [--jobs N]
+// [--out DIR] [--json]`: the frequency-domain whine of any gearbox over analysis.speed_sweep
+// (analysis/whine.h): per mesh the dynamic TE and mesh force at every line, per bearing its
+// force on the housing, per shaft its speed fluctuation, and the speeds where a mesh may lose
+// contact; as text, JSON (docs/cli.md, "whine") and CSV files.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "gearnvh/analysis/whine.h"
+
+namespace gearnvh::app {
+
+struct WhineCommandOptions {
+  std::string file;
+  std::optional<std::string> tier;
+  int speeds = 2000;
+  int harmonics = 3;
+  int sidebands = 2;
+  int jobs = 1;
+  std::optional<std::string> out;
+  bool json = false;
+};
+
+int RunWhineCommand(const WhineCommandOptions& options);
+
+// The result as one JSON document (docs/cli.md).
+nlohmann::json WhineJson(const WhineResult& r);
+
+}  // namespace gearnvh::app

@@ -1,0 +1,192 @@
+// Frequency-domain whine (analysis/whine.h) against closed forms: a pair at tier 1 is the 2-DOF
+// mesh transfer applied to its static input's Fourier coefficient and to its runout; a rigid spur
+// shaft on two bearings carries the mesh force by statics at low frequency; pitch errors' lines
+// against a sampled spectrum of the solver's own error input.
+#include "gearnvh/analysis/whine.h"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <complex>
+#include <numbers>
+
+#include "gearnvh/model/gear_train.h"
+#include "gearnvh/model/manufacturing_errors.h"
+#include "gearnvh/model/train_structure.h"
+#include "gearnvh/reduction/train_reduction.h"
+#include "model/test_specs.h"
+#include "model/test_trains.h"
+
+using namespace gearnvh;
+using gearnvh::testing::ElasticTwoStage;
+using gearnvh::testing::StandardPair;
+
+namespace {
+
+using Complex = std::complex<double>;
+
+// The line at `order` (within rounding), or fails.
+size_t LineAt(const WhineResult& r, double order) {
+  for (size_t l = 0; l < r.lines.size(); ++l) {
+    if (std::abs(r.lines[l].order - order) <= 1e-9 * order) return l;
+  }
+  FAIL("no line at order " << order);
+  return 0;
+}
+
+// The loaded pair at 1200 rpm of the pinion, 20 segments per cycle, swept 600..6000 rpm.
+TrainSpec LoadedPair() {
+  GearboxSpec pair = StandardPair(23, 41, 2e-3, 20e-3);
+  pair.operating.torque = 40.0;
+  pair.operating.speed = 1200.0 * testing::kRpm;
+  pair.analysis.segments_per_cycle = 20;
+  pair.analysis.speed_sweep = {600.0 * testing::kRpm, 6000.0 * testing::kRpm, 2, AxisScale::kLinear};
+  return TrainOf(pair);
+}
+
+// The 2-DOF transfer of the pair's mesh: k / (k - w^2 m_e + i w c).
+Complex MeshTransfer(const GearTrain& train, const TrainStructure& structure, double w) {
+  const TrainMeshModel& mm = train.meshes[0];
+  const double ja = train.body_inertia[static_cast<size_t>(mm.body_a)];
+  const double jb = train.body_inertia[static_cast<size_t>(mm.body_b)];
+  const double ra = mm.geometry.pinion.base, rb = mm.geometry.wheel.base;
+  const double me = ja * jb / (ja * rb * rb + jb * ra * ra);
+  const double k = mm.stiffness.mean, c = structure.mesh_damping[0];
+  return k / (k - w * w * me + Complex(0.0, w * c));
+}
+
+}  // namespace
+
+TEST_CASE("whine: a pair at tier 1 is the mesh transfer times its static input's harmonics",
+          "[analysis][whine]") {
+  const TrainSpec spec = LoadedPair();
+  const GearTrain train = BuildGearTrain(spec);
+  const TrainStructure structure = AssembleTrainStructure(spec, train);
+  WhineOptions options;
+  options.speeds = 7;
+  options.mesh_harmonics = 3;
+  const WhineResult r = RunWhine(spec, options);
+  REQUIRE(r.meshes.size() == 1);
+  CHECK(r.bearings.empty());  // tier 1
+  // The static input per segment (e_j + F / k_j) and its harmonic k in closed form, written
+  // here with cos and sin: X_k = (1 / (pi k)) sum_j d_j [sin(2 pi k t) + i cos(2 pi k t)]_b^e.
+  const TrainMeshModel& mm = train.meshes[0];
+  for (int k = 1; k <= 3; ++k) {
+    Complex x = 0.0;
+    for (const MeshSegment& s : mm.segmentation.segments) {
+      const double d = s.unloaded_error + mm.cycle.load / s.drive.stiffness;
+      const double a = 2.0 * std::numbers::pi * k;
+      x += d * Complex(std::sin(a * s.tau_end) - std::sin(a * s.tau_begin),
+                       std::cos(a * s.tau_end) - std::cos(a * s.tau_begin));
+    }
+    x /= std::numbers::pi * k;
+    const size_t line = LineAt(r, 23.0 * k);
+    for (size_t s = 0; s < r.speed_rad_s.size(); ++s) {
+      const double w = 23.0 * k * r.speed_rad_s[s];
+      const Complex te = MeshTransfer(train, structure, w) * x;
+      // Both are the same exact arithmetic on a 2-DOF system (LU of 2 x 2 after the reduction's
+      // rigid tier-1 basis): rounding, 1e-9 for the reduction's projections.
+      CHECK(r.meshes[0].te_amplitude_m[line][s] == Approx(std::abs(te)).epsilon(1e-9));
+    }
+  }
+}
+
+TEST_CASE("whine: a pinion's runout is a line at 1x its shaft through the mesh transfer",
+          "[analysis][whine]") {
+  TrainSpec spec = LoadedPair();
+  spec.gears[0].gear.runout = Runout{12e-6, 0.7};
+  const GearTrain train = BuildGearTrain(spec);
+  const TrainStructure structure = AssembleTrainStructure(spec, train);
+  WhineOptions options;
+  options.speeds = 5;
+  const WhineResult r = RunWhine(spec, options);
+  const size_t line = LineAt(r, 1.0);
+  CHECK(r.lines[line].kind == WhineLineKind::kShaftOrder);
+  for (size_t s = 0; s < r.speed_rad_s.size(); ++s) {
+    const double te = std::abs(MeshTransfer(train, structure, r.speed_rad_s[s])) * 12e-6;
+    CHECK(r.meshes[0].te_amplitude_m[line][s] == Approx(te).epsilon(1e-9));
+  }
+}
+
+TEST_CASE("whine: pitch-error lines match the spectrum of the solver's own error input",
+          "[analysis][whine]") {
+  TrainSpec spec = LoadedPair();
+  std::vector<double> pitch(23, 0.0);
+  pitch[4] = 8e-6;
+  pitch[5] = 8e-6;
+  pitch[11] = -3e-6;
+  spec.gears[0].gear.pitch_errors = pitch;
+  const GearTrain train = BuildGearTrain(spec);
+  const TrainStructure structure = AssembleTrainStructure(spec, train);
+  const TrainMeshModel& mm = train.meshes[0];
+  // The solver's error input (MeshErrorExcitation: per cycle and segment the pairs' weighted
+  // deviations) over one pinion revolution, sampled on a fine grid, and its DFT at shaft order n.
+  const MeshErrorExcitation errors(mm.pair, mm.segmentation);
+  const int per_cycle = 4000;
+  const auto sampled = [&](int n) {
+    Complex x = 0.0;
+    for (long c = 0; c < 23; ++c) {
+      size_t j = 0;
+      for (int i = 0; i < per_cycle; ++i) {
+        const double tau = (i + 0.5) / per_cycle;
+        while (mm.segmentation.segments[j].tau_end <= tau) ++j;
+        const double e = errors.SegmentMean(c, static_cast<int>(j), 0.0, 1.0);
+        x += e * std::exp(Complex(0.0, -2.0 * std::numbers::pi * n * (c + tau) / 23.0));
+      }
+    }
+    return 2.0 * x / (23.0 * per_cycle);
+  };
+  WhineOptions options;
+  options.speeds = 3;
+  options.sideband_orders = 2;
+  const WhineResult r = RunWhine(spec, options);
+  // Lines at shaft orders 1, 2 and the sidebands 21, 22, 24, 25 of the 1x mesh.
+  for (int n : {1, 2, 21, 22, 24, 25}) {
+    const size_t line = LineAt(r, n);
+    const double w = n * r.speed_rad_s[1];
+    const double te = std::abs(MeshTransfer(train, structure, w) * sampled(n));
+    // Midpoint sampling of a piecewise-constant signal: each jump costs O(1 / per_cycle) of its
+    // size in the coefficient; 1e-3 of the amplitude at 4000 samples per cycle.
+    CHECK(r.meshes[0].te_amplitude_m[line][1] == Approx(te).epsilon(1e-3));
+  }
+}
+
+TEST_CASE("whine: a rigid spur shaft on two bearings carries the mesh force by statics",
+          "[analysis][whine]") {
+  // The elastic two-stage train made spur; its rigid input shaft has bearings at 0 and 80 mm and
+  // g1 at 40 mm, so at a low speed each bearing carries half of the mesh force g1-g2.
+  TrainSpec spec = ElasticTwoStage();
+  for (TrainGear& g : spec.gears) g.gear.helix_angle = 0.0;
+  spec.operating.speed = 20.0 * testing::kRpm;
+  spec.analysis.speed_sweep = {10.0 * testing::kRpm, 20.0 * testing::kRpm, 2, AxisScale::kLinear};
+  WhineOptions options;
+  options.tier = Tier::kTier3;
+  options.speeds = 2;
+  options.mesh_harmonics = 1;
+  const WhineResult r = RunWhine(spec, options);
+  const size_t line = LineAt(r, 20.0);
+  std::vector<const WhineBearing*> input;
+  for (const WhineBearing& b : r.bearings) {
+    if (b.shaft == "input") input.push_back(&b);
+  }
+  REQUIRE(input.size() == 2);
+  for (size_t s = 0; s < 2; ++s) {
+    const double mesh = r.meshes[0].force_amplitude_n[line][s];
+    REQUIRE(mesh > 0.0);
+    for (const WhineBearing* b : input) {
+      const auto& f = b->force_amplitude_n[line];
+      const double radial = std::hypot(f[0][s], f[1][s]);
+      // The inertia forces at 7 Hz against lateral modes above 1 kHz: (f / f_n)^2 < 1e-4.
+      CHECK(radial == Approx(0.5 * mesh).epsilon(1e-4));
+    }
+  }
+}
+
+TEST_CASE("whine: options are checked by name", "[analysis][whine]") {
+  WhineOptions options;
+  options.speeds = 1;
+  CHECK_THROWS_WITH(options.Validate(), Catch::Contains("--speeds") &&
+                                            Catch::Contains("from 2 to 100000"));
+  options.speeds = 10;
+  options.mesh_harmonics = 0;
+  CHECK_THROWS_WITH(options.Validate(), Catch::Contains("--harmonics"));
+}
