@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <ctime>
+#include <numbers>
 
 #include "atomic_file.h"
 #include "gearnvh/analysis/order_tracks.h"
@@ -219,6 +220,43 @@ std::vector<UffFunction> TrainSweepOrderTracksUff(const TrainSpec& spec,
     AppendOrderTracksUff(
         spec.name, MeshOrderTracks(MeshWaterfall(sweep, i), sweep.mesh_orders[i], 3),
         sweep.failed() == 0, sweep.speed_scale, "input", sweep.mesh_names[i], first_id, out);
+  }
+  return out;
+}
+
+std::vector<UffFunction> WhineOrderTracksUff(const TrainSpec& spec, const WhineResult& r,
+                                             int first_id) {
+  std::vector<UffFunction> out;
+  if (r.speed_scale == AxisScale::kLog || r.speed_rad_s.size() < 2) return out;
+  const double rpm = 60.0 / (2.0 * std::numbers::pi);
+  const std::string reference = spec.operating.input_shaft;
+  for (size_t i = 0; i < r.meshes.size(); ++i) {
+    const WhineMesh& m = r.meshes[i];
+    for (size_t l = 0; l < r.lines.size(); ++l) {
+      UffFunction te = Base(spec.name,
+                            fmt::format("whine order track: TE at {} of {} ({} order {:g})",
+                                        r.lines[l].label, m.name, reference, r.lines[l].order),
+                            first_id++);
+      te.function_type = 12;
+      te.response_name = "TE";
+      te.response_node = static_cast<int>(i) + 1;
+      te.abscissa = {19, 0, 0, 0, reference + " speed", "rpm"};
+      te.ordinate = TeAxis();
+      te.z = {20, 0, 0, 0, reference + " order", "NONE"};
+      te.z_value = r.lines[l].order;
+      te.x_min = r.speed_rad_s.front() * rpm;
+      te.dx = (r.speed_rad_s[1] - r.speed_rad_s[0]) * rpm;
+      UffFunction force = te;
+      force.id1 = fmt::format("whine order track: mesh force at {} of {} ({} order {:g})",
+                              r.lines[l].label, m.name, reference, r.lines[l].order);
+      force.function_id = first_id++;
+      force.response_name = "MESH";
+      force.ordinate = {9, 0, 1, 0, "mesh force", "N"};
+      te.values = m.te_amplitude_m[l];
+      force.values = m.force_amplitude_n[l];
+      out.push_back(std::move(te));
+      out.push_back(std::move(force));
+    }
   }
   return out;
 }

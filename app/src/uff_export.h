@@ -19,6 +19,7 @@
 #include "gearnvh/analysis/speed_sweep.h"
 #include "gearnvh/analysis/train_operating_point.h"
 #include "gearnvh/analysis/train_sweep.h"
+#include "gearnvh/analysis/whine.h"
 #include "gearnvh/model/gearbox_spec.h"
 #include "gearnvh/model/train_spec.h"
 #include "gearnvh/nvh/spectrum.h"
@@ -80,6 +81,12 @@ std::vector<UffFunction> SweepOrderTracksUff(const GearboxSpec& spec, const Spee
 // orders and speed; the mesh named in the first ID line), under the same conditions.
 std::vector<UffFunction> TrainSweepOrderTracksUff(const TrainSpec& spec,
                                                   const TrainSweepResult& sweep, int first_id = 1);
+
+// Whine's tracks (analysis/whine.h): for every mesh in file order and every line, the TE and mesh
+// force amplitude over the input shaft's speed (rpm; z axis = the line's input-shaft order; response
+// node = the mesh's number); none when the speeds are log-spaced (the abscissa must be even).
+std::vector<UffFunction> WhineOrderTracksUff(const TrainSpec& spec, const WhineResult& r,
+                                             int first_id = 1);
 
 // Writes the datasets one after the other into `path` (WriteFileAtomically), one dataset's text
 // in memory at a time.

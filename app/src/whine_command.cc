@@ -14,6 +14,7 @@
 #include "finite_results.h"
 #include "output_folder.h"
 #include "train_command_options.h"
+#include "uff_export.h"
 
 namespace gearnvh::app {
 namespace {
@@ -237,6 +238,7 @@ int RunWhineCommand(const WhineCommandOptions& options) {
       if (!result.bearings.empty()) out->Write("whine_bearings.csv", BearingsCsv(result));
       out->Commit();
     }
+    if (options.uff) WriteUffFile(*options.uff, WhineOrderTracksUff(spec, result));
     if (options.json) {
       std::cout << doc.dump(1) << "\n";
     } else {

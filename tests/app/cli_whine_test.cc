@@ -63,11 +63,14 @@ TEST_CASE("whine on a pair: at low speed the runout line is the runout itself", 
   CHECK_FALSE(mesh["contact_loss"][0].get<bool>());
 }
 
-TEST_CASE("whine on a train: --out writes the JSON and both CSV files", "[cli][whine]") {
+TEST_CASE("whine on a train: --out writes the JSON and both CSV files, --uff the tracks",
+          "[cli][whine]") {
   const TempDir dir;
   const auto out = dir.path() / "whine";
-  const auto run = RunCommand(kExe + " whine --tier 3 --speeds 12 --out " + out.string() + " " +
-                              kExamples + "/two_stage_helical_reducer.yaml");
+  const auto uff = dir.path() / "whine.uff";
+  const auto run = RunCommand(kExe + " whine --tier 3 --speeds 12 --out " + out.string() +
+                              " --uff " + uff.string() + " " + kExamples +
+                              "/two_stage_helical_reducer.yaml");
   INFO(run.err);
   REQUIRE(run.exit_code == 0);
   CHECK(run.out.find("mesh g1-g2") != std::string::npos);
@@ -86,6 +89,11 @@ TEST_CASE("whine on a train: --out writes the JSON and both CSV files", "[cli][w
   // A row per speed, mesh and line, and per speed, bearing and line, under a header.
   CHECK(CountLines(out / "whine_meshes.csv") == 12 * 2 * lines + 1);
   CHECK(CountLines(out / "whine_bearings.csv") == 12 * doc["bearings"].size() * lines + 1);
+  // Dataset 58 per mesh and line: its TE track and its force track.
+  std::ifstream tracks(uff);
+  size_t datasets = 0;
+  for (std::string line; std::getline(tracks, line);) datasets += line == "    58" ? 1 : 0;
+  CHECK(datasets == 2 * 2 * lines);
 }
 
 TEST_CASE("whine refuses bad options by name", "[cli][whine]") {
