@@ -90,5 +90,6 @@ void BindTrain(py::module_& m);
 void BindTrainAtlas(py::module_& m);
 void BindTrainOrbitsTiers(py::module_& m);
 void BindValidation(py::module_& m);
+void BindWhine(py::module_& m);
 
 }  // namespace gearnvh::python

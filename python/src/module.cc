@@ -182,4 +182,5 @@ PYBIND11_MODULE(gearnvh, m) {
   gearnvh::python::BindTrainAtlas(m);
   gearnvh::python::BindTrainOrbitsTiers(m);
   gearnvh::python::BindValidation(m);
+  gearnvh::python::BindWhine(m);
 }

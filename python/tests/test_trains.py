@@ -457,3 +457,28 @@ def test_a_run_estimated_above_an_hour_is_refused_at_allow_slow(tmp_path):
         assert "without allow_slow" in refused.value.rule, name
         # The body and its own inertia, at every tier (tiers' costliest run is tier 3).
         assert "body f, inertia 1e-15 kg m²" in refused.value.rule, name
+
+
+def test_whine_gives_the_command_line_document_on_a_train_and_a_pair(gearnvh_exe):
+    # Both call RunWhine (analysis/) on the same spec through the same static library: every
+    # number is equal bit for bit (tolerance 0).
+    for path, tier in ((REDUCER, 3), (EXAMPLES / "industrial_whine.yaml", 1)):
+        w = gearnvh.whine(gearnvh.load(path), tier=tier, speeds=30)
+        cli = json.loads(subprocess.run(
+            [gearnvh_exe, "whine", str(path), "--tier", str(tier), "--speeds", "30", "--json"],
+            check=True, capture_output=True, text=True).stdout)
+        assert w.to_dict() == cli
+        assert w.speeds_rpm.shape == (30,)
+        assert list(w.orders) == [line["order"] for line in cli["lines"]]
+        for i, mesh in enumerate(cli["meshes"]):
+            te = w.te_amplitude_m(mesh["name"])
+            assert te.shape == (len(cli["lines"]), 30)
+            assert np.array_equal(te, [o["te_amplitude_m"] for o in mesh["orders"]])
+            assert np.array_equal(w.force_amplitude_n(i),
+                                  [o["force_amplitude_n"] for o in mesh["orders"]])
+            assert list(w.contact_loss(i)) == mesh["contact_loss"]
+    with pytest.raises(gearnvh.InputError) as bad:
+        gearnvh.whine(gearnvh.load(REDUCER), speeds=1)
+    assert bad.value.path == "speeds"
+    with pytest.raises(KeyError):
+        gearnvh.whine(gearnvh.load(REDUCER), speeds=2).te_amplitude_m("no such mesh")
