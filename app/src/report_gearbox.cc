@@ -23,6 +23,7 @@
 #include "report_figures.h"
 #include "report_page.h"
 #include "report_sweep_figures.h"
+#include "report_whine.h"
 #include "report_train.h"
 #include "result_documents.h"
 #include "sweep_command.h"
@@ -226,6 +227,9 @@ GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::
                                 image, (folder / "order_tracks.png").string()));
     draw("waterfall.png", "Steady-state TE spectra across the speed sweep (pinion orders).",
          render::RenderHeatMap(WaterfallFigure(sweep), image, (folder / "waterfall.png").string()));
+    if (stage) stage("whine");
+    const WhineReport whine = BuildWhineReport(TrainOf(spec), tier, threads, folder, image);
+    figures.insert(figures.end(), whine.figures.begin(), whine.figures.end());
     std::vector<TierPoint> tier_points;
     for (const ReducedModel& t : tiers) {
       tier_points.push_back({t.name, static_cast<double>(StateDimension(model, t)),
@@ -295,6 +299,7 @@ GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::
                               {"base_period_mesh_cycles", base_period},
                               {"sweep", SweepJson(sweep, spec.pinion.teeth)}};
     if (atlas) results["atlas"] = AtlasJson(*atlas, atlas_options);
+    results["whine"] = whine.summary;
     nlohmann::json images = nlohmann::json::array();
     for (const ReportFigure& f : figures)
       images.push_back({{"file", f.file}, {"caption", f.caption}});
@@ -334,7 +339,8 @@ GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::
 
     WriteFileAtomically((folder / "index.html").string(),
                         GearboxPage({file, spec, model, modes, tiers, op, sweep,
-                                     atlas ? &*atlas : nullptr, atlas_options.cycles, figures}));
+                                     atlas ? &*atlas : nullptr, atlas_options.cycles, figures,
+                                     whine.html}));
     entry.ok = true;
   } catch (const IoError& e) {
     entry.error = e.what();

@@ -129,6 +129,7 @@ std::string GearboxPage(const GearboxPageInput& in) {
     for (const auto& [name, count] : regimes) h << Html(name) << " " << count << "; ";
     h << "<a href=\"atlas.csv\">atlas.csv</a></p>\n";
   }
+  h << in.whine_html;
   h << "<h2>Figures</h2>\n";
   for (const ReportFigure& f : in.figures) {
     h << "<figure id=\"" << f.file << "\"><img src=\"" << f.file << "\" alt=\"" << Html(f.caption)

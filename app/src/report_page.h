@@ -30,6 +30,7 @@ struct GearboxPageInput {
   const AtlasResult* atlas;  // null: no atlas
   long atlas_cycles;         // mesh cycles per atlas cell
   const std::vector<ReportFigure>& figures;
+  const std::string& whine_html;  // the whine section (report_whine.h)
 };
 
 std::string GearboxPage(const GearboxPageInput& in);

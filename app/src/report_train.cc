@@ -16,6 +16,7 @@
 #include "gearnvh/solver/train_reduced_tables.h"
 #include "report_html.h"
 #include "report_sweep_figures.h"
+#include "report_whine.h"
 #include "result_documents.h"
 #include "train_check.h"
 #include "train_command_options.h"
@@ -70,6 +71,7 @@ struct TrainPageInput {
   const TrainOperatingPoint& op;
   const TrainSweepResult& sweep;
   const std::vector<std::pair<std::string, std::string>>& figures;  // file, caption
+  const std::string& whine_html;  // the whine section (report_whine.h)
 };
 
 std::string TrainPage(const TrainPageInput& in) {
@@ -171,6 +173,7 @@ std::string TrainPage(const TrainPageInput& in) {
     if (!p.ok) h << "; " << Number(p.speed_rpm) << " rpm: " << Html(p.message);
   }
   h << ". Per speed and mesh: meshes.csv; per speed and loose gear: loose_gears.csv.</p>\n";
+  h << in.whine_html;
   h << "<h2>Figures</h2>\n";
   for (const auto& [name, caption] : in.figures) {
     h << "<figure><img src=\"" << name << "\" alt=\"" << Html(caption) << "\"><figcaption>"
@@ -341,6 +344,9 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
                              "Waterfall: TE of mesh " + sweep.mesh_names[i]),
              image, (folder / name).string()));
   }
+  if (stage) stage("whine");
+  const WhineReport whine = BuildWhineReport(spec, settings.tier, threads, folder, image);
+  for (const ReportFigure& f : whine.figures) figures.emplace_back(f.file, f.caption);
   std::vector<std::pair<std::string, FaceLoad>> faces;
   for (const TrainMeshModel& m : check.train.meshes) {
     if (m.cycle.face.modelled()) faces.emplace_back(m.name, m.cycle.face);
@@ -400,11 +406,12 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
                               {"warnings", op.warnings},
                               {"tier_adequacy", adequacy}}},
                             {"sweep", TrainSweepJson(sweep)},
+                            {"whine", whine.summary},
                             {"images", images}};
   RequireFinite(results, "results.json");
   WriteFileAtomically((folder / "results.json").string(), results.dump(1) + "\n");
   WriteFileAtomically((folder / "index.html").string(),
-                      TrainPage({file, spec, check, op, sweep, figures}));
+                      TrainPage({file, spec, check, op, sweep, figures, whine.html}));
 
   return TrainSummary(spec, check, op);
 }

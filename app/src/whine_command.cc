@@ -42,44 +42,6 @@ std::vector<double> Rpm(const WhineResult& r) {
   return rpm;
 }
 
-std::string BearingName(const WhineBearing& b) {
-  return b.index >= 0 ? fmt::format("{}.bearings[{}]", b.shaft, b.index) : b.shaft + " support";
-}
-
-std::string MeshesCsv(const WhineResult& r) {
-  std::ostringstream os;
-  os.precision(12);
-  os << "speed_rpm,mesh,order,line,te_amplitude_m,force_amplitude_n,contact_loss\n";
-  const std::vector<double> rpm = Rpm(r);
-  for (size_t s = 0; s < rpm.size(); ++s) {
-    for (const WhineMesh& m : r.meshes) {
-      for (size_t l = 0; l < r.lines.size(); ++l) {
-        os << rpm[s] << ',' << m.name << ',' << r.lines[l].order << ",\"" << r.lines[l].label
-           << "\"," << m.te_amplitude_m[l][s] << ',' << m.force_amplitude_n[l][s] << ','
-           << (m.contact_loss[s] ? 1 : 0) << '\n';
-      }
-    }
-  }
-  return os.str();
-}
-
-std::string BearingsCsv(const WhineResult& r) {
-  std::ostringstream os;
-  os.precision(12);
-  os << "speed_rpm,bearing,at_m,order,line,force_x_n,force_y_n,force_z_n\n";
-  const std::vector<double> rpm = Rpm(r);
-  for (size_t s = 0; s < rpm.size(); ++s) {
-    for (const WhineBearing& b : r.bearings) {
-      for (size_t l = 0; l < r.lines.size(); ++l) {
-        os << rpm[s] << ',' << BearingName(b) << ',' << b.at << ',' << r.lines[l].order << ",\""
-           << r.lines[l].label << '"';
-        for (int d = 0; d < 3; ++d) os << ',' << b.force_amplitude_n[l][static_cast<size_t>(d)][s];
-        os << '\n';
-      }
-    }
-  }
-  return os.str();
-}
 
 // The largest value of `values` and the speed (rad/s) it is at.
 std::pair<double, double> Peak(const std::vector<double>& values, const WhineResult& r) {
@@ -138,7 +100,7 @@ void PrintWhine(const WhineResult& r, const TrainSpec& spec, const std::string& 
         const auto& f = b.force_amplitude_n[l];
         const double x = Peak(f[0], r).first, y = Peak(f[1], r).first, z = Peak(f[2], r).first;
         if (x == 0.0 && y == 0.0 && z == 0.0) continue;
-        fmt::print("  {:<24}{:>10.6g}  {:<36}{:>12.4g}{:>12.4g}{:>12.4g}\n", BearingName(b),
+        fmt::print("  {:<24}{:>10.6g}  {:<36}{:>12.4g}{:>12.4g}{:>12.4g}\n", WhineBearingName(b),
                    r.lines[l].order, r.lines[l].label, x, y, z);
       }
     }
@@ -146,6 +108,45 @@ void PrintWhine(const WhineResult& r, const TrainSpec& spec, const std::string& 
 }
 
 }  // namespace
+
+std::string WhineBearingName(const WhineBearing& b) {
+  return b.index >= 0 ? fmt::format("{}.bearings[{}]", b.shaft, b.index) : b.shaft + " support";
+}
+
+std::string WhineMeshesCsv(const WhineResult& r) {
+  std::ostringstream os;
+  os.precision(12);
+  os << "speed_rpm,mesh,order,line,te_amplitude_m,force_amplitude_n,contact_loss\n";
+  const std::vector<double> rpm = Rpm(r);
+  for (size_t s = 0; s < rpm.size(); ++s) {
+    for (const WhineMesh& m : r.meshes) {
+      for (size_t l = 0; l < r.lines.size(); ++l) {
+        os << rpm[s] << ',' << m.name << ',' << r.lines[l].order << ",\"" << r.lines[l].label
+           << "\"," << m.te_amplitude_m[l][s] << ',' << m.force_amplitude_n[l][s] << ','
+           << (m.contact_loss[s] ? 1 : 0) << '\n';
+      }
+    }
+  }
+  return os.str();
+}
+
+std::string WhineBearingsCsv(const WhineResult& r) {
+  std::ostringstream os;
+  os.precision(12);
+  os << "speed_rpm,bearing,at_m,order,line,force_x_n,force_y_n,force_z_n\n";
+  const std::vector<double> rpm = Rpm(r);
+  for (size_t s = 0; s < rpm.size(); ++s) {
+    for (const WhineBearing& b : r.bearings) {
+      for (size_t l = 0; l < r.lines.size(); ++l) {
+        os << rpm[s] << ',' << WhineBearingName(b) << ',' << b.at << ',' << r.lines[l].order << ",\""
+           << r.lines[l].label << '"';
+        for (int d = 0; d < 3; ++d) os << ',' << b.force_amplitude_n[l][static_cast<size_t>(d)][s];
+        os << '\n';
+      }
+    }
+  }
+  return os.str();
+}
 
 nlohmann::json WhineJson(const WhineResult& r) {
   nlohmann::json lines = nlohmann::json::array();
@@ -176,7 +177,7 @@ nlohmann::json WhineJson(const WhineResult& r) {
         force[kDirections[d]] = b.force_amplitude_n[l][static_cast<size_t>(d)];
       orders.push_back({{"order", r.lines[l].order}, {"force_amplitude_n", force}});
     }
-    bearings.push_back({{"name", BearingName(b)},
+    bearings.push_back({{"name", WhineBearingName(b)},
                         {"shaft", b.shaft},
                         {"index", b.index},
                         {"at_m", b.at},
@@ -234,8 +235,8 @@ int RunWhineCommand(const WhineCommandOptions& options) {
     RequireFinite(doc, "whine");
     if (out) {
       out->Write("whine.json", doc.dump(1) + "\n");
-      out->Write("whine_meshes.csv", MeshesCsv(result));
-      if (!result.bearings.empty()) out->Write("whine_bearings.csv", BearingsCsv(result));
+      out->Write("whine_meshes.csv", WhineMeshesCsv(result));
+      if (!result.bearings.empty()) out->Write("whine_bearings.csv", WhineBearingsCsv(result));
       out->Commit();
     }
     if (options.uff) WriteUffFile(*options.uff, WhineOrderTracksUff(spec, result));

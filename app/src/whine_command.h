@@ -27,7 +27,12 @@ struct WhineCommandOptions {
 
 int RunWhineCommand(const WhineCommandOptions& options);
 
-// The result as one JSON document (docs/cli.md).
+// The result as one JSON document (docs/cli.md), and its CSV files: a row per speed, mesh and
+// line; a row per speed, bearing and line (docs/cli.md, "whine").
 nlohmann::json WhineJson(const WhineResult& r);
+std::string WhineMeshesCsv(const WhineResult& r);
+std::string WhineBearingsCsv(const WhineResult& r);
+// "input.bearings[0]", or "output support" for the default support of a rigid shaft.
+std::string WhineBearingName(const WhineBearing& b);
 
 }  // namespace gearnvh::app

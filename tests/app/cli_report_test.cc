@@ -81,8 +81,10 @@ TEST_CASE("report: a batch with a malformed file completes the good gearbox and 
   const fs::path g = out / "idle-rattle";
   const std::string page = ReadWholeFile(g / "index.html");
   const auto images = ImageSources(page);
-  // TE, spectrum, sideband stems, phase, Campbell, order tracks, waterfall, tiers, 3 mesh, 2 atlas
-  CHECK(images.size() == 13);
+  // TE, spectrum, sideband stems, phase, Campbell, order tracks, waterfall, whine, tiers, 3 mesh,
+  // 2 atlas
+  CHECK(images.size() == 14);
+  CHECK(std::count(images.begin(), images.end(), "whine_te.png") == 1);
   for (const std::string& src : images) {
     INFO(src);
     const render::RgbImage img = render::ReadPng((g / src).string());
@@ -96,7 +98,9 @@ TEST_CASE("report: a batch with a malformed file completes the good gearbox and 
   CHECK(results["sweep"]["campbell"]["modes"].size() >= 1);
   CHECK(results["atlas"]["cells"].size() == atlas_cells);
   CHECK(results["check"]["tiers"].size() >= 1);
-  for (const char* csv : {"te_trace.csv", "spectrum.csv", "sidebands.csv", "mesh_cycle.csv",
+  CHECK(results["whine"]["speeds"] == 1000);
+  CHECK(page.find("Whine (frequency domain") != std::string::npos);
+  for (const char* csv : {"whine_meshes.csv", "te_trace.csv", "spectrum.csv", "sidebands.csv", "mesh_cycle.csv",
                           "campbell.csv", "waterfall.csv", "order_tracks.csv", "atlas.csv"}) {
     INFO(csv);
     CHECK(fs::file_size(g / csv) > 30);
@@ -310,10 +314,11 @@ TEST_CASE("report: a gear train gets its page and figures, next to a pair and pa
   CHECK(page.find("Loose gears by impact energy") != std::string::npos);
   CHECK(page.find("TE spectrum lines per mesh") != std::string::npos);
   CHECK(page.find("l5-o5") != std::string::npos);
-  // Campbell, per-mesh TE RMS and impacts, order tracks, a waterfall per mesh, loose gears:
-  // drawn, with a title and data.
+  // Campbell, per-mesh TE RMS and impacts, order tracks, whine, a waterfall per mesh, loose
+  // gears: drawn, with a title and data.
   const auto images = ImageSources(page);
-  CHECK(images.size() == 4 + 1 + 6);
+  CHECK(images.size() == 5 + 1 + 6);
+  CHECK(std::count(images.begin(), images.end(), "whine_te.png") == 1);
   CHECK(std::count(images.begin(), images.end(), "waterfall_6.png") == 1);
   for (const std::string& src : images) {
     INFO(src);
@@ -330,6 +335,10 @@ TEST_CASE("report: a gear train gets its page and figures, next to a pair and pa
   CHECK(results["sweep"]["speeds_rpm"][0].get<double>() ==
         700.0);  // as written, not 700.0000000000001
   CHECK(results["check"]["campbell"]["modes"].size() >= 1);
+  // Idle: the loose gears' meshes carry only their drag, so the whine section warns about any
+  // without a static load and flags speeds where the mean model fails.
+  CHECK(results["whine"]["file"] == "whine.json");
+  CHECK(page.find("Whine (frequency domain") != std::string::npos);
   const std::string meshes = ReadWholeFile(g / "meshes.csv");
   CHECK(std::count(meshes.begin(), meshes.end(), '\n') == 1 + 3 * 6);
   // Waterfall rows per speed and mesh, order tracks 1-3 per mesh, and the UFF file: every mesh's
