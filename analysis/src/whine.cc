@@ -1,7 +1,11 @@
 #include "gearnvh/analysis/whine.h"
 
+#include <algorithm>
 #include <cmath>
 #include <exception>
+#include <limits>
+#include <numbers>
+#include <optional>
 #include <string>
 
 #include <fmt/format.h>
@@ -124,10 +128,67 @@ std::vector<std::string> Warnings(const GearTrain& train, const WhineOptions& op
   return w;
 }
 
+// A housing curve and the result's bearing it belongs to.
+struct ResolvedCurve {
+  const HousingCurve* curve = nullptr;
+  size_t bearing = 0;
+};
+
+std::string BearingText(const std::string& shaft, int index) {
+  return index >= 0 ? fmt::format("{}.bearings[{}]", shaft, index) : shaft + " support";
+}
+
+std::vector<ResolvedCurve> ResolveHousing(const HousingTransfer& housing, const WhineResult& r) {
+  if (r.bearings.empty()) {
+    throw InputError("housing", 0, housing.source,
+                     "needs bearing forces: tier 2 or higher (tier 1 has no lateral DOF)");
+  }
+  std::vector<ResolvedCurve> curves;
+  for (const HousingCurve& c : housing.curves) {
+    size_t b = 0;
+    while (b < r.bearings.size() &&
+           !(r.bearings[b].shaft == c.shaft && r.bearings[b].index == c.bearing))
+      ++b;
+    if (b == r.bearings.size()) {
+      std::string names;
+      for (const WhineBearing& w : r.bearings)
+        names += (names.empty() ? "" : ", ") + BearingText(w.shaft, w.index);
+      throw InputError("bearing", c.line, BearingText(c.shaft, c.bearing),
+                       "must be a bearing of the gearbox: " + names, housing.source);
+    }
+    curves.push_back({&c, b});
+  }
+  return curves;
+}
+
+// The curve's transfer at `f` Hz, linear in its real and imaginary parts between its points;
+// none outside its range.
+std::optional<std::complex<double>> TransferAt(const HousingCurve& c, double f) {
+  const std::vector<double>& x = c.frequency_hz;
+  if (x.empty() || f < x.front() || f > x.back()) return std::nullopt;
+  const size_t hi = static_cast<size_t>(std::lower_bound(x.begin(), x.end(), f) - x.begin());
+  if (x[hi] == f) return c.transfer[hi];
+  const double t = (f - x[hi - 1]) / (x[hi] - x[hi - 1]);
+  return (1.0 - t) * c.transfer[hi - 1] + t * c.transfer[hi];
+}
+
+// The acceleration at the housing's point: the curves times their bearings' forces, summed.
+double HousingResponse(const std::vector<ResolvedCurve>& curves, double w,
+                       const HarmonicResponse& out) {
+  std::complex<double> sum = 0.0;
+  for (const ResolvedCurve& c : curves) {
+    const std::optional<std::complex<double>> t =
+        TransferAt(*c.curve, w / (2.0 * std::numbers::pi));
+    if (!t) return std::numeric_limits<double>::quiet_NaN();
+    sum += *t * out.bearing_force[c.bearing][c.curve->direction];
+  }
+  return std::abs(sum);
+}
+
 // Solves speeds [first, last) into `r`.
 void SolveSpeeds(const HarmonicModel& model, const std::vector<HarmonicInput>& inputs,
-                 size_t first, size_t last, const WhineOptions& options,
-                 SweepProgressCounter& progress, WhineResult& r) {
+                 const std::vector<ResolvedCurve>& curves, size_t first, size_t last,
+                 const WhineOptions& options, SweepProgressCounter& progress, WhineResult& r) {
   HarmonicSolver solver(model);
   HarmonicResponse out;
   for (size_t s = first; s < last; ++s) {
@@ -135,7 +196,9 @@ void SolveSpeeds(const HarmonicModel& model, const std::vector<HarmonicInput>& i
     const double speed = r.speed_rad_s[s];
     solver.SetSpeed(speed);
     for (size_t l = 0; l < r.lines.size(); ++l) {
-      solver.Solve(r.lines[l].order * speed, inputs[l], out);
+      const double w = r.lines[l].order * speed;
+      solver.Solve(w, inputs[l], out);
+      if (r.housing) r.housing->acceleration_m_s2[l][s] = HousingResponse(curves, w, out);
       for (size_t i = 0; i < r.meshes.size(); ++i) {
         r.meshes[i].te_amplitude_m[l][s] = std::abs(out.mesh_approach[i]);
         r.meshes[i].force_amplitude_n[l][s] = std::abs(out.mesh_force[i]);
@@ -160,6 +223,27 @@ void WhineOptions::Validate() const {
   RequireRange(names, "harmonics", mesh_harmonics, 1, 20);
   RequireRange(names, "sidebands", sideband_orders, 0, 10);
   RequireRange(names, "jobs", threads, 0, 1024);
+  if (!housing) return;
+  for (const HousingCurve& c : housing->curves) {
+    const std::string& source = housing->source;
+    if (c.direction < 0 || c.direction > 2)
+      throw InputError("direction", c.line, std::to_string(c.direction), "must be x, y or z",
+                       source);
+    if (c.frequency_hz.size() < 2 || c.transfer.size() != c.frequency_hz.size()) {
+      throw InputError("frequency_hz", c.line, std::to_string(c.frequency_hz.size()) + " points",
+                       "each bearing and direction needs 2 points or more", source);
+    }
+    for (size_t i = 0; i < c.frequency_hz.size(); ++i) {
+      const double f = c.frequency_hz[i];
+      if (!(f >= 0.0) || !std::isfinite(f) || (i > 0 && !(f > c.frequency_hz[i - 1]))) {
+        throw InputError("frequency_hz", c.line, fmt::format("{:g}", f),
+                         "must be finite, >= 0 and strictly ascending per bearing and direction",
+                         source);
+      }
+      if (!std::isfinite(c.transfer[i].real()) || !std::isfinite(c.transfer[i].imag()))
+        throw InputError("real/imag", c.line, "not finite", "must be finite numbers", source);
+    }
+  }
 }
 
 int WhineResult::ContactLossSpeeds() const {
@@ -198,14 +282,21 @@ WhineResult RunWhine(const TrainSpec& spec, const WhineOptions& options,
 
   WhineResult r = EmptyResult(spec, train, structure, model, lines, options);
   r.warnings = Warnings(train, options);
+  std::vector<ResolvedCurve> curves;
+  if (options.housing) {
+    curves = ResolveHousing(*options.housing, r);
+    r.housing = WhineHousing{options.housing->source,
+                             std::vector<std::vector<double>>(
+                                 lines.size(), std::vector<double>(r.speed_rad_s.size(), 0.0))};
+  }
   const size_t speeds = r.speed_rad_s.size();
   const int workers = ParallelWorkers(speeds, options.threads);
   SweepProgressCounter counter(static_cast<int>(speeds), progress);
   std::vector<std::exception_ptr> failures(static_cast<size_t>(workers));
   ParallelFor(static_cast<size_t>(workers), workers, [&](size_t w) {
     try {
-      SolveSpeeds(model, inputs, speeds * w / workers, speeds * (w + 1) / workers, options,
-                  counter, r);
+      SolveSpeeds(model, inputs, curves, speeds * w / workers, speeds * (w + 1) / workers,
+                  options, counter, r);
     } catch (...) {
       failures[w] = std::current_exception();
     }

@@ -270,6 +270,9 @@ int Main(int argc, char** argv) {
              1024);
   whine_cmd->add_option("--out", whine.out,
                         "Write whine.json, whine_meshes.csv and whine_bearings.csv");
+  whine_cmd->add_option("--housing", whine.housing,
+                        "Housing transfer table (CSV: frequency_hz,bearing,direction,real,imag): "
+                        "the acceleration at its point per line, summed over the bearings");
   whine_cmd->add_option("--uff", whine.uff,
                         "Write every mesh's TE and force tracks as UFF dataset 58");
   whine_cmd->add_flag("--json", whine.json, "Print the results as one JSON document");

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <iostream>
 #include <numbers>
 #include <sstream>
@@ -12,6 +13,7 @@
 #include "config/gearbox_loader.h"
 #include "display_units.h"
 #include "finite_results.h"
+#include "housing_table.h"
 #include "output_folder.h"
 #include "train_command_options.h"
 #include "uff_export.h"
@@ -91,6 +93,25 @@ void PrintWhine(const WhineResult& r, const TrainSpec& spec, const std::string& 
       fmt::print("  may lose contact (sum of force amplitudes >= static force) at {} {}\n",
                  flagged, unit.symbol);
   }
+  if (r.housing) {
+    fmt::print("\n  housing point ({}): peak acceleration over the speeds, dB re 1e-6 m/s²\n",
+               r.housing->source);
+    for (size_t l = 0; l < r.lines.size(); ++l) {
+      const std::vector<double>& a = r.housing->acceleration_m_s2[l];
+      size_t at = a.size();
+      for (size_t s = 0; s < a.size(); ++s) {
+        if (!std::isnan(a[s]) && (at == a.size() || a[s] > a[at])) at = s;
+      }
+      if (at == a.size()) {
+        fmt::print("  {:>10.6g}  {:<36}  outside the table's frequencies\n", r.lines[l].order,
+                   r.lines[l].label);
+      } else if (a[at] > 0.0) {
+        fmt::print("  {:>10.6g}  {:<36}{:>10.1f} dB at {} {}\n", r.lines[l].order,
+                   r.lines[l].label, 20.0 * std::log10(a[at] / 1e-6),
+                   Significant(r.speed_rad_s[at] * unit.per_si, 5), unit.symbol);
+      }
+    }
+  }
   if (!r.bearings.empty()) {
     fmt::print("\n  bearings: peak force amplitude on the housing over the speeds, N\n");
     fmt::print("  {:<24}{:>10}  {:<36}{:>12}{:>12}{:>12}\n", "bearing", "order", "line", "x", "y",
@@ -143,6 +164,52 @@ std::string WhineBearingsCsv(const WhineResult& r) {
         for (int d = 0; d < 3; ++d) os << ',' << b.force_amplitude_n[l][static_cast<size_t>(d)][s];
         os << '\n';
       }
+    }
+  }
+  return os.str();
+}
+
+namespace {
+
+// dB re 1e-6 m/s^2.
+double AccelerationDb(double a) { return 20.0 * std::log10(a / 1e-6); }
+
+// Values, null where NaN (a line outside the housing table).
+nlohmann::json OrNull(const std::vector<double>& values, bool db) {
+  nlohmann::json out = nlohmann::json::array();
+  for (double v : values) {
+    out.push_back(std::isnan(v) ? nlohmann::json(nullptr)
+                                : nlohmann::json(db ? AccelerationDb(v) : v));
+  }
+  return out;
+}
+
+// The housing point's response per line ([speed] arrays, null outside the table), or null.
+nlohmann::json HousingJson(const WhineResult& r) {
+  if (!r.housing) return nullptr;
+  nlohmann::json orders = nlohmann::json::array();
+  for (size_t l = 0; l < r.lines.size(); ++l) {
+    orders.push_back({{"order", r.lines[l].order},
+                      {"acceleration_m_s2", OrNull(r.housing->acceleration_m_s2[l], false)},
+                      {"db_re_1e-6_m_s2", OrNull(r.housing->acceleration_m_s2[l], true)}});
+  }
+  return {{"file", r.housing->source}, {"orders", orders}};
+}
+
+}  // namespace
+
+std::string WhineHousingCsv(const WhineResult& r) {
+  std::ostringstream os;
+  os.precision(12);
+  os << "speed_rpm,order,line,acceleration_m_s2,db_re_1e-6_m_s2\n";
+  const std::vector<double> rpm = Rpm(r);
+  for (size_t s = 0; s < rpm.size(); ++s) {
+    for (size_t l = 0; l < r.lines.size(); ++l) {
+      const double a = r.housing->acceleration_m_s2[l][s];
+      os << rpm[s] << ',' << r.lines[l].order << ",\"" << r.lines[l].label << "\",";
+      if (!std::isnan(a)) os << a << ',' << AccelerationDb(a);
+      else os << ',';
+      os << '\n';
     }
   }
   return os.str();
@@ -201,6 +268,7 @@ nlohmann::json WhineJson(const WhineResult& r) {
           {"meshes", meshes},
           {"bearings", bearings},
           {"shafts", bodies},
+          {"housing", HousingJson(r)},
           {"contact_loss_speeds", r.ContactLossSpeeds()},
           {"warnings", r.warnings}};
 }
@@ -216,6 +284,7 @@ int RunWhineCommand(const WhineCommandOptions& options) {
     whine.mesh_harmonics = options.harmonics;
     whine.sideband_orders = options.sidebands;
     whine.threads = options.jobs;
+    if (options.housing) whine.housing = ReadHousingTable(*options.housing);
     const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", true);
     const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
     WhineProgress progress;
@@ -237,6 +306,7 @@ int RunWhineCommand(const WhineCommandOptions& options) {
       out->Write("whine.json", doc.dump(1) + "\n");
       out->Write("whine_meshes.csv", WhineMeshesCsv(result));
       if (!result.bearings.empty()) out->Write("whine_bearings.csv", WhineBearingsCsv(result));
+      if (result.housing) out->Write("whine_housing.csv", WhineHousingCsv(result));
       out->Commit();
     }
     if (options.uff) WriteUffFile(*options.uff, WhineOrderTracksUff(spec, result));

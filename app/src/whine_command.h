@@ -22,6 +22,7 @@ struct WhineCommandOptions {
   int jobs = 1;
   std::optional<std::string> out;
   std::optional<std::string> uff;  // UFF dataset-58 file of every mesh's TE and force tracks
+  std::optional<std::string> housing;  // the housing transfer table (housing_table.h)
   bool json = false;
 };
 
@@ -32,6 +33,9 @@ int RunWhineCommand(const WhineCommandOptions& options);
 nlohmann::json WhineJson(const WhineResult& r);
 std::string WhineMeshesCsv(const WhineResult& r);
 std::string WhineBearingsCsv(const WhineResult& r);
+// A row per speed and line: the housing point's acceleration amplitude and its level in dB re
+// 1e-6 m/s^2 (empty where the line lies outside the table).
+std::string WhineHousingCsv(const WhineResult& r);
 // "input.bearings[0]", or "output support" for the default support of a rigid shaft.
 std::string WhineBearingName(const WhineBearing& b);
 

@@ -12,6 +12,7 @@
 #include "gearbox.h"
 #include "gearnvh/analysis/whine.h"
 #include "train_call.h"
+#include "housing_table.h"
 #include "train_command_options.h"
 #include "whine_command.h"
 
@@ -42,6 +43,7 @@ struct WhineRun {
 struct WhineKeywords {
   std::optional<std::string> tier;
   int speeds, harmonics, sidebands, jobs;
+  std::optional<HousingTransfer> housing;
 };
 
 std::shared_ptr<WhineRun> RunOn(const TrainSpec& spec, const std::string& source,
@@ -53,6 +55,7 @@ std::shared_ptr<WhineRun> RunOn(const TrainSpec& spec, const std::string& source
   options.mesh_harmonics = k.harmonics;
   options.sideband_orders = k.sidebands;
   options.threads = k.jobs;
+  options.housing = k.housing;
   options.cancel = &control.cancel;
   options.names = kKeywordNames;
   auto out = std::make_shared<WhineRun>();
@@ -67,8 +70,11 @@ std::shared_ptr<WhineRun> RunOn(const TrainSpec& spec, const std::string& source
 template <typename Model>
 std::shared_ptr<WhineRun> WhineOf(const Model& model, const py::object& tier, int speeds,
                                   int harmonics, int sidebands, int jobs,
+                                  const std::optional<std::string>& housing,
                                   const py::object& progress) {
-  const WhineKeywords k{TierText(tier), speeds, harmonics, sidebands, jobs};
+  const WhineKeywords k{
+      TierText(tier), speeds, harmonics, sidebands, jobs,
+      housing ? std::optional<HousingTransfer>(app::ReadHousingTable(*housing)) : std::nullopt};
   return RunOnModel(
       model,
       [&k](const auto& spec, const std::string& source, CallControl& control) {
@@ -86,7 +92,7 @@ constexpr const char* kWhineDoc =
     "driven by its loaded static TE, runout, pitch errors and the excitation orders, at `speeds` "
     "speeds over analysis.speed_sweep. tier: None (analysis.tier), 1..5 or a tier's name; "
     "harmonics: mesh orders 1..H; sidebands: pitch-error lines +-1..S shaft orders; jobs: "
-    "threads (0: all cores).";
+    "threads (0: all cores); housing: a transfer table's path (CSV, as --housing).";
 
 }  // namespace
 
@@ -150,11 +156,12 @@ void BindWhine(py::module_& m) {
       });
   m.def("whine", &WhineOf<Train>, py::arg("gearbox"), py::kw_only(), py::arg("tier") = py::none(),
         py::arg("speeds") = 2000, py::arg("harmonics") = 3, py::arg("sidebands") = 2,
-        py::arg("jobs") = 1, py::arg("progress") = py::none(), kWhineDoc);
+        py::arg("jobs") = 1, py::arg("housing") = py::none(), py::arg("progress") = py::none(),
+        kWhineDoc);
   m.def("whine", &WhineOf<Gearbox>, py::arg("gearbox"), py::kw_only(),
         py::arg("tier") = py::none(), py::arg("speeds") = 2000, py::arg("harmonics") = 3,
-        py::arg("sidebands") = 2, py::arg("jobs") = 1, py::arg("progress") = py::none(),
-        kWhineDoc);
+        py::arg("sidebands") = 2, py::arg("jobs") = 1, py::arg("housing") = py::none(),
+        py::arg("progress") = py::none(), kWhineDoc);
 }
 
 }  // namespace gearnvh::python

@@ -482,3 +482,19 @@ def test_whine_gives_the_command_line_document_on_a_train_and_a_pair(gearnvh_exe
     assert bad.value.path == "speeds"
     with pytest.raises(KeyError):
         gearnvh.whine(gearnvh.load(REDUCER), speeds=2).te_amplitude_m("no such mesh")
+
+
+def test_whine_reads_a_housing_table_as_the_command_line(gearnvh_exe, tmp_path):
+    table = tmp_path / "housing.csv"
+    table.write_text("frequency_hz,bearing,direction,real,imag\n"
+                     "0,input.bearings[0],x,1e-3,0\n10000,input.bearings[0],x,1e-3,0\n")
+    w = gearnvh.whine(gearnvh.load(REDUCER), tier=3, speeds=5, housing=str(table))
+    cli = json.loads(subprocess.run(
+        [gearnvh_exe, "whine", str(REDUCER), "--tier", "3", "--speeds", "5", "--housing",
+         str(table), "--json"], check=True, capture_output=True, text=True).stdout)
+    assert w.to_dict() == cli
+    assert cli["housing"]["orders"][0]["acceleration_m_s2"][0] > 0
+    table.write_text("frequency_hz,bearing,direction,real,imag\n0,input.bearings[0],q,1,0\n")
+    with pytest.raises(gearnvh.InputError) as bad:
+        gearnvh.whine(gearnvh.load(REDUCER), tier=3, speeds=2, housing=str(table))
+    assert bad.value.path == "direction"

@@ -252,3 +252,59 @@ TEST_CASE("whine: equals the exact time-domain solver on a mesh of constant stif
     CHECK(std::abs(whine - expected[o]) <= 2e-5 * largest);
   }
 }
+
+TEST_CASE("whine: the housing's response sums the bearings' forces with their phases",
+          "[analysis][whine]") {
+  // The spur two-stage train at low speed: the input shaft's two bearings carry equal forces in
+  // phase (statics), so transfers +H and -H on their x directions cancel, +H and +H double.
+  TrainSpec spec = ElasticTwoStage();
+  for (TrainGear& g : spec.gears) g.gear.helix_angle = 0.0;
+  spec.operating.speed = 20.0 * testing::kRpm;
+  spec.analysis.speed_sweep = {10.0 * testing::kRpm, 20.0 * testing::kRpm, 2, AxisScale::kLinear};
+  WhineOptions options;
+  options.tier = Tier::kTier3;
+  options.speeds = 2;
+  options.mesh_harmonics = 1;
+  const Complex h(2e-3, -1e-3);
+  const auto with = [&](const Complex& second, double f_low, double f_high) {
+    HousingTransfer table{"table.csv",
+                          {{"input", 0, 0, {f_low, f_high}, {h, h}, 2},
+                           {"input", 1, 0, {f_low, f_high}, {second, second}, 4}}};
+    WhineOptions o = options;
+    o.housing = table;
+    return RunWhine(spec, o);
+  };
+  const WhineResult plus = with(h, 0.0, 100.0), minus = with(-h, 0.0, 100.0);
+  const size_t line = LineAt(plus, 20.0);
+  for (size_t s = 0; s < 2; ++s) {
+    const double fx = plus.bearings[0].force_amplitude_n[line][0][s];
+    REQUIRE(fx > 0.0);
+    // Statics to (f / f_n)^2 ~ 1e-5 of the lateral modes (the bearing-force test's 1e-4).
+    CHECK(plus.housing->acceleration_m_s2[line][s] == Approx(2.0 * std::abs(h) * fx).epsilon(1e-4));
+    CHECK(minus.housing->acceleration_m_s2[line][s] <= 1e-4 * std::abs(h) * fx);
+  }
+  // A table that ends below the line's frequency (7 Hz at 20 rpm) gives no response there.
+  const WhineResult short_table = with(h, 0.0, 1.0);
+  CHECK(std::isnan(short_table.housing->acceleration_m_s2[line][1]));
+  // Linear interpolation between two points: at the line's frequency f, (1 - t) H0 + t H1.
+  HousingTransfer ramp{"ramp.csv", {{"input", 0, 1, {0.0, 100.0}, {h, 3.0 * h}, 2}}};
+  WhineOptions o = options;
+  o.housing = ramp;
+  const WhineResult r = RunWhine(spec, o);
+  for (size_t s = 0; s < 2; ++s) {
+    const double f = 20.0 * r.speed_rad_s[s] / (2.0 * std::numbers::pi);
+    const double t = f / 100.0;
+    const double expected =
+        std::abs((1.0 - t) * h + t * 3.0 * h) * r.bearings[0].force_amplitude_n[line][1][s];
+    CHECK(r.housing->acceleration_m_s2[line][s] == Approx(expected).epsilon(1e-12));
+  }
+  // A bearing the gearbox does not have, and tier 1, are refused by name.
+  HousingTransfer wrong{"wrong.csv", {{"input", 7, 0, {0.0, 1.0}, {h, h}, 9}}};
+  o.housing = wrong;
+  CHECK_THROWS_WITH(RunWhine(spec, o), Catch::Contains("wrong.csv") &&
+                                           Catch::Contains("input.bearings[7]") &&
+                                           Catch::Contains("input.bearings[0]"));
+  o.housing = ramp;
+  o.tier = Tier::kTier1;
+  CHECK_THROWS_WITH(RunWhine(spec, o), Catch::Contains("tier 2 or higher"));
+}

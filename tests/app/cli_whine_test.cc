@@ -108,3 +108,75 @@ TEST_CASE("whine refuses bad options by name", "[cli][whine]") {
 
 }  // namespace
 }  // namespace gearnvh
+
+namespace gearnvh {
+namespace {
+
+TEST_CASE("whine --housing reads a transfer table and names its errors by file and line",
+          "[cli][whine]") {
+  const TempDir dir;
+  const std::string reducer = kExamples + "/two_stage_helical_reducer.yaml";
+  const auto table = dir.Write("housing.csv",
+                               "# accelerance at the mounting foot\n"
+                               "frequency_hz,bearing,direction,real,imag\n"
+                               "0,input.bearings[0],x,1e-3,0\n"
+                               "5000,input.bearings[0],x,1e-3,0\n"
+                               "0,output.bearings[1],y,0,2e-3\n"
+                               "5000,output.bearings[1],y,0,2e-3\n");
+  const auto run = RunCommand(kExe + " whine --tier 3 --speeds 6 --json --housing " +
+                              table.string() + " " + reducer);
+  INFO(run.err);
+  REQUIRE(run.exit_code == 0);
+  const auto doc = nlohmann::json::parse(run.out);
+  REQUIRE(doc["housing"].is_object());
+  const auto& orders = doc["housing"]["orders"];
+  REQUIRE(orders.size() == doc["lines"].size());
+  // Each line's response is bounded by the sum of |H| |F| over the two curves (triangle
+  // inequality) and is that sum's level in dB re 1e-6 m/s^2.
+  for (size_t l = 0; l < orders.size(); ++l) {
+    for (size_t s = 0; s < 6; ++s) {
+      // A line above the table's 5000 Hz has no response (null).
+      const double hz = orders[l]["order"].get<double>() * doc["speeds_rpm"][s].get<double>() / 60;
+      if (hz > 5000.0) {
+        CHECK(orders[l]["acceleration_m_s2"][s].is_null());
+        continue;
+      }
+      const double a = orders[l]["acceleration_m_s2"][s].get<double>();
+      double bound = 0.0;
+      for (const auto& b : doc["bearings"]) {
+        if (b["name"] == "input.bearings[0]")
+          bound += 1e-3 * b["orders"][l]["force_amplitude_n"]["x"][s].get<double>();
+        if (b["name"] == "output.bearings[1]")
+          bound += 2e-3 * b["orders"][l]["force_amplitude_n"]["y"][s].get<double>();
+      }
+      CHECK(a <= bound * (1.0 + 1e-12));
+      CHECK(orders[l]["db_re_1e-6_m_s2"][s].get<double>() ==
+            Approx(20.0 * std::log10(a / 1e-6)).epsilon(1e-12));
+    }
+  }
+  struct Bad {
+    std::string text, expected;
+  };
+  for (const Bad& bad :
+       {Bad{"frequency,bearing,direction,real,imag\n", "housing.csv:1: header"},
+        Bad{"frequency_hz,bearing,direction,real,imag\n0,input.bearings[0],w,1,0\n",
+            "housing.csv:2: direction"},
+        Bad{"frequency_hz,bearing,direction,real,imag\n9,input.bearings[0],x,1,0\n"
+            "3,input.bearings[0],x,1,0\n",
+            "housing.csv:3: frequency_hz"},
+        Bad{"frequency_hz,bearing,direction,real,imag\n0,shaft9.bearings[0],x,1,0\n"
+            "1,shaft9.bearings[0],x,1,0\n",
+            "housing.csv:2: bearing"},
+        Bad{"frequency_hz,bearing,direction,real,imag\n0,input.bearings[0],x,abc,0\n",
+            "housing.csv:2: real"}}) {
+    const auto bad_table = dir.Write("housing.csv", bad.text);
+    const auto refused = RunCommand(kExe + " whine --tier 3 --speeds 2 --housing " +
+                                    bad_table.string() + " " + reducer);
+    INFO(bad.text << refused.err);
+    CHECK(refused.exit_code == 1);
+    CHECK(refused.err.find(bad.expected) != std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace gearnvh

@@ -20,6 +20,8 @@
 
 #include <array>
 #include <atomic>
+#include <complex>
+#include <optional>
 #include <functional>
 #include <string>
 #include <vector>
@@ -30,6 +32,23 @@
 
 namespace gearnvh {
 
+// A transfer from the bearing forces to one response point of the housing, as an FE model or a
+// hammer test gives it: per bearing and direction the complex acceleration at the point per unit
+// force on the housing, (m/s^2)/N, over frequency (interpolated linearly in its real and imaginary
+// parts; a line outside a curve's range has no response).
+struct HousingCurve {
+  std::string shaft;     // the bearing's shaft
+  int bearing = -1;      // its index in the shaft's bearings; -1: the default support
+  int direction = 0;     // 0 x, 1 y, 2 z
+  std::vector<double> frequency_hz;                // strictly ascending, >= 0
+  std::vector<std::complex<double>> transfer;      // (m/s^2)/N
+  int line = 0;  // where the curve starts in its table (messages)
+};
+struct HousingTransfer {
+  std::string source;  // the table's file (messages)
+  std::vector<HousingCurve> curves;
+};
+
 struct WhineOptions {
   Tier tier = Tier::kTier1;
   int speeds = 2000;         // speeds over analysis.speed_sweep's range and scale, 2..100000
@@ -38,6 +57,9 @@ struct WhineOptions {
   int threads = 1;           // 0: all hardware threads
   // Cancellation: once set, RunWhine throws Cancelled. Not owned; may be null.
   const std::atomic<bool>* cancel = nullptr;
+  // The response at one point of the housing, summed over the bearings with phase (none: the
+  // bearing forces are the result). Its bearings must exist at the tier (not at tier 1).
+  std::optional<HousingTransfer> housing;
   OptionNames names;  // how the caller names speeds, harmonics, sidebands and jobs
   // Throws InputError naming the option (names) and its rule.
   void Validate() const;
@@ -78,6 +100,13 @@ struct WhineBody {
   std::vector<std::vector<double>> speed_amplitude_rad_s;  // [line][speed]
 };
 
+// The housing's response: [line][speed] the amplitude of the acceleration at the point, m/s^2,
+// NaN where the line's frequency lies outside some curve's range.
+struct WhineHousing {
+  std::string source;
+  std::vector<std::vector<double>> acceleration_m_s2;
+};
+
 struct WhineResult {
   Tier tier = Tier::kTier1;
   int dof = 0;
@@ -87,6 +116,7 @@ struct WhineResult {
   std::vector<WhineMesh> meshes;
   std::vector<WhineBearing> bearings;  // empty at tier 1 (no lateral DOF)
   std::vector<WhineBody> bodies;
+  std::optional<WhineHousing> housing;
   std::vector<std::string> warnings;
   // Speeds at which some mesh may lose contact.
   int ContactLossSpeeds() const;
