@@ -216,7 +216,72 @@ void SolveSpeeds(const HarmonicModel& model, const std::vector<HarmonicInput>& i
   }
 }
 
+// The mean model's modes below `limit_hz` (undamped, no gyroscopics) with their strain energy
+// shares, ascending; the train's free rotation (zero stiffness energy) is left out.
+std::vector<WhineMode> Modes(const HarmonicModel& model, const TrainStructure& structure,
+                             double limit_hz) {
+  Eigen::MatrixXd k = model.K;
+  for (size_t i = 0; i < model.mesh_vectors.size(); ++i)
+    k += model.mesh_stiffness[i] * model.mesh_vectors[i] * model.mesh_vectors[i].transpose();
+  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(
+      0.5 * (k + k.transpose()), 0.5 * (model.M + model.M.transpose()));
+  std::vector<WhineMode> modes;
+  if (eig.info() != Eigen::Success) return modes;
+  const double largest = std::max(eig.eigenvalues().cwiseAbs().maxCoeff(), 1e-300);
+  for (long j = 0; j < eig.eigenvalues().size(); ++j) {
+    const double lambda = eig.eigenvalues()[j];
+    if (lambda <= 1e-12 * largest) continue;  // the free rotation
+    const double f = std::sqrt(lambda) / (2.0 * std::numbers::pi);
+    if (f > limit_hz) break;
+    const Eigen::VectorXd phi = eig.eigenvectors().col(j);
+    const double total = phi.dot(k * phi);
+    WhineMode m;
+    m.frequency_hz = f;
+    for (size_t i = 0; i < model.mesh_vectors.size(); ++i) {
+      const double d = model.mesh_vectors[i].dot(phi);
+      m.mesh_energy.push_back(model.mesh_stiffness[i] * d * d / total);
+    }
+    for (size_t b = 0; b < model.bearing_stiffness.size(); ++b) {
+      const StructureBearing& sb = structure.bearings[b];
+      const double springs[3] = {sb.radial_stiffness, sb.radial_stiffness, sb.axial_stiffness};
+      double e = 0.0;
+      for (int d = 0; d < 3; ++d) {
+        // Row d of the bearing's stiffness rows is k_d times its point's motion.
+        const double force = model.bearing_stiffness[b].row(d).dot(phi);
+        if (springs[d] > 0.0) e += force * force / springs[d];
+      }
+      m.bearing_energy.push_back(e / total);
+    }
+    modes.push_back(std::move(m));
+  }
+  return modes;
+}
+
+// Every crossing of a line with a mode inside the speed range, ranked by the mode's mesh strain
+// energy (then by speed).
+std::vector<WhineCriticalSpeed> CriticalSpeeds(const WhineResult& r) {
+  std::vector<WhineCriticalSpeed> out;
+  const double lo = r.speed_rad_s.front(), hi = r.speed_rad_s.back();
+  for (size_t m = 0; m < r.modes.size(); ++m) {
+    for (size_t l = 0; l < r.lines.size(); ++l) {
+      const double speed = 2.0 * std::numbers::pi * r.modes[m].frequency_hz / r.lines[l].order;
+      if (speed >= lo && speed <= hi) out.push_back({speed, l, m});
+    }
+  }
+  std::stable_sort(out.begin(), out.end(), [&r](const auto& a, const auto& b) {
+    const double ea = r.modes[a.mode].MeshEnergy(), eb = r.modes[b.mode].MeshEnergy();
+    return ea != eb ? ea > eb : a.speed_rad_s < b.speed_rad_s;
+  });
+  return out;
+}
+
 }  // namespace
+
+double WhineMode::MeshEnergy() const {
+  double sum = 0.0;
+  for (double e : mesh_energy) sum += e;
+  return sum;
+}
 
 void WhineOptions::Validate() const {
   RequireRange(names, "speeds", speeds, 2, 100000);
@@ -308,6 +373,11 @@ WhineResult RunWhine(const TrainSpec& spec, const WhineOptions& options,
     for (size_t s = 0; s < speeds; ++s)
       m.contact_loss[s] = m.force_amplitude_sum_n[s] >= m.static_force;
   }
+  const double top_hz = lines.empty() ? 0.0
+                                      : lines.back().order * r.speed_rad_s.back() /
+                                            (2.0 * std::numbers::pi);
+  r.modes = Modes(model, structure, 1.25 * top_hz);
+  r.critical_speeds = CriticalSpeeds(r);
   return r;
 }
 

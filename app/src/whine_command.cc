@@ -93,6 +93,20 @@ void PrintWhine(const WhineResult& r, const TrainSpec& spec, const std::string& 
       fmt::print("  may lose contact (sum of force amplitudes >= static force) at {} {}\n",
                  flagged, unit.symbol);
   }
+  if (!r.critical_speeds.empty()) {
+    fmt::print("\n  critical speeds, ranked by the mode's strain energy in the meshes (mean model, "
+               "at rest)\n  {:>10} {:<8}{:>10}  {:<36}{:>10}\n",
+               unit.symbol, "mode", "Hz", "line", "meshes %");
+    for (size_t k = 0; k < std::min<size_t>(r.critical_speeds.size(), 12); ++k) {
+      const WhineCriticalSpeed& c = r.critical_speeds[k];
+      fmt::print("  {:>10} {:<8}{:>10.1f}  {:<36}{:>10.1f}\n",
+                 Significant(c.speed_rad_s * unit.per_si, 5), c.mode + 1,
+                 r.modes[c.mode].frequency_hz, r.lines[c.line].label,
+                 100.0 * r.modes[c.mode].MeshEnergy());
+    }
+    if (r.critical_speeds.size() > 12)
+      fmt::print("  ... {} more in the JSON\n", r.critical_speeds.size() - 12);
+  }
   if (r.housing) {
     fmt::print("\n  housing point ({}): peak acceleration over the speeds, dB re 1e-6 m/s²\n",
                r.housing->source);
@@ -196,6 +210,33 @@ nlohmann::json HousingJson(const WhineResult& r) {
   return {{"file", r.housing->source}, {"orders", orders}};
 }
 
+nlohmann::json ModesJson(const WhineResult& r) {
+  nlohmann::json modes = nlohmann::json::array();
+  for (const WhineMode& m : r.modes) {
+    nlohmann::json meshes, bearings = nlohmann::json::object();
+    for (size_t i = 0; i < r.meshes.size(); ++i) meshes[r.meshes[i].name] = m.mesh_energy[i];
+    for (size_t b = 0; b < r.bearings.size(); ++b)
+      bearings[WhineBearingName(r.bearings[b])] = m.bearing_energy[b];
+    modes.push_back({{"frequency_hz", m.frequency_hz},
+                     {"mesh_energy", meshes},
+                     {"bearing_energy", bearings}});
+  }
+  return modes;
+}
+
+nlohmann::json CriticalSpeedsJson(const WhineResult& r) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const WhineCriticalSpeed& c : r.critical_speeds) {
+    out.push_back({{"speed_rpm", c.speed_rad_s * kRpmPerRadS},
+                   {"order", r.lines[c.line].order},
+                   {"line", r.lines[c.line].label},
+                   {"mode", c.mode},
+                   {"frequency_hz", r.modes[c.mode].frequency_hz},
+                   {"mesh_energy", r.modes[c.mode].MeshEnergy()}});
+  }
+  return out;
+}
+
 }  // namespace
 
 std::string WhineHousingCsv(const WhineResult& r) {
@@ -268,6 +309,8 @@ nlohmann::json WhineJson(const WhineResult& r) {
           {"meshes", meshes},
           {"bearings", bearings},
           {"shafts", bodies},
+          {"modes", ModesJson(r)},
+          {"critical_speeds", CriticalSpeedsJson(r)},
           {"housing", HousingJson(r)},
           {"contact_loss_speeds", r.ContactLossSpeeds()},
           {"warnings", r.warnings}};

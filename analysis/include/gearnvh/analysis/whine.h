@@ -100,6 +100,23 @@ struct WhineBody {
   std::vector<std::vector<double>> speed_amplitude_rad_s;  // [line][speed]
 };
 
+// A natural mode of the mean model (every mesh at its mean stiffness; undamped, at rest: no
+// gyroscopic terms), with the share of its modal strain energy phi^T K phi in each mesh
+// (k_i (v_i^T phi)^2) and each bearing (its springs times its point's motion squared).
+struct WhineMode {
+  double frequency_hz = 0.0;
+  std::vector<double> mesh_energy;     // per mesh, fraction of the mode's strain energy
+  std::vector<double> bearing_energy;  // per bearing (WhineResult::bearings)
+  double MeshEnergy() const;           // the meshes' sum
+};
+
+// A critical speed: a line's frequency meets a mode's inside the speed range.
+struct WhineCriticalSpeed {
+  double speed_rad_s = 0.0;
+  size_t line = 0;  // in WhineResult::lines
+  size_t mode = 0;  // in WhineResult::modes
+};
+
 // The housing's response: [line][speed] the amplitude of the acceleration at the point, m/s^2,
 // NaN where the line's frequency lies outside some curve's range.
 struct WhineHousing {
@@ -117,6 +134,10 @@ struct WhineResult {
   std::vector<WhineBearing> bearings;  // empty at tier 1 (no lateral DOF)
   std::vector<WhineBody> bodies;
   std::optional<WhineHousing> housing;
+  // The modes up to 1.25 times the highest line frequency in the range, ascending, and the
+  // critical speeds ranked by their mode's mesh strain energy (the whine-relevant first).
+  std::vector<WhineMode> modes;
+  std::vector<WhineCriticalSpeed> critical_speeds;
   std::vector<std::string> warnings;
   // Speeds at which some mesh may lose contact.
   int ContactLossSpeeds() const;
