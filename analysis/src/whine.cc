@@ -112,9 +112,23 @@ WhineResult EmptyResult(const TrainSpec& spec, const GearTrain& train,
   return r;
 }
 
-std::vector<std::string> Warnings(const GearTrain& train, const WhineOptions& options) {
-  std::vector<std::string> w;
-  for (const TrainMeshModel& mm : train.meshes) {
+std::vector<std::string> Warnings(const TrainSpec& spec, const GearTrain& train,
+                                  const WhineOptions& options) {
+  std::vector<std::string> w = train.warnings;
+  for (size_t i = 0; i < train.meshes.size(); ++i) {
+    const TrainMeshModel& mm = train.meshes[i];
+    const MeshSpec& mesh = spec.meshes[i].mesh;
+    if (mesh.friction_coefficient > 0.0) {
+      w.push_back(fmt::format(
+          "mesh {}: tooth friction is not in the mean model (it reverses at the pitch point: a "
+          "variation over the mesh cycle, as the stiffness's); simulate and sweep include it",
+          mm.name));
+    }
+    if (mesh.damping_ratio == 0.0) {
+      w.push_back(fmt::format(
+          "mesh {} has no damping: its modes are undamped and their resonances unbounded",
+          mm.name));
+    }
     if (!(mm.cycle.load > 0.0)) {
       w.push_back(fmt::format(
           "mesh {} carries no static load: the mean model holds it in contact at its mean "
@@ -125,6 +139,8 @@ std::vector<std::string> Warnings(const GearTrain& train, const WhineOptions& op
   }
   if (options.tier == Tier::kTier1)
     w.push_back("tier 1 has no lateral DOF: no bearing forces (tier 2 or higher has them)");
+  if (options.tier == Tier::kTier2)
+    w.push_back("tier 2 has no axial DOF: every bearing's z force is 0 (tier 3 or higher has it)");
   return w;
 }
 
@@ -327,7 +343,11 @@ int WhineResult::ContactLossSpeeds() const {
 WhineResult RunWhine(const TrainSpec& spec, const WhineOptions& options,
                      const WhineProgress& progress) {
   options.Validate();
-  const GearTrain train = BuildGearTrain(spec);
+  // The excitation orders are exact inputs here: the time-domain solver's rule that its grid
+  // resolves them (BuildGearTrain's only use of them) does not apply.
+  TrainSpec structural = spec;
+  structural.operating.excitation.clear();
+  const GearTrain train = BuildGearTrain(structural);
   ThrowIfCancelled(options.cancel);
   const TrainStructure structure = AssembleTrainStructure(spec, train);
   const TrainReducedModel reduced = ReduceTrain(structure, options.tier);
@@ -346,7 +366,7 @@ WhineResult RunWhine(const TrainSpec& spec, const WhineOptions& options,
   }
 
   WhineResult r = EmptyResult(spec, train, structure, model, lines, options);
-  r.warnings = Warnings(train, options);
+  r.warnings = Warnings(spec, train, options);
   std::vector<ResolvedCurve> curves;
   if (options.housing) {
     curves = ResolveHousing(*options.housing, r);
@@ -371,7 +391,8 @@ WhineResult RunWhine(const TrainSpec& spec, const WhineOptions& options,
   }
   for (WhineMesh& m : r.meshes) {
     for (size_t s = 0; s < speeds; ++s)
-      m.contact_loss[s] = m.force_amplitude_sum_n[s] >= m.static_force;
+      m.contact_loss[s] =
+          m.force_amplitude_sum_n[s] > 0.0 && m.force_amplitude_sum_n[s] >= m.static_force;
   }
   const double top_hz = lines.empty() ? 0.0
                                       : lines.back().order * r.speed_rad_s.back() /

@@ -26,15 +26,11 @@ std::complex<double> PiecewiseCoefficient(const std::vector<double>& begin,
   return 2.0 * sum / (kI * a * period);
 }
 
-// X_n of gear g's pitch error: period z_g mesh cycles, in cycle c segment j the pairs' weighted
-// deviations of teeth (c - q) mod z_g.
-std::complex<double> PitchCoefficient(const MeshInput& in, const GearInput& g, long n) {
+// Gear g's pitch error over a revolution (z_g mesh cycles): in cycle c segment j the pairs'
+// weighted deviations of teeth (c - q) mod z_g.
+void BuildPitchSignal(const MeshInput& in, GearInput& g) {
   const long z = g.teeth;
-  std::vector<double> begin, end, value;
   const size_t segments = in.static_input.size();
-  begin.reserve(static_cast<size_t>(z) * segments);
-  end.reserve(begin.capacity());
-  value.reserve(begin.capacity());
   for (long c = 0; c < z; ++c) {
     for (size_t j = 0; j < segments; ++j) {
       double p = 0.0;
@@ -42,13 +38,18 @@ std::complex<double> PitchCoefficient(const MeshInput& in, const GearInput& g, l
         const long tooth = ((c - q) % z + z) % z;
         p += weight * g.pitch[static_cast<size_t>(tooth)];
       }
-      begin.push_back(static_cast<double>(c) + in.tau_begin[j]);
-      end.push_back(static_cast<double>(c) + in.tau_end[j]);
-      value.push_back(p);
+      g.pitch_begin.push_back(static_cast<double>(c) + in.tau_begin[j]);
+      g.pitch_end.push_back(static_cast<double>(c) + in.tau_end[j]);
+      g.pitch_value.push_back(p);
     }
   }
-  return PiecewiseCoefficient(begin, end, value, kTwoPi * static_cast<double>(n) / z,
-                              static_cast<double>(z));
+}
+
+// X_n of gear g's pitch error (period z_g mesh cycles).
+std::complex<double> PitchCoefficient(const GearInput& g, long n) {
+  return PiecewiseCoefficient(g.pitch_begin, g.pitch_end, g.pitch_value,
+                              kTwoPi * static_cast<double>(n) / g.teeth,
+                              static_cast<double>(g.teeth));
 }
 
 // The line at `order`, merged into `lines` (a label added to an existing order).
@@ -57,7 +58,9 @@ void AddLine(std::vector<WhineLine>& lines, double order, WhineLineKind kind,
   if (!(order > 0.0)) return;
   for (WhineLine& l : lines) {
     if (std::abs(l.order - order) <= 1e-9 * std::max(1.0, order)) {
-      if (l.label.find(label) == std::string::npos) l.label += " = " + label;
+      // Sources are joined by " = ": compare whole entries ("2x g1" is not "2x g10").
+      const std::string joined = " = " + l.label + " = ";
+      if (joined.find(" = " + label + " = ") == std::string::npos) l.label += " = " + label;
       return;
     }
   }
@@ -83,7 +86,7 @@ std::complex<double> MeshInput::Coefficient(double order) const {
     const long whole = std::lround(n);
     if (whole == 1 && g.runout.amplitude > 0.0)
       x += -kI * g.runout.amplitude * std::exp(kI * g.runout.phase);
-    if (!g.pitch.empty()) x += PitchCoefficient(*this, g, whole);
+    if (!g.pitch.empty()) x += PitchCoefficient(g, whole);
   }
   return x;
 }
@@ -115,6 +118,9 @@ MeshInput MeshInputOf(const TrainSpec& spec, const GearTrain& train, size_t mesh
     in.static_input.push_back(s.unloaded_error +
                               (mm.back_flank_loaded ? -deflection : deflection));
     in.pitch_weights.push_back(s.error_weights);
+  }
+  for (GearInput& g : in.gears) {
+    if (!g.pitch.empty()) BuildPitchSignal(in, g);
   }
   return in;
 }

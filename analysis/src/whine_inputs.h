@@ -23,6 +23,9 @@ struct GearInput {
   double order = 0.0;  // its shaft's speed over the input shaft's
   Runout runout;
   std::vector<double> pitch;  // cumulative pitch deviations per tooth, m (empty: none)
+  // The pitch error's signal over one revolution of the gear (z mesh cycles): per cycle and
+  // segment its start and end (mesh cycles) and value (m); built once by MeshInputOf.
+  std::vector<double> pitch_begin, pitch_end, pitch_value;
 };
 
 // One mesh's displacement input e_i(t).

@@ -69,7 +69,7 @@ std::string Section(const WhineResult& r, const std::vector<double>& mesh_orders
        "<a href=\"whine.json\">whine.json</a>, <a href=\"whine_meshes.csv\">whine_meshes.csv</a>"
     << (r.bearings.empty() ? "" : ", <a href=\"whine_bearings.csv\">whine_bearings.csv</a>")
     << ").</p>\n<table>\n<tr><th>mesh</th><th>line</th><th>peak TE (µm)</th><th>at (rpm)</th>"
-       "<th>peak force (N)</th><th>speeds that may lose contact</th></tr>\n";
+       "<th>peak force (N)</th><th>speeds that may lose contact (of all)</th></tr>\n";
   for (size_t i = 0; i < r.meshes.size(); ++i) {
     const WhineMesh& m = r.meshes[i];
     size_t flagged = 0;

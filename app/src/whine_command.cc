@@ -328,6 +328,11 @@ int RunWhineCommand(const WhineCommandOptions& options) {
     whine.sideband_orders = options.sidebands;
     whine.threads = options.jobs;
     if (options.housing) whine.housing = ReadHousingTable(*options.housing);
+    if (options.uff && spec.analysis.speed_sweep.scale == AxisScale::kLog) {
+      throw InputError("--uff", 0, *options.uff,
+                       "needs a linearly spaced analysis.speed_sweep (dataset 58's abscissa is "
+                       "even); this one has scale: log");
+    }
     const std::unique_ptr<OutputFolder> out = OpenOutputFolder(options.out, "--out", true);
     const bool on_terminal = ::isatty(STDERR_FILENO) != 0;
     WhineProgress progress;

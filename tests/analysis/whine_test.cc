@@ -155,10 +155,16 @@ TEST_CASE("whine: pitch-error lines match the spectrum of the solver's own error
 
 TEST_CASE("whine: a rigid spur shaft on two bearings carries the mesh force by statics",
           "[analysis][whine]") {
-  // The elastic two-stage train made spur; its rigid input shaft has bearings at 0 and 80 mm and
-  // g1 at 40 mm, so at a low speed each bearing carries half of the mesh force g1-g2.
+  // The elastic two-stage train made spur, g1 moved to 20 mm on its rigid input shaft, whose
+  // bearings at 0 and L = 80 mm have radial springs k and tilt springs k_t. At a low speed the
+  // shaft is in static equilibrium under the mesh force F at a = 20 mm: with u its deflection at
+  // the first bearing and theta its tilt (in the force's plane),
+  //   k u + k (u + theta L) = F,   k (u + theta L) L + 2 k_t theta = F a,
+  // so the bearings carry k u and k (u + theta L) (the lever rule 3/4 : 1/4, moved ~1e-3 by the
+  // tilt springs). A wrong sign of a bearing's offset would swap the shares.
   TrainSpec spec = ElasticTwoStage();
   for (TrainGear& g : spec.gears) g.gear.helix_angle = 0.0;
+  spec.gears[0].at = 0.02;
   spec.operating.speed = 20.0 * testing::kRpm;
   spec.analysis.speed_sweep = {10.0 * testing::kRpm, 20.0 * testing::kRpm, 2, AxisScale::kLinear};
   WhineOptions options;
@@ -172,14 +178,21 @@ TEST_CASE("whine: a rigid spur shaft on two bearings carries the mesh force by s
     if (b.shaft == "input") input.push_back(&b);
   }
   REQUIRE(input.size() == 2);
+  const double k = spec.shafts[0].bearings[0].radial_stiffness;
+  const double kt = spec.shafts[0].bearings[0].tilt_stiffness, length = 0.08, a = 0.02;
+  Eigen::Matrix2d statics;
+  statics << 2.0 * k, k * length, k * length, k * length * length + 2.0 * kt;
+  const Eigen::Vector2d unit = statics.lu().solve(Eigen::Vector2d(1.0, a));  // u, theta per N
+  const double share[2] = {k * unit[0], k * (unit[0] + unit[1] * length)};
+  CHECK(share[0] == Approx(0.75).epsilon(5e-3));
   for (size_t s = 0; s < 2; ++s) {
     const double mesh = r.meshes[0].force_amplitude_n[line][s];
     REQUIRE(mesh > 0.0);
-    for (const WhineBearing* b : input) {
-      const auto& f = b->force_amplitude_n[line];
+    for (int j = 0; j < 2; ++j) {
+      const auto& f = input[static_cast<size_t>(j)]->force_amplitude_n[line];
       const double radial = std::hypot(f[0][s], f[1][s]);
       // The inertia forces at 7 Hz against lateral modes above 1 kHz: (f / f_n)^2 < 1e-4.
-      CHECK(radial == Approx(0.5 * mesh).epsilon(1e-4));
+      CHECK(radial == Approx(share[j] * mesh).epsilon(1e-4));
     }
   }
 }
@@ -196,6 +209,9 @@ TEST_CASE("whine: options are checked by name", "[analysis][whine]") {
 
 TEST_CASE("whine: equals the exact time-domain solver on a mesh of constant stiffness",
           "[analysis][whine]") {
+  // Tier 1 (torsional) and tier 3 (every gear DOF on the rigid supports: lateral, axial and tilt
+  // modes in the response).
+  const Tier tier = GENERATE(Tier::kTier1, Tier::kTier3);
   // A constant stiffness makes the time-domain model LTI in contact: the same model as `mean`.
   // Sources superposed at one order check their relative phases and signs: the user's STE with
   // the pitch errors at the mesh orders, the pinion's runout with an engine order at order 1.
@@ -214,6 +230,7 @@ TEST_CASE("whine: equals the exact time-domain solver on a mesh of constant stif
   const TrainSpec spec = TrainOf(pair);
 
   TrainRunOptions run;
+  run.tier = tier;
   run.transient = 600;
   run.cycles = 23 * 8;  // 8 pinion revolutions: every line has whole periods
   run.samples_per_cycle = 256;
@@ -235,6 +252,7 @@ TEST_CASE("whine: equals the exact time-domain solver on a mesh of constant stif
   };
   WhineOptions options;
   options.speeds = 2;
+  options.tier = tier;
   const WhineResult r = RunWhine(spec, options);
   const std::vector<double> orders{1.0, 2.0, 22.0, 23.0, 24.0, 46.0};
   std::vector<double> expected;

@@ -1,4 +1,4 @@
-// Whine in the frequency domain (`gearnvh whine`, docs/cli.md; the model: docs/design.md §11): the
+// Whine in the frequency domain (`gearnvh whine`, docs/cli.md; the model: docs/design.md §14): the
 // steady-state response of any gearbox (a pair is the train TrainOf(spec)) at any tier, every mesh
 // at its mean stiffness on its loaded flank, to its harmonic inputs over the speeds of
 // analysis.speed_sweep (harmonic_response.h). The inputs, each exact as a Fourier coefficient:

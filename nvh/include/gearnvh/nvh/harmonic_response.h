@@ -1,5 +1,5 @@
 // Steady-state response of a gear train's mean-stiffness model to harmonic inputs, the frequency
-// domain of whine (docs/design.md §11, "Whine: the mean model"). In the tier's coordinates q, with
+// domain of whine (docs/design.md §14). In the tier's coordinates q, with
 // every mesh i on its loaded flank at its mean stiffness k_i, its damping c_i and its approach
 // delta_i = v_i^T q:
 //   M q'' + (C + W G + sum_i c_i v_i v_i^T) q' + (K + sum_i k_i v_i v_i^T) q
