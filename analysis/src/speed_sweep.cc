@@ -113,7 +113,7 @@ SpeedSweepResult RunSpeedSweep(const GearboxSpec& spec, const ComponentModel& mo
   CampbellOptions campbell;
   campbell.max_frequency_hz =
       3.0 * z1 * *std::max_element(speeds.begin(), speeds.end()) / (2.0 * std::numbers::pi);
-  result.campbell = ComputeCampbell(linear, speeds, GearOrderLines(z1, spec.wheel.teeth), campbell);
+  result.campbell = ComputeCampbell(linear, speeds, GearOrderLines(z1, spec.wheel.teeth, spec.operating.excitation), campbell);
 
   // Waterfall: one exact run per speed, in parallel.
   result.points.resize(speeds.size());

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <sstream>
 
 #include "gearnvh/model/input_error.h"
 
@@ -25,7 +26,25 @@ void CampbellOptions::Validate() const {
   }
 }
 
-std::vector<OrderLine> GearOrderLines(int pinion_teeth, int wheel_teeth) {
+void AddExcitationLines(std::vector<OrderLine>& lines,
+                        const std::vector<ExcitationOrder>& excitation) {
+  for (const ExcitationOrder& e : excitation) {
+    std::ostringstream label;
+    label << "excitation " << e.order << "x";
+    bool joined = false;
+    for (OrderLine& l : lines) {
+      if (std::abs(l.order - e.order) <= 1e-9 * std::max(1.0, e.order)) {
+        if (l.label.find(label.str()) == std::string::npos) l.label += " = " + label.str();
+        joined = true;
+        break;
+      }
+    }
+    if (!joined) lines.push_back({label.str(), e.order});
+  }
+}
+
+std::vector<OrderLine> GearOrderLines(int pinion_teeth, int wheel_teeth,
+                                      const std::vector<ExcitationOrder>& excitation) {
   std::vector<OrderLine> lines;
   for (int k = 1; k <= 3; ++k) {
     lines.push_back({std::to_string(k) + "x mesh", static_cast<double>(k * pinion_teeth)});
@@ -35,6 +54,7 @@ std::vector<OrderLine> GearOrderLines(int pinion_teeth, int wheel_teeth) {
     lines.push_back({std::to_string(k) + "x wheel",
                      static_cast<double>(k) * pinion_teeth / static_cast<double>(wheel_teeth)});
   }
+  AddExcitationLines(lines, excitation);
   return lines;
 }
 

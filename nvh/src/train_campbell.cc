@@ -20,6 +20,7 @@ std::vector<OrderLine> TrainOrderLines(const TrainSpec& spec, const GearTrain& t
       lines.push_back({"mesh " + mesh.name + " " + std::to_string(h) + "x", h * z * ratio});
     }
   }
+  AddExcitationLines(lines, spec.operating.excitation);
   return lines;
 }
 

@@ -227,5 +227,17 @@ TEST_CASE("gear order lines are mesh orders 1-3 and both shafts' orders 1-2", "[
   CHECK(lines[4].order == Approx(27.0 / 43.0).epsilon(1e-15));
 }
 
+TEST_CASE("Campbell order lines carry the file's excitation orders", "[nvh][campbell]") {
+  // Order 2 coincides with the pinion's 2x line and joins its label; 1.5 is a line of its own.
+  const std::vector<OrderLine> lines =
+      GearOrderLines(27, 43, {{2.0, 100.0, 0.0}, {1.5, 50.0, 0.0}});
+  REQUIRE(lines.size() == 3 + 4 + 1);
+  int joined = 0;
+  for (const OrderLine& l : lines) joined += l.label == "2x pinion = excitation 2x" ? 1 : 0;
+  CHECK(joined == 1);
+  CHECK(lines.back().label == "excitation 1.5x");
+  CHECK(lines.back().order == 1.5);
+}
+
 }  // namespace
 }  // namespace gearnvh

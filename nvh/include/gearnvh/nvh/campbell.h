@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "gearnvh/model/gearbox_spec.h"
 #include "gearnvh/reduction/reduced_model.h"
 
 namespace gearnvh {
@@ -81,8 +82,16 @@ struct CampbellData {
   std::vector<CriticalSpeed> critical_speeds;
 };
 
-// Mesh orders 1..3 (z1 per pinion revolution) and shaft orders 1..2 of both shafts.
-std::vector<OrderLine> GearOrderLines(int pinion_teeth, int wheel_teeth);
+// Mesh orders 1..3 (z1 per pinion revolution), shaft orders 1..2 of both shafts and the
+// excitation orders (AddExcitationLines).
+std::vector<OrderLine> GearOrderLines(int pinion_teeth, int wheel_teeth,
+                                      const std::vector<ExcitationOrder>& excitation = {});
+
+// The engine or motor orders of the file's excitation (orders of the reference shaft, the
+// pinion's or the input shaft's) as lines "excitation 2x"; one at the order of an existing line
+// joins its label ("2x pinion = excitation 2x") instead.
+void AddExcitationLines(std::vector<OrderLine>& lines,
+                        const std::vector<ExcitationOrder>& excitation);
 
 // The tier linearised in drive contact at the mean mesh stiffness, with the mesh
 // damping, and the physical model's energy classes and disks for mode identification.
