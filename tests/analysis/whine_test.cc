@@ -326,3 +326,53 @@ TEST_CASE("whine: the housing's response sums the bearings' forces with their ph
   o.tier = Tier::kTier1;
   CHECK_THROWS_WITH(RunWhine(spec, o), Catch::Contains("tier 2 or higher"));
 }
+
+TEST_CASE("whine: a pair's one elastic mode at tier 1 is the mesh mode, all its energy in the mesh",
+          "[analysis][whine]") {
+  // Two rigid bodies joined by the mesh: one elastic mode at sqrt(k / m_e) / 2 pi with all of its
+  // strain energy in the mesh spring; critical speeds where each line's frequency meets it.
+  const TrainSpec spec = LoadedPair();
+  const GearTrain train = BuildGearTrain(spec);
+  const TrainMeshModel& mm = train.meshes[0];
+  const double ja = train.body_inertia[0], jb = train.body_inertia[1];
+  const double ra = mm.geometry.pinion.base, rb = mm.geometry.wheel.base;
+  const double me = ja * jb / (ja * rb * rb + jb * ra * ra);
+  WhineOptions options;
+  options.speeds = 50;
+  options.mesh_harmonics = 20;  // lines up to 46 kHz: the mode (8.7 kHz) is inside the range
+  const WhineResult r = RunWhine(spec, options);
+  REQUIRE(r.modes.size() == 1);
+  // A 2 x 2 generalised eigenproblem: rounding.
+  CHECK(r.modes[0].frequency_hz ==
+        Approx(std::sqrt(mm.stiffness.mean / me) / (2.0 * std::numbers::pi)).epsilon(1e-10));
+  CHECK(r.modes[0].MeshEnergy() == Approx(1.0).epsilon(1e-10));
+  for (const WhineCriticalSpeed& c : r.critical_speeds) {
+    CHECK(c.speed_rad_s * r.lines[c.line].order ==
+          Approx(2.0 * std::numbers::pi * r.modes[0].frequency_hz).epsilon(1e-12));
+    CHECK(c.speed_rad_s >= r.speed_rad_s.front());
+    CHECK(c.speed_rad_s <= r.speed_rad_s.back());
+  }
+}
+
+TEST_CASE("whine: strain energy shares of an elastic train's modes are shares",
+          "[analysis][whine]") {
+  WhineOptions options;
+  options.tier = Tier::kTier3;
+  options.speeds = 5;
+  const WhineResult r = RunWhine(ElasticTwoStage(), options);
+  REQUIRE_FALSE(r.modes.empty());
+  for (const WhineMode& m : r.modes) {
+    double sum = m.MeshEnergy();
+    for (double e : m.bearing_energy) {
+      CHECK(e >= 0.0);
+      sum += e;
+    }
+    // Meshes and bearings hold part of phi^T K phi; the shafts and tilt springs the rest.
+    CHECK(sum <= 1.0 + 1e-12);
+  }
+  // Ranked by the modes' mesh strain energy, non-increasing.
+  for (size_t k = 1; k < r.critical_speeds.size(); ++k) {
+    CHECK(r.modes[r.critical_speeds[k].mode].MeshEnergy() <=
+          r.modes[r.critical_speeds[k - 1].mode].MeshEnergy());
+  }
+}
