@@ -60,6 +60,7 @@ HarmonicModel MeanModel(const GearTrain& train, const TrainStructure& structure,
     const TrainMeshModel& mm = train.meshes[i];
     const bool back = mm.back_flank_loaded;
     m.mesh_vectors.push_back(back ? reduced.v_back[i] : reduced.v_drive[i]);
+    m.te_vectors.push_back(reduced.v_drive[i]);
     m.mesh_stiffness.push_back(back ? CycleMeanStiffness(mm.segmentation, Flank::kBack)
                                     : mm.stiffness.mean);
     m.mesh_damping.push_back(structure.mesh_damping[i]);
@@ -216,7 +217,7 @@ void SolveSpeeds(const HarmonicModel& model, const std::vector<HarmonicInput>& i
       solver.Solve(w, inputs[l], out);
       if (r.housing) r.housing->acceleration_m_s2[l][s] = HousingResponse(curves, w, out);
       for (size_t i = 0; i < r.meshes.size(); ++i) {
-        r.meshes[i].te_amplitude_m[l][s] = std::abs(out.mesh_approach[i]);
+        r.meshes[i].te_amplitude_m[l][s] = std::abs(out.te[i]);
         r.meshes[i].force_amplitude_n[l][s] = std::abs(out.mesh_force[i]);
         r.meshes[i].force_amplitude_sum_n[s] += std::abs(out.mesh_force[i]);
       }

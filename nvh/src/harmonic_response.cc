@@ -21,6 +21,11 @@ void HarmonicModel::CheckSizes() const {
   for (const Eigen::VectorXd& v : mesh_vectors) {
     if (v.size() != n) throw std::invalid_argument("HarmonicModel.mesh_vectors must have n rows");
   }
+  if (te_vectors.size() != meshes)
+    throw std::invalid_argument("HarmonicModel.te_vectors: one per mesh vector");
+  for (const Eigen::VectorXd& t : te_vectors) {
+    if (t.size() != n) throw std::invalid_argument("HarmonicModel.te_vectors must have n rows");
+  }
   if (torque_direction.size() != n)
     throw std::invalid_argument("HarmonicModel.torque_direction must have n rows");
   if (bearing_stiffness.size() != bearing_damping.size())
@@ -71,12 +76,12 @@ void HarmonicSolver::Solve(double w, const HarmonicInput& input, HarmonicRespons
       rhs_ += (model_.mesh_stiffness[i] * input.mesh[i]) * model_.mesh_vectors[i];
   }
   q_ = lu_.solve(rhs_);
-  out.mesh_approach.resize(meshes);
+  out.te.resize(meshes);
   out.mesh_force.resize(meshes);
   for (size_t i = 0; i < meshes; ++i) {
     const std::complex<double> delta = model_.mesh_vectors[i].dot(q_);
     const std::complex<double> e = i < input.mesh.size() ? input.mesh[i] : 0.0;
-    out.mesh_approach[i] = delta;
+    out.te[i] = model_.te_vectors[i].dot(q_);
     out.mesh_force[i] =
         (model_.mesh_stiffness[i] + iw * model_.mesh_damping[i]) * delta - model_.mesh_stiffness[i] * e;
   }

@@ -79,7 +79,8 @@ struct WhineMesh {
   double mean_stiffness = 0.0;  // N/m, of the loaded flank
   double static_force = 0.0;    // N along the line of action
   bool back_flank_loaded = false;
-  // [line][speed]: amplitudes of the mesh approach (the dynamic TE, m) and of the mesh force (N).
+  // [line][speed]: amplitudes of the dynamic TE (the approach along the drive flank's line of
+  // action, as the time-domain solver's TE, m) and of the mesh force (N).
   std::vector<std::vector<double>> te_amplitude_m, force_amplitude_n;
   // [speed]: the sum of the force amplitudes over the lines, N, and whether it reaches the static
   // force (the force can then reach zero: contact may be lost).

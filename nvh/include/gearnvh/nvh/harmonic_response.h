@@ -10,7 +10,8 @@
 //   Z(w) Q = sum_i k_i v_i E_i + f T,   Z(w) = K + sum k_i v_i v_i^T - w^2 M
 //                                                + i w (C + W G + sum c_i v_i v_i^T),
 // the mesh force F_i = (k_i + i w c_i) v_i^T Q - k_i E_i (the time-domain solver's mesh force: its
-// damping acts on the approach, its error input through the stiffness), a bearing's force on the
+// damping acts on the approach, its error input through the stiffness), the mesh's TE t_i^T Q
+// (t_i the drive flank's vector, the solver's TE whichever flank is loaded), a bearing's force on the
 // housing (K_b + i w C_b) Q and a body's speed i w a_b^T Q (a_b: its running angle). Z is
 // nonsingular for w > 0 (the train's free rotation has mass), so every line is solved directly.
 #pragma once
@@ -24,6 +25,7 @@ namespace gearnvh {
 struct HarmonicModel {
   Eigen::MatrixXd M, C, G, K;  // the structure without the meshes; G per unit input speed
   std::vector<Eigen::VectorXd> mesh_vectors;        // v_i of the loaded flank
+  std::vector<Eigen::VectorXd> te_vectors;          // t_i, the drive flank's (one per mesh)
   std::vector<double> mesh_stiffness, mesh_damping;  // k_i (N/m), c_i (N s/m)
   Eigen::VectorXd torque_direction;                 // f: a unit torque on the input shaft
   // Per bearing: rows x, y, z of its force on the housing per unit q (stiffness and damping).
@@ -40,7 +42,7 @@ struct HarmonicInput {
 };
 
 struct HarmonicResponse {
-  std::vector<std::complex<double>> mesh_approach, mesh_force;  // per mesh, m and N
+  std::vector<std::complex<double>> te, mesh_force;  // per mesh, m and N
   std::vector<Eigen::Vector3cd> bearing_force;                  // per bearing, N
   std::vector<std::complex<double>> body_speed;                 // per body, rad/s
 };
