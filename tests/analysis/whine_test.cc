@@ -57,6 +57,20 @@ Complex MeshTransfer(const GearTrain& train, const TrainStructure& structure, do
   return k / (k - w * w * me + Complex(0.0, w * c));
 }
 
+// The elastic two-stage train made spur, at 10-20 rpm of its input: far below every lateral mode,
+// so its shafts are in static equilibrium; tier 3, the 1x mesh order of every mesh.
+std::pair<TrainSpec, WhineOptions> SpurTwoStageAtLowSpeed() {
+  TrainSpec spec = ElasticTwoStage();
+  for (TrainGear& g : spec.gears) g.gear.helix_angle = 0.0;
+  spec.operating.speed = 20.0 * testing::kRpm;
+  spec.analysis.speed_sweep = {10.0 * testing::kRpm, 20.0 * testing::kRpm, 2, AxisScale::kLinear};
+  WhineOptions options;
+  options.tier = Tier::kTier3;
+  options.speeds = 2;
+  options.mesh_harmonics = 1;
+  return {spec, options};
+}
+
 }  // namespace
 
 TEST_CASE("whine: a pair at tier 1 is the mesh transfer times its static input's harmonics",
@@ -162,15 +176,8 @@ TEST_CASE("whine: a rigid spur shaft on two bearings carries the mesh force by s
   //   k u + k (u + theta L) = F,   k (u + theta L) L + 2 k_t theta = F a,
   // so the bearings carry k u and k (u + theta L) (the lever rule 3/4 : 1/4, moved ~1e-3 by the
   // tilt springs). A wrong sign of a bearing's offset would swap the shares.
-  TrainSpec spec = ElasticTwoStage();
-  for (TrainGear& g : spec.gears) g.gear.helix_angle = 0.0;
+  auto [spec, options] = SpurTwoStageAtLowSpeed();
   spec.gears[0].at = 0.02;
-  spec.operating.speed = 20.0 * testing::kRpm;
-  spec.analysis.speed_sweep = {10.0 * testing::kRpm, 20.0 * testing::kRpm, 2, AxisScale::kLinear};
-  WhineOptions options;
-  options.tier = Tier::kTier3;
-  options.speeds = 2;
-  options.mesh_harmonics = 1;
   const WhineResult r = RunWhine(spec, options);
   const size_t line = LineAt(r, 20.0);
   std::vector<const WhineBearing*> input;
@@ -279,14 +286,7 @@ TEST_CASE("whine: the housing's response sums the bearings' forces with their ph
           "[analysis][whine]") {
   // The spur two-stage train at low speed: the input shaft's two bearings carry equal forces in
   // phase (statics), so transfers +H and -H on their x directions cancel, +H and +H double.
-  TrainSpec spec = ElasticTwoStage();
-  for (TrainGear& g : spec.gears) g.gear.helix_angle = 0.0;
-  spec.operating.speed = 20.0 * testing::kRpm;
-  spec.analysis.speed_sweep = {10.0 * testing::kRpm, 20.0 * testing::kRpm, 2, AxisScale::kLinear};
-  WhineOptions options;
-  options.tier = Tier::kTier3;
-  options.speeds = 2;
-  options.mesh_harmonics = 1;
+  const auto [spec, options] = SpurTwoStageAtLowSpeed();
   const Complex h(2e-3, -1e-3);
   const auto with = [&](const Complex& second, double f_low, double f_high) {
     HousingTransfer table{"table.csv",
