@@ -1,5 +1,7 @@
 #include "gearnvh/analysis/whine.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <exception>
@@ -7,8 +9,6 @@
 #include <numbers>
 #include <optional>
 #include <string>
-
-#include <fmt/format.h>
 
 #include "gearnvh/analysis/parallel_for.h"
 #include "gearnvh/model/gear_train.h"
@@ -381,8 +381,8 @@ WhineResult RunWhine(const TrainSpec& spec, const WhineOptions& options,
   std::vector<std::exception_ptr> failures(static_cast<size_t>(workers));
   ParallelFor(static_cast<size_t>(workers), workers, [&](size_t w) {
     try {
-      SolveSpeeds(model, inputs, curves, speeds * w / workers, speeds * (w + 1) / workers,
-                  options, counter, r);
+      SolveSpeeds(model, inputs, curves, speeds * w / workers, speeds * (w + 1) / workers, options,
+                  counter, r);
     } catch (...) {
       failures[w] = std::current_exception();
     }
@@ -395,9 +395,8 @@ WhineResult RunWhine(const TrainSpec& spec, const WhineOptions& options,
       m.contact_loss[s] =
           m.force_amplitude_sum_n[s] > 0.0 && m.force_amplitude_sum_n[s] >= m.static_force;
   }
-  const double top_hz = lines.empty() ? 0.0
-                                      : lines.back().order * r.speed_rad_s.back() /
-                                            (2.0 * std::numbers::pi);
+  const double top_hz =
+      lines.empty() ? 0.0 : lines.back().order * r.speed_rad_s.back() / (2.0 * std::numbers::pi);
   r.modes = Modes(model, structure, 1.25 * top_hz);
   r.critical_speeds = CriticalSpeeds(r);
   return r;

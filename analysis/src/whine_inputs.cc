@@ -1,10 +1,10 @@
 #include "whine_inputs.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-
-#include <fmt/format.h>
 
 namespace gearnvh::whine {
 namespace {
@@ -115,8 +115,7 @@ MeshInput MeshInputOf(const TrainSpec& spec, const GearTrain& train, size_t mesh
     in.tau_end.push_back(s.tau_end);
     const double k = mm.back_flank_loaded ? s.back.stiffness : s.drive.stiffness;
     const double deflection = k > 0.0 ? load / k : 0.0;
-    in.static_input.push_back(s.unloaded_error +
-                              (mm.back_flank_loaded ? -deflection : deflection));
+    in.static_input.push_back(s.unloaded_error + (mm.back_flank_loaded ? -deflection : deflection));
     in.pitch_weights.push_back(s.error_weights);
   }
   for (GearInput& g : in.gears) {
@@ -127,8 +126,7 @@ MeshInput MeshInputOf(const TrainSpec& spec, const GearTrain& train, size_t mesh
 
 std::complex<double> TorqueCoefficient(const TrainSpec& spec, const GearTrain& train,
                                        double order) {
-  const double inertia =
-      train.body_inertia[static_cast<size_t>(train.topology.input_body)];
+  const double inertia = train.body_inertia[static_cast<size_t>(train.topology.input_body)];
   std::complex<double> x = 0.0;
   for (const ExcitationOrder& e : spec.operating.excitation) {
     if (std::abs(e.order - order) <= 1e-9 * std::max(1.0, order))

@@ -96,8 +96,10 @@ HousingTransfer ReadHousingTable(const std::string& path) {
     c.frequency_hz.push_back(f);
     c.transfer.push_back(h);
   }
-  if (!header) throw InputError("header", line_number, path, std::string("must be ") + kHeader, path);
-  if (table.curves.empty()) throw InputError("row", line_number, path, "needs at least one row", path);
+  if (!header)
+    throw InputError("header", line_number, path, std::string("must be ") + kHeader, path);
+  if (table.curves.empty())
+    throw InputError("row", line_number, path, "needs at least one row", path);
   return table;
 }
 

@@ -44,7 +44,6 @@ std::vector<double> Rpm(const WhineResult& r) {
   return rpm;
 }
 
-
 // The largest value of `values` and the speed (rad/s) it is at.
 std::pair<double, double> Peak(const std::vector<double>& values, const WhineResult& r) {
   const auto it = std::max_element(values.begin(), values.end());
@@ -90,13 +89,14 @@ void PrintWhine(const WhineResult& r, const TrainSpec& spec, const std::string& 
     }
     const std::string flagged = FlaggedRanges(m, r, unit);
     if (!flagged.empty())
-      fmt::print("  may lose contact (sum of force amplitudes >= static force) at {} {}\n",
-                 flagged, unit.symbol);
+      fmt::print("  may lose contact (sum of force amplitudes >= static force) at {} {}\n", flagged,
+                 unit.symbol);
   }
   if (!r.critical_speeds.empty()) {
-    fmt::print("\n  critical speeds, ranked by the mode's strain energy in the meshes (mean model, "
-               "at rest)\n  {:>10} {:<8}{:>10}  {:<36}{:>10}\n",
-               unit.symbol, "mode", "Hz", "line", "meshes %");
+    fmt::print(
+        "\n  critical speeds, ranked by the mode's strain energy in the meshes (mean model, "
+        "at rest)\n  {:>10} {:<8}{:>10}  {:<36}{:>10}\n",
+        unit.symbol, "mode", "Hz", "line", "meshes %");
     for (size_t k = 0; k < std::min<size_t>(r.critical_speeds.size(), 12); ++k) {
       const WhineCriticalSpeed& c = r.critical_speeds[k];
       fmt::print("  {:>10} {:<8}{:>10.1f}  {:<36}{:>10.1f}\n",
@@ -120,9 +120,9 @@ void PrintWhine(const WhineResult& r, const TrainSpec& spec, const std::string& 
         fmt::print("  {:>10.6g}  {:<36}  outside the table's frequencies\n", r.lines[l].order,
                    r.lines[l].label);
       } else if (a[at] > 0.0) {
-        fmt::print("  {:>10.6g}  {:<36}{:>10.1f} dB at {} {}\n", r.lines[l].order,
-                   r.lines[l].label, 20.0 * std::log10(a[at] / 1e-6),
-                   Significant(r.speed_rad_s[at] * unit.per_si, 5), unit.symbol);
+        fmt::print("  {:>10.6g}  {:<36}{:>10.1f} dB at {} {}\n", r.lines[l].order, r.lines[l].label,
+                   20.0 * std::log10(a[at] / 1e-6), Significant(r.speed_rad_s[at] * unit.per_si, 5),
+                   unit.symbol);
       }
     }
   }
@@ -173,8 +173,8 @@ std::string WhineBearingsCsv(const WhineResult& r) {
   for (size_t s = 0; s < rpm.size(); ++s) {
     for (const WhineBearing& b : r.bearings) {
       for (size_t l = 0; l < r.lines.size(); ++l) {
-        os << rpm[s] << ',' << WhineBearingName(b) << ',' << b.at << ',' << r.lines[l].order << ",\""
-           << r.lines[l].label << '"';
+        os << rpm[s] << ',' << WhineBearingName(b) << ',' << b.at << ',' << r.lines[l].order
+           << ",\"" << r.lines[l].label << '"';
         for (int d = 0; d < 3; ++d) os << ',' << b.force_amplitude_n[l][static_cast<size_t>(d)][s];
         os << '\n';
       }
@@ -217,9 +217,8 @@ nlohmann::json ModesJson(const WhineResult& r) {
     for (size_t i = 0; i < r.meshes.size(); ++i) meshes[r.meshes[i].name] = m.mesh_energy[i];
     for (size_t b = 0; b < r.bearings.size(); ++b)
       bearings[WhineBearingName(r.bearings[b])] = m.bearing_energy[b];
-    modes.push_back({{"frequency_hz", m.frequency_hz},
-                     {"mesh_energy", meshes},
-                     {"bearing_energy", bearings}});
+    modes.push_back(
+        {{"frequency_hz", m.frequency_hz}, {"mesh_energy", meshes}, {"bearing_energy", bearings}});
   }
   return modes;
 }
@@ -248,8 +247,10 @@ std::string WhineHousingCsv(const WhineResult& r) {
     for (size_t l = 0; l < r.lines.size(); ++l) {
       const double a = r.housing->acceleration_m_s2[l][s];
       os << rpm[s] << ',' << r.lines[l].order << ",\"" << r.lines[l].label << "\",";
-      if (!std::isnan(a)) os << a << ',' << AccelerationDb(a);
-      else os << ',';
+      if (!std::isnan(a))
+        os << a << ',' << AccelerationDb(a);
+      else
+        os << ',';
       os << '\n';
     }
   }

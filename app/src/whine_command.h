@@ -21,7 +21,7 @@ struct WhineCommandOptions {
   int sidebands = 2;
   int jobs = 1;
   std::optional<std::string> out;
-  std::optional<std::string> uff;  // UFF dataset-58 file of every mesh's TE and force tracks
+  std::optional<std::string> uff;      // UFF dataset-58 file of every mesh's TE and force tracks
   std::optional<std::string> housing;  // the housing transfer table (housing_table.h)
   bool json = false;
 };

@@ -82,8 +82,8 @@ void HarmonicSolver::Solve(double w, const HarmonicInput& input, HarmonicRespons
     const std::complex<double> delta = model_.mesh_vectors[i].dot(q_);
     const std::complex<double> e = i < input.mesh.size() ? input.mesh[i] : 0.0;
     out.te[i] = model_.te_vectors[i].dot(q_);
-    out.mesh_force[i] =
-        (model_.mesh_stiffness[i] + iw * model_.mesh_damping[i]) * delta - model_.mesh_stiffness[i] * e;
+    out.mesh_force[i] = (model_.mesh_stiffness[i] + iw * model_.mesh_damping[i]) * delta -
+                        model_.mesh_stiffness[i] * e;
   }
   out.bearing_force.resize(model_.bearing_stiffness.size());
   for (size_t b = 0; b < model_.bearing_stiffness.size(); ++b) {

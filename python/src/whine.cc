@@ -1,5 +1,8 @@
 // gearnvh.whine on a gear pair or a gear train: the frequency-domain whine behind `gearnvh whine
-// FILE` (analysis/whine.h), its tracks as NumPy arrays and to_dict() giving the command line's JSON.
+// FILE` (analysis/whine.h), its tracks as NumPy arrays and to_dict() giving the command line's
+// JSON.
+#include "gearnvh/analysis/whine.h"
+
 #include <fmt/format.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -10,9 +13,8 @@
 
 #include "binding_support.h"
 #include "gearbox.h"
-#include "gearnvh/analysis/whine.h"
-#include "train_call.h"
 #include "housing_table.h"
+#include "train_call.h"
 #include "train_command_options.h"
 #include "whine_command.h"
 
@@ -73,7 +75,11 @@ std::shared_ptr<WhineRun> WhineOf(const Model& model, const py::object& tier, in
                                   const std::optional<std::string>& housing,
                                   const py::object& progress) {
   const WhineKeywords k{
-      TierText(tier), speeds, harmonics, sidebands, jobs,
+      TierText(tier),
+      speeds,
+      harmonics,
+      sidebands,
+      jobs,
       housing ? std::optional<HousingTransfer>(app::ReadHousingTable(*housing)) : std::nullopt};
   return RunOnModel(
       model,
@@ -99,11 +105,11 @@ constexpr const char* kWhineDoc =
 void BindWhine(py::module_& m) {
   py::class_<WhineRun, std::shared_ptr<WhineRun>>(
       m, "Whine", "Frequency-domain whine of a gearbox (gearnvh whine).")
-      .def_property_readonly("speeds_rpm",
-                             [](const WhineRun& w) {
-                               return py::array_t<double>(py::cast(w.doc["speeds_rpm"]
-                                                                       .get<std::vector<double>>()));
-                             })
+      .def_property_readonly(
+          "speeds_rpm",
+          [](const WhineRun& w) {
+            return py::array_t<double>(py::cast(w.doc["speeds_rpm"].get<std::vector<double>>()));
+          })
       .def_property_readonly(
           "orders",
           [](const WhineRun& w) {
@@ -112,13 +118,12 @@ void BindWhine(py::module_& m) {
             return py::array_t<double>(py::cast(orders));
           },
           "Each line's order of the input shaft.")
-      .def_property_readonly(
-          "labels",
-          [](const WhineRun& w) {
-            std::vector<std::string> labels;
-            for (const WhineLine& l : w.result.lines) labels.push_back(l.label);
-            return labels;
-          })
+      .def_property_readonly("labels",
+                             [](const WhineRun& w) {
+                               std::vector<std::string> labels;
+                               for (const WhineLine& l : w.result.lines) labels.push_back(l.label);
+                               return labels;
+                             })
       .def_property_readonly("meshes",
                              [](const WhineRun& w) {
                                std::vector<std::string> names;
@@ -131,7 +136,8 @@ void BindWhine(py::module_& m) {
           [](const WhineRun& w, const py::object& mesh) {
             return Matrix(w.result.meshes[w.MeshIndex(mesh)].te_amplitude_m);
           },
-          py::arg("mesh") = 0, "Lines x speeds: the dynamic TE amplitude of a mesh (name or index).")
+          py::arg("mesh") = 0,
+          "Lines x speeds: the dynamic TE amplitude of a mesh (name or index).")
       .def(
           "force_amplitude_n",
           [](const WhineRun& w, const py::object& mesh) {
@@ -149,19 +155,19 @@ void BindWhine(py::module_& m) {
           "to_dict", [](const WhineRun& w) { return ToPython(w.doc); },
           "The document `gearnvh whine --json` prints (bearing forces and shaft speeds too).")
       .def("__repr__", [](const WhineRun& w) {
-        return fmt::format("<gearnvh.Whine {}: {} meshes, {} lines, {} speeds, {} may lose contact>",
-                           TierName(w.result.tier), w.result.meshes.size(),
-                           w.result.lines.size(), w.result.speed_rad_s.size(),
-                           w.result.ContactLossSpeeds());
+        return fmt::format(
+            "<gearnvh.Whine {}: {} meshes, {} lines, {} speeds, {} may lose contact>",
+            TierName(w.result.tier), w.result.meshes.size(), w.result.lines.size(),
+            w.result.speed_rad_s.size(), w.result.ContactLossSpeeds());
       });
   m.def("whine", &WhineOf<Train>, py::arg("gearbox"), py::kw_only(), py::arg("tier") = py::none(),
         py::arg("speeds") = 2000, py::arg("harmonics") = 3, py::arg("sidebands") = 2,
         py::arg("jobs") = 1, py::arg("housing") = py::none(), py::arg("progress") = py::none(),
         kWhineDoc);
-  m.def("whine", &WhineOf<Gearbox>, py::arg("gearbox"), py::kw_only(),
-        py::arg("tier") = py::none(), py::arg("speeds") = 2000, py::arg("harmonics") = 3,
-        py::arg("sidebands") = 2, py::arg("jobs") = 1, py::arg("housing") = py::none(),
-        py::arg("progress") = py::none(), kWhineDoc);
+  m.def("whine", &WhineOf<Gearbox>, py::arg("gearbox"), py::kw_only(), py::arg("tier") = py::none(),
+        py::arg("speeds") = 2000, py::arg("harmonics") = 3, py::arg("sidebands") = 2,
+        py::arg("jobs") = 1, py::arg("housing") = py::none(), py::arg("progress") = py::none(),
+        kWhineDoc);
 }
 
 }  // namespace gearnvh::python

@@ -4,14 +4,13 @@
 // against a sampled spectrum of the solver's own error input.
 #include "gearnvh/analysis/whine.h"
 
-#include "gearnvh/analysis/train_operating_point.h"
-
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <complex>
 #include <numbers>
 
+#include "gearnvh/analysis/train_operating_point.h"
 #include "gearnvh/model/gear_train.h"
 #include "gearnvh/model/manufacturing_errors.h"
 #include "gearnvh/model/train_structure.h"
@@ -42,7 +41,8 @@ TrainSpec LoadedPair() {
   pair.operating.torque = 40.0;
   pair.operating.speed = 1200.0 * testing::kRpm;
   pair.analysis.segments_per_cycle = 20;
-  pair.analysis.speed_sweep = {600.0 * testing::kRpm, 6000.0 * testing::kRpm, 2, AxisScale::kLinear};
+  pair.analysis.speed_sweep = {600.0 * testing::kRpm, 6000.0 * testing::kRpm, 2,
+                               AxisScale::kLinear};
   return TrainOf(pair);
 }
 
@@ -207,8 +207,8 @@ TEST_CASE("whine: a rigid spur shaft on two bearings carries the mesh force by s
 TEST_CASE("whine: options are checked by name", "[analysis][whine]") {
   WhineOptions options;
   options.speeds = 1;
-  CHECK_THROWS_WITH(options.Validate(), Catch::Contains("--speeds") &&
-                                            Catch::Contains("from 2 to 100000"));
+  CHECK_THROWS_WITH(options.Validate(),
+                    Catch::Contains("--speeds") && Catch::Contains("from 2 to 100000"));
   options.speeds = 10;
   options.mesh_harmonics = 0;
   CHECK_THROWS_WITH(options.Validate(), Catch::Contains("--harmonics"));
@@ -271,7 +271,8 @@ TEST_CASE("whine: equals the exact time-domain solver on a mesh of constant stif
   const double largest = *std::max_element(expected.begin(), expected.end());
   for (size_t o = 0; o < orders.size(); ++o) {
     const double whine = r.meshes[0].te_amplitude_m[LineAt(r, orders[o])][0];
-    INFO("tier " << TierName(tier) << (reversed ? ", reversed" : "") << ", order " << orders[o] << ": whine " << whine << " m, time domain " << expected[o]);
+    INFO("tier " << TierName(tier) << (reversed ? ", reversed" : "") << ", order " << orders[o]
+                 << ": whine " << whine << " m, time domain " << expected[o]);
     // The time-domain solver holds the runout and the engine order at their means over each
     // segment of its grid (736 per revolution, periodic per mesh cycle): at their own order a
     // sinc loss ~3e-6, and images at the mesh orders +-1 ~1e-6 of them (the sidebands here are

@@ -68,9 +68,9 @@ TEST_CASE("whine on a train: --out writes the JSON and both CSV files, --uff the
   const TempDir dir;
   const auto out = dir.path() / "whine";
   const auto uff = dir.path() / "whine.uff";
-  const auto run = RunCommand(kExe + " whine --tier 3 --speeds 12 --out " + out.string() +
-                              " --uff " + uff.string() + " " + kExamples +
-                              "/two_stage_helical_reducer.yaml");
+  const auto run =
+      RunCommand(kExe + " whine --tier 3 --speeds 12 --out " + out.string() + " --uff " +
+                 uff.string() + " " + kExamples + "/two_stage_helical_reducer.yaml");
   INFO(run.err);
   REQUIRE(run.exit_code == 0);
   CHECK(run.out.find("mesh g1-g2") != std::string::npos);

@@ -127,11 +127,12 @@ TEST_CASE("harmonic response: equals an RK4 integration to the periodic steady s
         const double delta = m.mesh_vectors[i].dot(q);
         const double e = (input.mesh[i] * std::exp(Complex(0.0, omega * t))).real();
         approach[i] += m.te_vectors[i].dot(q) * phase;
-        mesh_force[i] += (m.mesh_stiffness[i] * (delta - e) +
-                          m.mesh_damping[i] * m.mesh_vectors[i].dot(qd)) * phase;
+        mesh_force[i] +=
+            (m.mesh_stiffness[i] * (delta - e) + m.mesh_damping[i] * m.mesh_vectors[i].dot(qd)) *
+            phase;
       }
-      bearing_x += (m.bearing_stiffness[0].row(0).dot(q) + m.bearing_damping[0].row(0).dot(qd)) *
-                   phase;
+      bearing_x +=
+          (m.bearing_stiffness[0].row(0).dot(q) + m.bearing_damping[0].row(0).dot(qd)) * phase;
       body_speed += m.body_angles.row(0).dot(qd) * phase;
     }
     const Eigen::Matrix<double, 8, 1> k1 = rate(t, y), k2 = rate(t + h / 2, y + h / 2 * k1),

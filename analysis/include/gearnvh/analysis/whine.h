@@ -3,8 +3,8 @@
 // at its mean stiffness on its loaded flank, to its harmonic inputs over the speeds of
 // analysis.speed_sweep (harmonic_response.h). The inputs, each exact as a Fourier coefficient:
 //   - each mesh's loaded static transmission error as the solver integrates it (per segment the
-//     static solution of k_j (delta - e_j) = F: the LSTE and the user's STE at their segment means),
-//     at mesh orders k;
+//     static solution of k_j (delta - e_j) = F: the LSTE and the user's STE at their segment
+//     means), at mesh orders k;
 //   - runout a sin(w_g t + phi) of a gear at 1x its shaft's order;
 //   - pitch errors (piecewise constant over a revolution of the gear, the solver's pair weights) at
 //     every multiple n of the gear's shaft order;
@@ -21,8 +21,8 @@
 #include <array>
 #include <atomic>
 #include <complex>
-#include <optional>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,12 +37,12 @@ namespace gearnvh {
 // force on the housing, (m/s^2)/N, over frequency (interpolated linearly in its real and imaginary
 // parts; a line outside a curve's range has no response).
 struct HousingCurve {
-  std::string shaft;     // the bearing's shaft
-  int bearing = -1;      // its index in the shaft's bearings; -1: the default support
-  int direction = 0;     // 0 x, 1 y, 2 z
-  std::vector<double> frequency_hz;                // strictly ascending, >= 0
-  std::vector<std::complex<double>> transfer;      // (m/s^2)/N
-  int line = 0;  // where the curve starts in its table (messages)
+  std::string shaft;                 // the bearing's shaft
+  int bearing = -1;                  // its index in the shaft's bearings; -1: the default support
+  int direction = 0;                 // 0 x, 1 y, 2 z
+  std::vector<double> frequency_hz;  // strictly ascending, >= 0
+  std::vector<std::complex<double>> transfer;  // (m/s^2)/N
+  int line = 0;                                // where the curve starts in its table (messages)
 };
 struct HousingTransfer {
   std::string source;  // the table's file (messages)
@@ -51,10 +51,10 @@ struct HousingTransfer {
 
 struct WhineOptions {
   Tier tier = Tier::kTier1;
-  int speeds = 2000;         // speeds over analysis.speed_sweep's range and scale, 2..100000
-  int mesh_harmonics = 3;    // mesh orders 1..mesh_harmonics of every mesh, 1..20
-  int sideband_orders = 2;   // pitch-error lines +-1..sideband_orders shaft orders, 0..10
-  int threads = 1;           // 0: all hardware threads
+  int speeds = 2000;        // speeds over analysis.speed_sweep's range and scale, 2..100000
+  int mesh_harmonics = 3;   // mesh orders 1..mesh_harmonics of every mesh, 1..20
+  int sideband_orders = 2;  // pitch-error lines +-1..sideband_orders shaft orders, 0..10
+  int threads = 1;          // 0: all hardware threads
   // Cancellation: once set, RunWhine throws Cancelled. Not owned; may be null.
   const std::atomic<bool>* cancel = nullptr;
   // The response at one point of the housing, summed over the bearings with phase (none: the

@@ -11,8 +11,8 @@
 //                                                + i w (C + W G + sum c_i v_i v_i^T),
 // the mesh force F_i = (k_i + i w c_i) v_i^T Q - k_i E_i (the time-domain solver's mesh force: its
 // damping acts on the approach, its error input through the stiffness), the mesh's TE t_i^T Q
-// (t_i the drive flank's vector, the solver's TE whichever flank is loaded), a bearing's force on the
-// housing (K_b + i w C_b) Q and a body's speed i w a_b^T Q (a_b: its running angle). Z is
+// (t_i the drive flank's vector, the solver's TE whichever flank is loaded), a bearing's force on
+// the housing (K_b + i w C_b) Q and a body's speed i w a_b^T Q (a_b: its running angle). Z is
 // nonsingular for w > 0 (the train's free rotation has mass), so every line is solved directly.
 #pragma once
 
@@ -24,10 +24,10 @@ namespace gearnvh {
 
 struct HarmonicModel {
   Eigen::MatrixXd M, C, G, K;  // the structure without the meshes; G per unit input speed
-  std::vector<Eigen::VectorXd> mesh_vectors;        // v_i of the loaded flank
-  std::vector<Eigen::VectorXd> te_vectors;          // t_i, the drive flank's (one per mesh)
+  std::vector<Eigen::VectorXd> mesh_vectors;         // v_i of the loaded flank
+  std::vector<Eigen::VectorXd> te_vectors;           // t_i, the drive flank's (one per mesh)
   std::vector<double> mesh_stiffness, mesh_damping;  // k_i (N/m), c_i (N s/m)
-  Eigen::VectorXd torque_direction;                 // f: a unit torque on the input shaft
+  Eigen::VectorXd torque_direction;                  // f: a unit torque on the input shaft
   // Per bearing: rows x, y, z of its force on the housing per unit q (stiffness and damping).
   std::vector<Eigen::MatrixXd> bearing_stiffness, bearing_damping;
   Eigen::MatrixXd body_angles;  // rows: each body's running angle a_b^T
@@ -43,8 +43,8 @@ struct HarmonicInput {
 
 struct HarmonicResponse {
   std::vector<std::complex<double>> te, mesh_force;  // per mesh, m and N
-  std::vector<Eigen::Vector3cd> bearing_force;                  // per bearing, N
-  std::vector<std::complex<double>> body_speed;                 // per body, rad/s
+  std::vector<Eigen::Vector3cd> bearing_force;       // per bearing, N
+  std::vector<std::complex<double>> body_speed;      // per body, rad/s
 };
 
 // Solves lines at one input speed. Not thread-safe; one per thread.
