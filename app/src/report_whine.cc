@@ -58,6 +58,31 @@ render::LinePlot BearingFigure(const WhineResult& r, const std::string& referenc
   return p;
 }
 
+// The waterfall of mesh `mesh` drawn from the lines: per speed a row of bins `step` orders apart,
+// each line's TE amplitude in its nearest bin (the largest when two share one), the bins between
+// lines at the figure's floor (1e-300 m: 60 dB under the strongest line once drawn).
+struct LineWaterfall {
+  std::vector<std::vector<double>> rows;
+  WaterfallView view;
+  int bins = 0;
+};
+LineWaterfall WaterfallOf(const WhineResult& r, size_t mesh, double step) {
+  LineWaterfall w;
+  w.bins = static_cast<int>(std::ceil(1.05 * r.lines.back().order / step)) + 1;
+  w.rows.assign(r.speed_rad_s.size(), std::vector<double>(static_cast<size_t>(w.bins), 1e-300));
+  for (size_t l = 0; l < r.lines.size(); ++l) {
+    const auto bin = static_cast<size_t>(std::lround(r.lines[l].order / step));
+    for (size_t s = 0; s < r.speed_rad_s.size(); ++s)
+      w.rows[s][bin] = std::max(w.rows[s][bin], r.meshes[mesh].te_amplitude_m[l][s]);
+  }
+  w.view.order_step = step;
+  for (size_t s = 0; s < r.speed_rad_s.size(); ++s) {
+    w.view.speed_rpm.push_back(r.speed_rad_s[s] * kRpmPerRadS);
+    w.view.rows.push_back(&w.rows[s]);
+  }
+  return w;
+}
+
 // The page's table: per mesh its 1x and 2x mesh orders' peak TE and force, and the speeds where
 // it may lose contact.
 std::string Section(const WhineResult& r, const std::vector<double>& mesh_orders) {
@@ -126,6 +151,20 @@ WhineReport BuildWhineReport(const TrainSpec& spec, Tier tier, int threads,
                                                "mesh order",
                                                reference, DashedColours::kAsSolid),
                               image, (folder / "whine_te.png").string()));
+  // Bins a quarter order apart, finer when the lowest line is below 1 order.
+  const double step = std::min(0.25, 0.5 * r.lines.front().order);
+  for (size_t i = 0; i < r.meshes.size(); ++i) {
+    const LineWaterfall w = WaterfallOf(r, i, step);
+    const std::string name = fmt::format("whine_waterfall_{}.png", i + 1);
+    draw(name,
+         fmt::format("Whine waterfall of mesh {}: its TE amplitude at every line (input orders) "
+                     "against the input speed, dB re 1 µm, floored 60 dB under its strongest "
+                     "line (whine_meshes.csv).",
+                     r.meshes[i].name),
+         render::RenderHeatMap(WaterfallFigure(w.view, w.bins, r.speed_scale, reference,
+                                               "Whine waterfall: TE of mesh " + r.meshes[i].name),
+                               image, (folder / name).string()));
+  }
   if (!r.bearings.empty()) {
     draw("whine_bearings.png",
          "Whine: each bearing's dynamic force on the housing, the RMS of its force vector over "

@@ -81,10 +81,11 @@ TEST_CASE("report: a batch with a malformed file completes the good gearbox and 
   const fs::path g = out / "idle-rattle";
   const std::string page = ReadWholeFile(g / "index.html");
   const auto images = ImageSources(page);
-  // TE, spectrum, sideband stems, phase, Campbell, order tracks, waterfall, whine, tiers, 3 mesh,
-  // 2 atlas
-  CHECK(images.size() == 14);
+  // TE, spectrum, sideband stems, phase, Campbell, order tracks, waterfall, whine tracks and
+  // waterfall, tiers, 3 mesh, 2 atlas
+  CHECK(images.size() == 15);
   CHECK(std::count(images.begin(), images.end(), "whine_te.png") == 1);
+  CHECK(std::count(images.begin(), images.end(), "whine_waterfall_1.png") == 1);
   for (const std::string& src : images) {
     INFO(src);
     const render::RgbImage img = render::ReadPng((g / src).string());
@@ -314,10 +315,11 @@ TEST_CASE("report: a gear train gets its page and figures, next to a pair and pa
   CHECK(page.find("Loose gears by impact energy") != std::string::npos);
   CHECK(page.find("TE spectrum lines per mesh") != std::string::npos);
   CHECK(page.find("l5-o5") != std::string::npos);
-  // Campbell, per-mesh TE RMS and impacts, order tracks, whine, a waterfall per mesh, loose
-  // gears: drawn, with a title and data.
+  // Campbell, per-mesh TE RMS and impacts, order tracks, whine tracks, a waterfall and a whine
+  // waterfall per mesh, loose gears: drawn, with a title and data.
   const auto images = ImageSources(page);
-  CHECK(images.size() == 5 + 1 + 6);
+  CHECK(images.size() == 5 + 1 + 2 * 6);
+  CHECK(std::count(images.begin(), images.end(), "whine_waterfall_6.png") == 1);
   CHECK(std::count(images.begin(), images.end(), "whine_te.png") == 1);
   CHECK(std::count(images.begin(), images.end(), "waterfall_6.png") == 1);
   for (const std::string& src : images) {
