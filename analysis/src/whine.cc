@@ -158,7 +158,8 @@ std::string BearingText(const std::string& shaft, int index) {
 std::vector<ResolvedCurve> ResolveHousing(const HousingTransfer& housing, const WhineResult& r) {
   if (r.bearings.empty()) {
     throw InputError("housing", 0, housing.source,
-                     "needs bearing forces: tier 2 or higher (tier 1 has no lateral DOF)");
+                     "needs bearing forces: tier 2 or higher (tier 1 has no lateral DOF)",
+                     housing.source);
   }
   std::vector<ResolvedCurve> curves;
   for (const HousingCurve& c : housing.curves) {
@@ -236,7 +237,7 @@ void SolveSpeeds(const HarmonicModel& model, const std::vector<HarmonicInput>& i
 // The mean model's modes below `limit_hz` (undamped, no gyroscopics) with their strain energy
 // shares, ascending; the train's free rotation (zero stiffness energy) is left out.
 std::vector<WhineMode> Modes(const HarmonicModel& model, const TrainStructure& structure,
-                             double limit_hz) {
+                             const TrainReducedModel& reduced, double limit_hz) {
   Eigen::MatrixXd k = model.K;
   for (size_t i = 0; i < model.mesh_vectors.size(); ++i)
     k += model.mesh_stiffness[i] * model.mesh_vectors[i] * model.mesh_vectors[i].transpose();
@@ -266,6 +267,11 @@ std::vector<WhineMode> Modes(const HarmonicModel& model, const TrainStructure& s
         // Row d of the bearing's stiffness rows is k_d times its point's motion.
         const double force = model.bearing_stiffness[b].row(d).dot(phi);
         if (springs[d] > 0.0) e += force * force / springs[d];
+      }
+      // Its tilt springs on the node's rotations about x and y (an offset does not turn them).
+      for (NodeDof d : {kThx, kThy}) {
+        const double tilt = reduced.recovery.row(TrainStructure::Dof(sb.node, d)).dot(phi);
+        e += sb.tilt_stiffness * tilt * tilt;
       }
       m.bearing_energy.push_back(e / total);
     }
@@ -397,7 +403,7 @@ WhineResult RunWhine(const TrainSpec& spec, const WhineOptions& options,
   }
   const double top_hz =
       lines.empty() ? 0.0 : lines.back().order * r.speed_rad_s.back() / (2.0 * std::numbers::pi);
-  r.modes = Modes(model, structure, 1.25 * top_hz);
+  r.modes = Modes(model, structure, reduced, 1.25 * top_hz);
   r.critical_speeds = CriticalSpeeds(r);
   return r;
 }

@@ -145,7 +145,7 @@ std::vector<WhineLine> Lines(const TrainSpec& spec, const GearTrain& train,
     }
   }
   for (const ExcitationOrder& e : spec.operating.excitation) {
-    AddLine(lines, e.order, WhineLineKind::kExcitation, fmt::format("excitation {:g}", e.order));
+    AddLine(lines, e.order, WhineLineKind::kExcitation, fmt::format("excitation {:g}x", e.order));
   }
   for (size_t i = 0; i < inputs.size(); ++i) {
     for (const GearInput& g : inputs[i].gears) {

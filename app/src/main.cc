@@ -269,7 +269,8 @@ int Main(int argc, char** argv) {
   CheckRange(whine_cmd->add_option("--jobs", whine.jobs, "Threads (default 1; 0: all cores)"), 0,
              1024);
   whine_cmd->add_option("--out", whine.out,
-                        "Write whine.json, whine_meshes.csv and whine_bearings.csv");
+                        "Write whine.json, whine_meshes.csv, whine_bearings.csv and (with "
+                        "--housing) whine_housing.csv");
   whine_cmd->add_option("--housing", whine.housing,
                         "Housing transfer table (CSV: frequency_hz,bearing,direction,real,imag): "
                         "the acceleration at its point per line, summed over the bearings");

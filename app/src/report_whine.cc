@@ -151,8 +151,10 @@ WhineReport BuildWhineReport(const TrainSpec& spec, Tier tier, int threads,
                                                "mesh order",
                                                reference, DashedColours::kAsSolid),
                               image, (folder / "whine_te.png").string()));
-  // Bins a quarter order apart, finer when the lowest line is below 1 order.
-  const double step = std::min(0.25, 0.5 * r.lines.front().order);
+  // Bins a quarter order apart, finer when the lowest line is below half an order, but at most
+  // 4000 bins (an image is not finer).
+  const double step =
+      std::max(std::min(0.25, 0.5 * r.lines.front().order), r.lines.back().order / 4000.0);
   for (size_t i = 0; i < r.meshes.size(); ++i) {
     const LineWaterfall w = WaterfallOf(r, i, step);
     const std::string name = fmt::format("whine_waterfall_{}.png", i + 1);

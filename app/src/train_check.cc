@@ -120,7 +120,8 @@ TrainCheck BuildTrainCheck(const TrainSpec& spec, const std::atomic<bool>* cance
   for (const TrainReducedModel& r : c.tiers) {
     if (r.tier == c.campbell_tier) analysis = &r;
   }
-  // Every mode below 3x the highest mesh frequency of the sweep is tracked.
+  // Every mode below 3x the highest order line's frequency at the sweep's top speed is tracked (a
+  // mesh's 3x, or an excitation order above it).
   const SweepRange& sweep = spec.analysis.speed_sweep;
   std::vector<double> speeds;
   for (int i = 0; i < sweep.points; ++i) {

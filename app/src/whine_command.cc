@@ -108,8 +108,10 @@ void PrintWhine(const WhineResult& r, const TrainSpec& spec, const std::string& 
       fmt::print("  ... {} more in the JSON\n", r.critical_speeds.size() - 12);
   }
   if (r.housing) {
-    fmt::print("\n  housing point ({}): peak acceleration over the speeds, dB re 1e-6 m/s²\n",
-               r.housing->source);
+    fmt::print(
+        "\n  housing point ({}): peak acceleration over the speeds the table covers, dB re "
+        "1e-6 m/s²\n",
+        r.housing->source);
     for (size_t l = 0; l < r.lines.size(); ++l) {
       const std::vector<double>& a = r.housing->acceleration_m_s2[l];
       size_t at = a.size();
@@ -123,6 +125,9 @@ void PrintWhine(const WhineResult& r, const TrainSpec& spec, const std::string& 
         fmt::print("  {:>10.6g}  {:<36}{:>10.1f} dB at {} {}\n", r.lines[l].order, r.lines[l].label,
                    20.0 * std::log10(a[at] / 1e-6), Significant(r.speed_rad_s[at] * unit.per_si, 5),
                    unit.symbol);
+      } else {
+        fmt::print("  {:>10.6g}  {:<36}  no response (its curves carry no force)\n",
+                   r.lines[l].order, r.lines[l].label);
       }
     }
   }
@@ -192,8 +197,9 @@ double AccelerationDb(double a) { return 20.0 * std::log10(a / 1e-6); }
 nlohmann::json OrNull(const std::vector<double>& values, bool db) {
   nlohmann::json out = nlohmann::json::array();
   for (double v : values) {
-    out.push_back(std::isnan(v) ? nlohmann::json(nullptr)
-                                : nlohmann::json(db ? AccelerationDb(v) : v));
+    // No level for no response (outside the table: NaN; a curve carrying no force: 0).
+    const bool none = std::isnan(v) || (db && !(v > 0.0));
+    out.push_back(none ? nlohmann::json(nullptr) : nlohmann::json(db ? AccelerationDb(v) : v));
   }
   return out;
 }
@@ -229,7 +235,7 @@ nlohmann::json CriticalSpeedsJson(const WhineResult& r) {
     out.push_back({{"speed_rpm", c.speed_rad_s * kRpmPerRadS},
                    {"order", r.lines[c.line].order},
                    {"line", r.lines[c.line].label},
-                   {"mode", c.mode},
+                   {"mode", c.mode + 1},
                    {"frequency_hz", r.modes[c.mode].frequency_hz},
                    {"mesh_energy", r.modes[c.mode].MeshEnergy()}});
   }
@@ -247,10 +253,12 @@ std::string WhineHousingCsv(const WhineResult& r) {
     for (size_t l = 0; l < r.lines.size(); ++l) {
       const double a = r.housing->acceleration_m_s2[l][s];
       os << rpm[s] << ',' << r.lines[l].order << ",\"" << r.lines[l].label << "\",";
-      if (!std::isnan(a))
-        os << a << ',' << AccelerationDb(a);
-      else
+      if (std::isnan(a)) {
         os << ',';
+      } else {
+        os << a << ',';
+        if (a > 0.0) os << AccelerationDb(a);
+      }
       os << '\n';
     }
   }

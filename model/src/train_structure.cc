@@ -91,7 +91,8 @@ TrainStructure AssembleTrainStructure(const TrainSpec& spec, const GearTrain& tr
         const BearingSpec& bearing = shaft.elastic->bearings[b];
         s.bearings.push_back({id, static_cast<int>(b), bearing.at,
                               detail::NearestNode(s.nodes, id, bearing.at), 0.0,
-                              bearing.radial_stiffness, bearing.axial_stiffness, bearing.damping});
+                              bearing.radial_stiffness, bearing.axial_stiffness, bearing.damping,
+                              bearing.tilt_stiffness});
       }
       continue;
     }
@@ -111,14 +112,16 @@ TrainStructure AssembleTrainStructure(const TrainSpec& spec, const GearTrain& tr
       as.AddSupport(node, opt.rigid_radial_stiffness, opt.rigid_axial_stiffness,
                     opt.rigid_tilt_stiffness, opt.rigid_damping);
       s.bearings.push_back({id, -1, 0.0, node, 0.0, opt.rigid_radial_stiffness,
-                            opt.rigid_axial_stiffness, opt.rigid_damping});
+                            opt.rigid_axial_stiffness, opt.rigid_damping,
+                            opt.rigid_tilt_stiffness});
     }
     for (size_t b = 0; b < shaft.bearings.size(); ++b) {
       const BearingSpec& bearing = shaft.bearings[b];
       as.AddSupportAt(node, bearing.at, bearing.radial_stiffness, bearing.axial_stiffness,
                       bearing.tilt_stiffness, bearing.damping);
       s.bearings.push_back({id, static_cast<int>(b), bearing.at, node, bearing.at,
-                            bearing.radial_stiffness, bearing.axial_stiffness, bearing.damping});
+                            bearing.radial_stiffness, bearing.axial_stiffness, bearing.damping,
+                            bearing.tilt_stiffness});
     }
   }
   // Loose gears: a node each, on its bearing at its position on the shaft (the shaft points are

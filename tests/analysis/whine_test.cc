@@ -248,6 +248,7 @@ TEST_CASE("whine: equals the exact time-domain solver on a mesh of constant stif
   run.histories = true;
   const TrainOperatingPoint op = RunTrainOperatingPoint(spec, run);
   REQUIRE(op.ok());
+  REQUIRE(op.train.meshes[0].back_flank_loaded == reversed);
   REQUIRE(op.stats.meshes[0].free_time_fraction == 0.0);  // in contact throughout
   const std::vector<double>& te = op.histories.te[0];
   const size_t window = static_cast<size_t>(23 * 4 * 256);  // the last 4 revolutions
@@ -372,12 +373,30 @@ TEST_CASE("whine: strain energy shares of an elastic train's modes are shares",
       CHECK(e >= 0.0);
       sum += e;
     }
-    // Meshes and bearings hold part of phi^T K phi; the shafts and tilt springs the rest.
+    // Meshes and bearings hold part of phi^T K phi; the elastic shafts the rest.
     CHECK(sum <= 1.0 + 1e-12);
   }
   // Ranked by the modes' mesh strain energy, non-increasing.
   for (size_t k = 1; k < r.critical_speeds.size(); ++k) {
     CHECK(r.modes[r.critical_speeds[k].mode].MeshEnergy() <=
           r.modes[r.critical_speeds[k - 1].mode].MeshEnergy());
+  }
+}
+
+TEST_CASE("whine: on rigid shafts the meshes and bearings hold all of a mode's strain energy",
+          "[analysis][whine]") {
+  // Rigid shafts on their default supports (radial, axial and tilt springs) and two meshes: there
+  // is no other spring, so the shares of every mode add up to 1 (rounding of the eigenvectors).
+  WhineOptions options;
+  options.tier = Tier::kTier3;
+  options.speeds = 3;
+  options.mesh_harmonics = 20;
+  const WhineResult r = RunWhine(testing::TwoStageTrain(150.0, 0.0, 600.0), options);
+  REQUIRE(r.modes.size() >= 3);
+  REQUIRE(r.bearings.size() == 3);  // one support per shaft
+  for (const WhineMode& m : r.modes) {
+    double sum = m.MeshEnergy();
+    for (double e : m.bearing_energy) sum += e;
+    CHECK(sum == Approx(1.0).epsilon(1e-9));
   }
 }

@@ -168,7 +168,9 @@ TEST_CASE("whine --housing reads a transfer table and names its errors by file a
             "1,shaft9.bearings[0],x,1,0\n",
             "housing.csv:2: bearing"},
         Bad{"frequency_hz,bearing,direction,real,imag\n0,input.bearings[0],x,abc,0\n",
-            "housing.csv:2: real"}}) {
+            "housing.csv:2: real"},
+        Bad{"frequency_hz,bearing,direction,real,imag\n0,input.bearings[99999999999],x,1,0\n",
+            "housing.csv:2: bearing"}}) {
     const auto bad_table = dir.Write("housing.csv", bad.text);
     const auto refused = RunCommand(kExe + " whine --tier 3 --speeds 2 --housing " +
                                     bad_table.string() + " " + reducer);
@@ -176,6 +178,31 @@ TEST_CASE("whine --housing reads a transfer table and names its errors by file a
     CHECK(refused.exit_code == 1);
     CHECK(refused.err.find(bad.expected) != std::string::npos);
   }
+}
+
+TEST_CASE("whine --housing takes a spreadsheet's export and a curve that carries no force",
+          "[cli][whine]") {
+  // A byte-order mark, quoted cells, spaces after the commas and an underflowing number are read;
+  // at tier 2 a z curve carries no force (no axial DOF): a response of 0, with no dB level.
+  const TempDir dir;
+  const auto table =
+      dir.Write("export.csv",
+                "\xEF\xBB\xBF\"frequency_hz\", \"bearing\", \"direction\", \"real\", "
+                "\"imag\"\r\n"
+                "0, \"input.bearings[0]\", z, 1e-3, 1e-320\r\n"
+                "10000, \"input.bearings[0]\", z, 1e-3, 0\r\n");
+  const auto run = RunCommand(kExe + " whine --tier 2 --speeds 3 --json --housing " +
+                              table.string() + " " + kExamples + "/two_stage_helical_reducer.yaml");
+  INFO(run.err);
+  REQUIRE(run.exit_code == 0);
+  const auto doc = nlohmann::json::parse(run.out);
+  const auto& first = doc["housing"]["orders"][0];
+  CHECK(first["acceleration_m_s2"][0].get<double>() == 0.0);
+  CHECK(first["db_re_1e-6_m_s2"][0].is_null());
+  const auto text = RunCommand(kExe + " whine --tier 2 --speeds 3 --housing " + table.string() +
+                               " " + kExamples + "/two_stage_helical_reducer.yaml");
+  CHECK(text.exit_code == 0);
+  CHECK(text.out.find("no response (its curves carry no force)") != std::string::npos);
 }
 
 }  // namespace

@@ -71,7 +71,7 @@ enum class WhineLineKind { kMeshOrder, kSideband, kShaftOrder, kExcitation };
 struct WhineLine {
   double order = 0.0;  // multiples of the input shaft's speed
   WhineLineKind kind = WhineLineKind::kMeshOrder;
-  std::string label;  // "1x mesh g1-g2", "1x mesh g1-g2 - 1x g1", "1x g1", "excitation 2"
+  std::string label;  // "1x mesh g1-g2", "1x mesh g1-g2 - 1x g1", "1x g1", "excitation 2x"
 };
 
 struct WhineMesh {

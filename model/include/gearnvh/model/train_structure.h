@@ -62,6 +62,7 @@ struct StructureBearing {
   int node = 0;
   double offset = 0.0;  // m
   double radial_stiffness = 0.0, axial_stiffness = 0.0, damping = 0.0;  // N/m, N/m, N s/m
+  double tilt_stiffness = 0.0;                                          // N m/rad
 };
 
 struct TrainStructure {
