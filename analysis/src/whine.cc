@@ -18,6 +18,7 @@
 #include "gearnvh/reduction/train_reduction.h"
 #include "gearnvh/solver/solver_options.h"
 #include "whine_inputs.h"
+#include "whine_parts.h"
 
 namespace gearnvh {
 namespace {
@@ -145,67 +146,9 @@ std::vector<std::string> Warnings(const TrainSpec& spec, const GearTrain& train,
   return w;
 }
 
-// A housing curve and the result's bearing it belongs to.
-struct ResolvedCurve {
-  const HousingCurve* curve = nullptr;
-  size_t bearing = 0;
-};
-
-std::string BearingText(const std::string& shaft, int index) {
-  return index >= 0 ? fmt::format("{}.bearings[{}]", shaft, index) : shaft + " support";
-}
-
-std::vector<ResolvedCurve> ResolveHousing(const HousingTransfer& housing, const WhineResult& r) {
-  if (r.bearings.empty()) {
-    throw InputError("housing", 0, housing.source,
-                     "needs bearing forces: tier 2 or higher (tier 1 has no lateral DOF)",
-                     housing.source);
-  }
-  std::vector<ResolvedCurve> curves;
-  for (const HousingCurve& c : housing.curves) {
-    size_t b = 0;
-    while (b < r.bearings.size() &&
-           !(r.bearings[b].shaft == c.shaft && r.bearings[b].index == c.bearing))
-      ++b;
-    if (b == r.bearings.size()) {
-      std::string names;
-      for (const WhineBearing& w : r.bearings)
-        names += (names.empty() ? "" : ", ") + BearingText(w.shaft, w.index);
-      throw InputError("bearing", c.line, BearingText(c.shaft, c.bearing),
-                       "must be a bearing of the gearbox: " + names, housing.source);
-    }
-    curves.push_back({&c, b});
-  }
-  return curves;
-}
-
-// The curve's transfer at `f` Hz, linear in its real and imaginary parts between its points;
-// none outside its range.
-std::optional<std::complex<double>> TransferAt(const HousingCurve& c, double f) {
-  const std::vector<double>& x = c.frequency_hz;
-  if (x.empty() || f < x.front() || f > x.back()) return std::nullopt;
-  const size_t hi = static_cast<size_t>(std::lower_bound(x.begin(), x.end(), f) - x.begin());
-  if (x[hi] == f) return c.transfer[hi];
-  const double t = (f - x[hi - 1]) / (x[hi] - x[hi - 1]);
-  return (1.0 - t) * c.transfer[hi - 1] + t * c.transfer[hi];
-}
-
-// The acceleration at the housing's point: the curves times their bearings' forces, summed.
-double HousingResponse(const std::vector<ResolvedCurve>& curves, double w,
-                       const HarmonicResponse& out) {
-  std::complex<double> sum = 0.0;
-  for (const ResolvedCurve& c : curves) {
-    const std::optional<std::complex<double>> t =
-        TransferAt(*c.curve, w / (2.0 * std::numbers::pi));
-    if (!t) return std::numeric_limits<double>::quiet_NaN();
-    sum += *t * out.bearing_force[c.bearing][c.curve->direction];
-  }
-  return std::abs(sum);
-}
-
 // Solves speeds [first, last) into `r`.
 void SolveSpeeds(const HarmonicModel& model, const std::vector<HarmonicInput>& inputs,
-                 const std::vector<ResolvedCurve>& curves, size_t first, size_t last,
+                 const std::vector<whine::ResolvedCurve>& curves, size_t first, size_t last,
                  const WhineOptions& options, SweepProgressCounter& progress, WhineResult& r) {
   HarmonicSolver solver(model);
   HarmonicResponse out;
@@ -216,7 +159,7 @@ void SolveSpeeds(const HarmonicModel& model, const std::vector<HarmonicInput>& i
     for (size_t l = 0; l < r.lines.size(); ++l) {
       const double w = r.lines[l].order * speed;
       solver.Solve(w, inputs[l], out);
-      if (r.housing) r.housing->acceleration_m_s2[l][s] = HousingResponse(curves, w, out);
+      if (r.housing) r.housing->acceleration_m_s2[l][s] = whine::HousingResponse(curves, w, out);
       for (size_t i = 0; i < r.meshes.size(); ++i) {
         r.meshes[i].te_amplitude_m[l][s] = std::abs(out.te[i]);
         r.meshes[i].force_amplitude_n[l][s] = std::abs(out.mesh_force[i]);
@@ -234,77 +177,7 @@ void SolveSpeeds(const HarmonicModel& model, const std::vector<HarmonicInput>& i
   }
 }
 
-// The mean model's modes below `limit_hz` (undamped, no gyroscopics) with their strain energy
-// shares, ascending; the train's free rotation (zero stiffness energy) is left out.
-std::vector<WhineMode> Modes(const HarmonicModel& model, const TrainStructure& structure,
-                             const TrainReducedModel& reduced, double limit_hz) {
-  Eigen::MatrixXd k = model.K;
-  for (size_t i = 0; i < model.mesh_vectors.size(); ++i)
-    k += model.mesh_stiffness[i] * model.mesh_vectors[i] * model.mesh_vectors[i].transpose();
-  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(
-      0.5 * (k + k.transpose()), 0.5 * (model.M + model.M.transpose()));
-  std::vector<WhineMode> modes;
-  if (eig.info() != Eigen::Success) return modes;
-  const double largest = std::max(eig.eigenvalues().cwiseAbs().maxCoeff(), 1e-300);
-  for (long j = 0; j < eig.eigenvalues().size(); ++j) {
-    const double lambda = eig.eigenvalues()[j];
-    if (lambda <= 1e-12 * largest) continue;  // the free rotation
-    const double f = std::sqrt(lambda) / (2.0 * std::numbers::pi);
-    if (f > limit_hz) break;
-    const Eigen::VectorXd phi = eig.eigenvectors().col(j);
-    const double total = phi.dot(k * phi);
-    WhineMode m;
-    m.frequency_hz = f;
-    for (size_t i = 0; i < model.mesh_vectors.size(); ++i) {
-      const double d = model.mesh_vectors[i].dot(phi);
-      m.mesh_energy.push_back(model.mesh_stiffness[i] * d * d / total);
-    }
-    for (size_t b = 0; b < model.bearing_stiffness.size(); ++b) {
-      const StructureBearing& sb = structure.bearings[b];
-      const double springs[3] = {sb.radial_stiffness, sb.radial_stiffness, sb.axial_stiffness};
-      double e = 0.0;
-      for (int d = 0; d < 3; ++d) {
-        // Row d of the bearing's stiffness rows is k_d times its point's motion.
-        const double force = model.bearing_stiffness[b].row(d).dot(phi);
-        if (springs[d] > 0.0) e += force * force / springs[d];
-      }
-      // Its tilt springs on the node's rotations about x and y (an offset does not turn them).
-      for (NodeDof d : {kThx, kThy}) {
-        const double tilt = reduced.recovery.row(TrainStructure::Dof(sb.node, d)).dot(phi);
-        e += sb.tilt_stiffness * tilt * tilt;
-      }
-      m.bearing_energy.push_back(e / total);
-    }
-    modes.push_back(std::move(m));
-  }
-  return modes;
-}
-
-// Every crossing of a line with a mode inside the speed range, ranked by the mode's mesh strain
-// energy (then by speed).
-std::vector<WhineCriticalSpeed> CriticalSpeeds(const WhineResult& r) {
-  std::vector<WhineCriticalSpeed> out;
-  const double lo = r.speed_rad_s.front(), hi = r.speed_rad_s.back();
-  for (size_t m = 0; m < r.modes.size(); ++m) {
-    for (size_t l = 0; l < r.lines.size(); ++l) {
-      const double speed = 2.0 * std::numbers::pi * r.modes[m].frequency_hz / r.lines[l].order;
-      if (speed >= lo && speed <= hi) out.push_back({speed, l, m});
-    }
-  }
-  std::stable_sort(out.begin(), out.end(), [&r](const auto& a, const auto& b) {
-    const double ea = r.modes[a.mode].MeshEnergy(), eb = r.modes[b.mode].MeshEnergy();
-    return ea != eb ? ea > eb : a.speed_rad_s < b.speed_rad_s;
-  });
-  return out;
-}
-
 }  // namespace
-
-double WhineMode::MeshEnergy() const {
-  double sum = 0.0;
-  for (double e : mesh_energy) sum += e;
-  return sum;
-}
 
 void WhineOptions::Validate() const {
   RequireRange(names, "speeds", speeds, 2, 100000);
@@ -374,9 +247,9 @@ WhineResult RunWhine(const TrainSpec& spec, const WhineOptions& options,
 
   WhineResult r = EmptyResult(spec, train, structure, model, lines, options);
   r.warnings = Warnings(spec, train, options);
-  std::vector<ResolvedCurve> curves;
+  std::vector<whine::ResolvedCurve> curves;
   if (options.housing) {
-    curves = ResolveHousing(*options.housing, r);
+    curves = whine::ResolveHousing(*options.housing, r);
     r.housing = WhineHousing{options.housing->source,
                              std::vector<std::vector<double>>(
                                  lines.size(), std::vector<double>(r.speed_rad_s.size(), 0.0))};
@@ -403,8 +276,8 @@ WhineResult RunWhine(const TrainSpec& spec, const WhineOptions& options,
   }
   const double top_hz =
       lines.empty() ? 0.0 : lines.back().order * r.speed_rad_s.back() / (2.0 * std::numbers::pi);
-  r.modes = Modes(model, structure, reduced, 1.25 * top_hz);
-  r.critical_speeds = CriticalSpeeds(r);
+  r.modes = whine::Modes(model, structure, reduced, 1.25 * top_hz);
+  r.critical_speeds = whine::CriticalSpeeds(r);
   return r;
 }
 
