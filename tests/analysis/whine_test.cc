@@ -288,7 +288,10 @@ TEST_CASE("whine: the housing's response sums the bearings' forces with their ph
           "[analysis][whine]") {
   // The spur two-stage train at low speed: the input shaft's two bearings carry equal forces in
   // phase (statics), so transfers +H and -H on their x directions cancel, +H and +H double.
-  const auto [spec, options] = SpurTwoStageAtLowSpeed();
+  // Named, not a structured binding: lambdas cannot capture those before clang 16.
+  const std::pair<TrainSpec, WhineOptions> fixture = SpurTwoStageAtLowSpeed();
+  const TrainSpec& spec = fixture.first;
+  const WhineOptions& options = fixture.second;
   const Complex h(2e-3, -1e-3);
   const auto with = [&](const Complex& second, double f_low, double f_high) {
     HousingTransfer table{"table.csv",
