@@ -146,6 +146,25 @@ std::vector<std::string> Warnings(const TrainSpec& spec, const GearTrain& train,
   return w;
 }
 
+// The result holds per speed and line each mesh's TE and force, each bearing's three forces, each
+// body's speed (and the housing's response): refused above 2 GB (100,000 speeds of a
+// transmission's hundreds of lines would not fit), naming the options that size it.
+void RequireResultFits(const HarmonicModel& model, size_t lines, const WhineOptions& options) {
+  const double per_line_and_speed = 2.0 * static_cast<double>(model.mesh_vectors.size()) +
+                                    3.0 * static_cast<double>(model.bearing_stiffness.size()) +
+                                    static_cast<double>(model.body_angles.rows()) + 1.0;
+  const double bytes = per_line_and_speed * static_cast<double>(lines) *
+                       static_cast<double>(options.speeds) * sizeof(double);
+  constexpr double kLimit = 2e9;
+  if (bytes > kLimit) {
+    throw InputError(options.names("speeds"), 0, std::to_string(options.speeds),
+                     fmt::format("makes a result of {:.1f} GB ({} lines; at most {:.0f} GB): "
+                                 "fewer {}, {} or {}",
+                                 bytes / 1e9, lines, kLimit / 1e9, options.names("speeds"),
+                                 options.names("harmonics"), options.names("sidebands")));
+  }
+}
+
 // Solves speeds [first, last) into `r`.
 void SolveSpeeds(const HarmonicModel& model, const std::vector<HarmonicInput>& inputs,
                  const std::vector<whine::ResolvedCurve>& curves, size_t first, size_t last,
@@ -245,6 +264,7 @@ WhineResult RunWhine(const TrainSpec& spec, const WhineOptions& options,
     inputs[l].torque = whine::TorqueCoefficient(spec, train, lines[l].order);
   }
 
+  RequireResultFits(model, lines.size(), options);
   WhineResult r = EmptyResult(spec, train, structure, model, lines, options);
   r.warnings = Warnings(spec, train, options);
   std::vector<whine::ResolvedCurve> curves;

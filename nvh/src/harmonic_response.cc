@@ -43,11 +43,11 @@ void HarmonicModel::CheckSizes() const {
 HarmonicSolver::HarmonicSolver(const HarmonicModel& model) : model_(model) {
   model.CheckSizes();
   stiffness_ = model.K;
-  damping_ = model.C;
+  still_damping_ = model.C;
   for (size_t i = 0; i < model.mesh_vectors.size(); ++i) {
     const Eigen::VectorXd& v = model.mesh_vectors[i];
     stiffness_.noalias() += model.mesh_stiffness[i] * v * v.transpose();
-    damping_.noalias() += model.mesh_damping[i] * v * v.transpose();
+    still_damping_.noalias() += model.mesh_damping[i] * v * v.transpose();
   }
   const long n = model.M.rows();
   z_.resize(n, n);
@@ -57,11 +57,7 @@ HarmonicSolver::HarmonicSolver(const HarmonicModel& model) : model_(model) {
 }
 
 void HarmonicSolver::SetSpeed(double input_speed) {
-  damping_ = model_.C + input_speed * model_.G;
-  for (size_t i = 0; i < model_.mesh_vectors.size(); ++i) {
-    const Eigen::VectorXd& v = model_.mesh_vectors[i];
-    damping_.noalias() += model_.mesh_damping[i] * v * v.transpose();
-  }
+  damping_ = still_damping_ + input_speed * model_.G;
 }
 
 void HarmonicSolver::Solve(double w, const HarmonicInput& input, HarmonicResponse& out) {

@@ -403,3 +403,22 @@ TEST_CASE("whine: on rigid shafts the meshes and bearings hold all of a mode's s
     CHECK(sum == Approx(1.0).epsilon(1e-9));
   }
 }
+
+TEST_CASE("whine: a result too large for memory is refused before it is built",
+          "[analysis][whine]") {
+  // 100,000 speeds of a pair with pitch errors on both gears, 20 harmonics and 10 sidebands: a few
+  // hundred lines, each speed and line holding the mesh's TE and force, 2 supports' 3 forces and
+  // 2 shaft speeds: several GB, over the 2 GB limit, so nothing is solved.
+  TrainSpec spec = LoadedPair();
+  spec.gears[0].gear.pitch_errors.assign(23, 1e-6);
+  spec.gears[0].gear.pitch_errors[3] = 3e-6;
+  spec.gears[1].gear.pitch_errors.assign(41, 1e-6);
+  spec.gears[1].gear.pitch_errors[7] = 2e-6;
+  WhineOptions options;
+  options.tier = Tier::kTier3;
+  options.speeds = 100000;
+  options.mesh_harmonics = 20;
+  options.sideband_orders = 10;
+  CHECK_THROWS_WITH(RunWhine(spec, options), Catch::Contains("--speeds") && Catch::Contains("GB") &&
+                                                 Catch::Contains("--harmonics"));
+}

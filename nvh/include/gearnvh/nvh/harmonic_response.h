@@ -58,7 +58,8 @@ class HarmonicSolver {
 
  private:
   const HarmonicModel& model_;
-  Eigen::MatrixXd stiffness_, damping_;  // with the meshes; damping at the speed
+  // With the meshes: the stiffness, the damping at rest (once) and at the speed (SetSpeed).
+  Eigen::MatrixXd stiffness_, still_damping_, damping_;
   Eigen::MatrixXcd z_;
   Eigen::VectorXcd rhs_, q_;
   Eigen::PartialPivLU<Eigen::MatrixXcd> lu_;
