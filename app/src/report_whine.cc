@@ -4,7 +4,6 @@
 
 #include <cmath>
 #include <complex>
-#include <numbers>
 #include <sstream>
 
 #include "atomic_file.h"
@@ -12,6 +11,7 @@
 #include "gearnvh/analysis/order_tracks.h"
 #include "gearnvh/analysis/train_sweep.h"
 #include "gearnvh/analysis/whine.h"
+#include "gearnvh/analysis/written_numbers.h"
 #include "report_gearbox.h"
 #include "report_html.h"
 #include "report_sweep_figures.h"
@@ -19,8 +19,6 @@
 
 namespace gearnvh::app {
 namespace {
-
-constexpr double kRpmPerRadS = 60.0 / (2.0 * std::numbers::pi);
 
 // The line at k times mesh i's order, or lines.size() when there is none.
 size_t OwnLine(const WhineResult& r, double mesh_order, int k) {
@@ -32,7 +30,7 @@ size_t OwnLine(const WhineResult& r, double mesh_order, int k) {
 
 OrderTrack Track(const WhineResult& r, size_t mesh, size_t line, const std::string& label) {
   OrderTrack t{label, r.lines[line].order, {}, r.meshes[mesh].te_amplitude_m[line]};
-  for (double w : r.speed_rad_s) t.speed_rpm.push_back(w * kRpmPerRadS);
+  for (double w : r.speed_rad_s) t.speed_rpm.push_back(Rpm(w));
   return t;
 }
 
@@ -50,7 +48,7 @@ render::LinePlot BearingFigure(const WhineResult& r, const std::string& referenc
       for (const auto& line : b.force_amplitude_n) {
         for (const auto& direction : line) sum += 0.5 * direction[k] * direction[k];
       }
-      s.x.push_back(r.speed_rad_s[k] * kRpmPerRadS);
+      s.x.push_back(Rpm(r.speed_rad_s[k]));
       s.y.push_back(std::sqrt(sum));
     }
     p.series.push_back(std::move(s));
@@ -77,7 +75,7 @@ LineWaterfall WaterfallOf(const WhineResult& r, size_t mesh, double step) {
   }
   w.view.order_step = step;
   for (size_t s = 0; s < r.speed_rad_s.size(); ++s) {
-    w.view.speed_rpm.push_back(r.speed_rad_s[s] * kRpmPerRadS);
+    w.view.speed_rpm.push_back(Rpm(r.speed_rad_s[s]));
     w.view.rows.push_back(&w.rows[s]);
   }
   return w;
@@ -106,9 +104,9 @@ std::string Section(const WhineResult& r, const std::vector<double>& mesh_orders
       const size_t at = static_cast<size_t>(std::max_element(te.begin(), te.end()) - te.begin());
       const auto& force = m.force_amplitude_n[l];
       h << "<tr><td>" << Html(m.name) << "</td><td>" << Html(r.lines[l].label) << "</td><td>"
-        << Number(te[at] * 1e6) << "</td><td>" << Number(r.speed_rad_s[at] * kRpmPerRadS, 5)
-        << "</td><td>" << Number(*std::max_element(force.begin(), force.end())) << "</td><td>"
-        << flagged << " of " << m.contact_loss.size() << "</td></tr>\n";
+        << Number(te[at] * 1e6) << "</td><td>" << Number(Rpm(r.speed_rad_s[at]), 5) << "</td><td>"
+        << Number(*std::max_element(force.begin(), force.end())) << "</td><td>" << flagged << " of "
+        << m.contact_loss.size() << "</td></tr>\n";
     }
   }
   h << "</table>\n";

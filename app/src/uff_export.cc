@@ -5,10 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <ctime>
-#include <numbers>
 
 #include "atomic_file.h"
 #include "gearnvh/analysis/order_tracks.h"
+#include "gearnvh/analysis/written_numbers.h"
 
 namespace gearnvh::app {
 namespace {
@@ -228,7 +228,6 @@ std::vector<UffFunction> WhineOrderTracksUff(const TrainSpec& spec, const WhineR
                                              int first_id) {
   std::vector<UffFunction> out;
   if (r.speed_scale == AxisScale::kLog || r.speed_rad_s.size() < 2) return out;
-  const double rpm = 60.0 / (2.0 * std::numbers::pi);
   const std::string reference = spec.operating.input_shaft;
   for (size_t i = 0; i < r.meshes.size(); ++i) {
     const WhineMesh& m = r.meshes[i];
@@ -244,8 +243,8 @@ std::vector<UffFunction> WhineOrderTracksUff(const TrainSpec& spec, const WhineR
       te.ordinate = TeAxis();
       te.z = {20, 0, 0, 0, reference + " order", "NONE"};
       te.z_value = r.lines[l].order;
-      te.x_min = r.speed_rad_s.front() * rpm;
-      te.dx = (r.speed_rad_s[1] - r.speed_rad_s[0]) * rpm;
+      te.x_min = Rpm(r.speed_rad_s.front());
+      te.dx = Rpm(r.speed_rad_s[1]) - Rpm(r.speed_rad_s[0]);
       UffFunction force = te;
       force.id1 = fmt::format("whine order track: mesh force at {} of {} ({} order {:g})",
                               r.lines[l].label, m.name, reference, r.lines[l].order);

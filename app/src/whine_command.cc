@@ -6,13 +6,13 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
-#include <numbers>
 #include <sstream>
 
 #include "command_errors.h"
 #include "config/gearbox_loader.h"
 #include "display_units.h"
 #include "finite_results.h"
+#include "gearnvh/analysis/written_numbers.h"
 #include "housing_table.h"
 #include "output_folder.h"
 #include "train_command_options.h"
@@ -21,7 +21,6 @@
 namespace gearnvh::app {
 namespace {
 
-constexpr double kRpmPerRadS = 60.0 / (2.0 * std::numbers::pi);
 constexpr const char* kDirections[3] = {"x", "y", "z"};
 
 const char* LineKindName(WhineLineKind kind) {
@@ -38,9 +37,9 @@ const char* LineKindName(WhineLineKind kind) {
   return "";
 }
 
-std::vector<double> Rpm(const WhineResult& r) {
+std::vector<double> SpeedsRpm(const WhineResult& r) {
   std::vector<double> rpm;
-  for (double w : r.speed_rad_s) rpm.push_back(w * kRpmPerRadS);
+  for (double w : r.speed_rad_s) rpm.push_back(Rpm(w));
   return rpm;
 }
 
@@ -157,7 +156,7 @@ std::string WhineMeshesCsv(const WhineResult& r) {
   std::ostringstream os;
   os.precision(12);
   os << "speed_rpm,mesh,order,line,te_amplitude_m,force_amplitude_n,contact_loss\n";
-  const std::vector<double> rpm = Rpm(r);
+  const std::vector<double> rpm = SpeedsRpm(r);
   for (size_t s = 0; s < rpm.size(); ++s) {
     for (const WhineMesh& m : r.meshes) {
       for (size_t l = 0; l < r.lines.size(); ++l) {
@@ -174,7 +173,7 @@ std::string WhineBearingsCsv(const WhineResult& r) {
   std::ostringstream os;
   os.precision(12);
   os << "speed_rpm,bearing,at_m,order,line,force_x_n,force_y_n,force_z_n\n";
-  const std::vector<double> rpm = Rpm(r);
+  const std::vector<double> rpm = SpeedsRpm(r);
   for (size_t s = 0; s < rpm.size(); ++s) {
     for (const WhineBearing& b : r.bearings) {
       for (size_t l = 0; l < r.lines.size(); ++l) {
@@ -232,7 +231,7 @@ nlohmann::json ModesJson(const WhineResult& r) {
 nlohmann::json CriticalSpeedsJson(const WhineResult& r) {
   nlohmann::json out = nlohmann::json::array();
   for (const WhineCriticalSpeed& c : r.critical_speeds) {
-    out.push_back({{"speed_rpm", c.speed_rad_s * kRpmPerRadS},
+    out.push_back({{"speed_rpm", Rpm(c.speed_rad_s)},
                    {"order", r.lines[c.line].order},
                    {"line", r.lines[c.line].label},
                    {"mode", c.mode + 1},
@@ -248,7 +247,7 @@ std::string WhineHousingCsv(const WhineResult& r) {
   std::ostringstream os;
   os.precision(12);
   os << "speed_rpm,order,line,acceleration_m_s2,db_re_1e-6_m_s2\n";
-  const std::vector<double> rpm = Rpm(r);
+  const std::vector<double> rpm = SpeedsRpm(r);
   for (size_t s = 0; s < rpm.size(); ++s) {
     for (size_t l = 0; l < r.lines.size(); ++l) {
       const double a = r.housing->acceleration_m_s2[l][s];
@@ -312,7 +311,7 @@ nlohmann::json WhineJson(const WhineResult& r) {
   return {{"model", "mean"},
           {"tier", TierName(r.tier)},
           {"dof", r.dof},
-          {"speeds_rpm", Rpm(r)},
+          {"speeds_rpm", SpeedsRpm(r)},
           {"speed_scale", r.speed_scale == AxisScale::kLog ? "log" : "linear"},
           {"lines", lines},
           {"meshes", meshes},
