@@ -1,5 +1,6 @@
 #include "gearnvh/model/gear_geometry.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -134,5 +135,9 @@ const char* TierName(Tier tier) {
 }
 
 const char* TorqueOnName(TorqueOn on) { return on == TorqueOn::kWheel ? "wheel" : "pinion"; }
+
+double WholeDepth(const PairGeometry& g) {
+  return std::min(g.pinion.tip - g.pinion.root, g.wheel.tip - g.wheel.root);
+}
 
 }  // namespace gearnvh

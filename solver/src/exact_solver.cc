@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 
 #include "gearnvh/model/input_error.h"
@@ -98,7 +99,25 @@ const char* SolverMethodName(SolverMethod m) {
 }
 
 const char* SolverStatusName(SolverStatus s) {
-  return s == SolverStatus::kSuccess ? "success" : "too_many_events";
+  switch (s) {
+    case SolverStatus::kSuccess:
+      return "success";
+    case SolverStatus::kTooManyEvents:
+      return "too_many_events";
+    case SolverStatus::kOutOfRange:
+      return "out_of_range";
+  }
+  return "?";
+}
+
+std::string OutOfRangeMessage(const std::string& where, double time, double gap, double limit) {
+  std::ostringstream os;
+  os.precision(4);
+  os << where << " (t = " << time << " s) a flank gap reached " << 1e3 * gap
+     << " mm, past the teeth's whole depth beyond a wall (" << 1e3 * limit
+     << " mm): the response grows without bound at this operating point and tier, and the model "
+        "no longer describes the gears; the run stopped there";
+  return os.str();
 }
 
 ExactStepper::ExactStepper(const SegmentTables& tables, const SolverOptions& options,
@@ -143,6 +162,10 @@ bool ExactStepper::Run(long cycles, bool record) {
       break;
     }
     EndCycle(record);
+    if (!WithinRange()) {
+      ok = false;
+      break;
+    }
   }
   UpdateTableStatistics();  // the locator builds tables on first visits
   return ok;
@@ -294,6 +317,17 @@ bool ExactStepper::TooManyEvents() {
   summary_.status = SolverStatus::kTooManyEvents;
   summary_.message = "more than " + std::to_string(options_.max_events_per_cycle) +
                      " contact events in mesh cycle " + std::to_string(cycle_);
+  return false;
+}
+
+bool ExactStepper::WithinRange() {
+  if (t_.displacement_limit <= 0.0) return true;
+  const SegmentSystem& s = t_.systems[0][static_cast<int>(ContactState::kFree)];
+  const double gap = std::max(std::abs(s.gap_drive.dot(state_.z)), std::abs(s.gap_back.dot(state_.z)));
+  if (gap <= t_.displacement_limit) return true;  // false on NaN too
+  summary_.status = SolverStatus::kOutOfRange;
+  summary_.message = OutOfRangeMessage("at mesh cycle " + std::to_string(cycle_), time_, gap,
+                                       t_.displacement_limit);
   return false;
 }
 

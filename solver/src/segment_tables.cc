@@ -224,6 +224,7 @@ SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel
   t.mesh_period = 2.0 * std::numbers::pi / (spec.pinion.teeth * spec.operating.speed);
   t.excitation = spec.operating.excitation;
   t.half_backlash = model.half_backlash;
+  t.displacement_limit = 2.0 * model.half_backlash + WholeDepth(model.geometry);
   t.excitation_inertia = model.pinion_side_inertia;
   const int n = t.n, m = t.m;
   t.mesh_damping = model.mesh_damping;

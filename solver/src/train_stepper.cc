@@ -112,11 +112,31 @@ bool TrainStepper::Run(double end_time, TrainRecorder* recorder) {
       const bool period_start = AtPeriodStart();
       period_position_ = period_start ? 0 : period_position_ + advanced;
       if (period_start) TryJump(end_time, recorder);
+      segments_since_range_check_ += advanced;
+      if (segments_since_range_check_ >= kRangeCheckSegments) {
+        segments_since_range_check_ = 0;
+        if (!WithinRange()) return false;
+      }
     }
     if (time_ >= next_recenter_) {
       Recenter();
       next_recenter_ += recenter_period_;
     }
+  }
+  return true;
+}
+
+bool TrainStepper::WithinRange() {
+  for (const TrainMeshTable& mt : t_.meshes) {
+    if (mt.displacement_limit <= 0.0) continue;
+    const double gap = std::max(std::abs(mt.Dot(true, z_.data())), std::abs(mt.Dot(false, z_.data())));
+    if (gap <= mt.displacement_limit) continue;  // NaN fails too
+    summary_.info = TrainStepperSummary::Info::kOutOfRange;
+    summary_.stopped_from = summary_.stopped_to = time_;
+    summary_.stopped_on_mesh = mt.name;
+    summary_.out_of_range_gap = gap;
+    summary_.out_of_range_limit = mt.displacement_limit;
+    return false;
   }
   return true;
 }

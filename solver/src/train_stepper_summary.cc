@@ -10,6 +10,8 @@ const char* TrainStepperInfoName(TrainStepperSummary::Info info) {
       return "success";
     case TrainStepperSummary::Info::kTooManyEvents:
       return "too many events";
+    case TrainStepperSummary::Info::kOutOfRange:
+      return "out of range";
   }
   return "?";
 }
@@ -28,6 +30,9 @@ std::string TrainStepperMessage(const TrainStepperSummary& summary) {
       os << summary.stopped_from << " s";
       if (!summary.stopped_on_mesh.empty()) os << "; the last on mesh " << summary.stopped_on_mesh;
       break;
+    case TrainStepperSummary::Info::kOutOfRange:
+      return OutOfRangeMessage("on mesh " + summary.stopped_on_mesh, summary.stopped_from,
+                               summary.out_of_range_gap, summary.out_of_range_limit);
   }
   return os.str();
 }

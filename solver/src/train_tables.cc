@@ -190,6 +190,7 @@ TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
                                       static_cast<double>(mt.errors.period_cycles()));
     }
     mt.half_backlash = 0.5 * spec.meshes[i].mesh.backlash;
+    mt.displacement_limit = 2.0 * mt.half_backlash + WholeDepth(mm.geometry);
     const double ja = t.inertia[mm.body_a], jb = t.inertia[mm.body_b];
     mt.effective_mass = ja * jb / (ja * rb * rb + jb * ra * ra);
     mt.damping =

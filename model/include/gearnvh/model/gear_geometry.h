@@ -58,6 +58,8 @@ GearRadii ComputeGearRadii(const GearSpec& gear);
 // mesh's or a gear's path) when the pair cannot mesh: contact ratio < 1, tip beyond the other
 // gear's base circle, centre distance too small, modules or pressure angles that differ.
 PairGeometry ComputePairGeometry(const MeshPair& pair);
+// The shallower gear's whole depth r_a - r_f (m): how far the flanks can move into each other.
+double WholeDepth(const PairGeometry& g);
 inline PairGeometry ComputePairGeometry(const GearboxSpec& spec) {
   return ComputePairGeometry(PairOf(spec));
 }

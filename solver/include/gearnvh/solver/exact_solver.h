@@ -147,6 +147,7 @@ class ExactStepper : private EventHandler {
   bool StepCycleWith(Locator& locator, bool recorded, bool try_runs);
   void EndCycle(bool record);
   bool TooManyEvents();  // sets the status and message; returns false
+  bool WithinRange();    // false (status and message set) once a gap passes displacement_limit
   // Copies the table sizes and decomposition counts of the locator (which grow on first visits).
   void UpdateTableStatistics();
 

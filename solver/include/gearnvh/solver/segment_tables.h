@@ -60,6 +60,9 @@ struct SegmentTables {
   std::vector<std::array<SegmentSystem, 3>> systems;  // [segment][state]
   std::vector<ExcitationOrder> excitation;            // orders, amplitudes (rad/s^2), phases
   double half_backlash = 0.0;
+  // Bound on |g+| and |g-| (m): beyond the teeth's whole depth past either wall the gears would
+  // have passed through each other or out of mesh, so the model no longer describes them. 0: none.
+  double displacement_limit = 0.0;
   double excitation_inertia = 0.0;                     // J1
   double mesh_damping = 0.0;                           // c, N s/m
   Eigen::RowVectorXd te_row;                           // dynamic TE delta = v^T x as a row on z

@@ -98,8 +98,13 @@ EventMethod EventMethodOf(LadderMethod m);
 // Sets options.method and options.events to the rung's.
 void ApplyLadderMethod(LadderMethod m, SolverOptions& options);
 
-enum class SolverStatus { kSuccess, kTooManyEvents };
+// kOutOfRange: a mesh's relative displacement left the range the model describes (the teeth's whole
+// depth beyond either wall), as when the response grows without bound; the run stops there.
+enum class SolverStatus { kSuccess, kTooManyEvents, kOutOfRange };
 const char* SolverStatusName(SolverStatus s);
+// The kOutOfRange message: `where` ("at mesh cycle 12", "on mesh g1-g2") and the time, the gap
+// reached and the limit (m), for every gearbox alike.
+std::string OutOfRangeMessage(const std::string& where, double time, double gap, double limit);
 
 struct SolverSummary {
   SolverStatus status = SolverStatus::kSuccess;

@@ -121,7 +121,8 @@ struct TrainStepperOptions {
 };
 
 struct TrainStepperSummary {
-  enum class Info { kSuccess, kTooManyEvents };
+  // kOutOfRange: a mesh's displacement passed its displacement_limit (SolverStatus::kOutOfRange).
+  enum class Info { kSuccess, kTooManyEvents, kOutOfRange };
   // The outcome of certified jumps (the last reason when none was made).
   enum class Jumps {
     kJumped,
@@ -135,10 +136,12 @@ struct TrainStepperSummary {
   };
   Info info = Info::kSuccess;
   // kTooManyEvents: the grid segment [stopped_from, stopped_to] (s) where the run stopped, and the
-  // limit its events passed (TrainStepperOptions::max_events_per_segment).
+  // limit its events passed (TrainStepperOptions::max_events_per_segment). kOutOfRange: the time
+  // in stopped_from, the mesh in stopped_on_mesh, and its gap and limit (m).
   double stopped_from = 0.0, stopped_to = 0.0;
   long event_limit = 0;
   std::string stopped_on_mesh;  // the mesh of the last event or grazing before the stop
+  double out_of_range_gap = 0.0, out_of_range_limit = 0.0;
   Jumps jumps = Jumps::kNoConstantContact;
   long jumped_periods = 0;      // common periods jumped
   double jumped_time = 0.0;     // s
@@ -255,6 +258,11 @@ class TrainStepper {
   void Recenter();
   // At a common period's start: certifies permanent contact and jumps (train_cycle_jump.cc).
   bool AtPeriodStart() const;
+  // False (info kOutOfRange) once a mesh's displacement passes its displacement_limit. Checked
+  // every kRangeCheckSegments grid segments: a diverging run stops long before it overflows.
+  bool WithinRange();
+  static constexpr long kRangeCheckSegments = 64;
+  long segments_since_range_check_ = 0;
   void TryJump(double end_time, const TrainRecorder* rec);
   void JumpOutcome(TrainStepperSummary& s) const;  // the reason when no period start was tried
   // At a grid segment start: a certified segment run, applied (train_segment_runs.cc); returns
