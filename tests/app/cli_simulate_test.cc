@@ -4,8 +4,9 @@
 #include <nlohmann/json.hpp>
 
 #include "gearnvh/solver/trajectory.h"
-#include "support/run_command.h"
+#include "support/example_variant.h"
 #include "support/paths.h"
+#include "support/run_command.h"
 
 namespace gearnvh {
 namespace {
@@ -13,8 +14,8 @@ namespace {
 using testing::RunCommand;
 using testing::TempDir;
 
-using testing::kExe;
 using testing::kExamples;
+using testing::kExe;
 
 TEST_CASE("simulate --json: summary keys, the rattle example rattles, the loaded one does not",
           "[cli][simulate]") {
@@ -326,6 +327,31 @@ TEST_CASE("simulate --out into an unwritable place is a clear I/O error with exi
   CHECK(r.exit_code == 4);
   CHECK(r.err.find("error:") != std::string::npos);
   CHECK(r.err.find("internal error") == std::string::npos);
+}
+
+TEST_CASE("simulate: a response growing without bound ends out_of_range with exit 1",
+          "[cli][simulate]") {
+  // examples/flexible_shafts.yaml at the preprint's strong-rattle point, tier 2: the lateral modes
+  // are barely damped and one flank at a time carries load, so the rattle grows (docs/solver.md,
+  // "One flank at a time, and the range check"); the run stops at the range check.
+  TempDir dir;
+  const std::string file = testing::WriteExampleVariant(
+                               dir, "flexible_shafts.yaml",
+                               {{"  speed: 3000 rpm\n  torque: 200 N*m\n",
+                                 "  speed: 7548.387097 rpm\n  torque: 20 N*m\n  excitation:\n"
+                                 "    - {order: 15.5, amplitude: 200000 rad/s^2, phase: 0 deg}\n"}})
+                               .string();
+  const auto run =
+      RunCommand(kExe + " simulate --json --tier 2 --cycles 500 --transient 100 " + file);
+  INFO(run.err);
+  CHECK(run.exit_code == 1);
+  const auto r = nlohmann::json::parse(run.out);
+  CHECK(r["summary"]["status"] == "out_of_range");
+  CHECK(r["summary"]["mesh_cycles"].get<long>() < 600);
+  CHECK(r["summary"]["message"].get<std::string>().find("past the teeth's whole depth") !=
+        std::string::npos);
+  // Every number written is finite: the run stopped long before the growth overflowed.
+  CHECK(std::abs(r["te"]["peak_to_peak"].get<double>()) < 0.05);
 }
 
 }  // namespace
