@@ -135,7 +135,7 @@ int RunSimulate(const SimulateOptions& options) {
       fmt::print("  operating point     pinion at {}, {}\n",
                  Format(spec.operating.speed, spec.operating.speed_unit), TorqueText(spec));
       fmt::print("  status              {}\n", SolverStatusName(s.status));
-      fmt::print("  mesh cycles         {} ({} recorded)\n", s.mesh_cycles, op.solver.cycles);
+      fmt::print("  mesh cycles         {} ({} recorded)\n", s.mesh_cycles, s.recorded_cycles);
       fmt::print(
           "  contact events      {} ({:.3f} per cycle): {} drive impacts, {} back impacts, {} "
           "separations, {} grazing\n",
