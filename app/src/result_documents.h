@@ -16,6 +16,10 @@
 
 namespace gearnvh::app {
 
+// Printed under a stopped run's status in the text of `simulate`: what follows is not a result.
+inline constexpr const char* kStoppedRunNote =
+    "(the numbers below are of the part run before the stop, not results)";
+
 // {"bytes": total, "parts": {name: bytes}}: the `memory_estimate` of a results document.
 nlohmann::json MemoryJson(const RunMemory& memory);
 

@@ -135,6 +135,10 @@ int RunSimulate(const SimulateOptions& options) {
       fmt::print("  operating point     pinion at {}, {}\n",
                  Format(spec.operating.speed, spec.operating.speed_unit), TorqueText(spec));
       fmt::print("  status              {}\n", SolverStatusName(s.status));
+      if (s.status != SolverStatus::kSuccess) {
+        fmt::print("  stopped             {}\n                      {}\n", s.message,
+                   kStoppedRunNote);
+      }
       fmt::print("  mesh cycles         {} ({} recorded)\n", s.mesh_cycles, s.recorded_cycles);
       fmt::print(
           "  contact events      {} ({:.3f} per cycle): {} drive impacts, {} back impacts, {} "
@@ -178,7 +182,9 @@ int RunSimulate(const SimulateOptions& options) {
           fmt::print("  warning: {}\n", w);
         }
       }
-      if (!s.message.empty()) fmt::print("  note: {}\n", s.message);
+      if (s.status == SolverStatus::kSuccess && !s.message.empty()) {
+        fmt::print("  note: {}\n", s.message);
+      }
       if (s.trajectory_truncated) {
         fmt::print(
             "  note: sample storage bound reached: statistics cover every recorded cycle, the "

@@ -359,6 +359,7 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
     const std::string why = TrainStepperMessage(s);
     fmt::print("  status              {}{}\n", TrainStepperInfoName(s.info),
                why.empty() ? "" : ": " + why);
+    if (!op.ok()) fmt::print("                      {}\n", kStoppedRunNote);
     fmt::print("  simulated           {:.4f} s ({} + {} cycles of {}), {:.4f} s recorded\n",
                s.simulated_time, transient, cycles, tables.meshes.front().name,
                stats.recorded_time);

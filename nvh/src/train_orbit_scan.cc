@@ -69,7 +69,12 @@ void TrySettledStarts(const TrainTables& tables, const TrainOrbitOptions& orbit_
   }
   int k = 0;
   for (; k < options.settled_starts; ++k) {
-    if (k > 0 && !stepper.Run(settle + k * period)) break;
+    if (k > 0 && !stepper.Run(settle + k * period)) {
+      p.ok = false;
+      p.message =
+          "the train stepper stopped while settling: " + TrainStepperMessage(stepper.summary());
+      return;
+    }
     TrainOrbit trial =
         FindTrainPeriodicOrbit(tables, stepper.state(), stepper.states(), orbit_options);
     const bool converged = trial.info == TrainOrbit::Info::kConverged;
@@ -81,6 +86,8 @@ void TrySettledStarts(const TrainTables& tables, const TrainOrbitOptions& orbit_
     }
   }
   p.message = NotFoundText(p.orbit, k);
+  // A stepper that stopped (out of range, too many events) is a failed point, not "no orbit".
+  if (p.orbit.info == TrainOrbit::Info::kSolverFailed) p.ok = false;
 }
 
 }  // namespace
