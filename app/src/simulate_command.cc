@@ -182,9 +182,6 @@ int RunSimulate(const SimulateOptions& options) {
           fmt::print("  warning: {}\n", w);
         }
       }
-      if (s.status == SolverStatus::kSuccess && !s.message.empty()) {
-        fmt::print("  note: {}\n", s.message);
-      }
       if (s.trajectory_truncated) {
         fmt::print(
             "  note: sample storage bound reached: statistics cover every recorded cycle, the "

@@ -66,7 +66,11 @@ std::vector<OrbitScanPoint> ScanPeriodicOrbits(const GearboxSpec& base,
           p.ok = false;
         }
         for (int k = 0; p.ok && k < options.settled_starts; ++k) {
-          if (k > 0 && !stepper.Run(period, false)) break;
+          if (k > 0 && !stepper.Run(period, false)) {
+            p.message = "the stepper stopped while settling: " + stepper.summary().message;
+            p.ok = false;
+            break;
+          }
           PeriodicOrbit trial = FindPeriodicOrbit(tables, stepper.state(), orbit_options);
           const bool converged = trial.info == PeriodicOrbit::Info::kConverged;
           if (k == 0 || converged) p.orbit = std::move(trial);
@@ -75,6 +79,10 @@ std::vector<OrbitScanPoint> ScanPeriodicOrbits(const GearboxSpec& base,
             break;
           }
         }
+      }
+      // A stepper that stopped while shooting (out of range, too many events) fails the point.
+      if (p.start.empty() && p.ok && p.orbit.info == PeriodicOrbit::Info::kSolverFailed) {
+        p.ok = false;
       }
       if (p.start.empty()) {
         previous.reset();

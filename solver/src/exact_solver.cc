@@ -323,8 +323,10 @@ bool ExactStepper::TooManyEvents() {
 bool ExactStepper::WithinRange() {
   if (t_.displacement_limit <= 0.0) return true;
   const SegmentSystem& s = t_.systems[0][static_cast<int>(ContactState::kFree)];
-  const double gap = std::max(std::abs(s.gap_drive.dot(state_.z)), std::abs(s.gap_back.dot(state_.z)));
-  if (gap <= t_.displacement_limit) return true;  // false on NaN too
+  const double drive = std::abs(s.gap_drive.dot(state_.z)),
+               back = std::abs(s.gap_back.dot(state_.z));
+  if (drive <= t_.displacement_limit && back <= t_.displacement_limit) return true;  // not on NaN
+  const double gap = std::isnan(drive) || std::isnan(back) ? drive + back : std::max(drive, back);
   summary_.status = SolverStatus::kOutOfRange;
   summary_.message = OutOfRangeMessage("at mesh cycle " + std::to_string(cycle_), time_, gap,
                                        t_.displacement_limit);
@@ -417,8 +419,9 @@ SolverResult SimulateExact(const SegmentTables& tables, const Eigen::VectorXd& z
   s.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   s.simulated_s = stepper.time();
   s.real_time_ratio = s.wall_s > 0.0 ? s.simulated_s / s.wall_s : 0.0;
-  const double recorded = static_cast<double>(options.cycles);
-  s.events_per_cycle = static_cast<double>(s.events) / recorded;
+  // Events are counted in recorded cycles: per the cycles recorded (fewer when the run stopped).
+  s.events_per_cycle =
+      static_cast<double>(s.events) / static_cast<double>(std::max<long>(s.recorded_cycles, 1));
   s.matvec_per_cycle =
       static_cast<double>(s.matvecs) / static_cast<double>(std::max<long>(s.mesh_cycles, 1));
   result.trajectory = std::move(stepper.trajectory());

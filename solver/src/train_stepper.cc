@@ -81,6 +81,7 @@ void TrainStepper::Reset(const Eigen::VectorXd& z0, const std::vector<ContactSta
   next_recenter_ = recenter_period_;
   events_at_period_ = 0;
   period_position_ = 0;
+  segments_since_range_check_ = 0;
   if (fusion_) fusion_->ResetBackoff();
   summary_ = TrainStepperSummary{};
 }
@@ -123,14 +124,18 @@ bool TrainStepper::Run(double end_time, TrainRecorder* recorder) {
       next_recenter_ += recenter_period_;
     }
   }
-  return true;
+  return WithinRange();  // a run shorter than kRangeCheckSegments is checked too
 }
 
 bool TrainStepper::WithinRange() {
-  for (const TrainMeshTable& mt : t_.meshes) {
+  for (int i = 0; i < static_cast<int>(t_.meshes.size()); ++i) {
+    const TrainMeshTable& mt = t_.meshes[static_cast<size_t>(i)];
     if (mt.displacement_limit <= 0.0) continue;
-    const double gap = std::max(std::abs(mt.Dot(true, z_.data())), std::abs(mt.Dot(false, z_.data())));
-    if (gap <= mt.displacement_limit) continue;  // NaN fails too
+    const int segment = grid_.segments()[static_cast<size_t>(i)];
+    const double drive = std::abs(t_.GapValue(i, segment, true, z_));
+    const double back = std::abs(t_.GapValue(i, segment, false, z_));
+    if (drive <= mt.displacement_limit && back <= mt.displacement_limit) continue;  // not on NaN
+    const double gap = std::isnan(drive) || std::isnan(back) ? drive + back : std::max(drive, back);
     summary_.info = TrainStepperSummary::Info::kOutOfRange;
     summary_.stopped_from = summary_.stopped_to = time_;
     summary_.stopped_on_mesh = mt.name;

@@ -350,8 +350,14 @@ TEST_CASE("simulate: a response growing without bound ends out_of_range with exi
   CHECK(r["summary"]["mesh_cycles"].get<long>() < 600);
   CHECK(r["summary"]["message"].get<std::string>().find("past the teeth's whole depth") !=
         std::string::npos);
-  // Every number written is finite: the run stopped long before the growth overflowed.
-  CHECK(std::abs(r["te"]["peak_to_peak"].get<double>()) < 0.05);
+  // Every TE number written is a finite number within twice the limit (6.87 mm): the run stopped
+  // at the first cycle end past it, long before the growth overflowed.
+  for (const auto& [key, value] : r["te"].items()) {
+    if (key.find("note") != std::string::npos) continue;
+    INFO(key);
+    REQUIRE(value.is_number());
+    CHECK(std::abs(value.get<double>()) < 2.0 * 6.87e-3);
+  }
 }
 
 }  // namespace

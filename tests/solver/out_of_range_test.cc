@@ -38,15 +38,16 @@ SolverResult RunPair(const SegmentTables& tables, long cycles) {
 }
 
 TEST_CASE("out of range: the whole depth is r_a - r_f of the shallower gear") {
-  // Standard tooth proportions: addendum 1 m, dedendum 1.25 m, so 2.25 m (1e-15: two roundings).
+  // Standard tooth proportions: addendum 1 m, dedendum 1.25 m, so 2.25 m (1e-14: the radii are
+  // sums and differences of ~5e-2 m, each rounded, against a 6.75e-3 m difference).
   const PairGeometry g = ComputePairGeometry(StandardPair(31, 47, 3e-3, 30e-3));
-  CHECK(WholeDepth(g) == Approx(2.25 * 3e-3).epsilon(1e-15));
+  CHECK(WholeDepth(g) == Approx(2.25 * 3e-3).epsilon(1e-14));
 }
 
 TEST_CASE("out of range: a pair's growing response stops at the limit, a bounded one runs on") {
   const SolverSetup unstable(StrongRattle(), Tier::kTier2);
   const double b = unstable.tables.half_backlash;
-  CHECK(unstable.tables.displacement_limit == Approx(2.0 * b + 2.25 * 3e-3).epsilon(1e-15));
+  CHECK(unstable.tables.displacement_limit == Approx(2.0 * b + 2.25 * 3e-3).epsilon(1e-14));
   const SolverResult grown = RunPair(unstable.tables, 500);
   CHECK(grown.summary.status == SolverStatus::kOutOfRange);
   CHECK(std::string(SolverStatusName(grown.summary.status)) == "out_of_range");
@@ -72,15 +73,38 @@ TEST_CASE("out of range: a pair's growing response stops at the limit, a bounded
 }
 
 TEST_CASE("out of range: the limit is on the gaps themselves") {
-  // A limit below the idle pair's free flight (gaps within [-2b, 0]) stops it after one cycle; no
-  // limit never stops it.
+  // The idle pair rattles across its backlash: its gaps g+ and g- = g+ + 2b (tier 1) sweep
+  // [-2b, 0] and [0, 2b] up to a few um of penetration, so a limit of 1.01 b is passed within a
+  // few cycles while 2.2 b never is. A check on the mesh deflection v^T x = g+ + e + b (|.| <= ~b)
+  // instead would not stop at 1.01 b. The same on the pair's one-mesh train.
   SolverSetup idle(IdleRattleSpec(), Tier::kTier1);
-  idle.tables.displacement_limit = 0.5 * idle.tables.half_backlash;
+  const double b = idle.tables.half_backlash;
+  idle.tables.displacement_limit = 1.01 * b;
   const SolverResult stopped = RunPair(idle.tables, 50);
   CHECK(stopped.summary.status == SolverStatus::kOutOfRange);
-  CHECK(stopped.summary.mesh_cycles == 1);
-  idle.tables.displacement_limit = 0.0;
+  CHECK(stopped.summary.mesh_cycles < 50);
+  idle.tables.displacement_limit = 2.2 * b;
   CHECK(RunPair(idle.tables, 50).summary.status == SolverStatus::kSuccess);
+  idle.tables.displacement_limit = 0.0;  // no limit
+  CHECK(RunPair(idle.tables, 50).summary.status == SolverStatus::kSuccess);
+
+  const TrainSpec spec = TrainOf(IdleRattleSpec());
+  TrainTables train = BuildTrainTablesAtTier(spec, BuildGearTrain(spec), Tier::kTier1);
+  const auto [z0, states0] = TrainStaticState(train);
+  const double period = train.meshes[0].period;
+  train.meshes[0].displacement_limit = 1.01 * b;
+  TrainStepper tight(train, {}, z0, states0);
+  CHECK_FALSE(tight.Run(50 * period));
+  CHECK(tight.summary().info == TrainStepperSummary::Info::kOutOfRange);
+  train.meshes[0].displacement_limit = 2.2 * b;
+  TrainStepper loose(train, {}, z0, states0);
+  CHECK(loose.Run(50 * period));
+  // A run shorter than the check's cadence (64 grid segments) is checked at its end: at rest in
+  // drive contact the back gap is -2b, past a limit of b.
+  train.meshes[0].displacement_limit = b;
+  TrainStepper brief(train, {}, z0, states0);
+  CHECK_FALSE(brief.Run(0.1 * period));
+  CHECK(brief.summary().info == TrainStepperSummary::Info::kOutOfRange);
 }
 
 TEST_CASE("out of range: a train's growing response stops and names its mesh") {
@@ -89,7 +113,7 @@ TEST_CASE("out of range: a train's growing response stops and names its mesh") {
   const TrainTables tables = BuildTrainTablesAtTier(spec, train, Tier::kTier2);
   REQUIRE(tables.meshes.size() == 1);
   CHECK(tables.meshes[0].displacement_limit ==
-        Approx(2.0 * tables.meshes[0].half_backlash + 2.25 * 3e-3).epsilon(1e-15));
+        Approx(2.0 * tables.meshes[0].half_backlash + 2.25 * 3e-3).epsilon(1e-14));
   const auto [z0, states0] = TrainStaticState(tables);
   TrainStepper stepper(tables, {}, z0, states0);
   const double period = tables.meshes[0].period;

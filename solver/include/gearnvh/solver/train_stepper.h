@@ -166,7 +166,7 @@ struct TrainStepperSummary {
   TrainCacheSummary cache;
 };
 
-// "success" | "too many events".
+// "success" | "too many events" | "out of range".
 const char* TrainStepperInfoName(TrainStepperSummary::Info info);
 // Why a run stopped, in words (empty on kSuccess): the reason and where, e.g. "more than 1000
 // contact events in the 2.31e-05 s grid segment starting at t = 0.01234567891 s".
@@ -258,8 +258,9 @@ class TrainStepper {
   void Recenter();
   // At a common period's start: certifies permanent contact and jumps (train_cycle_jump.cc).
   bool AtPeriodStart() const;
-  // False (info kOutOfRange) once a mesh's displacement passes its displacement_limit. Checked
-  // every kRangeCheckSegments grid segments: a diverging run stops long before it overflows.
+  // False (info kOutOfRange) once a mesh's gap passes its displacement_limit. Checked every
+  // kRangeCheckSegments grid segments and at the end of Run: a diverging run stops long before
+  // it overflows.
   bool WithinRange();
   static constexpr long kRangeCheckSegments = 64;
   long segments_since_range_check_ = 0;

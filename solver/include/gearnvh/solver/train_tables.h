@@ -95,7 +95,7 @@ struct TrainMeshTable {
   std::vector<double> boundary;  // segment starts within [0, T_i), plus T_i (size S_i + 1), s
   std::vector<double> k_drive, k_back, error;  // per segment: N/m, N/m, m
   double half_backlash = 0.0;                  // b_i, m
-  // Bound on |v^T x| and |v_back^T x| (m): 2 b_i plus the teeth's whole depth, past which the gears
+  // Bound on |g+_i| and |g-_i| (m): 2 b_i plus the teeth's whole depth, past which the gears
   // would have passed through each other or out of mesh (SegmentTables::displacement_limit).
   double displacement_limit = 0.0;
   double damping = 0.0;                        // c_i, N s/m
