@@ -82,6 +82,7 @@ std::vector<OrbitScanPoint> ScanPeriodicOrbits(const GearboxSpec& base,
       }
       // A stepper that stopped while shooting (out of range, too many events) fails the point.
       if (p.start.empty() && p.ok && p.orbit.info == PeriodicOrbit::Info::kSolverFailed) {
+        p.message = p.orbit.message;
         p.ok = false;
       }
       if (p.start.empty()) {
