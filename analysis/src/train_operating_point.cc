@@ -221,7 +221,6 @@ void MeshSidebands(const TrainSpec& spec, const TrainRunOptions& options,
         std::max(op.sideband_options.orders, static_cast<int>(std::ceil(e.order)));
   }
   const std::vector<ShaftOrderSource> sources = ShaftOrderSources(spec, op.train, tables);
-  op.sideband_window_common_periods = window.periods;
   op.sidebands.resize(tables.meshes.size());
   const long window_samples = window.periods * window.samples_per_period;
   const double dt = recorder.sample_interval();
@@ -231,6 +230,8 @@ void MeshSidebands(const TrainSpec& spec, const TrainRunOptions& options,
           ? SliceStart(series.front().size(), kept_from, dt, window.from_time, window_samples)
           : std::nullopt;
   if (first) {
+    // Only a window the spectrum was taken over: a stopped run has none (0).
+    op.sideband_window_common_periods = window.periods;
     SpectrumAnalyzer analyzer(static_cast<int>(window_samples));
     std::vector<double> window_te;
     for (size_t i = 0; i < tables.meshes.size(); ++i) {

@@ -49,6 +49,23 @@ void PrintTrainSidebands(const TrainOperatingPoint& op) {
   for (const std::string& note : op.sideband_notes) fmt::print("  (spectrum: {})\n", note);
 }
 
+// The simulated and recorded time, with the cycles of the first mesh asked for; a stopped run
+// says how many it ran instead.
+void PrintSimulatedTime(const TrainOperatingPoint& op, long transient, long cycles) {
+  const TrainStepperSummary& s = op.summary;
+  const TrainMeshTable& first = op.tables.meshes.front();
+  if (op.ok()) {
+    fmt::print("  simulated           {:.4f} s ({} + {} cycles of {}), {:.4f} s recorded\n",
+               s.simulated_time, transient, cycles, first.name, op.stats.recorded_time);
+    return;
+  }
+  fmt::print(
+      "  simulated           {:.4f} s ({:.1f} of the {} + {} cycles of {} asked for: stopped), "
+      "{:.4f} s ({:.1f} cycles) recorded\n",
+      s.simulated_time, s.simulated_time / first.period, transient, cycles, first.name,
+      op.stats.recorded_time, op.stats.recorded_time / first.period);
+}
+
 const char* JumpsName(TrainStepperSummary::Jumps jumps) {
   using J = TrainStepperSummary::Jumps;
   switch (jumps) {
@@ -360,9 +377,7 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
     fmt::print("  status              {}{}\n", TrainStepperInfoName(s.info),
                why.empty() ? "" : ": " + why);
     if (!op.ok()) fmt::print("                      {}\n", kStoppedRunNote);
-    fmt::print("  simulated           {:.4f} s ({} + {} cycles of {}), {:.4f} s recorded\n",
-               s.simulated_time, transient, cycles, tables.meshes.front().name,
-               stats.recorded_time);
+    PrintSimulatedTime(op, transient, cycles);
     fmt::print("  contact events      {} ({} simultaneous, {} grazing)\n", s.events,
                s.simultaneous_events, s.grazing);
     fmt::print("  wall time           {:.4f} s: {:.2f}x real time\n", wall,

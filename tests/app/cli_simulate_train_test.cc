@@ -331,5 +331,25 @@ TEST_CASE("simulate on a train refuses a run above the memory limit and reports 
   CHECK(shown.find("the run will hold about", first + 1) == std::string::npos);
 }
 
+TEST_CASE("simulate on a train stopped out of range says the cycles it ran, and no window",
+          "[cli][train]") {
+  // Tier 2 of this train grows without bound and stops after ~258 of the 600 cycles asked for.
+  const auto r = RunCommand(kExe + " simulate --tier 2 --cycles 500 --transient 100 " +
+                            testing::kStrongRattleTrain);
+  INFO(r.out + r.err);
+  CHECK(r.exit_code == 1);
+  CHECK(r.out.find("out of range") != std::string::npos);
+  CHECK(r.out.find("(100 + 500 cycles") == std::string::npos);
+  CHECK(r.out.find("of the 100 + 500 cycles of pinion-wheel asked for: stopped") !=
+        std::string::npos);
+  CHECK(r.out.find("TE mesh harmonics per mesh over") == std::string::npos);  // no window
+  CHECK(r.out.find("no spectrum: the run stopped") != std::string::npos);
+  const auto json = RunCommand(kExe + " simulate --json --tier 2 --cycles 500 --transient 100 " +
+                               testing::kStrongRattleTrain);
+  const auto doc = nlohmann::json::parse(json.out);
+  CHECK(doc["summary"]["status"] == "out of range");
+  CHECK(doc["sideband_window_common_periods"] == 0);
+}
+
 }  // namespace
 }  // namespace gearnvh
