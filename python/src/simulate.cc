@@ -243,8 +243,9 @@ void BindSimulate(py::module_& m) {
       .def_property_readonly("tier", [](const Simulation& s) { return s.op.tier_name; })
       .def_property_readonly("state_dim", [](const Simulation& s) { return s.op.tables.m; })
       .def_property_readonly(
-          "cycles", [](const Simulation& s) { return s.op.solver.cycles; },
-          "recorded mesh cycles (rounded up to whole periods when needed)")
+          "cycles", [](const Simulation& s) { return s.op.result.summary.recorded_cycles; },
+          "mesh cycles recorded (rounded up to whole periods when needed; fewer when the run "
+          "stopped)")
       .def_property_readonly(
           "ok",
           [](const Simulation& s) { return s.op.result.summary.status == SolverStatus::kSuccess; })
