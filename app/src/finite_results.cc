@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 #include "command_errors.h"
 
@@ -29,6 +30,13 @@ void Walk(const nlohmann::json& j, const std::string& path, const std::string& w
 }  // namespace
 
 void RequireFinite(const nlohmann::json& doc, const std::string& what) { Walk(doc, "", what); }
+
+std::string CsvNumber(double v) {
+  std::ostringstream field;
+  field.precision(10);
+  if (!std::isnan(v)) field << v;
+  return field.str();
+}
 
 nlohmann::json FiniteOrNull(double v) { return std::isfinite(v) ? nlohmann::json(v) : nullptr; }
 

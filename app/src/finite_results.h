@@ -2,6 +2,7 @@
 // or written. A NaN or infinity is a bug or an unguarded corner of the model, never a result.
 #pragma once
 
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -12,6 +13,13 @@ void RequireFinite(const nlohmann::json& doc, const std::string& what);
 
 // A quantity that may be undefined (an infinite horizon, no boundary): its value or JSON null.
 nlohmann::json FiniteOrNull(double v);
+
+// A result a failed run did not reach (a stopped tier, speed or cell): NaN in the results, null in
+// JSON (FiniteOrNull), an empty CSV field (CsvNumber).
+inline constexpr double kNoResult = std::numeric_limits<double>::quiet_NaN();
+
+// A CSV field of 10 significant digits: empty for a result not reached (NaN).
+std::string CsvNumber(double v);
 
 // |a - b| / max(|b|, resolution): a result's difference relative to its reference. Below the
 // quantity's resolution a difference is measured against the resolution: a TE of 1e-19 m beside

@@ -54,8 +54,15 @@ TierRow RunTier(const GearboxSpec& spec, const ComponentModel& model, const Redu
   const OperatingPointAnalysis op =
       AnalyseOperatingPoint(spec, model, reduced.tier, solver, {}, {}, before_run_memory);
   const SolverSummary& s = op.result.summary;
-  if (s.status != SolverStatus::kSuccess) throw std::runtime_error(label + ": " + s.message);
   row.state_dim = op.tables.m;
+  row.table_bytes = s.table_bytes;
+  if (s.status != SolverStatus::kSuccess) {
+    row.status = s.status;
+    row.message = s.message;
+    row.te_rms = row.rattle_index = kNoResult;
+    row.matvec_per_cycle = row.us_per_cycle = row.real_time_ratio = kNoResult;
+    return row;
+  }
   row.te_rms = op.te.rms;
   // Rattle index as in the atlas: impact energy per forcing cycle.
   row.rattle_index =
@@ -64,8 +71,57 @@ TierRow RunTier(const GearboxSpec& spec, const ComponentModel& model, const Redu
   row.matvec_per_cycle = s.matvec_per_cycle;
   row.us_per_cycle = 1e6 * s.wall_s / static_cast<double>(std::max<long>(1, s.mesh_cycles));
   row.real_time_ratio = s.real_time_ratio;
-  row.table_bytes = s.table_bytes;
   return row;
+}
+
+// A result of a row: null when its run stopped.
+nlohmann::json RowResult(const TierRow& r, double v) {
+  return r.ok() ? nlohmann::json(v) : nullptr;
+}
+
+nlohmann::json TierRowJson(const TierRow& r) {
+  return {{"name", r.name},
+          {"method", SolverMethodName(r.method)},
+          {"status", SolverStatusName(r.status)},
+          {"message", r.message},
+          {"dof", r.dof},
+          {"state_dim", r.state_dim},
+          {"rigid_body_modes", r.rigid_body_modes},
+          {"frequencies_hz", r.frequencies_hz},
+          {"frequency_errors", r.frequency_errors},
+          {"max_frequency_error", r.max_frequency_error},
+          {"static_compliance_error", ComplianceErrorJson(r.compliance_error)},
+          {"te_rms_m", RowResult(r, r.te_rms)},
+          {"te_rms_difference_to_finest", FiniteOrNull(r.te_rms_difference)},
+          {"rattle_index_j", RowResult(r, r.rattle_index)},
+          {"rattle_index_difference_to_finest", FiniteOrNull(r.rattle_index_difference)},
+          {"regime", r.ok() ? RattleRegimeName(r.regime) : ""},
+          {"matvec_per_cycle", RowResult(r, r.matvec_per_cycle)},
+          {"us_per_cycle", RowResult(r, r.us_per_cycle)},
+          {"real_time_ratio", RowResult(r, r.real_time_ratio)},
+          {"table_bytes", r.table_bytes}};
+}
+
+// The differences of every row to the finest (succeeded, most DOF); NaN for a failed row.
+void CompareToFinest(TiersComparison& out) {
+  std::vector<TierRow>& rows = out.rows;
+  size_t& finest = out.finest;
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const bool better =
+        rows[i].ok() != rows[finest].ok() ? rows[i].ok() : rows[i].dof > rows[finest].dof;
+    if (better) finest = i;
+  }
+  const TierRow& reference = rows[finest];
+  for (TierRow& r : rows) {
+    out.failed += r.ok() ? 0 : 1;
+    if (!r.ok() || !reference.ok()) {
+      r.te_rms_difference = r.rattle_index_difference = kNoResult;
+      continue;
+    }
+    r.te_rms_difference = RelativeDifference(r.te_rms, reference.te_rms, kTeResolution);
+    r.rattle_index_difference =
+        RelativeDifference(r.rattle_index, reference.rattle_index, kImpactEnergyResolution);
+  }
 }
 
 // An empty CSV field for a tier without mesh compliance.
@@ -91,7 +147,75 @@ void PrintRigidBodyModes(const TiersComparison& c) {
   fmt::print("  rigid-body modes (not compared): {}\n", text);
 }
 
+// tiers.csv, tiers.json and tiers.png (the tiers that ran) into `out`, committed.
+void WriteTiersFolder(OutputFolder& out, const TiersComparison& comparison,
+                      const nlohmann::json& doc, const TiersCommandOptions& options) {
+  std::ostringstream csv;
+  csv.precision(10);
+  csv << "tier,method,dof,state_dim,max_frequency_error,static_compliance_error,te_rms_m,"
+         "te_rms_difference,rattle_index_j,rattle_index_difference,matvec_per_cycle,"
+         "us_per_cycle,real_time_ratio,table_bytes,status\n";
+  for (const TierRow& r : comparison.rows) {
+    csv << r.name << ',' << SolverMethodName(r.method) << ',' << r.dof << ',' << r.state_dim << ','
+        << r.max_frequency_error << ',' << ComplianceErrorCsv(r.compliance_error) << ','
+        << CsvNumber(r.te_rms) << ',' << CsvNumber(r.te_rms_difference) << ','
+        << CsvNumber(r.rattle_index) << ',' << CsvNumber(r.rattle_index_difference) << ','
+        << CsvNumber(r.matvec_per_cycle) << ',' << CsvNumber(r.us_per_cycle) << ','
+        << CsvNumber(r.real_time_ratio) << ',' << r.table_bytes << ',' << SolverStatusName(r.status)
+        << '\n';
+  }
+  out.Write("tiers.csv", csv.str());
+  out.Write("tiers.json", doc.dump(1) + "\n");
+#ifdef GEARNVH_HAVE_RENDER
+  std::vector<TierPoint> points;
+  for (const TierRow& r : comparison.rows) {
+    if (r.ok()) {
+      points.push_back({r.name, r.us_per_cycle, r.max_frequency_error, r.te_rms_difference});
+    }
+  }
+  const render::LinePlot plot = TierComparisonFigure("cost (µs per mesh cycle)", points,
+                                                     "TE RMS difference to the finest tier");
+  const render::RenderStatus status = render::RenderLinePlot(
+      plot, {options.width, options.height, options.dpi}, (out.staging() / "tiers.png").string());
+  if (!status.ok) throw std::runtime_error("tiers.png: " + status.message);
+#else
+  (void)options;
+#endif
+  out.Commit();
+}
+
+// The text table: a row per tier, a failed tier with its status and why it stopped.
+void PrintTiersTable(const TiersComparison& comparison) {
+  const std::vector<TierRow>& rows = comparison.rows;
+  fmt::print("  {:<20} {:>4} {:>5} {:>9} {:>10} {:>10} {:>9} {:>10} {:>9} {:>9} {:>9} {:>9}\n",
+             "tier", "DOF", "state", "max df/f", "dg/g", "TE RMS µm", "vs finest", "rattle J",
+             "vs finest", "matvec/c", "µs/cycle", "x real");
+  for (const TierRow& r : rows) {
+    fmt::print("  {:<20} {:>4} {:>5} {:>9.2e} {:>10} ", r.name, r.dof, r.state_dim,
+               r.max_frequency_error, ComplianceErrorText(r.compliance_error));
+    if (!r.ok()) {
+      fmt::print("failed ({}): {}\n", SolverStatusName(r.status), r.message);
+      continue;
+    }
+    fmt::print("{:>10.4f} {:>9.2e} {:>10.3e} {:>9.2e} {:>9.1f} {:>9.2f} {:>9.2f}\n", r.te_rms * 1e6,
+               r.te_rms_difference, r.rattle_index, r.rattle_index_difference, r.matvec_per_cycle,
+               r.us_per_cycle, r.real_time_ratio);
+  }
+  const TierRow& finest = rows[comparison.finest];
+  fmt::print(
+      "  finest tier: {}; frequencies of each tier compared with the closest full-FE "
+      "frequency\n",
+      finest.ok() ? finest.name : "none (every tier's run stopped)");
+  PrintRigidBodyModes(comparison);
+}
+
 }  // namespace
+
+int TiersExitCode(int failed, size_t tiers) {
+  if (failed == 0) return 0;
+  fmt::print(stderr, "error: {} of {} tiers failed (listed in the output)\n", failed, tiers);
+  return 1;
+}
 
 double TierFrequencyError(const ReducedModel& reduced, const ModalSummary& full) {
   double worst = 0.0;
@@ -123,47 +247,20 @@ TiersComparison CompareTiers(const GearboxSpec& spec, const SolverOptions& solve
       rows.push_back(RunTier(spec, model, r, full, fused, r.name + " + fusion", before_run_memory));
     }
   }
-  // The finest tier: the one with most DOF (N40 full on flexible gearboxes, tier 3 otherwise).
-  size_t& finest = out.finest;
-  for (size_t i = 0; i < rows.size(); ++i) {
-    if (rows[i].dof > rows[finest].dof) finest = i;
-  }
-  for (TierRow& r : rows) {
-    r.te_rms_difference = RelativeDifference(r.te_rms, rows[finest].te_rms, kTeResolution);
-    r.rattle_index_difference =
-        RelativeDifference(r.rattle_index, rows[finest].rattle_index, kImpactEnergyResolution);
-  }
-
+  CompareToFinest(out);
   nlohmann::json list = nlohmann::json::array();
-  for (const TierRow& r : rows) {
-    list.push_back({{"name", r.name},
-                    {"method", SolverMethodName(r.method)},
-                    {"dof", r.dof},
-                    {"state_dim", r.state_dim},
-                    {"rigid_body_modes", r.rigid_body_modes},
-                    {"frequencies_hz", r.frequencies_hz},
-                    {"frequency_errors", r.frequency_errors},
-                    {"max_frequency_error", r.max_frequency_error},
-                    {"static_compliance_error", ComplianceErrorJson(r.compliance_error)},
-                    {"te_rms_m", r.te_rms},
-                    {"te_rms_difference_to_finest", r.te_rms_difference},
-                    {"rattle_index_j", r.rattle_index},
-                    {"rattle_index_difference_to_finest", r.rattle_index_difference},
-                    {"regime", RattleRegimeName(r.regime)},
-                    {"matvec_per_cycle", r.matvec_per_cycle},
-                    {"us_per_cycle", r.us_per_cycle},
-                    {"real_time_ratio", r.real_time_ratio},
-                    {"table_bytes", r.table_bytes}});
-  }
+  for (const TierRow& r : rows) list.push_back(TierRowJson(r));
   out.full_fe_dof = model.dofs;
   out.full_fe_rigid_body_modes = full.rigid_body_modes;
-  out.doc = {{"full_fe_dof", model.dofs},
-             {"full_fe_rigid_body_modes", full.rigid_body_modes},
-             {"full_fe_frequencies_hz", full.frequencies_hz},
-             {"finest_tier", rows[finest].name},
-             {"cycles", solver.cycles},
-             {"transient_cycles", solver.transient_cycles},
-             {"tiers", list}};
+  out.doc = {
+      {"full_fe_dof", model.dofs},
+      {"full_fe_rigid_body_modes", full.rigid_body_modes},
+      {"full_fe_frequencies_hz", full.frequencies_hz},
+      {"finest_tier", rows[out.finest].ok() ? nlohmann::json(rows[out.finest].name) : nullptr},
+      {"failed_tiers", out.failed},
+      {"cycles", solver.cycles},
+      {"transient_cycles", solver.transient_cycles},
+      {"tiers", list}};
   return out;
 }
 
@@ -206,66 +303,20 @@ int RunTiers(const TiersCommandOptions& options) {
           return {};
         });
     if (on_terminal) fmt::print(stderr, "\n");
-    const std::vector<TierRow>& rows = comparison.rows;
-    const size_t finest = comparison.finest;
     nlohmann::json doc = comparison.doc;
     doc["name"] = spec.name;
     doc["file"] = options.file;
     RequireFinite(doc, "tiers");
-    if (out) {
-      const std::filesystem::path dir = out->staging();
-      std::ostringstream csv;
-      csv.precision(10);
-      csv << "tier,method,dof,state_dim,max_frequency_error,static_compliance_error,te_rms_m,"
-             "te_rms_difference,rattle_index_j,rattle_index_difference,matvec_per_cycle,"
-             "us_per_cycle,real_time_ratio,table_bytes\n";
-      for (const TierRow& r : rows) {
-        csv << r.name << ',' << SolverMethodName(r.method) << ',' << r.dof << ',' << r.state_dim
-            << ',' << r.max_frequency_error << ',' << ComplianceErrorCsv(r.compliance_error) << ','
-            << r.te_rms << ',' << r.te_rms_difference << ',' << r.rattle_index << ','
-            << r.rattle_index_difference << ',' << r.matvec_per_cycle << ',' << r.us_per_cycle
-            << ',' << r.real_time_ratio << ',' << r.table_bytes << '\n';
-      }
-      out->Write("tiers.csv", csv.str());
-      out->Write("tiers.json", doc.dump(1) + "\n");
-#ifdef GEARNVH_HAVE_RENDER
-      std::vector<TierPoint> points;
-      for (const TierRow& r : rows) {
-        points.push_back({r.name, r.us_per_cycle, r.max_frequency_error, r.te_rms_difference});
-      }
-      const render::LinePlot plot = TierComparisonFigure("cost (µs per mesh cycle)", points,
-                                                         "TE RMS difference to the finest tier");
-      const render::RenderStatus status = render::RenderLinePlot(
-          plot, {options.width, options.height, options.dpi}, (dir / "tiers.png").string());
-      if (!status.ok) throw std::runtime_error("tiers.png: " + status.message);
-#endif
-      out->Commit();
-    }
+    if (out) WriteTiersFolder(*out, comparison, doc, options);
     if (options.json) {
       std::cout << doc.dump(1) << "\n";
     } else {
       fmt::print("{}  ({}): modal tiers against the full FE model ({} DOF), {} each\n", spec.name,
                  options.file, comparison.full_fe_dof,
                  Count(solver.cycles, "mesh cycle", "mesh cycles"));
-      fmt::print("  {:<20} {:>4} {:>5} {:>9} {:>10} {:>10} {:>9} {:>10} {:>9} {:>9} {:>9} {:>9}\n",
-                 "tier", "DOF", "state", "max df/f", "dg/g", "TE RMS µm", "vs finest", "rattle J",
-                 "vs finest", "matvec/c", "µs/cycle", "x real");
-      for (const TierRow& r : rows) {
-        fmt::print(
-            "  {:<20} {:>4} {:>5} {:>9.2e} {:>10} {:>10.4f} {:>9.2e} {:>10.3e} {:>9.2e} "
-            "{:>9.1f} {:>9.2f} {:>9.2f}\n",
-            r.name, r.dof, r.state_dim, r.max_frequency_error,
-            ComplianceErrorText(r.compliance_error), r.te_rms * 1e6, r.te_rms_difference,
-            r.rattle_index, r.rattle_index_difference, r.matvec_per_cycle, r.us_per_cycle,
-            r.real_time_ratio);
-      }
-      fmt::print(
-          "  finest tier: {}; frequencies of each tier compared with the closest full-FE "
-          "frequency\n",
-          rows[finest].name);
-      PrintRigidBodyModes(comparison);
+      PrintTiersTable(comparison);
     }
-    return 0;
+    return TiersExitCode(comparison.failed, comparison.rows.size());
   });
 }
 

@@ -39,6 +39,10 @@ int RunTiers(const TiersCommandOptions& options);
 struct TierRow {
   std::string name;
   SolverMethod method = SolverMethod::kStepped;  // of the run
+  // A run that stopped (kOutOfRange, kTooManyEvents) keeps its model columns; its results (TE,
+  // rattle, their differences, regime and cost) are NaN and `message` says why.
+  SolverStatus status = SolverStatus::kSuccess;
+  std::string message;
   int dof = 0, state_dim = 0;
   int rigid_body_modes = 0;              // left out of the frequencies (modal_analysis.h)
   std::vector<double> frequencies_hz;    // lowest elastic (up to 6)
@@ -50,11 +54,15 @@ struct TierRow {
   RattleRegime regime = RattleRegime::kNoImpact;
   double matvec_per_cycle = 0.0, us_per_cycle = 0.0, real_time_ratio = 0.0;
   size_t table_bytes = 0;
+  bool ok() const { return status == SolverStatus::kSuccess; }
 };
 
 struct TiersComparison {
   std::vector<TierRow> rows;
-  size_t finest = 0;  // the row with most DOF, the reference of the differences
+  // The row with most DOF among those whose run succeeded, the reference of the differences (the
+  // row with most DOF when none did: its differences are then NaN).
+  size_t finest = 0;
+  int failed = 0;  // rows whose run stopped
   int full_fe_dof = 0;
   int full_fe_rigid_body_modes = 0;
   nlohmann::json doc;  // the `tiers --json` document without name and file
@@ -64,11 +72,16 @@ struct TiersComparison {
 // closest frequency of the full FE model.
 double TierFrequencyError(const ReducedModel& reduced, const ModalSummary& full);
 
+// The exit code of `tiers` (either schema): 1, said on stderr, when `failed` of the `tiers` runs
+// stopped (the others are listed), else 0.
+int TiersExitCode(int failed, size_t tiers);
+
 // (tier being run, tiers in all, its name)
 using TiersProgress = std::function<void(size_t, size_t, const std::string&)>;
 
 // Every available tier at the operating point with `solver`'s cycles (also N20 MTA with fusion),
-// one after the other. `before_run_memory` is AnalyseOperatingPoint's, for every tier's run.
+// one after the other; a tier whose run stops is a failed row, and the others still run.
+// `before_run_memory` is AnalyseOperatingPoint's, for every tier's run.
 TiersComparison CompareTiers(const GearboxSpec& spec, const SolverOptions& solver,
                              const TiersProgress& progress = {},
                              const std::function<std::string(RunMemory&)>& before_run_memory = {});

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <limits>
 #include <sstream>
 
 #include "finite_results.h"
@@ -27,14 +28,21 @@ TrainTierRow RunTier(const TrainSpec& spec, const GearTrain& train, TrainTables 
   // tier, and the cost columns compare stepping.
   run.jumps = false;
   const TrainOperatingPoint op = RunTrainOperatingPoint(spec, train, std::move(tables), run);
-  if (!op.ok()) {
-    throw std::runtime_error(std::string(TierName(tier)) +
-                             ": the run stopped: " + TrainStepperMessage(op.summary));
-  }
   TrainTierRow row;
   row.name = TierName(tier);
   row.dof = op.tables.n;
   row.state_dim = op.tables.m;
+  row.table_bytes = op.summary.cache.peak_bytes;
+  if (!op.ok()) {
+    row.info = op.summary.info;
+    row.message = TrainStepperMessage(op.summary);
+    row.te_rms.assign(op.stats.meshes.size(), kNoResult);
+    for (bool loose : op.tables.loose) {
+      if (loose) row.rattle_index.push_back(kNoResult);
+    }
+    row.us_per_cycle = row.real_time_ratio = kNoResult;
+    return row;
+  }
   for (const TrainMeshStatistics& m : op.stats.meshes) row.te_rms.push_back(m.te_rms);
   // Loose gears in body order (the statistics are ranked).
   for (int b = 0; b < op.tables.bodies(); ++b) {
@@ -47,8 +55,58 @@ TrainTierRow RunTier(const TrainSpec& spec, const GearTrain& train, TrainTables 
   const long cycles = run.transient + run.cycles;
   row.us_per_cycle = 1e6 * op.wall_s / static_cast<double>(std::max(1L, cycles));
   row.real_time_ratio = op.wall_s > 0.0 ? op.summary.simulated_time / op.wall_s : 0.0;
-  row.table_bytes = op.summary.cache.peak_bytes;
   return row;
+}
+
+// The differences of every row to the finest (succeeded, most DOF); NaN for a failed row.
+void CompareToFinest(TrainTiersComparison& out) {
+  std::vector<TrainTierRow>& rows = out.rows;
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const TrainTierRow& f = rows[out.finest];
+    if (rows[i].ok() != f.ok() ? rows[i].ok() : rows[i].dof > f.dof) out.finest = i;
+  }
+  const TrainTierRow& finest = rows[out.finest];
+  const bool compared = finest.ok();
+  for (TrainTierRow& r : rows) {
+    out.failed += r.ok() ? 0 : 1;
+    for (size_t i = 0; i < r.te_rms.size(); ++i) {
+      r.te_rms_difference.push_back(
+          compared ? RelativeDifference(r.te_rms[i], finest.te_rms[i], kTeResolution) : kNoResult);
+    }
+    for (size_t i = 0; i < r.rattle_index.size(); ++i) {
+      r.rattle_index_difference.push_back(
+          compared ? RelativeDifference(r.rattle_index[i], finest.rattle_index[i],
+                                        kAngularAccelerationResolution)
+                   : kNoResult);
+    }
+  }
+}
+
+nlohmann::json TrainTierRowJson(const TrainTierRow& r, const TrainTiersComparison& c) {
+  // A result: null when the run stopped (a NaN of a run that succeeded is still refused).
+  const auto result = [&r](double v) { return r.ok() ? nlohmann::json(v) : nullptr; };
+  nlohmann::json meshes = nlohmann::json::array(), loose = nlohmann::json::array();
+  for (size_t i = 0; i < r.te_rms.size(); ++i) {
+    meshes.push_back({{"name", c.meshes[i]},
+                      {"te_rms_m", result(r.te_rms[i])},
+                      {"te_rms_difference_to_finest", FiniteOrNull(r.te_rms_difference[i])}});
+  }
+  for (size_t i = 0; i < r.rattle_index.size(); ++i) {
+    loose.push_back(
+        {{"name", c.loose_gears[i]},
+         {"rattle_index", result(r.rattle_index[i])},
+         {"rattle_index_difference_to_finest", FiniteOrNull(r.rattle_index_difference[i])}});
+  }
+  return {{"name", r.name},
+          {"status", TrainStepperInfoName(r.info)},
+          {"message", r.message},
+          {"dof", r.dof},
+          {"state_dim", r.state_dim},
+          {"meshes", meshes},
+          {"loose_gears", loose},
+          {"us_per_cycle", result(r.us_per_cycle)},
+          {"real_time_ratio", result(r.real_time_ratio)},
+          {"table_bytes", r.table_bytes}};
 }
 
 }  // namespace
@@ -90,42 +148,13 @@ TrainTiersComparison CompareTrainTiers(const TrainSpec& spec, TrainRunOptions ru
     if (progress) progress(out.rows.size() + 1, tiers.size(), TierName(t.tier));
     out.rows.push_back(RunTier(spec, train, std::move(t), run));
   }
-  std::vector<TrainTierRow>& rows = out.rows;
-  for (size_t i = 0; i < rows.size(); ++i) {
-    if (rows[i].dof > rows[out.finest].dof) out.finest = i;
-  }
-  const TrainTierRow& finest = rows[out.finest];
+  CompareToFinest(out);
   nlohmann::json list = nlohmann::json::array();
-  for (TrainTierRow& r : rows) {
-    for (size_t i = 0; i < r.te_rms.size(); ++i)
-      r.te_rms_difference.push_back(
-          RelativeDifference(r.te_rms[i], finest.te_rms[i], kTeResolution));
-    for (size_t i = 0; i < r.rattle_index.size(); ++i) {
-      r.rattle_index_difference.push_back(RelativeDifference(
-          r.rattle_index[i], finest.rattle_index[i], kAngularAccelerationResolution));
-    }
-    nlohmann::json meshes = nlohmann::json::array(), loose = nlohmann::json::array();
-    for (size_t i = 0; i < r.te_rms.size(); ++i) {
-      meshes.push_back({{"name", out.meshes[i]},
-                        {"te_rms_m", r.te_rms[i]},
-                        {"te_rms_difference_to_finest", r.te_rms_difference[i]}});
-    }
-    for (size_t i = 0; i < r.rattle_index.size(); ++i) {
-      loose.push_back({{"name", out.loose_gears[i]},
-                       {"rattle_index", r.rattle_index[i]},
-                       {"rattle_index_difference_to_finest", r.rattle_index_difference[i]}});
-    }
-    list.push_back({{"name", r.name},
-                    {"dof", r.dof},
-                    {"state_dim", r.state_dim},
-                    {"meshes", meshes},
-                    {"loose_gears", loose},
-                    {"us_per_cycle", r.us_per_cycle},
-                    {"real_time_ratio", r.real_time_ratio},
-                    {"table_bytes", r.table_bytes}});
-  }
+  for (const TrainTierRow& r : out.rows) list.push_back(TrainTierRowJson(r, out));
+  const TrainTierRow& finest = out.rows[out.finest];
   out.doc = {{"schema", "gearnvh/2"},
-             {"finest_tier", finest.name},
+             {"finest_tier", finest.ok() ? nlohmann::json(finest.name) : nullptr},
+             {"failed_tiers", out.failed},
              {"cycles", run.cycles},
              {"transient_cycles", run.transient},
              {"tiers", list}};
@@ -153,6 +182,79 @@ nlohmann::json TrainTiersDocument(const TrainTiersComparison& c, const TrainSpec
   return doc;
 }
 
+namespace {
+
+// tiers.csv: one row per tier and mesh or loose gear (long format: any number of each).
+std::string TrainTiersCsv(const TrainTiersComparison& c) {
+  std::ostringstream csv;
+  csv.precision(10);
+  csv << "tier,dof,state_dim,item,name,value,difference_to_finest,us_per_cycle,real_time_ratio,"
+         "table_bytes,status\n";
+  for (const TrainTierRow& r : c.rows) {
+    const auto line = [&](const char* item, const std::string& name, double value,
+                          double difference) {
+      csv << r.name << ',' << r.dof << ',' << r.state_dim << ',' << item << ',' << name << ','
+          << CsvNumber(value) << ',' << CsvNumber(difference) << ',' << CsvNumber(r.us_per_cycle)
+          << ',' << CsvNumber(r.real_time_ratio) << ',' << r.table_bytes << ','
+          << TrainStepperInfoName(r.info) << '\n';
+    };
+    for (size_t i = 0; i < r.te_rms.size(); ++i)
+      line("te_rms_m", c.meshes[i], r.te_rms[i], r.te_rms_difference[i]);
+    for (size_t i = 0; i < r.rattle_index.size(); ++i) {
+      line("rattle_index", c.loose_gears[i], r.rattle_index[i], r.rattle_index_difference[i]);
+    }
+  }
+  return csv.str();
+}
+
+// A table of one value per tier and item (mesh or loose gear); a failed tier says so once.
+void PrintTrainTierValues(const TrainTiersComparison& c, const std::vector<std::string>& items,
+                          std::vector<double> TrainTierRow::*values,
+                          std::vector<double> TrainTierRow::*differences, double scale,
+                          const char* format) {
+  fmt::print("  {:<12}", "tier");
+  for (const std::string& m : items) fmt::print(" {:>22}", m);
+  fmt::print("\n");
+  for (const TrainTierRow& r : c.rows) {
+    fmt::print("  {:<12}", r.name);
+    if (!r.ok()) fmt::print(" failed");
+    for (size_t i = 0; r.ok() && i < (r.*values).size(); ++i) {
+      fmt::print(" {:>11} ({:>8.1e})", fmt::format(fmt::runtime(format), scale * (r.*values)[i]),
+                 (r.*differences)[i]);
+    }
+    fmt::print("\n");
+  }
+}
+
+void PrintTrainTiers(const TrainTiersComparison& c, const TrainSpec& spec,
+                     const TrainRunOptions& run, const std::string& file) {
+  fmt::print("{}  ({}): the train's tiers side by side, {} + {} cycles of {} each\n", spec.name,
+             file, run.transient, run.cycles, c.meshes.front());
+  fmt::print("  {:<12} {:>5} {:>6} {:>10} {:>10} {:>12}\n", "tier", "DOF", "state", "µs/cycle",
+             "x real", "cache MiB");
+  for (const TrainTierRow& r : c.rows) {
+    fmt::print("  {:<12} {:>5} {:>6} ", r.name, r.dof, r.state_dim);
+    if (!r.ok()) {
+      fmt::print("failed ({}): {}\n", TrainStepperInfoName(r.info), r.message);
+      continue;
+    }
+    fmt::print("{:>10.1f} {:>10.3f} {:>12.2f}\n", r.us_per_cycle, r.real_time_ratio,
+               static_cast<double>(r.table_bytes) / (1 << 20));
+  }
+  const TrainTierRow& finest = c.rows[c.finest];
+  const std::string reference = finest.ok() ? finest.name : "none: every tier's run stopped";
+  fmt::print("\n  TE RMS µm (relative difference to {})\n", reference);
+  PrintTrainTierValues(c, c.meshes, &TrainTierRow::te_rms, &TrainTierRow::te_rms_difference, 1e6,
+                       "{:.4f}");
+  if (!c.loose_gears.empty()) {
+    fmt::print("\n  rattle index rad/s² (relative difference to {})\n", reference);
+    PrintTrainTierValues(c, c.loose_gears, &TrainTierRow::rattle_index,
+                         &TrainTierRow::rattle_index_difference, 1.0, "{:.4g}");
+  }
+}
+
+}  // namespace
+
 int RunTrainTiers(const TiersCommandOptions& options, const TrainSpec& spec) {
   TrainRunOptions run = PlanTrainTiers(options, spec);
   run.before_run_warning = [](const std::string& w) { fmt::print(stderr, "warning: {}\n", w); };
@@ -169,62 +271,16 @@ int RunTrainTiers(const TiersCommandOptions& options, const TrainSpec& spec) {
   const nlohmann::json doc = TrainTiersDocument(c, spec, options.file);
   RequireFinite(doc, "tiers");
   if (out) {
-    // One row per tier and mesh or loose gear (long format: any number of each).
-    std::ostringstream csv;
-    csv.precision(10);
-    csv << "tier,dof,state_dim,item,name,value,difference_to_finest,us_per_cycle,real_time_ratio,"
-           "table_bytes\n";
-    for (const TrainTierRow& r : c.rows) {
-      const auto line = [&](const char* item, const std::string& name, double value,
-                            double difference) {
-        csv << r.name << ',' << r.dof << ',' << r.state_dim << ',' << item << ',' << name << ','
-            << value << ',' << difference << ',' << r.us_per_cycle << ',' << r.real_time_ratio
-            << ',' << r.table_bytes << '\n';
-      };
-      for (size_t i = 0; i < r.te_rms.size(); ++i)
-        line("te_rms_m", c.meshes[i], r.te_rms[i], r.te_rms_difference[i]);
-      for (size_t i = 0; i < r.rattle_index.size(); ++i) {
-        line("rattle_index", c.loose_gears[i], r.rattle_index[i], r.rattle_index_difference[i]);
-      }
-    }
-    out->Write("tiers.csv", csv.str());
+    out->Write("tiers.csv", TrainTiersCsv(c));
     out->Write("tiers.json", doc.dump(1) + "\n");
     out->Commit();
   }
   if (options.json) {
     std::cout << doc.dump(1) << "\n";
-    return 0;
+  } else {
+    PrintTrainTiers(c, spec, run, options.file);
   }
-  fmt::print("{}  ({}): the train's tiers side by side, {} + {} cycles of {} each\n", spec.name,
-             options.file, run.transient, run.cycles, c.meshes.front());
-  fmt::print("  {:<12} {:>5} {:>6} {:>10} {:>10} {:>12}\n", "tier", "DOF", "state", "µs/cycle",
-             "x real", "cache MiB");
-  for (const TrainTierRow& r : c.rows) {
-    fmt::print("  {:<12} {:>5} {:>6} {:>10.1f} {:>10.3f} {:>12.2f}\n", r.name, r.dof, r.state_dim,
-               r.us_per_cycle, r.real_time_ratio, static_cast<double>(r.table_bytes) / (1 << 20));
-  }
-  fmt::print("\n  TE RMS µm (relative difference to {})\n  {:<12}", c.rows[c.finest].name, "tier");
-  for (const std::string& m : c.meshes) fmt::print(" {:>22}", m);
-  fmt::print("\n");
-  for (const TrainTierRow& r : c.rows) {
-    fmt::print("  {:<12}", r.name);
-    for (size_t i = 0; i < r.te_rms.size(); ++i)
-      fmt::print(" {:>11.4f} ({:>8.1e})", 1e6 * r.te_rms[i], r.te_rms_difference[i]);
-    fmt::print("\n");
-  }
-  if (!c.loose_gears.empty()) {
-    fmt::print("\n  rattle index rad/s² (relative difference to {})\n  {:<12}",
-               c.rows[c.finest].name, "tier");
-    for (const std::string& g : c.loose_gears) fmt::print(" {:>22}", g);
-    fmt::print("\n");
-    for (const TrainTierRow& r : c.rows) {
-      fmt::print("  {:<12}", r.name);
-      for (size_t i = 0; i < r.rattle_index.size(); ++i)
-        fmt::print(" {:>11.4g} ({:>8.1e})", r.rattle_index[i], r.rattle_index_difference[i]);
-      fmt::print("\n");
-    }
-  }
-  return 0;
+  return TiersExitCode(c.failed, c.rows.size());
 }
 
 }  // namespace gearnvh::app

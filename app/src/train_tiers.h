@@ -18,21 +18,28 @@ namespace gearnvh::app {
 
 struct TrainTierRow {
   std::string name;
+  // A run that stopped keeps its DOF and state dimension; its results and cost are NaN (one per
+  // mesh and loose gear still) and `message` says why.
+  TrainStepperSummary::Info info = TrainStepperSummary::Info::kSuccess;
+  std::string message;
   int dof = 0, state_dim = 0;
   std::vector<double> te_rms, te_rms_difference;              // per mesh: m, relative
   std::vector<double> rattle_index, rattle_index_difference;  // per loose gear: rad/s^2, relative
   double us_per_cycle = 0.0, real_time_ratio = 0.0;
   size_t table_bytes = 0;
+  bool ok() const { return info == TrainStepperSummary::Info::kSuccess; }
 };
 
 struct TrainTiersComparison {
   std::vector<std::string> meshes, loose_gears;  // file order, body order
   std::vector<TrainTierRow> rows;
-  size_t finest = 0;
+  size_t finest = 0;   // as TiersComparison::finest
+  int failed = 0;      // rows whose run stopped
   nlohmann::json doc;  // `tiers --json` on a train without name and file
 };
 
-// Every tier the train has at the operating point, `run`'s cycles each (run.tier is ignored).
+// Every tier the train has at the operating point, `run`'s cycles each (run.tier is ignored); a
+// tier whose run stops is a failed row, and the others still run.
 TrainTiersComparison CompareTrainTiers(const TrainSpec& spec, TrainRunOptions run,
                                        const TiersProgress& progress = {});
 

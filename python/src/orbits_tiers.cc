@@ -173,7 +173,37 @@ void BindOrbitsTiers(py::module_& m) {
       .def_property_readonly("us_per_cycle", TierField(&app::TierRow::us_per_cycle))
       .def_property_readonly("real_time_ratio", TierField(&app::TierRow::real_time_ratio))
       .def_property_readonly(
-          "finest", [](const Tiers& t) { return t.comparison.rows[t.comparison.finest].name; })
+          "ok",
+          [](const Tiers& t) {
+            std::vector<bool> v;
+            for (const app::TierRow& r : t.comparison.rows) v.push_back(r.ok());
+            return v;
+          },
+          "per tier: the run finished (a failed tier's results are NaN)")
+      .def_property_readonly(
+          "statuses",
+          [](const Tiers& t) {
+            std::vector<std::string> v;
+            for (const app::TierRow& r : t.comparison.rows) v.push_back(SolverStatusName(r.status));
+            return v;
+          },
+          "per tier: 'success', 'too_many_events' or 'out_of_range'")
+      .def_property_readonly(
+          "messages",
+          [](const Tiers& t) {
+            std::vector<std::string> v;
+            for (const app::TierRow& r : t.comparison.rows) v.push_back(r.message);
+            return v;
+          },
+          "per tier: why the run stopped ('' when it did not)")
+      .def_property_readonly("failed", [](const Tiers& t) { return t.comparison.failed; })
+      .def_property_readonly(
+          "finest",
+          [](const Tiers& t) -> std::optional<std::string> {
+            const app::TierRow& finest = t.comparison.rows[t.comparison.finest];
+            return finest.ok() ? std::optional(finest.name) : std::nullopt;
+          },
+          "the tier with the most DOF whose run finished (None when none did)")
       .def(
           "to_dict", [](const Tiers& t) { return ToPython(t.doc); },
           "The document `gearnvh tiers --json` prints.")

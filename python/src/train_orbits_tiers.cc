@@ -209,8 +209,39 @@ void BindTrainOrbitsTiers(py::module_& m) {
       .def_property_readonly("loose_gear_names",
                              [](const TrainTiers& t) { return t.comparison.loose_gears; })
       .def_property_readonly(
-          "finest", [](const TrainTiers& t) { return t.comparison.rows[t.comparison.finest].name; },
-          "the tier with the most DOF, the reference of the differences")
+          "ok",
+          [](const TrainTiers& t) {
+            std::vector<bool> v;
+            for (const app::TrainTierRow& r : t.comparison.rows) v.push_back(r.ok());
+            return v;
+          },
+          "per tier: the run finished (a failed tier's results are NaN)")
+      .def_property_readonly(
+          "statuses",
+          [](const TrainTiers& t) {
+            std::vector<std::string> v;
+            for (const app::TrainTierRow& r : t.comparison.rows)
+              v.push_back(TrainStepperInfoName(r.info));
+            return v;
+          },
+          "per tier: 'success', 'too many events' or 'out of range'")
+      .def_property_readonly(
+          "messages",
+          [](const TrainTiers& t) {
+            std::vector<std::string> v;
+            for (const app::TrainTierRow& r : t.comparison.rows) v.push_back(r.message);
+            return v;
+          },
+          "per tier: why the run stopped ('' when it did not)")
+      .def_property_readonly("failed", [](const TrainTiers& t) { return t.comparison.failed; })
+      .def_property_readonly(
+          "finest",
+          [](const TrainTiers& t) -> std::optional<std::string> {
+            const app::TrainTierRow& finest = t.comparison.rows[t.comparison.finest];
+            return finest.ok() ? std::optional(finest.name) : std::nullopt;
+          },
+          "the tier with the most DOF whose run finished (None when none did), the reference of "
+          "the differences")
       .def_property_readonly("dof", TrainTierField(&app::TrainTierRow::dof))
       .def_property_readonly("state_dim", TrainTierField(&app::TrainTierRow::state_dim))
       .def_property_readonly("us_per_cycle", TrainTierField(&app::TrainTierRow::us_per_cycle),

@@ -11,6 +11,23 @@ SOURCE_DIR = pathlib.Path(os.environ.get("GEARNVH_SOURCE_DIR",
                                          pathlib.Path(__file__).resolve().parents[2]))
 EXAMPLES = SOURCE_DIR / "examples"
 IDLE_RATTLE = EXAMPLES / "idle_rattle.yaml"
+# A train whose tiers 2 and 3 stop out of range (shared with the C++ tests).
+STRONG_RATTLE_TRAIN = SOURCE_DIR / "tests" / "data" / "strong_rattle_train.yaml"
+
+
+def strong_rattle_file(tmp_path):
+    """examples/flexible_shafts.yaml at the strong-rattle point (7548 rpm, 20 N m, order 15.5 of
+    2e5 rad/s^2), whose tiers 2 and 3 grow without bound and stop out of range
+    (tests/support/example_variant.h, kStrongRattlePoint)."""
+    text = (EXAMPLES / "flexible_shafts.yaml").read_text()
+    point = "  speed: 3000 rpm\n  torque: 200 N*m\n"
+    assert point in text
+    path = tmp_path / "strong_rattle.yaml"
+    path.write_text(text.replace(point, "  speed: 7548.387097 rpm\n  torque: 20 N*m\n"
+                                        "  excitation:\n"
+                                        "    - {order: 15.5, amplitude: 200000 rad/s^2, "
+                                        "phase: 0 deg}\n"))
+    return path
 
 
 @pytest.fixture(scope="session")

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import gearnvh
-from conftest import IDLE_RATTLE, interrupted_after
+from conftest import IDLE_RATTLE, interrupted_after, strong_rattle_file
 
 
 @pytest.fixture()
@@ -69,6 +69,20 @@ def test_tiers_document(gb):
     assert t.names == [row["name"] for row in doc["tiers"]]
     assert t.te_rms.tolist() == [row["te_rms_m"] for row in doc["tiers"]]
     assert t.finest == doc["finest_tier"]
+
+
+def test_tiers_keep_the_others_when_one_stops(tmp_path):
+    # Tiers 2 and 3 grow without bound at the strong-rattle point: marked failed, not raised.
+    t = gearnvh.tiers(gearnvh.load(str(strong_rattle_file(tmp_path))), cycles=300, transient=100)
+    failed = [name for name, ok in zip(t.names, t.ok) if not ok]
+    assert failed == ["tier 2", "tier 3"]
+    assert t.failed == 2
+    assert t.statuses[1] == "out_of_range"
+    assert "past the teeth's whole depth" in t.messages[1]
+    assert t.messages[0] == ""
+    assert np.isnan(t.te_rms[1]) and t.te_rms[0] > 0
+    assert t.finest == "N40 full"
+    assert t.to_dict()["tiers"][1]["te_rms_m"] is None
 
 
 def test_validate_a_pair_as_the_command_line(gearnvh_exe):

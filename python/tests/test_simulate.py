@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import gearnvh
-from conftest import EXAMPLES, IDLE_RATTLE
+from conftest import EXAMPLES, IDLE_RATTLE, strong_rattle_file
 
 RUN = dict(tier=1, cycles=200, transient=50)
 
@@ -177,20 +177,6 @@ def test_simulate_checks_memory_as_the_command_line(monkeypatch):
     # Within the limit the same call runs.
     monkeypatch.setenv("GEARNVH_MEMORY_LIMIT", str(8 << 30))
     assert gearnvh.simulate(pair, tier=1, cycles=50, transient=10).summary.events >= 0
-
-
-STRONG_RATTLE = ("  speed: 7548.387097 rpm\n  torque: 20 N*m\n  excitation:\n"
-                 "    - {order: 15.5, amplitude: 200000 rad/s^2, phase: 0 deg}\n")
-
-
-def strong_rattle_file(tmp_path):
-    """examples/flexible_shafts.yaml at the strong-rattle point, whose tier 2 grows without bound
-    and stops out of range (tests/app/cli_simulate_test.cc)."""
-    text = (EXAMPLES / "flexible_shafts.yaml").read_text()
-    assert "  speed: 3000 rpm\n  torque: 200 N*m\n" in text
-    path = tmp_path / "strong_rattle.yaml"
-    path.write_text(text.replace("  speed: 3000 rpm\n  torque: 200 N*m\n", STRONG_RATTLE))
-    return path
 
 
 def test_cycles_of_a_stopped_run_are_those_recorded(tmp_path):

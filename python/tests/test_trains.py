@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import gearnvh
-from conftest import EXAMPLES, SOURCE_DIR, interrupted_after
+from conftest import EXAMPLES, SOURCE_DIR, STRONG_RATTLE_TRAIN, interrupted_after
 
 REDUCER = EXAMPLES / "two_stage_helical_reducer.yaml"
 TRANSMISSION = EXAMPLES / "manual_transmission_idle.yaml"
@@ -498,3 +498,14 @@ def test_whine_reads_a_housing_table_as_the_command_line(gearnvh_exe, tmp_path):
     with pytest.raises(gearnvh.InputError) as bad:
         gearnvh.whine(gearnvh.load(REDUCER), tier=3, speeds=2, housing=str(table))
     assert bad.value.path == "direction"
+
+
+def test_tiers_of_a_train_keep_the_others_when_one_stops():
+    t = gearnvh.tiers(gearnvh.load(str(STRONG_RATTLE_TRAIN)), cycles=300, transient=100)
+    assert [name for name, ok in zip(t.names, t.ok) if not ok] == ["tier 2", "tier 3"]
+    assert t.failed == 2
+    assert t.statuses[1] == "out of range"
+    assert "on mesh pinion-wheel" in t.messages[1]
+    assert np.isnan(t.te_rms[1, 0]) and t.te_rms[0, 0] > 0
+    assert t.finest == "N40 full"
+    assert t.to_dict()["tiers"][1]["meshes"][0]["te_rms_m"] is None

@@ -3,8 +3,9 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "support/run_command.h"
+#include "support/example_variant.h"
 #include "support/paths.h"
+#include "support/run_command.h"
 
 namespace gearnvh {
 namespace {
@@ -118,6 +119,71 @@ TEST_CASE("tiers refuses runs whose memory estimate exceeds the limit", "[cli][t
   CHECK(from_file.err.find("tiers records 400 of them (at most 400); fewer recorded cycles "
                            "(--cycles) need less, got '2000'") != std::string::npos);
   CHECK(!std::filesystem::exists(out.path() / "tiers"));
+}
+
+TEST_CASE("tiers keeps the other tiers when one stops: the failed one is listed, exit 1",
+          "[cli][tiers]") {
+  // At the strong-rattle point tiers 2 and 3 grow without bound and stop out of range; the others
+  // finish and are compared with N40 full.
+  const TempDir dir;
+  const std::string file =
+      testing::WriteExampleVariant(dir, "flexible_shafts.yaml", {testing::kStrongRattlePoint})
+          .string();
+  const std::string run = kExe + " tiers --cycles 300 --transient 100 ";
+  const auto json = RunCommand(run + "--json --out " + (dir.path() / "out").string() + " " + file);
+  INFO(json.err);
+  CHECK(json.exit_code == 1);
+  CHECK(json.err.find("2 of 8 tiers failed") != std::string::npos);
+  const auto doc = nlohmann::json::parse(json.out);
+  CHECK(doc["failed_tiers"] == 2);
+  CHECK(doc["finest_tier"] == "N40 full");
+  std::map<std::string, nlohmann::json> by;
+  for (const auto& t : doc["tiers"]) by[t["name"].get<std::string>()] = t;
+  for (const char* name : {"tier 2", "tier 3"}) {
+    INFO(name);
+    CHECK(by[name]["status"] == "out_of_range");
+    CHECK(by[name]["message"].get<std::string>().find("past the teeth's whole depth") !=
+          std::string::npos);
+    CHECK(by[name]["te_rms_m"].is_null());
+    CHECK(by[name]["te_rms_difference_to_finest"].is_null());
+    CHECK(by[name]["dof"].get<int>() > 0);  // the model columns stay
+  }
+  for (const char* name : {"tier 1", "tier 4", "N40 full", "N20 MTA"}) {
+    INFO(name);
+    CHECK(by[name]["status"] == "success");
+    CHECK(by[name]["te_rms_m"].get<double>() > 0.0);
+  }
+  const std::string csv = testing::ReadWholeFile(dir.path() / "out" / "tiers.csv");
+  CHECK(csv.find(",out_of_range\n") != std::string::npos);
+  CHECK(csv.find("nan") == std::string::npos);
+
+  const auto text = RunCommand(run + file);
+  CHECK(text.exit_code == 1);
+  CHECK(text.out.find("failed (out_of_range): at mesh cycle") != std::string::npos);
+  CHECK(text.out.find("N20 MTA + fusion") != std::string::npos);
+  CHECK(text.out.find("finest tier: N40 full") != std::string::npos);
+}
+
+TEST_CASE("tiers on a train keeps the other tiers when one stops", "[cli][tiers][train]") {
+  const auto json = RunCommand(kExe + " tiers --json --cycles 300 --transient 100 " +
+                               testing::kStrongRattleTrain);
+  INFO(json.err);
+  CHECK(json.exit_code == 1);
+  const auto doc = nlohmann::json::parse(json.out);
+  CHECK(doc["failed_tiers"] == 2);
+  CHECK(doc["finest_tier"] == "N40 full");
+  std::map<std::string, nlohmann::json> by;
+  for (const auto& t : doc["tiers"]) by[t["name"].get<std::string>()] = t;
+  CHECK(by["tier 2"]["status"] == "out of range");
+  CHECK(by["tier 2"]["meshes"][0]["te_rms_m"].is_null());
+  CHECK(by["tier 2"]["us_per_cycle"].is_null());
+  CHECK(by["tier 1"]["status"] == "success");
+  CHECK(by["N40 full"]["meshes"][0]["te_rms_m"].get<double>() > 0.0);
+  const auto text =
+      RunCommand(kExe + " tiers --cycles 300 --transient 100 " + testing::kStrongRattleTrain);
+  CHECK(text.exit_code == 1);
+  CHECK(text.out.find("failed (out of range): on mesh pinion-wheel") != std::string::npos);
+  CHECK(text.out.find("relative difference to N40 full") != std::string::npos);
 }
 
 }  // namespace
