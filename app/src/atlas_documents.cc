@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "display_units.h"
+#include "finite_results.h"
 #include "gearnvh/nvh/rattle.h"
 
 namespace gearnvh::app {
@@ -27,14 +28,14 @@ nlohmann::json AtlasCellJson(const AtlasCell& c) {
           {"y", c.y},
           {"ok", c.ok},
           {"message", c.message},
-          {"lyapunov_per_s", c.lyapunov_per_s},
-          {"lyapunov_per_forcing_cycle", c.lyapunov_per_forcing_cycle},
-          {"lyapunov_standard_error", c.lyapunov_standard_error},
-          {"drive_impacts_per_cycle", c.drive_impacts_per_cycle},
-          {"back_impacts_per_cycle", c.back_impacts_per_cycle},
-          {"rattle_index_j", c.rattle_index},
-          {"impact_velocity_rms", c.impact_velocity_rms},
-          {"separation_fraction", c.separation_fraction},
+          {"lyapunov_per_s", ResultOrNull(c.ok, c.lyapunov_per_s)},
+          {"lyapunov_per_forcing_cycle", ResultOrNull(c.ok, c.lyapunov_per_forcing_cycle)},
+          {"lyapunov_standard_error", ResultOrNull(c.ok, c.lyapunov_standard_error)},
+          {"drive_impacts_per_cycle", ResultOrNull(c.ok, c.drive_impacts_per_cycle)},
+          {"back_impacts_per_cycle", ResultOrNull(c.ok, c.back_impacts_per_cycle)},
+          {"rattle_index_j", ResultOrNull(c.ok, c.rattle_index)},
+          {"impact_velocity_rms", ResultOrNull(c.ok, c.impact_velocity_rms)},
+          {"separation_fraction", ResultOrNull(c.ok, c.separation_fraction)},
           {"regime", c.ok ? RattleRegimeName(c.regime) : ""},
           {"wall_s", c.wall_s}};
 }
@@ -47,14 +48,14 @@ AtlasCell AtlasCellFromJson(const nlohmann::json& j) {
   c.y = j.at("y").get<double>();
   c.ok = j.at("ok").get<bool>();
   c.message = j.at("message").get<std::string>();
-  c.lyapunov_per_s = j.at("lyapunov_per_s").get<double>();
-  c.lyapunov_per_forcing_cycle = j.at("lyapunov_per_forcing_cycle").get<double>();
-  c.lyapunov_standard_error = j.at("lyapunov_standard_error").get<double>();
-  c.drive_impacts_per_cycle = j.at("drive_impacts_per_cycle").get<double>();
-  c.back_impacts_per_cycle = j.at("back_impacts_per_cycle").get<double>();
-  c.rattle_index = j.at("rattle_index_j").get<double>();
-  c.impact_velocity_rms = j.at("impact_velocity_rms").get<double>();
-  c.separation_fraction = j.at("separation_fraction").get<double>();
+  c.lyapunov_per_s = ResultFromJson(j.at("lyapunov_per_s"));
+  c.lyapunov_per_forcing_cycle = ResultFromJson(j.at("lyapunov_per_forcing_cycle"));
+  c.lyapunov_standard_error = ResultFromJson(j.at("lyapunov_standard_error"));
+  c.drive_impacts_per_cycle = ResultFromJson(j.at("drive_impacts_per_cycle"));
+  c.back_impacts_per_cycle = ResultFromJson(j.at("back_impacts_per_cycle"));
+  c.rattle_index = ResultFromJson(j.at("rattle_index_j"));
+  c.impact_velocity_rms = ResultFromJson(j.at("impact_velocity_rms"));
+  c.separation_fraction = ResultFromJson(j.at("separation_fraction"));
   if (c.ok) c.regime = RegimeFromJson(j.at("regime"));
   c.wall_s = j.at("wall_s").get<double>();
   return c;
@@ -88,11 +89,14 @@ std::string AtlasCsv(const AtlasResult& r, const GearboxSpec& spec) {
         "separation_fraction,regime,message\n";
   for (const AtlasCell& c : r.cells) {
     os << c.ix << ',' << c.iy << ',' << c.x * ax.scale << ',' << c.y * ay.scale << ','
-       << (c.ok ? 1 : 0) << ',' << c.lyapunov_per_s << ',' << c.lyapunov_per_forcing_cycle << ','
-       << c.lyapunov_standard_error << ',' << c.drive_impacts_per_cycle << ','
-       << c.back_impacts_per_cycle << ',' << c.rattle_index << ',' << c.impact_velocity_rms << ','
-       << c.separation_fraction << ',' << (c.ok ? RattleRegimeName(c.regime) : "") << ','
-       << CsvQuoted(c.message) << '\n';
+       << (c.ok ? 1 : 0) << ',';
+    // A failed cell's results are empty fields.
+    for (double v : {c.lyapunov_per_s, c.lyapunov_per_forcing_cycle, c.lyapunov_standard_error,
+                     c.drive_impacts_per_cycle, c.back_impacts_per_cycle, c.rattle_index,
+                     c.impact_velocity_rms, c.separation_fraction}) {
+      os << CsvNumber(v, 12) << ',';
+    }
+    os << (c.ok ? RattleRegimeName(c.regime) : "") << ',' << CsvQuoted(c.message) << '\n';
   }
   return os.str();
 }

@@ -31,12 +31,16 @@ void Walk(const nlohmann::json& j, const std::string& path, const std::string& w
 
 void RequireFinite(const nlohmann::json& doc, const std::string& what) { Walk(doc, "", what); }
 
-std::string CsvNumber(double v) {
+std::string CsvNumber(double v, int precision) {
   std::ostringstream field;
-  field.precision(10);
+  field.precision(precision);
   if (!std::isnan(v)) field << v;
   return field.str();
 }
+
+nlohmann::json ResultOrNull(bool ok, double v) { return ok ? nlohmann::json(v) : nullptr; }
+
+double ResultFromJson(const nlohmann::json& j) { return j.is_null() ? kNoResult : j.get<double>(); }
 
 nlohmann::json FiniteOrNull(double v) { return std::isfinite(v) ? nlohmann::json(v) : nullptr; }
 

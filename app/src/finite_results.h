@@ -18,8 +18,14 @@ nlohmann::json FiniteOrNull(double v);
 // JSON (FiniteOrNull), an empty CSV field (CsvNumber).
 inline constexpr double kNoResult = std::numeric_limits<double>::quiet_NaN();
 
-// A CSV field of 10 significant digits: empty for a result not reached (NaN).
-std::string CsvNumber(double v);
+// A CSV field of `precision` significant digits: empty for a result not reached (NaN).
+std::string CsvNumber(double v, int precision = 10);
+
+// A result of a point, cell or tier: the number when its run succeeded (`ok`; a NaN there is still
+// refused by RequireFinite), else null.
+nlohmann::json ResultOrNull(bool ok, double v);
+// Read back: null is kNoResult.
+double ResultFromJson(const nlohmann::json& j);
 
 // |a - b| / max(|b|, resolution): a result's difference relative to its reference. Below the
 // quantity's resolution a difference is measured against the resolution: a TE of 1e-19 m beside

@@ -42,11 +42,11 @@ nlohmann::json PointJson(const SpeedPoint& p) {
           {"speed_rpm", p.speed_rpm},
           {"ok", p.ok},
           {"message", p.message},
-          {"te_rms", p.te_rms},
-          {"te_peak_to_peak", p.te_peak_to_peak},
-          {"events_per_cycle", p.events_per_cycle},
-          {"drive", p.drive_impacts_per_cycle},
-          {"back", p.back_impacts_per_cycle},
+          {"te_rms", ResultOrNull(p.ok, p.te_rms)},
+          {"te_peak_to_peak", ResultOrNull(p.ok, p.te_peak_to_peak)},
+          {"events_per_cycle", ResultOrNull(p.ok, p.events_per_cycle)},
+          {"drive", ResultOrNull(p.ok, p.drive_impacts_per_cycle)},
+          {"back", ResultOrNull(p.ok, p.back_impacts_per_cycle)},
           {"regime", p.ok ? RattleRegimeName(p.regime) : ""},
           {"matvec_per_cycle", p.matvec_per_cycle},
           {"real_time_ratio", p.real_time_ratio},
@@ -66,11 +66,11 @@ SpeedPoint PointFromJson(const nlohmann::json& j) {
   p.speed_rpm = j.at("speed_rpm").get<double>();
   p.ok = j.at("ok").get<bool>();
   p.message = j.at("message").get<std::string>();
-  p.te_rms = j.at("te_rms").get<double>();
-  p.te_peak_to_peak = j.at("te_peak_to_peak").get<double>();
-  p.events_per_cycle = j.at("events_per_cycle").get<double>();
-  p.drive_impacts_per_cycle = j.at("drive").get<double>();
-  p.back_impacts_per_cycle = j.at("back").get<double>();
+  p.te_rms = ResultFromJson(j.at("te_rms"));
+  p.te_peak_to_peak = ResultFromJson(j.at("te_peak_to_peak"));
+  p.events_per_cycle = ResultFromJson(j.at("events_per_cycle"));
+  p.drive_impacts_per_cycle = ResultFromJson(j.at("drive"));
+  p.back_impacts_per_cycle = ResultFromJson(j.at("back"));
   if (p.ok) p.regime = RegimeFromJson(j.at("regime"));
   p.matvec_per_cycle = j.at("matvec_per_cycle").get<double>();
   p.real_time_ratio = j.at("real_time_ratio").get<double>();
@@ -175,11 +175,11 @@ nlohmann::json SweepJson(const SpeedSweepResult& r, double mesh_order) {
     points.push_back({{"speed_rpm", p.speed_rpm},
                       {"ok", p.ok},
                       {"message", p.message},
-                      {"te_rms", p.te_rms},
-                      {"te_peak_to_peak", p.te_peak_to_peak},
-                      {"events_per_cycle", p.events_per_cycle},
-                      {"drive_impacts_per_cycle", p.drive_impacts_per_cycle},
-                      {"back_impacts_per_cycle", p.back_impacts_per_cycle},
+                      {"te_rms", ResultOrNull(p.ok, p.te_rms)},
+                      {"te_peak_to_peak", ResultOrNull(p.ok, p.te_peak_to_peak)},
+                      {"events_per_cycle", ResultOrNull(p.ok, p.events_per_cycle)},
+                      {"drive_impacts_per_cycle", ResultOrNull(p.ok, p.drive_impacts_per_cycle)},
+                      {"back_impacts_per_cycle", ResultOrNull(p.ok, p.back_impacts_per_cycle)},
                       {"regime", p.ok ? RattleRegimeName(p.regime) : ""},
                       {"matvec_per_cycle", p.matvec_per_cycle},
                       {"real_time_ratio", p.real_time_ratio}});

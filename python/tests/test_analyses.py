@@ -137,3 +137,18 @@ def test_ctrl_c_interrupts_threaded_analyses(gb, analysis):
                           cycles=10, transient=900_000, jobs=2)
         else:
             gearnvh.sweep(gb, cycles=10, transient=900_000, jobs=2)
+
+
+def test_failed_speeds_and_cells_are_nan_not_zero(tmp_path):
+    gb = gearnvh.load(str(strong_rattle_file(tmp_path)))
+    gb.set("analysis.speed_sweep", {"from": "5000 rpm", "to": "6000 rpm", "points": 3})
+    s = gearnvh.sweep(gb, tier=2, cycles=300, transient=100, jobs=1)
+    assert s.ok == [True, True, False]  # 6000 rpm grows without bound
+    assert np.isnan(s.te_rms[2]) and np.isnan(s.events_per_cycle[2])
+    assert s.te_rms[0] > 0
+    assert s.to_dict()["waterfall"]["points"][2]["te_rms"] is None
+    a = gearnvh.atlas(gb, x="operating.speed=5000rpm:6000rpm:3", y="operating.torque=20Nm:21Nm:2",
+                      tier=2, cycles=300, transient=100, jobs=1)
+    assert a.failed == 2
+    assert np.isnan(a.rattle_index[:, 2]).all() and np.isnan(a.lyapunov_per_s[:, 2]).all()
+    assert (a.rattle_index[:, :2] > 0).all()

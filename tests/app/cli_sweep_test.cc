@@ -197,5 +197,54 @@ TEST_CASE("sweep refuses a sweep whose speeds in flight would hold more than the
   CHECK(!std::filesystem::exists(out.path() / "sweep"));
 }
 
+TEST_CASE("sweep and atlas: a failed speed or cell has null results, not 0", "[cli][sweep]") {
+  const TempDir dir;
+  const std::string file =
+      testing::WriteExampleVariant(dir, "flexible_shafts.yaml",
+                                   {testing::kStrongRattlePoint, testing::kStrongRattleSweep})
+          .string();
+  const auto sweep =
+      RunCommand(kExe + " sweep --json --tier 2 --cycles 300 --transient 100 " + file);
+  INFO(sweep.err);
+  CHECK(sweep.exit_code == 1);
+  const auto doc = nlohmann::json::parse(sweep.out);
+  CHECK(doc["failed_speeds"] == 1);
+  const auto& points = doc["waterfall"]["points"];
+  REQUIRE(points.size() == 3);
+  CHECK_FALSE(points[2]["ok"].get<bool>());
+  for (const char* key : {"te_rms", "te_peak_to_peak", "events_per_cycle",
+                          "drive_impacts_per_cycle", "back_impacts_per_cycle"}) {
+    INFO(key);
+    CHECK(points[2][key].is_null());
+    CHECK(points[0][key].get<double>() > 0.0);
+  }
+
+  const auto atlas = RunCommand(kExe + " atlas --json --tier 2 --cycles 300 --transient 100 " +
+                                "--x operating.speed=5000rpm:6000rpm:3 " +
+                                "--y operating.torque=20Nm:21Nm:2 --out " +
+                                (dir.path() / "atlas").string() + " " + file);
+  INFO(atlas.err);
+  CHECK(atlas.exit_code == 1);
+  int failed = 0;
+  const auto cells = nlohmann::json::parse(atlas.out)["cells"];
+  for (const auto& c : cells) {
+    if (c["ok"].get<bool>()) {
+      CHECK(c["rattle_index_j"].get<double>() > 0.0);
+      continue;
+    }
+    ++failed;
+    for (const char* key :
+         {"lyapunov_per_s", "rattle_index_j", "separation_fraction", "drive_impacts_per_cycle"}) {
+      INFO(key);
+      CHECK(c[key].is_null());
+    }
+  }
+  CHECK(failed == 2);  // the 6000 rpm column
+  // atlas.csv: a failed cell's results are empty fields (,0,,,,,,,,,,message), not 0.
+  const std::string csv = testing::ReadWholeFile(dir.path() / "atlas" / "atlas.csv");
+  CHECK(csv.find(",0,,,,,,,,,,") != std::string::npos);
+  CHECK(csv.find("nan") == std::string::npos);
+}
+
 }  // namespace
 }  // namespace gearnvh

@@ -47,4 +47,10 @@ inline const TextEdit kStrongRattlePoint = {
     "  speed: 7548.387097 rpm\n  torque: 20 N*m\n  excitation:\n"
     "    - {order: 15.5, amplitude: 200000 rad/s^2, phase: 0 deg}\n"};
 
+// With kStrongRattlePoint, a sweep at tier 2 whose 6000 rpm run stops out of range (at cycle
+// ~46) while 5000 and 5500 rpm finish (double-sided rattle): evenly spaced, one speed failed.
+inline const TextEdit kStrongRattleSweep = {
+    "  speed_sweep: {from: 500 rpm, to: 9000 rpm, points: 35}",
+    "  speed_sweep: {from: 5000 rpm, to: 6000 rpm, points: 3}"};
+
 }  // namespace gearnvh::testing

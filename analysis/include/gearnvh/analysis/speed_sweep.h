@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -32,8 +33,10 @@ struct SpeedPoint {
   double speed_rad_s = 0.0, speed_rpm = 0.0;
   bool ok = false;
   std::string message;  // why the run failed (ok = false) or a solver note
-  double te_rms = 0.0, te_peak_to_peak = 0.0;
-  double events_per_cycle = 0.0, drive_impacts_per_cycle = 0.0, back_impacts_per_cycle = 0.0;
+  // Results: NaN unless ok (a failed speed has none; 0 would read as a quiet speed).
+  static constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
+  double te_rms = kNone, te_peak_to_peak = kNone;
+  double events_per_cycle = kNone, drive_impacts_per_cycle = kNone, back_impacts_per_cycle = kNone;
   RattleRegime regime = RattleRegime::kNoImpact;  // of a point that is ok
   double matvec_per_cycle = 0.0, real_time_ratio = 0.0;
   std::vector<double> amplitude_m;  // waterfall row on the common order axis

@@ -13,6 +13,7 @@
 
 #include <atomic>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -47,11 +48,14 @@ struct AtlasCell {
   double x = 0.0, y = 0.0;  // parameter values, SI
   bool ok = false;
   std::string message;  // why the cell failed
-  double lyapunov_per_s = 0.0, lyapunov_per_forcing_cycle = 0.0, lyapunov_standard_error = 0.0;
-  double drive_impacts_per_cycle = 0.0, back_impacts_per_cycle = 0.0;  // per mesh cycle
-  double rattle_index = 0.0;                                           // J per forcing cycle
-  double impact_velocity_rms = 0.0;                                    // m/s
-  double separation_fraction = 0.0;
+  // Results: NaN unless ok (a failed cell has none; 0 would read as a quiet cell).
+  static constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
+  double lyapunov_per_s = kNone, lyapunov_per_forcing_cycle = kNone;
+  double lyapunov_standard_error = kNone;
+  double drive_impacts_per_cycle = kNone, back_impacts_per_cycle = kNone;  // per mesh cycle
+  double rattle_index = kNone;                                             // J per forcing cycle
+  double impact_velocity_rms = kNone;                                      // m/s
+  double separation_fraction = kNone;
   RattleRegime regime = RattleRegime::kNoImpact;  // of a cell that is ok
   double wall_s = 0.0;
 };
