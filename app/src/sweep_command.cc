@@ -53,6 +53,24 @@ nlohmann::json PointJson(const SpeedPoint& p) {
           {"amplitude_m", p.amplitude_m}};
 }
 
+// `sweep --uff FILE`: the order tracks of the speeds that succeeded, with a note on stderr when
+// some failed; nothing (FILE unchanged, said) when there is nothing to write.
+void WriteSweepUff(const std::string& path, const std::vector<UffFunction>& tracks, int failed,
+                   size_t speeds) {
+  if (!WriteUffFile(path, tracks)) {
+    fmt::print(stderr,
+               "note: --uff {}: not written ({} unchanged): no order track to write ({} of {} "
+               "speeds failed; a track needs 2 or more evenly spaced speeds)\n",
+               path, path, failed, speeds);
+  } else if (failed > 0) {
+    fmt::print(stderr,
+               "note: --uff {}: the order tracks hold the {} speeds that succeeded; {} left out "
+               "(a track is split where they were)\n",
+               path, speeds - static_cast<size_t>(failed),
+               Count(failed, "failed speed is", "failed speeds are"));
+  }
+}
+
 // A speed no rank returned.
 template <typename Point>
 void LoseSpeed(Point& p) {
@@ -114,7 +132,10 @@ int SweepTrain(const SweepOptions& options, const TrainSpec& spec) {
     out->Write("sweep.json", doc.dump(1) + "\n");
     out->Commit();
   }
-  if (options.uff) WriteUffFile(*options.uff, TrainSweepOrderTracksUff(spec, result));
+  if (options.uff) {
+    WriteSweepUff(*options.uff, TrainSweepOrderTracksUff(spec, result), result.failed(),
+                  result.points.size());
+  }
   if (options.json) {
     std::cout << doc.dump(1) << "\n";
   } else {
@@ -331,7 +352,7 @@ int RunSweep(const SweepOptions& options) {
       out->Commit();
     }
     if (options.uff) {
-      WriteUffFile(*options.uff, SweepOrderTracksUff(spec, result));
+      WriteSweepUff(*options.uff, SweepOrderTracksUff(spec, result), failed, result.points.size());
     }
     if (options.json) {
       std::cout << doc.dump(1) << "\n";

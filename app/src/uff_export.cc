@@ -172,29 +172,47 @@ namespace {
 // orders they are on); none unless every speed succeeded (`all_ok`: even spacing needs every
 // speed), with fewer than 2 speeds, or when the sweep is log-spaced (its tracks are in the
 // report's order_tracks.csv only). An order beyond the waterfall's order range reads as 0.
+// The tracks over the speeds whose run succeeded (`ok` per speed): one dataset per track and run
+// of consecutive such speeds (a dataset's abscissa is even), ID line 5 saying which speeds it
+// holds when a speed failed.
 void AppendOrderTracksUff(const std::string& gearbox, const std::vector<OrderTrack>& tracks,
-                          bool all_ok, AxisScale scale, const std::string& reference,
-                          const std::string& mesh, int& next_id, std::vector<UffFunction>& out) {
-  if (!all_ok || tracks.empty() || scale == AxisScale::kLog) return;
+                          const std::vector<bool>& ok, AxisScale scale,
+                          const std::string& reference, const std::string& mesh, int& next_id,
+                          std::vector<UffFunction>& out) {
+  if (tracks.empty() || scale == AxisScale::kLog) return;
   const std::vector<double>& speeds = tracks.front().speed_rpm;
   if (speeds.size() < 2) return;
+  const auto failed = static_cast<size_t>(std::count(ok.begin(), ok.end(), false));
   int k = 0;
   for (const OrderTrack& track : tracks) {
     ++k;
-    UffFunction f = Base(gearbox,
-                         fmt::format("order track: TE at mesh order {}{} ({} order {:g})", k,
-                                     mesh.empty() ? "" : " of " + mesh, reference, track.order),
-                         next_id++);
-    f.function_type = 12;
-    f.response_name = "TE";
-    f.abscissa = {19, 0, 0, 0, reference + " speed", "rpm"};
-    f.ordinate = TeAxis();
-    f.z = {20, 0, 0, 0, reference + " order", "NONE"};
-    f.z_value = track.order;
-    f.x_min = speeds.front();
-    f.dx = speeds[1] - speeds[0];
-    for (double a : track.amplitude_m) f.values.push_back(std::isfinite(a) ? a : 0.0);
-    out.push_back(std::move(f));
+    for (size_t from = 0; from < speeds.size(); ++from) {
+      if (!ok[from]) continue;
+      size_t to = from;
+      while (to < speeds.size() && ok[to]) ++to;
+      UffFunction f = Base(gearbox,
+                           fmt::format("order track: TE at mesh order {}{} ({} order {:g})", k,
+                                       mesh.empty() ? "" : " of " + mesh, reference, track.order),
+                           next_id++);
+      if (failed > 0) {
+        f.id5 = fmt::format("speeds {:g} to {:g} rpm only: {} of {} speeds failed", speeds[from],
+                            speeds[to - 1], failed, speeds.size());
+      }
+      f.function_type = 12;
+      f.response_name = "TE";
+      f.abscissa = {19, 0, 0, 0, reference + " speed", "rpm"};
+      f.ordinate = TeAxis();
+      f.z = {20, 0, 0, 0, reference + " order", "NONE"};
+      f.z_value = track.order;
+      f.x_min = speeds[from];
+      f.dx = speeds[1] - speeds[0];
+      for (size_t i = from; i < to; ++i) {
+        const double a = track.amplitude_m[i];
+        f.values.push_back(std::isfinite(a) ? a : 0.0);
+      }
+      out.push_back(std::move(f));
+      from = to;
+    }
   }
 }
 
@@ -203,23 +221,25 @@ void AppendOrderTracksUff(const std::string& gearbox, const std::vector<OrderTra
 std::vector<UffFunction> SweepOrderTracksUff(const GearboxSpec& spec, const SpeedSweepResult& sweep,
                                              int first_id) {
   std::vector<UffFunction> out;
-  const bool all_ok = std::all_of(sweep.points.begin(), sweep.points.end(),
-                                  [](const SpeedPoint& p) { return p.ok; });
+  std::vector<bool> ok;
+  for (const SpeedPoint& p : sweep.points) ok.push_back(p.ok);
   if (!(sweep.order_step > 0.0)) return out;
   // Bin k z1 / order_step = k * window cycles lies exactly on the mesh order.
-  AppendOrderTracksUff(spec.name, MeshOrderTracks(PairWaterfall(sweep), spec.pinion.teeth, 3),
-                       all_ok, sweep.speed_scale, "pinion", "", first_id, out);
+  AppendOrderTracksUff(spec.name, MeshOrderTracks(PairWaterfall(sweep), spec.pinion.teeth, 3), ok,
+                       sweep.speed_scale, "pinion", "", first_id, out);
   return out;
 }
 
 std::vector<UffFunction> TrainSweepOrderTracksUff(const TrainSpec& spec,
                                                   const TrainSweepResult& sweep, int first_id) {
   std::vector<UffFunction> out;
+  std::vector<bool> ok;
+  for (const TrainSweepPoint& p : sweep.points) ok.push_back(p.ok);
   if (!(sweep.order_step > 0.0)) return out;
   for (size_t i = 0; i < sweep.mesh_names.size(); ++i) {
-    AppendOrderTracksUff(
-        spec.name, MeshOrderTracks(MeshWaterfall(sweep, i), sweep.mesh_orders[i], 3),
-        sweep.failed() == 0, sweep.speed_scale, "input", sweep.mesh_names[i], first_id, out);
+    AppendOrderTracksUff(spec.name,
+                         MeshOrderTracks(MeshWaterfall(sweep, i), sweep.mesh_orders[i], 3), ok,
+                         sweep.speed_scale, "input", sweep.mesh_names[i], first_id, out);
   }
   return out;
 }
@@ -260,13 +280,15 @@ std::vector<UffFunction> WhineOrderTracksUff(const TrainSpec& spec, const WhineR
   return out;
 }
 
-void WriteUffFile(const std::string& path, const std::vector<UffFunction>& functions) {
+bool WriteUffFile(const std::string& path, const std::vector<UffFunction>& functions) {
+  if (functions.empty()) return false;
   WriteFileAtomically(path, [&functions](std::FILE* f) {
     for (const UffFunction& function : functions) {
       const std::string dataset = UffDataset58(function);
       std::fwrite(dataset.data(), 1, dataset.size(), f);
     }
   });
+  return true;
 }
 
 MemoryPart OperatingPointUffMemory(long recorded_samples) {

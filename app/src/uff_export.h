@@ -72,8 +72,10 @@ std::vector<UffFunction> OperatingPointUff(const GearboxSpec& spec,
 std::vector<UffFunction> TrainOperatingPointUff(const TrainSpec& spec,
                                                 const TrainOperatingPoint& op, int first_id = 1);
 
-// Order tracks of the sweep's waterfall at mesh orders 1..3 (order_tracks.h); none when a speed
-// failed or the sweep is log-spaced (the dataset's abscissa is even).
+// Order tracks of the sweep's waterfall at mesh orders 1..3 (order_tracks.h) over the speeds that
+// succeeded: a failed speed splits a track into one dataset per run of consecutive speeds that
+// succeeded, each saying so in ID line 5; none when no speed succeeded, the sweep has one speed or
+// is log-spaced (the dataset's abscissa is even).
 std::vector<UffFunction> SweepOrderTracksUff(const GearboxSpec& spec, const SpeedSweepResult& sweep,
                                              int first_id = 1);
 
@@ -89,8 +91,8 @@ std::vector<UffFunction> WhineOrderTracksUff(const TrainSpec& spec, const WhineR
                                              int first_id = 1);
 
 // Writes the datasets one after the other into `path` (WriteFileAtomically), one dataset's text
-// in memory at a time.
-void WriteUffFile(const std::string& path, const std::vector<UffFunction>& functions);
+// in memory at a time. Without datasets nothing is written (an earlier file stays): false.
+bool WriteUffFile(const std::string& path, const std::vector<UffFunction>& functions);
 
 // What writing OperatingPointUff of `recorded_samples` samples holds, for the memory estimate of
 // a run that exports it (simulate --uff, report): the TE and mesh force values it copies and one

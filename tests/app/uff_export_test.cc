@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "loose_gear_train_yaml.h"
+#include "support/example_variant.h"
 #include "support/paths.h"
 #include "support/run_command.h"
 
@@ -399,6 +400,53 @@ TEST_CASE("sweep --uff on a gear train: every mesh's order tracks equal its wate
       }
     }
   }
+}
+
+TEST_CASE("sweep --uff with a failed speed writes the tracks of the speeds that succeeded",
+          "[uff]") {
+  // 5000 and 5500 rpm finish, 6000 rpm stops out of range (testing::kStrongRattleSweep).
+  const TempDir dir;
+  const std::string file =
+      testing::WriteExampleVariant(dir, "flexible_shafts.yaml",
+                                   {testing::kStrongRattlePoint, testing::kStrongRattleSweep})
+          .string();
+  const auto uff = dir.path() / "sweep.uff";
+  const std::string sweep = kExe + " sweep --json --tier 2 --cycles 300 --transient 100 --uff ";
+  const auto r = RunCommand(sweep + uff.string() + " " + file);
+  INFO(r.err);
+  CHECK(r.exit_code == 1);
+  CHECK(r.err.find("the order tracks hold the 2 speeds that succeeded") != std::string::npos);
+  const auto doc = nlohmann::json::parse(r.out);
+  const auto& waterfall = doc["waterfall"];
+  const double order_step = waterfall["order_step"].get<double>();
+  const std::string text = ReadWholeFile(uff);
+  CHECK(text.find("speeds 5000 to 5500 rpm only: 1 of 3 speeds failed") != std::string::npos);
+  const std::vector<Parsed58> d = ReadUff(text);
+  REQUIRE(d.size() == 3);
+  for (int k = 1; k <= 3; ++k) {
+    const Parsed58& t = d[static_cast<size_t>(k - 1)];
+    INFO("mesh order " << k);
+    CHECK(t.x_min == Approx(5000.0).epsilon(1e-12));
+    CHECK(t.dx == Approx(500.0).epsilon(1e-12));
+    REQUIRE(t.values.size() == 2);
+    const size_t bin = static_cast<size_t>(std::lround(31.0 * k / order_step));
+    for (size_t p = 0; p < 2; ++p) {
+      const double expected = waterfall["amplitude_m"][p][bin].get<double>();
+      CHECK(t.values[p] == Approx(expected).epsilon(kUffRelative).margin(1e-300));
+    }
+  }
+
+  // Every speed failed: nothing to write, and the earlier file is kept as it was.
+  const std::string failing =
+      testing::WriteExampleVariant(dir, "flexible_shafts.yaml",
+                                   {testing::kStrongRattlePoint,
+                                    {"  speed_sweep: {from: 500 rpm, to: 9000 rpm, points: 35}",
+                                     "  speed_sweep: {from: 6000 rpm, to: 7000 rpm, points: 2}"}})
+          .string();
+  const auto none = RunCommand(sweep + uff.string() + " " + failing);
+  CHECK(none.exit_code == 1);
+  CHECK(none.err.find("not written") != std::string::npos);
+  CHECK(ReadWholeFile(uff) == text);
 }
 
 }  // namespace
