@@ -72,6 +72,12 @@ SpeedPoint RunPoint(const GearboxSpec& base, const ComponentModel& model,
 
 }  // namespace
 
+int SpeedSweepResult::failed() const {
+  int n = 0;
+  for (const SpeedPoint& p : points) n += p.ok ? 0 : 1;
+  return n;
+}
+
 RunMemory SpeedSweepMemory(const SpeedSweepOptions& options, size_t speeds) {
   const SolverOptions solver = PointSolverOptions(options);
   const RecordingReserve recorded = PlanRecording(solver);

@@ -37,6 +37,20 @@ std::string Slug(const std::string& file) {
   return out.empty() ? "gearbox" : out;
 }
 
+// Says on stderr which finished gearboxes had sweep speeds that failed (listed on their pages);
+// true when any had: part of the work failed.
+bool ReportFailedSpeeds(const std::vector<GearboxEntry>& entries) {
+  bool any = false;
+  for (const GearboxEntry& e : entries) {
+    const int speeds = e.ok ? e.summary.value("failed_speeds", 0) : 0;
+    if (speeds == 0) continue;
+    std::cerr << "error: " << e.file << ": " << Count(speeds, "sweep speed", "sweep speeds")
+              << " failed (listed on its page and in its results.json)\n";
+    any = true;
+  }
+  return any;
+}
+
 }  // namespace
 
 int RunReport(const ReportCommandOptions& o) {
@@ -215,6 +229,7 @@ int RunReport(const ReportCommandOptions& o) {
                 << " failed (listed in the batch index)\n";
       code = internal > 0 ? kExitInternal : kExitInput;
     }
+    if (ReportFailedSpeeds(entries) && code == 0) code = kExitInput;
   } catch (const InputError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return ExitCodeOf(e);  // every rank sees the same input and the same error

@@ -335,7 +335,8 @@ GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::
         {"first_critical_speed_rpm",
          std::isfinite(first_critical) ? nlohmann::json(first_critical) : nlohmann::json()},
         {"chaotic_atlas_cells", atlas ? nlohmann::json(chaotic) : nlohmann::json()},
-        {"real_time_ratio", s.real_time_ratio}};
+        {"real_time_ratio", s.real_time_ratio},
+        {"failed_speeds", sweep.failed()}};
 
     WriteFileAtomically((folder / "index.html").string(),
                         GearboxPage({file, spec, model, modes, tiers, op, sweep,

@@ -109,7 +109,9 @@ std::string GearboxPage(const GearboxPageInput& in) {
   if (sweep.campbell.critical_speeds.empty()) {
     h << "<tr><td colspan=\"4\">none in the sweep range</td></tr>\n";
   }
-  h << "</table>\n<h2>Mesh harmonics and sidebands of the TE</h2>\n<p>Plotted as stems in "
+  h << "</table>\n<h2>Speed sweep</h2>\n<p>" << SweepSpeedsHtml(sweep.points, "speeds")
+    << ". Per speed: waterfall.csv; in results.json: sweep.</p>\n";
+  h << "<h2>Mesh harmonics and sidebands of the TE</h2>\n<p>Plotted as stems in "
        "<a href=\"#sidebands.png\">sidebands.png</a>.</p>\n<details><summary>"
     << op.sidebands.size()
     << " lines</summary>\n<table>\n<tr><th>line</th>"

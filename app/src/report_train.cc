@@ -167,12 +167,8 @@ std::string TrainPage(const TrainPageInput& in) {
     }
     h << "</table>\n";
   }
-  h << "<h2>Speed sweep</h2>\n<p>" << in.sweep.points.size() << " input speeds, "
-    << in.sweep.failed() << " failed";
-  for (const TrainSweepPoint& p : in.sweep.points) {
-    if (!p.ok) h << "; " << Number(p.speed_rpm) << " rpm: " << Html(p.message);
-  }
-  h << ". Per speed and mesh: meshes.csv; per speed and loose gear: loose_gears.csv.</p>\n";
+  h << "<h2>Speed sweep</h2>\n<p>" << SweepSpeedsHtml(in.sweep.points, "input speeds")
+    << ". Per speed and mesh: meshes.csv; per speed and loose gear: loose_gears.csv.</p>\n";
   h << in.whine_html;
   h << "<h2>Figures</h2>\n";
   for (const auto& [name, caption] : in.figures) {
@@ -413,7 +409,9 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
   WriteFileAtomically((folder / "index.html").string(),
                       TrainPage({file, spec, check, op, sweep, figures, whine.html}));
 
-  return TrainSummary(spec, check, op);
+  nlohmann::json summary = TrainSummary(spec, check, op);
+  summary["failed_speeds"] = sweep.failed();
+  return summary;
 }
 
 }  // namespace gearnvh::app

@@ -207,6 +207,7 @@ nlohmann::json SweepJson(const SpeedSweepResult& r, double mesh_order) {
     amplitude.push_back(p.amplitude_m);
   }
   return {{"speeds_rpm", speeds},
+          {"failed_speeds", r.failed()},
           {"campbell", {{"modes", modes}, {"orders", orders}, {"critical_speeds", critical}}},
           {"waterfall",
            {{"order_step", r.order_step},
@@ -340,9 +341,7 @@ int RunSweep(const SweepOptions& options) {
     doc["tier"] = reduced.name;
     doc["cycles_per_speed"] = sweep.cycles;
     doc["transient_cycles"] = sweep.transient_cycles;
-    int failed = 0;
-    for (const SpeedPoint& p : result.points) failed += p.ok ? 0 : 1;
-    doc["failed_speeds"] = failed;
+    const int failed = result.failed();
     RequireFinite(doc, "sweep");
     if (out) {
       out->Write("campbell.csv", CampbellCsv(result));

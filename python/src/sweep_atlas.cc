@@ -68,9 +68,6 @@ std::shared_ptr<Sweep> RunSweep(const Gearbox& gb, const py::object& tier,
           out->doc["tier"] = reduced.name;
           out->doc["cycles_per_speed"] = options.cycles;
           out->doc["transient_cycles"] = options.transient_cycles;
-          int failed = 0;
-          for (const gearnvh::SpeedPoint& p : out->result.points) failed += p.ok ? 0 : 1;
-          out->doc["failed_speeds"] = failed;
           return out;
         });
       },
@@ -210,8 +207,7 @@ void BindSweepAtlas(py::module_& m) {
           "The document `gearnvh sweep --json` prints.")
       .def("__repr__", [](const Sweep& s) {
         const auto& p = s.result.points;
-        long failed = 0;
-        for (const auto& point : p) failed += point.ok ? 0 : 1;
+        const int failed = s.result.failed();
         return fmt::format(
             "<gearnvh.Sweep {} speeds{}, {} tracked modes, {} failed>", p.size(),
             p.empty() ? std::string()

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <regex>
 
+#include "app/three_shaft_train_yaml.h"
 #include "gearnvh/render/plots.h"
 #include "support/example_variant.h"
 #include "support/paths.h"
@@ -459,6 +460,47 @@ TEST_CASE("report fails a gear train whose operating point would hold more than 
   CHECK(short_by_one.err.find(", UFF export ") != std::string::npos);
   CHECK(short_by_one.err.find("(GEARNVH_MEMORY_LIMIT)") != std::string::npos);
   CHECK(!fs::exists(out));
+}
+
+TEST_CASE("report: failed sweep speeds are listed on the page, in results.json, and exit 1",
+          "[cli][report][train]") {
+  // The pair at tier 2 by the strong-rattle point: 5000 rpm (the operating point) and 5500 rpm
+  // finish, 6000 rpm stops out of range. The train (tests/data/strong_rattle_train.yaml) at tier
+  // 2 and 5000 rpm: of 5000-10000 rpm, 7000 and 9000 rpm stop.
+  const TempDir dir;
+  const fs::path pair = testing::WriteExampleVariant(
+      dir, "flexible_shafts.yaml",
+      {{"  speed: 3000 rpm\n  torque: 200 N*m\n",
+        "  speed: 5000 rpm\n  torque: 20 N*m\n  excitation:\n"
+        "    - {order: 15.5, amplitude: 200000 rad/s^2, phase: 0 deg}\n"},
+       {"  tier: \"N20 MTA\"", "  tier: 2"},
+       testing::kStrongRattleSweep,
+       {"  cycles: 500\n  transient_cycles: 200\n", "  cycles: 300\n  transient_cycles: 100\n"}});
+  std::string train_text = ReadWholeFile(testing::kStrongRattleTrain);
+  train_text = testing::ReplaceFirst(train_text, "value: 7548.387097 rpm", "value: 5000 rpm");
+  train_text = testing::ReplaceFirst(
+      train_text, "  cycles: 500\n",
+      "  cycles: 200\n  speed_sweep: {from: 5000 rpm, to: 10000 rpm, points: 6}\n");
+  const fs::path train = dir.Write("train.yaml", train_text);
+  const fs::path out = dir.path() / "report";
+  const auto r = RunCommand(kExe + " report --no-atlas --jobs 1 --out " + out.string() + " " +
+                            pair.string() + " " + train.string());
+  INFO(r.err);
+  CHECK(r.exit_code == 1);
+  CHECK(r.err.find(pair.string() + ": 1 sweep speed failed") != std::string::npos);
+  CHECK(r.err.find(train.string() + ": 2 sweep speeds failed") != std::string::npos);
+  const std::string page = ReadWholeFile(out / "flexible-shafts" / "index.html");
+  CHECK(page.find("3 speeds, 1 failed; 6000 rpm: at mesh cycle") != std::string::npos);
+  const auto results =
+      nlohmann::json::parse(ReadWholeFile(out / "flexible-shafts" / "results.json"));
+  CHECK(results["sweep"]["failed_speeds"] == 1);
+  CHECK(results["sweep"]["waterfall"]["points"][2]["te_rms"].is_null());
+  const std::string train_page = ReadWholeFile(out / "train" / "index.html");
+  CHECK(train_page.find("6 input speeds, 2 failed; 7000 rpm: the run stopped") !=
+        std::string::npos);
+  const auto batch = nlohmann::json::parse(ReadWholeFile(out / "report.json"));
+  CHECK(batch["failed"] == 0);  // both gearboxes finished: their pages are written
+  for (const auto& g : batch["gearboxes"]) CHECK(g["summary"]["failed_speeds"].get<int>() > 0);
 }
 
 }  // namespace

@@ -48,6 +48,7 @@ struct SpeedSweepResult {
   int order_bins = 0;
   AxisScale speed_scale = AxisScale::kLinear;  // of analysis.speed_sweep
   CampbellData campbell;
+  int failed() const;  // speeds whose run failed (ok = false)
 };
 
 // (speeds done, total): called from worker threads, one call at a time (under a lock).
