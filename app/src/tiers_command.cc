@@ -74,11 +74,6 @@ TierRow RunTier(const GearboxSpec& spec, const ComponentModel& model, const Redu
   return row;
 }
 
-// A result of a row: null when its run stopped.
-nlohmann::json RowResult(const TierRow& r, double v) {
-  return r.ok() ? nlohmann::json(v) : nullptr;
-}
-
 nlohmann::json TierRowJson(const TierRow& r) {
   return {{"name", r.name},
           {"method", SolverMethodName(r.method)},
@@ -91,14 +86,14 @@ nlohmann::json TierRowJson(const TierRow& r) {
           {"frequency_errors", r.frequency_errors},
           {"max_frequency_error", r.max_frequency_error},
           {"static_compliance_error", ComplianceErrorJson(r.compliance_error)},
-          {"te_rms_m", RowResult(r, r.te_rms)},
+          {"te_rms_m", ResultOrNull(r.ok(), r.te_rms)},
           {"te_rms_difference_to_finest", FiniteOrNull(r.te_rms_difference)},
-          {"rattle_index_j", RowResult(r, r.rattle_index)},
+          {"rattle_index_j", ResultOrNull(r.ok(), r.rattle_index)},
           {"rattle_index_difference_to_finest", FiniteOrNull(r.rattle_index_difference)},
           {"regime", r.ok() ? RattleRegimeName(r.regime) : ""},
-          {"matvec_per_cycle", RowResult(r, r.matvec_per_cycle)},
-          {"us_per_cycle", RowResult(r, r.us_per_cycle)},
-          {"real_time_ratio", RowResult(r, r.real_time_ratio)},
+          {"matvec_per_cycle", ResultOrNull(r.ok(), r.matvec_per_cycle)},
+          {"us_per_cycle", ResultOrNull(r.ok(), r.us_per_cycle)},
+          {"real_time_ratio", ResultOrNull(r.ok(), r.real_time_ratio)},
           {"table_bytes", r.table_bytes}};
 }
 

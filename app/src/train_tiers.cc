@@ -83,18 +83,16 @@ void CompareToFinest(TrainTiersComparison& out) {
 }
 
 nlohmann::json TrainTierRowJson(const TrainTierRow& r, const TrainTiersComparison& c) {
-  // A result: null when the run stopped (a NaN of a run that succeeded is still refused).
-  const auto result = [&r](double v) { return r.ok() ? nlohmann::json(v) : nullptr; };
   nlohmann::json meshes = nlohmann::json::array(), loose = nlohmann::json::array();
   for (size_t i = 0; i < r.te_rms.size(); ++i) {
     meshes.push_back({{"name", c.meshes[i]},
-                      {"te_rms_m", result(r.te_rms[i])},
+                      {"te_rms_m", ResultOrNull(r.ok(), r.te_rms[i])},
                       {"te_rms_difference_to_finest", FiniteOrNull(r.te_rms_difference[i])}});
   }
   for (size_t i = 0; i < r.rattle_index.size(); ++i) {
     loose.push_back(
         {{"name", c.loose_gears[i]},
-         {"rattle_index", result(r.rattle_index[i])},
+         {"rattle_index", ResultOrNull(r.ok(), r.rattle_index[i])},
          {"rattle_index_difference_to_finest", FiniteOrNull(r.rattle_index_difference[i])}});
   }
   return {{"name", r.name},
@@ -104,8 +102,8 @@ nlohmann::json TrainTierRowJson(const TrainTierRow& r, const TrainTiersCompariso
           {"state_dim", r.state_dim},
           {"meshes", meshes},
           {"loose_gears", loose},
-          {"us_per_cycle", result(r.us_per_cycle)},
-          {"real_time_ratio", result(r.real_time_ratio)},
+          {"us_per_cycle", ResultOrNull(r.ok(), r.us_per_cycle)},
+          {"real_time_ratio", ResultOrNull(r.ok(), r.real_time_ratio)},
           {"table_bytes", r.table_bytes}};
 }
 
