@@ -146,10 +146,16 @@ std::optional<size_t> SliceStart(size_t series_size, double series_from, double 
 // mesh, the sideband window's spectrum, and with histories the event log and every mesh's
 // spectrum, with a waterfall every mesh's tail spectrum.
 RunMemory TrainRunMemory(const TrainRunOptions& options, size_t meshes, long kept,
-                         long window_samples) {
+                         long window_samples, size_t bearing_rows) {
   RunMemory memory{{{"TE samples", TrainRecorder::SeriesBytes(meshes, kept, options.histories)},
                     {"TE spectrum", SpectrumBytes(window_samples)}},
                    kept};
+  if (options.bearing_forces && bearing_rows > 0) {
+    memory.parts.push_back(
+        {"bearing force samples",
+         TrainRecorder::SeriesBytes(0, kept, false, bearing_rows) +
+             (options.histories ? bearing_rows * static_cast<size_t>(kept) * sizeof(double) : 0)});
+  }
   if (options.histories) {
     memory.parts.push_back(
         {"event log", static_cast<size_t>(options.max_logged_events) * sizeof(TrainEventRecord)});
@@ -303,6 +309,54 @@ void AssessTier(const TrainSpec& spec, const TrainRunOptions& options, TrainOper
   }
 }
 
+// Each bearing's force (TrainOperatingPoint::bearing_forces): the exact statistics of its rows,
+// and with spectra the sideband window's bins at every mesh's harmonics 1..3.
+void BearingForces(const SpectrumWindow& window, const TrainRecorder& recorder, double kept_from,
+                   const TrainRunOptions& options, TrainOperatingPoint& op) {
+  const TrainTables& tables = op.tables;
+  const std::vector<TrainOutputSummary>& exact = op.stats.bearing_forces;
+  if (!op.ok() || exact.size() != 3 * tables.bearings.size()) return;
+  const std::vector<std::vector<double>>& series = recorder.bearing_series();
+  const long window_samples = window.periods * window.samples_per_period;
+  const double dt = recorder.sample_interval();
+  std::optional<size_t> first;
+  if (options.spectra && !series.empty() && window.periods > 0) {
+    first = SliceStart(series.front().size(), kept_from, dt, window.from_time, window_samples);
+  }
+  std::optional<SpectrumAnalyzer> analyzer;
+  if (first) analyzer.emplace(static_cast<int>(window_samples));
+  std::vector<double> slice;
+  for (size_t b = 0; b < tables.bearings.size(); ++b) {
+    TrainBearingForce f;
+    f.bearing = tables.bearings[b];
+    std::array<AmplitudeSpectrum, 3> spectra;
+    for (size_t d = 0; d < 3; ++d) {
+      const TrainOutputSummary& row = exact[3 * b + d];
+      f.mean[d] = row.mean;
+      f.rms[d] = row.rms;
+      f.min[d] = row.min;
+      f.max[d] = row.max;
+      if (!first) continue;
+      const auto from = series[3 * b + d].begin() + static_cast<long>(*first);
+      slice.assign(from, from + window_samples);
+      spectra[d] = analyzer->Analyze(slice, 1.0 / dt);
+    }
+    for (size_t i = 0; first && i < tables.meshes.size(); ++i) {
+      const TrainMeshTable& mt = tables.meshes[i];
+      for (int h = 1; h <= 3; ++h) {
+        TrainBearingForce::Line line{
+            "mesh " + mt.name + " " + std::to_string(h) + "x", h / mt.period, {}};
+        for (size_t d = 0; d < 3; ++d) {
+          const auto k = static_cast<size_t>(std::llround(line.frequency_hz / spectra[d].bin_hz));
+          line.amplitude[d] = k < spectra[d].amplitude.size() ? spectra[d].amplitude[k] : 0.0;
+        }
+        f.lines.push_back(std::move(line));
+      }
+    }
+    op.bearing_forces.push_back(std::move(f));
+  }
+}
+
 }  // namespace
 
 TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, GearTrain train,
@@ -338,6 +392,7 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, GearTrain trai
   stepper_options.cancel = options.cancel;
   TrainStepper stepper(tables, stepper_options, z0, states0);
   TrainRecorder recorder(tables, options.samples_per_cycle, start);
+  if (options.bearing_forces) recorder.TrackBearingForces();
   const double dt = recorder.sample_interval();
   SpectrumWindow window;
   if (options.spectra) {
@@ -345,7 +400,8 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, GearTrain trai
   }
   const KeptSamples kept = PlanKeptSamples(options, window, start, end, dt);
   op.memory = TrainRunMemory(options, tables.meshes.size(), kept.count,
-                             window.periods * window.samples_per_period);
+                             window.periods * window.samples_per_period,
+                             static_cast<size_t>(tables.bearing_force_rows.rows()));
   if (options.before_run_memory) {
     if (const std::string warning = options.before_run_memory(op.memory); !warning.empty()) {
       op.warnings.push_back(warning);
@@ -354,7 +410,9 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, GearTrain trai
   }
   // After the cost and memory checks: a refused run does not pay for the full model's modes.
   if (options.tier_adequacy) AssessTier(spec, options, op);
-  if (kept.count > 0) recorder.KeepSeries(kept.from, kept.count, options.histories);
+  if (kept.count > 0) {
+    recorder.KeepSeries(kept.from, kept.count, options.histories, options.bearing_forces);
+  }
   if (options.histories) recorder.KeepEvents(options.max_logged_events);
   const auto wall_start = std::chrono::steady_clock::now();
   // The run goes in chunks of at most 1 % (progress is reported at every 1 %) and kChunkCycles
@@ -388,7 +446,11 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, GearTrain trai
   }
   TailSpectra(options, recorder, ok, op);
   if (options.spectra) MeshSidebands(spec, options, window, recorder, kept.from, ok, op);
-  if (options.histories) recorder.TakeSeries(h.te, h.force, h.contact);  // no copy
+  if (options.bearing_forces) BearingForces(window, recorder, kept.from, options, op);
+  if (options.histories) {
+    recorder.TakeSeries(h.te, h.force, h.contact);  // no copy
+    if (options.bearing_forces) h.bearing_force = recorder.bearing_series();
+  }
   return op;
 }
 

@@ -39,17 +39,6 @@ Eigen::RowVectorXd BodyAngle(const GearTrain& train, const TrainStructure& struc
   return sense * reduced.recovery.row(TrainStructure::Dof(node, kThz));
 }
 
-// A bearing's point translations (x, y, z) per unit q: u + th x (d e_z) at offset d from its node.
-Eigen::MatrixXd BearingPoint(const StructureBearing& b, const TrainReducedModel& reduced) {
-  const Eigen::MatrixXd& T = reduced.recovery;
-  const auto row = [&](NodeDof d) { return T.row(TrainStructure::Dof(b.node, d)); };
-  Eigen::MatrixXd p(3, T.cols());
-  p.row(0) = row(kUx) + b.offset * row(kThy);
-  p.row(1) = row(kUy) - b.offset * row(kThx);
-  p.row(2) = row(kUz);
-  return p;
-}
-
 HarmonicModel MeanModel(const GearTrain& train, const TrainStructure& structure,
                         const TrainReducedModel& reduced) {
   HarmonicModel m;
@@ -72,7 +61,7 @@ HarmonicModel MeanModel(const GearTrain& train, const TrainStructure& structure,
   m.torque_direction = m.body_angles.row(train.topology.input_body).transpose();
   if (reduced.tier != Tier::kTier1) {
     for (const StructureBearing& b : structure.bearings) {
-      const Eigen::MatrixXd point = BearingPoint(b, reduced);
+      const Eigen::MatrixXd point = BearingPointRows(b, reduced);
       const Eigen::Vector3d k(b.radial_stiffness, b.radial_stiffness, b.axial_stiffness);
       m.bearing_stiffness.push_back(k.asDiagonal() * point);
       m.bearing_damping.push_back(b.damping * point);

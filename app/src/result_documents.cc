@@ -178,6 +178,36 @@ nlohmann::json TrainMeshesJson(const TrainOperatingPoint& op) {
   return meshes;
 }
 
+std::string BearingName(const std::string& shaft, int index) {
+  return index >= 0 ? shaft + ".bearings[" + std::to_string(index) + "]" : shaft + " support";
+}
+
+nlohmann::json TrainBearingForcesJson(const TrainOperatingPoint& op, const TrainSpec& spec) {
+  const auto xyz = [](const std::array<double, 3>& v) {
+    return nlohmann::json{{"x", v[0]}, {"y", v[1]}, {"z", v[2]}};
+  };
+  nlohmann::json bearings = nlohmann::json::array();
+  for (const TrainBearingForce& f : op.bearing_forces) {
+    const std::string& shaft = spec.shafts[static_cast<size_t>(f.bearing.shaft)].name;
+    nlohmann::json lines = nlohmann::json::array();
+    for (const TrainBearingForce::Line& l : f.lines) {
+      lines.push_back({{"label", l.label},
+                       {"frequency_hz", l.frequency_hz},
+                       {"amplitude_n", xyz(l.amplitude)}});
+    }
+    bearings.push_back({{"name", BearingName(shaft, f.bearing.index)},
+                        {"shaft", shaft},
+                        {"index", f.bearing.index},
+                        {"at_m", f.bearing.at},
+                        {"force_mean_n", xyz(f.mean)},
+                        {"force_rms_n", xyz(f.rms)},
+                        {"force_min_n", xyz(f.min)},
+                        {"force_max_n", xyz(f.max)},
+                        {"lines", lines}});
+  }
+  return bearings;
+}
+
 nlohmann::json TrainLooseGearsJson(const std::vector<TrainLooseGearStatistics>& gears) {
   nlohmann::json loose = nlohmann::json::array();
   for (const TrainLooseGearStatistics& g : gears) {

@@ -50,6 +50,11 @@ std::string DynamicFactorNote(const TransmissionErrorStats& te);
 // `meshes` and `loose_gears` of `simulate --json` on a train (docs/cli.md), SI units.
 nlohmann::json TrainMeshesJson(const TrainOperatingPoint& op);
 nlohmann::json TrainLooseGearsJson(const std::vector<TrainLooseGearStatistics>& gears);
+// "input.bearings[0]", or "input support" for a shaft's default support (index -1).
+std::string BearingName(const std::string& shaft, int index);
+// simulate's `bearings`: per bearing its name, shaft, index, position, and in x, y, z the mean and
+// RMS force on the housing and the amplitude at each mesh harmonic (TrainBearingForce).
+nlohmann::json TrainBearingForcesJson(const TrainOperatingPoint& op, const TrainSpec& spec);
 nlohmann::json SidebandsJson(const std::vector<SidebandRow>& rows);
 
 }  // namespace gearnvh::app

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <iostream>
@@ -203,6 +204,49 @@ nlohmann::json TrainLyapunovJson(const TrainLyapunovSummary& l) {
           {"predictability_horizon_cycles", FiniteOrNull(l.predictability_horizon_cycles)}};
 }
 
+namespace {
+
+// Each bearing's force on the housing: mean and RMS per direction, and its largest mesh line.
+void PrintBearingForces(const TrainOperatingPoint& op, const TrainSpec& spec) {
+  if (op.bearing_forces.empty()) return;
+  std::vector<std::string> names;
+  size_t width = 7;
+  for (const TrainBearingForce& f : op.bearing_forces) {
+    names.push_back(
+        BearingName(spec.shafts[static_cast<size_t>(f.bearing.shaft)].name, f.bearing.index));
+    width = std::max(width, names.back().size() + 2);
+  }
+  fmt::print(
+      "\n  bearing forces on the housing, N (mean and RMS exact over the record; mesh lines over "
+      "the sideband window)\n");
+  fmt::print("  {:<{}}{:>24}{:>24}{:>24}  largest mesh line\n", "bearing", width, "x mean / RMS",
+             "y mean / RMS", "z mean / RMS");
+  constexpr std::array<char, 3> kAxis{'x', 'y', 'z'};
+  for (size_t b = 0; b < op.bearing_forces.size(); ++b) {
+    const TrainBearingForce& f = op.bearing_forces[b];
+    std::string cells;
+    for (size_t d = 0; d < 3; ++d) {
+      cells += fmt::format("{:>24}", fmt::format("{:.4g} / {:.4g}", f.mean[d], f.rms[d]));
+    }
+    const TrainBearingForce::Line* largest = nullptr;
+    size_t axis = 0;
+    for (const TrainBearingForce::Line& l : f.lines) {
+      for (size_t d = 0; d < 3; ++d) {
+        if (largest == nullptr || l.amplitude[d] > largest->amplitude[axis]) {
+          largest = &l;
+          axis = d;
+        }
+      }
+    }
+    fmt::print("  {:<{}}{}  {}\n", names[b], width, cells,
+               largest == nullptr ? std::string("-")
+                                  : fmt::format("{} {}: {:.4g}", largest->label, kAxis[axis],
+                                                largest->amplitude[axis]));
+  }
+}
+
+}  // namespace
+
 nlohmann::json TrainSimulationJson(const TrainOperatingPoint& op, const TrainSpec& spec,
                                    const std::string& file, Tier tier) {
   nlohmann::json doc;
@@ -255,6 +299,7 @@ nlohmann::json TrainSimulationJson(const TrainOperatingPoint& op, const TrainSpe
   doc["sideband_window_common_periods"] = op.sideband_window_common_periods;
   doc["sidebands_notes"] = op.sideband_notes;
   doc["loose_gears"] = TrainLooseGearsJson(op.stats.loose_gears);
+  doc["bearings"] = TrainBearingForcesJson(op, spec);
   if (op.histories.dt > 0.0) {
     const TrainHistories& h = op.histories;
     doc["time_histories"] = {{"samples", h.te.empty() ? 0 : h.te.front().size()},
@@ -280,6 +325,7 @@ TrainSimulatePlan PlanTrainSimulate(const SimulateOptions& options, const TrainS
   run.allow_slow = options.allow_slow;
   run.names = names;
   run.histories = options.out.has_value() || options.uff.has_value();
+  run.bearing_forces = true;
   run.tier_adequacy = true;
   RequireCycleCounts(run.cycles, 1, run.transient, names);
   RequireRunLengthOfOptions(spec, spec.operating.speed, run.cycles, run.transient, options.cycles,
@@ -420,6 +466,7 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
       fmt::print(" {} {:.4g}", stats.meshes[i].name, tables.meshes[i].half_backlash * 1e6);
     fmt::print(")\n");
     PrintTrainSidebands(op);
+    PrintBearingForces(op, spec);
     fmt::print(
         "  (TE, force and rattle index exact: closed-form integrals and extrema of the recorded "
         "trajectory;\n   impacts and separation from the exact events)\n");

@@ -15,6 +15,7 @@
 #include "gearnvh/analysis/written_numbers.h"
 #include "housing_table.h"
 #include "output_folder.h"
+#include "result_documents.h"
 #include "train_command_options.h"
 #include "uff_export.h"
 
@@ -148,9 +149,7 @@ void PrintWhine(const WhineResult& r, const TrainSpec& spec, const std::string& 
 
 }  // namespace
 
-std::string WhineBearingName(const WhineBearing& b) {
-  return b.index >= 0 ? fmt::format("{}.bearings[{}]", b.shaft, b.index) : b.shaft + " support";
-}
+std::string WhineBearingName(const WhineBearing& b) { return BearingName(b.shaft, b.index); }
 
 std::string WhineMeshesCsv(const WhineResult& r) {
   std::ostringstream os;

@@ -378,4 +378,15 @@ TrainReducedModel ReduceTrain(const TrainStructure& s, Tier tier, const Reductio
   return std::move(ReduceTrainTiers(s, {tier}, options).front());
 }
 
+Eigen::MatrixXd BearingPointRows(const StructureBearing& bearing,
+                                 const TrainReducedModel& reduced) {
+  const Eigen::MatrixXd& T = reduced.recovery;
+  const auto row = [&](NodeDof d) { return T.row(TrainStructure::Dof(bearing.node, d)); };
+  Eigen::MatrixXd p(3, T.cols());
+  p.row(0) = row(kUx) + bearing.offset * row(kThy);
+  p.row(1) = row(kUy) - bearing.offset * row(kThx);
+  p.row(2) = row(kUz);
+  return p;
+}
+
 }  // namespace gearnvh

@@ -81,6 +81,17 @@ TrainTables BuildReducedTrainTables(const TrainSpec& spec, const GearTrain& trai
   y_r.normalize();
   t.rigid_rotation = y_r;
   t.recenter_row = y_r.transpose();
+  t.bearings = structure.bearings;
+  t.bearing_force_rows =
+      Eigen::MatrixXd::Zero(3 * static_cast<Eigen::Index>(t.bearings.size()), t.m);
+  for (size_t b = 0; b < t.bearings.size(); ++b) {
+    const StructureBearing& sb = t.bearings[b];
+    const Eigen::MatrixXd point = left(BearingPointRows(sb, reduced).transpose()).transpose();
+    const Eigen::Vector3d k(sb.radial_stiffness, sb.radial_stiffness, sb.axial_stiffness);
+    auto rows = t.bearing_force_rows.middleRows(3 * static_cast<Eigen::Index>(b), 3);
+    rows.leftCols(n) = k.asDiagonal() * point;
+    rows.middleCols(n, n) = sb.damping * point;
+  }
   return t;
 }
 

@@ -45,7 +45,7 @@ TrainRecorder::TrainRecorder(const TrainTables& tables, int samples_per_cycle, d
   grazing_.assign(meshes, 0);
 }
 
-void TrainRecorder::KeepSeries(double from_time, long max_samples, bool histories) {
+void TrainRecorder::KeepSeries(double from_time, long max_samples, bool histories, bool bearings) {
   keep_from_ = from_time;
   keep_max_ = std::max(0L, max_samples);
   keep_histories_ = histories;
@@ -56,6 +56,16 @@ void TrainRecorder::KeepSeries(double from_time, long max_samples, bool historie
   for (std::vector<double>& series : te_series_) series.reserve(reserved);
   for (std::vector<double>& series : force_series_) series.reserve(reserved);
   for (std::vector<ContactState>& series : contact_series_) series.reserve(reserved);
+  const Eigen::Index rows = bearings ? t_.bearing_force_rows.rows() : 0;
+  bearing_series_.assign(static_cast<size_t>(rows), {});
+  for (std::vector<double>& series : bearing_series_) series.reserve(reserved);
+  bearing_values_.resize(rows);
+}
+
+void TrainRecorder::TrackBearingForces() {
+  bearing_rows_ = t_.bearing_force_rows;
+  bearing_coefficients_.resize(bearing_rows_.rows(), kTerms + 1);
+  bearing_forces_.assign(static_cast<size_t>(bearing_rows_.rows()), {});
 }
 
 void TrainRecorder::TakeSeries(std::vector<std::vector<double>>& te,
@@ -100,6 +110,12 @@ void TrainRecorder::Sample(double time, const Eigen::VectorXd& z, const std::vec
       if (!keep_histories_) continue;
       force_series_[i].push_back(ForceAt(i, z, segments[i], states[i]));
       contact_series_[i].push_back(states[i]);
+    }
+    if (!bearing_series_.empty() && static_cast<long>(bearing_series_.front().size()) < keep_max_) {
+      bearing_values_.noalias() = t_.bearing_force_rows * z;
+      for (size_t r = 0; r < bearing_series_.size(); ++r) {
+        bearing_series_[r].push_back(bearing_values_[static_cast<Eigen::Index>(r)]);
+      }
     }
   }
   ++samples_;
@@ -197,6 +213,16 @@ void TrainRecorder::Chunk(double start, double length, const std::vector<int>& s
     ps::Accumulate(acceleration_[static_cast<size_t>(loose_bodies_[l])],
                    ps::Trimmed(accel, kTerms - 1, length), length);
   }
+  // A bearing's force rows act on positions and velocities: one product with the Taylor columns.
+  if (bearing_rows_.rows() > 0) {
+    bearing_coefficients_.noalias() = bearing_rows_ * taylor_;
+    for (size_t r = 0; r < bearing_forces_.size(); ++r) {
+      const ps::Poly f = ps::Trimmed(bearing_coefficients_.row(static_cast<Eigen::Index>(r)).data(),
+                                     kTerms, length);
+      ps::Accumulate(bearing_forces_[r], f, length);
+      ps::UpdateExtrema(f, length, start, bearing_forces_[r], true);
+    }
+  }
   exact_duration_ += length;
 }
 
@@ -279,6 +305,10 @@ TrainStatistics TrainRecorder::Result() const {
       g.impact_energy_per_second = energy / recorded_;
     }
     out.loose_gears.push_back(g);
+  }
+  for (const OutputStatistics& f : bearing_forces_) {
+    out.bearing_forces.push_back(T > 0.0 ? TrainOutputSummary{f.Mean(T), f.Rms(T), f.min, f.max}
+                                         : TrainOutputSummary{});
   }
   // Impacting gears by impact energy per second; the others after them, in body order, rank 0.
   std::stable_sort(out.loose_gears.begin(), out.loose_gears.end(), [](const auto& a, const auto& b) {

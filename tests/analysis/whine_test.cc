@@ -5,6 +5,7 @@
 #include "gearnvh/analysis/whine.h"
 
 #include <algorithm>
+#include <array>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <complex>
@@ -281,6 +282,136 @@ TEST_CASE("whine: equals the exact time-domain solver on a mesh of constant stif
     // sampled DFT folds in the response near 256 mesh orders (~5e-6). 2e-5 of the largest line
     // bounds both; it still resolves each sideband to 0.6 %.
     CHECK(std::abs(whine - expected[o]) <= 2e-5 * largest);
+  }
+}
+
+TEST_CASE("simulate's bearing forces: the housing carries no net force", "[analysis][whine]") {
+  // The loaded spur two-stage train on rigid shafts at tier 3 (every gear DOF on the default
+  // supports, lateral modes damped ~4 %), no excitation: after the transient the periodic steady
+  // state, recorded over one common period. The mesh forces are internal and the loads are
+  // torques, so the supports' mean forces sum to zero in x, y and z: the means are the exact
+  // integrals of the polynomial pieces, and over a whole period the mean acceleration vanishes.
+  // Rounding in sums of ~100 N forces leaves ~1e-13; 1e-9 of the largest mean bounds it and the
+  // orbit's periodicity. (The uniform samples' mean misses by ~1e-2 on the elastic two-stage
+  // train: the mesh stiffness steps put force images above the sampling rate.) The loose gear is
+  // left out: with it the sum is 2.5e-5 of the largest mean, for a reason not yet found (issue
+  // "Whine at the speed of a frequency sweep").
+  TrainSpec spec = testing::RigidTwoStage();
+  for (TrainGear& g : spec.gears) g.gear.helix_angle = 0.0;
+  spec.gears.erase(spec.gears.begin() + 4);  // g5, the loose gear, and its mesh
+  spec.meshes.pop_back();
+  spec.operating.loads = {{"output", 30.0}};
+  TrainRunOptions run;
+  run.tier = Tier::kTier3;
+  run.transient = 400;
+  const GearTrain train = BuildGearTrain(spec);
+  const TrainTables probe = BuildTrainTables(spec, train);
+  run.cycles = std::lround(probe.common_period / probe.meshes.front().period);
+  REQUIRE(std::abs(run.cycles * probe.meshes.front().period - probe.common_period) <=
+          1e-12 * probe.common_period);
+  run.bearing_forces = true;
+  const TrainOperatingPoint op = RunTrainOperatingPoint(spec, run);
+  REQUIRE(op.ok());
+  REQUIRE(op.bearing_forces.size() == op.tables.bearings.size());
+  REQUIRE(op.bearing_forces.size() == 3);  // a default support per shaft
+  std::array<double, 3> sum{}, largest{};
+  for (const TrainBearingForce& f : op.bearing_forces) {
+    for (size_t d = 0; d < 3; ++d) {
+      sum[d] += f.mean[d];
+      largest[d] = std::max(largest[d], std::abs(f.mean[d]));
+      CHECK(f.min[d] <= f.mean[d]);
+      CHECK(f.mean[d] <= f.max[d]);
+      CHECK(f.rms[d] <= std::max(f.max[d] - f.mean[d], f.mean[d] - f.min[d]));
+    }
+    REQUIRE(f.lines.size() == 3 * op.tables.meshes.size());
+  }
+  const double scale = std::max({largest[0], largest[1], largest[2]});
+  REQUIRE(scale > 100.0);  // the reactions of a loaded train
+  for (size_t d = 0; d < 3; ++d) {
+    INFO("direction " << d << ": sum " << sum[d] << " N of " << scale << " N");
+    CHECK(std::abs(sum[d]) <= 1e-9 * scale);
+  }
+}
+
+TEST_CASE("simulate's bearing forces: equal whine's under torque orders, and Parseval holds",
+          "[analysis][whine]") {
+  // The loaded pair of constant mesh stiffness at tier 3 (lateral, axial and tilt modes in the
+  // response), in contact throughout: LTI, so its steady state under torque orders 1 and 3.5 is
+  // whine's `mean` response at those orders. The error inputs are left out: the time-domain solver
+  // holds them per grid segment, stepping the mesh force (issue "exact inputs"). The held torque
+  // loses sinc^2 at its own order (2944 segments per revolution: 2e-6 at order 3.5), and the
+  // sampled DFT folds in the response near 256 mesh orders (~1e-7 here); 1e-5 of the largest line
+  // bounds both. Parseval: with those two lines the only motion, each bearing direction's exact
+  // RMS about the mean is sqrt(sum A^2 / 2) of whine's amplitudes, to the same 1e-5.
+  const bool reversed = GENERATE(false, true);
+  GearboxSpec pair = StandardPair(23, 41, 2e-3, 20e-3);
+  pair.operating.torque = 40.0;
+  pair.operating.speed = 1200.0 * testing::kRpm;
+  pair.mesh.stiffness = FourierStiffness{3e8, {}, {}};
+  pair.operating.excitation = {{1.0, 300.0, 1.1}, {3.5, 200.0, -0.4}};
+  pair.analysis.segments_per_cycle = 128;
+  pair.analysis.speed_sweep = {1200.0 * testing::kRpm, 1300.0 * testing::kRpm, 2,
+                               AxisScale::kLinear};
+  TrainSpec spec = TrainOf(pair);
+  if (reversed) std::swap(spec.meshes[0].gear_a, spec.meshes[0].gear_b);
+  TrainRunOptions run;
+  run.tier = Tier::kTier3;
+  run.transient = 600;
+  run.cycles = 23 * 4;  // 4 pinion revolutions: whole periods of both orders
+  run.samples_per_cycle = 256;
+  run.histories = true;
+  run.bearing_forces = true;
+  const TrainOperatingPoint op = RunTrainOperatingPoint(spec, run);
+  REQUIRE(op.ok());
+  REQUIRE(op.stats.meshes[0].free_time_fraction == 0.0);
+  WhineOptions options;
+  options.speeds = 2;
+  options.tier = Tier::kTier3;
+  const WhineResult r = RunWhine(spec, options);
+  const std::vector<std::vector<double>>& bearing = op.histories.bearing_force;
+  REQUIRE(r.bearings.size() == op.bearing_forces.size());
+  REQUIRE(bearing.size() == 3 * r.bearings.size());
+  const size_t window = static_cast<size_t>(23 * 4 * 256);
+  const std::vector<double> orders{1.0, 3.5};
+  double largest = 0.0;
+  for (const WhineBearing& b : r.bearings) {
+    for (size_t d = 0; d < 3; ++d) {
+      for (double order : orders)
+        largest = std::max(largest, b.force_amplitude_n[LineAt(r, order)][d][0]);
+    }
+  }
+  REQUIRE(largest > 0.5);  // N: 300 and 200 rad/s^2 on the pinion
+  // The two supports carry the mesh's mean force between them: their means sum to zero (rounding
+  // in ~1e3 N forces; 1e-9 of the largest bounds it, as for the two-stage train above).
+  for (size_t d = 0; d < 3; ++d) {
+    const double sum = op.bearing_forces[0].mean[d] + op.bearing_forces[1].mean[d];
+    const double scale = std::max(std::abs(op.bearing_forces[0].mean[d]), 1.0);
+    INFO("direction " << d << ": mean forces sum to " << sum << " N");
+    CHECK(std::abs(sum) <= 1e-9 * scale);
+  }
+  for (size_t b = 0; b < r.bearings.size(); ++b) {
+    for (size_t d = 0; d < 3; ++d) {
+      const std::vector<double>& samples = bearing[3 * b + d];
+      REQUIRE(samples.size() >= window);
+      double square = 0.0;
+      for (double order : orders) {
+        Complex x = 0.0;
+        const double w = order * spec.operating.speed;
+        for (size_t s = samples.size() - window; s < samples.size(); ++s) {
+          const double t = op.histories.start + static_cast<double>(s) * op.histories.dt;
+          x += samples[s] * std::exp(Complex(0.0, -w * t));
+        }
+        const double time_domain = std::abs(2.0 * x / static_cast<double>(window));
+        const double whine = r.bearings[b].force_amplitude_n[LineAt(r, order)][d][0];
+        INFO("bearing " << b << " direction " << d << " order " << order << ": whine " << whine
+                        << " N, time domain " << time_domain << " N");
+        CHECK(std::abs(whine - time_domain) <= 1e-5 * largest);
+        square += 0.5 * whine * whine;
+      }
+      INFO("bearing " << b << " direction " << d << ": exact RMS " << op.bearing_forces[b].rms[d]
+                      << " N, Parseval " << std::sqrt(square) << " N");
+      CHECK(std::abs(op.bearing_forces[b].rms[d] - std::sqrt(square)) <= 1e-5 * largest);
+    }
   }
 }
 

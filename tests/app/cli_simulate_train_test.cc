@@ -1,4 +1,5 @@
 // `gearnvh simulate` on gear trains (schema gearnvh/2): the train solver end to end.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <nlohmann/json.hpp>
@@ -6,8 +7,8 @@
 #include <string>
 
 #include "app/three_shaft_train_yaml.h"
-#include "support/run_command.h"
 #include "support/paths.h"
+#include "support/run_command.h"
 
 namespace gearnvh {
 namespace {
@@ -111,6 +112,30 @@ TEST_CASE("simulate --tier 3 on a train runs the reduced model", "[cli][train][t
   CHECK(doc["state_dim"].get<int>() > 2 * 3 + 2);
   REQUIRE(doc["meshes"].size() == 2);
   for (const auto& m : doc["meshes"]) CHECK(m["te"]["rms"].get<double>() > 0.0);
+  // Every bearing's force on the housing: exact mean within its exact extrema, a line per mesh
+  // harmonic 1..3 when there is a spectrum window (none in 20 cycles), and the reducer's helical
+  // meshes load the bearings axially.
+  REQUIRE(doc["bearings"].size() >= 4);
+  const size_t lines = doc["sideband_window_common_periods"].get<long>() > 0 ? 6 : 0;
+  double axial = 0.0;
+  for (const auto& b : doc["bearings"]) {
+    INFO(b["name"]);
+    for (const char* d : {"x", "y", "z"}) {
+      CHECK(b["force_min_n"][d].get<double>() <= b["force_mean_n"][d].get<double>());
+      CHECK(b["force_mean_n"][d].get<double>() <= b["force_max_n"][d].get<double>());
+      CHECK(b["force_rms_n"][d].get<double>() >= 0.0);
+    }
+    axial = std::max(axial, std::abs(b["force_mean_n"]["z"].get<double>()));
+    CHECK(b["lines"].size() == lines);
+  }
+  CHECK(axial > 1.0);
+}
+
+TEST_CASE("simulate on a train at tier 1 has no bearing forces", "[cli][train][tiers]") {
+  const auto r = RunCommand(kExe + " simulate --json --cycles 20 --transient 5 " + kExamples +
+                            "/two_stage_helical_reducer.yaml");
+  REQUIRE(r.exit_code == 0);
+  CHECK(nlohmann::json::parse(r.out)["bearings"].empty());
 }
 
 TEST_CASE("simulate on a train refuses a bad tier and a tier the train does not have",

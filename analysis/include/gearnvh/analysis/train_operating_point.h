@@ -15,6 +15,7 @@
 // any source only mesh harmonics are considered (the pair's rule).
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <functional>
 #include <optional>
@@ -49,6 +50,10 @@ struct TrainRunOptions {
   // A sweep's waterfall row: each mesh's TE amplitude spectrum (Hann) over the record's last
   // waterfall_samples samples (TrainOperatingPoint::waterfall); 0: none.
   long waterfall_samples = 0;                   // >= 0
+  // From tier 2 on, every bearing's force on the housing (TrainOperatingPoint::bearing_forces):
+  // its exact mean, RMS and extrema over the record; with `spectra` its lines at the meshes'
+  // harmonics over the sideband window; with histories every sample of it.
+  bool bearing_forces = false;
   EventMethod events = EventMethod::kSpectral;  // V3; V2 and V1 to validate
   Tier tier = Tier::kTier1;  // the train's tier (docs/gear-trains.md, "Tiers of a train")
   bool jumps = true;         // certified jumps of the transient (TrainStepperOptions::jumps)
@@ -86,8 +91,28 @@ struct TrainHistories {
   bool truncated = false;        // the record held more samples than max_history_samples
   std::vector<std::vector<double>> te, force;      // per mesh (file order), m and N
   std::vector<std::vector<ContactState>> contact;  // per mesh
+  // With TrainRunOptions::bearing_forces, per bearing force row (TrainTables::bearing_force_rows:
+  // 3 per bearing, x, y, z) its value at every kept sample, N.
+  std::vector<std::vector<double>> bearing_force;
   std::vector<TrainEventRecord> events;            // in time order
   bool events_truncated = false;                   // more events than max_logged_events
+};
+
+// A bearing's force on the housing (TrainRunOptions::bearing_forces) in x, y and z, N: its mean
+// (the static reaction and the mean of the motion), RMS about the mean and extrema, exact over the
+// record (TrainOutputSummary); and its amplitude at each mesh's harmonics 1..3 over the sideband
+// window's uniform samples (whole common periods, so each line sits on a bin of the
+// Hann-windowed spectrum, read as is). Held error inputs (STE, runout, pitch errors) step the
+// mesh force at every grid segment; the samples fold those steps' images into the lines.
+struct TrainBearingForce {
+  StructureBearing bearing;
+  std::array<double, 3> mean{}, rms{}, min{}, max{};
+  struct Line {
+    std::string label;  // "mesh g1-g2 1x"
+    double frequency_hz = 0.0;
+    std::array<double, 3> amplitude{};
+  };
+  std::vector<Line> lines;
 };
 
 struct TrainOperatingPoint {
@@ -115,6 +140,9 @@ struct TrainOperatingPoint {
   SidebandOptions sideband_options;
   std::vector<TrainMeshSidebands> sidebands;  // per mesh, file order
   std::vector<std::string> sideband_notes;
+  // Per bearing (TrainTables::bearings order) with TrainRunOptions::bearing_forces at tier 2 or
+  // higher; empty otherwise or when the run stopped.
+  std::vector<TrainBearingForce> bearing_forces;
   bool ok() const { return summary.info == TrainStepperSummary::Info::kSuccess; }
 };
 

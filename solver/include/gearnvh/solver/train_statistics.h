@@ -69,11 +69,20 @@ inline const TrainLooseGearStatistics* FindLooseGear(
   return g == gears.end() ? nullptr : &*g;
 }
 
+// One output's exact statistics over the recorded window (from the polynomial pieces, as the TE's).
+struct TrainOutputSummary {
+  double mean = 0.0, rms = 0.0;  // RMS about the mean
+  double min = 0.0, max = 0.0;   // certified extrema
+};
+
 struct TrainStatistics {
   double recorded_time = 0.0;  // s
   long samples = 0;
   std::vector<TrainMeshStatistics> meshes;            // in the order of the file
   std::vector<TrainLooseGearStatistics> loose_gears;  // by rank, then the gears without impact
+  // With TrainRecorder::TrackBearingForces, per bearing force row (TrainTables::
+  // bearing_force_rows: x, y, z of each bearing) its force on the housing, N; empty otherwise.
+  std::vector<TrainOutputSummary> bearing_forces;
 };
 
 class TrainRecorder {
@@ -86,23 +95,34 @@ class TrainRecorder {
   double sample_interval() const { return dt_; }
   // Keeps the TE of every mesh at the samples at or after `from_time` (s), at most `max_samples`
   // per mesh; with `histories`, also each mesh's force (k (g) + c delta' in contact, 0 free, as
-  // the statistics define it) and contact state there. Storage is reserved here, so recording
-  // allocates nothing.
-  void KeepSeries(double from_time, long max_samples, bool histories = false);
-  // What KeepSeries(_, max_samples, histories) reserves on a train of `meshes` meshes.
-  static size_t SeriesBytes(size_t meshes, long max_samples, bool histories = false) {
+  // the statistics define it) and contact state there.
+  // With `bearings`, also every bearing force row's value (TrainTables::bearing_force_rows).
+  // Storage is reserved here, so recording allocates nothing.
+  void KeepSeries(double from_time, long max_samples, bool histories = false,
+                  bool bearings = false);
+  // What KeepSeries(_, max_samples, histories, bearings) reserves on a train of `meshes` meshes
+  // and `bearing_rows` bearing force rows.
+  static size_t SeriesBytes(size_t meshes, long max_samples, bool histories = false,
+                            size_t bearing_rows = 0) {
     const size_t per_sample =
         sizeof(double) + (histories ? sizeof(double) + sizeof(ContactState) : 0);
-    return meshes * static_cast<size_t>(std::max(0L, max_samples)) * per_sample;
+    const size_t samples = static_cast<size_t>(std::max(0L, max_samples));
+    return meshes * samples * per_sample + bearing_rows * samples * sizeof(double);
   }
   // Per mesh (file order) the kept TE samples, m; with histories, the force (N) and the contact
   // state at the same samples (empty otherwise).
   const std::vector<std::vector<double>>& te_series() const { return te_series_; }
   const std::vector<std::vector<double>>& force_series() const { return force_series_; }
   const std::vector<std::vector<ContactState>>& contact_series() const { return contact_series_; }
+  // Per bearing force row (TrainTables::bearing_force_rows) its kept samples, N; empty unless
+  // KeepSeries kept them.
+  const std::vector<std::vector<double>>& bearing_series() const { return bearing_series_; }
   // Moves the kept series out (the recorder keeps none after): a run's histories without a copy.
   void TakeSeries(std::vector<std::vector<double>>& te, std::vector<std::vector<double>>& force,
                   std::vector<std::vector<ContactState>>& contact);
+  // From now on, also the exact statistics of every bearing force row (TrainTables::
+  // bearing_force_rows; TrainStatistics::bearing_forces). Storage is reserved here.
+  void TrackBearingForces();
   // Keeps the first `max_events` contact changes of the recorded window, in the order they are
   // located (storage reserved here, so recording allocates nothing).
   void KeepEvents(long max_events);
@@ -153,6 +173,12 @@ class TrainRecorder {
   bool keep_histories_ = false;
   std::vector<std::vector<double>> te_series_, force_series_;
   std::vector<std::vector<ContactState>> contact_series_;
+  std::vector<std::vector<double>> bearing_series_;
+  Eigen::VectorXd bearing_values_;
+  // Bearing force rows (TrainTables::bearing_force_rows) on the whole state, their chunk
+  // coefficients and statistics (TrackBearingForces).
+  RowMatrix bearing_rows_, bearing_coefficients_;
+  std::vector<OutputStatistics> bearing_forces_;
   long keep_events_ = 0, window_events_ = 0;
   std::vector<TrainEventRecord> events_;
 };

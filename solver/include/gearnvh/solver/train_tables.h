@@ -65,6 +65,7 @@
 #include "gearnvh/model/gear_train.h"
 #include "gearnvh/model/gearbox_spec.h"
 #include "gearnvh/model/mesh_segmentation.h"
+#include "gearnvh/model/train_structure.h"
 #include "gearnvh/solver/segment_tables.h"
 #include "gearnvh/solver/spectral_gap.h"
 
@@ -132,6 +133,11 @@ struct TrainTables {
   Eigen::VectorXd force;                 // f: constant torques, N m (friction loss included)
   double friction_loss_torque = 0.0;     // dT, the mean friction loss the input supplies, N m
   Eigen::VectorXd excitation_direction;  // d = J_in e_in
+  // From tier 2 on, the structure's bearings (TrainStructure::bearings) and the rows on z of each
+  // one's force on the housing, rows 3b, 3b + 1, 3b + 2 for x, y, z: diag(k_r, k_r, k_a) u + c u'
+  // at its point (BearingPointRows). None at tier 1, which has no lateral DOF.
+  std::vector<StructureBearing> bearings;
+  Eigen::MatrixXd bearing_force_rows;
   // Structural K_0 and C_0 (+ input speed x gyroscopic G) of a reduced tier, added to every
   // tuple's mesh terms; empty at tier 1 (the bodies are coupled by the meshes only).
   Eigen::MatrixXd structural_stiffness, structural_damping;
