@@ -41,6 +41,19 @@ const char* SignalName(int sig) {
   }
 }
 
+// Removes `path` while other threads may still write into it: renamed first (same folder, a name
+// that still starts as the original, so a later run's stale-staging sweep finds it), so no new
+// file can appear in it by its old name while remove_all empties it.
+bool Remove(const std::filesystem::path& path) {
+  std::error_code ec;
+  std::filesystem::path doomed = path;
+  doomed += ".removing";
+  std::filesystem::rename(path, doomed, ec);
+  if (ec) doomed = path;
+  const bool removed = std::filesystem::remove_all(doomed, ec) > 0;
+  return removed && !std::filesystem::exists(doomed, ec);
+}
+
 [[noreturn]] void WaitAndClean(sigset_t set) {
   int sig = 0;
   while (sigwait(&set, &sig) != 0) {
@@ -48,10 +61,7 @@ const char* SignalName(int sig) {
   bool removed = false;
   {
     const std::lock_guard<std::mutex> lock(g_mutex);
-    for (const std::filesystem::path& p : Registered()) {
-      std::error_code ec;
-      removed = std::filesystem::remove_all(p, ec) > 0 || removed;
-    }
+    for (const std::filesystem::path& p : Registered()) removed = Remove(p) || removed;
   }
   // A user who pressed Ctrl-C (or whose job was killed) learns why the run ended and that no
   // output was half-written; on a terminal the progress line is cleared first.
