@@ -143,8 +143,8 @@ std::optional<size_t> SliceStart(size_t series_size, double series_from, double 
 }
 
 // What the run keeps that grows with the record (TrainOperatingPoint::memory): `kept` samples per
-// mesh, the sideband window's spectrum, and with histories the event log and every mesh's
-// spectrum, with a waterfall every mesh's tail spectrum.
+// mesh (and bearing force row), the sideband window's spectrum, and with histories the event log
+// and every mesh's spectrum, with a waterfall every mesh's tail spectrum.
 RunMemory TrainRunMemory(const TrainRunOptions& options, size_t meshes, long kept,
                          long window_samples, size_t bearing_rows) {
   RunMemory memory{{{"TE samples", TrainRecorder::SeriesBytes(meshes, kept, options.histories)},
@@ -152,9 +152,7 @@ RunMemory TrainRunMemory(const TrainRunOptions& options, size_t meshes, long kep
                    kept};
   if (options.bearing_forces && bearing_rows > 0) {
     memory.parts.push_back(
-        {"bearing force samples",
-         TrainRecorder::SeriesBytes(0, kept, false, bearing_rows) +
-             (options.histories ? bearing_rows * static_cast<size_t>(kept) * sizeof(double) : 0)});
+        {"bearing force samples", TrainRecorder::SeriesBytes(0, kept, false, bearing_rows)});
   }
   if (options.histories) {
     memory.parts.push_back(
@@ -447,10 +445,7 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, GearTrain trai
   TailSpectra(options, recorder, ok, op);
   if (options.spectra) MeshSidebands(spec, options, window, recorder, kept.from, ok, op);
   if (options.bearing_forces) BearingForces(window, recorder, kept.from, options, op);
-  if (options.histories) {
-    recorder.TakeSeries(h.te, h.force, h.contact);  // no copy
-    if (options.bearing_forces) h.bearing_force = recorder.bearing_series();
-  }
+  if (options.histories) recorder.TakeSeries(h.te, h.force, h.contact, h.bearing_force);
   return op;
 }
 

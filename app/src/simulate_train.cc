@@ -216,9 +216,9 @@ void PrintBearingForces(const TrainOperatingPoint& op, const TrainSpec& spec) {
         BearingName(spec.shafts[static_cast<size_t>(f.bearing.shaft)].name, f.bearing.index));
     width = std::max(width, names.back().size() + 2);
   }
-  fmt::print(
-      "\n  bearing forces on the housing, N (mean and RMS exact over the record; mesh lines over "
-      "the sideband window)\n");
+  const bool lines = !op.bearing_forces.front().lines.empty();
+  fmt::print("\n  bearing forces on the housing, N (mean and RMS exact over the record; {})\n",
+             lines ? "mesh lines over the sideband window" : "no spectrum window: no mesh lines");
   fmt::print("  {:<{}}{:>24}{:>24}{:>24}  largest mesh line\n", "bearing", width, "x mean / RMS",
              "y mean / RMS", "z mean / RMS");
   constexpr std::array<char, 3> kAxis{'x', 'y', 'z'};
@@ -404,8 +404,9 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
   if (lyapunov) doc["lyapunov"] = TrainLyapunovJson(*lyapunov);
   RequireFinite(doc, "simulate");
   if (out) {
-    out->Write("trajectory.csv",
-               [&op](std::FILE* f) { WriteTrainTrajectoryCsv(op.histories, op.tables, f); });
+    out->Write("trajectory.csv", [&op, &spec](std::FILE* f) {
+      WriteTrainTrajectoryCsv(op.histories, op.tables, spec, f);
+    });
     out->Write("events.csv", TrainEventsCsv(op.histories, op.tables));
     out->Write("results.json", doc.dump(2) + "\n");
     out->Commit();

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "gearnvh/solver/segment_tables.h"
+#include "result_documents.h"
 
 namespace gearnvh::app {
 
@@ -27,10 +28,17 @@ std::string EventsCsv(const Trajectory& t) {
   return os.str();
 }
 
-void WriteTrainTrajectoryCsv(const TrainHistories& h, const TrainTables& tables, std::FILE* f) {
+void WriteTrainTrajectoryCsv(const TrainHistories& h, const TrainTables& tables,
+                             const TrainSpec& spec, std::FILE* f) {
   fmt::print(f, "time_s");
   for (const TrainMeshTable& mt : tables.meshes)
     fmt::print(f, ",{0}.te_m,{0}.mesh_force_n,{0}.contact", mt.name);
+  const bool bearings = !h.bearing_force.empty();
+  for (size_t b = 0; bearings && b < tables.bearings.size(); ++b) {
+    const StructureBearing& sb = tables.bearings[b];
+    fmt::print(f, ",{0}.force_x_n,{0}.force_y_n,{0}.force_z_n",
+               BearingName(spec.shafts[static_cast<size_t>(sb.shaft)].name, sb.index));
+  }
   fmt::print(f, "\n");
   const size_t samples = h.te.empty() ? 0 : h.te.front().size();
   for (size_t k = 0; k < samples; ++k) {
@@ -39,6 +47,7 @@ void WriteTrainTrajectoryCsv(const TrainHistories& h, const TrainTables& tables,
       fmt::print(f, ",{:.17g},{:.17g},{}", h.te[i][k], h.force[i][k],
                  ContactStateName(h.contact[i][k]));
     }
+    for (const std::vector<double>& row : h.bearing_force) fmt::print(f, ",{:.17g}", row[k]);
     fmt::print(f, "\n");
   }
 }

@@ -364,7 +364,12 @@ int RunWhineCommand(const WhineCommandOptions& options) {
       if (result.housing) out->Write("whine_housing.csv", WhineHousingCsv(result));
       out->Commit();
     }
-    if (options.uff) WriteUffFile(*options.uff, WhineOrderTracksUff(spec, result));
+    if (options.uff && !WriteUffFile(*options.uff, WhineOrderTracksUff(spec, result))) {
+      fmt::print(stderr,
+                 "note: --uff {}: not written ({} unchanged): UFF58 order tracks need evenly "
+                 "spaced speeds, and analysis.speed_sweep is log-spaced\n",
+                 *options.uff, *options.uff);
+    }
     if (options.json) {
       std::cout << doc.dump(1) << "\n";
     } else {

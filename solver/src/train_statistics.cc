@@ -70,13 +70,16 @@ void TrainRecorder::TrackBearingForces() {
 
 void TrainRecorder::TakeSeries(std::vector<std::vector<double>>& te,
                                std::vector<std::vector<double>>& force,
-                               std::vector<std::vector<ContactState>>& contact) {
+                               std::vector<std::vector<ContactState>>& contact,
+                               std::vector<std::vector<double>>& bearing_force) {
   te = std::move(te_series_);
   force = std::move(force_series_);
   contact = std::move(contact_series_);
+  bearing_force = std::move(bearing_series_);
   te_series_.clear();
   force_series_.clear();
   contact_series_.clear();
+  bearing_series_.clear();
   keep_max_ = 0;
 }
 

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -102,8 +103,10 @@ TEST_CASE("simulate on a train prints the per-mesh table", "[cli][train]") {
 }
 
 TEST_CASE("simulate --tier 3 on a train runs the reduced model", "[cli][train][tiers]") {
-  const auto r = RunCommand(kExe + " simulate --json --tier 3 --cycles 20 --transient 5 " +
-                            kExamples + "/two_stage_helical_reducer.yaml");
+  const testing::TempDir dir;
+  const auto r = RunCommand(kExe + " simulate --json --tier 3 --cycles 20 --transient 5 --out " +
+                            (dir.path() / "out").string() + " " + kExamples +
+                            "/two_stage_helical_reducer.yaml");
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
   const auto doc = nlohmann::json::parse(r.out);
@@ -129,6 +132,19 @@ TEST_CASE("simulate --tier 3 on a train runs the reduced model", "[cli][train][t
     CHECK(b["lines"].size() == lines);
   }
   CHECK(axial > 1.0);
+  // trajectory.csv carries every bearing's force after the meshes' columns.
+  std::ifstream csv(dir.path() / "out" / "trajectory.csv");
+  std::string header;
+  REQUIRE(std::getline(csv, header));
+  for (const auto& b : doc["bearings"]) {
+    const std::string name = b["name"].get<std::string>();
+    for (const char* column : {".force_x_n", ".force_y_n", ".force_z_n"}) {
+      CHECK(header.find(name + column) != std::string::npos);
+    }
+  }
+  std::string row;
+  REQUIRE(std::getline(csv, row));
+  CHECK(std::count(row.begin(), row.end(), ',') == std::count(header.begin(), header.end(), ','));
 }
 
 TEST_CASE("simulate on a train at tier 1 has no bearing forces", "[cli][train][tiers]") {

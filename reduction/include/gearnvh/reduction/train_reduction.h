@@ -58,13 +58,13 @@ struct TrainReducedModel {
 // Tiers 4, 5 and N20 need at least one elastic shaft.
 bool TrainTierAvailable(const TrainStructure& structure, Tier tier);
 
-// Throws TierNotAvailable when the tier is not available, and StructureNotReducible when the
-// interior cannot be reduced (a direction no bearing holds).
 // A bearing's point translations (x, y, z) per unit reduced coordinate: u + th x (d e_z) at its
 // offset d from its node, as 3 rows of the recovery (the z row is zero where the tier has no axial
 // DOF). Its force on the housing is diag(k_r, k_r, k_a) times these plus the damping's part.
 Eigen::MatrixXd BearingPointRows(const StructureBearing& bearing, const TrainReducedModel& reduced);
 
+// Throws TierNotAvailable when the tier is not available, and StructureNotReducible when the
+// interior cannot be reduced (a direction no bearing holds).
 TrainReducedModel ReduceTrain(const TrainStructure& structure, Tier tier,
                               const ReductionOptions& options = {});
 

@@ -119,7 +119,8 @@ class TrainRecorder {
   const std::vector<std::vector<double>>& bearing_series() const { return bearing_series_; }
   // Moves the kept series out (the recorder keeps none after): a run's histories without a copy.
   void TakeSeries(std::vector<std::vector<double>>& te, std::vector<std::vector<double>>& force,
-                  std::vector<std::vector<ContactState>>& contact);
+                  std::vector<std::vector<ContactState>>& contact,
+                  std::vector<std::vector<double>>& bearing_force);
   // From now on, also the exact statistics of every bearing force row (TrainTables::
   // bearing_force_rows; TrainStatistics::bearing_forces). Storage is reserved here.
   void TrackBearingForces();
