@@ -151,8 +151,14 @@ RunMemory TrainRunMemory(const TrainRunOptions& options, size_t meshes, long kep
                     {"TE spectrum", SpectrumBytes(window_samples)}},
                    kept};
   if (options.bearing_forces && bearing_rows > 0) {
-    memory.parts.push_back(
-        {"bearing force samples", TrainRecorder::SeriesBytes(0, kept, false, bearing_rows)});
+    // With histories each row's window spectrum is kept too (its amplitudes).
+    const size_t spectra =
+        options.histories
+            ? bearing_rows * static_cast<size_t>(window_samples / 2 + 1) * sizeof(double)
+            : 0;
+    memory.parts.push_back({"bearing force samples",
+                            TrainRecorder::SeriesBytes(0, kept, false, bearing_rows) + spectra});
+    memory.bearing_rows = bearing_rows;
   }
   if (options.histories) {
     memory.parts.push_back(
@@ -351,6 +357,7 @@ void BearingForces(const SpectrumWindow& window, const TrainRecorder& recorder, 
         f.lines.push_back(std::move(line));
       }
     }
+    if (first && options.histories) f.spectrum = std::move(spectra);
     op.bearing_forces.push_back(std::move(f));
   }
 }

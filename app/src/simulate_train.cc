@@ -368,8 +368,9 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
   };
   run.before_run_memory = [&](RunMemory& need) {
     if (options.uff) {
+      // Per mesh its TE and force; per bearing force row its series (and text) alike, at most.
       MemoryPart uff = OperatingPointUffMemory(need.recorded_samples);
-      uff.bytes *= spec.meshes.size();
+      uff.bytes *= spec.meshes.size() + need.bearing_rows;
       need.parts.push_back(uff);
     }
     return CheckRunMemory(need, AvailableMemory(), options.cycles ? "--cycles" : "analysis.cycles",

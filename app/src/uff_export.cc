@@ -9,6 +9,7 @@
 #include "atomic_file.h"
 #include "gearnvh/analysis/order_tracks.h"
 #include "gearnvh/analysis/written_numbers.h"
+#include "result_documents.h"
 
 namespace gearnvh::app {
 namespace {
@@ -142,6 +143,52 @@ std::vector<UffFunction> OperatingPointUff(const GearboxSpec& spec,
   return MeshUff(spec.name, std::move(mesh), first_id);
 }
 
+namespace {
+
+// A bearing's force on the housing in x, y, z (response node: its number from 1, direction
+// 1..3): its time history (2 samples or more) and its window spectrum (when there is one).
+void AppendBearingUff(const TrainSpec& spec, const TrainOperatingPoint& op, int& next_id,
+                      std::vector<UffFunction>& out) {
+  const TrainHistories& h = op.histories;
+  constexpr std::array<char, 3> kAxis{'x', 'y', 'z'};
+  for (size_t b = 0; b < op.bearing_forces.size(); ++b) {
+    const TrainBearingForce& bearing = op.bearing_forces[b];
+    const std::string name = BearingName(
+        spec.shafts[static_cast<size_t>(bearing.bearing.shaft)].name, bearing.bearing.index);
+    for (size_t d = 0; d < 3; ++d) {
+      UffFunction f = Base(spec.name, fmt::format("bearing force {}, {}", kAxis[d], name), 0);
+      f.response_name = "BRG";
+      f.response_node = static_cast<int>(b) + 1;
+      f.response_direction = static_cast<int>(d) + 1;
+      f.ordinate = {9, 0, 1, 0, "bearing force", "N"};
+      const size_t row = 3 * b + d;
+      if (row < h.bearing_force.size() && h.bearing_force[row].size() >= 2) {
+        UffFunction history = f;
+        history.function_id = next_id++;
+        history.function_type = 1;
+        history.abscissa = TimeAxis();
+        history.x_min = h.start;
+        history.dx = h.dt;
+        history.values = h.bearing_force[row];
+        out.push_back(std::move(history));
+      }
+      const AmplitudeSpectrum& s = bearing.spectrum[d];
+      if (s.amplitude.empty()) continue;
+      UffFunction spectrum = f;
+      spectrum.id1 = fmt::format("bearing force {} amplitude spectrum, Hann, {}", kAxis[d], name);
+      spectrum.function_id = next_id++;
+      spectrum.function_type = 12;
+      spectrum.abscissa = {18, 0, 0, 0, "frequency", "Hz"};
+      spectrum.x_min = 0.0;
+      spectrum.dx = s.bin_hz;
+      spectrum.values = s.amplitude;
+      out.push_back(std::move(spectrum));
+    }
+  }
+}
+
+}  // namespace
+
 std::vector<UffFunction> TrainOperatingPointUff(const TrainSpec& spec,
                                                 const TrainOperatingPoint& op, int first_id) {
   std::vector<UffFunction> out;
@@ -163,6 +210,7 @@ std::vector<UffFunction> TrainOperatingPointUff(const TrainSpec& spec,
     for (UffFunction& f : MeshUff(spec.name, std::move(mesh), first_id))
       out.push_back(std::move(f));
   }
+  AppendBearingUff(spec, op, first_id, out);
   return out;
 }
 

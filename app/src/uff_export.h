@@ -68,7 +68,9 @@ std::vector<UffFunction> OperatingPointUff(const GearboxSpec& spec,
                                            const OperatingPointAnalysis& op, int first_id = 1);
 
 // A train's operating point: MeshUff of every mesh in file order (response node i + 1, the mesh
-// named in the ID lines), from its time histories (TrainRunOptions::histories).
+// named in the ID lines), from its time histories (TrainRunOptions::histories); then from tier 2
+// on each bearing's force on the housing in x, y, z (response "BRG", node: the bearing's number
+// from 1, direction 1..3): its time history and its window spectrum.
 std::vector<UffFunction> TrainOperatingPointUff(const TrainSpec& spec,
                                                 const TrainOperatingPoint& op, int first_id = 1);
 

@@ -20,6 +20,7 @@ struct MemoryPart {
 struct RunMemory {
   std::vector<MemoryPart> parts;  // the parts that grow with the recorded cycles
   long recorded_samples = 0;      // uniform samples kept, for a command's own copies of them
+  size_t bearing_rows = 0;        // bearing force rows kept per sample (a train's bearings x 3)
   size_t bytes() const;
   // "1.3 GiB (recorded samples 256 MiB, event log 24 MiB, TE spectrum 144 MiB)"
   std::string Describe() const;

@@ -107,6 +107,8 @@ struct TrainHistories {
 struct TrainBearingForce {
   StructureBearing bearing;
   std::array<double, 3> mean{}, rms{}, min{}, max{};
+  // With TrainRunOptions::histories, the window's spectra in x, y and z (empty without a window).
+  std::array<AmplitudeSpectrum, 3> spectrum;
   struct Line {
     std::string label;  // "mesh g1-g2 1x"
     double frequency_hz = 0.0;
