@@ -362,6 +362,25 @@ void BearingForces(const SpectrumWindow& window, const TrainRecorder& recorder, 
   }
 }
 
+// What the run's record gives after it: the histories (moved out of the recorder), the tail,
+// sideband and bearing spectra.
+void TakeRecord(const TrainSpec& spec, const TrainRunOptions& options, const SpectrumWindow& window,
+                double kept_from, bool ok, TrainRecorder& recorder, TrainOperatingPoint& op) {
+  TrainHistories& h = op.histories;
+  if (options.histories) {
+    const std::vector<std::vector<double>>& te = recorder.te_series();
+    h.start = recorder.start_time();
+    h.dt = recorder.sample_interval();
+    h.truncated = (te.empty() ? 0L : static_cast<long>(te.front().size())) < op.stats.samples;
+    h.events = recorder.events();
+    h.events_truncated = recorder.window_events() > static_cast<long>(h.events.size());
+  }
+  TailSpectra(options, recorder, ok, op);
+  if (options.spectra) MeshSidebands(spec, options, window, recorder, kept_from, ok, op);
+  if (options.bearing_forces) BearingForces(window, recorder, kept_from, options, op);
+  if (options.histories) recorder.TakeSeries(h.te, h.force, h.contact, h.bearing_force);
+}
+
 }  // namespace
 
 TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, GearTrain train,
@@ -440,19 +459,7 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, GearTrain trai
   op.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   op.summary = stepper.summary();
   op.stats = recorder.Result();
-  TrainHistories& h = op.histories;
-  if (options.histories) {
-    const std::vector<std::vector<double>>& te = recorder.te_series();
-    h.start = start;
-    h.dt = dt;
-    h.truncated = (te.empty() ? 0L : static_cast<long>(te.front().size())) < op.stats.samples;
-    h.events = recorder.events();
-    h.events_truncated = recorder.window_events() > static_cast<long>(h.events.size());
-  }
-  TailSpectra(options, recorder, ok, op);
-  if (options.spectra) MeshSidebands(spec, options, window, recorder, kept.from, ok, op);
-  if (options.bearing_forces) BearingForces(window, recorder, kept.from, options, op);
-  if (options.histories) recorder.TakeSeries(h.te, h.force, h.contact, h.bearing_force);
+  TakeRecord(spec, options, window, kept.from, ok, recorder, op);
   return op;
 }
 

@@ -90,7 +90,7 @@ nlohmann::json TierRowJson(const TierRow& r) {
           {"te_rms_difference_to_finest", FiniteOrNull(r.te_rms_difference)},
           {"rattle_index_j", ResultOrNull(r.ok(), r.rattle_index)},
           {"rattle_index_difference_to_finest", FiniteOrNull(r.rattle_index_difference)},
-          {"regime", r.ok() ? RattleRegimeName(r.regime) : ""},
+          {"regime", r.ok() ? nlohmann::json(RattleRegimeName(r.regime)) : nlohmann::json()},
           {"matvec_per_cycle", ResultOrNull(r.ok(), r.matvec_per_cycle)},
           {"us_per_cycle", ResultOrNull(r.ok(), r.us_per_cycle)},
           {"real_time_ratio", ResultOrNull(r.ok(), r.real_time_ratio)},

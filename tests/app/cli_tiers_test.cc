@@ -146,11 +146,13 @@ TEST_CASE("tiers keeps the other tiers when one stops: the failed one is listed,
           std::string::npos);
     CHECK(by[name]["te_rms_m"].is_null());
     CHECK(by[name]["te_rms_difference_to_finest"].is_null());
+    CHECK(by[name]["regime"].is_null());
     CHECK(by[name]["dof"].get<int>() > 0);  // the model columns stay
   }
   for (const char* name : {"tier 1", "tier 4", "N40 full", "N20 MTA"}) {
     INFO(name);
     CHECK(by[name]["status"] == "success");
+    CHECK(by[name]["regime"].is_string());
     CHECK(by[name]["te_rms_m"].get<double>() > 0.0);
   }
   const std::string csv = testing::ReadWholeFile(dir.path() / "out" / "tiers.csv");
