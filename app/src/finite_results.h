@@ -2,9 +2,11 @@
 // or written. A NaN or infinity is a bug or an unguarded corner of the model, never a result.
 #pragma once
 
+#include <cstddef>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 namespace gearnvh::app {
 
@@ -31,6 +33,18 @@ double ResultFromJson(const nlohmann::json& j);
 // quantity's resolution a difference is measured against the resolution: a TE of 1e-19 m beside
 // an exact 0 (a resting train) is no difference, not 1e281.
 double RelativeDifference(double a, double b, double resolution);
+
+// The reference of a tier comparison (pair or train rows with ok() and dof): the row with the most
+// DOF among those whose run finished; the one with the most DOF when none did.
+template <typename Row>
+size_t FinestRow(const std::vector<Row>& rows) {
+  size_t finest = 0;
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const Row& f = rows[finest];
+    if (rows[i].ok() != f.ok() ? rows[i].ok() : rows[i].dof > f.dof) finest = i;
+  }
+  return finest;
+}
 
 // Resolutions of the compared quantities, far below anything measurable or audible.
 inline constexpr double kTeResolution = 1e-12;                  // m: a TE rig resolves ~1 nm

@@ -100,13 +100,8 @@ nlohmann::json TierRowJson(const TierRow& r) {
 // The differences of every row to the finest (succeeded, most DOF); NaN for a failed row.
 void CompareToFinest(TiersComparison& out) {
   std::vector<TierRow>& rows = out.rows;
-  size_t& finest = out.finest;
-  for (size_t i = 0; i < rows.size(); ++i) {
-    const bool better =
-        rows[i].ok() != rows[finest].ok() ? rows[i].ok() : rows[i].dof > rows[finest].dof;
-    if (better) finest = i;
-  }
-  const TierRow& reference = rows[finest];
+  out.finest = FinestRow(rows);
+  const TierRow& reference = rows[out.finest];
   for (TierRow& r : rows) {
     out.failed += r.ok() ? 0 : 1;
     if (!r.ok() || !reference.ok()) {

@@ -61,10 +61,7 @@ TrainTierRow RunTier(const TrainSpec& spec, const GearTrain& train, TrainTables 
 // The differences of every row to the finest (succeeded, most DOF); NaN for a failed row.
 void CompareToFinest(TrainTiersComparison& out) {
   std::vector<TrainTierRow>& rows = out.rows;
-  for (size_t i = 0; i < rows.size(); ++i) {
-    const TrainTierRow& f = rows[out.finest];
-    if (rows[i].ok() != f.ok() ? rows[i].ok() : rows[i].dof > f.dof) out.finest = i;
-  }
+  out.finest = FinestRow(rows);
   const TrainTierRow& finest = rows[out.finest];
   const bool compared = finest.ok();
   for (TrainTierRow& r : rows) {

@@ -91,6 +91,16 @@ struct Element<Field, true> {
   using type = std::underlying_type_t<Field>;
 };
 
+// f(row) for every row, as a list: for per-row values a NumPy view cannot hold (a method's flag,
+// strings).
+template <typename Row, typename F>
+auto PerRow(const std::vector<Row>& rows, F f) {
+  std::vector<std::decay_t<decltype(f(std::declval<const Row&>()))>> out;
+  out.reserve(rows.size());
+  for (const Row& r : rows) out.push_back(f(r));
+  return out;
+}
+
 // A read-only 1-D NumPy view of `member` across a vector of structs (no copy); `owner` keeps the
 // memory alive.
 template <typename Struct, typename Field>

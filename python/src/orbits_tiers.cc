@@ -175,25 +175,21 @@ void BindOrbitsTiers(py::module_& m) {
       .def_property_readonly(
           "ok",
           [](const Tiers& t) {
-            std::vector<bool> v;
-            for (const app::TierRow& r : t.comparison.rows) v.push_back(r.ok());
-            return v;
+            return PerRow(t.comparison.rows, [](const app::TierRow& r) { return r.ok(); });
           },
           "per tier: the run finished (a failed tier's results are NaN)")
       .def_property_readonly(
           "statuses",
           [](const Tiers& t) {
-            std::vector<std::string> v;
-            for (const app::TierRow& r : t.comparison.rows) v.push_back(SolverStatusName(r.status));
-            return v;
+            return PerRow(t.comparison.rows, [](const app::TierRow& r) {
+              return std::string(SolverStatusName(r.status));
+            });
           },
           "per tier: 'success', 'too_many_events' or 'out_of_range'")
       .def_property_readonly(
           "messages",
           [](const Tiers& t) {
-            std::vector<std::string> v;
-            for (const app::TierRow& r : t.comparison.rows) v.push_back(r.message);
-            return v;
+            return PerRow(t.comparison.rows, [](const app::TierRow& r) { return r.message; });
           },
           "per tier: why the run stopped ('' when it did not)")
       .def_property_readonly("failed", [](const Tiers& t) { return t.comparison.failed; })

@@ -442,17 +442,13 @@ void BindTrain(py::module_& m) {
       .def_property_readonly(
           "ok",
           [](const TrainSweep& s) {
-            std::vector<bool> v;
-            for (const auto& p : s.result.points) v.push_back(p.ok);
-            return v;
+            return PerRow(s.result.points, [](const auto& p) { return p.ok; });
           },
           "per speed: the run finished")
       .def_property_readonly(
           "messages",
           [](const TrainSweep& s) {
-            std::vector<std::string> v;
-            for (const auto& p : s.result.points) v.push_back(p.message);
-            return v;
+            return PerRow(s.result.points, [](const auto& p) { return p.message; });
           },
           "per speed: why the run failed ('' when it did not)")
       .def_property_readonly("mesh_names", [](const TrainSweep& s) { return s.result.mesh_names; })

@@ -211,26 +211,21 @@ void BindTrainOrbitsTiers(py::module_& m) {
       .def_property_readonly(
           "ok",
           [](const TrainTiers& t) {
-            std::vector<bool> v;
-            for (const app::TrainTierRow& r : t.comparison.rows) v.push_back(r.ok());
-            return v;
+            return PerRow(t.comparison.rows, [](const app::TrainTierRow& r) { return r.ok(); });
           },
           "per tier: the run finished (a failed tier's results are NaN)")
       .def_property_readonly(
           "statuses",
           [](const TrainTiers& t) {
-            std::vector<std::string> v;
-            for (const app::TrainTierRow& r : t.comparison.rows)
-              v.push_back(TrainStepperInfoName(r.info));
-            return v;
+            return PerRow(t.comparison.rows, [](const app::TrainTierRow& r) {
+              return std::string(TrainStepperInfoName(r.info));
+            });
           },
           "per tier: 'success', 'too many events' or 'out of range'")
       .def_property_readonly(
           "messages",
           [](const TrainTiers& t) {
-            std::vector<std::string> v;
-            for (const app::TrainTierRow& r : t.comparison.rows) v.push_back(r.message);
-            return v;
+            return PerRow(t.comparison.rows, [](const app::TrainTierRow& r) { return r.message; });
           },
           "per tier: why the run stopped ('' when it did not)")
       .def_property_readonly("failed", [](const TrainTiers& t) { return t.comparison.failed; })
