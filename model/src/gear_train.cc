@@ -125,13 +125,6 @@ GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& opti
     train.meshes.push_back(mesh);
   }
 
-  // The mesh whose segments are the shortest in time: engine orders are multiples of the input
-  // speed, so its segments per input revolution decide their resolution.
-  struct Finest {
-    double cycles_per_revolution = 0.0, longest_segment = 1.0;
-    std::string name;
-  } finest;
-  double finest_per_revolution = 0.0;
   for (size_t m = 0; m < train.meshes.size(); ++m) {
     SetMeshKinematics(spec, topo, m, train.meshes[m]);
     BuildMeshCycle(spec, options, train.meshes[m]);
@@ -139,17 +132,6 @@ GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& opti
   ApplyShaftMisalignment(spec, options, train);
   for (TrainMeshModel& mesh : train.meshes) {
     for (const std::string& w : mesh.cycle.warnings) train.warnings.push_back(w);
-    // The solver's grid cuts at every mesh's segment boundaries, so its segments are no longer
-    // than the finest mesh's: that mesh (most segments per input revolution) decides.
-    const double cycles_per_revolution =
-        mesh.pair.a.teeth * std::abs(topo.bodies[static_cast<size_t>(mesh.body_a)].speed) /
-        spec.operating.speed;
-    const double per_revolution = cycles_per_revolution / LongestSegment(mesh.segmentation);
-    if (per_revolution > finest_per_revolution) {
-      finest_per_revolution = per_revolution;
-      finest = {cycles_per_revolution, LongestSegment(mesh.segmentation),
-                mesh.pair.path_mesh + " (" + mesh.name + ")"};
-    }
     if (mesh.back_flank_loaded) {
       train.warnings.push_back(mesh.pair.path_mesh + " (" + mesh.name + "): power flows from " +
                                mesh.pair.path_b + " to " + mesh.pair.path_a +
@@ -162,8 +144,6 @@ GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& opti
                                "indeterminate, and this mesh is analysed unloaded");
     }
   }
-  RequireExcitationResolved(spec.operating.excitation, finest.cycles_per_revolution,
-                            finest.longest_segment, spec.analysis.segments_per_cycle, finest.name);
   return train;
 }
 

@@ -54,13 +54,27 @@ Eigen::VectorXd BalancingScale(const Eigen::MatrixXd& A, int n, double w_ref) {
   const int m = static_cast<int>(A.rows());
   Eigen::VectorXd scale = Eigen::VectorXd::Ones(m);
   scale.segment(n, n).setConstant(1.0 / w_ref);
-  // The constant and excitation slots (zero rows) carry the forcing columns, which are tiny next to
+  // The constant and input slots carry the forcing columns, which are tiny next to
   // the stiffness block: a backward error eps |A| would be a large relative error of the forcing,
   // i.e. of the static deflection under it (seen as 1e-16 m in the gap). Scaling the slots so their
   // columns have the norm w_ref makes the forcing as accurate as the rest.
+  // An exosystem's pair of states (an engine order's sine and cosine, rows turning into each other
+  // at w) is scaled instead to the response it forces: the acceleration a sin(w t) moves the free
+  // rotation by a / w^2, far more than a / w_ref^2 below the structure's frequencies, and the
+  // forcing scale would leave the decomposition's eigenvectors of +-i w that much out of balance.
+  // Both states of a pair take one scale, so W stays a rotation in the balanced generator.
   for (int j = 2 * n; j < m; ++j) {
-    const double column = (scale.asDiagonal() * A.col(j)).norm();
-    if (column > 0.0) scale[j] = column / w_ref;
+    if (A.row(j).isZero(0.0)) {
+      const double column = (scale.head(2 * n).asDiagonal() * A.col(j).head(2 * n)).norm();
+      if (column > 0.0) scale[j] = column / w_ref;
+      continue;
+    }
+    Eigen::Index partner = 0;
+    const double w = A.row(j).tail(m - 2 * n).cwiseAbs().maxCoeff(&partner);
+    partner += 2 * n;
+    const double forcing =
+        std::max(A.col(j).segment(n, n).norm(), A.col(partner).segment(n, n).norm());
+    if (forcing > 0.0) scale[j] = forcing / (w * w);
   }
   return scale;
 }

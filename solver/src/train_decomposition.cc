@@ -8,10 +8,16 @@ namespace gearnvh {
 namespace {
 
 // Coordinate j < n is free: its acceleration row and its position and velocity columns are zero
-// on the 2n coordinate columns and rows (the slots may drive it).
+// on the 2n coordinate columns and rows, and no moving slot (an excitation order's state: a
+// nonzero row) drives it; the constant slots may.
 bool FreeCoordinate(const Eigen::MatrixXd& A, int n, int j) {
-  return A.block(n + j, 0, 1, 2 * n).isZero(0.0) && A.block(n, j, n, 1).isZero(0.0) &&
-         A.block(n, n + j, n, 1).isZero(0.0);
+  if (!A.block(n + j, 0, 1, 2 * n).isZero(0.0) || !A.block(n, j, n, 1).isZero(0.0) ||
+      !A.block(n, n + j, n, 1).isZero(0.0))
+    return false;
+  for (int s = 2 * n; s < A.rows(); ++s) {
+    if (A(n + j, s) != 0.0 && !A.row(s).isZero(0.0)) return false;
+  }
+  return true;
 }
 
 }  // namespace
@@ -59,7 +65,7 @@ SpectralDecomposition DecomposeWithFreeBodies(const Eigen::MatrixXd& A, int n, d
     d.S(body, k0 + j) = d.S_inv(k0 + j, body) = 1.0;
     d.S(n + body, k0 + q + j) = d.S_inv(k0 + q + j, n + body) = 1.0;
     d.B0(k0 + j, k0 + q + j) = 1.0;  // x' = v
-    // v' = a^T z_slots, z_slots = S_c[slots, cluster] w_cluster.
+    // v' = a^T z_slots, z_slots = S_c[slots, cluster] w_cluster (a drives constant slots only).
     for (int s = 0; s < slots; ++s) {
       d.B0.block(k0 + q + j, 0, 1, k0) += A(n + body, 2 * n + s) * dc.S.block(2 * p + s, 0, 1, k0);
     }

@@ -1,4 +1,6 @@
-// Manufacturing errors on a gear train: the meshes' error inputs (train_tables.h).
+// The inputs of a gear train (train_tables.h): the engine orders' exosystem and the meshes'
+// manufacturing error inputs.
+#include <algorithm>
 #include <cmath>
 
 #include "gearnvh/solver/train_tables.h"
@@ -8,12 +10,12 @@ namespace gearnvh {
 void AssignErrorInputs(TrainTables& t) {
   t.error_inputs = 0;
   for (TrainMeshTable& mt : t.meshes) mt.error_input = mt.errors.active() ? t.error_inputs++ : -1;
-  t.m = 2 * t.n + 2 + t.error_inputs;
+  t.m = 2 * t.n + 1 + t.excitation_states() + t.error_inputs;
 }
 
 int TrainTables::ErrorSlot(int mesh) const {
   const int k = meshes[static_cast<size_t>(mesh)].error_input;
-  return k < 0 ? -1 : 2 * n + 2 + k;
+  return k < 0 ? -1 : 2 * n + 1 + excitation_states() + k;
 }
 
 double TrainTables::ErrorInput(int mesh, const Eigen::Ref<const Eigen::VectorXd>& z) const {
@@ -28,7 +30,7 @@ double TrainTables::Wall(int mesh, int segment, bool drive,
 
 void TrainTables::SetInputs(const std::vector<long>& cycles, const std::vector<int>& segments,
                             double start, double h, Eigen::Ref<Eigen::VectorXd> z) const {
-  z[input_slot()] = excitation.empty() ? 0.0 : MeanExcitation(start, h);
+  SetExcitation(start, z);
   for (size_t i = 0; i < meshes.size(); ++i) {
     const TrainMeshTable& mt = meshes[i];
     if (mt.error_input < 0) continue;
@@ -36,6 +38,40 @@ void TrainTables::SetInputs(const std::vector<long>& cycles, const std::vector<i
     // over the grid segment itself (a part of the mesh segment on the union grid).
     z[ErrorSlot(static_cast<int>(i))] = mt.errors.SegmentMean(cycles[i], segments[i], start, h);
   }
+}
+
+void TrainTables::SetExcitation(double t, Eigen::Ref<Eigen::VectorXd> z) const {
+  for (size_t k = 0; k < excitation.size(); ++k) {
+    const ExcitationOrder& e = excitation[k];
+    const double angle = e.order * input_speed * t + e.phase;
+    const int slot = ExcitationSlot(static_cast<int>(k));
+    z[slot] = e.amplitude * std::sin(angle);
+    z[slot + 1] = e.amplitude * std::cos(angle);
+  }
+}
+
+void TrainTables::AddExcitationColumns(Eigen::Ref<Eigen::MatrixXd> A) const {
+  for (size_t k = 0; k < excitation.size(); ++k) {
+    const int slot = ExcitationSlot(static_cast<int>(k));
+    const double w = excitation[k].order * input_speed;
+    for (int r = 0; r < n; ++r) A(n + r, slot) = excitation_direction[r] / inertia[r];
+    A(slot, slot + 1) = w;
+    A(slot + 1, slot) = -w;
+  }
+}
+
+double TrainTables::Excitation(double t) const {
+  double sum = 0.0;
+  for (const ExcitationOrder& e : excitation)
+    sum += e.amplitude * std::sin(e.order * input_speed * t + e.phase);
+  return sum;
+}
+
+double TrainTables::HighestExcitationFrequency() const {
+  double highest = 0.0;
+  for (const ExcitationOrder& e : excitation)
+    highest = std::max(highest, std::abs(e.order * input_speed));
+  return highest;
 }
 
 void TrainTables::AddErrorColumns(const std::vector<int>& segments,

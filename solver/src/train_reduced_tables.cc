@@ -43,7 +43,7 @@ TrainTables BuildReducedTrainTables(const TrainSpec& spec, const GearTrain& trai
 
   t.tier = reduced.tier;
   t.n = n;
-  AssignErrorInputs(t);  // m = 2n + 2 + error inputs at this tier's n
+  AssignErrorInputs(t);  // m = 2n + 1 + 2K + error inputs at this tier's n
   const double input_inertia = t.inertia[topo.input_body];
   t.inertia = Eigen::VectorXd::Ones(n);
   t.structural_stiffness = congruent(reduced.K);

@@ -39,8 +39,8 @@ Eigen::MatrixXd AssembleTrainGenerator(const TrainTables& t, const std::vector<i
   for (int r = 0; r < n; ++r) {
     A(r, n + r) = 1.0;
     A(n + r, t.constant_slot()) = t.force[r] / t.inertia[r];
-    A(n + r, t.input_slot()) = t.excitation_direction[r] / t.inertia[r];
   }
+  t.AddExcitationColumns(A);
   t.AddErrorColumns(segments, states, A);
   const Eigen::VectorXd inv_j = t.inertia.cwiseInverse();
   if (t.structural_stiffness.size() > 0)
@@ -86,16 +86,28 @@ bool NegligiblePiece(double time, double end, double h) {
 
 struct Problem {
   const TrainTables* t = nullptr;
+  // The tuple's generator without the orders' exosystem (their states stay put and act nowhere):
+  // the excitation enters as the continuous function s(t) instead, independent of the stepper's
+  // exosystem.
   Eigen::MatrixXd A;
+  Eigen::VectorXd excitation_acceleration;  // M^-1 d
   std::vector<int> segments;
   std::vector<ContactState> states;
+  void Assemble() {
+    A = AssembleTrainGenerator(*t, segments, states);
+    const int first = t->ExcitationSlot(0), count = t->excitation_states();
+    A.middleRows(first, count).setZero();
+    A.middleCols(first, count).setZero();
+  }
 };
 
-int TrainRhs(sunrealtype, N_Vector y, N_Vector ydot, void* data) {
+int TrainRhs(sunrealtype time, N_Vector y, N_Vector ydot, void* data) {
   const Problem& p = *static_cast<Problem*>(data);
   Eigen::Map<const Eigen::VectorXd> z(NV_DATA_S(y), NV_LENGTH_S(y));
   Eigen::Map<Eigen::VectorXd> dz(NV_DATA_S(ydot), NV_LENGTH_S(y));
   dz.noalias() = p.A * z;
+  if (!p.t->excitation.empty())
+    dz.segment(p.t->n, p.t->n) += p.t->Excitation(time) * p.excitation_acceleration;
   return 0;
 }
 
@@ -152,7 +164,8 @@ TrainReferenceResult SimulateTrainReference(const TrainTables& t, const Eigen::V
   p.states = states0;
   TrainGrid grid(t);
   p.segments = grid.segments();
-  p.A = AssembleTrainGenerator(t, p.segments, p.states);
+  p.excitation_acceleration = t.excitation_direction.cwiseQuotient(t.inertia);
+  p.Assemble();
   const CvodeBdf cvode(z0, {t.n, options.rtol, options.atol_position, options.atol_velocity,
                             TrainRhs, TrainJac, TrainRoots, static_cast<int>(2 * meshes), &p});
   void* mem = cvode.mem();
@@ -201,7 +214,7 @@ TrainReferenceResult SimulateTrainReference(const TrainTables& t, const Eigen::V
         p.states[i] = to;
       }
     }
-    p.A = AssembleTrainGenerator(t, p.segments, p.states);
+    p.Assemble();
     // A piece a few ulps long (the end time or another mesh's boundary within rounding of this
     // one): CVODE cannot start on it, and the motion over it is far below the reference's rtol.
     if (NegligiblePiece(time, seg_end, h)) time = seg_end;
@@ -235,7 +248,7 @@ TrainReferenceResult SimulateTrainReference(const TrainTables& t, const Eigen::V
         }
       }
       if (!changed) continue;
-      p.A = AssembleTrainGenerator(t, p.segments, p.states);
+      p.Assemble();
       result.steps += cvode.StepsSoFar();
       CVodeReInit(mem, time, y);
       if (NegligiblePiece(time, seg_end, h)) time = seg_end;
@@ -251,6 +264,7 @@ TrainReferenceResult SimulateTrainReference(const TrainTables& t, const Eigen::V
       static_cast<Eigen::Index>(meshes));
   result.steps += cvode.StepsSoFar();
   result.final_state = Eigen::Map<const Eigen::VectorXd>(NV_DATA_S(y), m);
+  t.SetExcitation(time, result.final_state);  // the orders' states where the run ended
   result.final_states = p.states;
   return result;
 }

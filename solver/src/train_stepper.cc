@@ -236,10 +236,12 @@ void TrainStepper::Record(const TrainSystem& sys, const Eigen::Ref<const Eigen::
 }
 
 bool TrainStepper::AdvanceGridSegment(double until, TrainRecorder* rec) {
-  // The inputs: the excitation's and the manufacturing errors' means over the whole grid segment
-  // (independent of how runs split).
+  // The inputs: the manufacturing errors' means over the whole grid segment (independent of how
+  // runs split) and the orders' states, exact where the state is (carried within the segment,
+  // reset here so that rounding does not accumulate over a long run).
   const double h = grid_.end() - grid_.start();
   t_.SetInputs(grid_.cycles(), grid_.segments(), grid_.start(), h, z_);
+  if (time_ != grid_.start()) t_.SetExcitation(time_, z_);
   events_this_segment_ = 0;
   // A state outside a wall at the grid segment's start (e_ij jumped) switches at once; at most
   // two switches per mesh (free -> contact -> never outside its own wall). Only at the start, as

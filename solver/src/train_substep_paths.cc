@@ -21,9 +21,11 @@ void AddScaled(double* __restrict acc, const double* __restrict column, double x
 }  // namespace
 
 void TrainStepper::TaylorColumns(const TrainSystem& sys) {
-  // z_k = A z_{k-1} / k. A = [[0, I, 0, 0], [A_x, A_v, f, d], [0 ...]]: positions take the
-  // velocities, only the n acceleration rows need a product, the slots stay constant.
+  // z_k = A z_{k-1} / k. A = [[0, I, 0, 0], [A_x, A_v, f, D], [0, 0, 0, W]]: positions take the
+  // velocities, only the n acceleration rows need a product; the orders' states rotate (W), the
+  // constant and error slots stay constant.
   const int n = t_.n, m = t_.m;
+  const int first_order = t_.ExcitationSlot(0), orders_end = first_order + t_.excitation_states();
   taylor_.col(0) = z_;
   const double* a = sys.A.data();  // column-major, leading dimension m
   for (int k = 1; k <= kTaylorTerms; ++k) {
@@ -32,16 +34,19 @@ void TrainStepper::TaylorColumns(const TrainSystem& sys) {
     double* next = taylor_.col(k).data();
     for (int r = 0; r < n; ++r) next[r] = prev[n + r] * inv_k;
     for (int r = n; r < m; ++r) next[r] = 0.0;
-    // Only the coupled bodies' columns act (the others are zero); the slots' columns only act on
-    // z itself (the later columns are zero there).
+    for (int q = first_order; q < orders_end; q += 2) {
+      const double w = sys.A(q, q + 1);
+      next[q] = w * prev[q + 1] * inv_k;
+      next[q + 1] = -w * prev[q] * inv_k;
+    }
+    // Only the coupled bodies' columns act (the others are zero); the constant and error slots'
+    // columns only act on z itself (the later columns are zero there), the orders' on every term.
     const auto add_column = [&](int c) {
       const double x = prev[c] * inv_k;
       if (x != 0.0) AddScaled(next + n, a + static_cast<size_t>(c) * m + n, x, n);
     };
     for (int c : sys.coupled_columns) add_column(c);
-    if (k == 1) {
-      for (int c = 2 * n; c < m; ++c) add_column(c);
-    }
+    for (int c = k == 1 ? 2 * n : first_order; c < (k == 1 ? m : orders_end); ++c) add_column(c);
   }
 }
 

@@ -46,15 +46,6 @@ void TrainTableOptions::Validate() const {
   }
 }
 
-double TrainTables::MeanExcitation(double t0, double h) const {
-  double sum = 0.0;
-  for (const ExcitationOrder& e : excitation) {
-    const double w = e.order * input_speed;
-    sum += e.amplitude * (std::cos(w * t0 + e.phase) - std::cos(w * (t0 + h) + e.phase)) / (w * h);
-  }
-  return sum;
-}
-
 void TrainMeshTable::FindSupport() {
   support.clear();
   for (int j = 0; j < v.size(); ++j) {
@@ -124,7 +115,6 @@ TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
   const TrainTopology& topo = train.topology;
   TrainTables t;
   t.n = static_cast<int>(topo.bodies.size());
-  t.m = 2 * t.n + 2;
   const int n = t.n;
   t.inertia = Eigen::Map<const Eigen::VectorXd>(train.body_inertia.data(), n);
   t.body_inertia = t.inertia;

@@ -29,7 +29,7 @@ void TrainTangentPropagator::PropagateDecoupled(const SpectralDecomposition& d, 
   v_->noalias() = d.S * work_;
   // The decomposition leaks rounding into the constant and input slots; a tangent entry there
   // would act as a neutral forcing perturbation.
-  v_->bottomRows(2).setZero();
+  v_->bottomRows(t_.m - 2 * t_.n).setZero();
 }
 
 void TrainTangentPropagator::PropagateTaylor(const Eigen::MatrixXd& A, double step) {
@@ -40,7 +40,7 @@ void TrainTangentPropagator::PropagateTaylor(const Eigen::MatrixXd& A, double st
     work_ = *v_ + (step / static_cast<double>(k)) * next_;
   }
   v_->swap(work_);
-  v_->bottomRows(2).setZero();
+  v_->bottomRows(t_.m - 2 * t_.n).setZero();
 }
 
 double TrainTangentPropagator::MeshForce(int mesh, int segment, ContactState state,
@@ -81,7 +81,7 @@ void TrainTangentPropagator::Recenter() {
 
 void RemoveTrainFreeRotation(const TrainTables& t, Eigen::Ref<Eigen::MatrixXd> V) {
   ProjectOutFreeRotation(t, V);
-  V.bottomRows(2).setZero();
+  V.bottomRows(t.m - 2 * t.n).setZero();
 }
 
 }  // namespace gearnvh

@@ -35,10 +35,11 @@ TrainSystem TrainSystemCache::Build(const std::vector<int>& segments,
     s.A.block(n, n, n, n) -= inv_j.asDiagonal() * p.friction_c;
   }
   s.A.block(n, t_.constant_slot(), n, 1) = inv_j.cwiseProduct(p.force);
-  s.A.block(n, t_.input_slot(), n, 1) = inv_j.cwiseProduct(t_.excitation_direction);
+  t_.AddExcitationColumns(s.A);
   t_.AddErrorColumns(segments, states, s.A);
   const TupleRateBound bound = BoundTupleRate(t_, p, DampingRate(states, p.C));
-  s.rho = bound.rho;
+  // A is block triangular: its eigenvalues are the structure's and the orders' +-i w_k.
+  s.rho = std::max(bound.rho, t_.HighestExcitationFrequency());
   // The balance is a scale, not a bound: the symmetric part's frequency (friction moves it by
   // O(mu)).
   s.w_ref = std::max(1.0, bound.stiffness_frequency);  // as ReferenceFrequency(A, n)

@@ -46,7 +46,7 @@ TEST_CASE("simulate --json on a train reports every mesh and ranks the loose gea
   REQUIRE(r.exit_code == 0);
   const auto doc = nlohmann::json::parse(r.out);
   CHECK(doc["schema"] == "gearnvh/2");
-  CHECK(doc["state_dim"] == 2 * 7 + 2);
+  CHECK(doc["state_dim"] == 2 * 7 + 3);  // x, x', 1 and the engine order's two states
   REQUIRE(doc["meshes"].size() == 6);
   CHECK(doc["meshes"][0]["name"] == "in-l0");
   CHECK(doc["meshes"][5]["name"] == "l5-o5");

@@ -79,7 +79,7 @@ TEST_CASE("tiers on a gear train runs every tier it has side by side", "[cli][ti
   for (const auto& t : r["tiers"]) {
     CHECK(t["dof"].get<int>() > previous);  // tier 1: 7 bodies; each tier keeps more
     previous = t["dof"].get<int>();
-    CHECK(t["state_dim"] == 2 * t["dof"].get<int>() + 2);
+    CHECK(t["state_dim"] == 2 * t["dof"].get<int>() + 3);  // one engine order: 2 states
     REQUIRE(t["meshes"].size() == 6);
     REQUIRE(t["loose_gears"].size() == 4);
     for (const auto& m : t["meshes"]) CHECK(m["te_rms_m"].get<double>() > 0.0);

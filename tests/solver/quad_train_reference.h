@@ -1,6 +1,7 @@
 // An independent reference for gear trains in quad precision (__float128, 113-bit mantissa), for
-// the tests: on each grid segment (TrainGrid, the input slot at the segment's mean excitation, as
-// the stepper and CVODE) the generator of the contact tuple from AssembleTrainGenerator (the
+// the tests: on each grid segment (TrainGrid, the engine orders' states set to their values at the
+// segment's start and carried by the exosystem, as the stepper; CVODE takes s(t) itself) the
+// generator of the contact tuple from AssembleTrainGenerator (the
 // CVODE reference's assembly, checked against the cache in train_stepper_test.cc), the state
 // advanced by its Taylor series sum_k (A d)^k z / k!, kTerms terms on steps with rho(A) d <= 1/4
 // (remainder below 4^-31 / 31!, far below quad rounding), every relevant gap of every mesh a
@@ -47,9 +48,7 @@ class QuadTrainReference {
     size_t next = 0;
     Q time = 0;
     while (next < times.size()) {
-      const double h = grid_.end() - grid_.start();
-      z_[static_cast<size_t>(t_.input_slot())] =
-          t_.excitation.empty() ? 0.0 : t_.MeanExcitation(grid_.start(), h);
+      SetExcitation(grid_.start());
       SwitchOutside(time, out);
       Assemble();
       const Q segment_end = grid_.end();
@@ -86,6 +85,16 @@ class QuadTrainReference {
   }
 
  private:
+  // The orders' states at time t (then carried in quadruple precision by the generator's
+  // exosystem, whose Taylor series is that of sin and cos).
+  void SetExcitation(double time) {
+    Eigen::VectorXd z = Eigen::VectorXd::Zero(t_.m);
+    t_.SetExcitation(time, z);
+    for (int q = 0; q < t_.excitation_states(); ++q) {
+      const int slot = t_.ExcitationSlot(0) + q;
+      z_[static_cast<size_t>(slot)] = z[slot];
+    }
+  }
   void Assemble() {
     const Eigen::MatrixXd A = AssembleTrainGenerator(t_, grid_.segments(), states_);
     a_.assign(A.data(), A.data() + A.size());  // column-major

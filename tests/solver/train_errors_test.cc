@@ -62,7 +62,7 @@ TEST_CASE("train errors: a one-mesh train with runout or pitch errors has the pa
 
   const Model train(TrainOf(pair));
   REQUIRE(train.tables.error_inputs == 1);
-  REQUIRE(train.tables.m == 2 * train.tables.n + 3);
+  REQUIRE(train.tables.m == 2 * train.tables.n + 2 + train.tables.excitation_states());
   // The common period holds whole revolutions of both gears: lcm(20, 30) = 60 mesh cycles.
   CHECK(train.tables.common_period / train.tables.meshes[0].period == Approx(60.0).epsilon(1e-12));
   const auto [z0, s0] = TrainStaticState(train.tables);

@@ -54,8 +54,9 @@ inline SolverOptions LoadedTestPairRun() {
 
 // The linear periodic steady state of a train held in drive contact on every mesh, the reference
 // of the permanent-contact tests: the grid segments of one common period, their propagators
-// expm(A h) R from dense Pade of an independent assembly (train_reference.h; R holds the input
-// slot at the segment's mean excitation, as the stepper does), the period map P, and its fixed
+// expm(A h) R from dense Pade of an independent assembly (train_reference.h; R sets the engine
+// orders' states to their values at the segment's start, as the stepper does), the period map P,
+// and its fixed
 // point by a complete-orthogonal solve of (I - P) y = p on the full elastic block (the free
 // rotation's position is its one null direction and moves no TE).
 struct LinearPeriodicState {
@@ -75,9 +76,15 @@ inline LinearPeriodicState DriveContactPeriodicState(const TrainTables& t) {
   out.period_map = Eigen::MatrixXd::Identity(m, m);
   for (TrainGrid grid(t); grid.start() < t.common_period * (1.0 - 1e-12); grid.Next()) {
     const double h = grid.end() - grid.start();
+    // R sets the orders' states to their values at the segment's start (times the constant).
     Eigen::MatrixXd R = Eigen::MatrixXd::Identity(m, m);
-    R(t.input_slot(), t.input_slot()) = 0.0;
-    R(t.input_slot(), t.constant_slot()) = t.MeanExcitation(grid.start(), h);
+    Eigen::VectorXd inputs = Eigen::VectorXd::Zero(m);
+    t.SetExcitation(grid.start(), inputs);
+    for (int q = 0; q < t.excitation_states(); ++q) {
+      const int slot = t.ExcitationSlot(0) + q;
+      R(slot, slot) = 0.0;
+      R(slot, t.constant_slot()) = inputs[slot];
+    }
     const Eigen::MatrixXd A = AssembleTrainGenerator(t, grid.segments(), drive);
     out.pieces.push_back({grid.start(), h, BalancedExpm(A, h, n, ReferenceFrequency(A, n)) * R});
     out.period_map = out.pieces.back().map * out.period_map;

@@ -109,9 +109,11 @@ TEST_CASE("train: V3 agrees with a quad-precision integration where CVODE's accu
   {  // CVODE's error estimate (rtol 1e-13 against 1e-12) bounds its error
     // The premise of validate's trusted window
     // (analysis/include/gearnvh/analysis/train_validation.h): the running maximum of |TE(1e-13) -
-    // TE(1e-12)| is at least that of |TE(1e-13) - quad| (measured: 2.5x larger once above
-    // rounding), up to a floor of 1e-12 of the TE (both at rounding during the first cycle: 3e-13
-    // against 2e-13).
+    // TE(1e-12)| is at least half that of |TE(1e-13) - quad| (measured: 2.5x larger once above
+    // rounding with the excitation held per segment; with the continuous engine order 0.9x over
+    // samples 52-61, near 4e-12, then larger again), up to a floor of 1e-12 of the TE (both at
+    // rounding during the first cycle: 3e-13 against 2e-13). validate trusts the reference while
+    // the estimate is within a tenth of its tolerance, so a factor 2 here keeps it inside.
     std::vector<std::vector<double>> cvode;
     for (const double rtol : {1e-13, 1e-12}) {
       TrainReferenceOptions ro;
@@ -135,7 +137,8 @@ TEST_CASE("train: V3 agrees with a quad-precision integration where CVODE's accu
       for (size_t i = k * meshes; i < (k + 1) * meshes; ++i)
         estimate = std::max(estimate, std::abs(cvode[0][i] - cvode[1][i]) / scale);
       INFO("sample " << k);
-      CHECK(error(cvode[0], k + 1) <= std::max(estimate, 1e-12));
+      INFO("error " << error(cvode[0], k + 1) << " estimate " << estimate);
+      CHECK(error(cvode[0], k + 1) <= std::max(2.0 * estimate, 1e-12));
     }
     // Over the three cycles CVODE at rtol 1e-13 is off by ~4e-7 of the TE (when written): why
     // validate compares only the trusted part.

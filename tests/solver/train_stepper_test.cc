@@ -763,8 +763,11 @@ TEST_CASE("train: a tuple's sub-step bound covers its spectral radius", "[solver
     for (int b = 0; b < 3; ++b) {
       const TrainSystem& sys = cache.Get({5, 2}, {all[a], all[b]}, key);
       const double rho = sys.A.topLeftCorner(2 * n, 2 * n).eigenvalues().cwiseAbs().maxCoeff();
-      if (a == 1 && b == 1) {  // all free: rho = 0, the sub-step is the longest segment
-        CHECK(sys.substep == s.tables.longest_segment);
+      if (a == 1 && b == 1) {  // all free: only the engine order's exosystem turns, at w
+        const double w = s.tables.HighestExcitationFrequency();
+        REQUIRE(w > 0.0);
+        CHECK(sys.rho == w);
+        CHECK(sys.substep == std::min(0.5 / w, TrainSystem::kMaxDenseStepNorm / sys.rate));
         continue;
       }
       const double bound = 0.5 / sys.substep;

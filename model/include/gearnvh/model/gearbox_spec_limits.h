@@ -128,7 +128,8 @@ class ExcitationOrderUnresolved : public InputError {
   Facts facts_;
 };
 
-// The excitation-resolution rule: one period of order k of a shaft spans
+// The excitation-resolution rule of a pair (its solver holds the orders at their mean per segment;
+// a train carries them exactly and has none): one period of order k of a shaft spans
 // N = c / (k f_max) segments of a mesh whose cycle repeats c times per revolution of that shaft
 // and whose longest segment is the fraction f_max of its cycle; N must be >=
 // kMinSegmentsPerExcitationPeriod. ExcitationOrderUnresolved naming N, the mesh and the

@@ -2,14 +2,19 @@
 // (docs/design.md §11, docs/gear-trains.md).
 //
 // Tier 1: one torsional DOF per body (TorsionalModes), angles are perturbations from the nominal
-// rotation, each in its body's own direction. Augmented state z = [x; x'; 1; u] (m = 2n + 2), u the
-// engine excitation s (rad/s^2) held at its mean over the current grid segment. Mesh i couples its
+// rotation, each in its body's own direction. Augmented state z = [x; x'; 1; q] (m = 2n + 1 + 2K),
+// q the exosystem of the K engine orders s(t) = sum_k a_k sin(w_k t + phi_k) (w_k = order_k times
+// the input speed): per order the pair q_k = a_k [sin, cos](w_k t + phi_k), q_k' = w_k [[0, 1],
+// [-1, 0]] q_k, and s = sum_k q_k,sin. The inputs are carried exactly (no hold, no limit on the
+// order): the generator stays LTI, gaining the eigenvalues +-i w_k. Mesh i couples its
 // bodies through delta_i = v_i^T x, v_i = r_b,a e_a - r_b,b e_b; it has its own mesh period T_i,
 // its own S_i segments (the pair's segmentation of that mesh at the torque it transmits), and per
 // segment j the drive and back stiffness k+_ij, k-_ij and the unloaded error e_ij; b_i =
 // backlash/2, c_i = 2 zeta_i sqrt(kbar_i m_e,i), m_e,i = J_a J_b / (J_a r_b,b^2 + J_b r_b,a^2) from
 // the bodies' polar inertias. For the contact tuple sigma = (j_i, s_i)_i of a grid segment:
-//   z' = A_sigma z,  A = [[0, I, 0, 0], [-M^-1 K_s, -M^-1 C_s, M^-1 f_s, M^-1 d], [0 ...]]
+//   z' = A_sigma z,  A = [[0, I, 0, 0], [-M^-1 K_s, -M^-1 C_s, M^-1 f_s, M^-1 D], [0, 0, 0, W]]
+// (D = [d, 0] per order: the excitation drives through the sine state; W = diag(w_k [[0, 1],
+// [-1, 0]]))
 //   K_s = sum_{i in drive} k+_ij v_i v_i^T + sum_{i in back} k-_ij v_i v_i^T,  C_s likewise with
 //   c_i, f_s = f + sum_{drive} k+_ij (e_ij + b_i) v_i + sum_{back} k-_ij (e_ij - b_i) v_i,
 // f the constant torques (every load resists its body, the input body is driven by the torque that
@@ -30,11 +35,11 @@
 // over the loaded flank's segments): the free rotation carries no mean torque, as on the pair.
 // Manufacturing errors (runout, pitch errors; model/manufacturing_errors.h): mesh i whose gears
 // carry errors has its own input slot u_i = e_err,i (m), held at its mean over each grid segment
-// (SetInputs), so z = [x; x'; 1; s; u_err] and m = 2n + 2 + error_inputs. The error adds to the
-// unloaded error e_ij exactly as on the pair: A gains the column M^-1 k_ij v_i for u_i while mesh
-// i is in contact (the force k (delta - e - u_i -+ b)), and both walls move by u_i (Wall(.., z)):
-// the closed forms of delta_i are unchanged, the wall is constant over a grid segment. A gear that
-// takes part in two meshes (an idler) brings its runout into both, at its own nominal angle.
+// (SetInputs), so z = [x; x'; 1; q; u_err] and m = 2n + 1 + 2K + error_inputs. The error adds to
+// the unloaded error e_ij exactly as on the pair: A gains the column M^-1 k_ij v_i for u_i while
+// mesh i is in contact (the force k (delta - e - u_i -+ b)), and both walls move by u_i (Wall(..,
+// z)): the closed forms of delta_i are unchanged, the wall is constant over a grid segment. A gear
+// that takes part in two meshes (an idler) brings its runout into both, at its own nominal angle.
 //
 // Time grid: mesh i is periodic in T_i with segment boundaries t_ij; the train's grid is the union
 // of every mesh's boundaries, generated on the fly from integer cycle counts (no drift, no table of
@@ -123,7 +128,7 @@ struct TrainMeshTable {
 struct TrainTables {
   Tier tier = Tier::kTier1;
   int n = 0;  // coordinates: tier 1 one per body; else the reduced model's (train_reduced_tables.h)
-  int m = 0;  // 2n + 2
+  int m = 0;  // 2n + 1 + 2K + error inputs
   std::vector<std::string> body_names;
   std::vector<bool> loose;  // per body: a loose gear
   // Per body (rows) its angle in its own direction of rotation as a row on x (tier 1: identity).
@@ -158,25 +163,35 @@ struct TrainTables {
   double GapValue(int mesh, int segment, bool drive, const Eigen::VectorXd& z) const;
   // The rounding floor of that gap at z: 1e-12 b_i + 64 eps (sum_j |v_ij x_j| + |wall|).
   double GapTolerance(int mesh, int segment, bool drive, const Eigen::VectorXd& z) const;
+  // The first of the input slots (the orders' states, then the error inputs): the slots SetInputs
+  // sets at a grid segment's start.
   int input_slot() const { return 2 * n + 1; }
+  // The sine state of excitation order k (its cosine state follows).
+  int ExcitationSlot(int order) const { return 2 * n + 1 + 2 * order; }
+  int excitation_states() const { return 2 * static_cast<int>(excitation.size()); }
   // Manufacturing errors (train_errors.cc): meshes with an error input, each its slot.
   int error_inputs = 0;
-  int ErrorSlot(int mesh) const;  // 2n + 2 + k for the k-th error input, -1 without errors
+  int ErrorSlot(int mesh) const;  // 2n + 1 + 2K + k for the k-th error input, -1 without errors
   // u_i, the error input of `mesh` in z (0 without errors), m.
   double ErrorInput(int mesh, const Eigen::Ref<const Eigen::VectorXd>& z) const;
   // The wall with the error input of z: Wall(mesh, segment, drive) z_c + u_i.
   double Wall(int mesh, int segment, bool drive, const Eigen::Ref<const Eigen::VectorXd>& z) const;
   // Sets the input slots of z for the grid segment [start, start + h], which lies in segment
-  // segments[i] of cycle cycles[i] of every mesh i: the excitation's mean and each mesh's error
-  // mean (the pitch part is constant per mesh segment, the runout's mean in closed form).
-  // Allocation-free.
+  // segments[i] of cycle cycles[i] of every mesh i, z being at `start`: the orders' states there
+  // (SetExcitation) and each mesh's error mean (the pitch part is constant per mesh segment, the
+  // runout's mean in closed form). Allocation-free.
   void SetInputs(const std::vector<long>& cycles, const std::vector<int>& segments, double start,
                  double h, Eigen::Ref<Eigen::VectorXd> z) const;
+  // The orders' states q_k at time t (exact, times the constant slot z_c = 1).
+  void SetExcitation(double t, Eigen::Ref<Eigen::VectorXd> z) const;
+  // Adds the orders' columns M^-1 d on the sine states and the exosystem W to a generator.
+  void AddExcitationColumns(Eigen::Ref<Eigen::MatrixXd> A) const;
   // Adds the error inputs' columns M^-1 k_ij v_i of the meshes in contact to a generator.
   void AddErrorColumns(const std::vector<int>& segments, const std::vector<ContactState>& states,
                        Eigen::Ref<Eigen::MatrixXd> A) const;
-  // Mean of the excitation over [t0, t0 + h], rad/s^2 (closed form).
-  double MeanExcitation(double t0, double h) const;
+  // The excitation s(t), rad/s^2, and its largest frequency max_k w_k (0 without orders), rad/s.
+  double Excitation(double t) const;
+  double HighestExcitationFrequency() const;
   double InputRevolution() const;  // 2 pi / input speed, s
 };
 
@@ -214,8 +229,8 @@ void SetFrictionForces(TrainMeshTable& mt, const FrictionBasis& basis);
 // dT (see the header) on the free rotation r (running angles, tier 1), input body `input`:
 // `back_loaded[i]` when mesh i transmits its torque on the back flank.
 double FrictionLossTorque(const TrainTables& t, const std::vector<bool>& back_loaded, int input);
-// Numbers the error inputs of the meshes whose errors are active and sets m = 2n + 2 + that count
-// (the tier-1 build and the reduced tiers, whose n differs, call it).
+// Numbers the error inputs of the meshes whose errors are active and sets m = 2n + 1 + 2K + that
+// count (the tier-1 build and the reduced tiers, whose n differs, call it).
 void AssignErrorInputs(TrainTables& tables);
 
 // Tables of one contact tuple. The generator depends on the segment of a mesh only while that
