@@ -54,21 +54,38 @@ Eigen::VectorXd BalancingScale(const Eigen::MatrixXd& A, int n, double w_ref) {
   const int m = static_cast<int>(A.rows());
   Eigen::VectorXd scale = Eigen::VectorXd::Ones(m);
   scale.segment(n, n).setConstant(1.0 / w_ref);
-  // The constant and input slots carry the forcing columns, which are tiny next to
-  // the stiffness block: a backward error eps |A| would be a large relative error of the forcing,
-  // i.e. of the static deflection under it (seen as 1e-16 m in the gap). Scaling the slots so their
-  // columns have the norm w_ref makes the forcing as accurate as the rest.
-  // An exosystem's pair of states (an engine order's sine and cosine, rows turning into each other
-  // at w) is scaled instead to the response it forces: the acceleration a sin(w t) moves the free
-  // rotation by a / w^2, far more than a / w_ref^2 below the structure's frequencies, and the
-  // forcing scale would leave the decomposition's eigenvectors of +-i w that much out of balance.
-  // Both states of a pair take one scale, so W stays a rotation in the balanced generator.
+  // The constant and input slots carry the forcing columns, which are tiny next to the stiffness
+  // block: a backward error eps |A| would be a large relative error of the forcing, i.e. of the
+  // static deflection under it (seen as 1e-16 m in the gap). Scaling the slots so their columns
+  // have the norm w_ref makes the forcing as accurate as the rest.
   for (int j = 2 * n; j < m; ++j) {
-    if (A.row(j).isZero(0.0)) {
-      const double column = (scale.head(2 * n).asDiagonal() * A.col(j).head(2 * n)).norm();
-      if (column > 0.0) scale[j] = column / w_ref;
-      continue;
+    const double column = (scale.head(2 * n).asDiagonal() * A.col(j).head(2 * n)).norm();
+    if (column > 0.0) scale[j] = column / w_ref;
+  }
+  // An exosystem's state that forces nothing (an engine order's cosine) takes the scale of the
+  // state it turns into (its sine), so the rotation W stays a rotation in the balanced generator.
+  for (int j = 2 * n; j < m; ++j) {
+    if (!A.col(j).head(2 * n).isZero(0.0)) continue;
+    for (int k = 2 * n; k < m; ++k) {
+      if (A(j, k) != 0.0 && !A.col(k).head(2 * n).isZero(0.0)) scale[j] = scale[k];
     }
+  }
+  return scale;
+}
+
+namespace {
+
+// BalancingScale with each exosystem pair (an engine order's states, rows turning into each other
+// at w) scaled instead to the response it forces: the acceleration a sin(w t) moves the free
+// rotation by a / w^2, far more than a / w_ref^2 below the structure's frequencies, and the forcing
+// scale would leave the eigenvectors of +-i w that much out of balance (cond(S) ~ (w_ref / w)^2).
+// For the decomposition only: the max-norm bounds elsewhere (BalancingScale's users) are tighter
+// with the exosystem's states small.
+Eigen::VectorXd DecompositionScale(const Eigen::MatrixXd& A, int n, double w_ref) {
+  const int m = static_cast<int>(A.rows());
+  Eigen::VectorXd scale = BalancingScale(A, n, w_ref);
+  for (int j = 2 * n; j < m; ++j) {
+    if (A.row(j).isZero(0.0)) continue;
     Eigen::Index partner = 0;
     const double w = A.row(j).tail(m - 2 * n).cwiseAbs().maxCoeff(&partner);
     partner += 2 * n;
@@ -78,6 +95,8 @@ Eigen::VectorXd BalancingScale(const Eigen::MatrixXd& A, int n, double w_ref) {
   }
   return scale;
 }
+
+}  // namespace
 
 int ZeroClusterSeriesTerms(const Eigen::MatrixXd& B0, double horizon, int min_terms) {
   const int size = static_cast<int>(B0.rows());
@@ -111,7 +130,7 @@ SpectralDecomposition DecomposeGenerator(const Eigen::MatrixXd& A, int n, double
                                          double horizon, double max_condition) {
   SpectralDecomposition d;
   const int m = static_cast<int>(A.rows());
-  const Eigen::VectorXd scale = BalancingScale(A, n, w_ref);
+  const Eigen::VectorXd scale = DecompositionScale(A, n, w_ref);
   Eigen::MatrixXd T = scale.asDiagonal() * A * scale.cwiseInverse().asDiagonal();
 
   // Ordered real Schur form: eigenvalues with |lambda| <= 1e-4 w_ref first. A Jordan block of

@@ -83,7 +83,7 @@ TEST_CASE("train tiers: the reduced tables are consistent (generator, flanks, fr
   CHECK(t.tier == Tier::kTier3);
   CHECK(t.bodies() == 3);
   CHECK(t.n > t.bodies());
-  CHECK(t.m == 2 * t.n + 2);
+  CHECK(t.m == 2 * t.n + 1 + t.excitation_states());  // x, x', 1 and the orders' states
   // Tier 3 keeps the lateral terms: the back flank's vector differs from the drive flank's.
   for (const TrainMeshTable& mt : t.meshes) CHECK(mt.distinct_back);
   // The free rotation is neutral: no gap sees it and the structure does not resist it (rounding
