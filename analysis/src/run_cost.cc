@@ -21,6 +21,8 @@ const char* RateTermName(RateTerm term) {
       return "gyroscopic moments";
     case RateTerm::kFriction:
       return "tooth friction";
+    case RateTerm::kExcitation:
+      return "the engine orders";
   }
   return "";
 }
@@ -71,15 +73,18 @@ RunCostEstimate EstimateRunCost(const TrainTables& t, double simulated_s, const 
   const double damping = DampingRateBound(t, pencil.C);
   const TupleRateBound bound = BoundTupleRate(t, pencil, damping);
   out.mode_hz = bound.stiffness_frequency / (2.0 * std::numbers::pi);
-  out.rho = bound.rho;
-  out.substep_s = bound.rho > 0.0 ? 0.5 / bound.rho : 0.0;
+  // The engine orders' exosystem turns at their frequencies (A is block triangular).
+  out.rho = std::max(bound.rho, t.HighestExcitationFrequency());
+  out.substep_s = out.rho > 0.0 ? 0.5 / out.rho : 0.0;
   // rho's terms (BoundTupleRate): w, the symmetric damping, the skew (gyroscopic) part of C_0 and
   // friction's share.
   const double gyroscopic = GyroscopicRateBound(t);
-  const std::pair<RateTerm, double> terms[] = {{RateTerm::kStiffness, bound.stiffness_frequency},
-                                               {RateTerm::kDamping, damping - gyroscopic},
-                                               {RateTerm::kGyroscopic, gyroscopic},
-                                               {RateTerm::kFriction, bound.friction_rate}};
+  const std::pair<RateTerm, double> terms[] = {
+      {RateTerm::kStiffness, bound.stiffness_frequency},
+      {RateTerm::kDamping, damping - gyroscopic},
+      {RateTerm::kGyroscopic, gyroscopic},
+      {RateTerm::kFriction, bound.friction_rate},
+      {RateTerm::kExcitation, t.HighestExcitationFrequency()}};
   for (const auto& [term, rate] : terms) {
     if (rate > out.dominant_rate) {
       out.dominant = term;
@@ -166,6 +171,15 @@ std::string RunCostText(const RunCostEstimate& c, const std::string& what) {
                         "{:.3g} rad/s against its own tilt inertia (a nutation of |w| I_p / I_d; "
                         "check its inertias)",
                         c.cause_body_name, c.cause_body_inertia, c.cause_nutation_rate);
+      break;
+    case RateTerm::kExcitation:
+      cause = fmt::format(
+          "the engine orders: the highest turns at {:.4g} Hz, {:.0f}x the fastest mesh frequency "
+          "({:.4g} Hz); the solver carries each order exactly, so an order this high costs its "
+          "own sub-steps",
+          c.rho / (2.0 * std::numbers::pi),
+          c.fastest_mesh_hz > 0.0 ? c.rho / (2.0 * std::numbers::pi) / c.fastest_mesh_hz : 0.0,
+          c.fastest_mesh_hz);
       break;
   }
   return fmt::format(

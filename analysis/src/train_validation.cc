@@ -27,7 +27,8 @@ constexpr int kReferenceSamplesPerCycle = 64;
 // The reference: CVODE at rtol 1e-13. Its error is estimated by a run at rtol 1e-12 (measured on
 // a rattling loose gear against a quad-precision integration: 4.3e-7 of the TE after three
 // cycles at 1e-13, 1.5e-6 at 1e-12, 2.0e-7 at 1e-14, its floor), so the difference of the two
-// bounds the reference's error from above (TrustedSamples).
+// estimates the reference's error (within a factor 2 under a continuous engine order,
+// tests/solver/train_quad_reference_test.cc; the window ends at a tenth of the tolerance).
 constexpr double kReferenceRtol = 1e-13;
 constexpr double kEstimateRtol = 1e-12;
 

@@ -95,8 +95,9 @@ void PrintText(const std::string& file, const GearboxSpec& spec, const Component
   fmt::print("  {:<12}{:>5}{:>7}{:>6}{:>14}{:>12}   lowest natural frequencies [Hz]\n",
              "modal tier", "DOF", "state", "rigid", "g_mesh [m/N]", "vs full");
   for (const ReducedModel& r : tiers) {
-    fmt::print("  {:<12}{:>5}{:>7}{:>6}{:>14.4e}{:>11}  ", r.name, r.dof, StateDimension(model, r),
-               r.rigid_body_modes, r.static_mesh_compliance,
+    fmt::print("  {:<12}{:>5}{:>7}{:>6}{:>14.4e}{:>11}  ", r.name, r.dof,
+               StateDimension(model, r, spec.operating.excitation), r.rigid_body_modes,
+               r.static_mesh_compliance,
                ComplianceErrorText(ComplianceErrorVsFull(r.tier, r.compliance_error_vs_full)));
     for (size_t i = 0; i < std::min<size_t>(4, r.natural_frequencies_hz.size()); ++i) {
       fmt::print("{:>9.1f}", r.natural_frequencies_hz[i]);
@@ -164,7 +165,7 @@ nlohmann::json CheckReport(const GearboxSpec& spec, const ComponentModel& model,
     doc["tiers"].push_back(
         {{"name", r.name},
          {"dof", r.dof},
-         {"state_dim", StateDimension(model, r)},
+         {"state_dim", StateDimension(model, r, spec.operating.excitation)},
          {"rigid_body_modes", r.rigid_body_modes},
          {"natural_frequencies_hz", r.natural_frequencies_hz},
          {"static_mesh_compliance", r.static_mesh_compliance},

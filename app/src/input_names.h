@@ -28,7 +28,6 @@ struct InputNames {
   std::string transient = "analysis.transient_cycles";             // SolverOptions.transient_cycles
   std::string excitation = "operating.excitation";                 // NoCommonPeriod
   std::string structure = "shafts";                                // StructureNotReducible
-  std::string segments_per_cycle = "analysis.segments_per_cycle";  // ExcitationOrderUnresolved
   std::string tier_value = "";  // the tier as the user wrote it; "": the tier's name
 };
 
@@ -43,10 +42,6 @@ inline InputNames PairTierNames(const std::optional<std::string>& tier_option) {
 }
 
 inline InputError UserNamed(const InputError& e, const InputNames& names = {}) {
-  if (const auto* grid = dynamic_cast<const ExcitationOrderUnresolved*>(&e)) {
-    return InputError(e.path(), e.line(), e.value(), grid->RuleNaming(names.segments_per_cycle),
-                      e.source());
-  }
   if (dynamic_cast<const TierNotAvailable*>(&e)) {
     return InputError(names.tier, e.line(), names.tier_value.empty() ? e.value() : names.tier_value,
                       e.rule(), e.source());

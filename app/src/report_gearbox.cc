@@ -232,9 +232,10 @@ GearboxEntry BuildGearboxReport(const std::string& file, const std::filesystem::
     figures.insert(figures.end(), whine.figures.begin(), whine.figures.end());
     std::vector<TierPoint> tier_points;
     for (const ReducedModel& t : tiers) {
-      tier_points.push_back({t.name, static_cast<double>(StateDimension(model, t)),
-                             TierFrequencyError(t, modes),
-                             ComplianceErrorVsFull(t.tier, t.compliance_error_vs_full)});
+      tier_points.push_back(
+          {t.name, static_cast<double>(StateDimension(model, t, spec.operating.excitation)),
+           TierFrequencyError(t, modes),
+           ComplianceErrorVsFull(t.tier, t.compliance_error_vs_full)});
     }
     draw("tiers.png",
          "Modal tiers: the largest error of the lowest natural frequencies and the static mesh "

@@ -87,7 +87,7 @@ std::string GearboxPage(const GearboxPageInput& in) {
   h << "</tr>\n";
   for (const ReducedModel& t : in.tiers) {
     h << "<tr><td>" << Html(t.name) << "</td><td>" << t.dof << "</td><td>"
-      << StateDimension(model, t) << "</td><td>";
+      << StateDimension(model, t, spec.operating.excitation) << "</td><td>";
     const std::optional<double> error = ComplianceErrorVsFull(t.tier, t.compliance_error_vs_full);
     h << (error ? Number(100.0 * *error, 3) + " %" : "n/a") << "</td>";
     for (int k = 0; k < 6; ++k) {

@@ -141,14 +141,6 @@ double ToothUnitLoad(const GearSpec& a, const GearSpec& b, double torque_on_b) {
   return torque_on_b / PitchRadius(b) / std::min(a.face_width, b.face_width);
 }
 
-double LongestSegment(const MeshSegmentation& segmentation) {
-  double longest = 0.0;
-  for (const MeshSegment& s : segmentation.segments) {
-    longest = std::max(longest, s.tau_end - s.tau_begin);
-  }
-  return longest;
-}
-
 std::string InUnit(double value_si, const DisplayUnit& unit) {
   return fmt::format("{:.6g} {}", value_si * unit.per_si, unit.symbol);
 }
@@ -165,48 +157,6 @@ void RequirePitchLineVelocity(const std::string& path, double speed, const Displ
                   "oil-trapping effects the quasi-static mesh model leaves out dominate",
                   mesh, velocity, L::kMaxPitchLineVelocity,
                   InUnit(L::kMaxPitchLineVelocity / velocity_per_speed, unit)));
-}
-
-namespace {
-
-std::string UnresolvedRule(const ExcitationOrderUnresolved::Facts& f, const std::string& setting) {
-  const double x = std::numbers::pi / f.segments_per_period;  // the kept fraction sinc^2(pi / N)
-  const double kept = std::pow(std::sin(x) / x, 2);
-  return fmt::format(
-      "is too high for the segment grid: one period of this order spans {:.3g} segments of {} "
-      "(its longest segment is {:.3g} of a mesh cycle, {:.6g} mesh cycles per revolution), "
-      "fewer than {}; the solver holds the excitation at its mean over each segment, which would "
-      "keep only {:.0f} % of this order (sinc^2(pi / N)) and alias it: raise {} (now {}) to "
-      "about {:.0f} or more, or leave the order out",
-      f.segments_per_period, f.mesh, f.longest_segment_fraction, f.cycles_per_revolution,
-      L::kMinSegmentsPerExcitationPeriod, 100.0 * kept, setting, f.segments_per_cycle,
-      f.needed_segments_per_cycle);
-}
-
-}  // namespace
-
-ExcitationOrderUnresolved::ExcitationOrderUnresolved(Facts facts)
-    : InputError("operating.excitation[" + std::to_string(facts.index) + "].order", 0,
-                 MessageNumber(facts.order), UnresolvedRule(facts, "segments_per_cycle")),
-      facts_(std::move(facts)) {}
-
-std::string ExcitationOrderUnresolved::RuleNaming(const std::string& setting) const {
-  return UnresolvedRule(facts_, setting);
-}
-
-void RequireExcitationResolved(const std::vector<ExcitationOrder>& orders,
-                               double cycles_per_revolution, double longest_segment_fraction,
-                               int segments_per_cycle, const std::string& mesh) {
-  for (size_t i = 0; i < orders.size(); ++i) {
-    const double order = orders[i].order;
-    const double per_period = cycles_per_revolution / (order * longest_segment_fraction);
-    if (per_period >= L::kMinSegmentsPerExcitationPeriod) continue;
-    // The longest segment shrinks about as 1 / segments_per_cycle.
-    const double needed =
-        std::ceil(segments_per_cycle * L::kMinSegmentsPerExcitationPeriod / per_period);
-    throw ExcitationOrderUnresolved({i, order, per_period, mesh, longest_segment_fraction,
-                                     cycles_per_revolution, segments_per_cycle, needed});
-  }
 }
 
 void RequireInertiaWithinLimit(const std::string& path, double inertia) {

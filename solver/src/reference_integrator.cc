@@ -29,17 +29,31 @@ void ReferenceOptions::Validate() const {
 
 namespace {
 
+// The engine orders enter as the continuous s(t) (SegmentTables::Excitation), not through the
+// solver's exosystem: their states in z stay put and act nowhere, so the reference integrates the
+// same inputs independently of how the solver carries them.
 struct Problem {
+  const SegmentTables* t = nullptr;
   const SegmentSystem* sys = nullptr;
   ContactState state = ContactState::kFree;
+  int first_order = 0, order_end = 0;  // the orders' slots [first_order, order_end)
+  bool OrderSlot(long i) const { return i >= first_order && i < order_end; }
 };
 
-int Rhs(sunrealtype, N_Vector y, N_Vector ydot, void* data) {
+int Rhs(sunrealtype time, N_Vector y, N_Vector ydot, void* data) {
   const Problem& p = *static_cast<Problem*>(data);
   const long m = NV_LENGTH_S(y);
+  const int n = p.t->n;
   Eigen::Map<const Eigen::VectorXd> z(NV_DATA_S(y), m);
   Eigen::Map<Eigen::VectorXd> dz(NV_DATA_S(ydot), m);
   dz.noalias() = p.sys->A * z;
+  if (p.order_end == p.first_order) return 0;
+  for (int slot = p.first_order; slot < p.order_end; ++slot) {
+    dz.segment(n, n) -= p.sys->A.col(slot).segment(n, n) * z[slot];
+    dz[slot] = 0.0;
+  }
+  // Every order's sine state has the one forcing column M^-1 d.
+  dz.segment(n, n) += p.sys->A.col(p.first_order).segment(n, n) * p.t->Excitation(time);
   return 0;
 }
 
@@ -47,7 +61,8 @@ int Jac(sunrealtype, N_Vector, N_Vector, SUNMatrix J, void* data, N_Vector, N_Ve
   const Problem& p = *static_cast<Problem*>(data);
   const long m = SM_ROWS_D(J);
   for (long c = 0; c < m; ++c) {
-    for (long r = 0; r < m; ++r) SM_ELEMENT_D(J, r, c) = p.sys->A(r, c);
+    for (long r = 0; r < m; ++r)
+      SM_ELEMENT_D(J, r, c) = p.OrderSlot(r) || p.OrderSlot(c) ? 0.0 : p.sys->A(r, c);
   }
   return 0;
 }
@@ -193,6 +208,9 @@ ReferenceResult SimulateReference(const SegmentTables& t, const Eigen::VectorXd&
   ReferenceResult result;
   const long m = t.m;
   Problem problem;
+  problem.t = &t;
+  problem.first_order = t.input_slot(0);
+  problem.order_end = t.input_slot(t.error_input());
   problem.state = state0;
   problem.sys = &t.systems[0][static_cast<int>(state0)];
   const CvodeBdf cvode(z0, {t.n, options.rtol, options.atol_position, options.atol_velocity, Rhs,

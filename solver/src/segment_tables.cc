@@ -1,6 +1,8 @@
 #include "gearnvh/solver/segment_tables.h"
 
+#include <algorithm>
 #include <cmath>
+#include <complex>
 #include <numbers>
 #include <unsupported/Eigen/MatrixFunctions>
 
@@ -21,37 +23,30 @@ const char* ContactStateName(ContactState s) {
   return "?";
 }
 
-// Mean of a sin(w t + phi) over [t0, t0 + h] = a sinc(w h / 2) sin(w (t0 + h / 2) + phi), with
-// sinc(x) = sin(x) / x: one sine per order at a known window, and no cancellation for short h
-// (the difference-of-cosines form loses digits as w h -> 0).
-namespace {
-double Sinc(double x) { return x == 0.0 ? 1.0 : std::sin(x) / x; }
-}  // namespace
-
-double SegmentTables::MeanExcitation(double t0, double h) const {
+double SegmentTables::Excitation(double t) const {
   double sum = 0.0;
-  for (const ExcitationOrder& e : excitation) {
-    const double w = e.order * pinion_speed;
-    sum += e.amplitude * Sinc(0.5 * w * h) * std::sin(w * (t0 + 0.5 * h) + e.phase);
-  }
+  for (const ExcitationOrder& e : excitation)
+    sum += e.amplitude * std::sin(e.order * pinion_speed * t + e.phase);
   return sum;
 }
 
-void SegmentTables::PrepareExcitationWindows() {
+double SegmentTables::HighestExcitationFrequency() const {
+  double highest = 0.0;
+  for (const ExcitationOrder& e : excitation)
+    highest = std::max(highest, std::abs(e.order * pinion_speed));
+  return highest;
+}
+
+void SegmentTables::PrepareExcitationPhases() {
   const size_t count = static_cast<size_t>(segments()), orders = excitation.size();
-  excitation_windows.assign(count * orders, 0.0);
-  excitation_midpoint_cos.assign(count * orders, 0.0);
-  excitation_midpoint_sin.assign(count * orders, 0.0);
-  for (size_t j = 0; j < count; ++j) {
-    for (size_t k = 0; k < orders; ++k) {
-      const ExcitationOrder& e = excitation[k];
-      const int segment = static_cast<int>(j);
-      const double w = e.order * pinion_speed, h = SegmentLength(segment);
-      const double window = Sinc(0.5 * w * h);
-      const double psi = w * (boundaries[segment] + 0.5 * h);
-      excitation_windows[j * orders + k] = window;
-      excitation_midpoint_cos[k * count + j] = e.amplitude * window * std::cos(psi);
-      excitation_midpoint_sin[k * count + j] = e.amplitude * window * std::sin(psi);
+  excitation_start_cos.assign(count * orders, 0.0);
+  excitation_start_sin.assign(count * orders, 0.0);
+  for (size_t k = 0; k < orders; ++k) {
+    const ExcitationOrder& e = excitation[k];
+    for (size_t j = 0; j < count; ++j) {
+      const double psi = e.order * pinion_speed * boundaries[j];
+      excitation_start_cos[k * count + j] = e.amplitude * std::cos(psi);
+      excitation_start_sin[k * count + j] = e.amplitude * std::sin(psi);
     }
   }
 }
@@ -60,18 +55,18 @@ SegmentTables::CyclePhase SegmentTables::MakeCyclePhase() const {
   CyclePhase phase;
   phase.sin.resize(excitation.size());
   phase.cos.resize(excitation.size());
-  phase.excitation.resize(static_cast<size_t>(segments()));
-  if (inputs > kErrorInput) phase.error.resize(static_cast<size_t>(segments()));
+  phase.excitation.resize(static_cast<size_t>(segments()) * 2 * excitation.size());
+  if (has_error_input()) phase.error.resize(static_cast<size_t>(segments()));
   return phase;
 }
 
 // A phase from MakeCyclePhase is sized: the resizes below allocate nothing in a stepping loop.
 void SegmentTables::PrepareCycleInputs(long cycle, CyclePhase& phase) const {
-  const size_t orders = excitation.size();
+  const size_t orders = excitation.size(), states = 2 * orders;
   const size_t count = static_cast<size_t>(segments());
   phase.cycle = cycle;
-  phase.excitation.resize(count);
-  if (inputs > kErrorInput) {
+  phase.excitation.resize(count * states);
+  if (has_error_input()) {
     phase.error.resize(count);
     for (size_t j = 0; j < count; ++j) {
       const int segment = static_cast<int>(j);
@@ -80,10 +75,14 @@ void SegmentTables::PrepareCycleInputs(long cycle, CyclePhase& phase) const {
     }
   }
   const size_t entries = orders * count;
-  if (excitation_midpoint_cos.size() != entries || excitation_midpoint_sin.size() != entries) {
-    // Tables assembled by hand: no midpoint phases, one sine per order and segment.
-    for (size_t j = 0; j < count; ++j)
-      phase.excitation[j] = SegmentExcitationMean(cycle, static_cast<int>(j));
+  if (excitation_start_cos.size() != entries || excitation_start_sin.size() != entries) {
+    // Tables assembled by hand: no start phases, a sine and a cosine per order and segment.
+    Eigen::VectorXd z = Eigen::VectorXd::Zero(m);
+    for (size_t j = 0; j < count; ++j) {
+      SetInputs(cycle, static_cast<int>(j), z);
+      for (size_t i = 0; i < states; ++i)
+        phase.excitation[j * states + i] = z[input_slot(static_cast<int>(i))];
+    }
     return;
   }
   phase.sin.resize(orders);
@@ -93,47 +92,35 @@ void SegmentTables::PrepareCycleInputs(long cycle, CyclePhase& phase) const {
     const ExcitationOrder& e = excitation[k];
     sincos(e.order * pinion_speed * cycle_start + e.phase, &phase.sin[k], &phase.cos[k]);
   }
-  // Order by order over all segments (the tables are order-major): the same sums per segment, in
-  // the same order, as a loop over orders per segment, in vector instructions over the segments.
-  double* mean = phase.excitation.data();
-  std::fill_n(mean, count, 0.0);
   for (size_t k = 0; k < orders; ++k) {
     const double s = phase.sin[k], c = phase.cos[k];
-    const double* midpoint_cos = excitation_midpoint_cos.data() + k * count;
-    const double* midpoint_sin = excitation_midpoint_sin.data() + k * count;
-    for (size_t j = 0; j < count; ++j) mean[j] += s * midpoint_cos[j] + c * midpoint_sin[j];
+    const double* start_cos = excitation_start_cos.data() + k * count;
+    const double* start_sin = excitation_start_sin.data() + k * count;
+    double* q = phase.excitation.data() + 2 * k;
+    for (size_t j = 0; j < count; ++j) {
+      q[j * states] = s * start_cos[j] + c * start_sin[j];
+      q[j * states + 1] = c * start_cos[j] - s * start_sin[j];
+    }
   }
-}
-
-double SegmentTables::SegmentExcitationMean(long cycle, int segment) const {
-  const double start = static_cast<double>(cycle) * mesh_period + boundaries[segment];
-  const double h = SegmentLength(segment);
-  const size_t orders = excitation.size();
-  if (excitation_windows.size() != orders * static_cast<size_t>(segments()))
-    return MeanExcitation(start, h);
-  const double* window = excitation_windows.data() + static_cast<size_t>(segment) * orders;
-  double mean = 0.0;
-  for (size_t k = 0; k < orders; ++k) {
-    const ExcitationOrder& e = excitation[k];
-    const double w = e.order * pinion_speed;
-    mean += e.amplitude * window[k] * std::sin(w * (start + 0.5 * h) + e.phase);
-  }
-  return mean;
 }
 
 void SegmentTables::SetInputs(long cycle, int segment, Eigen::Ref<Eigen::VectorXd> z) const {
-  z[input_slot(kExcitationInput)] = SegmentExcitationMean(cycle, segment);
-  if (inputs > kErrorInput) {
-    const double start = static_cast<double>(cycle) * mesh_period + boundaries[segment];
-    z[input_slot(kErrorInput)] = errors.SegmentMean(cycle, segment, start, SegmentLength(segment));
+  const double start = static_cast<double>(cycle) * mesh_period + boundaries[segment];
+  for (size_t k = 0; k < excitation.size(); ++k) {
+    const ExcitationOrder& e = excitation[k];
+    const double angle = e.order * pinion_speed * start + e.phase;
+    const int slot = input_slot(ExcitationInput(static_cast<int>(k)));
+    z[slot] = e.amplitude * std::sin(angle);
+    z[slot + 1] = e.amplitude * std::cos(angle);
   }
+  if (has_error_input())
+    z[input_slot(error_input())] =
+        errors.SegmentMean(cycle, segment, start, SegmentLength(segment));
 }
 
 double SegmentTables::InputBound(int input) const {
-  if (input == kErrorInput) return errors.bound();
-  double bound = 0.0;
-  for (const ExcitationOrder& o : excitation) bound += std::abs(o.amplitude);
-  return bound;
+  if (input == error_input()) return errors.bound();
+  return std::abs(excitation[static_cast<size_t>(input / 2)].amplitude);
 }
 
 long SegmentTables::CommonPeriodCycles(long max_cycles) const {
@@ -171,7 +158,7 @@ Eigen::MatrixXd BalancedExpm(const Eigen::MatrixXd& A, double t, int n, double w
   const Eigen::MatrixXd balanced = scale.asDiagonal() * A * scale.cwiseInverse().asDiagonal();
   Eigen::MatrixXd expm =
       scale.cwiseInverse().asDiagonal() * (balanced * t).exp() * scale.asDiagonal();
-  // A zero row of A (the constant slot, the inputs) is a unit row of exp(A t) exactly; Pade and
+  // A zero row of A (the constant slot, an error input) is a unit row of exp(A t) exactly; Pade and
   // squaring return it to rounding only (1 - 3e-14 on a tier-3 segment), and the constant slot
   // is neutral: a product of segments, a cycle map (1 - 8e-13 per cycle), would scale the load
   // by a drift that grows with every cycle.
@@ -206,10 +193,33 @@ size_t SegmentTables::TableBytes() const {
   return systems.size() * 3 * per_system * sizeof(double);
 }
 
-int InputCount(const ComponentModel& model) { return model.errors.active() ? 2 : 1; }
+std::vector<ExcitationOrder> DistinctOrders(const std::vector<ExcitationOrder>& orders) {
+  std::vector<ExcitationOrder> out;
+  std::vector<std::complex<double>> phasors;
+  for (const ExcitationOrder& e : orders) {
+    const std::complex<double> phasor = std::polar(e.amplitude, e.phase);
+    const auto same = std::find_if(out.begin(), out.end(),
+                                   [&](const ExcitationOrder& o) { return o.order == e.order; });
+    if (same == out.end()) {
+      out.push_back(e);
+      phasors.push_back(phasor);
+      continue;
+    }
+    std::complex<double>& sum = phasors[static_cast<size_t>(same - out.begin())];
+    sum += phasor;
+    same->amplitude = std::abs(sum);
+    same->phase = std::arg(sum);
+  }
+  return out;
+}
 
-int StateDimension(const ComponentModel& model, const ReducedModel& reduced) {
-  return 2 * reduced.dof + 1 + InputCount(model);
+int InputCount(const ComponentModel& model, const std::vector<ExcitationOrder>& orders) {
+  return 2 * static_cast<int>(DistinctOrders(orders).size()) + (model.errors.active() ? 1 : 0);
+}
+
+int StateDimension(const ComponentModel& model, const ReducedModel& reduced,
+                   const std::vector<ExcitationOrder>& orders) {
+  return 2 * reduced.dof + 1 + InputCount(model, orders);
 }
 
 SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel& r,
@@ -218,11 +228,11 @@ SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel
   t.n = r.dof;
   // The model's errors at the speed run here (a sweep runs one model at every speed).
   t.errors = model.errors.AtSpeed(spec.operating.speed);
-  t.inputs = InputCount(model);
-  t.m = StateDimension(model, r);
+  t.inputs = InputCount(model, spec.operating.excitation);
+  t.m = StateDimension(model, r, spec.operating.excitation);
   t.pinion_speed = spec.operating.speed;
   t.mesh_period = 2.0 * std::numbers::pi / (spec.pinion.teeth * spec.operating.speed);
-  t.excitation = spec.operating.excitation;
+  t.excitation = DistinctOrders(spec.operating.excitation);
   t.half_backlash = model.half_backlash;
   t.displacement_limit = 2.0 * model.half_backlash + WholeDepth(model.geometry);
   t.excitation_inertia = model.pinion_side_inertia;
@@ -313,15 +323,22 @@ SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel
       sys.A.block(n, 0, n, n) = -mass.solve(K);
       sys.A.block(n, n, n, n) = -mass.solve(C);
       sys.A.block(n, 2 * n, n, 1) = mass.solve(f);
-      sys.A.block(n, t.input_slot(SegmentTables::kExcitationInput), n, 1) = mass.solve(d);
+      const Eigen::VectorXd order_column = mass.solve(d);
+      for (size_t k = 0; k < t.excitation.size(); ++k) {
+        const int slot = t.input_slot(SegmentTables::ExcitationInput(static_cast<int>(k)));
+        const double w = t.excitation[k].order * t.pinion_speed;
+        sys.A.block(n, slot, n, 1) = order_column;
+        sys.A(slot, slot + 1) = w;
+        sys.A(slot + 1, slot) = -w;
+      }
       sys.gap_drive = Eigen::RowVectorXd::Zero(m);
       sys.gap_drive.head(n) = r.v_drive.transpose();
       sys.gap_drive[2 * n] = -(e + b);
       sys.gap_back = Eigen::RowVectorXd::Zero(m);
       sys.gap_back.head(n) = r.v_back.transpose();
       sys.gap_back[2 * n] = -e + b;
-      if (t.inputs > SegmentTables::kErrorInput) {
-        const int slot = t.input_slot(SegmentTables::kErrorInput);
+      if (t.has_error_input()) {
+        const int slot = t.input_slot(t.error_input());
         sys.A.block(n, slot, n, 1) = mass.solve(error_force);
         sys.gap_drive[slot] = -1.0;
         sys.gap_back[slot] = -1.0;
@@ -332,8 +349,9 @@ SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel
     }
     // One sub-step count per segment (the stiffest state decides), a power of two.
     // The Taylor series of exp(A tau) z converges like (rho tau)^k / k! with rho the spectral
-    // radius of the dynamic block (the constant columns only enter the first power).
-    double rho = 0.0;
+    // radius of the dynamic block (the constant columns only enter the first power) or the
+    // orders' frequencies (A is block triangular: its eigenvalues are both).
+    double rho = t.HighestExcitationFrequency();
     for (const auto& sys : t.systems[j]) {
       const Eigen::MatrixXd dyn = sys.A.topLeftCorner(2 * n, 2 * n);
       rho = std::max(rho, dyn.eigenvalues().cwiseAbs().maxCoeff());
@@ -351,7 +369,7 @@ SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel
       sys.substep = BalancedExpm(sys.A, h / substeps, n, w_ref);
     }
   }
-  t.PrepareExcitationWindows();
+  t.PrepareExcitationPhases();
   return t;
 }
 

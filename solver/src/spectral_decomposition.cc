@@ -73,14 +73,12 @@ Eigen::VectorXd BalancingScale(const Eigen::MatrixXd& A, int n, double w_ref) {
   return scale;
 }
 
-namespace {
-
 // BalancingScale with each exosystem pair (an engine order's states, rows turning into each other
 // at w) scaled instead to the response it forces: the acceleration a sin(w t) moves the free
-// rotation by a / w^2, far more than a / w_ref^2 below the structure's frequencies, and the forcing
-// scale would leave the eigenvectors of +-i w that much out of balance (cond(S) ~ (w_ref / w)^2).
-// For the decomposition only: the max-norm bounds elsewhere (BalancingScale's users) are tighter
-// with the exosystem's states small.
+// rotation by a / w^2 and its balanced velocity by a / (w w_ref), far more than a / w_ref^2 below
+// the structure's frequencies, and the forcing scale would leave the eigenvectors of +-i w that
+// much out of balance (cond(S) ~ (w_ref / w)^2); a / (w min(w, w_ref)) is the larger of the two
+// (above w_ref, e.g. a tuple with every mesh free, w_ref = 1, the velocity's).
 Eigen::VectorXd DecompositionScale(const Eigen::MatrixXd& A, int n, double w_ref) {
   const int m = static_cast<int>(A.rows());
   Eigen::VectorXd scale = BalancingScale(A, n, w_ref);
@@ -91,12 +89,10 @@ Eigen::VectorXd DecompositionScale(const Eigen::MatrixXd& A, int n, double w_ref
     partner += 2 * n;
     const double forcing =
         std::max(A.col(j).segment(n, n).norm(), A.col(partner).segment(n, n).norm());
-    if (forcing > 0.0) scale[j] = forcing / (w * w);
+    if (forcing > 0.0) scale[j] = forcing / (w * std::min(w, w_ref));
   }
   return scale;
 }
-
-}  // namespace
 
 int ZeroClusterSeriesTerms(const Eigen::MatrixXd& B0, double horizon, int min_terms) {
   const int size = static_cast<int>(B0.rows());
@@ -302,6 +298,9 @@ void PropagateDecoupled(const SpectralDecomposition& d, const Eigen::VectorXd& w
                         Eigen::VectorXd& out, Eigen::VectorXd& scratch) {
   switch (d.zero_size) {
     case 0:
+      break;
+    case 3:
+      PropagateZeroCluster<3>(d, w, t, out, scratch);
       break;
     case 4:
       PropagateZeroCluster<4>(d, w, t, out, scratch);

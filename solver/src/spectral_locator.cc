@@ -93,11 +93,16 @@ template <int M, class Vector>
 
 void SpectralLocator::MultiplyDense(const double* a, const double* x,
                                     Eigen::Ref<Eigen::VectorXd> y) {
-  // At tier 1 (m = 6, 7: the sizes of EnterCarriedSized) the column count is fixed too.
-  if (t_.m == 6)
+  // At tier 1 (m = 5 to 8: without or with one engine order, without or with errors; the sizes
+  // of EnterCarriedSized) the column count is fixed too.
+  if (t_.m == 5)
+    PaddedProductSized<kLineDoubles, 5>(a, 5, x, product_.data());
+  else if (t_.m == 6)
     PaddedProductSized<kLineDoubles, 6>(a, 6, x, product_.data());
   else if (t_.m == 7)
     PaddedProductSized<kLineDoubles, 7>(a, 7, x, product_.data());
+  else if (t_.m == 8)
+    PaddedProductSized<kLineDoubles, 8>(a, 8, x, product_.data());
   else
     PaddedProduct(a, padded_, t_.m, x, product_.data());
   y = product_.head(y.size());
@@ -107,10 +112,14 @@ void SpectralLocator::CarryProduct(const double* carry, const double* w) {
   const Eigen::Map<const Eigen::VectorXd> in(w, t_.m);
   Eigen::Map<Eigen::VectorXd, kBufferAlignment> out(carried_.data(), padded_);
   switch (t_.m) {
+    case 5:
+      return CarryProductSized<5>(carry, padded_, t_.m, in, out);
     case 6:
       return CarryProductSized<6>(carry, padded_, t_.m, in, out);
     case 7:
       return CarryProductSized<7>(carry, padded_, t_.m, in, out);
+    case 8:
+      return CarryProductSized<8>(carry, padded_, t_.m, in, out);
     default:
       return CarryProductSized<Eigen::Dynamic>(carry, padded_, t_.m, in, out);
   }
@@ -171,12 +180,18 @@ template <int M, class Vector>
 
 unsigned SpectralLocator::ClearWalls(const System& sp, int segment) const {
   switch (t_.m) {
+    case 5:
+      return ClearWallsOf<5>(sp, segment,
+                             Eigen::Map<const CarriedVector<5>, kBufferAlignment>(entry_.data()));
     case 6:
       return ClearWallsOf<6>(sp, segment,
                              Eigen::Map<const CarriedVector<6>, kBufferAlignment>(entry_.data()));
     case 7:
       return ClearWallsOf<7>(sp, segment,
                              Eigen::Map<const CarriedVector<7>, kBufferAlignment>(entry_.data()));
+    case 8:
+      return ClearWallsOf<8>(sp, segment,
+                             Eigen::Map<const CarriedVector<8>, kBufferAlignment>(entry_.data()));
     default:
       return ClearWallsOf<Eigen::Dynamic>(
           sp, segment, Eigen::Map<const Eigen::VectorXd, kBufferAlignment>(entry_.data(), padded_));
@@ -195,8 +210,12 @@ template <int M>
   const System& sp = systems_[segment][static_cast<int>(state.contact)];
   const double* block = sp.block;
   CarriedVector<M> w = EntryVector<M>();
-  // One pass for the first input (a copy followed by an update would re-read w just stored).
-  w = carried + state.z[t_.input_slot(0)] * Column(block, padded);
+  // One pass for the first input (a copy followed by an update would re-read w just stored);
+  // without inputs (no engine order, no errors) the carried state alone.
+  if (t_.inputs == 0)
+    w = carried;
+  else
+    w = carried + state.z[t_.input_slot(0)] * Column(block, padded);
   for (int q = 1; q < t_.inputs; ++q) {
     const double u = state.z[t_.input_slot(q)];
     if (u != 0.0) w += u * Column(block + static_cast<size_t>(q) * padded, padded);
@@ -239,10 +258,14 @@ SpectralLocator::Entry SpectralLocator::EnterCarriedOnce(int segment, LocatorSta
 
 SpectralLocator::Entry SpectralLocator::EnterCarried(int segment, LocatorState& state) {
   switch (t_.m) {
+    case 5:
+      return EnterCarriedOnce<5>(segment, state);
     case 6:
       return EnterCarriedOnce<6>(segment, state);
     case 7:
       return EnterCarriedOnce<7>(segment, state);
+    case 8:
+      return EnterCarriedOnce<8>(segment, state);
     default:
       return EnterCarriedOnce<Eigen::Dynamic>(segment, state);
   }
@@ -272,10 +295,14 @@ int SpectralLocator::CarryThroughSized(int segment, long cycle, SegmentTables::C
 int SpectralLocator::CarryThrough(int segment, long cycle, SegmentTables::CyclePhase& phase,
                                   LocatorState& state) {
   switch (t_.m) {
+    case 5:
+      return CarryThroughSized<5>(segment, cycle, phase, state);
     case 6:
       return CarryThroughSized<6>(segment, cycle, phase, state);
     case 7:
       return CarryThroughSized<7>(segment, cycle, phase, state);
+    case 8:
+      return CarryThroughSized<8>(segment, cycle, phase, state);
     default:
       return CarryThroughSized<Eigen::Dynamic>(segment, cycle, phase, state);
   }

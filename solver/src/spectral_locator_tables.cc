@@ -135,11 +135,12 @@ const double* SpectralLocator::BuildCarry(int segment, ContactState state) {
   auto norm1 = [](const Eigen::MatrixXd& a) { return a.cwiseAbs().colwise().sum().maxCoeff(); };
   double kappa = 0.0;
   Eigen::MatrixXd carry;
-  // The bound is taken in balanced coordinates D z (BalancingScale), where positions, velocities
-  // and forcing weigh alike: relative to |D_j z_j|_1, the error of D_{j+1} z_{j+1} is at most
-  // (m + 1) eps |D_{j+1} S_{j+1}|_1 |C_j|_1 |S_j^-1 D_j^-1|_1 (two rounded products).
+  // The bound is taken in balanced coordinates D z (DecompositionScale), where positions,
+  // velocities, forcing and the engine orders' responses weigh alike: relative to |D_j z_j|_1, the
+  // error of D_{j+1} z_{j+1} is at most (m + 1) eps |D_{j+1} S_{j+1}|_1 |C_j|_1 |S_j^-1 D_j^-1|_1
+  // (two rounded products).
   const SegmentSystem& sys = t_.systems[segment][static_cast<int>(state)];
-  const Eigen::VectorXd scale = BalancingScale(sys.A, t_.n, w_ref_[segment]);
+  const Eigen::VectorXd scale = DecompositionScale(sys.A, t_.n, w_ref_[segment]);
   const double from = norm1(d.S_inv * scale.cwiseInverse().asDiagonal());
   if (last) {
     carry = std::move(exit);
@@ -148,7 +149,7 @@ const double* SpectralLocator::BuildCarry(int segment, ContactState state) {
     exit.bottomRows(p).setZero();  // Pi: the next segment sets its own inputs
     carry = next->decomposition.S_inv * exit;
     const SegmentSystem& to = t_.systems[segment + 1][static_cast<int>(state)];
-    const Eigen::VectorXd next_scale = BalancingScale(to.A, t_.n, w_ref_[segment + 1]);
+    const Eigen::VectorXd next_scale = DecompositionScale(to.A, t_.n, w_ref_[segment + 1]);
     kappa = norm1(next_scale.asDiagonal() * next->decomposition.S) * norm1(carry) * from;
   }
   const double bound = (m + 1) * std::numeric_limits<double>::epsilon() * kappa;

@@ -29,7 +29,7 @@ long ForEachPeriodSegment(const TrainTables& t, long limit, const std::atomic<bo
   return count;
 }
 
-// The input slots of the grid segment's start (the excitation's and the errors' means) into z.
+// The input slots of the grid segment's start (the orders' states, the errors' means) into z.
 void SetGridInputs(const TrainTables& t, const TrainGrid& grid, Eigen::Ref<Eigen::VectorXd> z) {
   t.SetInputs(grid.cycles(), grid.segments(), grid.start(), grid.end() - grid.start(), z);
 }
@@ -84,8 +84,8 @@ void TrainCycleMap::BuildMap(TupleMemo& memo, std::vector<Eigen::MatrixXd>& prop
   ForEachPeriodSegment(t_, kWholePeriod, cancel, [&](const TrainGrid& grid) {
     const std::vector<int>& segments = grid.segments();
     const double h = grid.end() - grid.start();
-    // R_g: the input slots are set to the segment's mean excitation and mean manufacturing
-    // errors (times the constant slot).
+    // R_g: the input slots are set to the engine orders' states at the segment's start and the
+    // manufacturing errors' means (times the constant slot).
     SetGridInputs(t_, grid, inputs);
     for (int slot = t_.input_slot(); slot < m; ++slot) phi_.row(slot) = inputs[slot] * phi_.row(c);
     const Tuple& tuple = Lookup(memo, segments);

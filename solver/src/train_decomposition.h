@@ -11,7 +11,7 @@
 //   S = [[S_c, 0], [0, I]] (reordered), B0 = [[B0_c, 0, 0], [0, 0, I], [G, 0, 0]],
 //   G = a_Q^T S_c[slots, cluster] (the slots are constant, so their rows of S_c lie on the
 //   cluster: the other entries are zero to rounding and are dropped).
-// Cost: a Schur form of 2p + 2 instead of 2n + 2 (the manual transmission at idle: 8 instead of
+// Cost: a Schur form of 2p + (m - 2n) instead of m (the manual transmission at idle: 8 instead of
 // 16 while the loose gears fly). Without free coordinates it is DecomposeGenerator itself.
 #pragma once
 

@@ -241,8 +241,11 @@ bool TrainSegmentRuns::Certify(const Run& run) const {
     const Eigen::Index row = static_cast<Eigen::Index>(w);
     const auto terms = wall_terms_.row(row).head(run.length);
     const double tolerance = run.tolerance[row];
-    const double reach = run.constant[row] + run.weights.row(row).dot(dev_) +
-                         run.input_weights.row(row).dot(abs_inputs_.head(lp)) + terms.maxCoeff();
+    // Without input slots (no engine order, no errors) the input weights have no columns (and no
+    // data to take a row of).
+    const double inputs = lp > 0 ? run.input_weights.row(row).dot(abs_inputs_.head(lp)) : 0.0;
+    const double reach =
+        run.constant[row] + run.weights.row(row).dot(dev_) + inputs + terms.maxCoeff();
     if (!(reach < -tolerance)) return false;
   }
   return true;

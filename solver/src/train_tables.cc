@@ -119,7 +119,7 @@ TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
   t.inertia = Eigen::Map<const Eigen::VectorXd>(train.body_inertia.data(), n);
   t.body_inertia = t.inertia;
   t.input_speed = spec.operating.speed;
-  t.excitation = spec.operating.excitation;
+  t.excitation = DistinctOrders(spec.operating.excitation);
   for (const TrainBody& b : topo.bodies) {
     t.body_names.push_back(b.name);
     t.loose.push_back(b.kind == BodyKind::kLooseGear);

@@ -111,29 +111,6 @@ TEST_CASE("a --tier the model cannot have names the flag and its text", "[app][e
   CHECK(run.err.find("got '5'") != std::string::npos);
 }
 
-TEST_CASE("the segment grid's setting is named by the app, not by the library", "[app][errors]") {
-  ExcitationOrderUnresolved::Facts facts;
-  facts.index = 1;
-  facts.order = 40.0;
-  facts.segments_per_period = 6.0;
-  facts.mesh = "the mesh";
-  facts.segments_per_cycle = 32;
-  facts.needed_segments_per_cycle = 43.0;
-  const ExcitationOrderUnresolved e(facts);
-  CHECK(e.path() == "operating.excitation[1].order");
-  CHECK(e.rule().find("raise segments_per_cycle (now 32) to about 43 or more") !=
-        std::string::npos);
-  CHECK(e.rule().find("analysis.") == std::string::npos);
-  const InputError named = app::UserNamed(e);
-  CHECK(named.path() == e.path());
-  CHECK(named.value() == "40");
-  CHECK(named.rule() == e.RuleNaming("analysis.segments_per_cycle"));
-  CHECK(named.rule().find("raise analysis.segments_per_cycle (now 32) to about 43 or more") !=
-        std::string::npos);
-  // Python users set it in the document too: the same path.
-  CHECK(app::UserNamed(e, kPython).rule() == named.rule());
-}
-
 TEST_CASE("failed atlas cells and orbit points name the YAML path the user set",
           "[app][errors][cli]") {
   // The cells and points keep their input errors as text; the commands word them as the error

@@ -45,8 +45,9 @@ TEST_CASE("every event method agrees with a tight CVODE reference on a strong-ra
   const ReferenceResult ref = SimulateReference(s.tables, z0, state0, ref_opt);
   REQUIRE(ref.status == ReferenceStatus::kSuccess);
   REQUIRE(exact.summary.status == SolverStatus::kSuccess);
-  // Double-sided rattle: impacts on both flanks, ~2.9 events per mesh cycle.
-  CHECK(exact.summary.drive_impacts > 50);
+  // Double-sided rattle: impacts on both flanks (45 drive impacts in the 50 cycles when the engine
+  // order became exact, 2026-12-05).
+  CHECK(exact.summary.drive_impacts > 35);
   CHECK(exact.summary.back_impacts >= 5);
   // The same event sequence, every one of the 50 cycles.
   REQUIRE(exact.trajectory.events.size() == ref.trajectory.events.size());

@@ -836,7 +836,7 @@ TEST_CASE("train tables: a decomposition with the free bodies split off reproduc
     z[n + j] = 0.3 * (j % 2 == 0 ? 1.0 : -1.0) * (j + 1);
   }
   z[s.tables.constant_slot()] = 1.0;
-  z[s.tables.input_slot()] = 800.0;
+  z[s.tables.input_slot()] = 800.0;  // the engine order's sine state (its cosine 0)
   int spectral = 0, split = 0;
   for (int a = 0; a < 3; ++a) {
     for (int b = 0; b < 3; ++b) {

@@ -31,7 +31,7 @@ constexpr double kSlowRunRefuseSeconds = 3600.0;
 // The term of rho that dominates it (BoundTupleRate): the highest undamped mode sqrt(lambda_max(
 // M^-1 K)), the symmetric damping lambda_max(M^-1 C), the gyroscopic (skew) part of a reduced
 // tier's damping, or tooth friction.
-enum class RateTerm { kStiffness, kDamping, kGyroscopic, kFriction };
+enum class RateTerm { kStiffness, kDamping, kGyroscopic, kFriction, kExcitation };
 const char* RateTermName(RateTerm term);
 
 // What a run costs, estimated before it starts, on the tuple the run starts in with every mesh in

@@ -26,10 +26,6 @@ struct GearboxLimits {
   // turbo gear units run at up to about 150-200 m/s, API 613); there centrifugal tooth loads,
   // windage and oil trapping, which the quasi-static mesh-stiffness model leaves out, dominate.
   static constexpr double kMaxPitchLineVelocity = 200.0;
-  // The solver holds the engine excitation at its mean over each segment (docs/solver.md), which
-  // keeps sinc^2(pi / N) of an order spanning N segments per period: >= 0.95 for N >= 8, and the
-  // staircase's first image lies at (N - 1) times the order's frequency or above.
-  static constexpr double kMinSegmentsPerExcitationPeriod = 8.0;
   // Pa: gear and shaft materials, from gear plastics (POM, PA: about 1-3 GPa; 0.5 leaves room for
   // soft grades) to tungsten carbide (about 700 GPa). A unit left out (206 Pa for 206 GPa) gave a
   // mesh stiffness of 1 N/m and an LSTE of kilometres.
@@ -78,12 +74,8 @@ double ToothUnitLoad(const GearSpec& a, const GearSpec& b, double torque_on_b);
 // InputError at `path` unless 0 <= inertia <= GearboxLimits::kMaxInertia (kg m^2, finite).
 void RequireInertiaWithinLimit(const std::string& path, double inertia);
 
-struct MeshSegmentation;
 struct TrainSpec;
 struct TrainTopology;
-
-// The longest segment of a mesh cycle's segmentation, as a fraction of the cycle.
-double LongestSegment(const MeshSegmentation& segmentation);
 
 // An SI value shown in `unit` with 6 significant digits: "1500 rpm".
 std::string InUnit(double value_si, const DisplayUnit& unit);
@@ -105,37 +97,5 @@ struct FastestMesh {
   std::string name;
 };
 FastestMesh FastestPitchLine(const TrainSpec& spec, const TrainTopology& topology);
-
-// An excitation order too high for the segment grid (RequireExcitationResolved): an InputError at
-// operating.excitation[i].order whose rule names the library's setting "segments_per_cycle"; the
-// app restates it at the name the user set it by (RuleNaming).
-class ExcitationOrderUnresolved : public InputError {
- public:
-  struct Facts {
-    size_t index = 0;  // in the list of orders
-    double order = 0.0;
-    double segments_per_period = 0.0;  // N
-    std::string mesh;
-    double longest_segment_fraction = 0.0, cycles_per_revolution = 0.0;
-    int segments_per_cycle = 0;              // now
-    double needed_segments_per_cycle = 0.0;  // that would resolve the order
-  };
-  explicit ExcitationOrderUnresolved(Facts facts);
-  // The rule with the setting called `setting` ("analysis.segments_per_cycle").
-  std::string RuleNaming(const std::string& setting) const;
-
- private:
-  Facts facts_;
-};
-
-// The excitation-resolution rule of a pair (its solver holds the orders at their mean per segment;
-// a train carries them exactly and has none): one period of order k of a shaft spans
-// N = c / (k f_max) segments of a mesh whose cycle repeats c times per revolution of that shaft
-// and whose longest segment is the fraction f_max of its cycle; N must be >=
-// kMinSegmentsPerExcitationPeriod. ExcitationOrderUnresolved naming N, the mesh and the
-// segments_per_cycle (`segments_per_cycle` now) that would resolve it.
-void RequireExcitationResolved(const std::vector<ExcitationOrder>& orders,
-                               double cycles_per_revolution, double longest_segment_fraction,
-                               int segments_per_cycle, const std::string& mesh);
 
 }  // namespace gearnvh

@@ -1,16 +1,20 @@
 // Piecewise-LTI model of the gear pair and its exact propagators (docs/design.md §4.1–4.2).
 //
-// Augmented state z = [x; x'; 1; u] (dimension m = 2n + 1 + p): x reduced coordinates, u the p
-// inputs held at their mean over the current segment: u_0 = s, the engine-order excitation
-// (rad/s^2), and, when the gears carry runout or pitch errors, u_1 = e_err, the mesh's
-// manufacturing transmission error (m, model/manufacturing_errors.h). Per segment j and contact
-// state sigma in {drive (+), free (0), back (-)}:
-//   z' = A_{j,sigma} z,  A = [[0, I, 0, 0], [-M^-1 K_s, -M^-1 C_s, M^-1 f_s, M^-1 B_s], [0...]]
-//   drive: K_s = K + k (v + mu w) v^T,  C_s = C + Omega1 G + c (v + mu w) v^T,
+// Augmented state z = [x; x'; 1; q; u] (dimension m = 2n + 1 + p): x reduced coordinates, q the
+// exosystem of the K engine orders s(t) = sum_k a_k sin(w_k t + phi_k), w_k = order_k Omega1 (per
+// order q_k = a_k [sin, cos](w_k t + phi_k), q_k' = w_k [[0, 1], [-1, 0]] q_k, s = sum_k q_k,sin:
+// carried exactly, DESIGN §14), and, when the gears carry runout or pitch errors, u = e_err, the
+// mesh's manufacturing transmission error (m, model/manufacturing_errors.h) held at its mean over
+// the current segment; p = 2K (+ 1 with errors) input slots, set at each segment's start. Per
+// segment j and contact state sigma in {drive (+), free (0), back (-)}:
+//   z' = A_{j,sigma} z,  A = [[0, I, 0, 0], [-M^-1 K_s, -M^-1 C_s, M^-1 f_s, M^-1 B_s], [0, 0, 0,
+//   W]] drive: K_s = K + k (v + mu w) v^T,  C_s = C + Omega1 G + c (v + mu w) v^T,
 //          f_s = f + k (e + b)(v + mu w),  B_s = [d, k (v + mu w)]
 //   free:  K_s = K,  C_s = C + Omega1 G,  f_s = f,  B_s = [d, 0]
 //   back:  K_s = K + k (v' - mu w') v'^T,  C_s = C + Omega1 G + c (v' - mu w') v'^T,
 //          f_s = f + k (e - b)(v' - mu w'),  B_s = [d, k (v' - mu w')]
+// (B_s's first column d on each order's sine state, zero on its cosine; W = diag(w_k [[0, 1],
+// [-1, 0]]) turns the orders' states, the error slot has a zero row)
 // with k the segment's mean mesh stiffness, c the mesh damping, e the
 // segment's unloaded error, b = backlash / 2, w/w' the segment's friction vectors, f the static
 // load and d = J1 e_pinion the excitation direction (torque J1 s on the pinion). Gaps (affine in
@@ -48,7 +52,7 @@ struct SegmentSystem {
 
 struct SegmentTables {
   int n = 0;                       // reduced DOF
-  int inputs = 1;                  // p: the excitation, plus the manufacturing error when active
+  int inputs = 0;  // p: 2 per engine order, plus the manufacturing error when active
   int m = 0;                       // augmented dimension 2n + 1 + p
   double mesh_period = 0.0;        // s
   double pinion_speed = 0.0;       // rad/s
@@ -78,11 +82,15 @@ struct SegmentTables {
 
   MeshErrorExcitation errors;  // runout and pitch errors (inactive: no error input)
 
-  static constexpr int kExcitationInput = 0, kErrorInput = 1;
   int constant_slot() const { return 2 * n; }
   int input_slot(int input) const { return 2 * n + 1 + input; }
-  // Sets the input slots of z to their means over segment `segment` of mesh cycle `cycle`
-  // (cycles counted from t = 0). Allocation-free.
+  // The input index of order k's sine state (its cosine follows), and of the error input.
+  static int ExcitationInput(int order) { return 2 * order; }
+  int error_input() const { return 2 * static_cast<int>(excitation.size()); }
+  bool has_error_input() const { return inputs > error_input(); }
+  // Sets the input slots of z at the start of segment `segment` of mesh cycle `cycle` (cycles
+  // counted from t = 0): the orders' states there (exact) and the error's mean over the segment.
+  // Allocation-free.
   void SetInputs(long cycle, int segment, Eigen::Ref<Eigen::VectorXd> z) const;
   // An upper bound of |u_input| over all segments.
   double InputBound(int input) const;
@@ -94,31 +102,27 @@ struct SegmentTables {
   double SegmentLength(int j) const { return boundaries[j + 1] - boundaries[j]; }
   // reference_frequency[j], or computed from the systems when the tables have none.
   double SegmentReferenceFrequency(int j) const;
-  // Mean of sum_k a_k sin(k Omega1 t + phi_k) over [t0, t0 + h], rad/s^2 (closed form).
-  double MeanExcitation(double t0, double h) const;
-  // The excitation input of segment `segment` of `cycle` (SetInputs without phases: one sine per
-  // order through the windows, or MeanExcitation when the tables have none).
-  double SegmentExcitationMean(long cycle, int segment) const;
-  // Per segment and order, the averaging window sinc(w_k h_j / 2) of MeanExcitation, so that
-  // SetInputs evaluates one sine per order (BuildSegmentTables fills it; tables assembled by
-  // hand without it fall back to MeanExcitation).
-  std::vector<double> excitation_windows;
-  // Per order and segment (order-major: entry k * segments() + j), a_k sinc(w_k h_j / 2)
-  // cos(psi_kj) and ... sin(psi_kj), psi_kj =
-  // w_k (t_j + h_j / 2) the phase of the segment's midpoint within a cycle (filled with the
-  // windows). With theta_k(c) = w_k c T + phi_k the mean over segment j of cycle c is
-  //   sum_k sin(theta_k) midpoint_cos_kj + cos(theta_k) midpoint_sin_kj,
+  // The excitation s(t), rad/s^2, and its highest frequency max_k w_k (0 without orders), rad/s.
+  double Excitation(double t) const;
+  double HighestExcitationFrequency() const;
+  // Per order and segment (order-major: entry k * segments() + j), a_k cos(psi_kj) and
+  // a_k sin(psi_kj), psi_kj = w_k t_j the phase of the segment's start within a cycle. With
+  // theta_k(c) = w_k c T + phi_k the orders' states at the start of segment j of cycle c are
+  //   a_k sin(theta + psi) = sin(theta) start_cos_kj + cos(theta) start_sin_kj,
+  //   a_k cos(theta + psi) = cos(theta) start_cos_kj - sin(theta) start_sin_kj,
   // so a stepper that keeps theta's sine and cosine per cycle (CyclePhase) needs no trigonometry
-  // per segment.
-  std::vector<double> excitation_midpoint_cos, excitation_midpoint_sin;
-  void PrepareExcitationWindows();
+  // per segment. BuildSegmentTables fills them; tables assembled by hand without them evaluate
+  // the states directly.
+  std::vector<double> excitation_start_cos, excitation_start_sin;
+  void PrepareExcitationPhases();
   // sin and cos of every order's phase theta_k(cycle) at the start of `cycle` (cycle -1: none yet)
   // and the excitation input of every segment of that cycle (excitation[j]).
   struct CyclePhase {
     long cycle = -1;
     std::vector<double> sin, cos;
+    // The orders' states at every segment's start (segment-major: 2K entries per segment).
     std::vector<double> excitation;
-    std::vector<double> error;  // the error input of every segment (inputs > kErrorInput)
+    std::vector<double> error;  // the error input of every segment (has_error_input())
   };
   // SetInputs with the cycle's inputs kept in `phase` (filled by PrepareCycleInputs when the cycle
   // changes): one sincos per order and cycle instead of a sine per order and segment, and per
@@ -131,19 +135,20 @@ struct SegmentTables {
   // SetInputs in two steps for a loop over the segments of one cycle: the cycle's inputs, then
   // per segment the slots (no call in the loop).
   void PrepareCycle(long cycle, CyclePhase& phase) const {
-    if (phase.cycle != cycle || phase.excitation.size() != systems.size() ||
-        (inputs > kErrorInput && phase.error.size() != systems.size())) [[unlikely]]
+    const size_t states = static_cast<size_t>(error_input());
+    if (phase.cycle != cycle || phase.excitation.size() != states * systems.size() ||
+        (has_error_input() && phase.error.size() != systems.size())) [[unlikely]]
       PrepareCycleInputs(cycle, phase);
   }
   void SetPreparedInputs(int segment, Eigen::Ref<Eigen::VectorXd> z,
                          const CyclePhase& phase) const {
-    z[input_slot(kExcitationInput)] = phase.excitation[static_cast<size_t>(segment)];
-    if (inputs > kErrorInput)
-      z[input_slot(kErrorInput)] = phase.error[static_cast<size_t>(segment)];
+    const int states = error_input();
+    const double* q = phase.excitation.data() + static_cast<size_t>(segment) * states;
+    for (int i = 0; i < states; ++i) z[input_slot(i)] = q[i];
+    if (has_error_input()) z[input_slot(error_input())] = phase.error[static_cast<size_t>(segment)];
   }
-  // Fills `phase` for `cycle`: the phases and, per segment, sum_k sin(theta_k) midpoint_cos_kj +
-  // cos(theta_k) midpoint_sin_kj (the same sums, in the same order, as per segment); tables
-  // assembled by hand without the midpoint phases take SetInputs(cycle, j, z)'s sine per segment.
+  // Fills `phase` for `cycle`: the phases and, per segment, the orders' states at its start by the
+  // angle sums above; tables assembled by hand without the start phases evaluate them directly.
   // Allocates only when the segment count changes (the first cycle).
   void PrepareCycleInputs(long cycle, CyclePhase& phase) const;
   // A CyclePhase sized for these tables (PrepareCycleInputs then allocates nothing).
@@ -168,14 +173,20 @@ void RemoveFreeRotation(const SegmentTables& tables, Eigen::Ref<Eigen::MatrixXd>
 // every gap and force depends on. Used to compare states that may differ only by that rotation.
 Eigen::VectorXd ElasticPart(const SegmentTables& tables, const Eigen::VectorXd& z);
 
+// The orders with equal `order` merged into one (sum_k a_k sin(theta + phi_k) = A sin(theta + Phi),
+// A e^{i Phi} = sum_k a_k e^{i phi_k}), in their first order of appearance: two exosystems of one
+// frequency would make every decomposition's eigenvalues +-i w double (ill-conditioned).
+std::vector<ExcitationOrder> DistinctOrders(const std::vector<ExcitationOrder>& orders);
+
 // Builds the tables for one operating point. `spec` gives speed, excitation, damping and friction.
-// The inputs p the state carries: the engine excitation, plus the manufacturing error when a gear
-// has runout or pitch errors.
-int InputCount(const ComponentModel& model);
+// The inputs p the state carries: two states per engine order, plus the manufacturing error when
+// a gear has runout or pitch errors.
+int InputCount(const ComponentModel& model, const std::vector<ExcitationOrder>& orders);
 // The one definition of a tier's state dimension, as the solver runs it: m = 2n + 1 + p
 // (positions, velocities, the constant slot, the inputs). `check`, `simulate`, `tiers` and the
 // reports print this number.
-int StateDimension(const ComponentModel& model, const ReducedModel& reduced);
+int StateDimension(const ComponentModel& model, const ReducedModel& reduced,
+                   const std::vector<ExcitationOrder>& orders);
 
 // `cancel` (SolverOptions::cancel) is polled per segment: RunCancelled once set.
 SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel& reduced,

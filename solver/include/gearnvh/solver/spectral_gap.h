@@ -8,8 +8,9 @@
 // then T22 = V diag(B1, ..., Bp) V^-1 with V unit upper triangular, its block columns the
 // eigenvectors of T22 (LAPACK dtrevc3) scaled to identity diagonal blocks.
 // The result is A = S diag(B0, B1, ..., Bp) S^-1 with B0 the cluster of eigenvalues |lambda| <=
-// zero_tolerance * rho (rigid-body rotations, the constant and excitation slots: nilpotent up to
-// rounding, so e^{B0 t} is a short power series) and B1..Bp single real eigenvalues (1x1) or
+// zero_tolerance * rho (rigid-body rotations, the constant and error slots, an engine order's
+// exosystem when its frequency is that low: nilpotent or nearly so, so e^{B0 t} is a short power
+// series) and B1..Bp single real eigenvalues (1x1) or
 // complex pairs sigma +- i omega (2x2, e^{Bt} = e^{sigma t}[cos(omega t) I + sin(omega t)/omega
 // (B - sigma I)]). cond(S) = |S|_1 |S^-1|_1 is recorded; above the caller's limit (nearly equal
 // eigenvalues of different blocks) the decomposition reports kIllConditioned and the solver
@@ -61,6 +62,12 @@ const char* SpectralInfoName(SpectralDecomposition::Info info);
 // velocities, and on each constant or input slot the scale that gives its forcing column the norm
 // w_ref. Norms of D z weigh positions, velocities and forcing alike.
 Eigen::VectorXd BalancingScale(const Eigen::MatrixXd& A, int n, double w_ref);
+// BalancingScale with each exosystem pair (an engine order's two states) scaled to the response it
+// forces, a / (w min(w, w_ref)) per unit forcing a: the decomposition's balance (its eigenvectors
+// of +-i w would be out of balance by (w_ref / w)^2 under the forcing scale) and the norm of the
+// carry's error bound. The max-norm bounds of the dense path and of segment-run fusion take
+// BalancingScale, which keeps the exosystem's states small.
+Eigen::VectorXd DecompositionScale(const Eigen::MatrixXd& A, int n, double w_ref);
 // ||D A D^-1||_inf for a diagonal scale D (e.g. BalancingScale): with q = this norm times d, the
 // degree-P Taylor polynomial of e^{A tau} y, 0 <= tau <= d, is within e^q q^(P+1) / (P+1)!
 // ||D y||_inf of it in the norm ||D .||_inf.

@@ -4,9 +4,10 @@
 // Common period T_c (TrainTables::common_period): C_i = T_c / T_i whole cycles of every mesh and
 // whole periods of every engine order, so with every mesh in one contact state sigma_i (drive or
 // back) the train is linear and T_c-periodic. Its grid segments g = 1..G of [0, T_c) (the union
-// grid, TrainGrid) each have the generator A_g of their tuple and the input u_g (the excitation's
-// mean over the grid segment), held as the stepper holds it: at the segment start the input slot
-// is set, z <- R_g z with R_g = I - e_u e_u^T + u_g e_u e_1^T (e_1 the constant slot), so
+// grid, TrainGrid) each have the generator A_g of their tuple and the inputs u_g (the engine
+// orders' states at the grid segment's start, the errors' means over it), set as the stepper sets
+// them: at the segment start every input slot s is set, z <- R_g z with R_g = I - sum_s e_s e_s^T
+// + sum_s u_g,s e_s e_1^T (e_1 the constant slot), so
 //   Phi = prod_g expm(A_g h_g) R_g   (m x m, affine through the constant slot),
 // Phi^k z is the state after k common periods, bit for bit the maps the stepper applies up to
 // rounding. (The pair refuses a cycle map with an engine order because one mesh cycle is not a

@@ -3,9 +3,9 @@
 // combination, used when a certificate proves that no wall of any mesh is reached over the run.
 //
 // Run. At grid position p of the common period (p a multiple of r = 2^l, p + r <= G, G the
-// period's grid segments) the stepper sets the input slots to u_i (the excitation's and the
-// errors' means, SetInputs) at each grid segment start and applies expm(A_i h_i). With Pi = I on
-// every slot but the inputs' (cleared), that is affine in z and in the u_i:
+// period's grid segments) the stepper sets the input slots to u_i (the engine orders' states and
+// the errors' means, SetInputs) at each grid segment start and applies expm(A_i h_i). With Pi = I
+// on every slot but the inputs' (cleared), that is affine in z and in the u_i:
 //   z_end = P Pi z + sum_i U_i u_i,   P = Phi_{r-1} Pi ... Phi_0 Pi,   Phi_i = expm(A_i h_i)
 // (balanced Pade, as the cycle map), U_i (m x p) the images of the slots set at grid segment i.
 // Built lazily per (contact combination, position, level) from the grid segments' tuples and

@@ -1,7 +1,8 @@
 // Exact event-driven propagation of a gear train at tier 1 (docs/design.md §11, §4.4).
 //
 // Grid: TrainGrid walks the union of every mesh's segment boundaries (train_tables.h). Per grid
-// segment of length h the input slot holds the excitation's mean over the whole grid segment, and
+// segment of length h the engine orders' states are set to their values at its start (then carried
+// exactly by the generator's exosystem) and the error inputs to their means over it, and
 // the tuple (segment index, contact state) of every mesh fixes the generator (TrainSystemCache).
 // Per tuple with a usable decomposition (V3): w = S^-1 z, and every relevant wall of every mesh has
 // its closed-form gap (ClosedFormGap::FirstRise):

@@ -1,8 +1,8 @@
 // Tangent propagation along an exact train run (docs/design.md §11, docs/gear-trains.md).
 //
 // The columns of V (m x k, zero in the constant and input slots) carry the derivative of the
-// train's state z = [x; x'; 1; u] with respect to the initial state. TrainStepper advances them by
-// the same maps that move the state (TrainStepper::AttachTangent):
+// train's state z = [x; x'; 1; q; u] with respect to the initial state. TrainStepper advances them
+// by the same maps that move the state (TrainStepper::AttachTangent):
 //   a piece of length tau on a spectral tuple     V <- S e^{D tau} S^-1 V  (the state's closed
 //   form) a piece on the dense (Taylor) path            V <- expm(A tau) V, Taylor with rho(A) tau
 //   <= 1/2 a state-triggered event of mesh i             V <- (I + (f+ - f-) n_i^T / (n_i^T f-)) V
