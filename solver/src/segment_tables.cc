@@ -23,18 +23,36 @@ const char* ContactStateName(ContactState s) {
   return "?";
 }
 
-double SegmentTables::Excitation(double t) const {
+double OrdersValue(const std::vector<ExcitationOrder>& orders, double speed, double t) {
   double sum = 0.0;
-  for (const ExcitationOrder& e : excitation)
-    sum += e.amplitude * std::sin(e.order * pinion_speed * t + e.phase);
+  for (const ExcitationOrder& e : orders)
+    sum += e.amplitude * std::sin(e.order * speed * t + e.phase);
   return sum;
 }
 
-double SegmentTables::HighestExcitationFrequency() const {
+double HighestOrderFrequency(const std::vector<ExcitationOrder>& orders, double speed) {
   double highest = 0.0;
-  for (const ExcitationOrder& e : excitation)
-    highest = std::max(highest, std::abs(e.order * pinion_speed));
+  for (const ExcitationOrder& e : orders) highest = std::max(highest, std::abs(e.order * speed));
   return highest;
+}
+
+void SetOrderStates(const std::vector<ExcitationOrder>& orders, double speed, double t,
+                    int first_slot, Eigen::Ref<Eigen::VectorXd> z) {
+  for (size_t k = 0; k < orders.size(); ++k) {
+    const ExcitationOrder& e = orders[k];
+    const double angle = e.order * speed * t + e.phase;
+    const int slot = first_slot + 2 * static_cast<int>(k);
+    z[slot] = e.amplitude * std::sin(angle);
+    z[slot + 1] = e.amplitude * std::cos(angle);
+  }
+}
+
+double SegmentTables::Excitation(double t) const {
+  return OrdersValue(excitation, pinion_speed, t);
+}
+
+double SegmentTables::HighestExcitationFrequency() const {
+  return HighestOrderFrequency(excitation, pinion_speed);
 }
 
 void SegmentTables::PrepareExcitationPhases() {
@@ -106,13 +124,7 @@ void SegmentTables::PrepareCycleInputs(long cycle, CyclePhase& phase) const {
 
 void SegmentTables::SetInputs(long cycle, int segment, Eigen::Ref<Eigen::VectorXd> z) const {
   const double start = static_cast<double>(cycle) * mesh_period + boundaries[segment];
-  for (size_t k = 0; k < excitation.size(); ++k) {
-    const ExcitationOrder& e = excitation[k];
-    const double angle = e.order * pinion_speed * start + e.phase;
-    const int slot = input_slot(ExcitationInput(static_cast<int>(k)));
-    z[slot] = e.amplitude * std::sin(angle);
-    z[slot + 1] = e.amplitude * std::cos(angle);
-  }
+  SetOrderStates(excitation, pinion_speed, start, input_slot(0), z);
   if (has_error_input())
     z[input_slot(error_input())] =
         errors.SegmentMean(cycle, segment, start, SegmentLength(segment));

@@ -41,13 +41,7 @@ void TrainTables::SetInputs(const std::vector<long>& cycles, const std::vector<i
 }
 
 void TrainTables::SetExcitation(double t, Eigen::Ref<Eigen::VectorXd> z) const {
-  for (size_t k = 0; k < excitation.size(); ++k) {
-    const ExcitationOrder& e = excitation[k];
-    const double angle = e.order * input_speed * t + e.phase;
-    const int slot = ExcitationSlot(static_cast<int>(k));
-    z[slot] = e.amplitude * std::sin(angle);
-    z[slot + 1] = e.amplitude * std::cos(angle);
-  }
+  SetOrderStates(excitation, input_speed, t, ExcitationSlot(0), z);
 }
 
 void TrainTables::AddExcitationColumns(Eigen::Ref<Eigen::MatrixXd> A) const {
@@ -60,18 +54,10 @@ void TrainTables::AddExcitationColumns(Eigen::Ref<Eigen::MatrixXd> A) const {
   }
 }
 
-double TrainTables::Excitation(double t) const {
-  double sum = 0.0;
-  for (const ExcitationOrder& e : excitation)
-    sum += e.amplitude * std::sin(e.order * input_speed * t + e.phase);
-  return sum;
-}
+double TrainTables::Excitation(double t) const { return OrdersValue(excitation, input_speed, t); }
 
 double TrainTables::HighestExcitationFrequency() const {
-  double highest = 0.0;
-  for (const ExcitationOrder& e : excitation)
-    highest = std::max(highest, std::abs(e.order * input_speed));
-  return highest;
+  return HighestOrderFrequency(excitation, input_speed);
 }
 
 void TrainTables::AddErrorColumns(const std::vector<int>& segments,

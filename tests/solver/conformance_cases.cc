@@ -44,7 +44,8 @@ GearboxSpec GrazingSpec() {
 constexpr double kPairGrazingDepth = 1e-6;  // eta
 
 // Idle rattle with a pinion runout of a fifth of the half backlash: the state carries the
-// manufacturing-error input (tier 1: m = 7), which the carried V3 path sets per segment.
+// manufacturing-error input (tier 1: m = 8 with the engine order's two states), which the carried
+// V3 path sets per segment.
 GearboxSpec IdleRattleRunoutSpec() {
   GearboxSpec spec = IdleRattleSpec();
   spec.pinion.runout = Runout{0.2 * spec.mesh.backlash / 2.0, 0.4};
@@ -105,8 +106,10 @@ class PairCase final : public ConformanceCase {
   const char* name() const override { return PairName(id_); }
   int positions() const override { return PairSetup(id_).tables.n; }
   double segment_length() const override { return PairSetup(id_).tables.SegmentLength(0); }
-  // Measured <= 1.5e-10 relative (V1 included): 1e-9.
-  double state_bound(bool) const override { return 1e-9; }
+  // Measured <= 1.5e-10 relative (V1 included, GCC) and 1.2e-9 (the rattle with runout, V3 vs V1,
+  // clang with the sanitizers, once the engine order became exact: the rattle amplifies each
+  // build's rounding differently): 3e-9.
+  double state_bound(bool) const override { return 3e-9; }
 
   ConformanceOutcome Run(EventMethod method) const override {
     const PairRun run = RunPair(method, id_);

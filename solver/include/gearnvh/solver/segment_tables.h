@@ -173,6 +173,15 @@ void RemoveFreeRotation(const SegmentTables& tables, Eigen::Ref<Eigen::MatrixXd>
 // every gap and force depends on. Used to compare states that may differ only by that rotation.
 Eigen::VectorXd ElasticPart(const SegmentTables& tables, const Eigen::VectorXd& z);
 
+// Engine orders of a shaft turning at `speed` (rad/s), for the pair's and the train's tables: the
+// excitation sum_k a_k sin(order_k speed t + phi_k) at time t (rad/s^2), its highest frequency
+// (rad/s), and the exosystem's states a_k [sin, cos](order_k speed t + phi_k) written from
+// z[first_slot] on (two per order).
+double OrdersValue(const std::vector<ExcitationOrder>& orders, double speed, double t);
+double HighestOrderFrequency(const std::vector<ExcitationOrder>& orders, double speed);
+void SetOrderStates(const std::vector<ExcitationOrder>& orders, double speed, double t,
+                    int first_slot, Eigen::Ref<Eigen::VectorXd> z);
+
 // The orders with equal `order` merged into one (sum_k a_k sin(theta + phi_k) = A sin(theta + Phi),
 // A e^{i Phi} = sum_k a_k e^{i phi_k}), in their first order of appearance: two exosystems of one
 // frequency would make every decomposition's eigenvalues +-i w double (ill-conditioned).
