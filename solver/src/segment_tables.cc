@@ -47,6 +47,18 @@ void SetOrderStates(const std::vector<ExcitationOrder>& orders, double speed, do
   }
 }
 
+void AddOrderColumns(const std::vector<ExcitationOrder>& orders, double speed, int n,
+                     int first_slot, const Eigen::VectorXd& acceleration,
+                     Eigen::Ref<Eigen::MatrixXd> A) {
+  for (size_t k = 0; k < orders.size(); ++k) {
+    const int slot = first_slot + 2 * static_cast<int>(k);
+    const double w = orders[k].order * speed;
+    A.block(n, slot, n, 1) = acceleration;
+    A(slot, slot + 1) = w;
+    A(slot + 1, slot) = -w;
+  }
+}
+
 double SegmentTables::Excitation(double t) const {
   return OrdersValue(excitation, pinion_speed, t);
 }
@@ -95,11 +107,11 @@ void SegmentTables::PrepareCycleInputs(long cycle, CyclePhase& phase) const {
   const size_t entries = orders * count;
   if (excitation_start_cos.size() != entries || excitation_start_sin.size() != entries) {
     // Tables assembled by hand: no start phases, a sine and a cosine per order and segment.
-    Eigen::VectorXd z = Eigen::VectorXd::Zero(m);
     for (size_t j = 0; j < count; ++j) {
-      SetInputs(cycle, static_cast<int>(j), z);
-      for (size_t i = 0; i < states; ++i)
-        phase.excitation[j * states + i] = z[input_slot(static_cast<int>(i))];
+      const double start = static_cast<double>(cycle) * mesh_period + boundaries[j];
+      SetOrderStates(excitation, pinion_speed, start, 0,
+                     Eigen::Map<Eigen::VectorXd>(phase.excitation.data() + j * states,
+                                                 static_cast<Eigen::Index>(states)));
     }
     return;
   }
@@ -335,14 +347,7 @@ SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel
       sys.A.block(n, 0, n, n) = -mass.solve(K);
       sys.A.block(n, n, n, n) = -mass.solve(C);
       sys.A.block(n, 2 * n, n, 1) = mass.solve(f);
-      const Eigen::VectorXd order_column = mass.solve(d);
-      for (size_t k = 0; k < t.excitation.size(); ++k) {
-        const int slot = t.input_slot(SegmentTables::ExcitationInput(static_cast<int>(k)));
-        const double w = t.excitation[k].order * t.pinion_speed;
-        sys.A.block(n, slot, n, 1) = order_column;
-        sys.A(slot, slot + 1) = w;
-        sys.A(slot + 1, slot) = -w;
-      }
+      AddOrderColumns(t.excitation, t.pinion_speed, n, t.input_slot(0), mass.solve(d), sys.A);
       sys.gap_drive = Eigen::RowVectorXd::Zero(m);
       sys.gap_drive.head(n) = r.v_drive.transpose();
       sys.gap_drive[2 * n] = -(e + b);

@@ -1,6 +1,5 @@
 // The inputs of a gear train (train_tables.h): the engine orders' exosystem and the meshes'
 // manufacturing error inputs.
-#include <algorithm>
 #include <cmath>
 
 #include "gearnvh/solver/train_tables.h"
@@ -45,13 +44,8 @@ void TrainTables::SetExcitation(double t, Eigen::Ref<Eigen::VectorXd> z) const {
 }
 
 void TrainTables::AddExcitationColumns(Eigen::Ref<Eigen::MatrixXd> A) const {
-  for (size_t k = 0; k < excitation.size(); ++k) {
-    const int slot = ExcitationSlot(static_cast<int>(k));
-    const double w = excitation[k].order * input_speed;
-    for (int r = 0; r < n; ++r) A(n + r, slot) = excitation_direction[r] / inertia[r];
-    A(slot, slot + 1) = w;
-    A(slot + 1, slot) = -w;
-  }
+  AddOrderColumns(excitation, input_speed, n, ExcitationSlot(0),
+                  excitation_direction.cwiseQuotient(inertia), A);
 }
 
 double TrainTables::Excitation(double t) const { return OrdersValue(excitation, input_speed, t); }

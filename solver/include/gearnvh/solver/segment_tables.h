@@ -7,8 +7,9 @@
 // mesh's manufacturing transmission error (m, model/manufacturing_errors.h) held at its mean over
 // the current segment; p = 2K (+ 1 with errors) input slots, set at each segment's start. Per
 // segment j and contact state sigma in {drive (+), free (0), back (-)}:
-//   z' = A_{j,sigma} z,  A = [[0, I, 0, 0], [-M^-1 K_s, -M^-1 C_s, M^-1 f_s, M^-1 B_s], [0, 0, 0,
-//   W]] drive: K_s = K + k (v + mu w) v^T,  C_s = C + Omega1 G + c (v + mu w) v^T,
+//   z' = A_{j,sigma} z,
+//   A = [[0, I, 0, 0], [-M^-1 K_s, -M^-1 C_s, M^-1 f_s, M^-1 B_s], [0, 0, 0, W]]
+//   drive: K_s = K + k (v + mu w) v^T,  C_s = C + Omega1 G + c (v + mu w) v^T,
 //          f_s = f + k (e + b)(v + mu w),  B_s = [d, k (v + mu w)]
 //   free:  K_s = K,  C_s = C + Omega1 G,  f_s = f,  B_s = [d, 0]
 //   back:  K_s = K + k (v' - mu w') v'^T,  C_s = C + Omega1 G + c (v' - mu w') v'^T,
@@ -181,6 +182,12 @@ double OrdersValue(const std::vector<ExcitationOrder>& orders, double speed, dou
 double HighestOrderFrequency(const std::vector<ExcitationOrder>& orders, double speed);
 void SetOrderStates(const std::vector<ExcitationOrder>& orders, double speed, double t,
                     int first_slot, Eigen::Ref<Eigen::VectorXd> z);
+// Adds the orders' exosystem to a generator with n coordinates: per order k, its sine state (slot
+// first_slot + 2k) drives the accelerations through `acceleration` (M^-1 d, per unit of s) and
+// W_k = w_k [[0, 1], [-1, 0]] turns its two states.
+void AddOrderColumns(const std::vector<ExcitationOrder>& orders, double speed, int n,
+                     int first_slot, const Eigen::VectorXd& acceleration,
+                     Eigen::Ref<Eigen::MatrixXd> A);
 
 // The orders with equal `order` merged into one (sum_k a_k sin(theta + phi_k) = A sin(theta + Phi),
 // A e^{i Phi} = sum_k a_k e^{i phi_k}), in their first order of appearance: two exosystems of one
