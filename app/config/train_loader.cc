@@ -80,8 +80,14 @@ TrainSpec ReadTrainDocument(Reader& r, const YAML::Node& root) {
 
   r.ForEachItem(root, "", "meshes", true, [&](const YAML::Node& item, const std::string& p) {
     TrainMesh mesh;
-    mesh.mesh = ReadMesh(r, item, p, {"gears", "center_line_angle"});
+    mesh.mesh = ReadMesh(r, item, p, {"gears", "center_line_angle", "effective_mass"});
     mesh.center_line_angle = r.Quantity(item, p, "center_line_angle", Dimension::kAngle, 0.0);
+    const std::string mass = r.String(item, p, "effective_mass", std::string("bodies"));
+    if (mass != "bodies" && mass != "gears") {
+      r.Fail(Join(p, "effective_mass"), item["effective_mass"], "'" + mass + "'",
+             "must be bodies or gears");
+    }
+    mesh.effective_mass = mass == "gears" ? MeshEffectiveMass::kGears : MeshEffectiveMass::kBodies;
     const YAML::Node pair = r.Child(item, p, "gears", true);
     if (!pair.IsSequence() || pair.size() != 2 || !pair[0].IsScalar() || !pair[1].IsScalar()) {
       r.Fail(Join(p, "gears"), pair, ListText(pair),

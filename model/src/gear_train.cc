@@ -126,8 +126,18 @@ GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& opti
   }
 
   for (size_t m = 0; m < train.meshes.size(); ++m) {
-    SetMeshKinematics(spec, topo, m, train.meshes[m]);
-    BuildMeshCycle(spec, options, train.meshes[m]);
+    TrainMeshModel& mesh = train.meshes[m];
+    SetMeshKinematics(spec, topo, m, mesh);
+    BuildMeshCycle(spec, options, mesh);
+    const bool gears = spec.meshes[m].effective_mass == MeshEffectiveMass::kGears;
+    const auto inertia = [&](int gear, int body) {
+      const GearSpec& g = spec.gears[static_cast<size_t>(gear)].gear;
+      return gears ? DiskBody(g, spec.materials.at(g.material)).polar
+                   : train.body_inertia[static_cast<size_t>(body)];
+    };
+    const double ja = inertia(mesh.gear_a, mesh.body_a), jb = inertia(mesh.gear_b, mesh.body_b);
+    const double ra = mesh.geometry.pinion.base, rb = mesh.geometry.wheel.base;
+    mesh.effective_mass = ja * jb / (ja * rb * rb + jb * ra * ra);
   }
   ApplyShaftMisalignment(spec, options, train);
   for (TrainMeshModel& mesh : train.meshes) {
@@ -145,6 +155,10 @@ GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& opti
     }
   }
   return train;
+}
+
+double TrainMeshModel::Damping() const {
+  return 2.0 * gearbox.mesh.damping_ratio * std::sqrt(stiffness.mean * effective_mass);
 }
 
 GearTrain GearTrainAtSpeed(GearTrain train, const TrainSpec& at) {

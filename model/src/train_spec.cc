@@ -261,7 +261,7 @@ TrainSpec TrainOf(const GearboxSpec& spec) {
     g.gear = *gear;
     t.gears.push_back(g);
   }
-  t.meshes.push_back({"pinion", "wheel", spec.mesh});
+  t.meshes.push_back({"pinion", "wheel", spec.mesh, 0.0, MeshEffectiveMass::kGears});
   t.operating.input_shaft = "input";
   t.operating.speed = spec.operating.speed;
   t.operating.speed_unit = spec.operating.speed_unit;
@@ -297,6 +297,7 @@ bool IsSchemaOnePair(const TrainSpec& spec) {
   return load_form && schema_one_body(spec.shafts[0], spec.gears[0], "input", "pinion") &&
          schema_one_body(spec.shafts[1], spec.gears[1], "output", "wheel") &&
          mesh.gear_a == "pinion" && mesh.gear_b == "wheel" && mesh.center_line_angle == 0.0 &&
+         mesh.effective_mass == MeshEffectiveMass::kGears &&
          spec.operating.input_shaft == "input" && load.on == "output";
 }
 

@@ -209,12 +209,7 @@ TrainStructure AssembleTrainStructure(const TrainSpec& spec, const GearTrain& tr
     }
     s.meshes.push_back(std::move(v));
     s.mean_stiffness.push_back(mesh.stiffness.mean);
-    const double ja = train.body_inertia[static_cast<size_t>(mesh.body_a)];
-    const double jb = train.body_inertia[static_cast<size_t>(mesh.body_b)];
-    const double ra = mesh.geometry.pinion.base, rb = mesh.geometry.wheel.base;
-    const double me = ja * jb / (ja * rb * rb + jb * ra * ra);
-    s.mesh_damping.push_back(2.0 * mesh.gearbox.mesh.damping_ratio *
-                             std::sqrt(mesh.stiffness.mean * me));
+    s.mesh_damping.push_back(mesh.Damping());
   }
 
   s.free_rotations = FreeRotations(s, std::vector<bool>(s.meshes.size(), true));

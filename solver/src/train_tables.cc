@@ -181,10 +181,8 @@ TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
     }
     mt.half_backlash = 0.5 * spec.meshes[i].mesh.backlash;
     mt.displacement_limit = 2.0 * mt.half_backlash + WholeDepth(mm.geometry);
-    const double ja = t.inertia[mm.body_a], jb = t.inertia[mm.body_b];
-    mt.effective_mass = ja * jb / (ja * rb * rb + jb * ra * ra);
-    mt.damping =
-        2.0 * spec.meshes[i].mesh.damping_ratio * std::sqrt(mm.stiffness.mean * mt.effective_mass);
+    mt.effective_mass = mm.effective_mass;
+    mt.damping = mm.Damping();
     mt.transmitted_torque = mm.transmitted_torque;
     mt.friction = spec.meshes[i].mesh.friction_coefficient;
     FrictionBasis basis{Eigen::VectorXd::Zero(n), Eigen::VectorXd::Zero(n),

@@ -320,5 +320,40 @@ TEST_CASE("a train mesh's center_line_angle is read in angle units, default 0", 
   CHECK_THROWS_AS(config::LoadAnyGearboxFromString(text), InputError);
 }
 
+TEST_CASE("a train mesh's effective_mass is bodies (default) or gears, a schema-1 file gears",
+          "[loader][train]") {
+  std::ifstream in(std::string(GEARNVH_EXAMPLES_DIR) + "/manual_transmission_idle.yaml");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string from = "backlash: 80 um, center_line_angle: -90 deg";
+  const size_t at = text.find(from);
+  REQUIRE(at != std::string::npos);
+  const auto with = [&](const std::string& value) {
+    std::string t = text;
+    t.replace(at, from.size(), from + ", effective_mass: " + value);
+    return t;
+  };
+  const config::LoadedGearbox plain = config::LoadAnyGearboxFromString(text);
+  CHECK(plain.train.meshes[0].effective_mass == MeshEffectiveMass::kBodies);
+  const config::LoadedGearbox gears = config::LoadAnyGearboxFromString(with("gears"));
+  CHECK(gears.train.meshes[0].effective_mass == MeshEffectiveMass::kGears);
+  CHECK(gears.train.meshes[1].effective_mass == MeshEffectiveMass::kBodies);
+  CHECK(config::LoadAnyGearboxFromString(with("bodies")).train.meshes[0].effective_mass ==
+        MeshEffectiveMass::kBodies);
+  try {
+    config::LoadAnyGearboxFromString(with("shafts"));
+    FAIL("effective_mass: shafts was accepted");
+  } catch (const InputError& e) {
+    CHECK_THAT(e.what(), Catch::Contains("meshes[0].effective_mass") && Catch::Contains("shafts") &&
+                             Catch::Contains("bodies or gears"));
+  }
+  // A schema-1 file is read into the train with the gears' rule (its contract).
+  std::ifstream pair_in(std::string(GEARNVH_EXAMPLES_DIR) + "/flexible_shafts.yaml");
+  const std::string pair_text((std::istreambuf_iterator<char>(pair_in)),
+                              std::istreambuf_iterator<char>());
+  const config::LoadedGearbox pair = config::LoadAnyGearboxFromString(pair_text);
+  REQUIRE(pair.schema == 1);
+  CHECK(pair.train.meshes[0].effective_mass == MeshEffectiveMass::kGears);
+}
+
 }  // namespace
 }  // namespace gearnvh

@@ -62,6 +62,9 @@ TEST_CASE("a schema-1 gearbox assembled as a train equals its component model", 
     CHECK(RelativeDifference(s.meshes[0].v_back, pair.v_back) < 1e-14);
     CHECK(RelativeDifference(s.meshes[0].friction_drive, pair.translation_friction_drive) < 1e-14);
     CHECK(s.free_rotations.cols() == 1);
+    // The mesh damping from the gears' polar inertias (schema 1's m_e) on either side; the mean
+    // stiffness at the train's static torque flow is the pair's to ~1e-12.
+    CHECK(s.mesh_damping[0] == Approx(pair.mesh_damping).epsilon(1e-10));
   }
 }
 

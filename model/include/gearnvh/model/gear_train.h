@@ -38,6 +38,10 @@ struct TrainMeshModel {
   // well as simulate) applies SegmentMeshCycle's rule on the mandatory breaks.
   MeshSegmentation segmentation;
   double transmitted_torque = 0.0;  // N m on gear b (>= 0)
+  // m_e, kg, by the mesh's MeshEffectiveMass rule, and the mesh damping c = 2 zeta sqrt(k_mean
+  // m_e), N s/m, zeta = gearbox.mesh.damping_ratio.
+  double effective_mass = 0.0;
+  double Damping() const;
   bool back_flank_loaded = false;   // the second gear drives (power flows from b to a)
   bool in_loop = false;             // closes a kinematic loop: analysed unloaded
 };

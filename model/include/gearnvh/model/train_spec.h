@@ -41,12 +41,21 @@ struct TrainGear {
   bool operator==(const TrainGear&) const = default;
 };
 
+// Whose polar inertias give a mesh's effective mass m_e = J_a J_b / (J_a r_b^2 + J_b r_a^2), and
+// with it the mesh damping c = 2 zeta sqrt(k_mean m_e) and the impact energy 1/2 m_e v^2
+// (docs/design.md §11). The two differ only where a shaft carries inertia beyond its gears.
+enum class MeshEffectiveMass {
+  kBodies,  // the two bodies' (a shaft with every gear and inertia on it): schema 2's default
+  kGears,   // the two gears' own: schema 1's contract (TrainOf)
+};
+
 struct TrainMesh {
   std::string gear_a, gear_b;  // gear_a drives in the drive-flank sign convention
   MeshSpec mesh;
   // Layout (lateral DOF only): direction of the line of centres from gear a's axis to gear b's,
   // rad about +z from +x. Default 0: every mesh along +x (an unfolded planar layout).
   double center_line_angle = 0.0;
+  MeshEffectiveMass effective_mass = MeshEffectiveMass::kBodies;
   std::string Name() const { return gear_a + "-" + gear_b; }
 
   bool operator==(const TrainMesh&) const = default;
