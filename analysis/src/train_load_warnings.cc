@@ -29,7 +29,8 @@ std::vector<std::string> OutputShafts(const TrainSpec& spec, const TrainTopology
   std::vector<std::string> out;
   for (size_t b = 0; b < t.bodies.size(); ++b) {
     const TrainBody& body = t.bodies[b];
-    if (body.kind == BodyKind::kShaft && static_cast<int>(b) != t.input_body && !leads_on[b]) {
+    if (body.kind == BodyKind::kShaft && static_cast<int>(b) != t.input_body && !leads_on[b] &&
+        !spec.shafts[static_cast<size_t>(body.shaft)].fixed) {
       out.push_back(body.name);
     }
   }

@@ -30,11 +30,11 @@ void RequireRange(const OptionNames& names, const char* option, int value, int m
   }
 }
 
-// The running angle's row of body b in the tier's coordinates: s_b T(th_z of its first gear, :).
+// The running angle's row of body b in the tier's coordinates: s_b T(th_z of its node, :).
 Eigen::RowVectorXd BodyAngle(const GearTrain& train, const TrainStructure& structure,
                              const TrainReducedModel& reduced, int b) {
   const TrainBody& body = train.topology.bodies[static_cast<size_t>(b)];
-  const int node = structure.gear_node[static_cast<size_t>(body.gears.front())];
+  const int node = structure.body_node[static_cast<size_t>(b)];
   const double sense = body.speed > 0.0 ? 1.0 : -1.0;
   return sense * reduced.recovery.row(TrainStructure::Dof(node, kThz));
 }

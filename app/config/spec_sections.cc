@@ -160,7 +160,7 @@ std::vector<std::string> ElasticShaftKeys(int schema) {
   if (schema == 1) {
     return {"material", "segments", "gear_at", "bearings", "inertias", "element_length"};
   }
-  return {"material", "segments", "bearings", "inertias", "element_length"};
+  return {"material", "segments", "bearings", "inertias", "element_length", "fixed"};
 }
 
 ShaftSpec ReadShaft(Reader& r, const YAML::Node& n, const std::string& path,

@@ -48,7 +48,7 @@ TrainSpec ReadTrainDocument(Reader& r, const YAML::Node& root) {
       }
       r.ExpectMap(kv.second, p, either);
       for (const std::string& key : ElasticShaftKeys(2)) {
-        if (key == "bearings" || !kv.second[key].IsDefined()) continue;
+        if (key == "bearings" || key == "fixed" || !kv.second[key].IsDefined()) continue;
         r.Fail(Join(p, key), kv.second[key], key,
                "belongs to an elastic shaft, which needs segments: (a rigid shaft has inertia "
                "and bearings)");
@@ -56,6 +56,7 @@ TrainSpec ReadTrainDocument(Reader& r, const YAML::Node& root) {
       shaft.inertia = r.Quantity(kv.second, p, "inertia", Dimension::kInertia);
       shaft.bearings = ReadBearings(r, kv.second, p, false);
     }
+    shaft.fixed = r.Boolean(kv.second, p, "fixed", false);
     spec.shafts.push_back(shaft);
   }
   if (spec.shafts.empty()) r.Fail("shafts", shafts, "{}", "needs at least one shaft");

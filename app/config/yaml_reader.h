@@ -150,6 +150,18 @@ class Reader {
     return static_cast<int>(*v);
   }
 
+  bool Boolean(const YAML::Node& map, const std::string& path, const std::string& key,
+               bool fallback) {
+    const YAML::Node n = Child(map, path, key, false);
+    if (!n.IsDefined()) return fallback;
+    const std::string p = Join(path, key);
+    if (!n.IsScalar() || (n.Scalar() != "true" && n.Scalar() != "false")) {
+      Fail(p, n, n.IsScalar() ? "'" + n.Scalar() + "'" : Describe(n), "must be true or false");
+    }
+    Remember(p, n, n.Scalar());
+    return n.Scalar() == "true";
+  }
+
   std::string String(const YAML::Node& map, const std::string& path, const std::string& key,
                      std::optional<std::string> fallback = std::nullopt) {
     const YAML::Node n = Child(map, path, key, !fallback.has_value());

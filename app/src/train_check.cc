@@ -42,7 +42,7 @@ std::vector<TierCrossing> CriticalSpeeds(const TrainSpec& spec, const GearTrain&
       }
     }
     for (const TrainBody& body : train.topology.bodies) {
-      if (body.kind != BodyKind::kShaft) continue;
+      if (body.kind != BodyKind::kShaft || body.speed == 0.0) continue;  // a fixed shaft stands
       out.push_back({static_cast<int>(k) + 1, fmt::format("shaft {} 1x", body.name),
                      w_mode / (std::abs(body.speed) / w_in)});
     }

@@ -107,6 +107,30 @@ void RequireConsistentLoops(const TrainSpec& spec, const TrainTopology& t,
   }
 }
 
+// A fixed shaft stands: it is not the input, and none of its fixed gears meshes (a loose gear on it
+// may: it turns on the stationary shaft).
+void RequireStationaryShaftsStill(const TrainSpec& spec, const TrainTopology& t) {
+  const TrainShaft& input = spec.shafts[static_cast<size_t>(t.input_body)];
+  if (input.fixed) {
+    throw InputError(
+        "operating.speed.shaft", 0, "'" + input.name + "'",
+        "names a fixed shaft (shafts." + input.name + ".fixed: true): the input shaft turns");
+  }
+  for (size_t m = 0; m < spec.meshes.size(); ++m) {
+    const TrainMesh& mesh = spec.meshes[m];
+    for (const std::string& name : {mesh.gear_a, mesh.gear_b}) {
+      const TrainGear& gear = *spec.FindGear(name);
+      if (gear.mounting == Mounting::kLoose || !spec.FindShaft(gear.shaft)->fixed) continue;
+      throw InputError(MeshPath(static_cast<int>(m)) + ".gears", 0,
+                       "[" + mesh.gear_a + ", " + mesh.gear_b + "]",
+                       "meshes gear '" + name + "', fixed on the fixed shaft '" + gear.shaft +
+                           "' (shafts." + gear.shaft +
+                           ".fixed: true), which does not turn: a gear that meshes on a "
+                           "stationary shaft must be mounted loose");
+    }
+  }
+}
+
 }  // namespace
 
 int TrainSpec::GearIndex(const std::string& name) const {
@@ -159,8 +183,12 @@ TrainTopology AnalyseTrainTopology(const TrainSpec& spec) {
     }
   }
   t.input_body = spec.ShaftIndex(spec.operating.input_shaft);
+  RequireStationaryShaftsStill(spec, t);
   t.parent_mesh.assign(t.bodies.size(), -2);  // -2: not reached
   t.parent_mesh[static_cast<size_t>(t.input_body)] = -1;
+  for (size_t s = 0; s < spec.shafts.size(); ++s) {
+    if (spec.shafts[s].fixed) t.parent_mesh[s] = -1;  // reached: it stands (speed 0)
+  }
   t.bodies[static_cast<size_t>(t.input_body)].speed = spec.operating.speed;
   t.bodies[static_cast<size_t>(t.input_body)].speed_ratio = 1.0;
   // Breadth-first over the meshes from the input body.
@@ -343,6 +371,14 @@ void ValidateTrainSpec(const TrainSpec& spec) {
     if (!s.inertia && !s.elastic) {
       throw InputError(p, 0, "", "needs inertia (a rigid shaft) or segments (an elastic shaft)");
     }
+    const bool carries_gear = std::any_of(
+        spec.gears.begin(), spec.gears.end(),
+        [&](const TrainGear& g) { return g.shaft == s.name && g.mounting == Mounting::kFixed; });
+    if (s.inertia && *s.inertia == 0.0 && !carries_gear) {
+      throw InputError(p + ".inertia", 0, "0",
+                       "must be > 0 on a shaft that carries no fixed gear (the shaft alone is "
+                       "its body)");
+    }
   }
   std::vector<int> meshes_of_gear(spec.gears.size(), 0);
   for (const TrainGear& g : spec.gears) {
@@ -423,6 +459,16 @@ void ValidateTrainSpec(const TrainSpec& spec) {
     }
     if (!(load.torque >= 0.0 && std::isfinite(load.torque))) {
       throw InputError(p + ".torque", 0, MessageNumber(load.torque), "must be >= 0");
+    }
+    const TrainGear* gear = spec.FindGear(load.on);
+    const TrainShaft* shaft = gear && gear->mounting == Mounting::kFixed
+                                  ? spec.FindShaft(gear->shaft)
+                                  : spec.FindShaft(load.on);
+    if (shaft && shaft->fixed) {
+      throw InputError(p + ".on", 0, "'" + load.on + "'",
+                       "is on the fixed shaft '" + shaft->name + "' (shafts." + shaft->name +
+                           ".fixed: true), which does not turn: a load there does no work "
+                           "(a loose gear's drag goes on the loose gear)");
     }
   }
   const TrainTopology topology = AnalyseTrainTopology(spec);

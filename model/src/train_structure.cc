@@ -1,6 +1,7 @@
 #include "gearnvh/model/train_structure.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -214,12 +215,23 @@ TrainStructure AssembleTrainStructure(const TrainSpec& spec, const GearTrain& tr
 
   s.free_rotations = FreeRotations(s, std::vector<bool>(s.meshes.size(), true));
 
-  // Static load: the input torque drives and every load resists, each at its body's first gear,
-  // as a moment about z in the body's sense of rotation.
+  for (size_t b = 0; b < topo.bodies.size(); ++b) {
+    const std::vector<int>& gears = topo.bodies[b].gears;
+    if (!gears.empty()) {
+      s.body_node.push_back(s.gear_node[static_cast<size_t>(gears.front())]);
+    } else {
+      s.body_node.push_back(
+          static_cast<int>(std::find(s.node_body.begin(), s.node_body.end(), static_cast<int>(b)) -
+                           s.node_body.begin()));
+    }
+  }
+
+  // Static load: the input torque drives and every load resists, each at its body's node, as a
+  // moment about z in the body's sense of rotation.
   s.static_force = Eigen::VectorXd::Zero(s.dofs);
   auto apply = [&](int body, double torque) {
     const TrainBody& b = topo.bodies[static_cast<size_t>(body)];
-    const int node = s.gear_node[static_cast<size_t>(b.gears.front())];
+    const int node = s.body_node[static_cast<size_t>(body)];
     s.static_force[TrainStructure::Dof(node, kThz)] += (b.speed > 0.0 ? 1.0 : -1.0) * torque;
   };
   apply(topo.input_body, train.input_torque);

@@ -10,7 +10,7 @@ std::vector<OrderLine> TrainOrderLines(const TrainSpec& spec, const GearTrain& t
   const double w_in = std::abs(topo.bodies[static_cast<size_t>(topo.input_body)].speed);
   std::vector<OrderLine> lines;
   for (const TrainBody& body : topo.bodies) {
-    if (body.kind == BodyKind::kShaft)
+    if (body.kind == BodyKind::kShaft && body.speed != 0.0)  // a fixed shaft has no order line
       lines.push_back({body.name + " 1x", std::abs(body.speed) / w_in});
   }
   for (const TrainMeshModel& mesh : train.meshes) {

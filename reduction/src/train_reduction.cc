@@ -40,16 +40,12 @@ std::vector<int> GearNodes(const TrainStructure& s) {
   return nodes;
 }
 
-// One rotation per body: th_z at the node of its first gear (a body's nodes all carry th_z = 1 in
-// its rigid rotation, so holding one removes it; the shaft's torsion between its gears stays).
+// One rotation per body: th_z at its node (TrainStructure::body_node; a body's nodes all carry th_z
+// = 1 in its rigid rotation, so holding one removes it; the shaft's torsion between its gears
+// stays).
 std::vector<int> HeldDofs(const TrainStructure& s) {
-  std::vector<int> first_node(static_cast<size_t>(s.body_rotations.cols()), -1);
-  for (int n : s.gear_node) {
-    int& f = first_node[static_cast<size_t>(s.node_body[static_cast<size_t>(n)])];
-    if (f < 0) f = n;
-  }
   std::vector<int> held;
-  for (int n : first_node) held.push_back(TrainStructure::Dof(n, kThz));
+  for (int n : s.body_node) held.push_back(TrainStructure::Dof(n, kThz));
   return held;
 }
 
@@ -71,6 +67,9 @@ std::vector<int> Boundary(const TrainStructure& s, Tier tier) {
   for (int n : GearNodes(s)) {
     for (int d = 0; d < 6; ++d) add(TrainStructure::Dof(n, static_cast<NodeDof>(d)));
   }
+  // A body without a gear that turns with it (a fixed shaft carrying only loose gears) keeps its
+  // rotation: nothing in the interior holds it.
+  for (int d : HeldDofs(s)) add(d);
   return b;
 }
 

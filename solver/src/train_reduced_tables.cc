@@ -1,5 +1,6 @@
 #include "gearnvh/solver/train_reduced_tables.h"
 
+#include <algorithm>
 #include <string>
 
 #include "gearnvh/model/input_error.h"
@@ -19,10 +20,14 @@ TrainTables BuildReducedTrainTables(const TrainSpec& spec, const GearTrain& trai
   if (llt.info() != Eigen::Success) {
     throw InputError("TrainReducedModel.M", 0, reduced.name, "must be positive definite");
   }
-  if (structure.free_rotations.cols() != 1) {
+  // One free rotation turns the train; each fixed shaft adds its own, which nothing moves.
+  const auto fixed_shafts = std::count_if(spec.shafts.begin(), spec.shafts.end(),
+                                          [](const TrainShaft& s) { return s.fixed; });
+  if (structure.free_rotations.cols() != 1 + fixed_shafts) {
     throw InputError("TrainStructure.free_rotations", 0,
                      std::to_string(structure.free_rotations.cols()),
-                     "must be 1 (a connected train with every mesh engaged)");
+                     "must be 1 plus one per fixed shaft (a connected train with every mesh "
+                     "engaged)");
   }
   const Eigen::MatrixXd L = llt.matrixL();
   // L^-1 X for a matrix or vector X.
@@ -37,8 +42,7 @@ TrainTables BuildReducedTrainTables(const TrainSpec& spec, const GearTrain& trai
     return topo.bodies[static_cast<size_t>(body)].speed > 0.0 ? 1.0 : -1.0;
   };
   const auto first_thz = [&](int body) {
-    const int gear = topo.bodies[static_cast<size_t>(body)].gears.front();
-    return TrainStructure::Dof(structure.gear_node[static_cast<size_t>(gear)], kThz);
+    return TrainStructure::Dof(structure.body_node[static_cast<size_t>(body)], kThz);
   };
 
   t.tier = reduced.tier;
@@ -74,8 +78,12 @@ TrainTables BuildReducedTrainTables(const TrainSpec& spec, const GearTrain& trai
                            left(T.transpose() * vectors.friction_back), arm(train.meshes[i].gear_a),
                            arm(train.meshes[i].gear_b)});
   }
-  // The free rotation: x_r = M^-1 T^T M_full R, y_r = L^T x_r, unit length (M-normalised).
-  const Eigen::VectorXd mr = structure.M * structure.free_rotations.col(0);
+  // The train's free rotation R (every body at its nominal speed: th_z = w_b on its nodes; a fixed
+  // shaft's stays out): x_r = M^-1 T^T M_full R, y_r = L^T x_r, unit length (M-normalised).
+  Eigen::VectorXd speeds(static_cast<Eigen::Index>(topo.bodies.size()));
+  for (size_t b = 0; b < topo.bodies.size(); ++b)
+    speeds[static_cast<Eigen::Index>(b)] = topo.bodies[b].speed;
+  const Eigen::VectorXd mr = structure.M * (structure.body_rotations * speeds);
   const Eigen::VectorXd x_r = llt.solve(T.transpose() * mr);
   Eigen::VectorXd y_r = L.transpose() * x_r;
   y_r.normalize();

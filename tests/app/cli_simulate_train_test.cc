@@ -92,6 +92,34 @@ TEST_CASE("simulate --json on a train reports every mesh and ranks the loose gea
   CHECK(runs["min_periods"].get<long>() == 64);
 }
 
+TEST_CASE("neutral at standstill: the fixed output stands and all five loose gears rattle",
+          "[cli][train]") {
+  // examples/manual_transmission_neutral.yaml: the output shaft is fixed, o1..o5 idle on it.
+  const std::string file = kExamples + "/manual_transmission_neutral.yaml";
+  const auto check = RunCommand(kExe + " check --json " + file);
+  INFO(check.err);
+  REQUIRE(check.exit_code == 0);
+  const auto model = nlohmann::json::parse(check.out);
+  bool found = false;
+  for (const auto& b : model["bodies"]) {
+    if (b["name"] != "output") continue;
+    found = true;
+    CHECK(b["speed"].get<double>() == 0.0);
+    CHECK(b["gears"].empty());
+  }
+  CHECK(found);
+  for (const auto& c : model["critical_speeds"]) CHECK(c["line"] != "shaft output 1x");
+
+  const auto r = RunCommand(kExe + " simulate --json --cycles 40 --transient 10 " + file);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const auto doc = nlohmann::json::parse(r.out);
+  CHECK(doc["state_dim"] == 2 * 8 + 3);  // 3 shafts and 5 loose gears, 1, the engine order
+  const auto& loose = doc["loose_gears"];
+  REQUIRE(loose.size() == 5);
+  for (const auto& g : loose) CHECK(g["impacts"].get<long>() > 0);
+}
+
 TEST_CASE("simulate on a train prints the per-mesh table", "[cli][train]") {
   const auto r = RunCommand(kExe + " simulate --cycles 20 --transient 0 " + kExamples +
                             "/manual_transmission_idle.yaml");

@@ -272,6 +272,64 @@ std::string PathOfError(const TrainSpec& spec) {
   return "";
 }
 
+// Neutral at standstill: the output shaft stands (fixed), g4 and g5 idle on it, driven by the
+// layshaft, each against its drag.
+TrainSpec StandingOutput() {
+  TrainSpec s = TwoStage();
+  s.shafts[2].fixed = true;
+  s.gears[3].mounting = Mounting::kLoose;
+  s.operating.loads = {{"g4", 0.3}, {"g5", 0.2}};
+  return s;
+}
+
+TEST_CASE("a fixed shaft stands: loose gears on it turn, nothing may turn it", "[train]") {
+  const TrainSpec spec = StandingOutput();
+  REQUIRE_NOTHROW(ValidateTrainSpec(spec));
+  const TrainTopology t = AnalyseTrainTopology(spec);
+  REQUIRE(t.bodies.size() == 5);  // three shafts and the loose gears g4, g5
+  const double w = spec.operating.speed;
+  CHECK(t.bodies[2].speed == 0.0);
+  CHECK(t.bodies[2].gears.empty());
+  // The loose gears turn at the layshaft's speed times their meshes' ratios (exact in binary:
+  // the same products as the topology's, so to rounding).
+  const double layshaft = -w * 20.0 / 40.0;
+  CHECK(t.bodies[3].speed == Approx(-layshaft * 18.0 / 54.0).epsilon(1e-15));
+  CHECK(t.bodies[4].speed == Approx(-layshaft * 25.0 / 30.0).epsilon(1e-15));
+  // Tier 1: the train's free rotation and the standing shaft's own (no mesh sees it).
+  const GearTrain train = BuildGearTrain(spec);
+  CHECK(TorsionalModes(train).free_rotations == 2);
+  // The input carries the drags' power only.
+  CHECK(train.input_torque ==
+        Approx((0.3 * std::abs(t.bodies[3].speed) + 0.2 * std::abs(t.bodies[4].speed)) / w)
+            .epsilon(1e-12));
+
+  {
+    TrainSpec s = spec;
+    s.operating.loads.push_back({"output", 1.0});
+    CHECK(PathOfError(s).rfind("operating.loads[2].on: is on the fixed shaft 'output'", 0) == 0);
+  }
+  {
+    TrainSpec s = spec;
+    s.gears[3].mounting = Mounting::kFixed;  // g4 fixed on the standing output meshes g3
+    s.operating.loads = {{"g5", 0.2}};
+    CHECK(PathOfError(s).rfind("meshes[1].gears: meshes gear 'g4', fixed on the fixed shaft "
+                               "'output'",
+                               0) == 0);
+  }
+  {
+    TrainSpec s = spec;
+    s.shafts[0].fixed = true;
+    CHECK(PathOfError(s).rfind("operating.speed.shaft: names a fixed shaft", 0) == 0);
+  }
+  {
+    TrainSpec s = spec;
+    s.shafts[2].inertia = 0.0;  // the shaft alone is its body
+    CHECK(PathOfError(s).rfind("shafts.output.inertia: must be > 0 on a shaft that carries no "
+                               "fixed gear",
+                               0) == 0);
+  }
+}
+
 TEST_CASE("train validation names the path and the rule", "[train][validation]") {
   {
     TrainSpec s = TwoStage();

@@ -110,13 +110,23 @@ TEST_CASE("train: a free loose gear under constant drag follows its parabola unt
           "[solver][train]") {
   // No excitation, every mesh free at t = 0: every body moves on its own parabola
   // th_j(t) = th_j0 + w_j0 t + f_j t^2 / (2 J_j) until the first impact, and the first impact is
-  // the earliest root of the piecewise quadratic gaps (e_ij is constant per mesh segment).
-  const Model s(Rattler(0.0));
+  // the earliest root of the piecewise quadratic gaps (e_ij is constant per mesh segment). The
+  // loose gear g4 idles on the input shaft, or on a fixed shaft that stands (neutral at
+  // standstill), whose angle stays 0.
+  const bool standing = GENERATE(false, true);
+  TrainSpec spec = Rattler(0.0);
+  if (standing) {
+    spec.shafts.push_back(testing::RigidShaft("carrier", 0.01));
+    spec.shafts.back().fixed = true;
+    spec.gears[3].shaft = "carrier";
+  }
+  CAPTURE(standing);
+  const Model s(spec);
   const TrainTables& t = s.tables;
   const int n = t.n;
   Eigen::VectorXd z0 = Eigen::VectorXd::Zero(t.m);
   z0[t.constant_slot()] = 1.0;
-  const int loose = 2;  // bodies: input, layshaft, then the loose gear g4
+  const int loose = standing ? 3 : 2;  // bodies: input, layshaft, (carrier,) the loose gear g4
   REQUIRE(t.loose[loose]);
   z0[n + loose] = -0.3;  // rad/s towards the drive flank of g3-g4
   const std::vector<ContactState> free(2, ContactState::kFree);
@@ -164,6 +174,7 @@ TEST_CASE("train: a free loose gear under constant drag follows its parabola unt
     const Eigen::VectorXd x = x_at(time);
     CHECK(std::abs(stepper.state()[loose] - x[loose]) <= 1e-15);
     CHECK(std::abs(stepper.state()[0] - x[0]) <= 1e-15);
+    if (standing) CHECK(stepper.state()[2] == 0.0);
   }
   REQUIRE(stepper.Run(impact * 1.5));
   REQUIRE(stepper.summary().events >= 1);

@@ -27,6 +27,9 @@ struct TrainShaft {
   std::optional<double> inertia;
   std::optional<ShaftSpec> elastic;
   std::vector<BearingSpec> bearings;  // rigid shafts; an elastic shaft keeps its own
+  // Grounded: it does not turn (the output at standstill in neutral). Its fixed gears mesh with
+  // nothing; loose gears on it turn freely on the stationary shaft.
+  bool fixed = false;
 
   bool operator==(const TrainShaft&) const = default;
 };
@@ -109,7 +112,7 @@ struct TrainBody {
   int shaft = -1;          // index in TrainSpec::shafts (a loose gear: the shaft it turns on)
   std::vector<int> gears;  // indices in TrainSpec::gears turning with this body
   // Nominal speed, rad/s, signed: > 0 turns the way the input shaft does. From the input speed
-  // through the meshes, omega_b = -omega_a z_a / z_b.
+  // through the meshes, omega_b = -omega_a z_a / z_b; 0 for a fixed shaft.
   double speed = 0.0;
   // The same per unit input speed, from the tooth ratios alone: what depends on speed ratios only
   // (the static torque flow) is then the same bits at every input speed.
@@ -121,13 +124,15 @@ struct TrainTopology {
   std::vector<int> gear_body;     // body of each gear
   int input_body = 0;
   // The spanning tree the speeds were propagated on: for each body the mesh it was reached
-  // through (-1 for the input), and the meshes that close a kinematic loop.
+  // through (-1 for the input and a fixed shaft, which stands), and the meshes that close a
+  // kinematic loop.
   std::vector<int> parent_mesh;
   std::vector<int> loop_meshes;
 };
 
 // Bodies, nominal speeds and the spanning tree. Throws InputError for a topology rule (a loose
-// gear or shaft that no chain of meshes connects to the input, a loop whose ratios disagree).
+// gear or shaft that no chain of meshes connects to the input, a loop whose ratios disagree, a
+// fixed shaft that is the input or whose fixed gear meshes).
 TrainTopology AnalyseTrainTopology(const TrainSpec& spec);
 
 // Static torque flow: every load resists its body's rotation; the input shaft is driven by the

@@ -74,15 +74,17 @@ struct TrainStructure {
   std::vector<int> gear_node;            // per gear (TrainSpec::gears order)
   std::vector<TrainMeshVectors> meshes;  // per mesh (file order)
   std::vector<double> mean_stiffness;    // k_mean per mesh, N/m
-  // c = 2 zeta sqrt(k_mean m_e) per mesh, m_e = J_a J_b / (J_a r_b,b^2 + J_b r_b,a^2) from the two
-  // bodies' polar inertias, N s/m.
+  // c = 2 zeta sqrt(k_mean m_e) per mesh (TrainMeshModel::Damping), N s/m.
   std::vector<double> mesh_damping;
+  // Per body, the node whose th_z is its angle: its first gear's (a fixed shaft without fixed
+  // gears: its first node).
+  std::vector<int> body_node;
   std::vector<int> elastic_shafts;  // indices in TrainSpec::shafts with FE
   std::vector<StructureBearing> bearings;  // shafts in file order, each shaft's in its order
   // Rigid rotation of every body (dofs x bodies) and the free rotations with every mesh engaged
   // (dofs x count, orthonormal combinations of the body rotations).
   Eigen::MatrixXd body_rotations, free_rotations;
-  Eigen::VectorXd static_force;  // input torque and loads at each body's first gear, N m
+  Eigen::VectorXd static_force;  // input torque and loads at each body's node, N m
 
   static int Dof(int node, NodeDof d) { return 6 * node + static_cast<int>(d); }
   // The stiffness linearised with every mesh in drive contact at its mean stiffness.
