@@ -155,11 +155,19 @@ class Reader {
     const YAML::Node n = Child(map, path, key, false);
     if (!n.IsDefined()) return fallback;
     const std::string p = Join(path, key);
-    if (!n.IsScalar() || (n.Scalar() != "true" && n.Scalar() != "false")) {
-      Fail(p, n, n.IsScalar() ? "'" + n.Scalar() + "'" : Describe(n), "must be true or false");
+    // YAML 1.2's core booleans, unquoted (a quoted "true" is a text).
+    const std::string v = n.IsScalar() ? n.Scalar() : "";
+    const bool yes = v == "true" || v == "True" || v == "TRUE";
+    const bool no = v == "false" || v == "False" || v == "FALSE";
+    if (!n.IsScalar() || n.Tag() == "!" || !(yes || no)) {
+      Fail(p, n,
+           !n.IsScalar()    ? Describe(n)
+           : n.Tag() == "!" ? "\"" + v + "\""
+                            : "'" + v + "'",
+           "must be true or false (unquoted)");
     }
-    Remember(p, n, n.Scalar());
-    return n.Scalar() == "true";
+    Remember(p, n, v);
+    return yes;
   }
 
   std::string String(const YAML::Node& map, const std::string& path, const std::string& key,

@@ -338,17 +338,23 @@ TrainSimulatePlan PlanTrainSimulate(const SimulateOptions& options, const TrainS
                      "must be >= " + std::to_string(lyapunov_defaults.blocks) + " with " +
                          names("lyapunov") + " (one block per standard-error block)");
   }
-  // Tier 1: one body per shaft and per loose gear.
+  // Tier 1: one body per shaft and per loose gear; a fixed shaft's body stands.
   const int bodies =
       static_cast<int>(spec.shafts.size() +
                        std::count_if(spec.gears.begin(), spec.gears.end(), [](const TrainGear& g) {
                          return g.mounting == Mounting::kLoose;
                        }));
-  if (*plan.lyapunov < 1 || *plan.lyapunov > 2 * bodies - 2) {
-    throw InputError(names("lyapunov"), 0, std::to_string(*plan.lyapunov),
-                     "must be in 1 .. 2n - 2 = " + std::to_string(2 * bodies - 2) +
-                         " for this train (" + std::to_string(bodies) +
-                         " bodies; the free rotation's two neutral directions are removed)");
+  const int standing = static_cast<int>(std::count_if(spec.shafts.begin(), spec.shafts.end(),
+                                                      [](const TrainShaft& s) { return s.fixed; }));
+  const int most = 2 * (bodies - standing) - 2;
+  if (*plan.lyapunov < 1 || *plan.lyapunov > most) {
+    throw InputError(
+        names("lyapunov"), 0, std::to_string(*plan.lyapunov),
+        "must be in 1 .. 2n - 2" + std::string(standing > 0 ? " - 2s" : "") + " = " +
+            std::to_string(most) + " for this train (" + std::to_string(bodies) + " bodies" +
+            (standing > 0 ? ", s = " + std::to_string(standing) + " fixed shafts" : "") +
+            "; the free rotation's two neutral directions" +
+            (standing > 0 ? " and each fixed shaft's two" : "") + " are removed)");
   }
   return plan;
 }

@@ -200,9 +200,13 @@ int OrbitsTrain(const OrbitsCommandOptions& options, const TrainSpec& spec) {
     fmt::print(
         "{}  ({}): gear train, period-{} orbits ({} common period{} of {:.4g} s), {}\n"
         "  multipliers on the quotient by the free rotation (its two neutral directions, "
-        "multiplier 1 and its Jordan partner, removed)\n",
+        "multiplier 1 and its Jordan partner, removed{})\n",
         spec.name, options.file, options.period, options.period, options.period > 1 ? "s" : "",
-        common_period, TierName(plan.scan.tier));
+        common_period, TierName(plan.scan.tier),
+        std::any_of(spec.shafts.begin(), spec.shafts.end(),
+                    [](const TrainShaft& s) { return s.fixed; })
+            ? ", and each fixed shaft's two"
+            : "");
     const TrainDisplayAxis d = sweep ? TrainDisplayAxisFor(parameter) : TrainDisplayAxis{};
     for (size_t i = 0; i < points.size(); ++i) {
       const std::string where =

@@ -374,10 +374,11 @@ void ValidateTrainSpec(const TrainSpec& spec) {
     const bool carries_gear = std::any_of(
         spec.gears.begin(), spec.gears.end(),
         [&](const TrainGear& g) { return g.shaft == s.name && g.mounting == Mounting::kFixed; });
-    if (s.inertia && *s.inertia == 0.0 && !carries_gear) {
-      throw InputError(p + ".inertia", 0, "0",
-                       "must be > 0 on a shaft that carries no fixed gear (the shaft alone is "
-                       "its body)");
+    if (s.fixed && s.inertia && *s.inertia == 0.0 && !carries_gear) {
+      throw InputError(
+          p + ".inertia", 0, "0",
+          "must be > 0 on a fixed shaft that carries no fixed gear (the shaft alone is "
+          "its body)");
     }
   }
   std::vector<int> meshes_of_gear(spec.gears.size(), 0);

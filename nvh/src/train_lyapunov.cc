@@ -101,10 +101,11 @@ TrainLyapunovSummary EstimateTrainLyapunov(const TrainTables& tables, const Eige
                                            const TrainLyapunovOptions& options) {
   options.Validate();
   const int k = options.exponents;
-  if (k > 2 * tables.n - 2) {
+  const int most = 2 * tables.n - tables.neutral_directions();
+  if (k > most) {
     throw InputError("TrainLyapunovOptions.exponents", 0, std::to_string(k),
-                     "must be <= 2n - 2 = " + std::to_string(2 * tables.n - 2) +
-                         " (the elastic state without the free rotation)");
+                     "must be <= " + std::to_string(most) +
+                         " (the elastic state without the free rotation and standing shafts)");
   }
   TrainLyapunovSummary out;
   out.mesh_period = tables.meshes.front().period;

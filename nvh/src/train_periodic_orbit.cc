@@ -85,16 +85,19 @@ TrainOrbit FindTrainPeriodicOrbit(const TrainTables& t, const Eigen::VectorXd& z
   const int n = t.n, e = 2 * n;
   out.period = options.periods * t.common_period;
   // Pi and Q (see the header).
-  Eigen::MatrixXd U = Eigen::MatrixXd::Zero(e, 2);
+  const int neutral = t.neutral_directions(), s = neutral / 2 - 1;
+  Eigen::MatrixXd U = Eigen::MatrixXd::Zero(e, neutral);
   U.col(0).head(n) = t.rigid_rotation;
   U.col(1).tail(n) = t.rigid_rotation;
+  U.block(0, 2, n, s) = t.standing_rotations;  // fixed shafts: neutral, never moved
+  U.block(n, 2 + s, n, s) = t.standing_rotations;
   Eigen::VectorXd w(e);
   w << t.inertia, t.inertia;
   const Eigen::MatrixXd WU = w.asDiagonal() * U;
   const Eigen::MatrixXd Pi = Eigen::MatrixXd::Identity(e, e) - U * WU.transpose();
   const Eigen::MatrixXd Q =
       Eigen::HouseholderQR<Eigen::MatrixXd>(WU).householderQ() * Eigen::MatrixXd::Identity(e, e);
-  const Eigen::MatrixXd Qc = Q.rightCols(e - 2);
+  const Eigen::MatrixXd Qc = Q.rightCols(e - neutral);
   const double omega_f = 2.0 * std::numbers::pi / TrainForcingPeriod(t);
   Eigen::VectorXd scale(e);
   scale << Eigen::VectorXd::Ones(n), Eigen::VectorXd::Constant(n, 1.0 / omega_f);
@@ -118,7 +121,7 @@ TrainOrbit FindTrainPeriodicOrbit(const TrainTables& t, const Eigen::VectorXd& z
     const Eigen::MatrixXd C = Qc.transpose() * shot.J * Qc;
     const Eigen::VectorXd F = Qc.transpose() * (Pi * (shot.end.head(e) - y.head(e)));
     const Eigen::VectorXd step =
-        -(C - Eigen::MatrixXd::Identity(e - 2, e - 2)).fullPivLu().solve(F);
+        -(C - Eigen::MatrixXd::Identity(e - neutral, e - neutral)).fullPivLu().solve(F);
     double theta = 1.0;
     bool improved = false;
     for (int halving = 0; halving <= 10; ++halving, theta *= 0.5) {

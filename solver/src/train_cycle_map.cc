@@ -93,7 +93,8 @@ void TrainCycleMap::BuildMap(TupleMemo& memo, std::vector<Eigen::MatrixXd>& prop
     phi_ = (full * phi_).eval();
     if (keep) propagators.push_back(full);
   });
-  // The quotient by the free rotation (position and velocity).
+  // The quotient by the free rotation (position and velocity), and by each fixed shaft's standing
+  // rotation, which is as neutral (nothing moves it; Jump keeps it as it is).
   Eigen::VectorXd rp = Eigen::VectorXd::Zero(m), rv = Eigen::VectorXd::Zero(m);
   Eigen::RowVectorXd mp = Eigen::RowVectorXd::Zero(m), mv = Eigen::RowVectorXd::Zero(m);
   rp.head(n) = t_.rigid_rotation;
@@ -101,6 +102,12 @@ void TrainCycleMap::BuildMap(TupleMemo& memo, std::vector<Eigen::MatrixXd>& prop
   mp.head(n) = t_.recenter_row;
   mv.segment(n, n) = t_.recenter_row;
   projector_ = Eigen::MatrixXd::Identity(m, m) - rp * mp - rv * mv;
+  standing_ = Eigen::VectorXd::Zero(2 * t_.standing_rotations.cols());
+  for (Eigen::Index s = 0; s < t_.standing_rotations.cols(); ++s) {
+    const Eigen::VectorXd ms = t_.inertia.cwiseProduct(t_.standing_rotations.col(s));
+    projector_.topLeftCorner(n, n) -= t_.standing_rotations.col(s) * ms.transpose();
+    projector_.block(n, n, n, n) -= t_.standing_rotations.col(s) * ms.transpose();
+  }
   pq_ = projector_ * phi_ * projector_;
   const Eigen::MatrixXd Le = projector_.topLeftCorner(e, e);
   const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(e, e);
@@ -314,9 +321,20 @@ void TrainCycleMap::Jump(Eigen::VectorXd& z, long long periods) {
   }
   const double velocity = rigid_velocity + static_cast<double>(total) * velocity_drift_ +
                           velocity_sum_row_.dot(dev0_ - dev_);
+  // The standing rotations' positions and velocities as they were (projected out of the map).
+  const Eigen::Index standing = t_.standing_rotations.cols();
+  for (Eigen::Index s = 0; s < standing; ++s) {
+    const auto ms = t_.inertia.cwiseProduct(t_.standing_rotations.col(s));
+    standing_[2 * s] = ms.dot(z.head(n));
+    standing_[2 * s + 1] = ms.dot(z.segment(n, n));
+  }
   z.head(e) = orbit_.head(e) + dev_;
   z.head(n) += rigid_position * t_.rigid_rotation;
   z.segment(n, n) += velocity * t_.rigid_rotation;
+  for (Eigen::Index s = 0; s < standing; ++s) {
+    z.head(n) += standing_[2 * s] * t_.standing_rotations.col(s);
+    z.segment(n, n) += standing_[2 * s + 1] * t_.standing_rotations.col(s);
+  }
   z[t_.constant_slot()] = 1.0;
 }
 

@@ -89,6 +89,20 @@ TrainTables BuildReducedTrainTables(const TrainSpec& spec, const GearTrain& trai
   y_r.normalize();
   t.rigid_rotation = y_r;
   t.recenter_row = y_r.transpose();
+  // Each fixed shaft's rotation the same way, made orthogonal to r and to the ones before.
+  t.standing_rotations = Eigen::MatrixXd::Zero(n, 0);
+  for (size_t b = 0; b < topo.bodies.size(); ++b) {
+    if (topo.bodies[b].speed != 0.0) continue;
+    const Eigen::VectorXd mb =
+        structure.M * structure.body_rotations.col(static_cast<Eigen::Index>(b));
+    Eigen::VectorXd y = L.transpose() * llt.solve(T.transpose() * mb);
+    y -= y_r.dot(y) * y_r;
+    for (Eigen::Index c = 0; c < t.standing_rotations.cols(); ++c) {
+      y -= t.standing_rotations.col(c).dot(y) * t.standing_rotations.col(c);
+    }
+    t.standing_rotations.conservativeResize(n, t.standing_rotations.cols() + 1);
+    t.standing_rotations.rightCols(1) = y.normalized();
+  }
   t.bearings = structure.bearings;
   t.bearing_force_rows =
       Eigen::MatrixXd::Zero(3 * static_cast<Eigen::Index>(t.bearings.size()), t.m);

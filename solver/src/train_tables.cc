@@ -141,6 +141,12 @@ TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
   rigid /= std::sqrt(rigid.dot(t.inertia.cwiseProduct(rigid)));
   t.rigid_rotation = rigid;
   t.recenter_row = t.inertia.cwiseProduct(rigid).transpose();
+  t.standing_rotations = Eigen::MatrixXd::Zero(n, 0);
+  for (int b = 0; b < n; ++b) {
+    if (topo.bodies[static_cast<size_t>(b)].speed != 0.0) continue;  // a fixed shaft stands
+    t.standing_rotations.conservativeResize(n, t.standing_rotations.cols() + 1);
+    t.standing_rotations.rightCols(1) = Eigen::VectorXd::Unit(n, b) / std::sqrt(t.inertia[b]);
+  }
 
   std::vector<double> cycles_per_revolution;
   std::vector<bool> back_loaded;

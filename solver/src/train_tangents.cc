@@ -81,6 +81,14 @@ void TrainTangentPropagator::Recenter() {
 
 void RemoveTrainFreeRotation(const TrainTables& t, Eigen::Ref<Eigen::MatrixXd> V) {
   ProjectOutFreeRotation(t, V);
+  const int n = t.n;
+  for (Eigen::Index s = 0; s < t.standing_rotations.cols(); ++s) {
+    const Eigen::VectorXd ms = t.inertia.cwiseProduct(t.standing_rotations.col(s));
+    for (Eigen::Index c = 0; c < V.cols(); ++c) {
+      V.col(c).head(n) -= ms.dot(V.col(c).head(n)) * t.standing_rotations.col(s);
+      V.col(c).segment(n, n) -= ms.dot(V.col(c).segment(n, n)) * t.standing_rotations.col(s);
+    }
+  }
   V.bottomRows(t.m - 2 * t.n).setZero();
 }
 

@@ -324,9 +324,10 @@ TEST_CASE("a fixed shaft stands: loose gears on it turn, nothing may turn it", "
   {
     TrainSpec s = spec;
     s.shafts[2].inertia = 0.0;  // the shaft alone is its body
-    CHECK(PathOfError(s).rfind("shafts.output.inertia: must be > 0 on a shaft that carries no "
-                               "fixed gear",
-                               0) == 0);
+    CHECK(
+        PathOfError(s).rfind("shafts.output.inertia: must be > 0 on a fixed shaft that carries no "
+                             "fixed gear",
+                             0) == 0);
   }
 }
 

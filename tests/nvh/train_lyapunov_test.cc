@@ -286,6 +286,77 @@ TEST_CASE("a train's periodic orbit in permanent contact is the linear periodic 
 namespace gearnvh {
 namespace {
 
+// The loaded two-stage train with a loose gear g5 (30 teeth) driven by g1 against a drag that
+// keeps it in contact, idling on the input shaft or on a fixed shaft that stands.
+TrainSpec WithIdler(bool standing) {
+  TrainSpec spec = testing::TwoStageTrain(1000.0, 0.0, 1000.0);
+  spec.operating.excitation.clear();
+  spec.gears.push_back(testing::TrainGearOf("g5", "input", 30, Mounting::kLoose));
+  if (standing) {
+    spec.shafts.push_back(testing::RigidShaft("carrier", 0.01));
+    spec.shafts.back().fixed = true;
+    spec.gears.back().shaft = "carrier";
+  }
+  spec.meshes.push_back(testing::TrainMeshOf("g1", "g5"));
+  spec.operating.loads.push_back({"g5", 20.0});
+  return spec;
+}
+
+TEST_CASE("a standing shaft's rotation is neutral: the orbit's quotient and Lyapunov leave it out",
+          "[nvh][train][orbit]") {
+  // At tier 1 the carrier of a loose gear does not enter the dynamics, so the orbit of the train
+  // with g5 on a standing shaft has the multipliers of the train with g5 on the input shaft; the
+  // standing shaft's position and velocity (multiplier 1 and its Jordan partner) are taken out
+  // like the free rotation's, leaving 2n - 4 multipliers.
+  const Model turning(WithIdler(false)), standing(WithIdler(true));
+  REQUIRE(standing.tables.n == turning.tables.n + 1);
+  REQUIRE(standing.tables.standing_rotations.cols() == 1);
+  const auto orbit_of = [](const TrainTables& t) {
+    const auto [z0, states0] = TrainStaticState(t);
+    return FindTrainPeriodicOrbit(t, z0, states0, {});
+  };
+  const TrainOrbit a = orbit_of(turning.tables), b = orbit_of(standing.tables);
+  REQUIRE(a.info == TrainOrbit::Info::kConverged);
+  REQUIRE(b.info == TrainOrbit::Info::kConverged);
+  CHECK(b.events_per_period == 0);
+  CHECK(b.stable);
+  REQUIRE(b.multipliers.size() == 2 * standing.tables.n - 4);
+  REQUIRE(b.multipliers.size() == a.multipliers.size());
+  // Tolerance: one dynamics, one period map up to an inert body's rows: the moduli agree to the
+  // rounding of the products times their conditioning, 1e-6 of the largest (the smallest are
+  // rounding, ~1e-14; without the standing rotation taken out, two multipliers would be 1).
+  INFO("multipliers " << a.multipliers.transpose() << " | " << b.multipliers.transpose());
+  REQUIRE(std::abs(a.multipliers[0]) > 1e-9);  // 2.2e-6 measured (a well damped train)
+  for (Eigen::Index j = 0; j < a.multipliers.size(); ++j) {
+    CHECK(std::abs(std::abs(b.multipliers[j]) - std::abs(a.multipliers[j])) <=
+          1e-6 * std::abs(a.multipliers[0]));
+  }
+  TrainLyapunovOptions too_many;
+  too_many.exponents = 2 * standing.tables.n - 2;
+  const auto [z0, states0] = TrainStaticState(standing.tables);
+  CHECK_THROWS_AS(EstimateTrainLyapunov(standing.tables, z0, states0, too_many), InputError);
+  // The largest exponent of a stable orbit is negative, as with the carrier turning: the standing
+  // rotation's neutral pair (whose linear growth would read as +ln(t)/t) is projected out.
+  TrainLyapunovOptions options;
+  options.transient_cycles = 20;
+  options.alignment_cycles = 20;
+  options.cycles = 200;
+  const auto largest = [&](const TrainTables& t) {
+    const auto [z, st] = TrainStaticState(t);
+    const TrainLyapunovSummary l = EstimateTrainLyapunov(t, z, st, options);
+    REQUIRE(l.info == TrainLyapunovSummary::Info::kSuccess);
+    return l.exponents.front();
+  };
+  const double lambda_turning = largest(turning.tables), lambda_standing = largest(standing.tables);
+  INFO("largest exponent: turning carrier " << lambda_turning << " 1/s, standing "
+                                            << lambda_standing << " 1/s");
+  CHECK(lambda_turning < 0.0);
+  CHECK(lambda_standing < 0.0);
+  // One linear periodic dynamics, and the start directions differ only in the inert coordinate
+  // (projected out): equal to 6 digits measured; 1e-6 relative allowed.
+  CHECK(lambda_standing == Approx(lambda_turning).epsilon(1e-6));
+}
+
 TEST_CASE("a rattling train's periodic orbit closes on the independent dense path",
           "[nvh][train][orbit]") {
   // Light load, engine excitation: the two-stage train rattles periodically (impacts every

@@ -84,5 +84,40 @@ TEST_CASE("fixed shaft: at tier 3 the standing shaft carries its loose gear's be
   CHECK(worst <= 1e-12);
 }
 
+TEST_CASE("fixed shaft: certified jumps leave the standing rotation out and keep it at rest",
+          "[solver][train]") {
+  // The loaded two-stage reducer (every mesh in drive contact) with a loose gear g5 driven by g1
+  // against a drag that keeps it in contact, idling on a standing shaft: the period map has the
+  // standing rotation's two unit multipliers, which the quotient removes, so the map is built,
+  // jumps, and equals the stepped run.
+  TrainSpec spec = testing::TwoStageTrain(300.0, 100.0, 300.0);
+  spec.shafts.push_back(testing::RigidShaft("carrier", 0.01));
+  spec.shafts.back().fixed = true;
+  spec.gears.push_back(testing::TrainGearOf("g5", "carrier", 30, Mounting::kLoose));
+  spec.meshes.push_back(testing::TrainMeshOf("g1", "g5"));
+  spec.operating.loads.push_back({"g5", 20.0});
+  const Model s(spec);
+  const TrainTables& t = s.tables;
+  REQUIRE(t.standing_rotations.cols() == 1);
+  REQUIRE(t.common_period > 0.0);
+  const double start = 20.0 * t.common_period, end = start + 2.0 * t.common_period;
+  const testing::RecordedTrainRun stepped = testing::RunTrainFromStatic(t, false, start, end);
+  const testing::RecordedTrainRun jumped = testing::RunTrainFromStatic(t, true, start, end);
+  REQUIRE(jumped.summary.jumps == TrainStepperSummary::Jumps::kJumped);
+  CHECK(jumped.summary.jumped_periods >= 18);
+  CHECK(stepped.summary.events == 0);
+  CHECK(jumped.summary.events == 0);
+  // As the reducer's own jump test: the same orbit to rounding, 1e-10 of the TE p-p.
+  for (size_t i = 0; i < t.meshes.size(); ++i) {
+    const double pp = stepped.stats.meshes[i].te_peak_to_peak;
+    CHECK(pp > 0.0);
+    CHECK(std::abs(stepped.stats.meshes[i].te_rms - jumped.stats.meshes[i].te_rms) <= 1e-10 * pp);
+  }
+  // The standing shaft (body 3) is at rest in both.
+  CHECK(stepped.state[3] == 0.0);
+  CHECK(jumped.state[3] == 0.0);
+  CHECK(jumped.state[t.n + 3] == 0.0);
+}
+
 }  // namespace
 }  // namespace gearnvh

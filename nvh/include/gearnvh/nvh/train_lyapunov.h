@@ -9,7 +9,8 @@
 // after `alignment_cycles` unaveraged cycles; then lambda_j = sum g_j / T (1/s, T the averaged
 // time), in descending order. The free rotation is neutral in every tuple (multiplier 1 and its
 // Jordan partner, linear growth): its two zero exponents would hide every negative one, so it is
-// projected out and the k exponents are those of the quotient (k <= 2n - 2).
+// projected out and the k exponents are those of the quotient (k <= 2n - 2, less 2 per fixed shaft,
+// whose standing rotation is projected out too).
 // Reported per second, per cycle of the first mesh (lambda T_1) and per forcing cycle (lambda T_f,
 // T_f = 2 pi / (order_1 Omega_in), the first engine order of the input; T_1 without excitation).
 // Standard error per exponent: the run is cut into `blocks` equal blocks, the standard deviation
@@ -31,7 +32,7 @@
 namespace gearnvh {
 
 struct TrainLyapunovOptions {
-  int exponents = 1;            // k, the largest exponents wanted; 1 <= k <= 2n - 2 (checked)
+  int exponents = 1;            // k, the largest exponents wanted; 1 <= k <= 2n - neutral (checked)
   long transient_cycles = 200;  // cycles of the first mesh before the tangents start; >= 0
   long alignment_cycles = 50;   // cycles run renormalised before averaging; >= 0
   long cycles = 1000;           // cycles averaged; >= blocks * renormalise_cycles

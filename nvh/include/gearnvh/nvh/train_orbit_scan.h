@@ -5,7 +5,7 @@
 // (the transient rounded up to whole orbit periods, so the phase is right) and the states one, two,
 // ... orbit periods later are tried. Multipliers are those of TrainOrbit: on the quotient by the
 // free rotation (its two neutral directions, multiplier 1 and its Jordan partner, are removed),
-// 2n - 2 of them, by decreasing modulus.
+// 2n - 2 of them (less 2 per fixed shaft), by decreasing modulus.
 #pragma once
 
 #include <atomic>

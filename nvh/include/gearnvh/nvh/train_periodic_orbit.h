@@ -6,8 +6,9 @@
 // its Jacobian J comes from the tangent columns (train_tangents.h: exact pieces, a saltation per
 // gap event). The free rotation U = [[r, 0], [0, r]] is neutral (multiplier 1 and its Jordan
 // partner) and changes no gap or force, so the shooting runs on the quotient: Pi = I - U U^T W
-// (W = diag(M, M)) projects off U, Q (2n x (2n - 2), orthonormal) spans {y : U^T W y = 0}, an
-// invariant complement (J Q = Q C). With y = y_0 + Q a:
+// (W = diag(M, M)) projects off U (with each fixed shaft's standing rotation, also neutral:
+// TrainTables::standing_rotations), Q (2n x (2n - neutral), orthonormal) spans {y : U^T W y = 0},
+// an invariant complement (J Q = Q C). With y = y_0 + Q a:
 //   F(a) = Q^T Pi (P(y) - y),   C = Q^T J Q,   a <- a - theta (C - I)^-1 F(a),
 // theta halved (at most 10 times) until the scaled residual decreases. Converged when
 // |D Pi (P(y) - y)| <= tolerance |D y|, D = diag(1 on angles, 1 / omega_f on speeds), omega_f =
@@ -40,7 +41,7 @@ struct TrainOrbit {
   double period = 0.0;               // T, s
   int iterations = 0;
   double residual = 0.0;         // scaled, as the tolerance
-  Eigen::VectorXcd multipliers;  // on the quotient, 2n - 2, by decreasing modulus
+  Eigen::VectorXcd multipliers;  // on the quotient, 2n - neutral, by decreasing modulus
   bool stable = false;           // every |mu| < 1
   long events_per_period = 0;    // contact events of the last run over one orbit period
   std::string stop_reason;       // kSolverFailed: why the shot stopped (TrainStepperMessage)

@@ -108,6 +108,7 @@ class TrainCycleMap {
   Eigen::MatrixXd phi_, pq_, projector_;
   std::vector<Eigen::MatrixXd> powers_;  // Pq^(2^l)
   Eigen::VectorXd orbit_;
+  Eigen::VectorXd standing_;  // Jump's scratch: each standing rotation's position and velocity
   Eigen::RowVectorXd velocity_row_, velocity_sum_row_;  // rho (Phi - I) L; and times (I - Pq)^-1
   double velocity_drift_ = 0.0;                         // rho (Phi - I) y*
   double spectral_radius_ = 0.0;

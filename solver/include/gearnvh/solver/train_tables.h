@@ -153,6 +153,12 @@ struct TrainTables {
   // and the row r^T M that measures it.
   Eigen::VectorXd rigid_rotation;
   Eigen::RowVectorXd recenter_row;
+  // The rotation of each fixed shaft (columns, M-normalised and M-orthogonal to r and to each
+  // other): neutral like r (nothing reaches it), but not moved at all; empty without fixed shafts.
+  Eigen::MatrixXd standing_rotations;
+  // Neutral directions of the elastic state [x; x']: 2 (r's position and velocity) plus 2 per
+  // standing rotation.
+  int neutral_directions() const { return 2 + 2 * static_cast<int>(standing_rotations.cols()); }
   double common_period = 0.0;    // s; 0 when none within the limit
   double longest_segment = 0.0;  // the longest segment of any mesh, s (bounds every grid segment)
 

@@ -60,8 +60,8 @@ class TrainTangentPropagator {
   long saltations_ = 0;
 };
 
-// Removes the free rotation's position and velocity from the columns (M-orthogonal projection)
-// and clears the constant and input slots.
+// Removes the free rotation's and every standing rotation's position and velocity from the
+// columns (M-orthogonal projection) and clears the constant and input slots.
 void RemoveTrainFreeRotation(const TrainTables& tables, Eigen::Ref<Eigen::MatrixXd> V);
 
 }  // namespace gearnvh
