@@ -45,6 +45,18 @@ inline ShaftSpec ElasticShaftSpec(double element_length = 0.01) {
   return shaft;
 }
 
+// `spec` with both gears on the elastic test shafts (pinion at 100 mm, wheel at 130 mm), each
+// carrying a lumped inertia of 0.02 kg m^2 polar (at 0 and 190 mm): inertia beyond the gears.
+inline GearboxSpec OnElasticShaftsWithInertias(GearboxSpec spec) {
+  for (int s = 0; s < 2; ++s) {
+    ShaftSpec shaft = ElasticShaftSpec(0.01);
+    shaft.gear_at = s == 0 ? 0.1 : 0.13;
+    shaft.inertias = {{s == 0 ? 0.0 : 0.19, 0.02, 0.01}};
+    (s == 0 ? spec.input_shaft : spec.output_shaft) = shaft;
+  }
+  return spec;
+}
+
 // Input (rigid on two bearings, g1 20 teeth at 40 mm, helical right) -> layshaft (elastic: g2 40
 // helical left at 50 mm, g3 18 at 150 mm, g6 25 at 100 mm) -> output (elastic: g4 54 at 60 mm,
 // loose g5 30 at 140 mm driven by g6). Two bodies turn against the input, so both mesh senses

@@ -24,13 +24,7 @@ double RelativeDifference(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
 GearboxSpec FlexiblePair() {
   GearboxSpec spec = StandardPair(31, 47, 3e-3, 30e-3);
   spec.operating.torque = 200.0;
-  for (int s = 0; s < 2; ++s) {
-    ShaftSpec shaft = testing::ElasticShaftSpec(0.01);
-    shaft.gear_at = s == 0 ? 0.1 : 0.13;
-    shaft.inertias = {{s == 0 ? 0.0 : 0.19, 0.02, 0.01}};
-    (s == 0 ? spec.input_shaft : spec.output_shaft) = shaft;
-  }
-  return spec;
+  return testing::OnElasticShaftsWithInertias(spec);
 }
 
 GearboxSpec HelicalRigidPair(Hand pinion_hand) {

@@ -19,14 +19,7 @@ using testing::MeshTe;
 // The loaded test pair on elastic shafts, each with a lumped 0.02 kg m^2 inertia (a motor rotor,
 // a coupling) ten times the gears' own: m_e by the bodies is several times m_e by the gears.
 GearboxSpec ElasticPairWithInertias() {
-  GearboxSpec spec = testing::LoadedTestPair();
-  for (int s = 0; s < 2; ++s) {
-    ShaftSpec shaft = testing::ElasticShaftSpec(0.01);
-    shaft.gear_at = s == 0 ? 0.1 : 0.13;
-    shaft.inertias = {{s == 0 ? 0.0 : 0.19, 0.02, 0.01}};
-    (s == 0 ? spec.input_shaft : spec.output_shaft) = shaft;
-  }
-  return spec;
+  return testing::OnElasticShaftsWithInertias(testing::LoadedTestPair());
 }
 
 TEST_CASE("effective mass: a pair with heavy shafts and its one-mesh train are one model",
