@@ -319,7 +319,14 @@ std::vector<ExcitationOrder> ReadExcitation(Reader& r, const YAML::Node& op) {
   std::vector<ExcitationOrder> out;
   r.ForEachItem(op, "operating", "excitation", false,
                 [&](const YAML::Node& item, const std::string& p) {
-                  r.ExpectMap(item, p, {"order", "amplitude", "phase"});
+                  r.ExpectMap(item, p, {"kind", "order", "amplitude", "phase"});
+                  const std::string kind = r.String(item, p, "kind", std::string("acceleration"));
+                  if (kind != "acceleration") {
+                    r.Fail(Join(p, "kind"), item["kind"], "'" + kind + "'",
+                           "must be acceleration, the one kind built (a torque J a on the input "
+                           "shaft); torque orders on a shaft and prescribed motion are not "
+                           "available yet");
+                  }
                   out.push_back({r.Quantity(item, p, "order", Dimension::kDimensionless),
                                  r.Quantity(item, p, "amplitude", Dimension::kAngularAcceleration),
                                  r.Quantity(item, p, "phase", Dimension::kAngle, 0.0)});

@@ -41,6 +41,30 @@ TEST_CASE("the rattle example reads into SI with defaults", "[loader]") {
   CHECK(std::holds_alternative<PotentialEnergyStiffness>(s.mesh.stiffness));
 }
 
+TEST_CASE("an excitation order's kind is acceleration (the default), other kinds are refused",
+          "[loader]") {
+  std::ifstream in(std::string(GEARNVH_EXAMPLES_DIR) + "/idle_rattle.yaml");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string from = "- {order: 2,";
+  const size_t at = text.find(from);
+  REQUIRE(at != std::string::npos);
+  const auto with = [&](const std::string& kind) {
+    std::string t = text;
+    t.replace(at, from.size(), "- {kind: " + kind + ", order: 2,");
+    return t;
+  };
+  CHECK(LoadGearboxFromString(with("acceleration")) == LoadGearboxFromString(text));
+  for (const std::string kind : {"torque", "motion"}) {
+    try {
+      LoadGearboxFromString(with(kind));
+      FAIL("kind: " << kind << " was accepted");
+    } catch (const InputError& e) {
+      CHECK(e.path() == "operating.excitation[0].kind");
+      CHECK_THAT(e.rule(), Catch::StartsWith("must be acceleration, the one kind built"));
+    }
+  }
+}
+
 TEST_CASE("stiffness overrides and tiers parse", "[loader]") {
   const std::string base = R"(
 name: t
