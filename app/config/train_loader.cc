@@ -115,10 +115,22 @@ TrainSpec ReadTrainDocument(Reader& r, const YAML::Node& root) {
   spec.operating.speed_unit =
       DisplayUnitOf(r.Find("operating.speed.value").raw, Dimension::kAngularSpeed);
   r.ForEachItem(op, "operating", "loads", false, [&](const YAML::Node& item, const std::string& p) {
-    r.ExpectMap(item, p, {"on", "torque"});
-    spec.operating.loads.push_back({r.String(item, p, "on"),
-                                    r.Quantity(item, p, "torque", Dimension::kTorque),
-                                    DisplayUnitOf(r.Find(p + ".torque").raw, Dimension::kTorque)});
+    r.ExpectMap(item, p, {"on", "torque", "viscous", "relative_to"});
+    TrainLoad load;
+    load.on = r.String(item, p, "on");
+    // A drag may be viscous alone; a load is a torque otherwise.
+    load.viscous = r.Quantity(item, p, "viscous", Dimension::kRotationalDamping, 0.0);
+    const bool viscous = item["viscous"].IsDefined();
+    load.torque = viscous ? r.Quantity(item, p, "torque", Dimension::kTorque, 0.0)
+                          : r.Quantity(item, p, "torque", Dimension::kTorque);
+    if (item["torque"].IsDefined()) {
+      load.torque_unit = DisplayUnitOf(r.Find(p + ".torque").raw, Dimension::kTorque);
+    }
+    if (viscous) {
+      load.viscous_unit = DisplayUnitOf(r.Find(p + ".viscous").raw, Dimension::kRotationalDamping);
+    }
+    load.relative_to = r.String(item, p, "relative_to", "");
+    spec.operating.loads.push_back(load);
   });
   spec.operating.excitation = ReadExcitation(r, op);
   spec.analysis = ReadAnalysis(r, root, 2);

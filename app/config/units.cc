@@ -37,6 +37,8 @@ const std::vector<UnitEntry>& Table(Dimension d) {
       {"N*m/rad", 1.0}, {"kN*m/rad", 1e3}, {"N*mm/rad", 1e-3}, {"N*m/deg", 180.0 / kPi}};
   static const std::vector<UnitEntry> damping{{"N*s/m", 1.0}, {"kN*s/m", 1e3}, {"N*s/mm", 1e3}};
   static const std::vector<UnitEntry> accel{{"rad/s^2", 1.0}, {"krad/s^2", 1e3}};
+  static const std::vector<UnitEntry> rot_damping{
+      {"N*m*s/rad", 1.0}, {"N*mm*s/rad", 1e-3}, {"N*m*s/deg", 180.0 / kPi}};
   switch (d) {
     case Dimension::kDimensionless:
       return none;
@@ -64,6 +66,8 @@ const std::vector<UnitEntry>& Table(Dimension d) {
       return damping;
     case Dimension::kAngularAcceleration:
       return accel;
+    case Dimension::kRotationalDamping:
+      return rot_damping;
   }
   return none;
 }
@@ -109,6 +113,8 @@ const char* DimensionName(Dimension d) {
       return "damping";
     case Dimension::kAngularAcceleration:
       return "angular acceleration";
+    case Dimension::kRotationalDamping:
+      return "rotational damping";
   }
   return "quantity";
 }

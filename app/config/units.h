@@ -25,6 +25,7 @@ enum class Dimension {
   kRotationalStiffness,  // N m/rad
   kDamping,              // N s/m
   kAngularAcceleration,  // rad/s^2
+  kRotationalDamping,    // N m s/rad
 };
 
 const char* DimensionName(Dimension d);

@@ -37,7 +37,13 @@ std::string TrainLoadsText(const TrainSpec& spec) {
   std::string text;
   for (const TrainLoad& load : spec.operating.loads) {
     if (!text.empty()) text += ", ";
-    text += Format(load.torque, load.torque_unit) + " on " + load.on;
+    if (load.torque > 0.0 || load.viscous == 0.0) text += Format(load.torque, load.torque_unit);
+    if (load.viscous > 0.0) {
+      text += std::string(load.torque > 0.0 ? " + " : "") +
+              Format(load.viscous, load.viscous_unit) + " x speed";
+    }
+    text += " on " + load.on;
+    if (!load.relative_to.empty()) text += " relative to " + load.relative_to;
   }
   return text.empty() ? "none" : text;
 }

@@ -346,14 +346,18 @@ TrainSimulatePlan PlanTrainSimulate(const SimulateOptions& options, const TrainS
                        }));
   const int standing = static_cast<int>(std::count_if(spec.shafts.begin(), spec.shafts.end(),
                                                       [](const TrainShaft& s) { return s.fixed; }));
-  const int most = 2 * (bodies - standing) - 2;
+  // A viscous drag damps the free rotation's speed: only its angle is neutral.
+  const bool damped = DragDampsFreeRotation(spec, AnalyseTrainTopology(spec));
+  const int most = 2 * (bodies - standing) - (damped ? 1 : 2);
   if (*plan.lyapunov < 1 || *plan.lyapunov > most) {
     throw InputError(
         names("lyapunov"), 0, std::to_string(*plan.lyapunov),
-        "must be in 1 .. 2n - 2" + std::string(standing > 0 ? " - 2s" : "") + " = " +
-            std::to_string(most) + " for this train (" + std::to_string(bodies) + " bodies" +
+        "must be in 1 .. 2n - " + std::string(damped ? "1" : "2") +
+            std::string(standing > 0 ? " - 2s" : "") + " = " + std::to_string(most) +
+            " for this train (" + std::to_string(bodies) + " bodies" +
             (standing > 0 ? ", s = " + std::to_string(standing) + " fixed shafts" : "") +
-            "; the free rotation's two neutral directions" +
+            (damped ? "; the free rotation's angle (a viscous drag damps its speed)"
+                    : "; the free rotation's two neutral directions") +
             (standing > 0 ? " and each fixed shaft's two" : "") + " are removed)");
   }
   return plan;

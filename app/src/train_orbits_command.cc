@@ -199,10 +199,12 @@ int OrbitsTrain(const OrbitsCommandOptions& options, const TrainSpec& spec) {
   } else {
     fmt::print(
         "{}  ({}): gear train, period-{} orbits ({} common period{} of {:.4g} s), {}\n"
-        "  multipliers on the quotient by the free rotation (its two neutral directions, "
-        "multiplier 1 and its Jordan partner, removed{})\n",
+        "  multipliers on the quotient by the free rotation ({} removed{})\n",
         spec.name, options.file, options.period, options.period, options.period > 1 ? "s" : "",
         common_period, TierName(plan.scan.tier),
+        DragDampsFreeRotation(spec, AnalyseTrainTopology(spec))
+            ? "its angle, multiplier 1: a viscous drag damps its speed"
+            : "its two neutral directions, multiplier 1 and its Jordan partner",
         std::any_of(spec.shafts.begin(), spec.shafts.end(),
                     [](const TrainShaft& s) { return s.fixed; })
             ? ", and each fixed shaft's two"

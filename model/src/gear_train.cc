@@ -163,6 +163,8 @@ double TrainMeshModel::Damping() const {
 
 GearTrain GearTrainAtSpeed(GearTrain train, const TrainSpec& at) {
   train.topology = AnalyseTrainTopology(at);
+  // A viscous drag's mean torque grows with speed: the torque flow, and with it every mesh's load.
+  if (DragDampsFreeRotation(at, train.topology)) return BuildGearTrain(at);
   for (size_t m = 0; m < train.meshes.size(); ++m) {
     SetMeshKinematics(at, train.topology, m, train.meshes[m]);
   }

@@ -115,6 +115,41 @@ void RequireSharedCenterDistances(const TrainSpec& spec, const TrainTopology& to
   }
 }
 
+LoadAction ActionOfLoad(const TrainSpec& spec, const TrainTopology& topology, size_t load_index) {
+  const TrainLoad& load = spec.operating.loads[load_index];
+  const auto body_of = [&](const std::string& name) {
+    const int shaft = spec.ShaftIndex(name);
+    return shaft >= 0 ? shaft : topology.gear_body[static_cast<size_t>(spec.GearIndex(name))];
+  };
+  const auto speed = [&](int body) { return topology.bodies[static_cast<size_t>(body)].speed; };
+  const auto sense = [&](int body) { return speed(body) > 0.0 ? 1.0 : -1.0; };
+  const int body = body_of(load.on);
+  // Relative to a fixed shaft is relative to the housing: the reaction does no work there.
+  const int other = load.relative_to.empty() || speed(body_of(load.relative_to)) == 0.0
+                        ? -1
+                        : body_of(load.relative_to);
+  LoadAction a;
+  a.viscous = load.viscous;
+  a.relative_speed = speed(body) - (other >= 0 ? speed(other) : 0.0);
+  // Two bodies at one nominal speed (a ratio such as 20/30 x 30/20, one rounding apart): 0.
+  if (other >= 0 && std::abs(a.relative_speed) <=
+                        1e-9 * std::max(std::abs(speed(body)), std::abs(speed(other)))) {
+    a.relative_speed = 0.0;
+  }
+  const double along = a.relative_speed > 0.0 ? 1.0 : a.relative_speed < 0.0 ? -1.0 : 0.0;
+  const double drag = along * (load.torque + load.viscous * std::abs(a.relative_speed));
+  a.terms.push_back({body, sense(body) * drag, sense(body)});
+  if (other >= 0) a.terms.push_back({other, -sense(other) * drag, -sense(other)});
+  return a;
+}
+
+bool DragDampsFreeRotation(const TrainSpec& spec, const TrainTopology& topology) {
+  for (size_t i = 0; i < spec.operating.loads.size(); ++i) {
+    if (ActionOfLoad(spec, topology, i).DampsFreeRotation()) return true;
+  }
+  return false;
+}
+
 TrainTorqueFlow StaticTorqueFlow(const TrainSpec& spec, const TrainTopology& topology) {
   const size_t meshes = spec.meshes.size();
   TrainTorqueFlow flow;
@@ -123,38 +158,42 @@ TrainTorqueFlow StaticTorqueFlow(const TrainSpec& spec, const TrainTopology& top
   flow.main_load.assign(meshes, -1);
   std::vector<double> main_power(meshes, 0.0);
   std::vector<double> mesh_power(meshes, 0.0);
+  std::vector<bool> far_is_a(meshes, false);  // the side away from the input is gear a's
   double total_power = 0.0;
   for (size_t i = 0; i < spec.operating.loads.size(); ++i) {
-    const TrainLoad& load = spec.operating.loads[i];
-    // A shaft by its name, else the body of the gear of that name.
-    const int shaft = spec.ShaftIndex(load.on);
-    const int body =
-        shaft >= 0 ? shaft : topology.gear_body[static_cast<size_t>(spec.GearIndex(load.on))];
-    // Power per unit input speed: the flow is then the same bits at every input speed.
-    const double power = load.torque * SpeedRatio(topology, body);
-    total_power += power;
-    // Up the spanning tree to the input: every mesh on the way carries this power.
-    for (int child = body; topology.parent_mesh[static_cast<size_t>(child)] >= 0;) {
-      const auto m = static_cast<size_t>(topology.parent_mesh[static_cast<size_t>(child)]);
-      const int body_a =
-          topology.gear_body[static_cast<size_t>(spec.GearIndex(spec.meshes[m].gear_a))];
-      const int body_b =
-          topology.gear_body[static_cast<size_t>(spec.GearIndex(spec.meshes[m].gear_b))];
-      mesh_power[m] += power;
-      if (power > main_power[m]) {
-        main_power[m] = power;
-        flow.main_load[m] = static_cast<int>(i);
+    for (const LoadAction::Term& term : ActionOfLoad(spec, topology, i).terms) {
+      const int body = term.body;
+      // Power per unit input speed: without viscous drag the flow is the same bits at every input
+      // speed (the reaction of a relative drag sends power back: negative).
+      const double power = term.resisting * SpeedRatio(topology, body);
+      total_power += power;
+      // Up the spanning tree to the input: every mesh on the way carries this power.
+      for (int child = body; topology.parent_mesh[static_cast<size_t>(child)] >= 0;) {
+        const auto m = static_cast<size_t>(topology.parent_mesh[static_cast<size_t>(child)]);
+        const int body_a =
+            topology.gear_body[static_cast<size_t>(spec.GearIndex(spec.meshes[m].gear_a))];
+        const int body_b =
+            topology.gear_body[static_cast<size_t>(spec.GearIndex(spec.meshes[m].gear_b))];
+        mesh_power[m] += power;
+        if (power > main_power[m]) {
+          main_power[m] = power;
+          flow.main_load[m] = static_cast<int>(i);
+        }
+        far_is_a[m] = child == body_a;  // the same for every load through m (a tree)
+        child = child == body_a ? body_b : body_a;
       }
-      if (child == body_a && power > 0.0) flow.back_flank_loaded[m] = true;
-      child = child == body_a ? body_b : body_a;
     }
   }
   flow.input_torque = total_power;  // the input's speed ratio is 1
   for (size_t m = 0; m < meshes; ++m) {
     const int body_b =
         topology.gear_body[static_cast<size_t>(spec.GearIndex(spec.meshes[m].gear_b))];
-    // Power P through the mesh at base-circle speed |w_b| r_b,b: torque on gear b P / |w_b|.
-    flow.transmitted_torque[m] = mesh_power[m] / SpeedRatio(topology, body_b);
+    // Power P through the mesh at base-circle speed |w_b| r_b,b: torque on gear b P / |w_b|. It
+    // flows from gear b to a (the back flank) when it flows to a's side, or back from b's side
+    // (a relative drag's reaction).
+    flow.transmitted_torque[m] = std::abs(mesh_power[m]) / SpeedRatio(topology, body_b);
+    flow.back_flank_loaded[m] =
+        mesh_power[m] > 0.0 ? far_is_a[m] : mesh_power[m] < 0.0 && !far_is_a[m];
   }
   return flow;
 }

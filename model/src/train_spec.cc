@@ -461,6 +461,27 @@ void ValidateTrainSpec(const TrainSpec& spec) {
     if (!(load.torque >= 0.0 && std::isfinite(load.torque))) {
       throw InputError(p + ".torque", 0, MessageNumber(load.torque), "must be >= 0");
     }
+    if (!(load.viscous >= 0.0 && load.viscous <= GearboxLimits::kMaxViscousDrag)) {
+      throw InputError(p + ".viscous", 0, MessageNumber(load.viscous) + " N m s/rad",
+                       "must be in [0, " + MessageNumber(GearboxLimits::kMaxViscousDrag) +
+                           "] N m s/rad (churning and bearing drag of large gears is 1-10)");
+    }
+    if (!load.relative_to.empty()) {
+      const TrainShaft* carrier = spec.FindShaft(load.relative_to);
+      if (carrier == nullptr) {
+        throw InputError(p + ".relative_to", 0, "'" + load.relative_to + "'",
+                         "must name a shaft (the one the drag acts relative to)");
+      }
+      const TrainGear* on_gear = spec.FindGear(load.on);
+      const std::string own_shaft = on_gear == nullptr                      ? load.on
+                                    : on_gear->mounting == Mounting::kFixed ? on_gear->shaft
+                                                                            : "";
+      if (own_shaft == carrier->name) {
+        throw InputError(
+            p + ".relative_to", 0, "'" + load.relative_to + "'",
+            "is the body '" + load.on + "' turns with: a drag relative to itself does nothing");
+      }
+    }
     const TrainGear* gear = spec.FindGear(load.on);
     const TrainShaft* shaft = gear && gear->mounting == Mounting::kFixed
                                   ? spec.FindShaft(gear->shaft)
@@ -473,6 +494,16 @@ void ValidateTrainSpec(const TrainSpec& spec) {
     }
   }
   const TrainTopology topology = AnalyseTrainTopology(spec);
+  for (size_t i = 0; i < spec.operating.loads.size(); ++i) {
+    const TrainLoad& load = spec.operating.loads[i];
+    if (load.torque > 0.0 && ActionOfLoad(spec, topology, i).relative_speed == 0.0) {
+      throw InputError("operating.loads[" + std::to_string(i) + "].torque", 0,
+                       MessageNumber(load.torque) + " N m",
+                       "must be 0: '" + load.on + "' turns with '" + load.relative_to +
+                           "' at the same nominal speed, so a constant drag between them has no "
+                           "direction (a viscous drag may act)");
+    }
+  }
   // Every mesh as the schema-1 gearbox of its gears: the gear, mesh, shaft, excitation-order and
   // analysis rules of schema 1, with the train's paths in the messages. The operating limits
   // (speed, load, excitation amplitude) are the train's, on its input shaft and loads.

@@ -235,10 +235,31 @@ TrainStructure AssembleTrainStructure(const TrainSpec& spec, const GearTrain& tr
     s.static_force[TrainStructure::Dof(node, kThz)] += (b.speed > 0.0 ? 1.0 : -1.0) * torque;
   };
   apply(topo.input_body, train.input_torque);
-  for (const TrainLoad& load : spec.operating.loads) {
-    const int shaft = spec.ShaftIndex(load.on);
-    apply(shaft >= 0 ? shaft : topo.gear_body[static_cast<size_t>(spec.GearIndex(load.on))],
-          -load.torque);
+  // Each load's mean torques, and its viscous drag c w w^T on the bodies' rotations (w on th_z in
+  // the structure's fixed frame: the body's direction times its entry in LoadAction's sense).
+  std::vector<Eigen::Triplet<double>> drag;
+  for (size_t i = 0; i < spec.operating.loads.size(); ++i) {
+    const LoadAction action = ActionOfLoad(spec, topo, i);
+    for (const LoadAction::Term& term : action.terms) apply(term.body, -term.resisting);
+    if (!(action.viscous > 0.0)) continue;
+    for (const LoadAction::Term& p : action.terms) {
+      for (const LoadAction::Term& q : action.terms) {
+        const auto dof = [&](int body) {
+          return TrainStructure::Dof(s.body_node[static_cast<size_t>(body)], kThz);
+        };
+        const auto sense = [&](int body) {
+          return topo.bodies[static_cast<size_t>(body)].speed > 0.0 ? 1.0 : -1.0;
+        };
+        drag.emplace_back(
+            dof(p.body), dof(q.body),
+            action.viscous * p.direction * sense(p.body) * q.direction * sense(q.body));
+      }
+    }
+  }
+  if (!drag.empty()) {
+    Eigen::SparseMatrix<double> c(s.dofs, s.dofs);
+    c.setFromTriplets(drag.begin(), drag.end());
+    s.C += c;
   }
   return s;
 }

@@ -85,12 +85,8 @@ TrainOrbit FindTrainPeriodicOrbit(const TrainTables& t, const Eigen::VectorXd& z
   const int n = t.n, e = 2 * n;
   out.period = options.periods * t.common_period;
   // Pi and Q (see the header).
-  const int neutral = t.neutral_directions(), s = neutral / 2 - 1;
-  Eigen::MatrixXd U = Eigen::MatrixXd::Zero(e, neutral);
-  U.col(0).head(n) = t.rigid_rotation;
-  U.col(1).tail(n) = t.rigid_rotation;
-  U.block(0, 2, n, s) = t.standing_rotations;  // fixed shafts: neutral, never moved
-  U.block(n, 2 + s, n, s) = t.standing_rotations;
+  const int neutral = t.neutral_directions();
+  const Eigen::MatrixXd U = t.NeutralBasis();
   Eigen::VectorXd w(e);
   w << t.inertia, t.inertia;
   const Eigen::MatrixXd WU = w.asDiagonal() * U;

@@ -142,8 +142,9 @@ void BindTrainOrbitsTiers(py::module_& m) {
             const Eigen::VectorXcd& mu = p.point.orbit.multipliers;
             return py::array_t<std::complex<double>>(mu.size(), mu.data());
           },
-          "Floquet multipliers on the quotient by the free rotation (2n - 2), by decreasing "
-          "modulus")
+          "Floquet multipliers on the quotient by the neutral directions (2n - 2: the free "
+          "rotation's angle and speed; 2n - 1 when a viscous drag damps its speed; 2 fewer per "
+          "fixed shaft), by decreasing modulus")
       .def_property_readonly("spectral_radius",
                              [](const TrainOrbitsPoint& p) {
                                const Eigen::VectorXcd& mu = p.point.orbit.multipliers;

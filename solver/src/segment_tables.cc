@@ -6,7 +6,6 @@
 #include <numbers>
 #include <unsupported/Eigen/MatrixFunctions>
 
-#include "free_rotation.h"
 #include "gearnvh/solver/solver_options.h"
 
 namespace gearnvh {
@@ -209,7 +208,14 @@ Eigen::MatrixXd FreeRotationProjector(const SegmentTables& t) {
 }
 
 void RemoveFreeRotation(const SegmentTables& t, Eigen::Ref<Eigen::MatrixXd> V) {
-  ProjectOutFreeRotation(t, V);
+  // V.x <- V.x - r (r^T M V.x), and the same for V.x'.
+  const int n = t.n;
+  for (Eigen::Index c = 0; c < V.cols(); ++c) {
+    const double position = t.recenter_row.dot(V.col(c).head(n));
+    const double velocity = t.recenter_row.dot(V.col(c).segment(n, n));
+    V.col(c).head(n) -= position * t.rigid_rotation;
+    V.col(c).segment(n, n) -= velocity * t.rigid_rotation;
+  }
 }
 
 size_t SegmentTables::TableBytes() const {

@@ -93,15 +93,17 @@ void TrainCycleMap::BuildMap(TupleMemo& memo, std::vector<Eigen::MatrixXd>& prop
     phi_ = (full * phi_).eval();
     if (keep) propagators.push_back(full);
   });
-  // The quotient by the free rotation (position and velocity), and by each fixed shaft's standing
-  // rotation, which is as neutral (nothing moves it; Jump keeps it as it is).
+  // The quotient by the free rotation (position, and velocity unless a drag damps it: the map then
+  // carries its decay), and by each fixed shaft's standing rotation, which is as neutral (nothing
+  // moves it; Jump keeps it as it is).
   Eigen::VectorXd rp = Eigen::VectorXd::Zero(m), rv = Eigen::VectorXd::Zero(m);
-  Eigen::RowVectorXd mp = Eigen::RowVectorXd::Zero(m), mv = Eigen::RowVectorXd::Zero(m);
+  Eigen::RowVectorXd mp = Eigen::RowVectorXd::Zero(m);
   rp.head(n) = t_.rigid_rotation;
   rv.segment(n, n) = t_.rigid_rotation;
   mp.head(n) = t_.recenter_row;
-  mv.segment(n, n) = t_.recenter_row;
-  projector_ = Eigen::MatrixXd::Identity(m, m) - rp * mp - rv * mv;
+  mv_ = Eigen::RowVectorXd::Zero(m);
+  if (!t_.free_rotation_damped) mv_.segment(n, n) = t_.recenter_row;
+  projector_ = Eigen::MatrixXd::Identity(m, m) - rp * mp - rv * mv_;
   standing_ = Eigen::VectorXd::Zero(2 * t_.standing_rotations.cols());
   for (Eigen::Index s = 0; s < t_.standing_rotations.cols(); ++s) {
     const Eigen::VectorXd ms = t_.inertia.cwiseProduct(t_.standing_rotations.col(s));
@@ -119,7 +121,7 @@ void TrainCycleMap::BuildMap(TupleMemo& memo, std::vector<Eigen::MatrixXd>& prop
     return;
   }
   orbit_.head(e) = lu.solve(pq_.block(0, c, e, 1));
-  velocity_row_ = mv * (phi_ - Eigen::MatrixXd::Identity(m, m)) * projector_;
+  velocity_row_ = mv_ * (phi_ - Eigen::MatrixXd::Identity(m, m)) * projector_;
   velocity_drift_ = velocity_row_.dot(orbit_);
   velocity_sum_row_ = velocity_row_.head(e) * lu.inverse();
 
@@ -308,7 +310,7 @@ bool TrainCycleMap::Certify(const Eigen::VectorXd& z) {
 void TrainCycleMap::Jump(Eigen::VectorXd& z, long long periods) {
   const int n = t_.n, e = 2 * n;
   const double rigid_position = t_.recenter_row.dot(z.head(n));
-  const double rigid_velocity = t_.recenter_row.dot(z.segment(n, n));
+  const double rigid_velocity = mv_.dot(z);  // 0 when the map carries it (a damped rotation)
   next_.noalias() = projector_ * z;
   dev_ = next_.head(e) - orbit_.head(e);
   dev0_ = dev_;

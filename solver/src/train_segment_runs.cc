@@ -38,11 +38,14 @@ Eigen::VectorXd Equilibrium(const TrainTables& t, const Eigen::MatrixXd& A) {
   return y;
 }
 
-// Removes the free rotation (position and velocity) from a state, as Recenter does.
+// Removes the free rotation from a state: its position, as Recenter does, and its velocity unless
+// a drag damps it (then the velocity reaches the other coordinates and is a deviation like any).
 void RemoveRigid(const TrainTables& t, Eigen::VectorXd& z) {
   const int n = t.n;
   z.head(n) -= t.recenter_row.dot(z.head(n)) * t.rigid_rotation;
-  z.segment(n, n) -= t.recenter_row.dot(z.segment(n, n)) * t.rigid_rotation;
+  if (!t.free_rotation_damped) {
+    z.segment(n, n) -= t.recenter_row.dot(z.segment(n, n)) * t.rigid_rotation;
+  }
 }
 
 }  // namespace

@@ -60,6 +60,17 @@ double TrainTables::Wall(int mesh, int segment, bool drive) const {
   return drive ? e + mt.half_backlash : e - mt.half_backlash;
 }
 
+Eigen::MatrixXd TrainTables::NeutralBasis() const {
+  const Eigen::Index s = standing_rotations.cols();
+  Eigen::MatrixXd U = Eigen::MatrixXd::Zero(2 * n, neutral_directions());
+  Eigen::Index c = 0;
+  U.col(c++).head(n) = rigid_rotation;
+  if (!free_rotation_damped) U.col(c++).tail(n) = rigid_rotation;
+  U.block(0, c, n, s) = standing_rotations;  // fixed shafts: neutral, never moved
+  U.block(n, c + s, n, s) = standing_rotations;
+  return U;
+}
+
 double TrainTables::GapValue(int mesh, int segment, bool drive, const Eigen::VectorXd& z) const {
   const TrainMeshTable& mt = meshes[static_cast<size_t>(mesh)];
   const double e = mt.error[static_cast<size_t>(segment)];
@@ -126,11 +137,18 @@ TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
   }
   t.body_angles = Eigen::MatrixXd::Identity(n, n);
   t.force = Eigen::VectorXd::Zero(n);
-  for (const TrainLoad& load : spec.operating.loads) {
-    const int shaft = spec.ShaftIndex(load.on);
-    const int body =
-        shaft >= 0 ? shaft : topo.gear_body[static_cast<size_t>(spec.GearIndex(load.on))];
-    t.force[body] -= load.torque;
+  for (size_t i = 0; i < spec.operating.loads.size(); ++i) {
+    const LoadAction action = ActionOfLoad(spec, topo, i);
+    Eigen::VectorXd w = Eigen::VectorXd::Zero(n);
+    for (const LoadAction::Term& term : action.terms) {
+      t.force[term.body] -= term.resisting;
+      w[term.body] = term.direction;
+    }
+    if (action.viscous > 0.0) {
+      if (t.structural_damping.size() == 0) t.structural_damping = Eigen::MatrixXd::Zero(n, n);
+      t.structural_damping += action.viscous * w * w.transpose();
+    }
+    t.free_rotation_damped = t.free_rotation_damped || action.DampsFreeRotation();
   }
   t.force[topo.input_body] += train.input_torque;
   t.excitation_direction = Eigen::VectorXd::Zero(n);

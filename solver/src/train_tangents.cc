@@ -2,8 +2,6 @@
 
 #include <stdexcept>
 
-#include "free_rotation.h"
-
 namespace gearnvh {
 
 void TrainTangentPropagator::Attach(Eigen::MatrixXd* tangent) {
@@ -80,16 +78,12 @@ void TrainTangentPropagator::Recenter() {
 }
 
 void RemoveTrainFreeRotation(const TrainTables& t, Eigen::Ref<Eigen::MatrixXd> V) {
-  ProjectOutFreeRotation(t, V);
-  const int n = t.n;
-  for (Eigen::Index s = 0; s < t.standing_rotations.cols(); ++s) {
-    const Eigen::VectorXd ms = t.inertia.cwiseProduct(t.standing_rotations.col(s));
-    for (Eigen::Index c = 0; c < V.cols(); ++c) {
-      V.col(c).head(n) -= ms.dot(V.col(c).head(n)) * t.standing_rotations.col(s);
-      V.col(c).segment(n, n) -= ms.dot(V.col(c).segment(n, n)) * t.standing_rotations.col(s);
-    }
-  }
-  V.bottomRows(t.m - 2 * t.n).setZero();
+  const int e = 2 * t.n;
+  const Eigen::MatrixXd U = t.NeutralBasis();
+  Eigen::VectorXd w(e);
+  w << t.inertia, t.inertia;
+  V.topRows(e) -= U * ((w.asDiagonal() * U).transpose() * V.topRows(e));
+  V.bottomRows(t.m - e).setZero();
 }
 
 }  // namespace gearnvh

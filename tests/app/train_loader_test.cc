@@ -218,5 +218,45 @@ TEST_CASE("a directory given as input is named as one", "[loader]") {
   }
 }
 
+TEST_CASE("a drag may be viscous and act relative to a shaft", "[loader][train]") {
+  // g5 idles on c: its drag as a needle bearing's, on its speed relative to c.
+  const std::string loose = testing::ThreeShaftTrainWithLooseGearYaml();
+  const std::string drag = "    - {on: g5, torque: 0.2 N*m}\n";
+  const auto with = [&](const std::string& load) { return Replace(loose, drag, load); };
+  const TrainSpec spec =
+      LoadAnyGearboxFromString(
+          with("    - {on: g5, torque: 0.2 N*m, viscous: 2 N*mm*s/rad, relative_to: c}\n"))
+          .train;
+  REQUIRE(spec.operating.loads.size() == 2);
+  CHECK(spec.operating.loads[1].torque == 0.2);
+  CHECK(spec.operating.loads[1].viscous == Approx(2e-3).epsilon(1e-15));
+  CHECK(spec.operating.loads[1].viscous_unit.symbol == "N*mm*s/rad");
+  CHECK(spec.operating.loads[1].relative_to == "c");
+  // Viscous alone: the torque defaults to 0.
+  const TrainSpec viscous =
+      LoadAnyGearboxFromString(with("    - {on: g5, viscous: 1e-3 N*m*s/rad}\n")).train;
+  CHECK(viscous.operating.loads[1].torque == 0.0);
+  CHECK(viscous.operating.loads[1].relative_to.empty());
+  // A load without either is still refused at its torque.
+  CHECK(LoaderErrorOf(with("    - {on: g5}\n")).path() == "operating.loads[1].torque");
+
+  const InputError unit = LoaderErrorOf(with("    - {on: g5, viscous: 1e-3 N*m}\n"));
+  CHECK(unit.path() == "operating.loads[1].viscous");
+  CHECK(unit.rule().find("rotational damping") != std::string::npos);
+  const InputError large = LoaderErrorOf(with("    - {on: g5, viscous: 5000 N*m*s/rad}\n"));
+  CHECK(large.path() == "operating.loads[1].viscous");
+  CHECK(large.rule().find("must be in [0, 1000] N m s/rad") != std::string::npos);
+  const InputError negative = LoaderErrorOf(with("    - {on: g5, viscous: -1 N*m*s/rad}\n"));
+  CHECK(negative.path() == "operating.loads[1].viscous");
+  const InputError unknown =
+      LoaderErrorOf(with("    - {on: g5, torque: 0.2 N*m, relative_to: housing}\n"));
+  CHECK(unknown.path() == "operating.loads[1].relative_to");
+  CHECK(unknown.rule().find("must name a shaft") != std::string::npos);
+  const InputError itself =
+      LoaderErrorOf(with("    - {on: g4, torque: 0.2 N*m, relative_to: c}\n"));
+  CHECK(itself.path() == "operating.loads[1].relative_to");
+  CHECK(itself.rule().find("relative to itself") != std::string::npos);
+}
+
 }  // namespace
 }  // namespace gearnvh::config

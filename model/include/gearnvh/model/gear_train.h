@@ -63,7 +63,8 @@ GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& opti
 // in ratios of speeds), and a GearTrain holds no excitation amplitude (the tables do). The
 // topology's body speeds and each mesh's pair and geometry (mesh frequency) are those of `at`.
 // Equal, field by field, to BuildGearTrain(at) (tests/model/gear_train_test.cc); a speed sweep
-// builds each speed's train this way (the meshes were ~90 % of a speed's cost).
+// builds each speed's train this way (the meshes were ~90 % of a speed's cost). With a viscous
+// drag the loads depend on the speed, and this is BuildGearTrain(at).
 GearTrain GearTrainAtSpeed(GearTrain train, const TrainSpec& at);
 
 // Tier 1 of the train: torsional natural frequencies at the mean mesh stiffnesses and the mode

@@ -72,6 +72,13 @@ struct TrainLoad {
   // and `torque` (on the output) is that times z_wheel / z_pinion. Kept so that the pair is shown
   // and varied as written.
   std::optional<double> pinion_torque = std::nullopt;
+  // Viscous drag c, N m s/rad, >= 0: a torque c |dw| resisting the speed dw of the body relative
+  // to `relative_to` (its mean c |dW| adds to `torque`, its fluctuation damps).
+  double viscous = 0.0;
+  DisplayUnit viscous_unit{"N m s/rad", 1.0};
+  // A shaft the drag acts relative to (a loose gear's carrier: needle-bearing drag), its reaction
+  // on that shaft; empty: the absolute speed (churning, windage), reaction on the housing.
+  std::string relative_to{};
 
   bool operator==(const TrainLoad&) const = default;
 };
@@ -147,6 +154,29 @@ struct TrainTorqueFlow {
   std::vector<int> main_load;  // per mesh, the index of the load sending it most power, or -1
 };
 TrainTorqueFlow StaticTorqueFlow(const TrainSpec& spec, const TrainTopology& topology);
+
+// What load i does at the spec's nominal speeds. Its body b and the body c it acts relative to
+// (none when absolute, or relative to a fixed shaft, which is the housing) turn at W_b, W_c
+// (signed); dW = W_b - W_c. The drag T + c |dW| resists dW: on b it is -sgn(dW) (T + c |dW|), on c
+// the opposite. Per body, `resisting` is that torque's part against the body's own direction of
+// rotation (the tier-1 angles' sense). Its fluctuation is the damping c w w^T on those angles,
+// w_b = s_b, w_c = -s_c (s = +1 where W > 0, else -1; no term is on a fixed shaft).
+struct LoadAction {
+  struct Term {
+    int body = 0;
+    double resisting = 0.0;  // N m
+    double direction = 0.0;  // w's entry
+  };
+  std::vector<Term> terms;      // the body, then the body it is relative to
+  double viscous = 0.0;         // c, N m s/rad
+  double relative_speed = 0.0;  // dW, rad/s
+  // Whether the drag damps the train's free rotation (c > 0 and dW != 0): its speed then decays
+  // and only its angle stays neutral.
+  bool DampsFreeRotation() const { return viscous > 0.0 && relative_speed != 0.0; }
+};
+LoadAction ActionOfLoad(const TrainSpec& spec, const TrainTopology& topology, size_t load);
+// Whether any load's drag damps the free rotation (and makes the torque flow speed dependent).
+bool DragDampsFreeRotation(const TrainSpec& spec, const TrainTopology& topology);
 
 // Mesh `m` as the schema-1 gearbox of its two gears (pinion = gear_a, wheel = gear_b, their
 // elastic shafts with gear_at = the gear's position), at the nominal speed of gear_a and carrying

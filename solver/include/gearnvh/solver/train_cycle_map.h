@@ -109,7 +109,10 @@ class TrainCycleMap {
   std::vector<Eigen::MatrixXd> powers_;  // Pq^(2^l)
   Eigen::VectorXd orbit_;
   Eigen::VectorXd standing_;  // Jump's scratch: each standing rotation's position and velocity
-  Eigen::RowVectorXd velocity_row_, velocity_sum_row_;  // rho (Phi - I) L; and times (I - Pq)^-1
+  // mv_: the row measuring the free rotation's velocity, zero when a drag damps it (the map then
+  // carries it like any other coordinate).
+  Eigen::RowVectorXd mv_, velocity_row_,
+      velocity_sum_row_;                                // rho (Phi - I) L; and times (I - Pq)^-1
   double velocity_drift_ = 0.0;                         // rho (Phi - I) y*
   double spectral_radius_ = 0.0;
   Eigen::MatrixXcd eigenvectors_, eigenvectors_inv_;

@@ -144,7 +144,8 @@ struct TrainTables {
   std::vector<StructureBearing> bearings;
   Eigen::MatrixXd bearing_force_rows;
   // Structural K_0 and C_0 (+ input speed x gyroscopic G) of a reduced tier, added to every
-  // tuple's mesh terms; empty at tier 1 (the bodies are coupled by the meshes only).
+  // tuple's mesh terms. At tier 1 K_0 is empty (the bodies are coupled by the meshes only) and C_0
+  // is the loads' viscous drag sum c w w^T (LoadAction), empty without one.
   Eigen::MatrixXd structural_stiffness, structural_damping;
   double input_speed = 0.0;  // rad/s
   std::vector<ExcitationOrder> excitation;
@@ -156,9 +157,16 @@ struct TrainTables {
   // The rotation of each fixed shaft (columns, M-normalised and M-orthogonal to r and to each
   // other): neutral like r (nothing reaches it), but not moved at all; empty without fixed shafts.
   Eigen::MatrixXd standing_rotations;
-  // Neutral directions of the elastic state [x; x']: 2 (r's position and velocity) plus 2 per
-  // standing rotation.
-  int neutral_directions() const { return 2 + 2 * static_cast<int>(standing_rotations.cols()); }
+  // Whether a viscous drag damps r (C_0 r != 0): r's speed then decays, and only its angle is
+  // neutral (DragDampsFreeRotation).
+  bool free_rotation_damped = false;
+  // The neutral directions of the elastic state [x; x'] as columns, orthonormal in diag(M, M):
+  // r's position, its velocity unless free_rotation_damped, and each standing rotation's position
+  // and velocity.
+  Eigen::MatrixXd NeutralBasis() const;
+  int neutral_directions() const {
+    return (free_rotation_damped ? 1 : 2) + 2 * static_cast<int>(standing_rotations.cols());
+  }
   double common_period = 0.0;    // s; 0 when none within the limit
   double longest_segment = 0.0;  // the longest segment of any mesh, s (bounds every grid segment)
 

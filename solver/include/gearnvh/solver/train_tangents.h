@@ -60,7 +60,8 @@ class TrainTangentPropagator {
   long saltations_ = 0;
 };
 
-// Removes the free rotation's and every standing rotation's position and velocity from the
+// Removes the neutral directions (TrainTables::NeutralBasis: the free rotation's position, its
+// velocity unless a drag damps it, every standing rotation's position and velocity) from the
 // columns (M-orthogonal projection) and clears the constant and input slots.
 void RemoveTrainFreeRotation(const TrainTables& tables, Eigen::Ref<Eigen::MatrixXd> V);
 
