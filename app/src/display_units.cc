@@ -39,8 +39,8 @@ std::string TrainLoadsText(const TrainSpec& spec) {
     if (!text.empty()) text += ", ";
     if (load.torque > 0.0 || load.viscous == 0.0) text += Format(load.torque, load.torque_unit);
     if (load.viscous > 0.0) {
-      text += std::string(load.torque > 0.0 ? " + " : "") +
-              Format(load.viscous, load.viscous_unit) + " x speed";
+      text += std::string(load.torque > 0.0 ? " and " : "") + "viscous " +
+              Format(load.viscous, load.viscous_unit);
     }
     text += " on " + load.on;
     if (!load.relative_to.empty()) text += " relative to " + load.relative_to;

@@ -356,9 +356,9 @@ TrainSimulatePlan PlanTrainSimulate(const SimulateOptions& options, const TrainS
             std::string(standing > 0 ? " - 2s" : "") + " = " + std::to_string(most) +
             " for this train (" + std::to_string(bodies) + " bodies" +
             (standing > 0 ? ", s = " + std::to_string(standing) + " fixed shafts" : "") +
-            (damped ? "; the free rotation's angle (a viscous drag damps its speed)"
-                    : "; the free rotation's two neutral directions") +
-            (standing > 0 ? " and each fixed shaft's two" : "") + " are removed)");
+            (damped ? "; removed: the free rotation's angle (a viscous drag damps its speed)"
+                    : "; removed: the free rotation's two neutral directions") +
+            (standing > 0 ? " and each fixed shaft's two" : "") + ")");
   }
   return plan;
 }

@@ -433,3 +433,60 @@ TEST_CASE("a stopped train run says why in the solver's own words", "[nvh][train
 
 }  // namespace
 }  // namespace gearnvh
+
+namespace gearnvh {
+namespace {
+
+TEST_CASE("a viscous drag damps the free rotation: the orbit keeps its speed, Lyapunov its decay",
+          "[nvh][train][orbit]") {
+  // The loaded reducer in permanent contact with a viscous drag c on its output's speed. Turned
+  // faster as one body (by q along r, M-normalised) the train slows back at sigma = c r_out^2
+  // (tests/solver/train_drag_test.cc), so its free rotation's speed is a decaying direction of
+  // multiplier e^(-sigma T), and only its angle is neutral: the orbit has 2n - 1 multipliers, one
+  // of them that one; Lyapunov allows 2n - 1 exponents, and the largest is -sigma (every mesh
+  // mode decays faster, at zeta omega ~ 60 1/s and more).
+  TrainSpec spec = testing::TwoStageTrain(1000.0, 0.0, 1000.0);
+  spec.operating.excitation.clear();
+  for (TrainMesh& m : spec.meshes) m.mesh.damping_ratio = 0.01;
+  const double c = 0.5;
+  spec.operating.loads[0].viscous = c;
+  const Model s(spec);
+  const TrainTables& t = s.tables;
+  REQUIRE(t.free_rotation_damped);
+  const double sigma = c * t.rigid_rotation[2] * t.rigid_rotation[2];
+  const auto [z0, states0] = TrainStaticState(t);
+  const TrainOrbit orbit = FindTrainPeriodicOrbit(t, z0, states0, {});
+  REQUIRE(orbit.info == TrainOrbit::Info::kConverged);
+  CHECK(orbit.stable);
+  REQUIRE(orbit.multipliers.size() == 2 * t.n - 1);
+  // The slowest mode is the rotation's speed: the largest multiplier, real. Tolerance: its
+  // exponent differs from -sigma by the mesh modes' coupling, of order (sigma / omega_mesh)^2 ~
+  // 1e-6 relative; 1e-4 allowed (an undamped speed would give 1, twice the rate e^(-2 sigma T)).
+  const std::complex<double> mu = orbit.multipliers[0];
+  INFO("multipliers " << orbit.multipliers.transpose() << "; e^(-sigma T) "
+                      << std::exp(-sigma * t.common_period));
+  CHECK(std::abs(mu.imag()) <= 1e-12);
+  CHECK(std::log(mu.real()) / t.common_period == Approx(-sigma).epsilon(1e-4));
+
+  TrainLyapunovOptions too_many;
+  too_many.exponents = 2 * t.n;
+  CHECK_THROWS_AS(EstimateTrainLyapunov(t, z0, states0, too_many), InputError);
+  TrainLyapunovOptions options;
+  options.exponents = 2 * t.n - 1;  // every one the quotient has
+  options.transient_cycles = 20;
+  options.alignment_cycles = 20;
+  options.cycles = 1000;
+  const TrainLyapunovSummary l = EstimateTrainLyapunov(t, z0, states0, options);
+  REQUIRE(l.info == TrainLyapunovSummary::Info::kSuccess);
+  const double averaged = options.cycles * t.meshes[0].period;
+  INFO("exponents " << l.exponents.front() << " ...; sigma " << sigma << " over " << averaged
+                    << " s");
+  // A linear periodic flow: the exponents are its Floquet exponents; the largest is the rotation's
+  // -sigma, up to the finite-time estimate's bias ln|a| / T (a the start column's share of the
+  // slowest direction, of order 1; measured 0.25 1/s over 1.2 s): 1 / T allowed, 0.33 1/s here,
+  // while an undamped rotation gives 0 and the rate doubled -23 1/s.
+  CHECK(std::abs(l.exponents.front() + sigma) <= 1.0 / averaged);
+}
+
+}  // namespace
+}  // namespace gearnvh
