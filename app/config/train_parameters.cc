@@ -16,6 +16,8 @@ std::optional<Dimension> TrainParameterDimension(const std::string& name) {
       return Dimension::kAngularSpeed;
     case TrainParameter::kLoadTorque:
       return Dimension::kTorque;
+    case TrainParameter::kLoadViscous:
+      return Dimension::kRotationalDamping;
     case TrainParameter::kExcitationAmplitude:
       return Dimension::kAngularAcceleration;
     case TrainParameter::kBacklash:
@@ -39,6 +41,8 @@ TrainDisplayAxis TrainDisplayAxisFor(const std::string& name) {
       return {60.0 / (2.0 * std::numbers::pi), "rpm"};
     case TrainParameter::kLoadTorque:
       return {1.0, "N m"};
+    case TrainParameter::kLoadViscous:
+      return {1.0, "N m s/rad"};
     case TrainParameter::kExcitationAmplitude:
       return {1.0, "rad/s²"};
     case TrainParameter::kBacklash:

@@ -51,7 +51,8 @@ void SetParameter(GearboxSpec& spec, const std::string& name, double value) {
 namespace {
 
 const char* const kForms =
-    "operating.speed, operating.loads[i].torque, operating.excitation[i].amplitude, "
+    "operating.speed, operating.loads[i].torque, operating.loads[i].viscous, "
+    "operating.excitation[i].amplitude, "
     "meshes[i].backlash, meshes[i].damping_ratio or meshes[i].friction_coefficient (i the index "
     "in the file's list, from 0)";
 
@@ -69,7 +70,7 @@ std::optional<TrainParameterName> Parse(const std::string& name) {
   std::smatch m;
   if (!std::regex_match(name, m, indexed)) return std::nullopt;
   TrainParameterName p{m[1].str(), std::stoul(m[2].str()), m[3].str()};
-  const bool known = (p.list == "operating.loads" && p.key == "torque") ||
+  const bool known = (p.list == "operating.loads" && (p.key == "torque" || p.key == "viscous")) ||
                      (p.list == "operating.excitation" && p.key == "amplitude") ||
                      (p.list == "meshes" && (p.key == "backlash" || p.key == "damping_ratio" ||
                                              p.key == "friction_coefficient"));
@@ -93,6 +94,7 @@ std::optional<TrainParameter> TrainParameterOf(const std::string& name) {
   if (!p) return std::nullopt;
   if (p->key == "speed") return TrainParameter::kSpeed;
   if (p->key == "torque") return TrainParameter::kLoadTorque;
+  if (p->key == "viscous") return TrainParameter::kLoadViscous;
   if (p->key == "amplitude") return TrainParameter::kExcitationAmplitude;
   if (p->key == "backlash") return TrainParameter::kBacklash;
   if (p->key == "damping_ratio") return TrainParameter::kDampingRatio;
@@ -140,6 +142,15 @@ void SetTrainParameter(TrainSpec& spec, const std::string& name, double value,
       load.pinion_torque = value;
       load.torque = value * static_cast<double>(spec.FindGear("wheel")->gear.teeth) /
                     spec.FindGear("pinion")->gear.teeth;
+      return;
+    }
+    case TrainParameter::kLoadViscous: {
+      std::string entries;
+      for (size_t i = 0; i < spec.operating.loads.size(); ++i) {
+        entries += (i ? ", " : "") + std::to_string(i) + ": on " + spec.operating.loads[i].on;
+      }
+      RequireIndex(*p, spec.operating.loads.size(), name, field, entries);
+      spec.operating.loads[p->index].viscous = value;
       return;
     }
     case TrainParameter::kExcitationAmplitude: {

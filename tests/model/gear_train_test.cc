@@ -261,6 +261,12 @@ TEST_CASE("one parameter registry: a pair's parameter is its train's", "[train][
   SetTrainParameter(two_stage, "meshes[1].friction_coefficient", 0.07, "x");
   CHECK(two_stage.meshes[1].mesh.friction_coefficient == 0.07);
   CHECK(two_stage.meshes[0].mesh.friction_coefficient == 0.0);
+  // A load's viscous drag.
+  CHECK(TrainParameterOf("operating.loads[1].viscous") == TrainParameter::kLoadViscous);
+  SetTrainParameter(two_stage, "operating.loads[1].viscous", 2e-3, "x");
+  CHECK(two_stage.operating.loads[1].viscous == 2e-3);
+  CHECK_THROWS_WITH(SetTrainParameter(two_stage, "operating.loads[7].viscous", 1.0, "x"),
+                    Catch::Contains("has 2 entries"));
 }
 
 std::string PathOfError(const TrainSpec& spec) {
@@ -280,6 +286,48 @@ TrainSpec StandingOutput() {
   s.gears[3].mounting = Mounting::kLoose;
   s.operating.loads = {{"g4", 0.3}, {"g5", 0.2}};
   return s;
+}
+
+TEST_CASE(
+    "a drag relative to a fixed shaft is absolute; one at the shaft's own speed has no "
+    "constant part",
+    "[train]") {
+  // g4 idles on the standing output: relative to it, its drag is on its own speed (the shaft is
+  // the housing), one term, as if absolute.
+  TrainSpec relative = StandingOutput();
+  relative.operating.loads[0].viscous = 1e-3;
+  TrainSpec absolute = relative;
+  relative.operating.loads[0].relative_to = "output";
+  const TrainTopology t = AnalyseTrainTopology(relative);
+  const LoadAction a = ActionOfLoad(relative, t, 0), b = ActionOfLoad(absolute, t, 0);
+  REQUIRE(a.terms.size() == 1);
+  CHECK(a.terms[0].resisting == b.terms[0].resisting);
+  CHECK(a.relative_speed == b.relative_speed);
+  // T + c |W| with W = g4's speed.
+  CHECK(a.terms[0].resisting == Approx(0.3 + 1e-3 * std::abs(t.bodies[3].speed)).epsilon(1e-15));
+  // The layshaft relative to the input: dW = W_lay - W_in = -w/2 - w = -1.5 w. The drag resists
+  // dW: +T about z on the layshaft, which turns about -z (so it resists its rotation), and the
+  // reaction -T on the input, which turns about +z (it resists too): counter-rotating shafts both
+  // lose, and the power T |dW| is the sum, T w/2 + T w.
+  TrainSpec spec = TwoStage();
+  spec.operating.loads.push_back({"layshaft", 0.5});
+  spec.operating.loads.back().relative_to = "input";
+  const TrainTopology u = AnalyseTrainTopology(spec);
+  const LoadAction c = ActionOfLoad(spec, u, 2);
+  REQUIRE(c.terms.size() == 2);
+  CHECK(c.relative_speed == Approx(-1.5 * spec.operating.speed).epsilon(1e-15));
+  CHECK(c.terms[0].resisting == 0.5);
+  CHECK(c.terms[1].resisting == 0.5);
+  REQUIRE_NOTHROW(ValidateTrainSpec(spec));
+  // A GearTrain at another speed with a viscous drag is built again (its loads depend on speed).
+  spec.operating.loads.back().viscous = 0.01;
+  TrainSpec faster = spec;
+  faster.operating.speed *= 1.5;
+  const GearTrain moved = GearTrainAtSpeed(BuildGearTrain(spec), faster);
+  const GearTrain built = BuildGearTrain(faster);
+  CHECK(moved.input_torque == built.input_torque);
+  CHECK(moved.meshes[0].transmitted_torque == built.meshes[0].transmitted_torque);
+  CHECK(built.input_torque != BuildGearTrain(spec).input_torque);
 }
 
 TEST_CASE("a fixed shaft stands: loose gears on it turn, nothing may turn it", "[train]") {

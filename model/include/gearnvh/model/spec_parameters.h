@@ -47,6 +47,7 @@ void SetParameter(GearboxSpec& spec, const std::string& name, double value);
 //   operating.speed                      the input shaft's mean speed (rad/s)
 //   operating.loads[i].torque            load i's torque (N m): the output load or a loose gear's
 //                                        drag
+//   operating.loads[i].viscous           load i's viscous drag (N m s/rad)
 //   operating.excitation[i].amplitude    engine order i's amplitude (rad/s^2)
 //   meshes[i].backlash                   mesh i's backlash (m)
 //   meshes[i].damping_ratio              mesh i's damping ratio
@@ -55,6 +56,7 @@ void SetParameter(GearboxSpec& spec, const std::string& name, double value);
 enum class TrainParameter {
   kSpeed,
   kLoadTorque,
+  kLoadViscous,
   kExcitationAmplitude,
   kBacklash,
   kDampingRatio,
