@@ -167,7 +167,11 @@ nlohmann::json TrainOrbitsDocument(const std::vector<TrainOrbitScanPoint>& point
           {"common_period_s", common_period},
           {"period_s", period * common_period},
           {"method", EventMethodName(plan.scan.events)},
-          {"multipliers_on", "quotient by the free rotation (its two neutral directions removed)"},
+          {"multipliers_on", DragDampsFreeRotation(spec, AnalyseTrainTopology(spec))
+                                 ? "quotient by the free rotation's angle (a viscous drag damps "
+                                   "its speed)"
+                                 : "quotient by the free rotation (its two neutral directions "
+                                   "removed)"},
           {"parameter", plan.sweep ? plan.sweep->parameter : "operating point"},
           {"points", list},
           {"stable_points", stable},

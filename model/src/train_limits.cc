@@ -161,26 +161,29 @@ TrainTorqueFlow StaticTorqueFlow(const TrainSpec& spec, const TrainTopology& top
   std::vector<bool> far_is_a(meshes, false);  // the side away from the input is gear a's
   double total_power = 0.0;
   for (size_t i = 0; i < spec.operating.loads.size(); ++i) {
+    std::vector<double> power_of_load(meshes, 0.0);  // this load's net power through each mesh
     for (const LoadAction::Term& term : ActionOfLoad(spec, topology, i).terms) {
-      const int body = term.body;
-      // Power per unit input speed: without viscous drag the flow is the same bits at every input
-      // speed (the reaction of a relative drag sends power back: negative).
-      const double power = term.resisting * SpeedRatio(topology, body);
+      // Power per unit input speed: without viscous drag the flow is the same bits at every
+      // input speed (the reaction of a relative drag sends power back: negative).
+      const double power = term.resisting * SpeedRatio(topology, term.body);
       total_power += power;
       // Up the spanning tree to the input: every mesh on the way carries this power.
-      for (int child = body; topology.parent_mesh[static_cast<size_t>(child)] >= 0;) {
+      for (int child = term.body; topology.parent_mesh[static_cast<size_t>(child)] >= 0;) {
         const auto m = static_cast<size_t>(topology.parent_mesh[static_cast<size_t>(child)]);
         const int body_a =
             topology.gear_body[static_cast<size_t>(spec.GearIndex(spec.meshes[m].gear_a))];
         const int body_b =
             topology.gear_body[static_cast<size_t>(spec.GearIndex(spec.meshes[m].gear_b))];
         mesh_power[m] += power;
-        if (power > main_power[m]) {
-          main_power[m] = power;
-          flow.main_load[m] = static_cast<int>(i);
-        }
+        power_of_load[m] += power;
         far_is_a[m] = child == body_a;  // the same for every load through m (a tree)
         child = child == body_a ? body_b : body_a;
+      }
+    }
+    for (size_t m = 0; m < meshes; ++m) {
+      if (std::abs(power_of_load[m]) > main_power[m]) {
+        main_power[m] = std::abs(power_of_load[m]);
+        flow.main_load[m] = static_cast<int>(i);
       }
     }
   }
@@ -234,9 +237,15 @@ void ValidateTrainLimits(const TrainSpec& spec, const TrainTopology& topology) {
     const double unit_load = ToothUnitLoad(a.gear, b.gear, flow.transmitted_torque[m]);
     if (unit_load <= L::kMaxUnitLoad) continue;
     const int load = flow.main_load[m];  // power flows, so some load sends it
+    const TrainLoad& main = op.loads[static_cast<size_t>(load)];
+    // Named at its viscous drag when that is the larger part of its mean torque.
+    const bool viscous =
+        main.viscous *
+            std::abs(ActionOfLoad(spec, topology, static_cast<size_t>(load)).relative_speed) >
+        main.torque;
     throw InputError(
-        "operating.loads[" + std::to_string(load) + "].torque", 0,
-        MessageNumber(op.loads[static_cast<size_t>(load)].torque),
+        "operating.loads[" + std::to_string(load) + (viscous ? "].viscous" : "].torque"), 0,
+        MessageNumber(viscous ? main.viscous : main.torque),
         fmt::format("gives meshes[{}] ({}-{}) a tooth load of {:.3g} N/um of face width "
                     "(transmitted torque {:.6g} N m on {}), above {} N/um: the mesh-stiffness and "
                     "LSTE models assume small linear-elastic tooth deflections, and real teeth "

@@ -114,7 +114,7 @@ TrainOrbit FindTrainPeriodicOrbit(const TrainTables& t, const Eigen::VectorXd& z
   double residual = residual_of(y, shot);
   for (out.iterations = 0; out.iterations < options.max_iterations; ++out.iterations) {
     if (residual <= options.tolerance) break;
-    const Eigen::MatrixXd C = Qc.transpose() * shot.J * Qc;
+    const Eigen::MatrixXd C = Qc.transpose() * Pi * shot.J * Qc;
     const Eigen::VectorXd F = Qc.transpose() * (Pi * (shot.end.head(e) - y.head(e)));
     const Eigen::VectorXd step =
         -(C - Eigen::MatrixXd::Identity(e - neutral, e - neutral)).fullPivLu().solve(F);
@@ -143,7 +143,7 @@ TrainOrbit FindTrainPeriodicOrbit(const TrainTables& t, const Eigen::VectorXd& z
   out.z = y;
   out.states = states;
   out.events_per_period = shot.events;
-  Eigen::VectorXcd mu = (Qc.transpose() * shot.J * Qc).eigenvalues();
+  Eigen::VectorXcd mu = (Qc.transpose() * Pi * shot.J * Qc).eigenvalues();
   std::sort(mu.data(), mu.data() + mu.size(),
             [](const std::complex<double>& a, const std::complex<double>& b) {
               return std::abs(a) > std::abs(b);

@@ -232,6 +232,10 @@ TEST_CASE("a drag may be viscous and act relative to a shaft", "[loader][train]"
   CHECK(spec.operating.loads[1].viscous == Approx(2e-3).epsilon(1e-15));
   CHECK(spec.operating.loads[1].viscous_unit.symbol == "N*mm*s/rad");
   CHECK(spec.operating.loads[1].relative_to == "c");
+  // Per degree: 1 N m s/deg = 180 / pi N m s/rad.
+  CHECK(LoadAnyGearboxFromString(with("    - {on: g5, viscous: 1 N*m*s/deg}\n"))
+            .train.operating.loads[1]
+            .viscous == Approx(180.0 / std::numbers::pi).epsilon(1e-15));
   // Viscous alone: the torque defaults to 0.
   const TrainSpec viscous =
       LoadAnyGearboxFromString(with("    - {on: g5, viscous: 1e-3 N*m*s/rad}\n")).train;

@@ -467,6 +467,15 @@ TEST_CASE("a viscous drag damps the free rotation: the orbit keeps its speed, Ly
                       << std::exp(-sigma * t.common_period));
   CHECK(std::abs(mu.imag()) <= 1e-12);
   CHECK(std::log(mu.real()) / t.common_period == Approx(-sigma).epsilon(1e-4));
+  // Over two common periods the same rate (the quotient's map is Pi J, whatever phase the
+  // stepper last recentred at).
+  TrainOrbitOptions two;
+  two.periods = 2;
+  const TrainOrbit twice = FindTrainPeriodicOrbit(t, z0, states0, two);
+  REQUIRE(twice.info == TrainOrbit::Info::kConverged);
+  REQUIRE(twice.multipliers.size() == 2 * t.n - 1);
+  CHECK(std::log(std::abs(twice.multipliers[0])) / (2.0 * t.common_period) ==
+        Approx(-sigma).epsilon(1e-4));
 
   TrainLyapunovOptions too_many;
   too_many.exponents = 2 * t.n;

@@ -54,6 +54,22 @@ TEST_CASE("drag: a loose gear's drag relative to its shaft is a torque pair and 
   // and the mesh carries the drag torque on g4.
   CHECK(s.train.meshes[1].back_flank_loaded);
   CHECK(s.train.meshes[1].transmitted_torque == Approx(drag).epsilon(1e-14));
+  // g1-g2 carries the layshaft's load less what g4 sends back: on g2, (20 |W_lay| - D |W_g4|) /
+  // |W_lay|, still on its drive flank.
+  CHECK_FALSE(s.train.meshes[0].back_flank_loaded);
+  CHECK(s.train.meshes[0].transmitted_torque == Approx((20.0 * std::abs(bodies[kLayshaft].speed) -
+                                                        drag * std::abs(bodies[kLooseGear].speed)) /
+                                                       std::abs(bodies[kLayshaft].speed))
+                                                    .epsilon(1e-14));
+  // The same rule without a direction: g4 at the input's own speed (g3 30 teeth, g4 20: 20/30 x
+  // 30/20, one rounding from 1) has no constant drag relative to it, only a viscous one.
+  TrainSpec level = NeedleBearingRattler(c);
+  level.gears[2].gear.teeth = 30;
+  level.gears[3].gear.teeth = 20;
+  CHECK_THROWS_WITH(ValidateTrainSpec(level), Catch::Contains("has no direction"));
+  level.operating.loads[1].torque = 0.0;
+  CHECK_NOTHROW(ValidateTrainSpec(level));
+  CHECK_FALSE(BuildTrainTables(level, BuildGearTrain(level)).free_rotation_damped);
   // The fluctuation: c (dw) on the relative speed, w = e_g4 - e_in.
   Eigen::VectorXd w = Eigen::VectorXd::Zero(t.n);
   w[kLooseGear] = 1.0;
@@ -250,6 +266,44 @@ TEST_CASE("drag: certified jumps carry the damped rotation's speed", "[solver][t
   REQUIRE(std::abs(speed(stepped.state)) > 1e-6);  // the order moves it
   CHECK(std::abs(speed(jumped.state) - speed(stepped.state)) <=
         1e-9 * std::abs(speed(stepped.state)));
+}
+
+TEST_CASE("drag: every tier applies it to the bodies' angles as tier 1 does", "[solver][train]") {
+  // Counter-rotating shafts: the layshaft's drag relative to the input (dW = -1.5 W_in), whose
+  // w = (s_lay e_lay - s_in e_in) has entries of one sign (-1, -1) in the bodies' own senses.
+  // With the meshes fixed (one GearTrain for both), the drag adds to the tier-1 force f and
+  // damping C deltas df, dC; a reduced tier whose body angles are th = B x (B =
+  // TrainTables::body_angles) must add B^T df and B^T dC B (virtual work). Tolerance: the
+  // reduction's rounding, 1e-10 of the largest entry.
+  TrainSpec plain = testing::TwoStageTrain(150.0, 0.0, 600.0);
+  plain.operating.excitation.clear();
+  const GearTrain train = BuildGearTrain(plain);
+  TrainSpec dragged = plain;
+  dragged.operating.loads.push_back({"layshaft", 0.5});
+  dragged.operating.loads.back().viscous = 0.02;
+  dragged.operating.loads.back().relative_to = "input";
+  const TrainTables one = BuildTrainTables(plain, train),
+                    one_drag = BuildTrainTables(dragged, train);
+  const Eigen::VectorXd df = one_drag.force - one.force;
+  const Eigen::MatrixXd dc = one_drag.structural_damping;
+  Eigen::Vector3d w(-1.0, -1.0, 0.0);  // input (+z), layshaft (-z): w = s_lay e_lay - s_in e_in
+  CHECK((dc - 0.02 * w * w.transpose()).norm() <= 1e-15);
+  CHECK(df[0] == Approx(-(0.5 + 0.02 * 1.5 * plain.operating.speed)).epsilon(1e-12));
+  // Both resist by T + c |dW|; differences of forces of ~100 N m: 1e-12 relative.
+  CHECK(df[1] == Approx(df[0]).epsilon(1e-12));
+  const TrainTables three = BuildTrainTablesAtTier(plain, train, Tier::kTier3, {});
+  const TrainTables three_drag = BuildTrainTablesAtTier(dragged, train, Tier::kTier3, {});
+  REQUIRE(three.n == three_drag.n);
+  const Eigen::MatrixXd& b = three.body_angles;
+  REQUIRE(b.rows() == 3);
+  const Eigen::VectorXd df3 = three_drag.force - three.force;
+  const Eigen::MatrixXd dc3 = three_drag.structural_damping - three.structural_damping;
+  INFO("force: " << (df3 - b.transpose() * df).norm() << " of " << df3.norm()
+                 << "; damping: " << (dc3 - b.transpose() * dc * b).norm() << " of " << dc3.norm());
+  REQUIRE(dc3.norm() > 0.0);
+  CHECK((df3 - b.transpose() * df).norm() <= 1e-10 * df3.norm());
+  CHECK((dc3 - b.transpose() * dc * b).norm() <= 1e-10 * dc3.norm());
+  CHECK(three_drag.free_rotation_damped);
 }
 
 }  // namespace

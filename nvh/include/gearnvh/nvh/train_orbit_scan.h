@@ -4,8 +4,9 @@
 // fails from it, or at the first variant, the settled state of an exact run from the static state
 // (the transient rounded up to whole orbit periods, so the phase is right) and the states one, two,
 // ... orbit periods later are tried. Multipliers are those of TrainOrbit: on the quotient by the
-// free rotation (its two neutral directions, multiplier 1 and its Jordan partner, are removed),
-// 2n - 2 of them (less 2 per fixed shaft), by decreasing modulus.
+// free rotation (its two neutral directions, multiplier 1 and its Jordan partner, are removed;
+// its angle only when a viscous drag damps its speed), 2n - 2 of them (2n - 1 then; less 2 per
+// fixed shaft), by decreasing modulus.
 #pragma once
 
 #include <atomic>

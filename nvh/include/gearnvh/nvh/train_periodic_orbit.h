@@ -9,8 +9,9 @@
 // (W = diag(M, M)) projects off U (with each fixed shaft's standing rotation, also neutral:
 // TrainTables::standing_rotations; a viscous drag damps r's speed, and U then keeps r's angle
 // only: TrainTables::NeutralBasis), Q (2n x (2n - neutral), orthonormal) spans
-// {y : U^T W y = 0}, an invariant complement (J Q = Q C). With y = y_0 + Q a:
-//   F(a) = Q^T Pi (P(y) - y),   C = Q^T J Q,   a <- a - theta (C - I)^-1 F(a),
+// {y : U^T W y = 0}, a complement (invariant, J Q = Q C, when U holds r's velocity; with r's angle
+// only, Pi J Q is the quotient's map). With y = y_0 + Q a:
+//   F(a) = Q^T Pi (P(y) - y),   C = Q^T Pi J Q,   a <- a - theta (C - I)^-1 F(a),
 // theta halved (at most 10 times) until the scaled residual decreases. Converged when
 // |D Pi (P(y) - y)| <= tolerance |D y|, D = diag(1 on angles, 1 / omega_f on speeds), omega_f =
 // 2 pi / T_f (the forcing period). The start states of every run are those the previous run ended

@@ -28,7 +28,8 @@
 // S = BalancingScale (positions 1, velocities 1 / w_ref, slots scaled to their forcing), ' the
 // constant column left out, q = ||S A S^-1||_inf d_k <= 1 (sub-steps d_k = h / ceil(rate h);
 // ||e^{Bs}||_inf <= e^{||B||_inf s}). Each node quantity is linear in the start state: with the
-// free rotation removed (c A^p annihilates it and every A_i keeps it invariant) and the slots
+// free rotation removed (c A^p annihilates it and every A_i keeps it invariant; only its angle
+// when a viscous drag damps its speed, which then counts as a deviation like any) and the slots
 // cleared, x = L Pi z = y + dev for the run's reference y = e_0 (constant slot 1), z_k = F_k y +
 // F_k dev + sum_iq G_iq(t_k) u_iq, so
 //   w(t_k) <= c F_k y - sigma Wall_static + |c F_k| . |dev| + sum |c G_iq(t_k)| |u_iq|
