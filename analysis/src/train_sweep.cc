@@ -39,6 +39,8 @@ TrainSweepPoint RunPoint(const TrainSpec& base, const GearTrain& built,
   run.tier = options.tier;
   run.allow_slow = true;  // the sweep's cost was checked before any speed ran
   GearTrain train = GearTrainAtSpeed(built, spec);
+  // A viscous drag loads the meshes more at higher speeds: the tooth-load limit at this one.
+  if (DragDampsFreeRotation(spec, train.topology)) RequireTrainToothLoads(spec, train.topology);
   TrainTableOptions table_options;
   table_options.cancel = options.cancel;
   TrainTables tables = BuildTrainTablesAtTier(spec, train, options.tier, table_options);

@@ -225,11 +225,8 @@ FastestMesh FastestPitchLine(const TrainSpec& spec, const TrainTopology& topolog
   return fastest;
 }
 
-void ValidateTrainLimits(const TrainSpec& spec, const TrainTopology& topology) {
+void RequireTrainToothLoads(const TrainSpec& spec, const TrainTopology& topology) {
   const TrainOperating& op = spec.operating;
-  const double omega_in = op.speed;
-
-  // Load: a linear-elastic tooth model, per mesh at the torque it transmits.
   const TrainTorqueFlow flow = StaticTorqueFlow(spec, topology);
   for (size_t m = 0; m < spec.meshes.size(); ++m) {
     const TrainGear& a = *spec.FindGear(spec.meshes[m].gear_a);
@@ -253,6 +250,13 @@ void ValidateTrainLimits(const TrainSpec& spec, const TrainTopology& topology) {
                     m, a.name, b.name, unit_load * 1e-6, flow.transmitted_torque[m], b.name,
                     L::kMaxUnitLoad * 1e-6));
   }
+}
+
+void ValidateTrainLimits(const TrainSpec& spec, const TrainTopology& topology) {
+  const TrainOperating& op = spec.operating;
+  const double omega_in = op.speed;
+  // Load: a linear-elastic tooth model, per mesh at the torque it transmits.
+  RequireTrainToothLoads(spec, topology);
 
   // Excitation acts on the input shaft: its speed fluctuation a / (k Omega_in) must stay below
   // the input's mean speed, else the input shaft would turn backwards.

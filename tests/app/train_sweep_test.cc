@@ -10,8 +10,9 @@
 #include <string>
 
 #include "config/gearbox_loader.h"
-#include "model/test_specs.h"
 #include "gearnvh/analysis/train_operating_point.h"
+#include "gearnvh/model/input_error.h"
+#include "model/test_specs.h"
 #include "model/test_trains.h"
 #include "train_sweep_command.h"
 
@@ -145,6 +146,31 @@ TEST_CASE("train sweep: a loose gear under drag rattles under engine excitation,
   CHECK(doc["failed_speeds"] == 0);
   const std::string csv = app::TrainMeshesCsv(r);
   CHECK(std::count(csv.begin(), csv.end(), '\n') == 1 + 2 * 2);
+}
+
+TEST_CASE("train sweep: a viscous drag's tooth load is checked at every speed",
+          "[app][train][sweep]") {
+  // g4's needle-bearing drag c |dW| relative to the input grows with speed (dW = W_in / 3): within
+  // the tooth-load limit at the file's 200 rpm, above it at 800 rpm, where that speed fails with
+  // the rule at the drag's path (the run would leave the linear-elastic tooth model).
+  TrainSpec t = testing::RattlerTrain(0.0);
+  t.operating.speed = 200.0 * kRpm;
+  t.operating.loads[1].viscous = 1000.0;
+  t.operating.loads[1].relative_to = "input";
+  REQUIRE_NOTHROW(ValidateTrainSpec(t));
+  TrainSpec fast = t;
+  fast.operating.speed = 800.0 * kRpm;
+  REQUIRE_THROWS_AS(ValidateTrainSpec(fast), InputError);
+  t.analysis.speed_sweep = {200.0 * kRpm, 800.0 * kRpm, 2};
+  gearnvh::TrainSweepOptions options;
+  options.cycles = 20;
+  options.transient = 5;
+  const gearnvh::TrainSweepResult r = gearnvh::RunTrainSweep(t, options);
+  REQUIRE(r.points.size() == 2);
+  INFO(r.points[0].message << " | " << r.points[1].message);
+  CHECK(r.points[1].message.find("operating.loads[1].viscous") != std::string::npos);
+  CHECK_FALSE(r.points[1].ok);
+  CHECK(r.points[0].message.find("tooth load") == std::string::npos);
 }
 
 TEST_CASE("train report runs: the manual transmission's operating point and sweep reach their end",

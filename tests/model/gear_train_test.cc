@@ -288,10 +288,8 @@ TrainSpec StandingOutput() {
   return s;
 }
 
-TEST_CASE(
-    "a drag relative to a fixed shaft is absolute; one at the shaft's own speed has no "
-    "constant part",
-    "[train]") {
+TEST_CASE("a drag relative to a fixed shaft is absolute, and counter-rotating shafts both resist",
+          "[train]") {
   // g4 idles on the standing output: relative to it, its drag is on its own speed (the shaft is
   // the housing), one term, as if absolute.
   TrainSpec relative = StandingOutput();

@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
+#include "gearnvh/model/input_error.h"
 #include "gearnvh/solver/train_reduced_tables.h"
 #include "gearnvh/solver/train_stepper.h"
 #include "model/test_trains.h"
@@ -77,6 +78,15 @@ TEST_CASE("drag: a loose gear's drag relative to its shaft is a torque pair and 
   CHECK((t.structural_damping - c * w * w.transpose()).norm() <= 1e-15 * c);
   CHECK(t.free_rotation_damped);
   CHECK(t.neutral_directions() == 1);
+  // A drag beyond the tooth-load limit on the mesh that only g4's drag loads: named at its viscous
+  // part, which is most of it (1000 x 28 N m against 0.05 N m).
+  try {
+    ValidateTrainSpec(NeedleBearingRattler(1000.0));
+    FAIL("accepted");
+  } catch (const InputError& e) {
+    CHECK(e.path() == "operating.loads[1].viscous");
+    CHECK_THAT(e.rule(), Catch::Contains("tooth load"));
+  }
 }
 
 TEST_CASE("drag: bodies in free flight under a viscous drag follow the closed-form exponential",

@@ -214,5 +214,8 @@ double FirstMeshFrequency(const TrainSpec& spec, const TrainTopology& topology, 
 // The operating limits of ValidateTrainSpec alone (tooth load per mesh, excitation on the input
 // shaft, run length), for a spec whose names, speed and topology are already valid.
 void ValidateTrainLimits(const TrainSpec& spec, const TrainTopology& topology);
+// Its tooth-load rule alone (every mesh's unit load from StaticTorqueFlow <= kMaxUnitLoad, the
+// error at the load sending the mesh most power): what changes with speed when a viscous drag acts.
+void RequireTrainToothLoads(const TrainSpec& spec, const TrainTopology& topology);
 
 }  // namespace gearnvh
