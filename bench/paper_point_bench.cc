@@ -57,14 +57,6 @@ double PairedDifference(const std::function<void(bool longer)>& run) {
 constexpr double kPaperN40FullUs = 1282.0;
 constexpr double kPaperN20MtaUs = 171.0;
 
-GearboxSpec PaperPoint() {
-  GearboxSpec s = Example("flexible_shafts.yaml");
-  s.operating.speed = 7548.387097 * std::numbers::pi / 30.0;
-  s.operating.torque = 20.0;
-  s.operating.excitation = {{15.5, 200000.0, 0.0}};
-  return s;
-}
-
 GearboxSpec LoadedPoint() {
   GearboxSpec s = Example("flexible_shafts.yaml");
   s.operating.speed = 7548.387097 * std::numbers::pi / 30.0;

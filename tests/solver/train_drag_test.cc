@@ -235,14 +235,8 @@ TEST_CASE("drag: a rattling train with a needle-bearing drag follows CVODE event
   TrainSpec spec = NeedleBearingRattler(2e-3);
   spec.operating.excitation = {{2.0, 1500.0, 0.0}};
   const Model s(spec);
-  const testing::ReferenceAgreement a =
-      testing::AgreeWithReference(s.tables, 2.0 * s.tables.meshes[0].period);
-  INFO("V3 vs CVODE: " << a.worst_reference / a.scale << " of the TE, " << a.v3_events
-                       << " events");
-  CHECK(a.v3_events >= 2);
-  CHECK(static_cast<long>(a.reference_events) == a.v3_events);
-  CHECK(a.v2_events == a.v3_events);
-  CHECK(a.worst_reference <= 1e-8 * a.scale);
+  testing::CheckRattleFollowsReference(
+      testing::AgreeWithReference(s.tables, 2.0 * s.tables.meshes[0].period));
 }
 
 TEST_CASE("drag: certified jumps carry the damped rotation's speed", "[solver][train]") {
@@ -256,18 +250,7 @@ TEST_CASE("drag: certified jumps carry the damped rotation's speed", "[solver][t
   const Model s(spec);
   const TrainTables& t = s.tables;
   REQUIRE(t.free_rotation_damped);
-  REQUIRE(t.common_period > 0.0);
-  const double start = 20.0 * t.common_period, end = start + 2.0 * t.common_period;
-  const testing::RecordedTrainRun stepped = testing::RunTrainFromStatic(t, false, start, end);
-  const testing::RecordedTrainRun jumped = testing::RunTrainFromStatic(t, true, start, end);
-  REQUIRE(jumped.summary.jumps == TrainStepperSummary::Jumps::kJumped);
-  CHECK(jumped.summary.jumped_periods >= 18);
-  CHECK(stepped.summary.events == 0);
-  for (size_t i = 0; i < t.meshes.size(); ++i) {
-    const double pp = stepped.stats.meshes[i].te_peak_to_peak;
-    CHECK(pp > 0.0);
-    CHECK(std::abs(stepped.stats.meshes[i].te_rms - jumped.stats.meshes[i].te_rms) <= 1e-10 * pp);
-  }
+  const auto [stepped, jumped] = testing::CheckJumpsMatchStepping(t);
   const auto speed = [&](const Eigen::VectorXd& z) {
     return t.recenter_row.dot(z.segment(t.n, t.n));
   };

@@ -99,20 +99,8 @@ TEST_CASE("fixed shaft: certified jumps leave the standing rotation out and keep
   const Model s(spec);
   const TrainTables& t = s.tables;
   REQUIRE(t.standing_rotations.cols() == 1);
-  REQUIRE(t.common_period > 0.0);
-  const double start = 20.0 * t.common_period, end = start + 2.0 * t.common_period;
-  const testing::RecordedTrainRun stepped = testing::RunTrainFromStatic(t, false, start, end);
-  const testing::RecordedTrainRun jumped = testing::RunTrainFromStatic(t, true, start, end);
-  REQUIRE(jumped.summary.jumps == TrainStepperSummary::Jumps::kJumped);
-  CHECK(jumped.summary.jumped_periods >= 18);
-  CHECK(stepped.summary.events == 0);
-  CHECK(jumped.summary.events == 0);
   // As the reducer's own jump test: the same orbit to rounding, 1e-10 of the TE p-p.
-  for (size_t i = 0; i < t.meshes.size(); ++i) {
-    const double pp = stepped.stats.meshes[i].te_peak_to_peak;
-    CHECK(pp > 0.0);
-    CHECK(std::abs(stepped.stats.meshes[i].te_rms - jumped.stats.meshes[i].te_rms) <= 1e-10 * pp);
-  }
+  const auto [stepped, jumped] = testing::CheckJumpsMatchStepping(t);
   // The standing shaft (body 3) is at rest in both.
   CHECK(stepped.state[3] == 0.0);
   CHECK(jumped.state[3] == 0.0);

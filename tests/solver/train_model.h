@@ -159,4 +159,37 @@ inline ReferenceAgreement AgreeWithReference(const TrainTables& t, double end,
   return out;
 }
 
+// A rattle over a few impacts against CVODE (rtol 1e-13): V3, V2 and the reference see the same
+// events, at least two, and V3's TE is within 1e-8 of the largest |TE| (the impacts' amplification,
+// ~10^3 per cycle, leaves CVODE accurate to ~1e-10 over two cycles).
+inline void CheckRattleFollowsReference(const ReferenceAgreement& a) {
+  INFO("V3 vs CVODE: " << a.worst_reference / a.scale << " of the TE, " << a.v3_events
+                       << " events");
+  CHECK(a.v3_events >= 2);
+  CHECK(static_cast<long>(a.reference_events) == a.v3_events);
+  CHECK(a.v2_events == a.v3_events);
+  CHECK(a.worst_reference <= 1e-8 * a.scale);
+}
+
+// A train in permanent contact run from its static state to 22 common periods, recording the last
+// two, with certified jumps and without: the jumps were made (18 periods or more), no event, and
+// every mesh's TE RMS agrees to 1e-10 of its p-p (the same orbit to rounding). Returns {stepped,
+// jumped}.
+inline std::pair<RecordedTrainRun, RecordedTrainRun> CheckJumpsMatchStepping(const TrainTables& t) {
+  REQUIRE(t.common_period > 0.0);
+  const double start = 20.0 * t.common_period, end = start + 2.0 * t.common_period;
+  RecordedTrainRun stepped = RunTrainFromStatic(t, false, start, end);
+  RecordedTrainRun jumped = RunTrainFromStatic(t, true, start, end);
+  REQUIRE(jumped.summary.jumps == TrainStepperSummary::Jumps::kJumped);
+  CHECK(jumped.summary.jumped_periods >= 18);
+  CHECK(stepped.summary.events == 0);
+  CHECK(jumped.summary.events == 0);
+  for (size_t i = 0; i < t.meshes.size(); ++i) {
+    const double pp = stepped.stats.meshes[i].te_peak_to_peak;
+    CHECK(pp > 0.0);
+    CHECK(std::abs(stepped.stats.meshes[i].te_rms - jumped.stats.meshes[i].te_rms) <= 1e-10 * pp);
+  }
+  return {std::move(stepped), std::move(jumped)};
+}
+
 }  // namespace gearnvh::testing
