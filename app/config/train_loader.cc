@@ -121,8 +121,12 @@ TrainSpec ReadTrainDocument(Reader& r, const YAML::Node& root) {
     // A drag may be viscous alone; a load is a torque otherwise.
     load.viscous = r.Quantity(item, p, "viscous", Dimension::kRotationalDamping, 0.0);
     const bool viscous = item["viscous"].IsDefined();
-    load.torque = viscous ? r.Quantity(item, p, "torque", Dimension::kTorque, 0.0)
-                          : r.Quantity(item, p, "torque", Dimension::kTorque);
+    if (!viscous && !item["torque"].IsDefined()) {
+      r.Fail(p + ".torque", item, "",
+             "required key is missing (a load is a torque, a viscous drag "
+             "`viscous`, or both)");
+    }
+    load.torque = r.Quantity(item, p, "torque", Dimension::kTorque, 0.0);
     if (item["torque"].IsDefined()) {
       load.torque_unit = DisplayUnitOf(r.Find(p + ".torque").raw, Dimension::kTorque);
     }
@@ -130,6 +134,10 @@ TrainSpec ReadTrainDocument(Reader& r, const YAML::Node& root) {
       load.viscous_unit = DisplayUnitOf(r.Find(p + ".viscous").raw, Dimension::kRotationalDamping);
     }
     load.relative_to = r.String(item, p, "relative_to", "");
+    if (item["relative_to"].IsDefined() && load.relative_to.empty()) {
+      r.Fail(p + ".relative_to", item["relative_to"], "''",
+             "must name a shaft (leave the key out for a drag on the absolute speed)");
+    }
     spec.operating.loads.push_back(load);
   });
   spec.operating.excitation = ReadExcitation(r, op);

@@ -338,26 +338,20 @@ TrainSimulatePlan PlanTrainSimulate(const SimulateOptions& options, const TrainS
                      "must be >= " + std::to_string(lyapunov_defaults.blocks) + " with " +
                          names("lyapunov") + " (one block per standard-error block)");
   }
-  // Tier 1: one body per shaft and per loose gear; a fixed shaft's body stands.
-  const int bodies =
-      static_cast<int>(spec.shafts.size() +
-                       std::count_if(spec.gears.begin(), spec.gears.end(), [](const TrainGear& g) {
-                         return g.mounting == Mounting::kLoose;
-                       }));
-  const int standing = static_cast<int>(std::count_if(spec.shafts.begin(), spec.shafts.end(),
-                                                      [](const TrainShaft& s) { return s.fixed; }));
-  // A viscous drag damps the free rotation's speed: only its angle is neutral.
-  const bool damped = DragDampsFreeRotation(spec, AnalyseTrainTopology(spec));
-  const int most = 2 * (bodies - standing) - (damped ? 1 : 2);
+  // Tier 1: one body per shaft and per loose gear; a fixed shaft's body stands (speed 0).
+  const TrainTopology topology = AnalyseTrainTopology(spec);
+  const int bodies = static_cast<int>(topology.bodies.size());
+  const int standing =
+      static_cast<int>(std::count_if(topology.bodies.begin(), topology.bodies.end(),
+                                     [](const TrainBody& b) { return b.speed == 0.0; }));
+  const int most = 2 * (bodies - standing) - 2;
   if (*plan.lyapunov < 1 || *plan.lyapunov > most) {
     throw InputError(
         names("lyapunov"), 0, std::to_string(*plan.lyapunov),
-        "must be in 1 .. 2n - " + std::string(damped ? "1" : "2") +
-            std::string(standing > 0 ? " - 2s" : "") + " = " + std::to_string(most) +
-            " for this train (" + std::to_string(bodies) + " bodies" +
+        "must be in 1 .. 2n - 2" + std::string(standing > 0 ? " - 2s" : "") + " = " +
+            std::to_string(most) + " for this train (" + std::to_string(bodies) + " bodies" +
             (standing > 0 ? ", s = " + std::to_string(standing) + " fixed shafts" : "") +
-            (damped ? "; removed: the free rotation's angle (a viscous drag damps its speed)"
-                    : "; removed: the free rotation's two neutral directions") +
+            "; removed: the free rotation's angle and speed" +
             (standing > 0 ? " and each fixed shaft's two" : "") + ")");
   }
   return plan;

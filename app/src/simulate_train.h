@@ -24,8 +24,7 @@ nlohmann::json TrainSimulationJson(const TrainOperatingPoint& op, const TrainSpe
 // `names` saying how they are named in errors): the run (cycles, transient, 32 samples per cycle,
 // tier, event method) and the Lyapunov exponents asked for. Throws InputError for a tier the
 // train lacks, --uff, --cycles < 1 (< 8 with --lyapunov), --transient < 0, a run beyond the
-// run-length limit and --lyapunov outside 1 .. 2n - 2 (2n - 1 when a viscous drag damps the free
-// rotation's speed; less 2 per fixed shaft).
+// run-length limit and --lyapunov outside 1 .. 2n - 2 (less 2 per fixed shaft).
 struct TrainSimulatePlan {
   TrainRunOptions run;
   std::optional<int> lyapunov;

@@ -203,12 +203,13 @@ int OrbitsTrain(const OrbitsCommandOptions& options, const TrainSpec& spec) {
   } else {
     fmt::print(
         "{}  ({}): gear train, period-{} orbits ({} common period{} of {:.4g} s), {}\n"
-        "  multipliers on the quotient by the free rotation ({} removed{})\n",
+        "  multipliers on the quotient by the free rotation ({}{})\n",
         spec.name, options.file, options.period, options.period, options.period > 1 ? "s" : "",
         common_period, TierName(plan.scan.tier),
         DragDampsFreeRotation(spec, AnalyseTrainTopology(spec))
-            ? "its angle, multiplier 1: a viscous drag damps its speed"
-            : "its two neutral directions, multiplier 1 and its Jordan partner",
+            ? "its angle, multiplier 1, removed; a viscous drag damps its speed, whose multiplier "
+              "e^(-sigma T) is listed"
+            : "its two neutral directions, multiplier 1 and its Jordan partner, removed",
         std::any_of(spec.shafts.begin(), spec.shafts.end(),
                     [](const TrainShaft& s) { return s.fixed; })
             ? ", and each fixed shaft's two"

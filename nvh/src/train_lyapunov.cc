@@ -101,7 +101,8 @@ TrainLyapunovSummary EstimateTrainLyapunov(const TrainTables& tables, const Eige
                                            const TrainLyapunovOptions& options) {
   options.Validate();
   const int k = options.exponents;
-  const int most = 2 * tables.n - tables.neutral_directions();
+  // The free rotation's position and velocity and each standing rotation's are removed.
+  const int most = 2 * tables.n - 2 - 2 * static_cast<int>(tables.standing_rotations.cols());
   if (k > most) {
     throw InputError("TrainLyapunovOptions.exponents", 0, std::to_string(k),
                      "must be <= " + std::to_string(most) +

@@ -79,7 +79,15 @@ void TrainTangentPropagator::Recenter() {
 
 void RemoveTrainFreeRotation(const TrainTables& t, Eigen::Ref<Eigen::MatrixXd> V) {
   const int e = 2 * t.n;
-  const Eigen::MatrixXd U = t.NeutralBasis();
+  Eigen::MatrixXd U = t.NeutralBasis();
+  if (t.free_rotation_damped) {
+    // The rotation's speed too: it decays at r^T C r (a drag's sigma, often ~1e-3 1/s), which
+    // would hide every exponent of the motion relative to it as the neutral pair would; removed,
+    // the rest are the relative motion's to second order in the drag's coupling.
+    U.conservativeResize(Eigen::NoChange, U.cols() + 1);
+    U.col(U.cols() - 1).setZero();
+    U.col(U.cols() - 1).tail(t.n) = t.rigid_rotation;
+  }
   Eigen::VectorXd w(e);
   w << t.inertia, t.inertia;
   V.topRows(e) -= U * ((w.asDiagonal() * U).transpose() * V.topRows(e));

@@ -256,6 +256,12 @@ TEST_CASE("a drag may be viscous and act relative to a shaft", "[loader][train]"
       LoaderErrorOf(with("    - {on: g5, torque: 0.2 N*m, relative_to: housing}\n"));
   CHECK(unknown.path() == "operating.loads[1].relative_to");
   CHECK(unknown.rule().find("must name a shaft") != std::string::npos);
+  const InputError empty =
+      LoaderErrorOf(with("    - {on: g5, torque: 0.2 N*m, relative_to: \"\"}\n"));
+  CHECK(empty.path() == "operating.loads[1].relative_to");
+  CHECK(empty.rule().find("leave the key out") != std::string::npos);
+  CHECK(LoaderErrorOf(with("    - {on: g5, relative_to: c}\n")).rule().find("viscous") !=
+        std::string::npos);
   const InputError itself =
       LoaderErrorOf(with("    - {on: g4, torque: 0.2 N*m, relative_to: c}\n"));
   CHECK(itself.path() == "operating.loads[1].relative_to");

@@ -437,14 +437,13 @@ TEST_CASE("a stopped train run says why in the solver's own words", "[nvh][train
 namespace gearnvh {
 namespace {
 
-TEST_CASE("a viscous drag damps the free rotation: the orbit keeps its speed, Lyapunov its decay",
+TEST_CASE("a viscous drag damps the free rotation: the orbit keeps its speed, Lyapunov projects it",
           "[nvh][train][orbit]") {
   // The loaded reducer in permanent contact with a viscous drag c on its output's speed. Turned
   // faster as one body (by q along r, M-normalised) the train slows back at sigma = c r_out^2
   // (tests/solver/train_drag_test.cc), so its free rotation's speed is a decaying direction of
   // multiplier e^(-sigma T), and only its angle is neutral: the orbit has 2n - 1 multipliers, one
-  // of them that one; Lyapunov allows 2n - 1 exponents, and the largest is -sigma (every mesh
-  // mode decays faster, at zeta omega ~ 60 1/s and more).
+  // of them that one (every mesh mode decays faster, at zeta omega ~ 60 1/s and more).
   TrainSpec spec = testing::TwoStageTrain(1000.0, 0.0, 1000.0);
   spec.operating.excitation.clear();
   for (TrainMesh& m : spec.meshes) m.mesh.damping_ratio = 0.01;
@@ -477,24 +476,28 @@ TEST_CASE("a viscous drag damps the free rotation: the orbit keeps its speed, Ly
   CHECK(std::log(std::abs(twice.multipliers[0])) / (2.0 * t.common_period) ==
         Approx(-sigma).epsilon(1e-4));
 
+  // Lyapunov exponents project the rotation's speed out as well (its exponent -sigma, ~-11 1/s
+  // here, would otherwise be the largest and hide the relative motion's, ~-60 1/s): at most
+  // 2n - 2, the largest the orbit's next multiplier's exponent ln|mu_1| / T.
   TrainLyapunovOptions too_many;
-  too_many.exponents = 2 * t.n;
+  too_many.exponents = 2 * t.n - 1;
   CHECK_THROWS_AS(EstimateTrainLyapunov(t, z0, states0, too_many), InputError);
   TrainLyapunovOptions options;
-  options.exponents = 2 * t.n - 1;  // every one the quotient has
+  options.exponents = 2;
   options.transient_cycles = 20;
   options.alignment_cycles = 20;
   options.cycles = 1000;
   const TrainLyapunovSummary l = EstimateTrainLyapunov(t, z0, states0, options);
   REQUIRE(l.info == TrainLyapunovSummary::Info::kSuccess);
   const double averaged = options.cycles * t.meshes[0].period;
-  INFO("exponents " << l.exponents.front() << " ...; sigma " << sigma << " over " << averaged
-                    << " s");
-  // A linear periodic flow: the exponents are its Floquet exponents; the largest is the rotation's
-  // -sigma, up to the finite-time estimate's bias ln|a| / T (a the start column's share of the
-  // slowest direction, of order 1; measured 0.25 1/s over 1.2 s): 1 / T allowed, 0.33 1/s here,
-  // while an undamped rotation gives 0 and the rate doubled -23 1/s.
-  CHECK(std::abs(l.exponents.front() + sigma) <= 1.0 / averaged);
+  const double relative = std::log(std::abs(orbit.multipliers[1])) / t.common_period;
+  INFO("exponents " << l.exponents[0] << ", " << l.exponents[1] << " 1/s; the orbit's next "
+                    << relative << " 1/s, sigma " << sigma << " 1/s over " << averaged << " s");
+  CHECK(l.exponents.front() < -2.0 * sigma);  // not the rotation's speed
+  // A linear periodic flow: the exponents are its Floquet exponents, up to the finite-time
+  // estimate's bias ln|a| / T (1 / T allowed) and the projection's second-order error in the
+  // drag's coupling (measured below 1e-3 relative): 1 / T + 1e-2 |lambda|.
+  CHECK(std::abs(l.exponents.front() - relative) <= 1.0 / averaged + 1e-2 * std::abs(relative));
 }
 
 }  // namespace

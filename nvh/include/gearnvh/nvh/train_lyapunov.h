@@ -4,14 +4,16 @@
 // (solver/train_tangents.h: the pieces' exact flows, a saltation per gap event, the identity at
 // grazing touches and time-triggered switches). k tangent columns start on generic directions;
 // every `renormalise_cycles` cycles of the first mesh (period T_1)
-//   V <- P V (P: the M-orthogonal projection off the neutral directions, RemoveTrainFreeRotation),
+//   V <- P V (P: the M-orthogonal projection off the free rotation, position and velocity),
 //   V.e = Q R (Gram-Schmidt on the elastic rows [x; x'], Euclidean),  g_j = ln |R_jj|,  V.e <- Q
 // after `alignment_cycles` unaveraged cycles; then lambda_j = sum g_j / T (1/s, T the averaged
 // time), in descending order. The free rotation is neutral in every tuple (multiplier 1 and its
 // Jordan partner, linear growth): its two zero exponents would hide every negative one, so it is
 // projected out and the k exponents are those of the quotient (k <= 2n - 2, less 2 per fixed shaft,
-// whose standing rotation is projected out too; 2n - 1 when a viscous drag damps the free
-// rotation's speed, which is then a decaying direction like any other).
+// whose standing rotation is projected out too). A viscous drag damps the rotation's speed at
+// sigma = r^T C r, often ~1e-3 1/s, which would hide the relative motion's exponents as the
+// neutral pair would: it is projected out as well (not invariant then: the exponents are the
+// relative motion's to second order in the drag's coupling; sigma is known in closed form).
 // Reported per second, per cycle of the first mesh (lambda T_1) and per forcing cycle (lambda T_f,
 // T_f = 2 pi / (order_1 Omega_in), the first engine order of the input; T_1 without excitation).
 // Standard error per exponent: the run is cut into `blocks` equal blocks, the standard deviation

@@ -60,9 +60,9 @@ class TrainTangentPropagator {
   long saltations_ = 0;
 };
 
-// Removes the neutral directions (TrainTables::NeutralBasis: the free rotation's position, its
-// velocity unless a drag damps it, every standing rotation's position and velocity) from the
-// columns (M-orthogonal projection) and clears the constant and input slots.
+// Removes the free rotation's position and velocity and every standing rotation's (the neutral
+// directions, TrainTables::NeutralBasis, and the rotation's speed also when a viscous drag damps
+// it) from the columns (M-orthogonal projection) and clears the constant and input slots.
 void RemoveTrainFreeRotation(const TrainTables& tables, Eigen::Ref<Eigen::MatrixXd> V);
 
 }  // namespace gearnvh
