@@ -469,8 +469,13 @@ void ValidateTrainSpec(const TrainSpec& spec) {
     if (!load.relative_to.empty()) {
       const TrainShaft* carrier = spec.FindShaft(load.relative_to);
       if (carrier == nullptr) {
+        std::string shafts;
+        for (const TrainShaft& shaft : spec.shafts)
+          shafts += (shafts.empty() ? "" : ", ") + shaft.name;
         throw InputError(p + ".relative_to", 0, "'" + load.relative_to + "'",
-                         "must name a shaft (the one the drag acts relative to)");
+                         "must name a shaft, the one the drag acts relative to (the file's "
+                         "shafts: " +
+                             shafts + ")");
       }
       const TrainGear* on_gear = spec.FindGear(load.on);
       const std::string own_shaft = on_gear == nullptr                      ? load.on

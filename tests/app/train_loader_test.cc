@@ -256,6 +256,7 @@ TEST_CASE("a drag may be viscous and act relative to a shaft", "[loader][train]"
       LoaderErrorOf(with("    - {on: g5, torque: 0.2 N*m, relative_to: housing}\n"));
   CHECK(unknown.path() == "operating.loads[1].relative_to");
   CHECK(unknown.rule().find("must name a shaft") != std::string::npos);
+  CHECK(unknown.rule().find("the file's shafts: a, b, c") != std::string::npos);
   const InputError empty =
       LoaderErrorOf(with("    - {on: g5, torque: 0.2 N*m, relative_to: \"\"}\n"));
   CHECK(empty.path() == "operating.loads[1].relative_to");
