@@ -152,6 +152,11 @@ DisplayUnit DisplayUnitOf(std::string_view text, Dimension d) {
     if (unit == "kN*m") return {"kN m", 1e-3};
     return {"N m", 1.0};
   }
+  if (d == Dimension::kRotationalDamping) {
+    if (unit == "N*mm*s/rad") return {"N mm s/rad", 1e3};
+    if (unit == "N*m*s/deg") return {"N m s/deg", std::numbers::pi / 180.0};
+    return {"N m s/rad", 1.0};
+  }
   // Any other dimension: the unit as written, SI (the table's first unit) for a plain number.
   const std::vector<UnitEntry>& table = Table(d);
   if (table.empty()) return {"", 1.0};

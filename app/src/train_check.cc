@@ -17,6 +17,26 @@
 namespace gearnvh::app {
 namespace {
 
+// A load at the operating point: its speed relative to what it acts against (the housing or its
+// `relative_to` shaft), its mean torque T + c |dW| and the power it takes, (T + c |dW|) |dW|.
+struct LoadSummary {
+  const TrainLoad* load = nullptr;
+  double relative_speed = 0.0;  // rad/s
+  double mean_torque = 0.0;     // N m
+  double power = 0.0;           // W
+};
+
+std::vector<LoadSummary> SummariseLoads(const TrainSpec& spec, const GearTrain& train) {
+  std::vector<LoadSummary> out;
+  for (size_t i = 0; i < spec.operating.loads.size(); ++i) {
+    const TrainLoad& load = spec.operating.loads[i];
+    const double dw = ActionOfLoad(spec, train.topology, i).relative_speed;
+    const double mean = load.torque + load.viscous * std::abs(dw);
+    out.push_back({&load, dw, mean, mean * std::abs(dw)});
+  }
+  return out;
+}
+
 struct TierCrossing {
   int mode = 0;              // numbered from 1
   std::string line;          // "mesh g1-g2 1x", "shaft input 1x"
@@ -191,6 +211,18 @@ nlohmann::json TrainCheckReport(const TrainSpec& spec, const TrainCheck& check) 
                              {"speed_rpm", Rpm(body.speed)},
                              {"polar_inertia", train.body_inertia[b]}});
   }
+  doc["loads"] = nlohmann::json::array();
+  for (const LoadSummary& l : SummariseLoads(spec, train)) {
+    doc["loads"].push_back(
+        {{"on", l.load->on},
+         {"relative_to",
+          l.load->relative_to.empty() ? nlohmann::json() : nlohmann::json(l.load->relative_to)},
+         {"torque_n_m", l.load->torque},
+         {"viscous_n_m_s_per_rad", l.load->viscous},
+         {"relative_speed_rpm", Rpm(l.relative_speed)},
+         {"mean_torque_n_m", l.mean_torque},
+         {"power_w", l.power}});
+  }
   doc["input_torque"] = train.input_torque;
   nlohmann::json critical = nlohmann::json::array();
   for (const TierCrossing& c : CriticalSpeeds(spec, train, modes)) {
@@ -266,6 +298,16 @@ void PrintTrainCheck(const std::string& file, const TrainSpec& spec, const Train
       gears += (gears.empty() ? "" : ", ") + spec.gears[static_cast<size_t>(g)].name;
     fmt::print("  {:<16}{:<12}{:>14.2f}{:>18.4e}   {}\n", body.name, KindName(body.kind),
                Rpm(body.speed), train.body_inertia[b], gears);
+  }
+  fmt::print("  {:<16}{:<14}{:>12}{:>20}{:>14}{:>12}\n", "load on", "relative to", "torque",
+             "viscous", "speed [rpm]", "power [W]");
+  for (const LoadSummary& l : SummariseLoads(spec, train)) {
+    const TrainLoad& load = *l.load;
+    fmt::print("  {:<16}{:<14}{:>12}{:>20}{:>14.2f}{:>12.4g}\n", load.on,
+               load.relative_to.empty() ? "housing" : load.relative_to,
+               Format(load.torque, load.torque_unit),
+               load.viscous > 0.0 ? Format(load.viscous, load.viscous_unit) : "-",
+               Rpm(l.relative_speed), l.power);
   }
   fmt::print("  input torque balancing the loads: {:.4g} N m\n", train.input_torque);
   fmt::print("  tier 1 (torsional, {} DOF, {} free rotation{}): natural frequencies [Hz]\n   ",

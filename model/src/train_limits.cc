@@ -242,7 +242,7 @@ void RequireTrainToothLoads(const TrainSpec& spec, const TrainTopology& topology
         main.torque;
     throw InputError(
         "operating.loads[" + std::to_string(load) + (viscous ? "].viscous" : "].torque"), 0,
-        MessageNumber(viscous ? main.viscous : main.torque),
+        viscous ? MessageNumber(main.viscous) + " N m s/rad" : MessageNumber(main.torque) + " N m",
         fmt::format("gives meshes[{}] ({}-{}) a tooth load of {:.3g} N/um of face width "
                     "(transmitted torque {:.6g} N m on {}), above {} N/um: the mesh-stiffness and "
                     "LSTE models assume small linear-elastic tooth deflections, and real teeth "

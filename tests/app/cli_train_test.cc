@@ -20,6 +20,47 @@ namespace fs = std::filesystem;
 using testing::kExamples;
 using testing::kExe;
 
+TEST_CASE("check lists each load's drag and the power it takes, which the input supplies",
+          "[cli][train]") {
+  // The manual transmission at idle with o2's drag on its speed relative to the output shaft it
+  // idles on (a needle bearing: T + c |dW|) and churning on the layshaft (absolute). Every load's
+  // power (T + c |dW|) |dW| sums to what the input torque supplies at the input speed (power
+  // balance, the static torque flow's rule: 1e-9 relative), and o2's mean torque is T + c |dW|.
+  std::ifstream in(kExamples + "/manual_transmission_idle.yaml");
+  std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  const auto replace = [&](const std::string& from, const std::string& to) {
+    const size_t at = text.find(from);
+    REQUIRE(at != std::string::npos);
+    text.replace(at, from.size(), to);
+  };
+  replace("{on: o2, torque: 0.2 N*m}",
+          "{on: o2, torque: 0.1 N*m, viscous: 1 N*mm*s/rad, relative_to: output}");
+  replace("{on: layshaft, torque: 0.4 N*m}", "{on: layshaft, torque: 0.2 N*m, viscous: 2e-3}");
+  const TempDir dir;
+  const auto file = dir.Write("drag.yaml", text);
+  const auto r = RunCommand(kExe + " check --json " + file.string());
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const auto doc = nlohmann::json::parse(r.out);
+  REQUIRE(doc["loads"].size() == 6);
+  double power = 0.0;
+  for (const auto& l : doc["loads"]) power += l["power_w"].get<double>();
+  double input_speed = 0.0;
+  for (const auto& b : doc["bodies"])
+    if (b["name"] == "input") input_speed = b["speed"].get<double>();
+  CHECK(power == Approx(doc["input_torque"].get<double>() * input_speed).epsilon(1e-9));
+  const auto& o2 = doc["loads"][2];
+  CHECK(o2["on"] == "o2");
+  CHECK(o2["relative_to"] == "output");
+  const double dw = o2["relative_speed_rpm"].get<double>() * std::numbers::pi / 30.0;
+  CHECK(o2["mean_torque_n_m"].get<double>() == Approx(0.1 + 1e-3 * std::abs(dw)).epsilon(1e-12));
+  CHECK(doc["loads"][1]["relative_to"].is_null());
+  // The text gives the drag in the units written.
+  const auto t = RunCommand(kExe + " check " + file.string());
+  CHECK(t.out.find("1 N mm s/rad") != std::string::npos);
+  CHECK(t.out.find("relative to") != std::string::npos);
+}
+
 TEST_CASE("check on the manual transmission reports every mesh and body", "[cli][train]") {
   const auto r = RunCommand(kExe + " check --json " + kExamples + "/manual_transmission_idle.yaml");
   INFO(r.err);

@@ -230,7 +230,8 @@ TEST_CASE("a drag may be viscous and act relative to a shaft", "[loader][train]"
   REQUIRE(spec.operating.loads.size() == 2);
   CHECK(spec.operating.loads[1].torque == 0.2);
   CHECK(spec.operating.loads[1].viscous == Approx(2e-3).epsilon(1e-15));
-  CHECK(spec.operating.loads[1].viscous_unit.symbol == "N*mm*s/rad");
+  CHECK(spec.operating.loads[1].viscous_unit.symbol == "N mm s/rad");
+  CHECK(spec.operating.loads[1].viscous_unit.per_si == 1e3);
   CHECK(spec.operating.loads[1].relative_to == "c");
   // Per degree: 1 N m s/deg = 180 / pi N m s/rad.
   CHECK(LoadAnyGearboxFromString(with("    - {on: g5, viscous: 1 N*m*s/deg}\n"))
