@@ -1,8 +1,8 @@
 // The preprint's strong-rattle operating point, like for like (issue 21, docs/BENCHMARKS.md §
 // "The paper's operating point"):
 //
-//   bash scripts/bench.sh --paper [--quick] [--cpu-time] [--events K] [--cycles C] [--json FILE]
-//                                 [--case S]
+//   bash scripts/bench.sh --paper [--quick] [--cpu-time] [--events K] [--train] [--cycles C]
+//                                 [--json FILE] [--case S]
 //
 // examples/flexible_shafts.yaml at 7548.387097 rpm (mesh frequency 3.9 kHz, period 256 us),
 // 20 N m, one engine order 15.5 of 200000 rad/s^2: 2.7-2.9 events per mesh cycle on every tier,
@@ -24,7 +24,10 @@
 #include <numbers>
 
 #include "bench_common.h"
+#include "gearnvh/model/gear_train.h"
 #include "gearnvh/solver/exact_solver.h"
+#include "gearnvh/solver/train_reduced_tables.h"
+#include "gearnvh/solver/train_stepper.h"
 
 namespace {
 
@@ -186,12 +189,43 @@ void CompareCarriedEvents(const GearboxSpec& spec, Tier tier, long transient, lo
       cycles, events[0].size(), events[1].size(), same_kind, worst / h);
 }
 
+// --train: the same gearbox read as its one-mesh train (TrainOf -> BuildGearTrain -> tables at the
+// tier -> TrainStepper, V3, unrecorded, no certified jumps), per cycle as Measure's pairs: the gap
+// issue 37's one pipeline must close (at most 10 % over the pair's figure). Its events per cycle
+// beside it, so the comparison is like for like.
+struct TrainPath {
+  double us_per_cycle = 0.0, events_per_cycle = 0.0;
+  bool completed = true;
+};
+
+TrainPath MeasureTrainPath(const GearboxSpec& spec, Tier tier, const Settings& s, long cycles) {
+  const TrainSpec train_spec = TrainOf(spec);
+  const TrainTables t = BuildTrainTablesAtTier(train_spec, BuildGearTrain(train_spec), tier, {});
+  const auto [z0, s0] = TrainStaticState(t);
+  TrainStepperOptions options;
+  options.jumps = false;
+  const double period = t.meshes.front().period;
+  TrainPath out;
+  std::vector<double> differences;
+  for (int p = 0; p < s.pairs; ++p) {
+    differences.push_back(PairedDifference([&](bool longer) {
+      TrainStepper stepper(t, options, z0, s0);
+      const long run = longer ? 2 * cycles : cycles;
+      out.completed = stepper.Run(static_cast<double>(run) * period) && out.completed;
+      if (longer) out.events_per_cycle = static_cast<double>(stepper.summary().events) / run;
+    }));
+  }
+  out.us_per_cycle = 1e6 * std::max(Median(differences), 0.0) / static_cast<double>(cycles);
+  return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   Settings s;
   std::string json_file, only;
   long event_cycles = 0;  // --events K: the carried/uncarried event comparison of each V3 case
+  bool train_path = false;  // --train: each unrecorded V3 case also through the one-mesh train
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--quick") == 0) {
       s.quick = true;
@@ -200,6 +234,8 @@ int main(int argc, char** argv) {
       s.transient = 50;
     } else if (std::strcmp(argv[i], "--events") == 0 && i + 1 < argc) {
       event_cycles = std::max(1L, std::atol(argv[++i]));
+    } else if (std::strcmp(argv[i], "--train") == 0) {
+      train_path = true;
     } else if (std::strcmp(argv[i], "--cpu-time") == 0) {
       use_cpu_time = true;
     } else if (std::strcmp(argv[i], "--json") == 0 && i + 1 < argc) {
@@ -211,7 +247,8 @@ int main(int argc, char** argv) {
     } else {
       fmt::print(
           stderr,
-          "usage: {} [--quick] [--cpu-time] [--events K] [--cycles C] [--json FILE] [--case S]\n",
+          "usage: {} [--quick] [--cpu-time] [--events K] [--train] [--cycles C] [--json FILE] "
+          "[--case S]\n",
           argv[0]);
       return 2;
     }
@@ -306,6 +343,15 @@ int main(int argc, char** argv) {
     fmt::print("    carried pairs {}, carry error bound {:.2g}, max cond(S) {:.3g}\n",
                f.summary.carried_systems, f.summary.carry_error_bound,
                f.summary.spectral_max_condition);
+    if (train_path && c.method == LadderMethod::kV3 && !c.record) {
+      const TrainPath tp = MeasureTrainPath(c.spec, c.tier, s, cycles);
+      fmt::print(
+          "    one-mesh train path: {:.2f} us/cycle, {:.2f} x this case, {:.2f} events/cycle{}\n",
+          tp.us_per_cycle, f.us_per_cycle > 0.0 ? tp.us_per_cycle / f.us_per_cycle : 0.0,
+          tp.events_per_cycle, tp.completed ? "" : " (a run stopped: not comparable)");
+      rows.back()["train_path_us_per_cycle"] = tp.us_per_cycle;
+      rows.back()["train_path_events_per_cycle"] = tp.events_per_cycle;
+    }
   }
   fmt::print("\n  matvec floor (ns per product, 32 matrices cycled; each case's, in order):");
   nlohmann::json floors = nlohmann::json::object();
