@@ -19,12 +19,9 @@ std::string Quoted(const std::vector<std::string>& names) {
 std::vector<std::string> OutputShafts(const TrainSpec& spec, const TrainTopology& t) {
   std::vector<bool> leads_on(t.bodies.size(), false);  // another shaft is reached through it
   for (size_t b = 0; b < t.bodies.size(); ++b) {
-    const int m = t.parent_mesh[b];
-    if (m < 0 || t.bodies[b].kind != BodyKind::kShaft) continue;
-    const TrainMesh& mesh = spec.meshes[static_cast<size_t>(m)];
-    const int body_a = t.gear_body[static_cast<size_t>(spec.GearIndex(mesh.gear_a))];
-    const int body_b = t.gear_body[static_cast<size_t>(spec.GearIndex(mesh.gear_b))];
-    leads_on[static_cast<size_t>(body_a == static_cast<int>(b) ? body_b : body_a)] = true;
+    const int parent = t.ParentBody(spec, static_cast<int>(b));
+    if (parent < 0 || t.bodies[b].kind != BodyKind::kShaft) continue;
+    leads_on[static_cast<size_t>(parent)] = true;
   }
   std::vector<std::string> out;
   for (size_t b = 0; b < t.bodies.size(); ++b) {

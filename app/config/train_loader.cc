@@ -21,11 +21,55 @@ std::string ListText(const YAML::Node& n) {
   return s + "]";
 }
 
+// couplings: {name: {between: [shaft, shaft], stiffness, damping}}: linear spring-dampers.
+std::vector<TrainCoupling> ReadCouplings(Reader& r, const YAML::Node& root) {
+  std::vector<TrainCoupling> out;
+  const YAML::Node couplings = r.Child(root, "", "couplings", false);
+  if (!couplings) return out;
+  r.ExpectMap(couplings, "couplings", {});
+  for (const auto& kv : couplings) {
+    TrainCoupling c;
+    c.name = kv.first.Scalar();
+    const std::string p = "couplings." + c.name;
+    if (!kv.second.IsMap()) r.Fail(p, kv.second, Describe(kv.second), "must be a mapping");
+    r.ExpectMap(kv.second, p, {"between", "stiffness", "damping", "stages", "hysteresis"});
+    for (const char* key : {"stages", "hysteresis"}) {
+      if (!kv.second[key].IsDefined()) continue;
+      r.Fail(Join(p, key), kv.second[key], key,
+             "is not built yet: a coupling is a linear spring-damper (give `stiffness` and "
+             "`damping`); multi-stage stiffness and hysteresis are planned (docs/gear-trains.md, "
+             "\"Couplings\")");
+    }
+    const YAML::Node between = r.Child(kv.second, p, "between", true);
+    if (!between.IsSequence() || between.size() != 2 || !between[0].IsScalar() ||
+        !between[1].IsScalar()) {
+      r.Fail(Join(p, "between"), between, ListText(between), "must be a list of two shaft names");
+    }
+    r.Remember(Join(p, "between"), between, "");
+    for (size_t i = 0; i < 2; ++i) {
+      r.RequireNoControlCharacters(Join(p, "between") + "[" + std::to_string(i) + "]", between[i],
+                                   between[i].Scalar());
+    }
+    c.shaft_a = between[0].Scalar();
+    c.shaft_b = between[1].Scalar();
+    c.stiffness = r.Quantity(kv.second, p, "stiffness", Dimension::kRotationalStiffness);
+    c.stiffness_unit =
+        DisplayUnitOf(r.Find(p + ".stiffness").raw, Dimension::kRotationalStiffness);
+    c.damping = r.Quantity(kv.second, p, "damping", Dimension::kRotationalDamping, 0.0);
+    if (kv.second["damping"].IsDefined()) {
+      c.damping_unit = DisplayUnitOf(r.Find(p + ".damping").raw, Dimension::kRotationalDamping);
+    }
+    out.push_back(c);
+  }
+  return out;
+}
+
 // Schema gearnvh/2: shafts, gears and meshes by name.
 TrainSpec ReadTrainDocument(Reader& r, const YAML::Node& root) {
   r.ExpectMap(
       root, "",
-      {"schema", "name", "materials", "shafts", "gears", "meshes", "operating", "analysis"});
+      {"schema", "name", "materials", "shafts", "gears", "meshes", "couplings", "operating",
+       "analysis"});
   TrainSpec spec;
   spec.name = r.String(root, "", "name");
   spec.materials = ReadMaterials(r, root);
@@ -105,6 +149,8 @@ TrainSpec ReadTrainDocument(Reader& r, const YAML::Node& root) {
     mesh.gear_b = pair[1].Scalar();
     spec.meshes.push_back(mesh);
   });
+
+  spec.couplings = ReadCouplings(r, root);
 
   const YAML::Node op = r.Child(root, "", "operating", true);
   r.ExpectMap(op, "operating", {"speed", "loads", "excitation"});

@@ -25,6 +25,10 @@ std::optional<Dimension> TrainParameterDimension(const std::string& name) {
     case TrainParameter::kDampingRatio:
     case TrainParameter::kFrictionCoefficient:
       return Dimension::kDimensionless;
+    case TrainParameter::kCouplingStiffness:
+      return Dimension::kRotationalStiffness;
+    case TrainParameter::kCouplingDamping:
+      return Dimension::kRotationalDamping;
   }
   return std::nullopt;
 }
@@ -50,6 +54,10 @@ TrainDisplayAxis TrainDisplayAxisFor(const std::string& name) {
     case TrainParameter::kDampingRatio:
     case TrainParameter::kFrictionCoefficient:
       return {};
+    case TrainParameter::kCouplingStiffness:
+      return {1.0, "N m/rad"};
+    case TrainParameter::kCouplingDamping:
+      return {1.0, "N m s/rad"};
   }
   return {};
 }

@@ -157,6 +157,12 @@ DisplayUnit DisplayUnitOf(std::string_view text, Dimension d) {
     if (unit == "N*m*s/deg") return {"N m s/deg", std::numbers::pi / 180.0};
     return {"N m s/rad", 1.0};
   }
+  if (d == Dimension::kRotationalStiffness) {
+    if (unit == "kN*m/rad") return {"kN m/rad", 1e-3};
+    if (unit == "N*mm/rad") return {"N mm/rad", 1e3};
+    if (unit == "N*m/deg") return {"N m/deg", std::numbers::pi / 180.0};
+    return {"N m/rad", 1.0};
+  }
   // Any other dimension: the unit as written, SI (the table's first unit) for a plain number.
   const std::vector<UnitEntry>& table = Table(d);
   if (table.empty()) return {"", 1.0};

@@ -223,6 +223,17 @@ nlohmann::json TrainCheckReport(const TrainSpec& spec, const TrainCheck& check) 
          {"mean_torque_n_m", l.mean_torque},
          {"power_w", l.power}});
   }
+  doc["couplings"] = nlohmann::json::array();
+  for (size_t c = 0; c < train.couplings.size(); ++c) {
+    const TrainCouplingModel& m = train.couplings[c];
+    const TrainCoupling& written = spec.couplings[c];
+    doc["couplings"].push_back({{"name", m.name},
+                                {"between", {written.shaft_a, written.shaft_b}},
+                                {"stiffness_n_m_per_rad", m.stiffness},
+                                {"damping_n_m_s_per_rad", m.damping},
+                                {"mean_torque_n_m", m.mean_torque},
+                                {"mean_twist_deg", m.MeanTwist() * 180.0 / std::numbers::pi}});
+  }
   doc["input_torque"] = train.input_torque;
   nlohmann::json critical = nlohmann::json::array();
   for (const TierCrossing& c : CriticalSpeeds(spec, train, modes)) {
@@ -308,6 +319,19 @@ void PrintTrainCheck(const std::string& file, const TrainSpec& spec, const Train
                Format(load.torque, load.torque_unit),
                load.viscous > 0.0 ? Format(load.viscous, load.viscous_unit) : "-",
                Rpm(l.relative_speed), l.power);
+  }
+  if (!train.couplings.empty()) {
+    fmt::print("  {:<16}{:<26}{:>18}{:>20}{:>14}{:>12}\n", "coupling", "between", "stiffness",
+               "damping", "torque [N m]", "twist [deg]");
+    for (size_t c = 0; c < train.couplings.size(); ++c) {
+      const TrainCouplingModel& m = train.couplings[c];
+      const TrainCoupling& written = spec.couplings[c];
+      fmt::print("  {:<16}{:<26}{:>18}{:>20}{:>14.4g}{:>12.4g}\n", m.name,
+                 written.shaft_a + " - " + written.shaft_b,
+                 Format(written.stiffness, written.stiffness_unit),
+                 written.damping > 0.0 ? Format(written.damping, written.damping_unit) : "-",
+                 m.mean_torque, m.MeanTwist() * 180.0 / std::numbers::pi);
+    }
   }
   fmt::print("  input torque balancing the loads: {:.4g} N m\n", train.input_torque);
   fmt::print("  tier 1 (torsional, {} DOF, {} free rotation{}): natural frequencies [Hz]\n   ",

@@ -124,6 +124,24 @@ GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& opti
     mesh.back_flank_loaded = flow.back_flank_loaded[m];
     train.meshes.push_back(mesh);
   }
+  for (size_t c = 0; c < spec.couplings.size(); ++c) {
+    const TrainCoupling& coupling = spec.couplings[c];
+    TrainCouplingModel model;
+    model.name = coupling.name;
+    model.body_a = spec.ShaftIndex(coupling.shaft_a);  // a shaft's body is its index
+    model.body_b = spec.ShaftIndex(coupling.shaft_b);
+    model.stiffness = coupling.stiffness;
+    model.damping = coupling.damping;
+    model.mean_torque = flow.coupling_torque[c];
+    model.in_loop = std::find(topo.loop_couplings.begin(), topo.loop_couplings.end(),
+                              static_cast<int>(c)) != topo.loop_couplings.end();
+    if (model.in_loop) {
+      train.warnings.push_back("couplings." + coupling.name +
+                               " closes a loop: the static torque split is indeterminate, and "
+                               "its mean torque is taken as 0");
+    }
+    train.couplings.push_back(model);
+  }
 
   for (size_t m = 0; m < train.meshes.size(); ++m) {
     TrainMeshModel& mesh = train.meshes[m];
@@ -185,6 +203,14 @@ TrainTorsionalModes TorsionalModes(const GearTrain& train) {
     v(mesh.body_b) -= mesh.geometry.wheel.base;
     out.K += mesh.stiffness.mean * v * v.transpose();
     V.row(static_cast<Eigen::Index>(i)) = v.transpose();
+  }
+  for (const TrainCouplingModel& c : train.couplings) {
+    Eigen::VectorXd w = Eigen::VectorXd::Zero(n);
+    w(c.body_a) = 1.0;
+    w(c.body_b) = -1.0;
+    out.K += c.stiffness * w * w.transpose();
+    V.conservativeResize(V.rows() + 1, Eigen::NoChange);
+    V.bottomRows(1) = w.transpose();
   }
   // The free rotations are the null space of V (no mesh sees them): found by the SVD of V, whose
   // entries are base radii, so "zero" is a scale-free 1e-9 of the largest singular value (a

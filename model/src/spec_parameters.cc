@@ -53,18 +53,25 @@ namespace {
 const char* const kForms =
     "operating.speed, operating.loads[i].torque, operating.loads[i].viscous, "
     "operating.excitation[i].amplitude, "
-    "meshes[i].backlash, meshes[i].damping_ratio or meshes[i].friction_coefficient (i the index "
-    "in the file's list, from 0)";
+    "meshes[i].backlash, meshes[i].damping_ratio, meshes[i].friction_coefficient (i the index "
+    "in the file's list, from 0), couplings.NAME.stiffness or couplings.NAME.damping";
 
 // A parsed name: its list ("operating.loads", ...), index and key; list empty for operating.speed.
+// A coupling is named, not indexed: list "couplings", `entry` its name.
 struct TrainParameterName {
   std::string list;
   size_t index = 0;
   std::string key;
+  std::string entry{};
 };
 
 std::optional<TrainParameterName> Parse(const std::string& name) {
   if (name == "operating.speed") return TrainParameterName{"", 0, "speed"};
+  static const std::regex coupling(R"(^couplings\.(.+)\.(stiffness|damping)$)");
+  std::smatch c;
+  if (std::regex_match(name, c, coupling)) {
+    return TrainParameterName{"couplings", 0, "coupling_" + c[2].str(), c[1].str()};
+  }
   static const std::regex indexed(
       R"(^(operating\.loads|operating\.excitation|meshes)\[([0-9]{1,6})\]\.([a-z_]+)$)");
   std::smatch m;
@@ -98,6 +105,8 @@ std::optional<TrainParameter> TrainParameterOf(const std::string& name) {
   if (p->key == "amplitude") return TrainParameter::kExcitationAmplitude;
   if (p->key == "backlash") return TrainParameter::kBacklash;
   if (p->key == "damping_ratio") return TrainParameter::kDampingRatio;
+  if (p->key == "coupling_stiffness") return TrainParameter::kCouplingStiffness;
+  if (p->key == "coupling_damping") return TrainParameter::kCouplingDamping;
   return TrainParameter::kFrictionCoefficient;
 }
 
@@ -176,6 +185,20 @@ void SetTrainParameter(TrainSpec& spec, const std::string& name, double value,
        : *kind == TrainParameter::kDampingRatio ? mesh.damping_ratio
                                                 : mesh.friction_coefficient) = value;
       return;
+    }
+    case TrainParameter::kCouplingStiffness:
+    case TrainParameter::kCouplingDamping: {
+      std::string names;
+      for (TrainCoupling& c : spec.couplings) {
+        if (c.name == p->entry) {
+          (*kind == TrainParameter::kCouplingStiffness ? c.stiffness : c.damping) = value;
+          return;
+        }
+        names += (names.empty() ? "" : ", ") + c.name;
+      }
+      throw InputError(field, 0, name,
+                       names.empty() ? "the file has no couplings entry to vary"
+                                     : "names no coupling of the file (" + names + ")");
     }
   }
 }

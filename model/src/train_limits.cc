@@ -159,6 +159,7 @@ TrainTorqueFlow StaticTorqueFlow(const TrainSpec& spec, const TrainTopology& top
   std::vector<double> main_power(meshes, 0.0);
   std::vector<double> mesh_power(meshes, 0.0);
   std::vector<bool> far_is_a(meshes, false);  // the side away from the input is gear a's
+  std::vector<double> coupling_power(spec.couplings.size(), 0.0);  // from shaft_a to shaft_b
   double total_power = 0.0;
   for (size_t i = 0; i < spec.operating.loads.size(); ++i) {
     std::vector<double> power_of_load(meshes, 0.0);  // this load's net power through each mesh
@@ -167,17 +168,22 @@ TrainTorqueFlow StaticTorqueFlow(const TrainSpec& spec, const TrainTopology& top
       // input speed (the reaction of a relative drag sends power back: negative).
       const double power = term.resisting * SpeedRatio(topology, term.body);
       total_power += power;
-      // Up the spanning tree to the input: every mesh on the way carries this power.
-      for (int child = term.body; topology.parent_mesh[static_cast<size_t>(child)] >= 0;) {
+      // Up the spanning tree to the input: every mesh and coupling on the way carries this power.
+      for (int child = term.body, parent; (parent = topology.ParentBody(spec, child)) >= 0;
+           child = parent) {
+        const int coupling = topology.parent_coupling[static_cast<size_t>(child)];
+        if (coupling >= 0) {
+          // The far side is the child: power flows to it from the parent.
+          const bool to_b = spec.ShaftIndex(spec.couplings[static_cast<size_t>(coupling)].shaft_b) ==
+                            child;
+          coupling_power[static_cast<size_t>(coupling)] += to_b ? power : -power;
+          continue;
+        }
         const auto m = static_cast<size_t>(topology.parent_mesh[static_cast<size_t>(child)]);
-        const int body_a =
-            topology.gear_body[static_cast<size_t>(spec.GearIndex(spec.meshes[m].gear_a))];
-        const int body_b =
-            topology.gear_body[static_cast<size_t>(spec.GearIndex(spec.meshes[m].gear_b))];
         mesh_power[m] += power;
         power_of_load[m] += power;
-        far_is_a[m] = child == body_a;  // the same for every load through m (a tree)
-        child = child == body_a ? body_b : body_a;
+        far_is_a[m] =  // the same for every load through m (a tree)
+            child == topology.gear_body[static_cast<size_t>(spec.GearIndex(spec.meshes[m].gear_a))];
       }
     }
     for (size_t m = 0; m < meshes; ++m) {
@@ -188,6 +194,10 @@ TrainTorqueFlow StaticTorqueFlow(const TrainSpec& spec, const TrainTopology& top
     }
   }
   flow.input_torque = total_power;  // the input's speed ratio is 1
+  for (size_t c = 0; c < spec.couplings.size(); ++c) {
+    flow.coupling_torque.push_back(
+        coupling_power[c] / SpeedRatio(topology, spec.ShaftIndex(spec.couplings[c].shaft_a)));
+  }
   for (size_t m = 0; m < meshes; ++m) {
     const int body_b =
         topology.gear_body[static_cast<size_t>(spec.GearIndex(spec.meshes[m].gear_b))];

@@ -58,9 +58,16 @@ std::string TrainRule(std::string rule, const TrainSpec& spec, int m) {
 // The speed a mesh would give a body: its parent mesh on the spanning tree, or a mesh closing a
 // kinematic loop onto it.
 struct SpeedClaim {
-  int mesh = -1;  // -1: the input shaft's own speed
+  int mesh = -1;  // -1 and coupling -1: the input shaft's own speed
   int body = 0;
   double speed = 0.0;
+  int coupling = -1;
+  bool Own() const { return mesh < 0 && coupling < 0; }
+  std::string Path(const TrainSpec& spec) const {
+    return mesh >= 0      ? MeshPath(mesh)
+           : coupling < 0 ? "the input speed"
+                          : "couplings." + spec.couplings[static_cast<size_t>(coupling)].name;
+  }
 };
 
 bool SameSpeed(double a, double b) { return std::abs(a - b) <= 1e-9 * std::abs(a); }
@@ -74,8 +81,8 @@ void RequireConsistentLoops(const TrainSpec& spec, const TrainTopology& t,
   for (const SpeedClaim& odd : loop_claims) {
     const TrainBody& body = t.bodies[static_cast<size_t>(odd.body)];
     if (SameSpeed(body.speed, odd.speed)) continue;
-    std::vector<SpeedClaim> claims{
-        {t.parent_mesh[static_cast<size_t>(odd.body)], odd.body, body.speed}};
+    std::vector<SpeedClaim> claims{{t.parent_mesh[static_cast<size_t>(odd.body)], odd.body,
+                                    body.speed, t.parent_coupling[static_cast<size_t>(odd.body)]}};
     for (const SpeedClaim& c : loop_claims) {
       if (c.body == odd.body) claims.push_back(c);
     }
@@ -84,7 +91,7 @@ void RequireConsistentLoops(const TrainSpec& spec, const TrainTopology& t,
                            [&](const SpeedClaim& b) { return SameSpeed(a.speed, b.speed); });
     };
     const SpeedClaim* standing = &claims.front();
-    if (standing->mesh >= 0) {
+    if (!standing->Own()) {
       for (const SpeedClaim& c : claims) {
         if (agreeing(c) > agreeing(*standing)) standing = &c;
       }
@@ -96,20 +103,37 @@ void RequireConsistentLoops(const TrainSpec& spec, const TrainTopology& t,
     std::string others;
     for (const SpeedClaim& c : claims) {
       if (!SameSpeed(standing->speed, c.speed)) continue;
-      others += (others.empty() ? "" : ", ") + (c.mesh < 0 ? "the input speed" : MeshPath(c.mesh));
+      others += (others.empty() ? "" : ", ") + c.Path(spec);
+    }
+    const std::string rule =
+        "closes a kinematic loop whose ratios disagree: it would turn '" + body.name + "' at " +
+        InUnit(offender.speed, spec.operating.speed_unit) + ", the other path (" + others +
+        ") at " + InUnit(standing->speed, spec.operating.speed_unit);
+    if (offender.coupling >= 0 && offender.mesh < 0) {
+      const TrainCoupling& c = spec.couplings[static_cast<size_t>(offender.coupling)];
+      throw InputError(offender.Path(spec) + ".between", 0,
+                       "[" + c.shaft_a + ", " + c.shaft_b + "]",
+                       rule + " (a coupling joins shafts turning at one speed)");
     }
     const TrainMesh& mesh = spec.meshes[static_cast<size_t>(offender.mesh)];
-    throw InputError(
-        MeshPath(offender.mesh) + ".gears", 0, "[" + mesh.gear_a + ", " + mesh.gear_b + "]",
-        "closes a kinematic loop whose ratios disagree: it would turn '" + body.name + "' at " +
-            InUnit(offender.speed, spec.operating.speed_unit) + ", the other path (" + others +
-            ") at " + InUnit(standing->speed, spec.operating.speed_unit));
+    throw InputError(MeshPath(offender.mesh) + ".gears", 0,
+                     "[" + mesh.gear_a + ", " + mesh.gear_b + "]", rule);
   }
 }
 
-// A fixed shaft stands: it is not the input, and none of its fixed gears meshes (a loose gear on it
-// may: it turns on the stationary shaft).
+// A fixed shaft stands: it is not the input, no coupling joins it, and none of its fixed gears
+// meshes (a loose gear on it may: it turns on the stationary shaft).
 void RequireStationaryShaftsStill(const TrainSpec& spec, const TrainTopology& t) {
+  for (const TrainCoupling& c : spec.couplings) {
+    for (const std::string& name : {c.shaft_a, c.shaft_b}) {
+      if (!spec.FindShaft(name)->fixed) continue;
+      throw InputError("couplings." + c.name + ".between", 0,
+                       "[" + c.shaft_a + ", " + c.shaft_b + "]",
+                       "joins the fixed shaft '" + name + "' (shafts." + name +
+                           ".fixed: true), which does not turn: a coupling joins two turning "
+                           "shafts");
+    }
+  }
   const TrainShaft& input = spec.shafts[static_cast<size_t>(t.input_body)];
   if (input.fixed) {
     throw InputError(
@@ -131,7 +155,62 @@ void RequireStationaryShaftsStill(const TrainSpec& spec, const TrainTopology& t)
   }
 }
 
+// Each coupling joins two distinct shafts of the file, at most once per pair, with a plausible
+// stiffness and damping. (Whether they turn alike is the topology's rule.)
+void RequireValidCouplings(const TrainSpec& spec) {
+  for (size_t i = 0; i < spec.couplings.size(); ++i) {
+    const TrainCoupling& c = spec.couplings[i];
+    const std::string p = "couplings." + c.name;
+    for (const std::string& shaft : {c.shaft_a, c.shaft_b}) {
+      if (spec.FindShaft(shaft) != nullptr) continue;
+      std::string shafts;
+      for (const TrainShaft& s : spec.shafts) shafts += (shafts.empty() ? "" : ", ") + s.name;
+      throw InputError(p + ".between", 0, "[" + c.shaft_a + ", " + c.shaft_b + "]",
+                       "must name two shafts ('" + shaft + "' is none of the file's: " + shafts +
+                           "; a coupling joins shafts, not gears)");
+    }
+    if (c.shaft_a == c.shaft_b) {
+      throw InputError(p + ".between", 0, "[" + c.shaft_a + ", " + c.shaft_b + "]",
+                       "must name two different shafts");
+    }
+    for (size_t j = 0; j < i; ++j) {
+      const TrainCoupling& e = spec.couplings[j];
+      if ((e.shaft_a == c.shaft_a && e.shaft_b == c.shaft_b) ||
+          (e.shaft_a == c.shaft_b && e.shaft_b == c.shaft_a)) {
+        throw InputError(p + ".between", 0, "[" + c.shaft_a + ", " + c.shaft_b + "]",
+                         "joins the shafts couplings." + e.name +
+                             " already joins (springs in parallel: give one coupling their sum)");
+      }
+    }
+    if (!(c.stiffness > 0.0 && c.stiffness <= GearboxLimits::kMaxCouplingStiffness)) {
+      throw InputError(p + ".stiffness", 0, MessageNumber(c.stiffness) + " N m/rad",
+                       "must be in (0, " + MessageNumber(GearboxLimits::kMaxCouplingStiffness) +
+                           "] N m/rad (a clutch damper's first stage is about 20, a car's "
+                           "halfshaft about 1e4)");
+    }
+    if (!(c.damping >= 0.0 && c.damping <= GearboxLimits::kMaxCouplingDamping)) {
+      throw InputError(p + ".damping", 0, MessageNumber(c.damping) + " N m s/rad",
+                       "must be in [0, " + MessageNumber(GearboxLimits::kMaxCouplingDamping) +
+                           "] N m s/rad");
+    }
+  }
+}
+
 }  // namespace
+
+int TrainTopology::ParentBody(const TrainSpec& spec, int body) const {
+  const int m = parent_mesh[static_cast<size_t>(body)];
+  if (m >= 0) {
+    const TrainMesh& mesh = spec.meshes[static_cast<size_t>(m)];
+    const int a = gear_body[static_cast<size_t>(spec.GearIndex(mesh.gear_a))];
+    return a == body ? gear_body[static_cast<size_t>(spec.GearIndex(mesh.gear_b))] : a;
+  }
+  const int c = parent_coupling[static_cast<size_t>(body)];
+  if (c < 0) return -1;
+  const TrainCoupling& coupling = spec.couplings[static_cast<size_t>(c)];
+  const int a = spec.ShaftIndex(coupling.shaft_a);
+  return a == body ? spec.ShaftIndex(coupling.shaft_b) : a;
+}
 
 int TrainSpec::GearIndex(const std::string& name) const {
   for (size_t i = 0; i < gears.size(); ++i) {
@@ -191,9 +270,10 @@ TrainTopology AnalyseTrainTopology(const TrainSpec& spec) {
   }
   t.bodies[static_cast<size_t>(t.input_body)].speed = spec.operating.speed;
   t.bodies[static_cast<size_t>(t.input_body)].speed_ratio = 1.0;
-  // Breadth-first over the meshes from the input body.
+  t.parent_coupling.assign(t.bodies.size(), -1);
+  // Breadth-first over the meshes and couplings from the input body.
   std::deque<int> queue{t.input_body};
-  std::set<int> visited_meshes;
+  std::set<int> visited_meshes, visited_couplings;
   std::vector<SpeedClaim> loop_claims;
   while (!queue.empty()) {
     const int body = queue.front();
@@ -223,6 +303,25 @@ TrainTopology AnalyseTrainTopology(const TrainSpec& spec) {
         loop_claims.push_back({static_cast<int>(m), to, speed});
       }
     }
+    // A coupling's shafts turn alike: ratio +1 (its body is its shaft's index).
+    for (size_t c = 0; c < spec.couplings.size(); ++c) {
+      const TrainCoupling& coupling = spec.couplings[c];
+      const int ba = spec.ShaftIndex(coupling.shaft_a), bb = spec.ShaftIndex(coupling.shaft_b);
+      if ((ba != body && bb != body) || visited_couplings.count(static_cast<int>(c)) > 0) continue;
+      visited_couplings.insert(static_cast<int>(c));
+      const int to = ba == body ? bb : ba;
+      const TrainBody& from = t.bodies[static_cast<size_t>(body)];
+      if (t.parent_mesh[static_cast<size_t>(to)] == -2) {
+        t.parent_mesh[static_cast<size_t>(to)] = -1;
+        t.parent_coupling[static_cast<size_t>(to)] = static_cast<int>(c);
+        t.bodies[static_cast<size_t>(to)].speed = from.speed;
+        t.bodies[static_cast<size_t>(to)].speed_ratio = from.speed_ratio;
+        queue.push_back(to);
+      } else {
+        t.loop_couplings.push_back(static_cast<int>(c));
+        loop_claims.push_back({-1, to, from.speed, static_cast<int>(c)});
+      }
+    }
   }
   RequireConsistentLoops(spec, t, loop_claims);
   for (size_t b = 0; b < t.bodies.size(); ++b) {
@@ -232,8 +331,8 @@ TrainTopology AnalyseTrainTopology(const TrainSpec& spec) {
         body.kind == BodyKind::kShaft ? "shafts." + body.name : "gears." + body.name;
     throw InputError(path, 0, "",
                      body.kind == BodyKind::kShaft
-                         ? "has no way to turn: no chain of meshes and fixed gears connects it to "
-                           "the input shaft '" +
+                         ? "has no way to turn: no chain of meshes, fixed gears and couplings "
+                           "connects it to the input shaft '" +
                                spec.operating.input_shaft + "'"
                          : "has no way to turn: no chain of meshes connects this loose gear to "
                            "the input shaft '" +
@@ -374,13 +473,17 @@ void ValidateTrainSpec(const TrainSpec& spec) {
     const bool carries_gear = std::any_of(
         spec.gears.begin(), spec.gears.end(),
         [&](const TrainGear& g) { return g.shaft == s.name && g.mounting == Mounting::kFixed; });
-    if (s.fixed && s.inertia && *s.inertia == 0.0 && !carries_gear) {
-      throw InputError(
-          p + ".inertia", 0, "0",
-          "must be > 0 on a fixed shaft that carries no fixed gear (the shaft alone is "
-          "its body)");
+    const bool coupled =
+        std::any_of(spec.couplings.begin(), spec.couplings.end(), [&](const TrainCoupling& c) {
+          return c.shaft_a == s.name || c.shaft_b == s.name;
+        });
+    if ((s.fixed || coupled) && s.inertia && *s.inertia == 0.0 && !carries_gear) {
+      throw InputError(p + ".inertia", 0, "0",
+                       std::string("must be > 0 on a ") + (s.fixed ? "fixed" : "coupled") +
+                           " shaft that carries no fixed gear (the shaft alone is its body)");
     }
   }
+  RequireValidCouplings(spec);
   std::vector<int> meshes_of_gear(spec.gears.size(), 0);
   for (const TrainGear& g : spec.gears) {
     const std::string p = "gears." + g.name;

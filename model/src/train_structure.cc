@@ -38,11 +38,17 @@ Eigen::SparseMatrix<double> TrainStructure::EngagedStiffness() const {
 
 Eigen::MatrixXd FreeRotations(const TrainStructure& s, const std::vector<bool>& engaged) {
   const Eigen::Index bodies = s.body_rotations.cols();
-  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(s.meshes.size()), bodies);
+  const auto meshes = static_cast<Eigen::Index>(s.meshes.size());
+  Eigen::MatrixXd B =
+      Eigen::MatrixXd::Zero(meshes + static_cast<Eigen::Index>(s.coupled_bodies.size()), bodies);
   for (size_t i = 0; i < s.meshes.size(); ++i) {
     if (engaged[i]) {
       B.row(static_cast<Eigen::Index>(i)) = s.meshes[i].v_drive.transpose() * s.body_rotations;
     }
+  }
+  for (size_t j = 0; j < s.coupled_bodies.size(); ++j) {  // always engaged: twist th_a - th_b
+    B(meshes + static_cast<Eigen::Index>(j), s.coupled_bodies[j].first) = 1.0;
+    B(meshes + static_cast<Eigen::Index>(j), s.coupled_bodies[j].second) = -1.0;
   }
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(B, Eigen::ComputeFullV);
   const Eigen::VectorXd& sv = svd.singularValues();
@@ -213,6 +219,7 @@ TrainStructure AssembleTrainStructure(const TrainSpec& spec, const GearTrain& tr
     s.mesh_damping.push_back(mesh.Damping());
   }
 
+  for (const TrainCouplingModel& c : train.couplings) s.coupled_bodies.emplace_back(c.body_a, c.body_b);
   s.free_rotations = FreeRotations(s, std::vector<bool>(s.meshes.size(), true));
 
   for (size_t b = 0; b < topo.bodies.size(); ++b) {
@@ -259,6 +266,26 @@ TrainStructure AssembleTrainStructure(const TrainSpec& spec, const GearTrain& tr
   if (!drag.empty()) {
     Eigen::SparseMatrix<double> c(s.dofs, s.dofs);
     c.setFromTriplets(drag.begin(), drag.end());
+    s.C += c;
+  }
+  // Couplings: k and c on the twist th_z,a - th_z,b of their shafts' body nodes (the shafts turn
+  // alike, so the fixed frame's twist is the running one up to one sign, which k w w^T drops).
+  std::vector<Eigen::Triplet<double>> spring, damper;
+  for (const TrainCouplingModel& c : train.couplings) {
+    const int a = TrainStructure::Dof(s.body_node[static_cast<size_t>(c.body_a)], kThz);
+    const int b = TrainStructure::Dof(s.body_node[static_cast<size_t>(c.body_b)], kThz);
+    for (auto [value, out] : {std::pair{c.stiffness, &spring}, std::pair{c.damping, &damper}}) {
+      out->emplace_back(a, a, value);
+      out->emplace_back(b, b, value);
+      out->emplace_back(a, b, -value);
+      out->emplace_back(b, a, -value);
+    }
+  }
+  if (!spring.empty()) {
+    Eigen::SparseMatrix<double> k(s.dofs, s.dofs), c(s.dofs, s.dofs);
+    k.setFromTriplets(spring.begin(), spring.end());
+    c.setFromTriplets(damper.begin(), damper.end());
+    s.K += k;
     s.C += c;
   }
   return s;

@@ -150,6 +150,17 @@ TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
     }
     t.free_rotation_damped = t.free_rotation_damped || action.DampsFreeRotation();
   }
+  // Couplings: k w w^T and c w w^T on their shafts' angles (one direction of rotation: w = e_a -
+  // e_b). They leave the free rotation alone (w^T r = 0: equal speeds).
+  for (const TrainCouplingModel& c : train.couplings) {
+    if (t.structural_stiffness.size() == 0) t.structural_stiffness = Eigen::MatrixXd::Zero(n, n);
+    if (t.structural_damping.size() == 0) t.structural_damping = Eigen::MatrixXd::Zero(n, n);
+    Eigen::VectorXd w = Eigen::VectorXd::Zero(n);
+    w[c.body_a] = 1.0;
+    w[c.body_b] = -1.0;
+    t.structural_stiffness += c.stiffness * w * w.transpose();
+    t.structural_damping += c.damping * w * w.transpose();
+  }
   t.force[topo.input_body] += train.input_torque;
   t.excitation_direction = Eigen::VectorXd::Zero(n);
   t.excitation_direction[topo.input_body] = t.inertia[topo.input_body];

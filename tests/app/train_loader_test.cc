@@ -270,5 +270,60 @@ TEST_CASE("a drag may be viscous and act relative to a shaft", "[loader][train]"
   CHECK(itself.rule().find("relative to itself") != std::string::npos);
 }
 
+TEST_CASE("a coupling joins two shafts with a stiffness and a damping, in the units written",
+          "[loader][train]") {
+  // A flywheel behind shaft a, through a clutch damper; the speed given on the flywheel.
+  const auto with = [](const std::string& coupling) {
+    std::string text = testing::ReplaceFirst(testing::kThreeShaftTrainYaml,
+                                             "  c: {inertia: 1e-3 kg*m^2}\n",
+                                             "  c: {inertia: 1e-3 kg*m^2}\n"
+                                             "  flywheel: {inertia: 0.12 kg*m^2}\n");
+    text = testing::ReplaceFirst(text, "operating:\n", "couplings:\n" + coupling + "operating:\n");
+    return testing::ReplaceFirst(text, "{shaft: a, value: 1000 rpm}",
+                                 "{shaft: flywheel, value: 1000 rpm}");
+  };
+  const TrainSpec spec =
+      LoadAnyGearboxFromString(with("  clutch_damper: {between: [flywheel, a], stiffness: 9 "
+                                    "N*m/deg, damping: 50 N*mm*s/rad}\n"))
+          .train;
+  REQUIRE(spec.couplings.size() == 1);
+  const TrainCoupling& c = spec.couplings[0];
+  CHECK(c.name == "clutch_damper");
+  CHECK(c.shaft_a == "flywheel");
+  CHECK(c.shaft_b == "a");
+  CHECK(c.stiffness == Approx(9.0 * 180.0 / std::numbers::pi).epsilon(1e-15));
+  CHECK(c.stiffness_unit.symbol == "N m/deg");
+  CHECK(c.damping == Approx(0.05).epsilon(1e-15));
+  CHECK(c.damping_unit.symbol == "N mm s/rad");
+  // Damping defaults to 0.
+  CHECK(LoadAnyGearboxFromString(with("  k: {between: [flywheel, a], stiffness: 500}\n"))
+            .train.couplings[0]
+            .damping == 0.0);
+  // What is not built yet is refused at its key, saying so.
+  const InputError stages = testing::LoaderErrorOf(
+      with("  k: {between: [flywheel, a], stages: [{to: 1.5 deg, stiffness: 0.4 N*m/deg}]}\n"));
+  CHECK(stages.path() == "couplings.k.stages");
+  CHECK(stages.rule().find("not built yet") != std::string::npos);
+  CHECK(testing::LoaderErrorOf(
+            with("  k: {between: [flywheel, a], stiffness: 500, hysteresis: 1.5 N*m}\n"))
+            .path() == "couplings.k.hysteresis");
+  const InputError one = testing::LoaderErrorOf(with("  k: {between: [flywheel], stiffness: 500}\n"));
+  CHECK(one.path() == "couplings.k.between");
+  CHECK(one.rule().find("two shaft names") != std::string::npos);
+  const InputError unit =
+      testing::LoaderErrorOf(with("  k: {between: [flywheel, a], stiffness: 500 N*m}\n"));
+  CHECK(unit.path() == "couplings.k.stiffness");
+  CHECK(unit.rule().find("rotational stiffness") != std::string::npos);
+  CHECK(testing::LoaderErrorOf(with("  k: {between: [flywheel, a]}\n")).path() ==
+        "couplings.k.stiffness");
+  CHECK(testing::LoaderErrorOf(with("  k: {between: [flywheel, a], stifness: 500}\n")).path() ==
+        "couplings.k.stifness");
+  // The model's rules, at the file's line: a gear is not a shaft.
+  const InputError gear =
+      testing::LoaderErrorOf(with("  k: {between: [flywheel, g1], stiffness: 500}\n"));
+  CHECK(gear.path() == "couplings.k.between");
+  CHECK(gear.line() > 0);
+}
+
 }  // namespace
 }  // namespace gearnvh::config

@@ -9,8 +9,10 @@
 // kinematic loop makes the split statically indeterminate and is analysed unloaded (warned).
 //
 // Tier 1 of a train (torsional): one rotation per body, each in its own direction of nominal
-// rotation; mesh i couples its bodies through delta_i = r_b,a th_a - r_b,b th_b, so
-//   M = diag(J_body),  K = sum_i k_mean,i v_i v_i^T,  v_i = r_b,a e_a - r_b,b e_b.
+// rotation; mesh i couples its bodies through delta_i = r_b,a th_a - r_b,b th_b and coupling j its
+// shafts through th_a - th_b (they turn alike), so
+//   M = diag(J_body),  K = sum_i k_mean,i v_i v_i^T + sum_j k_j w_j w_j^T,
+//   v_i = r_b,a e_a - r_b,b e_b,  w_j = e_a - e_b.
 #pragma once
 
 #include <Eigen/Dense>
@@ -46,10 +48,23 @@ struct TrainMeshModel {
   bool in_loop = false;             // closes a kinematic loop: analysed unloaded
 };
 
+// A coupling between two shaft bodies (TrainCoupling): its torque k (th_a - th_b) + c (th_a' -
+// th_b') on b, the shafts' angles in their common direction of rotation.
+struct TrainCouplingModel {
+  std::string name;
+  int body_a = 0, body_b = 0;
+  double stiffness = 0.0;     // N m/rad
+  double damping = 0.0;       // N m s/rad
+  double mean_torque = 0.0;   // N m, signed as TrainTorqueFlow::coupling_torque
+  bool in_loop = false;       // closes a loop: analysed at no mean torque
+  double MeanTwist() const { return mean_torque / stiffness; }  // rad
+};
+
 struct GearTrain {
   TrainTopology topology;
   std::vector<double> body_inertia;  // polar, kg m^2, per body
   std::vector<TrainMeshModel> meshes;
+  std::vector<TrainCouplingModel> couplings;
   double input_torque = 0.0;  // N m driving the input shaft (balances every load)
   std::vector<std::string> warnings;
 };
@@ -69,7 +84,8 @@ GearTrain GearTrainAtSpeed(GearTrain train, const TrainSpec& at);
 
 // Tier 1 of the train: torsional natural frequencies at the mean mesh stiffnesses and the mode
 // shapes (bodies x modes, M-normalised). The free rotations are found as the null space of the
-// meshes' torsional vectors (one for a connected train: th_j proportional to |w_j|) and removed.
+// meshes' and couplings' vectors (one for a connected train: th_j proportional to |w_j|) and
+// removed.
 struct TrainTorsionalModes {
   int free_rotations = 0;
   std::vector<double> frequencies_hz;

@@ -25,6 +25,12 @@ struct GearboxLimits {
   // N m s/rad: a viscous drag (operating.loads[i].viscous). Churning and bearing drag of large
   // industrial gears is of order 1-10 N m s/rad (1 % of 10 MW lost at 157 rad/s is 4 N m s/rad).
   static constexpr double kMaxViscousDrag = 1e3;
+  // A coupling's torsional stiffness, N m/rad, and damping, N m s/rad. A clutch damper's first
+  // stage is ~20 N m/rad, a car's halfshaft ~1e4, a truck's propshaft ~1e5, the flexible coupling
+  // of a large industrial drive ~1e7; 1e8 is stiffer than any of them (a unit left out, 12000
+  // N*m/deg read as rad, stays inside, so this bounds only the absurd). The damping likewise.
+  static constexpr double kMaxCouplingStiffness = 1e8;
+  static constexpr double kMaxCouplingDamping = 1e5;
   // m/s: the pitch-line velocity of every mesh. Above the fastest gears in service (high-speed
   // turbo gear units run at up to about 150-200 m/s, API 613); there centrifugal tooth loads,
   // windage and oil trapping, which the quasi-static mesh-stiffness model leaves out, dominate.

@@ -83,6 +83,21 @@ struct TrainLoad {
   bool operator==(const TrainLoad&) const = default;
 };
 
+// A torsional coupling between two turning shafts (a clutch damper, a halfshaft, the spring set of a
+// dual-mass flywheel): a linear spring-damper on their relative angle. The shafts turn at one
+// nominal speed (speeds propagate through it as through a 1:1 ratio) and the mean torque it carries
+// twists it by T / k.
+struct TrainCoupling {
+  std::string name;
+  std::string shaft_a, shaft_b;  // `between`, in the order written
+  double stiffness = 0.0;        // N m/rad, > 0
+  double damping = 0.0;          // N m s/rad, >= 0
+  DisplayUnit stiffness_unit{"N m/rad", 1.0};  // as written, for output
+  DisplayUnit damping_unit{"N m s/rad", 1.0};
+
+  bool operator==(const TrainCoupling&) const = default;
+};
+
 struct TrainOperating {
   std::string input_shaft;               // the shaft whose mean speed is given
   double speed = 0.0;                    // rad/s, > 0
@@ -99,6 +114,7 @@ struct TrainSpec {
   std::vector<TrainShaft> shafts;
   std::vector<TrainGear> gears;
   std::vector<TrainMesh> meshes;
+  std::vector<TrainCoupling> couplings;  // file order
   TrainOperating operating;
   AnalysisSpec analysis;
 
@@ -119,7 +135,8 @@ struct TrainBody {
   int shaft = -1;          // index in TrainSpec::shafts (a loose gear: the shaft it turns on)
   std::vector<int> gears;  // indices in TrainSpec::gears turning with this body
   // Nominal speed, rad/s, signed: > 0 turns the way the input shaft does. From the input speed
-  // through the meshes, omega_b = -omega_a z_a / z_b; 0 for a fixed shaft.
+  // through the meshes, omega_b = -omega_a z_a / z_b, and the couplings (equal speeds); 0 for a
+  // fixed shaft.
   double speed = 0.0;
   // The same per unit input speed, from the tooth ratios alone: what depends on speed ratios only
   // (the static torque flow) is then the same bits at every input speed.
@@ -130,11 +147,15 @@ struct TrainTopology {
   std::vector<TrainBody> bodies;  // shafts in file order, then loose gears in file order
   std::vector<int> gear_body;     // body of each gear
   int input_body = 0;
-  // The spanning tree the speeds were propagated on: for each body the mesh it was reached
-  // through (-1 for the input and a fixed shaft, which stands), and the meshes that close a
-  // kinematic loop.
+  // The spanning tree the speeds were propagated on: for each body the mesh or the coupling it was
+  // reached through (-1 for neither: the input, a fixed shaft, which stands, and in parent_mesh a
+  // body reached through a coupling), and the meshes and couplings that close a loop.
   std::vector<int> parent_mesh;
+  std::vector<int> parent_coupling;
   std::vector<int> loop_meshes;
+  std::vector<int> loop_couplings;
+  // The body a body's tree edge leads to, towards the input (-1 at the input and a fixed shaft).
+  int ParentBody(const TrainSpec& spec, int body) const;
 };
 
 // Bodies, nominal speeds and the spanning tree. Throws InputError for a topology rule (a loose
@@ -144,12 +165,16 @@ TrainTopology AnalyseTrainTopology(const TrainSpec& spec);
 
 // Static torque flow: every load resists its body's rotation; the input shaft is driven by the
 // torque that balances them all (power balance, T_in |w_in| = sum T_j |w_j|). A load's power
-// passes through every mesh on the spanning-tree path from its body to the input; a mesh carrying
-// power P transmits T = P / |w_b| on gear b. A mesh that closes a kinematic loop is not on the tree
-// and carries nothing (the split is statically indeterminate).
+// passes through every mesh and coupling on the spanning-tree path from its body to the input; a
+// mesh carrying power P transmits T = P / |w_b| on gear b, a coupling T = P / |w|. A mesh or
+// coupling that closes a loop is not on the tree and carries nothing (the split is statically
+// indeterminate).
 struct TrainTorqueFlow {
   double input_torque = 0.0;               // N m driving the input shaft
   std::vector<double> transmitted_torque;  // per mesh, N m on gear b (>= 0)
+  // Per coupling, N m, signed: > 0 when shaft_a drives shaft_b (its twist th_a - th_b in their
+  // direction of rotation is T / k).
+  std::vector<double> coupling_torque;
   std::vector<bool> back_flank_loaded;     // per mesh: power flows from gear b to gear a
   std::vector<int> main_load;  // per mesh, the index of the load sending it most power, or -1
 };
@@ -198,8 +223,10 @@ GearboxSpec GearboxOf(const TrainSpec& spec);
 
 // Range and topology rules (every message names the schema path): names resolve, a mesh joins
 // gears on different shafts, every loose gear meshes, helical pairs have equal helix angles and
-// opposite hands, every shaft turns (is reached from the input through meshes and fixed gears),
-// and every kinematic loop closes with consistent ratios; no pair of gears meshes twice. Every mesh
+// opposite hands, every shaft turns (is reached from the input through meshes, fixed gears and
+// couplings), and every kinematic loop closes with consistent ratios; no pair of gears meshes
+// twice; a coupling joins two distinct turning shafts with k in (0, kMaxCouplingStiffness] and c in
+// [0, kMaxCouplingDamping]. Every mesh
 // obeys the schema-1 gear and mesh rules; the operating limits are the train's: the input speed
 // > 0, an excitation order's speed fluctuation below the input shaft's speed, a tooth load per
 // mesh (from StaticTorqueFlow) of at most GearboxLimits::kMaxUnitLoad, and a bounded run (cycles

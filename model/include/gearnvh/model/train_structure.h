@@ -10,7 +10,8 @@
 //   bearings it sits on ComponentModelOptions' rigid supports (as a schema-1 gear without shafts);
 // - a fixed gear: a rigid disk at its shaft's node (elastic: the node at `at`);
 // - a loose gear: a node of its own, coupled to its shaft at `at` by its bearing (radial, axial and
-//   tilting springs of TrainStructureOptions) and free to rotate about the axis.
+//   tilting springs of TrainStructureOptions) and free to rotate about the axis;
+// - a coupling: a torsional spring-damper between its two shafts' body nodes (th_z only).
 // Gyroscopic matrices are per unit input speed (each body's spin is its signed speed ratio).
 // Layout: mesh i's line of centres points from its first gear to its second at the angle
 // TrainMesh::center_line_angle about +z from +x (default 0: an unfolded planar layout); its vectors
@@ -22,7 +23,7 @@
 // the friction vectors act on s_a th_z.
 // Free rotations: body j's rigid rotation R_j (th_z = 1 on every node of the body) leaves the
 // structure unstrained; a combination sum c_j R_j is free when every engaged mesh sees no approach,
-// B c = 0 with B_ij = v_i^T R_j. They are found as the null space of B (SVD, singular values below
+// B c = 0 with B_ij = v_i^T R_j, and no coupling twists (c_a = c_b). They are found as the null space of B (SVD, singular values below
 // 1e-9 of the largest are zero; B's entries are base radii, so the test is scale-free).
 #pragma once
 
@@ -80,6 +81,9 @@ struct TrainStructure {
   // gears: its first node).
   std::vector<int> body_node;
   std::vector<int> elastic_shafts;  // indices in TrainSpec::shafts with FE
+  // Per coupling (GearTrain::couplings) its two bodies; its spring and damper are in K and C
+  // between their body nodes' th_z.
+  std::vector<std::pair<int, int>> coupled_bodies;
   std::vector<StructureBearing> bearings;  // shafts in file order, each shaft's in its order
   // Rigid rotation of every body (dofs x bodies) and the free rotations with every mesh engaged
   // (dofs x count, orthonormal combinations of the body rotations).

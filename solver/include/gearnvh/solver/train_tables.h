@@ -144,8 +144,9 @@ struct TrainTables {
   std::vector<StructureBearing> bearings;
   Eigen::MatrixXd bearing_force_rows;
   // Structural K_0 and C_0 (+ input speed x gyroscopic G) of a reduced tier, added to every
-  // tuple's mesh terms. At tier 1 K_0 is empty (the bodies are coupled by the meshes only) and C_0
-  // is the loads' viscous drag sum c w w^T (LoadAction), empty without one.
+  // tuple's mesh terms. At tier 1 K_0 is the couplings' sum k_j w_j w_j^T (w_j = e_a - e_b) and C_0
+  // theirs with c_j plus the loads' viscous drag sum c w w^T (LoadAction); each is empty without
+  // a term.
   Eigen::MatrixXd structural_stiffness, structural_damping;
   double input_speed = 0.0;  // rad/s
   std::vector<ExcitationOrder> excitation;
