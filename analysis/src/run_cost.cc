@@ -158,8 +158,8 @@ std::string RunCostText(const RunCostEstimate& c, const std::string& what) {
           c.fastest_mesh_hz > 0.0 ? c.mode_hz / c.fastest_mesh_hz : 0.0, c.fastest_mesh_hz,
           c.cause_body_name,
           c.cause_body_inertia > 0.0
-              ? fmt::format(", inertia {:.3g} kg m² (a tiny inertia on stiff meshes makes a very "
-                            "high mode; check the inertias)",
+              ? fmt::format(", inertia {:.3g} kg m² (a tiny inertia on stiff meshes or couplings "
+                            "makes a very high mode; check the inertias and couplings.X.stiffness)",
                             c.cause_body_inertia)
               : "");
       break;

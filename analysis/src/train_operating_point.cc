@@ -12,6 +12,7 @@
 #include "gearnvh/analysis/operating_point.h"
 #include "gearnvh/analysis/train_atlas.h"
 #include "gearnvh/analysis/train_load_warnings.h"
+#include "gearnvh/analysis/train_transient.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/solver/train_reduced_tables.h"
 
@@ -131,6 +132,23 @@ KeptSamples PlanKeptSamples(const TrainRunOptions& options, const SpectrumWindow
   if (options.waterfall_samples > 0)
     first = std::min(first, std::max(0L, record - options.waterfall_samples - 1));
   return {start + static_cast<double>(first) * dt, std::max(0L, record - first)};
+}
+
+// Per coupling two rows on z: its twist (B_a - B_b) x, B the bodies' angle rows, and its torque
+// k twist + c twist'.
+Eigen::MatrixXd CouplingRows(const GearTrain& train, const TrainTables& t) {
+  Eigen::MatrixXd rows =
+      Eigen::MatrixXd::Zero(2 * static_cast<Eigen::Index>(train.couplings.size()), t.m);
+  for (size_t c = 0; c < train.couplings.size(); ++c) {
+    const TrainCouplingModel& coupling = train.couplings[c];
+    const Eigen::RowVectorXd twist =
+        t.body_angles.row(coupling.body_a) - t.body_angles.row(coupling.body_b);
+    const auto r = static_cast<Eigen::Index>(2 * c);
+    rows.block(r, 0, 1, t.n) = twist;
+    rows.block(r + 1, 0, 1, t.n) = coupling.stiffness * twist;
+    rows.block(r + 1, t.n, 1, t.n) = coupling.damping * twist;
+  }
+  return rows;
 }
 
 // The index in a series of samples dt apart from `series_from` of the sample at `from`, when the
@@ -403,6 +421,11 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, GearTrain trai
   const double start = static_cast<double>(options.transient) * period;
   const double end = start + static_cast<double>(options.cycles) * period;
 
+  if (const std::string w =
+          TransientDecayWarning(tables, start, options.transient, options.names("transient"));
+      !w.empty()) {
+    op.warnings.push_back(w);
+  }
   op.cost = EstimateRunCost(tables, end, &spec);
   if (const std::string slow = CheckRunCost(op.cost, options.allow_slow, "the run", options.names);
       !slow.empty()) {
@@ -417,6 +440,7 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, GearTrain trai
   TrainStepper stepper(tables, stepper_options, z0, states0);
   TrainRecorder recorder(tables, options.samples_per_cycle, start);
   if (options.bearing_forces) recorder.TrackBearingForces();
+  if (!op.train.couplings.empty()) recorder.TrackOutputs(CouplingRows(op.train, tables));
   const double dt = recorder.sample_interval();
   SpectrumWindow window;
   if (options.spectra) {
@@ -459,6 +483,12 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, GearTrain trai
   op.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   op.summary = stepper.summary();
   op.stats = recorder.Result();
+  if (ok) {
+    for (size_t c = 0; c < op.train.couplings.size(); ++c) {
+      op.couplings.push_back(
+          {op.train.couplings[c].name, op.stats.outputs[2 * c], op.stats.outputs[2 * c + 1]});
+    }
+  }
   TakeRecord(spec, options, window, kept.from, ok, recorder, op);
   return op;
 }

@@ -13,6 +13,7 @@
 
 #include "gearnvh/analysis/parallel_for.h"
 #include "gearnvh/analysis/train_operating_point.h"
+#include "gearnvh/analysis/train_transient.h"
 #include "gearnvh/analysis/written_numbers.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/solver/train_reduced_tables.h"
@@ -107,9 +108,12 @@ int TrainSweepResult::failed() const {
 
 namespace {
 
-// The run-cost estimate of the sweep; `first` is set to the train it built at the first speed.
+// The run-cost estimate of the sweep; `first` is set to the train it built at the first speed, and
+// `transient` (when given) to the transient warning at the highest speed, whose transient is the
+// shortest in seconds (TransientDecayWarning).
 RunCostEstimate EstimateTrainSweepCost(const TrainSpec& spec, const TrainSweepOptions& options,
-                                       std::optional<GearTrain>& first) {
+                                       std::optional<GearTrain>& first,
+                                       std::string* transient = nullptr) {
   const SweepRange& range = spec.analysis.speed_sweep;
   std::optional<RunCostEstimate> cheapest;
   TrainTableOptions table_options;
@@ -125,6 +129,11 @@ RunCostEstimate EstimateTrainSweepCost(const TrainSpec& spec, const TrainSweepOp
         static_cast<double>(options.cycles + options.transient) * tables.meshes.front().period;
     const RunCostEstimate cost = EstimateRunCost(tables, seconds, &at);
     if (!cheapest || cost.wall_s < cheapest->wall_s) cheapest = cost;
+    if (transient != nullptr && speed == range.Point(range.points - 1)) {
+      *transient = TransientDecayWarning(
+          tables, static_cast<double>(options.transient) * tables.meshes.front().period,
+          options.transient, options.names("transient"));
+    }
   }
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   const int threads = options.threads > 0 ? options.threads : static_cast<int>(cores);
@@ -145,7 +154,14 @@ TrainSweepResult RunTrainSweep(const TrainSpec& spec, const TrainSweepOptions& o
   options.Validate();
   std::optional<GearTrain> first;  // at the first speed: each speed moves it (GearTrainAtSpeed)
   {
-    const RunCostEstimate cost = EstimateTrainSweepCost(spec, options, first);
+    std::string transient;
+    const RunCostEstimate cost = EstimateTrainSweepCost(spec, options, first, &transient);
+    if (!transient.empty() && options.before_run_warning) {
+      const DisplayUnit& unit = spec.operating.speed_unit;
+      options.before_run_warning(fmt::format("at {:.6g} {} (the sweep's highest speed): {}",
+                                             spec.analysis.speed_sweep.to * unit.per_si,
+                                             unit.symbol, transient));
+    }
     const std::string what = options.ranks > 1
                                  ? fmt::format("each process's {} of the sweep's {} speeds",
                                                cost.runs, spec.analysis.speed_sweep.points)

@@ -58,7 +58,6 @@ HarmonicModel MeanModel(const GearTrain& train, const TrainStructure& structure,
   const int bodies = static_cast<int>(train.topology.bodies.size());
   m.body_angles.resize(bodies, reduced.dof);
   for (int b = 0; b < bodies; ++b) m.body_angles.row(b) = BodyAngle(train, structure, reduced, b);
-  m.torque_direction = m.body_angles.row(train.topology.input_body).transpose();
   if (reduced.tier != Tier::kTier1) {
     for (const StructureBearing& b : structure.bearings) {
       const Eigen::MatrixXd point = BearingPointRows(b, reduced);
@@ -250,7 +249,7 @@ WhineResult RunWhine(const TrainSpec& spec, const WhineOptions& options,
   for (size_t l = 0; l < lines.size(); ++l) {
     for (const whine::MeshInput& in : mesh_inputs)
       inputs[l].mesh.push_back(in.Coefficient(lines[l].order));
-    inputs[l].torque = whine::TorqueCoefficient(spec, train, lines[l].order);
+    inputs[l].body_torque = whine::BodyTorques(spec, train, lines[l].order);
   }
 
   RequireResultFits(model, lines.size(), options);

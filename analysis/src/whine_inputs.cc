@@ -124,13 +124,19 @@ MeshInput MeshInputOf(const TrainSpec& spec, const GearTrain& train, size_t mesh
   return in;
 }
 
-std::complex<double> TorqueCoefficient(const TrainSpec& spec, const GearTrain& train,
-                                       double order) {
-  const double inertia = train.body_inertia[static_cast<size_t>(train.topology.input_body)];
-  std::complex<double> x = 0.0;
-  for (const ExcitationOrder& e : spec.operating.excitation) {
-    if (std::abs(e.order - order) <= 1e-9 * std::max(1.0, order))
-      x += -kI * inertia * e.amplitude * std::exp(kI * e.phase);
+std::vector<std::complex<double>> BodyTorques(const TrainSpec& spec, const GearTrain& train,
+                                              double order) {
+  std::vector<std::complex<double>> x;
+  for (size_t i = 0; i < spec.operating.excitation.size(); ++i) {
+    const ExcitationOrder& e = spec.operating.excitation[i];
+    if (std::abs(ExcitationOrderOfInput(spec, train.topology, i) - order) >
+        1e-9 * std::max(1.0, order))
+      continue;
+    const auto body = static_cast<size_t>(ExcitationBody(spec, train.topology, i));
+    const double torque =
+        e.kind == ExcitationKind::kTorque ? e.amplitude : train.body_inertia[body] * e.amplitude;
+    x.resize(train.topology.bodies.size(), 0.0);
+    x[body] += -kI * torque * std::exp(kI * e.phase);
   }
   return x;
 }
@@ -144,8 +150,11 @@ std::vector<WhineLine> Lines(const TrainSpec& spec, const GearTrain& train,
               fmt::format("{}x mesh {}", k, train.meshes[i].name));
     }
   }
-  for (const ExcitationOrder& e : spec.operating.excitation) {
-    AddLine(lines, e.order, WhineLineKind::kExcitation, fmt::format("excitation {:g}x", e.order));
+  for (size_t i = 0; i < spec.operating.excitation.size(); ++i) {
+    const ExcitationOrder& e = spec.operating.excitation[i];
+    AddLine(lines, ExcitationOrderOfInput(spec, train.topology, i), WhineLineKind::kExcitation,
+            e.on.empty() ? fmt::format("excitation {:g}x", e.order)
+                         : fmt::format("excitation {:g}x {}", e.order, e.on));
   }
   for (size_t i = 0; i < inputs.size(); ++i) {
     for (const GearInput& g : inputs[i].gears) {

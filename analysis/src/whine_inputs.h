@@ -46,9 +46,11 @@ struct MeshInput {
 // (e_j + F / k_j on the drive flank, e_j - F / k_j on the back flank) and the gears' errors.
 MeshInput MeshInputOf(const TrainSpec& spec, const GearTrain& train, size_t mesh);
 
-// The torque order on the input shaft, N m: X of J_in a sin(order W t + phi) summed over the
-// excitation orders at `order`.
-std::complex<double> TorqueCoefficient(const TrainSpec& spec, const GearTrain& train, double order);
+// The engine orders' torque on each body at `order` of the input shaft's speed, N m: the phasor X
+// of T sin(order W_in t + phi) summed over the excitation orders there (T = J_s a for an
+// acceleration order on shaft s, its amplitude for a torque order); empty without one.
+std::vector<std::complex<double>> BodyTorques(const TrainSpec& spec, const GearTrain& train,
+                                              double order);
 
 // The lines (whine.h), ascending, one per distinct order.
 std::vector<WhineLine> Lines(const TrainSpec& spec, const GearTrain& train,

@@ -87,7 +87,7 @@ GearboxSpec ReadDocument(Reader& r, const YAML::Node& root) {
   spec.operating.speed_unit =
       DisplayUnitOf(r.Find("operating.speed").raw, Dimension::kAngularSpeed);
   spec.operating.torque_unit = DisplayUnitOf(r.Find("operating.torque").raw, Dimension::kTorque);
-  spec.operating.excitation = ReadExcitation(r, op);
+  spec.operating.excitation = ReadExcitation(r, op, 1);
   spec.analysis = ReadAnalysis(r, root);
   return spec;
 }

@@ -315,22 +315,45 @@ MeshSpec ReadMesh(Reader& r, const YAML::Node& mesh, const std::string& path,
   return out;
 }
 
-std::vector<ExcitationOrder> ReadExcitation(Reader& r, const YAML::Node& op) {
+std::vector<ExcitationOrder> ReadExcitation(Reader& r, const YAML::Node& op, int schema) {
   std::vector<ExcitationOrder> out;
-  r.ForEachItem(op, "operating", "excitation", false,
-                [&](const YAML::Node& item, const std::string& p) {
-                  r.ExpectMap(item, p, {"kind", "order", "amplitude", "phase"});
-                  const std::string kind = r.String(item, p, "kind", std::string("acceleration"));
-                  if (kind != "acceleration") {
-                    r.Fail(Join(p, "kind"), item["kind"], "'" + kind + "'",
-                           "must be acceleration, the one kind built (a torque J a on the input "
-                           "shaft); torque orders on a shaft and prescribed motion are not "
-                           "available yet");
-                  }
-                  out.push_back({r.Quantity(item, p, "order", Dimension::kDimensionless),
-                                 r.Quantity(item, p, "amplitude", Dimension::kAngularAcceleration),
-                                 r.Quantity(item, p, "phase", Dimension::kAngle, 0.0)});
-                });
+  r.ForEachItem(
+      op, "operating", "excitation", false, [&](const YAML::Node& item, const std::string& p) {
+        if (schema == 2) {
+          r.ExpectMap(item, p, {"kind", "on", "order", "amplitude", "phase"});
+        } else {
+          r.ExpectMap(item, p, {"kind", "order", "amplitude", "phase"});
+        }
+        const std::string kind = r.String(item, p, "kind", std::string("acceleration"));
+        if (kind == "motion") {
+          r.Fail(Join(p, "kind"), item["kind"], "'" + kind + "'",
+                 "is not built yet: prescribed motion of a shaft is planned; give the engine's "
+                 "torque orders (kind: torque) on a free flywheel instead");
+        }
+        if (kind != "acceleration" && (kind != "torque" || schema != 2)) {
+          r.Fail(Join(p, "kind"), item["kind"], "'" + kind + "'",
+                 schema == 2 ? "must be acceleration (the torque J a on its shaft) or torque"
+                             : "must be acceleration, schema 1's one kind (the torque J a on "
+                               "the pinion's shaft); torque orders on any shaft need a gear "
+                               "train (schema gearnvh/2)");
+        }
+        ExcitationOrder e;
+        e.kind = kind == "torque" ? ExcitationKind::kTorque : ExcitationKind::kAcceleration;
+        e.order = r.Quantity(item, p, "order", Dimension::kDimensionless);
+        e.amplitude =
+            r.Quantity(item, p, "amplitude",
+                       e.kind == ExcitationKind::kTorque ? Dimension::kTorque
+                                                         : Dimension::kAngularAcceleration);
+        e.phase = r.Quantity(item, p, "phase", Dimension::kAngle, 0.0);
+        if (schema == 2) {
+          e.on = r.String(item, p, "on", "");
+          if (item["on"].IsDefined() && e.on.empty()) {
+            r.Fail(Join(p, "on"), item["on"], "''",
+                   "must name a shaft (leave the key out for the input shaft)");
+          }
+        }
+        out.push_back(e);
+      });
   return out;
 }
 

@@ -35,7 +35,7 @@ std::map<std::string, Material> ReadMaterials(Reader& r, const YAML::Node& root)
 // A mesh's keys plus `extra_keys` (schema 2: gears).
 MeshSpec ReadMesh(Reader& r, const YAML::Node& mesh, const std::string& path,
                   const std::vector<std::string>& extra_keys = {});
-std::vector<ExcitationOrder> ReadExcitation(Reader& r, const YAML::Node& op);
+std::vector<ExcitationOrder> ReadExcitation(Reader& r, const YAML::Node& op, int schema);
 // The pitch-line velocity limit on the file's speeds beyond operating.speed: a written
 // analysis.speed_sweep and an analysis.atlas axis that varies operating.speed are held to it at
 // both ends (RequirePitchLineVelocity, in the unit they were written in). The default sweep is not

@@ -186,7 +186,7 @@ TrainSpec ReadTrainDocument(Reader& r, const YAML::Node& root) {
     }
     spec.operating.loads.push_back(load);
   });
-  spec.operating.excitation = ReadExcitation(r, op);
+  spec.operating.excitation = ReadExcitation(r, op, 2);
   spec.analysis = ReadAnalysis(r, root, 2);
   return spec;
 }

@@ -33,12 +33,17 @@ const std::vector<UnitEntry>& Table(Dimension d) {
       {"kg*m^2", 1.0}, {"kg*mm^2", 1e-6}, {"kg*cm^2", 1e-4}, {"g*mm^2", 1e-9}, {"g*cm^2", 1e-7}};
   static const std::vector<UnitEntry> stiffness{{"N/m", 1.0},   {"N/mm", 1e3}, {"N/um", 1e6},
                                                 {"kN/mm", 1e6}, {"MN/m", 1e6}, {"GN/m", 1e9}};
+  // Spelt as torque is (N*m, Nm, N.m): a damper rate from a drawing is often "Nm/deg".
   static const std::vector<UnitEntry> rot_stiffness{
-      {"N*m/rad", 1.0}, {"kN*m/rad", 1e3}, {"N*mm/rad", 1e-3}, {"N*m/deg", 180.0 / kPi}};
+      {"N*m/rad", 1.0},          {"Nm/rad", 1.0},         {"N.m/rad", 1.0},
+      {"kN*m/rad", 1e3},         {"kNm/rad", 1e3},        {"N*mm/rad", 1e-3},
+      {"N*m/deg", 180.0 / kPi},  {"Nm/deg", 180.0 / kPi}, {"N.m/deg", 180.0 / kPi},
+      {"kN*m/deg", 180e3 / kPi}, {"kNm/deg", 180e3 / kPi}};
   static const std::vector<UnitEntry> damping{{"N*s/m", 1.0}, {"kN*s/m", 1e3}, {"N*s/mm", 1e3}};
   static const std::vector<UnitEntry> accel{{"rad/s^2", 1.0}, {"krad/s^2", 1e3}};
   static const std::vector<UnitEntry> rot_damping{
-      {"N*m*s/rad", 1.0}, {"N*mm*s/rad", 1e-3}, {"N*m*s/deg", 180.0 / kPi}};
+      {"N*m*s/rad", 1.0},   {"Nms/rad", 1.0},           {"N.m.s/rad", 1.0},
+      {"N*mm*s/rad", 1e-3}, {"N*m*s/deg", 180.0 / kPi}, {"Nms/deg", 180.0 / kPi}};
   switch (d) {
     case Dimension::kDimensionless:
       return none;
@@ -154,13 +159,15 @@ DisplayUnit DisplayUnitOf(std::string_view text, Dimension d) {
   }
   if (d == Dimension::kRotationalDamping) {
     if (unit == "N*mm*s/rad") return {"N mm s/rad", 1e3};
-    if (unit == "N*m*s/deg") return {"N m s/deg", std::numbers::pi / 180.0};
+    if (unit == "N*m*s/deg" || unit == "Nms/deg") return {"N m s/deg", std::numbers::pi / 180.0};
     return {"N m s/rad", 1.0};
   }
   if (d == Dimension::kRotationalStiffness) {
-    if (unit == "kN*m/rad") return {"kN m/rad", 1e-3};
+    if (unit == "kN*m/rad" || unit == "kNm/rad") return {"kN m/rad", 1e-3};
     if (unit == "N*mm/rad") return {"N mm/rad", 1e3};
-    if (unit == "N*m/deg") return {"N m/deg", std::numbers::pi / 180.0};
+    if (unit == "N*m/deg" || unit == "Nm/deg" || unit == "N.m/deg")
+      return {"N m/deg", std::numbers::pi / 180.0};
+    if (unit == "kN*m/deg" || unit == "kNm/deg") return {"kN m/deg", std::numbers::pi / 180e3};
     return {"N m/rad", 1.0};
   }
   // Any other dimension: the unit as written, SI (the table's first unit) for a plain number.

@@ -245,6 +245,31 @@ void PrintBearingForces(const TrainOperatingPoint& op, const TrainSpec& spec) {
   }
 }
 
+// Each coupling's twist and torque over the record (exact), in degrees and N m.
+void PrintCouplings(const TrainOperatingPoint& op) {
+  if (op.couplings.empty()) return;
+  constexpr double kDeg = 180.0 / std::numbers::pi;
+  fmt::print("\n  {:<16}{:>13}{:>12}{:>12}{:>12}{:>15}{:>13}{:>13}\n", "coupling", "twist mean°",
+             "RMS°", "min°", "max°", "torque mean", "min N m", "max N m");
+  for (const TrainCouplingResponse& c : op.couplings) {
+    fmt::print("  {:<16}{:>13.4g}{:>12.4g}{:>12.4g}{:>12.4g}{:>15.4g}{:>13.4g}{:>13.4g}\n", c.name,
+               c.twist.mean * kDeg, c.twist.rms * kDeg, c.twist.min * kDeg, c.twist.max * kDeg,
+               c.torque.mean, c.torque.min, c.torque.max);
+  }
+}
+
+nlohmann::json CouplingsJson(const TrainOperatingPoint& op) {
+  nlohmann::json out = nlohmann::json::array();
+  const auto summary = [](const TrainOutputSummary& s) {
+    return nlohmann::json{{"mean", s.mean}, {"rms", s.rms}, {"min", s.min}, {"max", s.max}};
+  };
+  for (const TrainCouplingResponse& c : op.couplings) {
+    out.push_back(
+        {{"name", c.name}, {"twist_rad", summary(c.twist)}, {"torque_n_m", summary(c.torque)}});
+  }
+  return out;
+}
+
 }  // namespace
 
 nlohmann::json TrainSimulationJson(const TrainOperatingPoint& op, const TrainSpec& spec,
@@ -300,6 +325,7 @@ nlohmann::json TrainSimulationJson(const TrainOperatingPoint& op, const TrainSpe
   doc["sidebands_notes"] = op.sideband_notes;
   doc["loose_gears"] = TrainLooseGearsJson(op.stats.loose_gears);
   doc["bearings"] = TrainBearingForcesJson(op, spec);
+  doc["couplings"] = CouplingsJson(op);
   if (op.histories.dt > 0.0) {
     const TrainHistories& h = op.histories;
     doc["time_histories"] = {{"samples", h.te.empty() ? 0 : h.te.front().size()},
@@ -473,9 +499,10 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
     fmt::print(")\n");
     PrintTrainSidebands(op);
     PrintBearingForces(op, spec);
+    PrintCouplings(op);
     fmt::print(
-        "  (TE, force and rattle index exact: closed-form integrals and extrema of the recorded "
-        "trajectory;\n   impacts and separation from the exact events)\n");
+        "  (TE, force, rattle index and couplings exact: closed-form integrals and extrema of the "
+        "recorded trajectory;\n   impacts and separation from the exact events)\n");
     if (lyapunov) PrintLyapunov(*lyapunov);
     for (const std::string& w : warnings) {
       if (std::ranges::find(said_before_run, w) == said_before_run.end()) {

@@ -61,10 +61,22 @@ std::vector<TierCrossing> CriticalSpeeds(const TrainSpec& spec, const GearTrain&
                        w_mode / (h * z * ratio)});
       }
     }
+    // One line per shaft speed: shafts joined by a coupling turn alike.
+    std::vector<std::pair<double, std::string>> shafts;  // |speed|, names
     for (const TrainBody& body : train.topology.bodies) {
       if (body.kind != BodyKind::kShaft || body.speed == 0.0) continue;  // a fixed shaft stands
-      out.push_back({static_cast<int>(k) + 1, fmt::format("shaft {} 1x", body.name),
-                     w_mode / (std::abs(body.speed) / w_in)});
+      const auto same = std::find_if(shafts.begin(), shafts.end(), [&](const auto& s) {
+        return s.first == std::abs(body.speed);
+      });
+      if (same == shafts.end()) {
+        shafts.emplace_back(std::abs(body.speed), body.name);
+      } else {
+        same->second += ", " + body.name;
+      }
+    }
+    for (const auto& [speed, names] : shafts) {
+      out.push_back(
+          {static_cast<int>(k) + 1, fmt::format("shaft {} 1x", names), w_mode / (speed / w_in)});
     }
   }
   return out;

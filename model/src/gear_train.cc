@@ -88,26 +88,30 @@ void ApplyShaftMisalignment(const TrainSpec& spec, const MeshStiffnessOptions& o
 
 }  // namespace
 
+std::vector<double> BodyInertias(const TrainSpec& spec, const TrainTopology& topology) {
+  std::vector<double> inertia(topology.bodies.size(), 0.0);
+  for (size_t b = 0; b < topology.bodies.size(); ++b) {
+    const TrainBody& body = topology.bodies[b];
+    if (body.kind == BodyKind::kShaft) {
+      const TrainShaft& s = spec.shafts[static_cast<size_t>(body.shaft)];
+      inertia[b] = s.elastic ? ShaftPolarInertia(*s.elastic, spec.materials.at(s.elastic->material))
+                             : s.inertia.value_or(0.0);
+    }
+    for (int g : body.gears) {
+      const GearSpec& gear = spec.gears[static_cast<size_t>(g)].gear;
+      inertia[b] += DiskBody(gear, spec.materials.at(gear.material)).polar;
+    }
+  }
+  return inertia;
+}
+
 GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& options) {
   GearTrain train;
   train.topology = AnalyseTrainTopology(spec);
   const TrainTopology& topo = train.topology;
   const size_t n = topo.bodies.size();
 
-  train.body_inertia.assign(n, 0.0);
-  for (size_t b = 0; b < n; ++b) {
-    const TrainBody& body = topo.bodies[b];
-    if (body.kind == BodyKind::kShaft) {
-      const TrainShaft& s = spec.shafts[static_cast<size_t>(body.shaft)];
-      train.body_inertia[b] =
-          s.elastic ? ShaftPolarInertia(*s.elastic, spec.materials.at(s.elastic->material))
-                    : s.inertia.value_or(0.0);
-    }
-    for (int g : body.gears) {
-      const GearSpec& gear = spec.gears[static_cast<size_t>(g)].gear;
-      train.body_inertia[b] += DiskBody(gear, spec.materials.at(gear.material)).polar;
-    }
-  }
+  train.body_inertia = BodyInertias(spec, topo);
 
   const TrainTorqueFlow flow = StaticTorqueFlow(spec, topo);
   train.input_torque = flow.input_torque;
@@ -133,13 +137,6 @@ GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& opti
     model.stiffness = coupling.stiffness;
     model.damping = coupling.damping;
     model.mean_torque = flow.coupling_torque[c];
-    model.in_loop = std::find(topo.loop_couplings.begin(), topo.loop_couplings.end(),
-                              static_cast<int>(c)) != topo.loop_couplings.end();
-    if (model.in_loop) {
-      train.warnings.push_back("couplings." + coupling.name +
-                               " closes a loop: the static torque split is indeterminate, and "
-                               "its mean torque is taken as 0");
-    }
     train.couplings.push_back(model);
   }
 

@@ -9,6 +9,7 @@
 
 #include "gearnvh/model/count_text.h"
 #include "gearnvh/model/gear_geometry.h"
+#include "gearnvh/model/gear_train.h"
 #include "gearnvh/model/gearbox_spec_limits.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/model/train_spec.h"
@@ -235,6 +236,71 @@ FastestMesh FastestPitchLine(const TrainSpec& spec, const TrainTopology& topolog
   return fastest;
 }
 
+int ExcitationBody(const TrainSpec& spec, const TrainTopology& topology, size_t order) {
+  const std::string& on = spec.operating.excitation[order].on;
+  return on.empty() ? topology.input_body : spec.ShaftIndex(on);
+}
+
+double ExcitationOrderOfInput(const TrainSpec& spec, const TrainTopology& topology, size_t order) {
+  return spec.operating.excitation[order].order *
+         SpeedRatio(topology, ExcitationBody(spec, topology, order));
+}
+
+void RequireExcitationWithinSpeed(const TrainSpec& spec, const TrainTopology& topology) {
+  const TrainOperating& op = spec.operating;
+  // The whole train's inertia referred to body s, rigid: sum_b J_b (W_b / W_s)^2 (fixed shafts
+  // stand; a loose gear is taken as turning with its mesh).
+  const auto referred_inertia = [&](int s) {
+    const std::vector<double> inertia = BodyInertias(spec, topology);
+    double sum = 0.0;
+    for (size_t b = 0; b < topology.bodies.size(); ++b) {
+      const double ratio = topology.bodies[b].speed / topology.bodies[static_cast<size_t>(s)].speed;
+      sum += inertia[b] * ratio * ratio;
+    }
+    return sum;
+  };
+  for (size_t i = 0; i < op.excitation.size(); ++i) {
+    const ExcitationOrder& e = op.excitation[i];
+    const int body = ExcitationBody(spec, topology, i);
+    const double speed = std::abs(topology.bodies[static_cast<size_t>(body)].speed);
+    const std::string& shaft = topology.bodies[static_cast<size_t>(body)].name;
+    // An acceleration order's speed fluctuation a / (k W_s) on its own shaft; a torque order's
+    // that of the whole train turning rigidly, a = T / J_referred.
+    const bool torque = e.kind == ExcitationKind::kTorque;
+    const double acceleration = torque ? e.amplitude / referred_inertia(body) : e.amplitude;
+    const double fluctuation = acceleration / (e.order * speed);
+    if (fluctuation <= speed) continue;
+    throw InputError(
+        "operating.excitation[" + std::to_string(i) + "].amplitude", 0,
+        MessageNumber(e.amplitude) + (torque ? " N m" : " rad/s^2"),
+        fmt::format("makes the speed fluctuation {} = {} of the shaft '{}' exceed its mean speed "
+                    "{}: the shaft would turn backwards, and the model assumes a steady mean "
+                    "speed",
+                    torque ? "T / (J_train order speed), J_train the whole train's inertia "
+                             "referred to it,"
+                           : "a / (order x speed)",
+                    InUnit(fluctuation, op.speed_unit), shaft, InUnit(speed, op.speed_unit)));
+  }
+  // One shaft and kind per frequency: orders are summed per shaft, and two shafts' orders at one
+  // frequency would share one oscillator of the exact solver's inputs.
+  for (size_t i = 0; i < op.excitation.size(); ++i) {
+    for (size_t j = 0; j < i; ++j) {
+      const double fi = ExcitationOrderOfInput(spec, topology, i),
+                   fj = ExcitationOrderOfInput(spec, topology, j);
+      if (std::abs(fi - fj) > 1e-9 * fi) continue;
+      const ExcitationOrder &a = op.excitation[i], &b = op.excitation[j];
+      if (ExcitationBody(spec, topology, i) == ExcitationBody(spec, topology, j) &&
+          a.kind == b.kind)
+        continue;
+      throw InputError("operating.excitation[" + std::to_string(i) + "].order", 0,
+                       MessageNumber(a.order),
+                       "has the frequency of operating.excitation[" + std::to_string(j) +
+                           "] but another shaft or kind: orders at one frequency act on one "
+                           "shaft, as one kind (give them as one order)");
+    }
+  }
+}
+
 void RequireTrainToothLoads(const TrainSpec& spec, const TrainTopology& topology) {
   const TrainOperating& op = spec.operating;
   const TrainTorqueFlow flow = StaticTorqueFlow(spec, topology);
@@ -268,22 +334,7 @@ void ValidateTrainLimits(const TrainSpec& spec, const TrainTopology& topology) {
   // Load: a linear-elastic tooth model, per mesh at the torque it transmits.
   RequireTrainToothLoads(spec, topology);
 
-  // Excitation acts on the input shaft: its speed fluctuation a / (k Omega_in) must stay below
-  // the input's mean speed, else the input shaft would turn backwards.
-  for (size_t i = 0; i < op.excitation.size(); ++i) {
-    const ExcitationOrder& e = op.excitation[i];
-    const double fluctuation = e.amplitude / (e.order * omega_in);
-    if (!(fluctuation <= omega_in)) {
-      throw InputError(
-          "operating.excitation[" + std::to_string(i) + "].amplitude", 0,
-          MessageNumber(e.amplitude),
-          fmt::format("makes the speed fluctuation a / (order x speed) = {} of the input shaft "
-                      "'{}' exceed its mean speed {}: the shaft would turn backwards, and the "
-                      "model assumes a steady mean speed",
-                      InUnit(fluctuation, op.speed_unit), op.input_shaft,
-                      InUnit(omega_in, op.speed_unit)));
-    }
-  }
+  RequireExcitationWithinSpeed(spec, topology);
 
   // Speed: the pitch-line velocity of every mesh (a written speed sweep: checked by the loader).
   const FastestMesh fastest = FastestPitchLine(spec, topology);

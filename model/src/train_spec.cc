@@ -126,7 +126,8 @@ void RequireConsistentLoops(const TrainSpec& spec, const TrainTopology& t,
 void RequireStationaryShaftsStill(const TrainSpec& spec, const TrainTopology& t) {
   for (const TrainCoupling& c : spec.couplings) {
     for (const std::string& name : {c.shaft_a, c.shaft_b}) {
-      if (!spec.FindShaft(name)->fixed) continue;
+      const TrainShaft* shaft = spec.FindShaft(name);  // RequireValidCouplings ran before
+      if (shaft == nullptr || !shaft->fixed) continue;
       throw InputError("couplings." + c.name + ".between", 0,
                        "[" + c.shaft_a + ", " + c.shaft_b + "]",
                        "joins the fixed shaft '" + name + "' (shafts." + name +
@@ -161,13 +162,27 @@ void RequireValidCouplings(const TrainSpec& spec) {
   for (size_t i = 0; i < spec.couplings.size(); ++i) {
     const TrainCoupling& c = spec.couplings[i];
     const std::string p = "couplings." + c.name;
-    for (const std::string& shaft : {c.shaft_a, c.shaft_b}) {
-      if (spec.FindShaft(shaft) != nullptr) continue;
+    for (const std::string& name : {c.shaft_a, c.shaft_b}) {
+      const TrainShaft* shaft = spec.FindShaft(name);
+      const std::string value = "[" + c.shaft_a + ", " + c.shaft_b + "]";
+      if (shaft != nullptr && shaft->elastic) {
+        throw InputError(p + ".between", 0, value,
+                         "names the elastic shaft '" + name +
+                             "': a coupling joins rigid shafts (where it attaches along an "
+                             "elastic shaft is not built yet; model the shaft's end as a rigid "
+                             "shaft)");
+      }
+      if (shaft != nullptr) continue;
+      if (const TrainGear* gear = spec.FindGear(name)) {
+        throw InputError(p + ".between", 0, value,
+                         "must name two shafts: '" + name + "' is a gear (on shaft '" +
+                             gear->shaft + "'); a coupling joins shafts");
+      }
       std::string shafts;
       for (const TrainShaft& s : spec.shafts) shafts += (shafts.empty() ? "" : ", ") + s.name;
-      throw InputError(p + ".between", 0, "[" + c.shaft_a + ", " + c.shaft_b + "]",
-                       "must name two shafts ('" + shaft + "' is none of the file's: " + shafts +
-                           "; a coupling joins shafts, not gears)");
+      throw InputError(
+          p + ".between", 0, value,
+          "must name two shafts: '" + name + "' is none of the file's (" + shafts + ")");
     }
     if (c.shaft_a == c.shaft_b) {
       throw InputError(p + ".between", 0, "[" + c.shaft_a + ", " + c.shaft_b + "]",
@@ -194,6 +209,20 @@ void RequireValidCouplings(const TrainSpec& spec) {
                            "] N m s/rad");
     }
   }
+}
+
+// A coupling that closes a loop (in parallel with a gear path or other couplings) would hold a
+// preload the file does not give: its zero twist at the nominal angles, the gears' at the middle of
+// their backlash. Refused (after the speeds, so that a coupling between shafts at different speeds
+// is told that instead).
+void RequireNoCouplingInLoop(const TrainSpec& spec, const TrainTopology& t) {
+  if (t.loop_couplings.empty()) return;
+  const TrainCoupling& c = spec.couplings[static_cast<size_t>(t.loop_couplings.front())];
+  throw InputError("couplings." + c.name + ".between", 0, "[" + c.shaft_a + ", " + c.shaft_b + "]",
+                   "closes a loop: '" + c.shaft_b + "' is reached from '" + c.shaft_a +
+                       "' by another path of meshes or couplings as well. A coupling in parallel "
+                       "is statically indeterminate (its preload at assembly is not in the file) "
+                       "and is not supported: join each shaft by one path");
 }
 
 }  // namespace
@@ -271,59 +300,70 @@ TrainTopology AnalyseTrainTopology(const TrainSpec& spec) {
   t.bodies[static_cast<size_t>(t.input_body)].speed = spec.operating.speed;
   t.bodies[static_cast<size_t>(t.input_body)].speed_ratio = 1.0;
   t.parent_coupling.assign(t.bodies.size(), -1);
-  // Breadth-first over the meshes and couplings from the input body.
+  // Breadth-first over the meshes from the input body; a coupling only reaches a shaft the meshes
+  // do not (then the meshes go on from it), so that a coupling in parallel with a gear path is the
+  // loop's edge and the gears carry the static torque.
+  const auto reached = [&](int body) { return t.parent_mesh[static_cast<size_t>(body)] != -2; };
   std::deque<int> queue{t.input_body};
   std::set<int> visited_meshes, visited_couplings;
   std::vector<SpeedClaim> loop_claims;
-  while (!queue.empty()) {
-    const int body = queue.front();
-    queue.pop_front();
-    for (size_t m = 0; m < spec.meshes.size(); ++m) {
-      const TrainMesh& mesh = spec.meshes[m];
-      const int ga = spec.GearIndex(mesh.gear_a), gb = spec.GearIndex(mesh.gear_b);
-      const int ba = t.gear_body[static_cast<size_t>(ga)],
-                bb = t.gear_body[static_cast<size_t>(gb)];
-      if ((ba != body && bb != body) || visited_meshes.count(static_cast<int>(m)) > 0) continue;
-      visited_meshes.insert(static_cast<int>(m));
-      const bool forward = ba == body;
-      const int from_gear = forward ? ga : gb, to_gear = forward ? gb : ga;
-      const int to = forward ? bb : ba;
-      const double ratio =
-          static_cast<double>(spec.gears[static_cast<size_t>(from_gear)].gear.teeth) /
-          spec.gears[static_cast<size_t>(to_gear)].gear.teeth;
-      const double speed = -t.bodies[static_cast<size_t>(body)].speed * ratio;
-      TrainBody& target = t.bodies[static_cast<size_t>(to)];
-      if (t.parent_mesh[static_cast<size_t>(to)] == -2) {
-        t.parent_mesh[static_cast<size_t>(to)] = static_cast<int>(m);
-        target.speed = speed;
-        target.speed_ratio = -t.bodies[static_cast<size_t>(body)].speed_ratio * ratio;
-        queue.push_back(to);
-      } else {
-        t.loop_meshes.push_back(static_cast<int>(m));
-        loop_claims.push_back({static_cast<int>(m), to, speed});
+  for (bool grew = true; grew;) {
+    while (!queue.empty()) {
+      const int body = queue.front();
+      queue.pop_front();
+      for (size_t m = 0; m < spec.meshes.size(); ++m) {
+        const TrainMesh& mesh = spec.meshes[m];
+        const int ga = spec.GearIndex(mesh.gear_a), gb = spec.GearIndex(mesh.gear_b);
+        const int ba = t.gear_body[static_cast<size_t>(ga)],
+                  bb = t.gear_body[static_cast<size_t>(gb)];
+        if ((ba != body && bb != body) || visited_meshes.count(static_cast<int>(m)) > 0) continue;
+        visited_meshes.insert(static_cast<int>(m));
+        const bool forward = ba == body;
+        const int from_gear = forward ? ga : gb, to_gear = forward ? gb : ga;
+        const int to = forward ? bb : ba;
+        const double ratio =
+            static_cast<double>(spec.gears[static_cast<size_t>(from_gear)].gear.teeth) /
+            spec.gears[static_cast<size_t>(to_gear)].gear.teeth;
+        const double speed = -t.bodies[static_cast<size_t>(body)].speed * ratio;
+        TrainBody& target = t.bodies[static_cast<size_t>(to)];
+        if (!reached(to)) {
+          t.parent_mesh[static_cast<size_t>(to)] = static_cast<int>(m);
+          target.speed = speed;
+          target.speed_ratio = -t.bodies[static_cast<size_t>(body)].speed_ratio * ratio;
+          queue.push_back(to);
+        } else {
+          t.loop_meshes.push_back(static_cast<int>(m));
+          loop_claims.push_back({static_cast<int>(m), to, speed});
+        }
       }
     }
-    // A coupling's shafts turn alike: ratio +1 (its body is its shaft's index).
-    for (size_t c = 0; c < spec.couplings.size(); ++c) {
+    // A coupling's shafts turn alike: ratio +1 (a shaft's body is its index).
+    grew = false;
+    for (size_t c = 0; c < spec.couplings.size() && !grew; ++c) {
       const TrainCoupling& coupling = spec.couplings[c];
       const int ba = spec.ShaftIndex(coupling.shaft_a), bb = spec.ShaftIndex(coupling.shaft_b);
-      if ((ba != body && bb != body) || visited_couplings.count(static_cast<int>(c)) > 0) continue;
+      if (visited_couplings.count(static_cast<int>(c)) > 0 || reached(ba) == reached(bb)) continue;
       visited_couplings.insert(static_cast<int>(c));
-      const int to = ba == body ? bb : ba;
-      const TrainBody& from = t.bodies[static_cast<size_t>(body)];
-      if (t.parent_mesh[static_cast<size_t>(to)] == -2) {
-        t.parent_mesh[static_cast<size_t>(to)] = -1;
-        t.parent_coupling[static_cast<size_t>(to)] = static_cast<int>(c);
-        t.bodies[static_cast<size_t>(to)].speed = from.speed;
-        t.bodies[static_cast<size_t>(to)].speed_ratio = from.speed_ratio;
-        queue.push_back(to);
-      } else {
-        t.loop_couplings.push_back(static_cast<int>(c));
-        loop_claims.push_back({-1, to, from.speed, static_cast<int>(c)});
-      }
+      const int from = reached(ba) ? ba : bb, to = reached(ba) ? bb : ba;
+      t.parent_mesh[static_cast<size_t>(to)] = -1;
+      t.parent_coupling[static_cast<size_t>(to)] = static_cast<int>(c);
+      t.bodies[static_cast<size_t>(to)].speed = t.bodies[static_cast<size_t>(from)].speed;
+      t.bodies[static_cast<size_t>(to)].speed_ratio =
+          t.bodies[static_cast<size_t>(from)].speed_ratio;
+      queue.push_back(to);
+      grew = true;
     }
   }
+  // A coupling between two shafts reached otherwise closes a loop.
+  for (size_t c = 0; c < spec.couplings.size(); ++c) {
+    const TrainCoupling& coupling = spec.couplings[c];
+    const int ba = spec.ShaftIndex(coupling.shaft_a), bb = spec.ShaftIndex(coupling.shaft_b);
+    if (visited_couplings.count(static_cast<int>(c)) > 0 || !reached(ba) || !reached(bb)) continue;
+    t.loop_couplings.push_back(static_cast<int>(c));
+    loop_claims.push_back({-1, bb, t.bodies[static_cast<size_t>(ba)].speed, static_cast<int>(c)});
+  }
   RequireConsistentLoops(spec, t, loop_claims);
+  RequireNoCouplingInLoop(spec, t);
   for (size_t b = 0; b < t.bodies.size(); ++b) {
     if (t.parent_mesh[b] != -2) continue;
     const TrainBody& body = t.bodies[b];
@@ -425,7 +465,11 @@ bool IsSchemaOnePair(const TrainSpec& spec) {
          schema_one_body(spec.shafts[1], spec.gears[1], "output", "wheel") &&
          mesh.gear_a == "pinion" && mesh.gear_b == "wheel" && mesh.center_line_angle == 0.0 &&
          mesh.effective_mass == MeshEffectiveMass::kGears &&
-         spec.operating.input_shaft == "input" && load.on == "output";
+         spec.operating.input_shaft == "input" && load.on == "output" && spec.couplings.empty() &&
+         std::all_of(spec.operating.excitation.begin(), spec.operating.excitation.end(),
+                     [](const ExcitationOrder& e) {
+                       return e.kind == ExcitationKind::kAcceleration && e.on.empty();
+                     });
 }
 
 GearboxSpec GearboxOf(const TrainSpec& spec) {
@@ -554,6 +598,24 @@ void ValidateTrainSpec(const TrainSpec& spec) {
   if (!(spec.operating.speed > 0.0 && std::isfinite(spec.operating.speed))) {
     throw InputError("operating.speed.value", 0, MessageNumber(spec.operating.speed) + " rad/s",
                      "must be > 0: the input shaft's mean speed (it turns the way it is driven)");
+  }
+  for (size_t i = 0; i < spec.operating.excitation.size(); ++i) {
+    const std::string& on = spec.operating.excitation[i].on;
+    if (on.empty()) continue;
+    const std::string p = "operating.excitation[" + std::to_string(i) + "].on";
+    const TrainShaft* shaft = spec.FindShaft(on);
+    if (shaft == nullptr) {
+      std::string shafts;
+      for (const TrainShaft& s : spec.shafts) shafts += (shafts.empty() ? "" : ", ") + s.name;
+      throw InputError(
+          p, 0, "'" + on + "'",
+          "must name a shaft (the file's shafts: " + shafts + "); an engine order acts on a shaft");
+    }
+    if (shaft->fixed) {
+      throw InputError(p, 0, "'" + on + "'",
+                       "is a fixed shaft (shafts." + on +
+                           ".fixed: true), which does not turn: an order of its speed is none");
+    }
   }
   for (size_t i = 0; i < spec.operating.loads.size(); ++i) {
     const TrainLoad& load = spec.operating.loads[i];

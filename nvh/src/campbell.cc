@@ -27,19 +27,22 @@ void CampbellOptions::Validate() const {
 }
 
 void AddExcitationLines(std::vector<OrderLine>& lines,
-                        const std::vector<ExcitationOrder>& excitation) {
-  for (const ExcitationOrder& e : excitation) {
+                        const std::vector<ExcitationOrder>& excitation,
+                        const std::vector<double>& reference_orders) {
+  for (size_t i = 0; i < excitation.size(); ++i) {
+    const ExcitationOrder& e = excitation[i];
+    const double order = reference_orders.empty() ? e.order : reference_orders[i];
     std::ostringstream label;
-    label << "excitation " << e.order << "x";
+    label << "excitation " << e.order << "x" << (e.on.empty() ? "" : " " + e.on);
     bool joined = false;
     for (OrderLine& l : lines) {
-      if (std::abs(l.order - e.order) <= 1e-9 * std::max(1.0, e.order)) {
+      if (std::abs(l.order - order) <= 1e-9 * std::max(1.0, order)) {
         if (l.label.find(label.str()) == std::string::npos) l.label += " = " + label.str();
         joined = true;
         break;
       }
     }
-    if (!joined) lines.push_back({label.str(), e.order});
+    if (!joined) lines.push_back({label.str(), order});
   }
 }
 

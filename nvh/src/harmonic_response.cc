@@ -26,8 +26,6 @@ void HarmonicModel::CheckSizes() const {
   for (const Eigen::VectorXd& t : te_vectors) {
     if (t.size() != n) throw std::invalid_argument("HarmonicModel.te_vectors must have n rows");
   }
-  if (torque_direction.size() != n)
-    throw std::invalid_argument("HarmonicModel.torque_direction must have n rows");
   if (bearing_stiffness.size() != bearing_damping.size())
     throw std::invalid_argument("HarmonicModel.bearing_damping: one per bearing");
   for (size_t b = 0; b < bearing_stiffness.size(); ++b) {
@@ -65,7 +63,13 @@ void HarmonicSolver::Solve(double w, const HarmonicInput& input, HarmonicRespons
   z_.real() = stiffness_ - w * w * model_.M;
   z_.imag() = w * damping_;
   lu_.compute(z_);
-  rhs_ = input.torque * model_.torque_direction.cast<std::complex<double>>();
+  rhs_.setZero();
+  for (size_t b = 0; b < input.body_torque.size(); ++b) {
+    if (input.body_torque[b] != 0.0)
+      rhs_ += input.body_torque[b] * model_.body_angles.row(static_cast<Eigen::Index>(b))
+                                         .transpose()
+                                         .cast<std::complex<double>>();
+  }
   const size_t meshes = model_.mesh_vectors.size();
   for (size_t i = 0; i < input.mesh.size() && i < meshes; ++i) {
     if (input.mesh[i] != 0.0)

@@ -1,5 +1,6 @@
 #include "gearnvh/nvh/train_campbell.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -10,8 +11,16 @@ std::vector<OrderLine> TrainOrderLines(const TrainSpec& spec, const GearTrain& t
   const double w_in = std::abs(topo.bodies[static_cast<size_t>(topo.input_body)].speed);
   std::vector<OrderLine> lines;
   for (const TrainBody& body : topo.bodies) {
-    if (body.kind == BodyKind::kShaft && body.speed != 0.0)  // a fixed shaft has no order line
-      lines.push_back({body.name + " 1x", std::abs(body.speed) / w_in});
+    if (body.kind != BodyKind::kShaft || body.speed == 0.0) continue;  // a fixed shaft has none
+    // Shafts at one speed (joined by a coupling) share one line.
+    const double order = std::abs(body.speed) / w_in;
+    const auto same = std::find_if(lines.begin(), lines.end(),
+                                   [&](const OrderLine& l) { return l.order == order; });
+    if (same == lines.end()) {
+      lines.push_back({body.name + " 1x", order});
+    } else {
+      same->label.insert(same->label.size() - 3, ", " + body.name);
+    }
   }
   for (const TrainMeshModel& mesh : train.meshes) {
     const double ratio = std::abs(topo.bodies[static_cast<size_t>(mesh.body_a)].speed) / w_in;
@@ -20,7 +29,11 @@ std::vector<OrderLine> TrainOrderLines(const TrainSpec& spec, const GearTrain& t
       lines.push_back({"mesh " + mesh.name + " " + std::to_string(h) + "x", h * z * ratio});
     }
   }
-  AddExcitationLines(lines, spec.operating.excitation);
+  std::vector<double> reference_orders;
+  for (size_t i = 0; i < spec.operating.excitation.size(); ++i) {
+    reference_orders.push_back(ExcitationOrderOfInput(spec, topo, i));
+  }
+  AddExcitationLines(lines, spec.operating.excitation, reference_orders);
   return lines;
 }
 

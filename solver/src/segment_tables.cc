@@ -47,12 +47,12 @@ void SetOrderStates(const std::vector<ExcitationOrder>& orders, double speed, do
 }
 
 void AddOrderColumns(const std::vector<ExcitationOrder>& orders, double speed, int n,
-                     int first_slot, const Eigen::VectorXd& acceleration,
+                     int first_slot, const Eigen::MatrixXd& acceleration,
                      Eigen::Ref<Eigen::MatrixXd> A) {
   for (size_t k = 0; k < orders.size(); ++k) {
     const int slot = first_slot + 2 * static_cast<int>(k);
     const double w = orders[k].order * speed;
-    A.block(n, slot, n, 1) = acceleration;
+    A.block(n, slot, n, 1) = acceleration.col(static_cast<Eigen::Index>(k));
     A(slot, slot + 1) = w;
     A(slot + 1, slot) = -w;
   }
@@ -228,8 +228,9 @@ std::vector<ExcitationOrder> DistinctOrders(const std::vector<ExcitationOrder>& 
   std::vector<std::complex<double>> phasors;
   for (const ExcitationOrder& e : orders) {
     const std::complex<double> phasor = std::polar(e.amplitude, e.phase);
-    const auto same = std::find_if(out.begin(), out.end(),
-                                   [&](const ExcitationOrder& o) { return o.order == e.order; });
+    const auto same = std::find_if(out.begin(), out.end(), [&](const ExcitationOrder& o) {
+      return o.order == e.order && o.kind == e.kind && o.on == e.on;
+    });
     if (same == out.end()) {
       out.push_back(e);
       phasors.push_back(phasor);
@@ -353,7 +354,9 @@ SegmentTables BuildSegmentTables(const ComponentModel& model, const ReducedModel
       sys.A.block(n, 0, n, n) = -mass.solve(K);
       sys.A.block(n, n, n, n) = -mass.solve(C);
       sys.A.block(n, 2 * n, n, 1) = mass.solve(f);
-      AddOrderColumns(t.excitation, t.pinion_speed, n, t.input_slot(0), mass.solve(d), sys.A);
+      AddOrderColumns(t.excitation, t.pinion_speed, n, t.input_slot(0),
+                      mass.solve(d).replicate(1, static_cast<Eigen::Index>(t.excitation.size())),
+                      sys.A);
       sys.gap_drive = Eigen::RowVectorXd::Zero(m);
       sys.gap_drive.head(n) = r.v_drive.transpose();
       sys.gap_drive[2 * n] = -(e + b);

@@ -45,10 +45,18 @@ void TrainTables::SetExcitation(double t, Eigen::Ref<Eigen::VectorXd> z) const {
 
 void TrainTables::AddExcitationColumns(Eigen::Ref<Eigen::MatrixXd> A) const {
   AddOrderColumns(excitation, input_speed, n, ExcitationSlot(0),
-                  excitation_direction.cwiseQuotient(inertia), A);
+                  excitation_directions.array().colwise() / inertia.array(), A);
 }
 
-double TrainTables::Excitation(double t) const { return OrdersValue(excitation, input_speed, t); }
+Eigen::VectorXd TrainTables::ExcitationTorque(double t) const {
+  Eigen::VectorXd torque = Eigen::VectorXd::Zero(n);
+  for (size_t k = 0; k < excitation.size(); ++k) {
+    const ExcitationOrder& e = excitation[k];
+    torque += e.amplitude * std::sin(e.order * input_speed * t + e.phase) *
+              excitation_directions.col(static_cast<Eigen::Index>(k));
+  }
+  return torque;
+}
 
 double TrainTables::HighestExcitationFrequency() const {
   return HighestOrderFrequency(excitation, input_speed);

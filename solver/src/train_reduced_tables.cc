@@ -48,19 +48,18 @@ TrainTables BuildReducedTrainTables(const TrainSpec& spec, const GearTrain& trai
   t.tier = reduced.tier;
   t.n = n;
   AssignErrorInputs(t);  // m = 2n + 1 + 2K + error inputs at this tier's n
-  const double input_inertia = t.inertia[topo.input_body];
   t.inertia = Eigen::VectorXd::Ones(n);
   t.structural_stiffness = congruent(reduced.K);
   t.structural_damping = congruent(reduced.C + t.input_speed * reduced.G);
   // The structure's static force holds the input torque without the friction loss (tier 1's dT).
   t.force = left(reduced.static_force + t.friction_loss_torque * sense(topo.input_body) *
                                             T.row(first_thz(topo.input_body)).transpose());
-  t.excitation_direction =
-      left(input_inertia * sense(topo.input_body) * T.row(first_thz(topo.input_body)).transpose());
   const int bodies = t.bodies();
   Eigen::MatrixXd angles(n, bodies);  // columns: s_b T(th_z, :)^T
   for (int b = 0; b < bodies; ++b) angles.col(b) = sense(b) * T.row(first_thz(b)).transpose();
   t.body_angles = left(angles).transpose();
+  // Each order's torque on the bodies' angles (tier 1's directions), as generalised forces B^T d.
+  t.excitation_directions = t.body_angles.transpose() * t.excitation_directions;
   for (size_t i = 0; i < t.meshes.size(); ++i) {
     TrainMeshTable& mt = t.meshes[i];
     mt.v = left(reduced.v_drive[i]);

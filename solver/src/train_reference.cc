@@ -87,10 +87,9 @@ bool NegligiblePiece(double time, double end, double h) {
 struct Problem {
   const TrainTables* t = nullptr;
   // The tuple's generator without the orders' exosystem (their states stay put and act nowhere):
-  // the excitation enters as the continuous function s(t) instead, independent of the stepper's
-  // exosystem.
+  // the orders enter as the continuous torque ExcitationTorque(t) instead, independent of the
+  // stepper's exosystem.
   Eigen::MatrixXd A;
-  Eigen::VectorXd excitation_acceleration;  // M^-1 d
   std::vector<int> segments;
   std::vector<ContactState> states;
   void Assemble() {
@@ -107,7 +106,7 @@ int TrainRhs(sunrealtype time, N_Vector y, N_Vector ydot, void* data) {
   Eigen::Map<Eigen::VectorXd> dz(NV_DATA_S(ydot), NV_LENGTH_S(y));
   dz.noalias() = p.A * z;
   if (!p.t->excitation.empty())
-    dz.segment(p.t->n, p.t->n) += p.t->Excitation(time) * p.excitation_acceleration;
+    dz.segment(p.t->n, p.t->n) += p.t->ExcitationTorque(time).cwiseQuotient(p.t->inertia);
   return 0;
 }
 
@@ -164,7 +163,6 @@ TrainReferenceResult SimulateTrainReference(const TrainTables& t, const Eigen::V
   p.states = states0;
   TrainGrid grid(t);
   p.segments = grid.segments();
-  p.excitation_acceleration = t.excitation_direction.cwiseQuotient(t.inertia);
   p.Assemble();
   const CvodeBdf cvode(z0, {t.n, options.rtol, options.atol_position, options.atol_velocity,
                             TrainRhs, TrainJac, TrainRoots, static_cast<int>(2 * meshes), &p});

@@ -18,6 +18,7 @@ TrainRecorder::TrainRecorder(const TrainTables& tables, int samples_per_cycle, d
   force_.resize(meshes);
   acceleration_.resize(static_cast<size_t>(tables.bodies()));
   taylor_.resize(tables.m, kTerms + 1);
+  tracked_rows_.resize(0, tables.m);
   chunk_z_.resize(tables.m);
   const int n = tables.n;
   te_rows_.resize(static_cast<Eigen::Index>(meshes), n);
@@ -62,11 +63,21 @@ void TrainRecorder::KeepSeries(double from_time, long max_samples, bool historie
   bearing_values_.resize(rows);
 }
 
-void TrainRecorder::TrackBearingForces() {
-  bearing_rows_ = t_.bearing_force_rows;
-  bearing_coefficients_.resize(bearing_rows_.rows(), kTerms + 1);
-  bearing_forces_.assign(static_cast<size_t>(bearing_rows_.rows()), {});
+void TrainRecorder::Track(const RowMatrix& rows, Eigen::Index at) {
+  RowMatrix all(tracked_rows_.rows() + rows.rows(), t_.m);
+  all << tracked_rows_.topRows(at), rows, tracked_rows_.bottomRows(tracked_rows_.rows() - at);
+  tracked_rows_ = std::move(all);
+  tracked_coefficients_.resize(tracked_rows_.rows(), kTerms + 1);
+  tracked_.assign(static_cast<size_t>(tracked_rows_.rows()), {});
 }
+
+void TrainRecorder::TrackBearingForces() {
+  if (bearing_rows_ > 0) return;
+  bearing_rows_ = t_.bearing_force_rows.rows();
+  Track(t_.bearing_force_rows, 0);
+}
+
+void TrainRecorder::TrackOutputs(const Eigen::MatrixXd& rows) { Track(rows, tracked_rows_.rows()); }
 
 void TrainRecorder::TakeSeries(std::vector<std::vector<double>>& te,
                                std::vector<std::vector<double>>& force,
@@ -216,14 +227,15 @@ void TrainRecorder::Chunk(double start, double length, const std::vector<int>& s
     ps::Accumulate(acceleration_[static_cast<size_t>(loose_bodies_[l])],
                    ps::Trimmed(accel, kTerms - 1, length), length);
   }
-  // A bearing's force rows act on positions and velocities: one product with the Taylor columns.
-  if (bearing_rows_.rows() > 0) {
-    bearing_coefficients_.noalias() = bearing_rows_ * taylor_;
-    for (size_t r = 0; r < bearing_forces_.size(); ++r) {
-      const ps::Poly f = ps::Trimmed(bearing_coefficients_.row(static_cast<Eigen::Index>(r)).data(),
+  // The tracked rows (bearing forces, couplings) act on positions and velocities: one product
+  // with the Taylor columns.
+  if (tracked_rows_.rows() > 0) {
+    tracked_coefficients_.noalias() = tracked_rows_ * taylor_;
+    for (size_t r = 0; r < tracked_.size(); ++r) {
+      const ps::Poly f = ps::Trimmed(tracked_coefficients_.row(static_cast<Eigen::Index>(r)).data(),
                                      kTerms, length);
-      ps::Accumulate(bearing_forces_[r], f, length);
-      ps::UpdateExtrema(f, length, start, bearing_forces_[r], true);
+      ps::Accumulate(tracked_[r], f, length);
+      ps::UpdateExtrema(f, length, start, tracked_[r], true);
     }
   }
   exact_duration_ += length;
@@ -309,9 +321,11 @@ TrainStatistics TrainRecorder::Result() const {
     }
     out.loose_gears.push_back(g);
   }
-  for (const OutputStatistics& f : bearing_forces_) {
-    out.bearing_forces.push_back(T > 0.0 ? TrainOutputSummary{f.Mean(T), f.Rms(T), f.min, f.max}
-                                         : TrainOutputSummary{});
+  for (size_t r = 0; r < tracked_.size(); ++r) {
+    const OutputStatistics& f = tracked_[r];
+    (static_cast<Eigen::Index>(r) < bearing_rows_ ? out.bearing_forces : out.outputs)
+        .push_back(T > 0.0 ? TrainOutputSummary{f.Mean(T), f.Rms(T), f.min, f.max}
+                           : TrainOutputSummary{});
   }
   // Impacting gears by impact energy per second; the others after them, in body order, rank 0.
   std::stable_sort(out.loose_gears.begin(), out.loose_gears.end(), [](const auto& a, const auto& b) {

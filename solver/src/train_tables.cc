@@ -130,7 +130,22 @@ TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
   t.inertia = Eigen::Map<const Eigen::VectorXd>(train.body_inertia.data(), n);
   t.body_inertia = t.inertia;
   t.input_speed = spec.operating.speed;
-  t.excitation = DistinctOrders(spec.operating.excitation);
+  // Each order as an order of the input shaft's speed, on its shaft by name (like orders on one
+  // shaft summed), and its direction: the torque per unit amplitude on that shaft.
+  std::vector<ExcitationOrder> of_input = spec.operating.excitation;
+  for (size_t i = 0; i < of_input.size(); ++i) {
+    of_input[i].order = ExcitationOrderOfInput(spec, topo, i);
+    of_input[i].on = topo.bodies[static_cast<size_t>(ExcitationBody(spec, topo, i))].name;
+  }
+  t.excitation = DistinctOrders(of_input);
+  t.excitation_directions =
+      Eigen::MatrixXd::Zero(n, static_cast<Eigen::Index>(t.excitation.size()));
+  for (size_t k = 0; k < t.excitation.size(); ++k) {
+    const ExcitationOrder& e = t.excitation[k];
+    const int body = spec.ShaftIndex(e.on);  // a shaft's body is its index
+    t.excitation_directions(body, static_cast<Eigen::Index>(k)) =
+        e.kind == ExcitationKind::kAcceleration ? t.inertia[body] : 1.0;
+  }
   for (const TrainBody& b : topo.bodies) {
     t.body_names.push_back(b.name);
     t.loose.push_back(b.kind == BodyKind::kLooseGear);
@@ -162,8 +177,6 @@ TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
     t.structural_damping += c.damping * w * w.transpose();
   }
   t.force[topo.input_body] += train.input_torque;
-  t.excitation_direction = Eigen::VectorXd::Zero(n);
-  t.excitation_direction[topo.input_body] = t.inertia[topo.input_body];
 
   Eigen::VectorXd rigid(n);
   for (int b = 0; b < n; ++b) rigid[b] = std::abs(topo.bodies[static_cast<size_t>(b)].speed);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <sstream>
 #include <string>
 
@@ -118,6 +119,76 @@ TEST_CASE("neutral at standstill: the fixed output stands and all five loose gea
   const auto& loose = doc["loose_gears"];
   REQUIRE(loose.size() == 5);
   for (const auto& g : loose) CHECK(g["impacts"].get<long>() > 0);
+}
+
+TEST_CASE("the driveline example: couplings carry the torque flow and the flywheel drives",
+          "[cli][train]") {
+  // examples/manual_transmission_driveline.yaml: flywheel -(clutch damper)- input ... output
+  // -(halfshaft)- wheels, 15 N m on the wheels.
+  const std::string file = kExamples + "/manual_transmission_driveline.yaml";
+  const auto check = RunCommand(kExe + " check --json " + file);
+  INFO(check.err);
+  REQUIRE(check.exit_code == 0);
+  const auto model = nlohmann::json::parse(check.out);
+  REQUIRE(model["couplings"].size() == 2);
+  const auto& damper = model["couplings"][0];
+  const auto& halfshaft = model["couplings"][1];
+  CHECK(damper["name"] == "clutch_damper");
+  CHECK(damper["between"][0] == "flywheel");
+  // 9 N m/deg in SI; the damper carries the input torque (flywheel to input: > 0), the halfshaft
+  // the wheels' load, and each twists by its torque over its stiffness (rounding only).
+  CHECK(damper["stiffness_n_m_per_rad"].get<double>() ==
+        Approx(9.0 * 180.0 / std::numbers::pi).epsilon(1e-14));
+  CHECK(damper["mean_torque_n_m"].get<double>() ==
+        Approx(model["input_torque"].get<double>()).epsilon(1e-14));
+  CHECK(halfshaft["mean_torque_n_m"].get<double>() == Approx(15.0).epsilon(1e-14));
+  CHECK(halfshaft["mean_twist_deg"].get<double>() ==
+        Approx(15.0 / 700.0 * 180.0 / std::numbers::pi).epsilon(1e-14));
+  // The flywheel and the wheels carry no gear and turn with the shafts they are coupled to.
+  double input = 0.0, flywheel = 0.0, output = 0.0, wheels = 0.0;
+  for (const auto& b : model["bodies"]) {
+    const double w = b["speed"].get<double>();
+    if (b["name"] == "input") input = w;
+    if (b["name"] == "flywheel") flywheel = w;
+    if (b["name"] == "output") output = w;
+    if (b["name"] == "wheels") wheels = w;
+  }
+  CHECK(flywheel > 0.0);
+  CHECK(input == flywheel);
+  CHECK(wheels == output);
+  CHECK(model["fe"]["free_rotations"] == 1);
+
+  const auto r = RunCommand(kExe + " simulate --json --cycles 20 --transient 5 " + file);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const auto doc = nlohmann::json::parse(r.out);
+  CHECK(doc["state_dim"] == 2 * 9 + 3);  // 5 shafts and 4 loose gears, 1, the engine order
+  CHECK(doc["summary"]["status"] == "success");
+  REQUIRE(doc["couplings"].size() == 2);
+  CHECK(doc["couplings"][1]["name"] == "halfshaft");
+
+  // Without the engine order the train stays in permanent contact near its static state: each
+  // coupling's exact mean twist is its static T / k (the meshes' stiffness variation moves the
+  // shafts by ~1e-6 of that; 1e-4), and its extrema bracket the mean.
+  std::ifstream in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string quiet =
+      testing::ReplaceFirst(text.str(), "amplitude: 600 rad/s^2", "amplitude: 0 rad/s^2");
+  const testing::TempDir dir;
+  const auto still = RunCommand(kExe + " simulate --json --cycles 40 --transient 10 " +
+                                dir.Write("quiet.yaml", quiet).string());
+  INFO(still.err);
+  REQUIRE(still.exit_code == 0);
+  const auto calm = nlohmann::json::parse(still.out);
+  for (size_t c = 0; c < 2; ++c) {
+    const auto& twist = calm["couplings"][c]["twist_rad"];
+    const double expected =
+        model["couplings"][c]["mean_twist_deg"].get<double>() * std::numbers::pi / 180.0;
+    CHECK(twist["mean"].get<double>() == Approx(expected).epsilon(1e-4));
+    CHECK(twist["min"].get<double>() <= twist["mean"].get<double>());
+    CHECK(twist["max"].get<double>() >= twist["mean"].get<double>());
+  }
 }
 
 TEST_CASE("simulate on a train prints the per-mesh table", "[cli][train]") {

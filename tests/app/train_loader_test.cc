@@ -325,5 +325,40 @@ TEST_CASE("a coupling joins two shafts with a stiffness and a damping, in the un
   CHECK(gear.line() > 0);
 }
 
+TEST_CASE("an engine order may be a torque on any shaft", "[loader][train]") {
+  const std::string order = "    - {order: 2, amplitude: 500 rad/s^2}\n";
+  const auto with = [&](const std::string& line) {
+    return testing::ReplaceFirst(testing::kThreeShaftTrainYaml, order, line);
+  };
+  const ExcitationOrder e =
+      LoadAnyGearboxFromString(
+          with("    - {kind: torque, on: b, order: 1.5, amplitude: 30 N*m, phase: 90 deg}\n"))
+          .train.operating.excitation.at(0);
+  CHECK(e.kind == ExcitationKind::kTorque);
+  CHECK(e.on == "b");
+  CHECK(e.order == 1.5);
+  CHECK(e.amplitude == 30.0);
+  CHECK(e.phase == Approx(std::numbers::pi / 2.0).epsilon(1e-15));
+  // The written default: an acceleration of the input shaft.
+  const ExcitationOrder plain =
+      LoadAnyGearboxFromString(testing::kThreeShaftTrainYaml).train.operating.excitation.at(0);
+  CHECK(plain.kind == ExcitationKind::kAcceleration);
+  CHECK(plain.on.empty());
+  // A torque's amplitude is a torque; an acceleration's is not.
+  const InputError unit =
+      testing::LoaderErrorOf(with("    - {kind: torque, order: 2, amplitude: 500 rad/s^2}\n"));
+  CHECK(unit.path() == "operating.excitation[0].amplitude");
+  CHECK(unit.rule().find("torque") != std::string::npos);
+  const InputError motion =
+      testing::LoaderErrorOf(with("    - {kind: motion, order: 2, amplitude: 25 rpm}\n"));
+  CHECK(motion.path() == "operating.excitation[0].kind");
+  CHECK(motion.rule().find("not built yet") != std::string::npos);
+  const InputError shaft =
+      testing::LoaderErrorOf(with("    - {kind: torque, on: g2, order: 2, amplitude: 3 N*m}\n"));
+  CHECK(shaft.path() == "operating.excitation[0].on");
+  CHECK(shaft.rule().find("the file's shafts: a, b, c") != std::string::npos);
+  CHECK(shaft.line() > 0);
+}
+
 }  // namespace
 }  // namespace gearnvh::config

@@ -157,7 +157,7 @@ TEST_CASE("train validate fails on a perturbed state and on a wrong model",
   }
   SECTION("the engine order's amplitude 0.1 % high in the solver's model") {
     TrainTables wrong = f.tables;
-    wrong.excitation_direction *= 1.001;
+    wrong.excitation_directions *= 1.001;
     const gearnvh::TrainReferenceComparison c =
         gearnvh::CompareTrainWithReference(f.tables, wrong, f.z0, f.z0, f.states0, f.times);
     REQUIRE(c.rows.size() == 2);
@@ -208,7 +208,7 @@ TEST_CASE("train validate: segment-run fusion equals stepping and fails on an al
   // The engine order 0.1 % high in the fused runs' model: over a run the TE moves by ~1e-3 of
   // its dynamic change, far above 3e-11 of the TE.
   TrainTables wrong = t;
-  wrong.excitation_direction *= 1.001;
+  wrong.excitation_directions *= 1.001;
   const gearnvh::ValidationRow bad = gearnvh::CompareFusionWithStepping(t, wrong, z0, states0);
   INFO(bad.detail);
   CHECK_FALSE(bad.pass);

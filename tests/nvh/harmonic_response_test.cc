@@ -26,7 +26,6 @@ HarmonicModel TwoBodies(double j1, double j2, double r1, double r2, double k, do
   m.te_vectors = m.mesh_vectors;
   m.mesh_stiffness = {k};
   m.mesh_damping = {c};
-  m.torque_direction = Eigen::Vector2d(1.0, 0.0);
   m.body_angles = Eigen::Matrix2d::Identity();
   return m;
 }
@@ -45,7 +44,7 @@ TEST_CASE("harmonic response: one mesh between two bodies is the 2-DOF closed fo
   for (double w : {0.2, 1.0, 3.0}) {
     const double omega = w * std::sqrt(k / me);
     const Complex e(1.5e-6, -0.4e-6);
-    solver.Solve(omega, {{e}, 0.0}, out);
+    solver.Solve(omega, {{e}, {}}, out);
     const Complex expected = k * e / (k - omega * omega * me + Complex(0.0, omega * c));
     // A 2 x 2 LU: rounding only.
     CHECK(std::abs(out.te[0] - expected) <= 1e-12 * std::abs(expected));
@@ -54,7 +53,7 @@ TEST_CASE("harmonic response: one mesh between two bodies is the 2-DOF closed fo
     // A torque on body 1 alone: delta responds as to an input r1 T / (J1 k) ... through the same
     // transfer: m_e delta'' + c delta' + k delta = m_e r1 T / J1.
     const Complex torque(2.0, 0.5);
-    solver.Solve(omega, {{}, torque}, out);
+    solver.Solve(omega, {{}, {torque}}, out);
     const Complex from_torque =
         me * r1 * torque / j1 / (k - omega * omega * me + Complex(0.0, omega * c));
     CHECK(std::abs(out.te[0] - from_torque) <= 1e-12 * std::abs(from_torque));
@@ -78,15 +77,16 @@ TEST_CASE("harmonic response: equals an RK4 integration to the periodic steady s
   m.te_vectors = {m.mesh_vectors[0], Eigen::Vector4d(0.0, 0.8, -1.2, -0.4)};
   m.mesh_stiffness = {900.0, 600.0};
   m.mesh_damping = {1.5, 0.9};
-  m.torque_direction = Eigen::Vector4d(0.0, 0.0, 0.0, 1.0);
   m.bearing_stiffness = {Eigen::MatrixXd::Zero(3, 4)};
   m.bearing_stiffness[0](0, 0) = 5e3;
   m.bearing_stiffness[0](1, 3) = 2e3;
   m.bearing_damping = {Eigen::MatrixXd::Zero(3, 4)};
   m.bearing_damping[0](0, 0) = 3.0;
-  m.body_angles = Eigen::Matrix<double, 1, 4>(0.0, 1.0, 0.0, 0.0);
+  // Body 0's angle (its speed is checked) and body 1's, which the torque acts on.
+  m.body_angles = Eigen::Matrix<double, 2, 4>();
+  m.body_angles << 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0;
   const double speed = 10.0, omega = 17.0;
-  const HarmonicInput input{{Complex(0.3, 0.1), Complex(-0.2, 0.25)}, Complex(0.5, -1.0)};
+  const HarmonicInput input{{Complex(0.3, 0.1), Complex(-0.2, 0.25)}, {0.0, Complex(0.5, -1.0)}};
   HarmonicSolver solver(m);
   solver.SetSpeed(speed);
   HarmonicResponse out;
@@ -95,7 +95,7 @@ TEST_CASE("harmonic response: equals an RK4 integration to the periodic steady s
   // M q'' + D q' + S q = Re(F e^{i w t}) from rest, RK4, then the Fourier coefficient of each
   // output over the last period (trapezoid: spectrally exact on a smooth periodic signal).
   Eigen::Matrix4d stiffness = m.K, damping = m.C + speed * m.G;
-  Eigen::Vector4cd force = input.torque * m.torque_direction.cast<Complex>();
+  Eigen::Vector4cd force = input.body_torque[1] * Eigen::Vector4cd(0.0, 0.0, 0.0, 1.0);
   for (size_t i = 0; i < 2; ++i) {
     const Eigen::Vector4d v = m.mesh_vectors[i];
     stiffness += m.mesh_stiffness[i] * v * v.transpose();

@@ -83,6 +83,15 @@ TEST_CASE("coupling: speeds pass through it 1:1 and it carries the torque flow",
   CHECK(x[kFlywheelBody] - x[kInputBody] == Approx(train.couplings[0].MeanTwist()).epsilon(1e-10));
   // The output and wheels turn -z: in their own sense the twist is x_out - x_wheels.
   CHECK(x[kOutputBody] - x[kWheelsBody] == Approx(train.couplings[1].MeanTwist()).epsilon(1e-10));
+  // Tier 3 (the structure, the coupling on the body nodes' th_z): the wheels' and the flywheel's
+  // statics hold only the coupling against the load or the input torque, so the twists are the
+  // same T / k whatever the lateral DOF do (a static solve of a reduced model: 1e-8).
+  const TrainTables three = BuildTrainTablesAtTier(spec, train, Tier::kTier3, {});
+  const Eigen::VectorXd angles = three.body_angles * TrainStaticState(three).first.head(three.n);
+  CHECK(angles[kFlywheelBody] - angles[kInputBody] ==
+        Approx(train.couplings[0].MeanTwist()).epsilon(1e-8));
+  CHECK(angles[kOutputBody] - angles[kWheelsBody] ==
+        Approx(train.couplings[1].MeanTwist()).epsilon(1e-8));
 }
 
 TEST_CASE("coupling: the rules name the coupling, its value and why", "[solver][train]") {
@@ -97,7 +106,7 @@ TEST_CASE("coupling: the rules name the coupling, its value and why", "[solver][
   TrainSpec spec = Driveline(500.0, 30.0);
   spec.couplings[0].shaft_b = "g1";  // a gear, not a shaft
   CHECK(error_of(spec).first == "couplings.clutch_damper.between");
-  CHECK_THAT(error_of(spec).second, Catch::Contains("not gears"));
+  CHECK_THAT(error_of(spec).second, Catch::Contains("'g1' is a gear (on shaft 'input')"));
   spec = Driveline(500.0, 30.0);
   spec.couplings[0].shaft_b = "flywheel";
   CHECK_THAT(error_of(spec).second, Catch::Contains("two different shafts"));
@@ -122,16 +131,65 @@ TEST_CASE("coupling: the rules name the coupling, its value and why", "[solver][
   // A fixed shaft does not turn.
   spec = Driveline(500.0, 30.0);
   spec.shafts[kWheelsBody].fixed = true;
+  spec.operating.loads = {{"output", 30.0}};
   CHECK(error_of(spec).first == "couplings.halfshaft.between");
   CHECK_THAT(error_of(spec).second, Catch::Contains("fixed"));
   // A coupled shaft with nothing on it is its own body: it needs an inertia.
   spec = Driveline(500.0, 30.0);
   spec.shafts[kFlywheelBody].inertia = 0.0;
   CHECK(error_of(spec).first == "shafts.flywheel.inertia");
-  // Without the clutch damper the flywheel has no way to turn.
+  // Without the clutch damper the shaft "input" (the speed is given on the flywheel) has no way
+  // to turn.
   spec = Driveline(500.0, 30.0);
   spec.couplings.erase(spec.couplings.begin());
   CHECK(error_of(spec).first == "shafts.input");
+}
+
+TEST_CASE("coupling: one in parallel with a gear path is refused, and so is an elastic shaft",
+          "[solver][train]") {
+  // input -(g1 20 : g2 30)- mid -(g3 30 : g4 20)- output, and a coupling input - output in
+  // parallel (one speed: 20/30 x 30/20). Its preload at assembly is not in the file: refused, at
+  // the coupling whatever order the search meets the paths in (the gears are searched first).
+  TrainSpec spec;
+  spec.name = "parallel";
+  spec.materials["steel"] = Material{206e9, 0.3, 7850.0};
+  spec.shafts = {testing::RigidShaft("input", 2e-3), testing::RigidShaft("mid", 1e-3),
+                 testing::RigidShaft("output", 2e-3)};
+  spec.gears = {testing::TrainGearOf("g1", "input", 20), testing::TrainGearOf("g2", "mid", 30),
+                testing::TrainGearOf("g3", "mid", 30), testing::TrainGearOf("g4", "output", 20)};
+  spec.meshes = {testing::TrainMeshOf("g1", "g2"), testing::TrainMeshOf("g3", "g4")};
+  spec.couplings = {CouplingOf("parallel", "input", "output", 1000.0, 0.0)};
+  spec.operating.input_shaft = "input";
+  spec.operating.speed = 100.0;
+  spec.operating.loads = {{"output", 10.0}};
+  try {
+    ValidateTrainSpec(spec);
+    FAIL("accepted");
+  } catch (const InputError& e) {
+    CHECK(e.path() == "couplings.parallel.between");
+    CHECK_THAT(e.rule(), Catch::Contains("closes a loop"));
+  }
+  // Between shafts at different speeds it is told so, at the coupling.
+  spec.gears[2].gear.teeth = 25;
+  spec.gears[3].gear.teeth = 25;
+  try {
+    ValidateTrainSpec(spec);
+    FAIL("accepted");
+  } catch (const InputError& e) {
+    CHECK(e.path() == "couplings.parallel.between");
+    CHECK_THAT(e.rule(), Catch::Contains("ratios disagree"));
+  }
+  // An elastic shaft has no attachment point for a coupling yet: refused, naming it.
+  TrainSpec elastic = Driveline(500.0, 30.0);
+  elastic.shafts[kFlywheelBody].inertia.reset();
+  elastic.shafts[kFlywheelBody].elastic = testing::ElasticShaftSpec();
+  try {
+    ValidateTrainSpec(elastic);
+    FAIL("accepted");
+  } catch (const InputError& e) {
+    CHECK(e.path() == "couplings.clutch_damper.between");
+    CHECK_THAT(e.rule(), Catch::Contains("elastic shaft 'flywheel'"));
+  }
 }
 
 TEST_CASE("coupling: tier-1 frequencies of a three-inertia chain are the closed form",
@@ -159,18 +217,19 @@ TEST_CASE("coupling: tier-1 frequencies of a three-inertia chain are the closed 
   const double low = std::sqrt((b - root) / 2.0) / (2.0 * std::numbers::pi);
   const double high = std::sqrt((b + root) / 2.0) / (2.0 * std::numbers::pi);
   INFO("closed form " << low << ", " << high << " Hz");
-  // A symmetric eigensolve of a 3 x 3 pencil whose stiffnesses differ by 1e5: 1e-9 relative (the
-  // low root of the quadratic loses ~k2/k1 eps to cancellation, ~1e-11).
+  // A symmetric eigensolve of a 3 x 3 pencil whose stiffnesses (k2 / k1) differ by about 120:
+  // 1e-9 relative (the low root of the quadratic loses ~k2/k1 eps to cancellation).
   CHECK(modes.frequencies_hz[0] == Approx(low).epsilon(1e-9));
   CHECK(modes.frequencies_hz[1] == Approx(high).epsilon(1e-9));
   // The structure (rigid shafts on their supports, the mesh's lateral terms) keeps one free
-  // rotation, and its lowest mode is the clutch damper's: within 1e-3 of tier 1's (the supports'
-  // lateral compliance softens the mesh, which that mode hardly moves: measured 2e-6).
+  // rotation, and its lowest mode is the clutch damper's: within 2e-3 of tier 1's (the supports'
+  // lateral compliance softens the mesh, which that mode hardly moves: measured 4.7e-4; a
+  // coupling left out of the structure moves it to 0 Hz, one at half its stiffness by 29 %).
   const TrainStructure structure = AssembleTrainStructure(spec, train);
   CHECK(structure.free_rotations.cols() == 1);
   const TrainReducedModel full = ReduceTrain(structure, Tier::kTier3);
   REQUIRE(!full.natural_frequencies_hz.empty());
-  CHECK(full.natural_frequencies_hz[0] == Approx(low).epsilon(1e-3));
+  CHECK(full.natural_frequencies_hz[0] == Approx(low).epsilon(2e-3));
 }
 
 // The rattler (input g1 20 -> layshaft g2 30, g3 25 -> loose g4 on the input) behind a flywheel

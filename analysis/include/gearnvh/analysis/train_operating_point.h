@@ -117,6 +117,14 @@ struct TrainBearingForce {
   std::vector<Line> lines;
 };
 
+// A coupling over the recorded window (exact, as the TE): its twist th_a - th_b in the shafts'
+// direction of rotation (rad; the mean holds the static twist T / k) and its torque k twist + c
+// twist' on the second shaft (N m).
+struct TrainCouplingResponse {
+  std::string name;
+  TrainOutputSummary twist, torque;
+};
+
 struct TrainOperatingPoint {
   Tier tier = Tier::kTier1;
   GearTrain train;
@@ -145,6 +153,7 @@ struct TrainOperatingPoint {
   // Per bearing (TrainTables::bearings order) with TrainRunOptions::bearing_forces at tier 2 or
   // higher; empty otherwise or when the run stopped.
   std::vector<TrainBearingForce> bearing_forces;
+  std::vector<TrainCouplingResponse> couplings;  // per coupling, file order; empty if it stopped
   bool ok() const { return summary.info == TrainStepperSummary::Info::kSuccess; }
 };
 

@@ -56,7 +56,6 @@ struct TrainCouplingModel {
   double stiffness = 0.0;     // N m/rad
   double damping = 0.0;       // N m s/rad
   double mean_torque = 0.0;   // N m, signed as TrainTorqueFlow::coupling_torque
-  bool in_loop = false;       // closes a loop: analysed at no mean torque
   double MeanTwist() const { return mean_torque / stiffness; }  // rad
 };
 
@@ -70,6 +69,10 @@ struct GearTrain {
 };
 
 GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& options = {});
+
+// The polar inertia of every body (kg m^2): a shaft's own (rigid `inertia` or its FE's) with its
+// fixed gears' disks; a loose gear's disk.
+std::vector<double> BodyInertias(const TrainSpec& spec, const TrainTopology& topology);
 
 // The train of `at`, a spec that differs from the one `train` was built from only in
 // operating.speed and the amplitudes of operating.excitation, without building its meshes again: a

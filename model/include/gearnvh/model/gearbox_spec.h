@@ -173,10 +173,21 @@ struct ShaftSpec {
   bool operator==(const ShaftSpec&) const = default;
 };
 
+// What an engine order prescribes on its shaft s (docs/gearbox-yaml.md and docs/gear-trains.md,
+// `kind`).
+enum class ExcitationKind {
+  kAcceleration,  // the torque J_s a sin(k W_s t + phi): a per unit of the shaft's own inertia
+  kTorque,        // the torque T sin(k W_s t + phi)
+};
+
 struct ExcitationOrder {
-  double order = 0.0;      // > 0, multiple of the pinion shaft speed
-  double amplitude = 0.0;  // rad/s^2, >= 0: angular acceleration amplitude on the pinion
+  double order = 0.0;      // > 0, multiple of the speed of the shaft it acts on
+  double amplitude = 0.0;  // >= 0: rad/s^2 (kAcceleration) or N m (kTorque)
   double phase = 0.0;      // rad
+  ExcitationKind kind = ExcitationKind::kAcceleration;
+  // The shaft it acts on, in its direction of rotation (a train's shaft name); empty: the input
+  // shaft (schema 1: the pinion's).
+  std::string on{};
 
   bool operator==(const ExcitationOrder&) const = default;
 };

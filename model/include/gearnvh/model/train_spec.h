@@ -147,9 +147,10 @@ struct TrainTopology {
   std::vector<TrainBody> bodies;  // shafts in file order, then loose gears in file order
   std::vector<int> gear_body;     // body of each gear
   int input_body = 0;
-  // The spanning tree the speeds were propagated on: for each body the mesh or the coupling it was
-  // reached through (-1 for neither: the input, a fixed shaft, which stands, and in parent_mesh a
-  // body reached through a coupling), and the meshes and couplings that close a loop.
+  // The spanning tree the speeds were propagated on (meshes first, couplings only to shafts the
+  // meshes do not reach): for each body the mesh or the coupling it was reached through (-1 for
+  // neither: the input, a fixed shaft, which stands, and in parent_mesh a body reached through a
+  // coupling), and the meshes and couplings that close a loop (a coupling there is refused).
   std::vector<int> parent_mesh;
   std::vector<int> parent_coupling;
   std::vector<int> loop_meshes;
@@ -166,9 +167,9 @@ TrainTopology AnalyseTrainTopology(const TrainSpec& spec);
 // Static torque flow: every load resists its body's rotation; the input shaft is driven by the
 // torque that balances them all (power balance, T_in |w_in| = sum T_j |w_j|). A load's power
 // passes through every mesh and coupling on the spanning-tree path from its body to the input; a
-// mesh carrying power P transmits T = P / |w_b| on gear b, a coupling T = P / |w|. A mesh or
-// coupling that closes a loop is not on the tree and carries nothing (the split is statically
-// indeterminate).
+// mesh carrying power P transmits T = P / |w_b| on gear b, a coupling T = P / |w|. A mesh that
+// closes a loop is not on the tree and carries nothing (the split is statically indeterminate; a
+// coupling never closes one: ValidateTrainSpec).
 struct TrainTorqueFlow {
   double input_torque = 0.0;               // N m driving the input shaft
   std::vector<double> transmitted_torque;  // per mesh, N m on gear b (>= 0)
@@ -241,6 +242,14 @@ double FirstMeshFrequency(const TrainSpec& spec, const TrainTopology& topology, 
 // The operating limits of ValidateTrainSpec alone (tooth load per mesh, excitation on the input
 // shaft, run length), for a spec whose names, speed and topology are already valid.
 void ValidateTrainLimits(const TrainSpec& spec, const TrainTopology& topology);
+// The body excitation order i acts on (its `on` shaft; the input shaft when empty), and its order
+// of the input shaft's speed: order k |W_s| / W_in.
+int ExcitationBody(const TrainSpec& spec, const TrainTopology& topology, size_t order);
+double ExcitationOrderOfInput(const TrainSpec& spec, const TrainTopology& topology, size_t order);
+// The excitation rules of ValidateTrainLimits: each order's speed fluctuation on its shaft below
+// the shaft's speed (an acceleration order a / (k W_s); a torque order T / (J_train k W_s), the
+// train's inertia referred rigidly to the shaft), and one shaft and kind per frequency.
+void RequireExcitationWithinSpeed(const TrainSpec& spec, const TrainTopology& topology);
 // Its tooth-load rule alone (every mesh's unit load from StaticTorqueFlow <= kMaxUnitLoad, the
 // error at the load sending the mesh most power): what changes with speed when a viscous drag acts.
 void RequireTrainToothLoads(const TrainSpec& spec, const TrainTopology& topology);

@@ -87,11 +87,13 @@ struct CampbellData {
 std::vector<OrderLine> GearOrderLines(int pinion_teeth, int wheel_teeth,
                                       const std::vector<ExcitationOrder>& excitation = {});
 
-// The engine or motor orders of the file's excitation (orders of the reference shaft, the
-// pinion's or the input shaft's) as lines "excitation 2x"; one at the order of an existing line
-// joins its label ("2x pinion = excitation 2x") instead.
+// The engine or motor orders of the file's excitation as lines "excitation 2x" ("excitation 2x
+// layshaft" for an order of another shaft), at `reference_orders[i]` (orders of the reference
+// shaft, the pinion's or the input shaft's; empty: each order as written); one at the order of an
+// existing line joins its label ("2x pinion = excitation 2x") instead.
 void AddExcitationLines(std::vector<OrderLine>& lines,
-                        const std::vector<ExcitationOrder>& excitation);
+                        const std::vector<ExcitationOrder>& excitation,
+                        const std::vector<double>& reference_orders = {});
 
 // The tier linearised in drive contact at the mean mesh stiffness, with the mesh
 // damping, and the physical model's energy classes and disks for mode identification.

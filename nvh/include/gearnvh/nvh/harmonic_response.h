@@ -3,11 +3,12 @@
 // every mesh i on its loaded flank at its mean stiffness k_i, its damping c_i and its approach
 // delta_i = v_i^T q:
 //   M q'' + (C + W G + sum_i c_i v_i v_i^T) q' + (K + sum_i k_i v_i v_i^T) q
-//     = sum_i k_i v_i e_i(t) + f tau(t),
+//     = sum_i k_i v_i e_i(t) + sum_b a_b tau_b(t),
 // W the input shaft's speed (G per unit input speed), e_i the mesh's displacement input (its loaded
-// static transmission error and the gears' errors), tau a torque on the input shaft along f. One
-// line e_i = Re(E_i e^{i w t}), tau = Re(T e^{i w t}) gives q = Re(Q e^{i w t}) with
-//   Z(w) Q = sum_i k_i v_i E_i + f T,   Z(w) = K + sum k_i v_i v_i^T - w^2 M
+// static transmission error and the gears' errors), tau_b a torque on body b (a_b its running
+// angle's row). One line e_i = Re(E_i e^{i w t}), tau_b = Re(T_b e^{i w t}) gives q = Re(Q e^{i w
+// t}) with
+//   Z(w) Q = sum_i k_i v_i E_i + sum_b a_b T_b,   Z(w) = K + sum k_i v_i v_i^T - w^2 M
 //                                                + i w (C + W G + sum c_i v_i v_i^T),
 // the mesh force F_i = (k_i + i w c_i) v_i^T Q - k_i E_i (the time-domain solver's mesh force: its
 // damping acts on the approach, its error input through the stiffness), the mesh's TE t_i^T Q
@@ -27,7 +28,6 @@ struct HarmonicModel {
   std::vector<Eigen::VectorXd> mesh_vectors;         // v_i of the loaded flank
   std::vector<Eigen::VectorXd> te_vectors;           // t_i, the drive flank's (one per mesh)
   std::vector<double> mesh_stiffness, mesh_damping;  // k_i (N/m), c_i (N s/m)
-  Eigen::VectorXd torque_direction;                  // f: a unit torque on the input shaft
   // Per bearing: rows x, y, z of its force on the housing per unit q (stiffness and damping).
   std::vector<Eigen::MatrixXd> bearing_stiffness, bearing_damping;
   Eigen::MatrixXd body_angles;  // rows: each body's running angle a_b^T
@@ -37,8 +37,8 @@ struct HarmonicModel {
 };
 
 struct HarmonicInput {
-  std::vector<std::complex<double>> mesh;  // E_i, m (empty: none)
-  std::complex<double> torque = 0.0;       // T, N m
+  std::vector<std::complex<double>> mesh;         // E_i, m (empty: none)
+  std::vector<std::complex<double>> body_torque;  // T_b, N m, per body (empty: none)
 };
 
 struct HarmonicResponse {

@@ -183,15 +183,16 @@ double HighestOrderFrequency(const std::vector<ExcitationOrder>& orders, double 
 void SetOrderStates(const std::vector<ExcitationOrder>& orders, double speed, double t,
                     int first_slot, Eigen::Ref<Eigen::VectorXd> z);
 // Adds the orders' exosystem to a generator with n coordinates: per order k, its sine state (slot
-// first_slot + 2k) drives the accelerations through `acceleration` (M^-1 d, per unit of s) and
-// W_k = w_k [[0, 1], [-1, 0]] turns its two states.
+// first_slot + 2k) drives the accelerations through column k of `acceleration` (M^-1 d_k, per unit
+// of its amplitude) and W_k = w_k [[0, 1], [-1, 0]] turns its two states.
 void AddOrderColumns(const std::vector<ExcitationOrder>& orders, double speed, int n,
-                     int first_slot, const Eigen::VectorXd& acceleration,
+                     int first_slot, const Eigen::MatrixXd& acceleration,
                      Eigen::Ref<Eigen::MatrixXd> A);
 
-// The orders with equal `order` merged into one (sum_k a_k sin(theta + phi_k) = A sin(theta + Phi),
-// A e^{i Phi} = sum_k a_k e^{i phi_k}), in their first order of appearance: two exosystems of one
-// frequency would make every decomposition's eigenvalues +-i w double (ill-conditioned).
+// The orders with equal `order`, kind and shaft merged into one (sum_k a_k sin(theta + phi_k) =
+// A sin(theta + Phi), A e^{i Phi} = sum_k a_k e^{i phi_k}), in their first order of appearance: two
+// exosystems of one frequency would make every decomposition's eigenvalues +-i w double
+// (ill-conditioned); a train's validation refuses one frequency on two shafts or kinds.
 std::vector<ExcitationOrder> DistinctOrders(const std::vector<ExcitationOrder>& orders);
 
 // Builds the tables for one operating point. `spec` gives speed, excitation, damping and friction.

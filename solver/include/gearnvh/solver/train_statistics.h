@@ -83,6 +83,8 @@ struct TrainStatistics {
   // With TrainRecorder::TrackBearingForces, per bearing force row (TrainTables::
   // bearing_force_rows: x, y, z of each bearing) its force on the housing, N; empty otherwise.
   std::vector<TrainOutputSummary> bearing_forces;
+  // With TrainRecorder::TrackOutputs, per row of its matrix (in order); empty otherwise.
+  std::vector<TrainOutputSummary> outputs;
 };
 
 class TrainRecorder {
@@ -124,6 +126,9 @@ class TrainRecorder {
   // From now on, also the exact statistics of every bearing force row (TrainTables::
   // bearing_force_rows; TrainStatistics::bearing_forces). Storage is reserved here.
   void TrackBearingForces();
+  // From now on, also the exact statistics of each row of `rows` (m columns: any linear output
+  // r^T z, e.g. a coupling's twist or torque; TrainStatistics::outputs). Storage is reserved here.
+  void TrackOutputs(const Eigen::MatrixXd& rows);
   // Keeps the first `max_events` contact changes of the recorded window, in the order they are
   // located (storage reserved here, so recording allocates nothing).
   void KeepEvents(long max_events);
@@ -176,10 +181,13 @@ class TrainRecorder {
   std::vector<std::vector<ContactState>> contact_series_;
   std::vector<std::vector<double>> bearing_series_;
   Eigen::VectorXd bearing_values_;
-  // Bearing force rows (TrainTables::bearing_force_rows) on the whole state, their chunk
-  // coefficients and statistics (TrackBearingForces).
-  RowMatrix bearing_rows_, bearing_coefficients_;
-  std::vector<OutputStatistics> bearing_forces_;
+  // The tracked rows on the whole state: the bearing force rows (TrainTables::
+  // bearing_force_rows, TrackBearingForces) first, then TrackOutputs's; their chunk coefficients
+  // and statistics.
+  RowMatrix tracked_rows_, tracked_coefficients_;
+  std::vector<OutputStatistics> tracked_;
+  Eigen::Index bearing_rows_ = 0;
+  void Track(const RowMatrix& rows, Eigen::Index at);
   long keep_events_ = 0, window_events_ = 0;
   std::vector<TrainEventRecord> events_;
 };

@@ -13,20 +13,20 @@
 // backlash/2, c_i = 2 zeta_i sqrt(kbar_i m_e,i), m_e,i = J_a J_b / (J_a r_b,b^2 + J_b r_b,a^2) from
 // the bodies' polar inertias. For the contact tuple sigma = (j_i, s_i)_i of a grid segment:
 //   z' = A_sigma z,  A = [[0, I, 0, 0], [-M^-1 K_s, -M^-1 C_s, M^-1 f_s, M^-1 D], [0, 0, 0, W]]
-// (D = [d, 0] per order: the excitation drives through the sine state; W = diag(w_k [[0, 1],
-// [-1, 0]]))
+// (D = [d_k, 0] per order: the excitation drives through the sine state, d_k the torque per unit
+// amplitude on the shaft s it acts on, J_s e_s for an acceleration order and e_s for a torque
+// order; w_k = k |W_s|, k the order of that shaft's speed; W = diag(w_k [[0, 1], [-1, 0]]))
 //   K_s = sum_{i in drive} k+_ij v_i v_i^T + sum_{i in back} k-_ij v_i v_i^T,  C_s likewise with
 //   c_i, f_s = f + sum_{drive} k+_ij (e_ij + b_i) v_i + sum_{back} k-_ij (e_ij - b_i) v_i,
 // f the constant torques (every load resists its body, the input body is driven by the torque that
-// balances them: the free rotation carries no mean torque), d = J_in e_in (the excitation acts on
-// the input body as J_in s). Gaps (rows on z): g+_i = v_i^T x - e_ij - b_i (drive while > 0),
-// g-_i = v_i^T x - e_ij + b_i (back while < 0).
-// Tooth friction (mu_i = the mesh's friction_coefficient > 0), as the pair (component_model.h):
-// the normal force N = k g + c g' of a flank acts along u+_ij = v_i + mu_i w+_ij (drive) or
-// u-_ij = v_back,i - mu_i w-_ij (back), w_ij = sigma_ij t_i + a1_ij arm_a + a2_ij arm_b the
-// segment's friction vector (MeshSegment: sigma and arms per flank, the segmentation splits at the
-// pitch point, where friction reverses). Tier 1: t = 0, arm_a = e_a and arm_b = -e_b (the gears'
-// running angles; the pair's wheel angle about +z is -theta_b), so in contact the generator holds
+// balances them: the free rotation carries no mean torque). Gaps (rows on z): g+_i = v_i^T x - e_ij
+// - b_i (drive while > 0), g-_i = v_i^T x - e_ij + b_i (back while < 0). Tooth friction (mu_i = the
+// mesh's friction_coefficient > 0), as the pair (component_model.h): the normal force N = k g + c
+// g' of a flank acts along u+_ij = v_i + mu_i w+_ij (drive) or u-_ij = v_back,i - mu_i w-_ij
+// (back), w_ij = sigma_ij t_i + a1_ij arm_a + a2_ij arm_b the segment's friction vector
+// (MeshSegment: sigma and arms per flank, the segmentation splits at the pitch point, where
+// friction reverses). Tier 1: t = 0, arm_a = e_a and arm_b = -e_b (the gears' running angles; the
+// pair's wheel angle about +z is -theta_b), so in contact the generator holds
 //   K_s = sum k_ij u_ij v_i^T,  C_s = sum c_i u_ij v_i^T,  f_s = f + sum k_ij (e_ij +- b_i) u_ij,
 // non-symmetric rank-one terms; the error column is M^-1 k_ij u_ij. Gaps stay on v_i. The free
 // rotation r still has K_s r = C_s r = 0 (v_i^T r = 0), but r^T u_ij = mu r^T w_ij != 0: friction
@@ -137,7 +137,10 @@ struct TrainTables {
   Eigen::VectorXd body_inertia;          // J per body, kg m^2, at every tier
   Eigen::VectorXd force;                 // f: constant torques, N m (friction loss included)
   double friction_loss_torque = 0.0;     // dT, the mean friction loss the input supplies, N m
-  Eigen::VectorXd excitation_direction;  // d = J_in e_in
+  // Per engine order k (excitation[k]) its direction d_k, columns of an n x K matrix: the torque
+  // per unit of its amplitude on the shaft it acts on (tier 1: J_s e_s for an acceleration order,
+  // e_s for a torque order; a reduced tier: B^T of that).
+  Eigen::MatrixXd excitation_directions;
   // From tier 2 on, the structure's bearings (TrainStructure::bearings) and the rows on z of each
   // one's force on the housing, rows 3b, 3b + 1, 3b + 2 for x, y, z: diag(k_r, k_r, k_a) u + c u'
   // at its point (BearingPointRows). None at tier 1, which has no lateral DOF.
@@ -149,6 +152,9 @@ struct TrainTables {
   // a term.
   Eigen::MatrixXd structural_stiffness, structural_damping;
   double input_speed = 0.0;  // rad/s
+  // The engine orders, each as an order of the input shaft's speed (ExcitationOrderOfInput:
+  // k |W_s| / W_in) with its amplitude as written (rad/s^2 or N m) and phase; orders at one
+  // frequency on one shaft summed (DistinctOrders).
   std::vector<ExcitationOrder> excitation;
   std::vector<TrainMeshTable> meshes;
   // The free rotation r (th_j ~ |w_j|, M-normalised; K_s r = 0 and v_i^T r = 0 for every tuple)
@@ -204,8 +210,9 @@ struct TrainTables {
   // Adds the error inputs' columns M^-1 k_ij v_i of the meshes in contact to a generator.
   void AddErrorColumns(const std::vector<int>& segments, const std::vector<ContactState>& states,
                        Eigen::Ref<Eigen::MatrixXd> A) const;
-  // The excitation s(t), rad/s^2, and its largest frequency max_k w_k (0 without orders), rad/s.
-  double Excitation(double t) const;
+  // The orders' torque sum_k d_k a_k sin(w_k t + phi_k) on the n coordinates at time t, and their
+  // largest frequency max_k w_k (0 without orders), rad/s.
+  Eigen::VectorXd ExcitationTorque(double t) const;
   double HighestExcitationFrequency() const;
   double InputRevolution() const;  // 2 pi / input speed, s
 };
