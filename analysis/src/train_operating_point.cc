@@ -40,9 +40,9 @@ std::vector<std::string> TrainWarnings(const GearTrain& train, const TrainTables
   return out;
 }
 
-// The shaft-order sources of the spectra: the input shaft ("fin") when the file has engine orders
-// or its gears carry errors, and every other body whose gears carry runout or pitch errors
-// ("f_<body>"), at its nominal rotation frequency.
+// The shaft-order sources of the spectra: the input shaft ("fin") when an engine order acts on it
+// or its gears carry errors, and every other body an engine order acts on or whose gears carry
+// runout or pitch errors ("f_<body>"), at its nominal rotation frequency.
 std::vector<ShaftOrderSource> ShaftOrderSources(const TrainSpec& spec, const GearTrain& train,
                                                 const TrainTables& tables) {
   const TrainTopology& topo = train.topology;
@@ -54,9 +54,12 @@ std::vector<ShaftOrderSource> ShaftOrderSources(const TrainSpec& spec, const Gea
                                    [](double f) { return f != 0.0; });
     if (runout || pitch) carries[static_cast<size_t>(topo.gear_body[g])] = true;
   }
+  // And the shafts the engine orders act on (orders of their own speeds).
+  for (size_t i = 0; i < spec.operating.excitation.size(); ++i)
+    carries[static_cast<size_t>(ExcitationBody(spec, topo, i))] = true;
   const double to_hz = 1.0 / (2.0 * std::numbers::pi);
   std::vector<ShaftOrderSource> sources;
-  if (!tables.excitation.empty() || carries[static_cast<size_t>(topo.input_body)])
+  if (carries[static_cast<size_t>(topo.input_body)])
     sources.push_back({"fin", tables.input_speed * to_hz});
   for (size_t b = 0; b < topo.bodies.size(); ++b) {
     if (!carries[b] || static_cast<int>(b) == topo.input_body) continue;
@@ -240,11 +243,11 @@ void MeshSidebands(const TrainSpec& spec, const TrainRunOptions& options,
                    const SpectrumWindow& window, const TrainRecorder& recorder, double kept_from,
                    bool ok, TrainOperatingPoint& op) {
   const TrainTables& tables = op.tables;
-  // Shaft-order content comes from the engine orders (orders of the input shaft, up to the
-  // highest) and from the runout and pitch errors of gears (orders of the bodies that carry
-  // them). The common period holds whole revolutions of both, so their lines sit on bins.
+  // Shaft-order content comes from the engine orders (orders of the shafts they act on, up to the
+  // highest written) and from the runout and pitch errors of gears (orders of the bodies that
+  // carry them). The common period holds whole revolutions of both, so their lines sit on bins.
   op.sideband_options.shaft_order_sources = !tables.excitation.empty() || tables.error_inputs > 0;
-  for (const ExcitationOrder& e : tables.excitation) {
+  for (const ExcitationOrder& e : spec.operating.excitation) {
     op.sideband_options.orders =
         std::max(op.sideband_options.orders, static_cast<int>(std::ceil(e.order)));
   }

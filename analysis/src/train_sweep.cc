@@ -129,7 +129,7 @@ RunCostEstimate EstimateTrainSweepCost(const TrainSpec& spec, const TrainSweepOp
         static_cast<double>(options.cycles + options.transient) * tables.meshes.front().period;
     const RunCostEstimate cost = EstimateRunCost(tables, seconds, &at);
     if (!cheapest || cost.wall_s < cheapest->wall_s) cheapest = cost;
-    if (transient != nullptr && speed == range.Point(range.points - 1)) {
+    if (transient != nullptr && speed == std::max(range.Point(0), range.Point(range.points - 1))) {
       *transient = TransientDecayWarning(
           tables, static_cast<double>(options.transient) * tables.meshes.front().period,
           options.transient, options.names("transient"));
@@ -158,8 +158,9 @@ TrainSweepResult RunTrainSweep(const TrainSpec& spec, const TrainSweepOptions& o
     const RunCostEstimate cost = EstimateTrainSweepCost(spec, options, first, &transient);
     if (!transient.empty() && options.before_run_warning) {
       const DisplayUnit& unit = spec.operating.speed_unit;
+      const SweepRange& range = spec.analysis.speed_sweep;
       options.before_run_warning(fmt::format("at {:.6g} {} (the sweep's highest speed): {}",
-                                             spec.analysis.speed_sweep.to * unit.per_si,
+                                             std::max(range.from, range.to) * unit.per_si,
                                              unit.symbol, transient));
     }
     const std::string what = options.ranks > 1

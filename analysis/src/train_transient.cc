@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -10,6 +11,14 @@
 #include "gearnvh/solver/train_rate_bound.h"
 
 namespace gearnvh {
+namespace {
+
+// A damping ratio -Re lambda / |lambda| below this counts as undamped (a lateral mode damped only
+// by the bearings' rounding, or a mesh without damping): 1e-3 is far below any driveline's or
+// mesh's damping (a few % of critical) and far above rounding.
+constexpr double kUndamped = 1e-3;
+
+}  // namespace
 
 std::optional<DecayingMode> SlowestDecayingMode(const TrainTables& t) {
   const int n = t.n;
@@ -22,10 +31,17 @@ std::optional<DecayingMode> SlowestDecayingMode(const TrainTables& t) {
   a.bottomRightCorner(n, n) = -(t.inertia.cwiseInverse().asDiagonal() * p.C);
   const Eigen::EigenSolver<Eigen::MatrixXd> eig(a, false);
   if (eig.info() != Eigen::Success) return std::nullopt;
+  double largest = 0.0;
+  for (const std::complex<double>& lambda : eig.eigenvalues())
+    largest = std::max(largest, std::abs(lambda));
   std::optional<DecayingMode> slowest;
   for (const std::complex<double>& lambda : eig.eigenvalues()) {
-    // Oscillatory and decaying: a real pair's rounding (|Im| ~ eps |lambda|) is not a mode.
-    if (!(lambda.imag() > 1e-8 * std::abs(lambda)) || !(lambda.real() < 0.0)) continue;
+    // Not a mode: the free and fixed rotations' zeros (their rounding, ~eps of the largest,
+    // can be complex). Not oscillatory: a real eigenvalue (a damped rotation). Undamped: a
+    // damping ratio below kUndamped, which no transient removes.
+    if (std::abs(lambda) <= 1e-6 * largest || !(lambda.imag() > 1e-8 * std::abs(lambda)) ||
+        !(-lambda.real() > kUndamped * std::abs(lambda)))
+      continue;
     if (!slowest || -lambda.real() < slowest->decay_rate) {
       slowest = DecayingMode{lambda.imag() / (2.0 * std::numbers::pi), -lambda.real()};
     }

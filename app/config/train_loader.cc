@@ -1,6 +1,9 @@
 // Schema gearnvh/2 (gear trains): the document reader and the loader of either schema.
 #include <yaml-cpp/yaml.h>
 
+#include <tuple>
+#include <utility>
+
 #include "gearbox_loader.h"
 #include "gearnvh/model/gearbox_spec_limits.h"
 #include "gearnvh/model/train_spec.h"
@@ -19,6 +22,25 @@ std::string ListText(const YAML::Node& n) {
     s += (i == 0 ? "" : ", ") + (n[i].IsScalar() ? n[i].Scalar() : Describe(n[i]));
   }
   return s + "]";
+}
+
+// `key`: a list of two names of `what` ("gears: [g1, g2]"), each without control characters.
+std::pair<std::string, std::string> ReadNamePair(Reader& r, const YAML::Node& map,
+                                                 const std::string& path, const std::string& key,
+                                                 const std::string& what) {
+  const std::string p = Join(path, key);
+  const YAML::Node pair = r.Child(map, path, key, true);
+  if (!pair.IsSequence() || pair.size() != 2 || !pair[0].IsScalar() || !pair[1].IsScalar()) {
+    r.Fail(p, pair, ListText(pair),
+           pair.IsSequence()
+               ? "must be a list of two " + what + " names, not " + std::to_string(pair.size())
+               : "must be a list of two " + what + " names");
+  }
+  r.Remember(p, pair, "");
+  for (size_t i = 0; i < 2; ++i) {
+    r.RequireNoControlCharacters(p + "[" + std::to_string(i) + "]", pair[i], pair[i].Scalar());
+  }
+  return {pair[0].Scalar(), pair[1].Scalar()};
 }
 
 // couplings: {name: {between: [shaft, shaft], stiffness, damping}}: linear spring-dampers.
@@ -40,18 +62,7 @@ std::vector<TrainCoupling> ReadCouplings(Reader& r, const YAML::Node& root) {
              "`damping`); multi-stage stiffness and hysteresis are planned (docs/gear-trains.md, "
              "\"Couplings\")");
     }
-    const YAML::Node between = r.Child(kv.second, p, "between", true);
-    if (!between.IsSequence() || between.size() != 2 || !between[0].IsScalar() ||
-        !between[1].IsScalar()) {
-      r.Fail(Join(p, "between"), between, ListText(between), "must be a list of two shaft names");
-    }
-    r.Remember(Join(p, "between"), between, "");
-    for (size_t i = 0; i < 2; ++i) {
-      r.RequireNoControlCharacters(Join(p, "between") + "[" + std::to_string(i) + "]", between[i],
-                                   between[i].Scalar());
-    }
-    c.shaft_a = between[0].Scalar();
-    c.shaft_b = between[1].Scalar();
+    std::tie(c.shaft_a, c.shaft_b) = ReadNamePair(r, kv.second, p, "between", "shaft");
     c.stiffness = r.Quantity(kv.second, p, "stiffness", Dimension::kRotationalStiffness);
     c.stiffness_unit =
         DisplayUnitOf(r.Find(p + ".stiffness").raw, Dimension::kRotationalStiffness);
@@ -133,20 +144,7 @@ TrainSpec ReadTrainDocument(Reader& r, const YAML::Node& root) {
              "must be bodies or gears");
     }
     mesh.effective_mass = mass == "gears" ? MeshEffectiveMass::kGears : MeshEffectiveMass::kBodies;
-    const YAML::Node pair = r.Child(item, p, "gears", true);
-    if (!pair.IsSequence() || pair.size() != 2 || !pair[0].IsScalar() || !pair[1].IsScalar()) {
-      r.Fail(Join(p, "gears"), pair, ListText(pair),
-             pair.IsSequence()
-                 ? "must be a list of two gear names, not " + std::to_string(pair.size())
-                 : std::string("must be a list of two gear names"));
-    }
-    r.Remember(Join(p, "gears"), pair, "");
-    for (size_t i = 0; i < 2; ++i) {
-      r.RequireNoControlCharacters(Join(p, "gears") + "[" + std::to_string(i) + "]", pair[i],
-                                   pair[i].Scalar());
-    }
-    mesh.gear_a = pair[0].Scalar();
-    mesh.gear_b = pair[1].Scalar();
+    std::tie(mesh.gear_a, mesh.gear_b) = ReadNamePair(r, item, p, "gears", "gear");
     spec.meshes.push_back(mesh);
   });
 

@@ -187,8 +187,7 @@ int Main(int argc, char** argv) {
                                "Unrecorded mesh cycles first (default: analysis.transient_cycles)"),
       0L, 100000000L);
   simulate_cmd->add_option("--out", simulate.out,
-                           "Write trajectory.csv, events.csv and results.json into this directory "
-                           "(a gear train: results.json)");
+                           "Write trajectory.csv, events.csv and results.json into this directory");
   simulate_cmd->add_option(
       "--uff", simulate.uff,
       "Write TE and mesh force histories and the TE spectrum as UFF dataset 58");

@@ -169,7 +169,14 @@ void SetTrainParameter(TrainSpec& spec, const std::string& name, double value,
                    std::to_string(spec.operating.excitation[i].order);
       }
       RequireIndex(*p, spec.operating.excitation.size(), name, field, entries);
-      spec.operating.excitation[p->index].amplitude = value;
+      ExcitationOrder& order = spec.operating.excitation[p->index];
+      if (order.kind == ExcitationKind::kTorque) {
+        // Axes carry one unit per parameter name (rad/s^2 here): a torque's would be mislabelled.
+        throw InputError(field, 0, name,
+                         "is the amplitude of a torque order (N m), which is not an axis yet: "
+                         "an axis varies an acceleration order's amplitude (rad/s^2)");
+      }
+      order.amplitude = value;
       return;
     }
     case TrainParameter::kBacklash:

@@ -248,38 +248,29 @@ double ExcitationOrderOfInput(const TrainSpec& spec, const TrainTopology& topolo
 
 void RequireExcitationWithinSpeed(const TrainSpec& spec, const TrainTopology& topology) {
   const TrainOperating& op = spec.operating;
-  // The whole train's inertia referred to body s, rigid: sum_b J_b (W_b / W_s)^2 (fixed shafts
-  // stand; a loose gear is taken as turning with its mesh).
-  const auto referred_inertia = [&](int s) {
-    const std::vector<double> inertia = BodyInertias(spec, topology);
-    double sum = 0.0;
-    for (size_t b = 0; b < topology.bodies.size(); ++b) {
-      const double ratio = topology.bodies[b].speed / topology.bodies[static_cast<size_t>(s)].speed;
-      sum += inertia[b] * ratio * ratio;
-    }
-    return sum;
-  };
+  const std::vector<double> inertia =
+      op.excitation.empty() ? std::vector<double>{} : BodyInertias(spec, topology);
   for (size_t i = 0; i < op.excitation.size(); ++i) {
     const ExcitationOrder& e = op.excitation[i];
     const int body = ExcitationBody(spec, topology, i);
     const double speed = std::abs(topology.bodies[static_cast<size_t>(body)].speed);
-    const std::string& shaft = topology.bodies[static_cast<size_t>(body)].name;
-    // An acceleration order's speed fluctuation a / (k W_s) on its own shaft; a torque order's
-    // that of the whole train turning rigidly, a = T / J_referred.
+    const std::string shaft = (body == topology.input_body ? "input shaft '" : "shaft '") +
+                              topology.bodies[static_cast<size_t>(body)].name + "'";
+    // The speed fluctuation a / (k W_s) the shaft would have on its own: a torque order's a = T /
+    // J_s (one rule for both kinds; coupled to the rest, the shaft swings less).
     const bool torque = e.kind == ExcitationKind::kTorque;
-    const double acceleration = torque ? e.amplitude / referred_inertia(body) : e.amplitude;
+    const double acceleration =
+        torque ? e.amplitude / inertia[static_cast<size_t>(body)] : e.amplitude;
     const double fluctuation = acceleration / (e.order * speed);
     if (fluctuation <= speed) continue;
     throw InputError(
         "operating.excitation[" + std::to_string(i) + "].amplitude", 0,
         MessageNumber(e.amplitude) + (torque ? " N m" : " rad/s^2"),
-        fmt::format("makes the speed fluctuation {} = {} of the shaft '{}' exceed its mean speed "
-                    "{}: the shaft would turn backwards, and the model assumes a steady mean "
-                    "speed",
-                    torque ? "T / (J_train order speed), J_train the whole train's inertia "
-                             "referred to it,"
-                           : "a / (order x speed)",
-                    InUnit(fluctuation, op.speed_unit), shaft, InUnit(speed, op.speed_unit)));
+        fmt::format(
+            "makes the speed fluctuation {} = {} of the {} exceed its mean speed {}: the "
+            "shaft would turn backwards, and the model assumes a steady mean speed",
+            torque ? "T / (J order x speed), J the shaft's polar inertia," : "a / (order x speed)",
+            InUnit(fluctuation, op.speed_unit), shaft, InUnit(speed, op.speed_unit)));
   }
   // One shaft and kind per frequency: orders are summed per shaft, and two shafts' orders at one
   // frequency would share one oscillator of the exact solver's inputs.
@@ -292,11 +283,12 @@ void RequireExcitationWithinSpeed(const TrainSpec& spec, const TrainTopology& to
       if (ExcitationBody(spec, topology, i) == ExcitationBody(spec, topology, j) &&
           a.kind == b.kind)
         continue;
-      throw InputError("operating.excitation[" + std::to_string(i) + "].order", 0,
-                       MessageNumber(a.order),
-                       "has the frequency of operating.excitation[" + std::to_string(j) +
-                           "] but another shaft or kind: orders at one frequency act on one "
-                           "shaft, as one kind (give them as one order)");
+      throw InputError(
+          "operating.excitation[" + std::to_string(i) + "].order", 0, MessageNumber(a.order),
+          fmt::format("has the frequency of operating.excitation[{}] ({:.6g} x the input shaft's "
+                      "speed) but another shaft or kind: orders at one frequency act on one "
+                      "shaft, as one kind (give them as one order)",
+                      j, fi));
     }
   }
 }

@@ -229,7 +229,7 @@ std::vector<ExcitationOrder> DistinctOrders(const std::vector<ExcitationOrder>& 
   for (const ExcitationOrder& e : orders) {
     const std::complex<double> phasor = std::polar(e.amplitude, e.phase);
     const auto same = std::find_if(out.begin(), out.end(), [&](const ExcitationOrder& o) {
-      return o.order == e.order && o.kind == e.kind && o.on == e.on;
+      return std::abs(o.order - e.order) <= 1e-9 * o.order && o.kind == e.kind && o.on == e.on;
     });
     if (same == out.end()) {
       out.push_back(e);

@@ -62,12 +62,12 @@ TEST_CASE("the slowest decaying mode is the clutch damper's, as two inertias on 
                               "--transient")
             .empty());
   // Without the coupling's damper only the meshes' damping (which that mode hardly strains) damps
-  // it: still the slowest, at its undamped frequency, and far slower to die out.
+  // it, below a damping ratio of 1e-3: undamped for this purpose (no transient removes it), so the
+  // slowest reported is a mesh mode, far above it.
   const TrainSpec undamped = FlywheelRattler(k, 0.0);
   const auto other = SlowestDecayingMode(BuildTrainTables(undamped, BuildGearTrain(undamped)));
   REQUIRE(other);
-  CHECK(other->frequency_hz == Approx(std::sqrt(k / j) / (2.0 * std::numbers::pi)).epsilon(1e-3));
-  CHECK(other->decay_rate < 0.01 * sigma);
+  CHECK(other->frequency_hz > 10.0 * f);
 }
 
 }  // namespace

@@ -332,12 +332,12 @@ TEST_CASE("an engine order may be a torque on any shaft", "[loader][train]") {
   };
   const ExcitationOrder e =
       LoadAnyGearboxFromString(
-          with("    - {kind: torque, on: b, order: 1.5, amplitude: 30 N*m, phase: 90 deg}\n"))
+          with("    - {kind: torque, on: b, order: 1.5, amplitude: 3 N*m, phase: 90 deg}\n"))
           .train.operating.excitation.at(0);
   CHECK(e.kind == ExcitationKind::kTorque);
   CHECK(e.on == "b");
   CHECK(e.order == 1.5);
-  CHECK(e.amplitude == 30.0);
+  CHECK(e.amplitude == 3.0);
   CHECK(e.phase == Approx(std::numbers::pi / 2.0).epsilon(1e-15));
   // The written default: an acceleration of the input shaft.
   const ExcitationOrder plain =

@@ -4,10 +4,12 @@
 #include <Eigen/Dense>
 #include <catch2/catch.hpp>
 #include <numbers>
+#include <string>
 #include <utility>
 #include <vector>
 
 #include "gearnvh/model/gear_train.h"
+#include "gearnvh/model/input_error.h"
 #include "gearnvh/solver/segment_tables.h"
 #include "gearnvh/solver/solver_options.h"
 #include "gearnvh/solver/train_reference.h"
@@ -27,6 +29,16 @@ struct TrainModel {
         train(BuildGearTrain(spec)),
         tables(BuildTrainTables(spec, train, options)) {}
 };
+
+// The path and rule ValidateTrainSpec refuses `spec` with; {"accepted", ""} when it does not.
+inline std::pair<std::string, std::string> ValidationError(const TrainSpec& spec) {
+  try {
+    ValidateTrainSpec(spec);
+  } catch (const InputError& e) {
+    return {e.path(), e.rule()};
+  }
+  return {"accepted", ""};
+}
 
 // The transmission error of one mesh in the stepper's current state.
 inline double MeshTe(const TrainTables& t, const TrainStepper& s, int mesh) {

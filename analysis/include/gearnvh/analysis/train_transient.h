@@ -1,9 +1,11 @@
 // Whether a run's transient lets the start from the static state die out. The train held in drive
 // contact at its first segments (every mesh at segment 0's stiffness, tooth friction left out)
 // has the generator A = [[0, I], [-M^-1 K, -M^-1 C]]; each oscillatory mode (an eigenvalue lambda
-// with Im lambda > 0) decays as e^(Re lambda t). The free rotation, the fixed shafts and a viscous
-// drag's damped rotation are real eigenvalues and are left out, as are undamped modes (Re lambda
-// >= 0: they never settle, whatever the transient).
+// with Im lambda > 0) decays as e^(Re lambda t). The free rotation and the fixed shafts (zeros:
+// |lambda|
+// <= 1e-6 of the largest) and a viscous drag's damped rotation (real) are left out, as are modes
+// with a damping ratio -Re lambda / |lambda| below 1e-3 (undamped for this purpose: no transient
+// removes them).
 #pragma once
 
 #include <optional>

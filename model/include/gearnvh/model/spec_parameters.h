@@ -48,7 +48,8 @@ void SetParameter(GearboxSpec& spec, const std::string& name, double value);
 //   operating.loads[i].torque            load i's torque (N m): the output load or a loose gear's
 //                                        drag
 //   operating.loads[i].viscous           load i's viscous drag (N m s/rad)
-//   operating.excitation[i].amplitude    engine order i's amplitude (rad/s^2)
+//   operating.excitation[i].amplitude    engine order i's amplitude (rad/s^2; an acceleration
+//                                        order's only: a torque order's is refused)
 //   meshes[i].backlash                   mesh i's backlash (m)
 //   meshes[i].damping_ratio              mesh i's damping ratio
 //   meshes[i].friction_coefficient       mesh i's tooth friction coefficient

@@ -247,8 +247,8 @@ void ValidateTrainLimits(const TrainSpec& spec, const TrainTopology& topology);
 int ExcitationBody(const TrainSpec& spec, const TrainTopology& topology, size_t order);
 double ExcitationOrderOfInput(const TrainSpec& spec, const TrainTopology& topology, size_t order);
 // The excitation rules of ValidateTrainLimits: each order's speed fluctuation on its shaft below
-// the shaft's speed (an acceleration order a / (k W_s); a torque order T / (J_train k W_s), the
-// train's inertia referred rigidly to the shaft), and one shaft and kind per frequency.
+// the shaft's speed, as the shaft would swing on its own (a / (k W_s), a = T / J_s for a torque
+// order), and one shaft and kind per frequency (within 1e-9 relative).
 void RequireExcitationWithinSpeed(const TrainSpec& spec, const TrainTopology& topology);
 // Its tooth-load rule alone (every mesh's unit load from StaticTorqueFlow <= kMaxUnitLoad, the
 // error at the load sending the mesh most power): what changes with speed when a viscous drag acts.

@@ -189,10 +189,11 @@ void AddOrderColumns(const std::vector<ExcitationOrder>& orders, double speed, i
                      int first_slot, const Eigen::MatrixXd& acceleration,
                      Eigen::Ref<Eigen::MatrixXd> A);
 
-// The orders with equal `order`, kind and shaft merged into one (sum_k a_k sin(theta + phi_k) =
-// A sin(theta + Phi), A e^{i Phi} = sum_k a_k e^{i phi_k}), in their first order of appearance: two
-// exosystems of one frequency would make every decomposition's eigenvalues +-i w double
-// (ill-conditioned); a train's validation refuses one frequency on two shafts or kinds.
+// The orders with equal `order` (within 1e-9 relative), kind and shaft merged into one (sum_k a_k
+// sin(theta + phi_k) = A sin(theta + Phi), A e^{i Phi} = sum_k a_k e^{i phi_k}), in their first
+// order of appearance: two exosystems of one frequency would make every decomposition's eigenvalues
+// +-i w double (ill-conditioned); a train's validation refuses one frequency on two shafts or
+// kinds.
 std::vector<ExcitationOrder> DistinctOrders(const std::vector<ExcitationOrder>& orders);
 
 // Builds the tables for one operating point. `spec` gives speed, excitation, damping and friction.
