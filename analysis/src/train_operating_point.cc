@@ -154,6 +154,16 @@ Eigen::MatrixXd CouplingRows(const GearTrain& train, const TrainTables& t) {
   return rows;
 }
 
+// The couplings' twist and torque from the statistics of CouplingRows (TrackOutputs).
+std::vector<TrainCouplingResponse> CouplingResponses(const GearTrain& train,
+                                                     const TrainStatistics& stats) {
+  std::vector<TrainCouplingResponse> out;
+  for (size_t c = 0; c < train.couplings.size(); ++c) {
+    out.push_back({train.couplings[c].name, stats.outputs[2 * c], stats.outputs[2 * c + 1]});
+  }
+  return out;
+}
+
 // The index in a series of samples dt apart from `series_from` of the sample at `from`, when the
 // series holds `length` samples from there; nullopt otherwise.
 std::optional<size_t> SliceStart(size_t series_size, double series_from, double dt, double from,
@@ -424,10 +434,10 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, GearTrain trai
   const double start = static_cast<double>(options.transient) * period;
   const double end = start + static_cast<double>(options.cycles) * period;
 
-  if (const std::string w =
-          TransientDecayWarning(tables, start, options.transient, options.names("transient"));
-      !w.empty()) {
-    op.warnings.push_back(w);
+  if (options.transient_warning) {
+    const std::string transient =
+        TransientDecayWarning(tables, start, options.transient, options.names("transient"));
+    if (!transient.empty()) op.warnings.push_back(transient);
   }
   op.cost = EstimateRunCost(tables, end, &spec);
   if (const std::string slow = CheckRunCost(op.cost, options.allow_slow, "the run", options.names);
@@ -486,12 +496,7 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, GearTrain trai
   op.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   op.summary = stepper.summary();
   op.stats = recorder.Result();
-  if (ok) {
-    for (size_t c = 0; c < op.train.couplings.size(); ++c) {
-      op.couplings.push_back(
-          {op.train.couplings[c].name, op.stats.outputs[2 * c], op.stats.outputs[2 * c + 1]});
-    }
-  }
+  if (ok) op.couplings = CouplingResponses(op.train, op.stats);
   TakeRecord(spec, options, window, kept.from, ok, recorder, op);
   return op;
 }

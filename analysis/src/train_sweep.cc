@@ -34,6 +34,7 @@ TrainSweepPoint RunPoint(const TrainSpec& base, const GearTrain& built,
   run.cycles = options.cycles;
   run.transient = options.transient;
   run.spectra = false;
+  run.transient_warning = false;  // said once for the sweep (RunTrainSweep)
   run.waterfall_samples = options.WaterfallCycles() * run.samples_per_cycle;
   run.events = options.events;
   run.cancel = options.cancel;

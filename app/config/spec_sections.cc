@@ -327,8 +327,11 @@ std::vector<ExcitationOrder> ReadExcitation(Reader& r, const YAML::Node& op, int
         const std::string kind = r.String(item, p, "kind", std::string("acceleration"));
         if (kind == "motion") {
           r.Fail(Join(p, "kind"), item["kind"], "'" + kind + "'",
-                 "is not built yet: prescribed motion of a shaft is planned; give the engine's "
-                 "torque orders (kind: torque) on a free flywheel instead");
+                 schema == 2 ? "is not built yet: prescribed motion of a shaft is planned; give "
+                               "the engine's torque orders (kind: torque) on a free flywheel "
+                               "instead"
+                             : "is not built yet: prescribed motion of a shaft is planned; a "
+                               "pair's order is an acceleration (kind: acceleration)");
         }
         if (kind != "acceleration" && (kind != "torque" || schema != 2)) {
           r.Fail(Join(p, "kind"), item["kind"], "'" + kind + "'",

@@ -82,6 +82,38 @@ std::vector<TierCrossing> CriticalSpeeds(const TrainSpec& spec, const GearTrain&
   return out;
 }
 
+// Each coupling at the operating point: its shafts, stiffness and damping as written (JSON: SI),
+// the static torque it carries and the twist that gives.
+nlohmann::json CouplingsJson(const TrainSpec& spec, const GearTrain& train) {
+  nlohmann::json out = nlohmann::json::array();
+  for (size_t c = 0; c < train.couplings.size(); ++c) {
+    const TrainCouplingModel& m = train.couplings[c];
+    const TrainCoupling& written = spec.couplings[c];
+    out.push_back({{"name", m.name},
+                   {"between", {written.shaft_a, written.shaft_b}},
+                   {"stiffness_n_m_per_rad", m.stiffness},
+                   {"damping_n_m_s_per_rad", m.damping},
+                   {"mean_torque_n_m", m.mean_torque},
+                   {"mean_twist_deg", m.MeanTwist() * 180.0 / std::numbers::pi}});
+  }
+  return out;
+}
+
+void PrintCouplings(const TrainSpec& spec, const GearTrain& train) {
+  if (train.couplings.empty()) return;
+  fmt::print("  {:<16}{:<26}{:>18}{:>20}{:>14}{:>12}\n", "coupling", "between", "stiffness",
+             "damping", "torque [N m]", "twist [deg]");
+  for (size_t c = 0; c < train.couplings.size(); ++c) {
+    const TrainCouplingModel& m = train.couplings[c];
+    const TrainCoupling& written = spec.couplings[c];
+    fmt::print("  {:<16}{:<26}{:>18}{:>20}{:>14.4g}{:>12.4g}\n", m.name,
+               written.shaft_a + " - " + written.shaft_b,
+               Format(written.stiffness, written.stiffness_unit),
+               written.damping > 0.0 ? Format(written.damping, written.damping_unit) : "-",
+               m.mean_torque, m.MeanTwist() * 180.0 / std::numbers::pi);
+  }
+}
+
 const char* KindName(BodyKind kind) { return kind == BodyKind::kShaft ? "shaft" : "loose gear"; }
 
 nlohmann::json MatrixJson(const Eigen::MatrixXd& m) {
@@ -235,17 +267,7 @@ nlohmann::json TrainCheckReport(const TrainSpec& spec, const TrainCheck& check) 
          {"mean_torque_n_m", l.mean_torque},
          {"power_w", l.power}});
   }
-  doc["couplings"] = nlohmann::json::array();
-  for (size_t c = 0; c < train.couplings.size(); ++c) {
-    const TrainCouplingModel& m = train.couplings[c];
-    const TrainCoupling& written = spec.couplings[c];
-    doc["couplings"].push_back({{"name", m.name},
-                                {"between", {written.shaft_a, written.shaft_b}},
-                                {"stiffness_n_m_per_rad", m.stiffness},
-                                {"damping_n_m_s_per_rad", m.damping},
-                                {"mean_torque_n_m", m.mean_torque},
-                                {"mean_twist_deg", m.MeanTwist() * 180.0 / std::numbers::pi}});
-  }
+  doc["couplings"] = CouplingsJson(spec, train);
   doc["input_torque"] = train.input_torque;
   nlohmann::json critical = nlohmann::json::array();
   for (const TierCrossing& c : CriticalSpeeds(spec, train, modes)) {
@@ -332,19 +354,7 @@ void PrintTrainCheck(const std::string& file, const TrainSpec& spec, const Train
                load.viscous > 0.0 ? Format(load.viscous, load.viscous_unit) : "-",
                Rpm(l.relative_speed), l.power);
   }
-  if (!train.couplings.empty()) {
-    fmt::print("  {:<16}{:<26}{:>18}{:>20}{:>14}{:>12}\n", "coupling", "between", "stiffness",
-               "damping", "torque [N m]", "twist [deg]");
-    for (size_t c = 0; c < train.couplings.size(); ++c) {
-      const TrainCouplingModel& m = train.couplings[c];
-      const TrainCoupling& written = spec.couplings[c];
-      fmt::print("  {:<16}{:<26}{:>18}{:>20}{:>14.4g}{:>12.4g}\n", m.name,
-                 written.shaft_a + " - " + written.shaft_b,
-                 Format(written.stiffness, written.stiffness_unit),
-                 written.damping > 0.0 ? Format(written.damping, written.damping_unit) : "-",
-                 m.mean_torque, m.MeanTwist() * 180.0 / std::numbers::pi);
-    }
-  }
+  PrintCouplings(spec, train);
   fmt::print("  input torque balancing the loads: {:.4g} N m\n", train.input_torque);
   fmt::print("  tier 1 (torsional, {} DOF, {} free rotation{}): natural frequencies [Hz]\n   ",
              train.body_inertia.size(), modes.free_rotations, modes.free_rotations == 1 ? "" : "s");

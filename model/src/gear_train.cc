@@ -201,17 +201,19 @@ TrainTorsionalModes TorsionalModes(const GearTrain& train) {
     out.K += mesh.stiffness.mean * v * v.transpose();
     V.row(static_cast<Eigen::Index>(i)) = v.transpose();
   }
+  // Couplings: their twist th_a - th_b, its row scaled like a mesh's (a base radius).
+  const double radius = V.rows() > 0 ? V.cwiseAbs().maxCoeff() : 1.0;
   for (const TrainCouplingModel& c : train.couplings) {
     Eigen::VectorXd w = Eigen::VectorXd::Zero(n);
     w(c.body_a) = 1.0;
     w(c.body_b) = -1.0;
     out.K += c.stiffness * w * w.transpose();
     V.conservativeResize(V.rows() + 1, Eigen::NoChange);
-    V.bottomRows(1) = w.transpose();
+    V.bottomRows(1) = radius * w.transpose();
   }
-  // The free rotations are the null space of V (no mesh sees them): found by the SVD of V, whose
-  // entries are base radii, so "zero" is a scale-free 1e-9 of the largest singular value (a
-  // numerical zero test on K would have to tell them from the rounding of K, ~eps max K_ii). The
+  // The free rotations are the null space of V (no mesh or coupling sees them): found by the SVD of
+  // V, whose entries are base radii, so "zero" is a scale-free 1e-9 of the largest singular value
+  // (a numerical zero test on K would have to tell them from the rounding of K, ~eps max K_ii). The
   // elastic modes are those of the pencil restricted to the M-orthogonal complement of that null
   // space. A connected train with every mesh engaged has one: th_j ~ |w_j|.
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(V, Eigen::ComputeFullV);

@@ -55,8 +55,8 @@ std::string TrainRule(std::string rule, const TrainSpec& spec, int m) {
   return rule;
 }
 
-// The speed a mesh would give a body: its parent mesh on the spanning tree, or a mesh closing a
-// kinematic loop onto it.
+// The speed a mesh or coupling would give a body: its parent edge on the spanning tree, or a mesh
+// or coupling closing a loop onto it.
 struct SpeedClaim {
   int mesh = -1;  // -1 and coupling -1: the input shaft's own speed
   int body = 0;
@@ -72,10 +72,10 @@ struct SpeedClaim {
 
 bool SameSpeed(double a, double b) { return std::abs(a - b) <= 1e-9 * std::abs(a); }
 
-// Every loop closes with consistent ratios. Of the speeds a body is given (by its tree mesh and
-// by the meshes closing loops onto it), the one most meshes agree on stands (the tree's on a tie;
-// the input's own speed always), and the first mesh giving another is named: the odd one out of
-// several parallel meshes, not the first one the tree happened to take.
+// Every loop closes with consistent ratios. Of the speeds a body is given (by its tree edge and by
+// the meshes and couplings closing loops onto it), the one most of them agree on stands (the
+// tree's on a tie; the input's own speed always), and the first edge giving another is named: the
+// odd one out of several parallel meshes, not the first one the tree happened to take.
 void RequireConsistentLoops(const TrainSpec& spec, const TrainTopology& t,
                             const std::vector<SpeedClaim>& loop_claims) {
   for (const SpeedClaim& odd : loop_claims) {
@@ -156,68 +156,103 @@ void RequireStationaryShaftsStill(const TrainSpec& spec, const TrainTopology& t)
   }
 }
 
-// Each coupling joins two distinct shafts of the file, at most once per pair, with a plausible
-// stiffness and damping. (Whether they turn alike is the topology's rule.)
-void RequireValidCouplings(const TrainSpec& spec) {
-  for (size_t i = 0; i < spec.couplings.size(); ++i) {
-    const TrainCoupling& c = spec.couplings[i];
-    const std::string p = "couplings." + c.name;
-    for (const std::string& name : {c.shaft_a, c.shaft_b}) {
-      const TrainShaft* shaft = spec.FindShaft(name);
-      const std::string value = "[" + c.shaft_a + ", " + c.shaft_b + "]";
-      if (shaft != nullptr && shaft->elastic) {
-        throw InputError(p + ".between", 0, value,
-                         "names the elastic shaft '" + name +
-                             "': a coupling joins rigid shafts (where it attaches along an "
-                             "elastic shaft is not built yet; model the shaft's end as a rigid "
-                             "shaft)");
+// The breadth-first search of AnalyseTrainTopology from the input body over the meshes; a coupling
+// only reaches a shaft the meshes do not (then the meshes go on from it), so that a coupling in
+// parallel with a gear path is the loop's edge and the gears carry the static torque.
+class SpeedSearch {
+ public:
+  SpeedSearch(const TrainSpec& spec, TrainTopology& t) : spec_(spec), t_(t), queue_{t.input_body} {}
+  void Run() {
+    do {
+      Meshes();
+    } while (Coupling());
+  }
+  // The couplings between shafts reached otherwise: they close a loop (their speed claims join
+  // claims()).
+  std::vector<int> LoopCouplings() {
+    std::vector<int> out;
+    for (size_t c = 0; c < spec_.couplings.size(); ++c) {
+      const int ba = spec_.ShaftIndex(spec_.couplings[c].shaft_a);
+      const int bb = spec_.ShaftIndex(spec_.couplings[c].shaft_b);
+      if (couplings_.count(static_cast<int>(c)) > 0 || !Reached(ba) || !Reached(bb)) continue;
+      out.push_back(static_cast<int>(c));
+      claims_.push_back({-1, bb, t_.bodies[static_cast<size_t>(ba)].speed, static_cast<int>(c)});
+    }
+    return out;
+  }
+  // The speeds the meshes (and couplings) closing loops give the bodies they reach.
+  const std::vector<SpeedClaim>& claims() const { return claims_; }
+
+ private:
+  bool Reached(int body) const { return t_.parent_mesh[static_cast<size_t>(body)] != -2; }
+
+  // Empties the queue through the meshes: omega_b = -omega_a z_a / z_b.
+  void Meshes() {
+    while (!queue_.empty()) {
+      const int body = queue_.front();
+      queue_.pop_front();
+      for (size_t m = 0; m < spec_.meshes.size(); ++m) {
+        const TrainMesh& mesh = spec_.meshes[m];
+        const int ga = spec_.GearIndex(mesh.gear_a), gb = spec_.GearIndex(mesh.gear_b);
+        const int ba = t_.gear_body[static_cast<size_t>(ga)],
+                  bb = t_.gear_body[static_cast<size_t>(gb)];
+        if ((ba != body && bb != body) || meshes_.count(static_cast<int>(m)) > 0) continue;
+        meshes_.insert(static_cast<int>(m));
+        const bool forward = ba == body;
+        const int from_gear = forward ? ga : gb, to_gear = forward ? gb : ga;
+        const int to = forward ? bb : ba;
+        const double ratio =
+            static_cast<double>(spec_.gears[static_cast<size_t>(from_gear)].gear.teeth) /
+            spec_.gears[static_cast<size_t>(to_gear)].gear.teeth;
+        const double speed = -t_.bodies[static_cast<size_t>(body)].speed * ratio;
+        if (!Reached(to)) {
+          TrainBody& target = t_.bodies[static_cast<size_t>(to)];
+          t_.parent_mesh[static_cast<size_t>(to)] = static_cast<int>(m);
+          target.speed = speed;
+          target.speed_ratio = -t_.bodies[static_cast<size_t>(body)].speed_ratio * ratio;
+          queue_.push_back(to);
+        } else {
+          t_.loop_meshes.push_back(static_cast<int>(m));
+          claims_.push_back({static_cast<int>(m), to, speed});
+        }
       }
-      if (shaft != nullptr) continue;
-      if (const TrainGear* gear = spec.FindGear(name)) {
-        throw InputError(p + ".between", 0, value,
-                         "must name two shafts: '" + name + "' is a gear (on shaft '" +
-                             gear->shaft + "'); a coupling joins shafts");
-      }
-      std::string shafts;
-      for (const TrainShaft& s : spec.shafts) shafts += (shafts.empty() ? "" : ", ") + s.name;
-      throw InputError(
-          p + ".between", 0, value,
-          "must name two shafts: '" + name + "' is none of the file's (" + shafts + ")");
-    }
-    if (c.shaft_a == c.shaft_b) {
-      throw InputError(p + ".between", 0, "[" + c.shaft_a + ", " + c.shaft_b + "]",
-                       "must name two different shafts");
-    }
-    for (size_t j = 0; j < i; ++j) {
-      const TrainCoupling& e = spec.couplings[j];
-      if ((e.shaft_a == c.shaft_a && e.shaft_b == c.shaft_b) ||
-          (e.shaft_a == c.shaft_b && e.shaft_b == c.shaft_a)) {
-        throw InputError(p + ".between", 0, "[" + c.shaft_a + ", " + c.shaft_b + "]",
-                         "joins the shafts couplings." + e.name +
-                             " already joins (springs in parallel: give one coupling their sum)");
-      }
-    }
-    if (!(c.stiffness > 0.0 && c.stiffness <= GearboxLimits::kMaxCouplingStiffness)) {
-      throw InputError(p + ".stiffness", 0, MessageNumber(c.stiffness) + " N m/rad",
-                       "must be in (0, " + MessageNumber(GearboxLimits::kMaxCouplingStiffness) +
-                           "] N m/rad (a clutch damper's first stage is about 20, a car's "
-                           "halfshaft about 1e4)");
-    }
-    if (!(c.damping >= 0.0 && c.damping <= GearboxLimits::kMaxCouplingDamping)) {
-      throw InputError(p + ".damping", 0, MessageNumber(c.damping) + " N m s/rad",
-                       "must be in [0, " + MessageNumber(GearboxLimits::kMaxCouplingDamping) +
-                           "] N m s/rad");
     }
   }
-}
+
+  // Reaches one shaft through a coupling whose other shaft is reached (ratio +1; a shaft's body is
+  // its index) and queues it; false when there is none.
+  bool Coupling() {
+    for (size_t c = 0; c < spec_.couplings.size(); ++c) {
+      const int ba = spec_.ShaftIndex(spec_.couplings[c].shaft_a);
+      const int bb = spec_.ShaftIndex(spec_.couplings[c].shaft_b);
+      if (couplings_.count(static_cast<int>(c)) > 0 || Reached(ba) == Reached(bb)) continue;
+      couplings_.insert(static_cast<int>(c));
+      const int from = Reached(ba) ? ba : bb, to = Reached(ba) ? bb : ba;
+      t_.parent_mesh[static_cast<size_t>(to)] = -1;
+      t_.parent_coupling[static_cast<size_t>(to)] = static_cast<int>(c);
+      t_.bodies[static_cast<size_t>(to)].speed = t_.bodies[static_cast<size_t>(from)].speed;
+      t_.bodies[static_cast<size_t>(to)].speed_ratio =
+          t_.bodies[static_cast<size_t>(from)].speed_ratio;
+      queue_.push_back(to);
+      return true;
+    }
+    return false;
+  }
+
+  const TrainSpec& spec_;
+  TrainTopology& t_;
+  std::deque<int> queue_;
+  std::set<int> meshes_, couplings_;
+  std::vector<SpeedClaim> claims_;
+};
 
 // A coupling that closes a loop (in parallel with a gear path or other couplings) would hold a
 // preload the file does not give: its zero twist at the nominal angles, the gears' at the middle of
 // their backlash. Refused (after the speeds, so that a coupling between shafts at different speeds
 // is told that instead).
-void RequireNoCouplingInLoop(const TrainSpec& spec, const TrainTopology& t) {
-  if (t.loop_couplings.empty()) return;
-  const TrainCoupling& c = spec.couplings[static_cast<size_t>(t.loop_couplings.front())];
+void RequireNoCouplingInLoop(const TrainSpec& spec, const std::vector<int>& loop_couplings) {
+  if (loop_couplings.empty()) return;
+  const TrainCoupling& c = spec.couplings[static_cast<size_t>(loop_couplings.front())];
   throw InputError("couplings." + c.name + ".between", 0, "[" + c.shaft_a + ", " + c.shaft_b + "]",
                    "closes a loop: '" + c.shaft_b + "' is reached from '" + c.shaft_a +
                        "' by another path of meshes or couplings as well. A coupling in parallel "
@@ -300,70 +335,12 @@ TrainTopology AnalyseTrainTopology(const TrainSpec& spec) {
   t.bodies[static_cast<size_t>(t.input_body)].speed = spec.operating.speed;
   t.bodies[static_cast<size_t>(t.input_body)].speed_ratio = 1.0;
   t.parent_coupling.assign(t.bodies.size(), -1);
-  // Breadth-first over the meshes from the input body; a coupling only reaches a shaft the meshes
-  // do not (then the meshes go on from it), so that a coupling in parallel with a gear path is the
-  // loop's edge and the gears carry the static torque.
-  const auto reached = [&](int body) { return t.parent_mesh[static_cast<size_t>(body)] != -2; };
-  std::deque<int> queue{t.input_body};
-  std::set<int> visited_meshes, visited_couplings;
-  std::vector<SpeedClaim> loop_claims;
-  for (bool grew = true; grew;) {
-    while (!queue.empty()) {
-      const int body = queue.front();
-      queue.pop_front();
-      for (size_t m = 0; m < spec.meshes.size(); ++m) {
-        const TrainMesh& mesh = spec.meshes[m];
-        const int ga = spec.GearIndex(mesh.gear_a), gb = spec.GearIndex(mesh.gear_b);
-        const int ba = t.gear_body[static_cast<size_t>(ga)],
-                  bb = t.gear_body[static_cast<size_t>(gb)];
-        if ((ba != body && bb != body) || visited_meshes.count(static_cast<int>(m)) > 0) continue;
-        visited_meshes.insert(static_cast<int>(m));
-        const bool forward = ba == body;
-        const int from_gear = forward ? ga : gb, to_gear = forward ? gb : ga;
-        const int to = forward ? bb : ba;
-        const double ratio =
-            static_cast<double>(spec.gears[static_cast<size_t>(from_gear)].gear.teeth) /
-            spec.gears[static_cast<size_t>(to_gear)].gear.teeth;
-        const double speed = -t.bodies[static_cast<size_t>(body)].speed * ratio;
-        TrainBody& target = t.bodies[static_cast<size_t>(to)];
-        if (!reached(to)) {
-          t.parent_mesh[static_cast<size_t>(to)] = static_cast<int>(m);
-          target.speed = speed;
-          target.speed_ratio = -t.bodies[static_cast<size_t>(body)].speed_ratio * ratio;
-          queue.push_back(to);
-        } else {
-          t.loop_meshes.push_back(static_cast<int>(m));
-          loop_claims.push_back({static_cast<int>(m), to, speed});
-        }
-      }
-    }
-    // A coupling's shafts turn alike: ratio +1 (a shaft's body is its index).
-    grew = false;
-    for (size_t c = 0; c < spec.couplings.size() && !grew; ++c) {
-      const TrainCoupling& coupling = spec.couplings[c];
-      const int ba = spec.ShaftIndex(coupling.shaft_a), bb = spec.ShaftIndex(coupling.shaft_b);
-      if (visited_couplings.count(static_cast<int>(c)) > 0 || reached(ba) == reached(bb)) continue;
-      visited_couplings.insert(static_cast<int>(c));
-      const int from = reached(ba) ? ba : bb, to = reached(ba) ? bb : ba;
-      t.parent_mesh[static_cast<size_t>(to)] = -1;
-      t.parent_coupling[static_cast<size_t>(to)] = static_cast<int>(c);
-      t.bodies[static_cast<size_t>(to)].speed = t.bodies[static_cast<size_t>(from)].speed;
-      t.bodies[static_cast<size_t>(to)].speed_ratio =
-          t.bodies[static_cast<size_t>(from)].speed_ratio;
-      queue.push_back(to);
-      grew = true;
-    }
-  }
-  // A coupling between two shafts reached otherwise closes a loop.
-  for (size_t c = 0; c < spec.couplings.size(); ++c) {
-    const TrainCoupling& coupling = spec.couplings[c];
-    const int ba = spec.ShaftIndex(coupling.shaft_a), bb = spec.ShaftIndex(coupling.shaft_b);
-    if (visited_couplings.count(static_cast<int>(c)) > 0 || !reached(ba) || !reached(bb)) continue;
-    t.loop_couplings.push_back(static_cast<int>(c));
-    loop_claims.push_back({-1, bb, t.bodies[static_cast<size_t>(ba)].speed, static_cast<int>(c)});
-  }
+  SpeedSearch search(spec, t);
+  search.Run();
+  const std::vector<int> loop_couplings = search.LoopCouplings();
+  const std::vector<SpeedClaim>& loop_claims = search.claims();
   RequireConsistentLoops(spec, t, loop_claims);
-  RequireNoCouplingInLoop(spec, t);
+  RequireNoCouplingInLoop(spec, loop_couplings);
   for (size_t b = 0; b < t.bodies.size(); ++b) {
     if (t.parent_mesh[b] != -2) continue;
     const TrainBody& body = t.bodies[b];
@@ -599,24 +576,7 @@ void ValidateTrainSpec(const TrainSpec& spec) {
     throw InputError("operating.speed.value", 0, MessageNumber(spec.operating.speed) + " rad/s",
                      "must be > 0: the input shaft's mean speed (it turns the way it is driven)");
   }
-  for (size_t i = 0; i < spec.operating.excitation.size(); ++i) {
-    const std::string& on = spec.operating.excitation[i].on;
-    if (on.empty()) continue;
-    const std::string p = "operating.excitation[" + std::to_string(i) + "].on";
-    const TrainShaft* shaft = spec.FindShaft(on);
-    if (shaft == nullptr) {
-      std::string shafts;
-      for (const TrainShaft& s : spec.shafts) shafts += (shafts.empty() ? "" : ", ") + s.name;
-      throw InputError(
-          p, 0, "'" + on + "'",
-          "must name a shaft (the file's shafts: " + shafts + "); an engine order acts on a shaft");
-    }
-    if (shaft->fixed) {
-      throw InputError(p, 0, "'" + on + "'",
-                       "is a fixed shaft (shafts." + on +
-                           ".fixed: true), which does not turn: an order of its speed is none");
-    }
-  }
+  RequireExcitationShafts(spec);
   for (size_t i = 0; i < spec.operating.loads.size(); ++i) {
     const TrainLoad& load = spec.operating.loads[i];
     const std::string p = "operating.loads[" + std::to_string(i) + "]";

@@ -46,9 +46,11 @@ Eigen::MatrixXd FreeRotations(const TrainStructure& s, const std::vector<bool>& 
       B.row(static_cast<Eigen::Index>(i)) = s.meshes[i].v_drive.transpose() * s.body_rotations;
     }
   }
-  for (size_t j = 0; j < s.coupled_bodies.size(); ++j) {  // always engaged: twist th_a - th_b
-    B(meshes + static_cast<Eigen::Index>(j), s.coupled_bodies[j].first) = 1.0;
-    B(meshes + static_cast<Eigen::Index>(j), s.coupled_bodies[j].second) = -1.0;
+  // Couplings, always engaged: their twist th_a - th_b, scaled like a mesh row (a base radius).
+  const double radius = meshes > 0 ? B.topRows(meshes).cwiseAbs().maxCoeff() : 1.0;
+  for (size_t j = 0; j < s.coupled_bodies.size(); ++j) {
+    B(meshes + static_cast<Eigen::Index>(j), s.coupled_bodies[j].first) = radius;
+    B(meshes + static_cast<Eigen::Index>(j), s.coupled_bodies[j].second) = -radius;
   }
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(B, Eigen::ComputeFullV);
   const Eigen::VectorXd& sv = svd.singularValues();

@@ -64,6 +64,8 @@ void HarmonicSolver::Solve(double w, const HarmonicInput& input, HarmonicRespons
   z_.imag() = w * damping_;
   lu_.compute(z_);
   rhs_.setZero();
+  if (input.body_torque.size() > static_cast<size_t>(model_.body_angles.rows()))
+    throw std::invalid_argument("HarmonicInput.body_torque: more bodies than body_angles rows");
   for (size_t b = 0; b < input.body_torque.size(); ++b) {
     if (input.body_torque[b] != 0.0)
       rhs_ += input.body_torque[b] * model_.body_angles.row(static_cast<Eigen::Index>(b))

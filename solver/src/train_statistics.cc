@@ -64,8 +64,12 @@ void TrainRecorder::KeepSeries(double from_time, long max_samples, bool historie
 }
 
 void TrainRecorder::Track(const RowMatrix& rows, Eigen::Index at) {
-  RowMatrix all(tracked_rows_.rows() + rows.rows(), t_.m);
-  all << tracked_rows_.topRows(at), rows, tracked_rows_.bottomRows(tracked_rows_.rows() - at);
+  // No block of an empty matrix: its null data pointer may not be offset (UBSan).
+  const Eigen::Index after = tracked_rows_.rows() - at;
+  RowMatrix all(at + rows.rows() + after, t_.m);
+  if (at > 0) all.topRows(at) = tracked_rows_.topRows(at);
+  if (rows.rows() > 0) all.middleRows(at, rows.rows()) = rows;
+  if (after > 0) all.bottomRows(after) = tracked_rows_.bottomRows(after);
   tracked_rows_ = std::move(all);
   tracked_coefficients_.resize(tracked_rows_.rows(), kTerms + 1);
   tracked_.assign(static_cast<size_t>(tracked_rows_.rows()), {});

@@ -118,20 +118,11 @@ long CommonPeriodRevolutions(const std::vector<double>& cycles_per_revolution, l
   return 0;
 }
 
-}  // namespace
-
-TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
-                             const TrainTableOptions& options) {
-  options.Validate();
-  const TrainTopology& topo = train.topology;
-  TrainTables t;
-  t.n = static_cast<int>(topo.bodies.size());
+// The engine orders: each as an order of the input shaft's speed, on its shaft by name (like orders
+// on one shaft summed), and its direction, the torque per unit amplitude on that shaft (t.inertia
+// set).
+void SetExcitationOrders(const TrainSpec& spec, const TrainTopology& topo, TrainTables& t) {
   const int n = t.n;
-  t.inertia = Eigen::Map<const Eigen::VectorXd>(train.body_inertia.data(), n);
-  t.body_inertia = t.inertia;
-  t.input_speed = spec.operating.speed;
-  // Each order as an order of the input shaft's speed, on its shaft by name (like orders on one
-  // shaft summed), and its direction: the torque per unit amplitude on that shaft.
   std::vector<ExcitationOrder> of_input = spec.operating.excitation;
   for (size_t i = 0; i < of_input.size(); ++i) {
     of_input[i].order = ExcitationOrderOfInput(spec, topo, i);
@@ -146,6 +137,36 @@ TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
     t.excitation_directions(body, static_cast<Eigen::Index>(k)) =
         e.kind == ExcitationKind::kAcceleration ? t.inertia[body] : 1.0;
   }
+}
+
+// Couplings: k w w^T and c w w^T on their shafts' angles (one direction of rotation: w = e_a -
+// e_b). They leave the free rotation alone (w^T r = 0: equal speeds).
+void AddCouplings(const GearTrain& train, TrainTables& t) {
+  const int n = t.n;
+  for (const TrainCouplingModel& c : train.couplings) {
+    if (t.structural_stiffness.size() == 0) t.structural_stiffness = Eigen::MatrixXd::Zero(n, n);
+    if (t.structural_damping.size() == 0) t.structural_damping = Eigen::MatrixXd::Zero(n, n);
+    Eigen::VectorXd w = Eigen::VectorXd::Zero(n);
+    w[c.body_a] = 1.0;
+    w[c.body_b] = -1.0;
+    t.structural_stiffness += c.stiffness * w * w.transpose();
+    t.structural_damping += c.damping * w * w.transpose();
+  }
+}
+
+}  // namespace
+
+TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
+                             const TrainTableOptions& options) {
+  options.Validate();
+  const TrainTopology& topo = train.topology;
+  TrainTables t;
+  t.n = static_cast<int>(topo.bodies.size());
+  const int n = t.n;
+  t.inertia = Eigen::Map<const Eigen::VectorXd>(train.body_inertia.data(), n);
+  t.body_inertia = t.inertia;
+  t.input_speed = spec.operating.speed;
+  SetExcitationOrders(spec, topo, t);
   for (const TrainBody& b : topo.bodies) {
     t.body_names.push_back(b.name);
     t.loose.push_back(b.kind == BodyKind::kLooseGear);
@@ -165,17 +186,7 @@ TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
     }
     t.free_rotation_damped = t.free_rotation_damped || action.DampsFreeRotation();
   }
-  // Couplings: k w w^T and c w w^T on their shafts' angles (one direction of rotation: w = e_a -
-  // e_b). They leave the free rotation alone (w^T r = 0: equal speeds).
-  for (const TrainCouplingModel& c : train.couplings) {
-    if (t.structural_stiffness.size() == 0) t.structural_stiffness = Eigen::MatrixXd::Zero(n, n);
-    if (t.structural_damping.size() == 0) t.structural_damping = Eigen::MatrixXd::Zero(n, n);
-    Eigen::VectorXd w = Eigen::VectorXd::Zero(n);
-    w[c.body_a] = 1.0;
-    w[c.body_b] = -1.0;
-    t.structural_stiffness += c.stiffness * w * w.transpose();
-    t.structural_damping += c.damping * w * w.transpose();
-  }
+  AddCouplings(train, t);
   t.force[topo.input_body] += train.input_torque;
 
   Eigen::VectorXd rigid(n);

@@ -168,8 +168,8 @@ TEST_CASE("the driveline example: couplings carry the torque flow and the flywhe
   CHECK(doc["couplings"][1]["name"] == "halfshaft");
 
   // Without the engine order the train stays in permanent contact near its static state: each
-  // coupling's exact mean twist is its static T / k (the meshes' stiffness variation moves the
-  // shafts by ~1e-6 of that; 1e-4), and its extrema bracket the mean.
+  // coupling's exact mean twist is its static T / k (the meshes' stiffness variation and the
+  // start's ringing move the shafts by a small part of that; 1e-4).
   std::ifstream in(file);
   std::stringstream text;
   text << in.rdbuf();
@@ -181,13 +181,12 @@ TEST_CASE("the driveline example: couplings carry the torque flow and the flywhe
   INFO(still.err);
   REQUIRE(still.exit_code == 0);
   const auto calm = nlohmann::json::parse(still.out);
+  REQUIRE(calm["summary"]["events"] == 0);  // in contact throughout
   for (size_t c = 0; c < 2; ++c) {
     const auto& twist = calm["couplings"][c]["twist_rad"];
     const double expected =
         model["couplings"][c]["mean_twist_deg"].get<double>() * std::numbers::pi / 180.0;
     CHECK(twist["mean"].get<double>() == Approx(expected).epsilon(1e-4));
-    CHECK(twist["min"].get<double>() <= twist["mean"].get<double>());
-    CHECK(twist["max"].get<double>() >= twist["mean"].get<double>());
   }
 }
 

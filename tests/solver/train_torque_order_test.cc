@@ -128,7 +128,7 @@ TEST_CASE("torque order: the rules name the order, its value and why", "[solver]
   const auto unknown = error_of(RattlerWithOrder(ExcitationKind::kTorque, "g1", 2.0, 3.0, 0.0));
   CHECK(unknown.first == "operating.excitation[0].on");
   CHECK_THAT(unknown.second, Catch::Contains("input, layshaft"));
-  // A torque large enough to reverse the train: T / (J_train k W) > W at the layshaft.
+  // A torque large enough to reverse the layshaft on its own: T / (J_lay k W) > W.
   const auto reversing =
       error_of(RattlerWithOrder(ExcitationKind::kTorque, "layshaft", 2.0, 1e5, 0.0));
   CHECK(reversing.first == "operating.excitation[0].amplitude");

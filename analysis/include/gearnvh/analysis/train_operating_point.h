@@ -39,6 +39,9 @@ struct TrainRunOptions {
   long transient = 500;                       // cycles of the first mesh before recording, >= 0
   int samples_per_cycle = 32;                 // per cycle of the fastest mesh, >= 4
   bool spectra = true;                        // keep the TE samples and compute per-mesh sidebands
+  // Warn when the transient is shorter than three decay times of the slowest mode
+  // (TransientDecayWarning: an eigensolve of the tier's generator; a sweep says it once itself).
+  bool transient_warning = true;
   long max_spectrum_samples = long{1} << 21;  // TE samples kept per mesh for spectra, >= 1
   // Time histories (simulate --out and --uff): every mesh's TE, force and contact state at every
   // sample of the record (at most max_history_samples per mesh, as the pair's

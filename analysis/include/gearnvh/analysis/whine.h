@@ -8,8 +8,9 @@
 //   - runout a sin(w_g t + phi) of a gear at 1x its shaft's order;
 //   - pitch errors (piecewise constant over a revolution of the gear, the solver's pair weights) at
 //     every multiple n of the gear's shaft order;
-//   - the excitation orders as torques J_in a sin(order W t + phi) on the input shaft.
-// Orders are multiples of the input shaft's speed W. The lines solved are the mesh orders
+//   - the excitation orders as torques T sin(k W_s t + phi) on their shafts s (T = J_s a for an
+//     acceleration order), at order k W_s / W of the input.
+// Line orders are multiples of the input shaft's speed W. The lines solved are the mesh orders
 // 1..mesh_harmonics of every mesh, the orders +-1..sideband_orders of each gear with pitch errors
 // around them (and below the first: 1..sideband_orders), 1x each gear with runout, and the
 // excitation orders; lines at one order from several sources are one line (superposed).

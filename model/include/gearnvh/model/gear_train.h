@@ -5,7 +5,7 @@
 //
 // Static torque flow: every load resists its body's rotation; the input shaft is driven by the
 // torque that balances them all (power balance, T_in |w_in| = sum T_j |w_j|). On the spanning tree
-// of the meshes each mesh carries the power of the bodies beyond it; a mesh that closes a
+// of the meshes and couplings each carries the power of the bodies beyond it; a mesh that closes a
 // kinematic loop makes the split statically indeterminate and is analysed unloaded (warned).
 //
 // Tier 1 of a train (torsional): one rotation per body, each in its own direction of nominal

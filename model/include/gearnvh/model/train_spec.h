@@ -103,7 +103,7 @@ struct TrainOperating {
   double speed = 0.0;                    // rad/s, > 0
   DisplayUnit speed_unit{"rad/s", 1.0};  // the unit the input wrote it in, for output
   std::vector<TrainLoad> loads;
-  std::vector<ExcitationOrder> excitation;  // orders of the input shaft's speed
+  std::vector<ExcitationOrder> excitation;  // each an order of its own shaft's speed (`on`)
 
   bool operator==(const TrainOperating&) const = default;
 };
@@ -150,18 +150,18 @@ struct TrainTopology {
   // The spanning tree the speeds were propagated on (meshes first, couplings only to shafts the
   // meshes do not reach): for each body the mesh or the coupling it was reached through (-1 for
   // neither: the input, a fixed shaft, which stands, and in parent_mesh a body reached through a
-  // coupling), and the meshes and couplings that close a loop (a coupling there is refused).
+  // coupling), and the meshes that close a kinematic loop (a coupling never does: refused).
   std::vector<int> parent_mesh;
   std::vector<int> parent_coupling;
   std::vector<int> loop_meshes;
-  std::vector<int> loop_couplings;
   // The body a body's tree edge leads to, towards the input (-1 at the input and a fixed shaft).
   int ParentBody(const TrainSpec& spec, int body) const;
 };
 
 // Bodies, nominal speeds and the spanning tree. Throws InputError for a topology rule (a loose
-// gear or shaft that no chain of meshes connects to the input, a loop whose ratios disagree, a
-// fixed shaft that is the input or whose fixed gear meshes).
+// gear or shaft that no chain of meshes and couplings connects to the input, a loop whose ratios
+// disagree, a coupling that closes a loop or joins a fixed shaft, a fixed shaft that is the input
+// or whose fixed gear meshes).
 TrainTopology AnalyseTrainTopology(const TrainSpec& spec);
 
 // Static torque flow: every load resists its body's rotation; the input shaft is driven by the
@@ -169,7 +169,7 @@ TrainTopology AnalyseTrainTopology(const TrainSpec& spec);
 // passes through every mesh and coupling on the spanning-tree path from its body to the input; a
 // mesh carrying power P transmits T = P / |w_b| on gear b, a coupling T = P / |w|. A mesh that
 // closes a loop is not on the tree and carries nothing (the split is statically indeterminate; a
-// coupling never closes one: ValidateTrainSpec).
+// coupling never closes one: AnalyseTrainTopology refuses it).
 struct TrainTorqueFlow {
   double input_torque = 0.0;               // N m driving the input shaft
   std::vector<double> transmitted_torque;  // per mesh, N m on gear b (>= 0)
@@ -226,12 +226,13 @@ GearboxSpec GearboxOf(const TrainSpec& spec);
 // gears on different shafts, every loose gear meshes, helical pairs have equal helix angles and
 // opposite hands, every shaft turns (is reached from the input through meshes, fixed gears and
 // couplings), and every kinematic loop closes with consistent ratios; no pair of gears meshes
-// twice; a coupling joins two distinct turning shafts with k in (0, kMaxCouplingStiffness] and c in
-// [0, kMaxCouplingDamping]. Every mesh
-// obeys the schema-1 gear and mesh rules; the operating limits are the train's: the input speed
-// > 0, an excitation order's speed fluctuation below the input shaft's speed, a tooth load per
-// mesh (from StaticTorqueFlow) of at most GearboxLimits::kMaxUnitLoad, and a bounded run (cycles
-// count the first mesh). Throws InputError.
+// twice; a coupling joins two distinct rigid, turning shafts with k in (0, kMaxCouplingStiffness]
+// and c in [0, kMaxCouplingDamping], at most one per pair and none closing a loop; an excitation
+// order acts on a turning shaft. Every mesh obeys the schema-1 gear and mesh rules; the operating
+// limits are the train's: the input speed > 0, each excitation order's speed fluctuation below its
+// shaft's speed (RequireExcitationWithinSpeed), a tooth load per mesh (from StaticTorqueFlow) of at
+// most GearboxLimits::kMaxUnitLoad, and a bounded run (cycles count the first mesh). Throws
+// InputError.
 void ValidateTrainSpec(const TrainSpec& spec);
 
 // The frequency (Hz) of the first mesh in the file (meshes[0]), whose cycles analysis.cycles,
@@ -239,7 +240,7 @@ void ValidateTrainSpec(const TrainSpec& spec);
 // (rad/s): z_a |w_a| / 2 pi with |w_a| in proportion to the input speed.
 double FirstMeshFrequency(const TrainSpec& spec, const TrainTopology& topology, double input_speed);
 
-// The operating limits of ValidateTrainSpec alone (tooth load per mesh, excitation on the input
+// The operating limits of ValidateTrainSpec alone (tooth load per mesh, excitation on each order's
 // shaft, run length), for a spec whose names, speed and topology are already valid.
 void ValidateTrainLimits(const TrainSpec& spec, const TrainTopology& topology);
 // The body excitation order i acts on (its `on` shaft; the input shaft when empty), and its order

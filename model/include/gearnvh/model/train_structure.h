@@ -23,8 +23,10 @@
 // the friction vectors act on s_a th_z.
 // Free rotations: body j's rigid rotation R_j (th_z = 1 on every node of the body) leaves the
 // structure unstrained; a combination sum c_j R_j is free when every engaged mesh sees no approach,
-// B c = 0 with B_ij = v_i^T R_j, and no coupling twists (c_a = c_b). They are found as the null space of B (SVD, singular values below
-// 1e-9 of the largest are zero; B's entries are base radii, so the test is scale-free).
+// B c = 0 with B_ij = v_i^T R_j, and no coupling twists (c_a = c_b: a row r, -r, r the largest
+// base radius, so that every row is in metres). They are found as the null space of B (SVD,
+// singular values below 1e-9 of the largest are zero; B's entries are base radii, so the test is
+// scale-free).
 #pragma once
 
 #include <Eigen/Dense>

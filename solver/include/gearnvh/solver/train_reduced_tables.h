@@ -6,9 +6,8 @@
 // tier-1 solver's diagonal-inertia code (generator, saltation, dense sub-step bound, projections)
 // runs unchanged with inertia = 1:
 //   K_y = L^-1 K_0 L^-T,  C_y = L^-1 (C_0 + w_in G) L^-T,  v_y = L^-1 v,  f_y = L^-1 T^T f,
-//   d_y = L^-1 T^T (J_in s_in e_thz,in)   (the engine excitation as the torque J_in s on the
-//   input body's first gear, J_in its polar inertia, s_in its sense of rotation about z, as tier
-//   1),
+//   d_y,k = B^T d_k   (engine order k's torque per unit amplitude on its shaft, as at tier 1, on
+//   the shaft's reference node: B the bodies' angle rows below),
 // and for every contact tuple K_s = K_y + sum_contact k v v^T, C_s = C_y + sum_contact c v v^T
 // with the flank's vector (v for drive, v_back for back: from tier 2 on their lateral terms
 // differ); with friction the force's direction is u = v +- mu w (train_tables.h), w_y = L^-1 T^T w

@@ -3,10 +3,11 @@
 //
 // Tier 1: one torsional DOF per body (TorsionalModes), angles are perturbations from the nominal
 // rotation, each in its body's own direction. Augmented state z = [x; x'; 1; q] (m = 2n + 1 + 2K),
-// q the exosystem of the K engine orders s(t) = sum_k a_k sin(w_k t + phi_k) (w_k = order_k times
-// the input speed): per order the pair q_k = a_k [sin, cos](w_k t + phi_k), q_k' = w_k [[0, 1],
-// [-1, 0]] q_k, and s = sum_k q_k,sin. The inputs are carried exactly (no hold, no limit on the
-// order): the generator stays LTI, gaining the eigenvalues +-i w_k. Mesh i couples its
+// q the exosystem of the K engine orders, the torque sum_k d_k a_k sin(w_k t + phi_k) (w_k = k
+// |W_s| for an order k of its shaft s; d_k below): per order the pair q_k = a_k [sin, cos](w_k t +
+// phi_k), q_k' = w_k [[0, 1], [-1, 0]] q_k, the torque sum_k d_k q_k,sin. The inputs are carried
+// exactly (no hold, no limit on the order): the generator stays LTI, gaining the eigenvalues
+// +-i w_k. Mesh i couples its
 // bodies through delta_i = v_i^T x, v_i = r_b,a e_a - r_b,b e_b; it has its own mesh period T_i,
 // its own S_i segments (the pair's segmentation of that mesh at the torque it transmits), and per
 // segment j the drive and back stiffness k+_ij, k-_ij and the unloaded error e_ij; b_i =
