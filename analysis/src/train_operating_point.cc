@@ -177,7 +177,7 @@ std::optional<size_t> SliceStart(size_t series_size, double series_from, double 
 // mesh (and bearing force row), the sideband window's spectrum, and with histories the event log
 // and every mesh's spectrum, with a waterfall every mesh's tail spectrum.
 RunMemory TrainRunMemory(const TrainRunOptions& options, size_t meshes, long kept,
-                         long window_samples, size_t bearing_rows) {
+                         long window_samples, size_t bearing_rows, size_t couplings) {
   RunMemory memory{{{"TE samples", TrainRecorder::SeriesBytes(meshes, kept, options.histories)},
                     {"TE spectrum", SpectrumBytes(window_samples)}},
                    kept};
@@ -190,6 +190,10 @@ RunMemory TrainRunMemory(const TrainRunOptions& options, size_t meshes, long kep
     memory.parts.push_back({"bearing force samples",
                             TrainRecorder::SeriesBytes(0, kept, false, bearing_rows) + spectra});
     memory.bearing_rows = bearing_rows;
+  }
+  if ((options.histories || options.bearing_forces) && couplings > 0) {
+    memory.parts.push_back(
+        {"coupling samples", TrainRecorder::SeriesBytes(0, kept, false, 2 * couplings)});
   }
   if (options.histories) {
     memory.parts.push_back(
@@ -351,7 +355,8 @@ void BearingForces(const SpectrumWindow& window, const TrainRecorder& recorder, 
   const TrainTables& tables = op.tables;
   const std::vector<TrainOutputSummary>& exact = op.stats.bearing_forces;
   if (!op.ok() || exact.size() != 3 * tables.bearings.size()) return;
-  const std::vector<std::vector<double>>& series = recorder.bearing_series();
+  // The bearing force rows come first among the tracked rows.
+  const std::vector<std::vector<double>>& series = recorder.tracked_series();
   const long window_samples = window.periods * window.samples_per_period;
   const double dt = recorder.sample_interval();
   std::optional<size_t> first;
@@ -409,7 +414,19 @@ void TakeRecord(const TrainSpec& spec, const TrainRunOptions& options, const Spe
   TailSpectra(options, recorder, ok, op);
   if (options.spectra) MeshSidebands(spec, options, window, recorder, kept_from, ok, op);
   if (options.bearing_forces) BearingForces(window, recorder, kept_from, options, op);
-  if (options.histories) recorder.TakeSeries(h.te, h.force, h.contact, h.bearing_force);
+  if (!options.histories) return;
+  std::vector<std::vector<double>> tracked;
+  recorder.TakeSeries(h.te, h.force, h.contact, tracked);
+  if (tracked.empty()) return;  // no sample kept
+  // The tracked rows: the bearing force rows (with bearing_forces), then CouplingRows's two per
+  // coupling.
+  const size_t bearing_rows = tracked.size() - 2 * op.train.couplings.size();
+  for (size_t r = 0; r < tracked.size(); ++r) {
+    std::vector<std::vector<double>>& into =
+        r < bearing_rows ? h.bearing_force
+                         : ((r - bearing_rows) % 2 == 0 ? h.coupling_twist : h.coupling_torque);
+    into.push_back(std::move(tracked[r]));
+  }
 }
 
 }  // namespace
@@ -460,9 +477,9 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, GearTrain trai
     window = PlanWindow(tables, dt, start, end, options.max_spectrum_samples, options.cycles);
   }
   const KeptSamples kept = PlanKeptSamples(options, window, start, end, dt);
-  op.memory = TrainRunMemory(options, tables.meshes.size(), kept.count,
-                             window.periods * window.samples_per_period,
-                             static_cast<size_t>(tables.bearing_force_rows.rows()));
+  op.memory = TrainRunMemory(
+      options, tables.meshes.size(), kept.count, window.periods * window.samples_per_period,
+      static_cast<size_t>(tables.bearing_force_rows.rows()), op.train.couplings.size());
   if (options.before_run_memory) {
     if (const std::string warning = options.before_run_memory(op.memory); !warning.empty()) {
       op.warnings.push_back(warning);
@@ -472,7 +489,8 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, GearTrain trai
   // After the cost and memory checks: a refused run does not pay for the full model's modes.
   if (options.tier_adequacy) AssessTier(spec, options, op);
   if (kept.count > 0) {
-    recorder.KeepSeries(kept.from, kept.count, options.histories, options.bearing_forces);
+    recorder.KeepSeries(kept.from, kept.count, options.histories,
+                        options.bearing_forces || options.histories);
   }
   if (options.histories) recorder.KeepEvents(options.max_logged_events);
   const auto wall_start = std::chrono::steady_clock::now();

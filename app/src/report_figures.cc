@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -249,6 +250,42 @@ render::LinePlot FaceLoadFigure(const std::vector<std::pair<std::string, FaceLoa
       s.y.push_back(face.line_load[i] * 1e-3);
     }
     p.series.push_back(s);
+  }
+  return p;
+}
+
+render::LinePlot CouplingTwistFigure(const TrainOperatingPoint& op, double window_s,
+                                     size_t max_points) {
+  constexpr double kDeg = 180.0 / std::numbers::pi;
+  const TrainHistories& h = op.histories;
+  render::LinePlot p;
+  p.title = fmt::format("Coupling twist, last {:.3g} s", window_s);
+  p.x_label = "time (s)";
+  p.y_label = "twist (deg)";
+  p.auto_log_y = false;
+  for (size_t c = 0; c < h.coupling_twist.size(); ++c) {
+    const std::vector<double>& twist = h.coupling_twist[c];
+    render::Series s{op.couplings[c].name, {}, {}};
+    const size_t shown = std::min(twist.size(), static_cast<size_t>(window_s / h.dt) + 1);
+    const size_t bucket = std::max<size_t>(1, (2 * shown + max_points - 1) / max_points);
+    for (size_t first = twist.size() - shown; first < twist.size(); first += bucket) {
+      const size_t last = std::min(twist.size(), first + bucket);
+      const auto [low, high] = std::minmax_element(twist.begin() + static_cast<long>(first),
+                                                   twist.begin() + static_cast<long>(last));
+      for (auto k : low < high ? std::array{low, high} : std::array{high, low}) {
+        s.x.push_back(h.start + static_cast<double>(k - twist.begin()) * h.dt);
+        s.y.push_back(*k * kDeg);
+        if (bucket == 1) break;
+      }
+    }
+    if (s.x.empty()) continue;
+    const double mean = op.couplings[c].twist.mean * kDeg;
+    render::Series m{"", {s.x.front(), s.x.back()}, {mean, mean}, render::Series::Style::kDashed};
+    m.color = static_cast<int>(c);
+    m.width = 1.0;
+    s.color = static_cast<int>(c);
+    p.series.push_back(std::move(s));
+    p.series.push_back(std::move(m));
   }
   return p;
 }

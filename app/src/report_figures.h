@@ -1,14 +1,15 @@
 // The report's figures of the operating point and the mesh cycle, as plot descriptions
 // (gui-less-render draws them): TE spectrum with mesh harmonics and sidebands, sideband stems,
 // dynamic TE trace, mesh stiffness / load sharing / LSTE over one mesh cycle, phase portrait with
-// Poincaré section. Axis labels carry units. (Figures over speed and parameter ranges:
-// report_sweep_figures.h.)
+// Poincaré section, a train's coupling twists over time. Axis labels carry units. (Figures over
+// speed and parameter ranges: report_sweep_figures.h.)
 #pragma once
 
 #include <string>
 
 #include "display_units.h"
 #include "gearnvh/analysis/operating_point.h"
+#include "gearnvh/analysis/train_operating_point.h"
 #include "gearnvh/model/component_model.h"
 #include "gearnvh/render/plots.h"
 
@@ -31,5 +32,10 @@ render::LinePlot LsteFigure(const ComponentModel& model);
 // The mesh-cycle mean line load across the face of each named mesh whose face is modelled
 // (FaceLoad::modelled), against the position from the face start.
 render::LinePlot FaceLoadFigure(const std::vector<std::pair<std::string, FaceLoad>>& meshes);
+// Each coupling's twist (degrees) over the last `window_s` seconds of a train's kept histories
+// (TrainHistories::coupling_twist), with its exact mean over the record dashed in the same colour.
+// More than `max_points` samples are drawn as each bucket's minimum and maximum: no peak is lost.
+render::LinePlot CouplingTwistFigure(const TrainOperatingPoint& op, double window_s,
+                                     size_t max_points = 8000);
 
 }  // namespace gearnvh::app

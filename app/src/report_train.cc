@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <sstream>
 
 #include "atomic_file.h"
@@ -14,6 +15,7 @@
 #include "gearnvh/analysis/train_operating_point.h"
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/solver/train_reduced_tables.h"
+#include "report_figures.h"
 #include "report_html.h"
 #include "report_sweep_figures.h"
 #include "report_whine.h"
@@ -62,6 +64,30 @@ std::string TrainSidebandsCsv(const TrainOperatingPoint& op) {
     }
   }
   return os.str();
+}
+
+// Each coupling's twist and torque over the record (exact: closed-form integrals and certified
+// extrema), in degrees and N m; nothing without a coupling.
+std::string CouplingsHtml(const TrainOperatingPoint& op) {
+  if (op.couplings.empty()) return {};
+  constexpr double kDeg = 180.0 / std::numbers::pi;
+  std::ostringstream h;
+  h << "<h2>Couplings at the operating point</h2>\n<p>Twist of the first shaft over the second "
+       "in their direction of rotation and the torque k twist + c twist' passed on, exact over "
+       "the record (couplings.png: the twist over time).</p>\n<table>\n<tr><th>coupling</th>"
+       "<th>twist mean / RMS (deg)</th><th>twist min / max (deg)</th><th>torque mean / RMS (N "
+       "m)</th><th>torque min / max (N m)</th></tr>\n";
+  for (const TrainCouplingResponse& c : op.couplings) {
+    h << "<tr><td>" << Html(c.name) << "</td><td>"
+      << fmt::format("{} / {}", Number(c.twist.mean * kDeg), Number(c.twist.rms * kDeg))
+      << "</td><td>"
+      << fmt::format("{} / {}", Number(c.twist.min * kDeg), Number(c.twist.max * kDeg))
+      << "</td><td>" << fmt::format("{} / {}", Number(c.torque.mean), Number(c.torque.rms))
+      << "</td><td>" << fmt::format("{} / {}", Number(c.torque.min), Number(c.torque.max))
+      << "</td></tr>\n";
+  }
+  h << "</table>\n";
+  return h.str();
 }
 
 struct TrainPageInput {
@@ -141,6 +167,7 @@ std::string TrainPage(const TrainPageInput& in) {
     }
     h << "</table>\n";
   }
+  h << CouplingsHtml(op);
   h << "<h2>TE spectrum lines per mesh</h2>\n<table>\n<tr><th>mesh</th><th>line</th><th>frequency "
        "(Hz)</th><th>amplitude (µm)</th><th>dB re 1 µm</th></tr>\n";
   for (size_t i = 0; i < op.sidebands.size(); ++i) {
@@ -353,6 +380,18 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
          "its peak over the mean; `check` gives the misalignment components).",
          render::RenderLinePlot(FaceLoadFigure(faces), image, (folder / "face_load.png").string()));
   }
+  if (!op.histories.coupling_twist.empty()) {
+    // Ten input revolutions: the engine orders' cycles stay apart, and a slow shuffle shows.
+    const double window_s = std::min(10.0 * op.tables.InputRevolution(), op.stats.recorded_time);
+    draw("couplings.png",
+         fmt::format("Twist of each coupling (the clutch damper's relative angle) over the last "
+                     "{} s (ten input revolutions) of the operating point, exact at every sample; "
+                     "dashed: its exact mean over the record (the static twist T / k plus the "
+                     "motion's mean). The table above holds the whole record's extrema.",
+                     Number(window_s, 3)),
+         render::RenderLinePlot(CouplingTwistFigure(op, window_s), image,
+                                (folder / "couplings.png").string()));
+  }
   if (!sweep.loose_gear_names.empty()) {
     draw(
         "loose_gears.png",
@@ -397,6 +436,7 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
                             {"operating_point",
                              {{"meshes", TrainMeshesJson(op)},
                               {"loose_gears", TrainLooseGearsJson(op.stats.loose_gears)},
+                              {"couplings", TrainCouplingsJson(op)},
                               {"sideband_window_common_periods", op.sideband_window_common_periods},
                               {"sidebands_notes", op.sideband_notes},
                               {"warnings", op.warnings},

@@ -208,6 +208,18 @@ nlohmann::json TrainBearingForcesJson(const TrainOperatingPoint& op, const Train
   return bearings;
 }
 
+nlohmann::json TrainCouplingsJson(const TrainOperatingPoint& op) {
+  nlohmann::json out = nlohmann::json::array();
+  const auto summary = [](const TrainOutputSummary& s) {
+    return nlohmann::json{{"mean", s.mean}, {"rms", s.rms}, {"min", s.min}, {"max", s.max}};
+  };
+  for (const TrainCouplingResponse& c : op.couplings) {
+    out.push_back(
+        {{"name", c.name}, {"twist_rad", summary(c.twist)}, {"torque_n_m", summary(c.torque)}});
+  }
+  return out;
+}
+
 nlohmann::json TrainLooseGearsJson(const std::vector<TrainLooseGearStatistics>& gears) {
   nlohmann::json loose = nlohmann::json::array();
   for (const TrainLooseGearStatistics& g : gears) {

@@ -258,18 +258,6 @@ void PrintCouplings(const TrainOperatingPoint& op) {
   }
 }
 
-nlohmann::json CouplingsJson(const TrainOperatingPoint& op) {
-  nlohmann::json out = nlohmann::json::array();
-  const auto summary = [](const TrainOutputSummary& s) {
-    return nlohmann::json{{"mean", s.mean}, {"rms", s.rms}, {"min", s.min}, {"max", s.max}};
-  };
-  for (const TrainCouplingResponse& c : op.couplings) {
-    out.push_back(
-        {{"name", c.name}, {"twist_rad", summary(c.twist)}, {"torque_n_m", summary(c.torque)}});
-  }
-  return out;
-}
-
 }  // namespace
 
 nlohmann::json TrainSimulationJson(const TrainOperatingPoint& op, const TrainSpec& spec,
@@ -325,7 +313,7 @@ nlohmann::json TrainSimulationJson(const TrainOperatingPoint& op, const TrainSpe
   doc["sidebands_notes"] = op.sideband_notes;
   doc["loose_gears"] = TrainLooseGearsJson(op.stats.loose_gears);
   doc["bearings"] = TrainBearingForcesJson(op, spec);
-  doc["couplings"] = CouplingsJson(op);
+  doc["couplings"] = TrainCouplingsJson(op);
   if (op.histories.dt > 0.0) {
     const TrainHistories& h = op.histories;
     doc["time_histories"] = {{"samples", h.te.empty() ? 0 : h.te.front().size()},

@@ -39,6 +39,8 @@ void WriteTrainTrajectoryCsv(const TrainHistories& h, const TrainTables& tables,
     fmt::print(f, ",{0}.force_x_n,{0}.force_y_n,{0}.force_z_n",
                BearingName(spec.shafts[static_cast<size_t>(sb.shaft)].name, sb.index));
   }
+  for (size_t c = 0; c < h.coupling_twist.size(); ++c)
+    fmt::print(f, ",{0}.twist_rad,{0}.torque_n_m", spec.couplings[c].name);
   fmt::print(f, "\n");
   const size_t samples = h.te.empty() ? 0 : h.te.front().size();
   for (size_t k = 0; k < samples; ++k) {
@@ -48,6 +50,8 @@ void WriteTrainTrajectoryCsv(const TrainHistories& h, const TrainTables& tables,
                  ContactStateName(h.contact[i][k]));
     }
     for (const std::vector<double>& row : h.bearing_force) fmt::print(f, ",{:.17g}", row[k]);
+    for (size_t c = 0; c < h.coupling_twist.size(); ++c)
+      fmt::print(f, ",{:.17g},{:.17g}", h.coupling_twist[c][k], h.coupling_torque[c][k]);
     fmt::print(f, "\n");
   }
 }

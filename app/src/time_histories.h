@@ -18,7 +18,8 @@ std::string EventsCsv(const Trajectory& t);
 
 // A train: time_s, then per mesh (file order) <mesh>.te_m, <mesh>.mesh_force_n, <mesh>.contact,
 // then per bearing when the histories hold its force <bearing>.force_x_n, _y_n, _z_n (bearings
-// named as BearingName). Streamed.
+// named as BearingName), then per coupling (file order) <coupling>.twist_rad, <coupling>.torque_n_m
+// (TrainCouplingResponse). Streamed.
 void WriteTrainTrajectoryCsv(const TrainHistories& h, const TrainTables& tables,
                              const TrainSpec& spec, std::FILE* f);
 // time_s, mesh, from, to, gap_rate_m_s.

@@ -78,6 +78,17 @@ std::vector<TierCrossing> CriticalSpeeds(const TrainSpec& spec, const GearTrain&
       out.push_back(
           {static_cast<int>(k) + 1, fmt::format("shaft {} 1x", names), w_mode / (speed / w_in)});
     }
+    // The engine orders, each of its own shaft's speed, named with that shaft.
+    for (size_t e = 0; e < spec.operating.excitation.size(); ++e) {
+      const double of_input = ExcitationOrderOfInput(spec, train.topology, e);
+      if (of_input <= 0.0) continue;
+      const TrainBody& on =
+          train.topology.bodies[static_cast<size_t>(ExcitationBody(spec, train.topology, e))];
+      out.push_back(
+          {static_cast<int>(k) + 1,
+           fmt::format("excitation {:g}x {}", spec.operating.excitation[e].order, on.name),
+           w_mode / of_input});
+    }
   }
   return out;
 }

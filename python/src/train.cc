@@ -150,7 +150,8 @@ py::cpp_function PerSpeedLooseGears(double TrainLooseGearStatistics::*member) {
   });
 }
 
-// A (meshes x samples) array copied from per-mesh histories (all of one length), as `Out`.
+// A (rows x samples) array copied from per-mesh (or per-coupling) histories of one length, as
+// `Out`.
 template <typename Out, typename In>
 py::array_t<Out> MeshMatrix(const std::vector<std::vector<In>>& per_mesh) {
   const size_t rows = per_mesh.size(), columns = rows == 0 ? 0 : per_mesh.front().size();
@@ -212,6 +213,14 @@ void BindTrainHistories(py::module_& m) {
       .def_property_readonly(
           "contact", [](const TrainHistories& h) { return MeshMatrix<int>(h.contact); },
           "contact state: 0 back flank, 1 free, 2 drive flank (as Trajectory.contact)")
+      .def_property_readonly(
+          "coupling_twist",
+          [](const TrainHistories& h) { return MeshMatrix<double>(h.coupling_twist); },
+          "each coupling's twist, rad (couplings x samples, file order; as trajectory.csv)")
+      .def_property_readonly(
+          "coupling_torque",
+          [](const TrainHistories& h) { return MeshMatrix<double>(h.coupling_torque); },
+          "each coupling's torque k twist + c twist', N m (couplings x samples)")
       .def_readonly("truncated", &TrainHistories::truncated,
                     "the record held more samples than are kept (4,000,000 per mesh)")
       .def_property_readonly(

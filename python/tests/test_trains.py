@@ -97,6 +97,29 @@ def test_histories_are_the_command_lines_trajectory_and_events(gearnvh_exe, tmp_
     assert np.array_equal(h.event_to, [state[e["to"]] for e in events])
     assert np.array_equal(h.event_gap_rate, [float(e["gap_rate_m_s"]) for e in events])
     assert not h.truncated and not h.events_truncated
+    assert h.coupling_twist.size == h.coupling_torque.size == 0  # the train has no coupling
+
+
+def test_coupling_histories_are_the_command_lines_columns(gearnvh_exe, tmp_path):
+    # The driveline example: each coupling's twist and torque at every sample, equal to
+    # trajectory.csv's columns (17 digits: tolerance 0), with the exact record's mean between the
+    # samples' extrema.
+    driveline = EXAMPLES / "manual_transmission_driveline.yaml"
+    train = gearnvh.load(driveline)
+    result = gearnvh.simulate(train, cycles=20, transient=5, histories=True)
+    h = result.histories
+    subprocess.run([gearnvh_exe, "simulate", str(driveline), "--cycles", "20", "--transient", "5",
+                    "--out", str(tmp_path / "out")], check=True, capture_output=True)
+    with open(tmp_path / "out" / "trajectory.csv") as f:
+        rows = list(csv.DictReader(f))
+    couplings = result.to_dict()["couplings"]
+    assert [c["name"] for c in couplings] == ["clutch_damper", "halfshaft"]
+    assert h.coupling_twist.shape == h.coupling_torque.shape == (2, len(rows))
+    for i, c in enumerate(couplings):
+        name = c["name"]
+        assert np.array_equal(h.coupling_twist[i], [float(r[name + ".twist_rad"]) for r in rows])
+        assert np.array_equal(h.coupling_torque[i], [float(r[name + ".torque_n_m"]) for r in rows])
+        assert h.coupling_twist[i].min() < c["twist_rad"]["mean"] < h.coupling_twist[i].max()
 
 
 def test_sweep_arrays_are_the_runs_at_each_speed(transmission):

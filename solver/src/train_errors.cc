@@ -48,14 +48,13 @@ void TrainTables::AddExcitationColumns(Eigen::Ref<Eigen::MatrixXd> A) const {
                   excitation_directions.array().colwise() / inertia.array(), A);
 }
 
-Eigen::VectorXd TrainTables::ExcitationTorque(double t) const {
-  Eigen::VectorXd torque = Eigen::VectorXd::Zero(n);
+void TrainTables::AddExcitationAcceleration(double t,
+                                            Eigen::Ref<Eigen::VectorXd> acceleration) const {
   for (size_t k = 0; k < excitation.size(); ++k) {
     const ExcitationOrder& e = excitation[k];
-    torque += e.amplitude * std::sin(e.order * input_speed * t + e.phase) *
-              excitation_directions.col(static_cast<Eigen::Index>(k));
+    acceleration += (e.amplitude * std::sin(e.order * input_speed * t + e.phase)) *
+                    excitation_directions.col(static_cast<Eigen::Index>(k)).cwiseQuotient(inertia);
   }
-  return torque;
 }
 
 double TrainTables::HighestExcitationFrequency() const {

@@ -87,7 +87,7 @@ bool NegligiblePiece(double time, double end, double h) {
 struct Problem {
   const TrainTables* t = nullptr;
   // The tuple's generator without the orders' exosystem (their states stay put and act nowhere):
-  // the orders enter as the continuous torque ExcitationTorque(t) instead, independent of the
+  // the orders enter as the continuous AddExcitationAcceleration(t) instead, independent of the
   // stepper's exosystem.
   Eigen::MatrixXd A;
   std::vector<int> segments;
@@ -105,8 +105,7 @@ int TrainRhs(sunrealtype time, N_Vector y, N_Vector ydot, void* data) {
   Eigen::Map<const Eigen::VectorXd> z(NV_DATA_S(y), NV_LENGTH_S(y));
   Eigen::Map<Eigen::VectorXd> dz(NV_DATA_S(ydot), NV_LENGTH_S(y));
   dz.noalias() = p.A * z;
-  if (!p.t->excitation.empty())
-    dz.segment(p.t->n, p.t->n) += p.t->ExcitationTorque(time).cwiseQuotient(p.t->inertia);
+  p.t->AddExcitationAcceleration(time, dz.segment(p.t->n, p.t->n));
   return 0;
 }
 

@@ -46,7 +46,7 @@ TrainRecorder::TrainRecorder(const TrainTables& tables, int samples_per_cycle, d
   grazing_.assign(meshes, 0);
 }
 
-void TrainRecorder::KeepSeries(double from_time, long max_samples, bool histories, bool bearings) {
+void TrainRecorder::KeepSeries(double from_time, long max_samples, bool histories, bool tracked) {
   keep_from_ = from_time;
   keep_max_ = std::max(0L, max_samples);
   keep_histories_ = histories;
@@ -57,10 +57,10 @@ void TrainRecorder::KeepSeries(double from_time, long max_samples, bool historie
   for (std::vector<double>& series : te_series_) series.reserve(reserved);
   for (std::vector<double>& series : force_series_) series.reserve(reserved);
   for (std::vector<ContactState>& series : contact_series_) series.reserve(reserved);
-  const Eigen::Index rows = bearings ? t_.bearing_force_rows.rows() : 0;
-  bearing_series_.assign(static_cast<size_t>(rows), {});
-  for (std::vector<double>& series : bearing_series_) series.reserve(reserved);
-  bearing_values_.resize(rows);
+  const Eigen::Index rows = tracked ? tracked_rows_.rows() : 0;
+  tracked_series_.assign(static_cast<size_t>(rows), {});
+  for (std::vector<double>& series : tracked_series_) series.reserve(reserved);
+  tracked_values_.resize(rows);
 }
 
 void TrainRecorder::Track(const RowMatrix& rows, Eigen::Index at) {
@@ -86,15 +86,15 @@ void TrainRecorder::TrackOutputs(const Eigen::MatrixXd& rows) { Track(rows, trac
 void TrainRecorder::TakeSeries(std::vector<std::vector<double>>& te,
                                std::vector<std::vector<double>>& force,
                                std::vector<std::vector<ContactState>>& contact,
-                               std::vector<std::vector<double>>& bearing_force) {
+                               std::vector<std::vector<double>>& tracked) {
   te = std::move(te_series_);
   force = std::move(force_series_);
   contact = std::move(contact_series_);
-  bearing_force = std::move(bearing_series_);
+  tracked = std::move(tracked_series_);
   te_series_.clear();
   force_series_.clear();
   contact_series_.clear();
-  bearing_series_.clear();
+  tracked_series_.clear();
   keep_max_ = 0;
 }
 
@@ -129,10 +129,10 @@ void TrainRecorder::Sample(double time, const Eigen::VectorXd& z, const std::vec
       force_series_[i].push_back(ForceAt(i, z, segments[i], states[i]));
       contact_series_[i].push_back(states[i]);
     }
-    if (!bearing_series_.empty() && static_cast<long>(bearing_series_.front().size()) < keep_max_) {
-      bearing_values_.noalias() = t_.bearing_force_rows * z;
-      for (size_t r = 0; r < bearing_series_.size(); ++r) {
-        bearing_series_[r].push_back(bearing_values_[static_cast<Eigen::Index>(r)]);
+    if (!tracked_series_.empty() && static_cast<long>(tracked_series_.front().size()) < keep_max_) {
+      tracked_values_.noalias() = tracked_rows_ * z;
+      for (size_t r = 0; r < tracked_series_.size(); ++r) {
+        tracked_series_[r].push_back(tracked_values_[static_cast<Eigen::Index>(r)]);
       }
     }
   }

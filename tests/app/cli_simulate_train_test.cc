@@ -3,10 +3,13 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "app/three_shaft_train_yaml.h"
 #include "support/paths.h"
@@ -157,8 +160,25 @@ TEST_CASE("the driveline example: couplings carry the torque flow and the flywhe
   CHECK(input == flywheel);
   CHECK(wheels == output);
   CHECK(model["fe"]["free_rotations"] == 1);
+  // The 2nd engine order on the flywheel crosses each tier-1 mode at half the input speed where
+  // the flywheel's (and the input's) 1x line does (rounding only).
+  std::map<int, double> order_two, shaft_one;
+  for (const auto& c : model["critical_speeds"]) {
+    const std::string line = c["line"].get<std::string>();
+    if (line == "excitation 2x flywheel") order_two[c["mode"]] = c["input_speed"];
+    if (line.rfind("shaft ", 0) == 0 && line.find("flywheel") != std::string::npos) {
+      shaft_one[c["mode"]] = c["input_speed"];
+    }
+  }
+  REQUIRE(order_two.size() == shaft_one.size());
+  REQUIRE_FALSE(order_two.empty());
+  for (const auto& [mode, speed] : order_two) {
+    CHECK(speed == Approx(0.5 * shaft_one[mode]).epsilon(1e-14));
+  }
 
-  const auto r = RunCommand(kExe + " simulate --json --cycles 20 --transient 5 " + file);
+  const testing::TempDir dir;
+  const auto r = RunCommand(kExe + " simulate --json --cycles 20 --transient 5 --out " +
+                            (dir.path() / "out").string() + " " + file);
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
   const auto doc = nlohmann::json::parse(r.out);
@@ -166,6 +186,60 @@ TEST_CASE("the driveline example: couplings carry the torque flow and the flywhe
   CHECK(doc["summary"]["status"] == "success");
   REQUIRE(doc["couplings"].size() == 2);
   CHECK(doc["couplings"][1]["name"] == "halfshaft");
+
+  // trajectory.csv: each coupling's twist and torque at every sample. Every sample lies inside
+  // the exact record's certified extrema (rounding: 1e-9 of the range), and the torque column is
+  // k twist + c twist': against c times the samples' central difference of the twist, whose
+  // truncation error (w dt)^2 / 6 is < 1 % at the mesh frequencies the twist carries (32 samples
+  // per fastest mesh cycle), so 1 % of the largest c twist' bounds it (measured: 6e-4).
+  const std::vector<std::vector<double>> samples = [&] {
+    std::ifstream csv(dir.path() / "out" / "trajectory.csv");
+    std::string line;
+    std::getline(csv, line);
+    std::vector<std::string> names;
+    std::stringstream header(line);
+    for (std::string name; std::getline(header, name, ',');) names.push_back(name);
+    std::vector<std::vector<double>> columns(4);
+    const std::vector<std::string> wanted = {"clutch_damper.twist_rad", "clutch_damper.torque_n_m",
+                                             "halfshaft.twist_rad", "halfshaft.torque_n_m"};
+    std::vector<size_t> at;
+    for (const std::string& w : wanted) {
+      at.push_back(static_cast<size_t>(std::find(names.begin(), names.end(), w) - names.begin()));
+      REQUIRE(at.back() < names.size());
+    }
+    while (std::getline(csv, line)) {
+      std::vector<std::string> cells;
+      std::stringstream row(line);
+      for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+      REQUIRE(cells.size() == names.size());
+      for (size_t k = 0; k < 4; ++k) columns[k].push_back(std::stod(cells[at[k]]));
+    }
+    return columns;
+  }();
+  REQUIRE(samples[0].size() > 100);
+  const double dt = doc["time_histories"]["sample_interval_s"].get<double>();
+  for (size_t c = 0; c < 2; ++c) {
+    const auto& exact = doc["couplings"][c];
+    const std::vector<double>& twist = samples[2 * c];
+    const std::vector<double>& torque = samples[2 * c + 1];
+    for (const auto& [series, key] : {std::pair{&twist, "twist_rad"}, {&torque, "torque_n_m"}}) {
+      const double low = exact[key]["min"].get<double>(), high = exact[key]["max"].get<double>();
+      const double slack = 1e-9 * (high - low) + 1e-15 * std::abs(high);
+      CHECK(*std::min_element(series->begin(), series->end()) >= low - slack);
+      CHECK(*std::max_element(series->begin(), series->end()) <= high + slack);
+    }
+    const double k = model["couplings"][c]["stiffness_n_m_per_rad"].get<double>();
+    const double damping = model["couplings"][c]["damping_n_m_s_per_rad"].get<double>();
+    double largest = 0.0, worst = 0.0;
+    for (size_t j = 1; j + 1 < twist.size(); ++j) {
+      const double viscous = damping * (twist[j + 1] - twist[j - 1]) / (2.0 * dt);
+      largest = std::max(largest, std::abs(viscous));
+      worst = std::max(worst, std::abs(torque[j] - k * twist[j] - viscous));
+    }
+    INFO("coupling " << c << ": largest c twist' " << largest << " N m");
+    CHECK(largest > 1e-3);  // the engine order moves both couplings
+    CHECK(worst <= 0.01 * largest);
+  }
 
   // Without the engine order the train stays in permanent contact near its static state: each
   // coupling's exact mean twist is its static T / k (the meshes' stiffness variation and the
@@ -175,7 +249,6 @@ TEST_CASE("the driveline example: couplings carry the torque flow and the flywhe
   text << in.rdbuf();
   const std::string quiet =
       testing::ReplaceFirst(text.str(), "amplitude: 600 rad/s^2", "amplitude: 0 rad/s^2");
-  const testing::TempDir dir;
   const auto still = RunCommand(kExe + " simulate --json --cycles 40 --transient 10 " +
                                 dir.Write("quiet.yaml", quiet).string());
   INFO(still.err);

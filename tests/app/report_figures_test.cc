@@ -4,9 +4,12 @@
 // default size and at 600x400 (support/figure_checks.h).
 #include "report_figures.h"
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
+#include <numbers>
+#include <vector>
 
 #include "config/gearbox_loader.h"
 #include "gearnvh/analysis/order_tracks.h"
@@ -245,6 +248,54 @@ TEST_CASE("atlas figure: a log torque axis has geometric cell edges and draws at
     const double area = (s.layout.plot_area.x1 - s.layout.plot_area.x0) *
                         (s.layout.plot_area.y1 - s.layout.plot_area.y0);
     testing::CheckDrawnFigure(s, png, w, h, static_cast<long>(0.5 * area));
+  }
+}
+
+}  // namespace
+}  // namespace gearnvh::app
+
+namespace gearnvh::app {
+namespace {
+
+TEST_CASE("the coupling figure shows the last window of each twist, its peaks kept, and its mean",
+          "[report][train]") {
+  // Two couplings sampled every 1 ms over 20 s (20,001 samples): a sine of 1 deg at 7 Hz about
+  // 2 deg with one spike to 5 deg at 19.3 s, and a constant 0.5 deg. The last 2 s hold 2,001
+  // samples, more than the 800 points allowed, so each bucket gives its minimum and maximum.
+  constexpr double kDeg = std::numbers::pi / 180.0, kDt = 1e-3;
+  TrainOperatingPoint op;
+  op.histories.start = 1.0;
+  op.histories.dt = kDt;
+  op.histories.coupling_twist.resize(2);
+  for (int k = 0; k <= 20000; ++k) {
+    const double t = 1.0 + k * kDt;
+    op.histories.coupling_twist[0].push_back((2.0 + std::sin(2.0 * std::numbers::pi * 7.0 * t)) *
+                                             kDeg);
+    op.histories.coupling_twist[1].push_back(0.5 * kDeg);
+  }
+  op.histories.coupling_twist[0][18300] = 5.0 * kDeg;  // t = 19.3 s
+  op.couplings = {{"damper", {}, {}}, {"halfshaft", {}, {}}};
+  op.couplings[0].twist.mean = 2.0 * kDeg;
+  op.couplings[1].twist.mean = 0.5 * kDeg;
+  const render::LinePlot plot = CouplingTwistFigure(op, 2.0, 800);
+  REQUIRE(plot.series.size() == 4);  // each coupling and its mean
+  const render::Series& damper = plot.series[0];
+  CHECK(damper.label == "damper");
+  CHECK(damper.x.size() <= 800);
+  // The last 2 s of 1..21 s, to a bucket of 6 samples.
+  CHECK(damper.x.front() == Approx(19.0).margin(6 * kDt));
+  CHECK(damper.x.back() == Approx(21.0).margin(6 * kDt));
+  CHECK(std::is_sorted(damper.x.begin(), damper.x.end()));
+  CHECK(*std::max_element(damper.y.begin(), damper.y.end()) == Approx(5.0).epsilon(1e-12));
+  CHECK(*std::min_element(damper.y.begin(), damper.y.end()) == Approx(1.0).margin(1e-3));
+  CHECK(plot.series[1].y == std::vector<double>{2.0, 2.0});
+  CHECK(plot.series[1].style == render::Series::Style::kDashed);
+  CHECK(plot.series[1].label.empty());
+  CHECK(plot.series[3].y == std::vector<double>{0.5, 0.5});
+  const testing::TempDir dir;
+  for (const auto& [w, h] : kSizes) {
+    const std::string png = (dir.path() / ("couplings" + std::to_string(w) + ".png")).string();
+    testing::CheckDrawnFigure(render::RenderLinePlot(plot, {w, h, 100.0}, png), png, w, h);
   }
 }
 

@@ -97,6 +97,9 @@ struct TrainHistories {
   // With TrainRunOptions::bearing_forces, per bearing force row (TrainTables::bearing_force_rows:
   // 3 per bearing, x, y, z) its value at every kept sample, N.
   std::vector<std::vector<double>> bearing_force;
+  // Per coupling (file order) its twist (rad) and torque (N m) at every kept sample, as
+  // TrainCouplingResponse defines them.
+  std::vector<std::vector<double>> coupling_twist, coupling_torque;
   std::vector<TrainEventRecord> events;            // in time order
   bool events_truncated = false;                   // more events than max_logged_events
 };

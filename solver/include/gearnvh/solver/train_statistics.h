@@ -98,31 +98,30 @@ class TrainRecorder {
   // Keeps the TE of every mesh at the samples at or after `from_time` (s), at most `max_samples`
   // per mesh; with `histories`, also each mesh's force (k (g) + c delta' in contact, 0 free, as
   // the statistics define it) and contact state there.
-  // With `bearings`, also every bearing force row's value (TrainTables::bearing_force_rows).
-  // Storage is reserved here, so recording allocates nothing.
-  void KeepSeries(double from_time, long max_samples, bool histories = false,
-                  bool bearings = false);
-  // What KeepSeries(_, max_samples, histories, bearings) reserves on a train of `meshes` meshes
-  // and `bearing_rows` bearing force rows.
+  // With `tracked`, also every tracked row's value (TrackBearingForces, TrackOutputs: call them
+  // first). Storage is reserved here, so recording allocates nothing.
+  void KeepSeries(double from_time, long max_samples, bool histories = false, bool tracked = false);
+  // What KeepSeries(_, max_samples, histories, true) reserves on a train of `meshes` meshes and
+  // `tracked_rows` tracked rows.
   static size_t SeriesBytes(size_t meshes, long max_samples, bool histories = false,
-                            size_t bearing_rows = 0) {
+                            size_t tracked_rows = 0) {
     const size_t per_sample =
         sizeof(double) + (histories ? sizeof(double) + sizeof(ContactState) : 0);
     const size_t samples = static_cast<size_t>(std::max(0L, max_samples));
-    return meshes * samples * per_sample + bearing_rows * samples * sizeof(double);
+    return meshes * samples * per_sample + tracked_rows * samples * sizeof(double);
   }
   // Per mesh (file order) the kept TE samples, m; with histories, the force (N) and the contact
   // state at the same samples (empty otherwise).
   const std::vector<std::vector<double>>& te_series() const { return te_series_; }
   const std::vector<std::vector<double>>& force_series() const { return force_series_; }
   const std::vector<std::vector<ContactState>>& contact_series() const { return contact_series_; }
-  // Per bearing force row (TrainTables::bearing_force_rows) its kept samples, N; empty unless
-  // KeepSeries kept them.
-  const std::vector<std::vector<double>>& bearing_series() const { return bearing_series_; }
+  // Per tracked row (the bearing force rows first, then TrackOutputs's, in order) its kept
+  // samples; empty unless KeepSeries kept them.
+  const std::vector<std::vector<double>>& tracked_series() const { return tracked_series_; }
   // Moves the kept series out (the recorder keeps none after): a run's histories without a copy.
   void TakeSeries(std::vector<std::vector<double>>& te, std::vector<std::vector<double>>& force,
                   std::vector<std::vector<ContactState>>& contact,
-                  std::vector<std::vector<double>>& bearing_force);
+                  std::vector<std::vector<double>>& tracked);
   // From now on, also the exact statistics of every bearing force row (TrainTables::
   // bearing_force_rows; TrainStatistics::bearing_forces). Storage is reserved here.
   void TrackBearingForces();
@@ -179,8 +178,8 @@ class TrainRecorder {
   bool keep_histories_ = false;
   std::vector<std::vector<double>> te_series_, force_series_;
   std::vector<std::vector<ContactState>> contact_series_;
-  std::vector<std::vector<double>> bearing_series_;
-  Eigen::VectorXd bearing_values_;
+  std::vector<std::vector<double>> tracked_series_;
+  Eigen::VectorXd tracked_values_;
   // The tracked rows on the whole state: the bearing force rows (TrainTables::
   // bearing_force_rows, TrackBearingForces) first, then TrackOutputs's; their chunk coefficients
   // and statistics.

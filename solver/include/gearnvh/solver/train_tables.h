@@ -211,9 +211,10 @@ struct TrainTables {
   // Adds the error inputs' columns M^-1 k_ij v_i of the meshes in contact to a generator.
   void AddErrorColumns(const std::vector<int>& segments, const std::vector<ContactState>& states,
                        Eigen::Ref<Eigen::MatrixXd> A) const;
-  // The orders' torque sum_k d_k a_k sin(w_k t + phi_k) on the n coordinates at time t, and their
-  // largest frequency max_k w_k (0 without orders), rad/s.
-  Eigen::VectorXd ExcitationTorque(double t) const;
+  // Adds the orders' acceleration M^-1 sum_k d_k a_k sin(w_k t + phi_k) on the n coordinates at
+  // time t (no allocation: the CVODE reference calls it per right-hand side); and their largest
+  // frequency max_k w_k (0 without orders), rad/s.
+  void AddExcitationAcceleration(double t, Eigen::Ref<Eigen::VectorXd> acceleration) const;
   double HighestExcitationFrequency() const;
   double InputRevolution() const;  // 2 pi / input speed, s
 };
