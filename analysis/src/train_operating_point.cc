@@ -174,8 +174,9 @@ std::optional<size_t> SliceStart(size_t series_size, double series_from, double 
 }
 
 // What the run keeps that grows with the record (TrainOperatingPoint::memory): `kept` samples per
-// mesh (and bearing force row), the sideband window's spectrum, and with histories the event log
-// and every mesh's spectrum, with a waterfall every mesh's tail spectrum.
+// mesh (and bearing force row), the sideband window's spectrum, and with histories the event log,
+// every mesh's spectrum and the couplings' twist and torque samples, with a waterfall every mesh's
+// tail spectrum.
 RunMemory TrainRunMemory(const TrainRunOptions& options, size_t meshes, long kept,
                          long window_samples, size_t bearing_rows, size_t couplings) {
   RunMemory memory{{{"TE samples", TrainRecorder::SeriesBytes(meshes, kept, options.histories)},
@@ -191,7 +192,7 @@ RunMemory TrainRunMemory(const TrainRunOptions& options, size_t meshes, long kep
                             TrainRecorder::SeriesBytes(0, kept, false, bearing_rows) + spectra});
     memory.bearing_rows = bearing_rows;
   }
-  if ((options.histories || options.bearing_forces) && couplings > 0) {
+  if (options.histories && couplings > 0) {
     memory.parts.push_back(
         {"coupling samples", TrainRecorder::SeriesBytes(0, kept, false, 2 * couplings)});
   }
@@ -489,8 +490,11 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, GearTrain trai
   // After the cost and memory checks: a refused run does not pay for the full model's modes.
   if (options.tier_adequacy) AssessTier(spec, options, op);
   if (kept.count > 0) {
+    // The bearing rows come first: without histories only they are kept (their spectra).
+    const Eigen::Index bearing_rows = options.bearing_forces ? tables.bearing_force_rows.rows() : 0;
+    const auto coupling_rows = static_cast<Eigen::Index>(2 * op.train.couplings.size());
     recorder.KeepSeries(kept.from, kept.count, options.histories,
-                        options.bearing_forces || options.histories);
+                        options.histories ? bearing_rows + coupling_rows : bearing_rows);
   }
   if (options.histories) recorder.KeepEvents(options.max_logged_events);
   const auto wall_start = std::chrono::steady_clock::now();

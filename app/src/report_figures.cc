@@ -263,11 +263,13 @@ render::LinePlot CouplingTwistFigure(const TrainOperatingPoint& op, double windo
   p.x_label = "time (s)";
   p.y_label = "twist (deg)";
   p.auto_log_y = false;
-  for (size_t c = 0; c < h.coupling_twist.size(); ++c) {
+  const size_t pairs = std::max<size_t>(1, max_points / 2);  // a bucket draws two points
+  // op.couplings (the exact statistics) is empty after a failed run.
+  for (size_t c = 0; c < std::min(h.coupling_twist.size(), op.couplings.size()); ++c) {
     const std::vector<double>& twist = h.coupling_twist[c];
     render::Series s{op.couplings[c].name, {}, {}};
     const size_t shown = std::min(twist.size(), static_cast<size_t>(window_s / h.dt) + 1);
-    const size_t bucket = std::max<size_t>(1, (2 * shown + max_points - 1) / max_points);
+    const size_t bucket = shown <= max_points ? 1 : (shown + pairs - 1) / pairs;
     for (size_t first = twist.size() - shown; first < twist.size(); first += bucket) {
       const size_t last = std::min(twist.size(), first + bucket);
       const auto [low, high] = std::minmax_element(twist.begin() + static_cast<long>(first),
@@ -275,7 +277,7 @@ render::LinePlot CouplingTwistFigure(const TrainOperatingPoint& op, double windo
       for (auto k : low < high ? std::array{low, high} : std::array{high, low}) {
         s.x.push_back(h.start + static_cast<double>(k - twist.begin()) * h.dt);
         s.y.push_back(*k * kDeg);
-        if (bucket == 1) break;
+        if (low == high) break;  // one sample
       }
     }
     if (s.x.empty()) continue;

@@ -34,7 +34,8 @@ render::LinePlot LsteFigure(const ComponentModel& model);
 render::LinePlot FaceLoadFigure(const std::vector<std::pair<std::string, FaceLoad>>& meshes);
 // Each coupling's twist (degrees) over the last `window_s` seconds of a train's kept histories
 // (TrainHistories::coupling_twist), with its exact mean over the record dashed in the same colour.
-// More than `max_points` samples are drawn as each bucket's minimum and maximum: no peak is lost.
+// More than `max_points` samples are drawn as each bucket's minimum and maximum (at most
+// max_points points): no peak is lost.
 render::LinePlot CouplingTwistFigure(const TrainOperatingPoint& op, double window_s,
                                      size_t max_points = 8000);
 

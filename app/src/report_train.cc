@@ -387,8 +387,12 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
          fmt::format("Twist of each coupling (the clutch damper's relative angle) over the last "
                      "{} s (ten input revolutions) of the operating point, exact at every sample; "
                      "dashed: its exact mean over the record (the static twist T / k plus the "
-                     "motion's mean). The table above holds the whole record's extrema.",
-                     Number(window_s, 3)),
+                     "motion's mean). The table above holds the whole record's extrema.{}",
+                     Number(window_s, 3),
+                     op.histories.truncated
+                         ? " The record held more samples than are kept: the figure ends where "
+                           "the kept samples do."
+                         : ""),
          render::RenderLinePlot(CouplingTwistFigure(op, window_s), image,
                                 (folder / "couplings.png").string()));
   }

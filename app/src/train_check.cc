@@ -39,12 +39,13 @@ std::vector<LoadSummary> SummariseLoads(const TrainSpec& spec, const GearTrain& 
 
 struct TierCrossing {
   int mode = 0;              // numbered from 1
-  std::string line;          // "mesh g1-g2 1x", "shaft input 1x"
+  std::string line;          // "mesh g1-g2 1x", "shaft input 1x", "excitation 2x flywheel"
   double input_speed = 0.0;  // rad/s of the input shaft
 };
 
 // Input speeds at which an order line crosses a mode: mesh i harmonic h at frequency
-// h z_a |w_a| / 2 pi, shaft j at |w_j| / 2 pi, both proportional to the input speed.
+// h z_a |w_a| / 2 pi, shaft j at |w_j| / 2 pi, engine order k on shaft s at k |w_s| / 2 pi, all
+// proportional to the input speed.
 std::vector<TierCrossing> CriticalSpeeds(const TrainSpec& spec, const GearTrain& train,
                                          const TrainTorsionalModes& modes) {
   std::vector<TierCrossing> out;

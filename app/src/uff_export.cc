@@ -187,6 +187,33 @@ void AppendBearingUff(const TrainSpec& spec, const TrainOperatingPoint& op, int&
   }
 }
 
+// A coupling's twist and torque time histories (response "CPL", node: its number from 1,
+// direction 6: about the shaft axis), when the histories hold them (2 samples or more).
+void AppendCouplingUff(const TrainSpec& spec, const TrainOperatingPoint& op, int& next_id,
+                       std::vector<UffFunction>& out) {
+  const TrainHistories& h = op.histories;
+  for (size_t c = 0; c < h.coupling_twist.size(); ++c) {
+    if (h.coupling_twist[c].size() < 2) continue;
+    const std::string& name = spec.couplings[c].name;
+    const std::pair<const std::vector<double>*, UffAxis> rows[] = {
+        {&h.coupling_twist[c], UffAxis{8, 0, 0, 0, "coupling twist", "rad"}},
+        {&h.coupling_torque[c], UffAxis{9, 1, 1, 0, "coupling torque", "N m"}}};
+    for (const auto& [values, axis] : rows) {
+      UffFunction f = Base(spec.name, axis.label + ", " + name, next_id++);
+      f.function_type = 1;
+      f.response_name = "CPL";
+      f.response_node = static_cast<int>(c) + 1;
+      f.response_direction = 6;
+      f.abscissa = TimeAxis();
+      f.ordinate = axis;
+      f.x_min = h.start;
+      f.dx = h.dt;
+      f.values = *values;
+      out.push_back(std::move(f));
+    }
+  }
+}
+
 }  // namespace
 
 std::vector<UffFunction> TrainOperatingPointUff(const TrainSpec& spec,
@@ -211,6 +238,7 @@ std::vector<UffFunction> TrainOperatingPointUff(const TrainSpec& spec,
       out.push_back(std::move(f));
   }
   AppendBearingUff(spec, op, first_id, out);
+  AppendCouplingUff(spec, op, first_id, out);
   return out;
 }
 

@@ -70,7 +70,8 @@ std::vector<UffFunction> OperatingPointUff(const GearboxSpec& spec,
 // A train's operating point: MeshUff of every mesh in file order (response node i + 1, the mesh
 // named in the ID lines), from its time histories (TrainRunOptions::histories); then from tier 2
 // on each bearing's force on the housing in x, y, z (response "BRG", node: the bearing's number
-// from 1, direction 1..3): its time history and its window spectrum.
+// from 1, direction 1..3): its time history and its window spectrum; then each coupling's twist
+// (rad) and torque (N m) histories (response "CPL", node: its number from 1, direction 6).
 std::vector<UffFunction> TrainOperatingPointUff(const TrainSpec& spec,
                                                 const TrainOperatingPoint& op, int first_id = 1);
 

@@ -190,8 +190,8 @@ void BindTrainHistories(py::module_& m) {
       m, "TrainHistories",
       "Every mesh's time histories over the recorded cycles of simulate(train, histories=True), "
       "as `simulate --out` writes them (trajectory.csv, events.csv): uniform samples, 32 per "
-      "cycle of the fastest mesh, each the exact state at its time. Arrays are copies, meshes x "
-      "samples in file order.")
+      "cycle of the fastest mesh, each the exact state at its time. Arrays are copies, meshes (or "
+      "couplings) x samples in file order.")
       .def_property_readonly(
           "time",
           [](const TrainHistories& h) {

@@ -46,7 +46,8 @@ TrainRecorder::TrainRecorder(const TrainTables& tables, int samples_per_cycle, d
   grazing_.assign(meshes, 0);
 }
 
-void TrainRecorder::KeepSeries(double from_time, long max_samples, bool histories, bool tracked) {
+void TrainRecorder::KeepSeries(double from_time, long max_samples, bool histories,
+                               Eigen::Index tracked_rows) {
   keep_from_ = from_time;
   keep_max_ = std::max(0L, max_samples);
   keep_histories_ = histories;
@@ -57,7 +58,7 @@ void TrainRecorder::KeepSeries(double from_time, long max_samples, bool historie
   for (std::vector<double>& series : te_series_) series.reserve(reserved);
   for (std::vector<double>& series : force_series_) series.reserve(reserved);
   for (std::vector<ContactState>& series : contact_series_) series.reserve(reserved);
-  const Eigen::Index rows = tracked ? tracked_rows_.rows() : 0;
+  const Eigen::Index rows = std::clamp<Eigen::Index>(tracked_rows, 0, tracked_rows_.rows());
   tracked_series_.assign(static_cast<size_t>(rows), {});
   for (std::vector<double>& series : tracked_series_) series.reserve(reserved);
   tracked_values_.resize(rows);
@@ -130,7 +131,7 @@ void TrainRecorder::Sample(double time, const Eigen::VectorXd& z, const std::vec
       contact_series_[i].push_back(states[i]);
     }
     if (!tracked_series_.empty() && static_cast<long>(tracked_series_.front().size()) < keep_max_) {
-      tracked_values_.noalias() = tracked_rows_ * z;
+      tracked_values_.noalias() = tracked_rows_.topRows(tracked_values_.size()) * z;
       for (size_t r = 0; r < tracked_series_.size(); ++r) {
         tracked_series_[r].push_back(tracked_values_[static_cast<Eigen::Index>(r)]);
       }

@@ -178,7 +178,8 @@ TEST_CASE("the driveline example: couplings carry the torque flow and the flywhe
 
   const testing::TempDir dir;
   const auto r = RunCommand(kExe + " simulate --json --cycles 20 --transient 5 --out " +
-                            (dir.path() / "out").string() + " " + file);
+                            (dir.path() / "out").string() + " --uff " +
+                            (dir.path() / "run.uff").string() + " " + file);
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
   const auto doc = nlohmann::json::parse(r.out);
@@ -239,6 +240,63 @@ TEST_CASE("the driveline example: couplings carry the torque flow and the flywhe
     INFO("coupling " << c << ": largest c twist' " << largest << " N m");
     CHECK(largest > 1e-3);  // the engine order moves both couplings
     CHECK(worst <= 0.01 * largest);
+  }
+  // The UFF file holds each coupling's twist and torque histories: their first samples are the
+  // CSV's (the file's 12 significant digits: 1e-10 relative).
+  const std::string uff = [&] {
+    std::ifstream in(dir.path() / "run.uff");
+    std::stringstream text;
+    text << in.rdbuf();
+    return text.str();
+  }();
+  for (size_t c = 0; c < 2; ++c) {
+    const std::string name = doc["couplings"][c]["name"];
+    for (const std::string& what : {"coupling twist, ", "coupling torque, "}) {
+      const size_t at = uff.find(what + name);
+      REQUIRE(at != std::string::npos);
+      // Dataset 58: the ID line, 4 more ID lines, records 6 to 11, then the values.
+      std::stringstream block(uff.substr(at));
+      std::string line;
+      for (int skip = 0; skip < 11; ++skip) std::getline(block, line);
+      double first = 0.0;
+      block >> first;
+      const double expected = samples[2 * c + (what == "coupling twist, " ? 0 : 1)].front();
+      CHECK(first == Approx(expected).epsilon(1e-10));
+    }
+  }
+
+  // From tier 2 on the bearings' force rows are tracked first: the couplings' columns still follow
+  // the bearings' and hold values inside their exact extrema (as above).
+  const auto tier3 = RunCommand(kExe + " simulate --json --tier 3 --cycles 6 --transient 2 --out " +
+                                (dir.path() / "tier3").string() + " " + file);
+  INFO(tier3.err);
+  REQUIRE(tier3.exit_code == 0);
+  const auto doc3 = nlohmann::json::parse(tier3.out);
+  REQUIRE_FALSE(doc3["bearings"].empty());
+  {
+    std::ifstream csv(dir.path() / "tier3" / "trajectory.csv");
+    std::string header, row;
+    REQUIRE(std::getline(csv, header));
+    const std::string tail =
+        ",clutch_damper.twist_rad,clutch_damper.torque_n_m,"
+        "halfshaft.twist_rad,halfshaft.torque_n_m";
+    REQUIRE(header.size() > tail.size());
+    CHECK(header.substr(header.size() - tail.size()) == tail);
+    CHECK(header.find(".force_z_n") < header.find("clutch_damper"));
+    long rows = 0;
+    while (std::getline(csv, row)) {
+      ++rows;
+      REQUIRE(std::count(row.begin(), row.end(), ',') ==
+              std::count(header.begin(), header.end(), ','));
+      const size_t comma =
+          row.rfind(',', row.rfind(',', row.rfind(',', row.rfind(',') - 1) - 1) - 1);
+      const double twist = std::stod(row.substr(comma + 1));
+      const auto& exact = doc3["couplings"][0]["twist_rad"];
+      const double slack = 1e-9 * (exact["max"].get<double>() - exact["min"].get<double>());
+      CHECK(twist >= exact["min"].get<double>() - slack);
+      CHECK(twist <= exact["max"].get<double>() + slack);
+    }
+    CHECK(rows == doc3["time_histories"]["samples"].get<long>());
   }
 
   // Without the engine order the train stays in permanent contact near its static state: each

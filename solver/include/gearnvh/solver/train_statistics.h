@@ -98,11 +98,12 @@ class TrainRecorder {
   // Keeps the TE of every mesh at the samples at or after `from_time` (s), at most `max_samples`
   // per mesh; with `histories`, also each mesh's force (k (g) + c delta' in contact, 0 free, as
   // the statistics define it) and contact state there.
-  // With `tracked`, also every tracked row's value (TrackBearingForces, TrackOutputs: call them
-  // first). Storage is reserved here, so recording allocates nothing.
-  void KeepSeries(double from_time, long max_samples, bool histories = false, bool tracked = false);
-  // What KeepSeries(_, max_samples, histories, true) reserves on a train of `meshes` meshes and
-  // `tracked_rows` tracked rows.
+  // Also the first `tracked_rows` tracked rows' values (TrackBearingForces, TrackOutputs: call
+  // them first; at most all of them). Storage is reserved here, so recording allocates nothing.
+  void KeepSeries(double from_time, long max_samples, bool histories = false,
+                  Eigen::Index tracked_rows = 0);
+  // What KeepSeries(_, max_samples, histories, tracked_rows) reserves on a train of `meshes`
+  // meshes.
   static size_t SeriesBytes(size_t meshes, long max_samples, bool histories = false,
                             size_t tracked_rows = 0) {
     const size_t per_sample =
