@@ -55,6 +55,7 @@ TrainSweepPoint RunPoint(const TrainSpec& base, const GearTrain& built,
   for (const TrainMeshTable& mt : op.tables.meshes) p.mesh_periods.push_back(mt.period);
   p.meshes = op.stats.meshes;
   p.loose_gears = op.stats.loose_gears;
+  p.couplings = op.couplings;
   std::sort(p.loose_gears.begin(), p.loose_gears.end(),
             [](const auto& a, const auto& b) { return a.body < b.body; });
   for (const AmplitudeSpectrum& s : op.waterfall) {

@@ -83,6 +83,13 @@ TrainSpec ReadTrainDocument(Reader& r, const YAML::Node& root) {
        "analysis"});
   TrainSpec spec;
   spec.name = r.String(root, "", "name");
+  for (const char* key : {"gears", "meshes"}) {
+    if (!root[key].IsDefined()) {
+      r.Fail(key, root, "",
+             "required key is missing: a gear train has at least one mesh between two gears "
+             "(shafts joined only by couplings are not a gearbox)");
+    }
+  }
   spec.materials = ReadMaterials(r, root);
 
   const YAML::Node shafts = r.Child(root, "", "shafts", true);

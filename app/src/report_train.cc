@@ -75,8 +75,8 @@ std::string CouplingsHtml(const TrainOperatingPoint& op) {
   h << "<h2>Couplings at the operating point</h2>\n<p>Twist of the first shaft over the second "
        "in their direction of rotation and the torque k twist + c twist' passed on, exact over "
        "the record (couplings.png: the twist over time).</p>\n<table>\n<tr><th>coupling</th>"
-       "<th>twist mean / RMS (deg)</th><th>twist min / max (deg)</th><th>torque mean / RMS (N "
-       "m)</th><th>torque min / max (N m)</th></tr>\n";
+       "<th>twist mean / RMS about it (deg)</th><th>twist min / max (deg)</th><th>torque mean / "
+       "RMS about it (N m)</th><th>torque min / max (N m)</th></tr>\n";
   for (const TrainCouplingResponse& c : op.couplings) {
     h << "<tr><td>" << Html(c.name) << "</td><td>"
       << fmt::format("{} / {}", Number(c.twist.mean * kDeg), Number(c.twist.rms * kDeg))
@@ -396,6 +396,31 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
          render::RenderLinePlot(CouplingTwistFigure(op, window_s), image,
                                 (folder / "couplings.png").string()));
   }
+  if (!spec.couplings.empty()) {
+    // Each coupling's twist range (its exact minimum and maximum) at every sweep speed.
+    std::vector<std::string> ranges;
+    for (const TrainCoupling& c : spec.couplings) {
+      ranges.push_back(c.name + " max");
+      ranges.push_back(c.name + " min");
+    }
+    render::LinePlot range = OverSpeed(
+        sweep, ranges, "Coupling twist range", "twist (deg)",
+        [](const TrainSweepPoint& p, size_t i) {
+          const TrainOutputSummary& t = p.couplings[i / 2].twist;
+          return (i % 2 == 0 ? t.max : t.min) * 180.0 / std::numbers::pi;
+        },
+        scale);
+    range.auto_log_y = false;
+    for (size_t i = 0; i < range.series.size(); ++i) {  // a coupling's minimum dashed in its colour
+      range.series[i].color = static_cast<int>(i / 2);
+      if (i % 2 == 1) range.series[i].style = render::Series::Style::kDashed;
+    }
+    draw("couplings_over_speed.png",
+         "Twist range of each coupling against the input speed: its exact maximum (solid) and "
+         "minimum (dashed) over each speed's record (couplings.csv): where a clutch damper "
+         "leaves the stage its stiffness was given for.",
+         render::RenderLinePlot(range, image, (folder / "couplings_over_speed.png").string()));
+  }
   if (!sweep.loose_gear_names.empty()) {
     draw(
         "loose_gears.png",
@@ -416,6 +441,8 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
   if (stage) stage("data files and page");
   WriteFileAtomically((folder / "meshes.csv").string(), TrainMeshesCsv(sweep));
   WriteFileAtomically((folder / "loose_gears.csv").string(), TrainLooseGearsCsv(sweep));
+  if (!spec.couplings.empty())
+    WriteFileAtomically((folder / "couplings.csv").string(), TrainCouplingsCsv(sweep));
   WriteFileAtomically((folder / "sidebands.csv").string(), TrainSidebandsCsv(op));
   WriteFileAtomically((folder / "waterfall.csv").string(),
                       WaterfallCsv(MeshWaterfalls(sweep), sweep.mesh_names));
@@ -440,7 +467,7 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
                             {"operating_point",
                              {{"meshes", TrainMeshesJson(op)},
                               {"loose_gears", TrainLooseGearsJson(op.stats.loose_gears)},
-                              {"couplings", TrainCouplingsJson(op)},
+                              {"couplings", TrainCouplingsJson(op.couplings)},
                               {"sideband_window_common_periods", op.sideband_window_common_periods},
                               {"sidebands_notes", op.sideband_notes},
                               {"warnings", op.warnings},

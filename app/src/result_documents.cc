@@ -208,12 +208,12 @@ nlohmann::json TrainBearingForcesJson(const TrainOperatingPoint& op, const Train
   return bearings;
 }
 
-nlohmann::json TrainCouplingsJson(const TrainOperatingPoint& op) {
+nlohmann::json TrainCouplingsJson(const std::vector<TrainCouplingResponse>& couplings) {
   nlohmann::json out = nlohmann::json::array();
   const auto summary = [](const TrainOutputSummary& s) {
     return nlohmann::json{{"mean", s.mean}, {"rms", s.rms}, {"min", s.min}, {"max", s.max}};
   };
-  for (const TrainCouplingResponse& c : op.couplings) {
+  for (const TrainCouplingResponse& c : couplings) {
     out.push_back(
         {{"name", c.name}, {"twist_rad", summary(c.twist)}, {"torque_n_m", summary(c.torque)}});
   }

@@ -55,9 +55,9 @@ std::string BearingName(const std::string& shaft, int index);
 // simulate's `bearings`: per bearing its name, shaft, index, position, and in x, y, z the mean and
 // RMS force on the housing and the amplitude at each mesh harmonic (TrainBearingForce).
 nlohmann::json TrainBearingForcesJson(const TrainOperatingPoint& op, const TrainSpec& spec);
-// simulate's `couplings`: per coupling its name and the exact mean, RMS, min and max of its twist
-// (rad) and torque (N m) over the record (TrainCouplingResponse).
-nlohmann::json TrainCouplingsJson(const TrainOperatingPoint& op);
+// simulate's (and each sweep point's) `couplings`: per coupling its name and the exact mean, RMS,
+// min and max of its twist (rad) and torque (N m) over the record (TrainCouplingResponse).
+nlohmann::json TrainCouplingsJson(const std::vector<TrainCouplingResponse>& couplings);
 nlohmann::json SidebandsJson(const std::vector<SidebandRow>& rows);
 
 }  // namespace gearnvh::app

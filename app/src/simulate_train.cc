@@ -313,7 +313,7 @@ nlohmann::json TrainSimulationJson(const TrainOperatingPoint& op, const TrainSpe
   doc["sidebands_notes"] = op.sideband_notes;
   doc["loose_gears"] = TrainLooseGearsJson(op.stats.loose_gears);
   doc["bearings"] = TrainBearingForcesJson(op, spec);
-  doc["couplings"] = TrainCouplingsJson(op);
+  doc["couplings"] = TrainCouplingsJson(op.couplings);
   if (op.histories.dt > 0.0) {
     const TrainHistories& h = op.histories;
     doc["time_histories"] = {{"samples", h.te.empty() ? 0 : h.te.front().size()},

@@ -128,6 +128,7 @@ int SweepTrain(const SweepOptions& options, const TrainSpec& spec) {
   if (out) {
     out->Write("meshes.csv", TrainMeshesCsv(result));
     out->Write("loose_gears.csv", TrainLooseGearsCsv(result));
+    if (!spec.couplings.empty()) out->Write("couplings.csv", TrainCouplingsCsv(result));
     out->Write("waterfall.csv", WaterfallCsv(MeshWaterfalls(result), result.mesh_names));
     out->Write("sweep.json", doc.dump(1) + "\n");
     out->Commit();

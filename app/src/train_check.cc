@@ -41,6 +41,7 @@ struct TierCrossing {
   int mode = 0;              // numbered from 1
   std::string line;          // "mesh g1-g2 1x", "shaft input 1x", "excitation 2x flywheel"
   double input_speed = 0.0;  // rad/s of the input shaft
+  double frequency_hz = 0.0;  // the mode's undamped natural frequency at tier 1
 };
 
 // Input speeds at which an order line crosses a mode: mesh i harmonic h at frequency
@@ -59,7 +60,7 @@ std::vector<TierCrossing> CriticalSpeeds(const TrainSpec& spec, const GearTrain&
       const int z = spec.gears[static_cast<size_t>(mesh.gear_a)].gear.teeth;
       for (int h = 1; h <= 3; ++h) {
         out.push_back({static_cast<int>(k) + 1, fmt::format("mesh {} {}x", mesh.name, h),
-                       w_mode / (h * z * ratio)});
+                       w_mode / (h * z * ratio), modes.frequencies_hz[k]});
       }
     }
     // One line per shaft speed: shafts joined by a coupling turn alike.
@@ -76,8 +77,8 @@ std::vector<TierCrossing> CriticalSpeeds(const TrainSpec& spec, const GearTrain&
       }
     }
     for (const auto& [speed, names] : shafts) {
-      out.push_back(
-          {static_cast<int>(k) + 1, fmt::format("shaft {} 1x", names), w_mode / (speed / w_in)});
+      out.push_back({static_cast<int>(k) + 1, fmt::format("shaft {} 1x", names),
+                     w_mode / (speed / w_in), modes.frequencies_hz[k]});
     }
     // The engine orders, each of its own shaft's speed, named with that shaft.
     for (size_t e = 0; e < spec.operating.excitation.size(); ++e) {
@@ -88,7 +89,7 @@ std::vector<TierCrossing> CriticalSpeeds(const TrainSpec& spec, const GearTrain&
       out.push_back(
           {static_cast<int>(k) + 1,
            fmt::format("excitation {:g}x {}", spec.operating.excitation[e].order, on.name),
-           w_mode / of_input});
+           w_mode / of_input, modes.frequencies_hz[k]});
     }
   }
   return out;
@@ -286,7 +287,8 @@ nlohmann::json TrainCheckReport(const TrainSpec& spec, const TrainCheck& check) 
     critical.push_back({{"mode", c.mode},
                         {"line", c.line},
                         {"input_speed", c.input_speed},
-                        {"input_speed_rpm", Rpm(c.input_speed)}});
+                        {"input_speed_rpm", Rpm(c.input_speed)},
+                        {"frequency_hz", c.frequency_hz}});
   }
   const TrainStructure& st = check.structure;
   doc["fe"] = {{"nodes", st.nodes.size()},

@@ -24,6 +24,11 @@ nlohmann::json TrainSweepPointJson(const TrainSweepPoint& p) {
                      g.back_impacts, g.drive_impacts_per_second, g.back_impacts_per_second,
                      g.impact_velocity_rms, g.impact_velocity_max, g.impact_energy_per_second});
   }
+  nlohmann::json couplings = nlohmann::json::array();
+  for (const TrainCouplingResponse& c : p.couplings) {
+    couplings.push_back({c.name, c.twist.mean, c.twist.rms, c.twist.min, c.twist.max, c.torque.mean,
+                         c.torque.rms, c.torque.min, c.torque.max});
+  }
   return {{"speed_rad_s", p.speed_rad_s},
           {"speed_rpm", p.speed_rpm},
           {"ok", p.ok},
@@ -33,6 +38,7 @@ nlohmann::json TrainSweepPointJson(const TrainSweepPoint& p) {
           {"mesh_periods", p.mesh_periods},
           {"meshes", meshes},
           {"loose_gears", loose},
+          {"couplings", couplings},
           {"waterfall", p.waterfall}};
 }
 
@@ -77,6 +83,13 @@ TrainSweepPoint TrainSweepPointFromJson(const nlohmann::json& j) {
     s.impact_velocity_max = g.at(10).get<double>();
     s.impact_energy_per_second = g.at(11).get<double>();
     p.loose_gears.push_back(std::move(s));
+  }
+  for (const auto& c : j.at("couplings")) {
+    const auto summary = [&c](int first) {
+      return TrainOutputSummary{c.at(first).get<double>(), c.at(first + 1).get<double>(),
+                                c.at(first + 2).get<double>(), c.at(first + 3).get<double>()};
+    };
+    p.couplings.push_back({c.at(0).get<std::string>(), summary(1), summary(5)});
   }
   p.waterfall = j.at("waterfall").get<std::vector<std::vector<double>>>();
   return p;
@@ -128,7 +141,8 @@ nlohmann::json TrainSweepJson(const TrainSweepResult& r) {
                       {"message", p.message},
                       {"real_time_ratio", p.real_time_ratio},
                       {"meshes", meshes},
-                      {"loose_gears", loose}});
+                      {"loose_gears", loose},
+                      {"couplings", TrainCouplingsJson(p.couplings)}});
   }
   nlohmann::json waterfall_meshes = nlohmann::json::array();
   for (size_t i = 0; i < r.mesh_names.size(); ++i) {
@@ -182,6 +196,21 @@ std::string TrainLooseGearsCsv(const TrainSweepResult& r) {
          << ',' << g.drive_impacts_per_second << ',' << g.back_impacts_per_second << ','
          << g.impact_velocity_rms << ',' << g.impact_velocity_max << ',' << g.impacts << ','
          << g.rattle_index << '\n';
+    }
+  }
+  return os.str();
+}
+
+std::string TrainCouplingsCsv(const TrainSweepResult& r) {
+  std::ostringstream os;
+  os.precision(12);
+  os << "speed_rpm,coupling,twist_mean_rad,twist_rms_rad,twist_min_rad,twist_max_rad,"
+        "torque_mean_n_m,torque_rms_n_m,torque_min_n_m,torque_max_n_m\n";
+  for (const TrainSweepPoint& p : r.points) {
+    for (const TrainCouplingResponse& c : p.couplings) {
+      os << p.speed_rpm << ',' << c.name << ',' << c.twist.mean << ',' << c.twist.rms << ','
+         << c.twist.min << ',' << c.twist.max << ',' << c.torque.mean << ',' << c.torque.rms << ','
+         << c.torque.min << ',' << c.torque.max << '\n';
     }
   }
   return os.str();

@@ -32,6 +32,9 @@ nlohmann::json TrainSweepDocument(const TrainSweepResult& r, const TrainSpec& sp
                                   const std::string& file, const TrainSweepOptions& options);
 std::string TrainMeshesCsv(const TrainSweepResult& r);
 std::string TrainLooseGearsCsv(const TrainSweepResult& r);
+// Per speed whose run succeeded and coupling (file order) its twist (rad) and torque (N m): mean,
+// RMS, min, max (exact, TrainCouplingResponse); the header only without couplings.
+std::string TrainCouplingsCsv(const TrainSweepResult& r);
 // (waterfall.csv: WaterfallCsv of MeshWaterfalls, sweep_command.h.)
 
 // Prints the sweep's text tables (per mesh, then the loose gears' impact energy and rank per speed).

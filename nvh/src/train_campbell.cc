@@ -30,10 +30,12 @@ std::vector<OrderLine> TrainOrderLines(const TrainSpec& spec, const GearTrain& t
     }
   }
   std::vector<double> reference_orders;
-  for (size_t i = 0; i < spec.operating.excitation.size(); ++i) {
+  std::vector<ExcitationOrder> named = spec.operating.excitation;  // each named with its shaft
+  for (size_t i = 0; i < named.size(); ++i) {
     reference_orders.push_back(ExcitationOrderOfInput(spec, topo, i));
+    named[i].on = topo.bodies[static_cast<size_t>(ExcitationBody(spec, topo, i))].name;
   }
-  AddExcitationLines(lines, spec.operating.excitation, reference_orders);
+  AddExcitationLines(lines, named, reference_orders);
   return lines;
 }
 

@@ -175,6 +175,12 @@ TEST_CASE("the driveline example: couplings carry the torque flow and the flywhe
   for (const auto& [mode, speed] : order_two) {
     CHECK(speed == Approx(0.5 * shaft_one[mode]).epsilon(1e-14));
   }
+  // Each crossing names its mode's frequency: the order line's there (2 x the flywheel speed).
+  for (const auto& c : model["critical_speeds"]) {
+    if (c["line"] != "excitation 2x flywheel") continue;
+    CHECK(c["frequency_hz"].get<double>() ==
+          Approx(2.0 * c["input_speed"].get<double>() / (2.0 * std::numbers::pi)).epsilon(1e-13));
+  }
 
   const testing::TempDir dir;
   const auto r = RunCommand(kExe + " simulate --json --cycles 20 --transient 5 --out " +
@@ -319,6 +325,75 @@ TEST_CASE("the driveline example: couplings carry the torque flow and the flywhe
         model["couplings"][c]["mean_twist_deg"].get<double>() * std::numbers::pi / 180.0;
     CHECK(twist["mean"].get<double>() == Approx(expected).epsilon(1e-4));
   }
+}
+
+TEST_CASE("a coupling twisted past 15 deg by its static torque is warned of: a unit slip?",
+          "[cli][train]") {
+  // 9 N m/rad instead of 9 N m/deg: 4.69 N m twists the damper by 29.8 deg.
+  std::ifstream in(kExamples + "/manual_transmission_driveline.yaml");
+  std::stringstream text;
+  text << in.rdbuf();
+  const testing::TempDir dir;
+  const auto run = [&](const std::string& yaml) {
+    const auto r = RunCommand(kExe + " check --json " + dir.Write("d.yaml", yaml).string());
+    REQUIRE(r.exit_code == 0);
+    return nlohmann::json::parse(r.out)["warnings"].dump();
+  };
+  CHECK(run(text.str()).find("clutch_damper") == std::string::npos);
+  const std::string soft =
+      run(testing::ReplaceFirst(text.str(), "stiffness: 9 N*m/deg", "stiffness: 9 N*m/rad"));
+  CHECK(soft.find("coupling 'clutch_damper': the static twist 29.8") != std::string::npos);
+  CHECK(soft.find("N*m/deg") != std::string::npos);
+}
+
+TEST_CASE("the driveline's sweep gives each coupling's twist and torque at every speed",
+          "[cli][train][sweep]") {
+  // Without the engine order, in permanent contact: at every speed the halfshaft carries the
+  // wheels' 15 N m and the clutch damper the input torque, each at its mean over the record (what
+  // the start leaves ringing moves the means by 1e-6 of the torque, measured: 1e-5).
+  std::ifstream in(kExamples + "/manual_transmission_driveline.yaml");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string yaml =
+      testing::ReplaceFirst(text.str(), "amplitude: 600 rad/s^2", "amplitude: 0 rad/s^2");
+  yaml = testing::ReplaceFirst(
+      yaml, "analysis:\n", "analysis:\n  speed_sweep: {from: 700 rpm, to: 1500 rpm, points: 3}\n");
+  const testing::TempDir dir;
+  const std::string file = dir.Write("quiet.yaml", yaml).string();
+  const auto check = RunCommand(kExe + " check --json " + file);
+  REQUIRE(check.exit_code == 0);
+  const double input_torque = nlohmann::json::parse(check.out)["input_torque"].get<double>();
+  const auto r = RunCommand(kExe + " sweep --json --cycles 400 --transient 200 --out " +
+                            (dir.path() / "out").string() + " " + file);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const auto doc = nlohmann::json::parse(r.out);
+  REQUIRE(doc["points"].size() == 3);
+  for (const auto& p : doc["points"]) {
+    REQUIRE(p["couplings"].size() == 2);
+    CHECK(p["couplings"][0]["torque_n_m"]["mean"].get<double>() ==
+          Approx(input_torque).epsilon(1e-5));
+    CHECK(p["couplings"][1]["torque_n_m"]["mean"].get<double>() == Approx(15.0).epsilon(1e-5));
+  }
+  // couplings.csv: a row per speed and coupling, the JSON's numbers (12 digits).
+  std::ifstream csv(dir.path() / "out" / "couplings.csv");
+  std::string line;
+  REQUIRE(std::getline(csv, line));
+  CHECK(line.rfind("speed_rpm,coupling,twist_mean_rad,", 0) == 0);
+  long rows = 0;
+  while (std::getline(csv, line)) {
+    std::stringstream row(line);
+    std::string speed, name, twist_mean;
+    std::getline(row, speed, ',');
+    std::getline(row, name, ',');
+    std::getline(row, twist_mean, ',');
+    const auto& coupling = doc["points"][rows / 2]["couplings"][rows % 2];
+    CHECK(name == coupling["name"].get<std::string>());
+    CHECK(std::stod(twist_mean) ==
+          Approx(coupling["twist_rad"]["mean"].get<double>()).epsilon(1e-11));
+    ++rows;
+  }
+  CHECK(rows == 6);
 }
 
 TEST_CASE("simulate on a train prints the per-mesh table", "[cli][train]") {

@@ -270,6 +270,17 @@ TEST_CASE("a drag may be viscous and act relative to a shaft", "[loader][train]"
   CHECK(itself.rule().find("relative to itself") != std::string::npos);
 }
 
+TEST_CASE("a train without gears or meshes is told it needs a mesh", "[loader][train]") {
+  // Shafts joined only by a coupling: the first missing key says what a gear train needs.
+  const std::string couplings_only =
+      "schema: gearnvh/2\nname: shafts only\nshafts:\n  a: {inertia: 0.1 kg*m^2}\n"
+      "  b: {inertia: 0.2 kg*m^2}\ncouplings:\n  k: {between: [a, b], stiffness: 100}\n"
+      "operating:\n  speed: {shaft: a, value: 1000 rpm}\n";
+  const InputError e = testing::LoaderErrorOf(couplings_only);
+  CHECK(e.path() == "gears");
+  CHECK(e.rule().find("at least one mesh between two gears") != std::string::npos);
+}
+
 TEST_CASE("a coupling joins two shafts with a stiffness and a damping, in the units written",
           "[loader][train]") {
   // A flywheel behind shaft a, through a clutch damper; the speed given on the flywheel.

@@ -247,6 +247,9 @@ TEST_CASE("a train sweep's speed crosses between MPI ranks whole: its JSON round
   f.rank = 1;
   p.loose_gears = {f};
   p.waterfall = {{0.0, 1e-6 / 3.0, 5e-300}, {1.0 / 3.0, 0.0, 2.0}};
+  p.couplings = {{"clutch_damper",
+                  {0.01 / 3.0, 0.002 / 7.0, -1e-3 / 3.0, 0.02 / 3.0},
+                  {4.7 / 3.0, 1.0 / 7.0, -0.5 / 3.0, 10.0 / 3.0}}};
   using app::TrainSweepPointFromJson;
   using app::TrainSweepPointJson;
   const TrainSweepPoint back = TrainSweepPointFromJson(
@@ -267,6 +270,11 @@ TEST_CASE("a train sweep's speed crosses between MPI ranks whole: its JSON round
   CHECK(back.meshes[0].grazing == 2);
   CHECK(back.meshes[0].free_time_fraction == m.free_time_fraction);
   CHECK(back.meshes[0].impact_velocity_rms == m.impact_velocity_rms);
+  REQUIRE(back.couplings.size() == 1);
+  CHECK(back.couplings[0].name == "clutch_damper");
+  CHECK(back.couplings[0].twist.min == p.couplings[0].twist.min);
+  CHECK(back.couplings[0].torque.rms == p.couplings[0].torque.rms);
+  CHECK(back.couplings[0].torque.max == p.couplings[0].torque.max);
   REQUIRE(back.loose_gears.size() == 1);
   CHECK(back.loose_gears[0].body == 5);
   CHECK(back.loose_gears[0].rattle_index == p.loose_gears[0].rattle_index);

@@ -54,6 +54,7 @@ struct TrainSweepPoint {
   std::vector<double> mesh_periods;                   // s, per mesh
   std::vector<TrainMeshStatistics> meshes;            // file order
   std::vector<TrainLooseGearStatistics> loose_gears;  // body order (rank at this speed inside)
+  std::vector<TrainCouplingResponse> couplings;       // file order; empty when the run failed
   // Per mesh the waterfall row: TE amplitude (m) at orders b * order_step of the input shaft,
   // b < order_bins (TrainSweepResult); empty when the run failed.
   std::vector<std::vector<double>> waterfall;
