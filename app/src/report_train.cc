@@ -270,7 +270,7 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
   run.tier_adequacy = true;
   run.before_run_memory = [&](RunMemory& need) {
     MemoryPart uff = OperatingPointUffMemory(need.recorded_samples);  // results.uff
-    uff.bytes *= spec.meshes.size();
+    uff.bytes *= spec.meshes.size() + spec.couplings.size();  // a coupling's twist and torque
     need.parts.push_back(uff);
     return CheckRunMemory(need, memory, "analysis.cycles", std::to_string(run.cycles));
   };
@@ -385,7 +385,8 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
     const double window_s = std::min(10.0 * op.tables.InputRevolution(), op.stats.recorded_time);
     draw("couplings.png",
          fmt::format("Twist of each coupling (the clutch damper's relative angle) over the last "
-                     "{} s (ten input revolutions) of the operating point, exact at every sample; "
+                     "{} s (ten input revolutions, or the whole record if shorter) of the "
+                     "operating point, exact at every sample; "
                      "dashed: its exact mean over the record (the static twist T / k plus the "
                      "motion's mean). The table above holds the whole record's extrema.{}",
                      Number(window_s, 3),

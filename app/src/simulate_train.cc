@@ -386,9 +386,10 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
   };
   run.before_run_memory = [&](RunMemory& need) {
     if (options.uff) {
-      // Per mesh its TE and force; per bearing force row its series (and text) alike, at most.
+      // Per mesh its TE and force; per bearing force row and per coupling (twist and torque) its
+      // series (and text) alike, at most.
       MemoryPart uff = OperatingPointUffMemory(need.recorded_samples);
-      uff.bytes *= spec.meshes.size() + need.bearing_rows;
+      uff.bytes *= spec.meshes.size() + need.bearing_rows + spec.couplings.size();
       need.parts.push_back(uff);
     }
     return CheckRunMemory(need, AvailableMemory(), options.cycles ? "--cycles" : "analysis.cycles",

@@ -140,13 +140,16 @@ GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& opti
     model.damping = coupling.damping;
     model.mean_torque = flow.coupling_torque[c];
     // Past ~15 deg no clutch-damper stage or halfshaft is linear: most often a stiffness written
-    // per radian that was meant per degree (57x too soft).
+    // per radian that was meant per degree (57x too soft). A dual-mass flywheel's arc springs may
+    // twist further, so this warns and does not refuse.
     constexpr double kPlausibleTwist = 15.0 * std::numbers::pi / 180.0;
     if (std::abs(model.MeanTwist()) > kPlausibleTwist) {
       train.warnings.push_back(fmt::format(
           "coupling '{}': the static twist {:.4g} deg ({:.4g} N m over {:.4g} N m/rad) is past "
           "the 15 deg a clutch-damper stage or a halfshaft stays linear over: is the stiffness's "
-          "unit right (N*m/deg is 57.3 times N*m/rad)?",
+          "unit right (N*m/deg is 57.3 times N*m/rad)? (A dual-mass flywheel's arc springs may "
+          "twist "
+          "further.)",
           model.name, model.MeanTwist() * 180.0 / std::numbers::pi, model.mean_torque,
           model.stiffness));
     }
