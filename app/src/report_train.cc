@@ -31,6 +31,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
+constexpr double kDeg = 180.0 / std::numbers::pi;  // degrees per radian
+
 // One series per mesh (or loose gear) of `value` against the input speed; failed speeds left out.
 template <typename Value>
 render::LinePlot OverSpeed(const TrainSweepResult& sweep, const std::vector<std::string>& names,
@@ -70,7 +72,6 @@ std::string TrainSidebandsCsv(const TrainOperatingPoint& op) {
 // extrema), in degrees and N m; nothing without a coupling.
 std::string CouplingsHtml(const TrainOperatingPoint& op) {
   if (op.couplings.empty()) return {};
-  constexpr double kDeg = 180.0 / std::numbers::pi;
   std::ostringstream h;
   h << "<h2>Couplings at the operating point</h2>\n<p>Twist of the first shaft over the second "
        "in their direction of rotation and the torque k twist + c twist' passed on, exact over "
@@ -408,7 +409,7 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
         sweep, ranges, "Coupling twist range", "twist (deg)",
         [](const TrainSweepPoint& p, size_t i) {
           const TrainOutputSummary& t = p.couplings[i / 2].twist;
-          return (i % 2 == 0 ? t.max : t.min) * 180.0 / std::numbers::pi;
+          return (i % 2 == 0 ? t.max : t.min) * kDeg;
         },
         scale);
     range.auto_log_y = false;

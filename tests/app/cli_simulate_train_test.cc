@@ -175,7 +175,8 @@ TEST_CASE("the driveline example: couplings carry the torque flow and the flywhe
   for (const auto& [mode, speed] : order_two) {
     CHECK(speed == Approx(0.5 * shaft_one[mode]).epsilon(1e-14));
   }
-  // Each crossing names its mode's frequency: the order line's there (2 x the flywheel speed).
+  // Each crossing names its mode's frequency: the order line's there (2 x the flywheel speed;
+  // rounding only).
   for (const auto& c : model["critical_speeds"]) {
     if (c["line"] != "excitation 2x flywheel") continue;
     CHECK(c["frequency_hz"].get<double>() ==
