@@ -48,8 +48,7 @@ if [ "$status" != 0 ]; then
        p { print; if (++n >= 120) p = 0 }' "$ctest_log"
   # Under the sanitizers a test that failed without a sanitizer report and without a timeout is
   # run again, alone, up to three times: passing then, it is named FLAKY and does not fail the
-  # suite (docs/testing.md). A sanitizer report or a timeout always fails. (LeakSanitizer's own
-  # tracer has crashed at exit twice in a row on a render test whose assertions all passed.)
+  # suite (docs/testing.md). A sanitizer report or a timeout always fails.
   if [ "$SANITIZE" = 1 ] && [ -s "$build_dir/Testing/Temporary/LastTestsFailed.log" ] &&
     ! grep -qE 'ERROR: (Address|Leak)Sanitizer|runtime error:|\*\*\*Timeout' "$ctest_log"; then
     rerun_start=$(date +%s)
