@@ -39,57 +39,24 @@ std::vector<LoadSummary> SummariseLoads(const TrainSpec& spec, const GearTrain& 
 
 struct TierCrossing {
   int mode = 0;              // numbered from 1
-  std::string line;          // "mesh g1-g2 1x", "shaft input 1x", "excitation 2x flywheel"
+  std::string line;          // the Campbell's order line: "mesh g1-g2 1x", "input 1x", ...
   double input_speed = 0.0;  // rad/s of the input shaft
   double frequency_hz = 0.0;  // the mode's undamped natural frequency at tier 1
 };
 
-// Input speeds at which an order line crosses a mode: mesh i harmonic h at frequency
-// h z_a |w_a| / 2 pi, shaft j at |w_j| / 2 pi, engine order k on shaft s at k |w_s| / 2 pi, all
-// proportional to the input speed.
+// Input speeds at which an order line of the Campbell diagram (TrainOrderLines: every shaft speed,
+// mesh harmonics 1-3, every engine order at its own shaft's speed, coinciding lines joined)
+// crosses a tier-1 mode: the line's frequency is its order times the input speed.
 std::vector<TierCrossing> CriticalSpeeds(const TrainSpec& spec, const GearTrain& train,
                                          const TrainTorsionalModes& modes) {
+  const std::vector<OrderLine> lines = TrainOrderLines(spec, train);
   std::vector<TierCrossing> out;
-  const double w_in =
-      std::abs(train.topology.bodies[static_cast<size_t>(train.topology.input_body)].speed);
   for (size_t k = 0; k < modes.frequencies_hz.size(); ++k) {
     const double w_mode = 2.0 * std::numbers::pi * modes.frequencies_hz[k];
-    for (const TrainMeshModel& mesh : train.meshes) {
-      const double ratio =
-          std::abs(train.topology.bodies[static_cast<size_t>(mesh.body_a)].speed) / w_in;
-      const int z = spec.gears[static_cast<size_t>(mesh.gear_a)].gear.teeth;
-      for (int h = 1; h <= 3; ++h) {
-        out.push_back({static_cast<int>(k) + 1, fmt::format("mesh {} {}x", mesh.name, h),
-                       w_mode / (h * z * ratio), modes.frequencies_hz[k]});
-      }
-    }
-    // One line per shaft speed: shafts joined by a coupling turn alike.
-    std::vector<std::pair<double, std::string>> shafts;  // |speed|, names
-    for (const TrainBody& body : train.topology.bodies) {
-      if (body.kind != BodyKind::kShaft || body.speed == 0.0) continue;  // a fixed shaft stands
-      const auto same = std::find_if(shafts.begin(), shafts.end(), [&](const auto& s) {
-        return s.first == std::abs(body.speed);
-      });
-      if (same == shafts.end()) {
-        shafts.emplace_back(std::abs(body.speed), body.name);
-      } else {
-        same->second += ", " + body.name;
-      }
-    }
-    for (const auto& [speed, names] : shafts) {
-      out.push_back({static_cast<int>(k) + 1, fmt::format("shaft {} 1x", names),
-                     w_mode / (speed / w_in), modes.frequencies_hz[k]});
-    }
-    // The engine orders, each of its own shaft's speed, named with that shaft.
-    for (size_t e = 0; e < spec.operating.excitation.size(); ++e) {
-      const double of_input = ExcitationOrderOfInput(spec, train.topology, e);
-      if (of_input <= 0.0) continue;
-      const TrainBody& on =
-          train.topology.bodies[static_cast<size_t>(ExcitationBody(spec, train.topology, e))];
+    for (const OrderLine& line : lines) {
+      if (line.order <= 0.0) continue;
       out.push_back(
-          {static_cast<int>(k) + 1,
-           fmt::format("excitation {:g}x {}", spec.operating.excitation[e].order, on.name),
-           w_mode / of_input, modes.frequencies_hz[k]});
+          {static_cast<int>(k) + 1, line.label, w_mode / line.order, modes.frequencies_hz[k]});
     }
   }
   return out;
