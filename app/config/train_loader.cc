@@ -53,6 +53,7 @@ std::vector<TrainCoupling> ReadCouplings(Reader& r, const YAML::Node& root) {
     TrainCoupling c;
     c.name = kv.first.Scalar();
     const std::string p = "couplings." + c.name;
+    r.RequirePartName(p, kv.first, c.name);
     if (!kv.second.IsMap()) r.Fail(p, kv.second, Describe(kv.second), "must be a mapping");
     r.ExpectMap(kv.second, p, {"between", "stiffness", "damping", "stages", "hysteresis"});
     for (const char* key : {"stages", "hysteresis"}) {
@@ -98,6 +99,7 @@ TrainSpec ReadTrainDocument(Reader& r, const YAML::Node& root) {
     TrainShaft shaft;
     shaft.name = kv.first.Scalar();
     const std::string p = "shafts." + shaft.name;
+    r.RequirePartName(p, kv.first, shaft.name);
     if (!kv.second.IsMap()) r.Fail(p, kv.second, Describe(kv.second), "must be a mapping");
     if (kv.second["segments"].IsDefined()) {
       shaft.elastic = ReadShaft(r, kv.second, p, spec.materials, 2);
@@ -129,6 +131,7 @@ TrainSpec ReadTrainDocument(Reader& r, const YAML::Node& root) {
     TrainGear gear;
     gear.name = kv.first.Scalar();
     const std::string p = "gears." + gear.name;
+    r.RequirePartName(p, kv.first, gear.name);
     gear.gear = ReadGear(r, kv.second, p, spec.materials, {"shaft", "at", "mounting"});
     gear.shaft = r.String(kv.second, p, "shaft");
     gear.at = r.OptionalQuantity(kv.second, p, "at", Dimension::kLength);

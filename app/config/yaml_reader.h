@@ -66,6 +66,17 @@ class Reader {
              "printed on terminals and in reports");
   }
 
+  // A name the user chose for a part (a shaft, gear or coupling) heads CSV columns
+  // ("<coupling>.twist_rad") and rows: a comma or a double quote in it would split or open a field.
+  void RequirePartName(const std::string& path, const YAML::Node& n,
+                       const std::string& name) const {
+    const size_t at = name.find_first_of(",\"");
+    if (at == std::string::npos) return;
+    Fail(path, n, "'" + name + "'",
+         std::string("a name must not contain '") + name[at] +
+             "': names head the columns of the CSV files gearnvh writes");
+  }
+
   // Checks that `n` is a mapping whose keys are unique scalars from `allowed`.
   void ExpectMap(const YAML::Node& n, const std::string& path,
                  const std::vector<std::string>& allowed) {

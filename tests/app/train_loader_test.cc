@@ -281,6 +281,29 @@ TEST_CASE("a train without gears or meshes is told it needs a mesh", "[loader][t
   CHECK(e.rule().find("at least one mesh between two gears") != std::string::npos);
 }
 
+TEST_CASE("a shaft, gear or coupling name with a comma or a double quote is refused at its key",
+          "[loader][train]") {
+  // Names head CSV columns (trajectory.csv: "<coupling>.twist_rad"); a comma split the header.
+  const std::string& base = testing::kThreeShaftTrainYaml;
+  const InputError shaft = testing::LoaderErrorOf(
+      testing::ReplaceFirst(testing::ReplaceFirst(base, "  c: {inertia", "  \"c,1\": {inertia"),
+                            "{on: c,", "{on: \"c,1\","));
+  CHECK(shaft.path() == "shafts.c,1");
+  CHECK(shaft.rule().find("must not contain ','") != std::string::npos);
+  CHECK(shaft.rule().find("CSV") != std::string::npos);
+  const InputError gear =
+      testing::LoaderErrorOf(testing::ReplaceFirst(base, "  g4: {", "  'g\"4': {"));
+  CHECK(gear.path() == "gears.g\"4");
+  CHECK(gear.rule().find("must not contain '\"'") != std::string::npos);
+  const InputError coupling = testing::LoaderErrorOf(testing::ReplaceFirst(
+      base, "operating:\n",
+      "couplings:\n  \"k,1\": {between: [c, a], stiffness: 500}\noperating:\n"));
+  CHECK(coupling.path() == "couplings.k,1");
+  // Other punctuation and spaces stay allowed (quoted CSV fields are not needed for them).
+  CHECK_NOTHROW(LoadAnyGearboxFromString(testing::ReplaceFirst(
+      testing::ReplaceFirst(base, "  g4: {", "  'g 4/x': {"), "[g3, g4]", "[g3, 'g 4/x']")));
+}
+
 TEST_CASE("a coupling joins two shafts with a stiffness and a damping, in the units written",
           "[loader][train]") {
   // A flywheel behind shaft a, through a clutch damper; the speed given on the flywheel.
