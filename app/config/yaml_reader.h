@@ -67,9 +67,11 @@ class Reader {
   }
 
   // A name the user chose for a part (a shaft, gear or coupling) heads CSV columns
-  // ("<coupling>.twist_rad") and rows: a comma or a double quote in it would split or open a field.
+  // ("<coupling>.twist_rad") and table rows: it must not be empty, and a comma or a double quote in
+  // it would split or open a field.
   void RequirePartName(const std::string& path, const YAML::Node& n,
                        const std::string& name) const {
+    if (name.empty()) Fail(path, n, "''", "a name must not be empty: it heads rows and columns");
     const size_t at = name.find_first_of(",\"");
     if (at == std::string::npos) return;
     Fail(path, n, "'" + name + "'",

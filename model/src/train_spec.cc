@@ -557,6 +557,15 @@ void ValidateTrainSpec(const TrainSpec& spec) {
                              " ([" + e.gear_a + ", " + e.gear_b +
                              "]): a pair meshes once (a second mesh would double its stiffness)");
       }
+      // Outputs name a mesh by its gears joined with '-' (CSV columns, tables, order lines).
+      if (e.Name() == mesh.Name()) {
+        throw InputError(p, 0, "[" + mesh.gear_a + ", " + mesh.gear_b + "]",
+                         "gives the mesh name '" + mesh.Name() + "', as " +
+                             MeshPath(static_cast<int>(earlier)) + " ([" + e.gear_a + ", " +
+                             e.gear_b +
+                             "]) does: a mesh is named by its gears joined with '-'; "
+                             "rename a gear");
+      }
     }
     ++meshes_of_gear[static_cast<size_t>(spec.GearIndex(a.name))];
     ++meshes_of_gear[static_cast<size_t>(spec.GearIndex(b.name))];

@@ -26,7 +26,17 @@ std::vector<OrderLine> TrainOrderLines(const TrainSpec& spec, const GearTrain& t
     const double ratio = std::abs(topo.bodies[static_cast<size_t>(mesh.body_a)].speed) / w_in;
     const int z = spec.gears[static_cast<size_t>(mesh.gear_a)].gear.teeth;
     for (int h = 1; h <= 3; ++h) {
-      lines.push_back({"mesh " + mesh.name + " " + std::to_string(h) + "x", h * z * ratio});
+      // Harmonics of two meshes at one order (3 x 20 teeth, 2 x 30) share a line, as do shafts.
+      const double order = h * z * ratio;
+      const std::string label = "mesh " + mesh.name + " " + std::to_string(h) + "x";
+      const auto same = std::find_if(lines.begin(), lines.end(), [&](const OrderLine& l) {
+        return std::abs(l.order - order) <= 1e-9 * order;
+      });
+      if (same == lines.end()) {
+        lines.push_back({label, order});
+      } else {
+        same->label += " = " + label;
+      }
     }
   }
   std::vector<double> reference_orders;

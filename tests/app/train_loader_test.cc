@@ -281,7 +281,7 @@ TEST_CASE("a train without gears or meshes is told it needs a mesh", "[loader][t
   CHECK(e.rule().find("at least one mesh between two gears") != std::string::npos);
 }
 
-TEST_CASE("a shaft, gear or coupling name with a comma or a double quote is refused at its key",
+TEST_CASE("a part name that is empty or holds a comma or a double quote is refused at its key",
           "[loader][train]") {
   // Names head CSV columns (trajectory.csv: "<coupling>.twist_rad"); a comma split the header.
   const std::string& base = testing::kThreeShaftTrainYaml;
@@ -299,6 +299,20 @@ TEST_CASE("a shaft, gear or coupling name with a comma or a double quote is refu
       base, "operating:\n",
       "couplings:\n  \"k,1\": {between: [c, a], stiffness: 500}\noperating:\n"));
   CHECK(coupling.path() == "couplings.k,1");
+  const InputError empty =
+      testing::LoaderErrorOf(testing::ReplaceFirst(base, "  c: {inertia", "  \"\": {inertia"));
+  CHECK(empty.path() == "shafts.");
+  CHECK(empty.rule().find("must not be empty") != std::string::npos);
+  // Two meshes whose gear names join to one mesh name ('a-b' + 'c', 'a' + 'b-c') are refused at
+  // the second.
+  std::string joined = testing::ReplaceFirst(base, "  g1: {", "  g-1: {");
+  joined = testing::ReplaceFirst(joined, "  g3: {", "  g: {");
+  joined = testing::ReplaceFirst(joined, "  g4: {", "  1-g2: {");
+  joined = testing::ReplaceFirst(joined, "[g1, g2]", "[g-1, g2]");
+  joined = testing::ReplaceFirst(joined, "[g3, g4]", "[g, 1-g2]");
+  const InputError same = testing::LoaderErrorOf(joined);
+  CHECK(same.path() == "meshes[1].gears");
+  CHECK(same.rule().find("gives the mesh name 'g-1-g2', as meshes[0]") != std::string::npos);
   // Other punctuation and spaces stay allowed (quoted CSV fields are not needed for them).
   CHECK_NOTHROW(LoadAnyGearboxFromString(testing::ReplaceFirst(
       testing::ReplaceFirst(base, "  g4: {", "  'g 4/x': {"), "[g3, g4]", "[g3, 'g 4/x']")));

@@ -162,12 +162,15 @@ TEST_CASE("train sweep: a viscous drag's tooth load is checked at every speed",
   fast.operating.speed = 800.0 * kRpm;
   REQUIRE_THROWS_AS(ValidateTrainSpec(fast), InputError);
   t.analysis.speed_sweep = {200.0 * kRpm, 800.0 * kRpm, 2};
+  // A few cycles: the rule is checked before a speed runs (the drag's contact chatter made 25
+  // cycles take 19 s in Release and 144 s under the sanitizers).
   gearnvh::TrainSweepOptions options;
-  options.cycles = 20;
-  options.transient = 5;
+  options.cycles = 3;
+  options.transient = 1;
   const gearnvh::TrainSweepResult r = gearnvh::RunTrainSweep(t, options);
   REQUIRE(r.points.size() == 2);
   INFO(r.points[0].message << " | " << r.points[1].message);
+  CHECK(r.points[0].ok);
   CHECK(r.points[1].message.find("operating.loads[1].viscous") != std::string::npos);
   CHECK_FALSE(r.points[1].ok);
   CHECK(r.points[0].message.find("tooth load") == std::string::npos);

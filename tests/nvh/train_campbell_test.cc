@@ -31,6 +31,20 @@ TEST_CASE("a train's order lines are its shafts' speeds and its mesh harmonics",
   CHECK(lines[11].order == Approx(37.5).epsilon(1e-15));
 }
 
+TEST_CASE("mesh harmonics of one order share a line, named by both", "[campbell][train]") {
+  // g3 (30 teeth) on the layshaft at 20/30 of the input speed meshes at order 30 x 2/3 = 20 of
+  // the input, as g1 (20) does: harmonics 1-3 of both meshes coincide (to rounding of the ratio).
+  TrainSpec spec = testing::RattlerTrain(0.0);
+  spec.gears[2].gear.teeth = 30;  // g3; g4 keeps the centre distance of g1-g2 (20 + 30)
+  spec.gears[3].gear.teeth = 20;
+  const GearTrain train = BuildGearTrain(spec);
+  const std::vector<OrderLine> lines = TrainOrderLines(spec, train);
+  REQUIRE(lines.size() == 2 + 3);  // input 1x, layshaft 1x, three joined mesh lines
+  CHECK(lines[2].label == "mesh g1-g2 1x = mesh g3-g4 1x");
+  CHECK(lines[4].label == "mesh g1-g2 3x = mesh g3-g4 3x");
+  CHECK(lines[4].order == Approx(60.0).epsilon(1e-15));
+}
+
 TEST_CASE("train Campbell at tier 1: constant torsional modes crossed by every order line",
           "[campbell][train]") {
   TrainSpec spec = testing::RigidTwoStage();
