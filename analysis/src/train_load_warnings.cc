@@ -23,11 +23,19 @@ std::vector<std::string> OutputShafts(const TrainSpec& spec, const TrainTopology
     if (parent < 0 || t.bodies[b].kind != BodyKind::kShaft) continue;
     leads_on[static_cast<size_t>(parent)] = true;
   }
+  // Power reaches an output through a gear mesh: a shaft coupled to the input and driving only
+  // loose gears (a flywheel ahead of the gearbox input, in neutral) is not the train's output.
+  const auto through_mesh = [&](int b) {
+    for (; b >= 0; b = t.ParentBody(spec, b)) {
+      if (t.parent_mesh[static_cast<size_t>(b)] >= 0) return true;
+    }
+    return false;
+  };
   std::vector<std::string> out;
   for (size_t b = 0; b < t.bodies.size(); ++b) {
     const TrainBody& body = t.bodies[b];
     if (body.kind == BodyKind::kShaft && static_cast<int>(b) != t.input_body && !leads_on[b] &&
-        !spec.shafts[static_cast<size_t>(body.shaft)].fixed) {
+        !spec.shafts[static_cast<size_t>(body.shaft)].fixed && through_mesh(static_cast<int>(b))) {
       out.push_back(body.name);
     }
   }

@@ -199,8 +199,8 @@ void ValidateRange(const SweepRange& r, const std::string& p) {
     case SweepRangePart::kPoints:
       throw InputError(p + ".points", 0, std::to_string(r.points), v->rule);
     case SweepRangePart::kTo:
-      throw InputError(p + ".to", 0, MessageNumber(r.to),
-                       v->rule + " (" + MessageNumber(r.from) + ")");
+      // `from` named by its path, not its SI number (rad/s for an rpm the file wrote).
+      throw InputError(p + ".to", 0, MessageNumber(r.to), v->rule + " (" + p + ".from)");
     case SweepRangePart::kFrom:
       throw InputError(p + ".from", 0, MessageNumber(r.from), v->rule);
   }

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -23,9 +22,14 @@ NaturalModes LowestNaturalModes(const Eigen::MatrixXd& K, const Eigen::MatrixXd&
   NaturalModes out;
   const Eigen::Index n = K.rows();
   if (n == 0) return out;
+  // The shift's scale: the largest diagonal K_ii / M_ii over the DOFs that carry mass. A massless
+  // DOF (a rigid shaft's lateral DOFs when it has only a torsional inertia) projected onto a basis
+  // keeps a rounding-level M_ii (~1e-33 of 1 kg), whose ratio made the shift 1e31 and every mode
+  // garbage: masses below 1e-12 of the largest count as none.
+  const double mass_floor = 1e-12 * M.diagonal().maxCoeff();
   double scale = 0.0;
   for (Eigen::Index i = 0; i < n; ++i) {
-    if (M(i, i) > 0.0) scale = std::max(scale, K(i, i) / M(i, i));
+    if (M(i, i) > mass_floor) scale = std::max(scale, K(i, i) / M(i, i));
   }
   const double shift = std::max(1e-10 * scale, 1e-300);
   const Eigen::MatrixXd shifted = K + shift * M;
@@ -41,8 +45,13 @@ NaturalModes LowestNaturalModes(const Eigen::MatrixXd& K, const Eigen::MatrixXd&
   // modes are the lowest, so the walk ends with the count-th elastic mode.
   const Eigen::VectorXd& mu = solver.eigenvalues();
   std::vector<Eigen::VectorXd> kept;
+  // Massless DOFs give mu = 0 up to rounding (~1e-16 of the largest mu, 1 / shift): infinite
+  // frequencies, not modes; the walk ends there (an elastic mode's mu is 1 / (w^2 + shift), far
+  // above 1e-14 of 1 / shift for any w^2 below 1e4 x the largest K_ii / M_ii).
+  const double massless = 1e-14 * mu.maxCoeff();
   for (Eigen::Index i = n - 1; i >= 0 && static_cast<int>(out.frequencies_hz.size()) < count; --i) {
-    const double w2 = mu[i] > 0.0 ? 1.0 / mu[i] - shift : std::numeric_limits<double>::infinity();
+    if (!(mu[i] > massless)) break;
+    const double w2 = 1.0 / mu[i] - shift;
     // Eigen normalises x^T B x = 1 with B = K + s M, so x^T M x = mu: rescale to x^T M x = 1.
     const Eigen::VectorXd x = solver.eigenvectors().col(i) / std::sqrt(std::max(mu[i], 1e-300));
     if (IsRigidBodyMode(w2, magnitude ? magnitude(x) : own(x))) {

@@ -316,6 +316,28 @@ TEST_CASE("scale: log needs a positive range, and an unknown scale is named", "[
     CHECK(std::string(e.what()).find("must be linear or log, got 'logarithmic'") !=
           std::string::npos);
   }
+  // A range that does not rise names `from` by its path: its number would be in SI (rad/s for
+  // the rpm written).
+  try {
+    LoadGearboxFromString(R"(name: x
+materials: {steel: {youngs_modulus: 206 GPa, poisson_ratio: 0.3, density: 7850 kg/m^3}}
+gears:
+  pinion: {teeth: 20, module: 2 mm, face_width: 10 mm, bore_diameter: 10 mm, material: steel}
+  wheel:  {teeth: 30, module: 2 mm, face_width: 10 mm, bore_diameter: 10 mm, material: steel}
+mesh: {backlash: 100 um}
+operating: {speed: 1000 rpm, torque: 1 N*m}
+analysis:
+  speed_sweep: {from: 500 rpm, to: 500 rpm, points: 3}
+)",
+                          "x.yaml");
+    FAIL("accepted a sweep from 500 rpm to 500 rpm");
+  } catch (const InputError& e) {
+    CHECK(e.path() == "analysis.speed_sweep.to");
+    const std::string what = e.what();
+    CHECK(what.find("must be greater than from (analysis.speed_sweep.from)") != std::string::npos);
+    CHECK(what.find("'500 rpm'") != std::string::npos);
+    CHECK(what.find("52.3") == std::string::npos);
+  }
 }
 
 }  // namespace

@@ -129,6 +129,31 @@ TEST_CASE("a train without a load, or without one on its output, is warned about
   const std::string on_b = Replace(kThreeShaftTrainYaml, "{on: c, torque", "{on: b, torque");
   REQUIRE(warnings(on_b).size() == 1);
   CHECK(warnings(on_b)[0].rfind("operating.loads: no load on the output shaft 'c'", 0) == 0);
+  // In neutral behind a flywheel coupled to a: a drives only g4, loose on the fixed shaft c.
+  // No shaft is the train's output; a, reached from the flywheel through the coupling only, is
+  // not called one.
+  const std::string neutral = R"(schema: gearnvh/2
+name: neutral behind a flywheel
+materials:
+  steel: {youngs_modulus: 206 GPa, poisson_ratio: 0.3, density: 7850 kg/m^3}
+shafts:
+  flywheel: {inertia: 0.1 kg*m^2}
+  a: {inertia: 2e-3 kg*m^2}
+  c: {inertia: 1e-3 kg*m^2, fixed: true}
+gears:
+  g1: {shaft: a, teeth: 23, module: 2 mm, face_width: 15 mm, bore_diameter: 20 mm, material: steel}
+  g4: {shaft: c, mounting: loose, teeth: 37, module: 2 mm, face_width: 15 mm, bore_diameter: 20 mm,
+       material: steel}
+meshes:
+  - {gears: [g1, g4], backlash: 100 um}
+couplings:
+  damper: {between: [flywheel, a], stiffness: 1000}
+operating:
+  speed: {shaft: flywheel, value: 1000 rpm}
+  loads:
+    - {on: g4, torque: 0.2 N*m}
+)";
+  CHECK(warnings(neutral).empty());
 
   testing::TempDir dir;
   const auto check = testing::RunCommand(kExe + " check " + dir.Write("t.yaml", no_load).string());

@@ -45,6 +45,30 @@ TEST_CASE("rigid-body modes are found whatever the stiffest part of the model", 
   }
 }
 
+TEST_CASE("massless DOFs held by springs have no mode and do not set the shift", "[modal][rigid]") {
+  // A mass m on a massless DOF between springs k1 and k2 (to ground): one mode at
+  // sqrt(k1 k2 / ((k1 + k2) m)). Two disks on a torsional spring: a free rotation and
+  // sqrt(kt (1/J1 + 1/J2)). A support DOF of 5e8 N/m whose mass is rounding (1e-33 kg, as a
+  // massless DOF projected onto a basis keeps): it must neither give a mode nor set the shift.
+  const double m = 2.0, k1 = 1e6, k2 = 3e6, j1 = 0.01, j2 = 0.03, kt = 2e4;
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(5, 5), M = Eigen::MatrixXd::Zero(5, 5);
+  K.topLeftCorner(2, 2) << k1, -k1, -k1, k1 + k2;
+  M(0, 0) = m;
+  K(2, 2) = 5e8;
+  M(2, 2) = 1e-33;
+  K.bottomRightCorner(2, 2) << kt, -kt, -kt, kt;
+  M(3, 3) = j1;
+  M(4, 4) = j2;
+  const NaturalModes modes = LowestNaturalModes(K, M, 5, true);
+  CHECK(modes.rigid_body_modes == 1);
+  REQUIRE(modes.frequencies_hz.size() == 2);  // no infinite-frequency "modes"
+  // Shift-invert accuracy as above (1e-10).
+  const double series = std::sqrt(k1 * k2 / ((k1 + k2) * m)) / kTwoPi;
+  const double disks = std::sqrt(kt * (1 / j1 + 1 / j2)) / kTwoPi;
+  CHECK(modes.frequencies_hz[0] == Approx(std::min(series, disks)).epsilon(1e-10));
+  CHECK(modes.frequencies_hz[1] == Approx(std::max(series, disks)).epsilon(1e-10));
+}
+
 TEST_CASE("a gear pair on very stiff supports keeps one rigid-body mode", "[modal][rigid]") {
   const GearboxSpec spec = testing::StandardPair(27, 43);
   for (double k : {5e8, 1e13, 1e15}) {

@@ -174,6 +174,49 @@ TEST_CASE("train tier frequencies converge to the full FE model's as the tier ri
   }
 }
 
+TEST_CASE("the full model with massless shaft nodes has tier 3's modes on rigid shafts",
+          "[reduction][train]") {
+  // A flywheel (a torsional inertia only: its node's five other DOFs are massless, held by the
+  // default support) coupled to the input, which drives two loose gears idling on a fixed output
+  // shaft (massless too). On rigid shafts tier 3 keeps every gear DOF and condenses only massless
+  // DOFs, which is exact: the full model's modes are tier 3's. (A rounding-level mass of a massless
+  // DOF once set the eigensolver's shift to 1e31: 13 "rigid-body modes" and 1.5e7 Hz.)
+  TrainSpec t;
+  t.name = "neutral with a clutch damper";
+  t.materials["steel"] = Material{206e9, 0.3, 7850.0};
+  t.shafts = {testing::RigidShaft("flywheel", 0.1), testing::RigidShaft("input", 0.01),
+              testing::RigidShaft("output", 0.05)};
+  t.shafts[2].fixed = true;
+  t.gears = {testing::TrainGearOf("p", "input", 20), testing::TrainGearOf("p2", "input", 30),
+             testing::TrainGearOf("w", "output", 40, Mounting::kLoose),
+             testing::TrainGearOf("w2", "output", 30, Mounting::kLoose)};
+  t.gears[1].at = 0.05;
+  t.gears[3].at = 0.05;
+  t.meshes = {testing::TrainMeshOf("p", "w"), testing::TrainMeshOf("p2", "w2")};
+  TrainCoupling damper;
+  damper.name = "clutch_damper";
+  damper.shaft_a = "flywheel";
+  damper.shaft_b = "input";
+  damper.stiffness = 1000.0;
+  t.couplings = {damper};
+  t.operating.input_shaft = "flywheel";
+  t.operating.speed = 1000.0 * 2.0 * M_PI / 60.0;
+  t.operating.loads = {{"w", 0.2}, {"w2", 0.2}};
+  const Built b = Build(t);
+  const NaturalModes full = FullTrainModes(b.structure, 8);
+  const TrainReducedModel tier3 = ReduceTrain(b.structure, Tier::kTier3);
+  CHECK(full.rigid_body_modes == b.structure.free_rotations.cols());
+  CHECK(full.rigid_body_modes == 2);  // the driven chain and the standing output shaft
+  REQUIRE(full.frequencies_hz.size() == 8);
+  REQUIRE(tier3.natural_frequencies_hz.size() >= 8);
+  for (size_t k = 0; k < 8; ++k) {
+    // Two eigensolutions of one pencil, one after an exact static condensation: rounding
+    // amplified by the spread of the stiffnesses (1e3 to 1e9 N/m): 1e-7.
+    CHECK(full.frequencies_hz[k] == Approx(tier3.natural_frequencies_hz[k]).epsilon(1e-7));
+  }
+  CHECK(full.frequencies_hz[0] < 100.0);  // the clutch damper's mode (47.7 Hz)
+}
+
 TEST_CASE("a rigid-shaft train has tiers 1-3 only", "[reduction][train]") {
   const Built t = Build(testing::RigidTwoStage());
   CHECK(TrainTierAvailable(t.structure, Tier::kTier3));

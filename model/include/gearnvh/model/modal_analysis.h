@@ -42,9 +42,10 @@ struct NaturalModes {
   int rigid_body_modes = 0;
 };
 
-// The `count` lowest elastic modes of the symmetric pencil (K, M), M positive definite and K
-// positive semidefinite. Shapes are returned when `with_shapes`. `magnitude` defaults to
-// |x|^T |K| |x| of this K; a reduced model passes the full model's (shapes recovered).
+// The `count` lowest elastic modes of the symmetric pencil (K, M), M and K positive
+// semidefinite with K + s M definite for s > 0 (a massless DOF is held by a stiffness: it has no
+// mode, its infinite frequency is left out). Shapes are returned when `with_shapes`. `magnitude`
+// defaults to |x|^T |K| |x| of this K; a reduced model passes the full model's (shapes recovered).
 NaturalModes LowestNaturalModes(const Eigen::MatrixXd& K, const Eigen::MatrixXd& M, int count,
                                 bool with_shapes = false, const StrainMagnitude& magnitude = {});
 
