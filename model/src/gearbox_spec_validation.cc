@@ -9,6 +9,10 @@
 #include "gearnvh/model/input_error.h"
 
 namespace gearnvh {
+
+// The highest excitation order accepted (plausibility: an order above it is a slip).
+constexpr double kMaxExcitationOrder = 1000.0;
+
 namespace {
 
 // "base[i]"; appends rather than chaining operator+ (GCC 12 PR 105651 false -Wrestrict).
@@ -313,6 +317,11 @@ void ValidateGearboxSpec(const GearboxSpec& spec, OperatingLimits operating) {
   for (size_t i = 0; i < spec.operating.excitation.size(); ++i) {
     const std::string q = Indexed("operating.excitation", i);
     Positive(q + ".order", spec.operating.excitation[i].order);
+    if (spec.operating.excitation[i].order > kMaxExcitationOrder) {
+      throw InputError(q + ".order", 0, MessageNumber(spec.operating.excitation[i].order),
+                       "must be <= 1000: an engine or motor order (a 16-cylinder four-stroke "
+                       "fires at order 8, an electric motor's slot harmonics reach a few hundred)");
+    }
     NonNegative(q + ".amplitude", spec.operating.excitation[i].amplitude);
   }
 

@@ -281,6 +281,16 @@ TEST_CASE("a train without gears or meshes is told it needs a mesh", "[loader][t
   CHECK(e.rule().find("at least one mesh between two gears") != std::string::npos);
 }
 
+TEST_CASE("an excitation order above 1000 is refused as a slip", "[loader][train]") {
+  // An order of 1e6 at 1000 rpm (16.7 MHz) was accepted and ran 10 s for 5 cycles.
+  const InputError e = testing::LoaderErrorOf(testing::ReplaceFirst(
+      testing::kThreeShaftTrainYaml, "{order: 2, amplitude", "{order: 1e6, amplitude"));
+  CHECK(e.path() == "operating.excitation[0].order");
+  CHECK(e.rule().find("must be <= 1000") != std::string::npos);
+  CHECK_NOTHROW(LoadAnyGearboxFromString(testing::ReplaceFirst(
+      testing::kThreeShaftTrainYaml, "{order: 2, amplitude", "{order: 1000, amplitude")));
+}
+
 TEST_CASE("a part name that is empty or holds a comma or a double quote is refused at its key",
           "[loader][train]") {
   // Names head CSV columns (trajectory.csv: "<coupling>.twist_rad"); a comma split the header.
