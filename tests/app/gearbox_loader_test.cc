@@ -243,13 +243,14 @@ TEST_CASE("operating.torque_on: a pinion torque loads the mesh with T1 / r_b1", 
   }
 }
 
-// A pair with an atlas and a speed sweep whose axes carry `scale` entries (empty: no entry).
-GearboxSpec ScaledAxes(const std::string& sweep_scale, const std::string& torque_from,
-                       const std::string& torque_scale) {
+// The text of a pair with an atlas and a speed sweep whose axes carry `scale` entries (empty: no
+// entry).
+std::string ScaledAxesYaml(const std::string& sweep_scale, const std::string& torque_from,
+                           const std::string& torque_scale) {
   auto entry = [](const std::string& scale) {
     return scale.empty() ? std::string() : ", scale: " + scale;
   };
-  return LoadGearboxFromString(R"(name: x
+  return R"(name: x
 materials: {steel: {youngs_modulus: 206 GPa, poisson_ratio: 0.3, density: 7850 kg/m^3}}
 gears:
   pinion: {teeth: 20, module: 2 mm, face_width: 10 mm, bore_diameter: 10 mm, material: steel}
@@ -258,14 +259,17 @@ mesh: {backlash: 100 um}
 operating: {speed: 1000 rpm, torque: 1 N*m}
 analysis:
   speed_sweep: {from: 300 rpm, to: 6000 rpm, points: 17)" +
-                                   entry(sweep_scale) + R"(}
+         entry(sweep_scale) + R"(}
   atlas:
     x: {parameter: operating.speed, from: 600 rpm, to: 3000 rpm, points: 5}
     y: {parameter: operating.torque, from: )" +
-                                   torque_from + R"(, to: 5 N*m, points: 12)" +
-                                   entry(torque_scale) + R"(}
-)",
-                               "x.yaml");
+         torque_from + R"(, to: 5 N*m, points: 12)" + entry(torque_scale) + R"(}
+)";
+}
+
+GearboxSpec ScaledAxes(const std::string& sweep_scale, const std::string& torque_from,
+                       const std::string& torque_scale) {
+  return LoadGearboxFromString(ScaledAxesYaml(sweep_scale, torque_from, torque_scale), "x.yaml");
 }
 
 TEST_CASE("scale: log spaces sweep and atlas points geometrically, linear stays the default",
@@ -319,17 +323,10 @@ TEST_CASE("scale: log needs a positive range, and an unknown scale is named", "[
   // A range that does not rise names `from` by its path: its number would be in SI (rad/s for
   // the rpm written).
   try {
-    LoadGearboxFromString(R"(name: x
-materials: {steel: {youngs_modulus: 206 GPa, poisson_ratio: 0.3, density: 7850 kg/m^3}}
-gears:
-  pinion: {teeth: 20, module: 2 mm, face_width: 10 mm, bore_diameter: 10 mm, material: steel}
-  wheel:  {teeth: 30, module: 2 mm, face_width: 10 mm, bore_diameter: 10 mm, material: steel}
-mesh: {backlash: 100 um}
-operating: {speed: 1000 rpm, torque: 1 N*m}
-analysis:
-  speed_sweep: {from: 500 rpm, to: 500 rpm, points: 3}
-)",
-                          "x.yaml");
+    LoadGearboxFromString(
+        testing::Replace(ScaledAxesYaml("", "0.05 N*m", ""), "from: 300 rpm, to: 6000 rpm",
+                         "from: 500 rpm, to: 500 rpm"),
+        "x.yaml");
     FAIL("accepted a sweep from 500 rpm to 500 rpm");
   } catch (const InputError& e) {
     CHECK(e.path() == "analysis.speed_sweep.to");
