@@ -10,7 +10,8 @@ export GEARNVH_CMAKE_ARGS="-DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++
 # happens to start 16 bytes past a page boundary for a pre-2.25 glibc header and records the two
 # words before it as the block; LeakSanitizer's tracer then reads that garbage at exit and dies
 # ("Tracer caught signal 11"), deterministically for a given binary and machine (docs/testing.md).
-export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:intercept_tls_get_addr=0}
+# Appended to options set beforehand too.
+export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}:intercept_tls_get_addr=0"
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 # Graphics libraries (Mesa, X11, VTK singletons) keep allocations until exit by design.
 export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/tests/lsan.supp:print_suppressions=0}

@@ -319,8 +319,9 @@ void ValidateGearboxSpec(const GearboxSpec& spec, OperatingLimits operating) {
     Positive(q + ".order", spec.operating.excitation[i].order);
     if (spec.operating.excitation[i].order > kMaxExcitationOrder) {
       throw InputError(q + ".order", 0, MessageNumber(spec.operating.excitation[i].order),
-                       "must be <= 1000: an engine or motor order (a 16-cylinder four-stroke "
-                       "fires at order 8, an electric motor's slot harmonics reach a few hundred)");
+                       "must be <= " + MessageNumber(kMaxExcitationOrder) +
+                           ": an engine or motor order (a 16-cylinder four-stroke fires at order "
+                           "8, an electric motor's slot harmonics reach a few hundred)");
     }
     NonNegative(q + ".amplitude", spec.operating.excitation[i].amplitude);
   }

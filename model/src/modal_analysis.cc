@@ -24,9 +24,10 @@ NaturalModes LowestNaturalModes(const Eigen::MatrixXd& K, const Eigen::MatrixXd&
   if (n == 0) return out;
   // The shift's scale: the largest diagonal K_ii / M_ii over the DOFs that carry mass. A massless
   // DOF (a rigid shaft's lateral DOFs when it has only a torsional inertia) projected onto a basis
-  // keeps a rounding-level M_ii (~1e-33 of 1 kg), whose ratio made the shift 1e31 and every mode
-  // garbage: masses below 1e-12 of the largest count as none.
-  const double mass_floor = 1e-12 * M.diagonal().maxCoeff();
+  // keeps a rounding-level M_ii (~1e-33 of 1 kg, about eps^2), whose ratio made the shift 1e31 and
+  // every mode garbage: masses below 1e-20 of the largest count as none (far below any real one:
+  // a 1 mm shaft element's tilt inertia is ~1e-12 of a 100 kg lumped mass).
+  const double mass_floor = 1e-20 * M.diagonal().maxCoeff();
   double scale = 0.0;
   for (Eigen::Index i = 0; i < n; ++i) {
     if (M(i, i) > mass_floor) scale = std::max(scale, K(i, i) / M(i, i));

@@ -112,7 +112,13 @@ TEST_CASE("neutral at standstill: the fixed output stands and all five loose gea
     CHECK(b["gears"].empty());
   }
   CHECK(found);
-  // A fixed shaft has no order line (shaft lines read "<shaft>[, <shaft>] 1x").
+  // A fixed shaft has no order line (shaft lines read "<shaft>[, <shaft>] 1x"), so no crossing.
+  REQUIRE_FALSE(model["campbell"]["orders"].empty());
+  for (const auto& o : model["campbell"]["orders"]) {
+    const std::string label = o["label"].get<std::string>();
+    CHECK(label.find("output 1x") == std::string::npos);
+    CHECK(label.find("output, ") == std::string::npos);
+  }
   for (const auto& c : model["critical_speeds"]) {
     const std::string line = c["line"].get<std::string>();
     CHECK(line.find("output 1x") == std::string::npos);

@@ -43,6 +43,18 @@ TEST_CASE("mesh harmonics of one order share a line, named by both", "[campbell]
   CHECK(lines[2].label == "mesh g1-g2 1x = mesh g3-g4 1x");
   CHECK(lines[4].label == "mesh g1-g2 3x = mesh g3-g4 3x");
   CHECK(lines[4].order == Approx(60.0).epsilon(1e-15));
+  // Shafts at one speed to rounding share a line too: the output behind 20/30 and 30/20 turns at
+  // the input's speed, multiplied stage by stage.
+  TrainSpec back = testing::RigidTwoStage();
+  back.gears[1].gear.teeth = 30;  // g2 on the layshaft
+  back.gears[2].gear.teeth = 30;  // g3 on the layshaft
+  back.gears[3].gear.teeth = 20;  // g4 on the output
+  // g6-g5 keeps the centre distance of g3-g4 (30 + 20 teeth of 2 mm).
+  back.gears[4].gear.module = back.gears[5].gear.module = 2e-3 * 50.0 / 55.0;
+  const GearTrain back_train = BuildGearTrain(back);
+  const std::vector<OrderLine> back_lines = TrainOrderLines(back, back_train);
+  CHECK(back_lines[0].label == "input, output 1x");
+  CHECK(back_lines[1].label == "layshaft 1x");
 }
 
 TEST_CASE("train Campbell at tier 1: constant torsional modes crossed by every order line",
