@@ -148,8 +148,7 @@ GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& opti
           "coupling '{}': the static twist {:.4g} deg ({:.4g} N m over {:.4g} N m/rad) is past "
           "the 15 deg a clutch-damper stage or a halfshaft stays linear over: is the stiffness's "
           "unit right (N*m/deg is 57.3 times N*m/rad)? (A dual-mass flywheel's arc springs may "
-          "twist "
-          "further.)",
+          "twist further.)",
           model.name, model.MeanTwist() * 180.0 / std::numbers::pi, model.mean_torque,
           model.stiffness));
     }

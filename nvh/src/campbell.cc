@@ -26,23 +26,26 @@ void CampbellOptions::Validate() const {
   }
 }
 
+bool SameOrder(double a, double b) { return std::abs(a - b) <= 1e-9 * std::max(a, b); }
+
+void AddOrderLine(std::vector<OrderLine>& lines, const std::string& label, double order) {
+  const auto same = std::find_if(lines.begin(), lines.end(),
+                                 [&](const OrderLine& l) { return SameOrder(l.order, order); });
+  if (same == lines.end()) {
+    lines.push_back({label, order});
+  } else if (same->label.find(label) == std::string::npos) {
+    same->label += " = " + label;
+  }
+}
+
 void AddExcitationLines(std::vector<OrderLine>& lines,
                         const std::vector<ExcitationOrder>& excitation,
                         const std::vector<double>& reference_orders) {
   for (size_t i = 0; i < excitation.size(); ++i) {
     const ExcitationOrder& e = excitation[i];
-    const double order = reference_orders.empty() ? e.order : reference_orders[i];
     std::ostringstream label;
     label << "excitation " << e.order << "x" << (e.on.empty() ? "" : " " + e.on);
-    bool joined = false;
-    for (OrderLine& l : lines) {
-      if (std::abs(l.order - order) <= 1e-9 * std::max(1.0, order)) {
-        if (l.label.find(label.str()) == std::string::npos) l.label += " = " + label.str();
-        joined = true;
-        break;
-      }
-    }
-    if (!joined) lines.push_back({label.str(), order});
+    AddOrderLine(lines, label.str(), reference_orders.empty() ? e.order : reference_orders[i]);
   }
 }
 

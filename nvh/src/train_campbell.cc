@@ -5,13 +5,6 @@
 #include <string>
 
 namespace gearnvh {
-namespace {
-
-// Orders equal to rounding (speeds multiplied stage by stage: 20/30 x 30/20 is 1 - 2e-16) are one
-// line, as for the engine orders (AddExcitationLines).
-bool SameOrder(double a, double b) { return std::abs(a - b) <= 1e-9 * std::max(a, b); }
-
-}  // namespace
 
 std::vector<OrderLine> TrainOrderLines(const TrainSpec& spec, const GearTrain& train) {
   const TrainTopology& topo = train.topology;
@@ -34,15 +27,7 @@ std::vector<OrderLine> TrainOrderLines(const TrainSpec& spec, const GearTrain& t
     const int z = spec.gears[static_cast<size_t>(mesh.gear_a)].gear.teeth;
     for (int h = 1; h <= 3; ++h) {
       // Harmonics of two meshes at one order (3 x 20 teeth, 2 x 30) share a line, as do shafts.
-      const double order = h * z * ratio;
-      const std::string label = "mesh " + mesh.name + " " + std::to_string(h) + "x";
-      const auto same = std::find_if(lines.begin(), lines.end(),
-                                     [&](const OrderLine& l) { return SameOrder(l.order, order); });
-      if (same == lines.end()) {
-        lines.push_back({label, order});
-      } else {
-        same->label += " = " + label;
-      }
+      AddOrderLine(lines, "mesh " + mesh.name + " " + std::to_string(h) + "x", h * z * ratio);
     }
   }
   std::vector<double> reference_orders;

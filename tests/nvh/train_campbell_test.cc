@@ -44,8 +44,9 @@ TEST_CASE("mesh harmonics of one order share a line, named by both", "[campbell]
   CHECK(lines[4].label == "mesh g1-g2 3x = mesh g3-g4 3x");
   CHECK(lines[4].order == Approx(60.0).epsilon(1e-15));
   // Shafts at one speed to rounding share a line too: the output behind 20/30 and 30/20 turns at
-  // the input's speed, multiplied stage by stage.
+  // the input's speed, multiplied stage by stage (at 1500 rpm that gives 1 - 2e-16 of it).
   TrainSpec back = testing::RigidTwoStage();
+  back.operating.speed = 1500.0 * kTwoPi / 60.0;
   back.gears[1].gear.teeth = 30;  // g2 on the layshaft
   back.gears[2].gear.teeth = 30;  // g3 on the layshaft
   back.gears[3].gear.teeth = 20;  // g4 on the output

@@ -87,6 +87,14 @@ struct CampbellData {
 std::vector<OrderLine> GearOrderLines(int pinion_teeth, int wheel_teeth,
                                       const std::vector<ExcitationOrder>& excitation = {});
 
+// Orders equal to rounding (within 1e-9 relative: speeds multiplied stage by stage differ in the
+// last bit) are one line.
+bool SameOrder(double a, double b);
+
+// A line `label` at `order`, or, when a line of that order exists, its label joined to that
+// line's ("mesh g1-g2 3x = mesh g3-g4 2x").
+void AddOrderLine(std::vector<OrderLine>& lines, const std::string& label, double order);
+
 // The engine or motor orders of the file's excitation as lines "excitation 2x" ("excitation 2x
 // layshaft" for an order of another shaft), at `reference_orders[i]` (orders of the reference
 // shaft, the pinion's or the input shaft's; empty: each order as written); one at the order of an
