@@ -8,6 +8,7 @@
 #include "gearnvh/model/input_error.h"
 #include "gearnvh/model/train_structure.h"
 #include "gearnvh/solver/train_rate_bound.h"
+#include "gearnvh/solver/train_stepper.h"
 
 namespace gearnvh {
 
@@ -66,9 +67,10 @@ RunCostEstimate EstimateRunCost(const TrainTables& t, double simulated_s, const 
   if (t.n == 0) return out;
   for (const TrainMeshTable& mt : t.meshes)
     out.fastest_mesh_hz = std::max(out.fastest_mesh_hz, 1.0 / mt.period);
-  // The tuple the run starts in with every mesh in drive: segment 0 of every mesh at t = 0.
+  // The tuple the run starts in with every mesh in drive (the couplings' stages as at rest):
+  // segment 0 of every mesh at t = 0.
   const std::vector<int> segments(t.meshes.size(), 0);
-  const std::vector<ContactState> drive(t.meshes.size(), ContactState::kDrive);
+  const std::vector<ContactState> drive = LoadedContactStates(t);
   const TuplePencil pencil = AssembleTuplePencil(t, segments, drive);
   const double damping = DampingRateBound(t, pencil.C);
   const TupleRateBound bound = BoundTupleRate(t, pencil, damping);

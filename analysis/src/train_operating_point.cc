@@ -138,8 +138,9 @@ KeptSamples PlanKeptSamples(const TrainRunOptions& options, const SpectrumWindow
 }
 
 // Per coupling two rows on z: its twist (B_a - B_b) x, B the bodies' angle rows, and its torque
-// k twist + c twist'.
-Eigen::MatrixXd CouplingRows(const GearTrain& train, const TrainTables& t) {
+// k_1 twist + c twist' plus the force of each stage after the first (its contact terms).
+std::pair<Eigen::MatrixXd, std::vector<TrainRecorder::ContactTerm>> CouplingRows(
+    const GearTrain& train, const TrainTables& t) {
   Eigen::MatrixXd rows =
       Eigen::MatrixXd::Zero(2 * static_cast<Eigen::Index>(train.couplings.size()), t.m);
   for (size_t c = 0; c < train.couplings.size(); ++c) {
@@ -151,7 +152,11 @@ Eigen::MatrixXd CouplingRows(const GearTrain& train, const TrainTables& t) {
     rows.block(r + 1, 0, 1, t.n) = coupling.stiffness * twist;
     rows.block(r + 1, t.n, 1, t.n) = coupling.damping * twist;
   }
-  return rows;
+  std::vector<TrainRecorder::ContactTerm> terms;
+  for (size_t i = static_cast<size_t>(t.gear_meshes); i < t.meshes.size(); ++i) {
+    terms.push_back({2 * static_cast<Eigen::Index>(t.meshes[i].coupling) + 1, static_cast<int>(i)});
+  }
+  return {rows, terms};
 }
 
 // The couplings' twist and torque from the statistics of CouplingRows (TrackOutputs).
@@ -159,7 +164,10 @@ std::vector<TrainCouplingResponse> CouplingResponses(const GearTrain& train,
                                                      const TrainStatistics& stats) {
   std::vector<TrainCouplingResponse> out;
   for (size_t c = 0; c < train.couplings.size(); ++c) {
-    out.push_back({train.couplings[c].name, stats.outputs[2 * c], stats.outputs[2 * c + 1]});
+    out.push_back({train.couplings[c].name, stats.outputs[2 * c], stats.outputs[2 * c + 1], {}});
+    for (const TrainCouplingStageStatistics& s : stats.coupling_stages) {
+      if (s.coupling == static_cast<int>(c)) out.back().stages.push_back(s);
+    }
   }
   return out;
 }
@@ -267,7 +275,7 @@ void MeshSidebands(const TrainSpec& spec, const TrainRunOptions& options,
         std::max(op.sideband_options.orders, static_cast<int>(std::ceil(e.order)));
   }
   const std::vector<ShaftOrderSource> sources = ShaftOrderSources(spec, op.train, tables);
-  op.sidebands.resize(tables.meshes.size());
+  op.sidebands.resize(static_cast<size_t>(tables.gear_meshes));
   const long window_samples = window.periods * window.samples_per_period;
   const double dt = recorder.sample_interval();
   const std::vector<std::vector<double>>& series = recorder.te_series();
@@ -280,7 +288,7 @@ void MeshSidebands(const TrainSpec& spec, const TrainRunOptions& options,
     op.sideband_window_common_periods = window.periods;
     SpectrumAnalyzer analyzer(static_cast<int>(window_samples));
     std::vector<double> window_te;
-    for (size_t i = 0; i < tables.meshes.size(); ++i) {
+    for (size_t i = 0; i < op.sidebands.size(); ++i) {
       ThrowIfCancelled(options.cancel);  // an FFT of up to 2^21 samples per mesh
       const TrainMeshTable& mt = tables.meshes[i];
       const auto from = series[i].begin() + static_cast<long>(*first);
@@ -335,7 +343,8 @@ void AssessTier(const TrainSpec& spec, const TrainRunOptions& options, TrainOper
   ThrowIfCancelled(options.cancel);
   const TrainStructure structure = AssembleTrainStructure(spec, op.train);
   std::vector<double> limits_hz;
-  for (const TrainMeshTable& mesh : op.tables.meshes) limits_hz.push_back(3.0 / mesh.period);
+  for (int i = 0; i < op.tables.gear_meshes; ++i)
+    limits_hz.push_back(3.0 / op.tables.meshes[static_cast<size_t>(i)].period);
   TierAdequacyOptions adequacy;
   adequacy.max_frequency_hz = *std::max_element(limits_hz.begin(), limits_hz.end());
   const TrainReducedModel reduced = ReduceTrain(structure, options.tier);
@@ -382,7 +391,7 @@ void BearingForces(const SpectrumWindow& window, const TrainRecorder& recorder, 
       slice.assign(from, from + window_samples);
       spectra[d] = analyzer->Analyze(slice, 1.0 / dt);
     }
-    for (size_t i = 0; first && i < tables.meshes.size(); ++i) {
+    for (size_t i = 0; first && i < static_cast<size_t>(tables.gear_meshes); ++i) {
       const TrainMeshTable& mt = tables.meshes[i];
       for (int h = 1; h <= 3; ++h) {
         TrainBearingForce::Line line{
@@ -471,16 +480,20 @@ TrainOperatingPoint RunTrainOperatingPoint(const TrainSpec& spec, GearTrain trai
   TrainStepper stepper(tables, stepper_options, z0, states0);
   TrainRecorder recorder(tables, options.samples_per_cycle, start);
   if (options.bearing_forces) recorder.TrackBearingForces();
-  if (!op.train.couplings.empty()) recorder.TrackOutputs(CouplingRows(op.train, tables));
+  if (!op.train.couplings.empty()) {
+    const auto [rows, terms] = CouplingRows(op.train, tables);
+    recorder.TrackOutputs(rows, terms);
+  }
   const double dt = recorder.sample_interval();
   SpectrumWindow window;
   if (options.spectra) {
     window = PlanWindow(tables, dt, start, end, options.max_spectrum_samples, options.cycles);
   }
   const KeptSamples kept = PlanKeptSamples(options, window, start, end, dt);
-  op.memory = TrainRunMemory(
-      options, tables.meshes.size(), kept.count, window.periods * window.samples_per_period,
-      static_cast<size_t>(tables.bearing_force_rows.rows()), op.train.couplings.size());
+  op.memory = TrainRunMemory(options, static_cast<size_t>(tables.gear_meshes), kept.count,
+                             window.periods * window.samples_per_period,
+                             static_cast<size_t>(tables.bearing_force_rows.rows()),
+                             op.train.couplings.size());
   if (options.before_run_memory) {
     if (const std::string warning = options.before_run_memory(op.memory); !warning.empty()) {
       op.warnings.push_back(warning);

@@ -52,7 +52,8 @@ TrainSweepPoint RunPoint(const TrainSpec& base, const GearTrain& built,
   if (!p.ok) p.message = "the run stopped: " + TrainStepperMessage(op.summary);
   p.real_time_ratio = op.wall_s > 0.0 ? op.summary.simulated_time / op.wall_s : 0.0;
   p.recorded_s = op.stats.recorded_time;
-  for (const TrainMeshTable& mt : op.tables.meshes) p.mesh_periods.push_back(mt.period);
+  for (int i = 0; i < op.tables.gear_meshes; ++i)
+    p.mesh_periods.push_back(op.tables.meshes[static_cast<size_t>(i)].period);
   p.meshes = op.stats.meshes;
   p.loose_gears = op.stats.loose_gears;
   p.couplings = op.couplings;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "gearnvh/solver/train_rate_bound.h"
+#include "gearnvh/solver/train_stepper.h"
 
 namespace gearnvh {
 namespace {
@@ -23,8 +24,7 @@ constexpr double kUndamped = 1e-3;
 std::optional<DecayingMode> SlowestDecayingMode(const TrainTables& t) {
   const int n = t.n;
   const TuplePencil p =
-      AssembleTuplePencil(t, std::vector<int>(t.meshes.size(), 0),
-                          std::vector<ContactState>(t.meshes.size(), ContactState::kDrive));
+      AssembleTuplePencil(t, std::vector<int>(t.meshes.size(), 0), LoadedContactStates(t));
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(2 * n, 2 * n);
   a.topRightCorner(n, n).setIdentity();
   a.bottomLeftCorner(n, n) = -(t.inertia.cwiseInverse().asDiagonal() * p.K);

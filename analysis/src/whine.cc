@@ -45,7 +45,7 @@ HarmonicModel MeanModel(const GearTrain& train, const TrainStructure& structure,
   m.M = reduced.M;
   m.C = reduced.C;
   m.G = reduced.G;
-  m.K = reduced.K;
+  m.K = reduced.K + CouplingStaticStiffness(structure, reduced);
   for (size_t i = 0; i < train.meshes.size(); ++i) {
     const TrainMeshModel& mm = train.meshes[i];
     const bool back = mm.back_flank_loaded;

@@ -43,7 +43,45 @@ std::pair<std::string, std::string> ReadNamePair(Reader& r, const YAML::Node& ma
   return {pair[0].Scalar(), pair[1].Scalar()};
 }
 
-// couplings: {name: {between: [shaft, shaft], stiffness, damping}}: linear spring-dampers.
+// A coupling's `stages`: [{to, stiffness}, ..., {stiffness}], each but the last ending at `to`;
+// the first stage's stiffness becomes the coupling's, the others TrainCouplingStages from the
+// stage before's `to` (their order and values are the model's rules).
+void ReadCouplingStages(Reader& r, const YAML::Node& map, const std::string& p, TrainCoupling& c) {
+  const YAML::Node list = map["stages"];
+  const std::string path = Join(p, "stages");
+  if (!list.IsSequence() || list.size() < 2) {
+    r.Fail(path, list, Describe(list),
+           "must be a list of at least two stages ({to, stiffness} for each but the last, "
+           "{stiffness} for the last, which holds beyond the last `to`); a one-stage coupling "
+           "gives `stiffness`");
+  }
+  size_t index = 0;
+  r.ForEachItem(map, p, "stages", true, [&](const YAML::Node& item, const std::string& q) {
+    if (!item.IsMap()) r.Fail(q, item, Describe(item), "must be a mapping {to, stiffness}");
+    r.ExpectMap(item, q, {"to", "stiffness"});
+    const double k = r.Quantity(item, q, "stiffness", Dimension::kRotationalStiffness);
+    if (index == 0) {
+      c.stiffness = k;
+      c.stiffness_unit =
+          DisplayUnitOf(r.Find(q + ".stiffness").raw, Dimension::kRotationalStiffness);
+    } else {
+      c.stages.back().stiffness = k;
+    }
+    if (++index == list.size()) {
+      if (item["to"].IsDefined()) {
+        r.Fail(Join(q, "to"), item["to"], item["to"].Scalar(),
+               "must be left out: the last stage holds beyond the stage before's `to`");
+      }
+      return;
+    }
+    const double to = r.Quantity(item, q, "to", Dimension::kAngle);
+    c.angle_unit = DisplayUnitOf(r.Find(q + ".to").raw, Dimension::kAngle);
+    c.stages.push_back({to, 0.0});
+  });
+}
+
+// couplings: {name: {between: [shaft, shaft], stiffness | stages, damping}}: spring-dampers, linear
+// or in stages.
 std::vector<TrainCoupling> ReadCouplings(Reader& r, const YAML::Node& root) {
   std::vector<TrainCoupling> out;
   const YAML::Node couplings = r.Child(root, "", "couplings", false);
@@ -56,17 +94,26 @@ std::vector<TrainCoupling> ReadCouplings(Reader& r, const YAML::Node& root) {
     r.RequirePartName(p, kv.first, c.name);
     if (!kv.second.IsMap()) r.Fail(p, kv.second, Describe(kv.second), "must be a mapping");
     r.ExpectMap(kv.second, p, {"between", "stiffness", "damping", "stages", "hysteresis"});
-    for (const char* key : {"stages", "hysteresis"}) {
-      if (!kv.second[key].IsDefined()) continue;
-      r.Fail(Join(p, key), kv.second[key], key,
-             "is not built yet: a coupling is a linear spring-damper (give `stiffness` and "
-             "`damping`); multi-stage stiffness and hysteresis are planned (docs/gear-trains.md, "
+    if (kv.second["hysteresis"].IsDefined()) {
+      r.Fail(Join(p, "hysteresis"), kv.second["hysteresis"], "hysteresis",
+             "is not built yet: a coupling is a spring-damper, linear or in `stages`, with "
+             "viscous `damping`; hysteresis (stick-slip friction) is planned (docs/gear-trains.md, "
              "\"Couplings\")");
     }
     std::tie(c.shaft_a, c.shaft_b) = ReadNamePair(r, kv.second, p, "between", "shaft");
-    c.stiffness = r.Quantity(kv.second, p, "stiffness", Dimension::kRotationalStiffness);
-    c.stiffness_unit =
-        DisplayUnitOf(r.Find(p + ".stiffness").raw, Dimension::kRotationalStiffness);
+    const bool staged = kv.second["stages"].IsDefined();
+    if (staged && kv.second["stiffness"].IsDefined()) {
+      r.Fail(Join(p, "stiffness"), kv.second["stiffness"], kv.second["stiffness"].Scalar(),
+             "must be left out with `stages` (the first stage's stiffness is the coupling's "
+             "around zero twist)");
+    }
+    if (staged) {
+      ReadCouplingStages(r, kv.second, p, c);
+    } else {
+      c.stiffness = r.Quantity(kv.second, p, "stiffness", Dimension::kRotationalStiffness);
+      c.stiffness_unit =
+          DisplayUnitOf(r.Find(p + ".stiffness").raw, Dimension::kRotationalStiffness);
+    }
     c.damping = r.Quantity(kv.second, p, "damping", Dimension::kRotationalDamping, 0.0);
     if (kv.second["damping"].IsDefined()) {
       c.damping_unit = DisplayUnitOf(r.Find(p + ".damping").raw, Dimension::kRotationalDamping);

@@ -117,7 +117,7 @@ std::string TrainPage(const TrainPageInput& in) {
   h << "<h2>Operating point</h2>\n<table>\n"
     << Row("input shaft", in.spec.operating.input_shaft)
     << Row("input speed (rpm)", Number(Rpm(in.spec.operating.speed)))
-    << Row("bodies / meshes", fmt::format("{} / {}", op.tables.bodies(), op.tables.meshes.size()))
+    << Row("bodies / meshes", fmt::format("{} / {}", op.tables.bodies(), op.tables.gear_meshes))
     << Row("common period (s)", op.tables.common_period > 0.0
                                     ? Number(op.tables.common_period)
                                     : std::string("none within 1000 input revolutions"))
@@ -462,21 +462,22 @@ nlohmann::json BuildTrainReport(const std::string& file, const fs::path& folder,
   const nlohmann::json adequacy =
       op.adequacy_options ? TierAdequacyJson(op.adequacy, *op.adequacy_options, MeshNames(spec))
                           : nlohmann::json(nullptr);
-  nlohmann::json results = {{"name", spec.name},
-                            {"file", file},
-                            {"schema", "gearnvh/2"},
-                            {"check", TrainCheckReport(spec, check)},
-                            {"operating_point",
-                             {{"meshes", TrainMeshesJson(op)},
-                              {"loose_gears", TrainLooseGearsJson(op.stats.loose_gears)},
-                              {"couplings", TrainCouplingsJson(op.couplings)},
-                              {"sideband_window_common_periods", op.sideband_window_common_periods},
-                              {"sidebands_notes", op.sideband_notes},
-                              {"warnings", op.warnings},
-                              {"tier_adequacy", adequacy}}},
-                            {"sweep", TrainSweepJson(sweep)},
-                            {"whine", whine.summary},
-                            {"images", images}};
+  nlohmann::json results = {
+      {"name", spec.name},
+      {"file", file},
+      {"schema", "gearnvh/2"},
+      {"check", TrainCheckReport(spec, check)},
+      {"operating_point",
+       {{"meshes", TrainMeshesJson(op)},
+        {"loose_gears", TrainLooseGearsJson(op.stats.loose_gears)},
+        {"couplings", TrainCouplingsJson(op.couplings, op.stats.recorded_time)},
+        {"sideband_window_common_periods", op.sideband_window_common_periods},
+        {"sidebands_notes", op.sideband_notes},
+        {"warnings", op.warnings},
+        {"tier_adequacy", adequacy}}},
+      {"sweep", TrainSweepJson(sweep)},
+      {"whine", whine.summary},
+      {"images", images}};
   RequireFinite(results, "results.json");
   WriteFileAtomically((folder / "results.json").string(), results.dump(1) + "\n");
   WriteFileAtomically((folder / "index.html").string(),

@@ -208,14 +208,25 @@ nlohmann::json TrainBearingForcesJson(const TrainOperatingPoint& op, const Train
   return bearings;
 }
 
-nlohmann::json TrainCouplingsJson(const std::vector<TrainCouplingResponse>& couplings) {
+nlohmann::json TrainCouplingsJson(const std::vector<TrainCouplingResponse>& couplings,
+                                  double recorded_s) {
   nlohmann::json out = nlohmann::json::array();
   const auto summary = [](const TrainOutputSummary& s) {
     return nlohmann::json{{"mean", s.mean}, {"rms", s.rms}, {"min", s.min}, {"max", s.max}};
   };
   for (const TrainCouplingResponse& c : couplings) {
-    out.push_back(
-        {{"name", c.name}, {"twist_rad", summary(c.twist)}, {"torque_n_m", summary(c.torque)}});
+    nlohmann::json stages = nlohmann::json::array();
+    for (const TrainCouplingStageStatistics& s : c.stages) {
+      stages.push_back({{"stage", s.stage},
+                        {"entries", s.entries},
+                        {"entries_per_second",
+                         recorded_s > 0.0 ? static_cast<double>(s.entries) / recorded_s : 0.0},
+                        {"engaged_fraction", s.engaged_fraction}});
+    }
+    out.push_back({{"name", c.name},
+                   {"twist_rad", summary(c.twist)},
+                   {"torque_n_m", summary(c.torque)},
+                   {"stages", stages}});
   }
   return out;
 }

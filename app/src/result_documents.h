@@ -57,7 +57,8 @@ std::string BearingName(const std::string& shaft, int index);
 nlohmann::json TrainBearingForcesJson(const TrainOperatingPoint& op, const TrainSpec& spec);
 // simulate's (and each sweep point's) `couplings`: per coupling its name and the exact mean, RMS,
 // min and max of its twist (rad) and torque (N m) over the record (TrainCouplingResponse).
-nlohmann::json TrainCouplingsJson(const std::vector<TrainCouplingResponse>& couplings);
+nlohmann::json TrainCouplingsJson(const std::vector<TrainCouplingResponse>& couplings,
+                                  double recorded_s);
 nlohmann::json SidebandsJson(const std::vector<SidebandRow>& rows);
 
 }  // namespace gearnvh::app

@@ -256,6 +256,16 @@ void PrintCouplings(const TrainOperatingPoint& op) {
                c.twist.mean * kDeg, c.twist.rms * kDeg, c.twist.min * kDeg, c.twist.max * kDeg,
                c.torque.mean, c.torque.min, c.torque.max);
   }
+  for (const TrainCouplingResponse& c : op.couplings) {
+    for (const TrainCouplingStageStatistics& s : c.stages) {
+      fmt::print("    {:<28} entered {} times ({:.4g} /s), engaged {:.4g} % of the time\n", s.name,
+                 s.entries,
+                 op.stats.recorded_time > 0.0
+                     ? static_cast<double>(s.entries) / op.stats.recorded_time
+                     : 0.0,
+                 100.0 * s.engaged_fraction);
+    }
+  }
 }
 
 }  // namespace
@@ -313,7 +323,7 @@ nlohmann::json TrainSimulationJson(const TrainOperatingPoint& op, const TrainSpe
   doc["sidebands_notes"] = op.sideband_notes;
   doc["loose_gears"] = TrainLooseGearsJson(op.stats.loose_gears);
   doc["bearings"] = TrainBearingForcesJson(op, spec);
-  doc["couplings"] = TrainCouplingsJson(op.couplings);
+  doc["couplings"] = TrainCouplingsJson(op.couplings, op.stats.recorded_time);
   if (op.histories.dt > 0.0) {
     const TrainHistories& h = op.histories;
     doc["time_histories"] = {{"samples", h.te.empty() ? 0 : h.te.front().size()},
@@ -437,7 +447,7 @@ int SimulateTrain(const SimulateOptions& options, const TrainSpec& spec) {
   } else {
     fmt::print("{}  ({}), gear train, {}: {} bodies, {} DOF, {} meshes, state dimension {}\n",
                spec.name, options.file, TierName(tier), tables.bodies(), tables.n,
-               tables.meshes.size(), tables.m);
+               tables.gear_meshes, tables.m);
     fmt::print("  operating point     input shaft {} at {}, loads {}\n", spec.operating.input_shaft,
                Format(spec.operating.speed, spec.operating.speed_unit), TrainLoadsText(spec));
     const std::string why = TrainStepperMessage(s);

@@ -31,8 +31,9 @@ std::string EventsCsv(const Trajectory& t) {
 void WriteTrainTrajectoryCsv(const TrainHistories& h, const TrainTables& tables,
                              const TrainSpec& spec, std::FILE* f) {
   fmt::print(f, "time_s");
-  for (const TrainMeshTable& mt : tables.meshes)
-    fmt::print(f, ",{0}.te_m,{0}.mesh_force_n,{0}.contact", mt.name);
+  for (int i = 0; i < tables.gear_meshes; ++i)
+    fmt::print(f, ",{0}.te_m,{0}.mesh_force_n,{0}.contact",
+               tables.meshes[static_cast<size_t>(i)].name);
   const bool bearings = !h.bearing_force.empty();
   for (size_t b = 0; bearings && b < tables.bearings.size(); ++b) {
     const StructureBearing& sb = tables.bearings[b];

@@ -62,8 +62,26 @@ std::vector<TierCrossing> CriticalSpeeds(const TrainSpec& spec, const GearTrain&
   return out;
 }
 
-// Each coupling at the operating point: its shafts, stiffness and damping as written (JSON: SI),
-// the static torque it carries and the twist that gives.
+// The stage (1 = the first) that a coupling's static twist lies in.
+int StaticStage(const TrainCouplingModel& m) {
+  const double twist = std::abs(m.MeanTwist());
+  return 1 + static_cast<int>(
+                 std::count_if(m.stages.begin(), m.stages.end(),
+                               [&](const TrainCouplingStage& s) { return twist > s.from; }));
+}
+
+// A multi-stage coupling's stages as written: "0.4 N m/deg to 1.5 deg, 9 N m/deg to 8 deg, 60 N
+// m/deg beyond".
+std::string StagesText(const TrainCoupling& c) {
+  std::string text = Format(c.stiffness, c.stiffness_unit);
+  for (const TrainCouplingStage& s : c.stages) {
+    text += " to " + Format(s.from, c.angle_unit) + ", " + Format(s.stiffness, c.stiffness_unit);
+  }
+  return text + " beyond";
+}
+
+// Each coupling at the operating point: its shafts, stiffness (its stages') and damping as written
+// (JSON: SI), the static torque it carries, the twist that gives and the stage it lies in.
 nlohmann::json CouplingsJson(const TrainSpec& spec, const GearTrain& train) {
   nlohmann::json out = nlohmann::json::array();
   for (size_t c = 0; c < train.couplings.size(); ++c) {
@@ -74,7 +92,15 @@ nlohmann::json CouplingsJson(const TrainSpec& spec, const GearTrain& train) {
                    {"stiffness_n_m_per_rad", m.stiffness},
                    {"damping_n_m_s_per_rad", m.damping},
                    {"mean_torque_n_m", m.mean_torque},
-                   {"mean_twist_deg", m.MeanTwist() * 180.0 / std::numbers::pi}});
+                   {"mean_twist_deg", m.MeanTwist() * 180.0 / std::numbers::pi},
+                   {"static_stage", StaticStage(m)},
+                   {"static_stiffness_n_m_per_rad", m.StaticStiffness()}});
+    nlohmann::json stages = nlohmann::json::array();
+    for (const TrainCouplingStage& s : m.stages) {
+      stages.push_back({{"from_deg", s.from * 180.0 / std::numbers::pi},
+                        {"stiffness_n_m_per_rad", s.stiffness}});
+    }
+    out.back()["stages_after_first"] = stages;
   }
   return out;
 }
@@ -86,11 +112,15 @@ void PrintCouplings(const TrainSpec& spec, const GearTrain& train) {
   for (size_t c = 0; c < train.couplings.size(); ++c) {
     const TrainCouplingModel& m = train.couplings[c];
     const TrainCoupling& written = spec.couplings[c];
+    // A multi-stage coupling: the stiffness of the stage its static twist lies in.
     fmt::print("  {:<16}{:<26}{:>18}{:>20}{:>14.4g}{:>12.4g}\n", m.name,
                written.shaft_a + " - " + written.shaft_b,
-               Format(written.stiffness, written.stiffness_unit),
+               Format(m.StaticStiffness(), written.stiffness_unit),
                written.damping > 0.0 ? Format(written.damping, written.damping_unit) : "-",
                m.mean_torque, m.MeanTwist() * 180.0 / std::numbers::pi);
+    if (m.stages.empty()) continue;
+    fmt::print("    stages {}; static twist in stage {} of {} (its stiffness above)\n",
+               StagesText(written), StaticStage(m), m.stages.size() + 1);
   }
 }
 

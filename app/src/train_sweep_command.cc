@@ -142,7 +142,7 @@ nlohmann::json TrainSweepJson(const TrainSweepResult& r) {
                       {"real_time_ratio", p.real_time_ratio},
                       {"meshes", meshes},
                       {"loose_gears", loose},
-                      {"couplings", TrainCouplingsJson(p.couplings)}});
+                      {"couplings", TrainCouplingsJson(p.couplings, p.recorded_s)}});
   }
   nlohmann::json waterfall_meshes = nlohmann::json::array();
   for (size_t i = 0; i < r.mesh_names.size(); ++i) {

@@ -220,7 +220,7 @@ std::vector<UffFunction> TrainOperatingPointUff(const TrainSpec& spec,
                                                 const TrainOperatingPoint& op, int first_id) {
   std::vector<UffFunction> out;
   const TrainHistories& h = op.histories;
-  for (size_t i = 0; i < op.tables.meshes.size(); ++i) {
+  for (size_t i = 0; i < static_cast<size_t>(op.tables.gear_meshes); ++i) {
     MeshUffSource mesh;
     mesh.label = op.tables.meshes[i].name;
     mesh.node = static_cast<int>(i) + 1;

@@ -137,13 +137,14 @@ GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& opti
     model.body_a = spec.ShaftIndex(coupling.shaft_a);  // a shaft's body is its index
     model.body_b = spec.ShaftIndex(coupling.shaft_b);
     model.stiffness = coupling.stiffness;
+    model.stages = coupling.stages;
     model.damping = coupling.damping;
     model.mean_torque = flow.coupling_torque[c];
     // Past ~15 deg no clutch-damper stage or halfshaft is linear: most often a stiffness written
     // per radian that was meant per degree (57x too soft). A dual-mass flywheel's arc springs may
     // twist further, so this warns and does not refuse.
     constexpr double kPlausibleTwist = 15.0 * std::numbers::pi / 180.0;
-    if (std::abs(model.MeanTwist()) > kPlausibleTwist) {
+    if (model.stages.empty() && std::abs(model.MeanTwist()) > kPlausibleTwist) {
       train.warnings.push_back(fmt::format(
           "coupling '{}': the static twist {:.4g} deg ({:.4g} N m over {:.4g} N m/rad) is past "
           "the 15 deg a clutch-damper stage or a halfshaft stays linear over: is the stiffness's "
@@ -222,7 +223,7 @@ TrainTorsionalModes TorsionalModes(const GearTrain& train) {
     Eigen::VectorXd w = Eigen::VectorXd::Zero(n);
     w(c.body_a) = 1.0;
     w(c.body_b) = -1.0;
-    out.K += c.stiffness * w * w.transpose();
+    out.K += c.StaticStiffness() * w * w.transpose();
     V.conservativeResize(V.rows() + 1, Eigen::NoChange);
     V.bottomRows(1) = radius * w.transpose();
   }

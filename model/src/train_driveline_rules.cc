@@ -8,6 +8,50 @@
 
 namespace gearnvh {
 
+namespace {
+
+void RequireCouplingStiffness(const std::string& path, double k) {
+  if (!(k > 0.0 && k <= GearboxLimits::kMaxCouplingStiffness)) {
+    throw InputError(path, 0, MessageNumber(k) + " N m/rad",
+                     "must be in (0, " + MessageNumber(GearboxLimits::kMaxCouplingStiffness) +
+                         "] N m/rad (a clutch damper's first stage is about 20, a car's "
+                         "halfshaft about 1e4)");
+  }
+}
+
+// A multi-stage coupling's stages end at rising angles in (0, kMaxCouplingStageAngle] and stiffen
+// one after the other: the curve stays convex, so every stage change is a wall the twist crosses
+// (a dead-band spring, docs/gear-trains.md) and the static twist is unique.
+void RequireCouplingStages(const TrainCoupling& c, const std::string& p) {
+  double angle = 0.0, stiffness = c.stiffness;
+  for (size_t s = 0; s < c.stages.size(); ++s) {
+    const TrainCouplingStage& stage = c.stages[s];
+    const std::string to = p + ".stages[" + std::to_string(s) + "].to";
+    const double deg = 180.0 / 3.14159265358979323846;
+    if (!(stage.from > angle && stage.from <= GearboxLimits::kMaxCouplingStageAngle)) {
+      throw InputError(
+          to, 0, MessageNumber(stage.from * deg) + " deg",
+          "must be above " +
+              (s == 0 ? std::string("0")
+                      : "the stage before's end, " + MessageNumber(angle * deg) + " deg,") +
+              " and at most " + MessageNumber(GearboxLimits::kMaxCouplingStageAngle * deg) +
+              " deg (the stages end at rising twist angles)");
+    }
+    const std::string k = p + ".stages[" + std::to_string(s + 1) + "].stiffness";
+    RequireCouplingStiffness(k, stage.stiffness);
+    if (!(stage.stiffness > stiffness)) {
+      throw InputError(k, 0, MessageNumber(stage.stiffness) + " N m/rad",
+                       "must be above the stage before's " + MessageNumber(stiffness) +
+                           " N m/rad: stages stiffen with the twist (a softer stage after a "
+                           "stiffer one is not built)");
+    }
+    angle = stage.from;
+    stiffness = stage.stiffness;
+  }
+}
+
+}  // namespace
+
 // Each coupling joins two distinct shafts of the file, at most once per pair, with a plausible
 // stiffness and damping. (Whether they turn alike is the topology's rule.)
 void RequireValidCouplings(const TrainSpec& spec) {
@@ -49,12 +93,9 @@ void RequireValidCouplings(const TrainSpec& spec) {
                              " already joins (springs in parallel: give one coupling their sum)");
       }
     }
-    if (!(c.stiffness > 0.0 && c.stiffness <= GearboxLimits::kMaxCouplingStiffness)) {
-      throw InputError(p + ".stiffness", 0, MessageNumber(c.stiffness) + " N m/rad",
-                       "must be in (0, " + MessageNumber(GearboxLimits::kMaxCouplingStiffness) +
-                           "] N m/rad (a clutch damper's first stage is about 20, a car's "
-                           "halfshaft about 1e4)");
-    }
+    const std::string first = c.stages.empty() ? p + ".stiffness" : p + ".stages[0].stiffness";
+    RequireCouplingStiffness(first, c.stiffness);
+    RequireCouplingStages(c, p);
     if (!(c.damping >= 0.0 && c.damping <= GearboxLimits::kMaxCouplingDamping)) {
       throw InputError(
           p + ".damping", 0, MessageNumber(c.damping) + " N m s/rad",

@@ -276,6 +276,41 @@ int TrainTopology::ParentBody(const TrainSpec& spec, int body) const {
   return a == body ? spec.ShaftIndex(coupling.shaft_b) : a;
 }
 
+double CouplingSprings::Torque(double twist) const {
+  double torque = stiffness * twist;
+  double below = stiffness;
+  const double magnitude = std::abs(twist);
+  for (const TrainCouplingStage& s : stages) {
+    if (magnitude <= s.from) break;
+    torque += std::copysign((s.stiffness - below) * (magnitude - s.from), twist);
+    below = s.stiffness;
+  }
+  return torque;
+}
+
+double CouplingSprings::StaticTwist(double torque) const {
+  // Walk up the stages: the twist lies in the first stage whose end carries more than |torque|.
+  const double magnitude = std::abs(torque);
+  double angle = 0.0, carried = 0.0, k = stiffness;
+  for (const TrainCouplingStage& s : stages) {
+    const double at_end = carried + k * (s.from - angle);
+    if (magnitude <= at_end) break;
+    angle = s.from;
+    carried = at_end;
+    k = s.stiffness;
+  }
+  return std::copysign(angle + (magnitude - carried) / k, torque);
+}
+
+double CouplingSprings::TangentStiffness(double twist) const {
+  double k = stiffness;
+  for (const TrainCouplingStage& s : stages) {
+    if (std::abs(twist) <= s.from) break;
+    k = s.stiffness;
+  }
+  return k;
+}
+
 int TrainSpec::GearIndex(const std::string& name) const {
   for (size_t i = 0; i < gears.size(); ++i) {
     if (gears[i].name == name) return static_cast<int>(i);

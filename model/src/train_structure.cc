@@ -33,6 +33,11 @@ Eigen::SparseMatrix<double> TrainStructure::EngagedStiffness() const {
     const Eigen::SparseVector<double> v = meshes[i].v_drive.sparseView();
     k += mean_stiffness[i] * (v * v.transpose());
   }
+  for (size_t j = 0; j < coupling_twist.size(); ++j) {
+    if (coupling_static_increment[j] == 0.0) continue;
+    const Eigen::SparseVector<double> w = coupling_twist[j].sparseView();
+    k += coupling_static_increment[j] * (w * w.transpose());
+  }
   return k;
 }
 
@@ -276,6 +281,10 @@ TrainStructure AssembleTrainStructure(const TrainSpec& spec, const GearTrain& tr
   for (const TrainCouplingModel& c : train.couplings) {
     const int a = TrainStructure::Dof(s.body_node[static_cast<size_t>(c.body_a)], kThz);
     const int b = TrainStructure::Dof(s.body_node[static_cast<size_t>(c.body_b)], kThz);
+    s.coupling_twist.push_back(Eigen::VectorXd::Zero(s.dofs));
+    s.coupling_twist.back()[a] = 1.0;
+    s.coupling_twist.back()[b] = -1.0;
+    s.coupling_static_increment.push_back(c.StaticStiffness() - c.stiffness);
     for (auto [value, out] : {std::pair{c.stiffness, &spring}, std::pair{c.damping, &damper}}) {
       out->emplace_back(a, a, value);
       out->emplace_back(b, b, value);

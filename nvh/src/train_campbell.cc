@@ -44,7 +44,7 @@ LinearRotorModel LinearisedTrain(const TrainStructure& s, const TrainReducedMode
                                  const GearTrain& train) {
   LinearRotorModel r;
   r.M = reduced.M;
-  r.K = reduced.K;
+  r.K = reduced.K + CouplingStaticStiffness(s, reduced);
   r.C = reduced.C;
   r.G = reduced.G;
   for (size_t i = 0; i < reduced.v_drive.size(); ++i) {

@@ -117,6 +117,7 @@ TrainReducedModel Project(const TrainStructure& s, const Eigen::MatrixXd& T) {
     r.v_drive.push_back(tt * m.v_drive);
     r.v_back.push_back(tt * m.v_back);
   }
+  for (const Eigen::VectorXd& w : s.coupling_twist) r.coupling_twist.push_back(tt * w);
   r.body_rotations = tt * s.body_rotations;
   r.static_force = tt * s.static_force;
   return r;
@@ -131,7 +132,7 @@ Eigen::MatrixXd HeldRows(const TrainStructure& s, const Eigen::MatrixXd& T) {
 }
 
 Eigen::MatrixXd EngagedDense(const TrainStructure& s, const TrainReducedModel& r) {
-  Eigen::MatrixXd k = r.K;
+  Eigen::MatrixXd k = r.K + CouplingStaticStiffness(s, r);
   for (size_t i = 0; i < r.v_drive.size(); ++i) {
     k += s.mean_stiffness[i] * r.v_drive[i] * r.v_drive[i].transpose();
   }
@@ -170,6 +171,16 @@ NaturalModes TrainReducedModes(const TrainStructure& s, const TrainReducedModel&
                                bool with_shapes) {
   return ModesWithoutFreeRotations(EngagedDense(s, r), r.M, ReducedFreeRotations(s, r), count,
                                    with_shapes);
+}
+
+Eigen::MatrixXd CouplingStaticStiffness(const TrainStructure& structure,
+                                        const TrainReducedModel& reduced) {
+  Eigen::MatrixXd k = Eigen::MatrixXd::Zero(reduced.dof, reduced.dof);
+  for (size_t j = 0; j < reduced.coupling_twist.size(); ++j) {
+    const Eigen::VectorXd& w = reduced.coupling_twist[j];
+    k += structure.coupling_static_increment[j] * w * w.transpose();
+  }
+  return k;
 }
 
 bool TrainTierAvailable(const TrainStructure& s, Tier tier) {
@@ -297,6 +308,7 @@ TrainReducedModel Transform(const TrainReducedModel& a, const Eigen::MatrixXd& P
     r.v_drive.push_back(P.transpose() * a.v_drive[i]);
     r.v_back.push_back(P.transpose() * a.v_back[i]);
   }
+  for (const Eigen::VectorXd& w : a.coupling_twist) r.coupling_twist.push_back(P.transpose() * w);
   r.body_rotations = P.transpose() * a.body_rotations;
   r.static_force = P.transpose() * a.static_force;
   return r;

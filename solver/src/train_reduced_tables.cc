@@ -60,7 +60,13 @@ TrainTables BuildReducedTrainTables(const TrainSpec& spec, const GearTrain& trai
   t.body_angles = left(angles).transpose();
   // Each order's torque on the bodies' angles (tier 1's directions), as generalised forces B^T d.
   t.excitation_directions = t.body_angles.transpose() * t.excitation_directions;
-  for (size_t i = 0; i < t.meshes.size(); ++i) {
+  for (TrainMeshTable& mt : t.meshes) {  // the couplings' stages: their twist's row
+    if (mt.gear_mesh()) continue;
+    mt.v = sense(mt.body_a) * left(reduced.coupling_twist[static_cast<size_t>(mt.coupling)]);
+    mt.v_back = mt.v;
+    mt.FindSupport();
+  }
+  for (size_t i = 0; i < static_cast<size_t>(t.gear_meshes); ++i) {
     TrainMeshTable& mt = t.meshes[i];
     mt.v = left(reduced.v_drive[i]);
     mt.v_back = left(reduced.v_back[i]);

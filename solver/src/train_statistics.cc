@@ -51,7 +51,8 @@ void TrainRecorder::KeepSeries(double from_time, long max_samples, bool historie
   keep_from_ = from_time;
   keep_max_ = std::max(0L, max_samples);
   keep_histories_ = histories;
-  const size_t meshes = t_.meshes.size(), reserved = static_cast<size_t>(keep_max_);
+  const size_t meshes = static_cast<size_t>(t_.gear_meshes),
+               reserved = static_cast<size_t>(keep_max_);
   te_series_.assign(meshes, {});
   force_series_.assign(histories ? meshes : 0, {});
   contact_series_.assign(histories ? meshes : 0, {});
@@ -82,7 +83,15 @@ void TrainRecorder::TrackBearingForces() {
   Track(t_.bearing_force_rows, 0);
 }
 
-void TrainRecorder::TrackOutputs(const Eigen::MatrixXd& rows) { Track(rows, tracked_rows_.rows()); }
+void TrainRecorder::TrackOutputs(const Eigen::MatrixXd& rows,
+                                 const std::vector<ContactTerm>& terms) {
+  const Eigen::Index at = tracked_rows_.rows();
+  Track(rows, at);
+  for (ContactTerm term : terms) {
+    term.row += at;
+    contact_terms_.push_back(term);
+  }
+}
 
 void TrainRecorder::TakeSeries(std::vector<std::vector<double>>& te,
                                std::vector<std::vector<double>>& force,
@@ -123,7 +132,7 @@ void TrainRecorder::Sample(double time, const Eigen::VectorXd& z, const std::vec
                            const std::vector<ContactState>& states) {
   // Half a sample interval of slack: sample times are start + k dt, rounded.
   if (keep_max_ > 0 && time >= keep_from_ - 0.5 * dt_) {
-    for (size_t i = 0; i < t_.meshes.size(); ++i) {
+    for (size_t i = 0; i < te_series_.size(); ++i) {
       if (static_cast<long>(te_series_[i].size()) >= keep_max_) continue;
       te_series_[i].push_back(t_.meshes[i].v.dot(z.head(t_.n)));
       if (!keep_histories_) continue;
@@ -132,6 +141,11 @@ void TrainRecorder::Sample(double time, const Eigen::VectorXd& z, const std::vec
     }
     if (!tracked_series_.empty() && static_cast<long>(tracked_series_.front().size()) < keep_max_) {
       tracked_values_.noalias() = tracked_rows_.topRows(tracked_values_.size()) * z;
+      for (const ContactTerm& term : contact_terms_) {
+        if (term.row >= tracked_values_.size()) continue;
+        const auto c = static_cast<size_t>(term.contact);
+        tracked_values_[term.row] += term.factor * ForceAt(c, z, segments[c], states[c]);
+      }
       for (size_t r = 0; r < tracked_series_.size(); ++r) {
         tracked_series_[r].push_back(tracked_values_[static_cast<Eigen::Index>(r)]);
       }
@@ -189,6 +203,9 @@ void TrainRecorder::Chunk(double start, double length, const std::vector<int>& s
   const int n = t_.n;
   const auto positions = taylor_.topRows(n);
   te_coefficients_.noalias() = te_rows_ * positions;
+  // The tracked rows (bearing forces, couplings) act on positions and velocities: one product
+  // with the Taylor columns; their contact terms are added with the contacts' forces below.
+  if (tracked_rows_.rows() > 0) tracked_coefficients_.noalias() = tracked_rows_ * taylor_;
   double force[kTerms + 1];
   for (size_t i = 0; i < t_.meshes.size(); ++i) {
     const TrainMeshTable& mt = t_.meshes[i];
@@ -222,6 +239,11 @@ void TrainRecorder::Chunk(double start, double length, const std::vector<int>& s
     const ps::Poly f = ps::Trimmed(force, kTerms, length);
     ps::Accumulate(force_[i], f, length);
     ps::UpdateExtrema(f, length, start, force_[i], false);
+    for (const ContactTerm& term : contact_terms_) {
+      if (term.contact != static_cast<int>(i)) continue;
+      for (int k = 0; k <= kTerms; ++k)
+        tracked_coefficients_(term.row, k) += term.factor * force[k];
+    }
   }
   // A loose body's acceleration is its velocity's derivative: (k + 1) times the next coefficient
   // of its angle row (body_angles; tier 1: its own coordinate) on the velocities.
@@ -232,10 +254,7 @@ void TrainRecorder::Chunk(double start, double length, const std::vector<int>& s
     ps::Accumulate(acceleration_[static_cast<size_t>(loose_bodies_[l])],
                    ps::Trimmed(accel, kTerms - 1, length), length);
   }
-  // The tracked rows (bearing forces, couplings) act on positions and velocities: one product
-  // with the Taylor columns.
   if (tracked_rows_.rows() > 0) {
-    tracked_coefficients_.noalias() = tracked_rows_ * taylor_;
     for (size_t r = 0; r < tracked_.size(); ++r) {
       const ps::Poly f = ps::Trimmed(tracked_coefficients_.row(static_cast<Eigen::Index>(r)).data(),
                                      kTerms, length);
@@ -279,7 +298,7 @@ TrainStatistics TrainRecorder::Result() const {
   out.recorded_time = recorded_;
   out.samples = samples_;
   const double T = exact_duration_;
-  for (size_t i = 0; i < t_.meshes.size(); ++i) {
+  for (size_t i = 0; i < static_cast<size_t>(t_.gear_meshes); ++i) {
     TrainMeshStatistics s;
     s.name = t_.meshes[i].name;
     if (T > 0.0) {
@@ -301,6 +320,12 @@ TrainStatistics TrainRecorder::Result() const {
     s.impact_energy = 0.5 * t_.meshes[i].effective_mass * impact_sum2_[i];
     out.meshes.push_back(s);
   }
+  for (size_t i = static_cast<size_t>(t_.gear_meshes); i < t_.meshes.size(); ++i) {
+    const TrainMeshTable& mt = t_.meshes[i];
+    out.coupling_stages.push_back({mt.name, mt.coupling, mt.stage,
+                                   drive_impacts_[i] + back_impacts_[i],
+                                   recorded_ > 0.0 ? 1.0 - free_time_[i] / recorded_ : 0.0});
+  }
   for (int b = 0; b < t_.bodies(); ++b) {
     if (!t_.loose[static_cast<size_t>(b)]) continue;
     TrainLooseGearStatistics g;
@@ -308,7 +333,7 @@ TrainStatistics TrainRecorder::Result() const {
     g.body = b;
     g.rattle_index = acceleration_[static_cast<size_t>(b)].Rms(T);
     double sum2 = 0.0, energy = 0.0;
-    for (size_t i = 0; i < t_.meshes.size(); ++i) {
+    for (size_t i = 0; i < out.meshes.size(); ++i) {
       if (t_.meshes[i].body_a != b && t_.meshes[i].body_b != b) continue;
       const TrainMeshStatistics& m = out.meshes[i];
       g.drive_impacts += m.drive_impacts;

@@ -112,7 +112,9 @@ void StaticSystem(const TrainTables& t, const std::vector<ContactState>& states,
 ContactState NextStaticState(const TrainTables& t, size_t i, ContactState state,
                              const Eigen::VectorXd& z) {
   const int mesh = static_cast<int>(i);
-  if (state == ContactState::kFree) return state;
+  // A coupling's stage is set from the static twist in closed form: no iteration (its back wall
+  // lies 2 a_s away, so "drive pulled, try back" would not apply).
+  if (state == ContactState::kFree || !t.meshes[i].gear_mesh()) return state;
   const bool drive = state == ContactState::kDrive;
   const double gap = t.GapValue(mesh, 0, drive, z);
   const double tolerance = t.GapTolerance(mesh, 0, drive, z);
@@ -159,6 +161,8 @@ void CentreFreeMeshes(const TrainTables& t, const std::vector<ContactState>& sta
 std::pair<Eigen::VectorXd, std::vector<ContactState>> TrainStaticState(const TrainTables& t) {
   const int n = t.n;
   std::vector<ContactState> states(t.meshes.size(), ContactState::kDrive);
+  for (size_t i = static_cast<size_t>(t.gear_meshes); i < t.meshes.size(); ++i)
+    states[i] = t.meshes[i].static_state;
   Eigen::VectorXd z = Eigen::VectorXd::Zero(t.m);
   z[t.constant_slot()] = 1.0;
   Eigen::MatrixXd B;
@@ -180,6 +184,13 @@ std::pair<Eigen::VectorXd, std::vector<ContactState>> TrainStaticState(const Tra
   }
   CentreFreeMeshes(t, states, cod, z.head(n));
   return {z, states};
+}
+
+std::vector<ContactState> LoadedContactStates(const TrainTables& tables) {
+  std::vector<ContactState> states(tables.meshes.size(), ContactState::kDrive);
+  for (size_t i = static_cast<size_t>(tables.gear_meshes); i < tables.meshes.size(); ++i)
+    states[i] = tables.meshes[i].static_state;
+  return states;
 }
 
 }  // namespace gearnvh

@@ -154,6 +154,48 @@ void AddCouplings(const GearTrain& train, TrainTables& t) {
   }
 }
 
+// The couplings' stages after their first as contacts (TrainMeshTable), after the gear meshes. The
+// stage tables are constant, so their period is the train's common period (or one input
+// revolution): their boundaries fall on the meshes' and restart no piece.
+void AddCouplingStages(const GearTrain& train, TrainTables& t) {
+  const int n = t.n;
+  const double period = t.common_period > 0.0 ? t.common_period : t.InputRevolution();
+  for (size_t c = 0; c < train.couplings.size(); ++c) {
+    const TrainCouplingModel& coupling = train.couplings[c];
+    double below = coupling.stiffness;
+    for (size_t s = 0; s < coupling.stages.size(); ++s) {
+      const TrainCouplingStage& stage = coupling.stages[s];
+      TrainMeshTable mt;
+      mt.stage = static_cast<int>(s) + 2;
+      mt.name = coupling.name + " stage " + std::to_string(mt.stage);
+      mt.coupling = static_cast<int>(c);
+      mt.body_a = coupling.body_a;
+      mt.body_b = coupling.body_b;
+      mt.v = Eigen::VectorXd::Zero(n);
+      mt.v[coupling.body_a] = 1.0;
+      mt.v[coupling.body_b] = -1.0;
+      mt.v_back = mt.v;
+      mt.FindSupport();
+      mt.period = period;
+      mt.boundary = {0.0, period};
+      mt.k_drive = mt.k_back = {stage.stiffness - below};
+      mt.error = {0.0};
+      mt.drive_flank = mt.back_flank = {FlankSegment{}};
+      mt.half_backlash = stage.from;
+      // A twist past half a turn is no spring's: the run has left the model.
+      mt.displacement_limit = std::numbers::pi;
+      const double ja = t.body_inertia[coupling.body_a], jb = t.body_inertia[coupling.body_b];
+      mt.effective_mass = ja * jb / (ja + jb);  // kg m^2: the twist's inertia
+      const double twist = coupling.MeanTwist();
+      mt.static_state = twist > stage.from    ? ContactState::kDrive
+                        : twist < -stage.from ? ContactState::kBack
+                                              : ContactState::kFree;
+      t.meshes.push_back(std::move(mt));
+      below = stage.stiffness;
+    }
+  }
+}
+
 }  // namespace
 
 TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
@@ -258,6 +300,8 @@ TrainTables BuildTrainTables(const TrainSpec& spec, const GearTrain& train,
   const long revolutions =
       CommonPeriodRevolutions(cycles_per_revolution, options.max_common_period_revolutions);
   t.common_period = static_cast<double>(revolutions) * t.InputRevolution();
+  t.gear_meshes = static_cast<int>(t.meshes.size());
+  AddCouplingStages(train, t);
   return t;
 }
 

@@ -357,14 +357,47 @@ TEST_CASE("a coupling joins two shafts with a stiffness and a damping, in the un
   CHECK(LoadAnyGearboxFromString(with("  k: {between: [flywheel, a], stiffness: 500}\n"))
             .train.couplings[0]
             .damping == 0.0);
-  // What is not built yet is refused at its key, saying so.
-  const InputError stages = testing::LoaderErrorOf(
+  // Stages: the first's stiffness is the coupling's, each `to` starts the next stage, in the
+  // units written.
+  const TrainCoupling staged =
+      LoadAnyGearboxFromString(
+          with("  k: {between: [flywheel, a], stages: [{to: 1.5 deg, stiffness: 0.4 N*m/deg}, "
+               "{to: 8 deg, stiffness: 9 N*m/deg}, {stiffness: 60 N*m/deg}]}\n"))
+          .train.couplings[0];
+  const double deg = std::numbers::pi / 180.0;
+  CHECK(staged.stiffness == Approx(0.4 / deg).epsilon(1e-15));
+  REQUIRE(staged.stages.size() == 2);
+  CHECK(staged.stages[0].from == Approx(1.5 * deg).epsilon(1e-15));
+  CHECK(staged.stages[0].stiffness == Approx(9.0 / deg).epsilon(1e-15));
+  CHECK(staged.stages[1].from == Approx(8.0 * deg).epsilon(1e-15));
+  CHECK(staged.stages[1].stiffness == Approx(60.0 / deg).epsilon(1e-15));
+  CHECK(staged.angle_unit.symbol == "deg");
+  // Malformed stages are refused at their key, saying why.
+  const InputError lone = testing::LoaderErrorOf(
       with("  k: {between: [flywheel, a], stages: [{to: 1.5 deg, stiffness: 0.4 N*m/deg}]}\n"));
-  CHECK(stages.path() == "couplings.k.stages");
-  CHECK(stages.rule().find("not built yet") != std::string::npos);
-  CHECK(testing::LoaderErrorOf(
-            with("  k: {between: [flywheel, a], stiffness: 500, hysteresis: 1.5 N*m}\n"))
-            .path() == "couplings.k.hysteresis");
+  CHECK(lone.path() == "couplings.k.stages");
+  CHECK(lone.rule().find("at least two stages") != std::string::npos);
+  CHECK(testing::LoaderErrorOf(with("  k: {between: [flywheel, a], stages: [{to: 1 deg, "
+                                    "stiffness: 5}, {to: 2 deg, stiffness: 50}]}\n"))
+            .path() == "couplings.k.stages[1].to");
+  CHECK(testing::LoaderErrorOf(with("  k: {between: [flywheel, a], stages: [{stiffness: 5}, "
+                                    "{stiffness: 50}]}\n"))
+            .path() == "couplings.k.stages[0].to");
+  CHECK(testing::LoaderErrorOf(with("  k: {between: [flywheel, a], stiffness: 5, stages: [{to: 1 "
+                                    "deg, stiffness: 5}, {stiffness: 50}]}\n"))
+            .path() == "couplings.k.stiffness");
+  CHECK(testing::LoaderErrorOf(with("  k: {between: [flywheel, a], stages: [{to: 1 N*m, "
+                                    "stiffness: 5}, {stiffness: 50}]}\n"))
+            .path() == "couplings.k.stages[0].to");
+  // The model's stage rules at the file's path: a softer stage after a stiffer one.
+  CHECK(testing::LoaderErrorOf(with("  k: {between: [flywheel, a], stages: [{to: 1 deg, "
+                                    "stiffness: 50}, {stiffness: 5}]}\n"))
+            .path() == "couplings.k.stages[1].stiffness");
+  // What is not built yet is refused at its key, saying so.
+  const InputError hysteresis = testing::LoaderErrorOf(
+      with("  k: {between: [flywheel, a], stiffness: 500, hysteresis: 1.5 N*m}\n"));
+  CHECK(hysteresis.path() == "couplings.k.hysteresis");
+  CHECK(hysteresis.rule().find("not built yet") != std::string::npos);
   const InputError one = testing::LoaderErrorOf(with("  k: {between: [flywheel], stiffness: 500}\n"));
   CHECK(one.path() == "couplings.k.between");
   CHECK(one.rule().find("two shaft names") != std::string::npos);

@@ -128,7 +128,9 @@ struct TrainBearingForce {
 // twist' on the second shaft (N m).
 struct TrainCouplingResponse {
   std::string name;
-  TrainOutputSummary twist, torque;
+  TrainOutputSummary twist, torque;  // rad, N m (the torque of every stage, exact)
+  // A multi-stage coupling's stages after the first: entries and time engaged (exact).
+  std::vector<TrainCouplingStageStatistics> stages;
 };
 
 struct TrainOperatingPoint {

@@ -53,10 +53,15 @@ struct TrainMeshModel {
 struct TrainCouplingModel {
   std::string name;
   int body_a = 0, body_b = 0;
-  double stiffness = 0.0;     // N m/rad
-  double damping = 0.0;       // N m s/rad
-  double mean_torque = 0.0;   // N m, signed as TrainTorqueFlow::coupling_torque
-  double MeanTwist() const { return mean_torque / stiffness; }  // rad
+  double stiffness = 0.0;                  // N m/rad (the first stage's)
+  std::vector<TrainCouplingStage> stages;  // after the first (TrainCoupling::stages)
+  double damping = 0.0;                    // N m s/rad
+  double mean_torque = 0.0;                // N m, signed as TrainTorqueFlow::coupling_torque
+  CouplingSprings springs() const { return {stiffness, stages}; }
+  double MeanTwist() const { return springs().StaticTwist(mean_torque); }  // rad
+  // The stiffness at the mean twist (N m/rad): the stage the static point lies in, which the
+  // natural frequencies of `check` and the Campbell diagram use.
+  double StaticStiffness() const { return springs().TangentStiffness(MeanTwist()); }
 };
 
 struct GearTrain {

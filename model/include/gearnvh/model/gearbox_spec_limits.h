@@ -31,6 +31,10 @@ struct GearboxLimits {
   // N*m/deg read as rad, stays inside, so this bounds only the absurd). The damping likewise.
   static constexpr double kMaxCouplingStiffness = 1e8;
   static constexpr double kMaxCouplingDamping = 1e5;
+  // rad: where a coupling's stage ends (couplings.NAME.stages[i].to). A clutch damper's stages end
+  // within about +-25 deg, a dual-mass flywheel's arc springs within about +-70 deg; past 90 deg no
+  // torsional spring works.
+  static constexpr double kMaxCouplingStageAngle = 0.5 * 3.14159265358979323846;
   // m/s: the pitch-line velocity of every mesh. Above the fastest gears in service (high-speed
   // turbo gear units run at up to about 150-200 m/s, API 613); there centrifugal tooth loads,
   // windage and oil trapping, which the quasi-static mesh-stiffness model leaves out, dominate.

@@ -83,17 +83,46 @@ struct TrainLoad {
   bool operator==(const TrainLoad&) const = default;
 };
 
-// A torsional coupling between two turning shafts (a clutch damper, a halfshaft, the spring set of a
-// dual-mass flywheel): a linear spring-damper on their relative angle. The shafts turn at one
-// nominal speed (speeds propagate through it as through a 1:1 ratio) and the mean torque it carries
-// twists it by T / k.
+// A stage after the first of a multi-stage coupling: where the twist's magnitude passes `from`,
+// the coupling's stiffness becomes `stiffness` (symmetric in the twist's sign).
+struct TrainCouplingStage {
+  double from = 0.0;       // rad, > 0: the previous stage's end (`to` as written)
+  double stiffness = 0.0;  // N m/rad, above the previous stage's
+
+  bool operator==(const TrainCouplingStage&) const = default;
+};
+
+// A coupling's springs: the first stage's stiffness k_1 (N m/rad) and the stages after it.
+struct CouplingSprings {
+  double stiffness = 0.0;
+  const std::vector<TrainCouplingStage>& stages;
+  // The torque at `twist` (N m): k_1 th + sum_s (k_s - k_s-1) sign(th) max(|th| - from_s, 0),
+  // continuous and odd in the twist.
+  double Torque(double twist) const;
+  // The twist (rad) at which the springs carry `torque`: Torque's inverse (it rises in every
+  // stage).
+  double StaticTwist(double torque) const;
+  // The stiffness at `twist` (N m/rad): the stage it lies in (at a stage's start, the one before).
+  double TangentStiffness(double twist) const;
+};
+
+// A torsional coupling between two turning shafts (a clutch damper, a halfshaft, the spring set of
+// a dual-mass flywheel): a spring-damper on their relative angle (the twist th_a - th_b), linear or
+// piecewise linear in stages that stiffen with the twist's magnitude (docs/gear-trains.md). The
+// shafts turn at one nominal speed (speeds propagate through it as through a 1:1 ratio) and the
+// mean torque it carries twists it along its stages (StaticTwist).
 struct TrainCoupling {
   std::string name;
   std::string shaft_a, shaft_b;  // `between`, in the order written
-  double stiffness = 0.0;        // N m/rad, > 0
-  double damping = 0.0;          // N m s/rad, >= 0
+  double stiffness = 0.0;        // N m/rad, > 0: the whole coupling's, or its first stage's
+  // The stages after the first, `from` ascending; empty: a linear coupling (`stiffness`).
+  std::vector<TrainCouplingStage> stages;
+  double damping = 0.0;                        // N m s/rad, >= 0
   DisplayUnit stiffness_unit{"N m/rad", 1.0};  // as written, for output
   DisplayUnit damping_unit{"N m s/rad", 1.0};
+
+  DisplayUnit angle_unit{"rad", 1.0};  // the stages' angles as written
+  CouplingSprings springs() const { return {stiffness, stages}; }
 
   bool operator==(const TrainCoupling&) const = default;
 };

@@ -83,9 +83,14 @@ struct TrainStructure {
   // gears: its first node).
   std::vector<int> body_node;
   std::vector<int> elastic_shafts;  // indices in TrainSpec::shafts with FE
-  // Per coupling (GearTrain::couplings) its two bodies; its spring and damper are in K and C
-  // between their body nodes' th_z.
+  // Per coupling (GearTrain::couplings) its two bodies; its spring (the first stage's) and damper
+  // are in K and C between their body nodes' th_z.
   std::vector<std::pair<int, int>> coupled_bodies;
+  // Per coupling its twist th_z,a - th_z,b as a row on the DOFs, and what its stages add to its
+  // stiffness at the static twist (TrainCouplingModel::StaticStiffness - stiffness; 0 for a
+  // linear coupling or one whose static twist stays in its first stage), N m/rad.
+  std::vector<Eigen::VectorXd> coupling_twist;
+  std::vector<double> coupling_static_increment;
   std::vector<StructureBearing> bearings;  // shafts in file order, each shaft's in its order
   // Rigid rotation of every body (dofs x bodies) and the free rotations with every mesh engaged
   // (dofs x count, orthonormal combinations of the body rotations).
@@ -93,7 +98,8 @@ struct TrainStructure {
   Eigen::VectorXd static_force;  // input torque and loads at each body's node, N m
 
   static int Dof(int node, NodeDof d) { return 6 * node + static_cast<int>(d); }
-  // The stiffness linearised with every mesh in drive contact at its mean stiffness.
+  // The stiffness linearised with every mesh in drive contact at its mean stiffness and every
+  // coupling in the stage of its static twist.
   Eigen::SparseMatrix<double> EngagedStiffness() const;
 };
 

@@ -45,6 +45,7 @@ struct TrainReducedModel {
   int modal_dof = 0;           // fixed-interface modes, truncated modes and residual vectors
   Eigen::MatrixXd M, C, K, G;  // G per unit input speed
   std::vector<Eigen::VectorXd> v_drive, v_back;  // per mesh, T^T v
+  std::vector<Eigen::VectorXd> coupling_twist;   // per coupling, T^T w (TrainStructure's)
   Eigen::MatrixXd body_rotations;                // T^T R_j per body (columns)
   Eigen::VectorXd static_force;                  // T^T f
   Eigen::MatrixXd recovery;                      // T, full DOF x dof
@@ -56,6 +57,11 @@ struct TrainReducedModel {
 };
 
 // Tiers 4, 5 and N20 need at least one elastic shaft.
+// What the couplings' stages add to the reduced stiffness at their static twist: sum_j
+// (k_static,j - k_1,j) w_j w_j^T (TrainStructure::coupling_static_increment; zero without stages).
+Eigen::MatrixXd CouplingStaticStiffness(const TrainStructure& structure,
+                                        const TrainReducedModel& reduced);
+
 bool TrainTierAvailable(const TrainStructure& structure, Tier tier);
 
 // A bearing's point translations (x, y, z) per unit reduced coordinate: u + th x (d e_z) at its

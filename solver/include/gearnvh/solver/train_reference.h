@@ -40,7 +40,7 @@ struct TrainReferenceResult {
   std::string message;
   std::vector<TrainReferenceEvent> events;
   std::vector<double> sample_times;
-  Eigen::MatrixXd te;  // samples x meshes, m
+  Eigen::MatrixXd te;  // samples x contacts (TrainTables::meshes): m, a coupling stage's twist rad
   Eigen::VectorXd final_state;
   std::vector<ContactState> final_states;
   long steps = 0;

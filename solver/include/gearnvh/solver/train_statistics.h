@@ -75,10 +75,21 @@ struct TrainOutputSummary {
   double min = 0.0, max = 0.0;   // certified extrema
 };
 
+// A multi-stage coupling's stage s >= 2 (TrainMeshTable::stage): how often the twist entered it
+// and for how long it stayed, on either side of zero.
+struct TrainCouplingStageStatistics {
+  std::string name;  // "clutch stage 2"
+  int coupling = 0;  // GearTrain::couplings
+  int stage = 0;
+  long entries = 0;               // the twist crossing into the stage (|th| rising past from_s)
+  double engaged_fraction = 0.0;  // of the recorded time, [0, 1]
+};
+
 struct TrainStatistics {
   double recorded_time = 0.0;  // s
   long samples = 0;
-  std::vector<TrainMeshStatistics> meshes;            // in the order of the file
+  std::vector<TrainMeshStatistics> meshes;  // the gear meshes, in the order of the file
+  std::vector<TrainCouplingStageStatistics> coupling_stages;
   std::vector<TrainLooseGearStatistics> loose_gears;  // by rank, then the gears without impact
   // With TrainRecorder::TrackBearingForces, per bearing force row (TrainTables::
   // bearing_force_rows: x, y, z of each bearing) its force on the housing, N; empty otherwise.
@@ -127,8 +138,15 @@ class TrainRecorder {
   // bearing_force_rows; TrainStatistics::bearing_forces). Storage is reserved here.
   void TrackBearingForces();
   // From now on, also the exact statistics of each row of `rows` (m columns: any linear output
-  // r^T z, e.g. a coupling's twist or torque; TrainStatistics::outputs). Storage is reserved here.
-  void TrackOutputs(const Eigen::MatrixXd& rows);
+  // r^T z, e.g. a coupling's twist or torque; TrainStatistics::outputs), plus for each
+  // ContactTerm the contact's force (as the mesh force: k (g) + c delta' in contact, 0 free) times
+  // its factor: a multi-stage coupling's torque adds its stages. Storage is reserved here.
+  struct ContactTerm {
+    Eigen::Index row = 0;  // in `rows`
+    int contact = 0;       // TrainTables::meshes
+    double factor = 1.0;
+  };
+  void TrackOutputs(const Eigen::MatrixXd& rows, const std::vector<ContactTerm>& terms = {});
   // Keeps the first `max_events` contact changes of the recorded window, in the order they are
   // located (storage reserved here, so recording allocates nothing).
   void KeepEvents(long max_events);
@@ -185,6 +203,7 @@ class TrainRecorder {
   // bearing_force_rows, TrackBearingForces) first, then TrackOutputs's; their chunk coefficients
   // and statistics.
   RowMatrix tracked_rows_, tracked_coefficients_;
+  std::vector<ContactTerm> contact_terms_;  // rows counted in tracked_rows_
   std::vector<OutputStatistics> tracked_;
   Eigen::Index bearing_rows_ = 0;
   void Track(const RowMatrix& rows, Eigen::Index at);

@@ -178,6 +178,9 @@ std::string TrainStepperMessage(const TrainStepperSummary& summary);
 // free), centred (r~ x = 0); free meshes in the middle of their backlash along the directions the
 // contacts leave free (docs/gear-trains.md, "Initial state").
 std::pair<Eigen::VectorXd, std::vector<ContactState>> TrainStaticState(const TrainTables& tables);
+// The loaded contact states: every gear mesh in drive, each coupling stage as at the static state
+// (engaged where the static twist passes it): the tuple a loaded train's modes are taken in.
+std::vector<ContactState> LoadedContactStates(const TrainTables& tables);
 
 class TrainStepper {
  public:

@@ -77,9 +77,19 @@
 
 namespace gearnvh {
 
+// A contact of the train: a gear mesh, or a stage of a multi-stage coupling. A coupling's stage s
+// (s >= 2, from_s, stiffness k_s) is the dead-band spring (k_s - k_s-1) sign(th) max(|th| - from_s,
+// 0) on its twist th = v^T x: a mesh with unit radii, backlash 2 from_s, one segment of constant
+// stiffness and no error, so its stage changes are located like impacts (docs/gear-trains.md).
 struct TrainMeshTable {
-  std::string name;  // "g1-g2"
+  std::string name;  // "g1-g2"; a coupling's stage: "clutch stage 2"
   int body_a = 0, body_b = 0;
+  int coupling = -1;  // a coupling stage's coupling (GearTrain::couplings); -1 for a gear mesh
+  int stage = 0;      // a coupling stage's number (2 for the second stage); 0 for a gear mesh
+  bool gear_mesh() const { return coupling < 0; }
+  // A coupling stage's state at the static point: engaged on the side of its coupling's static
+  // twist (TrainCouplingModel::MeanTwist, exact: a coupling carries the torque flow's share).
+  ContactState static_state = ContactState::kFree;
   Eigen::VectorXd v;  // drive-flank mesh vector on the n coordinates (the TE row)
   // The back flank's gap vector: g-_i = v_back^T x - e_ij + b_i. Tier 1: v (the torsional parts
   // are equal); from tier 2 on the lateral terms of the back line of action differ.
@@ -157,7 +167,11 @@ struct TrainTables {
   // k |W_s| / W_in) with its amplitude as written (rad/s^2 or N m) and phase; orders at one
   // frequency on one shaft summed (DistinctOrders).
   std::vector<ExcitationOrder> excitation;
+  // The contacts: the gear meshes in file order (TrainSpec::meshes), then the couplings' stages
+  // after their first (coupling by coupling, stage by stage).
   std::vector<TrainMeshTable> meshes;
+  // The gear meshes, meshes[0, gear_meshes): what per-mesh results list.
+  int gear_meshes = 0;
   // The free rotation r (th_j ~ |w_j|, M-normalised; K_s r = 0 and v_i^T r = 0 for every tuple)
   // and the row r^T M that measures it.
   Eigen::VectorXd rigid_rotation;
