@@ -23,7 +23,7 @@ namespace {
 // mesh), said once per run.
 std::vector<std::string> TrainWarnings(const GearTrain& train, const TrainTables& tables) {
   std::vector<std::string> out = train.warnings;
-  for (size_t i = 0; i < tables.meshes.size(); ++i) {
+  for (size_t i = 0; i < static_cast<size_t>(tables.gear_meshes); ++i) {
     const MeshErrorExcitation& errors = tables.meshes[i].errors;
     const TrainMeshModel& mm = train.meshes[i];
     if (!errors.active() || !(mm.stiffness.max > 0.0)) continue;
@@ -313,9 +313,10 @@ void MeshSidebands(const TrainSpec& spec, const TrainRunOptions& options,
       !op.sideband_options.shaft_order_sources
           ? "the train has no runout, pitch error or engine order: no shaft-order line or "
             "sideband can arise, so only each mesh's harmonics are listed"
-          : "shaft-order lines and sidebands come from the engine orders (orders j fin of the "
-            "input shaft) and the gears' runout and pitch errors (orders of the bodies that carry "
-            "them, f_<body>); every mesh lists the lines of every source");
+          : "shaft-order lines and sidebands come from the engine orders (orders of the shaft "
+            "each acts on: j fin on the input shaft, j f_<shaft> on another) and the gears' runout "
+            "and pitch errors (orders of the bodies that carry them, f_<body>); every mesh lists "
+            "the lines of every source");
   op.sideband_notes.push_back(SidebandListingNote(op.sideband_options) +
                               " (rounding of the exact solution lies near -300 dB)");
 }
@@ -420,6 +421,8 @@ void TakeRecord(const TrainSpec& spec, const TrainRunOptions& options, const Spe
     h.truncated = (te.empty() ? 0L : static_cast<long>(te.front().size())) < op.stats.samples;
     h.events = recorder.events();
     h.events_truncated = recorder.window_events() > static_cast<long>(h.events.size());
+    h.contact_names.clear();
+    for (const TrainMeshTable& mt : op.tables.meshes) h.contact_names.push_back(mt.name);
   }
   TailSpectra(options, recorder, ok, op);
   if (options.spectra) MeshSidebands(spec, options, window, recorder, kept_from, ok, op);

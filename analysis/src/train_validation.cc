@@ -339,24 +339,25 @@ std::vector<ValidationRow> RunTrainValidationLadder(const TrainSpec& spec,
   // of the TE against CVODE's 1.2e-11 at rtol 1e-12 after one cycle of a loose gear's rattle),
   // or over the whole window when the reference failed.
   const size_t samples = cvode.trusted_samples > 0 ? cvode.trusted_samples : times.size();
-  const size_t meshes = tables.meshes.size();
+  // Every contact's state (a coupling's stages too), the gear meshes' TE (RunMethod).
+  const size_t contacts = tables.meshes.size(), meshes = static_cast<size_t>(tables.gear_meshes);
   const std::string where = fmt::format("the first {:.3g} cycles of mesh {} from the static state",
                                         times[samples - 1] / period, tables.meshes.front().name);
   const Checkpoints v3 = RunMethod(tables, EventMethod::kSpectral, z0, states0, times, cancel);
   int stage = 2;
   for (const EventMethod method : {EventMethod::kTaylor, EventMethod::kDyadic}) {
     const Checkpoints other = RunMethod(tables, method, z0, states0, times, cancel);
-    const size_t entries = samples * meshes;
     const bool same =
         other.ok &&
-        std::equal(v3.states.begin(), v3.states.begin() + entries, other.states.begin()) &&
+        std::equal(v3.states.begin(), v3.states.begin() + static_cast<long>(samples * contacts),
+                   other.states.begin()) &&
         other.events[samples - 1] == v3.events[samples - 1];
     // Tolerance 1e-8 of the TE, as the CVODE row: V2 is exact to rounding and V1 places each
     // event at most d 2^-34 late (d the sub-step); the tests measure ~1e-10.
     ValidationRow row =
         CheckRow(method == EventMethod::kTaylor ? "train: V2 (Taylor) vs V3, events and TE"
                                                 : "train: V1 (dyadic) vs V3, events and TE",
-                 same ? RelativeDifference(v3.te, other.te, entries) : 1.0, kTeTolerance,
+                 same ? RelativeDifference(v3.te, other.te, samples * meshes) : 1.0, kTeTolerance,
                  fmt::format("max |TE difference| / max |TE|, {}; {} and {} events", where,
                              other.events[samples - 1], v3.events[samples - 1]));
     if (!same) {

@@ -50,7 +50,10 @@ void ReadCouplingStages(Reader& r, const YAML::Node& map, const std::string& p, 
   const YAML::Node list = map["stages"];
   const std::string path = Join(p, "stages");
   if (!list.IsSequence() || list.size() < 2) {
-    r.Fail(path, list, Describe(list),
+    r.Fail(path, list,
+           list.IsSequence() ? "a list of " + std::to_string(list.size()) + " stage" +
+                                   (list.size() == 1 ? "" : "s")
+                             : Describe(list),
            "must be a list of at least two stages ({to, stiffness} for each but the last, "
            "{stiffness} for the last, which holds beyond the last `to`); a one-stage coupling "
            "gives `stiffness`");

@@ -74,7 +74,8 @@ std::string CouplingsHtml(const TrainOperatingPoint& op) {
   if (op.couplings.empty()) return {};
   std::ostringstream h;
   h << "<h2>Couplings at the operating point</h2>\n<p>Twist of the first shaft over the second "
-       "in their direction of rotation and the torque k twist + c twist' passed on, exact over "
+       "in their direction of rotation and the torque passed on (k twist + c twist' and every "
+       "engaged stage of a multi-stage coupling), exact over "
        "the record (couplings.png: the twist over time).</p>\n<table>\n<tr><th>coupling</th>"
        "<th>twist mean / RMS about it (deg)</th><th>twist min / max (deg)</th><th>torque mean / "
        "RMS about it (N m)</th><th>torque min / max (N m)</th></tr>\n";

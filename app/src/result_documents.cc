@@ -219,6 +219,8 @@ nlohmann::json TrainCouplingsJson(const std::vector<TrainCouplingResponse>& coup
     for (const TrainCouplingStageStatistics& s : c.stages) {
       stages.push_back({{"stage", s.stage},
                         {"entries", s.entries},
+                        {"positive_entries", s.positive_entries},
+                        {"negative_entries", s.negative_entries},
                         {"entries_per_second",
                          recorded_s > 0.0 ? static_cast<double>(s.entries) / recorded_s : 0.0},
                         {"engaged_fraction", s.engaged_fraction}});

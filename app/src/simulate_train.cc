@@ -258,12 +258,13 @@ void PrintCouplings(const TrainOperatingPoint& op) {
   }
   for (const TrainCouplingResponse& c : op.couplings) {
     for (const TrainCouplingStageStatistics& s : c.stages) {
-      fmt::print("    {:<28} entered {} times ({:.4g} /s), engaged {:.4g} % of the time\n", s.name,
-                 s.entries,
-                 op.stats.recorded_time > 0.0
-                     ? static_cast<double>(s.entries) / op.stats.recorded_time
-                     : 0.0,
-                 100.0 * s.engaged_fraction);
+      fmt::print(
+          "    {:<28} entered {} times ({} past +, {} past -; {:.4g} /s), engaged {:.4g} % of the "
+          "time\n",
+          s.name, s.entries, s.positive_entries, s.negative_entries,
+          op.stats.recorded_time > 0.0 ? static_cast<double>(s.entries) / op.stats.recorded_time
+                                       : 0.0,
+          100.0 * s.engaged_fraction);
     }
   }
 }

@@ -152,6 +152,13 @@ GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& opti
           "twist further.)",
           model.name, model.MeanTwist() * 180.0 / std::numbers::pi, model.mean_torque,
           model.stiffness));
+    } else if (!model.stages.empty() &&
+               std::abs(model.MeanTwist()) > GearboxLimits::kMaxCouplingStageAngle) {
+      train.warnings.push_back(fmt::format(
+          "coupling '{}': the static twist {:.4g} deg ({:.4g} N m along its stages) is past 90 "
+          "deg, which no torsional spring reaches: are the stiffnesses' units right (N*m/deg is "
+          "57.3 times N*m/rad)?",
+          model.name, model.MeanTwist() * 180.0 / std::numbers::pi, model.mean_torque));
     }
     train.couplings.push_back(model);
   }

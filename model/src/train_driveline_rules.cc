@@ -23,6 +23,11 @@ void RequireCouplingStiffness(const std::string& path, double k) {
 // one after the other: the curve stays convex, so every stage change is a wall the twist crosses
 // (a dead-band spring, docs/gear-trains.md) and the static twist is unique.
 void RequireCouplingStages(const TrainCoupling& c, const std::string& p) {
+  if (static_cast<int>(c.stages.size()) + 1 > GearboxLimits::kMaxCouplingStages) {
+    throw InputError(p + ".stages", 0, std::to_string(c.stages.size() + 1) + " stages",
+                     "must be at most " + std::to_string(GearboxLimits::kMaxCouplingStages) +
+                         " (a clutch damper has two to four)");
+  }
   double angle = 0.0, stiffness = c.stiffness;
   for (size_t s = 0; s < c.stages.size(); ++s) {
     const TrainCouplingStage& stage = c.stages[s];

@@ -220,7 +220,8 @@ void BindTrainHistories(py::module_& m) {
       .def_property_readonly(
           "coupling_torque",
           [](const TrainHistories& h) { return MeshMatrix<double>(h.coupling_torque); },
-          "each coupling's torque k twist + c twist', N m (couplings x samples)")
+          "each coupling's torque k twist + c twist' plus its engaged stages, N m (couplings x "
+          "samples)")
       .def_readonly("truncated", &TrainHistories::truncated,
                     "the record held more samples than are kept (4,000,000 per mesh)")
       .def_property_readonly(
@@ -234,7 +235,10 @@ void BindTrainHistories(py::module_& m) {
           [](const TrainHistories& h) {
             return EventColumn<int>(h, [](const TrainEventRecord& e) { return e.mesh; });
           },
-          "the mesh's index, file order")
+          "the contact's index: the meshes in file order, then each multi-stage coupling's stages "
+          "after the first (event_contact_names)")
+      .def_readonly("event_contact_names", &TrainHistories::contact_names,
+                    "the name of each contact event_mesh indexes")
       .def_property_readonly(
           "event_from",
           [](const TrainHistories& h) {
@@ -253,7 +257,7 @@ void BindTrainHistories(py::module_& m) {
             return EventColumn<double>(h,
                                        [](const TrainEventRecord& e) { return e.event.gap_rate; });
           },
-          "m/s, the gap's rate crossing its wall")
+          "m/s, the gap's rate crossing its wall (a coupling stage's twist rate: rad/s)")
       .def_readonly("events_truncated", &TrainHistories::events_truncated,
                     "more events than are kept (1,000,000)")
       .def("__repr__", [](const TrainHistories& h) {

@@ -52,12 +52,14 @@ void TrainStepper::TryJump(double end_time, const TrainRecorder* rec) {
     return;
   }
   if (outcome == Jumps::kPeriodTooLong) return;
-  // Every mesh held one contact state over the whole period just stepped.
+  // Every contact held one state over the whole period just stepped, every gear mesh in contact
+  // (a coupling's stage may be free: the map certifies its twist between both walls).
   const long events = summary_.events + summary_.grazing;
   const bool quiet = events == events_at_period_;
   events_at_period_ = events;
-  const bool contact = std::none_of(states_.begin(), states_.end(),
-                                    [](ContactState s) { return s == ContactState::kFree; });
+  bool contact = true;
+  for (size_t i = 0; i < static_cast<size_t>(t_.gear_meshes); ++i)
+    contact = contact && states_[i] != ContactState::kFree;
   const double horizon = rec != nullptr ? rec->start_time() : end_time;
   const double period = t_.common_period;
   const long long periods =

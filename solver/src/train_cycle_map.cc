@@ -208,17 +208,25 @@ void TrainCycleMap::BuildCertificate(TupleMemo& memo,
         // The polynomial's truncation: |c_j sum_{p > P} (A tau)^p / p! y| <= ||c_j||_1 tail ||S
         // y||.
         const double truncation = tuple.gap_norms[j] * tail;
-        const bool drive = states_[static_cast<size_t>(j)] == ContactState::kDrive;
+        const ContactState state = states_[static_cast<size_t>(j)];
+        const bool drive = state == ContactState::kDrive;
+        const int segment = segments[static_cast<size_t>(j)];
         const double sign = drive ? 1.0 : -1.0;  // inside: g+ > 0 (drive), g- < 0 (back)
-        const double wall = t_.Wall(j, segments[static_cast<size_t>(j)], drive, z);
+        const double wall = t_.Wall(j, segment, drive, z);
+        // A free coupling stage (its drive and back rows are one): inside between both walls.
+        const bool between = state == ContactState::kFree;
+        const double drive_wall = between ? t_.Wall(j, segment, true, z) : 0.0;
         const auto fj = f.segment(j * terms, terms);
         double curvature = 0.0;
         for (int p = 2; p < terms; ++p) curvature += p * (p - 1) * std::abs(fj[p]);
         // The orbit's margin: between nodes s_k = k / K of [0, 1] (s = tau / d) a C^2 function
         // is above its chord less sup|g''| / (8 K^2).
         double lowest = std::numeric_limits<double>::infinity();
-        for (int k = 0; k <= kNodes; ++k)
-          lowest = std::min(lowest, sign * (Horner(fj, static_cast<double>(k) / kNodes) - wall));
+        for (int k = 0; k <= kNodes; ++k) {
+          const double delta = Horner(fj, static_cast<double>(k) / kNodes);
+          lowest = std::min(
+              lowest, between ? std::min(drive_wall - delta, delta - wall) : sign * (delta - wall));
+        }
         margin_[j] = std::min(margin_[j], lowest - kChordLoss * curvature - truncation * z_scale);
         // Each mode's gap: max |.| <= max over the nodes + sup|g''| / (8 K^2) (componentwise
         // chord errors, summed by Minkowski into the modulus).

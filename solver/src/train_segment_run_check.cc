@@ -40,7 +40,8 @@ SegmentRunCheck CheckSegmentRuns(const TrainTables& t, const TrainTables& fused_
     out.fused += r;
     if (stepper.summary().events + stepper.summary().grazing != before) ++out.runs_with_event;
     double scale = 0.0, difference = 0.0;
-    for (const TrainMeshTable& mt : t.meshes) {
+    for (int i = 0; i < t.gear_meshes; ++i) {  // the gear meshes' TE, m (a stage's twist is rad)
+      const TrainMeshTable& mt = t.meshes[static_cast<size_t>(i)];
       scale = std::max(scale, std::abs(mt.v.dot(stepper.state().head(t.n))));
       difference =
           std::max(difference, std::abs(mt.v.dot(stepper.state().head(t.n) - z.head(t.n))));

@@ -73,6 +73,9 @@ void TrainRecorder::Track(const RowMatrix& rows, Eigen::Index at) {
   if (rows.rows() > 0) all.middleRows(at, rows.rows()) = rows;
   if (after > 0) all.bottomRows(after) = tracked_rows_.bottomRows(after);
   tracked_rows_ = std::move(all);
+  for (ContactTerm& term : contact_terms_) {  // rows after `at` moved down
+    if (term.row >= at) term.row += rows.rows();
+  }
   tracked_coefficients_.resize(tracked_rows_.rows(), kTerms + 1);
   tracked_.assign(static_cast<size_t>(tracked_rows_.rows()), {});
 }
@@ -322,9 +325,9 @@ TrainStatistics TrainRecorder::Result() const {
   }
   for (size_t i = static_cast<size_t>(t_.gear_meshes); i < t_.meshes.size(); ++i) {
     const TrainMeshTable& mt = t_.meshes[i];
-    out.coupling_stages.push_back({mt.name, mt.coupling, mt.stage,
-                                   drive_impacts_[i] + back_impacts_[i],
-                                   recorded_ > 0.0 ? 1.0 - free_time_[i] / recorded_ : 0.0});
+    out.coupling_stages.push_back(
+        {mt.name, mt.coupling, mt.stage, drive_impacts_[i] + back_impacts_[i], drive_impacts_[i],
+         back_impacts_[i], recorded_ > 0.0 ? 1.0 - free_time_[i] / recorded_ : 0.0});
   }
   for (int b = 0; b < t_.bodies(); ++b) {
     if (!t_.loose[static_cast<size_t>(b)]) continue;

@@ -141,6 +141,7 @@ bool TrainStepper::WithinRange() {
     summary_.stopped_on_mesh = mt.name;
     summary_.out_of_range_gap = gap;
     summary_.out_of_range_limit = mt.displacement_limit;
+    summary_.out_of_range_twist = !mt.gear_mesh();
     return false;
   }
   return true;

@@ -112,9 +112,17 @@ void StaticSystem(const TrainTables& t, const std::vector<ContactState>& states,
 ContactState NextStaticState(const TrainTables& t, size_t i, ContactState state,
                              const Eigen::VectorXd& z) {
   const int mesh = static_cast<int>(i);
-  // A coupling's stage is set from the static twist in closed form: no iteration (its back wall
-  // lies 2 a_s away, so "drive pulled, try back" would not apply).
-  if (state == ContactState::kFree || !t.meshes[i].gear_mesh()) return state;
+  // A coupling's stage (it starts at its closed-form state: the torque flow's twist, without the
+  // friction loss the input also supplies) follows the solved twist: engaged on the side it
+  // passes, free between (its walls lie 2 a_s apart, so "drive pulled, try back" would not apply).
+  if (!t.meshes[i].gear_mesh()) {
+    if (t.GapValue(mesh, 0, true, z) > t.GapTolerance(mesh, 0, true, z))
+      return ContactState::kDrive;
+    if (t.GapValue(mesh, 0, false, z) < -t.GapTolerance(mesh, 0, false, z))
+      return ContactState::kBack;
+    return ContactState::kFree;
+  }
+  if (state == ContactState::kFree) return state;
   const bool drive = state == ContactState::kDrive;
   const double gap = t.GapValue(mesh, 0, drive, z);
   const double tolerance = t.GapTolerance(mesh, 0, drive, z);
@@ -168,12 +176,14 @@ std::pair<Eigen::VectorXd, std::vector<ContactState>> TrainStaticState(const Tra
   Eigen::MatrixXd B;
   Eigen::VectorXd rhs;
   Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod;
-  // Each pass fixes the meshes whose static gap contradicts their state; a mesh changes at most
-  // twice (drive -> back -> free).
-  for (size_t pass = 0; pass <= 2 * t.meshes.size(); ++pass) {
+  // Each pass fixes the contacts whose static gap contradicts their state; a mesh changes at most
+  // twice (drive -> back -> free), a coupling's stage settles with its twist. z always solves the
+  // states returned.
+  for (size_t pass = 0;; ++pass) {
     StaticSystem(t, states, B, rhs);
     cod.compute(B);
     z.head(n) = cod.solve(rhs);
+    if (pass == 2 * t.meshes.size() + 1) break;
     bool changed = false;
     for (size_t i = 0; i < t.meshes.size(); ++i) {
       const ContactState next = NextStaticState(t, i, states[i], z);

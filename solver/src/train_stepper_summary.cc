@@ -1,3 +1,4 @@
+#include <numbers>
 #include <sstream>
 
 #include "gearnvh/solver/train_stepper.h"
@@ -31,6 +32,16 @@ std::string TrainStepperMessage(const TrainStepperSummary& summary) {
       if (!summary.stopped_on_mesh.empty()) os << "; the last on mesh " << summary.stopped_on_mesh;
       break;
     case TrainStepperSummary::Info::kOutOfRange:
+      if (summary.out_of_range_twist) {
+        os.precision(4);
+        os << "on " << summary.stopped_on_mesh << " (t = " << summary.stopped_from
+           << " s) the coupling's twist passed its stage wall by "
+           << summary.out_of_range_gap * 180.0 / std::numbers::pi << " deg, more than "
+           << summary.out_of_range_limit * 180.0 / std::numbers::pi
+           << " deg: the response grows without bound at this operating point and tier, and no "
+              "torsional spring twists that far; the run stopped there";
+        break;
+      }
       return OutOfRangeMessage("on mesh " + summary.stopped_on_mesh, summary.stopped_from,
                                summary.out_of_range_gap, summary.out_of_range_limit);
   }

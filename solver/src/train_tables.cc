@@ -155,11 +155,11 @@ void AddCouplings(const GearTrain& train, TrainTables& t) {
 }
 
 // The couplings' stages after their first as contacts (TrainMeshTable), after the gear meshes. The
-// stage tables are constant, so their period is the train's common period (or one input
-// revolution): their boundaries fall on the meshes' and restart no piece.
+// stage tables are constant, so their period is the train's common period (or the first mesh's
+// period without one): their boundaries fall on the meshes' and restart no piece.
 void AddCouplingStages(const GearTrain& train, TrainTables& t) {
   const int n = t.n;
-  const double period = t.common_period > 0.0 ? t.common_period : t.InputRevolution();
+  const double period = t.common_period > 0.0 ? t.common_period : t.meshes.front().period;
   for (size_t c = 0; c < train.couplings.size(); ++c) {
     const TrainCouplingModel& coupling = train.couplings[c];
     double below = coupling.stiffness;
@@ -451,7 +451,12 @@ void TrainSystemCache::EvictOldest() {
   const size_t low_water = options_.cache_limit_bytes - options_.cache_limit_bytes / 8;
   eviction_order_.clear();
   for (size_t i = 0; i < entries_.size(); ++i) {
-    if (entries_[i].held && i != recent_) eviction_order_.emplace_back(entries_[i].used, i);
+    if (!entries_[i].held || i == recent_) continue;
+    // Fewest visits first (the count survives eviction), then least recently used: a run whose
+    // tuples recur in a cycle longer than the cache keeps a stable subset of them (hit rate ~
+    // cache / cycle) where pure LRU would evict each one just before its next use.
+    const uint64_t visits = static_cast<uint64_t>(index_[entries_[i].slot].visits);
+    eviction_order_.emplace_back((std::min<uint64_t>(visits, 0xFFFFF) << 44) | entries_[i].used, i);
   }
   std::sort(eviction_order_.begin(), eviction_order_.end());
   for (const auto& [used, i] : eviction_order_) {

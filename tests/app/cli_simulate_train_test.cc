@@ -356,6 +356,53 @@ TEST_CASE("a coupling twisted past 15 deg by its static torque is warned of: a u
   CHECK(soft.find("N*m/deg") != std::string::npos);
 }
 
+TEST_CASE("check on a multi-stage clutch damper: the static twist along its stages, its stage",
+          "[cli][train]") {
+  // The example's damper in three stages: 0.4 N m/deg to 1.5 deg, 9 to 8 deg, 60 beyond. The
+  // input torque T (4.686 N m) twists it by 1.5 deg + (T - 0.6 N m) / (9 N m/deg), in stage 2
+  // (closed form, rounding only: 1e-12); the modes use stage 2's stiffness, as the linear file's.
+  std::ifstream in(kExamples + "/manual_transmission_driveline.yaml");
+  std::stringstream text;
+  text << in.rdbuf();
+  const testing::TempDir dir;
+  const auto check = [&](const std::string& yaml) {
+    const auto r = RunCommand(kExe + " check --json " + dir.Write("d.yaml", yaml).string());
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    return nlohmann::json::parse(r.out);
+  };
+  const nlohmann::json linear = check(text.str());
+  const nlohmann::json staged = check(testing::ReplaceFirst(
+      text.str(), "stiffness: 9 N*m/deg",
+      "stages: [{to: 1.5 deg, stiffness: 0.4 N*m/deg}, {to: 8 deg, stiffness: 9 N*m/deg}, "
+      "{stiffness: 60 N*m/deg}]"));
+  const auto& damper = staged["couplings"][0];
+  const double torque = damper["mean_torque_n_m"].get<double>();
+  CHECK(damper["mean_twist_deg"].get<double>() ==
+        Approx(1.5 + (torque - 0.4 * 1.5) / 9.0).epsilon(1e-12));
+  CHECK(damper["static_stage"] == 2);
+  CHECK(damper["static_stiffness_n_m_per_rad"].get<double>() ==
+        Approx(9.0 * 180.0 / std::numbers::pi).epsilon(1e-14));
+  CHECK(damper["stages_after_first"].size() == 2);
+  // The same frequencies as the linear damper at stage 2's stiffness (one eigensolve each, the
+  // same matrices: 1e-12).
+  for (const auto& [lin, stg] :
+       {std::pair{linear["fe"], staged["fe"]}, std::pair{linear["tiers"][0], staged["tiers"][0]},
+        std::pair{linear["tiers"][2], staged["tiers"][2]}}) {
+    const auto& f_lin = lin["natural_frequencies_hz"];
+    const auto& f_stg = stg["natural_frequencies_hz"];
+    REQUIRE(f_lin.size() == f_stg.size());
+    for (size_t i = 0; i < f_lin.size(); ++i)
+      CHECK(f_stg[i].get<double>() == Approx(f_lin[i].get<double>()).epsilon(1e-12));
+  }
+  // Stiffnesses per radian meant per degree twist it past 90 deg: warned of.
+  const nlohmann::json slip = check(testing::ReplaceFirst(
+      text.str(), "stiffness: 9 N*m/deg",
+      "stages: [{to: 1.5 deg, stiffness: 0.4 N*m/rad}, {to: 8 deg, stiffness: 0.9 N*m/rad}, "
+      "{stiffness: 1 N*m/rad}]"));
+  CHECK(slip["warnings"].dump().find("past 90 deg") != std::string::npos);
+}
+
 TEST_CASE("the driveline's sweep gives each coupling's twist and torque at every speed",
           "[cli][train][sweep]") {
   // Without the engine order, in permanent contact: at every speed the halfshaft carries the

@@ -244,6 +244,19 @@ TEST_CASE("coupling stages: a staged clutch damper under an engine order follows
   CHECK(stats.coupling_stages[0].entries + stats.coupling_stages[1].entries >= 2);
 }
 
+TEST_CASE("coupling stages: certified jumps hold a free stage between its walls",
+          "[solver][train]") {
+  // In stage 2 under a small engine order, the mesh in permanent contact: stage 3 stays free and
+  // is certified between its walls (+-6 deg); jumped and stepped runs record the same orbit (TE
+  // RMS to 1e-10 of the TE p-p, CheckJumpsMatchStepping).
+  TrainSpec spec =
+      StagedDriveline(ThreeStages(20.0, 2.0 * kDeg, 500.0, 6.0 * kDeg, 3000.0), 30.0, 0.2);
+  spec.operating.excitation = {{2.0, 50.0, 0.0}};
+  const Model s(spec);
+  REQUIRE(LoadedContactStates(s.tables)[2] == ContactState::kFree);
+  testing::CheckJumpsMatchStepping(s.tables);
+}
+
 TEST_CASE("coupling stages: the coupling's torque statistics add its stages exactly",
           "[solver][train]") {
   // Undamped couplings at rest plus a kick: the torque's maximum is the curve at the largest

@@ -101,6 +101,9 @@ struct TrainHistories {
   // TrainCouplingResponse defines them.
   std::vector<std::vector<double>> coupling_twist, coupling_torque;
   std::vector<TrainEventRecord> events;            // in time order
+  // The name of each contact an event's `mesh` indexes: the meshes (file order), then each
+  // multi-stage coupling's stages after the first ("clutch stage 2").
+  std::vector<std::string> contact_names;
   bool events_truncated = false;                   // more events than max_logged_events
 };
 

@@ -35,6 +35,9 @@ struct GearboxLimits {
   // within about +-25 deg, a dual-mass flywheel's arc springs within about +-70 deg; past 90 deg no
   // torsional spring works.
   static constexpr double kMaxCouplingStageAngle = 0.5 * 3.14159265358979323846;
+  // A coupling's stages: clutch dampers have two to four, dual-mass flywheels two or three; each
+  // stage after the first is a contact of the dynamics (key bits, roots, cycle-map rows).
+  static constexpr int kMaxCouplingStages = 8;
   // m/s: the pitch-line velocity of every mesh. Above the fastest gears in service (high-speed
   // turbo gear units run at up to about 150-200 m/s, API 613); there centrifugal tooth loads,
   // windage and oil trapping, which the quasi-static mesh-stiffness model leaves out, dominate.

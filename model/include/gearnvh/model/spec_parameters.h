@@ -53,8 +53,8 @@ void SetParameter(GearboxSpec& spec, const std::string& name, double value);
 //   meshes[i].backlash                   mesh i's backlash (m)
 //   meshes[i].damping_ratio              mesh i's damping ratio
 //   meshes[i].friction_coefficient       mesh i's tooth friction coefficient
-//   couplings.NAME.stiffness             coupling NAME's stiffness (N m/rad; a multi-stage one's
-//   first stage) couplings.NAME.damping               coupling NAME's damping (N m s/rad)
+//   couplings.NAME.stiffness             coupling NAME's stiffness (N m/rad; multi-stage: the
+//   first) couplings.NAME.damping               coupling NAME's damping (N m s/rad)
 // A load a schema-1 file wrote on the pinion (TrainLoad::pinion_torque) varies as written.
 enum class TrainParameter {
   kSpeed,

@@ -56,12 +56,12 @@ struct TrainReducedModel {
   int rigid_body_modes = 0;                      // counted by the scale-aware criterion
 };
 
-// Tiers 4, 5 and N20 need at least one elastic shaft.
 // What the couplings' stages add to the reduced stiffness at their static twist: sum_j
 // (k_static,j - k_1,j) w_j w_j^T (TrainStructure::coupling_static_increment; zero without stages).
 Eigen::MatrixXd CouplingStaticStiffness(const TrainStructure& structure,
                                         const TrainReducedModel& reduced);
 
+// Tiers 4, 5 and N20 need at least one elastic shaft.
 bool TrainTierAvailable(const TrainStructure& structure, Tier tier);
 
 // A bearing's point translations (x, y, z) per unit reduced coordinate: u + th x (d e_z) at its

@@ -3,7 +3,8 @@
 //
 // Common period T_c (TrainTables::common_period): C_i = T_c / T_i whole cycles of every mesh and
 // whole periods of every engine order, so with every mesh in one contact state sigma_i (drive or
-// back) the train is linear and T_c-periodic. Its grid segments g = 1..G of [0, T_c) (the union
+// back; a coupling's stage may also stay free, its twist certified between both walls) the train
+// is linear and T_c-periodic. Its grid segments g = 1..G of [0, T_c) (the union
 // grid, TrainGrid) each have the generator A_g of their tuple and the inputs u_g (the engine
 // orders' states at the grid segment's start, the errors' means over it), set as the stepper sets
 // them: at the segment start every input slot s is set, z <- R_g z with R_g = I - sum_s e_s e_s^T

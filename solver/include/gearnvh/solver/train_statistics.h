@@ -81,7 +81,8 @@ struct TrainCouplingStageStatistics {
   std::string name;  // "clutch stage 2"
   int coupling = 0;  // GearTrain::couplings
   int stage = 0;
-  long entries = 0;               // the twist crossing into the stage (|th| rising past from_s)
+  long entries = 0;  // the twist crossing into the stage (|th| rising past from_s)
+  long positive_entries = 0, negative_entries = 0;  // past +from_s (drive), past -from_s
   double engaged_fraction = 0.0;  // of the recorded time, [0, 1]
 };
 

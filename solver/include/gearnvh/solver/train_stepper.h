@@ -138,11 +138,13 @@ struct TrainStepperSummary {
   Info info = Info::kSuccess;
   // kTooManyEvents: the grid segment [stopped_from, stopped_to] (s) where the run stopped, and the
   // limit its events passed (TrainStepperOptions::max_events_per_segment). kOutOfRange: the time
-  // in stopped_from, the mesh in stopped_on_mesh, and its gap and limit (m).
+  // in stopped_from, the contact in stopped_on_mesh, and its gap and limit (m; a coupling's stage,
+  // out_of_range_twist: rad).
   double stopped_from = 0.0, stopped_to = 0.0;
   long event_limit = 0;
   std::string stopped_on_mesh;  // the mesh of the last event or grazing before the stop
   double out_of_range_gap = 0.0, out_of_range_limit = 0.0;
+  bool out_of_range_twist = false;
   Jumps jumps = Jumps::kNoConstantContact;
   long jumped_periods = 0;      // common periods jumped
   double jumped_time = 0.0;     // s
