@@ -111,8 +111,6 @@ GearTrain BuildGearTrain(const TrainSpec& spec, const MeshStiffnessOptions& opti
   GearTrain train;
   train.topology = AnalyseTrainTopology(spec);
   const TrainTopology& topo = train.topology;
-  const size_t n = topo.bodies.size();
-
   train.body_inertia = BodyInertias(spec, topo);
 
   const TrainTorqueFlow flow = StaticTorqueFlow(spec, topo);

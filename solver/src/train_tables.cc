@@ -459,7 +459,7 @@ void TrainSystemCache::EvictOldest() {
     eviction_order_.emplace_back((std::min<uint64_t>(visits, 0xFFFFF) << 44) | entries_[i].used, i);
   }
   std::sort(eviction_order_.begin(), eviction_order_.end());
-  for (const auto& [used, i] : eviction_order_) {
+  for (const auto& [order, i] : eviction_order_) {
     if (summary_.bytes <= low_water) break;
     Entry& e = entries_[i];
     summary_.bytes -= e.system.bytes;

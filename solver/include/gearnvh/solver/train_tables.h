@@ -54,9 +54,10 @@
 // Tables per tuple: the generator (and a sub-step bound for the dense path) when a tuple is first
 // visited; its spectral decomposition and a ClosedFormGap per mesh when it is entered for the
 // decompose_after_visits-th time (a rattle impact visits most tuples once: the dense path is
-// cheaper than a decomposition used for one or two pieces). Held in an LRU cache bounded in bytes
-// (TrainTableOptions); the visit count of every tuple key seen survives eviction, so which path a
-// tuple takes does not depend on the cache limit.
+// cheaper than a decomposition used for one or two pieces). Held in a cache bounded in bytes
+// (TrainTableOptions) that evicts the fewest-visited, then least recently used tuples; the visit
+// count of every tuple key seen survives eviction, so which path a tuple takes does not depend on
+// the cache limit.
 #pragma once
 
 #include <Eigen/Dense>
@@ -235,8 +236,9 @@ struct TrainTables {
 
 // Options of the table build and of the cache.
 struct TrainTableOptions {
-  // Upper bound of the cached tables' bytes; beyond it the least recently used tuples are
-  // evicted, down to 7/8 of it (at least the tuple in use is always kept). >= 1.
+  // Upper bound of the cached tables' bytes; beyond it the fewest-visited tuples (of equal visits
+  // the least recently used) are evicted, down to 7/8 of it (at least the tuple in use is always
+  // kept). >= 1.
   size_t cache_limit_bytes = size_t{160} << 20;
   // A tuple is decomposed (V3 closed forms) when it is entered for this many times (consecutive
   // pieces on one tuple are one entry); before that it takes the dense path. 1: at the first
@@ -322,7 +324,8 @@ struct TrainCacheSummary {
   long tuples = 0;  // held now
 };
 
-// LRU cache of TrainSystems. Get() on a held tuple does not allocate.
+// Bounded cache of TrainSystems (fewest visits, then least recently used, evicted first). Get() on
+// a held tuple does not allocate.
 class TrainSystemCache {
  public:
   TrainSystemCache(const TrainTables& tables, const TrainTableOptions& options);
@@ -360,7 +363,8 @@ class TrainSystemCache {
   size_t IndexBytes() const;
   // Counts an entry of `e`'s tuple, decomposes it when due, evicts beyond the limit.
   const TrainSystem& Enter(Entry& e);
-  // Beyond the limit: the least recently used tuples go (one scan and sort of the held ticks),
+  // Beyond the limit: the fewest-visited, then least recently used tuples go (one scan and sort
+  // of the held visit counts and ticks),
   // down to 7/8 of the limit so that the next tuples built do not each scan again. Which tuples
   // are held changes no result (the visit counts survive, a rebuilt tuple is the same).
   void Evict();
