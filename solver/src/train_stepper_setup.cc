@@ -168,9 +168,7 @@ void CentreFreeMeshes(const TrainTables& t, const std::vector<ContactState>& sta
 
 std::pair<Eigen::VectorXd, std::vector<ContactState>> TrainStaticState(const TrainTables& t) {
   const int n = t.n;
-  std::vector<ContactState> states(t.meshes.size(), ContactState::kDrive);
-  for (size_t i = static_cast<size_t>(t.gear_meshes); i < t.meshes.size(); ++i)
-    states[i] = t.meshes[i].static_state;
+  std::vector<ContactState> states = LoadedContactStates(t);
   Eigen::VectorXd z = Eigen::VectorXd::Zero(t.m);
   z[t.constant_slot()] = 1.0;
   Eigen::MatrixXd B;

@@ -184,8 +184,6 @@ void AddCouplingStages(const GearTrain& train, TrainTables& t) {
       mt.half_backlash = stage.from;
       // A twist past half a turn is no spring's: the run has left the model.
       mt.displacement_limit = std::numbers::pi;
-      const double ja = t.body_inertia[coupling.body_a], jb = t.body_inertia[coupling.body_b];
-      mt.effective_mass = ja * jb / (ja + jb);  // kg m^2: the twist's inertia
       const double twist = coupling.MeanTwist();
       mt.static_state = twist > stage.from    ? ContactState::kDrive
                         : twist < -stage.from ? ContactState::kBack
